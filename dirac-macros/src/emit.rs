@@ -1,0 +1,112 @@
+//! Graph → straight-line Rust. Each live operation node becomes one `let`; leaves are read
+//! directly; constants are inlined; nodes no output depends on are never emitted.
+
+use std::collections::HashMap;
+
+use proc_macro2::{Ident, Literal, Span, TokenStream};
+use quote::{format_ident, quote};
+
+use crate::graph::{Graph, Node, NodeId, Sym};
+
+/// Straight-line code computing `outputs`: the statements and one expression per output.
+pub struct StraightLine {
+    pub stmts: TokenStream,
+    pub outputs: Vec<TokenStream>,
+    /// Number of `let` statements emitted for operations.
+    pub operations: usize,
+}
+
+/// Emits the code for `outputs`; `leaf` gives the expression that reads a symbol.
+pub fn straight_line(g: &Graph, outputs: &[NodeId], leaf: &dyn Fn(Sym) -> TokenStream) -> StraightLine {
+    let mut expr: HashMap<NodeId, TokenStream> = HashMap::new();
+    let mut stmts = TokenStream::new();
+    let mut operations = 0;
+    let mut bound_leaves: HashMap<Sym, Ident> = HashMap::new();
+    for id in g.cone(outputs) {
+        let e = |n: NodeId| expr[&n].clone();
+        let node = g.node(id);
+        let value = match node {
+            Node::Const(bits) => {
+                expr.insert(id, literal(f64::from_bits(bits)));
+                continue;
+            }
+            Node::Var(sym) => {
+                let name = bound_leaves.entry(sym).or_insert_with(|| leaf_name(sym)).clone();
+                let read = leaf(sym);
+                stmts.extend(quote! { let #name: f64 = #read; });
+                expr.insert(id, quote! { #name });
+                continue;
+            }
+            Node::Neg(a) => {
+                let a = e(a);
+                quote! { -#a }
+            }
+            Node::Add(a, b) => binary(e(a), quote!(+), e(b)),
+            Node::Sub(a, b) => binary(e(a), quote!(-), e(b)),
+            Node::Mul(a, b) => binary(e(a), quote!(*), e(b)),
+            Node::Div(a, b) => binary(e(a), quote!(/), e(b)),
+            Node::Fun(f, a) => {
+                let a = e(a);
+                let m = Ident::new(f.name(), Span::call_site());
+                quote! { #a.#m() }
+            }
+            Node::Powi(a, n) => {
+                let a = e(a);
+                quote! { #a.powi(#n) }
+            }
+            Node::Powf(a, b) => {
+                let (a, b) = (e(a), e(b));
+                quote! { #a.powf(#b) }
+            }
+            Node::Atan2(y, x) => {
+                let (y, x) = (e(y), e(x));
+                quote! { #y.atan2(#x) }
+            }
+        };
+        let name = format_ident!("__t{}", id.0);
+        stmts.extend(quote! { let #name: f64 = #value; });
+        operations += 1;
+        expr.insert(id, quote! { #name });
+    }
+    let outputs = outputs.iter().map(|o| expr[o].clone()).collect();
+    StraightLine {
+        stmts,
+        outputs,
+        operations,
+    }
+}
+
+fn binary(a: TokenStream, op: TokenStream, b: TokenStream) -> TokenStream {
+    quote! { #a #op #b }
+}
+
+fn leaf_name(sym: Sym) -> Ident {
+    match sym {
+        Sym::Q0(i) => format_ident!("__q0_{}", i),
+        Sym::Q1(i) => format_ident!("__q1_{}", i),
+        Sym::X0(i) => format_ident!("__x0_{}", i),
+        Sym::X1(i) => format_ident!("__x1_{}", i),
+        Sym::G1(i) => format_ident!("__g1_{}", i),
+        Sym::Param(i) => format_ident!("__p{}", i),
+    }
+}
+
+/// An f64 literal token, parenthesized when negative; non-finite values by name.
+pub fn literal(v: f64) -> TokenStream {
+    if v.is_nan() {
+        quote! { f64::NAN }
+    } else if v.is_infinite() {
+        if v > 0.0 {
+            quote! { f64::INFINITY }
+        } else {
+            quote! { f64::NEG_INFINITY }
+        }
+    } else if v < 0.0 {
+        let l = Literal::f64_suffixed(-v);
+        quote! { (-#l) }
+    } else {
+        let l = Literal::f64_suffixed(v);
+        quote! { #l }
+    }
+}
+

@@ -1,0 +1,352 @@
+//! Ties the stages together and assembles the emitted items: the configuration struct, the
+//! user's function (still callable), the parameter struct, and the trait implementations the
+//! runtime drives.
+
+use proc_macro2::{Span, TokenStream};
+use quote::{format_ident, quote};
+use syn::{Ident, ItemFn};
+
+use crate::ctxt::Ctxt;
+use crate::emit::{literal, straight_line};
+use crate::graph::{Graph, NodeId, Sym};
+use crate::lower::{Lowering, Names};
+use crate::reduce::{plus_system, reduced_lagrangian_plus};
+use crate::spec::{parse_signature, parse_spec, Signature, Spec};
+
+pub fn expand(args: TokenStream, item: TokenStream) -> TokenStream {
+    let func: ItemFn = match syn::parse2(item) {
+        Ok(f) => f,
+        Err(e) => {
+            let mut e = e;
+            e.combine(syn::Error::new(
+                Span::call_site(),
+                "`#[reduced_lagrangian]` applies to a function `fn name(q0: Config, q1: Config, h: f64, ...) -> f64`",
+            ));
+            return e.into_compile_error();
+        }
+    };
+    let cx = Ctxt::default();
+    let spec = parse_spec(&cx, args);
+    let sig = parse_signature(&cx, &func.sig, spec.as_ref().and_then(|s| s.step.as_ref()));
+    let compiled = match (&spec, &sig) {
+        (Some(spec), Some(sig)) => compile(&cx, spec, sig, &func),
+        _ => None,
+    };
+    match (cx.into_result(), spec, sig, compiled) {
+        (Ok(()), Some(spec), Some(sig), Some(compiled)) => generate(&spec, &sig, &func, &compiled),
+        (Err(errors), spec, sig, _) => {
+            let mut out = errors.into_compile_error();
+            out.extend(fallback(spec.as_ref(), sig.as_ref(), &func));
+            out
+        }
+        _ => unreachable!("every failed stage records an error"),
+    }
+}
+
+/// The graph and its roots.
+struct Compiled {
+    graph: Graph,
+    /// Rows of the connection matrix `B`.
+    b: Vec<Vec<NodeId>>,
+    forces: Vec<NodeId>,
+    jacobian: Vec<Vec<NodeId>>,
+    momentum: Vec<NodeId>,
+}
+
+fn compile(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<Compiled> {
+    let names = Names {
+        q0: &sig.q0,
+        q1: &sig.q1,
+        coords: spec.shape.iter().chain(&spec.group).map(Ident::to_string).collect(),
+        params: sig.params.iter().map(Ident::to_string).collect(),
+    };
+    let (s, k) = (spec.shape.len(), spec.group.len());
+    let mut graph = Graph::default();
+    let body = Lowering::new(&mut graph, cx, &names).body(&func.block);
+    let b: Option<Vec<Vec<NodeId>>> = match &spec.connection {
+        None => {
+            let zero = graph.constant(0.0);
+            Some(vec![vec![zero; s]; k])
+        }
+        Some(rows) => rows
+            .iter()
+            .map(|row| {
+                row.iter()
+                    .map(|e| Lowering::new(&mut graph, cx, &names).constant_entry(e))
+                    .collect()
+            })
+            .collect(),
+    };
+    let (body, b) = (body?, b?);
+    if cx.has_errors() {
+        return None;
+    }
+    let l_plus = reduced_lagrangian_plus(&mut graph, body, s, &b);
+    let system = plus_system(&mut graph, l_plus, s, k);
+    Some(Compiled {
+        graph,
+        b,
+        forces: system.forces,
+        jacobian: system.jacobian,
+        momentum: system.momentum,
+    })
+}
+
+fn type_name(spec: &Spec, func: &ItemFn) -> Ident {
+    if let Some(name) = &spec.name {
+        return name.clone();
+    }
+    let camel: String = func
+        .sig
+        .ident
+        .to_string()
+        .split('_')
+        .filter(|w| !w.is_empty())
+        .map(|w| {
+            let mut c = w.chars();
+            c.next().map_or(String::new(), |f| f.to_uppercase().chain(c).collect())
+        })
+        .collect();
+    Ident::new(&camel, func.sig.ident.span())
+}
+
+/// The user's function with `Config` replaced by the emitted configuration struct.
+fn user_function(func: &ItemFn, config: &Ident, stub: bool) -> TokenStream {
+    let mut func = func.clone();
+    for input in func.sig.inputs.iter_mut().take(2) {
+        if let syn::FnArg::Typed(pt) = input {
+            *pt.ty = syn::parse_quote!(#config);
+        }
+    }
+    if stub {
+        *func.block = syn::parse_quote!({ ::core::unimplemented!("`#[reduced_lagrangian]` reported an error") });
+    }
+    quote! { #func }
+}
+
+fn config_struct(spec: &Spec, func: &ItemFn, config: &Ident, type_name: &Ident) -> TokenStream {
+    let vis = &func.vis;
+    let coords: Vec<&Ident> = spec.shape.iter().chain(&spec.group).collect();
+    let n = coords.len();
+    let idx = 0..n;
+    let doc = format!(
+        "A configuration of [`{type_name}`]: shape coordinates ({}) then group coordinates ({}).",
+        spec.shape.iter().map(|i| format!("`{i}`")).collect::<Vec<_>>().join(", "),
+        spec.group.iter().map(|i| format!("`{i}`")).collect::<Vec<_>>().join(", "),
+    );
+    quote! {
+        #[doc = #doc]
+        #[derive(Clone, Copy, Debug, Default, PartialEq)]
+        #vis struct #config {
+            #( pub #coords: f64, )*
+        }
+
+        impl #config {
+            /// Reads `q = (x, g)` in configuration order.
+            pub fn from_vector(q: &::dirac::nalgebra::SVector<f64, #n>) -> Self {
+                Self { #( #coords: q[#idx], )* }
+            }
+
+            /// Writes `q = (x, g)` in configuration order.
+            pub fn to_vector(&self) -> ::dirac::nalgebra::SVector<f64, #n> {
+                ::dirac::nalgebra::SVector::<f64, #n>::from([ #( self.#coords, )* ])
+            }
+        }
+    }
+}
+
+fn param_struct(sig: &Signature, func: &ItemFn, type_name: &Ident) -> TokenStream {
+    let vis = &func.vis;
+    let params = &sig.params;
+    let docs = func.attrs.iter().filter(|a| a.path().is_ident("doc"));
+    let fn_name = &func.sig.ident;
+    let note = format!(
+        "\n\nThe parameters of [`{fn_name}`]; emitted by `#[reduced_lagrangian]`, which implements the \
+         `dirac` system traits for it."
+    );
+    quote! {
+        #( #docs )*
+        #[doc = #note]
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        #vis struct #type_name {
+            #( pub #params: f64, )*
+        }
+    }
+}
+
+fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenStream {
+    let ty = type_name(spec, func);
+    let config = format_ident!("{}Config", ty);
+    let (s, k) = (spec.shape.len(), spec.group.len());
+    let n = s + k;
+    let fn_name = &func.sig.ident;
+    let params = &sig.params;
+    let step = &sig.step;
+    let shape_names = spec.shape.iter().map(Ident::to_string);
+    let group_names = spec.group.iter().map(Ident::to_string);
+    let param_names = params.iter().map(Ident::to_string);
+    let rt = quote!(::dirac::runtime);
+    let na = quote!(::dirac::nalgebra);
+
+    let param_leaf = |i: usize| {
+        let p = &params[i];
+        quote! { self.#p }
+    };
+    let plus_leaf = |sym: Sym| match sym {
+        Sym::X0(i) => quote! { x_k[#i] },
+        Sym::X1(i) => quote! { z[#i] },
+        Sym::G1(j) => {
+            let j = s + j;
+            quote! { z[#j] }
+        }
+        Sym::Param(i) => param_leaf(i),
+        Sym::Q0(_) | Sym::Q1(_) => unreachable!("the reduced Lagrangian reads x0, x1, g1"),
+    };
+
+    // F(z) alone.
+    let forces = straight_line(&c.graph, &c.forces, &plus_leaf);
+    let (f_stmts, f_out) = (&forces.stmts, &forces.outputs);
+
+    // F(z) and ∂F/∂z together: one straight line, so shared subexpressions are computed once.
+    let mut roots = c.forces.clone();
+    let mut entries = Vec::new();
+    for (r, row) in c.jacobian.iter().enumerate() {
+        for (col, &node) in row.iter().enumerate() {
+            if c.graph.as_const(node) != Some(0.0) {
+                entries.push((r, col));
+                roots.push(node);
+            }
+        }
+    }
+    let fj = straight_line(&c.graph, &roots, &plus_leaf);
+    let fj_stmts = &fj.stmts;
+    let fj_f = &fj.outputs[..n];
+    let assigns = entries.iter().zip(&fj.outputs[n..]).map(|((r, col), e)| quote! { __jac[(#r, #col)] = #e; });
+    let jac_mut = if entries.is_empty() { quote!() } else { quote!(mut) };
+
+    let momentum = straight_line(&c.graph, &c.momentum, &plus_leaf);
+    let (m_stmts, m_out) = (&momentum.stmts, &momentum.outputs);
+
+    let b_flat: Vec<NodeId> = c.b.iter().flatten().copied().collect();
+    let b_code = straight_line(&c.graph, &b_flat, &|sym| match sym {
+        Sym::Param(i) => param_leaf(i),
+        _ => unreachable!("connection entries are constant"),
+    });
+    let (b_stmts, b_out) = (&b_code.stmts, &b_code.outputs);
+    let b_rows = (0..k).map(|j| {
+        let row = &b_out[j * s..(j + 1) * s];
+        quote! { #( #row ),* }
+    });
+    let connection_body = if s == 0 {
+        quote! { #na::SMatrix::<f64, #k, #s>::zeros() }
+    } else {
+        quote! {
+            #b_stmts
+            #na::SMatrix::<f64, #k, #s>::from_row_slice(&[ #( #b_rows, )* ])
+        }
+    };
+
+    let config_item = config_struct(spec, func, &config, &ty);
+    let user_fn = user_function(func, &config, false);
+    let param_item = param_struct(sig, func, &ty);
+    let zero_g = literal(0.0);
+    let counts = format!(
+        "Generated code: {} operations for F(z), {} for F(z) with ∂F/∂z, {} for the momentum update.",
+        forces.operations, fj.operations, momentum.operations
+    );
+
+    quote! {
+        #config_item
+
+        #user_fn
+
+        #param_item
+
+        impl #ty {
+            /// Number of shape coordinates `S`.
+            pub const SHAPE_DIM: usize = #s;
+            /// Number of group coordinates `K`.
+            pub const GROUP_DIM: usize = #k;
+            /// Number of configuration coordinates `N = S + K`.
+            pub const CONFIG_DIM: usize = #n;
+            #[doc = #counts]
+            pub const GENERATED: &'static str = #counts;
+        }
+
+        impl #rt::DiscreteLagrangian<#s, #k, #n> for #ty {
+            const SHAPE: [&'static str; #s] = [ #( #shape_names ),* ];
+            const GROUP: [&'static str; #k] = [ #( #group_names ),* ];
+            const PARAMETERS: &'static [&'static str] = &[ #( #param_names ),* ];
+
+            fn lagrangian(&self, q0: &#na::SVector<f64, #n>, q1: &#na::SVector<f64, #n>) -> f64 {
+                #fn_name(#config::from_vector(q0), #config::from_vector(q1), #( self.#params ),*)
+            }
+
+            fn connection(&self) -> #na::SMatrix<f64, #k, #s> {
+                #connection_body
+            }
+
+            fn time_step(&self) -> f64 {
+                self.#step
+            }
+
+            fn parameter_values(&self) -> ::std::vec::Vec<f64> {
+                ::std::vec![ #( self.#params ),* ]
+            }
+        }
+
+        impl #rt::ReducedPlus<#s, #k, #n> for #ty {
+            fn reduced_lagrangian_plus(
+                &self,
+                x0: &#na::SVector<f64, #s>,
+                x1: &#na::SVector<f64, #s>,
+                g1: &#na::SVector<f64, #k>,
+            ) -> f64 {
+                let g1 = g1 + <Self as #rt::DiscreteLagrangian<#s, #k, #n>>::connection(self) * (x1 - x0);
+                let q0 = #rt::system::join::<#s, #k, #n>(x0, &#na::SVector::<f64, #k>::repeat(#zero_g));
+                let q1 = #rt::system::join::<#s, #k, #n>(x1, &g1);
+                <Self as #rt::DiscreteLagrangian<#s, #k, #n>>::lagrangian(self, &q0, &q1)
+            }
+
+            #[inline]
+            fn plus_forces(&self, x_k: &#na::SVector<f64, #s>, z: &#na::SVector<f64, #n>) -> #na::SVector<f64, #n> {
+                #f_stmts
+                #na::SVector::<f64, #n>::from([ #( #f_out ),* ])
+            }
+
+            #[inline]
+            fn plus_forces_jacobian(
+                &self,
+                x_k: &#na::SVector<f64, #s>,
+                z: &#na::SVector<f64, #n>,
+            ) -> (#na::SVector<f64, #n>, #na::SMatrix<f64, #n, #n>) {
+                #fj_stmts
+                let #jac_mut __jac = #na::SMatrix::<f64, #n, #n>::zeros();
+                #( #assigns )*
+                (#na::SVector::<f64, #n>::from([ #( #fj_f ),* ]), __jac)
+            }
+
+            #[inline]
+            fn plus_momentum(&self, x_k: &#na::SVector<f64, #s>, z: &#na::SVector<f64, #n>) -> #na::SVector<f64, #s> {
+                #m_stmts
+                #na::SVector::<f64, #s>::from([ #( #m_out ),* ])
+            }
+        }
+    }
+}
+
+/// After an error, still emit the items the user's other code refers to, with the right
+/// signatures, so the real error is not buried under follow-on ones (thiserror's `fallback`).
+fn fallback(spec: Option<&Spec>, sig: Option<&Signature>, func: &ItemFn) -> TokenStream {
+    let Some(spec) = spec else {
+        return quote! { #func };
+    };
+    let ty = type_name(spec, func);
+    let config = format_ident!("{}Config", ty);
+    let mut out = config_struct(spec, func, &config, &ty);
+    out.extend(user_function(func, &config, true));
+    if let Some(sig) = sig {
+        out.extend(param_struct(sig, func, &ty));
+    }
+    out
+}

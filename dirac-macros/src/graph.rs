@@ -1,0 +1,367 @@
+//! Hash-consed expression graph: equal subexpressions are one node, so common subexpressions are
+//! shared by construction. The constructors fold constants and apply exact algebraic identities
+//! (`x + 0`, `x · 1`, `x · 0`, `−(−x)`, `x − x`, …); they never reassociate, so the emitted code
+//! rounds exactly as the expression the user wrote (up to these identities).
+
+use std::collections::HashMap;
+
+/// Index of a node; children always have smaller indices than their parents, so index order is
+/// a topological order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct NodeId(pub u32);
+
+/// The symbols an expression can read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Sym {
+    /// Coordinate `i` of `q0` (shape first, then group).
+    Q0(usize),
+    /// Coordinate `i` of `q1`.
+    Q1(usize),
+    /// Shape coordinate `i` of `x0` (reduced Lagrangian, eq. (4.5)).
+    X0(usize),
+    /// Shape coordinate `i` of `x1`.
+    X1(usize),
+    /// Group coordinate `j` of `g1`.
+    G1(usize),
+    /// Scalar parameter `i`.
+    Param(usize),
+}
+
+/// Elementary functions of one argument.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Fun {
+    Sin,
+    Cos,
+    Tan,
+    Asin,
+    Acos,
+    Atan,
+    Exp,
+    Ln,
+    Sqrt,
+    Sinh,
+    Cosh,
+    Tanh,
+    Recip,
+}
+
+impl Fun {
+    pub fn name(self) -> &'static str {
+        match self {
+            Fun::Sin => "sin",
+            Fun::Cos => "cos",
+            Fun::Tan => "tan",
+            Fun::Asin => "asin",
+            Fun::Acos => "acos",
+            Fun::Atan => "atan",
+            Fun::Exp => "exp",
+            Fun::Ln => "ln",
+            Fun::Sqrt => "sqrt",
+            Fun::Sinh => "sinh",
+            Fun::Cosh => "cosh",
+            Fun::Tanh => "tanh",
+            Fun::Recip => "recip",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Fun> {
+        Some(match name {
+            "sin" => Fun::Sin,
+            "cos" => Fun::Cos,
+            "tan" => Fun::Tan,
+            "asin" => Fun::Asin,
+            "acos" => Fun::Acos,
+            "atan" => Fun::Atan,
+            "exp" => Fun::Exp,
+            "ln" => Fun::Ln,
+            "sqrt" => Fun::Sqrt,
+            "sinh" => Fun::Sinh,
+            "cosh" => Fun::Cosh,
+            "tanh" => Fun::Tanh,
+            "recip" => Fun::Recip,
+            _ => return None,
+        })
+    }
+
+    fn eval(self, v: f64) -> f64 {
+        match self {
+            Fun::Sin => v.sin(),
+            Fun::Cos => v.cos(),
+            Fun::Tan => v.tan(),
+            Fun::Asin => v.asin(),
+            Fun::Acos => v.acos(),
+            Fun::Atan => v.atan(),
+            Fun::Exp => v.exp(),
+            Fun::Ln => v.ln(),
+            Fun::Sqrt => v.sqrt(),
+            Fun::Sinh => v.sinh(),
+            Fun::Cosh => v.cosh(),
+            Fun::Tanh => v.tanh(),
+            Fun::Recip => v.recip(),
+        }
+    }
+}
+
+/// A node of the graph. Constants are stored by bit pattern so nodes can be hashed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Node {
+    Const(u64),
+    Var(Sym),
+    Neg(NodeId),
+    Add(NodeId, NodeId),
+    Sub(NodeId, NodeId),
+    Mul(NodeId, NodeId),
+    Div(NodeId, NodeId),
+    Fun(Fun, NodeId),
+    Powi(NodeId, i32),
+    Powf(NodeId, NodeId),
+    Atan2(NodeId, NodeId),
+}
+
+impl Node {
+    /// The children of this node.
+    pub fn children(&self) -> impl Iterator<Item = NodeId> {
+        let (a, b) = match *self {
+            Node::Const(_) | Node::Var(_) => (None, None),
+            Node::Neg(a) | Node::Fun(_, a) | Node::Powi(a, _) => (Some(a), None),
+            Node::Add(a, b)
+            | Node::Sub(a, b)
+            | Node::Mul(a, b)
+            | Node::Div(a, b)
+            | Node::Powf(a, b)
+            | Node::Atan2(a, b) => (Some(a), Some(b)),
+        };
+        a.into_iter().chain(b)
+    }
+}
+
+/// The arena.
+#[derive(Default)]
+pub struct Graph {
+    nodes: Vec<Node>,
+    index: HashMap<Node, NodeId>,
+}
+
+impl Graph {
+    pub fn node(&self, id: NodeId) -> Node {
+        self.nodes[id.0 as usize]
+    }
+
+    fn intern(&mut self, node: Node) -> NodeId {
+        if let Some(&id) = self.index.get(&node) {
+            return id;
+        }
+        let id = NodeId(self.nodes.len() as u32);
+        self.nodes.push(node);
+        self.index.insert(node, id);
+        id
+    }
+
+    pub fn constant(&mut self, v: f64) -> NodeId {
+        // One zero: −0.0 and 0.0 behave alike in every expression built here except 1/±0, which
+        // never survives as a finite result anyway.
+        let v = if v == 0.0 { 0.0 } else { v };
+        self.intern(Node::Const(v.to_bits()))
+    }
+
+    pub fn var(&mut self, sym: Sym) -> NodeId {
+        self.intern(Node::Var(sym))
+    }
+
+    /// The constant value of a node, if it is one.
+    pub fn as_const(&self, id: NodeId) -> Option<f64> {
+        match self.node(id) {
+            Node::Const(bits) => Some(f64::from_bits(bits)),
+            _ => None,
+        }
+    }
+
+    pub fn neg(&mut self, a: NodeId) -> NodeId {
+        if let Some(v) = self.as_const(a) {
+            return self.constant(-v);
+        }
+        if let Node::Neg(inner) = self.node(a) {
+            return inner;
+        }
+        self.intern(Node::Neg(a))
+    }
+
+    pub fn add(&mut self, a: NodeId, b: NodeId) -> NodeId {
+        match (self.as_const(a), self.as_const(b)) {
+            (Some(x), Some(y)) => return self.constant(x + y),
+            (Some(x), _) if x == 0.0 => return b,
+            (_, Some(y)) if y == 0.0 => return a,
+            _ => {}
+        }
+        // a + (−b) = a − b, exactly.
+        if let Node::Neg(nb) = self.node(b) {
+            return self.sub(a, nb);
+        }
+        if let Node::Neg(na) = self.node(a) {
+            return self.sub(b, na);
+        }
+        let (a, b) = if a <= b { (a, b) } else { (b, a) };
+        self.intern(Node::Add(a, b))
+    }
+
+    pub fn sub(&mut self, a: NodeId, b: NodeId) -> NodeId {
+        match (self.as_const(a), self.as_const(b)) {
+            (Some(x), Some(y)) => return self.constant(x - y),
+            (Some(x), _) if x == 0.0 => return self.neg(b),
+            (_, Some(y)) if y == 0.0 => return a,
+            _ => {}
+        }
+        if a == b {
+            return self.constant(0.0);
+        }
+        if let Node::Neg(nb) = self.node(b) {
+            return self.add(a, nb);
+        }
+        self.intern(Node::Sub(a, b))
+    }
+
+    pub fn mul(&mut self, a: NodeId, b: NodeId) -> NodeId {
+        match (self.as_const(a), self.as_const(b)) {
+            (Some(x), Some(y)) => return self.constant(x * y),
+            (Some(x), _) if x == 0.0 => return a,
+            (_, Some(y)) if y == 0.0 => return b,
+            (Some(x), _) if x == 1.0 => return b,
+            (_, Some(y)) if y == 1.0 => return a,
+            (Some(x), _) if x == -1.0 => return self.neg(b),
+            (_, Some(y)) if y == -1.0 => return self.neg(a),
+            _ => {}
+        }
+        // (−a)·b = −(a·b) exactly; pulling signs out lets more products share a node.
+        if let Node::Neg(na) = self.node(a) {
+            let p = self.mul(na, b);
+            return self.neg(p);
+        }
+        if let Node::Neg(nb) = self.node(b) {
+            let p = self.mul(a, nb);
+            return self.neg(p);
+        }
+        let (a, b) = if a <= b { (a, b) } else { (b, a) };
+        self.intern(Node::Mul(a, b))
+    }
+
+    pub fn div(&mut self, a: NodeId, b: NodeId) -> NodeId {
+        match (self.as_const(a), self.as_const(b)) {
+            (Some(x), Some(y)) => return self.constant(x / y),
+            (Some(x), _) if x == 0.0 => return a,
+            (_, Some(y)) if y == 1.0 => return a,
+            (_, Some(y)) if y == -1.0 => return self.neg(a),
+            _ => {}
+        }
+        if let Node::Neg(na) = self.node(a) {
+            let q = self.div(na, b);
+            return self.neg(q);
+        }
+        self.intern(Node::Div(a, b))
+    }
+
+    pub fn fun(&mut self, f: Fun, a: NodeId) -> NodeId {
+        if let Some(v) = self.as_const(a) {
+            return self.constant(f.eval(v));
+        }
+        self.intern(Node::Fun(f, a))
+    }
+
+    pub fn powi(&mut self, a: NodeId, n: i32) -> NodeId {
+        if let Some(v) = self.as_const(a) {
+            return self.constant(v.powi(n));
+        }
+        match n {
+            0 => self.constant(1.0),
+            1 => a,
+            _ => self.intern(Node::Powi(a, n)),
+        }
+    }
+
+    pub fn powf(&mut self, a: NodeId, b: NodeId) -> NodeId {
+        match (self.as_const(a), self.as_const(b)) {
+            (Some(x), Some(y)) => return self.constant(x.powf(y)),
+            (_, Some(y)) if y == 1.0 => return a,
+            _ => {}
+        }
+        self.intern(Node::Powf(a, b))
+    }
+
+    pub fn atan2(&mut self, y: NodeId, x: NodeId) -> NodeId {
+        if let (Some(a), Some(b)) = (self.as_const(y), self.as_const(x)) {
+            return self.constant(a.atan2(b));
+        }
+        self.intern(Node::Atan2(y, x))
+    }
+
+    /// Rebuilds `root` with each symbol replaced by `map(sym)`; nodes are re-simplified, so
+    /// substituting constants folds.
+    pub fn substitute(&mut self, root: NodeId, map: &mut dyn FnMut(&mut Graph, Sym) -> NodeId) -> NodeId {
+        let mut memo: HashMap<NodeId, NodeId> = HashMap::new();
+        for id in self.cone(&[root]) {
+            let new = match self.node(id) {
+                Node::Const(_) => id,
+                Node::Var(sym) => map(self, sym),
+                other => self.rebuild(other, &memo),
+            };
+            memo.insert(id, new);
+        }
+        memo[&root]
+    }
+
+    /// Rebuilds an operation node with its children looked up in `memo`.
+    pub fn rebuild(&mut self, node: Node, memo: &HashMap<NodeId, NodeId>) -> NodeId {
+        let m = |id: NodeId| memo[&id];
+        match node {
+            Node::Const(_) | Node::Var(_) => unreachable!("leaves are not rebuilt"),
+            Node::Neg(a) => self.neg(m(a)),
+            Node::Add(a, b) => self.add(m(a), m(b)),
+            Node::Sub(a, b) => self.sub(m(a), m(b)),
+            Node::Mul(a, b) => self.mul(m(a), m(b)),
+            Node::Div(a, b) => self.div(m(a), m(b)),
+            Node::Fun(f, a) => self.fun(f, m(a)),
+            Node::Powi(a, n) => self.powi(m(a), n),
+            Node::Powf(a, b) => self.powf(m(a), m(b)),
+            Node::Atan2(a, b) => self.atan2(m(a), m(b)),
+        }
+    }
+
+    /// Every node the roots depend on, in topological (index) order.
+    pub fn cone(&self, roots: &[NodeId]) -> Vec<NodeId> {
+        let mut seen = vec![false; self.nodes.len()];
+        let mut stack: Vec<NodeId> = roots.to_vec();
+        while let Some(id) = stack.pop() {
+            if std::mem::replace(&mut seen[id.0 as usize], true) {
+                continue;
+            }
+            stack.extend(self.node(id).children());
+        }
+        (0..self.nodes.len() as u32)
+            .map(NodeId)
+            .filter(|id| seen[id.0 as usize])
+            .collect()
+    }
+
+    /// Evaluates nodes numerically (compile-time checks and the compiler's own tests).
+    #[allow(dead_code)]
+    pub fn eval(&self, roots: &[NodeId], sym: &dyn Fn(Sym) -> f64) -> Vec<f64> {
+        let mut value: HashMap<NodeId, f64> = HashMap::new();
+        for id in self.cone(roots) {
+            let v = |n: NodeId| value[&n];
+            let x = match self.node(id) {
+                Node::Const(bits) => f64::from_bits(bits),
+                Node::Var(s) => sym(s),
+                Node::Neg(a) => -v(a),
+                Node::Add(a, b) => v(a) + v(b),
+                Node::Sub(a, b) => v(a) - v(b),
+                Node::Mul(a, b) => v(a) * v(b),
+                Node::Div(a, b) => v(a) / v(b),
+                Node::Fun(f, a) => f.eval(v(a)),
+                Node::Powi(a, n) => v(a).powi(n),
+                Node::Powf(a, b) => v(a).powf(v(b)),
+                Node::Atan2(a, b) => v(a).atan2(v(b)),
+            };
+            value.insert(id, x);
+        }
+        roots.iter().map(|r| value[r]).collect()
+    }
+}

@@ -1,0 +1,27 @@
+//! `#[reduced_lagrangian]`: a small compiler from a discrete Lagrangian written in Rust to the
+//! straight-line residual and Jacobian of the reduced (+) discrete Lagrange–Poincaré–Dirac
+//! equations (Rodríguez Abella & Leok, eq. (4.6)).
+//!
+//! Stages, one file each: [`spec`] (the attribute and signature) → [`lower`] (body → graph) →
+//! [`graph`] (hash-consed, simplifying) → [`diff`] (forward-mode derivatives) → [`reduce`] (the
+//! paper's construction) → [`emit`] (straight-line Rust); [`expand`] ties them together and
+//! [`ctxt`] collects every error with its span. See the `dirac` crate for the user guide.
+
+mod ctxt;
+mod diff;
+mod emit;
+mod expand;
+mod graph;
+mod lower;
+mod reduce;
+mod spec;
+
+use proc_macro::TokenStream;
+
+/// Derives a reduced variational integrator from a discrete Lagrangian at compile time.
+///
+/// See the `dirac` crate's documentation for the attribute syntax and the emitted items.
+#[proc_macro_attribute]
+pub fn reduced_lagrangian(args: TokenStream, item: TokenStream) -> TokenStream {
+    expand::expand(args.into(), item.into()).into()
+}

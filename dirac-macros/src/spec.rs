@@ -1,0 +1,308 @@
+//! The attribute and the function signature: which coordinates are shape and which are group,
+//! the parameters, the time step and the connection.
+//!
+//! ```text
+//! #[reduced_lagrangian(
+//!     shape(x, y, z),              // shape coordinates x ∈ Σ (required, may be empty: `shape()`)
+//!     group(theta),                // group coordinates g ∈ G, translated by the action (required, ≥ 1)
+//!     connection = [[0.0, b, 0.0]],// optional K × S matrix B: ω_d = (g1 − g0) − B (x1 − x0)
+//!     step = h,                    // optional: the time-step parameter (default: the one named `h`)
+//!     name = ChargedParticle,      // optional: the emitted type (default: the function name in CamelCase)
+//! )]
+//! fn f(q0: Config, q1: Config, h: f64, m: f64) -> f64 { … }
+//! ```
+
+use proc_macro2::Span;
+use syn::parse::{Parse, ParseStream};
+use syn::punctuated::Punctuated;
+use syn::spanned::Spanned;
+use syn::{Expr, Ident, Token};
+
+use crate::ctxt::Ctxt;
+
+const KEYS: &str = "`shape(...)`, `group(...)`, `connection = [[...], ...]`, `step = <parameter>` and `name = <TypeName>`";
+
+/// The parsed attribute.
+pub struct Spec {
+    pub shape: Vec<Ident>,
+    pub group: Vec<Ident>,
+    /// Rows of `B`, one per group coordinate, each with one entry per shape coordinate.
+    pub connection: Option<Vec<Vec<Expr>>>,
+    pub step: Option<Ident>,
+    pub name: Option<Ident>,
+}
+
+/// The parsed function signature.
+pub struct Signature {
+    pub q0: Ident,
+    pub q1: Ident,
+    pub params: Vec<Ident>,
+    /// The time-step parameter.
+    pub step: Ident,
+}
+
+enum Arg {
+    List(Ident, Punctuated<Ident, Token![,]>),
+    Value(Ident, Expr),
+}
+
+impl Parse for Arg {
+    fn parse(input: ParseStream) -> syn::Result<Self> {
+        let key: Ident = input.parse()?;
+        if input.peek(syn::token::Paren) {
+            let content;
+            syn::parenthesized!(content in input);
+            let list = Punctuated::parse_terminated(&content)?;
+            Ok(Arg::List(key, list))
+        } else if input.peek(Token![=]) {
+            input.parse::<Token![=]>()?;
+            Ok(Arg::Value(key, input.parse()?))
+        } else {
+            Err(syn::Error::new(
+                key.span(),
+                format!("expected `{key}(...)` or `{key} = ...`; accepted: {KEYS}"),
+            ))
+        }
+    }
+}
+
+/// Parses the attribute arguments, recording every mistake in `cx`.
+pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
+    let parser = Punctuated::<Arg, Token![,]>::parse_terminated;
+    let args = match syn::parse::Parser::parse2(parser, args) {
+        Ok(args) => args,
+        Err(e) => {
+            cx.syn_error(e);
+            return None;
+        }
+    };
+    let mut shape: Option<Vec<Ident>> = None;
+    let mut group: Option<Vec<Ident>> = None;
+    let mut connection: Option<Vec<Vec<Expr>>> = None;
+    let mut step: Option<Ident> = None;
+    let mut name: Option<Ident> = None;
+    let mut seen: Vec<String> = Vec::new();
+    for arg in args {
+        let key = match &arg {
+            Arg::List(k, _) | Arg::Value(k, _) => k.clone(),
+        };
+        let key_name = key.to_string();
+        if seen.contains(&key_name) {
+            cx.error_spanned_by(&key, format!("duplicate `{key_name}` argument"));
+            continue;
+        }
+        seen.push(key_name.clone());
+        match (key_name.as_str(), arg) {
+            ("shape", Arg::List(_, list)) => shape = Some(list.into_iter().collect()),
+            ("group", Arg::List(k, list)) => {
+                if list.is_empty() {
+                    cx.error_spanned_by(
+                        &k,
+                        "`group()` is empty: declare at least one group coordinate, e.g. `group(theta)`",
+                    );
+                }
+                group = Some(list.into_iter().collect());
+            }
+            ("connection", Arg::Value(_, value)) => connection = parse_matrix(cx, value),
+            ("step", Arg::Value(_, value)) => step = parse_ident(cx, value, "a parameter name"),
+            ("name", Arg::Value(_, value)) => name = parse_ident(cx, value, "a type name"),
+            ("shape" | "group", Arg::Value(k, _)) => {
+                cx.error_spanned_by(&k, format!("expected a list: `{k}(a, b, ...)`"))
+            }
+            ("connection" | "step" | "name", Arg::List(k, _)) => {
+                cx.error_spanned_by(&k, format!("expected `{k} = ...`"))
+            }
+            (_, _) => cx.error_spanned_by(
+                &key,
+                format!("unknown argument `{key_name}`; accepted: {KEYS}"),
+            ),
+        }
+    }
+    if shape.is_none() {
+        cx.error_at(
+            Span::call_site(),
+            "missing `shape(...)`: list the shape coordinates, e.g. `shape(x, y)` (or `shape()` for none)",
+        );
+    }
+    if group.is_none() {
+        cx.error_at(
+            Span::call_site(),
+            "missing `group(...)`: list the group coordinates the symmetry translates, e.g. `group(theta)`",
+        );
+    }
+    let (shape, group) = (shape?, group?);
+    check_coordinates(cx, &shape, &group);
+    if let Some(rows) = &connection {
+        check_connection_shape(cx, rows, shape.len(), group.len());
+    }
+    Some(Spec {
+        shape,
+        group,
+        connection,
+        step,
+        name,
+    })
+}
+
+fn parse_ident(cx: &Ctxt, value: Expr, what: &str) -> Option<Ident> {
+    if let Expr::Path(p) = &value {
+        if let Some(id) = p.path.get_ident() {
+            return Some(id.clone());
+        }
+    }
+    cx.error_spanned_by(&value, format!("expected {what}"));
+    None
+}
+
+fn parse_matrix(cx: &Ctxt, value: Expr) -> Option<Vec<Vec<Expr>>> {
+    let Expr::Array(rows) = value else {
+        cx.error_spanned_by(
+            &value,
+            "expected the connection matrix B as nested arrays, one row per group coordinate: `connection = [[b11, b12], ...]`",
+        );
+        return None;
+    };
+    let mut out = Vec::new();
+    for row in rows.elems {
+        match row {
+            Expr::Array(cols) => out.push(cols.elems.into_iter().collect()),
+            other => {
+                cx.error_spanned_by(&other, "expected a row of B: `[b1, b2, ...]`, one entry per shape coordinate");
+                return None;
+            }
+        }
+    }
+    Some(out)
+}
+
+fn check_coordinates(cx: &Ctxt, shape: &[Ident], group: &[Ident]) {
+    let mut seen: Vec<&Ident> = Vec::new();
+    for id in shape.iter().chain(group) {
+        if let Some(first) = seen.iter().find(|s| **s == id) {
+            let in_shape = |x: &Ident| shape.iter().any(|s| s == x);
+            let in_group = |x: &Ident| group.iter().any(|s| s == x);
+            if in_shape(first) && in_group(id) {
+                cx.error_spanned_by(
+                    id,
+                    format!("coordinate `{id}` is in both `shape` and `group`: a coordinate is either shape or group"),
+                );
+            } else {
+                cx.error_spanned_by(id, format!("coordinate `{id}` is declared twice"));
+            }
+        } else {
+            seen.push(id);
+        }
+    }
+}
+
+fn check_connection_shape(cx: &Ctxt, rows: &[Vec<Expr>], s: usize, k: usize) {
+    let dims = format!("B must be K × S = {k} × {s} (one row per group coordinate, one column per shape coordinate)");
+    if rows.len() != k {
+        let span = rows.get(k).map_or(Span::call_site(), |r| r.first().map_or(Span::call_site(), |e| e.span()));
+        cx.error_at(span, format!("connection matrix has {} rows; {dims}", rows.len()));
+        return;
+    }
+    for (i, row) in rows.iter().enumerate() {
+        if row.len() != s {
+            let span = row.get(s).map_or(Span::call_site(), |e| e.span());
+            cx.error_at(span, format!("row {} of the connection matrix has {} entries; {dims}", i + 1, row.len()));
+        }
+    }
+}
+
+/// Checks the function signature: `(q0: Config, q1: Config, p1: f64, ...) -> f64`.
+pub fn parse_signature(cx: &Ctxt, sig: &syn::Signature, spec_step: Option<&Ident>) -> Option<Signature> {
+    let mut ok = true;
+    if let Some(g) = sig.generics.params.first() {
+        cx.error_spanned_by(g, "generic parameters are not supported: the Lagrangian is written over f64");
+        ok = false;
+    }
+    for (token, what) in [
+        (sig.asyncness.as_ref().map(|t| t.span()), "`async`"),
+        (sig.unsafety.as_ref().map(|t| t.span()), "`unsafe`"),
+        (sig.constness.as_ref().map(|t| t.span()), "`const`"),
+    ] {
+        if let Some(span) = token {
+            cx.error_at(span, format!("{what} functions are not supported"));
+            ok = false;
+        }
+    }
+    match &sig.output {
+        syn::ReturnType::Type(_, ty) if is_f64(ty) => {}
+        syn::ReturnType::Type(_, ty) => {
+            cx.error_spanned_by(ty, "a discrete Lagrangian returns `f64`");
+            ok = false;
+        }
+        syn::ReturnType::Default => {
+            cx.error_spanned_by(&sig.ident, "a discrete Lagrangian returns `f64`: add `-> f64`");
+            ok = false;
+        }
+    }
+    let mut names = Vec::new();
+    for (i, input) in sig.inputs.iter().enumerate() {
+        let syn::FnArg::Typed(pat_ty) = input else {
+            cx.error_spanned_by(input, "`self` is not accepted: the Lagrangian is a free function");
+            ok = false;
+            continue;
+        };
+        let syn::Pat::Ident(pi) = &*pat_ty.pat else {
+            cx.error_spanned_by(&pat_ty.pat, "expected a plain argument name");
+            ok = false;
+            continue;
+        };
+        let ty = &*pat_ty.ty;
+        if i < 2 {
+            if !is_config(ty) {
+                cx.error_spanned_by(
+                    ty,
+                    "the first two arguments are the configurations: `q0: Config, q1: Config`",
+                );
+                ok = false;
+            }
+        } else if !is_f64(ty) {
+            cx.error_spanned_by(ty, "parameters must be `f64`: only scalar parameters are accepted");
+            ok = false;
+        }
+        names.push(pi.ident.clone());
+    }
+    if names.len() < 2 {
+        cx.error_spanned_by(
+            &sig.inputs,
+            "expected the configurations first: `fn f(q0: Config, q1: Config, h: f64, ...) -> f64`",
+        );
+        return None;
+    }
+    let params: Vec<Ident> = names.split_off(2);
+    let step = match spec_step {
+        Some(step) => {
+            if !params.contains(step) {
+                cx.error_spanned_by(step, format!("`step = {step}` must name one of the `f64` parameters"));
+                ok = false;
+            }
+            Some(step.clone())
+        }
+        None => params.iter().find(|p| *p == "h").cloned(),
+    };
+    if step.is_none() && ok {
+        cx.error_spanned_by(
+            &sig.inputs,
+            "no time step: name a parameter `h: f64`, or declare which parameter it is with `step = <name>`",
+        );
+        ok = false;
+    }
+    let step = step.filter(|_| ok)?;
+    Some(Signature {
+        q0: names[0].clone(),
+        q1: names[1].clone(),
+        params,
+        step,
+    })
+}
+
+fn is_f64(ty: &syn::Type) -> bool {
+    matches!(ty, syn::Type::Path(p) if p.qself.is_none() && p.path.is_ident("f64"))
+}
+
+fn is_config(ty: &syn::Type) -> bool {
+    matches!(ty, syn::Type::Path(p) if p.qself.is_none() && p.path.is_ident("Config"))
+}

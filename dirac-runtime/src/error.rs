@@ -1,0 +1,84 @@
+//! Typed errors: a failed step is a value the caller cannot miss, never a panic or a silent NaN.
+
+use crate::integrate::Trajectory;
+
+/// Why one step could not be computed. Every variant carries the step index `step` (the step
+/// from `t_step` to `t_{step+1}`; 0 for problems with the initial data) and the residual
+/// `‖R‖∞` at the last iterate.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum StepError {
+    /// Newton's iteration reached its cap without meeting the tolerances.
+    #[error(
+        "step {step}: Newton iteration did not converge in {iterations} iterations \
+         (residual {residual:.3e}); try a smaller time step or a larger iteration cap"
+    )]
+    NotConverged {
+        /// Index of the failed step.
+        step: usize,
+        /// Newton corrections taken.
+        iterations: usize,
+        /// `‖R‖∞` at the last iterate.
+        residual: f64,
+    },
+    /// The Jacobian of the step equations is singular: the discrete Lagrangian is degenerate at
+    /// this point (or the reduction is not valid here, e.g. where the action is not free).
+    #[error("step {step}: singular Jacobian of the step equations (residual {residual:.3e})")]
+    SingularJacobian {
+        /// Index of the failed step.
+        step: usize,
+        /// `‖R‖∞` at the iterate whose Jacobian is singular.
+        residual: f64,
+    },
+    /// A residual, Jacobian, correction or state component is NaN or infinite.
+    #[error("step {step}: non-finite value in {what} (residual {residual:.3e})")]
+    NonFinite {
+        /// Index of the failed step.
+        step: usize,
+        /// What was not finite.
+        what: &'static str,
+        /// `‖R‖∞` at the last finite iterate (infinite if there was none).
+        residual: f64,
+    },
+    /// The time step is not a positive finite number.
+    #[error("invalid time step h = {h}: it must be positive and finite")]
+    InvalidTimeStep {
+        /// The offending value.
+        h: f64,
+    },
+}
+
+impl StepError {
+    /// Index of the step that failed.
+    pub fn step(&self) -> usize {
+        match *self {
+            StepError::NotConverged { step, .. }
+            | StepError::SingularJacobian { step, .. }
+            | StepError::NonFinite { step, .. } => step,
+            StepError::InvalidTimeStep { .. } => 0,
+        }
+    }
+
+    /// `‖R‖∞` at the last iterate (`NaN` for an invalid time step, where no residual exists).
+    pub fn residual(&self) -> f64 {
+        match *self {
+            StepError::NotConverged { residual, .. }
+            | StepError::SingularJacobian { residual, .. }
+            | StepError::NonFinite { residual, .. } => residual,
+            StepError::InvalidTimeStep { .. } => f64::NAN,
+        }
+    }
+}
+
+/// An integration that stopped at a failed step. The trajectory computed up to that step is
+/// kept, intact, in `trajectory`.
+#[derive(Clone, Debug, thiserror::Error)]
+#[error("integration stopped after {} of {requested} steps: {source}", trajectory.steps())]
+pub struct IntegrationError<const S: usize, const K: usize> {
+    /// The step that failed.
+    pub source: StepError,
+    /// Everything computed before the failure.
+    pub trajectory: Trajectory<S, K>,
+    /// The number of steps that were asked for.
+    pub requested: usize,
+}

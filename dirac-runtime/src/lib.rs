@@ -1,0 +1,31 @@
+//! Runtime for the integrators that `#[reduced_lagrangian]` emits.
+//!
+//! The macro turns a discrete Lagrangian `L_d(q0, q1)` into straight-line `f64` code for the
+//! reduced (+) discrete Lagrange–Poincaré–Dirac equations (Rodríguez Abella & Leok, eq. (4.6)) and
+//! implements the traits of [`system`] for a type holding the Lagrangian's parameters. This crate
+//! drives that code: [`newton`] solves each step's equations on fixed-size nalgebra types,
+//! [`integrate`] marches a trajectory, [`state`] holds the reduced and canonical states, and
+//! [`error`] reports a failed step as a value carrying its index and residual.
+//!
+//! Notation follows the paper: `Q = Σ × G` with shape coordinates `x ∈ Σ = R^S` and group
+//! coordinates `g ∈ G = R^K` (G acts by translation), reduced momenta `w ∈ Σ*` and `mu ∈ g*`,
+//! connection matrix `B` (`K × S`) of the linear discrete connection
+//! `ω_d(q0, q1) = (g1 − g0) − B (x1 − x0)`.
+
+pub mod diagnostics;
+pub mod error;
+pub mod integrate;
+pub mod lu;
+pub mod newton;
+pub mod state;
+pub mod system;
+
+pub use diagnostics::{generalized_energy_plus, trajectory_energies};
+pub use error::{IntegrationError, StepError};
+pub use integrate::{ReducedIntegrator, StepStats, Trajectory};
+pub use newton::NewtonOptions;
+pub use state::{CanonicalState, ReducedState};
+pub use system::{DiscreteLagrangian, ReducedPlus};
+
+/// Re-exported so that emitted code and users name the same nalgebra.
+pub use nalgebra;

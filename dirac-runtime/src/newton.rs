@@ -1,0 +1,176 @@
+//! Newton iteration on fixed-size nalgebra types: LU with partial pivoting, no heap allocation.
+
+use nalgebra::{SMatrix, SVector};
+
+use crate::lu::Lu;
+
+/// Tolerances and iteration cap of the Newton iteration that solves each step.
+///
+/// A step has converged when the residual satisfies
+/// `‖R‖∞ ≤ abs_tol + rel_tol · ρ`, where `ρ` is the size of the momenta the residual balances
+/// (`‖(w_k, μ_k)‖∞` for eq. (4.6)), or when a Newton correction satisfies
+/// `‖Δz‖∞ ≤ rel_tol · (1 + ‖z‖∞)`, after which the residual is at round-off level. The defaults sit
+/// near machine precision: loosening them trades the structure (momentum, symplecticity) for
+/// speed, so do it deliberately.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NewtonOptions {
+    /// Absolute tolerance on `‖R‖∞`, in the units of momentum.
+    pub abs_tol: f64,
+    /// Relative tolerance on `‖R‖∞` (against the momenta) and on the Newton correction.
+    pub rel_tol: f64,
+    /// Maximum number of Newton corrections per step.
+    pub max_iterations: usize,
+}
+
+impl Default for NewtonOptions {
+    fn default() -> Self {
+        Self {
+            abs_tol: 1e-12,
+            rel_tol: 1e-12,
+            max_iterations: 50,
+        }
+    }
+}
+
+/// A converged solve.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NewtonSolution<const N: usize> {
+    /// The root `z`.
+    pub z: SVector<f64, N>,
+    /// Number of Newton corrections (linear solves) taken.
+    pub iterations: usize,
+    /// `‖R(z)‖∞` at the returned `z`.
+    pub residual: f64,
+}
+
+/// Why a solve failed, with the residual at the last iterate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum NewtonFailure {
+    /// The iteration cap was reached.
+    NotConverged {
+        /// Corrections taken.
+        iterations: usize,
+        /// `‖R‖∞` at the last iterate.
+        residual: f64,
+    },
+    /// The LU factorization found a zero pivot.
+    Singular {
+        /// `‖R‖∞` at the iterate whose Jacobian is singular.
+        residual: f64,
+    },
+    /// The residual, the Jacobian or the correction is not finite.
+    NonFinite {
+        /// `‖R‖∞` at the last finite iterate (infinite if there was none).
+        residual: f64,
+    },
+}
+
+/// Solves `R(z) = 0` from `z0` by Newton's method.
+///
+/// `residual` evaluates `R` alone (used to test convergence after each correction);
+/// `residual_jacobian` evaluates `R` and `∂R/∂z` together. `rho` is the momentum scale of the
+/// relative residual test (see [`NewtonOptions`]).
+pub fn solve<const N: usize>(
+    z0: SVector<f64, N>,
+    rho: f64,
+    options: &NewtonOptions,
+    mut residual: impl FnMut(&SVector<f64, N>) -> SVector<f64, N>,
+    mut residual_jacobian: impl FnMut(&SVector<f64, N>) -> (SVector<f64, N>, SMatrix<f64, N, N>),
+) -> Result<NewtonSolution<N>, NewtonFailure> {
+    let tol = options.abs_tol + options.rel_tol * rho;
+    let mut z = z0;
+    let mut r = residual(&z);
+    let mut norm = r.amax();
+    if !norm.is_finite() {
+        return Err(NewtonFailure::NonFinite {
+            residual: f64::INFINITY,
+        });
+    }
+    let mut iterations = 0;
+    loop {
+        if norm <= tol {
+            return Ok(NewtonSolution {
+                z,
+                iterations,
+                residual: norm,
+            });
+        }
+        if iterations == options.max_iterations {
+            return Err(NewtonFailure::NotConverged {
+                iterations,
+                residual: norm,
+            });
+        }
+        let (r_j, jacobian) = residual_jacobian(&z);
+        if jacobian.iter().any(|v| !v.is_finite()) {
+            return Err(NewtonFailure::NonFinite { residual: norm });
+        }
+        let dz = Lu::new(jacobian)
+            .ok_or(NewtonFailure::Singular { residual: norm })?
+            .solve(&r_j);
+        if dz.iter().any(|v| !v.is_finite()) {
+            return Err(NewtonFailure::Singular { residual: norm });
+        }
+        let previous = norm;
+        z -= dz;
+        iterations += 1;
+        r = residual(&z);
+        norm = r.amax();
+        if !norm.is_finite() {
+            return Err(NewtonFailure::NonFinite { residual: previous });
+        }
+        if dz.amax() <= options.rel_tol * (1.0 + z.amax()) {
+            return Ok(NewtonSolution {
+                z,
+                iterations,
+                residual: norm,
+            });
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Matrix2, Vector2};
+
+    #[test]
+    fn solves_a_nonlinear_system_quadratically() {
+        // x² + y² = 4, x = y: root (√2, √2).
+        let f = |z: &Vector2<f64>| Vector2::new(z[0] * z[0] + z[1] * z[1] - 4.0, z[0] - z[1]);
+        let fj = |z: &Vector2<f64>| (f(z), Matrix2::new(2.0 * z[0], 2.0 * z[1], 1.0, -1.0));
+        let sol = solve(Vector2::new(1.0, 0.5), 1.0, &NewtonOptions::default(), f, fj).unwrap();
+        assert!((sol.z[0] - 2f64.sqrt()).abs() < 1e-14);
+        assert!((sol.z[1] - 2f64.sqrt()).abs() < 1e-14);
+        assert!(sol.iterations <= 7, "{} iterations", sol.iterations);
+    }
+
+    #[test]
+    fn reports_a_singular_jacobian() {
+        let f = |z: &Vector2<f64>| Vector2::new(z[0] + z[1] - 1.0, z[0] + z[1] - 2.0);
+        let fj = |z: &Vector2<f64>| (f(z), Matrix2::new(1.0, 1.0, 1.0, 1.0));
+        let err = solve(Vector2::zeros(), 1.0, &NewtonOptions::default(), f, fj).unwrap_err();
+        assert!(matches!(err, NewtonFailure::Singular { residual } if residual == 2.0), "{err:?}");
+    }
+
+    #[test]
+    fn reports_non_convergence_with_the_last_residual() {
+        // z³ − 2z + 2 = 0 from z = 0 cycles 0 → 1 → 0 → … (a classic Newton 2-cycle).
+        let f = |z: &nalgebra::Vector1<f64>| nalgebra::Vector1::new(z[0].powi(3) - 2.0 * z[0] + 2.0);
+        let fj = |z: &nalgebra::Vector1<f64>| {
+            (f(z), nalgebra::Matrix1::new(3.0 * z[0] * z[0] - 2.0))
+        };
+        let options = NewtonOptions {
+            max_iterations: 8,
+            ..NewtonOptions::default()
+        };
+        let err = solve(nalgebra::Vector1::zeros(), 1.0, &options, f, fj).unwrap_err();
+        assert_eq!(
+            err,
+            NewtonFailure::NotConverged {
+                iterations: 8,
+                residual: 2.0
+            }
+        );
+    }
+}

@@ -1,0 +1,142 @@
+//! The traits that `#[reduced_lagrangian]` implements for the type it emits.
+//!
+//! Dimensions are const generics: `S` shape coordinates, `K` group coordinates and `N = S + K`
+//! configuration coordinates, ordered `q = (x, g)` (the trivialization `Q = Σ × G` of §2.2.1).
+
+use nalgebra::{SMatrix, SVector};
+
+use crate::state::{CanonicalState, ReducedState};
+
+/// A discrete Lagrangian `L_d : Q × Q → R` invariant under translation of the group coordinates,
+/// together with a linear discrete connection `ω_d(q0, q1) = (g1 − g0) − B (x1 − x0)`.
+///
+/// In the paper's notation (§2.2.1) this connection has `h_d((x0, g0), x1) = g0 + B (x1 − x0)`,
+/// so `h_d^0(x0, x1) = B (x1 − x0)`, `h_{d,Σ} = B`, `h*_{d,Σ} = Bᵀ` and `h_{d,Q}((x0, 0)) = −B x0`
+/// (eqs. (2.5)–(2.6)).
+pub trait DiscreteLagrangian<const S: usize, const K: usize, const N: usize> {
+    /// Names of the shape coordinates `x`, in the order of the configuration vector.
+    const SHAPE: [&'static str; S];
+    /// Names of the group coordinates `g`, which follow the shape coordinates in `q`.
+    const GROUP: [&'static str; K];
+    /// Names of the scalar parameters, in declaration order.
+    const PARAMETERS: &'static [&'static str];
+
+    /// `L_d(q0, q1)`, evaluated by the user's own function body.
+    fn lagrangian(&self, q0: &SVector<f64, N>, q1: &SVector<f64, N>) -> f64;
+
+    /// The connection matrix `B` (`K × S`); zero unless the attribute declares one.
+    fn connection(&self) -> SMatrix<f64, K, S>;
+
+    /// The time step `h`.
+    fn time_step(&self) -> f64;
+
+    /// The parameter values, in the order of [`Self::PARAMETERS`].
+    fn parameter_values(&self) -> Vec<f64>;
+
+    /// Right trivialization of `T*Q`, eq. (3.6): `(q, p) ↦ (q, w, μ)` with
+    /// `w = p_x + h*_{d,Σ}(p_g) = p_x + Bᵀ p_g` and `μ = J(q, p) = p_g` (Lemma 2.2).
+    fn trivialize(&self, state: &CanonicalState<N>) -> ReducedState<S, K> {
+        let (x, g) = split::<S, K, N>(&state.q);
+        let (p_x, p_g) = split::<S, K, N>(&state.p);
+        ReducedState {
+            x,
+            w: p_x + self.connection().transpose() * p_g,
+            mu: p_g,
+            g,
+        }
+    }
+
+    /// Inverse trivialization, eq. (3.7): `p = (w − h*_{d,Σ}(μ), μ) = (w − Bᵀ μ, μ)`.
+    fn untrivialize(&self, state: &ReducedState<S, K>) -> CanonicalState<N> {
+        let p_x = state.w - self.connection().transpose() * state.mu;
+        CanonicalState {
+            q: join::<S, K, N>(&state.x, &state.g),
+            p: join::<S, K, N>(&p_x, &state.mu),
+        }
+    }
+
+    /// The momentum map of the translation action, `J(q, p) = p_g` (§2.1.1, Lemma 2.2).
+    fn momentum_map(&self, state: &CanonicalState<N>) -> SVector<f64, K> {
+        split::<S, K, N>(&state.p).1
+    }
+
+    /// The discrete connection `ω_d(q0, q1) = (g1 − g0) − B (x1 − x0)` (Definition 2.1).
+    fn discrete_connection(&self, q0: &SVector<f64, N>, q1: &SVector<f64, N>) -> SVector<f64, K> {
+        let (x0, g0) = split::<S, K, N>(q0);
+        let (x1, g1) = split::<S, K, N>(q1);
+        (g1 - g0) - self.connection() * (x1 - x0)
+    }
+}
+
+/// The reduced (+) discrete Lagrange–Poincaré–Dirac equations, eq. (4.6), for the reduced
+/// Lagrangian `l_{d+}(x0, x1, g1) = L_d(x0, 0, x1, g1 + h_d^0(x0, x1))`, eq. (4.5).
+///
+/// With the linear connection of [`DiscreteLagrangian`], eq. (4.6) reads
+///
+/// ```text
+/// w_{k+1}            = ∂l_{d+}/∂x1                          (first line)
+/// μ_{k+1}            = ∂l_{d+}/∂g1 = μ_k                     (second and fourth lines)
+/// w_k − Bᵀ μ_k       = −∂l_{d+}/∂x0 − Bᵀ ∂l_{d+}/∂g1         (third line)
+/// x_k^+              = x_{k+1}
+/// g_k^+ − B x_k      = g_{k+1} − B x_{k+1}                   (last line, g_{k+1} relative to g_k)
+/// ```
+///
+/// with every partial derivative at `(x_k, x_{k+1}, g_k^+)`. A forward step solves the third and
+/// fourth lines for the unknowns `z = (x_{k+1}, g_k^+) ∈ R^N`; on solutions the third line is
+/// `w_k = −∂l_{d+}/∂x0`, so the step residual is
+///
+/// ```text
+/// R(z) = ( ∂l_{d+}/∂x0 + w_k ,  ∂l_{d+}/∂g1 − μ_k ).
+/// ```
+///
+/// (The printed third line is this `R_x` plus `Bᵀ R_g`: a constant invertible recombination of
+/// the rows, which leaves Newton's iterates unchanged.) The emitted code returns the
+/// `w`/`μ`-independent part `F(z) = (∂l_{d+}/∂x0, ∂l_{d+}/∂g1)` and its exact Jacobian.
+pub trait ReducedPlus<const S: usize, const K: usize, const N: usize>:
+    DiscreteLagrangian<S, K, N>
+{
+    /// `l_{d+}(x0, x1, g1)`, eq. (4.5).
+    fn reduced_lagrangian_plus(
+        &self,
+        x0: &SVector<f64, S>,
+        x1: &SVector<f64, S>,
+        g1: &SVector<f64, K>,
+    ) -> f64;
+
+    /// `F(z) = (∂l_{d+}/∂x0, ∂l_{d+}/∂g1)` at `(x_k, z) = (x_k, x_{k+1}, g_k^+)`.
+    fn plus_forces(&self, x_k: &SVector<f64, S>, z: &SVector<f64, N>) -> SVector<f64, N>;
+
+    /// `F(z)` and its Jacobian `∂F/∂z` (second derivatives of `l_{d+}`), computed together in one
+    /// straight-line function.
+    fn plus_forces_jacobian(
+        &self,
+        x_k: &SVector<f64, S>,
+        z: &SVector<f64, N>,
+    ) -> (SVector<f64, N>, SMatrix<f64, N, N>);
+
+    /// `w_{k+1} = ∂l_{d+}/∂x1 (x_k, x_{k+1}, g_k^+)`, first line of eq. (4.6).
+    fn plus_momentum(&self, x_k: &SVector<f64, S>, z: &SVector<f64, N>) -> SVector<f64, S>;
+}
+
+/// Splits `q = (x, g)`.
+pub fn split<const S: usize, const K: usize, const N: usize>(
+    q: &SVector<f64, N>,
+) -> (SVector<f64, S>, SVector<f64, K>) {
+    debug_assert_eq!(S + K, N);
+    (
+        q.fixed_rows::<S>(0).into_owned(),
+        q.fixed_rows::<K>(S).into_owned(),
+    )
+}
+
+/// Joins `x` and `g` into `q = (x, g)`.
+pub fn join<const S: usize, const K: usize, const N: usize>(
+    x: &SVector<f64, S>,
+    g: &SVector<f64, K>,
+) -> SVector<f64, N> {
+    debug_assert_eq!(S + K, N);
+    let mut q = SVector::<f64, N>::zeros();
+    q.fixed_rows_mut::<S>(0).copy_from(x);
+    q.fixed_rows_mut::<K>(S).copy_from(g);
+    q
+}
