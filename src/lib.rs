@@ -56,6 +56,11 @@
 //! acos atan exp ln sqrt sinh cosh tanh recip powi powf atan2`, as methods or `f64::` paths.
 //! Anything else is a compile error pointing at the offending token.
 
+// Emitted code names `::dirac::…`; this lets the crate's own `paper` module use the attribute.
+extern crate self as dirac;
+
+pub mod paper;
+
 pub use dirac_macros::reduced_lagrangian;
 pub use dirac_runtime as runtime;
 pub use dirac_runtime::nalgebra;
