@@ -16,9 +16,14 @@ use plotters::prelude::*;
 
 fn main() -> Result<(), Box<dyn Error>> {
     let out = output_dir()?;
-    println!("Charged particle in a magnetic field (§7.1): m = 1, B0 = 1, T = {CHARGED_PARTICLE_T}");
+    println!(
+        "Charged particle in a magnetic field (§7.1): m = 1, B0 = 1, T = {CHARGED_PARTICLE_T}"
+    );
     println!("reduced (+) equations (4.6), left-point discrete Lagrangian\n");
-    println!("{:>5} {:>8} {:>14} {:>10} {:>7} {:>11}", "N", "h", "|q(T) - q_N|", "paper", "order", "Newton it.");
+    println!(
+        "{:>5} {:>8} {:>14} {:>10} {:>7} {:>11}",
+        "N", "h", "|q(T) - q_N|", "paper", "order", "Newton it."
+    );
     let mut previous: Option<(usize, f64)> = None;
     for n in [10, 50, 100, 200, 400, 800] {
         let traj = run(n)?;
@@ -51,7 +56,10 @@ fn run(n: usize) -> Result<Trajectory<3, 1>, Box<dyn Error>> {
 fn final_error(traj: &Trajectory<3, 1>) -> f64 {
     let exact = ChargedParticle::exact_position(CHARGED_PARTICLE_T);
     let x = traj.last().x;
-    (0..3).map(|i| (x[i] - exact[i]).powi(2)).sum::<f64>().sqrt()
+    (0..3)
+        .map(|i| (x[i] - exact[i]).powi(2))
+        .sum::<f64>()
+        .sqrt()
 }
 
 fn output_dir() -> Result<PathBuf, Box<dyn Error>> {
@@ -60,7 +68,12 @@ fn output_dir() -> Result<PathBuf, Box<dyn Error>> {
     while let Some(arg) = args.next() {
         match arg.as_str() {
             "--out" => out = PathBuf::from(args.next().ok_or("--out needs a directory")?),
-            other => return Err(format!("unknown argument `{other}`; usage: charged_particle [--out DIR]").into()),
+            other => {
+                return Err(format!(
+                    "unknown argument `{other}`; usage: charged_particle [--out DIR]"
+                )
+                .into())
+            }
         }
     }
     fs::create_dir_all(&out)?;
@@ -73,7 +86,10 @@ fn write_figure_1(traj: &Trajectory<3, 1>, out: &Path) -> Result<(), Box<dyn Err
     for (k, s) in traj.states.iter().enumerate() {
         let t = traj.time(k);
         let e = ChargedParticle::exact_position(t);
-        csv.push_str(&format!("{t},{},{},{},{},{},{}\n", s.x[0], s.x[1], s.x[2], e[0], e[1], e[2]));
+        csv.push_str(&format!(
+            "{t},{},{},{},{},{},{}\n",
+            s.x[0], s.x[1], s.x[2], e[0], e[1], e[2]
+        ));
         approx.push((s.x[0], s.x[2], s.x[1]));
     }
     fs::write(out.join("figure1.csv"), csv)?;
@@ -88,7 +104,10 @@ fn write_figure_1(traj: &Trajectory<3, 1>, out: &Path) -> Result<(), Box<dyn Err
     let root = SVGBackend::new(&path, (800, 700)).into_drawing_area();
     root.fill(&WHITE)?;
     let mut chart = ChartBuilder::on(&root)
-        .caption("Charged particle: exact and discrete (h = 0.2)", ("sans-serif", 22))
+        .caption(
+            "Charged particle: exact and discrete (h = 0.2)",
+            ("sans-serif", 22),
+        )
         .margin(20)
         .build_cartesian_3d(-1.5..1.5, 0.0..20.0, -2.5..0.5)?;
     chart.with_projection(|mut p| {
@@ -107,7 +126,11 @@ fn write_figure_1(traj: &Trajectory<3, 1>, out: &Path) -> Result<(), Box<dyn Err
         .label("reduced (+) integrator, N = 100")
         .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], RED));
     chart.draw_series(approx.into_iter().map(|p| Circle::new(p, 2, RED.filled())))?;
-    chart.configure_series_labels().border_style(BLACK).background_style(WHITE).draw()?;
+    chart
+        .configure_series_labels()
+        .border_style(BLACK)
+        .background_style(WHITE)
+        .draw()?;
     root.present()?;
     Ok(())
 }

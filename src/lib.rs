@@ -65,8 +65,9 @@ pub use dirac_macros::reduced_lagrangian;
 pub use dirac_runtime as runtime;
 pub use dirac_runtime::nalgebra;
 pub use dirac_runtime::{
-    generalized_energy_plus, trajectory_energies, CanonicalState, DiscreteLagrangian, IntegrationError,
-    NewtonOptions, ReducedIntegrator, ReducedPlus, ReducedState, StepError, StepStats, Trajectory,
+    generalized_energy_plus, trajectory_energies, CanonicalState, DiscreteLagrangian,
+    IntegrationError, NewtonOptions, ReducedIntegrator, ReducedPlus, ReducedState, StepError,
+    StepStats, Trajectory,
 };
 
 /// Everything a user of the attribute needs in scope.
@@ -74,7 +75,7 @@ pub mod prelude {
     pub use crate::nalgebra::{SMatrix, SVector};
     pub use crate::reduced_lagrangian;
     pub use crate::{
-        CanonicalState, DiscreteLagrangian, IntegrationError, NewtonOptions, ReducedIntegrator, ReducedPlus,
-        ReducedState, StepError, StepStats, Trajectory,
+        CanonicalState, DiscreteLagrangian, IntegrationError, NewtonOptions, ReducedIntegrator,
+        ReducedPlus, ReducedState, StepError, StepStats, Trajectory,
     };
 }

@@ -44,4 +44,5 @@ impl ChargedParticle {
 pub const CHARGED_PARTICLE_T: f64 = 20.0;
 
 /// `|q(T) − q_N|` printed in the paper's Table 1, for `N = 10, 50, 100, 200`.
-pub const TABLE_1: [(usize, f64); 4] = [(10, 1.6781), (50, 0.25971), (100, 0.06626), (200, 0.01664)];
+pub const TABLE_1: [(usize, f64); 4] =
+    [(10, 1.6781), (50, 0.25971), (100, 0.06626), (200, 0.01664)];

@@ -199,7 +199,10 @@ mod tests {
             let at = 0.4;
             let exact = g.eval(&[d], &|_| at)[0];
             let fd = central_difference(&g, root, at);
-            assert!((exact - fd).abs() < 1e-7 * (1.0 + fd.abs()), "{name}: {exact} vs {fd}");
+            assert!(
+                (exact - fd).abs() < 1e-7 * (1.0 + fd.abs()),
+                "{name}: {exact} vs {fd}"
+            );
         }
     }
 

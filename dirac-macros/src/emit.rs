@@ -17,7 +17,11 @@ pub struct StraightLine {
 }
 
 /// Emits the code for `outputs`; `leaf` gives the expression that reads a symbol.
-pub fn straight_line(g: &Graph, outputs: &[NodeId], leaf: &dyn Fn(Sym) -> TokenStream) -> StraightLine {
+pub fn straight_line(
+    g: &Graph,
+    outputs: &[NodeId],
+    leaf: &dyn Fn(Sym) -> TokenStream,
+) -> StraightLine {
     let mut expr: HashMap<NodeId, TokenStream> = HashMap::new();
     let mut stmts = TokenStream::new();
     let mut operations = 0;
@@ -31,7 +35,10 @@ pub fn straight_line(g: &Graph, outputs: &[NodeId], leaf: &dyn Fn(Sym) -> TokenS
                 continue;
             }
             Node::Var(sym) => {
-                let name = bound_leaves.entry(sym).or_insert_with(|| leaf_name(sym)).clone();
+                let name = bound_leaves
+                    .entry(sym)
+                    .or_insert_with(|| leaf_name(sym))
+                    .clone();
                 let read = leaf(sym);
                 stmts.extend(quote! { let #name: f64 = #read; });
                 expr.insert(id, quote! { #name });
@@ -109,4 +116,3 @@ pub fn literal(v: f64) -> TokenStream {
         quote! { #l }
     }
 }
-

@@ -46,6 +46,8 @@ pub fn expand(args: TokenStream, item: TokenStream) -> TokenStream {
 /// The graph and its roots.
 struct Compiled {
     graph: Graph,
+    /// `L_d(q0, q1)`, the lowered body.
+    body: NodeId,
     /// Rows of the connection matrix `B`.
     b: Vec<Vec<NodeId>>,
     forces: Vec<NodeId>,
@@ -57,7 +59,12 @@ fn compile(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<Com
     let names = Names {
         q0: &sig.q0,
         q1: &sig.q1,
-        coords: spec.shape.iter().chain(&spec.group).map(Ident::to_string).collect(),
+        coords: spec
+            .shape
+            .iter()
+            .chain(&spec.group)
+            .map(Ident::to_string)
+            .collect(),
         params: sig.params.iter().map(Ident::to_string).collect(),
     };
     let (s, k) = (spec.shape.len(), spec.group.len());
@@ -85,6 +92,7 @@ fn compile(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<Com
     let system = plus_system(&mut graph, l_plus, s, k);
     Some(Compiled {
         graph,
+        body,
         b,
         forces: system.forces,
         jacobian: system.jacobian,
@@ -104,22 +112,30 @@ fn type_name(spec: &Spec, func: &ItemFn) -> Ident {
         .filter(|w| !w.is_empty())
         .map(|w| {
             let mut c = w.chars();
-            c.next().map_or(String::new(), |f| f.to_uppercase().chain(c).collect())
+            c.next()
+                .map_or(String::new(), |f| f.to_uppercase().chain(c).collect())
         })
         .collect();
     Ident::new(&camel, func.sig.ident.span())
 }
 
 /// The user's function with `Config` replaced by the emitted configuration struct.
-fn user_function(func: &ItemFn, config: &Ident, stub: bool) -> TokenStream {
+fn user_function(func: &ItemFn, config: &Ident, stub: bool, touch: &[Ident]) -> TokenStream {
     let mut func = func.clone();
+    // Parameters that only the connection matrix reads are still parameters of the function;
+    // mark them used there so the user does not get an unused-variable warning.
+    for p in touch.iter().rev() {
+        func.block.stmts.insert(0, syn::parse_quote!(let _ = #p;));
+    }
     for input in func.sig.inputs.iter_mut().take(2) {
         if let syn::FnArg::Typed(pt) = input {
             *pt.ty = syn::parse_quote!(#config);
         }
     }
     if stub {
-        *func.block = syn::parse_quote!({ ::core::unimplemented!("`#[reduced_lagrangian]` reported an error") });
+        *func.block = syn::parse_quote!({
+            ::core::unimplemented!("`#[reduced_lagrangian]` reported an error")
+        });
     }
     quote! { #func }
 }
@@ -129,7 +145,8 @@ fn config_struct(spec: &Spec, func: &ItemFn, config: &Ident, type_name: &Ident) 
     let coords: Vec<&Ident> = spec.shape.iter().chain(&spec.group).collect();
     let n = coords.len();
     let idx = 0..n;
-    let doc = format!(
+    let doc =
+        format!(
         "A configuration of [`{type_name}`]: shape coordinates ({}) then group coordinates ({}).",
         spec.shape.iter().map(|i| format!("`{i}`")).collect::<Vec<_>>().join(", "),
         spec.group.iter().map(|i| format!("`{i}`")).collect::<Vec<_>>().join(", "),
@@ -221,8 +238,15 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
     let fj = straight_line(&c.graph, &roots, &plus_leaf);
     let fj_stmts = &fj.stmts;
     let fj_f = &fj.outputs[..n];
-    let assigns = entries.iter().zip(&fj.outputs[n..]).map(|((r, col), e)| quote! { __jac[(#r, #col)] = #e; });
-    let jac_mut = if entries.is_empty() { quote!() } else { quote!(mut) };
+    let assigns = entries
+        .iter()
+        .zip(&fj.outputs[n..])
+        .map(|((r, col), e)| quote! { __jac[(#r, #col)] = #e; });
+    let jac_mut = if entries.is_empty() {
+        quote!()
+    } else {
+        quote!(mut)
+    };
 
     let momentum = straight_line(&c.graph, &c.momentum, &plus_leaf);
     let (m_stmts, m_out) = (&momentum.stmts, &momentum.outputs);
@@ -247,7 +271,7 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
     };
 
     let config_item = config_struct(spec, func, &config, &ty);
-    let user_fn = user_function(func, &config, false);
+    let user_fn = user_function(func, &config, false, &connection_only_params(spec, sig, c));
     let param_item = param_struct(sig, func, &ty);
     let zero_g = literal(0.0);
     let counts = format!(
@@ -335,6 +359,22 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
     }
 }
 
+/// Parameters the body never reads but the connection matrix does.
+fn connection_only_params(spec: &Spec, sig: &Signature, c: &Compiled) -> Vec<Ident> {
+    if spec.connection.is_none() {
+        return Vec::new();
+    }
+    let b_flat: Vec<NodeId> = c.b.iter().flatten().copied().collect();
+    let in_b = c.graph.symbols(&b_flat);
+    let in_body = c.graph.symbols(&[c.body]);
+    sig.params
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| in_b.contains(&Sym::Param(*i)) && !in_body.contains(&Sym::Param(*i)))
+        .map(|(_, p)| p.clone())
+        .collect()
+}
+
 /// After an error, still emit the items the user's other code refers to, with the right
 /// signatures, so the real error is not buried under follow-on ones (thiserror's `fallback`).
 fn fallback(spec: Option<&Spec>, sig: Option<&Signature>, func: &ItemFn) -> TokenStream {
@@ -344,7 +384,7 @@ fn fallback(spec: Option<&Spec>, sig: Option<&Signature>, func: &ItemFn) -> Toke
     let ty = type_name(spec, func);
     let config = format_ident!("{}Config", ty);
     let mut out = config_struct(spec, func, &config, &ty);
-    out.extend(user_function(func, &config, true));
+    out.extend(user_function(func, &config, true, &[]));
     if let Some(sig) = sig {
         out.extend(param_struct(sig, func, &ty));
     }

@@ -295,7 +295,11 @@ impl Graph {
 
     /// Rebuilds `root` with each symbol replaced by `map(sym)`; nodes are re-simplified, so
     /// substituting constants folds.
-    pub fn substitute(&mut self, root: NodeId, map: &mut dyn FnMut(&mut Graph, Sym) -> NodeId) -> NodeId {
+    pub fn substitute(
+        &mut self,
+        root: NodeId,
+        map: &mut dyn FnMut(&mut Graph, Sym) -> NodeId,
+    ) -> NodeId {
         let mut memo: HashMap<NodeId, NodeId> = HashMap::new();
         for id in self.cone(&[root]) {
             let new = match self.node(id) {
@@ -338,6 +342,17 @@ impl Graph {
         (0..self.nodes.len() as u32)
             .map(NodeId)
             .filter(|id| seen[id.0 as usize])
+            .collect()
+    }
+
+    /// The symbols the roots read.
+    pub fn symbols(&self, roots: &[NodeId]) -> Vec<Sym> {
+        self.cone(roots)
+            .into_iter()
+            .filter_map(|id| match self.node(id) {
+                Node::Var(s) => Some(s),
+                _ => None,
+            })
             .collect()
     }
 

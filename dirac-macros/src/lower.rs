@@ -18,7 +18,8 @@ tuples, arrays indexed by constants, `for` loops over constant ranges, `as f64` 
 and the f64 functions sin, cos, tan, asin, acos, atan, exp, ln, sqrt, sinh, cosh, tanh, recip, \
 powi, powf and atan2 (as methods `x.sin()` or paths `f64::sin(x)`)";
 
-const METHODS: &str = "sin, cos, tan, asin, acos, atan, exp, ln, sqrt, sinh, cosh, tanh, recip, powi, powf, atan2";
+const METHODS: &str =
+    "sin, cos, tan, asin, acos, atan, exp, ln, sqrt, sinh, cosh, tanh, recip, powi, powf, atan2";
 
 /// Upper bound on unrolled loop iterations per loop, to keep expansion time bounded.
 const MAX_UNROLL: i64 = 4096;
@@ -136,7 +137,10 @@ impl<'a> Lowering<'a> {
                     return self.error(local, "`let` needs an initial value: `let name = expr;`");
                 };
                 if let Some((_, diverge)) = &init.diverge {
-                    return self.error(diverge, format!("`let ... else` is not supported; {ACCEPTED}"));
+                    return self.error(
+                        diverge,
+                        format!("`let ... else` is not supported; {ACCEPTED}"),
+                    );
                 }
                 let value = self.expr(&init.expr)?;
                 self.bind(&local.pat, value)?;
@@ -150,8 +154,14 @@ impl<'a> Lowering<'a> {
                     Some(v)
                 }
             }
-            Stmt::Item(item) => self.error(item, format!("items inside the body are not supported; {ACCEPTED}")),
-            Stmt::Macro(m) => self.error(&m.mac.path, format!("macros are not supported in the body; {ACCEPTED}")),
+            Stmt::Item(item) => self.error(
+                item,
+                format!("items inside the body are not supported; {ACCEPTED}"),
+            ),
+            Stmt::Macro(m) => self.error(
+                &m.mac.path,
+                format!("macros are not supported in the body; {ACCEPTED}"),
+            ),
         }
     }
 
@@ -184,13 +194,20 @@ impl<'a> Lowering<'a> {
             }
             Pat::Tuple(pt) => {
                 let Value::Tuple(items) = value else {
-                    self.error(pt, format!("cannot destructure {} as a tuple", value.kind()))?;
+                    self.error(
+                        pt,
+                        format!("cannot destructure {} as a tuple", value.kind()),
+                    )?;
                     return None;
                 };
                 if items.len() != pt.elems.len() {
                     self.error(
                         pt,
-                        format!("tuple pattern has {} names but the value has {} elements", pt.elems.len(), items.len()),
+                        format!(
+                            "tuple pattern has {} names but the value has {} elements",
+                            pt.elems.len(),
+                            items.len()
+                        ),
                     )?;
                 }
                 let mut ok = Some(());
@@ -201,7 +218,10 @@ impl<'a> Lowering<'a> {
             }
             Pat::Paren(pp) => self.bind(&pp.pat, value),
             other => {
-                self.error(other, "unsupported pattern: expected a name, `mut name`, `_` or a tuple of those")?;
+                self.error(
+                    other,
+                    "unsupported pattern: expected a name, `mut name`, `_` or a tuple of those",
+                )?;
                 None
             }
         }
@@ -231,7 +251,10 @@ impl<'a> Lowering<'a> {
             other => {
                 self.error(
                     at,
-                    format!("expected a constant integer (a literal or a loop index), found {}", other.kind()),
+                    format!(
+                        "expected a constant integer (a literal or a loop index), found {}",
+                        other.kind()
+                    ),
                 );
                 None
             }
@@ -382,14 +405,27 @@ impl<'a> Lowering<'a> {
                 }
                 if id == self.names.q0 || id == self.names.q1 {
                     let example = self.names.coords.first().map_or("x", String::as_str);
-                    return self.error(id, format!("use a coordinate of `{id}`, e.g. `{id}.{example}`"));
+                    return self.error(
+                        id,
+                        format!("use a coordinate of `{id}`, e.g. `{id}.{example}`"),
+                    );
                 }
-                return self.error(id, format!("cannot find `{name}`: not a local, a parameter or a configuration"));
+                return self.error(
+                    id,
+                    format!("cannot find `{name}`: not a local, a parameter or a configuration"),
+                );
             }
-            let segs: Vec<String> = p.path.segments.iter().map(|s| s.ident.to_string()).collect();
+            let segs: Vec<String> = p
+                .path
+                .segments
+                .iter()
+                .map(|s| s.ident.to_string())
+                .collect();
             let tail = match segs.as_slice() {
                 [f, c, n] if f == "f64" && c == "consts" => Some(n.as_str()),
-                [s, f, c, n] if (s == "std" || s == "core") && f == "f64" && c == "consts" => Some(n.as_str()),
+                [s, f, c, n] if (s == "std" || s == "core") && f == "f64" && c == "consts" => {
+                    Some(n.as_str())
+                }
                 _ => None,
             };
             if let Some(v) = tail.and_then(f64_const) {
@@ -424,7 +460,10 @@ impl<'a> Lowering<'a> {
                         }
                         None => self.error(
                             member,
-                            format!("unknown coordinate `{name}`; declared coordinates: {}", self.names.coords.join(", ")),
+                            format!(
+                                "unknown coordinate `{name}`; declared coordinates: {}",
+                                self.names.coords.join(", ")
+                            ),
                         ),
                     };
                 }
@@ -434,9 +473,19 @@ impl<'a> Lowering<'a> {
         match (&f.member, base) {
             (Member::Unnamed(ix), Value::Tuple(items)) => match items.get(ix.index as usize) {
                 Some(v) => Some(v.clone()),
-                None => self.error(ix, format!("no field {} on a tuple of {} elements", ix.index, items.len())),
+                None => self.error(
+                    ix,
+                    format!(
+                        "no field {} on a tuple of {} elements",
+                        ix.index,
+                        items.len()
+                    ),
+                ),
             },
-            (m, v) => self.error(m, format!("no field `{}` on {}", m.to_token_stream(), v.kind())),
+            (m, v) => self.error(
+                m,
+                format!("no field `{}` on {}", m.to_token_stream(), v.kind()),
+            ),
         }
     }
 
@@ -466,14 +515,16 @@ impl<'a> Lowering<'a> {
 
     fn arith(&mut self, op: BinOp, l: Value, le: &Expr, r: Value, re: &Expr) -> Option<Value> {
         if let (Value::Int(a), Value::Int(c)) = (&l, &r) {
-            let v = match op {
-                BinOp::Add(_) => a.checked_add(*c),
-                BinOp::Sub(_) => a.checked_sub(*c),
-                BinOp::Mul(_) => a.checked_mul(*c),
-                _ => {
-                    return self.error(op, "integer division is not supported: write f64 literals such as `1.0 / 2.0`")
-                }
-            };
+            let v =
+                match op {
+                    BinOp::Add(_) => a.checked_add(*c),
+                    BinOp::Sub(_) => a.checked_sub(*c),
+                    BinOp::Mul(_) => a.checked_mul(*c),
+                    _ => return self.error(
+                        op,
+                        "integer division is not supported: write f64 literals such as `1.0 / 2.0`",
+                    ),
+                };
             return match v {
                 Some(v) => Some(Value::Int(v)),
                 None => self.error(op, "integer overflow"),
@@ -497,11 +548,20 @@ impl<'a> Lowering<'a> {
             Expr::Path(p) if p.path.get_ident().is_some() => {
                 let id = p.path.get_ident().expect("checked");
                 let name = id.to_string();
-                let Some(scope) = self.scopes.iter_mut().rev().find(|s| s.contains_key(&name)) else {
+                let Some(scope) = self.scopes.iter_mut().rev().find(|s| s.contains_key(&name))
+                else {
                     if self.names.params.contains(&name) {
-                        return self.error(id, format!("cannot assign to parameter `{name}`: bind a local with `let mut`"));
+                        return self.error(
+                            id,
+                            format!(
+                                "cannot assign to parameter `{name}`: bind a local with `let mut`"
+                            ),
+                        );
                     }
-                    return self.error(id, format!("cannot assign to `{name}`: not a local variable"));
+                    return self.error(
+                        id,
+                        format!("cannot assign to `{name}`: not a local variable"),
+                    );
                 };
                 let local = scope.get_mut(&name).expect("found");
                 if !local.mutable {
@@ -520,8 +580,12 @@ impl<'a> Lowering<'a> {
                     return self.error(p, "only elements of local arrays can be assigned");
                 };
                 let name = id.to_string();
-                let Some(local) = self.scopes.iter_mut().rev().find_map(|s| s.get_mut(&name)) else {
-                    return self.error(id, format!("cannot assign to `{name}`: not a local variable"));
+                let Some(local) = self.scopes.iter_mut().rev().find_map(|s| s.get_mut(&name))
+                else {
+                    return self.error(
+                        id,
+                        format!("cannot assign to `{name}`: not a local variable"),
+                    );
                 };
                 if !local.mutable {
                     return self.error(id, format!("cannot assign to an element of immutable array `{name}`: declare it with `let mut {name}`"));
@@ -532,31 +596,57 @@ impl<'a> Lowering<'a> {
                 let len = items.len();
                 match usize::try_from(i).ok().and_then(|i| items.get_mut(i)) {
                     Some(slot) => *slot = value,
-                    None => return self.error(&ix.index, format!("index {i} is out of bounds for an array of length {len}")),
+                    None => {
+                        return self.error(
+                            &ix.index,
+                            format!("index {i} is out of bounds for an array of length {len}"),
+                        )
+                    }
                 }
                 Some(Value::Unit)
             }
             Expr::Field(f) if matches!(&*f.base, Expr::Path(p) if p.path.get_ident().is_some_and(|id| id == self.names.q0 || id == self.names.q1)) => {
-                self.error(target, "coordinates are inputs and cannot be assigned: bind a local with `let mut`")
+                self.error(
+                    target,
+                    "coordinates are inputs and cannot be assigned: bind a local with `let mut`",
+                )
             }
-            other => self.error(other, "only local variables and elements of local arrays can be assigned"),
+            other => self.error(
+                other,
+                "only local variables and elements of local arrays can be assigned",
+            ),
         }
     }
 
-    fn call(&mut self, method: &Ident, receiver: Value, receiver_expr: &Expr, args: &[&Expr]) -> Option<Value> {
+    fn call(
+        &mut self,
+        method: &Ident,
+        receiver: Value,
+        receiver_expr: &Expr,
+        args: &[&Expr],
+    ) -> Option<Value> {
         let name = method.to_string();
         let arity = match name.as_str() {
             "powi" | "powf" | "atan2" => 1,
             n if Fun::from_name(n).is_some() => 0,
             _ => {
-                return self.error(method, format!("unsupported method `{name}`; accepted f64 methods: {METHODS}"));
+                return self.error(
+                    method,
+                    format!("unsupported method `{name}`; accepted f64 methods: {METHODS}"),
+                );
             }
         };
         if args.len() != arity {
-            return self.error(method, format!("`{name}` takes {arity} argument(s), found {}", args.len()));
+            return self.error(
+                method,
+                format!("`{name}` takes {arity} argument(s), found {}", args.len()),
+            );
         }
         if !matches!(receiver, Value::Scalar(_)) {
-            return self.error(receiver_expr, format!("`.{name}()` needs an f64, found {}", receiver.kind()));
+            return self.error(
+                receiver_expr,
+                format!("`.{name}()` needs an f64, found {}", receiver.kind()),
+            );
         }
         let x = self.scalar(receiver, receiver_expr)?;
         if name == "powi" {
@@ -570,7 +660,11 @@ impl<'a> Lowering<'a> {
         if name == "powf" || name == "atan2" {
             let e = self.expr(args[0])?;
             let y = self.scalar(e, args[0])?;
-            let n = if name == "powf" { self.g.powf(x, y) } else { self.g.atan2(x, y) };
+            let n = if name == "powf" {
+                self.g.powf(x, y)
+            } else {
+                self.g.atan2(x, y)
+            };
             return Some(Value::Scalar(n));
         }
         let f = Fun::from_name(&name).expect("checked above");
@@ -582,7 +676,10 @@ impl<'a> Lowering<'a> {
             return self.error(label, "loop labels are not supported");
         }
         let Expr::Range(range) = &*f.expr else {
-            return self.error(&f.expr, "`for` loops must run over a constant range such as `0..3` or `0..=2`");
+            return self.error(
+                &f.expr,
+                "`for` loops must run over a constant range such as `0..3` or `0..=2`",
+            );
         };
         let bound = |s: &mut Self, e: &Option<Box<Expr>>| -> Option<i64> {
             let Some(e) = e else {
@@ -605,7 +702,10 @@ impl<'a> Lowering<'a> {
             end += 1;
         }
         if end - start > MAX_UNROLL {
-            return self.error(range, format!("loops are unrolled at compile time: at most {MAX_UNROLL} iterations"));
+            return self.error(
+                range,
+                format!("loops are unrolled at compile time: at most {MAX_UNROLL} iterations"),
+            );
         }
         for i in start..end {
             self.scopes.push(HashMap::new());

@@ -47,9 +47,14 @@ pub fn plus_system(g: &mut Graph, l_plus: NodeId, s: usize, k: usize) -> Reduced
     let momentum = (0..s).map(|i| first(g, Sym::X1(i))).collect();
     let unknowns: Vec<Sym> = (0..s).map(Sym::X1).chain((0..k).map(Sym::G1)).collect();
     // Forward mode: one pass per unknown gives one column of the Jacobian.
-    let columns: Vec<Vec<NodeId>> = unknowns.iter().map(|&z| derivatives(g, &forces, z)).collect();
+    let columns: Vec<Vec<NodeId>> = unknowns
+        .iter()
+        .map(|&z| derivatives(g, &forces, z))
+        .collect();
     let n = s + k;
-    let jacobian = (0..n).map(|r| (0..n).map(|c| columns[c][r]).collect()).collect();
+    let jacobian = (0..n)
+        .map(|r| (0..n).map(|c| columns[c][r]).collect())
+        .collect();
     ReducedPlus {
         forces,
         jacobian,

@@ -167,7 +167,10 @@ fn parse_matrix(cx: &Ctxt, value: Expr) -> Option<Vec<Vec<Expr>>> {
         match row {
             Expr::Array(cols) => out.push(cols.elems.into_iter().collect()),
             other => {
-                cx.error_spanned_by(&other, "expected a row of B: `[b1, b2, ...]`, one entry per shape coordinate");
+                cx.error_spanned_by(
+                    &other,
+                    "expected a row of B: `[b1, b2, ...]`, one entry per shape coordinate",
+                );
                 return None;
             }
         }
@@ -198,23 +201,42 @@ fn check_coordinates(cx: &Ctxt, shape: &[Ident], group: &[Ident]) {
 fn check_connection_shape(cx: &Ctxt, rows: &[Vec<Expr>], s: usize, k: usize) {
     let dims = format!("B must be K × S = {k} × {s} (one row per group coordinate, one column per shape coordinate)");
     if rows.len() != k {
-        let span = rows.get(k).map_or(Span::call_site(), |r| r.first().map_or(Span::call_site(), |e| e.span()));
-        cx.error_at(span, format!("connection matrix has {} rows; {dims}", rows.len()));
+        let span = rows.get(k).map_or(Span::call_site(), |r| {
+            r.first().map_or(Span::call_site(), |e| e.span())
+        });
+        cx.error_at(
+            span,
+            format!("connection matrix has {} rows; {dims}", rows.len()),
+        );
         return;
     }
     for (i, row) in rows.iter().enumerate() {
         if row.len() != s {
             let span = row.get(s).map_or(Span::call_site(), |e| e.span());
-            cx.error_at(span, format!("row {} of the connection matrix has {} entries; {dims}", i + 1, row.len()));
+            cx.error_at(
+                span,
+                format!(
+                    "row {} of the connection matrix has {} entries; {dims}",
+                    i + 1,
+                    row.len()
+                ),
+            );
         }
     }
 }
 
 /// Checks the function signature: `(q0: Config, q1: Config, p1: f64, ...) -> f64`.
-pub fn parse_signature(cx: &Ctxt, sig: &syn::Signature, spec_step: Option<&Ident>) -> Option<Signature> {
+pub fn parse_signature(
+    cx: &Ctxt,
+    sig: &syn::Signature,
+    spec_step: Option<&Ident>,
+) -> Option<Signature> {
     let mut ok = true;
     if let Some(g) = sig.generics.params.first() {
-        cx.error_spanned_by(g, "generic parameters are not supported: the Lagrangian is written over f64");
+        cx.error_spanned_by(
+            g,
+            "generic parameters are not supported: the Lagrangian is written over f64",
+        );
         ok = false;
     }
     for (token, what) in [
@@ -234,14 +256,20 @@ pub fn parse_signature(cx: &Ctxt, sig: &syn::Signature, spec_step: Option<&Ident
             ok = false;
         }
         syn::ReturnType::Default => {
-            cx.error_spanned_by(&sig.ident, "a discrete Lagrangian returns `f64`: add `-> f64`");
+            cx.error_spanned_by(
+                &sig.ident,
+                "a discrete Lagrangian returns `f64`: add `-> f64`",
+            );
             ok = false;
         }
     }
     let mut names = Vec::new();
     for (i, input) in sig.inputs.iter().enumerate() {
         let syn::FnArg::Typed(pat_ty) = input else {
-            cx.error_spanned_by(input, "`self` is not accepted: the Lagrangian is a free function");
+            cx.error_spanned_by(
+                input,
+                "`self` is not accepted: the Lagrangian is a free function",
+            );
             ok = false;
             continue;
         };
@@ -260,7 +288,10 @@ pub fn parse_signature(cx: &Ctxt, sig: &syn::Signature, spec_step: Option<&Ident
                 ok = false;
             }
         } else if !is_f64(ty) {
-            cx.error_spanned_by(ty, "parameters must be `f64`: only scalar parameters are accepted");
+            cx.error_spanned_by(
+                ty,
+                "parameters must be `f64`: only scalar parameters are accepted",
+            );
             ok = false;
         }
         names.push(pi.ident.clone());
@@ -276,7 +307,10 @@ pub fn parse_signature(cx: &Ctxt, sig: &syn::Signature, spec_step: Option<&Ident
     let step = match spec_step {
         Some(step) => {
             if !params.contains(step) {
-                cx.error_spanned_by(step, format!("`step = {step}` must name one of the `f64` parameters"));
+                cx.error_spanned_by(
+                    step,
+                    format!("`step = {step}` must name one of the `f64` parameters"),
+                );
                 ok = false;
             }
             Some(step.clone())

@@ -54,7 +54,9 @@ impl<const S: usize, const K: usize> Trajectory<S, K> {
 
     /// The last state.
     pub fn last(&self) -> &ReducedState<S, K> {
-        self.states.last().expect("a trajectory holds its initial state")
+        self.states
+            .last()
+            .expect("a trajectory holds its initial state")
     }
 
     /// Mean Newton corrections per step (0 for an empty trajectory).
@@ -113,7 +115,7 @@ where
         let sys = &self.system;
         let (w, mu) = (state.w, state.mu);
         let offset = join::<S, K, N>(&w, &(-mu));
-        let rho = w.amax().max(mu.amax());
+        let rho = newton::inf_norm(&w).max(newton::inf_norm(&mu));
         let solution = newton::solve(
             *guess,
             rho,
@@ -133,7 +135,9 @@ where
                 iterations,
                 residual,
             },
-            NewtonFailure::Singular { residual } => StepError::SingularJacobian { step: k, residual },
+            NewtonFailure::Singular { residual } => {
+                StepError::SingularJacobian { step: k, residual }
+            }
             NewtonFailure::NonFinite { residual } => StepError::NonFinite {
                 step: k,
                 what: "the step equations",
@@ -190,7 +194,12 @@ where
             };
             return Err(fail(source, trajectory));
         }
-        if self.system.parameter_values().iter().any(|p| !p.is_finite()) {
+        if self
+            .system
+            .parameter_values()
+            .iter()
+            .any(|p| !p.is_finite())
+        {
             let source = StepError::NonFinite {
                 step: 0,
                 what: "the parameters",

@@ -32,6 +32,18 @@ impl Default for NewtonOptions {
     }
 }
 
+/// `‖v‖∞`, NaN if any component is NaN. (nalgebra's `amax` skips NaN, which would let a NaN
+/// residual pass for converged.)
+pub fn inf_norm<const N: usize>(v: &SVector<f64, N>) -> f64 {
+    v.iter().fold(0.0, |m: f64, x| {
+        if m.is_nan() || x.is_nan() {
+            f64::NAN
+        } else {
+            m.max(x.abs())
+        }
+    })
+}
+
 /// A converged solve.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NewtonSolution<const N: usize> {
@@ -80,7 +92,7 @@ pub fn solve<const N: usize>(
     let tol = options.abs_tol + options.rel_tol * rho;
     let mut z = z0;
     let mut r = residual(&z);
-    let mut norm = r.amax();
+    let mut norm = inf_norm(&r);
     if !norm.is_finite() {
         return Err(NewtonFailure::NonFinite {
             residual: f64::INFINITY,
@@ -115,11 +127,11 @@ pub fn solve<const N: usize>(
         z -= dz;
         iterations += 1;
         r = residual(&z);
-        norm = r.amax();
+        norm = inf_norm(&r);
         if !norm.is_finite() {
             return Err(NewtonFailure::NonFinite { residual: previous });
         }
-        if dz.amax() <= options.rel_tol * (1.0 + z.amax()) {
+        if inf_norm(&dz) <= options.rel_tol * (1.0 + inf_norm(&z)) {
             return Ok(NewtonSolution {
                 z,
                 iterations,
@@ -139,10 +151,27 @@ mod tests {
         // x² + y² = 4, x = y: root (√2, √2).
         let f = |z: &Vector2<f64>| Vector2::new(z[0] * z[0] + z[1] * z[1] - 4.0, z[0] - z[1]);
         let fj = |z: &Vector2<f64>| (f(z), Matrix2::new(2.0 * z[0], 2.0 * z[1], 1.0, -1.0));
-        let sol = solve(Vector2::new(1.0, 0.5), 1.0, &NewtonOptions::default(), f, fj).unwrap();
+        let sol = solve(
+            Vector2::new(1.0, 0.5),
+            1.0,
+            &NewtonOptions::default(),
+            f,
+            fj,
+        )
+        .unwrap();
         assert!((sol.z[0] - 2f64.sqrt()).abs() < 1e-14);
         assert!((sol.z[1] - 2f64.sqrt()).abs() < 1e-14);
         assert!(sol.iterations <= 7, "{} iterations", sol.iterations);
+    }
+
+    #[test]
+    fn a_nan_residual_is_never_converged() {
+        let f = |z: &Vector2<f64>| Vector2::new(z[0] - 1.0, (z[1] - 2.0).sqrt() * 0.0 + f64::NAN);
+        let fj = |z: &Vector2<f64>| (f(z), Matrix2::identity());
+        let err = solve(Vector2::zeros(), 1.0, &NewtonOptions::default(), f, fj).unwrap_err();
+        assert!(matches!(err, NewtonFailure::NonFinite { .. }), "{err:?}");
+        assert!(inf_norm(&Vector2::new(1.0, f64::NAN)).is_nan());
+        assert!(inf_norm(&Vector2::new(f64::NAN, 1.0)).is_nan());
     }
 
     #[test]
@@ -150,16 +179,19 @@ mod tests {
         let f = |z: &Vector2<f64>| Vector2::new(z[0] + z[1] - 1.0, z[0] + z[1] - 2.0);
         let fj = |z: &Vector2<f64>| (f(z), Matrix2::new(1.0, 1.0, 1.0, 1.0));
         let err = solve(Vector2::zeros(), 1.0, &NewtonOptions::default(), f, fj).unwrap_err();
-        assert!(matches!(err, NewtonFailure::Singular { residual } if residual == 2.0), "{err:?}");
+        assert!(
+            matches!(err, NewtonFailure::Singular { residual } if residual == 2.0),
+            "{err:?}"
+        );
     }
 
     #[test]
     fn reports_non_convergence_with_the_last_residual() {
         // z³ − 2z + 2 = 0 from z = 0 cycles 0 → 1 → 0 → … (a classic Newton 2-cycle).
-        let f = |z: &nalgebra::Vector1<f64>| nalgebra::Vector1::new(z[0].powi(3) - 2.0 * z[0] + 2.0);
-        let fj = |z: &nalgebra::Vector1<f64>| {
-            (f(z), nalgebra::Matrix1::new(3.0 * z[0] * z[0] - 2.0))
-        };
+        let f =
+            |z: &nalgebra::Vector1<f64>| nalgebra::Vector1::new(z[0].powi(3) - 2.0 * z[0] + 2.0);
+        let fj =
+            |z: &nalgebra::Vector1<f64>| (f(z), nalgebra::Matrix1::new(3.0 * z[0] * z[0] - 2.0));
         let options = NewtonOptions {
             max_iterations: 8,
             ..NewtonOptions::default()

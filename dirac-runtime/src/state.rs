@@ -32,7 +32,12 @@ impl<const S: usize, const K: usize> ReducedState<S, K> {
 
     /// True when every component is finite.
     pub fn is_finite(&self) -> bool {
-        self.x.iter().chain(self.w.iter()).chain(self.mu.iter()).chain(self.g.iter()).all(|v| v.is_finite())
+        self.x
+            .iter()
+            .chain(self.w.iter())
+            .chain(self.mu.iter())
+            .chain(self.g.iter())
+            .all(|v| v.is_finite())
     }
 }
 

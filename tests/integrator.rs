@@ -1,0 +1,314 @@
+//! The integrator on systems beyond the paper's: a nonzero connection matrix, two group
+//! coordinates, and the failure paths.
+
+use dirac::prelude::*;
+use dirac::runtime::system::join;
+
+/// The charged particle with a nonzero linear connection `ω_d = (θ1 − θ0) − B (x1 − x0)`,
+/// `B = [0.3, −0.7, b]`: the physics is unchanged, the reduced momenta become `w = p_x + Bᵀ μ`.
+#[reduced_lagrangian(shape(x, y, z), group(theta), connection = [[0.3, -0.7, b]])]
+fn particle_with_connection(q0: Config, q1: Config, h: f64, m: f64, b0: f64, b: f64) -> f64 {
+    let (dx, dy, dz) = (q1.x - q0.x, q1.y - q0.y, q1.z - q0.z);
+    let a_dot_dq = 0.5 * b0 * (-q0.y * dx + q0.x * dy);
+    let s = a_dot_dq + (q1.theta - q0.theta);
+    0.5 * m / h * (dx * dx + dy * dy + dz * dz) + 0.5 / h * s * s
+}
+
+/// Two group coordinates (K = 2): a particle in the plane (gx, gy), translation invariant, coupled
+/// to an anharmonic internal coordinate s; midpoint rule.
+#[reduced_lagrangian(shape(s), group(gx, gy))]
+fn planar_rotor(q0: Config, q1: Config, h: f64, m: f64, k: f64) -> f64 {
+    let v = [(q1.gx - q0.gx) / h, (q1.gy - q0.gy) / h];
+    let vs = (q1.s - q0.s) / h;
+    let sm = 0.5 * (q0.s + q1.s);
+    let mut kinetic = 0.5 * vs * vs;
+    for i in 0..2 {
+        kinetic += 0.5 * m * (1.0 + 0.3 * sm.sin()) * v[i] * v[i];
+    }
+    h * (kinetic + 0.2 * sm * v[0] - k * (1.0 - sm.cos()))
+}
+
+/// A Lagrangian whose shape equation does not involve x_{k+1}: the step Jacobian is singular.
+#[reduced_lagrangian(shape(x), group(theta))]
+fn degenerate(q0: Config, q1: Config, h: f64) -> f64 {
+    0.5 / h * (q1.theta - q0.theta).powi(2) + q0.x * q0.x
+}
+
+fn central_gradient<const N: usize>(
+    f: impl Fn(&SVector<f64, N>) -> f64,
+    at: &SVector<f64, N>,
+) -> SVector<f64, N> {
+    SVector::from_fn(|i, _| {
+        let step = 1e-5 * (1.0 + at[i].abs());
+        let (mut a, mut b) = (*at, *at);
+        a[i] += step;
+        b[i] -= step;
+        (f(&a) - f(&b)) / (2.0 * step)
+    })
+}
+
+/// Mapped back with the trivialization (3.7) and the group reconstruction, every reduced step is
+/// a step of the unreduced (+) discrete Lagrange–Dirac equations (Definition 2.7):
+/// `p_k = −D1 L_d(q_k, q_{k+1})` and `p_{k+1} = D2 L_d(q_k, q_{k+1})`, checked against central
+/// differences of the user's own function (tolerance 1e-7: the difference quotient's error).
+fn assert_steps_satisfy_unreduced_equations<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    traj: &Trajectory<S, K>,
+) where
+    L: DiscreteLagrangian<S, K, N>,
+{
+    for (k, pair) in traj.states.windows(2).enumerate() {
+        let c0 = sys.untrivialize(&pair[0]);
+        let c1 = sys.untrivialize(&pair[1]);
+        let d1 = central_gradient(|q| sys.lagrangian(q, &c1.q), &c0.q);
+        let d2 = central_gradient(|q| sys.lagrangian(&c0.q, q), &c1.q);
+        let scale = 1.0 + c0.p.amax().max(c1.p.amax());
+        assert!(
+            (c0.p + d1).amax() < 1e-7 * scale,
+            "step {k}: p_k = {} but −D1 L_d = {}",
+            c0.p,
+            -d1
+        );
+        assert!(
+            (c1.p - d2).amax() < 1e-7 * scale,
+            "step {k}: p_k+1 = {} but D2 L_d = {}",
+            c1.p,
+            d2
+        );
+    }
+}
+
+#[test]
+fn reduced_steps_with_a_connection_solve_the_unreduced_equations() {
+    let sys = ParticleWithConnection {
+        h: 0.1,
+        m: 1.3,
+        b0: 0.8,
+        b: 0.45,
+    };
+    let canonical = CanonicalState {
+        q: SVector::from([0.2, -0.1, 0.3, 0.7]),
+        p: SVector::from([0.9, 0.2, -0.4, 1.1]),
+    };
+    let initial = sys.trivialize(&canonical);
+    // w = p_x + Bᵀ μ (eq. (3.6)) and the round trip through (3.7).
+    let b = sys.connection();
+    assert_eq!(b, SMatrix::<f64, 1, 3>::new(0.3, -0.7, 0.45));
+    assert!((initial.w - (SVector::from([0.9, 0.2, -0.4]) + b.transpose() * 1.1)).amax() < 1e-15);
+    assert!((sys.untrivialize(&initial).p - canonical.p).amax() < 1e-15);
+    assert_eq!(sys.momentum_map(&canonical)[0], 1.1);
+    let traj = ReducedIntegrator::plus(sys, NewtonOptions::default())
+        .integrate(initial, 50)
+        .unwrap();
+    assert_steps_satisfy_unreduced_equations(&sys, &traj);
+}
+
+#[test]
+fn the_shape_trajectory_does_not_depend_on_the_connection() {
+    let canonical = CanonicalState {
+        q: SVector::from([0.2, -0.1, 0.3, 0.7]),
+        p: SVector::from([0.9, 0.2, -0.4, 1.1]),
+    };
+    let with_b = ParticleWithConnection {
+        h: 0.1,
+        m: 1.3,
+        b0: 0.8,
+        b: 0.45,
+    };
+    let without_b = dirac::paper::ChargedParticle {
+        h: 0.1,
+        m: 1.3,
+        b0: 0.8,
+    };
+    let a = ReducedIntegrator::plus(with_b, NewtonOptions::default())
+        .integrate(with_b.trivialize(&canonical), 50)
+        .unwrap();
+    let b = ReducedIntegrator::plus(without_b, NewtonOptions::default())
+        .integrate(without_b.trivialize(&canonical), 50)
+        .unwrap();
+    for (sa, sb) in a.states.iter().zip(&b.states) {
+        assert!((sa.x - sb.x).amax() < 1e-12, "{} vs {}", sa.x, sb.x);
+        assert!((sa.g - sb.g).amax() < 1e-12, "{} vs {}", sa.g, sb.g);
+        // Only the reduced shape momenta differ, by Bᵀ μ.
+        let shift = with_b.connection().transpose() * sa.mu;
+        assert!((sa.w - shift - sb.w).amax() < 1e-12);
+    }
+}
+
+#[test]
+fn two_group_coordinates() {
+    let sys = PlanarRotor {
+        h: 0.05,
+        m: 2.0,
+        k: 3.0,
+    };
+    let initial = ReducedState::new([0.4], [0.1], [0.5, -0.3], [1.0, 2.0]);
+    let traj = ReducedIntegrator::plus(sys, NewtonOptions::default())
+        .integrate(initial, 400)
+        .unwrap();
+    assert!(traj.states.iter().all(|s| s.mu == initial.mu));
+    assert_steps_satisfy_unreduced_equations(&sys, &traj);
+    // The group coordinates drift: the reconstruction is exercised.
+    assert!((traj.last().g - initial.g).amax() > 0.1);
+}
+
+/// A potential `V = √(1 − x)`, defined only for `x ≤ 1`, pushes the particle into the edge of the
+/// domain within a few steps, where the step equations become NaN.
+#[reduced_lagrangian(shape(x), group(theta))]
+fn runaway(q0: Config, q1: Config, h: f64) -> f64 {
+    let v = (q1.x - q0.x) / h;
+    let w = (q1.theta - q0.theta) / h;
+    h * (0.5 * v * v + 0.5 * w * w - (1.0 - q0.x).sqrt())
+}
+
+#[test]
+fn a_failed_step_keeps_the_trajectory_computed_so_far() {
+    let sys = Runaway { h: 0.1 };
+    let initial = ReducedState::new([0.0], [1.0], [0.5], [0.0]);
+    let err = ReducedIntegrator::plus(sys, NewtonOptions::default())
+        .integrate(initial, 100)
+        .unwrap_err();
+    let failed_at = err.source.step();
+    assert!(failed_at > 3, "{err}");
+    assert!(matches!(err.source, StepError::NonFinite { .. }), "{err}");
+    assert_eq!(err.trajectory.steps(), failed_at);
+    assert_eq!(err.requested, 100);
+    assert!(
+        err.trajectory.last().x[0] > 1.0,
+        "the last kept state is past the domain edge"
+    );
+    // The kept prefix is exactly what a shorter, successful run computes.
+    let prefix = ReducedIntegrator::plus(sys, NewtonOptions::default())
+        .integrate(initial, failed_at)
+        .unwrap();
+    assert_eq!(err.trajectory, prefix);
+    assert!(
+        err.to_string().contains(&format!("step {failed_at}")),
+        "{err}"
+    );
+}
+
+#[test]
+fn newton_non_convergence_is_a_typed_error_with_the_residual() {
+    // The first step of the N = 10 run starts from a poor guess and needs two corrections.
+    let options = NewtonOptions {
+        max_iterations: 1,
+        ..NewtonOptions::default()
+    };
+    let sys = dirac::paper::ChargedParticle::paper(10);
+    let initial = dirac::paper::ChargedParticle::paper_initial_state();
+    let err = ReducedIntegrator::plus(sys, options)
+        .integrate(initial, 10)
+        .unwrap_err();
+    assert!(
+        matches!(err.source, StepError::NotConverged { step: 0, iterations: 1, residual } if residual > 1e-6),
+        "{err}"
+    );
+    assert_eq!(err.source.residual(), err.source.residual());
+    assert_eq!(err.trajectory.steps(), 0);
+}
+
+#[test]
+fn a_singular_jacobian_is_a_typed_error() {
+    let sys = Degenerate { h: 0.1 };
+    let err = ReducedIntegrator::plus(sys, NewtonOptions::default())
+        .integrate(ReducedState::new([0.5], [0.3], [1.0], [0.0]), 5)
+        .unwrap_err();
+    assert!(
+        matches!(err.source, StepError::SingularJacobian { step: 0, residual } if residual > 0.0),
+        "{err}"
+    );
+    assert_eq!(err.trajectory.steps(), 0);
+}
+
+#[test]
+fn bad_input_is_rejected_before_stepping() {
+    let good = dirac::paper::ChargedParticle::paper(10);
+    let initial = dirac::paper::ChargedParticle::paper_initial_state();
+    let mut nan_state = initial;
+    nan_state.w[1] = f64::NAN;
+    let err = ReducedIntegrator::plus(good, NewtonOptions::default())
+        .integrate(nan_state, 3)
+        .unwrap_err();
+    assert!(
+        matches!(err.source, StepError::NonFinite { step: 0, .. }),
+        "{err}"
+    );
+
+    for h in [0.0, -0.1, f64::INFINITY, f64::NAN] {
+        let sys = dirac::paper::ChargedParticle { h, ..good };
+        let err = ReducedIntegrator::plus(sys, NewtonOptions::default())
+            .integrate(initial, 3)
+            .unwrap_err();
+        assert!(
+            matches!(err.source, StepError::InvalidTimeStep { .. }),
+            "h = {h}: {err}"
+        );
+    }
+    let sys = dirac::paper::ChargedParticle {
+        m: f64::NAN,
+        ..good
+    };
+    let err = ReducedIntegrator::plus(sys, NewtonOptions::default())
+        .integrate(initial, 3)
+        .unwrap_err();
+    assert!(
+        matches!(
+            err.source,
+            StepError::NonFinite {
+                what: "the parameters",
+                ..
+            }
+        ),
+        "{err}"
+    );
+}
+
+#[test]
+fn discrete_energy_along_a_trajectory_is_the_generalized_energy() {
+    // On solutions q_k^+ = q_{k+1}, so E_{d+}(q_k, q_k^+, q_{k+1}, p_{k+1}) = L_d(q_k, q_{k+1}) (5.7).
+    let sys = dirac::paper::ChargedParticle::paper(100);
+    let traj = ReducedIntegrator::plus(sys, NewtonOptions::default())
+        .integrate(dirac::paper::ChargedParticle::paper_initial_state(), 20)
+        .unwrap();
+    let energies = dirac::trajectory_energies(&sys, &traj);
+    assert_eq!(energies.len(), 20);
+    for (k, pair) in traj.states.windows(2).enumerate() {
+        let q0 = join::<3, 1, 4>(&pair[0].x, &pair[0].g);
+        let q1 = join::<3, 1, 4>(&pair[1].x, &pair[1].g);
+        let p1 = sys.untrivialize(&pair[1]).p;
+        let e = dirac::generalized_energy_plus(&sys, &q0, &q1, &q1, &p1);
+        assert_eq!(e, energies[k]);
+        // Off the constraint the pairing term contributes.
+        let shifted = q1 + SVector::from([0.1, 0.0, 0.0, 0.0]);
+        let e_off = dirac::generalized_energy_plus(&sys, &q0, &q1, &shifted, &p1);
+        assert!((e_off - e - 0.1 * p1[0]).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn the_user_function_stays_callable() {
+    let q0 = ChargedParticleConfigAlias {
+        x: 0.0,
+        y: 0.0,
+        z: 0.0,
+        theta: 0.0,
+    };
+    let q1 = ChargedParticleConfigAlias {
+        x: 0.1,
+        y: 0.0,
+        z: 0.0,
+        theta: 0.2,
+    };
+    let l = dirac::paper::charged_particle(q0, q1, 0.1, 1.0, 1.0);
+    assert!((l - (0.5 / 0.1 * 0.01 + 0.5 / 0.1 * 0.04)).abs() < 1e-15);
+    let sys = dirac::paper::ChargedParticle {
+        h: 0.1,
+        m: 1.0,
+        b0: 1.0,
+    };
+    assert_eq!(sys.lagrangian(&q0.to_vector(), &q1.to_vector()), l);
+    assert_eq!(ChargedParticleConfigAlias::from_vector(&q1.to_vector()), q1);
+}
+
+use dirac::paper::ChargedParticleConfig as ChargedParticleConfigAlias;
