@@ -17,6 +17,7 @@ fn particle_with_connection(q0: Config, q1: Config, h: f64, m: f64, b0: f64, b: 
 /// Two group coordinates (K = 2): a particle in the plane (gx, gy), translation invariant, coupled
 /// to an anharmonic internal coordinate s; midpoint rule.
 #[reduced_lagrangian(shape(s), group(gx, gy))]
+#[allow(clippy::needless_range_loop)] // the point is to exercise an unrolled loop with indexing
 fn planar_rotor(q0: Config, q1: Config, h: f64, m: f64, k: f64) -> f64 {
     let v = [(q1.gx - q0.gx) / h, (q1.gy - q0.gy) / h];
     let vs = (q1.s - q0.s) / h;

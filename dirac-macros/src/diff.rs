@@ -162,7 +162,8 @@ mod tests {
 
     #[test]
     fn every_elementary_rule_matches_a_central_difference() {
-        let ops: Vec<(&str, fn(&mut Graph, NodeId) -> NodeId)> = vec![
+        type Op = fn(&mut Graph, NodeId) -> NodeId;
+        let ops: Vec<(&str, Op)> = vec![
             ("sin", |g, x| g.fun(Fun::Sin, x)),
             ("cos", |g, x| g.fun(Fun::Cos, x)),
             ("tan", |g, x| g.fun(Fun::Tan, x)),

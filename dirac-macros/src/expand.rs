@@ -133,6 +133,10 @@ fn user_function(func: &ItemFn, config: &Ident, stub: bool, touch: &[Ident]) -> 
         }
     }
     if stub {
+        // The body was rejected: keep the signature so callers type-check, without follow-on
+        // warnings about the arguments the stub ignores.
+        func.attrs
+            .push(syn::parse_quote!(#[allow(unused_variables)]));
         *func.block = syn::parse_quote!({
             ::core::unimplemented!("`#[reduced_lagrangian]` reported an error")
         });
@@ -142,7 +146,13 @@ fn user_function(func: &ItemFn, config: &Ident, stub: bool, touch: &[Ident]) -> 
 
 fn config_struct(spec: &Spec, func: &ItemFn, config: &Ident, type_name: &Ident) -> TokenStream {
     let vis = &func.vis;
-    let coords: Vec<&Ident> = spec.shape.iter().chain(&spec.group).collect();
+    // Deduplicated, so a coordinate declared twice (already an error) causes no follow-on ones.
+    let mut coords: Vec<&Ident> = Vec::new();
+    for id in spec.shape.iter().chain(&spec.group) {
+        if !coords.contains(&id) {
+            coords.push(id);
+        }
+    }
     let n = coords.len();
     let idx = 0..n;
     let doc =

@@ -189,8 +189,8 @@ impl Graph {
     pub fn add(&mut self, a: NodeId, b: NodeId) -> NodeId {
         match (self.as_const(a), self.as_const(b)) {
             (Some(x), Some(y)) => return self.constant(x + y),
-            (Some(x), _) if x == 0.0 => return b,
-            (_, Some(y)) if y == 0.0 => return a,
+            (Some(0.0), _) => return b,
+            (_, Some(0.0)) => return a,
             _ => {}
         }
         // a + (−b) = a − b, exactly.
@@ -207,8 +207,8 @@ impl Graph {
     pub fn sub(&mut self, a: NodeId, b: NodeId) -> NodeId {
         match (self.as_const(a), self.as_const(b)) {
             (Some(x), Some(y)) => return self.constant(x - y),
-            (Some(x), _) if x == 0.0 => return self.neg(b),
-            (_, Some(y)) if y == 0.0 => return a,
+            (Some(0.0), _) => return self.neg(b),
+            (_, Some(0.0)) => return a,
             _ => {}
         }
         if a == b {
@@ -223,12 +223,12 @@ impl Graph {
     pub fn mul(&mut self, a: NodeId, b: NodeId) -> NodeId {
         match (self.as_const(a), self.as_const(b)) {
             (Some(x), Some(y)) => return self.constant(x * y),
-            (Some(x), _) if x == 0.0 => return a,
-            (_, Some(y)) if y == 0.0 => return b,
-            (Some(x), _) if x == 1.0 => return b,
-            (_, Some(y)) if y == 1.0 => return a,
-            (Some(x), _) if x == -1.0 => return self.neg(b),
-            (_, Some(y)) if y == -1.0 => return self.neg(a),
+            (Some(0.0), _) => return a,
+            (_, Some(0.0)) => return b,
+            (Some(1.0), _) => return b,
+            (_, Some(1.0)) => return a,
+            (Some(-1.0), _) => return self.neg(b),
+            (_, Some(-1.0)) => return self.neg(a),
             _ => {}
         }
         // (−a)·b = −(a·b) exactly; pulling signs out lets more products share a node.
@@ -247,9 +247,9 @@ impl Graph {
     pub fn div(&mut self, a: NodeId, b: NodeId) -> NodeId {
         match (self.as_const(a), self.as_const(b)) {
             (Some(x), Some(y)) => return self.constant(x / y),
-            (Some(x), _) if x == 0.0 => return a,
-            (_, Some(y)) if y == 1.0 => return a,
-            (_, Some(y)) if y == -1.0 => return self.neg(a),
+            (Some(0.0), _) => return a,
+            (_, Some(1.0)) => return a,
+            (_, Some(-1.0)) => return self.neg(a),
             _ => {}
         }
         if let Node::Neg(na) = self.node(a) {
@@ -280,7 +280,7 @@ impl Graph {
     pub fn powf(&mut self, a: NodeId, b: NodeId) -> NodeId {
         match (self.as_const(a), self.as_const(b)) {
             (Some(x), Some(y)) => return self.constant(x.powf(y)),
-            (_, Some(y)) if y == 1.0 => return a,
+            (_, Some(1.0)) => return a,
             _ => {}
         }
         self.intern(Node::Powf(a, b))

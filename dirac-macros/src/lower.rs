@@ -12,11 +12,10 @@ use crate::ctxt::Ctxt;
 use crate::graph::{Fun, Graph, NodeId, Sym};
 
 /// What the body language accepts, for error messages.
-pub const ACCEPTED: &str = "accepted: f64 literals, parameters, coordinates (`q0.x`), `let` bindings \
-(with tuple destructuring and `mut`), `=` and `+= -= *= /=` on locals, `+ - * /`, unary `-`, parentheses, blocks, \
-tuples, arrays indexed by constants, `for` loops over constant ranges, `as f64` on loop indices, \
-and the f64 functions sin, cos, tan, asin, acos, atan, exp, ln, sqrt, sinh, cosh, tanh, recip, \
-powi, powf and atan2 (as methods `x.sin()` or paths `f64::sin(x)`)";
+pub const ACCEPTED: &str = "accepted: f64 literals, parameters, coordinates (`q0.x`), locals \
+(`let`, `let mut`, tuples), `+ - * /`, unary `-`, blocks, arrays with constant indices, `for` over \
+constant ranges, and the f64 functions sin cos tan asin acos atan exp ln sqrt sinh cosh tanh recip \
+powi powf atan2";
 
 const METHODS: &str =
     "sin, cos, tan, asin, acos, atan, exp, ln, sqrt, sinh, cosh, tanh, recip, powi, powf, atan2";
@@ -33,6 +32,8 @@ enum Value {
     Tuple(Vec<Value>),
     Array(Vec<Value>),
     Unit,
+    /// A name whose initializer was rejected: uses fail silently, so one mistake is reported once.
+    Poison,
 }
 
 impl Value {
@@ -43,6 +44,7 @@ impl Value {
             Value::Tuple(_) => "a tuple",
             Value::Array(_) => "an array",
             Value::Unit => "`()`",
+            Value::Poison => "an invalid value",
         }
     }
 }
@@ -142,9 +144,16 @@ impl<'a> Lowering<'a> {
                         format!("`let ... else` is not supported; {ACCEPTED}"),
                     );
                 }
-                let value = self.expr(&init.expr)?;
-                self.bind(&local.pat, value)?;
-                Some(Value::Unit)
+                match self.expr(&init.expr) {
+                    Some(value) => {
+                        self.bind(&local.pat, value)?;
+                        Some(Value::Unit)
+                    }
+                    None => {
+                        self.poison(&local.pat);
+                        None
+                    }
+                }
             }
             Stmt::Expr(expr, semi) => {
                 let v = self.expr(expr)?;
@@ -224,6 +233,26 @@ impl<'a> Lowering<'a> {
                 )?;
                 None
             }
+        }
+    }
+
+    /// Binds every name in `pat` to [`Value::Poison`].
+    fn poison(&mut self, pat: &Pat) {
+        match pat {
+            Pat::Ident(pi) => {
+                let local = Local {
+                    value: Value::Poison,
+                    mutable: true,
+                };
+                self.scopes
+                    .last_mut()
+                    .expect("a scope")
+                    .insert(pi.ident.to_string(), local);
+            }
+            Pat::Type(pt) => self.poison(&pt.pat),
+            Pat::Paren(pp) => self.poison(&pp.pat),
+            Pat::Tuple(pt) => pt.elems.iter().for_each(|p| self.poison(p)),
+            _ => {}
         }
     }
 
@@ -373,7 +402,10 @@ impl<'a> Lowering<'a> {
                 }
             }
             Expr::ForLoop(f) => self.for_loop(f),
-            Expr::Closure(c) => self.error(c.or1_token, format!("closures are not supported in a discrete Lagrangian; {ACCEPTED}")),
+            Expr::Closure(c) => {
+                let head = { let (o1, i, o2) = (&c.or1_token, &c.inputs, &c.or2_token); quote::quote!(#o1 #i #o2) };
+                self.error(head, format!("closures are not supported in a discrete Lagrangian: bind the value with `let`; {ACCEPTED}"))
+            }
             Expr::If(i) => self.error(
                 i.if_token,
                 format!("`if` is not supported: the Lagrangian must be one smooth expression for its derivatives to exist; {ACCEPTED}"),
@@ -384,7 +416,7 @@ impl<'a> Lowering<'a> {
             ),
             Expr::While(w) => self.error(w.while_token, format!("`while` loops are not supported (bounds must be constant: use `for i in 0..N`); {ACCEPTED}")),
             Expr::Loop(l) => self.error(l.loop_token, format!("`loop` is not supported (use `for i in 0..N`); {ACCEPTED}")),
-            Expr::Reference(r) => self.error(r.and_token, format!("references are not supported: coordinates and parameters are plain f64 values; {ACCEPTED}")),
+            Expr::Reference(r) => self.error(r, format!("references are not supported: coordinates and parameters are plain f64 values; {ACCEPTED}")),
             Expr::Return(r) => self.error(r.return_token, "`return` is not supported: end the body with its value"),
             Expr::Macro(m) => self.error(&m.mac.path, format!("macros are not supported in the body; {ACCEPTED}")),
             Expr::Unsafe(u) => self.error(u.unsafe_token, "`unsafe` is not supported"),
@@ -398,7 +430,10 @@ impl<'a> Lowering<'a> {
             if let Some(id) = p.path.get_ident() {
                 let name = id.to_string();
                 if let Some(local) = self.lookup(&name) {
-                    return Some(local.value.clone());
+                    return match local.value {
+                        Value::Poison => None,
+                        ref v => Some(v.clone()),
+                    };
                 }
                 if let Some(i) = self.names.params.iter().position(|q| *q == name) {
                     return Some(Value::Scalar(self.g.var(Sym::Param(i))));
@@ -408,6 +443,17 @@ impl<'a> Lowering<'a> {
                     return self.error(
                         id,
                         format!("use a coordinate of `{id}`, e.g. `{id}.{example}`"),
+                    );
+                }
+                if !self.allow_coords {
+                    let list: Vec<String> =
+                        self.names.params.iter().map(|p| format!("`{p}`")).collect();
+                    return self.error(
+                        id,
+                        format!(
+                            "`{name}` is not a parameter; connection entries are f64 literals or parameters: {}",
+                            list.join(", ")
+                        ),
                     );
                 }
                 return self.error(
@@ -447,7 +493,13 @@ impl<'a> Lowering<'a> {
                 };
                 if let (Some(which), None) = (which, self.lookup(&id.to_string())) {
                     if !self.allow_coords {
-                        return self.error(f, "the connection matrix must be constant: use f64 literals and parameters");
+                        return self.error(
+                            f,
+                            format!(
+                                "the connection matrix must be constant: entries are f64 literals and parameters, found the coordinate `{}`",
+                                f.to_token_stream()
+                            ),
+                        );
                     }
                     let Member::Named(member) = &f.member else {
                         return self.error(&f.member, "expected a coordinate name");
@@ -688,8 +740,15 @@ impl<'a> Lowering<'a> {
             };
             match s.expr(e) {
                 Some(Value::Int(i)) => Some(i),
-                Some(_) => {
-                    s.error(e, "loop bounds must be constant integers (literals or enclosing loop indices), so the loop can be unrolled");
+                Some(v) => {
+                    s.error(
+                        e,
+                        format!(
+                            "loop bounds must be constant integers (literals or enclosing loop indices) so the loop can be unrolled, found {} `{}`",
+                            v.kind(),
+                            e.to_token_stream()
+                        ),
+                    );
                     None
                 }
                 None => None,

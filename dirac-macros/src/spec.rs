@@ -13,6 +13,7 @@
 //! ```
 
 use proc_macro2::Span;
+use quote::ToTokens;
 use syn::parse::{Parse, ParseStream};
 use syn::punctuated::Punctuated;
 use syn::spanned::Spanned;
@@ -78,7 +79,7 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
     };
     let mut shape: Option<Vec<Ident>> = None;
     let mut group: Option<Vec<Ident>> = None;
-    let mut connection: Option<Vec<Vec<Expr>>> = None;
+    let mut connection: Option<(Expr, Vec<Vec<Expr>>)> = None;
     let mut step: Option<Ident> = None;
     let mut name: Option<Ident> = None;
     let mut seen: Vec<String> = Vec::new();
@@ -103,14 +104,27 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
                 }
                 group = Some(list.into_iter().collect());
             }
-            ("connection", Arg::Value(_, value)) => connection = parse_matrix(cx, value),
-            ("step", Arg::Value(_, value)) => step = parse_ident(cx, value, "a parameter name"),
-            ("name", Arg::Value(_, value)) => name = parse_ident(cx, value, "a type name"),
+            ("connection", Arg::Value(_, value)) => {
+                connection = parse_matrix(cx, &value).map(|rows| (value, rows))
+            }
+            ("step", Arg::Value(_, value)) => {
+                step = parse_ident(cx, value, "the time-step parameter, e.g. `step = h`")
+            }
+            ("name", Arg::Value(_, value)) => {
+                name = parse_ident(cx, value, "a type name, e.g. `name = Particle`")
+            }
             ("shape" | "group", Arg::Value(k, _)) => {
                 cx.error_spanned_by(&k, format!("expected a list: `{k}(a, b, ...)`"))
             }
-            ("connection" | "step" | "name", Arg::List(k, _)) => {
-                cx.error_spanned_by(&k, format!("expected `{k} = ...`"))
+            ("connection", Arg::List(k, _)) => cx.error_spanned_by(
+                &k,
+                "expected `connection = [[b11, b12, ...], ...]`, found `connection(...)`",
+            ),
+            ("step", Arg::List(k, _)) => {
+                cx.error_spanned_by(&k, "expected `step = <parameter>`, found `step(...)`")
+            }
+            ("name", Arg::List(k, _)) => {
+                cx.error_spanned_by(&k, "expected `name = <TypeName>`, found `name(...)`")
             }
             (_, _) => cx.error_spanned_by(
                 &key,
@@ -118,13 +132,13 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
             ),
         }
     }
-    if shape.is_none() {
+    if shape.is_none() && !seen.iter().any(|k| k == "shape") {
         cx.error_at(
             Span::call_site(),
             "missing `shape(...)`: list the shape coordinates, e.g. `shape(x, y)` (or `shape()` for none)",
         );
     }
-    if group.is_none() {
+    if group.is_none() && !seen.iter().any(|k| k == "group") {
         cx.error_at(
             Span::call_site(),
             "missing `group(...)`: list the group coordinates the symmetry translates, e.g. `group(theta)`",
@@ -132,9 +146,10 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
     }
     let (shape, group) = (shape?, group?);
     check_coordinates(cx, &shape, &group);
-    if let Some(rows) = &connection {
-        check_connection_shape(cx, rows, shape.len(), group.len());
-    }
+    let connection = connection.map(|(value, rows)| {
+        check_connection_shape(cx, &value, &rows, shape.len(), group.len());
+        rows
+    });
     Some(Spec {
         shape,
         group,
@@ -150,22 +165,28 @@ fn parse_ident(cx: &Ctxt, value: Expr, what: &str) -> Option<Ident> {
             return Some(id.clone());
         }
     }
-    cx.error_spanned_by(&value, format!("expected {what}"));
+    let found = match &value {
+        Expr::Lit(l) if matches!(l.lit, syn::Lit::Str(_)) => {
+            "a string literal: write the name without quotes".to_string()
+        }
+        other => format!("`{}`", other.to_token_stream()),
+    };
+    cx.error_spanned_by(&value, format!("expected {what}, found {found}"));
     None
 }
 
-fn parse_matrix(cx: &Ctxt, value: Expr) -> Option<Vec<Vec<Expr>>> {
+fn parse_matrix(cx: &Ctxt, value: &Expr) -> Option<Vec<Vec<Expr>>> {
     let Expr::Array(rows) = value else {
         cx.error_spanned_by(
-            &value,
+            value,
             "expected the connection matrix B as nested arrays, one row per group coordinate: `connection = [[b11, b12], ...]`",
         );
         return None;
     };
     let mut out = Vec::new();
-    for row in rows.elems {
+    for row in &rows.elems {
         match row {
-            Expr::Array(cols) => out.push(cols.elems.into_iter().collect()),
+            Expr::Array(cols) => out.push(cols.elems.iter().cloned().collect()),
             other => {
                 cx.error_spanned_by(
                     &other,
@@ -198,29 +219,43 @@ fn check_coordinates(cx: &Ctxt, shape: &[Ident], group: &[Ident]) {
     }
 }
 
-fn check_connection_shape(cx: &Ctxt, rows: &[Vec<Expr>], s: usize, k: usize) {
-    let dims = format!("B must be K × S = {k} × {s} (one row per group coordinate, one column per shape coordinate)");
+fn check_connection_shape(cx: &Ctxt, value: &Expr, rows: &[Vec<Expr>], s: usize, k: usize) {
+    let plural = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
+    let dims = format!(
+        "B must be K × S = {k} × {s} (one row per group coordinate, one entry per shape coordinate)"
+    );
+    let Expr::Array(array) = value else { return };
     if rows.len() != k {
-        let span = rows.get(k).map_or(Span::call_site(), |r| {
-            r.first().map_or(Span::call_site(), |e| e.span())
-        });
-        cx.error_at(
-            span,
-            format!("connection matrix has {} rows; {dims}", rows.len()),
-        );
+        // Point at the first extra row, or at the whole matrix when rows are missing.
+        match array.elems.iter().nth(k) {
+            Some(extra) => cx.error_spanned_by(
+                extra,
+                format!(
+                    "extra row: the connection matrix has {}; {dims}",
+                    plural(rows.len(), "row")
+                ),
+            ),
+            None => cx.error_spanned_by(
+                value,
+                format!(
+                    "the connection matrix has {}; {dims}",
+                    plural(rows.len(), "row")
+                ),
+            ),
+        }
         return;
     }
-    for (i, row) in rows.iter().enumerate() {
+    for (i, (row, row_expr)) in rows.iter().zip(&array.elems).enumerate() {
         if row.len() != s {
-            let span = row.get(s).map_or(Span::call_site(), |e| e.span());
-            cx.error_at(
-                span,
-                format!(
-                    "row {} of the connection matrix has {} entries; {dims}",
-                    i + 1,
-                    row.len()
-                ),
+            let message = format!(
+                "row {} of the connection matrix has {}; {dims}",
+                i + 1,
+                plural(row.len(), "entry").replace("entrys", "entries")
             );
+            match row.get(s) {
+                Some(extra) => cx.error_spanned_by(extra, message),
+                None => cx.error_spanned_by(row_expr, message),
+            }
         }
     }
 }
@@ -252,7 +287,13 @@ pub fn parse_signature(
     match &sig.output {
         syn::ReturnType::Type(_, ty) if is_f64(ty) => {}
         syn::ReturnType::Type(_, ty) => {
-            cx.error_spanned_by(ty, "a discrete Lagrangian returns `f64`");
+            cx.error_spanned_by(
+                ty,
+                format!(
+                    "a discrete Lagrangian returns `f64`, found `{}`",
+                    ty.to_token_stream()
+                ),
+            );
             ok = false;
         }
         syn::ReturnType::Default => {
@@ -283,14 +324,22 @@ pub fn parse_signature(
             if !is_config(ty) {
                 cx.error_spanned_by(
                     ty,
-                    "the first two arguments are the configurations: `q0: Config, q1: Config`",
+                    format!(
+                        "the first two arguments are the configurations `q0: Config, q1: Config`, found `{}: {}`",
+                        pi.ident,
+                        ty.to_token_stream()
+                    ),
                 );
                 ok = false;
             }
         } else if !is_f64(ty) {
             cx.error_spanned_by(
                 ty,
-                "parameters must be `f64`: only scalar parameters are accepted",
+                format!(
+                    "parameter `{}` is `{}`; parameters must be `f64` (only scalar parameters are accepted)",
+                    pi.ident,
+                    ty.to_token_stream()
+                ),
             );
             ok = false;
         }
@@ -307,9 +356,13 @@ pub fn parse_signature(
     let step = match spec_step {
         Some(step) => {
             if !params.contains(step) {
+                let list: Vec<String> = params.iter().map(|p| format!("`{p}`")).collect();
                 cx.error_spanned_by(
                     step,
-                    format!("`step = {step}` must name one of the `f64` parameters"),
+                    format!(
+                        "`step = {step}` must name one of the `f64` parameters: {}",
+                        list.join(", ")
+                    ),
                 );
                 ok = false;
             }
@@ -319,7 +372,7 @@ pub fn parse_signature(
     };
     if step.is_none() && ok {
         cx.error_spanned_by(
-            &sig.inputs,
+            &sig.ident,
             "no time step: name a parameter `h: f64`, or declare which parameter it is with `step = <name>`",
         );
         ok = false;
