@@ -400,3 +400,51 @@ fn fallback(spec: Option<&Spec>, sig: Option<&Signature>, func: &ItemFn) -> Toke
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The expansion of the paper's charged particle, pretty-printed and compared with the
+    /// committed snapshot `tests/snapshots/charged_particle.expanded.rs`. Set `DIRAC_BLESS=1`
+    /// to rewrite the snapshot after an intended change to the generated code.
+    #[test]
+    fn charged_particle_expansion_matches_the_snapshot() {
+        let args = quote!(shape(x, y, z), group(theta));
+        let item = quote! {
+            /// Charged particle in a magnetic field, Kaluza–Klein form (paper §7.1), left-point rule.
+            pub fn charged_particle(q0: Config, q1: Config, h: f64, m: f64, b0: f64) -> f64 {
+                let (dx, dy, dz) = (q1.x - q0.x, q1.y - q0.y, q1.z - q0.z);
+                let a_dot_dq = 0.5 * b0 * (-q0.y * dx + q0.x * dy);
+                let s = a_dot_dq + (q1.theta - q0.theta);
+                0.5 * m / h * (dx * dx + dy * dy + dz * dz) + 0.5 / h * s * s
+            }
+        };
+        let file: syn::File = syn::parse2(expand(args, item)).expect("the expansion parses");
+        let text = prettyplease::unparse(&file);
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/snapshots/charged_particle.expanded.rs");
+        if std::env::var_os("DIRAC_BLESS").is_some() {
+            std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+            std::fs::write(&path, &text).unwrap();
+        }
+        let committed = std::fs::read_to_string(&path).unwrap_or_default();
+        assert!(
+            committed == text,
+            "the expansion changed; review it and rerun with DIRAC_BLESS=1:\n{text}"
+        );
+    }
+
+    #[test]
+    fn a_rejected_body_still_emits_the_items_other_code_uses() {
+        let args = quote!(shape(x), group(theta));
+        let item = quote! {
+            fn f(q0: Config, q1: Config, h: f64) -> f64 { if h > 0.0 { q0.x } else { q1.x } }
+        };
+        let out = expand(args, item).to_string();
+        assert!(out.contains("compile_error"), "{out}");
+        assert!(out.contains("struct FConfig"), "{out}");
+        assert!(out.contains("struct F"), "{out}");
+        assert!(out.contains("fn f"), "{out}");
+    }
+}
