@@ -79,3 +79,8 @@ pub mod prelude {
         ReducedPlus, ReducedState, StepError, StepStats, Trajectory,
     };
 }
+
+/// The README's example, compiled and run as a doctest so it cannot go stale.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;
