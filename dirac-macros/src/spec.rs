@@ -189,7 +189,7 @@ fn parse_matrix(cx: &Ctxt, value: &Expr) -> Option<Vec<Vec<Expr>>> {
             Expr::Array(cols) => out.push(cols.elems.iter().cloned().collect()),
             other => {
                 cx.error_spanned_by(
-                    &other,
+                    other,
                     "expected a row of B: `[b1, b2, ...]`, one entry per shape coordinate",
                 );
                 return None;
