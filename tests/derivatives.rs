@@ -124,24 +124,32 @@ where
         }
     }
 
-    // Row r of F is ∂l/∂x0_r (r < S) or ∂l/∂g1_{r−S}; in v these sit at r and S + r.
+    // Row r of R is ∂l/∂x0_r (r < S) or ∂l/∂g1_{r−S}; in v these sit at r and S + r.
     let out = |r: usize| if r < S { r } else { S + r };
-    // Column c of ∂F/∂z is z_c, which sits at S + c in v.
+    // Column c of ∂R/∂z is z_c, which sits at S + c in v.
     let col = |c: usize| S + c;
 
-    let forces = sys.plus_forces(x0, z);
-    let (forces_j, jac) = sys.plus_forces_jacobian(x0, z);
+    // Momenta w_k, μ_k enter the residual R = (∂l/∂x0 + w_k, ∂l/∂g1 − μ_k) additively.
+    let w_k = SVector::<f64, S>::from_fn(|i, _| 0.3 - 0.7 * z[i]);
+    let mu_k = SVector::<f64, K>::from_fn(|j, _| 0.2 + 0.4 * z[S + j]);
+    let offset = |r: usize| if r < S { w_k[r] } else { -mu_k[r - S] };
+    let residual = sys.plus_residual(x0, &w_k, &mu_k, z);
+    let (residual_j, jac) = sys.plus_residual_jacobian(x0, &w_k, &mu_k, z);
     let momentum = sys.plus_momentum(x0, z);
     for r in 0..N {
-        check(format!("plus_forces[{r}]"), forces[r], grad[out(r)]);
         check(
-            format!("plus_forces_jacobian.0[{r}]"),
-            forces_j[r],
-            grad[out(r)],
+            format!("plus_residual[{r}]"),
+            residual[r],
+            grad[out(r)] + offset(r),
+        );
+        check(
+            format!("plus_residual_jacobian.0[{r}]"),
+            residual_j[r],
+            grad[out(r)] + offset(r),
         );
         for c in 0..N {
             check(
-                format!("plus_forces_jacobian.1[({r},{c})]"),
+                format!("plus_residual_jacobian.1[({r},{c})]"),
                 jac[(r, c)],
                 hess[(out(r), col(c))],
             );

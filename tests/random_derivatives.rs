@@ -8,8 +8,9 @@
 //! `l(x0, x1, g1) = L_d((x0, 0), (x1, g1 + B (x1 − x0)))`, from the reference on second-order
 //! dual numbers in `v = (x0, x1, g1)`, and compares at several pseudo-random points
 //!
-//! * `plus_forces` and the vector of `plus_forces_jacobian` with `(∂l/∂x0, ∂l/∂g1)`,
-//! * the matrix of `plus_forces_jacobian` with the Hessian block `∂(∂l/∂x0, ∂l/∂g1)/∂(x1, g1)`,
+//! * `plus_residual` and the vector of `plus_residual_jacobian` with
+//!   `(∂l/∂x0 + w_k, ∂l/∂g1 − μ_k)` at random momenta,
+//! * the matrix of `plus_residual_jacobian` with the Hessian block `∂(∂l/∂x0, ∂l/∂g1)/∂(x1, g1)`,
 //! * `plus_momentum` with `∂l/∂x1`,
 //! * `reduced_lagrangian_plus`, `lagrangian` (the user's function body) and `connection` with the
 //!   reference values,
@@ -161,31 +162,35 @@ pub fn check_case<Sys, const S: usize, const K: usize, const N: usize, const M: 
                 );
             }
         }
-        // Row r of F is ∂l/∂x0_r (r < S) or ∂l/∂g1_{r−S}: v index r or S + r. Column c is z_c: S + c.
+        // Row r of R is ∂l/∂x0_r (r < S) or ∂l/∂g1_{r−S}: v index r or S + r. Column c is z_c: S + c.
         let out = |r: usize| if r < S { r } else { S + r };
-        let forces = sys.plus_forces(&x0, &z);
-        let (forces_j, jac) = sys.plus_forces_jacobian(&x0, &z);
+        // R = (∂l/∂x0 + w_k, ∂l/∂g1 − μ_k): the momenta enter additively.
+        let w_k = SVector::<f64, S>::from_fn(|_, _| rng.uniform(-1.0, 1.0));
+        let mu_k = SVector::<f64, K>::from_fn(|_, _| rng.uniform(-1.0, 1.0));
+        let offset = |r: usize| if r < S { w_k[r] } else { -mu_k[r - S] };
+        let residual = sys.plus_residual(&x0, &w_k, &mu_k, &z);
+        let (residual_j, jac) = sys.plus_residual_jacobian(&x0, &w_k, &mu_k, &z);
         let momentum = sys.plus_momentum(&x0, &z);
         for r in 0..N {
             stats.compare(
                 name,
-                &format!("plus_forces[{r}]"),
+                &format!("plus_residual[{r}]"),
                 &at,
-                forces[r],
-                grad[out(r)],
+                residual[r],
+                grad[out(r)] + offset(r),
             );
             stats.compare(
                 name,
-                &format!("plus_forces_jacobian.0[{r}]"),
+                &format!("plus_residual_jacobian.0[{r}]"),
                 &at,
-                forces_j[r],
-                grad[out(r)],
+                residual_j[r],
+                grad[out(r)] + offset(r),
             );
             for c in 0..N {
                 let reference = hess[(out(r), S + c)] + stats.perturb_jacobian;
                 stats.compare(
                     name,
-                    &format!("plus_forces_jacobian.1[({r},{c})]"),
+                    &format!("plus_residual_jacobian.1[({r},{c})]"),
                     &at,
                     jac[(r, c)],
                     reference,
@@ -265,7 +270,7 @@ fn a_perturbed_reference_is_caught() {
     let caught = stats
         .failures
         .iter()
-        .filter(|f| f.contains("plus_forces_jacobian.1"))
+        .filter(|f| f.contains("plus_residual_jacobian.1"))
         .count();
     assert!(
         caught >= jacobian_entries,

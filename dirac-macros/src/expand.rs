@@ -50,7 +50,7 @@ struct Compiled {
     body: NodeId,
     /// Rows of the connection matrix `B`.
     b: Vec<Vec<NodeId>>,
-    forces: Vec<NodeId>,
+    residual: Vec<NodeId>,
     jacobian: Vec<Vec<NodeId>>,
     momentum: Vec<NodeId>,
 }
@@ -94,7 +94,7 @@ fn compile(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<Com
         graph,
         body,
         b,
-        forces: system.forces,
+        residual: system.residual,
         jacobian: system.jacobian,
         momentum: system.momentum,
     })
@@ -226,16 +226,18 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
             let j = s + j;
             quote! { z[#j] }
         }
+        Sym::W(i) => quote! { w_k[#i] },
+        Sym::Mu(j) => quote! { mu_k[#j] },
         Sym::Param(i) => param_leaf(i),
         Sym::Q0(_) | Sym::Q1(_) => unreachable!("the reduced Lagrangian reads x0, x1, g1"),
     };
 
-    // F(z) alone.
-    let forces = straight_line(&c.graph, &c.forces, &plus_leaf);
-    let (f_stmts, f_out) = (&forces.stmts, &forces.outputs);
+    // R(z) alone.
+    let residual = straight_line(&c.graph, &c.residual, &plus_leaf);
+    let (r_stmts, r_out) = (&residual.stmts, &residual.outputs);
 
-    // F(z) and ∂F/∂z together: one straight line, so shared subexpressions are computed once.
-    let mut roots = c.forces.clone();
+    // R(z) and ∂R/∂z together: one straight line, so shared subexpressions are computed once.
+    let mut roots = c.residual.clone();
     let mut entries = Vec::new();
     for (r, row) in c.jacobian.iter().enumerate() {
         for (col, &node) in row.iter().enumerate() {
@@ -285,8 +287,8 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
     let param_item = param_struct(sig, func, &ty);
     let zero_g = literal(0.0);
     let counts = format!(
-        "Generated code: {} operations for F(z), {} for F(z) with ∂F/∂z, {} for the momentum update.",
-        forces.operations, fj.operations, momentum.operations
+        "Generated code: {} operations for R(z), {} for R(z) with ∂R/∂z, {} for the momentum update.",
+        residual.operations, fj.operations, momentum.operations
     );
 
     quote! {
@@ -343,15 +345,23 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
             }
 
             #[inline]
-            fn plus_forces(&self, x_k: &#na::SVector<f64, #s>, z: &#na::SVector<f64, #n>) -> #na::SVector<f64, #n> {
-                #f_stmts
-                #na::SVector::<f64, #n>::from([ #( #f_out ),* ])
+            fn plus_residual(
+                &self,
+                x_k: &#na::SVector<f64, #s>,
+                w_k: &#na::SVector<f64, #s>,
+                mu_k: &#na::SVector<f64, #k>,
+                z: &#na::SVector<f64, #n>,
+            ) -> #na::SVector<f64, #n> {
+                #r_stmts
+                #na::SVector::<f64, #n>::from([ #( #r_out ),* ])
             }
 
             #[inline]
-            fn plus_forces_jacobian(
+            fn plus_residual_jacobian(
                 &self,
                 x_k: &#na::SVector<f64, #s>,
+                w_k: &#na::SVector<f64, #s>,
+                mu_k: &#na::SVector<f64, #k>,
                 z: &#na::SVector<f64, #n>,
             ) -> (#na::SVector<f64, #n>, #na::SMatrix<f64, #n, #n>) {
                 #fj_stmts

@@ -23,6 +23,10 @@ pub enum Sym {
     X1(usize),
     /// Group coordinate `j` of `g1`.
     G1(usize),
+    /// Reduced shape momentum `w_k[i]` (eq. (4.6)).
+    W(usize),
+    /// Group momentum `μ_k[j]` (eq. (4.6)).
+    Mu(usize),
     /// Scalar parameter `i`.
     Param(usize),
 }

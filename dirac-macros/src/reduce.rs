@@ -7,9 +7,10 @@ use crate::graph::{Graph, NodeId, Sym};
 
 /// Everything the (+) stepper needs, as graph nodes.
 pub struct ReducedPlus {
-    /// `F(z) = (∂l_{d+}/∂x0, ∂l_{d+}/∂g1)`, length `N = S + K`.
-    pub forces: Vec<NodeId>,
-    /// `∂F/∂z`, row-major `N × N`, with `z = (x1, g1)`.
+    /// `R(z) = (∂l_{d+}/∂x0 + w_k, ∂l_{d+}/∂g1 − μ_k)`, length `N = S + K`: the third and fourth
+    /// lines of eq. (4.6) (the third simplified with the fourth, see `dirac_runtime::ReducedPlus`).
+    pub residual: Vec<NodeId>,
+    /// `∂R/∂z`, row-major `N × N`, with `z = (x1, g1)`.
     pub jacobian: Vec<Vec<NodeId>>,
     /// `w_{k+1} = ∂l_{d+}/∂x1`, length `S`.
     pub momentum: Vec<NodeId>,
@@ -39,24 +40,35 @@ pub fn reduced_lagrangian_plus(g: &mut Graph, l: NodeId, s: usize, b: &[Vec<Node
     })
 }
 
-/// Differentiates `l_{d+}` for the (+) stepper of eq. (4.6).
+/// Differentiates `l_{d+}` for the (+) stepper of eq. (4.6): the residual, its Jacobian in the
+/// unknowns `z = (x_{k+1}, g_k^+)`, and the momentum update.
 pub fn plus_system(g: &mut Graph, l_plus: NodeId, s: usize, k: usize) -> ReducedPlus {
     let first = |g: &mut Graph, sym: Sym| derivatives(g, &[l_plus], sym)[0];
-    let mut forces: Vec<NodeId> = (0..s).map(|i| first(g, Sym::X0(i))).collect();
-    forces.extend((0..k).map(|j| first(g, Sym::G1(j))));
+    let mut residual: Vec<NodeId> = (0..s)
+        .map(|i| {
+            let d = first(g, Sym::X0(i));
+            let w = g.var(Sym::W(i));
+            g.add(d, w)
+        })
+        .collect();
+    residual.extend((0..k).map(|j| {
+        let d = first(g, Sym::G1(j));
+        let mu = g.var(Sym::Mu(j));
+        g.sub(d, mu)
+    }));
     let momentum = (0..s).map(|i| first(g, Sym::X1(i))).collect();
     let unknowns: Vec<Sym> = (0..s).map(Sym::X1).chain((0..k).map(Sym::G1)).collect();
     // Forward mode: one pass per unknown gives one column of the Jacobian.
     let columns: Vec<Vec<NodeId>> = unknowns
         .iter()
-        .map(|&z| derivatives(g, &forces, z))
+        .map(|&z| derivatives(g, &residual, z))
         .collect();
     let n = s + k;
     let jacobian = (0..n)
         .map(|r| (0..n).map(|c| columns[c][r]).collect())
         .collect();
     ReducedPlus {
-        forces,
+        residual,
         jacobian,
         momentum,
     }

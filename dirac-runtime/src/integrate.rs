@@ -114,17 +114,13 @@ where
     ) -> Result<(ReducedState<S, K>, SVector<f64, K>, StepStats), StepError> {
         let sys = &self.system;
         let (w, mu) = (state.w, state.mu);
-        let offset = join::<S, K, N>(&w, &(-mu));
         let rho = newton::inf_norm(&w).max(newton::inf_norm(&mu));
         let solution = newton::solve(
             *guess,
             rho,
             &self.options,
-            |z| sys.plus_forces(&state.x, z) + offset,
-            |z| {
-                let (f, jacobian) = sys.plus_forces_jacobian(&state.x, z);
-                (f + offset, jacobian)
-            },
+            |z| sys.plus_residual(&state.x, &w, &mu, z),
+            |z| sys.plus_residual_jacobian(&state.x, &w, &mu, z),
         )
         .map_err(|failure| match failure {
             NewtonFailure::NotConverged {

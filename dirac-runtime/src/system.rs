@@ -90,8 +90,7 @@ pub trait DiscreteLagrangian<const S: usize, const K: usize, const N: usize> {
 /// ```
 ///
 /// (The printed third line is this `R_x` plus `Bᵀ R_g`: a constant invertible recombination of
-/// the rows, which leaves Newton's iterates unchanged.) The emitted code returns the
-/// `w`/`μ`-independent part `F(z) = (∂l_{d+}/∂x0, ∂l_{d+}/∂g1)` and its exact Jacobian.
+/// the rows, which leaves Newton's iterates unchanged.)
 pub trait ReducedPlus<const S: usize, const K: usize, const N: usize>:
     DiscreteLagrangian<S, K, N>
 {
@@ -103,14 +102,22 @@ pub trait ReducedPlus<const S: usize, const K: usize, const N: usize>:
         g1: &SVector<f64, K>,
     ) -> f64;
 
-    /// `F(z) = (∂l_{d+}/∂x0, ∂l_{d+}/∂g1)` at `(x_k, z) = (x_k, x_{k+1}, g_k^+)`.
-    fn plus_forces(&self, x_k: &SVector<f64, S>, z: &SVector<f64, N>) -> SVector<f64, N>;
-
-    /// `F(z)` and its Jacobian `∂F/∂z` (second derivatives of `l_{d+}`), computed together in one
-    /// straight-line function.
-    fn plus_forces_jacobian(
+    /// The residual `R(z)` of eq. (4.6) at `(x_k, w_k, μ_k)` and `z = (x_{k+1}, g_k^+)`.
+    fn plus_residual(
         &self,
         x_k: &SVector<f64, S>,
+        w_k: &SVector<f64, S>,
+        mu_k: &SVector<f64, K>,
+        z: &SVector<f64, N>,
+    ) -> SVector<f64, N>;
+
+    /// `R(z)` and its exact Jacobian `∂R/∂z` (second derivatives of `l_{d+}`), computed together
+    /// in one straight-line function so shared subexpressions are evaluated once.
+    fn plus_residual_jacobian(
+        &self,
+        x_k: &SVector<f64, S>,
+        w_k: &SVector<f64, S>,
+        mu_k: &SVector<f64, K>,
         z: &SVector<f64, N>,
     ) -> (SVector<f64, N>, SMatrix<f64, N, N>);
 

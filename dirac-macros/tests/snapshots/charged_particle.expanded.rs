@@ -54,8 +54,8 @@ impl ChargedParticle {
     pub const GROUP_DIM: usize = 1usize;
     /// Number of configuration coordinates `N = S + K`.
     pub const CONFIG_DIM: usize = 4usize;
-    ///Generated code: 38 operations for F(z), 73 for F(z) with ∂F/∂z, 32 for the momentum update.
-    pub const GENERATED: &'static str = "Generated code: 38 operations for F(z), 73 for F(z) with ∂F/∂z, 32 for the momentum update.";
+    ///Generated code: 42 operations for R(z), 77 for R(z) with ∂R/∂z, 32 for the momentum update.
+    pub const GENERATED: &'static str = "Generated code: 42 operations for R(z), 77 for R(z) with ∂R/∂z, 32 for the momentum update.";
 }
 impl ::dirac::runtime::DiscreteLagrangian<3usize, 1usize, 4usize> for ChargedParticle {
     const SHAPE: [&'static str; 3usize] = ["x", "y", "z"];
@@ -114,9 +114,11 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
         >>::lagrangian(self, &q0, &q1)
     }
     #[inline]
-    fn plus_forces(
+    fn plus_residual(
         &self,
         x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
+        w_k: &::dirac::nalgebra::SVector<f64, 3usize>,
+        mu_k: &::dirac::nalgebra::SVector<f64, 1usize>,
         z: &::dirac::nalgebra::SVector<f64, 4usize>,
     ) -> ::dirac::nalgebra::SVector<f64, 4usize> {
         let __p2: f64 = self.b0;
@@ -152,27 +154,37 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
         let __t71: f64 = __t51 * __t69;
         let __t72: f64 = __t70 + __t71;
         let __t73: f64 = __t68 + __t72;
-        let __t74: f64 = -__x0_0;
-        let __t75: f64 = __t74 - __t39;
-        let __t76: f64 = __t11 * __t75;
-        let __t77: f64 = -__t42;
-        let __t78: f64 = __t77 - __t42;
-        let __t79: f64 = __t25 * __t78;
-        let __t80: f64 = __t32 * __t76;
-        let __t81: f64 = __t58 * __t76;
-        let __t82: f64 = __t51 * __t80;
-        let __t83: f64 = __t81 + __t82;
-        let __t84: f64 = __t79 + __t83;
-        let __t85: f64 = -__t45;
-        let __t86: f64 = __t85 - __t45;
-        let __t87: f64 = __t25 * __t86;
-        let __t88: f64 = __t58 + __t58;
-        ::dirac::nalgebra::SVector::<f64, 4usize>::from([__t73, __t84, __t87, __t88])
+        let __w_0: f64 = w_k[0usize];
+        let __t75: f64 = __t73 + __w_0;
+        let __t76: f64 = -__x0_0;
+        let __t77: f64 = __t76 - __t39;
+        let __t78: f64 = __t11 * __t77;
+        let __t79: f64 = -__t42;
+        let __t80: f64 = __t79 - __t42;
+        let __t81: f64 = __t25 * __t80;
+        let __t82: f64 = __t32 * __t78;
+        let __t83: f64 = __t58 * __t78;
+        let __t84: f64 = __t51 * __t82;
+        let __t85: f64 = __t83 + __t84;
+        let __t86: f64 = __t81 + __t85;
+        let __w_1: f64 = w_k[1usize];
+        let __t88: f64 = __t86 + __w_1;
+        let __t89: f64 = -__t45;
+        let __t90: f64 = __t89 - __t45;
+        let __t91: f64 = __t25 * __t90;
+        let __w_2: f64 = w_k[2usize];
+        let __t93: f64 = __t91 + __w_2;
+        let __t94: f64 = __t58 + __t58;
+        let __mu_0: f64 = mu_k[0usize];
+        let __t96: f64 = __t94 - __mu_0;
+        ::dirac::nalgebra::SVector::<f64, 4usize>::from([__t75, __t88, __t93, __t96])
     }
     #[inline]
-    fn plus_forces_jacobian(
+    fn plus_residual_jacobian(
         &self,
         x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
+        w_k: &::dirac::nalgebra::SVector<f64, 3usize>,
+        mu_k: &::dirac::nalgebra::SVector<f64, 1usize>,
         z: &::dirac::nalgebra::SVector<f64, 4usize>,
     ) -> (
         ::dirac::nalgebra::SVector<f64, 4usize>,
@@ -211,72 +223,80 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
         let __t71: f64 = __t51 * __t69;
         let __t72: f64 = __t70 + __t71;
         let __t73: f64 = __t68 + __t72;
-        let __t74: f64 = -__x0_0;
-        let __t75: f64 = __t74 - __t39;
-        let __t76: f64 = __t11 * __t75;
-        let __t77: f64 = -__t42;
-        let __t78: f64 = __t77 - __t42;
-        let __t79: f64 = __t25 * __t78;
-        let __t80: f64 = __t32 * __t76;
-        let __t81: f64 = __t58 * __t76;
-        let __t82: f64 = __t51 * __t80;
-        let __t83: f64 = __t81 + __t82;
-        let __t84: f64 = __t79 + __t83;
-        let __t85: f64 = -__t45;
-        let __t86: f64 = __t85 - __t45;
-        let __t87: f64 = __t25 * __t86;
-        let __t88: f64 = __t58 + __t58;
-        let __t89: f64 = __t11 * __x0_1;
-        let __t93: f64 = __t32 * __t89;
-        let __t94: f64 = -__t93;
-        let __t101: f64 = __t11 * __x0_0;
-        let __t104: f64 = __t32 * __t101;
-        let __t112: f64 = __t25 * (-2f64);
-        let __t113: f64 = __t65 * __t93;
-        let __t114: f64 = -__t113;
-        let __t115: f64 = __t69 * __t89;
-        let __t117: f64 = __t114 - __t115;
-        let __t118: f64 = __t112 + __t117;
-        let __t120: f64 = __t11 * __t32;
-        let __t122: f64 = __t76 * __t93;
-        let __t123: f64 = -__t122;
-        let __t124: f64 = __t11 * __t58;
-        let __t126: f64 = __t123 - __t124;
-        let __t127: f64 = __t80 * __t89;
-        let __t128: f64 = -__t127;
-        let __t129: f64 = __t51 * __t120;
-        let __t131: f64 = __t128 - __t129;
-        let __t132: f64 = __t126 + __t131;
-        let __t133: f64 = __t94 - __t93;
-        let __t134: f64 = __t65 * __t104;
-        let __t135: f64 = __t124 + __t134;
-        let __t136: f64 = __t69 * __t101;
-        let __t137: f64 = __t129 + __t136;
-        let __t138: f64 = __t135 + __t137;
-        let __t139: f64 = __t76 * __t104;
-        let __t140: f64 = __t80 * __t101;
-        let __t141: f64 = __t139 + __t140;
-        let __t142: f64 = __t112 + __t141;
-        let __t143: f64 = __t104 + __t104;
-        let __t144: f64 = __t69 + __t69;
-        let __t145: f64 = __t80 + __t80;
-        let __t146: f64 = __t32 + __t32;
+        let __w_0: f64 = w_k[0usize];
+        let __t75: f64 = __t73 + __w_0;
+        let __t76: f64 = -__x0_0;
+        let __t77: f64 = __t76 - __t39;
+        let __t78: f64 = __t11 * __t77;
+        let __t79: f64 = -__t42;
+        let __t80: f64 = __t79 - __t42;
+        let __t81: f64 = __t25 * __t80;
+        let __t82: f64 = __t32 * __t78;
+        let __t83: f64 = __t58 * __t78;
+        let __t84: f64 = __t51 * __t82;
+        let __t85: f64 = __t83 + __t84;
+        let __t86: f64 = __t81 + __t85;
+        let __w_1: f64 = w_k[1usize];
+        let __t88: f64 = __t86 + __w_1;
+        let __t89: f64 = -__t45;
+        let __t90: f64 = __t89 - __t45;
+        let __t91: f64 = __t25 * __t90;
+        let __w_2: f64 = w_k[2usize];
+        let __t93: f64 = __t91 + __w_2;
+        let __t94: f64 = __t58 + __t58;
+        let __mu_0: f64 = mu_k[0usize];
+        let __t96: f64 = __t94 - __mu_0;
+        let __t97: f64 = __t11 * __x0_1;
+        let __t101: f64 = __t32 * __t97;
+        let __t102: f64 = -__t101;
+        let __t109: f64 = __t11 * __x0_0;
+        let __t112: f64 = __t32 * __t109;
+        let __t120: f64 = __t25 * (-2f64);
+        let __t121: f64 = __t65 * __t101;
+        let __t122: f64 = -__t121;
+        let __t123: f64 = __t69 * __t97;
+        let __t125: f64 = __t122 - __t123;
+        let __t126: f64 = __t120 + __t125;
+        let __t128: f64 = __t11 * __t32;
+        let __t130: f64 = __t78 * __t101;
+        let __t131: f64 = -__t130;
+        let __t132: f64 = __t11 * __t58;
+        let __t134: f64 = __t131 - __t132;
+        let __t135: f64 = __t82 * __t97;
+        let __t136: f64 = -__t135;
+        let __t137: f64 = __t51 * __t128;
+        let __t139: f64 = __t136 - __t137;
+        let __t140: f64 = __t134 + __t139;
+        let __t141: f64 = __t102 - __t101;
+        let __t142: f64 = __t65 * __t112;
+        let __t143: f64 = __t132 + __t142;
+        let __t144: f64 = __t69 * __t109;
+        let __t145: f64 = __t137 + __t144;
+        let __t146: f64 = __t143 + __t145;
+        let __t147: f64 = __t78 * __t112;
+        let __t148: f64 = __t82 * __t109;
+        let __t149: f64 = __t147 + __t148;
+        let __t150: f64 = __t120 + __t149;
+        let __t151: f64 = __t112 + __t112;
+        let __t152: f64 = __t69 + __t69;
+        let __t153: f64 = __t82 + __t82;
+        let __t154: f64 = __t32 + __t32;
         let mut __jac = ::dirac::nalgebra::SMatrix::<f64, 4usize, 4usize>::zeros();
-        __jac[(0usize, 0usize)] = __t118;
-        __jac[(0usize, 1usize)] = __t138;
-        __jac[(0usize, 3usize)] = __t144;
-        __jac[(1usize, 0usize)] = __t132;
-        __jac[(1usize, 1usize)] = __t142;
-        __jac[(1usize, 3usize)] = __t145;
-        __jac[(2usize, 2usize)] = __t112;
-        __jac[(3usize, 0usize)] = __t133;
-        __jac[(3usize, 1usize)] = __t143;
-        __jac[(3usize, 3usize)] = __t146;
+        __jac[(0usize, 0usize)] = __t126;
+        __jac[(0usize, 1usize)] = __t146;
+        __jac[(0usize, 3usize)] = __t152;
+        __jac[(1usize, 0usize)] = __t140;
+        __jac[(1usize, 1usize)] = __t150;
+        __jac[(1usize, 3usize)] = __t153;
+        __jac[(2usize, 2usize)] = __t120;
+        __jac[(3usize, 0usize)] = __t141;
+        __jac[(3usize, 1usize)] = __t151;
+        __jac[(3usize, 3usize)] = __t154;
         (
             ::dirac::nalgebra::SVector::<
                 f64,
                 4usize,
-            >::from([__t73, __t84, __t87, __t88]),
+            >::from([__t75, __t88, __t93, __t96]),
             __jac,
         )
     }
@@ -309,25 +329,25 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
         let __g1_0: f64 = z[3usize];
         let __t51: f64 = __t49 + __g1_0;
         let __t58: f64 = __t32 * __t51;
-        let __t89: f64 = __t11 * __x0_1;
-        let __t91: f64 = __t39 + __t39;
-        let __t92: f64 = __t25 * __t91;
-        let __t93: f64 = __t32 * __t89;
-        let __t95: f64 = __t58 * __t89;
-        let __t96: f64 = -__t95;
-        let __t97: f64 = __t51 * __t93;
-        let __t99: f64 = __t96 - __t97;
-        let __t100: f64 = __t92 + __t99;
-        let __t101: f64 = __t11 * __x0_0;
-        let __t102: f64 = __t42 + __t42;
-        let __t103: f64 = __t25 * __t102;
-        let __t104: f64 = __t32 * __t101;
-        let __t105: f64 = __t58 * __t101;
-        let __t106: f64 = __t51 * __t104;
-        let __t107: f64 = __t105 + __t106;
-        let __t108: f64 = __t103 + __t107;
-        let __t109: f64 = __t45 + __t45;
-        let __t110: f64 = __t25 * __t109;
-        ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t100, __t108, __t110])
+        let __t97: f64 = __t11 * __x0_1;
+        let __t99: f64 = __t39 + __t39;
+        let __t100: f64 = __t25 * __t99;
+        let __t101: f64 = __t32 * __t97;
+        let __t103: f64 = __t58 * __t97;
+        let __t104: f64 = -__t103;
+        let __t105: f64 = __t51 * __t101;
+        let __t107: f64 = __t104 - __t105;
+        let __t108: f64 = __t100 + __t107;
+        let __t109: f64 = __t11 * __x0_0;
+        let __t110: f64 = __t42 + __t42;
+        let __t111: f64 = __t25 * __t110;
+        let __t112: f64 = __t32 * __t109;
+        let __t113: f64 = __t58 * __t109;
+        let __t114: f64 = __t51 * __t112;
+        let __t115: f64 = __t113 + __t114;
+        let __t116: f64 = __t111 + __t115;
+        let __t117: f64 = __t45 + __t45;
+        let __t118: f64 = __t25 * __t117;
+        ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t108, __t116, __t118])
     }
 }
