@@ -65,9 +65,8 @@ pub use dirac_macros::reduced_lagrangian;
 pub use dirac_runtime as runtime;
 pub use dirac_runtime::nalgebra;
 pub use dirac_runtime::{
-    generalized_energy_plus, trajectory_energies, CanonicalState, DiscreteLagrangian,
-    IntegrationError, NewtonOptions, ReducedIntegrator, ReducedPlus, ReducedState, StepError,
-    StepStats, Trajectory,
+    trajectory_energies, CanonicalState, DiscreteLagrangian, IntegrationError, NewtonOptions,
+    ReducedIntegrator, ReducedPlus, ReducedState, StepError, StepStats, Trajectory,
 };
 
 /// Everything a user of the attribute needs in scope.

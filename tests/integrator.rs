@@ -278,11 +278,11 @@ fn discrete_energy_along_a_trajectory_is_the_generalized_energy() {
         let q0 = join::<3, 1, 4>(&pair[0].x, &pair[0].g);
         let q1 = join::<3, 1, 4>(&pair[1].x, &pair[1].g);
         let p1 = sys.untrivialize(&pair[1]).p;
-        let e = dirac::generalized_energy_plus(&sys, &q0, &q1, &q1, &p1);
+        let e = sys.generalized_energy_plus(&q0, &q1, &q1, &p1);
         assert_eq!(e, energies[k]);
         // Off the constraint the pairing term contributes.
         let shifted = q1 + SVector::from([0.1, 0.0, 0.0, 0.0]);
-        let e_off = dirac::generalized_energy_plus(&sys, &q0, &q1, &shifted, &p1);
+        let e_off = sys.generalized_energy_plus(&q0, &q1, &shifted, &p1);
         assert!((e_off - e - 0.1 * p1[0]).abs() < 1e-12);
     }
 }

@@ -20,7 +20,7 @@ pub mod newton;
 pub mod state;
 pub mod system;
 
-pub use diagnostics::{generalized_energy_plus, trajectory_energies};
+pub use diagnostics::trajectory_energies;
 pub use error::{IntegrationError, StepError};
 pub use integrate::{ReducedIntegrator, StepStats, Trajectory};
 pub use newton::NewtonOptions;

@@ -60,6 +60,18 @@ pub trait DiscreteLagrangian<const S: usize, const K: usize, const N: usize> {
         split::<S, K, N>(&state.p).1
     }
 
+    /// The (+) discrete generalized energy, eq. (5.7):
+    /// `E_{d+}(q0, q0^+, q1, p1) = L_d(q0, q0^+) + ⟨p1, q1 − q0^+⟩`.
+    fn generalized_energy_plus(
+        &self,
+        q0: &SVector<f64, N>,
+        q0_plus: &SVector<f64, N>,
+        q1: &SVector<f64, N>,
+        p1: &SVector<f64, N>,
+    ) -> f64 {
+        self.lagrangian(q0, q0_plus) + p1.dot(&(q1 - q0_plus))
+    }
+
     /// The discrete connection `ω_d(q0, q1) = (g1 − g0) − B (x1 − x0)` (Definition 2.1).
     fn discrete_connection(&self, q0: &SVector<f64, N>, q1: &SVector<f64, N>) -> SVector<f64, K> {
         let (x0, g0) = split::<S, K, N>(q0);
