@@ -65,8 +65,9 @@ pub use dirac_macros::reduced_lagrangian;
 pub use dirac_runtime as runtime;
 pub use dirac_runtime::nalgebra;
 pub use dirac_runtime::{
-    trajectory_energies, CanonicalState, DiscreteLagrangian, IntegrationError, NewtonOptions,
-    ReducedIntegrator, ReducedPlus, ReducedState, StepError, StepStats, Trajectory,
+    trajectory_energies, CanonicalState, CanonicalTrajectory, DiscreteLagrangian, IntegrationError,
+    NewtonOptions, ReducedIntegrator, ReducedMinus, ReducedPlus, ReducedState, StepError,
+    StepStats, StepStatsExt, Trajectory, Unreduced, UnreducedIntegrator, Variant,
 };
 
 /// Everything a user of the attribute needs in scope.
@@ -74,8 +75,9 @@ pub mod prelude {
     pub use crate::nalgebra::{SMatrix, SVector};
     pub use crate::reduced_lagrangian;
     pub use crate::{
-        CanonicalState, DiscreteLagrangian, IntegrationError, NewtonOptions, ReducedIntegrator,
-        ReducedPlus, ReducedState, StepError, StepStats, Trajectory,
+        CanonicalState, CanonicalTrajectory, DiscreteLagrangian, IntegrationError, NewtonOptions,
+        ReducedIntegrator, ReducedMinus, ReducedPlus, ReducedState, StepError, StepStats,
+        StepStatsExt, Trajectory, Unreduced, UnreducedIntegrator, Variant,
     };
 }
 

@@ -94,6 +94,8 @@ fn leaf_name(sym: Sym) -> Ident {
         Sym::X0(i) => format_ident!("__x0_{}", i),
         Sym::X1(i) => format_ident!("__x1_{}", i),
         Sym::G1(i) => format_ident!("__g1_{}", i),
+        Sym::G0(i) => format_ident!("__g0_{}", i),
+        Sym::P(i) => format_ident!("__p_{}", i),
         Sym::W(i) => format_ident!("__w_{}", i),
         Sym::Mu(i) => format_ident!("__mu_{}", i),
         Sym::Param(i) => format_ident!("__p{}", i),

@@ -10,7 +10,10 @@ use crate::ctxt::Ctxt;
 use crate::emit::{literal, straight_line};
 use crate::graph::{Graph, NodeId, Sym};
 use crate::lower::{Lowering, Names};
-use crate::reduce::{plus_system, reduced_lagrangian_plus};
+use crate::reduce::{
+    minus_stepper, plus_stepper, reduced_lagrangian_minus, reduced_lagrangian_plus,
+    unreduced_stepper, Stepper,
+};
 use crate::spec::{parse_signature, parse_spec, Signature, Spec};
 
 pub fn expand(args: TokenStream, item: TokenStream) -> TokenStream {
@@ -50,9 +53,12 @@ struct Compiled {
     body: NodeId,
     /// Rows of the connection matrix `B`.
     b: Vec<Vec<NodeId>>,
-    residual: Vec<NodeId>,
-    jacobian: Vec<Vec<NodeId>>,
-    momentum: Vec<NodeId>,
+    /// The reduced (+) stepper, eq. (4.6).
+    plus: Stepper,
+    /// The reduced (−) stepper, eq. (4.8) with the signs of Definition 2.8.
+    minus: Stepper,
+    /// The unreduced stepper, Definitions 2.7/2.8.
+    unreduced: Stepper,
 }
 
 fn compile(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<Compiled> {
@@ -89,14 +95,17 @@ fn compile(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<Com
         return None;
     }
     let l_plus = reduced_lagrangian_plus(&mut graph, body, s, &b);
-    let system = plus_system(&mut graph, l_plus, s, k);
+    let plus = plus_stepper(&mut graph, l_plus, s, k);
+    let l_minus = reduced_lagrangian_minus(&mut graph, body, s, &b);
+    let minus = minus_stepper(&mut graph, l_minus, s, k);
+    let unreduced = unreduced_stepper(&mut graph, body, s + k);
     Some(Compiled {
         graph,
         body,
         b,
-        residual: system.residual,
-        jacobian: system.jacobian,
-        momentum: system.momentum,
+        plus,
+        minus,
+        unreduced,
     })
 }
 
@@ -201,6 +210,76 @@ fn param_struct(sig: &Signature, func: &ItemFn, type_name: &Ident) -> TokenStrea
     }
 }
 
+/// The three functions of a stepper — residual, residual with Jacobian, momentum update — as
+/// straight-line code. `inputs` are the leading arguments after `&self`; `leaf` reads a symbol.
+struct SteppedFns {
+    residual: TokenStream,
+    residual_jacobian: TokenStream,
+    momentum: TokenStream,
+    counts: String,
+}
+
+fn stepper_fns(
+    g: &Graph,
+    stepper: &Stepper,
+    leaf: &dyn Fn(Sym) -> TokenStream,
+    n: usize,
+    m: usize,
+) -> SteppedFns {
+    let na = quote!(::dirac::nalgebra);
+    let r = straight_line(g, &stepper.residual, leaf);
+    let (r_stmts, r_out) = (&r.stmts, &r.outputs);
+    // R and ∂R/∂z together: one straight line, so shared subexpressions are computed once, and
+    // structurally zero entries of the Jacobian are never computed or stored.
+    let mut roots = stepper.residual.clone();
+    let mut entries = Vec::new();
+    for (row, cols) in stepper.jacobian.iter().enumerate() {
+        for (col, &node) in cols.iter().enumerate() {
+            if g.as_const(node) != Some(0.0) {
+                entries.push((row, col));
+                roots.push(node);
+            }
+        }
+    }
+    let rj = straight_line(g, &roots, leaf);
+    let rj_stmts = &rj.stmts;
+    let rj_r = &rj.outputs[..n];
+    let assigns = entries
+        .iter()
+        .zip(&rj.outputs[n..])
+        .map(|((row, col), e)| quote! { __jac[(#row, #col)] = #e; });
+    let jac_mut = if entries.is_empty() {
+        quote!()
+    } else {
+        quote!(mut)
+    };
+    let mo = straight_line(g, &stepper.momentum, leaf);
+    let (m_stmts, m_out) = (&mo.stmts, &mo.outputs);
+    SteppedFns {
+        residual: quote! {
+            #r_stmts
+            #na::SVector::<f64, #n>::from([ #( #r_out ),* ])
+        },
+        residual_jacobian: quote! {
+            #rj_stmts
+            let #jac_mut __jac = #na::SMatrix::<f64, #n, #n>::zeros();
+            #( #assigns )*
+            (#na::SVector::<f64, #n>::from([ #( #rj_r ),* ]), __jac)
+        },
+        momentum: quote! {
+            #m_stmts
+            #na::SVector::<f64, #m>::from([ #( #m_out ),* ])
+        },
+        counts: format!(
+            "{} operations for the residual, {} for the residual with its Jacobian ({} nonzero entries), {} for the momentum update",
+            r.operations,
+            rj.operations,
+            entries.len(),
+            mo.operations
+        ),
+    }
+}
+
 fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenStream {
     let ty = type_name(spec, func);
     let config = format_ident!("{}Config", ty);
@@ -214,54 +293,44 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
     let param_names = params.iter().map(Ident::to_string);
     let rt = quote!(::dirac::runtime);
     let na = quote!(::dirac::nalgebra);
+    let dl = quote!(<Self as #rt::DiscreteLagrangian<#s, #k, #n>>);
 
     let param_leaf = |i: usize| {
         let p = &params[i];
         quote! { self.#p }
     };
-    let plus_leaf = |sym: Sym| match sym {
+    // Leaves of the reduced steppers: x_k, the unknowns z = (x_{k+1}, group unknown), w_k, μ_k.
+    let reduced_leaf = |sym: Sym| match sym {
         Sym::X0(i) => quote! { x_k[#i] },
         Sym::X1(i) => quote! { z[#i] },
-        Sym::G1(j) => {
+        Sym::G1(j) | Sym::G0(j) => {
             let j = s + j;
             quote! { z[#j] }
         }
         Sym::W(i) => quote! { w_k[#i] },
         Sym::Mu(j) => quote! { mu_k[#j] },
         Sym::Param(i) => param_leaf(i),
-        Sym::Q0(_) | Sym::Q1(_) => unreachable!("the reduced Lagrangian reads x0, x1, g1"),
-    };
-
-    // R(z) alone.
-    let residual = straight_line(&c.graph, &c.residual, &plus_leaf);
-    let (r_stmts, r_out) = (&residual.stmts, &residual.outputs);
-
-    // R(z) and ∂R/∂z together: one straight line, so shared subexpressions are computed once.
-    let mut roots = c.residual.clone();
-    let mut entries = Vec::new();
-    for (r, row) in c.jacobian.iter().enumerate() {
-        for (col, &node) in row.iter().enumerate() {
-            if c.graph.as_const(node) != Some(0.0) {
-                entries.push((r, col));
-                roots.push(node);
-            }
+        Sym::Q0(_) | Sym::Q1(_) | Sym::P(_) => {
+            unreachable!("reduced Lagrangians read x0, x1 and g")
         }
-    }
-    let fj = straight_line(&c.graph, &roots, &plus_leaf);
-    let fj_stmts = &fj.stmts;
-    let fj_f = &fj.outputs[..n];
-    let assigns = entries
-        .iter()
-        .zip(&fj.outputs[n..])
-        .map(|((r, col), e)| quote! { __jac[(#r, #col)] = #e; });
-    let jac_mut = if entries.is_empty() {
-        quote!()
-    } else {
-        quote!(mut)
     };
-
-    let momentum = straight_line(&c.graph, &c.momentum, &plus_leaf);
-    let (m_stmts, m_out) = (&momentum.stmts, &momentum.outputs);
+    let unreduced_leaf = |sym: Sym| match sym {
+        Sym::Q0(i) => quote! { q_k[#i] },
+        Sym::Q1(i) => quote! { z[#i] },
+        Sym::P(i) => quote! { p_k[#i] },
+        Sym::Param(i) => param_leaf(i),
+        _ => unreachable!("the unreduced equations read q0, q1 and p"),
+    };
+    let plus = stepper_fns(&c.graph, &c.plus, &reduced_leaf, n, s);
+    let minus = stepper_fns(&c.graph, &c.minus, &reduced_leaf, n, s);
+    let unreduced = stepper_fns(&c.graph, &c.unreduced, &unreduced_leaf, n, n);
+    let (plus_r, plus_rj, plus_m) = (&plus.residual, &plus.residual_jacobian, &plus.momentum);
+    let (minus_r, minus_rj, minus_m) = (&minus.residual, &minus.residual_jacobian, &minus.momentum);
+    let (un_r, un_rj, un_m) = (
+        &unreduced.residual,
+        &unreduced.residual_jacobian,
+        &unreduced.momentum,
+    );
 
     let b_flat: Vec<NodeId> = c.b.iter().flatten().copied().collect();
     let b_code = straight_line(&c.graph, &b_flat, &|sym| match sym {
@@ -287,10 +356,12 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
     let param_item = param_struct(sig, func, &ty);
     let zero_g = literal(0.0);
     let counts = format!(
-        "Generated code: {} operations for R(z), {} for R(z) with ∂R/∂z, {} for the momentum update.",
-        residual.operations, fj.operations, momentum.operations
+        "Generated straight-line code: reduced (+) stepper: {}; reduced (−) stepper: {}; unreduced stepper: {}.",
+        plus.counts, minus.counts, unreduced.counts
     );
+    let vec = |d: usize| quote!(&#na::SVector<f64, #d>);
 
+    let (vs, vk, vn) = (vec(s), vec(k), vec(n));
     quote! {
         #config_item
 
@@ -314,7 +385,7 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
             const GROUP: [&'static str; #k] = [ #( #group_names ),* ];
             const PARAMETERS: &'static [&'static str] = &[ #( #param_names ),* ];
 
-            fn lagrangian(&self, q0: &#na::SVector<f64, #n>, q1: &#na::SVector<f64, #n>) -> f64 {
+            fn lagrangian(&self, q0: #vn, q1: #vn) -> f64 {
                 #fn_name(#config::from_vector(q0), #config::from_vector(q1), #( self.#params ),*)
             }
 
@@ -332,48 +403,73 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
         }
 
         impl #rt::ReducedPlus<#s, #k, #n> for #ty {
-            fn reduced_lagrangian_plus(
-                &self,
-                x0: &#na::SVector<f64, #s>,
-                x1: &#na::SVector<f64, #s>,
-                g1: &#na::SVector<f64, #k>,
-            ) -> f64 {
-                let g1 = g1 + <Self as #rt::DiscreteLagrangian<#s, #k, #n>>::connection(self) * (x1 - x0);
+            fn reduced_lagrangian_plus(&self, x0: #vs, x1: #vs, g1: #vk) -> f64 {
+                let g1 = g1 + #dl::connection(self) * (x1 - x0);
                 let q0 = #rt::system::join::<#s, #k, #n>(x0, &#na::SVector::<f64, #k>::repeat(#zero_g));
                 let q1 = #rt::system::join::<#s, #k, #n>(x1, &g1);
-                <Self as #rt::DiscreteLagrangian<#s, #k, #n>>::lagrangian(self, &q0, &q1)
+                #dl::lagrangian(self, &q0, &q1)
             }
 
             #[inline]
-            fn plus_residual(
-                &self,
-                x_k: &#na::SVector<f64, #s>,
-                w_k: &#na::SVector<f64, #s>,
-                mu_k: &#na::SVector<f64, #k>,
-                z: &#na::SVector<f64, #n>,
-            ) -> #na::SVector<f64, #n> {
-                #r_stmts
-                #na::SVector::<f64, #n>::from([ #( #r_out ),* ])
+            fn plus_residual(&self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn) -> #na::SVector<f64, #n> {
+                #plus_r
             }
 
             #[inline]
             fn plus_residual_jacobian(
-                &self,
-                x_k: &#na::SVector<f64, #s>,
-                w_k: &#na::SVector<f64, #s>,
-                mu_k: &#na::SVector<f64, #k>,
-                z: &#na::SVector<f64, #n>,
+                &self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn,
             ) -> (#na::SVector<f64, #n>, #na::SMatrix<f64, #n, #n>) {
-                #fj_stmts
-                let #jac_mut __jac = #na::SMatrix::<f64, #n, #n>::zeros();
-                #( #assigns )*
-                (#na::SVector::<f64, #n>::from([ #( #fj_f ),* ]), __jac)
+                #plus_rj
             }
 
             #[inline]
-            fn plus_momentum(&self, x_k: &#na::SVector<f64, #s>, z: &#na::SVector<f64, #n>) -> #na::SVector<f64, #s> {
-                #m_stmts
-                #na::SVector::<f64, #s>::from([ #( #m_out ),* ])
+            fn plus_momentum(&self, x_k: #vs, z: #vn) -> #na::SVector<f64, #s> {
+                #plus_m
+            }
+        }
+
+        impl #rt::ReducedMinus<#s, #k, #n> for #ty {
+            fn reduced_lagrangian_minus(&self, x0: #vs, g0: #vk, x1: #vs) -> f64 {
+                let g0 = g0 + #dl::connection(self) * (x0 - x1);
+                let q0 = #rt::system::join::<#s, #k, #n>(x0, &g0);
+                let q1 = #rt::system::join::<#s, #k, #n>(x1, &#na::SVector::<f64, #k>::repeat(#zero_g));
+                #dl::lagrangian(self, &q0, &q1)
+            }
+
+            #[inline]
+            fn minus_residual(&self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn) -> #na::SVector<f64, #n> {
+                #minus_r
+            }
+
+            #[inline]
+            fn minus_residual_jacobian(
+                &self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn,
+            ) -> (#na::SVector<f64, #n>, #na::SMatrix<f64, #n, #n>) {
+                #minus_rj
+            }
+
+            #[inline]
+            fn minus_momentum(&self, x_k: #vs, z: #vn) -> #na::SVector<f64, #s> {
+                #minus_m
+            }
+        }
+
+        impl #rt::Unreduced<#s, #k, #n> for #ty {
+            #[inline]
+            fn unreduced_residual(&self, q_k: #vn, p_k: #vn, z: #vn) -> #na::SVector<f64, #n> {
+                #un_r
+            }
+
+            #[inline]
+            fn unreduced_residual_jacobian(
+                &self, q_k: #vn, p_k: #vn, z: #vn,
+            ) -> (#na::SVector<f64, #n>, #na::SMatrix<f64, #n, #n>) {
+                #un_rj
+            }
+
+            #[inline]
+            fn unreduced_momentum(&self, q_k: #vn, z: #vn) -> #na::SVector<f64, #n> {
+                #un_m
             }
         }
     }

@@ -21,8 +21,12 @@ pub enum Sym {
     X0(usize),
     /// Shape coordinate `i` of `x1`.
     X1(usize),
-    /// Group coordinate `j` of `g1`.
+    /// Group coordinate `j` of `g1` (reduced (+) Lagrangian).
     G1(usize),
+    /// Group coordinate `j` of `g0` (reduced (−) Lagrangian, eq. (4.7)).
+    G0(usize),
+    /// Canonical momentum `p_k[i]` (unreduced equations, Definition 2.7).
+    P(usize),
     /// Reduced shape momentum `w_k[i]` (eq. (4.6)).
     W(usize),
     /// Group momentum `μ_k[j]` (eq. (4.6)).

@@ -1,7 +1,5 @@
 //! Typed errors: a failed step is a value the caller cannot miss, never a panic or a silent NaN.
 
-use crate::integrate::Trajectory;
-
 /// Why one step could not be computed. Every variant carries the step index `step` (the step
 /// from `t_step` to `t_{step+1}`; 0 for problems with the initial data) and the residual
 /// `‖R‖∞` at the last iterate.
@@ -30,6 +28,24 @@ pub enum StepError {
         /// `‖R‖∞` at the iterate whose Jacobian is singular.
         residual: f64,
     },
+    /// The step converged but its Jacobian is too ill-conditioned for the result to be trusted:
+    /// its reciprocal condition estimate is below [`NewtonOptions::min_rcond`]. For reduced
+    /// equations this happens where the symmetry action is not free (Remark 7.1).
+    ///
+    /// [`NewtonOptions::min_rcond`]: crate::NewtonOptions::min_rcond
+    #[error(
+        "step {step}: the step Jacobian is ill-conditioned (reciprocal condition estimate {rcond:.3e}, \
+         residual {residual:.3e}); the solution cannot be trusted — near a point where the symmetry \
+         action is not free the reduced equations degenerate"
+    )]
+    IllConditioned {
+        /// Index of the failed step.
+        step: usize,
+        /// The reciprocal condition estimate.
+        rcond: f64,
+        /// `‖R‖∞` at the solution.
+        residual: f64,
+    },
     /// A residual, Jacobian, correction or state component is NaN or infinite.
     #[error("step {step}: non-finite value in {what} (residual {residual:.3e})")]
     NonFinite {
@@ -54,6 +70,7 @@ impl StepError {
         match *self {
             StepError::NotConverged { step, .. }
             | StepError::SingularJacobian { step, .. }
+            | StepError::IllConditioned { step, .. }
             | StepError::NonFinite { step, .. } => step,
             StepError::InvalidTimeStep { .. } => 0,
         }
@@ -64,21 +81,50 @@ impl StepError {
         match *self {
             StepError::NotConverged { residual, .. }
             | StepError::SingularJacobian { residual, .. }
+            | StepError::IllConditioned { residual, .. }
             | StepError::NonFinite { residual, .. } => residual,
             StepError::InvalidTimeStep { .. } => f64::NAN,
         }
     }
 }
 
+/// A trajectory that knows how many steps it holds.
+pub trait Steps {
+    /// Number of completed steps.
+    fn completed_steps(&self) -> usize;
+}
+
+impl<const S: usize, const K: usize> Steps for crate::Trajectory<S, K> {
+    fn completed_steps(&self) -> usize {
+        self.steps()
+    }
+}
+
+impl<const N: usize> Steps for crate::CanonicalTrajectory<N> {
+    fn completed_steps(&self) -> usize {
+        self.steps()
+    }
+}
+
 /// An integration that stopped at a failed step. The trajectory computed up to that step is
 /// kept, intact, in `trajectory`.
 #[derive(Clone, Debug, thiserror::Error)]
-#[error("integration stopped after {} of {requested} steps: {source}", trajectory.steps())]
-pub struct IntegrationError<const S: usize, const K: usize> {
+#[error("integration stopped after {} of {requested} steps: {source}", trajectory.completed_steps())]
+pub struct IntegrationError<T: Steps + std::fmt::Debug> {
     /// The step that failed.
     pub source: StepError,
     /// Everything computed before the failure.
-    pub trajectory: Trajectory<S, K>,
+    pub trajectory: T,
     /// The number of steps that were asked for.
     pub requested: usize,
+}
+
+impl<T: Steps + std::fmt::Debug> IntegrationError<T> {
+    pub(crate) fn new(source: StepError, trajectory: T, requested: usize) -> Self {
+        Self {
+            source,
+            trajectory,
+            requested,
+        }
+    }
 }

@@ -1,11 +1,11 @@
-//! Marching the reduced (+) equations (4.6) step by step.
+//! Marching the reduced (+)/(−) equations and the unreduced equations step by step.
 
 use nalgebra::SVector;
 
 use crate::error::{IntegrationError, StepError};
-use crate::newton::{self, NewtonFailure, NewtonOptions};
-use crate::state::ReducedState;
-use crate::system::{join, split, ReducedPlus};
+use crate::newton::{self, NewtonFailure, NewtonOptions, NewtonSolution};
+use crate::state::{CanonicalState, ReducedState};
+use crate::system::{join, split, ReducedMinus, ReducedPlus, Unreduced};
 
 /// What one step cost.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -14,84 +14,211 @@ pub struct StepStats {
     pub iterations: usize,
     /// `‖R‖∞` at the accepted solution.
     pub residual: f64,
+    /// Reciprocal condition estimate (1-norm) of the last step Jacobian factored; `None` when
+    /// the initial guess already solved the step.
+    pub rcond: Option<f64>,
 }
 
-/// A computed trajectory: states `0..=steps()` at times `t_k = k h`, and for each step the
-/// solved group increment `g_k^+` and the Newton statistics.
+impl StepStats {
+    fn from_solution<const N: usize>(s: &NewtonSolution<N>) -> Self {
+        Self {
+            iterations: s.iterations,
+            residual: s.residual,
+            rcond: s.rcond,
+        }
+    }
+}
+
+/// Summary statistics over the steps of a trajectory.
+pub trait StepStatsExt {
+    /// Mean Newton corrections per step (0 for no steps).
+    fn mean_iterations(&self) -> f64;
+    /// Largest accepted residual.
+    fn max_residual(&self) -> f64;
+    /// The worst (smallest) reciprocal condition estimate and the step where it occurred.
+    fn worst_rcond(&self) -> Option<(usize, f64)>;
+}
+
+impl StepStatsExt for [StepStats] {
+    fn mean_iterations(&self) -> f64 {
+        if self.is_empty() {
+            return 0.0;
+        }
+        self.iter().map(|s| s.iterations as f64).sum::<f64>() / self.len() as f64
+    }
+
+    fn max_residual(&self) -> f64 {
+        self.iter().map(|s| s.residual).fold(0.0, f64::max)
+    }
+
+    fn worst_rcond(&self) -> Option<(usize, f64)> {
+        self.iter()
+            .enumerate()
+            .filter_map(|(k, s)| s.rcond.map(|r| (k, r)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+    }
+}
+
+/// Which reduced equations a [`ReducedIntegrator`] solves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Variant {
+    /// Eq. (4.6): unknowns `(x_{k+1}, g_k^+)`.
+    Plus,
+    /// Eq. (4.8) with the signs of Definition 2.8 (see [`ReducedMinus`]): unknowns
+    /// `(x_{k+1}, g_{k+1}^−)`.
+    Minus,
+}
+
+/// A reduced trajectory: states `0..=steps()` at times `t_k = k h`, and for each step the solved
+/// group unknown and the Newton statistics.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Trajectory<const S: usize, const K: usize> {
     /// The time step `h`.
     pub h: f64,
+    /// The equations that produced it.
+    pub variant: Variant,
     /// `states[k]` is the state at `t_k`.
     pub states: Vec<ReducedState<S, K>>,
-    /// `increments[k] = g_k^+`, the reduced group unknown of step `k` (eq. (4.6)).
+    /// The reduced group unknown of step `k`: `g_k^+` for [`Variant::Plus`], `g_{k+1}^−` for
+    /// [`Variant::Minus`].
     pub increments: Vec<SVector<f64, K>>,
     /// Newton statistics of each step.
     pub stats: Vec<StepStats>,
 }
 
+/// An unreduced trajectory `(q_k, p_k)`, `k = 0..=steps()`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CanonicalTrajectory<const N: usize> {
+    /// The time step `h`.
+    pub h: f64,
+    /// `states[k]` is the state at `t_k`.
+    pub states: Vec<CanonicalState<N>>,
+    /// Newton statistics of each step.
+    pub stats: Vec<StepStats>,
+}
+
+macro_rules! trajectory_accessors {
+    ($state:ty) => {
+        /// Number of completed steps.
+        pub fn steps(&self) -> usize {
+            self.states.len() - 1
+        }
+
+        /// The time of state `k`.
+        pub fn time(&self, k: usize) -> f64 {
+            k as f64 * self.h
+        }
+
+        /// The last state.
+        pub fn last(&self) -> &$state {
+            self.states
+                .last()
+                .expect("a trajectory holds its initial state")
+        }
+
+        /// Mean Newton corrections per step (0 for an empty trajectory).
+        pub fn mean_iterations(&self) -> f64 {
+            self.stats.mean_iterations()
+        }
+
+        /// Largest accepted residual over the steps.
+        pub fn max_residual(&self) -> f64 {
+            self.stats.max_residual()
+        }
+
+        /// The worst (smallest) reciprocal condition estimate of a step Jacobian, and its step.
+        pub fn worst_rcond(&self) -> Option<(usize, f64)> {
+            self.stats.worst_rcond()
+        }
+    };
+}
+
 impl<const S: usize, const K: usize> Trajectory<S, K> {
-    fn start(h: f64, initial: ReducedState<S, K>, capacity: usize) -> Self {
-        let mut states = Vec::with_capacity(capacity + 1);
-        states.push(initial);
-        Self {
-            h,
-            states,
-            increments: Vec::with_capacity(capacity),
-            stats: Vec::with_capacity(capacity),
-        }
-    }
+    trajectory_accessors!(ReducedState<S, K>);
+}
 
-    /// Number of completed steps.
-    pub fn steps(&self) -> usize {
-        self.states.len() - 1
-    }
+impl<const N: usize> CanonicalTrajectory<N> {
+    trajectory_accessors!(CanonicalState<N>);
+}
 
-    /// The time of state `k`.
-    pub fn time(&self, k: usize) -> f64 {
-        k as f64 * self.h
-    }
-
-    /// The last state.
-    pub fn last(&self) -> &ReducedState<S, K> {
-        self.states
-            .last()
-            .expect("a trajectory holds its initial state")
-    }
-
-    /// Mean Newton corrections per step (0 for an empty trajectory).
-    pub fn mean_iterations(&self) -> f64 {
-        if self.stats.is_empty() {
-            return 0.0;
-        }
-        self.stats.iter().map(|s| s.iterations as f64).sum::<f64>() / self.stats.len() as f64
-    }
-
-    /// Largest accepted residual over the steps.
-    pub fn max_residual(&self) -> f64 {
-        self.stats.iter().map(|s| s.residual).fold(0.0, f64::max)
+/// Maps a Newton failure of step `k` to the public error.
+fn step_error(k: usize, failure: NewtonFailure) -> StepError {
+    match failure {
+        NewtonFailure::NotConverged {
+            iterations,
+            residual,
+        } => StepError::NotConverged {
+            step: k,
+            iterations,
+            residual,
+        },
+        NewtonFailure::Singular { residual } => StepError::SingularJacobian { step: k, residual },
+        NewtonFailure::IllConditioned { rcond, residual } => StepError::IllConditioned {
+            step: k,
+            rcond,
+            residual,
+        },
+        NewtonFailure::NonFinite { residual } => StepError::NonFinite {
+            step: k,
+            what: "the step equations",
+            residual,
+        },
     }
 }
 
-/// Integrates a system with the reduced (+) discrete Lagrange–Poincaré–Dirac equations (4.6).
+/// The checks made before the first step: a valid time step, finite parameters and state.
+fn check_inputs(h: f64, parameters: &[f64], state_is_finite: bool) -> Result<(), StepError> {
+    if !(h.is_finite() && h > 0.0) {
+        return Err(StepError::InvalidTimeStep { h });
+    }
+    let non_finite = |what| StepError::NonFinite {
+        step: 0,
+        what,
+        residual: f64::INFINITY,
+    };
+    if parameters.iter().any(|p| !p.is_finite()) {
+        return Err(non_finite("the parameters"));
+    }
+    if !state_is_finite {
+        return Err(non_finite("the initial state"));
+    }
+    Ok(())
+}
+
+/// Integrates a system with the reduced discrete Lagrange–Poincaré–Dirac equations: (4.6)
+/// ([`ReducedIntegrator::plus`]) or (4.8) ([`ReducedIntegrator::minus`]).
 ///
-/// Each step solves `R(z) = (∂l_{d+}/∂x0 + w_k, ∂l_{d+}/∂g1 − μ_k) = 0` for
-/// `z = (x_{k+1}, g_k^+)` by Newton's method (see [`ReducedPlus`]), then updates
-/// `w_{k+1} = ∂l_{d+}/∂x1`, `μ_{k+1} = μ_k` exactly, and reconstructs the absolute group
-/// coordinate `g_{k+1} = g_k + g_k^+ + B (x_{k+1} − x_k)` (last line of (4.6)).
+/// Each step solves `R(z) = 0` for `z = (x_{k+1}, group unknown)` by Newton's method (see
+/// [`ReducedPlus`], [`ReducedMinus`]), then updates `w_{k+1}` explicitly, sets `μ_{k+1} = μ_k`
+/// exactly, and reconstructs the absolute group coordinate
+/// `g_{k+1} = g_k ± (group unknown) + B (x_{k+1} − x_k)`.
 #[derive(Clone, Debug)]
 pub struct ReducedIntegrator<L, const S: usize, const K: usize, const N: usize> {
     system: L,
     options: NewtonOptions,
+    variant: Variant,
 }
 
 impl<L, const S: usize, const K: usize, const N: usize> ReducedIntegrator<L, S, K, N>
 where
-    L: ReducedPlus<S, K, N>,
+    L: ReducedPlus<S, K, N> + ReducedMinus<S, K, N>,
 {
     /// The (+) integrator of eq. (4.6).
     pub fn plus(system: L, options: NewtonOptions) -> Self {
-        Self { system, options }
+        Self {
+            system,
+            options,
+            variant: Variant::Plus,
+        }
+    }
+
+    /// The (−) integrator of eq. (4.8), with the signs of Definition 2.8.
+    pub fn minus(system: L, options: NewtonOptions) -> Self {
+        Self {
+            system,
+            options,
+            variant: Variant::Minus,
+        }
     }
 
     /// The system being integrated.
@@ -104,8 +231,13 @@ where
         &self.options
     }
 
-    /// Takes step `k` from `state`, starting Newton at `guess` for `z = (x_{k+1}, g_k^+)`.
-    /// Returns the new state, the solved `g_k^+` and the step's statistics.
+    /// Which equations are solved.
+    pub fn variant(&self) -> Variant {
+        self.variant
+    }
+
+    /// Takes step `k` from `state`, starting Newton at `guess` for `z = (x_{k+1}, group unknown)`.
+    /// Returns the new state, the solved group unknown and the step's statistics.
     pub fn step(
         &self,
         k: usize,
@@ -113,39 +245,35 @@ where
         guess: &SVector<f64, N>,
     ) -> Result<(ReducedState<S, K>, SVector<f64, K>, StepStats), StepError> {
         let sys = &self.system;
-        let (w, mu) = (state.w, state.mu);
-        let rho = newton::inf_norm(&w).max(newton::inf_norm(&mu));
-        let solution = newton::solve(
-            *guess,
-            rho,
-            &self.options,
-            |z| sys.plus_residual(&state.x, &w, &mu, z),
-            |z| sys.plus_residual_jacobian(&state.x, &w, &mu, z),
-        )
-        .map_err(|failure| match failure {
-            NewtonFailure::NotConverged {
-                iterations,
-                residual,
-            } => StepError::NotConverged {
-                step: k,
-                iterations,
-                residual,
-            },
-            NewtonFailure::Singular { residual } => {
-                StepError::SingularJacobian { step: k, residual }
-            }
-            NewtonFailure::NonFinite { residual } => StepError::NonFinite {
-                step: k,
-                what: "the step equations",
-                residual,
-            },
-        })?;
-        let (x1, g_plus) = split::<S, K, N>(&solution.z);
+        let (x, w, mu) = (&state.x, &state.w, &state.mu);
+        let rho = newton::inf_norm(w).max(newton::inf_norm(mu));
+        let solution = match self.variant {
+            Variant::Plus => newton::solve(
+                *guess,
+                rho,
+                &self.options,
+                |z| sys.plus_residual(x, w, mu, z),
+                |z| sys.plus_residual_jacobian(x, w, mu, z),
+            ),
+            Variant::Minus => newton::solve(
+                *guess,
+                rho,
+                &self.options,
+                |z| sys.minus_residual(x, w, mu, z),
+                |z| sys.minus_residual_jacobian(x, w, mu, z),
+            ),
+        }
+        .map_err(|failure| step_error(k, failure))?;
+        let (x1, g_unknown) = split::<S, K, N>(&solution.z);
+        let (w1, dg) = match self.variant {
+            Variant::Plus => (sys.plus_momentum(x, &solution.z), g_unknown),
+            Variant::Minus => (sys.minus_momentum(x, &solution.z), -g_unknown),
+        };
         let next = ReducedState {
             x: x1,
-            w: sys.plus_momentum(&state.x, &solution.z),
-            mu,
-            g: state.g + g_plus + sys.connection() * (x1 - state.x),
+            w: w1,
+            mu: *mu,
+            g: state.g + dg + sys.connection() * (x1 - x),
         };
         if !next.is_finite() {
             return Err(StepError::NonFinite {
@@ -154,67 +282,144 @@ where
                 residual: solution.residual,
             });
         }
-        let stats = StepStats {
-            iterations: solution.iterations,
-            residual: solution.residual,
-        };
-        Ok((next, g_plus, stats))
+        Ok((next, g_unknown, StepStats::from_solution(&solution)))
     }
 
     /// Integrates `steps` steps from `initial`.
     ///
     /// Newton starts each step from a linear extrapolation of the last two shape points and the
-    /// last group increment. On failure the error holds the trajectory computed so far.
+    /// last group unknown. On failure the error holds the trajectory computed so far.
     pub fn integrate(
         &mut self,
         initial: ReducedState<S, K>,
         steps: usize,
-    ) -> Result<Trajectory<S, K>, Box<IntegrationError<S, K>>> {
+    ) -> Result<Trajectory<S, K>, Box<IntegrationError<Trajectory<S, K>>>> {
         let h = self.system.time_step();
-        let mut trajectory = Trajectory::start(h, initial, steps);
-        let fail = |source, trajectory| {
-            Box::new(IntegrationError {
-                source,
-                trajectory,
-                requested: steps,
-            })
+        let mut trajectory = Trajectory {
+            h,
+            variant: self.variant,
+            states: Vec::with_capacity(steps + 1),
+            increments: Vec::with_capacity(steps),
+            stats: Vec::with_capacity(steps),
         };
-        if !(h.is_finite() && h > 0.0) {
-            return Err(fail(StepError::InvalidTimeStep { h }, trajectory));
-        }
-        if !initial.is_finite() {
-            let source = StepError::NonFinite {
-                step: 0,
-                what: "the initial state",
-                residual: f64::INFINITY,
-            };
-            return Err(fail(source, trajectory));
-        }
-        if self
-            .system
-            .parameter_values()
-            .iter()
-            .any(|p| !p.is_finite())
-        {
-            let source = StepError::NonFinite {
-                step: 0,
-                what: "the parameters",
-                residual: f64::INFINITY,
-            };
-            return Err(fail(source, trajectory));
+        trajectory.states.push(initial);
+        let fail = |source, trajectory| Box::new(IntegrationError::new(source, trajectory, steps));
+        if let Err(e) = check_inputs(h, &self.system.parameter_values(), initial.is_finite()) {
+            return Err(fail(e, trajectory));
         }
         let mut state = initial;
         let mut previous: Option<(SVector<f64, S>, SVector<f64, K>)> = None;
         for k in 0..steps {
             let guess = match previous {
-                Some((x_prev, g_plus)) => join::<S, K, N>(&(2.0 * state.x - x_prev), &g_plus),
+                Some((x_prev, g_unknown)) => join::<S, K, N>(&(2.0 * state.x - x_prev), &g_unknown),
                 None => join::<S, K, N>(&state.x, &SVector::zeros()),
             };
             match self.step(k, &state, &guess) {
-                Ok((next, g_plus, stats)) => {
-                    previous = Some((state.x, g_plus));
+                Ok((next, g_unknown, stats)) => {
+                    previous = Some((state.x, g_unknown));
                     trajectory.states.push(next);
-                    trajectory.increments.push(g_plus);
+                    trajectory.increments.push(g_unknown);
+                    trajectory.stats.push(stats);
+                    state = next;
+                }
+                Err(source) => return Err(fail(source, trajectory)),
+            }
+        }
+        Ok(trajectory)
+    }
+}
+
+/// Integrates the unreduced discrete Lagrange–Dirac equations on `Q` (Definitions 2.7/2.8,
+/// see [`Unreduced`]): the baseline that knows nothing of the symmetry.
+#[derive(Clone, Debug)]
+pub struct UnreducedIntegrator<L, const S: usize, const K: usize, const N: usize> {
+    system: L,
+    options: NewtonOptions,
+}
+
+impl<L, const S: usize, const K: usize, const N: usize> UnreducedIntegrator<L, S, K, N>
+where
+    L: Unreduced<S, K, N>,
+{
+    /// The (+) discrete Lagrange–Dirac equations (Definition 2.7).
+    pub fn plus(system: L, options: NewtonOptions) -> Self {
+        Self { system, options }
+    }
+
+    /// The (−) discrete Lagrange–Dirac equations (Definition 2.8). Unconstrained, with
+    /// `q_{k+1}^− = q_k`, they are the same equations as the (+) ones, so this is the same
+    /// integrator; it exists so code can name the variant it means.
+    pub fn minus(system: L, options: NewtonOptions) -> Self {
+        Self::plus(system, options)
+    }
+
+    /// The system being integrated.
+    pub fn system(&self) -> &L {
+        &self.system
+    }
+
+    /// Takes step `k` from `state`, starting Newton at `guess` for `q_{k+1}`.
+    pub fn step(
+        &self,
+        k: usize,
+        state: &CanonicalState<N>,
+        guess: &SVector<f64, N>,
+    ) -> Result<(CanonicalState<N>, StepStats), StepError> {
+        let sys = &self.system;
+        let (q, p) = (&state.q, &state.p);
+        let solution = newton::solve(
+            *guess,
+            newton::inf_norm(p),
+            &self.options,
+            |z| sys.unreduced_residual(q, p, z),
+            |z| sys.unreduced_residual_jacobian(q, p, z),
+        )
+        .map_err(|failure| step_error(k, failure))?;
+        let next = CanonicalState {
+            q: solution.z,
+            p: sys.unreduced_momentum(q, &solution.z),
+        };
+        if next.q.iter().chain(next.p.iter()).any(|v| !v.is_finite()) {
+            return Err(StepError::NonFinite {
+                step: k,
+                what: "the updated state",
+                residual: solution.residual,
+            });
+        }
+        Ok((next, StepStats::from_solution(&solution)))
+    }
+
+    /// Integrates `steps` steps from `initial`, starting Newton from a linear extrapolation of
+    /// the last two configurations. On failure the error holds the trajectory computed so far.
+    pub fn integrate(
+        &mut self,
+        initial: CanonicalState<N>,
+        steps: usize,
+    ) -> Result<CanonicalTrajectory<N>, Box<IntegrationError<CanonicalTrajectory<N>>>> {
+        let h = self.system.time_step();
+        let mut trajectory = CanonicalTrajectory {
+            h,
+            states: Vec::with_capacity(steps + 1),
+            stats: Vec::with_capacity(steps),
+        };
+        trajectory.states.push(initial);
+        let fail = |source, trajectory| Box::new(IntegrationError::new(source, trajectory, steps));
+        let finite = initial
+            .q
+            .iter()
+            .chain(initial.p.iter())
+            .all(|v| v.is_finite());
+        if let Err(e) = check_inputs(h, &self.system.parameter_values(), finite) {
+            return Err(fail(e, trajectory));
+        }
+        let mut state = initial;
+        let mut q_prev: Option<SVector<f64, N>> = None;
+        for k in 0..steps {
+            let guess = q_prev.map_or(state.q, |q_prev| 2.0 * state.q - q_prev);
+            match self.step(k, &state, &guess) {
+                Ok((next, stats)) => {
+                    q_prev = Some(state.q);
+                    trajectory.states.push(next);
                     trajectory.stats.push(stats);
                     state = next;
                 }

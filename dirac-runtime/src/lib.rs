@@ -21,11 +21,14 @@ pub mod state;
 pub mod system;
 
 pub use diagnostics::trajectory_energies;
-pub use error::{IntegrationError, StepError};
-pub use integrate::{ReducedIntegrator, StepStats, Trajectory};
+pub use error::{IntegrationError, StepError, Steps};
+pub use integrate::{
+    CanonicalTrajectory, ReducedIntegrator, StepStats, StepStatsExt, Trajectory,
+    UnreducedIntegrator, Variant,
+};
 pub use newton::NewtonOptions;
 pub use state::{CanonicalState, ReducedState};
-pub use system::{DiscreteLagrangian, ReducedPlus};
+pub use system::{DiscreteLagrangian, ReducedMinus, ReducedPlus, Unreduced};
 
 /// Re-exported so that emitted code and users name the same nalgebra.
 pub use nalgebra;

@@ -20,6 +20,11 @@ pub struct NewtonOptions {
     pub rel_tol: f64,
     /// Maximum number of Newton corrections per step.
     pub max_iterations: usize,
+    /// Smallest acceptable reciprocal condition estimate of the step Jacobian (see
+    /// [`Lu::rcond`]); a step whose Jacobian is worse is an error instead of a result with few or
+    /// no correct digits. Where the symmetry action is not free (e.g. spherical coordinates at a
+    /// pole, the paper's Remark 7.1) the reduced equations degenerate and this is what catches it.
+    pub min_rcond: f64,
 }
 
 impl Default for NewtonOptions {
@@ -28,6 +33,7 @@ impl Default for NewtonOptions {
             abs_tol: 1e-12,
             rel_tol: 1e-12,
             max_iterations: 50,
+            min_rcond: 1e-13,
         }
     }
 }
@@ -53,6 +59,9 @@ pub struct NewtonSolution<const N: usize> {
     pub iterations: usize,
     /// `‖R(z)‖∞` at the returned `z`.
     pub residual: f64,
+    /// Reciprocal condition estimate of the last Jacobian factored (`None` if the initial guess
+    /// already met the tolerance and no Jacobian was needed).
+    pub rcond: Option<f64>,
 }
 
 /// Why a solve failed, with the residual at the last iterate.
@@ -68,6 +77,14 @@ pub enum NewtonFailure {
     /// The LU factorization found a zero pivot.
     Singular {
         /// `‖R‖∞` at the iterate whose Jacobian is singular.
+        residual: f64,
+    },
+    /// The Jacobian at the solution is too ill-conditioned to trust (below
+    /// [`NewtonOptions::min_rcond`]).
+    IllConditioned {
+        /// The reciprocal condition estimate.
+        rcond: f64,
+        /// `‖R‖∞` at the solution.
         residual: f64,
     },
     /// The residual, the Jacobian or the correction is not finite.
@@ -99,13 +116,25 @@ pub fn solve<const N: usize>(
         });
     }
     let mut iterations = 0;
-    loop {
-        if norm <= tol {
-            return Ok(NewtonSolution {
+    let mut factor: Option<Lu<N>> = None;
+    // Conditioning is estimated once per solve, from the last factorization.
+    let done = |z, iterations, residual, factor: Option<Lu<N>>| {
+        let rcond = factor.map(|f| f.rcond());
+        match rcond {
+            Some(rcond) if rcond < options.min_rcond => {
+                Err(NewtonFailure::IllConditioned { rcond, residual })
+            }
+            _ => Ok(NewtonSolution {
                 z,
                 iterations,
-                residual: norm,
-            });
+                residual,
+                rcond,
+            }),
+        }
+    };
+    loop {
+        if norm <= tol {
+            return done(z, iterations, norm, factor);
         }
         if iterations == options.max_iterations {
             return Err(NewtonFailure::NotConverged {
@@ -117,9 +146,9 @@ pub fn solve<const N: usize>(
         if jacobian.iter().any(|v| !v.is_finite()) {
             return Err(NewtonFailure::NonFinite { residual: norm });
         }
-        let dz = Lu::new(jacobian)
-            .ok_or(NewtonFailure::Singular { residual: norm })?
-            .solve(&r_j);
+        let lu = Lu::new(jacobian).ok_or(NewtonFailure::Singular { residual: norm })?;
+        let dz = lu.solve(&r_j);
+        factor = Some(lu);
         if dz.iter().any(|v| !v.is_finite()) {
             return Err(NewtonFailure::Singular { residual: norm });
         }
@@ -132,11 +161,7 @@ pub fn solve<const N: usize>(
             return Err(NewtonFailure::NonFinite { residual: previous });
         }
         if inf_norm(&dz) <= options.rel_tol * (1.0 + inf_norm(&z)) {
-            return Ok(NewtonSolution {
-                z,
-                iterations,
-                residual: norm,
-            });
+            return done(z, iterations, norm, factor);
         }
     }
 }

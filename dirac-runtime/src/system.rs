@@ -137,6 +137,102 @@ pub trait ReducedPlus<const S: usize, const K: usize, const N: usize>:
     fn plus_momentum(&self, x_k: &SVector<f64, S>, z: &SVector<f64, N>) -> SVector<f64, S>;
 }
 
+/// The reduced (−) discrete Lagrange–Poincaré–Dirac equations for the reduced Lagrangian
+/// `l_{d−}(x0, g0, x1) = L_d(x0, g0 + h_d^0(x1, x0), x1, 0)`, eq. (4.7), with
+/// `h_d^0(x1, x0) = B (x0 − x1)`.
+///
+/// # Derivation, and a sign discrepancy in the paper
+///
+/// The (−) equations of Definition 2.8 read `q_{k+1}^− = q_k`, `p_k = −D1 L_d(q_{k+1}^−, q_{k+1})`,
+/// `p_{k+1} = D2 L_d(q_{k+1}^−, q_{k+1})`: in the unconstrained case they are the (+) equations,
+/// i.e. the discrete Euler–Lagrange equations with the discrete Legendre transforms
+/// `p_k = −D1 L_d`, `p_{k+1} = D2 L_d` (end of §2.3.2). By G-invariance,
+/// `L_d(q_k, q_{k+1}) = l_{d−}(x_k, g_{k+1}^−, x_{k+1})` with
+/// `g_{k+1}^− = g_k − g_{k+1} − B (x_k − x_{k+1}) = −ω_d(q_k, q_{k+1})`, and the chain rule
+/// (Lemma 4.7) gives `∂L_d/∂x0 = ∂l/∂x0 − Bᵀ ∂l/∂g0`, `∂L_d/∂g0 = ∂l/∂g0`,
+/// `∂L_d/∂x1 = ∂l/∂x1 + Bᵀ ∂l/∂g0`, `∂L_d/∂g1 = −∂l/∂g0`. With the trivialization (3.6)
+/// (`w = p_x + Bᵀ p_g`, `μ = p_g`) the (−) equations become, at `(x_k, g_{k+1}^−, x_{k+1})`,
+///
+/// ```text
+/// w_k     = −∂l_{d−}/∂x0          μ_k = −∂l_{d−}/∂g0
+/// w_{k+1} =  ∂l_{d−}/∂x1          μ_{k+1} = μ_k
+/// g_{k+1} = g_k − g_{k+1}^− + B (x_{k+1} − x_k)
+/// ```
+///
+/// A forward step knows `(x_k, w_k, μ_k, g_k)` and solves the first line for
+/// `z = (x_{k+1}, g_{k+1}^−)`: `R(z) = (∂l_{d−}/∂x0 + w_k, ∂l_{d−}/∂g0 + μ_k) = 0`; the second
+/// and third lines are then explicit.
+///
+/// The paper's eq. (4.8) has the opposite sign on every momentum (`∂l_{d−}/∂x0 = w_k`,
+/// `∂l_{d−}/∂g0 = μ_k = μ_{k+1}`, `−∂l_{d−}/∂x1 = w_{k+1}`): it follows the (−) action (2.12),
+/// whose variation in `q_{k+1}^−` gives `p_k = +D1 L_d`, whereas Definition 2.8 and
+/// Propositions 3.10 and 4.4 use `p_k = −D1 L_d`. Taken literally with the same `(w_0, μ_0)` as the
+/// (+) equations, (4.8) integrates the motion with reversed momenta. The signs above are the ones
+/// for which the (+) and (−) steppers, started from the same physical state, produce the same
+/// physical trajectory — the discrete Euler–Lagrange solution — as the paper states they must.
+pub trait ReducedMinus<const S: usize, const K: usize, const N: usize>:
+    DiscreteLagrangian<S, K, N>
+{
+    /// `l_{d−}(x0, g0, x1)`, eq. (4.7).
+    fn reduced_lagrangian_minus(
+        &self,
+        x0: &SVector<f64, S>,
+        g0: &SVector<f64, K>,
+        x1: &SVector<f64, S>,
+    ) -> f64;
+
+    /// The residual `R(z) = (∂l_{d−}/∂x0 + w_k, ∂l_{d−}/∂g0 + μ_k)` at `(x_k, w_k, μ_k)` and
+    /// `z = (x_{k+1}, g_{k+1}^−)`.
+    fn minus_residual(
+        &self,
+        x_k: &SVector<f64, S>,
+        w_k: &SVector<f64, S>,
+        mu_k: &SVector<f64, K>,
+        z: &SVector<f64, N>,
+    ) -> SVector<f64, N>;
+
+    /// `R(z)` and its exact Jacobian `∂R/∂z`, from one straight-line function.
+    fn minus_residual_jacobian(
+        &self,
+        x_k: &SVector<f64, S>,
+        w_k: &SVector<f64, S>,
+        mu_k: &SVector<f64, K>,
+        z: &SVector<f64, N>,
+    ) -> (SVector<f64, N>, SMatrix<f64, N, N>);
+
+    /// `w_{k+1} = ∂l_{d−}/∂x1 (x_k, g_{k+1}^−, x_{k+1})`.
+    fn minus_momentum(&self, x_k: &SVector<f64, S>, z: &SVector<f64, N>) -> SVector<f64, S>;
+}
+
+/// The unreduced (+) discrete Lagrange–Dirac equations on `Q` (Definition 2.7):
+/// `p_k = −D1 L_d(q_k, q_{k+1})`, `p_{k+1} = D2 L_d(q_k, q_{k+1})`. A step solves
+/// `R(q_{k+1}) = D1 L_d(q_k, q_{k+1}) + p_k = 0`. In the unconstrained case the (−) equations of
+/// Definition 2.8 (with `q_{k+1}^− = q_k`) are the same equations, so one implementation serves
+/// both. This is the baseline every reduced integrator is compared with: it knows nothing of the
+/// symmetry, carries the group coordinates, and evaluates `L_d` at absolute group coordinates.
+pub trait Unreduced<const S: usize, const K: usize, const N: usize>:
+    DiscreteLagrangian<S, K, N>
+{
+    /// `R(z) = D1 L_d(q_k, z) + p_k`.
+    fn unreduced_residual(
+        &self,
+        q_k: &SVector<f64, N>,
+        p_k: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> SVector<f64, N>;
+
+    /// `R(z)` and `∂R/∂z = D2 D1 L_d(q_k, z)`, from one straight-line function.
+    fn unreduced_residual_jacobian(
+        &self,
+        q_k: &SVector<f64, N>,
+        p_k: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> (SVector<f64, N>, SMatrix<f64, N, N>);
+
+    /// `p_{k+1} = D2 L_d(q_k, q_{k+1})`.
+    fn unreduced_momentum(&self, q_k: &SVector<f64, N>, z: &SVector<f64, N>) -> SVector<f64, N>;
+}
+
 /// Splits `q = (x, g)`.
 pub fn split<const S: usize, const K: usize, const N: usize>(
     q: &SVector<f64, N>,
