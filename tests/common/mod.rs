@@ -1,0 +1,30 @@
+//! Test systems shared by several integration tests.
+#![allow(dead_code)] // each test binary uses its own subset
+
+use dirac::prelude::*;
+
+/// The charged particle with a nonzero linear connection `ω_d = (θ1 − θ0) − B (x1 − x0)`,
+/// `B = [0.3, −0.7, b]`: the physics is unchanged, the reduced momenta become `w = p_x + Bᵀ μ`.
+#[reduced_lagrangian(shape(x, y, z), group(theta), connection = [[0.3, -0.7, b]])]
+pub fn particle_with_connection(q0: Config, q1: Config, h: f64, m: f64, b0: f64, b: f64) -> f64 {
+    let (dx, dy, dz) = (q1.x - q0.x, q1.y - q0.y, q1.z - q0.z);
+    let a_dot_dq = 0.5 * b0 * (-q0.y * dx + q0.x * dy);
+    let s = a_dot_dq + (q1.theta - q0.theta);
+    0.5 * m / h * (dx * dx + dy * dy + dz * dz) + 0.5 / h * s * s
+}
+
+/// Two group coordinates (K = 2): a particle in the plane (gx, gy), translation invariant, coupled
+/// to an anharmonic internal coordinate s; midpoint rule.
+#[reduced_lagrangian(shape(s), group(gx, gy))]
+#[allow(clippy::needless_range_loop)] // the point is to exercise an unrolled loop with indexing
+pub fn planar_rotor(q0: Config, q1: Config, h: f64, m: f64, k: f64) -> f64 {
+    let v = [(q1.gx - q0.gx) / h, (q1.gy - q0.gy) / h];
+    let vs = (q1.s - q0.s) / h;
+    let sm = 0.5 * (q0.s + q1.s);
+    let mut kinetic = 0.5 * vs * vs;
+    for i in 0..2 {
+        kinetic += 0.5 * m * (1.0 + 0.3 * sm.sin()) * v[i] * v[i];
+    }
+    h * (kinetic + 0.2 * sm * v[0] - k * (1.0 - sm.cos()))
+}
+
