@@ -13,7 +13,11 @@ use common::{ParticleWithConnection, PlanarRotor};
 fn assert_close<const N: usize>(a: &SVector<f64, N>, b: &SVector<f64, N>, tol: f64, what: &str) {
     let err = (a - b).amax();
     let scale = b.amax().max(1e-300);
-    assert!(err <= tol * scale, "{what}: {a} vs {b} (relative error {:e})", err / scale);
+    assert!(
+        err <= tol * scale,
+        "{what}: {a} vs {b} (relative error {:e})",
+        err / scale
+    );
 }
 
 /// Integrates `initial` with the reduced (+), reduced (−) and unreduced steppers and checks that
@@ -27,9 +31,15 @@ fn assert_reduction_commutes<L, const S: usize, const K: usize, const N: usize>(
     L: ReducedPlus<S, K, N> + ReducedMinus<S, K, N> + Unreduced<S, K, N> + Copy,
 {
     let options = NewtonOptions::default();
-    let plus = ReducedIntegrator::plus(sys, options).integrate(sys.trivialize(&initial), steps).unwrap();
-    let minus = ReducedIntegrator::minus(sys, options).integrate(sys.trivialize(&initial), steps).unwrap();
-    let unreduced = UnreducedIntegrator::plus(sys, options).integrate(initial, steps).unwrap();
+    let plus = ReducedIntegrator::plus(sys, options)
+        .integrate(sys.trivialize(&initial), steps)
+        .unwrap();
+    let minus = ReducedIntegrator::minus(sys, options)
+        .integrate(sys.trivialize(&initial), steps)
+        .unwrap();
+    let unreduced = UnreducedIntegrator::plus(sys, options)
+        .integrate(initial, steps)
+        .unwrap();
     for k in 0..=steps {
         let u = unreduced.states[k];
         for (name, traj) in [("(+)", &plus), ("(−)", &minus)] {
@@ -38,7 +48,12 @@ fn assert_reduction_commutes<L, const S: usize, const K: usize, const N: usize>(
             assert_close(&c.p, &u.p, tol, &format!("{name} p at step {k}"));
             // μ is the momentum map of the unreduced state, and it is conserved bit for bit.
             assert_eq!(traj.states[k].mu, traj.states[0].mu);
-            assert_close(&traj.states[k].mu, &sys.momentum_map(&u), tol, "μ = J(q, p)");
+            assert_close(
+                &traj.states[k].mu,
+                &sys.momentum_map(&u),
+                tol,
+                "μ = J(q, p)",
+            );
         }
     }
 }
@@ -59,14 +74,33 @@ fn charged_particle_without_connection() {
 
 #[test]
 fn charged_particle_with_a_connection() {
-    let sys = ParticleWithConnection { h: 0.1, m: 1.3, b0: 0.8, b: 0.45 };
-    assert_reduction_commutes(sys, canonical([0.2, -0.1, 0.3, 0.7], [0.9, 0.2, -0.4, 1.1]), 200, 1e-10);
+    let sys = ParticleWithConnection {
+        h: 0.1,
+        m: 1.3,
+        b0: 0.8,
+        b: 0.45,
+    };
+    assert_reduction_commutes(
+        sys,
+        canonical([0.2, -0.1, 0.3, 0.7], [0.9, 0.2, -0.4, 1.1]),
+        200,
+        1e-10,
+    );
 }
 
 #[test]
 fn two_group_coordinates() {
-    let sys = PlanarRotor { h: 0.05, m: 2.0, k: 3.0 };
-    assert_reduction_commutes(sys, canonical([0.4, 1.0, 2.0], [0.1, 0.5, -0.3]), 400, 1e-10);
+    let sys = PlanarRotor {
+        h: 0.05,
+        m: 2.0,
+        k: 3.0,
+    };
+    assert_reduction_commutes(
+        sys,
+        canonical([0.4, 1.0, 2.0], [0.1, 0.5, -0.3]),
+        400,
+        1e-10,
+    );
 }
 
 /// Each reduced step equals one unreduced step taken from the same physical state with the
@@ -74,10 +108,17 @@ fn two_group_coordinates() {
 /// the unreduced stepper loses no digits to a large absolute group coordinate.
 #[test]
 fn each_reduced_step_is_an_unreduced_step_at_g_zero() {
-    let sys = ParticleWithConnection { h: 0.1, m: 1.3, b0: 0.8, b: 0.45 };
+    let sys = ParticleWithConnection {
+        h: 0.1,
+        m: 1.3,
+        b0: 0.8,
+        b: 0.45,
+    };
     let initial = sys.trivialize(&canonical([0.2, -0.1, 0.3, 0.7], [0.9, 0.2, -0.4, 1.1]));
     let options = NewtonOptions::default();
-    let reduced = ReducedIntegrator::plus(sys, options).integrate(initial, 200).unwrap();
+    let reduced = ReducedIntegrator::plus(sys, options)
+        .integrate(initial, 200)
+        .unwrap();
     let unreduced = UnreducedIntegrator::plus(sys, options);
     for (k, pair) in reduced.states.windows(2).enumerate() {
         let mut at_zero = pair[0];
@@ -105,8 +146,12 @@ fn a_large_group_coordinate_costs_the_unreduced_stepper_digits() {
         state.g[0] = theta0;
         state
     };
-    let reduced_0 = ReducedIntegrator::plus(sys, options).integrate(at(0.0), 100).unwrap();
-    let reduced_far = ReducedIntegrator::plus(sys, options).integrate(at(1e8), 100).unwrap();
+    let reduced_0 = ReducedIntegrator::plus(sys, options)
+        .integrate(at(0.0), 100)
+        .unwrap();
+    let reduced_far = ReducedIntegrator::plus(sys, options)
+        .integrate(at(1e8), 100)
+        .unwrap();
     for (a, b) in reduced_0.states.iter().zip(&reduced_far.states) {
         assert_eq!(a.x, b.x);
         assert_eq!(a.w, b.w);
@@ -122,5 +167,8 @@ fn a_large_group_coordinate_costs_the_unreduced_stepper_digits() {
     let near = final_error(0.0);
     let far = final_error(1e8);
     assert!(near < 1e-12, "unreduced at θ0 = 0 differs by {near:e}");
-    assert!(far > 1e3 * near.max(1e-15), "unreduced at θ0 = 1e8 differs by only {far:e}");
+    assert!(
+        far > 1e3 * near.max(1e-15),
+        "unreduced at θ0 = 1e8 differs by only {far:e}"
+    );
 }

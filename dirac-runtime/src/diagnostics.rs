@@ -1,7 +1,17 @@
-//! Diagnostics along computed trajectories.
+//! The paper's geometry as diagnostics: the reduced discrete Dirac differentials and membership
+//! in the reduced discrete Dirac structures (§3–4), the reduced discrete generalized energies and
+//! the reduced discrete action (§5). Along a computed trajectory both routes — Dirac structure
+//! and variational principle — must agree with the stepper to round-off.
+//!
+//! All formulas are the paper's, specialised to the linear connection
+//! `ω_d(q0, q1) = (g1 − g0) − B (x1 − x0)`, for which `h_d^0(x0, x1) = B (x1 − x0)`,
+//! `h_{d,Σ} = B`, `h*_{d,Σ} = Bᵀ`, `h_{d,Q}((x, 0)) = −B x` and `h_d((0, g), 0) = g`.
 
-use crate::integrate::Trajectory;
-use crate::system::{join, DiscreteLagrangian};
+use nalgebra::SVector;
+
+use crate::integrate::{Trajectory, Variant};
+use crate::newton::inf_norm;
+use crate::system::{join, DiscreteLagrangian, ReducedMinus, ReducedPlus};
 
 /// The discrete energy of each step along a trajectory, `(E_d)_k = L_d(q_k, q_{k+1})`: the
 /// generalized energy (5.7) on solutions, where `q_k^+ = q_{k+1}` (§7.2.2; see
@@ -22,4 +32,351 @@ where
             system.lagrangian(&q0, &q1)
         })
         .collect()
+}
+
+/// `(∂l_{d+}/∂x0, ∂l_{d+}/∂x1, ∂l_{d+}/∂g1)` at `(x0, x1, g1)`, from the emitted code.
+fn plus_partials<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    x0: &SVector<f64, S>,
+    x1: &SVector<f64, S>,
+    g1: &SVector<f64, K>,
+) -> (SVector<f64, S>, SVector<f64, S>, SVector<f64, K>)
+where
+    L: ReducedPlus<S, K, N>,
+{
+    let z = join::<S, K, N>(x1, g1);
+    let f = sys.plus_residual(x0, &SVector::zeros(), &SVector::zeros(), &z);
+    let d_x0 = f.fixed_rows::<S>(0).into_owned();
+    let d_g1 = f.fixed_rows::<K>(S).into_owned();
+    (d_x0, sys.plus_momentum(x0, &z), d_g1)
+}
+
+/// `(∂l_{d−}/∂x0, ∂l_{d−}/∂g0, ∂l_{d−}/∂x1)` at `(x0, g0, x1)`, from the emitted code.
+fn minus_partials<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    x0: &SVector<f64, S>,
+    g0: &SVector<f64, K>,
+    x1: &SVector<f64, S>,
+) -> (SVector<f64, S>, SVector<f64, K>, SVector<f64, S>)
+where
+    L: ReducedMinus<S, K, N>,
+{
+    let z = join::<S, K, N>(x1, g0);
+    let f = sys.minus_residual(x0, &SVector::zeros(), &SVector::zeros(), &z);
+    let d_x0 = f.fixed_rows::<S>(0).into_owned();
+    let d_g0 = f.fixed_rows::<K>(S).into_owned();
+    (d_x0, d_g0, sys.minus_momentum(x0, &z))
+}
+
+/// The reduced (+) discrete Dirac differential at `(x0, x1, g1)`, Proposition 4.3: a point of
+/// `Σ × (Σ* × g*) × Q* × (Σ × g)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DiracDifferentialPlus<const S: usize, const K: usize> {
+    /// `x0`.
+    pub x0: SVector<f64, S>,
+    /// `∂L_d/∂x1 + h*_{d,Σ}(∂L_d/∂g1) = ∂l_{d+}/∂x1`.
+    pub w: SVector<f64, S>,
+    /// `∂L_d/∂g1 = ∂l_{d+}/∂g1`.
+    pub mu: SVector<f64, K>,
+    /// `−∂L_d/∂q0 = (−∂l_{d+}/∂x0 − Bᵀ ∂l_{d+}/∂g1, ∂l_{d+}/∂g1)` (Lemma 4.5), shape part.
+    pub p_x: SVector<f64, S>,
+    /// Group part of `−∂L_d/∂q0`.
+    pub p_g: SVector<f64, K>,
+    /// `x1`.
+    pub x1: SVector<f64, S>,
+    /// `g1 + h_{d,Q}(x0, 0) = g1 − B x0`.
+    pub xi: SVector<f64, K>,
+}
+
+/// The reduced (−) discrete Dirac differential at `(x0, g0, x1)`, Proposition 4.4: a point of
+/// `(Σ* × g*) × Σ × (Σ × g) × Q*`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DiracDifferentialMinus<const S: usize, const K: usize> {
+    /// `−∂L_d/∂x0 − h*_{d,Σ}(∂L_d/∂g0) = −∂l_{d−}/∂x0` (Lemma 4.7).
+    pub w: SVector<f64, S>,
+    /// `−∂L_d/∂g0 = −∂l_{d−}/∂g0`.
+    pub mu: SVector<f64, K>,
+    /// `x1`.
+    pub x1: SVector<f64, S>,
+    /// `−x0`.
+    pub minus_x0: SVector<f64, S>,
+    /// `−g0 − h_{d,Q}(x1, 0) = −g0 + B x1`.
+    pub xi: SVector<f64, K>,
+    /// `−∂L_d/∂q1 = (−∂l_{d−}/∂x1 − Bᵀ ∂l_{d−}/∂g0, ∂l_{d−}/∂g0)`, shape part.
+    pub p_x: SVector<f64, S>,
+    /// Group part of `−∂L_d/∂q1`.
+    pub p_g: SVector<f64, K>,
+}
+
+/// The reduced (+) discrete Dirac differential `[D̂⁺ L_d](x0, x1, g1)`, Proposition 4.3.
+pub fn dirac_differential_plus<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    x0: &SVector<f64, S>,
+    x1: &SVector<f64, S>,
+    g1: &SVector<f64, K>,
+) -> DiracDifferentialPlus<S, K>
+where
+    L: ReducedPlus<S, K, N>,
+{
+    let b = sys.connection();
+    let (d_x0, d_x1, d_g1) = plus_partials(sys, x0, x1, g1);
+    DiracDifferentialPlus {
+        x0: *x0,
+        w: d_x1,
+        mu: d_g1,
+        p_x: -d_x0 - b.transpose() * d_g1,
+        p_g: d_g1,
+        x1: *x1,
+        xi: g1 - b * x0,
+    }
+}
+
+/// The reduced (−) discrete Dirac differential `[D̂⁻ L_d](x0, g0, x1)`, Proposition 4.4.
+pub fn dirac_differential_minus<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    x0: &SVector<f64, S>,
+    g0: &SVector<f64, K>,
+    x1: &SVector<f64, S>,
+) -> DiracDifferentialMinus<S, K>
+where
+    L: ReducedMinus<S, K, N>,
+{
+    let b = sys.connection();
+    let (d_x0, d_g0, d_x1) = minus_partials(sys, x0, g0, x1);
+    DiracDifferentialMinus {
+        w: -d_x0,
+        mu: -d_g0,
+        x1: *x1,
+        minus_x0: -x0,
+        xi: -g0 + b * x1,
+        p_x: -d_x1 - b.transpose() * d_g0,
+        p_g: d_g0,
+    }
+}
+
+/// For each step `k` of a reduced trajectory, how far `([X̂_d^k], [D̂^± L_d]) ∈ [D̂^{d±}]` is
+/// from holding: the ∞-norm of the difference between the Dirac differential at the step's
+/// solution and the point of the reduced Dirac structure that the discrete vector field
+/// `[X̂_d^k] = (x_k, w_k, μ_k, q_{k+1}, w_{k+1}, μ_{k+1})` determines (Propositions 3.8 and
+/// 4.3 for (+), 3.10 and 4.4 for (−)), relative to the size of the momenta involved.
+pub fn dirac_membership_residuals<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    trajectory: &Trajectory<S, K>,
+) -> Vec<f64>
+where
+    L: ReducedPlus<S, K, N> + ReducedMinus<S, K, N>,
+{
+    let b = sys.connection();
+    let bt = b.transpose();
+    let mut out = Vec::with_capacity(trajectory.increments.len());
+    for (k, pair) in trajectory.states.windows(2).enumerate() {
+        let (s0, s1) = (&pair[0], &pair[1]);
+        let unknown = trajectory.increments[k];
+        let mut worst = 0.0f64;
+        let mut scale = 1.0f64;
+        let mut diff = |a: f64, b: f64| {
+            worst = worst.max((a - b).abs());
+            scale = scale.max(a.abs()).max(b.abs());
+        };
+        let each = |d: &mut dyn FnMut(f64, f64), a: &[f64], b: &[f64]| {
+            a.iter().zip(b).for_each(|(x, y)| d(*x, *y));
+        };
+        match trajectory.variant {
+            Variant::Plus => {
+                // [X̂] = (x_k, w_k, μ_k, q_{k+1} = (x_{k+1}, g_{k+1} − g_k), w_{k+1}, μ_{k+1}) must pair
+                // with (x_k, w_{k+1}, μ_{k+1}, (w_k − Bᵀμ_k, μ_k), x_{k+1}, (g_{k+1} − g_k) − B x_{k+1}).
+                let d = dirac_differential_plus(sys, &s0.x, &s1.x, &unknown);
+                let g_rel = s1.g - s0.g;
+                each(&mut diff, d.x0.as_slice(), s0.x.as_slice());
+                each(&mut diff, d.w.as_slice(), s1.w.as_slice());
+                each(&mut diff, d.mu.as_slice(), s1.mu.as_slice());
+                each(&mut diff, d.p_x.as_slice(), (s0.w - bt * s0.mu).as_slice());
+                each(&mut diff, d.p_g.as_slice(), s0.mu.as_slice());
+                each(&mut diff, d.x1.as_slice(), s1.x.as_slice());
+                each(&mut diff, d.xi.as_slice(), (g_rel - b * s1.x).as_slice());
+            }
+            Variant::Minus => {
+                // [X̂] = (q_k = (x_k, g_k − g_{k+1}), w_k, μ_k, x_{k+1}, w_{k+1}, μ_{k+1}) must pair with
+                // (w_k, μ_k, x_{k+1}, −x_k, −(g_k − g_{k+1}) + B x_k, (−w_{k+1} + Bᵀμ_{k+1}, −μ_{k+1})).
+                let d = dirac_differential_minus(sys, &s0.x, &unknown, &s1.x);
+                let g_rel = s0.g - s1.g;
+                each(&mut diff, d.w.as_slice(), s0.w.as_slice());
+                each(&mut diff, d.mu.as_slice(), s0.mu.as_slice());
+                each(&mut diff, d.x1.as_slice(), s1.x.as_slice());
+                each(&mut diff, d.minus_x0.as_slice(), (-s0.x).as_slice());
+                each(&mut diff, d.xi.as_slice(), (-g_rel + b * s0.x).as_slice());
+                each(&mut diff, d.p_x.as_slice(), (-s1.w + bt * s1.mu).as_slice());
+                each(&mut diff, d.p_g.as_slice(), (-s1.mu).as_slice());
+            }
+        }
+        out.push(worst / scale);
+    }
+    out
+}
+
+/// The reduced (+) discrete generalized energy, Lemma 5.1:
+/// `e_{d+}(x0, x0^+, g0^+, q1, w1, μ1) = l_{d+}(x0, x0^+, g0^+) + ⟨w1 − Bᵀμ1, x1 − x0^+⟩
+///  + ⟨μ1, g1 − g0^+ − B (x0^+ − x0)⟩`, with `q1 = (x1, g1)` relative to `g0` (identification (5.3)).
+#[allow(clippy::too_many_arguments)]
+pub fn reduced_energy_plus<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    x0: &SVector<f64, S>,
+    x0_plus: &SVector<f64, S>,
+    g0_plus: &SVector<f64, K>,
+    x1: &SVector<f64, S>,
+    g1: &SVector<f64, K>,
+    w1: &SVector<f64, S>,
+    mu1: &SVector<f64, K>,
+) -> f64
+where
+    L: ReducedPlus<S, K, N>,
+{
+    let b = sys.connection();
+    sys.reduced_lagrangian_plus(x0, x0_plus, g0_plus)
+        + (w1 - b.transpose() * mu1).dot(&(x1 - x0_plus))
+        + mu1.dot(&(g1 - g0_plus - b * (x0_plus - x0)))
+}
+
+/// The reduced (−) discrete generalized energy as printed in Lemma 5.4:
+/// `e_{d−}(x1^−, g1^−, x1, w0, μ0, q0) = l_{d−}(x1^−, g1^−, x1) + ⟨w0 − Bᵀμ0, x0 − x1^−⟩
+///  + ⟨μ0, g0 − g1^− − B (x1^− − x1)⟩`, with `q0 = (x0, g0)` relative to `g1`.
+///
+/// It follows the (−) action (2.12), whose momenta have the opposite sign to Definition 2.8
+/// (see [`ReducedMinus`]): along a trajectory of the (−) stepper it is stationary when evaluated
+/// with `(−w_k, −μ_k)`.
+#[allow(clippy::too_many_arguments)]
+pub fn reduced_energy_minus<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    x1_minus: &SVector<f64, S>,
+    g1_minus: &SVector<f64, K>,
+    x1: &SVector<f64, S>,
+    w0: &SVector<f64, S>,
+    mu0: &SVector<f64, K>,
+    x0: &SVector<f64, S>,
+    g0: &SVector<f64, K>,
+) -> f64
+where
+    L: ReducedMinus<S, K, N>,
+{
+    let b = sys.connection();
+    sys.reduced_lagrangian_minus(x1_minus, g1_minus, x1)
+        + (w0 - b.transpose() * mu0).dot(&(x0 - x1_minus))
+        + mu0.dot(&(g0 - g1_minus - b * (x1_minus - x1)))
+}
+
+/// The variables of the reduced (+) discrete action `Σ_k e_{d+}` (Theorem 5.2): configurations
+/// `(x_k, g_k)` for `k = 0..=n`, and for each step `k < n` the variables
+/// `(x_k^+, g_k^+, w_{k+1}, μ_{k+1})`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReducedActionPlus<const S: usize, const K: usize> {
+    pub x: Vec<SVector<f64, S>>,
+    pub g: Vec<SVector<f64, K>>,
+    pub x_plus: Vec<SVector<f64, S>>,
+    pub g_plus: Vec<SVector<f64, K>>,
+    pub w: Vec<SVector<f64, S>>,
+    pub mu: Vec<SVector<f64, K>>,
+}
+
+impl<const S: usize, const K: usize> ReducedActionPlus<S, K> {
+    /// The action's variables along a trajectory of the (+) stepper: `x_k^+ = x_{k+1}`, the
+    /// solved `g_k^+`, and the computed momenta.
+    ///
+    /// # Panics
+    /// If the trajectory was computed by the (−) stepper.
+    pub fn from_trajectory(trajectory: &Trajectory<S, K>) -> Self {
+        assert_eq!(
+            trajectory.variant,
+            Variant::Plus,
+            "Theorem 5.2 is the (+) principle"
+        );
+        let states = &trajectory.states;
+        Self {
+            x: states.iter().map(|s| s.x).collect(),
+            g: states.iter().map(|s| s.g).collect(),
+            x_plus: states[1..].iter().map(|s| s.x).collect(),
+            g_plus: trajectory.increments.clone(),
+            w: states[1..].iter().map(|s| s.w).collect(),
+            mu: states[1..].iter().map(|s| s.mu).collect(),
+        }
+    }
+
+    /// `Σ_k e_{d+}(x_k, x_k^+, g_k^+, q_{k+1} − g_k, w_{k+1}, μ_{k+1})`, eq. (5.8).
+    pub fn action<L, const N: usize>(&self, sys: &L) -> f64
+    where
+        L: ReducedPlus<S, K, N>,
+    {
+        (0..self.x_plus.len())
+            .map(|k| {
+                let g_rel = self.g[k + 1] - self.g[k];
+                reduced_energy_plus(
+                    sys,
+                    &self.x[k],
+                    &self.x_plus[k],
+                    &self.g_plus[k],
+                    &self.x[k + 1],
+                    &g_rel,
+                    &self.w[k],
+                    &self.mu[k],
+                )
+            })
+            .sum()
+    }
+
+    /// The gradient of [`Self::action`] with respect to the interior variables — `x_k, g_k` for
+    /// `0 < k < n` and every `x_k^+, g_k^+, w_{k+1}, μ_{k+1}` — in the layout of `Self`, with the
+    /// fixed endpoints' entries zero. By Theorem 5.2 and Proposition 5.3 it vanishes exactly on
+    /// solutions of eq. (4.6):
+    ///
+    /// ```text
+    /// ∂/∂x_k     = ∂l/∂x0(k) + Bᵀμ_{k+1} + w_k − Bᵀμ_k      ∂/∂g_k = μ_k − μ_{k+1}
+    /// ∂/∂x_k^+   = ∂l/∂x1(k) − w_{k+1}                       ∂/∂g_k^+ = ∂l/∂g1(k) − μ_{k+1}
+    /// ∂/∂w_{k+1} = x_{k+1} − x_k^+
+    /// ∂/∂μ_{k+1} = (g_{k+1} − g_k) − g_k^+ − B (x_{k+1} − x_k)
+    /// ```
+    pub fn gradient<L, const N: usize>(&self, sys: &L) -> Self
+    where
+        L: ReducedPlus<S, K, N>,
+    {
+        let b = sys.connection();
+        let bt = b.transpose();
+        let n = self.x_plus.len();
+        let mut grad = Self {
+            x: vec![SVector::zeros(); n + 1],
+            g: vec![SVector::zeros(); n + 1],
+            x_plus: vec![SVector::zeros(); n],
+            g_plus: vec![SVector::zeros(); n],
+            w: vec![SVector::zeros(); n],
+            mu: vec![SVector::zeros(); n],
+        };
+        for k in 0..n {
+            let (d_x0, d_x1, d_g1) =
+                plus_partials(sys, &self.x[k], &self.x_plus[k], &self.g_plus[k]);
+            if k > 0 {
+                grad.x[k] += d_x0 + bt * self.mu[k];
+                grad.g[k] -= self.mu[k];
+            }
+            if k + 1 < n {
+                grad.x[k + 1] += self.w[k] - bt * self.mu[k];
+                grad.g[k + 1] += self.mu[k];
+            }
+            grad.x_plus[k] = d_x1 - self.w[k];
+            grad.g_plus[k] = d_g1 - self.mu[k];
+            grad.w[k] = self.x[k + 1] - self.x_plus[k];
+            grad.mu[k] =
+                (self.g[k + 1] - self.g[k]) - self.g_plus[k] - b * (self.x[k + 1] - self.x[k]);
+        }
+        grad
+    }
+
+    /// The largest entry in absolute value.
+    pub fn max_abs(&self) -> f64 {
+        let v = |xs: &[SVector<f64, S>]| xs.iter().map(inf_norm).fold(0.0, f64::max);
+        let k = |xs: &[SVector<f64, K>]| xs.iter().map(inf_norm).fold(0.0, f64::max);
+        v(&self.x)
+            .max(k(&self.g))
+            .max(v(&self.x_plus))
+            .max(k(&self.g_plus))
+            .max(v(&self.w))
+            .max(k(&self.mu))
+    }
 }

@@ -20,7 +20,11 @@ pub mod newton;
 pub mod state;
 pub mod system;
 
-pub use diagnostics::trajectory_energies;
+pub use diagnostics::{
+    dirac_differential_minus, dirac_differential_plus, dirac_membership_residuals,
+    reduced_energy_minus, reduced_energy_plus, trajectory_energies, DiracDifferentialMinus,
+    DiracDifferentialPlus, ReducedActionPlus,
+};
 pub use error::{IntegrationError, StepError, Steps};
 pub use integrate::{
     CanonicalTrajectory, ReducedIntegrator, StepStats, StepStatsExt, Trajectory,
