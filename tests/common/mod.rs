@@ -27,4 +27,3 @@ pub fn planar_rotor(q0: Config, q1: Config, h: f64, m: f64, k: f64) -> f64 {
     }
     h * (kinetic + 0.2 * sm * v[0] - k * (1.0 - sm.cos()))
 }
-
