@@ -291,3 +291,38 @@ fn the_user_function_stays_callable() {
 }
 
 use dirac::paper::ChargedParticleConfig as ChargedParticleConfigAlias;
+
+/// A spherical pendulum in spherical coordinates, midpoint rule: the S¹ action on the azimuth
+/// `theta` is not free at the poles φ = 0, π (the paper's Remark 7.1), where the group block of
+/// the step Jacobian, ∝ sin²φ, vanishes.
+#[reduced_lagrangian(shape(phi), group(theta))]
+fn spherical_pendulum(q0: Config, q1: Config, h: f64, l: f64, g: f64) -> f64 {
+    let phi = 0.5 * (q0.phi + q1.phi);
+    let (dphi, dtheta) = ((q1.phi - q0.phi) / h, (q1.theta - q0.theta) / h);
+    h * (0.5 * l * l * (dphi * dphi + phi.sin().powi(2) * dtheta * dtheta) - g * l * phi.cos())
+}
+
+#[test]
+fn conditioning_is_recorded_and_a_threshold_turns_it_into_an_error() {
+    let sys = SphericalPendulum { h: 0.01, l: 1.0, g: 9.8 };
+    let run = |phi0: f64, options: NewtonOptions| {
+        ReducedIntegrator::plus(sys, options).integrate(ReducedState::new([phi0], [0.1], [0.0], [0.0]), 50)
+    };
+    // Away from the pole the steps are well conditioned, and every step records its estimate.
+    let far = run(2.0, NewtonOptions::default()).unwrap();
+    let (_, worst_far) = far.worst_rcond().unwrap();
+    assert!(far.stats.iter().all(|s| s.rcond.is_some()));
+    assert!(worst_far > 1e-6, "{worst_far:e}");
+    // Much closer to φ = π the group block degenerates: the default threshold refuses the step
+    // instead of returning a result with no correct digits, and says why.
+    let err = run(std::f64::consts::PI - 1e-9, NewtonOptions::default()).unwrap_err();
+    assert!(matches!(err.source, StepError::IllConditioned { step: 0, rcond, .. } if rcond < 1e-13), "{err}");
+    assert!(err.to_string().contains("ill-conditioned"), "{err}");
+    // With the check disabled the same run continues, and the statistics show why it should not.
+    let options = NewtonOptions {
+        min_rcond: 0.0,
+        ..NewtonOptions::default()
+    };
+    let near = run(std::f64::consts::PI - 1e-9, options).unwrap();
+    assert!(near.worst_rcond().unwrap().1 < 1e-13);
+}

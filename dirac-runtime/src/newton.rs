@@ -79,8 +79,8 @@ pub enum NewtonFailure {
         /// `‖R‖∞` at the iterate whose Jacobian is singular.
         residual: f64,
     },
-    /// The Jacobian at the solution is too ill-conditioned to trust (below
-    /// [`NewtonOptions::min_rcond`]).
+    /// The Jacobian is too ill-conditioned to trust (below [`NewtonOptions::min_rcond`]): at the
+    /// solution, or at the last iterate of a solve that failed.
     IllConditioned {
         /// The reciprocal condition estimate.
         rcond: f64,
@@ -132,15 +132,29 @@ pub fn solve<const N: usize>(
             }),
         }
     };
+    // A failure whose last Jacobian was ill-conditioned is reported as such: that is the cause.
+    let failed = |failure: NewtonFailure, factor: &Option<Lu<N>>| match factor.map(|f| f.rcond()) {
+        Some(rcond) if rcond < options.min_rcond => NewtonFailure::IllConditioned {
+            rcond,
+            residual: match failure {
+                NewtonFailure::NotConverged { residual, .. }
+                | NewtonFailure::Singular { residual }
+                | NewtonFailure::IllConditioned { residual, .. }
+                | NewtonFailure::NonFinite { residual } => residual,
+            },
+        },
+        _ => failure,
+    };
     loop {
         if norm <= tol {
             return done(z, iterations, norm, factor);
         }
         if iterations == options.max_iterations {
-            return Err(NewtonFailure::NotConverged {
+            let failure = NewtonFailure::NotConverged {
                 iterations,
                 residual: norm,
-            });
+            };
+            return Err(failed(failure, &factor));
         }
         let (r_j, jacobian) = residual_jacobian(&z);
         if jacobian.iter().any(|v| !v.is_finite()) {
@@ -158,7 +172,7 @@ pub fn solve<const N: usize>(
         r = residual(&z);
         norm = inf_norm(&r);
         if !norm.is_finite() {
-            return Err(NewtonFailure::NonFinite { residual: previous });
+            return Err(failed(NewtonFailure::NonFinite { residual: previous }, &factor));
         }
         if inf_norm(&dz) <= options.rel_tol * (1.0 + inf_norm(&z)) {
             return done(z, iterations, norm, factor);
