@@ -6,131 +6,16 @@
 //! cargo run --release --example charged_particle [-- --out DIR]
 //! ```
 
-use std::error::Error;
-use std::fs;
-use std::path::{Path, PathBuf};
+mod common;
 
-use dirac::paper::{ChargedParticle, CHARGED_PARTICLE_T, TABLE_1};
-use dirac::prelude::*;
-use plotters::prelude::*;
+use std::error::Error;
+
+use common::charged_particle;
 
 fn main() -> Result<(), Box<dyn Error>> {
-    let out = output_dir()?;
-    println!(
-        "Charged particle in a magnetic field (§7.1): m = 1, B0 = 1, T = {CHARGED_PARTICLE_T}"
-    );
-    println!("reduced (+) equations (4.6), left-point discrete Lagrangian\n");
-    println!(
-        "{:>5} {:>8} {:>14} {:>10} {:>7} {:>11}",
-        "N", "h", "|q(T) - q_N|", "paper", "order", "Newton it."
-    );
-    let mut previous: Option<(usize, f64)> = None;
-    for n in [10, 50, 100, 200, 400, 800] {
-        let traj = run(n)?;
-        let error = final_error(&traj);
-        let paper = TABLE_1
-            .iter()
-            .find(|(m, _)| *m == n)
-            .map_or("-".to_string(), |(_, e)| format!("{e}"));
-        let order = previous.map_or("-".to_string(), |(m, e)| {
-            format!("{:.3}", (e / error).ln() / (n as f64 / m as f64).ln())
-        });
-        println!(
-            "{n:>5} {:>8.4} {error:>14.5e} {paper:>10} {order:>7} {:>11.2}",
-            CHARGED_PARTICLE_T / n as f64,
-            traj.mean_iterations()
-        );
-        previous = Some((n, error));
-    }
-    let figure = run(100)?;
-    write_figure_1(&figure, &out)?;
+    let out = common::output_dir("charged_particle", "target/dirac-figures/charged_particle")?;
+    charged_particle::print_table_1()?;
+    charged_particle::write_figure_1(&out)?;
     println!("\nFigure 1 (N = 100, h = 0.2): {}", out.display());
-    Ok(())
-}
-
-fn run(n: usize) -> Result<Trajectory<3, 1>, Box<dyn Error>> {
-    let mut integ = ReducedIntegrator::plus(ChargedParticle::paper(n), NewtonOptions::default());
-    Ok(integ.integrate(ChargedParticle::paper_initial_state(), n)?)
-}
-
-fn final_error(traj: &Trajectory<3, 1>) -> f64 {
-    let exact = ChargedParticle::exact_position(CHARGED_PARTICLE_T);
-    let x = traj.last().x;
-    (0..3)
-        .map(|i| (x[i] - exact[i]).powi(2))
-        .sum::<f64>()
-        .sqrt()
-}
-
-fn output_dir() -> Result<PathBuf, Box<dyn Error>> {
-    let mut args = std::env::args().skip(1);
-    let mut out = PathBuf::from("target/dirac-figures/charged_particle");
-    while let Some(arg) = args.next() {
-        match arg.as_str() {
-            "--out" => out = PathBuf::from(args.next().ok_or("--out needs a directory")?),
-            other => {
-                return Err(format!(
-                    "unknown argument `{other}`; usage: charged_particle [--out DIR]"
-                )
-                .into())
-            }
-        }
-    }
-    fs::create_dir_all(&out)?;
-    Ok(out)
-}
-
-fn write_figure_1(traj: &Trajectory<3, 1>, out: &Path) -> Result<(), Box<dyn Error>> {
-    let mut csv = String::from("t,x,y,z,x_exact,y_exact,z_exact\n");
-    let mut approx = Vec::new();
-    for (k, s) in traj.states.iter().enumerate() {
-        let t = traj.time(k);
-        let e = ChargedParticle::exact_position(t);
-        csv.push_str(&format!(
-            "{t},{},{},{},{},{},{}\n",
-            s.x[0], s.x[1], s.x[2], e[0], e[1], e[2]
-        ));
-        approx.push((s.x[0], s.x[2], s.x[1]));
-    }
-    fs::write(out.join("figure1.csv"), csv)?;
-
-    let exact: Vec<(f64, f64, f64)> = (0..=2000)
-        .map(|i| {
-            let e = ChargedParticle::exact_position(CHARGED_PARTICLE_T * i as f64 / 2000.0);
-            (e[0], e[2], e[1])
-        })
-        .collect();
-    let path = out.join("figure1.svg");
-    let root = SVGBackend::new(&path, (800, 700)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(
-            "Charged particle: exact and discrete (h = 0.2)",
-            ("sans-serif", 22),
-        )
-        .margin(20)
-        .build_cartesian_3d(-1.5..1.5, 0.0..20.0, -2.5..0.5)?;
-    chart.with_projection(|mut p| {
-        p.pitch = 0.35;
-        p.yaw = 0.6;
-        p.scale = 0.85;
-        p.into_matrix()
-    });
-    chart.configure_axes().draw()?;
-    chart
-        .draw_series(LineSeries::new(exact, BLUE.stroke_width(2)))?
-        .label("exact q(t) = (sin t, cos t - 1, t)")
-        .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], BLUE));
-    chart
-        .draw_series(LineSeries::new(approx.clone(), RED))?
-        .label("reduced (+) integrator, N = 100")
-        .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], RED));
-    chart.draw_series(approx.into_iter().map(|p| Circle::new(p, 2, RED.filled())))?;
-    chart
-        .configure_series_labels()
-        .border_style(BLACK)
-        .background_style(WHITE)
-        .draw()?;
-    root.present()?;
     Ok(())
 }

@@ -304,9 +304,14 @@ fn spherical_pendulum(q0: Config, q1: Config, h: f64, l: f64, g: f64) -> f64 {
 
 #[test]
 fn conditioning_is_recorded_and_a_threshold_turns_it_into_an_error() {
-    let sys = SphericalPendulum { h: 0.01, l: 1.0, g: 9.8 };
+    let sys = SphericalPendulum {
+        h: 0.01,
+        l: 1.0,
+        g: 9.8,
+    };
     let run = |phi0: f64, options: NewtonOptions| {
-        ReducedIntegrator::plus(sys, options).integrate(ReducedState::new([phi0], [0.1], [0.0], [0.0]), 50)
+        ReducedIntegrator::plus(sys, options)
+            .integrate(ReducedState::new([phi0], [0.1], [0.0], [0.0]), 50)
     };
     // Away from the pole the steps are well conditioned, and every step records its estimate.
     let far = run(2.0, NewtonOptions::default()).unwrap();
@@ -316,7 +321,10 @@ fn conditioning_is_recorded_and_a_threshold_turns_it_into_an_error() {
     // Much closer to φ = π the group block degenerates: the default threshold refuses the step
     // instead of returning a result with no correct digits, and says why.
     let err = run(std::f64::consts::PI - 1e-9, NewtonOptions::default()).unwrap_err();
-    assert!(matches!(err.source, StepError::IllConditioned { step: 0, rcond, .. } if rcond < 1e-13), "{err}");
+    assert!(
+        matches!(err.source, StepError::IllConditioned { step: 0, rcond, .. } if rcond < 1e-13),
+        "{err}"
+    );
     assert!(err.to_string().contains("ill-conditioned"), "{err}");
     // With the check disabled the same run continues, and the statistics show why it should not.
     let options = NewtonOptions {

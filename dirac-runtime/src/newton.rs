@@ -172,7 +172,10 @@ pub fn solve<const N: usize>(
         r = residual(&z);
         norm = inf_norm(&r);
         if !norm.is_finite() {
-            return Err(failed(NewtonFailure::NonFinite { residual: previous }, &factor));
+            return Err(failed(
+                NewtonFailure::NonFinite { residual: previous },
+                &factor,
+            ));
         }
         if inf_norm(&dz) <= options.rel_tol * (1.0 + inf_norm(&z)) {
             return done(z, iterations, norm, factor);
