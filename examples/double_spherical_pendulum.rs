@@ -19,7 +19,8 @@ fn main() -> Result<(), Box<dyn Error>> {
     )?;
     let run = dsp::run()?;
     dsp::report(&run);
+    dsp::pole_error_path();
     dsp::write_figures(&run, &out)?;
-    println!("\nFigures 3 and 4 (top), CSV: {}", out.display());
+    println!("\nFigures 3 and 4, CSV: {}", out.display());
     Ok(())
 }

@@ -23,8 +23,9 @@ fn main() -> Result<(), Box<dyn Error>> {
     println!("\n");
     let run = dsp::run()?;
     dsp::report(&run);
+    dsp::pole_error_path();
     let dir = out.join("double_spherical_pendulum");
     dsp::write_figures(&run, &dir)?;
-    println!("\nFigures 3 and 4 (top), CSV: {}", dir.display());
+    println!("\nFigures 3 and 4, CSV: {}", dir.display());
     Ok(())
 }

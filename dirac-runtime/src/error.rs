@@ -35,8 +35,8 @@ pub enum StepError {
     /// [`NewtonOptions::min_rcond`]: crate::NewtonOptions::min_rcond
     #[error(
         "step {step}: the step Jacobian is ill-conditioned (reciprocal condition estimate {rcond:.3e}, \
-         residual {residual:.3e}); the solution cannot be trusted — near a point where the symmetry \
-         action is not free the reduced equations degenerate"
+         residual {residual:.3e}); the solution cannot be trusted: the equations degenerate near a \
+         singularity of the coordinates or of the reduction (e.g. where the symmetry action is not free)"
     )]
     IllConditioned {
         /// Index of the failed step.

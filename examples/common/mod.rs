@@ -81,16 +81,33 @@ pub fn write_line_charts(
         } else {
             (x, y)
         };
+        let (y_lo, y_hi) = (y.start, y.end);
         let mut chart = ChartBuilder::on(area)
             .caption(&panel.title, ("sans-serif", CAPTION))
             .margin(MARGIN)
             .x_label_area_size(X_LABEL_AREA)
             .y_label_area_size(Y_LABEL_AREA)
             .build_cartesian_2d(x, y)?;
+        // Tick labels that show the data's scale: fixed notation for ordinary magnitudes,
+        // scientific for tiny or huge ones (e.g. an energy difference of 1e-7).
+        let span = y_lo.abs().max(y_hi.abs());
+        let scientific = !(1e-2..1e5).contains(&span);
+        // Enough significant digits to tell neighbouring ticks apart when the range is small
+        // next to the magnitude (e.g. T + V ≈ −4.41e5 varying by a few thousand).
+        let range = (y_hi - y_lo).abs().max(f64::MIN_POSITIVE);
+        let digits = ((span / range).log10().ceil().max(0.0) as usize + 1).min(8);
+        let format_y = move |v: &f64| {
+            if scientific {
+                format!("{v:.digits$e}")
+            } else {
+                format!("{v:.1}")
+            }
+        };
         chart
             .configure_mesh()
             .x_desc(panel.x_label.as_str())
             .y_desc(panel.y_label.as_str())
+            .y_label_formatter(&format_y)
             .draw()?;
         for curve in &panel.curves {
             let color = curve.color;
