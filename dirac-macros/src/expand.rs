@@ -6,15 +6,16 @@ use proc_macro2::{Span, TokenStream};
 use quote::{format_ident, quote};
 use syn::{Ident, ItemFn};
 
+use crate::check;
 use crate::ctxt::Ctxt;
 use crate::emit::{literal, straight_line};
 use crate::graph::{Graph, NodeId, Sym};
 use crate::lower::{Lowering, Names};
 use crate::reduce::{
-    minus_stepper, plus_stepper, reduced_lagrangian_minus, reduced_lagrangian_plus,
-    unreduced_stepper, Stepper,
+    eliminate_group, minus_stepper, plus_stepper, reduced_lagrangian_minus,
+    reduced_lagrangian_plus, unreduced_stepper, Eliminated, Stepper, GROUP_ORIGINS,
 };
-use crate::spec::{parse_signature, parse_spec, Signature, Spec};
+use crate::spec::{parse_signature, parse_spec, resolve_ranges, Signature, Spec};
 
 pub fn expand(args: TokenStream, item: TokenStream) -> TokenStream {
     let func: ItemFn = match syn::parse2(item) {
@@ -59,6 +60,10 @@ struct Compiled {
     minus: Stepper,
     /// The unreduced stepper, Definitions 2.7/2.8.
     unreduced: Stepper,
+    /// The (+) stepper with its group unknowns eliminated, when they enter affinely.
+    plus_eliminated: Option<Eliminated>,
+    /// The (−) stepper with its group unknowns eliminated, when they enter affinely.
+    minus_eliminated: Option<Eliminated>,
 }
 
 fn compile(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<Compiled> {
@@ -74,6 +79,7 @@ fn compile(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<Com
         params: sig.params.iter().map(Ident::to_string).collect(),
     };
     let (s, k) = (spec.shape.len(), spec.group.len());
+    let ranges = resolve_ranges(cx, spec, sig);
     let mut graph = Graph::default();
     let body = Lowering::new(&mut graph, cx, &names).body(&func.block);
     let b: Option<Vec<Vec<NodeId>>> = match &spec.connection {
@@ -94,11 +100,28 @@ fn compile(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<Com
     if cx.has_errors() {
         return None;
     }
-    let l_plus = reduced_lagrangian_plus(&mut graph, body, s, &b);
+    // The reduction below is only valid for a G-invariant L_d.
+    check::check(cx, &graph, body, &b, spec, sig, &ranges, &func.block);
+    if cx.has_errors() {
+        return None;
+    }
+    // The general steppers use the paper's reduced Lagrangians (4.5), (4.7) (group origin α = 0).
+    let l_plus = reduced_lagrangian_plus(&mut graph, body, s, &b, 0.0);
     let plus = plus_stepper(&mut graph, l_plus, s, k);
-    let l_minus = reduced_lagrangian_minus(&mut graph, body, s, &b);
+    let l_minus = reduced_lagrangian_minus(&mut graph, body, s, &b, 0.0);
     let minus = minus_stepper(&mut graph, l_minus, s, k);
     let unreduced = unreduced_stepper(&mut graph, body, s + k);
+    // Elimination tries each group origin until the momentum equations are structurally affine.
+    let plus_eliminated = GROUP_ORIGINS.iter().find_map(|&alpha| {
+        let l = reduced_lagrangian_plus(&mut graph, body, s, &b, alpha);
+        let st = plus_stepper(&mut graph, l, s, k);
+        eliminate_group(&mut graph, &st, s, k, Sym::G1)
+    });
+    let minus_eliminated = GROUP_ORIGINS.iter().find_map(|&alpha| {
+        let l = reduced_lagrangian_minus(&mut graph, body, s, &b, alpha);
+        let st = minus_stepper(&mut graph, l, s, k);
+        eliminate_group(&mut graph, &st, s, k, Sym::G0)
+    });
     Some(Compiled {
         graph,
         body,
@@ -106,6 +129,8 @@ fn compile(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<Com
         plus,
         minus,
         unreduced,
+        plus_eliminated,
+        minus_eliminated,
     })
 }
 
@@ -321,6 +346,75 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
         Sym::Param(i) => param_leaf(i),
         _ => unreachable!("the unreduced equations read q0, q1 and p"),
     };
+    let vec = |d: usize| quote!(&#na::SVector<f64, #d>);
+    let (vs, vk, vn) = (vec(s), vec(k), vec(n));
+    // The eliminated steppers: Newton on x_{k+1} alone; the third function returns the group
+    // unknowns in closed form.
+    let eliminated = |e: &Option<Eliminated>, prefix: &str| -> TokenStream {
+        let Some(e) = e else {
+            return quote!();
+        };
+        let as_stepper = Stepper {
+            residual: e.residual.clone(),
+            jacobian: e.jacobian.clone(),
+            momentum: e.group.clone(),
+        };
+        let f = stepper_fns(&c.graph, &as_stepper, &reduced_leaf, s, k);
+        let (r, rj, grp) = (&f.residual, &f.residual_jacobian, &f.momentum);
+        let flag = format_ident!("{}_ELIMINATES_GROUP", prefix.to_uppercase());
+        let r_fn = format_ident!("{}_eliminated_residual", prefix);
+        let rj_fn = format_ident!("{}_eliminated_residual_jacobian", prefix);
+        let g_fn = format_ident!("{}_eliminated_group", prefix);
+        let a_fn = format_ident!("{}_eliminated_group_block", prefix);
+        let a_flat: Vec<NodeId> = e.block.iter().flatten().copied().collect();
+        let a_code = straight_line(&c.graph, &a_flat, &reduced_leaf);
+        let (a_stmts, a_out) = (&a_code.stmts, &a_code.outputs);
+        quote! {
+            const #flag: bool = true;
+
+            #[inline]
+            #[allow(unused_variables)] // a closed form need not read every input
+            fn #r_fn(&self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vs) -> ::core::option::Option<#na::SVector<f64, #s>> {
+                ::core::option::Option::Some({ #r })
+            }
+
+            #[inline]
+            #[allow(unused_variables)] // a closed form need not read every input
+            fn #rj_fn(
+                &self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vs,
+            ) -> ::core::option::Option<(#na::SVector<f64, #s>, #na::SMatrix<f64, #s, #s>)> {
+                ::core::option::Option::Some({ #rj })
+            }
+
+            #[inline]
+            #[allow(unused_variables)] // a closed form need not read every input
+            fn #g_fn(&self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vs) -> ::core::option::Option<#na::SVector<f64, #k>> {
+                ::core::option::Option::Some({ #grp })
+            }
+
+            #[inline]
+            #[allow(unused_variables)] // a closed form need not read every input
+            fn #a_fn(&self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vs) -> ::core::option::Option<#na::SMatrix<f64, #k, #k>> {
+                #a_stmts
+                ::core::option::Option::Some(#na::SMatrix::<f64, #k, #k>::from_row_slice(&[ #( #a_out ),* ]))
+            }
+        }
+    };
+    let plus_elim = eliminated(&c.plus_eliminated, "plus");
+    let minus_elim = eliminated(&c.minus_eliminated, "minus");
+    let elimination_note = format!(
+        " Momentum-level elimination: (+) {}, (−) {}.",
+        if c.plus_eliminated.is_some() {
+            "group unknowns solved in closed form"
+        } else {
+            "not affine, general path"
+        },
+        if c.minus_eliminated.is_some() {
+            "group unknowns solved in closed form"
+        } else {
+            "not affine, general path"
+        },
+    );
     let plus = stepper_fns(&c.graph, &c.plus, &reduced_leaf, n, s);
     let minus = stepper_fns(&c.graph, &c.minus, &reduced_leaf, n, s);
     let unreduced = stepper_fns(&c.graph, &c.unreduced, &unreduced_leaf, n, n);
@@ -358,10 +452,8 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
     let counts = format!(
         "Generated straight-line code: reduced (+) stepper: {}; reduced (−) stepper: {}; unreduced stepper: {}.",
         plus.counts, minus.counts, unreduced.counts
-    );
-    let vec = |d: usize| quote!(&#na::SVector<f64, #d>);
+    ) + &elimination_note;
 
-    let (vs, vk, vn) = (vec(s), vec(k), vec(n));
     quote! {
         #config_item
 
@@ -426,6 +518,8 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
             fn plus_momentum(&self, x_k: #vs, z: #vn) -> #na::SVector<f64, #s> {
                 #plus_m
             }
+
+            #plus_elim
         }
 
         impl #rt::ReducedMinus<#s, #k, #n> for #ty {
@@ -452,6 +546,8 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
             fn minus_momentum(&self, x_k: #vs, z: #vn) -> #na::SVector<f64, #s> {
                 #minus_m
             }
+
+            #minus_elim
         }
 
         impl #rt::Unreduced<#s, #k, #n> for #ty {
@@ -503,8 +599,85 @@ fn fallback(spec: Option<&Spec>, sig: Option<&Signature>, func: &ItemFn) -> Toke
     out.extend(user_function(func, &config, true, &[]));
     if let Some(sig) = sig {
         out.extend(param_struct(sig, func, &ty));
+        out.extend(stub_impls(spec, sig, &ty));
     }
     out
+}
+
+/// The inherent constants and the system traits, with the real signatures and bodies that are
+/// never reached (the compilation fails), so `ReducedIntegrator::plus(Name { .. }, ..)` and the
+/// like type-check. Trait methods with default bodies are left to their defaults.
+fn stub_impls(spec: &Spec, sig: &Signature, ty: &Ident) -> TokenStream {
+    let (s, k) = (spec.shape.len(), spec.group.len());
+    let n = s + k;
+    let rt = quote!(::dirac::runtime);
+    let na = quote!(::dirac::nalgebra);
+    let shape_names = spec.shape.iter().map(Ident::to_string);
+    let group_names = spec.group.iter().map(Ident::to_string);
+    let param_names = sig.params.iter().map(Ident::to_string);
+    let vec = |d: usize| quote!(&#na::SVector<f64, #d>);
+    let (vs, vk, vn) = (vec(s), vec(k), vec(n));
+    let (rn, mnn) = (
+        quote!(#na::SVector<f64, #n>),
+        quote!(#na::SMatrix<f64, #n, #n>),
+    );
+    let stub = quote!(::core::unimplemented!(
+        "`#[reduced_lagrangian]` reported an error"
+    ));
+    let generated = "Nothing: `#[reduced_lagrangian]` reported an error.";
+    quote! {
+        impl #ty {
+            /// Number of shape coordinates `S`.
+            pub const SHAPE_DIM: usize = #s;
+            /// Number of group coordinates `K`.
+            pub const GROUP_DIM: usize = #k;
+            /// Number of configuration coordinates `N = S + K`.
+            pub const CONFIG_DIM: usize = #n;
+            #[doc = #generated]
+            pub const GENERATED: &'static str = #generated;
+        }
+
+        // Stubs: the arguments are unused because the bodies are.
+        #[allow(unused_variables)]
+        impl #rt::DiscreteLagrangian<#s, #k, #n> for #ty {
+            const SHAPE: [&'static str; #s] = [ #( #shape_names ),* ];
+            const GROUP: [&'static str; #k] = [ #( #group_names ),* ];
+            const PARAMETERS: &'static [&'static str] = &[ #( #param_names ),* ];
+            fn lagrangian(&self, q0: #vn, q1: #vn) -> f64 { #stub }
+            fn connection(&self) -> #na::SMatrix<f64, #k, #s> { #stub }
+            fn time_step(&self) -> f64 { #stub }
+            fn parameter_values(&self) -> ::std::vec::Vec<f64> { #stub }
+        }
+
+        #[allow(unused_variables)]
+        impl #rt::ReducedPlus<#s, #k, #n> for #ty {
+            fn reduced_lagrangian_plus(&self, x0: #vs, x1: #vs, g1: #vk) -> f64 { #stub }
+            fn plus_residual(&self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn) -> #rn { #stub }
+            fn plus_residual_jacobian(
+                &self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn,
+            ) -> (#rn, #mnn) { #stub }
+            fn plus_momentum(&self, x_k: #vs, z: #vn) -> #na::SVector<f64, #s> { #stub }
+        }
+
+        #[allow(unused_variables)]
+        impl #rt::ReducedMinus<#s, #k, #n> for #ty {
+            fn reduced_lagrangian_minus(&self, x0: #vs, g0: #vk, x1: #vs) -> f64 { #stub }
+            fn minus_residual(&self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn) -> #rn { #stub }
+            fn minus_residual_jacobian(
+                &self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn,
+            ) -> (#rn, #mnn) { #stub }
+            fn minus_momentum(&self, x_k: #vs, z: #vn) -> #na::SVector<f64, #s> { #stub }
+        }
+
+        #[allow(unused_variables)]
+        impl #rt::Unreduced<#s, #k, #n> for #ty {
+            fn unreduced_residual(&self, q_k: #vn, p_k: #vn, z: #vn) -> #rn { #stub }
+            fn unreduced_residual_jacobian(&self, q_k: #vn, p_k: #vn, z: #vn) -> (#rn, #mnn) {
+                #stub
+            }
+            fn unreduced_momentum(&self, q_k: #vn, z: #vn) -> #rn { #stub }
+        }
+    }
 }
 
 #[cfg(test)]
@@ -552,5 +725,14 @@ mod tests {
         assert!(out.contains("struct FConfig"), "{out}");
         assert!(out.contains("struct F"), "{out}");
         assert!(out.contains("fn f"), "{out}");
+        for item in [
+            "DiscreteLagrangian",
+            "ReducedPlus",
+            "ReducedMinus",
+            "Unreduced",
+            "SHAPE_DIM",
+        ] {
+            assert!(out.contains(item), "{item} missing from {out}");
+        }
     }
 }

@@ -201,6 +201,10 @@ impl Graph {
             (_, Some(0.0)) => return a,
             _ => {}
         }
+        // x + (−x) = 0 and c·x + (−c)·x = 0, exactly: the two terms are exact negatives.
+        if self.is_negation_of(a, b) {
+            return self.constant(0.0);
+        }
         // a + (−b) = a − b, exactly.
         if let Node::Neg(nb) = self.node(b) {
             return self.sub(a, nb);
@@ -210,6 +214,22 @@ impl Graph {
         }
         let (a, b) = if a <= b { (a, b) } else { (b, a) };
         self.intern(Node::Add(a, b))
+    }
+
+    /// Whether `b` is structurally the exact negation of `a`: `−a`, or `(−c)·x` for `a = c·x`.
+    fn is_negation_of(&self, a: NodeId, b: NodeId) -> bool {
+        if self.node(b) == Node::Neg(a) || self.node(a) == Node::Neg(b) {
+            return true;
+        }
+        let scaled = |n: NodeId| match self.node(n) {
+            Node::Mul(p, q) => match (self.as_const(p), self.as_const(q)) {
+                (Some(c), None) => Some((c, q)),
+                (None, Some(c)) => Some((c, p)),
+                _ => None,
+            },
+            _ => None,
+        };
+        matches!((scaled(a), scaled(b)), (Some((ca, xa)), Some((cb, xb))) if xa == xb && ca == -cb)
     }
 
     pub fn sub(&mut self, a: NodeId, b: NodeId) -> NodeId {

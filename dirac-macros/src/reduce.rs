@@ -17,29 +17,66 @@ pub struct Stepper {
 
 /// `l_{d+}(x0, x1, g1) = L_d(x0, 0, x1, g1 + h_d^0(x0, x1))` with `h_d^0(x0, x1) = B (x1 − x0)`,
 /// eq. (4.5), built by substituting into the body's graph `l`.
-pub fn reduced_lagrangian_plus(g: &mut Graph, l: NodeId, s: usize, b: &[Vec<NodeId>]) -> NodeId {
+///
+/// `alpha` chooses where the group origin sits: by G-invariance
+/// `l_{d+} = L_d((x0, −α G), (x1, (1 − α) G))` with `G = g1 + h_d^0(x0, x1)` for every `α`; eq.
+/// (4.5) is `α = 0`. The functions are equal, but their expressions are not: with `α = ½` a
+/// midpoint-rule Lagrangian sees the group coordinate only through its increment, which is what
+/// lets [`eliminate_group`] recognise affine momentum equations structurally.
+pub fn reduced_lagrangian_plus(
+    g: &mut Graph,
+    l: NodeId,
+    s: usize,
+    b: &[Vec<NodeId>],
+    alpha: f64,
+) -> NodeId {
     g.substitute(l, &mut |g, sym| match sym {
         Sym::Q0(i) if i < s => g.var(Sym::X0(i)),
-        // The (+) reduced space fixes g0 = 0 (identification (3.10)).
-        Sym::Q0(_) => g.constant(0.0),
+        Sym::Q0(i) => {
+            let total = shifted(g, Sym::G1(i - s), &b[i - s], Sym::X1, Sym::X0);
+            let c = g.constant(-alpha);
+            g.mul(c, total)
+        }
         Sym::Q1(i) if i < s => g.var(Sym::X1(i)),
-        Sym::Q1(i) => shifted(g, Sym::G1(i - s), &b[i - s], Sym::X1, Sym::X0),
+        Sym::Q1(i) => {
+            let total = shifted(g, Sym::G1(i - s), &b[i - s], Sym::X1, Sym::X0);
+            let c = g.constant(1.0 - alpha);
+            g.mul(c, total)
+        }
         other => g.var(other),
     })
 }
 
 /// `l_{d−}(x0, g0, x1) = L_d(x0, g0 + h_d^0(x1, x0), x1, 0)` with `h_d^0(x1, x0) = B (x0 − x1)`,
-/// eq. (4.7).
-pub fn reduced_lagrangian_minus(g: &mut Graph, l: NodeId, s: usize, b: &[Vec<NodeId>]) -> NodeId {
+/// eq. (4.7); `alpha` as in [`reduced_lagrangian_plus`]: `L_d((x0, (1 − α) G), (x1, −α G))` with
+/// `G = g0 + h_d^0(x1, x0)`, eq. (4.7) being `α = 0`.
+pub fn reduced_lagrangian_minus(
+    g: &mut Graph,
+    l: NodeId,
+    s: usize,
+    b: &[Vec<NodeId>],
+    alpha: f64,
+) -> NodeId {
     g.substitute(l, &mut |g, sym| match sym {
         Sym::Q0(i) if i < s => g.var(Sym::X0(i)),
-        Sym::Q0(i) => shifted(g, Sym::G0(i - s), &b[i - s], Sym::X0, Sym::X1),
+        Sym::Q0(i) => {
+            let total = shifted(g, Sym::G0(i - s), &b[i - s], Sym::X0, Sym::X1);
+            let c = g.constant(1.0 - alpha);
+            g.mul(c, total)
+        }
         Sym::Q1(i) if i < s => g.var(Sym::X1(i)),
-        // The (−) reduced space fixes g1 = 0 (Remark 3.5).
-        Sym::Q1(_) => g.constant(0.0),
+        Sym::Q1(i) => {
+            let total = shifted(g, Sym::G0(i - s), &b[i - s], Sym::X0, Sym::X1);
+            let c = g.constant(-alpha);
+            g.mul(c, total)
+        }
         other => g.var(other),
     })
 }
+
+/// The group origins [`eliminate_group`] tries, in order: the paper's (`α = 0`), the midpoint,
+/// and the other end.
+pub const GROUP_ORIGINS: [f64; 3] = [0.0, 0.5, 1.0];
 
 /// `group + Σ_i b_i (to_i − from_i)`: a group coordinate shifted by `h_d^0`.
 fn shifted(
@@ -134,5 +171,140 @@ fn finish(
         residual,
         jacobian,
         momentum,
+    }
+}
+
+/// A stepper whose group equations were solved in closed form: Newton runs on the shape
+/// unknowns `x_{k+1}` only.
+pub struct Eliminated {
+    /// The shape equations with the group unknowns substituted, length `S`.
+    pub residual: Vec<NodeId>,
+    /// Their exact Jacobian in `x_{k+1}` (`S × S`), including the dependence through the
+    /// eliminated group unknowns.
+    pub jacobian: Vec<Vec<NodeId>>,
+    /// The group unknowns as functions of `(x_k, w_k, μ_k, x_{k+1})`, length `K`.
+    pub group: Vec<NodeId>,
+    /// The block `A = ∂R_g/∂g` that the closed form inverts (`K × K`, free of the group
+    /// unknowns): a degenerate `A` (e.g. where the symmetry action is not free) no longer shows
+    /// in the shape Jacobian, so the runtime estimates its conditioning from this.
+    pub block: Vec<Vec<NodeId>>,
+}
+
+/// Momentum-level elimination (beyond the paper: its conclusion names discrete Routh reduction
+/// as future work). The last `K` rows of a reduced stepper's residual are the momentum
+/// equations (`∂l_{d+}/∂g1 = μ_k` for (+), `∂l_{d−}/∂g0 = −μ_k` for (−)). When their Jacobian in
+/// the group unknowns does not involve the group unknowns — structurally, in the hash-consed
+/// graph — they are affine in them: `R_g(x1, g) = R_g(x1, 0) + A(x1) g`. Then
+/// `g = −A⁻¹ R_g(x1, 0)` in closed form (Cramer's rule, `K ≤ 3`), substituted into the shape
+/// equations, which are differentiated again for their exact Jacobian. This holds whenever the
+/// group coordinates are cyclic and `L_d` is quadratic in their increments (both paper examples).
+/// Returns `None` when the equations are not affine, `K > 3`, or `A` is structurally singular;
+/// the general path is used then.
+pub fn eliminate_group(
+    g: &mut Graph,
+    st: &Stepper,
+    s: usize,
+    k: usize,
+    group: fn(usize) -> Sym,
+) -> Option<Eliminated> {
+    if k == 0 || k > 3 {
+        return None;
+    }
+    let is_group = |sym: Sym| (0..k).any(|j| group(j) == sym);
+    let a: Vec<Vec<NodeId>> = (0..k)
+        .map(|i| (0..k).map(|j| st.jacobian[s + i][s + j]).collect())
+        .collect();
+    let a_flat: Vec<NodeId> = a.iter().flatten().copied().collect();
+    if g.symbols(&a_flat).into_iter().any(is_group) {
+        return None;
+    }
+    let minus_r0: Vec<NodeId> = (0..k)
+        .map(|i| {
+            let r0 = g.substitute(st.residual[s + i], &mut |g, sym| {
+                if is_group(sym) {
+                    g.constant(0.0)
+                } else {
+                    g.var(sym)
+                }
+            });
+            g.neg(r0)
+        })
+        .collect();
+    let solution = cramer(g, &a, &minus_r0)?;
+    let residual: Vec<NodeId> = (0..s)
+        .map(|i| {
+            g.substitute(
+                st.residual[i],
+                &mut |g, sym| match (0..k).find(|&j| group(j) == sym) {
+                    Some(j) => solution[j],
+                    None => g.var(sym),
+                },
+            )
+        })
+        .collect();
+    let columns: Vec<Vec<NodeId>> = (0..s)
+        .map(|c| derivatives(g, &residual, Sym::X1(c)))
+        .collect();
+    let jacobian = (0..s)
+        .map(|r| (0..s).map(|c| columns[c][r]).collect())
+        .collect();
+    Some(Eliminated {
+        residual,
+        jacobian,
+        group: solution,
+        block: a,
+    })
+}
+
+/// Solves `A x = b` symbolically by Cramer's rule (`A` is `K × K`, `K ≤ 3`); `None` when
+/// `det A` is structurally zero.
+fn cramer(g: &mut Graph, a: &[Vec<NodeId>], b: &[NodeId]) -> Option<Vec<NodeId>> {
+    let det_a = det(g, a);
+    if g.as_const(det_a) == Some(0.0) {
+        return None;
+    }
+    let n = a.len();
+    Some(
+        (0..n)
+            .map(|j| {
+                let aj: Vec<Vec<NodeId>> = (0..n)
+                    .map(|r| {
+                        (0..n)
+                            .map(|c| if c == j { b[r] } else { a[r][c] })
+                            .collect()
+                    })
+                    .collect();
+                let d = det(g, &aj);
+                g.div(d, det_a)
+            })
+            .collect(),
+    )
+}
+
+/// Determinant by Laplace expansion along the first row (small matrices only).
+fn det(g: &mut Graph, a: &[Vec<NodeId>]) -> NodeId {
+    match a.len() {
+        1 => a[0][0],
+        2 => {
+            let p = g.mul(a[0][0], a[1][1]);
+            let q = g.mul(a[0][1], a[1][0]);
+            g.sub(p, q)
+        }
+        n => {
+            let mut sum = g.constant(0.0);
+            for c in 0..n {
+                let minor: Vec<Vec<NodeId>> = (1..n)
+                    .map(|r| (0..n).filter(|&j| j != c).map(|j| a[r][j]).collect())
+                    .collect();
+                let m = det(g, &minor);
+                let term = g.mul(a[0][c], m);
+                sum = if c % 2 == 0 {
+                    g.add(sum, term)
+                } else {
+                    g.sub(sum, term)
+                };
+            }
+            sum
+        }
     }
 }

@@ -8,6 +8,7 @@
 //!     connection = [[0.0, b, 0.0]],// optional K × S matrix B: ω_d = (g1 − g0) − B (x1 − x0)
 //!     step = h,                    // optional: the time-step parameter (default: the one named `h`)
 //!     name = ChargedParticle,      // optional: the emitted type (default: the function name in CamelCase)
+//!     ranges(h = (0.001, 0.1)),    // optional: where the invariance check samples a parameter or coordinate
 //! )]
 //! fn f(q0: Config, q1: Config, h: f64, m: f64) -> f64 { … }
 //! ```
@@ -21,7 +22,10 @@ use syn::{Expr, Ident, Token};
 
 use crate::ctxt::Ctxt;
 
-const KEYS: &str = "`shape(...)`, `group(...)`, `connection = [[...], ...]`, `step = <parameter>` and `name = <TypeName>`";
+const KEYS: &str = "`shape(...)`, `group(...)`, `connection = [[...], ...]`, `step = <parameter>`, `name = <TypeName>` and `ranges(<name> = (lo, hi), ...)`";
+
+/// What `ranges(...)` accepts, for error messages.
+const RANGES: &str = "`ranges(name = (lo, hi), ...)` with a parameter or coordinate name and finite f64 literals lo < hi, e.g. `ranges(h = (0.001, 0.1))`";
 
 /// The parsed attribute.
 pub struct Spec {
@@ -31,6 +35,23 @@ pub struct Spec {
     pub connection: Option<Vec<Vec<Expr>>>,
     pub step: Option<Ident>,
     pub name: Option<Ident>,
+    /// Sampling ranges declared with `ranges(...)` for the invariance check, by name.
+    pub ranges: Vec<Range>,
+}
+
+/// One entry of `ranges(name = (lo, hi), ...)`: where the invariance check samples `name`.
+pub struct Range {
+    pub name: Ident,
+    pub lo: f64,
+    pub hi: f64,
+}
+
+/// The declared sampling ranges resolved against the signature; `None` where the default applies.
+pub struct Ranges {
+    /// One per coordinate, in configuration order (shape, then group).
+    pub coords: Vec<Option<(f64, f64)>>,
+    /// One per parameter, in declaration order.
+    pub params: Vec<Option<(f64, f64)>>,
 }
 
 /// The parsed function signature.
@@ -45,12 +66,42 @@ pub struct Signature {
 enum Arg {
     List(Ident, Punctuated<Ident, Token![,]>),
     Value(Ident, Expr),
+    Ranges(Ident, Punctuated<RangeArg, Token![,]>),
+}
+
+/// `name = (lo, hi)` inside `ranges(...)`; the value is checked later, with a span per mistake.
+struct RangeArg {
+    name: Ident,
+    value: Expr,
+}
+
+impl Parse for RangeArg {
+    fn parse(input: ParseStream) -> syn::Result<Self> {
+        let name: Ident = input
+            .parse()
+            .map_err(|e| syn::Error::new(e.span(), format!("expected {RANGES}")))?;
+        if !input.peek(Token![=]) {
+            return Err(syn::Error::new(
+                name.span(),
+                format!("expected `{name} = (lo, hi)`; accepted: {RANGES}"),
+            ));
+        }
+        input.parse::<Token![=]>()?;
+        Ok(RangeArg {
+            name,
+            value: input.parse()?,
+        })
+    }
 }
 
 impl Parse for Arg {
     fn parse(input: ParseStream) -> syn::Result<Self> {
         let key: Ident = input.parse()?;
-        if input.peek(syn::token::Paren) {
+        if key == "ranges" && input.peek(syn::token::Paren) {
+            let content;
+            syn::parenthesized!(content in input);
+            Ok(Arg::Ranges(key, Punctuated::parse_terminated(&content)?))
+        } else if input.peek(syn::token::Paren) {
             let content;
             syn::parenthesized!(content in input);
             let list = Punctuated::parse_terminated(&content)?;
@@ -82,10 +133,11 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
     let mut connection: Option<(Expr, Vec<Vec<Expr>>)> = None;
     let mut step: Option<Ident> = None;
     let mut name: Option<Ident> = None;
+    let mut ranges: Vec<Range> = Vec::new();
     let mut seen: Vec<String> = Vec::new();
     for arg in args {
         let key = match &arg {
-            Arg::List(k, _) | Arg::Value(k, _) => k.clone(),
+            Arg::List(k, _) | Arg::Value(k, _) | Arg::Ranges(k, _) => k.clone(),
         };
         let key_name = key.to_string();
         if seen.contains(&key_name) {
@@ -113,6 +165,11 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
             ("name", Arg::Value(_, value)) => {
                 name = parse_ident(cx, value, "a type name, e.g. `name = Particle`")
             }
+            ("ranges", Arg::Ranges(_, list)) => ranges = parse_ranges(cx, list),
+            ("ranges", Arg::Value(k, _)) => cx.error_spanned_by(
+                &k,
+                format!("expected `ranges(...)`, found `ranges = ...`; accepted: {RANGES}"),
+            ),
             ("shape" | "group", Arg::Value(k, _)) => {
                 cx.error_spanned_by(&k, format!("expected a list: `{k}(a, b, ...)`"))
             }
@@ -156,7 +213,128 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
         connection,
         step,
         name,
+        ranges,
     })
+}
+
+fn parse_ranges(cx: &Ctxt, list: Punctuated<RangeArg, Token![,]>) -> Vec<Range> {
+    let mut out: Vec<Range> = Vec::new();
+    for RangeArg { name, value } in list {
+        if out.iter().any(|r| r.name == name) {
+            cx.error_spanned_by(&name, format!("duplicate range for `{name}`"));
+            continue;
+        }
+        let bounds = match &value {
+            Expr::Tuple(t) if t.elems.len() == 2 => {
+                let lo = range_bound(cx, &t.elems[0]);
+                let hi = range_bound(cx, &t.elems[1]);
+                lo.zip(hi)
+            }
+            other => {
+                cx.error_spanned_by(
+                    other,
+                    format!(
+                        "expected a pair `(lo, hi)` for `{name}`, found `{}`; accepted: {RANGES}",
+                        other.to_token_stream()
+                    ),
+                );
+                None
+            }
+        };
+        let Some((lo, hi)) = bounds else { continue };
+        if lo >= hi {
+            cx.error_spanned_by(
+                &value,
+                format!(
+                    "empty range for `{name}`: the lower bound {lo:?} is not below the upper bound {hi:?}; accepted: {RANGES}"
+                ),
+            );
+            continue;
+        }
+        out.push(Range { name, lo, hi });
+    }
+    out
+}
+
+/// A bound of `ranges(...)`: an f64 or integer literal, optionally negated.
+fn range_bound(cx: &Ctxt, e: &Expr) -> Option<f64> {
+    let (negated, lit) = match e {
+        Expr::Unary(u) if matches!(u.op, syn::UnOp::Neg(_)) => (true, &*u.expr),
+        other => (false, other),
+    };
+    let value = match lit {
+        Expr::Lit(syn::ExprLit {
+            lit: syn::Lit::Float(f),
+            ..
+        }) => f.base10_parse::<f64>().ok(),
+        Expr::Lit(syn::ExprLit {
+            lit: syn::Lit::Int(i),
+            ..
+        }) => i.base10_parse::<f64>().ok(),
+        _ => None,
+    };
+    let Some(value) = value else {
+        cx.error_spanned_by(
+            e,
+            format!(
+                "range bounds must be f64 literals, found `{}`; accepted: {RANGES}",
+                e.to_token_stream()
+            ),
+        );
+        return None;
+    };
+    if !value.is_finite() {
+        cx.error_spanned_by(
+            e,
+            format!(
+                "range bound `{}` is not a finite f64; accepted: {RANGES}",
+                e.to_token_stream()
+            ),
+        );
+        return None;
+    }
+    Some(if negated { -value } else { value })
+}
+
+/// Resolves the names in `ranges(...)` against the parameters and coordinates.
+pub fn resolve_ranges(cx: &Ctxt, spec: &Spec, sig: &Signature) -> Ranges {
+    let coords: Vec<&Ident> = spec.shape.iter().chain(&spec.group).collect();
+    let mut out = Ranges {
+        coords: vec![None; coords.len()],
+        params: vec![None; sig.params.len()],
+    };
+    for r in &spec.ranges {
+        let param = sig.params.iter().position(|p| *p == r.name);
+        let coord = coords.iter().position(|c| **c == r.name);
+        match (param, coord) {
+            (Some(_), Some(_)) => cx.error_spanned_by(
+                &r.name,
+                format!(
+                    "`{}` is both a parameter and a coordinate, so `ranges({} = ...)` is ambiguous: rename the parameter",
+                    r.name, r.name
+                ),
+            ),
+            (Some(i), None) => out.params[i] = Some((r.lo, r.hi)),
+            (None, Some(i)) => out.coords[i] = Some((r.lo, r.hi)),
+            (None, None) => {
+                let names: Vec<String> = sig
+                    .params
+                    .iter()
+                    .chain(coords.iter().copied())
+                    .map(|n| format!("`{n}`"))
+                    .collect();
+                cx.error_spanned_by(
+                    &r.name,
+                    format!(
+                        "`{}` is not a parameter or coordinate; `ranges(...)` accepts the parameters and coordinates: {}",
+                        r.name,
+                        names.join(", ")
+                    ),
+                );
+            }
+        }
+    }
+    out
 }
 
 fn parse_ident(cx: &Ctxt, value: Expr, what: &str) -> Option<Ident> {

@@ -1,8 +1,9 @@
 //! Marching the reduced (+)/(−) equations and the unreduced equations step by step.
 
-use nalgebra::SVector;
+use nalgebra::{SMatrix, SVector};
 
 use crate::error::{IntegrationError, StepError};
+use crate::lu::Lu;
 use crate::newton::{self, NewtonFailure, NewtonOptions, NewtonSolution};
 use crate::state::{CanonicalState, ReducedState};
 use crate::system::{join, split, ReducedMinus, ReducedPlus, Unreduced};
@@ -197,6 +198,8 @@ pub struct ReducedIntegrator<L, const S: usize, const K: usize, const N: usize> 
     system: L,
     options: NewtonOptions,
     variant: Variant,
+    /// Use the closed-form group unknowns when the system provides them.
+    eliminate: bool,
 }
 
 impl<L, const S: usize, const K: usize, const N: usize> ReducedIntegrator<L, S, K, N>
@@ -209,6 +212,7 @@ where
             system,
             options,
             variant: Variant::Plus,
+            eliminate: true,
         }
     }
 
@@ -218,7 +222,26 @@ where
             system,
             options,
             variant: Variant::Minus,
+            eliminate: true,
         }
+    }
+
+    /// Whether to use momentum-level elimination when the system provides it (the default):
+    /// with `false`, every step solves for the shape and group unknowns together (the general
+    /// path), which gives the same trajectory to round-off.
+    pub fn with_elimination(mut self, eliminate: bool) -> Self {
+        self.eliminate = eliminate;
+        self
+    }
+
+    /// Whether steps run Newton on the shape unknowns alone, the group unknowns being solved in
+    /// closed form (see [`ReducedPlus::PLUS_ELIMINATES_GROUP`]).
+    pub fn eliminates_group(&self) -> bool {
+        self.eliminate
+            && match self.variant {
+                Variant::Plus => L::PLUS_ELIMINATES_GROUP,
+                Variant::Minus => L::MINUS_ELIMINATES_GROUP,
+            }
     }
 
     /// The system being integrated.
@@ -247,6 +270,9 @@ where
         let sys = &self.system;
         let (x, w, mu) = (&state.x, &state.w, &state.mu);
         let rho = newton::inf_norm(w).max(newton::inf_norm(mu));
+        if self.eliminates_group() {
+            return self.eliminated_step(k, state, guess, rho);
+        }
         let solution = match self.variant {
             Variant::Plus => newton::solve(
                 *guess,
@@ -264,10 +290,109 @@ where
             ),
         }
         .map_err(|failure| step_error(k, failure))?;
-        let (x1, g_unknown) = split::<S, K, N>(&solution.z);
+        self.finish_step(k, state, solution.z, StepStats::from_solution(&solution))
+    }
+
+    /// A step with the group unknowns eliminated: Newton on `x_{k+1}` alone, then the group
+    /// unknowns in closed form.
+    fn eliminated_step(
+        &self,
+        k: usize,
+        state: &ReducedState<S, K>,
+        guess: &SVector<f64, N>,
+        rho: f64,
+    ) -> Result<(ReducedState<S, K>, SVector<f64, K>, StepStats), StepError> {
+        let sys = &self.system;
+        let (x, w, mu) = (&state.x, &state.w, &state.mu);
+        let x_guess: SVector<f64, S> = guess.fixed_rows::<S>(0).into_owned();
+        // The `None` arms cannot be taken (`eliminates_group` checked the system's flag); they
+        // yield NaN, which the solver reports as a typed error rather than a panic.
+        let nan_s = || SVector::<f64, S>::repeat(f64::NAN);
+        let solution = match self.variant {
+            Variant::Plus => newton::solve(
+                x_guess,
+                rho,
+                &self.options,
+                |x1| {
+                    sys.plus_eliminated_residual(x, w, mu, x1)
+                        .unwrap_or_else(nan_s)
+                },
+                |x1| {
+                    sys.plus_eliminated_residual_jacobian(x, w, mu, x1)
+                        .unwrap_or_else(|| (nan_s(), SMatrix::repeat(f64::NAN)))
+                },
+            ),
+            Variant::Minus => newton::solve(
+                x_guess,
+                rho,
+                &self.options,
+                |x1| {
+                    sys.minus_eliminated_residual(x, w, mu, x1)
+                        .unwrap_or_else(nan_s)
+                },
+                |x1| {
+                    sys.minus_eliminated_residual_jacobian(x, w, mu, x1)
+                        .unwrap_or_else(|| (nan_s(), SMatrix::repeat(f64::NAN)))
+                },
+            ),
+        }
+        .map_err(|failure| step_error(k, failure))?;
+        let (group, block) = match self.variant {
+            Variant::Plus => (
+                sys.plus_eliminated_group(x, w, mu, &solution.z),
+                sys.plus_eliminated_group_block(x, w, mu, &solution.z),
+            ),
+            Variant::Minus => (
+                sys.minus_eliminated_group(x, w, mu, &solution.z),
+                sys.minus_eliminated_group_block(x, w, mu, &solution.z),
+            ),
+        };
+        let group = group.unwrap_or_else(|| SVector::repeat(f64::NAN));
+        // The closed form divides by the group block A, whose degeneracy (e.g. where the symmetry
+        // action is not free) the shape Jacobian J_S no longer shows: measure A against the scale
+        // of J_S, 1 / (‖A⁻¹‖₁ ‖J_S‖₁), and record the worse of that and rcond(J_S).
+        let pivot_rcond = match (block, solution.jacobian_norm1) {
+            (Some(a), Some(norm_s)) if norm_s > 0.0 => {
+                Some(Lu::new(a).map_or(0.0, |lu| (lu.rcond() * lu.norm1() / norm_s).min(1.0)))
+            }
+            _ => None,
+        };
+        let rcond = match (solution.rcond, pivot_rcond) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        };
+        if let Some(r) = rcond {
+            if r < self.options.min_rcond {
+                return Err(StepError::IllConditioned {
+                    step: k,
+                    rcond: r,
+                    residual: solution.residual,
+                });
+            }
+        }
+        let z = join::<S, K, N>(&solution.z, &group);
+        let stats = StepStats {
+            iterations: solution.iterations,
+            residual: solution.residual,
+            rcond,
+        };
+        self.finish_step(k, state, z, stats)
+    }
+
+    /// The explicit updates after the unknowns `z = (x_{k+1}, group unknown)` are known.
+    fn finish_step(
+        &self,
+        k: usize,
+        state: &ReducedState<S, K>,
+        z: SVector<f64, N>,
+        stats: StepStats,
+    ) -> Result<(ReducedState<S, K>, SVector<f64, K>, StepStats), StepError> {
+        let sys = &self.system;
+        let (x, mu) = (&state.x, &state.mu);
+        let (x1, g_unknown) = split::<S, K, N>(&z);
         let (w1, dg) = match self.variant {
-            Variant::Plus => (sys.plus_momentum(x, &solution.z), g_unknown),
-            Variant::Minus => (sys.minus_momentum(x, &solution.z), -g_unknown),
+            Variant::Plus => (sys.plus_momentum(x, &z), g_unknown),
+            Variant::Minus => (sys.minus_momentum(x, &z), -g_unknown),
         };
         let next = ReducedState {
             x: x1,
@@ -279,10 +404,10 @@ where
             return Err(StepError::NonFinite {
                 step: k,
                 what: "the updated state",
-                residual: solution.residual,
+                residual: stats.residual,
             });
         }
-        Ok((next, g_unknown, StepStats::from_solution(&solution)))
+        Ok((next, g_unknown, stats))
     }
 
     /// Integrates `steps` steps from `initial`.

@@ -76,6 +76,11 @@ impl<const N: usize> Lu<N> {
 }
 
 impl<const N: usize> Lu<N> {
+    /// `‖A‖₁` of the factored matrix.
+    pub fn norm1(&self) -> f64 {
+        self.norm1
+    }
+
     /// Solves `Aᵀ x = b`: `Uᵀ Lᵀ (P x) = b`.
     pub fn solve_transpose(&self, b: &SVector<f64, N>) -> SVector<f64, N> {
         let mut y = *b;

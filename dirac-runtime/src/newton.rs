@@ -62,6 +62,8 @@ pub struct NewtonSolution<const N: usize> {
     /// Reciprocal condition estimate of the last Jacobian factored (`None` if the initial guess
     /// already met the tolerance and no Jacobian was needed).
     pub rcond: Option<f64>,
+    /// `‖J‖₁` of that Jacobian.
+    pub jacobian_norm1: Option<f64>,
 }
 
 /// Why a solve failed, with the residual at the last iterate.
@@ -120,6 +122,7 @@ pub fn solve<const N: usize>(
     // Conditioning is estimated once per solve, from the last factorization.
     let done = |z, iterations, residual, factor: Option<Lu<N>>| {
         let rcond = factor.map(|f| f.rcond());
+        let jacobian_norm1 = factor.map(|f| f.norm1());
         match rcond {
             Some(rcond) if rcond < options.min_rcond => {
                 Err(NewtonFailure::IllConditioned { rcond, residual })
@@ -129,6 +132,7 @@ pub fn solve<const N: usize>(
                 iterations,
                 residual,
                 rcond,
+                jacobian_norm1,
             }),
         }
     };

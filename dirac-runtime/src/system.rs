@@ -135,6 +135,58 @@ pub trait ReducedPlus<const S: usize, const K: usize, const N: usize>:
 
     /// `w_{k+1} = ∂l_{d+}/∂x1 (x_k, x_{k+1}, g_k^+)`, first line of eq. (4.6).
     fn plus_momentum(&self, x_k: &SVector<f64, S>, z: &SVector<f64, N>) -> SVector<f64, S>;
+
+    /// Whether the momentum equations `∂l_{d+}/∂g1 = μ_k` are affine in `g_k^+` and were solved
+    /// in closed form at compile time (momentum-level elimination, beyond the paper: a discrete
+    /// Routh-type step). Then the `plus_eliminated_*` functions return `Some` and a step runs
+    /// Newton on the `S` shape unknowns alone.
+    const PLUS_ELIMINATES_GROUP: bool = false;
+
+    /// The shape residual `R_x(x_{k+1}, g_k^+(x_{k+1}))` with the group unknowns eliminated.
+    fn plus_eliminated_residual(
+        &self,
+        _x_k: &SVector<f64, S>,
+        _w_k: &SVector<f64, S>,
+        _mu_k: &SVector<f64, K>,
+        _x1: &SVector<f64, S>,
+    ) -> Option<SVector<f64, S>> {
+        None
+    }
+
+    /// The eliminated shape residual and its exact `S × S` Jacobian (the total derivative in
+    /// `x_{k+1}`, through the eliminated group unknowns).
+    fn plus_eliminated_residual_jacobian(
+        &self,
+        _x_k: &SVector<f64, S>,
+        _w_k: &SVector<f64, S>,
+        _mu_k: &SVector<f64, K>,
+        _x1: &SVector<f64, S>,
+    ) -> Option<(SVector<f64, S>, SMatrix<f64, S, S>)> {
+        None
+    }
+
+    /// The group unknowns `g_k^+` solving the momentum equations at `x_{k+1}`, in closed form.
+    fn plus_eliminated_group(
+        &self,
+        _x_k: &SVector<f64, S>,
+        _w_k: &SVector<f64, S>,
+        _mu_k: &SVector<f64, K>,
+        _x1: &SVector<f64, S>,
+    ) -> Option<SVector<f64, K>> {
+        None
+    }
+
+    /// The block `A = ∂R_g/∂(g_k^+)` that the closed form inverts, at `x_{k+1}`; the runtime
+    /// estimates its conditioning, which the shape Jacobian no longer shows.
+    fn plus_eliminated_group_block(
+        &self,
+        _x_k: &SVector<f64, S>,
+        _w_k: &SVector<f64, S>,
+        _mu_k: &SVector<f64, K>,
+        _x1: &SVector<f64, S>,
+    ) -> Option<SMatrix<f64, K, K>> {
+        None
+    }
 }
 
 /// The reduced (−) discrete Lagrange–Poincaré–Dirac equations for the reduced Lagrangian
@@ -202,6 +254,54 @@ pub trait ReducedMinus<const S: usize, const K: usize, const N: usize>:
 
     /// `w_{k+1} = ∂l_{d−}/∂x1 (x_k, g_{k+1}^−, x_{k+1})`.
     fn minus_momentum(&self, x_k: &SVector<f64, S>, z: &SVector<f64, N>) -> SVector<f64, S>;
+
+    /// As [`ReducedPlus::PLUS_ELIMINATES_GROUP`], for `∂l_{d−}/∂g0 = −μ_k` and `g_{k+1}^−`.
+    const MINUS_ELIMINATES_GROUP: bool = false;
+
+    /// The shape residual with the group unknowns eliminated.
+    fn minus_eliminated_residual(
+        &self,
+        _x_k: &SVector<f64, S>,
+        _w_k: &SVector<f64, S>,
+        _mu_k: &SVector<f64, K>,
+        _x1: &SVector<f64, S>,
+    ) -> Option<SVector<f64, S>> {
+        None
+    }
+
+    /// The eliminated shape residual and its exact `S × S` Jacobian.
+    fn minus_eliminated_residual_jacobian(
+        &self,
+        _x_k: &SVector<f64, S>,
+        _w_k: &SVector<f64, S>,
+        _mu_k: &SVector<f64, K>,
+        _x1: &SVector<f64, S>,
+    ) -> Option<(SVector<f64, S>, SMatrix<f64, S, S>)> {
+        None
+    }
+
+    /// The group unknowns `g_{k+1}^−` in closed form.
+    fn minus_eliminated_group(
+        &self,
+        _x_k: &SVector<f64, S>,
+        _w_k: &SVector<f64, S>,
+        _mu_k: &SVector<f64, K>,
+        _x1: &SVector<f64, S>,
+    ) -> Option<SVector<f64, K>> {
+        None
+    }
+
+    /// The block `A = ∂R_g/∂(g_{k+1}^−)` that the closed form inverts, at `x_{k+1}`; the runtime
+    /// estimates its conditioning, which the shape Jacobian no longer shows.
+    fn minus_eliminated_group_block(
+        &self,
+        _x_k: &SVector<f64, S>,
+        _w_k: &SVector<f64, S>,
+        _mu_k: &SVector<f64, K>,
+        _x1: &SVector<f64, S>,
+    ) -> Option<SMatrix<f64, K, K>> {
+        None
+    }
 }
 
 /// The unreduced (+) discrete Lagrange–Dirac equations on `Q` (Definition 2.7):

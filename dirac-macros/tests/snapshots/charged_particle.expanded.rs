@@ -54,8 +54,8 @@ impl ChargedParticle {
     pub const GROUP_DIM: usize = 1usize;
     /// Number of configuration coordinates `N = S + K`.
     pub const CONFIG_DIM: usize = 4usize;
-    ///Generated straight-line code: reduced (+) stepper: 42 operations for the residual, 77 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; reduced (−) stepper: 43 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; unreduced stepper: 44 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 34 for the momentum update.
-    pub const GENERATED: &'static str = "Generated straight-line code: reduced (+) stepper: 42 operations for the residual, 77 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; reduced (−) stepper: 43 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; unreduced stepper: 44 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 34 for the momentum update.";
+    ///Generated straight-line code: reduced (+) stepper: 42 operations for the residual, 77 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; reduced (−) stepper: 43 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; unreduced stepper: 44 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 34 for the momentum update. Momentum-level elimination: (+) group unknowns solved in closed form, (−) group unknowns solved in closed form.
+    pub const GENERATED: &'static str = "Generated straight-line code: reduced (+) stepper: 42 operations for the residual, 77 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; reduced (−) stepper: 43 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; unreduced stepper: 44 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 34 for the momentum update. Momentum-level elimination: (+) group unknowns solved in closed form, (−) group unknowns solved in closed form.";
 }
 impl ::dirac::runtime::DiscreteLagrangian<3usize, 1usize, 4usize> for ChargedParticle {
     const SHAPE: [&'static str; 3usize] = ["x", "y", "z"];
@@ -142,16 +142,16 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
         let __t48: f64 = __t47 - __t46;
         let __t49: f64 = __t11 * __t48;
         let __g1_0: f64 = z[3usize];
-        let __t51: f64 = __t49 + __g1_0;
-        let __t58: f64 = __t32 * __t51;
+        let __t52: f64 = __t49 + __g1_0;
+        let __t59: f64 = __t32 * __t52;
         let __t64: f64 = __x0_1 + __t42;
         let __t65: f64 = __t11 * __t64;
         let __t66: f64 = -__t39;
         let __t67: f64 = __t66 - __t39;
         let __t68: f64 = __t25 * __t67;
         let __t69: f64 = __t32 * __t65;
-        let __t70: f64 = __t58 * __t65;
-        let __t71: f64 = __t51 * __t69;
+        let __t70: f64 = __t59 * __t65;
+        let __t71: f64 = __t52 * __t69;
         let __t72: f64 = __t70 + __t71;
         let __t73: f64 = __t68 + __t72;
         let __w_0: f64 = w_k[0usize];
@@ -163,8 +163,8 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
         let __t80: f64 = __t79 - __t42;
         let __t81: f64 = __t25 * __t80;
         let __t82: f64 = __t32 * __t78;
-        let __t83: f64 = __t58 * __t78;
-        let __t84: f64 = __t51 * __t82;
+        let __t83: f64 = __t59 * __t78;
+        let __t84: f64 = __t52 * __t82;
         let __t85: f64 = __t83 + __t84;
         let __t86: f64 = __t81 + __t85;
         let __w_1: f64 = w_k[1usize];
@@ -174,7 +174,7 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
         let __t91: f64 = __t25 * __t90;
         let __w_2: f64 = w_k[2usize];
         let __t93: f64 = __t91 + __w_2;
-        let __t94: f64 = __t58 + __t58;
+        let __t94: f64 = __t59 + __t59;
         let __mu_0: f64 = mu_k[0usize];
         let __t96: f64 = __t94 - __mu_0;
         ::dirac::nalgebra::SVector::<f64, 4usize>::from([__t75, __t88, __t93, __t96])
@@ -211,16 +211,16 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
         let __t48: f64 = __t47 - __t46;
         let __t49: f64 = __t11 * __t48;
         let __g1_0: f64 = z[3usize];
-        let __t51: f64 = __t49 + __g1_0;
-        let __t58: f64 = __t32 * __t51;
+        let __t52: f64 = __t49 + __g1_0;
+        let __t59: f64 = __t32 * __t52;
         let __t64: f64 = __x0_1 + __t42;
         let __t65: f64 = __t11 * __t64;
         let __t66: f64 = -__t39;
         let __t67: f64 = __t66 - __t39;
         let __t68: f64 = __t25 * __t67;
         let __t69: f64 = __t32 * __t65;
-        let __t70: f64 = __t58 * __t65;
-        let __t71: f64 = __t51 * __t69;
+        let __t70: f64 = __t59 * __t65;
+        let __t71: f64 = __t52 * __t69;
         let __t72: f64 = __t70 + __t71;
         let __t73: f64 = __t68 + __t72;
         let __w_0: f64 = w_k[0usize];
@@ -232,8 +232,8 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
         let __t80: f64 = __t79 - __t42;
         let __t81: f64 = __t25 * __t80;
         let __t82: f64 = __t32 * __t78;
-        let __t83: f64 = __t58 * __t78;
-        let __t84: f64 = __t51 * __t82;
+        let __t83: f64 = __t59 * __t78;
+        let __t84: f64 = __t52 * __t82;
         let __t85: f64 = __t83 + __t84;
         let __t86: f64 = __t81 + __t85;
         let __w_1: f64 = w_k[1usize];
@@ -243,7 +243,7 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
         let __t91: f64 = __t25 * __t90;
         let __w_2: f64 = w_k[2usize];
         let __t93: f64 = __t91 + __w_2;
-        let __t94: f64 = __t58 + __t58;
+        let __t94: f64 = __t59 + __t59;
         let __mu_0: f64 = mu_k[0usize];
         let __t96: f64 = __t94 - __mu_0;
         let __t97: f64 = __t11 * __x0_1;
@@ -258,11 +258,11 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
         let __t110: f64 = __t11 * __t32;
         let __t112: f64 = __t78 * __t99;
         let __t113: f64 = -__t112;
-        let __t114: f64 = __t11 * __t58;
+        let __t114: f64 = __t11 * __t59;
         let __t116: f64 = __t113 - __t114;
         let __t117: f64 = __t82 * __t97;
         let __t118: f64 = -__t117;
-        let __t119: f64 = __t51 * __t110;
+        let __t119: f64 = __t52 * __t110;
         let __t121: f64 = __t118 - __t119;
         let __t122: f64 = __t116 + __t121;
         let __t123: f64 = __t100 - __t99;
@@ -327,28 +327,271 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
         let __t48: f64 = __t47 - __t46;
         let __t49: f64 = __t11 * __t48;
         let __g1_0: f64 = z[3usize];
-        let __t51: f64 = __t49 + __g1_0;
-        let __t58: f64 = __t32 * __t51;
+        let __t52: f64 = __t49 + __g1_0;
+        let __t59: f64 = __t32 * __t52;
         let __t97: f64 = __t11 * __x0_1;
         let __t99: f64 = __t32 * __t97;
         let __t124: f64 = __t11 * __x0_0;
         let __t125: f64 = __t32 * __t124;
         let __t139: f64 = __t39 + __t39;
         let __t140: f64 = __t25 * __t139;
-        let __t141: f64 = __t58 * __t97;
+        let __t141: f64 = __t59 * __t97;
         let __t142: f64 = -__t141;
-        let __t143: f64 = __t51 * __t99;
+        let __t143: f64 = __t52 * __t99;
         let __t145: f64 = __t142 - __t143;
         let __t146: f64 = __t140 + __t145;
         let __t147: f64 = __t42 + __t42;
         let __t148: f64 = __t25 * __t147;
-        let __t149: f64 = __t58 * __t124;
-        let __t150: f64 = __t51 * __t125;
+        let __t149: f64 = __t59 * __t124;
+        let __t150: f64 = __t52 * __t125;
         let __t151: f64 = __t149 + __t150;
         let __t152: f64 = __t148 + __t151;
         let __t153: f64 = __t45 + __t45;
         let __t154: f64 = __t25 * __t153;
         ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t146, __t152, __t154])
+    }
+    const PLUS_ELIMINATES_GROUP: bool = true;
+    #[inline]
+    #[allow(unused_variables)]
+    fn plus_eliminated_residual(
+        &self,
+        x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
+        w_k: &::dirac::nalgebra::SVector<f64, 3usize>,
+        mu_k: &::dirac::nalgebra::SVector<f64, 1usize>,
+        z: &::dirac::nalgebra::SVector<f64, 3usize>,
+    ) -> ::core::option::Option<::dirac::nalgebra::SVector<f64, 3usize>> {
+        ::core::option::Option::Some({
+            let __p2: f64 = self.b0;
+            let __t11: f64 = 0.5f64 * __p2;
+            let __p1: f64 = self.m;
+            let __t23: f64 = 0.5f64 * __p1;
+            let __p0: f64 = self.h;
+            let __t25: f64 = __t23 / __p0;
+            let __t32: f64 = 0.5f64 / __p0;
+            let __x1_0: f64 = z[0usize];
+            let __x0_0: f64 = x_k[0usize];
+            let __t39: f64 = __x1_0 - __x0_0;
+            let __x1_1: f64 = z[1usize];
+            let __x0_1: f64 = x_k[1usize];
+            let __t42: f64 = __x1_1 - __x0_1;
+            let __x1_2: f64 = z[2usize];
+            let __x0_2: f64 = x_k[2usize];
+            let __t45: f64 = __x1_2 - __x0_2;
+            let __t46: f64 = __t39 * __x0_1;
+            let __t47: f64 = __x0_0 * __t42;
+            let __t48: f64 = __t47 - __t46;
+            let __t49: f64 = __t11 * __t48;
+            let __t64: f64 = __x0_1 + __t42;
+            let __t65: f64 = __t11 * __t64;
+            let __t66: f64 = -__t39;
+            let __t67: f64 = __t66 - __t39;
+            let __t68: f64 = __t25 * __t67;
+            let __t69: f64 = __t32 * __t65;
+            let __w_0: f64 = w_k[0usize];
+            let __t76: f64 = -__x0_0;
+            let __t77: f64 = __t76 - __t39;
+            let __t78: f64 = __t11 * __t77;
+            let __t79: f64 = -__t42;
+            let __t80: f64 = __t79 - __t42;
+            let __t81: f64 = __t25 * __t80;
+            let __t82: f64 = __t32 * __t78;
+            let __w_1: f64 = w_k[1usize];
+            let __t89: f64 = -__t45;
+            let __t90: f64 = __t89 - __t45;
+            let __t91: f64 = __t25 * __t90;
+            let __w_2: f64 = w_k[2usize];
+            let __t93: f64 = __t91 + __w_2;
+            let __mu_0: f64 = mu_k[0usize];
+            let __t138: f64 = __t32 + __t32;
+            let __t294: f64 = __t32 * __t49;
+            let __t295: f64 = __t294 + __t294;
+            let __t296: f64 = __t295 - __mu_0;
+            let __t298: f64 = __t296 / __t138;
+            let __t300: f64 = __t49 - __t298;
+            let __t301: f64 = __t32 * __t300;
+            let __t302: f64 = __t65 * __t301;
+            let __t303: f64 = __t69 * __t300;
+            let __t304: f64 = __t302 + __t303;
+            let __t305: f64 = __t68 + __t304;
+            let __t306: f64 = __w_0 + __t305;
+            let __t307: f64 = __t78 * __t301;
+            let __t308: f64 = __t82 * __t300;
+            let __t309: f64 = __t307 + __t308;
+            let __t310: f64 = __t81 + __t309;
+            let __t311: f64 = __w_1 + __t310;
+            ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t306, __t311, __t93])
+        })
+    }
+    #[inline]
+    #[allow(unused_variables)]
+    fn plus_eliminated_residual_jacobian(
+        &self,
+        x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
+        w_k: &::dirac::nalgebra::SVector<f64, 3usize>,
+        mu_k: &::dirac::nalgebra::SVector<f64, 1usize>,
+        z: &::dirac::nalgebra::SVector<f64, 3usize>,
+    ) -> ::core::option::Option<
+        (
+            ::dirac::nalgebra::SVector<f64, 3usize>,
+            ::dirac::nalgebra::SMatrix<f64, 3usize, 3usize>,
+        ),
+    > {
+        ::core::option::Option::Some({
+            let __p2: f64 = self.b0;
+            let __t11: f64 = 0.5f64 * __p2;
+            let __p1: f64 = self.m;
+            let __t23: f64 = 0.5f64 * __p1;
+            let __p0: f64 = self.h;
+            let __t25: f64 = __t23 / __p0;
+            let __t32: f64 = 0.5f64 / __p0;
+            let __x1_0: f64 = z[0usize];
+            let __x0_0: f64 = x_k[0usize];
+            let __t39: f64 = __x1_0 - __x0_0;
+            let __x1_1: f64 = z[1usize];
+            let __x0_1: f64 = x_k[1usize];
+            let __t42: f64 = __x1_1 - __x0_1;
+            let __x1_2: f64 = z[2usize];
+            let __x0_2: f64 = x_k[2usize];
+            let __t45: f64 = __x1_2 - __x0_2;
+            let __t46: f64 = __t39 * __x0_1;
+            let __t47: f64 = __x0_0 * __t42;
+            let __t48: f64 = __t47 - __t46;
+            let __t49: f64 = __t11 * __t48;
+            let __t64: f64 = __x0_1 + __t42;
+            let __t65: f64 = __t11 * __t64;
+            let __t66: f64 = -__t39;
+            let __t67: f64 = __t66 - __t39;
+            let __t68: f64 = __t25 * __t67;
+            let __t69: f64 = __t32 * __t65;
+            let __w_0: f64 = w_k[0usize];
+            let __t76: f64 = -__x0_0;
+            let __t77: f64 = __t76 - __t39;
+            let __t78: f64 = __t11 * __t77;
+            let __t79: f64 = -__t42;
+            let __t80: f64 = __t79 - __t42;
+            let __t81: f64 = __t25 * __t80;
+            let __t82: f64 = __t32 * __t78;
+            let __w_1: f64 = w_k[1usize];
+            let __t89: f64 = -__t45;
+            let __t90: f64 = __t89 - __t45;
+            let __t91: f64 = __t25 * __t90;
+            let __w_2: f64 = w_k[2usize];
+            let __t93: f64 = __t91 + __w_2;
+            let __mu_0: f64 = mu_k[0usize];
+            let __t97: f64 = __t11 * __x0_1;
+            let __t98: f64 = -__t97;
+            let __t99: f64 = __t32 * __t97;
+            let __t100: f64 = -__t99;
+            let __t102: f64 = __t25 * (-2f64);
+            let __t110: f64 = __t11 * __t32;
+            let __t123: f64 = __t100 - __t99;
+            let __t124: f64 = __t11 * __x0_0;
+            let __t125: f64 = __t32 * __t124;
+            let __t135: f64 = __t125 + __t125;
+            let __t138: f64 = __t32 + __t32;
+            let __t294: f64 = __t32 * __t49;
+            let __t295: f64 = __t294 + __t294;
+            let __t296: f64 = __t295 - __mu_0;
+            let __t298: f64 = __t296 / __t138;
+            let __t300: f64 = __t49 - __t298;
+            let __t301: f64 = __t32 * __t300;
+            let __t302: f64 = __t65 * __t301;
+            let __t303: f64 = __t69 * __t300;
+            let __t304: f64 = __t302 + __t303;
+            let __t305: f64 = __t68 + __t304;
+            let __t306: f64 = __w_0 + __t305;
+            let __t307: f64 = __t78 * __t301;
+            let __t308: f64 = __t82 * __t300;
+            let __t309: f64 = __t307 + __t308;
+            let __t310: f64 = __t81 + __t309;
+            let __t311: f64 = __w_1 + __t310;
+            let __t312: f64 = __t123 / __t138;
+            let __t313: f64 = __t98 - __t312;
+            let __t314: f64 = __t32 * __t313;
+            let __t315: f64 = __t65 * __t314;
+            let __t316: f64 = __t69 * __t313;
+            let __t317: f64 = __t315 + __t316;
+            let __t318: f64 = __t102 + __t317;
+            let __t319: f64 = __t11 * __t301;
+            let __t321: f64 = __t78 * __t314;
+            let __t322: f64 = __t321 - __t319;
+            let __t323: f64 = __t110 * __t300;
+            let __t325: f64 = __t82 * __t313;
+            let __t326: f64 = __t325 - __t323;
+            let __t327: f64 = __t322 + __t326;
+            let __t328: f64 = __t135 / __t138;
+            let __t329: f64 = __t124 - __t328;
+            let __t330: f64 = __t32 * __t329;
+            let __t331: f64 = __t65 * __t330;
+            let __t332: f64 = __t319 + __t331;
+            let __t333: f64 = __t69 * __t329;
+            let __t334: f64 = __t323 + __t333;
+            let __t335: f64 = __t332 + __t334;
+            let __t336: f64 = __t78 * __t330;
+            let __t337: f64 = __t82 * __t329;
+            let __t338: f64 = __t336 + __t337;
+            let __t339: f64 = __t102 + __t338;
+            let mut __jac = ::dirac::nalgebra::SMatrix::<f64, 3usize, 3usize>::zeros();
+            __jac[(0usize, 0usize)] = __t318;
+            __jac[(0usize, 1usize)] = __t335;
+            __jac[(1usize, 0usize)] = __t327;
+            __jac[(1usize, 1usize)] = __t339;
+            __jac[(2usize, 2usize)] = __t102;
+            (
+                ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t306, __t311, __t93]),
+                __jac,
+            )
+        })
+    }
+    #[inline]
+    #[allow(unused_variables)]
+    fn plus_eliminated_group(
+        &self,
+        x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
+        w_k: &::dirac::nalgebra::SVector<f64, 3usize>,
+        mu_k: &::dirac::nalgebra::SVector<f64, 1usize>,
+        z: &::dirac::nalgebra::SVector<f64, 3usize>,
+    ) -> ::core::option::Option<::dirac::nalgebra::SVector<f64, 1usize>> {
+        ::core::option::Option::Some({
+            let __p2: f64 = self.b0;
+            let __t11: f64 = 0.5f64 * __p2;
+            let __p0: f64 = self.h;
+            let __t32: f64 = 0.5f64 / __p0;
+            let __x1_0: f64 = z[0usize];
+            let __x0_0: f64 = x_k[0usize];
+            let __t39: f64 = __x1_0 - __x0_0;
+            let __x1_1: f64 = z[1usize];
+            let __x0_1: f64 = x_k[1usize];
+            let __t42: f64 = __x1_1 - __x0_1;
+            let __t46: f64 = __t39 * __x0_1;
+            let __t47: f64 = __x0_0 * __t42;
+            let __t48: f64 = __t47 - __t46;
+            let __t49: f64 = __t11 * __t48;
+            let __mu_0: f64 = mu_k[0usize];
+            let __t138: f64 = __t32 + __t32;
+            let __t294: f64 = __t32 * __t49;
+            let __t295: f64 = __t294 + __t294;
+            let __t296: f64 = __t295 - __mu_0;
+            let __t298: f64 = __t296 / __t138;
+            let __t299: f64 = -__t298;
+            ::dirac::nalgebra::SVector::<f64, 1usize>::from([__t299])
+        })
+    }
+    #[inline]
+    #[allow(unused_variables)]
+    fn plus_eliminated_group_block(
+        &self,
+        x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
+        w_k: &::dirac::nalgebra::SVector<f64, 3usize>,
+        mu_k: &::dirac::nalgebra::SVector<f64, 1usize>,
+        z: &::dirac::nalgebra::SVector<f64, 3usize>,
+    ) -> ::core::option::Option<::dirac::nalgebra::SMatrix<f64, 1usize, 1usize>> {
+        let __p0: f64 = self.h;
+        let __t32: f64 = 0.5f64 / __p0;
+        let __t138: f64 = __t32 + __t32;
+        ::core::option::Option::Some(
+            ::dirac::nalgebra::SMatrix::<f64, 1usize, 1usize>::from_row_slice(&[__t138]),
+        )
     }
 }
 impl ::dirac::runtime::ReducedMinus<3usize, 1usize, 4usize> for ChargedParticle {
@@ -616,6 +859,251 @@ impl ::dirac::runtime::ReducedMinus<3usize, 1usize, 4usize> for ChargedParticle 
         let __t203: f64 = __t201 + __t202;
         let __t204: f64 = __t148 + __t203;
         ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t200, __t204, __t154])
+    }
+    const MINUS_ELIMINATES_GROUP: bool = true;
+    #[inline]
+    #[allow(unused_variables)]
+    fn minus_eliminated_residual(
+        &self,
+        x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
+        w_k: &::dirac::nalgebra::SVector<f64, 3usize>,
+        mu_k: &::dirac::nalgebra::SVector<f64, 1usize>,
+        z: &::dirac::nalgebra::SVector<f64, 3usize>,
+    ) -> ::core::option::Option<::dirac::nalgebra::SVector<f64, 3usize>> {
+        ::core::option::Option::Some({
+            let __p2: f64 = self.b0;
+            let __t11: f64 = 0.5f64 * __p2;
+            let __p1: f64 = self.m;
+            let __t23: f64 = 0.5f64 * __p1;
+            let __p0: f64 = self.h;
+            let __t25: f64 = __t23 / __p0;
+            let __t32: f64 = 0.5f64 / __p0;
+            let __x1_0: f64 = z[0usize];
+            let __x0_0: f64 = x_k[0usize];
+            let __t39: f64 = __x1_0 - __x0_0;
+            let __x1_1: f64 = z[1usize];
+            let __x0_1: f64 = x_k[1usize];
+            let __t42: f64 = __x1_1 - __x0_1;
+            let __x1_2: f64 = z[2usize];
+            let __x0_2: f64 = x_k[2usize];
+            let __t45: f64 = __x1_2 - __x0_2;
+            let __t46: f64 = __t39 * __x0_1;
+            let __t47: f64 = __x0_0 * __t42;
+            let __t48: f64 = __t47 - __t46;
+            let __t49: f64 = __t11 * __t48;
+            let __t64: f64 = __x0_1 + __t42;
+            let __t65: f64 = __t11 * __t64;
+            let __t66: f64 = -__t39;
+            let __t67: f64 = __t66 - __t39;
+            let __t68: f64 = __t25 * __t67;
+            let __t69: f64 = __t32 * __t65;
+            let __w_0: f64 = w_k[0usize];
+            let __t76: f64 = -__x0_0;
+            let __t77: f64 = __t76 - __t39;
+            let __t78: f64 = __t11 * __t77;
+            let __t79: f64 = -__t42;
+            let __t80: f64 = __t79 - __t42;
+            let __t81: f64 = __t25 * __t80;
+            let __t82: f64 = __t32 * __t78;
+            let __w_1: f64 = w_k[1usize];
+            let __t89: f64 = -__t45;
+            let __t90: f64 = __t89 - __t45;
+            let __t91: f64 = __t25 * __t90;
+            let __w_2: f64 = w_k[2usize];
+            let __t93: f64 = __t91 + __w_2;
+            let __mu_0: f64 = mu_k[0usize];
+            let __t138: f64 = __t32 + __t32;
+            let __t294: f64 = __t32 * __t49;
+            let __t340: f64 = -__t294;
+            let __t341: f64 = __t340 - __t294;
+            let __t342: f64 = __mu_0 + __t341;
+            let __t344: f64 = __t342 / __t138;
+            let __t346: f64 = __t49 + __t344;
+            let __t347: f64 = __t32 * __t346;
+            let __t348: f64 = __t65 * __t347;
+            let __t349: f64 = __t69 * __t346;
+            let __t350: f64 = __t348 + __t349;
+            let __t351: f64 = __t68 + __t350;
+            let __t352: f64 = __w_0 + __t351;
+            let __t353: f64 = __t78 * __t347;
+            let __t354: f64 = __t82 * __t346;
+            let __t355: f64 = __t353 + __t354;
+            let __t356: f64 = __t81 + __t355;
+            let __t357: f64 = __w_1 + __t356;
+            ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t352, __t357, __t93])
+        })
+    }
+    #[inline]
+    #[allow(unused_variables)]
+    fn minus_eliminated_residual_jacobian(
+        &self,
+        x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
+        w_k: &::dirac::nalgebra::SVector<f64, 3usize>,
+        mu_k: &::dirac::nalgebra::SVector<f64, 1usize>,
+        z: &::dirac::nalgebra::SVector<f64, 3usize>,
+    ) -> ::core::option::Option<
+        (
+            ::dirac::nalgebra::SVector<f64, 3usize>,
+            ::dirac::nalgebra::SMatrix<f64, 3usize, 3usize>,
+        ),
+    > {
+        ::core::option::Option::Some({
+            let __p2: f64 = self.b0;
+            let __t11: f64 = 0.5f64 * __p2;
+            let __p1: f64 = self.m;
+            let __t23: f64 = 0.5f64 * __p1;
+            let __p0: f64 = self.h;
+            let __t25: f64 = __t23 / __p0;
+            let __t32: f64 = 0.5f64 / __p0;
+            let __x1_0: f64 = z[0usize];
+            let __x0_0: f64 = x_k[0usize];
+            let __t39: f64 = __x1_0 - __x0_0;
+            let __x1_1: f64 = z[1usize];
+            let __x0_1: f64 = x_k[1usize];
+            let __t42: f64 = __x1_1 - __x0_1;
+            let __x1_2: f64 = z[2usize];
+            let __x0_2: f64 = x_k[2usize];
+            let __t45: f64 = __x1_2 - __x0_2;
+            let __t46: f64 = __t39 * __x0_1;
+            let __t47: f64 = __x0_0 * __t42;
+            let __t48: f64 = __t47 - __t46;
+            let __t49: f64 = __t11 * __t48;
+            let __t64: f64 = __x0_1 + __t42;
+            let __t65: f64 = __t11 * __t64;
+            let __t66: f64 = -__t39;
+            let __t67: f64 = __t66 - __t39;
+            let __t68: f64 = __t25 * __t67;
+            let __t69: f64 = __t32 * __t65;
+            let __w_0: f64 = w_k[0usize];
+            let __t76: f64 = -__x0_0;
+            let __t77: f64 = __t76 - __t39;
+            let __t78: f64 = __t11 * __t77;
+            let __t79: f64 = -__t42;
+            let __t80: f64 = __t79 - __t42;
+            let __t81: f64 = __t25 * __t80;
+            let __t82: f64 = __t32 * __t78;
+            let __w_1: f64 = w_k[1usize];
+            let __t89: f64 = -__t45;
+            let __t90: f64 = __t89 - __t45;
+            let __t91: f64 = __t25 * __t90;
+            let __w_2: f64 = w_k[2usize];
+            let __t93: f64 = __t91 + __w_2;
+            let __mu_0: f64 = mu_k[0usize];
+            let __t97: f64 = __t11 * __x0_1;
+            let __t99: f64 = __t32 * __t97;
+            let __t102: f64 = __t25 * (-2f64);
+            let __t110: f64 = __t11 * __t32;
+            let __t124: f64 = __t11 * __x0_0;
+            let __t125: f64 = __t32 * __t124;
+            let __t138: f64 = __t32 + __t32;
+            let __t185: f64 = __t99 + __t99;
+            let __t189: f64 = -__t125;
+            let __t190: f64 = __t189 - __t125;
+            let __t294: f64 = __t32 * __t49;
+            let __t340: f64 = -__t294;
+            let __t341: f64 = __t340 - __t294;
+            let __t342: f64 = __mu_0 + __t341;
+            let __t344: f64 = __t342 / __t138;
+            let __t346: f64 = __t49 + __t344;
+            let __t347: f64 = __t32 * __t346;
+            let __t348: f64 = __t65 * __t347;
+            let __t349: f64 = __t69 * __t346;
+            let __t350: f64 = __t348 + __t349;
+            let __t351: f64 = __t68 + __t350;
+            let __t352: f64 = __w_0 + __t351;
+            let __t353: f64 = __t78 * __t347;
+            let __t354: f64 = __t82 * __t346;
+            let __t355: f64 = __t353 + __t354;
+            let __t356: f64 = __t81 + __t355;
+            let __t357: f64 = __w_1 + __t356;
+            let __t358: f64 = __t185 / __t138;
+            let __t359: f64 = __t358 - __t97;
+            let __t360: f64 = __t32 * __t359;
+            let __t361: f64 = __t65 * __t360;
+            let __t362: f64 = __t69 * __t359;
+            let __t363: f64 = __t361 + __t362;
+            let __t364: f64 = __t102 + __t363;
+            let __t365: f64 = __t11 * __t347;
+            let __t367: f64 = __t78 * __t360;
+            let __t368: f64 = __t367 - __t365;
+            let __t369: f64 = __t110 * __t346;
+            let __t371: f64 = __t82 * __t359;
+            let __t372: f64 = __t371 - __t369;
+            let __t373: f64 = __t368 + __t372;
+            let __t374: f64 = __t190 / __t138;
+            let __t375: f64 = __t124 + __t374;
+            let __t376: f64 = __t32 * __t375;
+            let __t377: f64 = __t65 * __t376;
+            let __t378: f64 = __t365 + __t377;
+            let __t379: f64 = __t69 * __t375;
+            let __t380: f64 = __t369 + __t379;
+            let __t381: f64 = __t378 + __t380;
+            let __t382: f64 = __t78 * __t376;
+            let __t383: f64 = __t82 * __t375;
+            let __t384: f64 = __t382 + __t383;
+            let __t385: f64 = __t102 + __t384;
+            let mut __jac = ::dirac::nalgebra::SMatrix::<f64, 3usize, 3usize>::zeros();
+            __jac[(0usize, 0usize)] = __t364;
+            __jac[(0usize, 1usize)] = __t381;
+            __jac[(1usize, 0usize)] = __t373;
+            __jac[(1usize, 1usize)] = __t385;
+            __jac[(2usize, 2usize)] = __t102;
+            (
+                ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t352, __t357, __t93]),
+                __jac,
+            )
+        })
+    }
+    #[inline]
+    #[allow(unused_variables)]
+    fn minus_eliminated_group(
+        &self,
+        x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
+        w_k: &::dirac::nalgebra::SVector<f64, 3usize>,
+        mu_k: &::dirac::nalgebra::SVector<f64, 1usize>,
+        z: &::dirac::nalgebra::SVector<f64, 3usize>,
+    ) -> ::core::option::Option<::dirac::nalgebra::SVector<f64, 1usize>> {
+        ::core::option::Option::Some({
+            let __p2: f64 = self.b0;
+            let __t11: f64 = 0.5f64 * __p2;
+            let __p0: f64 = self.h;
+            let __t32: f64 = 0.5f64 / __p0;
+            let __x1_0: f64 = z[0usize];
+            let __x0_0: f64 = x_k[0usize];
+            let __t39: f64 = __x1_0 - __x0_0;
+            let __x1_1: f64 = z[1usize];
+            let __x0_1: f64 = x_k[1usize];
+            let __t42: f64 = __x1_1 - __x0_1;
+            let __t46: f64 = __t39 * __x0_1;
+            let __t47: f64 = __x0_0 * __t42;
+            let __t48: f64 = __t47 - __t46;
+            let __t49: f64 = __t11 * __t48;
+            let __mu_0: f64 = mu_k[0usize];
+            let __t138: f64 = __t32 + __t32;
+            let __t294: f64 = __t32 * __t49;
+            let __t340: f64 = -__t294;
+            let __t341: f64 = __t340 - __t294;
+            let __t342: f64 = __mu_0 + __t341;
+            let __t344: f64 = __t342 / __t138;
+            let __t345: f64 = -__t344;
+            ::dirac::nalgebra::SVector::<f64, 1usize>::from([__t345])
+        })
+    }
+    #[inline]
+    #[allow(unused_variables)]
+    fn minus_eliminated_group_block(
+        &self,
+        x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
+        w_k: &::dirac::nalgebra::SVector<f64, 3usize>,
+        mu_k: &::dirac::nalgebra::SVector<f64, 1usize>,
+        z: &::dirac::nalgebra::SVector<f64, 3usize>,
+    ) -> ::core::option::Option<::dirac::nalgebra::SMatrix<f64, 1usize, 1usize>> {
+        let __p0: f64 = self.h;
+        let __t32: f64 = 0.5f64 / __p0;
+        let __t138: f64 = __t32 + __t32;
+        ::core::option::Option::Some(
+            ::dirac::nalgebra::SMatrix::<f64, 1usize, 1usize>::from_row_slice(&[__t138]),
+        )
     }
 }
 impl ::dirac::runtime::Unreduced<3usize, 1usize, 4usize> for ChargedParticle {
