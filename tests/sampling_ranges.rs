@@ -23,5 +23,9 @@ fn a_body_defined_on_part_of_the_space_compiles_and_integrates() {
     assert_eq!(traj.last().mu, initial.mu);
     // θ advances at the rate μ / m with μ = 0.7 and m = 1 (the group coordinate is free).
     let t = 200.0 * sys.h;
-    assert!((traj.last().g[0] - 0.7 * t).abs() < 1e-9 * t, "θ = {}", traj.last().g[0]);
+    assert!(
+        (traj.last().g[0] - 0.7 * t).abs() < 1e-9 * t,
+        "θ = {}",
+        traj.last().g[0]
+    );
 }

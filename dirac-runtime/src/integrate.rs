@@ -198,8 +198,9 @@ pub struct ReducedIntegrator<L, const S: usize, const K: usize, const N: usize> 
     system: L,
     options: NewtonOptions,
     variant: Variant,
-    /// Use the closed-form group unknowns when the system provides them.
-    eliminate: bool,
+    /// `Some(choice)` forces the eliminated (where available) or the general path; `None` takes
+    /// the compiler's verdict.
+    eliminate: Option<bool>,
 }
 
 impl<L, const S: usize, const K: usize, const N: usize> ReducedIntegrator<L, S, K, N>
@@ -212,7 +213,7 @@ where
             system,
             options,
             variant: Variant::Plus,
-            eliminate: true,
+            eliminate: None,
         }
     }
 
@@ -222,26 +223,27 @@ where
             system,
             options,
             variant: Variant::Minus,
-            eliminate: true,
+            eliminate: None,
         }
     }
 
-    /// Whether to use momentum-level elimination when the system provides it (the default):
-    /// with `false`, every step solves for the shape and group unknowns together (the general
-    /// path), which gives the same trajectory to round-off.
+    /// Forces the path: `true` solves the group unknowns in closed form wherever the system
+    /// provides it ([`ReducedPlus::PLUS_ELIMINATES_GROUP`]), `false` solves shape and group
+    /// unknowns together. Both give the same trajectory to round-off. By default the compiler's
+    /// verdict ([`ReducedPlus::PLUS_ELIMINATION_PAYS`]) decides.
     pub fn with_elimination(mut self, eliminate: bool) -> Self {
-        self.eliminate = eliminate;
+        self.eliminate = Some(eliminate);
         self
     }
 
     /// Whether steps run Newton on the shape unknowns alone, the group unknowns being solved in
-    /// closed form (see [`ReducedPlus::PLUS_ELIMINATES_GROUP`]).
+    /// closed form.
     pub fn eliminates_group(&self) -> bool {
-        self.eliminate
-            && match self.variant {
-                Variant::Plus => L::PLUS_ELIMINATES_GROUP,
-                Variant::Minus => L::MINUS_ELIMINATES_GROUP,
-            }
+        let (available, pays) = match self.variant {
+            Variant::Plus => (L::PLUS_ELIMINATES_GROUP, L::PLUS_ELIMINATION_PAYS),
+            Variant::Minus => (L::MINUS_ELIMINATES_GROUP, L::MINUS_ELIMINATION_PAYS),
+        };
+        available && self.eliminate.unwrap_or(pays)
     }
 
     /// The system being integrated.

@@ -142,6 +142,10 @@ pub trait ReducedPlus<const S: usize, const K: usize, const N: usize>:
     /// Newton on the `S` shape unknowns alone.
     const PLUS_ELIMINATES_GROUP: bool = false;
 
+    /// Whether the eliminated stepper is the better default: the compiler's verdict that its
+    /// straight-line code is no larger (within 10%) than the general path's.
+    const PLUS_ELIMINATION_PAYS: bool = false;
+
     /// The shape residual `R_x(x_{k+1}, g_k^+(x_{k+1}))` with the group unknowns eliminated.
     fn plus_eliminated_residual(
         &self,
@@ -257,6 +261,9 @@ pub trait ReducedMinus<const S: usize, const K: usize, const N: usize>:
 
     /// As [`ReducedPlus::PLUS_ELIMINATES_GROUP`], for `∂l_{d−}/∂g0 = −μ_k` and `g_{k+1}^−`.
     const MINUS_ELIMINATES_GROUP: bool = false;
+
+    /// As [`ReducedPlus::PLUS_ELIMINATION_PAYS`].
+    const MINUS_ELIMINATION_PAYS: bool = false;
 
     /// The shape residual with the group unknowns eliminated.
     fn minus_eliminated_residual(

@@ -54,8 +54,8 @@ impl ChargedParticle {
     pub const GROUP_DIM: usize = 1usize;
     /// Number of configuration coordinates `N = S + K`.
     pub const CONFIG_DIM: usize = 4usize;
-    ///Generated straight-line code: reduced (+) stepper: 42 operations for the residual, 77 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; reduced (−) stepper: 43 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; unreduced stepper: 44 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 34 for the momentum update. Momentum-level elimination: (+) group unknowns solved in closed form, (−) group unknowns solved in closed form.
-    pub const GENERATED: &'static str = "Generated straight-line code: reduced (+) stepper: 42 operations for the residual, 77 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; reduced (−) stepper: 43 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; unreduced stepper: 44 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 34 for the momentum update. Momentum-level elimination: (+) group unknowns solved in closed form, (−) group unknowns solved in closed form.";
+    ///Generated straight-line code: reduced (+) stepper: 42 operations for the residual, 77 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; reduced (−) stepper: 43 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; unreduced stepper: 44 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 34 for the momentum update. Momentum-level elimination: (+) group unknowns in closed form, Newton on the shape unknowns: 45 operations for the residual, 81 for the residual with its Jacobian (5 nonzero entries), 14 for the momentum update (the third count is the closed form); used by default: yes; (−) group unknowns in closed form, Newton on the shape unknowns: 46 operations for the residual, 81 for the residual with its Jacobian (5 nonzero entries), 15 for the momentum update (the third count is the closed form); used by default: yes.
+    pub const GENERATED: &'static str = "Generated straight-line code: reduced (+) stepper: 42 operations for the residual, 77 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; reduced (−) stepper: 43 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; unreduced stepper: 44 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 34 for the momentum update. Momentum-level elimination: (+) group unknowns in closed form, Newton on the shape unknowns: 45 operations for the residual, 81 for the residual with its Jacobian (5 nonzero entries), 14 for the momentum update (the third count is the closed form); used by default: yes; (−) group unknowns in closed form, Newton on the shape unknowns: 46 operations for the residual, 81 for the residual with its Jacobian (5 nonzero entries), 15 for the momentum update (the third count is the closed form); used by default: yes.";
 }
 impl ::dirac::runtime::DiscreteLagrangian<3usize, 1usize, 4usize> for ChargedParticle {
     const SHAPE: [&'static str; 3usize] = ["x", "y", "z"];
@@ -351,6 +351,7 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
         ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t146, __t152, __t154])
     }
     const PLUS_ELIMINATES_GROUP: bool = true;
+    const PLUS_ELIMINATION_PAYS: bool = true;
     #[inline]
     #[allow(unused_variables)]
     fn plus_eliminated_residual(
@@ -403,23 +404,23 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
             let __t93: f64 = __t91 + __w_2;
             let __mu_0: f64 = mu_k[0usize];
             let __t138: f64 = __t32 + __t32;
-            let __t294: f64 = __t32 * __t49;
-            let __t295: f64 = __t294 + __t294;
-            let __t296: f64 = __t295 - __mu_0;
-            let __t298: f64 = __t296 / __t138;
-            let __t300: f64 = __t49 - __t298;
-            let __t301: f64 = __t32 * __t300;
-            let __t302: f64 = __t65 * __t301;
-            let __t303: f64 = __t69 * __t300;
-            let __t304: f64 = __t302 + __t303;
-            let __t305: f64 = __t68 + __t304;
-            let __t306: f64 = __w_0 + __t305;
-            let __t307: f64 = __t78 * __t301;
-            let __t308: f64 = __t82 * __t300;
-            let __t309: f64 = __t307 + __t308;
-            let __t310: f64 = __t81 + __t309;
-            let __t311: f64 = __w_1 + __t310;
-            ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t306, __t311, __t93])
+            let __t375: f64 = __t32 * __t49;
+            let __t376: f64 = __t375 + __t375;
+            let __t377: f64 = __t376 - __mu_0;
+            let __t379: f64 = __t377 / __t138;
+            let __t381: f64 = __t49 - __t379;
+            let __t382: f64 = __t32 * __t381;
+            let __t383: f64 = __t65 * __t382;
+            let __t384: f64 = __t69 * __t381;
+            let __t385: f64 = __t383 + __t384;
+            let __t386: f64 = __t68 + __t385;
+            let __t387: f64 = __w_0 + __t386;
+            let __t388: f64 = __t78 * __t382;
+            let __t389: f64 = __t82 * __t381;
+            let __t390: f64 = __t388 + __t389;
+            let __t391: f64 = __t81 + __t390;
+            let __t392: f64 = __w_1 + __t391;
+            ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t387, __t392, __t93])
         })
     }
     #[inline]
@@ -489,56 +490,56 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
             let __t125: f64 = __t32 * __t124;
             let __t135: f64 = __t125 + __t125;
             let __t138: f64 = __t32 + __t32;
-            let __t294: f64 = __t32 * __t49;
-            let __t295: f64 = __t294 + __t294;
-            let __t296: f64 = __t295 - __mu_0;
-            let __t298: f64 = __t296 / __t138;
-            let __t300: f64 = __t49 - __t298;
-            let __t301: f64 = __t32 * __t300;
-            let __t302: f64 = __t65 * __t301;
-            let __t303: f64 = __t69 * __t300;
-            let __t304: f64 = __t302 + __t303;
-            let __t305: f64 = __t68 + __t304;
-            let __t306: f64 = __w_0 + __t305;
-            let __t307: f64 = __t78 * __t301;
-            let __t308: f64 = __t82 * __t300;
-            let __t309: f64 = __t307 + __t308;
-            let __t310: f64 = __t81 + __t309;
-            let __t311: f64 = __w_1 + __t310;
-            let __t312: f64 = __t123 / __t138;
-            let __t313: f64 = __t98 - __t312;
-            let __t314: f64 = __t32 * __t313;
-            let __t315: f64 = __t65 * __t314;
-            let __t316: f64 = __t69 * __t313;
-            let __t317: f64 = __t315 + __t316;
-            let __t318: f64 = __t102 + __t317;
-            let __t319: f64 = __t11 * __t301;
-            let __t321: f64 = __t78 * __t314;
-            let __t322: f64 = __t321 - __t319;
-            let __t323: f64 = __t110 * __t300;
-            let __t325: f64 = __t82 * __t313;
-            let __t326: f64 = __t325 - __t323;
-            let __t327: f64 = __t322 + __t326;
-            let __t328: f64 = __t135 / __t138;
-            let __t329: f64 = __t124 - __t328;
-            let __t330: f64 = __t32 * __t329;
-            let __t331: f64 = __t65 * __t330;
-            let __t332: f64 = __t319 + __t331;
-            let __t333: f64 = __t69 * __t329;
-            let __t334: f64 = __t323 + __t333;
-            let __t335: f64 = __t332 + __t334;
-            let __t336: f64 = __t78 * __t330;
-            let __t337: f64 = __t82 * __t329;
-            let __t338: f64 = __t336 + __t337;
-            let __t339: f64 = __t102 + __t338;
+            let __t375: f64 = __t32 * __t49;
+            let __t376: f64 = __t375 + __t375;
+            let __t377: f64 = __t376 - __mu_0;
+            let __t379: f64 = __t377 / __t138;
+            let __t381: f64 = __t49 - __t379;
+            let __t382: f64 = __t32 * __t381;
+            let __t383: f64 = __t65 * __t382;
+            let __t384: f64 = __t69 * __t381;
+            let __t385: f64 = __t383 + __t384;
+            let __t386: f64 = __t68 + __t385;
+            let __t387: f64 = __w_0 + __t386;
+            let __t388: f64 = __t78 * __t382;
+            let __t389: f64 = __t82 * __t381;
+            let __t390: f64 = __t388 + __t389;
+            let __t391: f64 = __t81 + __t390;
+            let __t392: f64 = __w_1 + __t391;
+            let __t393: f64 = __t123 / __t138;
+            let __t394: f64 = __t98 - __t393;
+            let __t395: f64 = __t32 * __t394;
+            let __t396: f64 = __t65 * __t395;
+            let __t397: f64 = __t69 * __t394;
+            let __t398: f64 = __t396 + __t397;
+            let __t399: f64 = __t102 + __t398;
+            let __t400: f64 = __t11 * __t382;
+            let __t402: f64 = __t78 * __t395;
+            let __t403: f64 = __t402 - __t400;
+            let __t404: f64 = __t110 * __t381;
+            let __t406: f64 = __t82 * __t394;
+            let __t407: f64 = __t406 - __t404;
+            let __t408: f64 = __t403 + __t407;
+            let __t409: f64 = __t135 / __t138;
+            let __t410: f64 = __t124 - __t409;
+            let __t411: f64 = __t32 * __t410;
+            let __t412: f64 = __t65 * __t411;
+            let __t413: f64 = __t400 + __t412;
+            let __t414: f64 = __t69 * __t410;
+            let __t415: f64 = __t404 + __t414;
+            let __t416: f64 = __t413 + __t415;
+            let __t417: f64 = __t78 * __t411;
+            let __t418: f64 = __t82 * __t410;
+            let __t419: f64 = __t417 + __t418;
+            let __t420: f64 = __t102 + __t419;
             let mut __jac = ::dirac::nalgebra::SMatrix::<f64, 3usize, 3usize>::zeros();
-            __jac[(0usize, 0usize)] = __t318;
-            __jac[(0usize, 1usize)] = __t335;
-            __jac[(1usize, 0usize)] = __t327;
-            __jac[(1usize, 1usize)] = __t339;
+            __jac[(0usize, 0usize)] = __t399;
+            __jac[(0usize, 1usize)] = __t416;
+            __jac[(1usize, 0usize)] = __t408;
+            __jac[(1usize, 1usize)] = __t420;
             __jac[(2usize, 2usize)] = __t102;
             (
-                ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t306, __t311, __t93]),
+                ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t387, __t392, __t93]),
                 __jac,
             )
         })
@@ -569,12 +570,12 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
             let __t49: f64 = __t11 * __t48;
             let __mu_0: f64 = mu_k[0usize];
             let __t138: f64 = __t32 + __t32;
-            let __t294: f64 = __t32 * __t49;
-            let __t295: f64 = __t294 + __t294;
-            let __t296: f64 = __t295 - __mu_0;
-            let __t298: f64 = __t296 / __t138;
-            let __t299: f64 = -__t298;
-            ::dirac::nalgebra::SVector::<f64, 1usize>::from([__t299])
+            let __t375: f64 = __t32 * __t49;
+            let __t376: f64 = __t375 + __t375;
+            let __t377: f64 = __t376 - __mu_0;
+            let __t379: f64 = __t377 / __t138;
+            let __t380: f64 = -__t379;
+            ::dirac::nalgebra::SVector::<f64, 1usize>::from([__t380])
         })
     }
     #[inline]
@@ -669,22 +670,22 @@ impl ::dirac::runtime::ReducedMinus<3usize, 1usize, 4usize> for ChargedParticle 
         let __t93: f64 = __t91 + __w_2;
         let __mu_0: f64 = mu_k[0usize];
         let __g0_0: f64 = z[3usize];
-        let __t160: f64 = __t49 - __g0_0;
-        let __t161: f64 = __t32 * __t160;
-        let __t164: f64 = __t65 * __t161;
-        let __t165: f64 = __t69 * __t160;
-        let __t166: f64 = __t164 + __t165;
-        let __t167: f64 = __t68 + __t166;
-        let __t168: f64 = __w_0 + __t167;
-        let __t169: f64 = __t78 * __t161;
-        let __t170: f64 = __t82 * __t160;
-        let __t171: f64 = __t169 + __t170;
-        let __t172: f64 = __t81 + __t171;
-        let __t173: f64 = __w_1 + __t172;
-        let __t175: f64 = -__t161;
-        let __t176: f64 = __t175 - __t161;
-        let __t177: f64 = __mu_0 + __t176;
-        ::dirac::nalgebra::SVector::<f64, 4usize>::from([__t168, __t173, __t93, __t177])
+        let __t201: f64 = __t49 - __g0_0;
+        let __t202: f64 = __t32 * __t201;
+        let __t205: f64 = __t65 * __t202;
+        let __t206: f64 = __t69 * __t201;
+        let __t207: f64 = __t205 + __t206;
+        let __t208: f64 = __t68 + __t207;
+        let __t209: f64 = __w_0 + __t208;
+        let __t210: f64 = __t78 * __t202;
+        let __t211: f64 = __t82 * __t201;
+        let __t212: f64 = __t210 + __t211;
+        let __t213: f64 = __t81 + __t212;
+        let __t214: f64 = __w_1 + __t213;
+        let __t216: f64 = -__t202;
+        let __t217: f64 = __t216 - __t202;
+        let __t218: f64 = __mu_0 + __t217;
+        ::dirac::nalgebra::SVector::<f64, 4usize>::from([__t209, __t214, __t93, __t218])
     }
     #[inline]
     fn minus_residual_jacobian(
@@ -759,54 +760,54 @@ impl ::dirac::runtime::ReducedMinus<3usize, 1usize, 4usize> for ChargedParticle 
         let __t134: f64 = __t102 + __t133;
         let __t138: f64 = __t32 + __t32;
         let __g0_0: f64 = z[3usize];
-        let __t160: f64 = __t49 - __g0_0;
-        let __t161: f64 = __t32 * __t160;
-        let __t164: f64 = __t65 * __t161;
-        let __t165: f64 = __t69 * __t160;
-        let __t166: f64 = __t164 + __t165;
-        let __t167: f64 = __t68 + __t166;
-        let __t168: f64 = __w_0 + __t167;
-        let __t169: f64 = __t78 * __t161;
-        let __t170: f64 = __t82 * __t160;
-        let __t171: f64 = __t169 + __t170;
-        let __t172: f64 = __t81 + __t171;
-        let __t173: f64 = __w_1 + __t172;
-        let __t175: f64 = -__t161;
-        let __t176: f64 = __t175 - __t161;
-        let __t177: f64 = __mu_0 + __t176;
-        let __t178: f64 = __t11 * __t161;
-        let __t179: f64 = -__t178;
-        let __t180: f64 = __t179 - __t112;
-        let __t181: f64 = __t110 * __t160;
-        let __t182: f64 = -__t181;
-        let __t183: f64 = __t182 - __t117;
-        let __t184: f64 = __t180 + __t183;
-        let __t185: f64 = __t99 + __t99;
-        let __t186: f64 = __t126 + __t178;
-        let __t187: f64 = __t128 + __t181;
-        let __t188: f64 = __t186 + __t187;
-        let __t189: f64 = -__t125;
-        let __t190: f64 = __t189 - __t125;
-        let __t191: f64 = -__t69;
-        let __t192: f64 = __t191 - __t69;
-        let __t193: f64 = -__t82;
-        let __t194: f64 = __t193 - __t82;
+        let __t201: f64 = __t49 - __g0_0;
+        let __t202: f64 = __t32 * __t201;
+        let __t205: f64 = __t65 * __t202;
+        let __t206: f64 = __t69 * __t201;
+        let __t207: f64 = __t205 + __t206;
+        let __t208: f64 = __t68 + __t207;
+        let __t209: f64 = __w_0 + __t208;
+        let __t210: f64 = __t78 * __t202;
+        let __t211: f64 = __t82 * __t201;
+        let __t212: f64 = __t210 + __t211;
+        let __t213: f64 = __t81 + __t212;
+        let __t214: f64 = __w_1 + __t213;
+        let __t216: f64 = -__t202;
+        let __t217: f64 = __t216 - __t202;
+        let __t218: f64 = __mu_0 + __t217;
+        let __t219: f64 = __t11 * __t202;
+        let __t220: f64 = -__t219;
+        let __t221: f64 = __t220 - __t112;
+        let __t222: f64 = __t110 * __t201;
+        let __t223: f64 = -__t222;
+        let __t224: f64 = __t223 - __t117;
+        let __t225: f64 = __t221 + __t224;
+        let __t226: f64 = __t99 + __t99;
+        let __t227: f64 = __t126 + __t219;
+        let __t228: f64 = __t128 + __t222;
+        let __t229: f64 = __t227 + __t228;
+        let __t230: f64 = -__t125;
+        let __t231: f64 = __t230 - __t125;
+        let __t232: f64 = -__t69;
+        let __t233: f64 = __t232 - __t69;
+        let __t234: f64 = -__t82;
+        let __t235: f64 = __t234 - __t82;
         let mut __jac = ::dirac::nalgebra::SMatrix::<f64, 4usize, 4usize>::zeros();
         __jac[(0usize, 0usize)] = __t108;
-        __jac[(0usize, 1usize)] = __t188;
-        __jac[(0usize, 3usize)] = __t192;
-        __jac[(1usize, 0usize)] = __t184;
+        __jac[(0usize, 1usize)] = __t229;
+        __jac[(0usize, 3usize)] = __t233;
+        __jac[(1usize, 0usize)] = __t225;
         __jac[(1usize, 1usize)] = __t134;
-        __jac[(1usize, 3usize)] = __t194;
+        __jac[(1usize, 3usize)] = __t235;
         __jac[(2usize, 2usize)] = __t102;
-        __jac[(3usize, 0usize)] = __t185;
-        __jac[(3usize, 1usize)] = __t190;
+        __jac[(3usize, 0usize)] = __t226;
+        __jac[(3usize, 1usize)] = __t231;
         __jac[(3usize, 3usize)] = __t138;
         (
             ::dirac::nalgebra::SVector::<
                 f64,
                 4usize,
-            >::from([__t168, __t173, __t93, __t177]),
+            >::from([__t209, __t214, __t93, __t218]),
             __jac,
         )
     }
@@ -847,20 +848,21 @@ impl ::dirac::runtime::ReducedMinus<3usize, 1usize, 4usize> for ChargedParticle 
         let __t153: f64 = __t45 + __t45;
         let __t154: f64 = __t25 * __t153;
         let __g0_0: f64 = z[3usize];
-        let __t160: f64 = __t49 - __g0_0;
-        let __t161: f64 = __t32 * __t160;
-        let __t195: f64 = __t97 * __t161;
-        let __t196: f64 = -__t195;
-        let __t197: f64 = __t99 * __t160;
-        let __t199: f64 = __t196 - __t197;
-        let __t200: f64 = __t140 + __t199;
-        let __t201: f64 = __t124 * __t161;
-        let __t202: f64 = __t125 * __t160;
-        let __t203: f64 = __t201 + __t202;
-        let __t204: f64 = __t148 + __t203;
-        ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t200, __t204, __t154])
+        let __t201: f64 = __t49 - __g0_0;
+        let __t202: f64 = __t32 * __t201;
+        let __t236: f64 = __t97 * __t202;
+        let __t237: f64 = -__t236;
+        let __t238: f64 = __t99 * __t201;
+        let __t240: f64 = __t237 - __t238;
+        let __t241: f64 = __t140 + __t240;
+        let __t242: f64 = __t124 * __t202;
+        let __t243: f64 = __t125 * __t201;
+        let __t244: f64 = __t242 + __t243;
+        let __t245: f64 = __t148 + __t244;
+        ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t241, __t245, __t154])
     }
     const MINUS_ELIMINATES_GROUP: bool = true;
+    const MINUS_ELIMINATION_PAYS: bool = true;
     #[inline]
     #[allow(unused_variables)]
     fn minus_eliminated_residual(
@@ -913,24 +915,24 @@ impl ::dirac::runtime::ReducedMinus<3usize, 1usize, 4usize> for ChargedParticle 
             let __t93: f64 = __t91 + __w_2;
             let __mu_0: f64 = mu_k[0usize];
             let __t138: f64 = __t32 + __t32;
-            let __t294: f64 = __t32 * __t49;
-            let __t340: f64 = -__t294;
-            let __t341: f64 = __t340 - __t294;
-            let __t342: f64 = __mu_0 + __t341;
-            let __t344: f64 = __t342 / __t138;
-            let __t346: f64 = __t49 + __t344;
-            let __t347: f64 = __t32 * __t346;
-            let __t348: f64 = __t65 * __t347;
-            let __t349: f64 = __t69 * __t346;
-            let __t350: f64 = __t348 + __t349;
-            let __t351: f64 = __t68 + __t350;
-            let __t352: f64 = __w_0 + __t351;
-            let __t353: f64 = __t78 * __t347;
-            let __t354: f64 = __t82 * __t346;
-            let __t355: f64 = __t353 + __t354;
-            let __t356: f64 = __t81 + __t355;
-            let __t357: f64 = __w_1 + __t356;
-            ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t352, __t357, __t93])
+            let __t375: f64 = __t32 * __t49;
+            let __t470: f64 = -__t375;
+            let __t471: f64 = __t470 - __t375;
+            let __t472: f64 = __mu_0 + __t471;
+            let __t474: f64 = __t472 / __t138;
+            let __t476: f64 = __t49 + __t474;
+            let __t477: f64 = __t32 * __t476;
+            let __t478: f64 = __t65 * __t477;
+            let __t479: f64 = __t69 * __t476;
+            let __t480: f64 = __t478 + __t479;
+            let __t481: f64 = __t68 + __t480;
+            let __t482: f64 = __w_0 + __t481;
+            let __t483: f64 = __t78 * __t477;
+            let __t484: f64 = __t82 * __t476;
+            let __t485: f64 = __t483 + __t484;
+            let __t486: f64 = __t81 + __t485;
+            let __t487: f64 = __w_1 + __t486;
+            ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t482, __t487, __t93])
         })
     }
     #[inline]
@@ -996,60 +998,60 @@ impl ::dirac::runtime::ReducedMinus<3usize, 1usize, 4usize> for ChargedParticle 
             let __t124: f64 = __t11 * __x0_0;
             let __t125: f64 = __t32 * __t124;
             let __t138: f64 = __t32 + __t32;
-            let __t185: f64 = __t99 + __t99;
-            let __t189: f64 = -__t125;
-            let __t190: f64 = __t189 - __t125;
-            let __t294: f64 = __t32 * __t49;
-            let __t340: f64 = -__t294;
-            let __t341: f64 = __t340 - __t294;
-            let __t342: f64 = __mu_0 + __t341;
-            let __t344: f64 = __t342 / __t138;
-            let __t346: f64 = __t49 + __t344;
-            let __t347: f64 = __t32 * __t346;
-            let __t348: f64 = __t65 * __t347;
-            let __t349: f64 = __t69 * __t346;
-            let __t350: f64 = __t348 + __t349;
-            let __t351: f64 = __t68 + __t350;
-            let __t352: f64 = __w_0 + __t351;
-            let __t353: f64 = __t78 * __t347;
-            let __t354: f64 = __t82 * __t346;
-            let __t355: f64 = __t353 + __t354;
-            let __t356: f64 = __t81 + __t355;
-            let __t357: f64 = __w_1 + __t356;
-            let __t358: f64 = __t185 / __t138;
-            let __t359: f64 = __t358 - __t97;
-            let __t360: f64 = __t32 * __t359;
-            let __t361: f64 = __t65 * __t360;
-            let __t362: f64 = __t69 * __t359;
-            let __t363: f64 = __t361 + __t362;
-            let __t364: f64 = __t102 + __t363;
-            let __t365: f64 = __t11 * __t347;
-            let __t367: f64 = __t78 * __t360;
-            let __t368: f64 = __t367 - __t365;
-            let __t369: f64 = __t110 * __t346;
-            let __t371: f64 = __t82 * __t359;
-            let __t372: f64 = __t371 - __t369;
-            let __t373: f64 = __t368 + __t372;
-            let __t374: f64 = __t190 / __t138;
-            let __t375: f64 = __t124 + __t374;
-            let __t376: f64 = __t32 * __t375;
-            let __t377: f64 = __t65 * __t376;
-            let __t378: f64 = __t365 + __t377;
-            let __t379: f64 = __t69 * __t375;
-            let __t380: f64 = __t369 + __t379;
-            let __t381: f64 = __t378 + __t380;
-            let __t382: f64 = __t78 * __t376;
-            let __t383: f64 = __t82 * __t375;
-            let __t384: f64 = __t382 + __t383;
-            let __t385: f64 = __t102 + __t384;
+            let __t226: f64 = __t99 + __t99;
+            let __t230: f64 = -__t125;
+            let __t231: f64 = __t230 - __t125;
+            let __t375: f64 = __t32 * __t49;
+            let __t470: f64 = -__t375;
+            let __t471: f64 = __t470 - __t375;
+            let __t472: f64 = __mu_0 + __t471;
+            let __t474: f64 = __t472 / __t138;
+            let __t476: f64 = __t49 + __t474;
+            let __t477: f64 = __t32 * __t476;
+            let __t478: f64 = __t65 * __t477;
+            let __t479: f64 = __t69 * __t476;
+            let __t480: f64 = __t478 + __t479;
+            let __t481: f64 = __t68 + __t480;
+            let __t482: f64 = __w_0 + __t481;
+            let __t483: f64 = __t78 * __t477;
+            let __t484: f64 = __t82 * __t476;
+            let __t485: f64 = __t483 + __t484;
+            let __t486: f64 = __t81 + __t485;
+            let __t487: f64 = __w_1 + __t486;
+            let __t488: f64 = __t226 / __t138;
+            let __t489: f64 = __t488 - __t97;
+            let __t490: f64 = __t32 * __t489;
+            let __t491: f64 = __t65 * __t490;
+            let __t492: f64 = __t69 * __t489;
+            let __t493: f64 = __t491 + __t492;
+            let __t494: f64 = __t102 + __t493;
+            let __t495: f64 = __t11 * __t477;
+            let __t497: f64 = __t78 * __t490;
+            let __t498: f64 = __t497 - __t495;
+            let __t499: f64 = __t110 * __t476;
+            let __t501: f64 = __t82 * __t489;
+            let __t502: f64 = __t501 - __t499;
+            let __t503: f64 = __t498 + __t502;
+            let __t504: f64 = __t231 / __t138;
+            let __t505: f64 = __t124 + __t504;
+            let __t506: f64 = __t32 * __t505;
+            let __t507: f64 = __t65 * __t506;
+            let __t508: f64 = __t495 + __t507;
+            let __t509: f64 = __t69 * __t505;
+            let __t510: f64 = __t499 + __t509;
+            let __t511: f64 = __t508 + __t510;
+            let __t512: f64 = __t78 * __t506;
+            let __t513: f64 = __t82 * __t505;
+            let __t514: f64 = __t512 + __t513;
+            let __t515: f64 = __t102 + __t514;
             let mut __jac = ::dirac::nalgebra::SMatrix::<f64, 3usize, 3usize>::zeros();
-            __jac[(0usize, 0usize)] = __t364;
-            __jac[(0usize, 1usize)] = __t381;
-            __jac[(1usize, 0usize)] = __t373;
-            __jac[(1usize, 1usize)] = __t385;
+            __jac[(0usize, 0usize)] = __t494;
+            __jac[(0usize, 1usize)] = __t511;
+            __jac[(1usize, 0usize)] = __t503;
+            __jac[(1usize, 1usize)] = __t515;
             __jac[(2usize, 2usize)] = __t102;
             (
-                ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t352, __t357, __t93]),
+                ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t482, __t487, __t93]),
                 __jac,
             )
         })
@@ -1080,13 +1082,13 @@ impl ::dirac::runtime::ReducedMinus<3usize, 1usize, 4usize> for ChargedParticle 
             let __t49: f64 = __t11 * __t48;
             let __mu_0: f64 = mu_k[0usize];
             let __t138: f64 = __t32 + __t32;
-            let __t294: f64 = __t32 * __t49;
-            let __t340: f64 = -__t294;
-            let __t341: f64 = __t340 - __t294;
-            let __t342: f64 = __mu_0 + __t341;
-            let __t344: f64 = __t342 / __t138;
-            let __t345: f64 = -__t344;
-            ::dirac::nalgebra::SVector::<f64, 1usize>::from([__t345])
+            let __t375: f64 = __t32 * __t49;
+            let __t470: f64 = -__t375;
+            let __t471: f64 = __t470 - __t375;
+            let __t472: f64 = __mu_0 + __t471;
+            let __t474: f64 = __t472 / __t138;
+            let __t475: f64 = -__t474;
+            ::dirac::nalgebra::SVector::<f64, 1usize>::from([__t475])
         })
     }
     #[inline]
@@ -1139,41 +1141,41 @@ impl ::dirac::runtime::Unreduced<3usize, 1usize, 4usize> for ChargedParticle {
         let __t25: f64 = __t23 / __p0;
         let __t32: f64 = 0.5f64 / __p0;
         let __t33: f64 = __t21 * __t32;
-        let __t205: f64 = __q0_1 + __t5;
-        let __t206: f64 = __t11 * __t205;
-        let __t207: f64 = -__t2;
-        let __t208: f64 = __t207 - __t2;
-        let __t209: f64 = __t25 * __t208;
-        let __t210: f64 = __t32 * __t206;
-        let __t211: f64 = __t33 * __t206;
-        let __t212: f64 = __t21 * __t210;
-        let __t213: f64 = __t211 + __t212;
-        let __t214: f64 = __t209 + __t213;
+        let __t286: f64 = __q0_1 + __t5;
+        let __t287: f64 = __t11 * __t286;
+        let __t288: f64 = -__t2;
+        let __t289: f64 = __t288 - __t2;
+        let __t290: f64 = __t25 * __t289;
+        let __t291: f64 = __t32 * __t287;
+        let __t292: f64 = __t33 * __t287;
+        let __t293: f64 = __t21 * __t291;
+        let __t294: f64 = __t292 + __t293;
+        let __t295: f64 = __t290 + __t294;
         let __p_0: f64 = p_k[0usize];
-        let __t216: f64 = __t214 + __p_0;
-        let __t217: f64 = -__q0_0;
-        let __t218: f64 = __t217 - __t2;
-        let __t219: f64 = __t11 * __t218;
-        let __t220: f64 = -__t5;
-        let __t221: f64 = __t220 - __t5;
-        let __t222: f64 = __t25 * __t221;
-        let __t223: f64 = __t32 * __t219;
-        let __t224: f64 = __t33 * __t219;
-        let __t225: f64 = __t21 * __t223;
-        let __t226: f64 = __t224 + __t225;
-        let __t227: f64 = __t222 + __t226;
+        let __t297: f64 = __t295 + __p_0;
+        let __t298: f64 = -__q0_0;
+        let __t299: f64 = __t298 - __t2;
+        let __t300: f64 = __t11 * __t299;
+        let __t301: f64 = -__t5;
+        let __t302: f64 = __t301 - __t5;
+        let __t303: f64 = __t25 * __t302;
+        let __t304: f64 = __t32 * __t300;
+        let __t305: f64 = __t33 * __t300;
+        let __t306: f64 = __t21 * __t304;
+        let __t307: f64 = __t305 + __t306;
+        let __t308: f64 = __t303 + __t307;
         let __p_1: f64 = p_k[1usize];
-        let __t229: f64 = __t227 + __p_1;
-        let __t230: f64 = -__t8;
-        let __t231: f64 = __t230 - __t8;
-        let __t232: f64 = __t25 * __t231;
+        let __t310: f64 = __t308 + __p_1;
+        let __t311: f64 = -__t8;
+        let __t312: f64 = __t311 - __t8;
+        let __t313: f64 = __t25 * __t312;
         let __p_2: f64 = p_k[2usize];
-        let __t234: f64 = __t232 + __p_2;
-        let __t235: f64 = -__t33;
-        let __t236: f64 = __t235 - __t33;
+        let __t315: f64 = __t313 + __p_2;
+        let __t316: f64 = -__t33;
+        let __t317: f64 = __t316 - __t33;
         let __p_3: f64 = p_k[3usize];
-        let __t238: f64 = __t236 + __p_3;
-        ::dirac::nalgebra::SVector::<f64, 4usize>::from([__t216, __t229, __t234, __t238])
+        let __t319: f64 = __t317 + __p_3;
+        ::dirac::nalgebra::SVector::<f64, 4usize>::from([__t297, __t310, __t315, __t319])
     }
     #[inline]
     fn unreduced_residual_jacobian(
@@ -1212,90 +1214,90 @@ impl ::dirac::runtime::Unreduced<3usize, 1usize, 4usize> for ChargedParticle {
         let __t33: f64 = __t21 * __t32;
         let __t102: f64 = __t25 * (-2f64);
         let __t110: f64 = __t11 * __t32;
-        let __t174: f64 = -__t32;
-        let __t205: f64 = __q0_1 + __t5;
-        let __t206: f64 = __t11 * __t205;
-        let __t207: f64 = -__t2;
-        let __t208: f64 = __t207 - __t2;
-        let __t209: f64 = __t25 * __t208;
-        let __t210: f64 = __t32 * __t206;
-        let __t211: f64 = __t33 * __t206;
-        let __t212: f64 = __t21 * __t210;
-        let __t213: f64 = __t211 + __t212;
-        let __t214: f64 = __t209 + __t213;
+        let __t215: f64 = -__t32;
+        let __t286: f64 = __q0_1 + __t5;
+        let __t287: f64 = __t11 * __t286;
+        let __t288: f64 = -__t2;
+        let __t289: f64 = __t288 - __t2;
+        let __t290: f64 = __t25 * __t289;
+        let __t291: f64 = __t32 * __t287;
+        let __t292: f64 = __t33 * __t287;
+        let __t293: f64 = __t21 * __t291;
+        let __t294: f64 = __t292 + __t293;
+        let __t295: f64 = __t290 + __t294;
         let __p_0: f64 = p_k[0usize];
-        let __t216: f64 = __t214 + __p_0;
-        let __t217: f64 = -__q0_0;
-        let __t218: f64 = __t217 - __t2;
-        let __t219: f64 = __t11 * __t218;
-        let __t220: f64 = -__t5;
-        let __t221: f64 = __t220 - __t5;
-        let __t222: f64 = __t25 * __t221;
-        let __t223: f64 = __t32 * __t219;
-        let __t224: f64 = __t33 * __t219;
-        let __t225: f64 = __t21 * __t223;
-        let __t226: f64 = __t224 + __t225;
-        let __t227: f64 = __t222 + __t226;
+        let __t297: f64 = __t295 + __p_0;
+        let __t298: f64 = -__q0_0;
+        let __t299: f64 = __t298 - __t2;
+        let __t300: f64 = __t11 * __t299;
+        let __t301: f64 = -__t5;
+        let __t302: f64 = __t301 - __t5;
+        let __t303: f64 = __t25 * __t302;
+        let __t304: f64 = __t32 * __t300;
+        let __t305: f64 = __t33 * __t300;
+        let __t306: f64 = __t21 * __t304;
+        let __t307: f64 = __t305 + __t306;
+        let __t308: f64 = __t303 + __t307;
         let __p_1: f64 = p_k[1usize];
-        let __t229: f64 = __t227 + __p_1;
-        let __t230: f64 = -__t8;
-        let __t231: f64 = __t230 - __t8;
-        let __t232: f64 = __t25 * __t231;
+        let __t310: f64 = __t308 + __p_1;
+        let __t311: f64 = -__t8;
+        let __t312: f64 = __t311 - __t8;
+        let __t313: f64 = __t25 * __t312;
         let __p_2: f64 = p_k[2usize];
-        let __t234: f64 = __t232 + __p_2;
-        let __t235: f64 = -__t33;
-        let __t236: f64 = __t235 - __t33;
+        let __t315: f64 = __t313 + __p_2;
+        let __t316: f64 = -__t33;
+        let __t317: f64 = __t316 - __t33;
         let __p_3: f64 = p_k[3usize];
-        let __t238: f64 = __t236 + __p_3;
-        let __t239: f64 = __q0_1 * __t11;
-        let __t241: f64 = __t32 * __t239;
-        let __t243: f64 = __t206 * __t241;
-        let __t244: f64 = -__t243;
-        let __t245: f64 = __t210 * __t239;
-        let __t247: f64 = __t244 - __t245;
-        let __t248: f64 = __t102 + __t247;
-        let __t249: f64 = __t219 * __t241;
-        let __t250: f64 = -__t249;
-        let __t251: f64 = __t11 * __t33;
-        let __t253: f64 = __t250 - __t251;
-        let __t254: f64 = __t223 * __t239;
-        let __t255: f64 = -__t254;
-        let __t256: f64 = __t21 * __t110;
-        let __t258: f64 = __t255 - __t256;
-        let __t259: f64 = __t253 + __t258;
-        let __t260: f64 = __t241 + __t241;
-        let __t261: f64 = __q0_0 * __t11;
-        let __t262: f64 = __t32 * __t261;
-        let __t263: f64 = __t206 * __t262;
-        let __t264: f64 = __t251 + __t263;
-        let __t265: f64 = __t210 * __t261;
-        let __t266: f64 = __t256 + __t265;
-        let __t267: f64 = __t264 + __t266;
-        let __t268: f64 = __t219 * __t262;
-        let __t269: f64 = __t223 * __t261;
-        let __t270: f64 = __t268 + __t269;
-        let __t271: f64 = __t102 + __t270;
-        let __t272: f64 = -__t262;
-        let __t273: f64 = __t272 - __t262;
-        let __t274: f64 = __t210 + __t210;
-        let __t275: f64 = __t223 + __t223;
-        let __t276: f64 = __t174 - __t32;
+        let __t319: f64 = __t317 + __p_3;
+        let __t320: f64 = __q0_1 * __t11;
+        let __t322: f64 = __t32 * __t320;
+        let __t324: f64 = __t287 * __t322;
+        let __t325: f64 = -__t324;
+        let __t326: f64 = __t291 * __t320;
+        let __t328: f64 = __t325 - __t326;
+        let __t329: f64 = __t102 + __t328;
+        let __t330: f64 = __t300 * __t322;
+        let __t331: f64 = -__t330;
+        let __t332: f64 = __t11 * __t33;
+        let __t334: f64 = __t331 - __t332;
+        let __t335: f64 = __t304 * __t320;
+        let __t336: f64 = -__t335;
+        let __t337: f64 = __t21 * __t110;
+        let __t339: f64 = __t336 - __t337;
+        let __t340: f64 = __t334 + __t339;
+        let __t341: f64 = __t322 + __t322;
+        let __t342: f64 = __q0_0 * __t11;
+        let __t343: f64 = __t32 * __t342;
+        let __t344: f64 = __t287 * __t343;
+        let __t345: f64 = __t332 + __t344;
+        let __t346: f64 = __t291 * __t342;
+        let __t347: f64 = __t337 + __t346;
+        let __t348: f64 = __t345 + __t347;
+        let __t349: f64 = __t300 * __t343;
+        let __t350: f64 = __t304 * __t342;
+        let __t351: f64 = __t349 + __t350;
+        let __t352: f64 = __t102 + __t351;
+        let __t353: f64 = -__t343;
+        let __t354: f64 = __t353 - __t343;
+        let __t355: f64 = __t291 + __t291;
+        let __t356: f64 = __t304 + __t304;
+        let __t357: f64 = __t215 - __t32;
         let mut __jac = ::dirac::nalgebra::SMatrix::<f64, 4usize, 4usize>::zeros();
-        __jac[(0usize, 0usize)] = __t248;
-        __jac[(0usize, 1usize)] = __t267;
-        __jac[(0usize, 3usize)] = __t274;
-        __jac[(1usize, 0usize)] = __t259;
-        __jac[(1usize, 1usize)] = __t271;
-        __jac[(1usize, 3usize)] = __t275;
+        __jac[(0usize, 0usize)] = __t329;
+        __jac[(0usize, 1usize)] = __t348;
+        __jac[(0usize, 3usize)] = __t355;
+        __jac[(1usize, 0usize)] = __t340;
+        __jac[(1usize, 1usize)] = __t352;
+        __jac[(1usize, 3usize)] = __t356;
         __jac[(2usize, 2usize)] = __t102;
-        __jac[(3usize, 0usize)] = __t260;
-        __jac[(3usize, 1usize)] = __t273;
-        __jac[(3usize, 3usize)] = __t276;
+        __jac[(3usize, 0usize)] = __t341;
+        __jac[(3usize, 1usize)] = __t354;
+        __jac[(3usize, 3usize)] = __t357;
         (
             ::dirac::nalgebra::SVector::<
                 f64,
                 4usize,
-            >::from([__t216, __t229, __t234, __t238]),
+            >::from([__t297, __t310, __t315, __t319]),
             __jac,
         )
     }
@@ -1330,26 +1332,26 @@ impl ::dirac::runtime::Unreduced<3usize, 1usize, 4usize> for ChargedParticle {
         let __t25: f64 = __t23 / __p0;
         let __t32: f64 = 0.5f64 / __p0;
         let __t33: f64 = __t21 * __t32;
-        let __t239: f64 = __q0_1 * __t11;
-        let __t241: f64 = __t32 * __t239;
-        let __t261: f64 = __q0_0 * __t11;
-        let __t262: f64 = __t32 * __t261;
-        let __t277: f64 = __t2 + __t2;
-        let __t278: f64 = __t25 * __t277;
-        let __t279: f64 = __t33 * __t239;
-        let __t280: f64 = -__t279;
-        let __t281: f64 = __t21 * __t241;
-        let __t283: f64 = __t280 - __t281;
-        let __t284: f64 = __t278 + __t283;
-        let __t285: f64 = __t5 + __t5;
-        let __t286: f64 = __t25 * __t285;
-        let __t287: f64 = __t33 * __t261;
-        let __t288: f64 = __t21 * __t262;
-        let __t289: f64 = __t287 + __t288;
-        let __t290: f64 = __t286 + __t289;
-        let __t291: f64 = __t8 + __t8;
-        let __t292: f64 = __t25 * __t291;
-        let __t293: f64 = __t33 + __t33;
-        ::dirac::nalgebra::SVector::<f64, 4usize>::from([__t284, __t290, __t292, __t293])
+        let __t320: f64 = __q0_1 * __t11;
+        let __t322: f64 = __t32 * __t320;
+        let __t342: f64 = __q0_0 * __t11;
+        let __t343: f64 = __t32 * __t342;
+        let __t358: f64 = __t2 + __t2;
+        let __t359: f64 = __t25 * __t358;
+        let __t360: f64 = __t33 * __t320;
+        let __t361: f64 = -__t360;
+        let __t362: f64 = __t21 * __t322;
+        let __t364: f64 = __t361 - __t362;
+        let __t365: f64 = __t359 + __t364;
+        let __t366: f64 = __t5 + __t5;
+        let __t367: f64 = __t25 * __t366;
+        let __t368: f64 = __t33 * __t342;
+        let __t369: f64 = __t21 * __t343;
+        let __t370: f64 = __t368 + __t369;
+        let __t371: f64 = __t367 + __t370;
+        let __t372: f64 = __t8 + __t8;
+        let __t373: f64 = __t25 * __t372;
+        let __t374: f64 = __t33 + __t33;
+        ::dirac::nalgebra::SVector::<f64, 4usize>::from([__t365, __t371, __t373, __t374])
     }
 }

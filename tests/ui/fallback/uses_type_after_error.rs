@@ -12,11 +12,20 @@ fn particle(q0: Config, q1: Config, h: f64, m: f64) -> f64 {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let sys = Particle { h: 0.1, m: 1.0 };
     assert_eq!(Particle::CONFIG_DIM, 2);
-    let l = particle(ParticleConfig::default(), ParticleConfig { x: 1.0, theta: 0.5 }, sys.h, sys.m);
+    let l = particle(
+        ParticleConfig::default(),
+        ParticleConfig { x: 1.0, theta: 0.5 },
+        sys.h,
+        sys.m,
+    );
     let initial = ReducedState::new([0.0], [1.0], [0.0], [l]);
     let mut integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
     let traj = integ.integrate(initial, 10)?;
-    println!("{} {}", traj.last().x, sys.lagrangian(&SVector::zeros(), &SVector::zeros()));
+    println!(
+        "{} {}",
+        traj.last().x,
+        sys.lagrangian(&SVector::zeros(), &SVector::zeros())
+    );
     let unreduced = UnreducedIntegrator::plus(sys, NewtonOptions::default());
     let _ = unreduced.system();
     Ok(())
