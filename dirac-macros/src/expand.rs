@@ -12,7 +12,7 @@ use crate::emit::{literal, straight_line};
 use crate::graph::{Graph, Node, NodeId, Sym};
 use crate::lower::{Lowering, Names};
 use crate::reduce::{
-    eliminate_group, minus_stepper, plus_stepper, reduced_lagrangian_minus,
+    eliminate_group, lagrangian_hessian, minus_stepper, plus_stepper, reduced_lagrangian_minus,
     reduced_lagrangian_plus, unreduced_stepper, Eliminated, Stepper, GROUP_ORIGINS,
 };
 use crate::spec::{parse_signature, parse_spec, resolve_ranges, Signature, Spec};
@@ -64,6 +64,8 @@ struct Compiled {
     plus_eliminated: Option<Eliminated>,
     /// The (−) stepper with its group unknowns eliminated, when they enter affinely.
     minus_eliminated: Option<Eliminated>,
+    /// `(D11, D12, D22)` of `L_d`, for the step-map Jacobian.
+    hessian: [Vec<Vec<NodeId>>; 3],
     /// Whether the eliminated (+) stepper is the better default (no more code than the general).
     plus_elimination_pays: bool,
     /// Whether the eliminated (−) stepper is the better default.
@@ -122,6 +124,7 @@ fn compile(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<Com
         minus_stepper(g, l, s, k)
     });
     let unreduced = unreduced_stepper(&mut graph, body, s + k);
+    let hessian = lagrangian_hessian(&mut graph, body, s + k);
     // Elimination: the cheapest origin at which the momentum equations are structurally affine.
     let plus_eliminated = cheapest_eliminated(&mut graph, s, k, Sym::G1, |g, alpha| {
         let l = reduced_lagrangian_plus(g, body, s, &b, alpha);
@@ -154,6 +157,7 @@ fn compile(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<Com
         minus_eliminated,
         plus_elimination_pays,
         minus_elimination_pays,
+        hessian,
     })
 }
 
@@ -482,6 +486,17 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
     let unreduced = stepper_fns(&c.graph, &c.unreduced, &unreduced_leaf, n, n);
     let (plus_r, plus_rj, plus_m) = (&plus.residual, &plus.residual_jacobian, &plus.momentum);
     let (minus_r, minus_rj, minus_m) = (&minus.residual, &minus.residual_jacobian, &minus.momentum);
+    let hessian_roots: Vec<NodeId> = c.hessian.iter().flatten().flatten().copied().collect();
+    let hessian_code = straight_line(&c.graph, &hessian_roots, &|sym| match sym {
+        Sym::Q0(i) => quote! { q0[#i] },
+        Sym::Q1(i) => quote! { q1[#i] },
+        Sym::Param(i) => param_leaf(i),
+        _ => unreachable!("L_d reads q0, q1 and its parameters"),
+    });
+    let hessian_stmts = &hessian_code.stmts;
+    let hessian_blocks = hessian_code.outputs.chunks(n * n).map(|block| {
+        quote! { #na::SMatrix::<f64, #n, #n>::from_row_slice(&[ #( #block ),* ]) }
+    });
     let (un_r, un_rj, un_m) = (
         &unreduced.residual,
         &unreduced.residual_jacobian,
@@ -629,6 +644,14 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
             fn unreduced_momentum(&self, q_k: #vn, z: #vn) -> #na::SVector<f64, #n> {
                 #un_m
             }
+
+            #[allow(unused_variables)] // a Lagrangian need not read every coordinate
+            fn lagrangian_hessian(
+                &self, q0: #vn, q1: #vn,
+            ) -> (#na::SMatrix<f64, #n, #n>, #na::SMatrix<f64, #n, #n>, #na::SMatrix<f64, #n, #n>) {
+                #hessian_stmts
+                ( #( #hessian_blocks ),* )
+            }
         }
     }
 }
@@ -738,6 +761,7 @@ fn stub_impls(spec: &Spec, sig: &Signature, ty: &Ident) -> TokenStream {
                 #stub
             }
             fn unreduced_momentum(&self, q_k: #vn, z: #vn) -> #rn { #stub }
+            fn lagrangian_hessian(&self, q0: #vn, q1: #vn) -> (#mnn, #mnn, #mnn) { #stub }
         }
     }
 }

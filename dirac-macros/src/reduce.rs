@@ -308,3 +308,15 @@ fn det(g: &mut Graph, a: &[Vec<NodeId>]) -> NodeId {
         }
     }
 }
+
+/// The Hessian blocks of `L_d(q0, q1)`: `(D11, D12, D22)` with `D12[i][j] = ∂²L_d/∂q0_i∂q1_j`,
+/// for the step-map Jacobian (implicit-function theorem on Definition 2.7's equations).
+pub fn lagrangian_hessian(g: &mut Graph, l: NodeId, n: usize) -> [Vec<Vec<NodeId>>; 3] {
+    let d1: Vec<NodeId> = (0..n).map(|i| first(g, l, Sym::Q0(i))).collect();
+    let d2: Vec<NodeId> = (0..n).map(|i| first(g, l, Sym::Q1(i))).collect();
+    let block = |g: &mut Graph, rows: &[NodeId], var: fn(usize) -> Sym| -> Vec<Vec<NodeId>> {
+        let columns: Vec<Vec<NodeId>> = (0..n).map(|c| derivatives(g, rows, var(c))).collect();
+        (0..n).map(|r| (0..n).map(|c| columns[c][r]).collect()).collect()
+    };
+    [block(g, &d1, Sym::Q0), block(g, &d1, Sym::Q1), block(g, &d2, Sym::Q1)]
+}

@@ -456,6 +456,41 @@ where
     }
 }
 
+/// The Jacobian `M` of one step of the unreduced map `(q_k, p_k) ↦ (q_{k+1}, p_{k+1})`, in
+/// blocks.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepJacobian<const N: usize> {
+    /// `∂q_{k+1}/∂q_k`.
+    pub dq_dq: SMatrix<f64, N, N>,
+    /// `∂q_{k+1}/∂p_k`.
+    pub dq_dp: SMatrix<f64, N, N>,
+    /// `∂p_{k+1}/∂q_k`.
+    pub dp_dq: SMatrix<f64, N, N>,
+    /// `∂p_{k+1}/∂p_k`.
+    pub dp_dp: SMatrix<f64, N, N>,
+}
+
+impl<const N: usize> StepJacobian<N> {
+    /// How far `Mᵀ Ω M = Ω` (`Ω = [[0, I], [−I, 0]]`) is from holding, relative to the size of
+    /// the terms. In blocks `M = [[A, B], [C, D]]` the condition is `AᵀC = CᵀA`, `BᵀD = DᵀB` and
+    /// `AᵀD − CᵀB = I`; each residual is divided by the size of the products it cancels
+    /// (`‖A‖‖C‖`, `‖B‖‖D‖`, `max(1, ‖A‖‖D‖ + ‖C‖‖B‖)`, max-norms of entries), so the result is
+    /// dimensionless — the blocks can differ by many orders of magnitude (`∂p/∂q ≈ m l²/h`).
+    /// Zero for a symplectic map; round-off gives ~1e-15 to 1e-12.
+    pub fn symplecticity_defect(&self) -> f64 {
+        let (a, b, c, d) = (&self.dq_dq, &self.dq_dp, &self.dp_dq, &self.dp_dp);
+        let n = N as f64;
+        let rel = |m: SMatrix<f64, N, N>, scale: f64| m.amax() / scale.max(f64::MIN_POSITIVE);
+        let qq = rel(a.transpose() * c - c.transpose() * a, n * a.amax() * c.amax());
+        let pp = rel(b.transpose() * d - d.transpose() * b, n * b.amax() * d.amax());
+        let qp = rel(
+            a.transpose() * d - c.transpose() * b - SMatrix::<f64, N, N>::identity(),
+            (n * (a.amax() * d.amax() + c.amax() * b.amax())).max(1.0),
+        );
+        qq.max(pp).max(qp)
+    }
+}
+
 /// Integrates the unreduced discrete Lagrange–Dirac equations on `Q` (Definitions 2.7/2.8,
 /// see [`Unreduced`]): the baseline that knows nothing of the symmetry.
 #[derive(Clone, Debug)]
@@ -514,6 +549,50 @@ where
             });
         }
         Ok((next, StepStats::from_solution(&solution)))
+    }
+
+    /// The Jacobian of the step map `(q_k, p_k) ↦ (q_{k+1}, p_{k+1})` at a computed step, from the
+    /// implicit-function theorem on `D1 L_d(q_k, q_{k+1}) + p_k = 0` and
+    /// `p_{k+1} = D2 L_d(q_k, q_{k+1})` with the generated second derivatives: with
+    /// `A = D12 L_d`,
+    ///
+    /// ```text
+    /// ∂q_{k+1}/∂q_k = −A⁻¹ D11 L_d      ∂q_{k+1}/∂p_k = −A⁻¹
+    /// ∂p_{k+1}/∂q_k = D21 L_d + D22 L_d ∂q_{k+1}/∂q_k      ∂p_{k+1}/∂p_k = D22 L_d ∂q_{k+1}/∂p_k
+    /// ```
+    ///
+    /// The step map of a variational integrator is symplectic, `Mᵀ Ω M = Ω` (see
+    /// [`StepJacobian::symplecticity_defect`]). Control and estimation use `M` to propagate
+    /// sensitivities and covariances along a trajectory.
+    ///
+    /// `k` is the index of the step `from → to`, for the error: a singular `D12 L_d`
+    /// (`StepError::SingularJacobian`, with no residual to report: NaN).
+    pub fn step_jacobian(
+        &self,
+        k: usize,
+        from: &CanonicalState<N>,
+        to: &CanonicalState<N>,
+    ) -> Result<StepJacobian<N>, StepError> {
+        let (d11, d12, d22) = self.system.lagrangian_hessian(&from.q, &to.q);
+        let lu = Lu::new(d12).ok_or(StepError::SingularJacobian {
+            step: k,
+            residual: f64::NAN,
+        })?;
+        let solve_columns = |m: &SMatrix<f64, N, N>| {
+            let mut out = SMatrix::<f64, N, N>::zeros();
+            for (c, column) in m.column_iter().enumerate() {
+                out.set_column(c, &lu.solve(&column.into_owned()));
+            }
+            out
+        };
+        let dq_dq = -solve_columns(&d11);
+        let dq_dp = -solve_columns(&SMatrix::identity());
+        Ok(StepJacobian {
+            dq_dq,
+            dq_dp,
+            dp_dq: d12.transpose() + d22 * dq_dq,
+            dp_dp: d22 * dq_dp,
+        })
     }
 
     /// Integrates `steps` steps from `initial`, starting Newton from a linear extrapolation of

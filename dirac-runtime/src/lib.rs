@@ -27,7 +27,7 @@ pub use diagnostics::{
 };
 pub use error::{IntegrationError, StepError, Steps};
 pub use integrate::{
-    CanonicalTrajectory, ReducedIntegrator, StepStats, StepStatsExt, Trajectory,
+    CanonicalTrajectory, ReducedIntegrator, StepJacobian, StepStats, StepStatsExt, Trajectory,
     UnreducedIntegrator, Variant,
 };
 pub use newton::NewtonOptions;

@@ -338,6 +338,16 @@ pub trait Unreduced<const S: usize, const K: usize, const N: usize>:
 
     /// `p_{k+1} = D2 L_d(q_k, q_{k+1})`.
     fn unreduced_momentum(&self, q_k: &SVector<f64, N>, z: &SVector<f64, N>) -> SVector<f64, N>;
+
+    /// The Hessian blocks `(D11 L_d, D12 L_d, D22 L_d)` at `(q0, q1)`, with
+    /// `D12[(i, j)] = ∂²L_d/∂q0_i ∂q1_j`: what the step-map Jacobian needs (see
+    /// [`crate::UnreducedIntegrator::step_jacobian`]).
+    #[allow(clippy::type_complexity)]
+    fn lagrangian_hessian(
+        &self,
+        q0: &SVector<f64, N>,
+        q1: &SVector<f64, N>,
+    ) -> (SMatrix<f64, N, N>, SMatrix<f64, N, N>, SMatrix<f64, N, N>);
 }
 
 /// Splits `q = (x, g)`.

@@ -404,23 +404,23 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
             let __t93: f64 = __t91 + __w_2;
             let __mu_0: f64 = mu_k[0usize];
             let __t138: f64 = __t32 + __t32;
-            let __t375: f64 = __t32 * __t49;
-            let __t376: f64 = __t375 + __t375;
-            let __t377: f64 = __t376 - __mu_0;
-            let __t379: f64 = __t377 / __t138;
-            let __t381: f64 = __t49 - __t379;
-            let __t382: f64 = __t32 * __t381;
-            let __t383: f64 = __t65 * __t382;
-            let __t384: f64 = __t69 * __t381;
-            let __t385: f64 = __t383 + __t384;
-            let __t386: f64 = __t68 + __t385;
-            let __t387: f64 = __w_0 + __t386;
-            let __t388: f64 = __t78 * __t382;
-            let __t389: f64 = __t82 * __t381;
-            let __t390: f64 = __t388 + __t389;
-            let __t391: f64 = __t81 + __t390;
-            let __t392: f64 = __w_1 + __t391;
-            ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t387, __t392, __t93])
+            let __t405: f64 = __t32 * __t49;
+            let __t406: f64 = __t405 + __t405;
+            let __t407: f64 = __t406 - __mu_0;
+            let __t409: f64 = __t407 / __t138;
+            let __t411: f64 = __t49 - __t409;
+            let __t412: f64 = __t32 * __t411;
+            let __t413: f64 = __t65 * __t412;
+            let __t414: f64 = __t69 * __t411;
+            let __t415: f64 = __t413 + __t414;
+            let __t416: f64 = __t68 + __t415;
+            let __t417: f64 = __w_0 + __t416;
+            let __t418: f64 = __t78 * __t412;
+            let __t419: f64 = __t82 * __t411;
+            let __t420: f64 = __t418 + __t419;
+            let __t421: f64 = __t81 + __t420;
+            let __t422: f64 = __w_1 + __t421;
+            ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t417, __t422, __t93])
         })
     }
     #[inline]
@@ -490,56 +490,56 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
             let __t125: f64 = __t32 * __t124;
             let __t135: f64 = __t125 + __t125;
             let __t138: f64 = __t32 + __t32;
-            let __t375: f64 = __t32 * __t49;
-            let __t376: f64 = __t375 + __t375;
-            let __t377: f64 = __t376 - __mu_0;
-            let __t379: f64 = __t377 / __t138;
-            let __t381: f64 = __t49 - __t379;
-            let __t382: f64 = __t32 * __t381;
-            let __t383: f64 = __t65 * __t382;
-            let __t384: f64 = __t69 * __t381;
-            let __t385: f64 = __t383 + __t384;
-            let __t386: f64 = __t68 + __t385;
-            let __t387: f64 = __w_0 + __t386;
-            let __t388: f64 = __t78 * __t382;
-            let __t389: f64 = __t82 * __t381;
-            let __t390: f64 = __t388 + __t389;
-            let __t391: f64 = __t81 + __t390;
-            let __t392: f64 = __w_1 + __t391;
-            let __t393: f64 = __t123 / __t138;
-            let __t394: f64 = __t98 - __t393;
-            let __t395: f64 = __t32 * __t394;
-            let __t396: f64 = __t65 * __t395;
-            let __t397: f64 = __t69 * __t394;
-            let __t398: f64 = __t396 + __t397;
-            let __t399: f64 = __t102 + __t398;
-            let __t400: f64 = __t11 * __t382;
-            let __t402: f64 = __t78 * __t395;
-            let __t403: f64 = __t402 - __t400;
-            let __t404: f64 = __t110 * __t381;
-            let __t406: f64 = __t82 * __t394;
-            let __t407: f64 = __t406 - __t404;
-            let __t408: f64 = __t403 + __t407;
-            let __t409: f64 = __t135 / __t138;
-            let __t410: f64 = __t124 - __t409;
-            let __t411: f64 = __t32 * __t410;
-            let __t412: f64 = __t65 * __t411;
-            let __t413: f64 = __t400 + __t412;
-            let __t414: f64 = __t69 * __t410;
-            let __t415: f64 = __t404 + __t414;
-            let __t416: f64 = __t413 + __t415;
-            let __t417: f64 = __t78 * __t411;
-            let __t418: f64 = __t82 * __t410;
-            let __t419: f64 = __t417 + __t418;
-            let __t420: f64 = __t102 + __t419;
+            let __t405: f64 = __t32 * __t49;
+            let __t406: f64 = __t405 + __t405;
+            let __t407: f64 = __t406 - __mu_0;
+            let __t409: f64 = __t407 / __t138;
+            let __t411: f64 = __t49 - __t409;
+            let __t412: f64 = __t32 * __t411;
+            let __t413: f64 = __t65 * __t412;
+            let __t414: f64 = __t69 * __t411;
+            let __t415: f64 = __t413 + __t414;
+            let __t416: f64 = __t68 + __t415;
+            let __t417: f64 = __w_0 + __t416;
+            let __t418: f64 = __t78 * __t412;
+            let __t419: f64 = __t82 * __t411;
+            let __t420: f64 = __t418 + __t419;
+            let __t421: f64 = __t81 + __t420;
+            let __t422: f64 = __w_1 + __t421;
+            let __t423: f64 = __t123 / __t138;
+            let __t424: f64 = __t98 - __t423;
+            let __t425: f64 = __t32 * __t424;
+            let __t426: f64 = __t65 * __t425;
+            let __t427: f64 = __t69 * __t424;
+            let __t428: f64 = __t426 + __t427;
+            let __t429: f64 = __t102 + __t428;
+            let __t430: f64 = __t11 * __t412;
+            let __t432: f64 = __t78 * __t425;
+            let __t433: f64 = __t432 - __t430;
+            let __t434: f64 = __t110 * __t411;
+            let __t436: f64 = __t82 * __t424;
+            let __t437: f64 = __t436 - __t434;
+            let __t438: f64 = __t433 + __t437;
+            let __t439: f64 = __t135 / __t138;
+            let __t440: f64 = __t124 - __t439;
+            let __t441: f64 = __t32 * __t440;
+            let __t442: f64 = __t65 * __t441;
+            let __t443: f64 = __t430 + __t442;
+            let __t444: f64 = __t69 * __t440;
+            let __t445: f64 = __t434 + __t444;
+            let __t446: f64 = __t443 + __t445;
+            let __t447: f64 = __t78 * __t441;
+            let __t448: f64 = __t82 * __t440;
+            let __t449: f64 = __t447 + __t448;
+            let __t450: f64 = __t102 + __t449;
             let mut __jac = ::dirac::nalgebra::SMatrix::<f64, 3usize, 3usize>::zeros();
-            __jac[(0usize, 0usize)] = __t399;
-            __jac[(0usize, 1usize)] = __t416;
-            __jac[(1usize, 0usize)] = __t408;
-            __jac[(1usize, 1usize)] = __t420;
+            __jac[(0usize, 0usize)] = __t429;
+            __jac[(0usize, 1usize)] = __t446;
+            __jac[(1usize, 0usize)] = __t438;
+            __jac[(1usize, 1usize)] = __t450;
             __jac[(2usize, 2usize)] = __t102;
             (
-                ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t387, __t392, __t93]),
+                ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t417, __t422, __t93]),
                 __jac,
             )
         })
@@ -570,12 +570,12 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
             let __t49: f64 = __t11 * __t48;
             let __mu_0: f64 = mu_k[0usize];
             let __t138: f64 = __t32 + __t32;
-            let __t375: f64 = __t32 * __t49;
-            let __t376: f64 = __t375 + __t375;
-            let __t377: f64 = __t376 - __mu_0;
-            let __t379: f64 = __t377 / __t138;
-            let __t380: f64 = -__t379;
-            ::dirac::nalgebra::SVector::<f64, 1usize>::from([__t380])
+            let __t405: f64 = __t32 * __t49;
+            let __t406: f64 = __t405 + __t405;
+            let __t407: f64 = __t406 - __mu_0;
+            let __t409: f64 = __t407 / __t138;
+            let __t410: f64 = -__t409;
+            ::dirac::nalgebra::SVector::<f64, 1usize>::from([__t410])
         })
     }
     #[inline]
@@ -915,24 +915,24 @@ impl ::dirac::runtime::ReducedMinus<3usize, 1usize, 4usize> for ChargedParticle 
             let __t93: f64 = __t91 + __w_2;
             let __mu_0: f64 = mu_k[0usize];
             let __t138: f64 = __t32 + __t32;
-            let __t375: f64 = __t32 * __t49;
-            let __t470: f64 = -__t375;
-            let __t471: f64 = __t470 - __t375;
-            let __t472: f64 = __mu_0 + __t471;
-            let __t474: f64 = __t472 / __t138;
-            let __t476: f64 = __t49 + __t474;
-            let __t477: f64 = __t32 * __t476;
-            let __t478: f64 = __t65 * __t477;
-            let __t479: f64 = __t69 * __t476;
-            let __t480: f64 = __t478 + __t479;
-            let __t481: f64 = __t68 + __t480;
-            let __t482: f64 = __w_0 + __t481;
-            let __t483: f64 = __t78 * __t477;
-            let __t484: f64 = __t82 * __t476;
-            let __t485: f64 = __t483 + __t484;
-            let __t486: f64 = __t81 + __t485;
-            let __t487: f64 = __w_1 + __t486;
-            ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t482, __t487, __t93])
+            let __t405: f64 = __t32 * __t49;
+            let __t500: f64 = -__t405;
+            let __t501: f64 = __t500 - __t405;
+            let __t502: f64 = __mu_0 + __t501;
+            let __t504: f64 = __t502 / __t138;
+            let __t506: f64 = __t49 + __t504;
+            let __t507: f64 = __t32 * __t506;
+            let __t508: f64 = __t65 * __t507;
+            let __t509: f64 = __t69 * __t506;
+            let __t510: f64 = __t508 + __t509;
+            let __t511: f64 = __t68 + __t510;
+            let __t512: f64 = __w_0 + __t511;
+            let __t513: f64 = __t78 * __t507;
+            let __t514: f64 = __t82 * __t506;
+            let __t515: f64 = __t513 + __t514;
+            let __t516: f64 = __t81 + __t515;
+            let __t517: f64 = __w_1 + __t516;
+            ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t512, __t517, __t93])
         })
     }
     #[inline]
@@ -1001,57 +1001,57 @@ impl ::dirac::runtime::ReducedMinus<3usize, 1usize, 4usize> for ChargedParticle 
             let __t226: f64 = __t99 + __t99;
             let __t230: f64 = -__t125;
             let __t231: f64 = __t230 - __t125;
-            let __t375: f64 = __t32 * __t49;
-            let __t470: f64 = -__t375;
-            let __t471: f64 = __t470 - __t375;
-            let __t472: f64 = __mu_0 + __t471;
-            let __t474: f64 = __t472 / __t138;
-            let __t476: f64 = __t49 + __t474;
-            let __t477: f64 = __t32 * __t476;
-            let __t478: f64 = __t65 * __t477;
-            let __t479: f64 = __t69 * __t476;
-            let __t480: f64 = __t478 + __t479;
-            let __t481: f64 = __t68 + __t480;
-            let __t482: f64 = __w_0 + __t481;
-            let __t483: f64 = __t78 * __t477;
-            let __t484: f64 = __t82 * __t476;
-            let __t485: f64 = __t483 + __t484;
-            let __t486: f64 = __t81 + __t485;
-            let __t487: f64 = __w_1 + __t486;
-            let __t488: f64 = __t226 / __t138;
-            let __t489: f64 = __t488 - __t97;
-            let __t490: f64 = __t32 * __t489;
-            let __t491: f64 = __t65 * __t490;
-            let __t492: f64 = __t69 * __t489;
-            let __t493: f64 = __t491 + __t492;
-            let __t494: f64 = __t102 + __t493;
-            let __t495: f64 = __t11 * __t477;
-            let __t497: f64 = __t78 * __t490;
-            let __t498: f64 = __t497 - __t495;
-            let __t499: f64 = __t110 * __t476;
-            let __t501: f64 = __t82 * __t489;
-            let __t502: f64 = __t501 - __t499;
-            let __t503: f64 = __t498 + __t502;
-            let __t504: f64 = __t231 / __t138;
-            let __t505: f64 = __t124 + __t504;
-            let __t506: f64 = __t32 * __t505;
-            let __t507: f64 = __t65 * __t506;
-            let __t508: f64 = __t495 + __t507;
-            let __t509: f64 = __t69 * __t505;
-            let __t510: f64 = __t499 + __t509;
-            let __t511: f64 = __t508 + __t510;
-            let __t512: f64 = __t78 * __t506;
-            let __t513: f64 = __t82 * __t505;
-            let __t514: f64 = __t512 + __t513;
-            let __t515: f64 = __t102 + __t514;
+            let __t405: f64 = __t32 * __t49;
+            let __t500: f64 = -__t405;
+            let __t501: f64 = __t500 - __t405;
+            let __t502: f64 = __mu_0 + __t501;
+            let __t504: f64 = __t502 / __t138;
+            let __t506: f64 = __t49 + __t504;
+            let __t507: f64 = __t32 * __t506;
+            let __t508: f64 = __t65 * __t507;
+            let __t509: f64 = __t69 * __t506;
+            let __t510: f64 = __t508 + __t509;
+            let __t511: f64 = __t68 + __t510;
+            let __t512: f64 = __w_0 + __t511;
+            let __t513: f64 = __t78 * __t507;
+            let __t514: f64 = __t82 * __t506;
+            let __t515: f64 = __t513 + __t514;
+            let __t516: f64 = __t81 + __t515;
+            let __t517: f64 = __w_1 + __t516;
+            let __t518: f64 = __t226 / __t138;
+            let __t519: f64 = __t518 - __t97;
+            let __t520: f64 = __t32 * __t519;
+            let __t521: f64 = __t65 * __t520;
+            let __t522: f64 = __t69 * __t519;
+            let __t523: f64 = __t521 + __t522;
+            let __t524: f64 = __t102 + __t523;
+            let __t525: f64 = __t11 * __t507;
+            let __t527: f64 = __t78 * __t520;
+            let __t528: f64 = __t527 - __t525;
+            let __t529: f64 = __t110 * __t506;
+            let __t531: f64 = __t82 * __t519;
+            let __t532: f64 = __t531 - __t529;
+            let __t533: f64 = __t528 + __t532;
+            let __t534: f64 = __t231 / __t138;
+            let __t535: f64 = __t124 + __t534;
+            let __t536: f64 = __t32 * __t535;
+            let __t537: f64 = __t65 * __t536;
+            let __t538: f64 = __t525 + __t537;
+            let __t539: f64 = __t69 * __t535;
+            let __t540: f64 = __t529 + __t539;
+            let __t541: f64 = __t538 + __t540;
+            let __t542: f64 = __t78 * __t536;
+            let __t543: f64 = __t82 * __t535;
+            let __t544: f64 = __t542 + __t543;
+            let __t545: f64 = __t102 + __t544;
             let mut __jac = ::dirac::nalgebra::SMatrix::<f64, 3usize, 3usize>::zeros();
-            __jac[(0usize, 0usize)] = __t494;
-            __jac[(0usize, 1usize)] = __t511;
-            __jac[(1usize, 0usize)] = __t503;
-            __jac[(1usize, 1usize)] = __t515;
+            __jac[(0usize, 0usize)] = __t524;
+            __jac[(0usize, 1usize)] = __t541;
+            __jac[(1usize, 0usize)] = __t533;
+            __jac[(1usize, 1usize)] = __t545;
             __jac[(2usize, 2usize)] = __t102;
             (
-                ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t482, __t487, __t93]),
+                ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t512, __t517, __t93]),
                 __jac,
             )
         })
@@ -1082,13 +1082,13 @@ impl ::dirac::runtime::ReducedMinus<3usize, 1usize, 4usize> for ChargedParticle 
             let __t49: f64 = __t11 * __t48;
             let __mu_0: f64 = mu_k[0usize];
             let __t138: f64 = __t32 + __t32;
-            let __t375: f64 = __t32 * __t49;
-            let __t470: f64 = -__t375;
-            let __t471: f64 = __t470 - __t375;
-            let __t472: f64 = __mu_0 + __t471;
-            let __t474: f64 = __t472 / __t138;
-            let __t475: f64 = -__t474;
-            ::dirac::nalgebra::SVector::<f64, 1usize>::from([__t475])
+            let __t405: f64 = __t32 * __t49;
+            let __t500: f64 = -__t405;
+            let __t501: f64 = __t500 - __t405;
+            let __t502: f64 = __mu_0 + __t501;
+            let __t504: f64 = __t502 / __t138;
+            let __t505: f64 = -__t504;
+            ::dirac::nalgebra::SVector::<f64, 1usize>::from([__t505])
         })
     }
     #[inline]
@@ -1353,5 +1353,185 @@ impl ::dirac::runtime::Unreduced<3usize, 1usize, 4usize> for ChargedParticle {
         let __t373: f64 = __t25 * __t372;
         let __t374: f64 = __t33 + __t33;
         ::dirac::nalgebra::SVector::<f64, 4usize>::from([__t365, __t371, __t373, __t374])
+    }
+    #[allow(unused_variables)]
+    fn lagrangian_hessian(
+        &self,
+        q0: &::dirac::nalgebra::SVector<f64, 4usize>,
+        q1: &::dirac::nalgebra::SVector<f64, 4usize>,
+    ) -> (
+        ::dirac::nalgebra::SMatrix<f64, 4usize, 4usize>,
+        ::dirac::nalgebra::SMatrix<f64, 4usize, 4usize>,
+        ::dirac::nalgebra::SMatrix<f64, 4usize, 4usize>,
+    ) {
+        let __q1_0: f64 = q1[0usize];
+        let __q0_0: f64 = q0[0usize];
+        let __t2: f64 = __q1_0 - __q0_0;
+        let __q1_1: f64 = q1[1usize];
+        let __q0_1: f64 = q0[1usize];
+        let __t5: f64 = __q1_1 - __q0_1;
+        let __p2: f64 = self.b0;
+        let __t11: f64 = 0.5f64 * __p2;
+        let __t13: f64 = __t2 * __q0_1;
+        let __t15: f64 = __q0_0 * __t5;
+        let __t16: f64 = __t15 - __t13;
+        let __t17: f64 = __t11 * __t16;
+        let __q1_3: f64 = q1[3usize];
+        let __q0_3: f64 = q0[3usize];
+        let __t20: f64 = __q1_3 - __q0_3;
+        let __t21: f64 = __t17 + __t20;
+        let __p1: f64 = self.m;
+        let __t23: f64 = 0.5f64 * __p1;
+        let __p0: f64 = self.h;
+        let __t25: f64 = __t23 / __p0;
+        let __t32: f64 = 0.5f64 / __p0;
+        let __t33: f64 = __t21 * __t32;
+        let __t102: f64 = __t25 * (-2f64);
+        let __t110: f64 = __t11 * __t32;
+        let __t138: f64 = __t32 + __t32;
+        let __t215: f64 = -__t32;
+        let __t286: f64 = __q0_1 + __t5;
+        let __t287: f64 = __t11 * __t286;
+        let __t291: f64 = __t32 * __t287;
+        let __t298: f64 = -__q0_0;
+        let __t299: f64 = __t298 - __t2;
+        let __t300: f64 = __t11 * __t299;
+        let __t304: f64 = __t32 * __t300;
+        let __t320: f64 = __q0_1 * __t11;
+        let __t322: f64 = __t32 * __t320;
+        let __t323: f64 = -__t322;
+        let __t324: f64 = __t287 * __t322;
+        let __t325: f64 = -__t324;
+        let __t326: f64 = __t291 * __t320;
+        let __t328: f64 = __t325 - __t326;
+        let __t329: f64 = __t102 + __t328;
+        let __t330: f64 = __t300 * __t322;
+        let __t331: f64 = -__t330;
+        let __t332: f64 = __t11 * __t33;
+        let __t334: f64 = __t331 - __t332;
+        let __t335: f64 = __t304 * __t320;
+        let __t336: f64 = -__t335;
+        let __t337: f64 = __t21 * __t110;
+        let __t339: f64 = __t336 - __t337;
+        let __t340: f64 = __t334 + __t339;
+        let __t341: f64 = __t322 + __t322;
+        let __t342: f64 = __q0_0 * __t11;
+        let __t343: f64 = __t32 * __t342;
+        let __t344: f64 = __t287 * __t343;
+        let __t345: f64 = __t332 + __t344;
+        let __t346: f64 = __t291 * __t342;
+        let __t347: f64 = __t337 + __t346;
+        let __t348: f64 = __t345 + __t347;
+        let __t349: f64 = __t300 * __t343;
+        let __t350: f64 = __t304 * __t342;
+        let __t351: f64 = __t349 + __t350;
+        let __t352: f64 = __t102 + __t351;
+        let __t353: f64 = -__t343;
+        let __t354: f64 = __t353 - __t343;
+        let __t355: f64 = __t291 + __t291;
+        let __t356: f64 = __t304 + __t304;
+        let __t357: f64 = __t215 - __t32;
+        let __t376: f64 = __t25 * 2f64;
+        let __t377: f64 = __t287 * __t291;
+        let __t378: f64 = __t377 + __t377;
+        let __t379: f64 = __t376 + __t378;
+        let __t380: f64 = __t291 * __t300;
+        let __t381: f64 = __t287 * __t304;
+        let __t382: f64 = __t380 + __t381;
+        let __t383: f64 = -__t291;
+        let __t384: f64 = __t383 - __t291;
+        let __t385: f64 = __t300 * __t304;
+        let __t386: f64 = __t385 + __t385;
+        let __t387: f64 = __t376 + __t386;
+        let __t388: f64 = -__t304;
+        let __t389: f64 = __t388 - __t304;
+        let __t390: f64 = __t320 * __t322;
+        let __t392: f64 = __t390 + __t390;
+        let __t393: f64 = __t376 + __t392;
+        let __t394: f64 = __t322 * __t342;
+        let __t395: f64 = -__t394;
+        let __t396: f64 = __t320 * __t343;
+        let __t397: f64 = -__t396;
+        let __t398: f64 = __t395 - __t396;
+        let __t399: f64 = __t323 - __t322;
+        let __t400: f64 = __t397 - __t394;
+        let __t401: f64 = __t342 * __t343;
+        let __t402: f64 = __t401 + __t401;
+        let __t403: f64 = __t376 + __t402;
+        let __t404: f64 = __t343 + __t343;
+        (
+            ::dirac::nalgebra::SMatrix::<
+                f64,
+                4usize,
+                4usize,
+            >::from_row_slice(
+                &[
+                    __t379,
+                    __t382,
+                    0f64,
+                    __t384,
+                    __t382,
+                    __t387,
+                    0f64,
+                    __t389,
+                    0f64,
+                    0f64,
+                    __t376,
+                    0f64,
+                    __t384,
+                    __t389,
+                    0f64,
+                    __t138,
+                ],
+            ),
+            ::dirac::nalgebra::SMatrix::<
+                f64,
+                4usize,
+                4usize,
+            >::from_row_slice(
+                &[
+                    __t329,
+                    __t348,
+                    0f64,
+                    __t355,
+                    __t340,
+                    __t352,
+                    0f64,
+                    __t356,
+                    0f64,
+                    0f64,
+                    __t102,
+                    0f64,
+                    __t341,
+                    __t354,
+                    0f64,
+                    __t357,
+                ],
+            ),
+            ::dirac::nalgebra::SMatrix::<
+                f64,
+                4usize,
+                4usize,
+            >::from_row_slice(
+                &[
+                    __t393,
+                    __t400,
+                    0f64,
+                    __t399,
+                    __t398,
+                    __t403,
+                    0f64,
+                    __t404,
+                    0f64,
+                    0f64,
+                    __t376,
+                    0f64,
+                    __t399,
+                    __t404,
+                    0f64,
+                    __t138,
+                ],
+            ),
+        )
     }
 }
