@@ -7,6 +7,8 @@
 //! paper's run (at the integrator's Newton guess). `step`: one whole step (Newton included),
 //! cycling over the steps of the paper's run, each from the trajectory's state and the guess the
 //! integrator itself starts from; the mean Newton iterations of those steps are printed first.
+//! `generated` is what `ReducedIntegrator::plus(sys, NewtonOptions::default())` runs; where the
+//! attribute emitted a momentum-level elimination, both paths are also timed forced.
 //!
 //! `cargo bench --bench steppers` (add `-- --quick` for a fast pass).
 
@@ -15,21 +17,33 @@ mod common;
 use std::hint::black_box;
 use std::time::Duration;
 
-use common::workload::{self, Workload};
+use common::workload::{self, StepCase, Workload};
 use common::{ad, hand};
-use criterion::{criterion_group, criterion_main, Criterion};
+use criterion::measurement::WallTime;
+use criterion::{criterion_group, criterion_main, BenchmarkGroup, Criterion};
 use dirac::prelude::*;
 
 /// Evaluation points per system.
 const EVAL_POINTS: usize = 64;
 
-/// `f(i)` for `i = 0, 1, 2, …`, one call per iteration.
-fn cycling<T>(mut f: impl FnMut(usize) -> T) -> impl FnMut() -> T {
-    let mut i = 0;
-    move || {
-        i += 1;
-        f(i - 1)
-    }
+type Case = StepCase<3, 1, 4>;
+
+/// Benchmarks `f` on `inputs[0], inputs[1], …` in turn, one per iteration.
+fn cycling<T>(
+    group: &mut BenchmarkGroup<'_, WallTime>,
+    name: &str,
+    inputs: &[Case],
+    f: impl Fn(&Case) -> T,
+) {
+    group.bench_function(name, |b| {
+        // A wrapping index rather than `i % len`: an integer division per iteration would be a
+        // visible part of a 10 ns evaluation.
+        let mut i = 0;
+        b.iter(|| {
+            i = if i + 1 == inputs.len() { 0 } else { i + 1 };
+            f(black_box(&inputs[i]))
+        })
+    });
 }
 
 /// The benchmarks every system gets: generated, num-dual (both Jacobians) and unreduced.
@@ -42,83 +56,72 @@ where
         + Copy,
 {
     println!(
-        "{}: {} steps timed, mean Newton iterations {:.3}",
+        "{}: {} steps timed, mean Newton iterations {:.3} on the default path ({})",
         w.name,
         w.cases.len(),
-        w.mean_iterations()
+        w.mean_iterations(),
+        if ReducedIntegrator::plus(w.system, NewtonOptions::default()).eliminates_group() {
+            "eliminated"
+        } else {
+            "general"
+        }
     );
     let sys = w.system;
     let points = w.spread(EVAL_POINTS);
     let options = NewtonOptions::default();
 
     let mut g = c.benchmark_group(format!("{short}/eval"));
-    let mut eval = |name: &str,
-                    f: &dyn Fn(
-        &ReducedState<3, 1>,
-        &SVector<f64, 4>,
-    ) -> (SVector<f64, 4>, SMatrix<f64, 4, 4>)| {
-        g.bench_function(name, |b| {
-            let mut next = cycling(|i| {
-                let p = &points[i % points.len()];
-                f(black_box(&p.state), black_box(&p.guess))
-            });
-            b.iter(&mut next)
+    cycling(&mut g, "generated", &points, |p| {
+        let s = &p.state;
+        sys.plus_residual_jacobian(&s.x, &s.w, &s.mu, &p.guess)
+    });
+    if L::PLUS_ELIMINATES_GROUP {
+        cycling(&mut g, "generated_eliminated", &points, |p| {
+            let s = &p.state;
+            let x1 = p.guess.fixed_rows::<3>(0).into_owned();
+            sys.plus_eliminated_residual_jacobian(&s.x, &s.w, &s.mu, &x1)
         });
-    };
-    eval("generated", &|s, z| {
-        sys.plus_residual_jacobian(&s.x, &s.w, &s.mu, z)
+    }
+    cycling(&mut g, "num_dual_hessian", &points, |p| {
+        let s = &p.state;
+        ad::residual_jacobian::<L, 3, 1, 4, 7>(&sys, &s.x, &s.w, &s.mu, &p.guess)
     });
-    eval("num_dual_hessian", &|s, z| {
-        ad::residual_jacobian::<L, 3, 1, 4, 7>(&sys, &s.x, &s.w, &s.mu, z)
+    cycling(&mut g, "num_dual_partial_hessian", &points, |p| {
+        let s = &p.state;
+        ad::residual_jacobian_partial::<L, 3, 1, 4>(&sys, &s.x, &s.w, &s.mu, &p.guess)
     });
-    eval("num_dual_partial_hessian", &|s, z| {
-        ad::residual_jacobian_partial::<L, 3, 1, 4>(&sys, &s.x, &s.w, &s.mu, z)
-    });
-    g.bench_function("unreduced_generated", |b| {
-        let mut next = cycling(|i| {
-            let p = &points[i % points.len()];
-            let s = black_box(&p.canonical);
-            sys.unreduced_residual_jacobian(&s.q, &s.p, black_box(&p.canonical_guess))
-        });
-        b.iter(&mut next)
+    cycling(&mut g, "unreduced_generated", &points, |p| {
+        let s = &p.canonical;
+        sys.unreduced_residual_jacobian(&s.q, &s.p, &p.canonical_guess)
     });
     g.finish();
 
-    let cases = &w.cases;
     let mut g = c.benchmark_group(format!("{short}/step"));
+    // The default path (what `ReducedIntegrator::plus` runs), then both paths forced.
     let integ = ReducedIntegrator::plus(sys, options);
-    g.bench_function("generated", |b| {
-        let mut next = cycling(|i| {
-            let c = &cases[i % cases.len()];
-            integ.step(c.k, black_box(&c.state), black_box(&c.guess))
-        });
-        b.iter(&mut next)
+    cycling(&mut g, "generated", &w.cases, |c| {
+        integ.step(c.k, &c.state, &c.guess)
     });
-    for (name, how) in [
-        ("num_dual_hessian", ad::Jacobian::Hessian),
-        ("num_dual_partial_hessian", ad::Jacobian::PartialHessian),
-    ] {
-        g.bench_function(name, |b| {
-            let mut next = cycling(|i| {
-                let c = &cases[i % cases.len()];
-                ad::step::<L, 3, 1, 4, 7>(
-                    &sys,
-                    &options,
-                    how,
-                    black_box(&c.state),
-                    black_box(&c.guess),
-                )
-            });
-            b.iter(&mut next)
+    let general = ReducedIntegrator::plus(sys, options).with_elimination(false);
+    cycling(&mut g, "generated_general_path", &w.cases, |c| {
+        general.step(c.k, &c.state, &c.guess)
+    });
+    let eliminated = ReducedIntegrator::plus(sys, options).with_elimination(true);
+    if eliminated.eliminates_group() {
+        cycling(&mut g, "generated_eliminated_path", &w.cases, |c| {
+            eliminated.step(c.k, &c.state, &c.guess)
         });
     }
+    cycling(&mut g, "num_dual_hessian", &w.cases, |c| {
+        ad::step::<L, 3, 1, 4, 7>(&sys, &options, ad::Jacobian::Hessian, &c.state, &c.guess)
+    });
+    cycling(&mut g, "num_dual_partial_hessian", &w.cases, |c| {
+        let how = ad::Jacobian::PartialHessian;
+        ad::step::<L, 3, 1, 4, 7>(&sys, &options, how, &c.state, &c.guess)
+    });
     let unreduced = UnreducedIntegrator::plus(sys, options);
-    g.bench_function("unreduced_generated", |b| {
-        let mut next = cycling(|i| {
-            let c = &cases[i % cases.len()];
-            unreduced.step(c.k, black_box(&c.canonical), black_box(&c.canonical_guess))
-        });
-        b.iter(&mut next)
+    cycling(&mut g, "unreduced_generated", &w.cases, |c| {
+        unreduced.step(c.k, &c.canonical, &c.canonical_guess)
     });
     g.finish();
 }
@@ -127,29 +130,21 @@ fn charged_particle(c: &mut Criterion) {
     let w = workload::charged_particle();
     bench_system(c, "charged_particle", &w);
     let p = w.system;
-    let points = w.spread(EVAL_POINTS);
     let options = NewtonOptions::default();
-    c.bench_function("charged_particle/eval/hand_coded", |b| {
-        let mut next = cycling(|i| {
-            let pt = &points[i % points.len()];
-            let s = black_box(&pt.state);
-            hand::residual_jacobian(&p, &s.x, &s.w, &s.mu, black_box(&pt.guess))
-        });
-        b.iter(&mut next)
+    let mut g = c.benchmark_group("charged_particle/eval");
+    cycling(&mut g, "hand_coded", &w.spread(EVAL_POINTS), |pt| {
+        let s = &pt.state;
+        hand::residual_jacobian(&p, &s.x, &s.w, &s.mu, &pt.guess)
     });
-    let cases = &w.cases;
-    c.bench_function("charged_particle/step/hand_coded_newton", |b| {
-        let mut next = cycling(|i| {
-            let c = &cases[i % cases.len()];
-            hand::newton_step(&p, &options, black_box(&c.state), black_box(&c.guess))
-        });
-        b.iter(&mut next)
+    g.finish();
+    let mut g = c.benchmark_group("charged_particle/step");
+    cycling(&mut g, "hand_coded_newton", &w.cases, |c| {
+        hand::newton_step(&p, &options, &c.state, &c.guess)
     });
-    c.bench_function("charged_particle/step/hand_coded_closed_form", |b| {
-        let mut next =
-            cycling(|i| hand::closed_form_step(&p, black_box(&cases[i % cases.len()].state)));
-        b.iter(&mut next)
+    cycling(&mut g, "hand_coded_closed_form", &w.cases, |c| {
+        hand::closed_form_step(&p, &c.state)
     });
+    g.finish();
 }
 
 fn double_spherical_pendulum(c: &mut Criterion) {

