@@ -67,7 +67,7 @@ pub use dirac_runtime::nalgebra;
 pub use dirac_runtime::{
     trajectory_energies, CanonicalState, CanonicalTrajectory, DiscreteLagrangian, IntegrationError,
     NewtonOptions, ReducedIntegrator, ReducedMinus, ReducedPlus, ReducedState, StepError,
-    StepStats, StepJacobian, StepStatsExt, Trajectory, Unreduced, UnreducedIntegrator, Variant,
+    StepJacobian, StepStats, StepStatsExt, Trajectory, Unreduced, UnreducedIntegrator, Variant,
 };
 
 /// Everything a user of the attribute needs in scope.

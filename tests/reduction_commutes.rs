@@ -365,7 +365,11 @@ fn eliminated_and_general_paths_agree() {
         )
     };
     assert!(!ReducedIntegrator::plus(dsp, NewtonOptions::default()).eliminates_group());
-    compare(dsp, dirac::paper::DoubleSphericalPendulum::paper_initial_state(), 2000);
+    compare(
+        dsp,
+        dirac::paper::DoubleSphericalPendulum::paper_initial_state(),
+        2000,
+    );
 
     // Not affine: no elimination, the general path runs either way.
     const { assert!(!QuarticRotor::PLUS_ELIMINATES_GROUP && !QuarticRotor::MINUS_ELIMINATES_GROUP) };

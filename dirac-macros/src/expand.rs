@@ -163,7 +163,11 @@ fn compile(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<Com
 
 /// Operations in the straight line that computes a residual and its Jacobian together.
 fn cost(g: &Graph, residual: &[NodeId], jacobian: &[Vec<NodeId>]) -> usize {
-    let roots: Vec<NodeId> = residual.iter().chain(jacobian.iter().flatten()).copied().collect();
+    let roots: Vec<NodeId> = residual
+        .iter()
+        .chain(jacobian.iter().flatten())
+        .copied()
+        .collect();
     g.cone(&roots)
         .into_iter()
         .filter(|&n| !matches!(g.node(n), Node::Const(_) | Node::Var(_)))
@@ -194,7 +198,9 @@ fn cheapest_eliminated(
             eliminate_group(g, &st, s, k, group)
         })
         .collect();
-    candidates.into_iter().min_by_key(|e| cost(g, &e.residual, &e.jacobian))
+    candidates
+        .into_iter()
+        .min_by_key(|e| cost(g, &e.residual, &e.jacobian))
 }
 
 fn type_name(spec: &Spec, func: &ItemFn) -> Ident {
@@ -479,7 +485,11 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
     let minus_elim = eliminated(&c.minus_eliminated, "minus", c.minus_elimination_pays);
     let elimination_note = format!(
         " Momentum-level elimination: {}.",
-        elimination_counts.borrow().join("; ").replace("(plus)", "(+)").replace("(minus)", "(−)")
+        elimination_counts
+            .borrow()
+            .join("; ")
+            .replace("(plus)", "(+)")
+            .replace("(minus)", "(−)")
     );
     let plus = stepper_fns(&c.graph, &c.plus, &reduced_leaf, n, s);
     let minus = stepper_fns(&c.graph, &c.minus, &reduced_leaf, n, s);

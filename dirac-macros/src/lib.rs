@@ -13,6 +13,8 @@ mod ctxt;
 mod diff;
 mod emit;
 mod expand;
+#[cfg(test)]
+mod fuzz;
 mod graph;
 mod lower;
 mod reduce;

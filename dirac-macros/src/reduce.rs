@@ -316,7 +316,13 @@ pub fn lagrangian_hessian(g: &mut Graph, l: NodeId, n: usize) -> [Vec<Vec<NodeId
     let d2: Vec<NodeId> = (0..n).map(|i| first(g, l, Sym::Q1(i))).collect();
     let block = |g: &mut Graph, rows: &[NodeId], var: fn(usize) -> Sym| -> Vec<Vec<NodeId>> {
         let columns: Vec<Vec<NodeId>> = (0..n).map(|c| derivatives(g, rows, var(c))).collect();
-        (0..n).map(|r| (0..n).map(|c| columns[c][r]).collect()).collect()
+        (0..n)
+            .map(|r| (0..n).map(|c| columns[c][r]).collect())
+            .collect()
     };
-    [block(g, &d1, Sym::Q0), block(g, &d1, Sym::Q1), block(g, &d2, Sym::Q1)]
+    [
+        block(g, &d1, Sym::Q0),
+        block(g, &d1, Sym::Q1),
+        block(g, &d2, Sym::Q1),
+    ]
 }

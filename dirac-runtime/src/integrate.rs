@@ -481,8 +481,14 @@ impl<const N: usize> StepJacobian<N> {
         let (a, b, c, d) = (&self.dq_dq, &self.dq_dp, &self.dp_dq, &self.dp_dp);
         let n = N as f64;
         let rel = |m: SMatrix<f64, N, N>, scale: f64| m.amax() / scale.max(f64::MIN_POSITIVE);
-        let qq = rel(a.transpose() * c - c.transpose() * a, n * a.amax() * c.amax());
-        let pp = rel(b.transpose() * d - d.transpose() * b, n * b.amax() * d.amax());
+        let qq = rel(
+            a.transpose() * c - c.transpose() * a,
+            n * a.amax() * c.amax(),
+        );
+        let pp = rel(
+            b.transpose() * d - d.transpose() * b,
+            n * b.amax() * d.amax(),
+        );
         let qp = rel(
             a.transpose() * d - c.transpose() * b - SMatrix::<f64, N, N>::identity(),
             (n * (a.amax() * d.amax() + c.amax() * b.amax())).max(1.0),
