@@ -27,3 +27,27 @@ pub fn planar_rotor(q0: Config, q1: Config, h: f64, m: f64, k: f64) -> f64 {
     }
     h * (kinetic + 0.2 * sm * v[0] - k * (1.0 - sm.cos()))
 }
+
+/// splitmix64: a small deterministic PRNG, so every run of a test sees the same points.
+pub struct Rng(pub u64);
+
+impl Rng {
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in `[lo, hi)`.
+    pub fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        let u = (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        lo + (hi - lo) * u
+    }
+
+    /// A vector with entries uniform in `[lo, hi)`.
+    pub fn vector<const D: usize>(&mut self, lo: f64, hi: f64) -> SVector<f64, D> {
+        SVector::from_fn(|_, _| self.uniform(lo, hi))
+    }
+}
