@@ -517,6 +517,7 @@ where
             (j, r)
         })
         .collect();
+    let nalgebra_jacobians = jacobians.clone();
     let factors: Vec<Lu<4>> = jacobians
         .iter()
         .map(|(j, _)| Lu::new(*j).expect("a regular Jacobian"))
@@ -530,6 +531,31 @@ where
         move || {
             for (j, r) in &jacobians {
                 black_box(Lu::new(*black_box(j)).map(|lu| lu.solve(black_box(r))));
+            }
+        },
+    );
+    bench.add(
+        system,
+        "piece",
+        "nalgebra lu() + solve",
+        points.len(),
+        None,
+        move || {
+            for (j, r) in &nalgebra_jacobians {
+                black_box(black_box(*j).lu().solve(black_box(r)));
+            }
+        },
+    );
+    let bound_factors = factors.clone();
+    bench.add(
+        system,
+        "piece",
+        "runtime rcond lower bound",
+        points.len(),
+        None,
+        move || {
+            for f in &bound_factors {
+                black_box(black_box(f).rcond_lower_bound());
             }
         },
     );

@@ -21,7 +21,7 @@ pub struct StepStats {
 }
 
 impl StepStats {
-    fn from_solution<const N: usize>(s: &NewtonSolution<N>) -> Self {
+    fn from_solution<V>(s: &NewtonSolution<V>) -> Self {
         Self {
             iterations: s.iterations,
             residual: s.residual,
@@ -353,10 +353,23 @@ where
         // The closed form divides by the group block A, whose degeneracy (e.g. where the symmetry
         // action is not free) the shape Jacobian J_S no longer shows: measure A against the scale
         // of J_S, 1 / (‖A⁻¹‖₁ ‖J_S‖₁), and record the worse of that and rcond(J_S).
+        // As for J_S (see `newton::checked_rcond`), the cheap upper bound on ‖A⁻¹‖₁ decides when
+        // it clears the threshold, and Hager's estimate otherwise.
+        let min_rcond = self.options.min_rcond;
         let pivot_rcond = match (block, solution.jacobian_norm1) {
-            (Some(a), Some(norm_s)) if norm_s > 0.0 => {
-                Some(Lu::new(a).map_or(0.0, |lu| (lu.rcond() * lu.norm1() / norm_s).min(1.0)))
-            }
+            (Some(a), Some(norm_s)) if norm_s > 0.0 => Some(Lu::new(a).map_or(0.0, |lu| {
+                let inverse = lu.inverse_norm1_bound();
+                let bound = if inverse.is_finite() {
+                    (1.0 / (inverse * norm_s)).min(1.0)
+                } else {
+                    0.0
+                };
+                if bound >= newton::RCOND_CLEARANCE * min_rcond {
+                    bound
+                } else {
+                    (lu.rcond() * lu.norm1() / norm_s).min(1.0)
+                }
+            })),
             _ => None,
         };
         let rcond = match (solution.rcond, pivot_rcond) {

@@ -1,8 +1,9 @@
-//! Newton iteration on fixed-size nalgebra types: LU with partial pivoting, no heap allocation.
+//! Newton iteration: one driver, generic over its linear solver ([`LinearSolver`]); on the
+//! fixed-size nalgebra types of a step with the dense [`Lu`], without heap allocation.
 
 use nalgebra::{SMatrix, SVector};
 
-use crate::lu::Lu;
+use crate::lu::{FactorError, Lu};
 
 /// Tolerances and iteration cap of the Newton iteration that solves each step.
 ///
@@ -21,7 +22,7 @@ pub struct NewtonOptions {
     /// Maximum number of Newton corrections per step.
     pub max_iterations: usize,
     /// Smallest acceptable reciprocal condition estimate of the step Jacobian (see
-    /// [`Lu::rcond`]); a step whose Jacobian is worse is an error instead of a result with few or
+    /// [`Lu::rcond`] and [`checked_rcond`]); a step whose Jacobian is worse is an error instead of a result with few or
     /// no correct digits. Where the symmetry action is not free (e.g. spherical coordinates at a
     /// pole, the paper's Remark 7.1) the reduced equations degenerate and this is what catches it.
     pub min_rcond: f64,
@@ -41,6 +42,11 @@ impl Default for NewtonOptions {
 /// `‖v‖∞`, NaN if any component is NaN. (nalgebra's `amax` skips NaN, which would let a NaN
 /// residual pass for converged.)
 pub fn inf_norm<const N: usize>(v: &SVector<f64, N>) -> f64 {
+    slice_inf_norm(v.as_slice())
+}
+
+#[inline]
+fn slice_inf_norm(v: &[f64]) -> f64 {
     v.iter().fold(0.0, |m: f64, x| {
         if m.is_nan() || x.is_nan() {
             f64::NAN
@@ -50,17 +56,109 @@ pub fn inf_norm<const N: usize>(v: &SVector<f64, N>) -> f64 {
     })
 }
 
+/// The unknowns and residuals of a Newton iteration: whatever holds its components contiguously
+/// (fixed-size `SVector` for the small dense systems of a step, `DVector` for large ones).
+pub trait NewtonVector: Clone {
+    /// The components.
+    fn components(&self) -> &[f64];
+    /// The components, mutably.
+    fn components_mut(&mut self) -> &mut [f64];
+}
+
+impl<const N: usize> NewtonVector for SVector<f64, N> {
+    fn components(&self) -> &[f64] {
+        self.as_slice()
+    }
+    fn components_mut(&mut self) -> &mut [f64] {
+        self.as_mut_slice()
+    }
+}
+
+impl NewtonVector for nalgebra::DVector<f64> {
+    fn components(&self) -> &[f64] {
+        self.as_slice()
+    }
+    fn components_mut(&mut self) -> &mut [f64] {
+        self.as_mut_slice()
+    }
+}
+
+/// The linear solver the Newton driver is generic over (the separation of SUNDIALS/KINSOL): it
+/// factors a Jacobian, solves with the factors, and reports the conditioning figures the step
+/// is checked with. [`Lu`] is the dense fixed-size backend.
+pub trait LinearSolver: Sized {
+    /// The vector type of residuals and corrections.
+    type Vector: NewtonVector;
+    /// The Jacobian type.
+    type Matrix;
+    /// Factors `j`.
+    fn factor(j: &Self::Matrix) -> Result<Self, FactorError>;
+    /// Solves `J x = b` with the factors.
+    fn solve(&self, b: &Self::Vector) -> Self::Vector;
+    /// `‖J‖₁`.
+    fn norm1(&self) -> f64;
+    /// A cheap guaranteed lower bound on `1 / (‖J‖₁ ‖J⁻¹‖₁)`.
+    fn rcond_lower_bound(&self) -> f64;
+    /// The (more expensive, more accurate) estimate of `1 / (‖J‖₁ ‖J⁻¹‖₁)`.
+    fn rcond(&self) -> f64;
+}
+
+impl<const N: usize> LinearSolver for Lu<N> {
+    type Vector = SVector<f64, N>;
+    type Matrix = SMatrix<f64, N, N>;
+    #[inline]
+    fn factor(j: &Self::Matrix) -> Result<Self, FactorError> {
+        Lu::factor(j)
+    }
+    #[inline]
+    fn solve(&self, b: &Self::Vector) -> Self::Vector {
+        Lu::solve(self, b)
+    }
+    fn norm1(&self) -> f64 {
+        Lu::norm1(self)
+    }
+    fn rcond_lower_bound(&self) -> f64 {
+        Lu::rcond_lower_bound(self)
+    }
+    fn rcond(&self) -> f64 {
+        Lu::rcond(self)
+    }
+}
+
+/// How far above [`NewtonOptions::min_rcond`] the cheap lower bound must be for the estimator to
+/// be skipped: a margin for the round-off of the estimate itself, whose solves carry a relative
+/// error up to `κ ε` (≈ 1e-3 at the default threshold).
+pub const RCOND_CLEARANCE: f64 = 2.0;
+
+/// The conditioning figure a step is checked with: the guaranteed lower bound
+/// [`LinearSolver::rcond_lower_bound`] when it clears `min_rcond` by [`RCOND_CLEARANCE`] (the
+/// step is then certainly well enough conditioned, and Hager's estimate — never below the true
+/// value up to its round-off — would have passed it too), otherwise Hager's estimate
+/// [`LinearSolver::rcond`]. So a step is refused exactly when Hager's estimate is below
+/// `min_rcond`, as if it ran on every step, while healthy steps pay for one extra solve instead
+/// of up to ten.
+pub fn checked_rcond<B: LinearSolver>(factors: &B, min_rcond: f64) -> f64 {
+    let bound = factors.rcond_lower_bound();
+    if bound >= RCOND_CLEARANCE * min_rcond {
+        bound
+    } else {
+        factors.rcond()
+    }
+}
+
 /// A converged solve.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct NewtonSolution<const N: usize> {
+pub struct NewtonSolution<V> {
     /// The root `z`.
-    pub z: SVector<f64, N>,
+    pub z: V,
     /// Number of Newton corrections (linear solves) taken.
     pub iterations: usize,
     /// `‖R(z)‖∞` at the returned `z`.
     pub residual: f64,
-    /// Reciprocal condition estimate of the last Jacobian factored (`None` if the initial guess
-    /// already met the tolerance and no Jacobian was needed).
+    /// Conditioning figure of the last Jacobian factored (see [`checked_rcond`]: a guaranteed
+    /// lower bound on its reciprocal condition number, or Hager's estimate when the bound does
+    /// not clear [`NewtonOptions::min_rcond`]); `None` if the initial guess already met the
+    /// tolerance and no Jacobian was factored.
     pub rcond: Option<f64>,
     /// `‖J‖₁` of that Jacobian.
     pub jacobian_norm1: Option<f64>,
@@ -96,33 +194,51 @@ pub enum NewtonFailure {
     },
 }
 
-/// Solves `R(z) = 0` from `z0` by Newton's method.
+/// Solves `R(z) = 0` from `z0` by Newton's method, on fixed-size vectors with the dense [`Lu`].
 ///
 /// `residual` evaluates `R` alone (used to test convergence after each correction);
-/// `residual_jacobian` evaluates `R` and `∂R/∂z` together. `rho` is the momentum scale of the
-/// relative residual test (see [`NewtonOptions`]).
+/// `residual_jacobian` evaluates `R` and `∂R/∂z` together (its `R` also tests the initial
+/// guess). `rho` is the momentum scale of the relative residual test (see [`NewtonOptions`]).
 pub fn solve<const N: usize>(
     z0: SVector<f64, N>,
     rho: f64,
     options: &NewtonOptions,
-    mut residual: impl FnMut(&SVector<f64, N>) -> SVector<f64, N>,
-    mut residual_jacobian: impl FnMut(&SVector<f64, N>) -> (SVector<f64, N>, SMatrix<f64, N, N>),
-) -> Result<NewtonSolution<N>, NewtonFailure> {
+    residual: impl FnMut(&SVector<f64, N>) -> SVector<f64, N>,
+    residual_jacobian: impl FnMut(&SVector<f64, N>) -> (SVector<f64, N>, SMatrix<f64, N, N>),
+) -> Result<NewtonSolution<SVector<f64, N>>, NewtonFailure> {
+    solve_with::<Lu<N>>(z0, rho, options, residual, residual_jacobian)
+}
+
+/// [`solve`] with the linear solver `B`: the one Newton driver of every step.
+///
+/// Per correction: `R` and `J` at the iterate, factor, solve, update, then `R` alone at the new
+/// iterate to test convergence (the residual that also returns `J` is not evaluated twice at
+/// one point). The conditioning of the last Jacobian is checked once per solve, with
+/// [`checked_rcond`].
+pub fn solve_with<B: LinearSolver>(
+    z0: B::Vector,
+    rho: f64,
+    options: &NewtonOptions,
+    mut residual: impl FnMut(&B::Vector) -> B::Vector,
+    mut residual_jacobian: impl FnMut(&B::Vector) -> (B::Vector, B::Matrix),
+) -> Result<NewtonSolution<B::Vector>, NewtonFailure> {
     let tol = options.abs_tol + options.rel_tol * rho;
     let mut z = z0;
-    let mut r = residual(&z);
-    let mut norm = inf_norm(&r);
+    let (mut r_j, mut jacobian) = residual_jacobian(&z);
+    let mut norm = slice_inf_norm(r_j.components());
     if !norm.is_finite() {
         return Err(NewtonFailure::NonFinite {
             residual: f64::INFINITY,
         });
     }
+    // Whether `r_j, jacobian` were evaluated at the current iterate.
+    let mut fresh = true;
     let mut iterations = 0;
-    let mut factor: Option<Lu<N>> = None;
-    // Conditioning is estimated once per solve, from the last factorization.
-    let done = |z, iterations, residual, factor: Option<Lu<N>>| {
-        let rcond = factor.map(|f| f.rcond());
-        let jacobian_norm1 = factor.map(|f| f.norm1());
+    let mut factor: Option<B> = None;
+    let condition = |f: &B| checked_rcond(f, options.min_rcond);
+    let done = |z, iterations, residual, factor: Option<B>| {
+        let rcond = factor.as_ref().map(condition);
+        let jacobian_norm1 = factor.as_ref().map(|f| f.norm1());
         match rcond {
             Some(rcond) if rcond < options.min_rcond => {
                 Err(NewtonFailure::IllConditioned { rcond, residual })
@@ -137,7 +253,7 @@ pub fn solve<const N: usize>(
         }
     };
     // A failure whose last Jacobian was ill-conditioned is reported as such: that is the cause.
-    let failed = |failure: NewtonFailure, factor: &Option<Lu<N>>| match factor.map(|f| f.rcond()) {
+    let failed = |failure: NewtonFailure, factor: &Option<B>| match factor.as_ref().map(condition) {
         Some(rcond) if rcond < options.min_rcond => NewtonFailure::IllConditioned {
             rcond,
             residual: match failure {
@@ -160,28 +276,36 @@ pub fn solve<const N: usize>(
             };
             return Err(failed(failure, &factor));
         }
-        let (r_j, jacobian) = residual_jacobian(&z);
-        if jacobian.iter().any(|v| !v.is_finite()) {
-            return Err(NewtonFailure::NonFinite { residual: norm });
+        if !fresh {
+            (r_j, jacobian) = residual_jacobian(&z);
         }
-        let lu = Lu::new(jacobian).ok_or(NewtonFailure::Singular { residual: norm })?;
+        let lu = match B::factor(&jacobian) {
+            Ok(lu) => lu,
+            Err(FactorError::NonFinite) => return Err(NewtonFailure::NonFinite { residual: norm }),
+            Err(FactorError::Singular) => return Err(NewtonFailure::Singular { residual: norm }),
+        };
         let dz = lu.solve(&r_j);
         factor = Some(lu);
-        if dz.iter().any(|v| !v.is_finite()) {
+        if dz.components().iter().any(|v| !v.is_finite()) {
             return Err(NewtonFailure::Singular { residual: norm });
         }
         let previous = norm;
-        z -= dz;
+        for (zi, di) in z.components_mut().iter_mut().zip(dz.components()) {
+            *zi -= di;
+        }
         iterations += 1;
-        r = residual(&z);
-        norm = inf_norm(&r);
+        fresh = false;
+        let r = residual(&z);
+        norm = slice_inf_norm(r.components());
         if !norm.is_finite() {
             return Err(failed(
                 NewtonFailure::NonFinite { residual: previous },
                 &factor,
             ));
         }
-        if inf_norm(&dz) <= options.rel_tol * (1.0 + inf_norm(&z)) {
+        if slice_inf_norm(dz.components())
+            <= options.rel_tol * (1.0 + slice_inf_norm(z.components()))
+        {
             return done(z, iterations, norm, factor);
         }
     }
