@@ -59,15 +59,17 @@
 // Emitted code names `::dirac::…`; this lets the crate's own `paper` module use the attribute.
 extern crate self as dirac;
 
+pub mod kepler;
 pub mod paper;
 
 pub use dirac_macros::reduced_lagrangian;
 pub use dirac_runtime as runtime;
 pub use dirac_runtime::nalgebra;
 pub use dirac_runtime::{
-    trajectory_energies, CanonicalState, CanonicalTrajectory, DiscreteLagrangian, IntegrationError,
-    NewtonOptions, ReducedIntegrator, ReducedMinus, ReducedPlus, ReducedState, StepError,
-    StepJacobian, StepStats, StepStatsExt, Trajectory, Unreduced, UnreducedIntegrator, Variant,
+    trajectory_energies, CanonicalState, CanonicalTrajectory, ComposedTrajectory, Composition,
+    CompositionMethod, DiscreteLagrangian, IntegrationError, NewtonOptions, ReducedIntegrator,
+    ReducedMinus, ReducedPlus, ReducedState, StepError, StepJacobian, StepStats, StepStatsExt,
+    Trajectory, Unreduced, UnreducedIntegrator, Variant,
 };
 
 /// Everything a user of the attribute needs in scope.
@@ -75,9 +77,10 @@ pub mod prelude {
     pub use crate::nalgebra::{SMatrix, SVector};
     pub use crate::reduced_lagrangian;
     pub use crate::{
-        CanonicalState, CanonicalTrajectory, DiscreteLagrangian, IntegrationError, NewtonOptions,
-        ReducedIntegrator, ReducedMinus, ReducedPlus, ReducedState, StepError, StepStats,
-        StepStatsExt, Trajectory, Unreduced, UnreducedIntegrator, Variant,
+        CanonicalState, CanonicalTrajectory, ComposedTrajectory, Composition, CompositionMethod,
+        DiscreteLagrangian, IntegrationError, NewtonOptions, ReducedIntegrator, ReducedMinus,
+        ReducedPlus, ReducedState, StepError, StepStats, StepStatsExt, Trajectory, Unreduced,
+        UnreducedIntegrator, Variant,
     };
 }
 

@@ -576,6 +576,12 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
                 self.#step
             }
 
+            fn with_time_step(&self, h: f64) -> Self {
+                let mut system = *self;
+                system.#step = h;
+                system
+            }
+
             fn parameter_values(&self) -> ::std::vec::Vec<f64> {
                 ::std::vec![ #( self.#params ),* ]
             }
@@ -741,6 +747,7 @@ fn stub_impls(spec: &Spec, sig: &Signature, ty: &Ident) -> TokenStream {
             fn lagrangian(&self, q0: #vn, q1: #vn) -> f64 { #stub }
             fn connection(&self) -> #na::SMatrix<f64, #k, #s> { #stub }
             fn time_step(&self) -> f64 { #stub }
+            fn with_time_step(&self, h: f64) -> Self { #stub }
             fn parameter_values(&self) -> ::std::vec::Vec<f64> { #stub }
         }
 

@@ -62,6 +62,22 @@ pub enum StepError {
         /// The offending value.
         h: f64,
     },
+    /// A symmetric composition was asked of a discrete Lagrangian that is not symmetric:
+    /// `L_d(q0, q1; −h) + L_d(q1, q0; h)` is not zero at sample points near the initial state
+    /// (see [`crate::compose`]). Its step is not self-adjoint, so the composition does not reach
+    /// its order.
+    #[error(
+        "the discrete Lagrangian is not symmetric: |L_d(q0, q1; -h) + L_d(q1, q0; h)| = {defect:.3e} \
+         relative to |L_d| at a sample point near the initial state (accepted: at most {tolerance:.0e}); \
+         a composition of a non-symmetric rule (e.g. the left-point rule) does not reach its order: \
+         use a symmetric rule such as the midpoint or trapezoidal rule"
+    )]
+    NotSymmetric {
+        /// The largest relative defect found.
+        defect: f64,
+        /// The largest accepted.
+        tolerance: f64,
+    },
 }
 
 impl StepError {
@@ -72,18 +88,19 @@ impl StepError {
             | StepError::SingularJacobian { step, .. }
             | StepError::IllConditioned { step, .. }
             | StepError::NonFinite { step, .. } => step,
-            StepError::InvalidTimeStep { .. } => 0,
+            StepError::InvalidTimeStep { .. } | StepError::NotSymmetric { .. } => 0,
         }
     }
 
-    /// `‖R‖∞` at the last iterate (`NaN` for an invalid time step, where no residual exists).
+    /// `‖R‖∞` at the last iterate (`NaN` for an invalid time step or a non-symmetric Lagrangian,
+    /// where no residual exists).
     pub fn residual(&self) -> f64 {
         match *self {
             StepError::NotConverged { residual, .. }
             | StepError::SingularJacobian { residual, .. }
             | StepError::IllConditioned { residual, .. }
             | StepError::NonFinite { residual, .. } => residual,
-            StepError::InvalidTimeStep { .. } => f64::NAN,
+            StepError::InvalidTimeStep { .. } | StepError::NotSymmetric { .. } => f64::NAN,
         }
     }
 }

@@ -539,6 +539,11 @@ where
         &self.system
     }
 
+    /// The Newton options.
+    pub fn options(&self) -> &NewtonOptions {
+        &self.options
+    }
+
     /// Takes step `k` from `state`, starting Newton at `guess` for `q_{k+1}`.
     pub fn step(
         &self,

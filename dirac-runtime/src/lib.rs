@@ -5,13 +5,16 @@
 //! implements the traits of [`system`] for a type holding the Lagrangian's parameters. This crate
 //! drives that code: [`newton`] solves each step's equations on fixed-size nalgebra types,
 //! [`integrate`] marches a trajectory, [`state`] holds the reduced and canonical states, and
-//! [`error`] reports a failed step as a value carrying its index and residual.
+//! [`error`] reports a failed step as a value carrying its index and residual. [`compose`] raises
+//! a symmetric rule to order 4 or 6 by symmetric composition, keeping μ exact and the step map
+//! symplectic.
 //!
 //! Notation follows the paper: `Q = Σ × G` with shape coordinates `x ∈ Σ = R^S` and group
 //! coordinates `g ∈ G = R^K` (G acts by translation), reduced momenta `w ∈ Σ*` and `mu ∈ g*`,
 //! connection matrix `B` (`K × S`) of the linear discrete connection
 //! `ω_d(q0, q1) = (g1 − g0) − B (x1 − x0)`.
 
+pub mod compose;
 pub mod diagnostics;
 pub mod error;
 pub mod integrate;
@@ -20,6 +23,7 @@ pub mod newton;
 pub mod state;
 pub mod system;
 
+pub use compose::{BaseStep, ComposedTrajectory, Composition, CompositionMethod};
 pub use diagnostics::{
     dirac_differential_minus, dirac_differential_plus, dirac_membership_residuals,
     reduced_energy_minus, reduced_energy_plus, trajectory_energies, DiracDifferentialMinus,

@@ -30,6 +30,16 @@ pub trait DiscreteLagrangian<const S: usize, const K: usize, const N: usize> {
     /// The time step `h`.
     fn time_step(&self) -> f64;
 
+    /// The same system with time step `h` in place of [`Self::time_step`]: the discrete
+    /// Lagrangian `L_d(q0, q1; h)` at another step, every other parameter unchanged.
+    ///
+    /// Any nonzero `h` is accepted here, negative included: a symmetric composition
+    /// ([`crate::compose`]) steps with `γ_i h` where some `γ_i < 0`. The integrators still reject
+    /// a user-facing time step that is not positive ([`crate::StepError::InvalidTimeStep`]).
+    fn with_time_step(&self, h: f64) -> Self
+    where
+        Self: Sized;
+
     /// The parameter values, in the order of [`Self::PARAMETERS`].
     fn parameter_values(&self) -> Vec<f64>;
 

@@ -84,6 +84,11 @@ impl ::dirac::runtime::DiscreteLagrangian<3usize, 1usize, 4usize> for ChargedPar
     fn time_step(&self) -> f64 {
         self.h
     }
+    fn with_time_step(&self, h: f64) -> Self {
+        let mut system = *self;
+        system.h = h;
+        system
+    }
     fn parameter_values(&self) -> ::std::vec::Vec<f64> {
         ::std::vec![self.h, self.m, self.b0]
     }
