@@ -4,6 +4,7 @@
 
 use dirac::paper::{ChargedParticle, DoubleSphericalPendulum, DSP_STEPS};
 use dirac::prelude::*;
+use dirac::runtime::integrate::{canonical_guess, reduced_guess};
 use dirac::runtime::system::join;
 
 /// One step of a paper run, ready to be taken again.
@@ -13,8 +14,7 @@ pub struct StepCase<const S: usize, const K: usize, const N: usize> {
     pub k: usize,
     /// `(x_k, w_k, μ_k, g_k)` on the trajectory.
     pub state: ReducedState<S, K>,
-    /// The integrator's guess for `z = (x_{k+1}, g_k^+)`: the linear extrapolation
-    /// `2 x_k − x_{k−1}` and the previous group increment `g_{k−1}^+`.
+    /// The integrator's guess for `z = (x_{k+1}, g_k^+)`: `integrate::reduced_guess`.
     pub guess: SVector<f64, N>,
     /// The solution the generated stepper found from `guess`.
     pub solution: SVector<f64, N>,
@@ -22,7 +22,7 @@ pub struct StepCase<const S: usize, const K: usize, const N: usize> {
     pub iterations: usize,
     /// The same physical state for the unreduced stepper, `(q_k, p_k)` by eq. (3.7).
     pub canonical: CanonicalState<N>,
-    /// The unreduced integrator's guess `2 q_k − q_{k−1}`.
+    /// The unreduced integrator's guess, `integrate::canonical_guess`.
     pub canonical_guess: SVector<f64, N>,
 }
 
@@ -62,14 +62,24 @@ where
                 StepCase {
                     k,
                     state,
-                    guess: join::<S, K, N>(
-                        &(2.0 * state.x - trajectory.states[k - 1].x),
-                        &trajectory.increments[k - 1],
+                    guess: reduced_guess::<S, K, N>(
+                        k,
+                        &[0, 1, 2].map(|i| trajectory.states[k.saturating_sub(i)].x),
+                        &[1, 2].map(|i| {
+                            trajectory
+                                .increments
+                                .get(k.wrapping_sub(i))
+                                .copied()
+                                .unwrap_or_else(SVector::zeros)
+                        }),
                     ),
                     solution: join::<S, K, N>(&next.x, &trajectory.increments[k]),
                     iterations: trajectory.stats[k].iterations,
                     canonical: system.untrivialize(&state),
-                    canonical_guess: 2.0 * config(k) - config(k - 1),
+                    canonical_guess: canonical_guess(
+                        k,
+                        &[0, 1, 2].map(|i| config(k.saturating_sub(i))),
+                    ),
                 }
             })
             .collect();

@@ -310,6 +310,8 @@ struct SteppedFns {
     residual: TokenStream,
     residual_jacobian: TokenStream,
     momentum: TokenStream,
+    /// The residual and the momentum update together (they share most subexpressions).
+    residual_momentum: TokenStream,
     counts: String,
 }
 
@@ -349,7 +351,22 @@ fn stepper_fns(
     };
     let mo = straight_line(g, &stepper.momentum, leaf);
     let (m_stmts, m_out) = (&mo.stmts, &mo.outputs);
+    let fused_roots: Vec<NodeId> = stepper
+        .residual
+        .iter()
+        .chain(&stepper.momentum)
+        .copied()
+        .collect();
+    let rm = straight_line(g, &fused_roots, leaf);
+    let (rm_stmts, rm_r, rm_m) = (&rm.stmts, &rm.outputs[..n], &rm.outputs[n..]);
     SteppedFns {
+        residual_momentum: quote! {
+            #rm_stmts
+            (
+                #na::SVector::<f64, #n>::from([ #( #rm_r ),* ]),
+                #na::SVector::<f64, #m>::from([ #( #rm_m ),* ]),
+            )
+        },
         residual: quote! {
             #r_stmts
             #na::SVector::<f64, #n>::from([ #( #r_out ),* ])
@@ -496,6 +513,7 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
     let unreduced = stepper_fns(&c.graph, &c.unreduced, &unreduced_leaf, n, n);
     let (plus_r, plus_rj, plus_m) = (&plus.residual, &plus.residual_jacobian, &plus.momentum);
     let (minus_r, minus_rj, minus_m) = (&minus.residual, &minus.residual_jacobian, &minus.momentum);
+    let (plus_rm, minus_rm) = (&plus.residual_momentum, &minus.residual_momentum);
     let hessian_roots: Vec<NodeId> = c.hessian.iter().flatten().flatten().copied().collect();
     let hessian_code = straight_line(&c.graph, &hessian_roots, &|sym| match sym {
         Sym::Q0(i) => quote! { q0[#i] },
@@ -612,6 +630,14 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
                 #plus_m
             }
 
+            #[inline]
+            #[allow(unused_variables)] // the momentum update need not read every input
+            fn plus_residual_momentum(
+                &self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn,
+            ) -> (#na::SVector<f64, #n>, #na::SVector<f64, #s>) {
+                #plus_rm
+            }
+
             #plus_elim
         }
 
@@ -638,6 +664,14 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
             #[inline]
             fn minus_momentum(&self, x_k: #vs, z: #vn) -> #na::SVector<f64, #s> {
                 #minus_m
+            }
+
+            #[inline]
+            #[allow(unused_variables)] // the momentum update need not read every input
+            fn minus_residual_momentum(
+                &self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn,
+            ) -> (#na::SVector<f64, #n>, #na::SVector<f64, #s>) {
+                #minus_rm
             }
 
             #minus_elim

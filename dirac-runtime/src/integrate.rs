@@ -275,24 +275,42 @@ where
         if self.eliminates_group() {
             return self.eliminated_step(k, state, guess, rho);
         }
+        // The residual alone is evaluated with w_{k+1} (one straight line): where Newton accepts
+        // that iterate, the momentum update is already known.
+        let mut tested: Option<(SVector<f64, N>, SVector<f64, S>)> = None;
         let solution = match self.variant {
             Variant::Plus => newton::solve(
                 *guess,
                 rho,
                 &self.options,
-                |z| sys.plus_residual(x, w, mu, z),
+                |z| {
+                    let (r, w1) = sys.plus_residual_momentum(x, w, mu, z);
+                    tested = Some((*z, w1));
+                    r
+                },
                 |z| sys.plus_residual_jacobian(x, w, mu, z),
             ),
             Variant::Minus => newton::solve(
                 *guess,
                 rho,
                 &self.options,
-                |z| sys.minus_residual(x, w, mu, z),
+                |z| {
+                    let (r, w1) = sys.minus_residual_momentum(x, w, mu, z);
+                    tested = Some((*z, w1));
+                    r
+                },
                 |z| sys.minus_residual_jacobian(x, w, mu, z),
             ),
         }
         .map_err(|failure| step_error(k, failure))?;
-        self.finish_step(k, state, solution.z, StepStats::from_solution(&solution))
+        let w1 = tested.and_then(|(z, w1)| (z == solution.z).then_some(w1));
+        self.finish_step(
+            k,
+            state,
+            solution.z,
+            w1,
+            StepStats::from_solution(&solution),
+        )
     }
 
     /// A step with the group unknowns eliminated: Newton on `x_{k+1}` alone, then the group
@@ -391,23 +409,25 @@ where
             residual: solution.residual,
             rcond,
         };
-        self.finish_step(k, state, z, stats)
+        self.finish_step(k, state, z, None, stats)
     }
 
-    /// The explicit updates after the unknowns `z = (x_{k+1}, group unknown)` are known.
+    /// The explicit updates after the unknowns `z = (x_{k+1}, group unknown)` are known; `w1` is
+    /// `w_{k+1}` if the solve already evaluated it at `z`.
     fn finish_step(
         &self,
         k: usize,
         state: &ReducedState<S, K>,
         z: SVector<f64, N>,
+        w1: Option<SVector<f64, S>>,
         stats: StepStats,
     ) -> Result<(ReducedState<S, K>, SVector<f64, K>, StepStats), StepError> {
         let sys = &self.system;
         let (x, mu) = (&state.x, &state.mu);
         let (x1, g_unknown) = split::<S, K, N>(&z);
         let (w1, dg) = match self.variant {
-            Variant::Plus => (sys.plus_momentum(x, &z), g_unknown),
-            Variant::Minus => (sys.minus_momentum(x, &z), -g_unknown),
+            Variant::Plus => (w1.unwrap_or_else(|| sys.plus_momentum(x, &z)), g_unknown),
+            Variant::Minus => (w1.unwrap_or_else(|| sys.minus_momentum(x, &z)), -g_unknown),
         };
         let next = ReducedState {
             x: x1,
@@ -427,8 +447,9 @@ where
 
     /// Integrates `steps` steps from `initial`.
     ///
-    /// Newton starts each step from a linear extrapolation of the last two shape points and the
-    /// last group unknown. On failure the error holds the trajectory computed so far.
+    /// Newton starts each step from [`reduced_guess`], a quadratic extrapolation of the last
+    /// shape points and a linear one of the last group unknowns. On failure the error holds the
+    /// trajectory computed so far.
     pub fn integrate(
         &mut self,
         initial: ReducedState<S, K>,
@@ -448,15 +469,15 @@ where
             return Err(fail(e, trajectory));
         }
         let mut state = initial;
-        let mut previous: Option<(SVector<f64, S>, SVector<f64, K>)> = None;
+        // The last three shape points and the last two group unknowns, newest first.
+        let mut shapes: [SVector<f64, S>; 3] = [initial.x; 3];
+        let mut groups: [SVector<f64, K>; 2] = [SVector::zeros(); 2];
         for k in 0..steps {
-            let guess = match previous {
-                Some((x_prev, g_unknown)) => join::<S, K, N>(&(2.0 * state.x - x_prev), &g_unknown),
-                None => join::<S, K, N>(&state.x, &SVector::zeros()),
-            };
+            let guess = reduced_guess::<S, K, N>(k, &shapes, &groups);
             match self.step(k, &state, &guess) {
                 Ok((next, g_unknown, stats)) => {
-                    previous = Some((state.x, g_unknown));
+                    shapes = [next.x, shapes[0], shapes[1]];
+                    groups = [g_unknown, groups[0]];
                     trajectory.states.push(next);
                     trajectory.increments.push(g_unknown);
                     trajectory.stats.push(stats);
@@ -466,6 +487,43 @@ where
             }
         }
         Ok(trajectory)
+    }
+}
+
+/// Newton's initial guess for step `k`, `z = (x_{k+1}, group unknown)`: the polynomial through
+/// the last shape points extrapolated one step (`x_k` at the first step, `2 x_k − x_{k−1}` at
+/// the second, then the quadratic `3 x_k − 3 x_{k−1} + x_{k−2}`, whose error is `O(h³)` against
+/// the linear one's `O(h²)`), and the group unknown by the same rule one order lower (`0`, then
+/// the last one, then `2 g_{k−1} − g_{k−2}`: it is itself an increment, one order smaller).
+///
+/// `shapes` holds `x_k, x_{k−1}, x_{k−2}` and `groups` the group unknowns of steps `k − 1` and
+/// `k − 2`, newest first; entries before the start are ignored.
+pub fn reduced_guess<const S: usize, const K: usize, const N: usize>(
+    k: usize,
+    shapes: &[SVector<f64, S>; 3],
+    groups: &[SVector<f64, K>; 2],
+) -> SVector<f64, N> {
+    let [x0, x1, x2] = shapes;
+    let [g1, g2] = groups;
+    match k {
+        0 => join::<S, K, N>(x0, &SVector::zeros()),
+        1 => join::<S, K, N>(&(2.0 * x0 - x1), g1),
+        _ => join::<S, K, N>(&(3.0 * (x0 - x1) + x2), &(2.0 * g1 - g2)),
+    }
+}
+
+/// Newton's initial guess for `q_{k+1}` in the unreduced equations: `q_k`, then
+/// `2 q_k − q_{k−1}`, then `3 q_k − 3 q_{k−1} + q_{k−2}` (see [`reduced_guess`]); `configs` holds
+/// `q_k, q_{k−1}, q_{k−2}`, newest first.
+pub fn canonical_guess<const N: usize>(
+    k: usize,
+    configs: &[SVector<f64, N>; 3],
+) -> SVector<f64, N> {
+    let [q0, q1, q2] = configs;
+    match k {
+        0 => *q0,
+        1 => 2.0 * q0 - q1,
+        _ => 3.0 * (q0 - q1) + q2,
     }
 }
 
@@ -619,8 +677,9 @@ where
         })
     }
 
-    /// Integrates `steps` steps from `initial`, starting Newton from a linear extrapolation of
-    /// the last two configurations. On failure the error holds the trajectory computed so far.
+    /// Integrates `steps` steps from `initial`, starting Newton from [`canonical_guess`], a
+    /// quadratic extrapolation of the last configurations. On failure the error holds the
+    /// trajectory computed so far.
     pub fn integrate(
         &mut self,
         initial: CanonicalState<N>,
@@ -643,12 +702,13 @@ where
             return Err(fail(e, trajectory));
         }
         let mut state = initial;
-        let mut q_prev: Option<SVector<f64, N>> = None;
+        // The last three configurations, newest first.
+        let mut configs = [initial.q; 3];
         for k in 0..steps {
-            let guess = q_prev.map_or(state.q, |q_prev| 2.0 * state.q - q_prev);
+            let guess = canonical_guess(k, &configs);
             match self.step(k, &state, &guess) {
                 Ok((next, stats)) => {
-                    q_prev = Some(state.q);
+                    configs = [next.q, configs[0], configs[1]];
                     trajectory.states.push(next);
                     trajectory.stats.push(stats);
                     state = next;

@@ -146,6 +146,21 @@ pub trait ReducedPlus<const S: usize, const K: usize, const N: usize>:
     /// `w_{k+1} = ∂l_{d+}/∂x1 (x_k, x_{k+1}, g_k^+)`, first line of eq. (4.6).
     fn plus_momentum(&self, x_k: &SVector<f64, S>, z: &SVector<f64, N>) -> SVector<f64, S>;
 
+    /// `R(z)` and `w_{k+1}` at `z` together: the test of a Newton iterate and, if it passes,
+    /// the momentum update, from one straight line that shares their subexpressions.
+    fn plus_residual_momentum(
+        &self,
+        x_k: &SVector<f64, S>,
+        w_k: &SVector<f64, S>,
+        mu_k: &SVector<f64, K>,
+        z: &SVector<f64, N>,
+    ) -> (SVector<f64, N>, SVector<f64, S>) {
+        (
+            self.plus_residual(x_k, w_k, mu_k, z),
+            self.plus_momentum(x_k, z),
+        )
+    }
+
     /// Whether the momentum equations `∂l_{d+}/∂g1 = μ_k` are affine in `g_k^+` and were solved
     /// in closed form at compile time (momentum-level elimination, beyond the paper: a discrete
     /// Routh-type step). Then the `plus_eliminated_*` functions return `Some` and a step runs
@@ -268,6 +283,20 @@ pub trait ReducedMinus<const S: usize, const K: usize, const N: usize>:
 
     /// `w_{k+1} = ∂l_{d−}/∂x1 (x_k, g_{k+1}^−, x_{k+1})`.
     fn minus_momentum(&self, x_k: &SVector<f64, S>, z: &SVector<f64, N>) -> SVector<f64, S>;
+
+    /// `R(z)` and `w_{k+1}` at `z` together (see [`ReducedPlus::plus_residual_momentum`]).
+    fn minus_residual_momentum(
+        &self,
+        x_k: &SVector<f64, S>,
+        w_k: &SVector<f64, S>,
+        mu_k: &SVector<f64, K>,
+        z: &SVector<f64, N>,
+    ) -> (SVector<f64, N>, SVector<f64, S>) {
+        (
+            self.minus_residual(x_k, w_k, mu_k, z),
+            self.minus_momentum(x_k, z),
+        )
+    }
 
     /// As [`ReducedPlus::PLUS_ELIMINATES_GROUP`], for `∂l_{d−}/∂g0 = −μ_k` and `g_{k+1}^−`.
     const MINUS_ELIMINATES_GROUP: bool = false;

@@ -355,6 +355,101 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
         let __t154: f64 = __t25 * __t153;
         ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t146, __t152, __t154])
     }
+    #[inline]
+    #[allow(unused_variables)]
+    fn plus_residual_momentum(
+        &self,
+        x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
+        w_k: &::dirac::nalgebra::SVector<f64, 3usize>,
+        mu_k: &::dirac::nalgebra::SVector<f64, 1usize>,
+        z: &::dirac::nalgebra::SVector<f64, 4usize>,
+    ) -> (
+        ::dirac::nalgebra::SVector<f64, 4usize>,
+        ::dirac::nalgebra::SVector<f64, 3usize>,
+    ) {
+        let __p2: f64 = self.b0;
+        let __t11: f64 = 0.5f64 * __p2;
+        let __p1: f64 = self.m;
+        let __t23: f64 = 0.5f64 * __p1;
+        let __p0: f64 = self.h;
+        let __t25: f64 = __t23 / __p0;
+        let __t32: f64 = 0.5f64 / __p0;
+        let __x1_0: f64 = z[0usize];
+        let __x0_0: f64 = x_k[0usize];
+        let __t39: f64 = __x1_0 - __x0_0;
+        let __x1_1: f64 = z[1usize];
+        let __x0_1: f64 = x_k[1usize];
+        let __t42: f64 = __x1_1 - __x0_1;
+        let __x1_2: f64 = z[2usize];
+        let __x0_2: f64 = x_k[2usize];
+        let __t45: f64 = __x1_2 - __x0_2;
+        let __t46: f64 = __t39 * __x0_1;
+        let __t47: f64 = __x0_0 * __t42;
+        let __t48: f64 = __t47 - __t46;
+        let __t49: f64 = __t11 * __t48;
+        let __g1_0: f64 = z[3usize];
+        let __t52: f64 = __t49 + __g1_0;
+        let __t59: f64 = __t32 * __t52;
+        let __t64: f64 = __x0_1 + __t42;
+        let __t65: f64 = __t11 * __t64;
+        let __t66: f64 = -__t39;
+        let __t67: f64 = __t66 - __t39;
+        let __t68: f64 = __t25 * __t67;
+        let __t69: f64 = __t32 * __t65;
+        let __t70: f64 = __t59 * __t65;
+        let __t71: f64 = __t52 * __t69;
+        let __t72: f64 = __t70 + __t71;
+        let __t73: f64 = __t68 + __t72;
+        let __w_0: f64 = w_k[0usize];
+        let __t75: f64 = __t73 + __w_0;
+        let __t76: f64 = -__x0_0;
+        let __t77: f64 = __t76 - __t39;
+        let __t78: f64 = __t11 * __t77;
+        let __t79: f64 = -__t42;
+        let __t80: f64 = __t79 - __t42;
+        let __t81: f64 = __t25 * __t80;
+        let __t82: f64 = __t32 * __t78;
+        let __t83: f64 = __t59 * __t78;
+        let __t84: f64 = __t52 * __t82;
+        let __t85: f64 = __t83 + __t84;
+        let __t86: f64 = __t81 + __t85;
+        let __w_1: f64 = w_k[1usize];
+        let __t88: f64 = __t86 + __w_1;
+        let __t89: f64 = -__t45;
+        let __t90: f64 = __t89 - __t45;
+        let __t91: f64 = __t25 * __t90;
+        let __w_2: f64 = w_k[2usize];
+        let __t93: f64 = __t91 + __w_2;
+        let __t94: f64 = __t59 + __t59;
+        let __mu_0: f64 = mu_k[0usize];
+        let __t96: f64 = __t94 - __mu_0;
+        let __t97: f64 = __t11 * __x0_1;
+        let __t99: f64 = __t32 * __t97;
+        let __t124: f64 = __t11 * __x0_0;
+        let __t125: f64 = __t32 * __t124;
+        let __t139: f64 = __t39 + __t39;
+        let __t140: f64 = __t25 * __t139;
+        let __t141: f64 = __t59 * __t97;
+        let __t142: f64 = -__t141;
+        let __t143: f64 = __t52 * __t99;
+        let __t145: f64 = __t142 - __t143;
+        let __t146: f64 = __t140 + __t145;
+        let __t147: f64 = __t42 + __t42;
+        let __t148: f64 = __t25 * __t147;
+        let __t149: f64 = __t59 * __t124;
+        let __t150: f64 = __t52 * __t125;
+        let __t151: f64 = __t149 + __t150;
+        let __t152: f64 = __t148 + __t151;
+        let __t153: f64 = __t45 + __t45;
+        let __t154: f64 = __t25 * __t153;
+        (
+            ::dirac::nalgebra::SVector::<
+                f64,
+                4usize,
+            >::from([__t75, __t88, __t93, __t96]),
+            ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t146, __t152, __t154]),
+        )
+    }
     const PLUS_ELIMINATES_GROUP: bool = true;
     const PLUS_ELIMINATION_PAYS: bool = true;
     #[inline]
@@ -865,6 +960,102 @@ impl ::dirac::runtime::ReducedMinus<3usize, 1usize, 4usize> for ChargedParticle 
         let __t244: f64 = __t242 + __t243;
         let __t245: f64 = __t148 + __t244;
         ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t241, __t245, __t154])
+    }
+    #[inline]
+    #[allow(unused_variables)]
+    fn minus_residual_momentum(
+        &self,
+        x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
+        w_k: &::dirac::nalgebra::SVector<f64, 3usize>,
+        mu_k: &::dirac::nalgebra::SVector<f64, 1usize>,
+        z: &::dirac::nalgebra::SVector<f64, 4usize>,
+    ) -> (
+        ::dirac::nalgebra::SVector<f64, 4usize>,
+        ::dirac::nalgebra::SVector<f64, 3usize>,
+    ) {
+        let __p2: f64 = self.b0;
+        let __t11: f64 = 0.5f64 * __p2;
+        let __p1: f64 = self.m;
+        let __t23: f64 = 0.5f64 * __p1;
+        let __p0: f64 = self.h;
+        let __t25: f64 = __t23 / __p0;
+        let __t32: f64 = 0.5f64 / __p0;
+        let __x1_0: f64 = z[0usize];
+        let __x0_0: f64 = x_k[0usize];
+        let __t39: f64 = __x1_0 - __x0_0;
+        let __x1_1: f64 = z[1usize];
+        let __x0_1: f64 = x_k[1usize];
+        let __t42: f64 = __x1_1 - __x0_1;
+        let __x1_2: f64 = z[2usize];
+        let __x0_2: f64 = x_k[2usize];
+        let __t45: f64 = __x1_2 - __x0_2;
+        let __t46: f64 = __t39 * __x0_1;
+        let __t47: f64 = __x0_0 * __t42;
+        let __t48: f64 = __t47 - __t46;
+        let __t49: f64 = __t11 * __t48;
+        let __t64: f64 = __x0_1 + __t42;
+        let __t65: f64 = __t11 * __t64;
+        let __t66: f64 = -__t39;
+        let __t67: f64 = __t66 - __t39;
+        let __t68: f64 = __t25 * __t67;
+        let __t69: f64 = __t32 * __t65;
+        let __w_0: f64 = w_k[0usize];
+        let __t76: f64 = -__x0_0;
+        let __t77: f64 = __t76 - __t39;
+        let __t78: f64 = __t11 * __t77;
+        let __t79: f64 = -__t42;
+        let __t80: f64 = __t79 - __t42;
+        let __t81: f64 = __t25 * __t80;
+        let __t82: f64 = __t32 * __t78;
+        let __w_1: f64 = w_k[1usize];
+        let __t89: f64 = -__t45;
+        let __t90: f64 = __t89 - __t45;
+        let __t91: f64 = __t25 * __t90;
+        let __w_2: f64 = w_k[2usize];
+        let __t93: f64 = __t91 + __w_2;
+        let __mu_0: f64 = mu_k[0usize];
+        let __t97: f64 = __t11 * __x0_1;
+        let __t99: f64 = __t32 * __t97;
+        let __t124: f64 = __t11 * __x0_0;
+        let __t125: f64 = __t32 * __t124;
+        let __t139: f64 = __t39 + __t39;
+        let __t140: f64 = __t25 * __t139;
+        let __t147: f64 = __t42 + __t42;
+        let __t148: f64 = __t25 * __t147;
+        let __t153: f64 = __t45 + __t45;
+        let __t154: f64 = __t25 * __t153;
+        let __g0_0: f64 = z[3usize];
+        let __t201: f64 = __t49 - __g0_0;
+        let __t202: f64 = __t32 * __t201;
+        let __t205: f64 = __t65 * __t202;
+        let __t206: f64 = __t69 * __t201;
+        let __t207: f64 = __t205 + __t206;
+        let __t208: f64 = __t68 + __t207;
+        let __t209: f64 = __w_0 + __t208;
+        let __t210: f64 = __t78 * __t202;
+        let __t211: f64 = __t82 * __t201;
+        let __t212: f64 = __t210 + __t211;
+        let __t213: f64 = __t81 + __t212;
+        let __t214: f64 = __w_1 + __t213;
+        let __t216: f64 = -__t202;
+        let __t217: f64 = __t216 - __t202;
+        let __t218: f64 = __mu_0 + __t217;
+        let __t236: f64 = __t97 * __t202;
+        let __t237: f64 = -__t236;
+        let __t238: f64 = __t99 * __t201;
+        let __t240: f64 = __t237 - __t238;
+        let __t241: f64 = __t140 + __t240;
+        let __t242: f64 = __t124 * __t202;
+        let __t243: f64 = __t125 * __t201;
+        let __t244: f64 = __t242 + __t243;
+        let __t245: f64 = __t148 + __t244;
+        (
+            ::dirac::nalgebra::SVector::<
+                f64,
+                4usize,
+            >::from([__t209, __t214, __t93, __t218]),
+            ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t241, __t245, __t154]),
+        )
     }
     const MINUS_ELIMINATES_GROUP: bool = true;
     const MINUS_ELIMINATION_PAYS: bool = true;
