@@ -54,6 +54,16 @@ where
             let s = &trajectory.states[k];
             join::<S, K, N>(&s.x, &s.g)
         };
+        // Step `k − back`, as the integrator remembers it: its shape increment and group unknown.
+        let step = |k: usize, back: usize| {
+            (k >= back).then(|| {
+                let j = k - back;
+                (
+                    trajectory.states[j + 1].x - trajectory.states[j].x,
+                    trajectory.increments[j],
+                )
+            })
+        };
         let cases = (1..steps)
             .step_by(stride)
             .map(|k| {
@@ -63,22 +73,17 @@ where
                     k,
                     state,
                     guess: reduced_guess::<S, K, N>(
-                        k,
-                        &[0, 1, 2].map(|i| trajectory.states[k.saturating_sub(i)].x),
-                        &[1, 2].map(|i| {
-                            trajectory
-                                .increments
-                                .get(k.wrapping_sub(i))
-                                .copied()
-                                .unwrap_or_else(SVector::zeros)
-                        }),
+                        &state.x,
+                        step(k, 1).as_ref(),
+                        step(k, 2).as_ref(),
                     ),
                     solution: join::<S, K, N>(&next.x, &trajectory.increments[k]),
                     iterations: trajectory.stats[k].iterations,
                     canonical: system.untrivialize(&state),
                     canonical_guess: canonical_guess(
-                        k,
-                        &[0, 1, 2].map(|i| config(k.saturating_sub(i))),
+                        &config(k),
+                        (k >= 1).then(|| config(k) - config(k - 1)).as_ref(),
+                        (k >= 2).then(|| config(k - 1) - config(k - 2)).as_ref(),
                     ),
                 }
             })

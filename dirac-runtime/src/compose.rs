@@ -52,7 +52,10 @@
 use nalgebra::{SMatrix, SVector};
 
 use crate::error::{IntegrationError, StepError, Steps};
-use crate::integrate::{ReducedIntegrator, StepJacobian, StepStats, UnreducedIntegrator, Variant};
+use crate::integrate::{
+    canonical_guess, reduced_guess, ReducedIntegrator, StepJacobian, StepStats,
+    UnreducedIntegrator, Variant,
+};
 use crate::state::{CanonicalState, ReducedState};
 use crate::system::{join, split, DiscreteLagrangian, ReducedMinus, ReducedPlus, Unreduced};
 
@@ -160,12 +163,14 @@ pub trait BaseStep: Sized {
         guess: &Self::Unknown,
     ) -> Result<(Self::State, Self::Unknown, StepStats), StepError>;
 
-    /// Newton's starting point for the step from `state`, predicted from `previous`, the start
-    /// and the solved unknowns of the last step of the same size (`None`: no such step yet).
+    /// Newton's starting point for the step from `state`, predicted from `last` and `before`,
+    /// the start and the solved unknowns of the last two steps of the same size, newest first
+    /// (`None`: no such step yet).
     fn predict(
         &self,
         state: &Self::State,
-        previous: Option<&(Self::State, Self::Unknown)>,
+        last: Option<&(Self::State, Self::Unknown)>,
+        before: Option<&(Self::State, Self::Unknown)>,
     ) -> Self::Unknown;
 
     /// The largest relative defect `|L_d(q0, q1; −h) + L_d(q1, q0; h)| / max(|L_d(q0, q1; −h)|,
@@ -212,20 +217,24 @@ where
         Ok((next, join::<S, K, N>(&next.x, &unknown), stats))
     }
 
-    /// The shape advances by the last step's increment and the group unknown is the last one —
-    /// for a single stage exactly the extrapolation of [`ReducedIntegrator::integrate`].
+    /// The shape advances by the increment extrapolated from the last two steps' increments and
+    /// the group unknown is extrapolated likewise ([`reduced_guess`]) — for a single stage
+    /// exactly the extrapolation of [`ReducedIntegrator::integrate`].
     fn predict(
         &self,
         state: &Self::State,
-        previous: Option<&(Self::State, Self::Unknown)>,
+        last: Option<&(Self::State, Self::Unknown)>,
+        before: Option<&(Self::State, Self::Unknown)>,
     ) -> Self::Unknown {
-        match previous {
-            Some((from, z)) => {
-                let (x1, unknown) = split::<S, K, N>(z);
-                join::<S, K, N>(&((state.x + x1) - from.x), &unknown)
-            }
-            None => join::<S, K, N>(&state.x, &SVector::zeros()),
-        }
+        let increment = |(from, z): &(Self::State, Self::Unknown)| {
+            let (x1, unknown) = split::<S, K, N>(z);
+            (x1 - from.x, unknown)
+        };
+        reduced_guess::<S, K, N>(
+            &state.x,
+            last.map(increment).as_ref(),
+            before.map(increment).as_ref(),
+        )
     }
 
     fn symmetry_defect(&self, at: &Self::State) -> f64 {
@@ -266,16 +275,20 @@ where
         Ok((next, next.q, stats))
     }
 
-    /// For a single stage exactly the extrapolation of [`UnreducedIntegrator::integrate`].
+    /// [`canonical_guess`] from the last two steps' increments: for a single stage exactly the
+    /// extrapolation of [`UnreducedIntegrator::integrate`].
     fn predict(
         &self,
         state: &Self::State,
-        previous: Option<&(Self::State, Self::Unknown)>,
+        last: Option<&(Self::State, Self::Unknown)>,
+        before: Option<&(Self::State, Self::Unknown)>,
     ) -> Self::Unknown {
-        match previous {
-            Some((from, q1)) => (state.q + q1) - from.q,
-            None => state.q,
-        }
+        let increment = |(from, q1): &(Self::State, Self::Unknown)| q1 - from.q;
+        canonical_guess(
+            &state.q,
+            last.map(increment).as_ref(),
+            before.map(increment).as_ref(),
+        )
     }
 
     fn symmetry_defect(&self, at: &Self::State) -> f64 {
@@ -412,7 +425,7 @@ where
             rcond: None,
         };
         for stage in &self.stages {
-            let guess = stage.predict(&current, None);
+            let guess = stage.predict(&current, None, None);
             let (next, _, stats) = stage.advance(k, &current, &guess)?;
             accumulate(&mut total, &stats);
             current = next;
@@ -425,14 +438,10 @@ where
     /// Before the first step: the macro step must be positive and finite, the parameters and the
     /// initial state finite, and the discrete Lagrangian symmetric at sample points near
     /// `initial` ([`Self::symmetry_defect`] at most [`SYMMETRY_TOLERANCE`]). Newton starts each
-    /// stage from the same stage of the previous macro step (the shape advanced by that stage's
-    /// increment). On failure the error holds the trajectory computed so far, and its step index
+    /// stage from the same stage of the previous two macro steps (the shape advanced by the
+    /// increment extrapolated from that stage's last two). On failure the error holds the trajectory computed so far, and its step index
     /// is the macro step's.
-    pub fn integrate(
-        &self,
-        initial: I::State,
-        steps: usize,
-    ) -> ComposedResult<I::State> {
+    pub fn integrate(&self, initial: I::State, steps: usize) -> ComposedResult<I::State> {
         let h = self.time_step();
         let mut trajectory = ComposedTrajectory {
             h,
@@ -445,7 +454,9 @@ where
         if let Err(e) = self.check_inputs(&initial) {
             return Err(fail(e, trajectory));
         }
-        let mut previous: Vec<Option<(I::State, I::Unknown)>> = vec![None; self.stages.len()];
+        // Per stage, its start and solved unknowns in the last two macro steps, newest first.
+        type Memory<I> = [Option<(<I as BaseStep>::State, <I as BaseStep>::Unknown)>; 2];
+        let mut previous: Vec<Memory<I>> = vec![[None, None]; self.stages.len()];
         let mut state = initial;
         for k in 0..steps {
             let mut total = StepStats {
@@ -455,11 +466,11 @@ where
             };
             let mut current = state;
             for (stage, memory) in self.stages.iter().zip(previous.iter_mut()) {
-                let guess = stage.predict(&current, memory.as_ref());
+                let guess = stage.predict(&current, memory[0].as_ref(), memory[1].as_ref());
                 match stage.advance(k, &current, &guess) {
                     Ok((next, z, stats)) => {
                         accumulate(&mut total, &stats);
-                        *memory = Some((current, z));
+                        *memory = [Some((current, z)), memory[0]];
                         current = next;
                     }
                     Err(source) => return Err(fail(source, trajectory)),

@@ -469,15 +469,15 @@ where
             return Err(fail(e, trajectory));
         }
         let mut state = initial;
-        // The last three shape points and the last two group unknowns, newest first.
-        let mut shapes: [SVector<f64, S>; 3] = [initial.x; 3];
-        let mut groups: [SVector<f64, K>; 2] = [SVector::zeros(); 2];
+        // The shape increments and group unknowns of the last two steps, newest first.
+        let mut last: Option<(SVector<f64, S>, SVector<f64, K>)> = None;
+        let mut before: Option<(SVector<f64, S>, SVector<f64, K>)> = None;
         for k in 0..steps {
-            let guess = reduced_guess::<S, K, N>(k, &shapes, &groups);
+            let guess = reduced_guess::<S, K, N>(&state.x, last.as_ref(), before.as_ref());
             match self.step(k, &state, &guess) {
                 Ok((next, g_unknown, stats)) => {
-                    shapes = [next.x, shapes[0], shapes[1]];
-                    groups = [g_unknown, groups[0]];
+                    before = last;
+                    last = Some((next.x - state.x, g_unknown));
                     trajectory.states.push(next);
                     trajectory.increments.push(g_unknown);
                     trajectory.stats.push(stats);
@@ -490,40 +490,39 @@ where
     }
 }
 
-/// Newton's initial guess for step `k`, `z = (x_{k+1}, group unknown)`: the polynomial through
-/// the last shape points extrapolated one step (`x_k` at the first step, `2 x_k − x_{k−1}` at
-/// the second, then the quadratic `3 x_k − 3 x_{k−1} + x_{k−2}`, whose error is `O(h³)` against
-/// the linear one's `O(h²)`), and the group unknown by the same rule one order lower (`0`, then
-/// the last one, then `2 g_{k−1} − g_{k−2}`: it is itself an increment, one order smaller).
-///
-/// `shapes` holds `x_k, x_{k−1}, x_{k−2}` and `groups` the group unknowns of steps `k − 1` and
-/// `k − 2`, newest first; entries before the start are ignored.
+/// Newton's initial guess for the step from `x`, `z = (x_{k+1}, group unknown)`, from the last
+/// two steps, each given as its shape increment `x_{j+1} − x_j` and its group unknown (newest
+/// first; `None` before the start): the shape advances by the extrapolated increment (`x` at the
+/// first step, `x + Δ_{k−1}` at the second, then `x + 2 Δ_{k−1} − Δ_{k−2}`, the quadratic through
+/// the last three points, whose error is `O(h³)` against the linear one's `O(h²)`), and the group
+/// unknown by the same rule one order lower (`0`, the last one, then `2 g_{k−1} − g_{k−2}`: it is
+/// itself an increment).
 pub fn reduced_guess<const S: usize, const K: usize, const N: usize>(
-    k: usize,
-    shapes: &[SVector<f64, S>; 3],
-    groups: &[SVector<f64, K>; 2],
+    x: &SVector<f64, S>,
+    last: Option<&(SVector<f64, S>, SVector<f64, K>)>,
+    before: Option<&(SVector<f64, S>, SVector<f64, K>)>,
 ) -> SVector<f64, N> {
-    let [x0, x1, x2] = shapes;
-    let [g1, g2] = groups;
-    match k {
-        0 => join::<S, K, N>(x0, &SVector::zeros()),
-        1 => join::<S, K, N>(&(2.0 * x0 - x1), g1),
-        _ => join::<S, K, N>(&(3.0 * (x0 - x1) + x2), &(2.0 * g1 - g2)),
+    match (last, before) {
+        (Some((dx1, g1)), Some((dx2, g2))) => {
+            join::<S, K, N>(&(x + (2.0 * dx1 - dx2)), &(2.0 * g1 - g2))
+        }
+        (Some((dx1, g1)), None) => join::<S, K, N>(&(x + dx1), g1),
+        _ => join::<S, K, N>(x, &SVector::zeros()),
     }
 }
 
-/// Newton's initial guess for `q_{k+1}` in the unreduced equations: `q_k`, then
-/// `2 q_k − q_{k−1}`, then `3 q_k − 3 q_{k−1} + q_{k−2}` (see [`reduced_guess`]); `configs` holds
-/// `q_k, q_{k−1}, q_{k−2}`, newest first.
+/// Newton's initial guess for `q_{k+1}` in the unreduced equations from the last two
+/// increments `q_{j+1} − q_j`, newest first: `q`, `q + Δ_{k−1}`, then `q + 2 Δ_{k−1} − Δ_{k−2}`
+/// (see [`reduced_guess`]).
 pub fn canonical_guess<const N: usize>(
-    k: usize,
-    configs: &[SVector<f64, N>; 3],
+    q: &SVector<f64, N>,
+    last: Option<&SVector<f64, N>>,
+    before: Option<&SVector<f64, N>>,
 ) -> SVector<f64, N> {
-    let [q0, q1, q2] = configs;
-    match k {
-        0 => *q0,
-        1 => 2.0 * q0 - q1,
-        _ => 3.0 * (q0 - q1) + q2,
+    match (last, before) {
+        (Some(dq1), Some(dq2)) => q + (2.0 * dq1 - dq2),
+        (Some(dq1), None) => q + dq1,
+        _ => *q,
     }
 }
 
@@ -702,13 +701,15 @@ where
             return Err(fail(e, trajectory));
         }
         let mut state = initial;
-        // The last three configurations, newest first.
-        let mut configs = [initial.q; 3];
+        // The increments of the last two steps, newest first.
+        let (mut last, mut before): (Option<SVector<f64, N>>, Option<SVector<f64, N>>) =
+            (None, None);
         for k in 0..steps {
-            let guess = canonical_guess(k, &configs);
+            let guess = canonical_guess(&state.q, last.as_ref(), before.as_ref());
             match self.step(k, &state, &guess) {
                 Ok((next, stats)) => {
-                    configs = [next.q, configs[0], configs[1]];
+                    before = last;
+                    last = Some(next.q - state.q);
                     trajectory.states.push(next);
                     trajectory.stats.push(stats);
                     state = next;
