@@ -143,9 +143,9 @@ impl CompositionMethod {
 /// unreduced integrators share.
 pub trait BaseStep: Sized {
     /// The state a step maps.
-    type State: Copy + std::fmt::Debug;
+    type State: Copy + std::fmt::Debug + Send + Sync + 'static;
     /// The Newton unknowns `z` of a step (what a warm start extrapolates from).
-    type Unknown: Copy + std::fmt::Debug;
+    type Unknown: Copy + std::fmt::Debug + Send + Sync + 'static;
 
     /// The time step `h`.
     fn time_step(&self) -> f64;
