@@ -230,11 +230,8 @@ fn double_spherical_pendulum() -> Result<LineChart, Box<dyn Error>> {
         initial,
         reference_steps / 2,
     )?;
-    let distance = |s: &ReducedState<3, 1>| {
-        (s.x - reference.x)
-            .amax()
-            .max((s.g - reference.g).amax())
-    };
+    let distance =
+        |s: &ReducedState<3, 1>| (s.x - reference.x).amax().max((s.g - reference.g).amax());
     // How much the motion amplifies a round-off-sized change of the initial state: the floor
     // under every curve.
     let mut nudged = initial;
@@ -296,6 +293,9 @@ fn main() -> Result<(), Box<dyn Error>> {
     let dsp = double_spherical_pendulum()?;
     common::write_line_charts(&out.join("kepler.svg"), 900, 600, &[kepler])?;
     common::write_line_charts(&out.join("double_spherical_pendulum.svg"), 900, 600, &[dsp])?;
-    println!("\nFigures: {}/{{kepler,double_spherical_pendulum}}.svg", out.display());
+    println!(
+        "\nFigures: {}/{{kepler,double_spherical_pendulum}}.svg",
+        out.display()
+    );
     Ok(())
 }
