@@ -52,7 +52,10 @@ fn unreduced_integrator_has_bounded_energy_error() {
     let second_half = traj.states[2000..].iter().map(err).fold(0.0, f64::max);
     eprintln!("energy error: first half {first_half:e}, second half {second_half:e} (E0 = {e0})");
     assert!(first_half < 1e-3 * e0.abs().max(1.0), "{first_half:e}");
-    assert!(second_half < 1.5 * first_half, "drift: {first_half:e} → {second_half:e}");
+    assert!(
+        second_half < 1.5 * first_half,
+        "drift: {first_half:e} → {second_half:e}"
+    );
 }
 
 #[test]

@@ -8,10 +8,10 @@ use syn::parse::Parser;
 use syn::{Ident, ItemFn};
 
 use crate::check;
-use crate::lints;
 use crate::ctxt::Ctxt;
 use crate::emit::{literal, straight_line};
 use crate::graph::{Graph, Node, NodeId, Sym};
+use crate::lints;
 use crate::lower::{Lowering, Names};
 use crate::reduce::{
     eliminate_group, lagrangian_hessian, minus_stepper, plus_stepper, reduced_lagrangian_minus,
@@ -238,8 +238,11 @@ fn user_function(func: &ItemFn, config: &Ident, stub: bool, touch: &[Ident]) -> 
         }
     }
     let allow = lints::user_function();
-    func.attrs
-        .extend(syn::Attribute::parse_outer.parse2(allow).expect("attributes parse"));
+    func.attrs.extend(
+        syn::Attribute::parse_outer
+            .parse2(allow)
+            .expect("attributes parse"),
+    );
     if stub {
         // The body was rejected: keep the signature so callers type-check, without follow-on
         // warnings about the arguments the stub ignores.
