@@ -62,7 +62,7 @@ extern crate self as dirac;
 pub mod kepler;
 pub mod paper;
 
-pub use dirac_macros::reduced_lagrangian;
+pub use dirac_macros::{chart_transition, reduced_lagrangian};
 pub use dirac_runtime as runtime;
 pub use dirac_runtime::nalgebra;
 pub use dirac_runtime::{
@@ -75,7 +75,8 @@ pub use dirac_runtime::{
 /// Everything a user of the attribute needs in scope.
 pub mod prelude {
     pub use crate::nalgebra::{SMatrix, SVector};
-    pub use crate::reduced_lagrangian;
+    pub use crate::runtime::atlas::{AtlasIntegrator, AtlasTrajectory, ChartTransition, Switch};
+    pub use crate::{chart_transition, reduced_lagrangian};
     pub use crate::{
         CanonicalState, CanonicalTrajectory, ComposedTrajectory, Composition, CompositionMethod,
         DiscreteLagrangian, IntegrationError, NewtonOptions, ReducedIntegrator, ReducedMinus,

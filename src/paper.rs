@@ -3,6 +3,8 @@
 
 use crate::prelude::*;
 
+pub mod atlas;
+
 /// Charged particle in a magnetic field in Kaluza–Klein form (§7.1), with the left-point rule
 /// `L_d(q0, q1) = h L_K(q0, (q1 − q0)/h)` and the vector potential of the constant field
 /// `B = b0 ∂_z`, `A(q) = (b0/2)(−q² dq¹ + q¹ dq²)`:

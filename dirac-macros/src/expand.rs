@@ -4,14 +4,12 @@
 
 use proc_macro2::{Span, TokenStream};
 use quote::{format_ident, quote};
-use syn::parse::Parser;
 use syn::{Ident, ItemFn};
 
 use crate::check;
 use crate::ctxt::Ctxt;
 use crate::emit::{literal, straight_line};
 use crate::graph::{Graph, Node, NodeId, Sym};
-use crate::lints;
 use crate::lower::{Lowering, Names};
 use crate::reduce::{
     eliminate_group, lagrangian_hessian, minus_stepper, plus_stepper, reduced_lagrangian_minus,
@@ -237,12 +235,6 @@ fn user_function(func: &ItemFn, config: &Ident, stub: bool, touch: &[Ident]) -> 
             *pt.ty = syn::parse_quote!(#config);
         }
     }
-    let allow = lints::user_function();
-    func.attrs.extend(
-        syn::Attribute::parse_outer
-            .parse2(allow)
-            .expect("attributes parse"),
-    );
     if stub {
         // The body was rejected: keep the signature so callers type-check, without follow-on
         // warnings about the arguments the stub ignores.
@@ -266,7 +258,6 @@ fn config_struct(spec: &Spec, func: &ItemFn, config: &Ident, type_name: &Ident) 
     }
     let n = coords.len();
     let idx = 0..n;
-    let allow = lints::generated();
     let doc =
         format!(
         "A configuration of [`{type_name}`]: shape coordinates ({}) then group coordinates ({}).",
@@ -280,7 +271,6 @@ fn config_struct(spec: &Spec, func: &ItemFn, config: &Ident, type_name: &Ident) 
             #( pub #coords: f64, )*
         }
 
-        #allow
         impl #config {
             /// Reads `q = (x, g)` in configuration order.
             pub fn from_vector(q: &::dirac::nalgebra::SVector<f64, #n>) -> Self {
@@ -564,7 +554,6 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
     let user_fn = user_function(func, &config, false, &connection_only_params(spec, sig, c));
     let param_item = param_struct(sig, func, &ty);
     let zero_g = literal(0.0);
-    let allow = lints::generated();
     let counts = format!(
         "Generated straight-line code: reduced (+) stepper: {}; reduced (−) stepper: {}; unreduced stepper: {}.",
         plus.counts, minus.counts, unreduced.counts
@@ -577,7 +566,6 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
 
         #param_item
 
-        #allow
         impl #ty {
             /// Number of shape coordinates `S`.
             pub const SHAPE_DIM: usize = #s;
@@ -589,7 +577,6 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
             pub const GENERATED: &'static str = #counts;
         }
 
-        #allow
         impl #rt::DiscreteLagrangian<#s, #k, #n> for #ty {
             const SHAPE: [&'static str; #s] = [ #( #shape_names ),* ];
             const GROUP: [&'static str; #k] = [ #( #group_names ),* ];
@@ -618,7 +605,6 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
             }
         }
 
-        #allow
         impl #rt::ReducedPlus<#s, #k, #n> for #ty {
             fn reduced_lagrangian_plus(&self, x0: #vs, x1: #vs, g1: #vk) -> f64 {
                 let g1 = g1 + #dl::connection(self) * (x1 - x0);
@@ -655,7 +641,6 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
             #plus_elim
         }
 
-        #allow
         impl #rt::ReducedMinus<#s, #k, #n> for #ty {
             fn reduced_lagrangian_minus(&self, x0: #vs, g0: #vk, x1: #vs) -> f64 {
                 let g0 = g0 + #dl::connection(self) * (x0 - x1);
@@ -692,7 +677,6 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
             #minus_elim
         }
 
-        #allow
         impl #rt::Unreduced<#s, #k, #n> for #ty {
             #[inline]
             fn unreduced_residual(&self, q_k: #vn, p_k: #vn, z: #vn) -> #na::SVector<f64, #n> {

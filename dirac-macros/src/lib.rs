@@ -16,10 +16,10 @@ mod expand;
 #[cfg(test)]
 mod fuzz;
 mod graph;
-mod lints;
 mod lower;
 mod reduce;
 mod spec;
+mod transition;
 
 use proc_macro::TokenStream;
 
@@ -29,4 +29,15 @@ use proc_macro::TokenStream;
 #[proc_macro_attribute]
 pub fn reduced_lagrangian(args: TokenStream, item: TokenStream) -> TokenStream {
     expand::expand(args.into(), item.into()).into()
+}
+
+/// Compiles a change of chart `φ : q_from ↦ q_to` between two charts of one system into
+/// straight-line code for `φ` and its Jacobian `Dφ` (an implementation of
+/// `dirac::runtime::atlas::ChartTransition`), checking at compile time that it is equivariant
+/// (`x_to = ψ(x_from)`, `g_to = g_from + c(x_from)`).
+///
+/// See the `dirac` crate's documentation for the attribute syntax.
+#[proc_macro_attribute]
+pub fn chart_transition(args: TokenStream, item: TokenStream) -> TokenStream {
+    transition::expand(args.into(), item.into()).into()
 }

@@ -101,6 +101,44 @@ impl<'a> Lowering<'a> {
         }
     }
 
+    /// Lowers a body that evaluates to a tuple or array of `n` f64 (a chart transition's new
+    /// coordinates); `None` after errors (already recorded).
+    pub fn body_tuple(&mut self, block: &Block, n: usize) -> Option<Vec<NodeId>> {
+        let value = self.block(block)?;
+        let span = block.stmts.last().map_or(block.span(), |s| s.span());
+        let items = match value {
+            Value::Tuple(items) | Value::Array(items) if items.len() == n => items,
+            other => {
+                self.cx.error_at(
+                    span,
+                    format!(
+                        "the body must evaluate to a tuple of the {n} new coordinates (shape, then \
+                         group, in the order of `to(...)`), found {}{}",
+                        other.kind(),
+                        match &other {
+                            Value::Tuple(i) | Value::Array(i) => format!(" of {} elements", i.len()),
+                            _ => String::new(),
+                        }
+                    ),
+                );
+                return None;
+            }
+        };
+        items
+            .into_iter()
+            .map(|v| match v {
+                Value::Scalar(n) => Some(n),
+                other => {
+                    self.cx.error_at(
+                        span,
+                        format!("each new coordinate must be an f64, found {}", other.kind()),
+                    );
+                    None
+                }
+            })
+            .collect()
+    }
+
     /// Lowers one entry of the connection matrix: literals and parameters only.
     pub fn constant_entry(&mut self, expr: &Expr) -> Option<NodeId> {
         self.allow_coords = false;

@@ -56,6 +56,12 @@ pub enum StepError {
         /// `‖R‖∞` at the last finite iterate (infinite if there was none).
         residual: f64,
     },
+    /// An atlas of charts was set up inconsistently (see [`crate::atlas::AtlasIntegrator`]).
+    #[error("invalid atlas: {reason}")]
+    InvalidAtlas {
+        /// What is wrong.
+        reason: &'static str,
+    },
     /// The time step is not a positive finite number.
     #[error("invalid time step h = {h}: it must be positive and finite")]
     InvalidTimeStep {
@@ -88,19 +94,23 @@ impl StepError {
             | StepError::SingularJacobian { step, .. }
             | StepError::IllConditioned { step, .. }
             | StepError::NonFinite { step, .. } => step,
-            StepError::InvalidTimeStep { .. } | StepError::NotSymmetric { .. } => 0,
+            StepError::InvalidTimeStep { .. }
+            | StepError::NotSymmetric { .. }
+            | StepError::InvalidAtlas { .. } => 0,
         }
     }
 
-    /// `‖R‖∞` at the last iterate (`NaN` for an invalid time step or a non-symmetric Lagrangian,
-    /// where no residual exists).
+    /// `‖R‖∞` at the last iterate (`NaN` for an invalid time step, a non-symmetric Lagrangian or
+    /// an invalid atlas, where no residual exists).
     pub fn residual(&self) -> f64 {
         match *self {
             StepError::NotConverged { residual, .. }
             | StepError::SingularJacobian { residual, .. }
             | StepError::IllConditioned { residual, .. }
             | StepError::NonFinite { residual, .. } => residual,
-            StepError::InvalidTimeStep { .. } | StepError::NotSymmetric { .. } => f64::NAN,
+            StepError::InvalidTimeStep { .. }
+            | StepError::NotSymmetric { .. }
+            | StepError::InvalidAtlas { .. } => f64::NAN,
         }
     }
 }

@@ -14,6 +14,7 @@
 //! connection matrix `B` (`K × S`) of the linear discrete connection
 //! `ω_d(q0, q1) = (g1 − g0) − B (x1 − x0)`.
 
+pub mod atlas;
 pub mod compose;
 pub mod diagnostics;
 pub mod error;

@@ -1,0 +1,138 @@
+//! The double spherical pendulum on its atlas (§6), from the paper's own initial state, 10⁶ steps
+//! at the paper's `h = 0.01` (T = 10⁴), in release mode. `#[ignore]`d, so `cargo test --workspace`
+//! (debug) skips it; `.ci/run` runs it with
+//! `cargo test --release --test atlas_long_run -- --ignored --nocapture`, which prints a summary.
+//!
+//! With the paper's chart alone the run stops at step 24,598 (`tests/long_run.rs`,
+//! `double_spherical_pendulum_from_the_paper_state`). On the atlas it asserts: no failed step; no
+//! meaningless step (every accepted step's physical energy within 1% of `E_0`, where the single
+//! chart accepted ≈ 140 steps with |T + V| up to 3e13 before failing); μ bit-for-bit constant
+//! across every switch; `T + V` bounded without secular drift; and the same trajectory, bit for
+//! bit, as the single-chart run up to the first switch.
+
+use dirac::paper::atlas::{DspCharts, PAPER};
+use dirac::paper::DoubleSphericalPendulum;
+use dirac::prelude::*;
+use dirac::runtime::atlas::Event;
+
+const STEPS: usize = 1_000_000;
+
+#[test]
+#[ignore = "long run: release mode, run by .ci/run"]
+fn double_spherical_pendulum_atlas_from_the_paper_state() {
+    let sys = DoubleSphericalPendulum::paper();
+    let charts: DspCharts = sys.charts();
+    let atlas = sys.atlas(NewtonOptions::default());
+    let initial = DoubleSphericalPendulum::paper_initial_state();
+    let e0 = charts
+        .energy(PAPER, &initial)
+        .expect("regular initial state");
+    let mu0 = initial.mu[0].to_bits();
+
+    // Energy at every node, in constant memory; the first and last tenths for the drift.
+    let tenth = STEPS / 10;
+    let (mut e_min, mut e_max) = (f64::INFINITY, f64::NEG_INFINITY);
+    let (mut first_sum, mut last_sum, mut first_n, mut last_n) = (0.0, 0.0, 0usize, 0usize);
+    let mut j = 0usize;
+    let mut mu_bad: Option<usize> = None;
+    let mut worst_jump = 0.0f64;
+    let mut early: Vec<ReducedState<3, 1>> = Vec::new();
+    let start = std::time::Instant::now();
+    let result = atlas.run(PAPER, initial, STEPS, |event| match event {
+        Event::State { chart, state, .. } => {
+            let e = charts.energy(chart, state).unwrap_or(f64::NAN);
+            assert!(
+                (e - e0).abs() <= 0.01 * e0.abs(),
+                "step {j}: T + V = {e:.6e} is not within 1% of E_0 = {e0:.6e} (chart {chart})"
+            );
+            e_min = e_min.min(e);
+            e_max = e_max.max(e);
+            if j < tenth {
+                first_sum += e - e0;
+                first_n += 1;
+            }
+            if j >= STEPS + 1 - tenth {
+                last_sum += e - e0;
+                last_n += 1;
+            }
+            if state.mu[0].to_bits() != mu0 && mu_bad.is_none() {
+                mu_bad = Some(j);
+            }
+            if early.len() < 30_000 {
+                early.push(*state);
+            }
+            j += 1;
+        }
+        Event::Switch(sw) => {
+            let before = charts.energy(sw.from, &sw.before).unwrap_or(f64::NAN);
+            let after = charts.energy(sw.to, &sw.after).unwrap_or(f64::NAN);
+            worst_jump = worst_jump.max((after - before).abs() / before.abs());
+        }
+    });
+    let elapsed = start.elapsed();
+    let run = match result {
+        Ok(run) => run,
+        Err(e) => panic!(
+            "failed after {} of {STEPS} steps: {}",
+            e.trajectory.steps, e.source
+        ),
+    };
+    let drift = last_sum / last_n as f64 - first_sum / first_n as f64;
+    let spread = e_max - e_min;
+    let mut per_chart = [0usize; 3];
+    for sw in &run.switches {
+        per_chart[sw.to] += 1;
+    }
+    println!(
+        "\nDouble spherical pendulum on the atlas, from the paper's initial state, h = {}:\n  \
+         {} steps (t = {:.0}) in {:.2?}, {} switches ({} rescues; into paper/link-1/link-2 \
+         frames: {:?}), first at step {:?}\n  T + V: E_0 = {e0:.9e}, spread {spread:.4e} \
+         ({:.2e} relative), drift {drift:+.3e} ({:+.4} x spread)\n  worst relative jump of \
+         T + V across a switch: {worst_jump:.2e}\n  mu: {}",
+        sys.h,
+        run.steps,
+        run.steps as f64 * sys.h,
+        elapsed,
+        run.switches.len(),
+        run.switches.iter().filter(|s| s.rescue).count(),
+        per_chart,
+        run.switches.first().map(|s| s.step),
+        spread / e0.abs(),
+        drift / spread,
+        match mu_bad {
+            None => "bit-for-bit mu_0 at every state (deviation 0)".to_string(),
+            Some(k) => format!("changed at state {k}"),
+        },
+    );
+    assert_eq!(run.steps, STEPS);
+    assert_eq!(mu_bad, None, "mu changed");
+    assert!(
+        drift.abs() <= 0.1 * spread,
+        "secular drift of T + V: {drift:e} against a spread of {spread:e}"
+    );
+    assert!(
+        worst_jump <= 1e-12,
+        "T + V jumps across a switch by {worst_jump:e}"
+    );
+    assert!(
+        !run.switches.is_empty(),
+        "the run was expected to need the atlas"
+    );
+
+    // Up to the first switch, the atlas is the single-chart run, bit for bit.
+    let first = run.switches[0].step;
+    let single = match ReducedIntegrator::plus(sys, NewtonOptions::default())
+        .integrate(initial, first.min(early.len() - 1))
+    {
+        Ok(t) => t,
+        Err(e) => e.trajectory,
+    };
+    let n = single.states.len().min(early.len()).min(first + 1);
+    for (k, (a, b)) in single.states[..n].iter().zip(&early[..n]).enumerate() {
+        assert_eq!(
+            a, b,
+            "state {k} differs from the single-chart run before the first switch"
+        );
+    }
+    println!("  identical to the single-chart run over states 0..{n} (first switch at {first})");
+}
