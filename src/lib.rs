@@ -55,6 +55,25 @@
 //! indices, `for` loops over constant ranges (unrolled), and the f64 functions `sin cos tan asin
 //! acos atan exp ln sqrt sinh cosh tanh recip powi powf atan2`, as methods or `f64::` paths.
 //! Anything else is a compile error pointing at the offending token.
+//!
+//! ## Charts and transitions (§6)
+//!
+//! ```text
+//! #[chart_transition(
+//!     from(shape(phi1, a2, b2), group(th1)),     // the old chart's coordinates
+//!     to(shape(phi1, vt2, phi2), group(vt1)),    // the new chart's, same numbers S and K
+//!     name = Bob1FrameToPaper,                   // optional (default: CamelCase of the fn name)
+//! )]
+//! fn bob1_frame_to_paper(q: Config) -> (f64, f64, f64, f64) { /* new coordinates, in order */ }
+//! ```
+//!
+//! The body reads the old coordinates as `q.name`, in the body language above, and returns the
+//! tuple of new coordinates (shape, then group). The attribute emits a unit struct implementing
+//! [`runtime::atlas::ChartTransition`] with straight-line code for `φ` and `Dφ`, after checking
+//! on the derivative graph that the map is equivariant, `x' = ψ(x)` and `g' = g + c(x)` (a
+//! compile error otherwise). [`runtime::atlas::AtlasIntegrator`] steps in one chart and changes
+//! chart through the cotangent lift; [`paper::atlas`] is the double spherical pendulum on three
+//! charts.
 
 // Emitted code names `::dirac::…`; this lets the crate's own `paper` module use the attribute.
 extern crate self as dirac;
