@@ -312,3 +312,55 @@ fn both_links_vertical_is_a_typed_error() {
     assert_eq!(err.trajectory.states[0], initial);
     assert!(err.trajectory.switches.is_empty());
 }
+
+/// A transition of the charged particle's chart (`B ≠ 0` in both charts: the physics is the same,
+/// the reduced momenta `w = p_x + Bᵀ μ` differ), nonlinear in the shape and with a
+/// shape-dependent shift of the group coordinate.
+#[chart_transition(from(shape(x, y, z), group(theta)), to(shape(u, v, s), group(phi)))]
+fn sheared(q: Config) -> (f64, f64, f64, f64) {
+    (
+        q.x + 0.1 * q.y * q.y,
+        q.y,
+        q.z.sinh() + 0.3 * q.x,
+        q.theta + q.x * q.z - 0.2 * q.y.cos(),
+    )
+}
+
+/// The reduced transformation `(x, w, μ, g) ↦ (ψ(x), Dψ^{-T}(w − B_oldᵀμ − Dcᵀμ) + B_newᵀμ, μ,
+/// g + c(x))` (block formula, `S × S` solve) equals the canonical route: untrivialize with
+/// `B_old` (3.7), the full cotangent lift `p' = Dφ^{-T} p` (`N × N` solve), trivialize with
+/// `B_new` (3.6). Tolerance 1e-12 relative: two different solves of the same small system.
+#[test]
+fn reduced_transformation_is_the_cotangent_lift_with_connections() {
+    let old = common::ParticleWithConnection {
+        h: 0.1,
+        m: 1.3,
+        b0: 0.7,
+        b: 0.4,
+    };
+    let new = common::ParticleWithConnection { b: -1.1, ..old };
+    let (b_old, b_new) = (old.connection(), new.connection());
+    assert_ne!(b_old, b_new);
+    let mut rng = Rng(14);
+    for _ in 0..100 {
+        let state = ReducedState {
+            x: rng.vector(-1.0, 1.0),
+            w: rng.vector(-2.0, 2.0),
+            mu: rng.vector(-2.0, 2.0),
+            g: rng.vector(-3.0, 3.0),
+        };
+        let reduced =
+            transform_state::<Sheared, 3, 1, 4>(&Sheared, &state, &b_old, &b_new).expect("regular");
+        let canonical = new.trivialize(&Sheared.lift(&old.untrivialize(&state)).expect("regular"));
+        assert_eq!(reduced.mu, state.mu);
+        let scale = state.w.amax().max(state.mu.amax());
+        assert!((reduced.x - canonical.x).amax() <= 1e-12);
+        assert!((reduced.g - canonical.g).amax() <= 1e-12);
+        assert!(
+            (reduced.w - canonical.w).amax() <= 1e-12 * scale,
+            "{} vs {}",
+            reduced.w,
+            canonical.w
+        );
+    }
+}
