@@ -49,11 +49,7 @@ fn cycling<T>(
 /// The benchmarks every system gets: generated, num-dual (both Jacobians) and unreduced.
 fn bench_system<L>(c: &mut Criterion, short: &str, w: &Workload<L, 3, 1, 4>)
 where
-    L: ReducedPlus<3, 1, 4>
-        + ReducedMinus<3, 1, 4>
-        + Unreduced<3, 1, 4>
-        + ad::DualLagrangian<4>
-        + Copy,
+    L: Reduced<Plus, 3, 1, 4> + Unreduced<3, 1, 4> + ad::DualLagrangian<4> + Copy,
 {
     println!(
         "{}: {} steps timed, mean Newton iterations {:.3} on the default path ({})",
@@ -73,13 +69,13 @@ where
     let mut g = c.benchmark_group(format!("{short}/eval"));
     cycling(&mut g, "generated", &points, |p| {
         let s = &p.state;
-        sys.plus_residual_jacobian(&s.x, &s.w, &s.mu, &p.guess)
+        sys.residual_jacobian(&s.x, &s.w, &s.mu, &p.guess)
     });
-    if L::PLUS_ELIMINATES_GROUP {
+    if <L as Reduced<Plus, 3, 1, 4>>::ELIMINATES_GROUP {
         cycling(&mut g, "generated_eliminated", &points, |p| {
             let s = &p.state;
             let x1 = p.guess.fixed_rows::<3>(0).into_owned();
-            sys.plus_eliminated_residual_jacobian(&s.x, &s.w, &s.mu, &x1)
+            sys.eliminated_residual_jacobian(&s.x, &s.w, &s.mu, &x1)
         });
     }
     cycling(&mut g, "num_dual_hessian", &points, |p| {

@@ -382,12 +382,7 @@ fn step_row<'a, T>(
 /// num-dual (both Jacobians), unreduced, and the pieces of the generated general-path step.
 fn system_rows<'a, L>(bench: &mut Bench<'a>, system: &'static str, w: &'a Workload<L, 3, 1, 4>)
 where
-    L: ReducedPlus<3, 1, 4>
-        + ReducedMinus<3, 1, 4>
-        + Unreduced<3, 1, 4>
-        + ad::DualLagrangian<4>
-        + Copy
-        + 'a,
+    L: Reduced<Plus, 3, 1, 4> + Unreduced<3, 1, 4> + ad::DualLagrangian<4> + Copy + 'a,
 {
     let sys = w.system;
     let options = NewtonOptions::default();
@@ -396,9 +391,9 @@ where
 
     eval_row(bench, system, GEN, points.clone(), move |p| {
         let s = &p.state;
-        sys.plus_residual_jacobian(&s.x, &s.w, &s.mu, &p.guess)
+        sys.residual_jacobian(&s.x, &s.w, &s.mu, &p.guess)
     });
-    if L::PLUS_ELIMINATES_GROUP {
+    if <L as Reduced<Plus, 3, 1, 4>>::ELIMINATES_GROUP {
         eval_row(
             bench,
             system,
@@ -407,7 +402,7 @@ where
             move |p| {
                 let s = &p.state;
                 let x1 = p.guess.fixed_rows::<3>(0).into_owned();
-                sys.plus_eliminated_residual_jacobian(&s.x, &s.w, &s.mu, &x1)
+                sys.eliminated_residual_jacobian(&s.x, &s.w, &s.mu, &x1)
             },
         );
     }
@@ -501,27 +496,27 @@ where
         "generated R alone",
         Box::new(move |p| {
             let s = &p.state;
-            sys.plus_residual(&s.x, &s.w, &s.mu, &p.guess)[0]
+            sys.residual(&s.x, &s.w, &s.mu, &p.guess)[0]
         }),
     );
     piece(
         bench,
         "generated w_{k+1}",
-        Box::new(move |p| sys.plus_momentum(&p.state.x, &p.solution)[0]),
+        Box::new(move |p| sys.momentum(&p.state.x, &p.solution)[0]),
     );
     piece(
         bench,
         "generated R and w_{k+1}",
         Box::new(move |p| {
             let s = &p.state;
-            sys.plus_residual_momentum(&s.x, &s.w, &s.mu, &p.solution).1[0]
+            sys.residual_momentum(&s.x, &s.w, &s.mu, &p.solution).1[0]
         }),
     );
     let jacobians: Vec<(SMatrix<f64, 4, 4>, SVector<f64, 4>)> = points
         .iter()
         .map(|p| {
             let s = &p.state;
-            let (r, j) = sys.plus_residual_jacobian(&s.x, &s.w, &s.mu, &p.guess);
+            let (r, j) = sys.residual_jacobian(&s.x, &s.w, &s.mu, &p.guess);
             (j, r)
         })
         .collect();
@@ -603,7 +598,7 @@ fn hand_rows<'a>(bench: &mut Bench<'a>, w: &'a Workload<ChargedParticle, 3, 1, 4
 /// from the previous configuration, `z0 = (x_k, 0)`, no extrapolation. Returns the final state and
 /// the mean Newton corrections per step.
 fn casadi_protocol_run(
-    integ: &ReducedIntegrator<DoubleSphericalPendulum, 3, 1, 4>,
+    integ: &ReducedIntegrator<DoubleSphericalPendulum, Plus, 3, 1, 4>,
 ) -> (ReducedState<3, 1>, f64) {
     let mut state = DoubleSphericalPendulum::paper_initial_state();
     let mut iterations = 0;
@@ -643,8 +638,8 @@ fn print_table<L1, L2>(
     cp: &Workload<L1, 3, 1, 4>,
     dsp: &Workload<L2, 3, 1, 4>,
 ) where
-    L1: ReducedPlus<3, 1, 4> + ReducedMinus<3, 1, 4> + Copy,
-    L2: ReducedPlus<3, 1, 4> + ReducedMinus<3, 1, 4> + Copy,
+    L1: Reduced<Plus, 3, 1, 4> + Copy,
+    L2: Reduced<Plus, 3, 1, 4> + Copy,
 {
     let path = |eliminates: bool| {
         if eliminates {

@@ -47,8 +47,10 @@
 //! * `<Name>Config`, the configuration with one `f64` field per coordinate (shape, then group);
 //! * `<Name>`, a struct with one `f64` field per parameter;
 //! * implementations of [`DiscreteLagrangian`] (the Lagrangian, the connection matrix,
-//!   trivialization (3.6)/(3.7) and the momentum map) and [`ReducedPlus`] (the straight-line
-//!   residual and exact Jacobian of eq. (4.6), and the momentum update).
+//!   trivialization (3.6)/(3.7) and the momentum map) and [`Reduced`] for each [`Side`]
+//!   ([`Plus`]: eq. (4.6), [`Minus`]: eq. (4.8)) — the straight-line residual, its exact
+//!   Jacobian, the momentum update and, where the group unknowns enter affinely, the eliminated
+//!   stepper — and [`Unreduced`] (Definitions 2.7/2.8 and the Hessian of `L_d`).
 //!
 //! The body language is a smooth subset of Rust: f64 literals, parameters, coordinates, `let`
 //! (with tuple destructuring and `mut`), `+ - * /`, unary `-`, blocks, tuples, arrays with constant
@@ -86,8 +88,8 @@ pub use dirac_runtime as runtime;
 pub use dirac_runtime::nalgebra;
 pub use dirac_runtime::{
     trajectory_energies, CanonicalState, CanonicalTrajectory, ComposedTrajectory, Composition,
-    CompositionMethod, DiscreteLagrangian, IntegrationError, NewtonOptions, ReducedIntegrator,
-    ReducedMinus, ReducedPlus, ReducedState, StepError, StepJacobian, StepStats, StepStatsExt,
+    CompositionMethod, DiscreteLagrangian, IntegrationError, Minus, NewtonOptions, Plus, Reduced,
+    ReducedIntegrator, ReducedState, Side, StepError, StepJacobian, StepStats, StepStatsExt,
     Trajectory, Unreduced, UnreducedIntegrator, Variant,
 };
 
@@ -98,9 +100,9 @@ pub mod prelude {
     pub use crate::{chart_transition, reduced_lagrangian};
     pub use crate::{
         CanonicalState, CanonicalTrajectory, ComposedTrajectory, Composition, CompositionMethod,
-        DiscreteLagrangian, IntegrationError, NewtonOptions, ReducedIntegrator, ReducedMinus,
-        ReducedPlus, ReducedState, StepError, StepStats, StepStatsExt, Trajectory, Unreduced,
-        UnreducedIntegrator, Variant,
+        DiscreteLagrangian, IntegrationError, Minus, NewtonOptions, Plus, Reduced,
+        ReducedIntegrator, ReducedState, Side, StepError, StepStats, StepStatsExt, Trajectory,
+        Unreduced, UnreducedIntegrator, Variant,
     };
 }
 

@@ -37,14 +37,14 @@ fn worst_disagreement<L, const S: usize, const K: usize, const N: usize>(
     ) -> (SVector<f64, N>, SMatrix<f64, N, N>),
 ) -> f64
 where
-    L: ReducedPlus<S, K, N>,
+    L: Reduced<Plus, S, K, N>,
 {
     let mut worst = 0f64;
     for case in cases {
         let s = &case.state;
         // At the guess (where Newton starts) and at the solution (where it ends).
         for z in [&case.guess, &case.solution] {
-            let (r, j) = sys.plus_residual_jacobian(&s.x, &s.w, &s.mu, z);
+            let (r, j) = sys.residual_jacobian(&s.x, &s.w, &s.mu, z);
             let (r_other, j_other) = other(&s.x, &s.w, &s.mu, z);
             let scale = 1f64.max(j.amax());
             let e = scaled_error(&r, &r_other, scale).max(scaled_error(&j, &j_other, scale));
@@ -106,16 +106,16 @@ fn num_dual_residual_and_momentum_match_the_generated_ones() {
         w: &Workload<L, S, K, N>,
         cases: &[StepCase<S, K, N>],
     ) where
-        L: ReducedPlus<S, K, N> + ad::DualLagrangian<N>,
+        L: Reduced<Plus, S, K, N> + ad::DualLagrangian<N>,
     {
         for case in cases {
             let s = &case.state;
             let z = &case.solution;
-            let j = w.system.plus_residual_jacobian(&s.x, &s.w, &s.mu, z).1;
+            let j = w.system.residual_jacobian(&s.x, &s.w, &s.mu, z).1;
             let scale = 1f64.max(j.amax());
-            let r = w.system.plus_residual(&s.x, &s.w, &s.mu, z);
+            let r = w.system.residual(&s.x, &s.w, &s.mu, z);
             let r_ad = ad::residual::<L, S, K, N>(&w.system, &s.x, &s.w, &s.mu, z);
-            let p = w.system.plus_momentum(&s.x, z);
+            let p = w.system.momentum(&s.x, z);
             let p_ad = ad::momentum::<L, S, K, N>(&w.system, &s.x, z);
             assert!(
                 scaled_error(&r, &r_ad, scale) <= DERIVATIVE_TOL,
@@ -151,8 +151,9 @@ fn hand_coded_residual_and_jacobian_match_the_generated_ones() {
         for z in [&case.guess, &case.solution] {
             let r = hand::residual(&p, &s.x, &s.w, &s.mu, z);
             assert_eq!(r, hand::residual_jacobian(&p, &s.x, &s.w, &s.mu, z).0);
-            let scale = 1f64.max(p.plus_residual_jacobian(&s.x, &s.w, &s.mu, z).1.amax());
-            let m = p.plus_momentum(&s.x, z);
+            let jacobian = Reduced::<Plus, 3, 1, 4>::residual_jacobian(&p, &s.x, &s.w, &s.mu, z).1;
+            let scale = 1f64.max(jacobian.amax());
+            let m = Reduced::<Plus, 3, 1, 4>::momentum(&p, &s.x, z);
             assert!(scaled_error(&hand::momentum(&p, &s.x, z), &m, scale) <= DERIVATIVE_TOL);
         }
     }
@@ -164,7 +165,7 @@ fn hand_coded_residual_and_jacobian_match_the_generated_ones() {
 fn the_cases_are_the_integrators_own_steps() {
     fn check<L, const S: usize, const K: usize, const N: usize>(w: &Workload<L, S, K, N>)
     where
-        L: ReducedPlus<S, K, N> + ReducedMinus<S, K, N> + Copy,
+        L: Reduced<Plus, S, K, N> + Copy,
     {
         let integ = ReducedIntegrator::plus(w.system, NewtonOptions::default());
         for case in &w.cases {
@@ -232,7 +233,7 @@ fn num_dual_steps_reproduce_the_generated_stepper() {
         cases: &[StepCase<S, K, N>],
     ) -> f64
     where
-        L: ReducedPlus<S, K, N> + ReducedMinus<S, K, N> + ad::DualLagrangian<N> + Copy,
+        L: Reduced<Plus, S, K, N> + ad::DualLagrangian<N> + Copy,
     {
         // The num-dual step solves all N unknowns, like the generated general path.
         let options = NewtonOptions::default();
@@ -261,7 +262,7 @@ fn num_dual_steps_reproduce_the_generated_stepper() {
                 // w_{k+1} = ∂l/∂x1(z) moves by ‖∂w/∂z‖ ≈ ‖J‖ times the round-off in z, which
                 // near the pole passages of the pendulum is far larger than ulps of w itself.
                 let (s, zs) = (&case.state, &case.solution);
-                let j = w.system.plus_residual_jacobian(&s.x, &s.w, &s.mu, zs).1;
+                let j = w.system.residual_jacobian(&s.x, &s.w, &s.mu, zs).1;
                 worst = worst
                     .max((z - z_ad).amax() / scale(&z))
                     .max((next.w - ad_next.w).amax() / 1f64.max(next.w.amax()).max(j.amax()))

@@ -10,7 +10,7 @@
 //! ```
 //!
 //! on dual numbers in the variables `v = (x0, x1, g1)`, takes its gradient and Hessian with
-//! `num_dual::hessian`, and compares every output of the generated `ReducedPlus` methods with the
+//! `num_dual::hessian`, and compares every output of the generated `Reduced<Plus, ..>` methods with the
 //! corresponding gradient / Hessian entry to `|a − b| ≤ 1e-12 · max(1, |a|, |b|)`.
 
 use dirac::nalgebra::{SMatrix, SVector};
@@ -80,7 +80,7 @@ fn compare_at<Sys, const S: usize, const K: usize, const N: usize, const M: usiz
     z: &SVector<f64, N>,
 ) -> f64
 where
-    Sys: ReducedPlus<S, K, N>,
+    Sys: Reduced<Plus, S, K, N>,
 {
     let (value, grad, hess) = oracle::<S, K, N, M>(b, lag, x0, z);
     let mut worst = 0f64;
@@ -113,9 +113,9 @@ where
     let w_k = SVector::<f64, S>::from_fn(|i, _| 0.3 - 0.7 * z[i]);
     let mu_k = SVector::<f64, K>::from_fn(|j, _| 0.2 + 0.4 * z[S + j]);
     let offset = |r: usize| if r < S { w_k[r] } else { -mu_k[r - S] };
-    let residual = sys.plus_residual(x0, &w_k, &mu_k, z);
-    let (residual_j, jac) = sys.plus_residual_jacobian(x0, &w_k, &mu_k, z);
-    let momentum = sys.plus_momentum(x0, z);
+    let residual = sys.residual(x0, &w_k, &mu_k, z);
+    let (residual_j, jac) = sys.residual_jacobian(x0, &w_k, &mu_k, z);
+    let momentum = sys.momentum(x0, z);
     for r in 0..N {
         check(
             format!("plus_residual[{r}]"),
@@ -144,7 +144,7 @@ where
     let g1 = z.fixed_rows::<K>(S).into_owned();
     check(
         "reduced_lagrangian_plus".into(),
-        sys.reduced_lagrangian_plus(x0, &x1, &g1),
+        sys.reduced_lagrangian(x0, &x1, &g1),
         value,
     );
     let q0: [f64; N] = std::array::from_fn(|i| if i < S { x0[i] } else { 0.3 * i as f64 });
@@ -167,7 +167,7 @@ fn compare_system<Sys, const S: usize, const K: usize, const N: usize, const M: 
     reference: &dyn Fn(&Sys) -> Reference<'_, K, S, M, N>,
 ) -> f64
 where
-    Sys: ReducedPlus<S, K, N>,
+    Sys: Reduced<Plus, S, K, N>,
 {
     let mut rng = Rng(seed);
     let mut worst = 0f64;

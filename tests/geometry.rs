@@ -18,14 +18,18 @@ fn assert_geometry<L, const S: usize, const K: usize, const N: usize>(
     initial: ReducedState<S, K>,
     steps: usize,
 ) where
-    L: ReducedPlus<S, K, N> + ReducedMinus<S, K, N> + Copy,
+    L: Reduced<Plus, S, K, N> + Reduced<Minus, S, K, N> + Copy,
 {
     for variant in [Variant::Plus, Variant::Minus] {
-        let mut integ = match variant {
-            Variant::Plus => ReducedIntegrator::plus(sys, NewtonOptions::default()),
-            Variant::Minus => ReducedIntegrator::minus(sys, NewtonOptions::default()),
-        };
-        let traj = integ.integrate(initial, steps).unwrap();
+        let traj = match variant {
+            Variant::Plus => {
+                ReducedIntegrator::plus(sys, NewtonOptions::default()).integrate(initial, steps)
+            }
+            Variant::Minus => {
+                ReducedIntegrator::minus(sys, NewtonOptions::default()).integrate(initial, steps)
+            }
+        }
+        .unwrap();
         let membership = dirac_membership_residuals(&sys, &traj);
         assert_eq!(membership.len(), steps);
         for (k, (m, stats)) in membership.iter().zip(&traj.stats).enumerate() {

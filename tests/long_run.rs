@@ -92,7 +92,7 @@ fn reduced_run<L, const S: usize, const K: usize, const N: usize>(
     steps: usize,
 ) -> (Trajectory<S, K>, Duration)
 where
-    L: ReducedPlus<S, K, N> + ReducedMinus<S, K, N>,
+    L: Reduced<Plus, S, K, N>,
 {
     let start = Instant::now();
     let result = ReducedIntegrator::plus(sys, NewtonOptions::default()).integrate(initial, steps);

@@ -8,12 +8,12 @@
 //! `l(x0, x1, g1) = L_d((x0, 0), (x1, g1 + B (x1 − x0)))`, from the reference on second-order
 //! dual numbers in `v = (x0, x1, g1)`, and compares at several pseudo-random points
 //!
-//! * `plus_residual` and the vector of `plus_residual_jacobian` with
-//!   `(∂l/∂x0 + w_k, ∂l/∂g1 − μ_k)` at random momenta,
-//! * the matrix of `plus_residual_jacobian` with the Hessian block `∂(∂l/∂x0, ∂l/∂g1)/∂(x1, g1)`,
-//! * `plus_momentum` with `∂l/∂x1`,
-//! * `reduced_lagrangian_plus`, `lagrangian` (the user's function body) and `connection` with the
-//!   reference values,
+//! * `Reduced<Plus, ..>::residual` (labelled `plus_residual`) and the vector of
+//!   `residual_jacobian` with `(∂l/∂x0 + w_k, ∂l/∂g1 − μ_k)` at random momenta,
+//! * the matrix of `residual_jacobian` with the Hessian block `∂(∂l/∂x0, ∂l/∂g1)/∂(x1, g1)`,
+//! * `momentum` with `∂l/∂x1`,
+//! * `reduced_lagrangian` (`l_{d+}`), `lagrangian` (the user's function body) and `connection`
+//!   with the reference values,
 //!
 //! to `|a − b| ≤ 1e-12 · max(1, |a|, |b|)`.
 //!
@@ -21,7 +21,7 @@
 //! `DIRAC_BLESS=1 cargo test --test random_derivatives cases_are_current` rewrites it.
 
 use dirac::nalgebra::{SMatrix, SVector};
-use dirac::ReducedPlus;
+use dirac::{Plus, Reduced};
 use num_dual::{hessian, Dual2SVec64};
 
 #[allow(dead_code)]
@@ -89,7 +89,7 @@ pub fn check_case<Sys, const S: usize, const K: usize, const N: usize, const M: 
     ) -> Dual2SVec64<M>,
     lag_f64: fn([f64; N], [f64; N], f64, f64) -> f64,
 ) where
-    Sys: ReducedPlus<S, K, N>,
+    Sys: Reduced<Plus, S, K, N>,
 {
     assert_eq!((S + K, 2 * S + K), (N, M));
     stats.cases += 1;
@@ -153,9 +153,9 @@ pub fn check_case<Sys, const S: usize, const K: usize, const N: usize, const M: 
         let w_k = SVector::<f64, S>::from_fn(|_, _| rng.uniform(-1.0, 1.0));
         let mu_k = SVector::<f64, K>::from_fn(|_, _| rng.uniform(-1.0, 1.0));
         let offset = |r: usize| if r < S { w_k[r] } else { -mu_k[r - S] };
-        let residual = sys.plus_residual(&x0, &w_k, &mu_k, &z);
-        let (residual_j, jac) = sys.plus_residual_jacobian(&x0, &w_k, &mu_k, &z);
-        let momentum = sys.plus_momentum(&x0, &z);
+        let residual = sys.residual(&x0, &w_k, &mu_k, &z);
+        let (residual_j, jac) = sys.residual_jacobian(&x0, &w_k, &mu_k, &z);
+        let momentum = sys.momentum(&x0, &z);
         for r in 0..N {
             stats.compare(
                 name,
@@ -197,7 +197,7 @@ pub fn check_case<Sys, const S: usize, const K: usize, const N: usize, const M: 
             name,
             "reduced_lagrangian_plus",
             &at,
-            sys.reduced_lagrangian_plus(&x0, &x1, &g1),
+            sys.reduced_lagrangian(&x0, &x1, &g1),
             value,
         );
         // L_d at a point with g0 ≠ 0: the user's body against the reference body, in f64.

@@ -28,7 +28,7 @@ fn assert_reduction_commutes<L, const S: usize, const K: usize, const N: usize>(
     steps: usize,
     tol: f64,
 ) where
-    L: ReducedPlus<S, K, N> + ReducedMinus<S, K, N> + Unreduced<S, K, N> + Copy,
+    L: Reduced<Plus, S, K, N> + Reduced<Minus, S, K, N> + Unreduced<S, K, N> + Copy,
 {
     let options = NewtonOptions::default();
     let plus = ReducedIntegrator::plus(sys, options)
@@ -271,63 +271,69 @@ fn eliminated_and_general_paths_agree() {
         initial: ReducedState<S, K>,
         steps: usize,
     ) where
-        L: ReducedPlus<S, K, N> + ReducedMinus<S, K, N> + Copy,
+        L: Reduced<Plus, S, K, N> + Reduced<Minus, S, K, N> + Copy,
     {
-        assert!(L::PLUS_ELIMINATES_GROUP && L::MINUS_ELIMINATES_GROUP);
-        for minus in [false, true] {
-            let make = |eliminate| {
-                let integ = if minus {
-                    ReducedIntegrator::minus(sys, NewtonOptions::default())
-                } else {
-                    ReducedIntegrator::plus(sys, NewtonOptions::default())
-                };
-                integ.with_elimination(eliminate)
-            };
-            assert!(make(true).eliminates_group() && !make(false).eliminates_group());
-            let fast = make(true).integrate(initial, steps).unwrap();
-            let general = make(false).integrate(initial, steps).unwrap();
-            // Round-off yardstick: how far a one-ulp change of the initial state moves the
-            // general path (≈ 1e-16 for the small systems; ≈ 8e-11 of |w| for the double
-            // spherical pendulum over 2,000 steps, whose momenta carry a ~1e-10 round-off floor).
-            let mut nudged = initial;
-            nudged.x[0] = f64::from_bits(initial.x[0].to_bits() + 1);
-            let ulp = make(false).integrate(nudged, steps).unwrap();
-            let scale_x = general
-                .states
+        compare_side::<Plus, L, S, K, N>(sys, initial, steps);
+        compare_side::<Minus, L, S, K, N>(sys, initial, steps);
+    }
+    fn compare_side<D, L, const S: usize, const K: usize, const N: usize>(
+        sys: L,
+        initial: ReducedState<S, K>,
+        steps: usize,
+    ) where
+        D: Side,
+        L: Reduced<D, S, K, N> + Copy,
+    {
+        assert!(L::ELIMINATES_GROUP);
+        let minus = D::VARIANT == Variant::Minus;
+        let make = |eliminate| {
+            ReducedIntegrator::<L, D, S, K, N>::new(sys, NewtonOptions::default())
+                .with_elimination(eliminate)
+        };
+        assert!(make(true).eliminates_group() && !make(false).eliminates_group());
+        let fast = make(true).integrate(initial, steps).unwrap();
+        let general = make(false).integrate(initial, steps).unwrap();
+        // Round-off yardstick: how far a one-ulp change of the initial state moves the
+        // general path (≈ 1e-16 for the small systems; ≈ 8e-11 of |w| for the double
+        // spherical pendulum over 2,000 steps, whose momenta carry a ~1e-10 round-off floor).
+        let mut nudged = initial;
+        nudged.x[0] = f64::from_bits(initial.x[0].to_bits() + 1);
+        let ulp = make(false).integrate(nudged, steps).unwrap();
+        let scale_x = general
+            .states
+            .iter()
+            .map(|s| s.x.amax().max(s.g.amax()))
+            .fold(1e-300, f64::max);
+        let scale_w = general
+            .states
+            .iter()
+            .map(|s| s.w.amax())
+            .fold(1e-300, f64::max);
+        let spread = |f: &dyn Fn(&ReducedState<S, K>, &ReducedState<S, K>) -> f64| {
+            ulp.states
                 .iter()
-                .map(|s| s.x.amax().max(s.g.amax()))
-                .fold(1e-300, f64::max);
-            let scale_w = general
-                .states
-                .iter()
-                .map(|s| s.w.amax())
-                .fold(1e-300, f64::max);
-            let spread = |f: &dyn Fn(&ReducedState<S, K>, &ReducedState<S, K>) -> f64| {
-                ulp.states
-                    .iter()
-                    .zip(&general.states)
-                    .map(|(a, b)| f(a, b))
-                    .fold(0.0, f64::max)
-            };
-            let tol_x = 1e-10f64
-                .max(3.0 * spread(&|a, b| (a.x - b.x).amax().max((a.g - b.g).amax())) / scale_x);
-            let tol_w = 1e-10f64.max(3.0 * spread(&|a, b| (a.w - b.w).amax()) / scale_w);
-            for (k, (a, b)) in fast.states.iter().zip(&general.states).enumerate() {
-                let (ex, eg, ew) = (
-                    (a.x - b.x).amax() / scale_x,
-                    (a.g - b.g).amax() / scale_x,
-                    (a.w - b.w).amax() / scale_w,
-                );
-                assert!(
-                    ex <= tol_x && eg <= tol_x,
-                    "minus = {minus}, step {k}: x {ex:e}, g {eg:e} > {tol_x:e}"
-                );
-                assert!(
-                    ew <= tol_w,
-                    "minus = {minus}, step {k}: w {ew:e} > {tol_w:e}"
-                );
-                assert_eq!(a.mu, b.mu);
-            }
+                .zip(&general.states)
+                .map(|(a, b)| f(a, b))
+                .fold(0.0, f64::max)
+        };
+        let tol_x = 1e-10f64
+            .max(3.0 * spread(&|a, b| (a.x - b.x).amax().max((a.g - b.g).amax())) / scale_x);
+        let tol_w = 1e-10f64.max(3.0 * spread(&|a, b| (a.w - b.w).amax()) / scale_w);
+        for (k, (a, b)) in fast.states.iter().zip(&general.states).enumerate() {
+            let (ex, eg, ew) = (
+                (a.x - b.x).amax() / scale_x,
+                (a.g - b.g).amax() / scale_x,
+                (a.w - b.w).amax() / scale_w,
+            );
+            assert!(
+                ex <= tol_x && eg <= tol_x,
+                "minus = {minus}, step {k}: x {ex:e}, g {eg:e} > {tol_x:e}"
+            );
+            assert!(
+                ew <= tol_w,
+                "minus = {minus}, step {k}: w {ew:e} > {tol_w:e}"
+            );
+            assert_eq!(a.mu, b.mu);
         }
     }
     compare(
@@ -361,7 +367,7 @@ fn eliminated_and_general_paths_agree() {
     let dsp = dirac::paper::DoubleSphericalPendulum::paper();
     const {
         assert!(
-            !<dirac::paper::DoubleSphericalPendulum as ReducedPlus<3, 1, 4>>::PLUS_ELIMINATION_PAYS
+            !<dirac::paper::DoubleSphericalPendulum as Reduced<Plus, 3, 1, 4>>::ELIMINATION_PAYS
         )
     };
     assert!(!ReducedIntegrator::plus(dsp, NewtonOptions::default()).eliminates_group());
@@ -372,7 +378,12 @@ fn eliminated_and_general_paths_agree() {
     );
 
     // Not affine: no elimination, the general path runs either way.
-    const { assert!(!QuarticRotor::PLUS_ELIMINATES_GROUP && !QuarticRotor::MINUS_ELIMINATES_GROUP) };
+    const {
+        assert!(
+            !<QuarticRotor as Reduced<Plus, 1, 1, 2>>::ELIMINATES_GROUP
+                && !<QuarticRotor as Reduced<Minus, 1, 1, 2>>::ELIMINATES_GROUP
+        )
+    };
     let sys = QuarticRotor { h: 0.05 };
     let integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
     assert!(!integ.eliminates_group());

@@ -224,21 +224,41 @@ fn check_system<L>(
     options: NewtonOptions,
 ) -> Result<(), TestCaseError>
 where
-    L: ReducedPlus<3, 1, 4> + ReducedMinus<3, 1, 4> + Unreduced<3, 1, 4> + Clone,
+    L: Reduced<Plus, 3, 1, 4> + Reduced<Minus, 3, 1, 4> + Unreduced<3, 1, 4> + Clone,
 {
     for (what, variant) in [
         ("reduced (+)", Variant::Plus),
         ("reduced (−)", Variant::Minus),
     ] {
-        let mut integrator = match variant {
-            Variant::Plus => ReducedIntegrator::plus(system.clone(), options),
-            Variant::Minus => ReducedIntegrator::minus(system.clone(), options),
-        };
-        if let Some(e) = eliminate {
-            integrator = integrator.with_elimination(e);
+        // The side is a type: one generic run per side.
+        fn run<D: Side, L: Reduced<D, 3, 1, 4>>(
+            integrator: ReducedIntegrator<L, D, 3, 1, 4>,
+            eliminate: Option<bool>,
+            reduced: ReducedState<3, 1>,
+            steps: usize,
+        ) -> Result<Trajectory<3, 1>, Box<IntegrationError<Trajectory<3, 1>>>> {
+            match eliminate {
+                Some(e) => integrator.with_elimination(e),
+                None => integrator,
+            }
+            .integrate(reduced, steps)
         }
         let initial = reduced_components(&reduced);
-        match integrator.integrate(reduced, steps) {
+        let result = match variant {
+            Variant::Plus => run(
+                ReducedIntegrator::plus(system.clone(), options),
+                eliminate,
+                reduced,
+                steps,
+            ),
+            Variant::Minus => run(
+                ReducedIntegrator::minus(system.clone(), options),
+                eliminate,
+                reduced,
+                steps,
+            ),
+        };
+        match result {
             Ok(t) => {
                 let states: Vec<_> = t.states.iter().map(reduced_components).collect();
                 check_outcome(what, steps, &initial, &states, None)?;

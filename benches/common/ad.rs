@@ -9,7 +9,7 @@
 //! R(z) = ( ∂l/∂x0 + w_k ,  ∂l/∂g1 − μ_k ) = 0   in   z = (x1, g1),
 //! ```
 //!
-//! the residual and Jacobian of `ReducedPlus::plus_residual_jacobian`. They are taken from
+//! the residual and Jacobian of `Reduced::<Plus, ..>::residual_jacobian`. They are taken from
 //! num-dual in two ways:
 //!
 //! * [`residual_jacobian`]: `num_dual::hessian` of `l_{d+}` in all `2S + K` variables

@@ -36,7 +36,7 @@ pub struct Workload<L, const S: usize, const K: usize, const N: usize> {
 
 impl<L, const S: usize, const K: usize, const N: usize> Workload<L, S, K, N>
 where
-    L: ReducedPlus<S, K, N> + ReducedMinus<S, K, N> + Copy,
+    L: Reduced<Plus, S, K, N> + Copy,
 {
     /// Integrates `steps` steps from `initial` with the generated (+) stepper and keeps every
     /// `stride`-th step `k ≥ 1` (step 0 has no previous point to extrapolate from).

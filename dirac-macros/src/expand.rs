@@ -8,12 +8,12 @@ use syn::{Ident, ItemFn};
 
 use crate::check;
 use crate::ctxt::Ctxt;
-use crate::emit::{literal, straight_line};
+use crate::emit::straight_line;
 use crate::graph::{Graph, Node, NodeId, Sym};
 use crate::lower::{Lowering, Names};
 use crate::reduce::{
-    eliminate_group, lagrangian_hessian, minus_stepper, plus_stepper, reduced_lagrangian_minus,
-    reduced_lagrangian_plus, unreduced_stepper, Eliminated, Stepper, GROUP_ORIGINS,
+    eliminate_group, lagrangian_hessian, reduced_lagrangian, reduced_stepper, unreduced_stepper,
+    Eliminated, Side, Stepper, GROUP_ORIGINS,
 };
 use crate::spec::{parse_signature, parse_spec, resolve_ranges, Signature, Spec};
 
@@ -54,22 +54,27 @@ struct Compiled {
     body: NodeId,
     /// Rows of the connection matrix `B`.
     b: Vec<Vec<NodeId>>,
-    /// The reduced (+) stepper, eq. (4.6).
-    plus: Stepper,
-    /// The reduced (−) stepper, eq. (4.8) with the signs of Definition 2.8.
-    minus: Stepper,
+    /// The reduced (+) equations, eq. (4.6).
+    plus: SideCode,
+    /// The reduced (−) equations, eq. (4.8) with the signs of Definition 2.8.
+    minus: SideCode,
     /// The unreduced stepper, Definitions 2.7/2.8.
     unreduced: Stepper,
-    /// The (+) stepper with its group unknowns eliminated, when they enter affinely.
-    plus_eliminated: Option<Eliminated>,
-    /// The (−) stepper with its group unknowns eliminated, when they enter affinely.
-    minus_eliminated: Option<Eliminated>,
     /// `(D11, D12, D22)` of `L_d`, for the step-map Jacobian.
     hessian: [Vec<Vec<NodeId>>; 3],
-    /// Whether the eliminated (+) stepper is the better default (no more code than the general).
-    plus_elimination_pays: bool,
-    /// Whether the eliminated (−) stepper is the better default.
-    minus_elimination_pays: bool,
+}
+
+/// What one side of the reduced equations compiles to.
+struct SideCode {
+    side: Side,
+    /// The reduced Lagrangian at the paper's group origin (`α = 0`: eqs. (4.5), (4.7)).
+    lagrangian: NodeId,
+    /// The general stepper, at the group origin with the least code.
+    stepper: Stepper,
+    /// The stepper with its group unknowns eliminated, when they enter affinely.
+    eliminated: Option<Eliminated>,
+    /// Whether the eliminated stepper is the better default (no more code than the general).
+    elimination_pays: bool,
 }
 
 fn compile(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<Compiled> {
@@ -115,25 +120,20 @@ fn compile(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<Com
     // straight-line code: by G-invariance every α gives the same function (eq. (4.5) is α = 0),
     // but e.g. a midpoint rule at α = ½ no longer carries the group unknown through its
     // trigonometric terms. Ties go to the paper's α = 0.
-    let plus = cheapest(&mut graph, |g, alpha| {
-        let l = reduced_lagrangian_plus(g, body, s, &b, alpha);
-        plus_stepper(g, l, s, k)
-    });
-    let minus = cheapest(&mut graph, |g, alpha| {
-        let l = reduced_lagrangian_minus(g, body, s, &b, alpha);
-        minus_stepper(g, l, s, k)
-    });
+    let build = |side: Side| {
+        let b = &b;
+        move |g: &mut Graph, alpha: f64| {
+            let l = reduced_lagrangian(g, side, body, s, b, alpha);
+            reduced_stepper(g, side, l, s, k)
+        }
+    };
+    let plus = cheapest(&mut graph, build(Side::Plus));
+    let minus = cheapest(&mut graph, build(Side::Minus));
     let unreduced = unreduced_stepper(&mut graph, body, s + k);
     let hessian = lagrangian_hessian(&mut graph, body, s + k);
     // Elimination: the cheapest origin at which the momentum equations are structurally affine.
-    let plus_eliminated = cheapest_eliminated(&mut graph, s, k, Sym::G1, |g, alpha| {
-        let l = reduced_lagrangian_plus(g, body, s, &b, alpha);
-        plus_stepper(g, l, s, k)
-    });
-    let minus_eliminated = cheapest_eliminated(&mut graph, s, k, Sym::G0, |g, alpha| {
-        let l = reduced_lagrangian_minus(g, body, s, &b, alpha);
-        minus_stepper(g, l, s, k)
-    });
+    let plus_eliminated = cheapest_eliminated(&mut graph, Side::Plus, s, k, build(Side::Plus));
+    let minus_eliminated = cheapest_eliminated(&mut graph, Side::Minus, s, k, build(Side::Minus));
     // Use the elimination by default only where it does not cost more code per Newton iteration
     // than the general path (10% slack: it also shrinks the linear solve and, for the paper's charged
     // particle, makes each step linear). Substituting the closed form and differentiating through
@@ -144,8 +144,20 @@ fn compile(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<Com
             10 * cost(g, &e.residual, &e.jacobian) <= 11 * cost(g, &full.residual, &full.jacobian)
         })
     };
-    let plus_elimination_pays = pays(&plus_eliminated, &plus, &graph);
-    let minus_elimination_pays = pays(&minus_eliminated, &minus, &graph);
+    let side_code = |graph: &mut Graph, side, stepper, eliminated| {
+        let elimination_pays = pays(&eliminated, &stepper, graph);
+        // Built last, so the nodes of the steppers above keep their numbers (and names).
+        let lagrangian = reduced_lagrangian(graph, side, body, s, &b, 0.0);
+        SideCode {
+            side,
+            lagrangian,
+            stepper,
+            eliminated,
+            elimination_pays,
+        }
+    };
+    let plus = side_code(&mut graph, Side::Plus, plus, plus_eliminated);
+    let minus = side_code(&mut graph, Side::Minus, minus, minus_eliminated);
     Some(Compiled {
         graph,
         body,
@@ -153,10 +165,6 @@ fn compile(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<Com
         plus,
         minus,
         unreduced,
-        plus_eliminated,
-        minus_eliminated,
-        plus_elimination_pays,
-        minus_elimination_pays,
         hessian,
     })
 }
@@ -186,16 +194,16 @@ fn cheapest(g: &mut Graph, build: impl Fn(&mut Graph, f64) -> Stepper) -> Steppe
 /// The eliminated stepper with the least code over the group origins where elimination applies.
 fn cheapest_eliminated(
     g: &mut Graph,
+    side: Side,
     s: usize,
     k: usize,
-    group: fn(usize) -> Sym,
     build: impl Fn(&mut Graph, f64) -> Stepper,
 ) -> Option<Eliminated> {
     let candidates: Vec<Eliminated> = GROUP_ORIGINS
         .iter()
         .filter_map(|&alpha| {
             let st = build(g, alpha);
-            eliminate_group(g, &st, s, k, group)
+            eliminate_group(g, side, &st, s, k)
         })
         .collect();
     candidates
@@ -391,6 +399,185 @@ fn stepper_fns(
     }
 }
 
+/// What every emitted impl shares: the type, the dimensions, the paths, how parameters are read.
+struct Target<'a> {
+    ty: Ident,
+    s: usize,
+    k: usize,
+    n: usize,
+    params: &'a [Ident],
+    rt: TokenStream,
+    na: TokenStream,
+}
+
+impl Target<'_> {
+    /// `self.<parameter i>`.
+    fn param_leaf(&self, i: usize) -> TokenStream {
+        let p = &self.params[i];
+        quote! { self.#p }
+    }
+
+    /// `&SVector<f64, d>`.
+    fn vec(&self, d: usize) -> TokenStream {
+        let na = &self.na;
+        quote!(&#na::SVector<f64, #d>)
+    }
+
+    /// Leaves of the reduced steppers: `x_k`, the unknowns `z = (x_{k+1}, u)`, `w_k`, `μ_k`.
+    fn reduced_leaf(&self, sym: Sym) -> TokenStream {
+        match sym {
+            Sym::X0(i) => quote! { x_k[#i] },
+            Sym::X1(i) => quote! { z[#i] },
+            Sym::G1(j) | Sym::G0(j) => {
+                let j = self.s + j;
+                quote! { z[#j] }
+            }
+            Sym::W(i) => quote! { w_k[#i] },
+            Sym::Mu(j) => quote! { mu_k[#j] },
+            Sym::Param(i) => self.param_leaf(i),
+            Sym::Q0(_) | Sym::Q1(_) | Sym::P(_) => {
+                unreachable!("reduced Lagrangians read x0, x1 and g")
+            }
+        }
+    }
+}
+
+/// One side's `impl Reduced<Side, S, K, N>`, its code counts and its elimination note: the
+/// (+) and (−) impls come from this one function.
+fn reduced_impl(t: &Target, g: &Graph, side: &SideCode) -> (TokenStream, String, String) {
+    let Target {
+        ty,
+        s,
+        k,
+        n,
+        rt,
+        na,
+        ..
+    } = t;
+    let (s, k, n) = (*s, *k, *n);
+    let (vs, vk, vn) = (t.vec(s), t.vec(k), t.vec(n));
+    let leaf = |sym| t.reduced_leaf(sym);
+    let (marker, label) = match side.side {
+        Side::Plus => (quote!(#rt::Plus), "(+)"),
+        Side::Minus => (quote!(#rt::Minus), "(−)"),
+    };
+    // l_{d±} itself, from the graph the derivatives come from (α = 0: eqs. (4.5), (4.7)).
+    let l = straight_line(g, &[side.lagrangian], &|sym| match sym {
+        Sym::X0(i) => quote! { x0[#i] },
+        Sym::X1(i) => quote! { x1[#i] },
+        Sym::G1(j) | Sym::G0(j) => quote! { u[#j] },
+        Sym::Param(i) => t.param_leaf(i),
+        _ => unreachable!("reduced Lagrangians read x0, x1 and the group unknown"),
+    });
+    let (l_stmts, l_out) = (&l.stmts, &l.outputs[0]);
+    let general = stepper_fns(g, &side.stepper, &leaf, n, s);
+    let (r, rj, m, rm) = (
+        &general.residual,
+        &general.residual_jacobian,
+        &general.momentum,
+        &general.residual_momentum,
+    );
+    // The eliminated stepper: Newton on x_{k+1} alone; the third function returns the group
+    // unknowns in closed form.
+    let (eliminated, note) = match &side.eliminated {
+        None => (
+            quote!(),
+            format!(
+                "{label} not available (the momentum equations are not affine in the group unknowns)"
+            ),
+        ),
+        Some(e) => {
+            let as_stepper = Stepper {
+                residual: e.residual.clone(),
+                jacobian: e.jacobian.clone(),
+                momentum: e.group.clone(),
+            };
+            let f = stepper_fns(g, &as_stepper, &leaf, s, k);
+            let (r, rj, grp) = (&f.residual, &f.residual_jacobian, &f.momentum);
+            let pays = side.elimination_pays;
+            let note = format!(
+                "{label} group unknowns in closed form, Newton on the shape unknowns: {} (the third count is the closed form); \
+                 used by default: {}",
+                f.counts,
+                if pays { "yes" } else { "no, the general path has less code" }
+            );
+            let a_flat: Vec<NodeId> = e.block.iter().flatten().copied().collect();
+            let a_code = straight_line(g, &a_flat, &leaf);
+            let (a_stmts, a_out) = (&a_code.stmts, &a_code.outputs);
+            let tokens = quote! {
+                const ELIMINATES_GROUP: bool = true;
+                const ELIMINATION_PAYS: bool = #pays;
+
+                #[inline]
+                #[allow(unused_variables)] // a closed form need not read every input
+                fn eliminated_residual(&self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vs) -> ::core::option::Option<#na::SVector<f64, #s>> {
+                    ::core::option::Option::Some({ #r })
+                }
+
+                #[inline]
+                #[allow(unused_variables)] // a closed form need not read every input
+                fn eliminated_residual_jacobian(
+                    &self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vs,
+                ) -> ::core::option::Option<(#na::SVector<f64, #s>, #na::SMatrix<f64, #s, #s>)> {
+                    ::core::option::Option::Some({ #rj })
+                }
+
+                #[inline]
+                #[allow(unused_variables)] // a closed form need not read every input
+                fn eliminated_group(&self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vs) -> ::core::option::Option<#na::SVector<f64, #k>> {
+                    ::core::option::Option::Some({ #grp })
+                }
+
+                #[inline]
+                #[allow(unused_variables)] // a closed form need not read every input
+                fn eliminated_group_block(&self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vs) -> ::core::option::Option<#na::SMatrix<f64, #k, #k>> {
+                    #a_stmts
+                    ::core::option::Option::Some(#na::SMatrix::<f64, #k, #k>::from_row_slice(&[ #( #a_out ),* ]))
+                }
+            };
+            (tokens, note)
+        }
+    };
+    let tokens = quote! {
+        #[automatically_derived]
+        impl #rt::Reduced<#marker, #s, #k, #n> for #ty {
+            #[allow(unused_variables)] // a Lagrangian need not read every coordinate
+            fn reduced_lagrangian(&self, x0: #vs, x1: #vs, u: #vk) -> f64 {
+                #l_stmts
+                #l_out
+            }
+
+            #[inline]
+            fn residual(&self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn) -> #na::SVector<f64, #n> {
+                #r
+            }
+
+            #[inline]
+            fn residual_jacobian(
+                &self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn,
+            ) -> (#na::SVector<f64, #n>, #na::SMatrix<f64, #n, #n>) {
+                #rj
+            }
+
+            #[inline]
+            fn momentum(&self, x_k: #vs, z: #vn) -> #na::SVector<f64, #s> {
+                #m
+            }
+
+            #[inline]
+            #[allow(unused_variables)] // the momentum update need not read every input
+            fn residual_momentum(
+                &self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn,
+            ) -> (#na::SVector<f64, #n>, #na::SVector<f64, #s>) {
+                #rm
+            }
+
+            #eliminated
+        }
+    };
+    (tokens, general.counts, note)
+}
+
 fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenStream {
     let ty = type_name(spec, func);
     let config = format_ident!("{}Config", ty);
@@ -402,29 +589,17 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
     let shape_names = spec.shape.iter().map(Ident::to_string);
     let group_names = spec.group.iter().map(Ident::to_string);
     let param_names = params.iter().map(Ident::to_string);
-    let rt = quote!(::dirac::runtime);
-    let na = quote!(::dirac::nalgebra);
-    let dl = quote!(<Self as #rt::DiscreteLagrangian<#s, #k, #n>>);
-
-    let param_leaf = |i: usize| {
-        let p = &params[i];
-        quote! { self.#p }
+    let target = Target {
+        ty: ty.clone(),
+        s,
+        k,
+        n,
+        params,
+        rt: quote!(::dirac::runtime),
+        na: quote!(::dirac::nalgebra),
     };
-    // Leaves of the reduced steppers: x_k, the unknowns z = (x_{k+1}, group unknown), w_k, μ_k.
-    let reduced_leaf = |sym: Sym| match sym {
-        Sym::X0(i) => quote! { x_k[#i] },
-        Sym::X1(i) => quote! { z[#i] },
-        Sym::G1(j) | Sym::G0(j) => {
-            let j = s + j;
-            quote! { z[#j] }
-        }
-        Sym::W(i) => quote! { w_k[#i] },
-        Sym::Mu(j) => quote! { mu_k[#j] },
-        Sym::Param(i) => param_leaf(i),
-        Sym::Q0(_) | Sym::Q1(_) | Sym::P(_) => {
-            unreachable!("reduced Lagrangians read x0, x1 and g")
-        }
-    };
+    let (rt, na) = (&target.rt, &target.na);
+    let param_leaf = |i: usize| target.param_leaf(i);
     let unreduced_leaf = |sym: Sym| match sym {
         Sym::Q0(i) => quote! { q_k[#i] },
         Sym::Q1(i) => quote! { z[#i] },
@@ -432,88 +607,11 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
         Sym::Param(i) => param_leaf(i),
         _ => unreachable!("the unreduced equations read q0, q1 and p"),
     };
-    let vec = |d: usize| quote!(&#na::SVector<f64, #d>);
-    let (vs, vk, vn) = (vec(s), vec(k), vec(n));
-    // The eliminated steppers: Newton on x_{k+1} alone; the third function returns the group
-    // unknowns in closed form.
-    let elimination_counts = std::cell::RefCell::new(Vec::new());
-    let eliminated = |e: &Option<Eliminated>, prefix: &str, pays: bool| -> TokenStream {
-        let Some(e) = e else {
-            elimination_counts.borrow_mut().push(format!(
-                "({prefix}) not available (the momentum equations are not affine in the group unknowns)"
-            ));
-            return quote!();
-        };
-        let as_stepper = Stepper {
-            residual: e.residual.clone(),
-            jacobian: e.jacobian.clone(),
-            momentum: e.group.clone(),
-        };
-        let f = stepper_fns(&c.graph, &as_stepper, &reduced_leaf, s, k);
-        let (r, rj, grp) = (&f.residual, &f.residual_jacobian, &f.momentum);
-        elimination_counts.borrow_mut().push(format!(
-            "({prefix}) group unknowns in closed form, Newton on the shape unknowns: {} (the third count is the closed form); \
-             used by default: {}",
-            f.counts,
-            if pays { "yes" } else { "no, the general path has less code" }
-        ));
-        let flag = format_ident!("{}_ELIMINATES_GROUP", prefix.to_uppercase());
-        let pays_flag = format_ident!("{}_ELIMINATION_PAYS", prefix.to_uppercase());
-        let r_fn = format_ident!("{}_eliminated_residual", prefix);
-        let rj_fn = format_ident!("{}_eliminated_residual_jacobian", prefix);
-        let g_fn = format_ident!("{}_eliminated_group", prefix);
-        let a_fn = format_ident!("{}_eliminated_group_block", prefix);
-        let a_flat: Vec<NodeId> = e.block.iter().flatten().copied().collect();
-        let a_code = straight_line(&c.graph, &a_flat, &reduced_leaf);
-        let (a_stmts, a_out) = (&a_code.stmts, &a_code.outputs);
-        quote! {
-            const #flag: bool = true;
-            const #pays_flag: bool = #pays;
-
-            #[inline]
-            #[allow(unused_variables)] // a closed form need not read every input
-            fn #r_fn(&self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vs) -> ::core::option::Option<#na::SVector<f64, #s>> {
-                ::core::option::Option::Some({ #r })
-            }
-
-            #[inline]
-            #[allow(unused_variables)] // a closed form need not read every input
-            fn #rj_fn(
-                &self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vs,
-            ) -> ::core::option::Option<(#na::SVector<f64, #s>, #na::SMatrix<f64, #s, #s>)> {
-                ::core::option::Option::Some({ #rj })
-            }
-
-            #[inline]
-            #[allow(unused_variables)] // a closed form need not read every input
-            fn #g_fn(&self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vs) -> ::core::option::Option<#na::SVector<f64, #k>> {
-                ::core::option::Option::Some({ #grp })
-            }
-
-            #[inline]
-            #[allow(unused_variables)] // a closed form need not read every input
-            fn #a_fn(&self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vs) -> ::core::option::Option<#na::SMatrix<f64, #k, #k>> {
-                #a_stmts
-                ::core::option::Option::Some(#na::SMatrix::<f64, #k, #k>::from_row_slice(&[ #( #a_out ),* ]))
-            }
-        }
-    };
-    let plus_elim = eliminated(&c.plus_eliminated, "plus", c.plus_elimination_pays);
-    let minus_elim = eliminated(&c.minus_eliminated, "minus", c.minus_elimination_pays);
-    let elimination_note = format!(
-        " Momentum-level elimination: {}.",
-        elimination_counts
-            .borrow()
-            .join("; ")
-            .replace("(plus)", "(+)")
-            .replace("(minus)", "(−)")
-    );
-    let plus = stepper_fns(&c.graph, &c.plus, &reduced_leaf, n, s);
-    let minus = stepper_fns(&c.graph, &c.minus, &reduced_leaf, n, s);
+    let vn = target.vec(n);
+    let (plus_impl, plus_counts, plus_note) = reduced_impl(&target, &c.graph, &c.plus);
+    let (minus_impl, minus_counts, minus_note) = reduced_impl(&target, &c.graph, &c.minus);
+    let elimination_note = format!(" Momentum-level elimination: {plus_note}; {minus_note}.");
     let unreduced = stepper_fns(&c.graph, &c.unreduced, &unreduced_leaf, n, n);
-    let (plus_r, plus_rj, plus_m) = (&plus.residual, &plus.residual_jacobian, &plus.momentum);
-    let (minus_r, minus_rj, minus_m) = (&minus.residual, &minus.residual_jacobian, &minus.momentum);
-    let (plus_rm, minus_rm) = (&plus.residual_momentum, &minus.residual_momentum);
     let hessian_roots: Vec<NodeId> = c.hessian.iter().flatten().flatten().copied().collect();
     let hessian_code = straight_line(&c.graph, &hessian_roots, &|sym| match sym {
         Sym::Q0(i) => quote! { q0[#i] },
@@ -553,10 +651,9 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
     let config_item = config_struct(spec, func, &config, &ty);
     let user_fn = user_function(func, &config, false, &connection_only_params(spec, sig, c));
     let param_item = param_struct(sig, func, &ty);
-    let zero_g = literal(0.0);
     let counts = format!(
         "Generated straight-line code: reduced (+) stepper: {}; reduced (−) stepper: {}; unreduced stepper: {}.",
-        plus.counts, minus.counts, unreduced.counts
+        plus_counts, minus_counts, unreduced.counts
     ) + &elimination_note;
 
     quote! {
@@ -577,6 +674,7 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
             pub const GENERATED: &'static str = #counts;
         }
 
+        #[automatically_derived]
         impl #rt::DiscreteLagrangian<#s, #k, #n> for #ty {
             const SHAPE: [&'static str; #s] = [ #( #shape_names ),* ];
             const GROUP: [&'static str; #k] = [ #( #group_names ),* ];
@@ -605,78 +703,11 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
             }
         }
 
-        impl #rt::ReducedPlus<#s, #k, #n> for #ty {
-            fn reduced_lagrangian_plus(&self, x0: #vs, x1: #vs, g1: #vk) -> f64 {
-                let g1 = g1 + #dl::connection(self) * (x1 - x0);
-                let q0 = #rt::system::join::<#s, #k, #n>(x0, &#na::SVector::<f64, #k>::repeat(#zero_g));
-                let q1 = #rt::system::join::<#s, #k, #n>(x1, &g1);
-                #dl::lagrangian(self, &q0, &q1)
-            }
+        #plus_impl
 
-            #[inline]
-            fn plus_residual(&self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn) -> #na::SVector<f64, #n> {
-                #plus_r
-            }
+        #minus_impl
 
-            #[inline]
-            fn plus_residual_jacobian(
-                &self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn,
-            ) -> (#na::SVector<f64, #n>, #na::SMatrix<f64, #n, #n>) {
-                #plus_rj
-            }
-
-            #[inline]
-            fn plus_momentum(&self, x_k: #vs, z: #vn) -> #na::SVector<f64, #s> {
-                #plus_m
-            }
-
-            #[inline]
-            #[allow(unused_variables)] // the momentum update need not read every input
-            fn plus_residual_momentum(
-                &self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn,
-            ) -> (#na::SVector<f64, #n>, #na::SVector<f64, #s>) {
-                #plus_rm
-            }
-
-            #plus_elim
-        }
-
-        impl #rt::ReducedMinus<#s, #k, #n> for #ty {
-            fn reduced_lagrangian_minus(&self, x0: #vs, g0: #vk, x1: #vs) -> f64 {
-                let g0 = g0 + #dl::connection(self) * (x0 - x1);
-                let q0 = #rt::system::join::<#s, #k, #n>(x0, &g0);
-                let q1 = #rt::system::join::<#s, #k, #n>(x1, &#na::SVector::<f64, #k>::repeat(#zero_g));
-                #dl::lagrangian(self, &q0, &q1)
-            }
-
-            #[inline]
-            fn minus_residual(&self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn) -> #na::SVector<f64, #n> {
-                #minus_r
-            }
-
-            #[inline]
-            fn minus_residual_jacobian(
-                &self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn,
-            ) -> (#na::SVector<f64, #n>, #na::SMatrix<f64, #n, #n>) {
-                #minus_rj
-            }
-
-            #[inline]
-            fn minus_momentum(&self, x_k: #vs, z: #vn) -> #na::SVector<f64, #s> {
-                #minus_m
-            }
-
-            #[inline]
-            #[allow(unused_variables)] // the momentum update need not read every input
-            fn minus_residual_momentum(
-                &self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn,
-            ) -> (#na::SVector<f64, #n>, #na::SVector<f64, #s>) {
-                #minus_rm
-            }
-
-            #minus_elim
-        }
-
+        #[automatically_derived]
         impl #rt::Unreduced<#s, #k, #n> for #ty {
             #[inline]
             fn unreduced_residual(&self, q_k: #vn, p_k: #vn, z: #vn) -> #na::SVector<f64, #n> {
@@ -760,6 +791,7 @@ fn stub_impls(spec: &Spec, sig: &Signature, ty: &Ident) -> TokenStream {
         "`#[reduced_lagrangian]` reported an error"
     ));
     let generated = "Nothing: `#[reduced_lagrangian]` reported an error.";
+    let sides = [quote!(#rt::Plus), quote!(#rt::Minus)];
     quote! {
         impl #ty {
             /// Number of shape coordinates `S`.
@@ -785,25 +817,17 @@ fn stub_impls(spec: &Spec, sig: &Signature, ty: &Ident) -> TokenStream {
             fn parameter_values(&self) -> ::std::vec::Vec<f64> { #stub }
         }
 
-        #[allow(unused_variables)]
-        impl #rt::ReducedPlus<#s, #k, #n> for #ty {
-            fn reduced_lagrangian_plus(&self, x0: #vs, x1: #vs, g1: #vk) -> f64 { #stub }
-            fn plus_residual(&self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn) -> #rn { #stub }
-            fn plus_residual_jacobian(
-                &self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn,
-            ) -> (#rn, #mnn) { #stub }
-            fn plus_momentum(&self, x_k: #vs, z: #vn) -> #na::SVector<f64, #s> { #stub }
-        }
-
-        #[allow(unused_variables)]
-        impl #rt::ReducedMinus<#s, #k, #n> for #ty {
-            fn reduced_lagrangian_minus(&self, x0: #vs, g0: #vk, x1: #vs) -> f64 { #stub }
-            fn minus_residual(&self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn) -> #rn { #stub }
-            fn minus_residual_jacobian(
-                &self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn,
-            ) -> (#rn, #mnn) { #stub }
-            fn minus_momentum(&self, x_k: #vs, z: #vn) -> #na::SVector<f64, #s> { #stub }
-        }
+        #(
+            #[allow(unused_variables)]
+            impl #rt::Reduced<#sides, #s, #k, #n> for #ty {
+                fn reduced_lagrangian(&self, x0: #vs, x1: #vs, u: #vk) -> f64 { #stub }
+                fn residual(&self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn) -> #rn { #stub }
+                fn residual_jacobian(
+                    &self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn,
+                ) -> (#rn, #mnn) { #stub }
+                fn momentum(&self, x_k: #vs, z: #vn) -> #na::SVector<f64, #s> { #stub }
+            }
+        )*
 
         #[allow(unused_variables)]
         impl #rt::Unreduced<#s, #k, #n> for #ty {
@@ -864,8 +888,9 @@ mod tests {
         assert!(out.contains("fn f"), "{out}");
         for item in [
             "DiscreteLagrangian",
-            "ReducedPlus",
-            "ReducedMinus",
+            "Reduced",
+            "Plus",
+            "Minus",
             "Unreduced",
             "SHAPE_DIM",
         ] {

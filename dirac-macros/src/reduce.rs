@@ -1,7 +1,8 @@
 //! The paper's constructions on the graph: the reduced Lagrangians `l_{d+}` (eq. (4.5)) and
 //! `l_{d−}` (eq. (4.7)), the residuals of the reduced (+) and (−) equations (4.6), (4.8) and of the
 //! unreduced discrete Lagrange–Dirac equations (Definitions 2.7, 2.8), with exact Jacobians in
-//! each stepper's unknowns and the explicit momentum updates.
+//! each stepper's unknowns and the explicit momentum updates. The (+) and (−) constructions are
+//! one function each, parameterised by [`Side`].
 
 use crate::diff::derivatives;
 use crate::graph::{Graph, NodeId, Sym};
@@ -15,59 +16,72 @@ pub struct Stepper {
     pub momentum: Vec<NodeId>,
 }
 
-/// `l_{d+}(x0, x1, g1) = L_d(x0, 0, x1, g1 + h_d^0(x0, x1))` with `h_d^0(x0, x1) = B (x1 − x0)`,
-/// eq. (4.5), built by substituting into the body's graph `l`.
-///
-/// `alpha` chooses where the group origin sits: by G-invariance
-/// `l_{d+} = L_d((x0, −α G), (x1, (1 − α) G))` with `G = g1 + h_d^0(x0, x1)` for every `α`; eq.
-/// (4.5) is `α = 0`. The functions are equal, but their expressions are not: with `α = ½` a
-/// midpoint-rule Lagrangian sees the group coordinate only through its increment, which is what
-/// lets [`eliminate_group`] recognise affine momentum equations structurally.
-pub fn reduced_lagrangian_plus(
-    g: &mut Graph,
-    l: NodeId,
-    s: usize,
-    b: &[Vec<NodeId>],
-    alpha: f64,
-) -> NodeId {
-    g.substitute(l, &mut |g, sym| match sym {
-        Sym::Q0(i) if i < s => g.var(Sym::X0(i)),
-        Sym::Q0(i) => {
-            let total = shifted(g, Sym::G1(i - s), &b[i - s], Sym::X1, Sym::X0);
-            let c = g.constant(-alpha);
-            g.mul(c, total)
-        }
-        Sym::Q1(i) if i < s => g.var(Sym::X1(i)),
-        Sym::Q1(i) => {
-            let total = shifted(g, Sym::G1(i - s), &b[i - s], Sym::X1, Sym::X0);
-            let c = g.constant(1.0 - alpha);
-            g.mul(c, total)
-        }
-        other => g.var(other),
-    })
+/// A family of indexed symbols, e.g. `Sym::X0`.
+type Coordinate = fn(usize) -> Sym;
+
+/// Which reduced equations: (+), eq. (4.6), or (−), eq. (4.8) with the signs of Definition 2.8
+/// (the runtime's `Plus`/`Minus`). The two differ only in what this type states: which group
+/// coordinate is the unknown, which way the connection shifts it, where the group origin sits,
+/// and the sign of `μ_k` in the momentum equations.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side {
+    Plus,
+    Minus,
 }
 
-/// `l_{d−}(x0, g0, x1) = L_d(x0, g0 + h_d^0(x1, x0), x1, 0)` with `h_d^0(x1, x0) = B (x0 − x1)`,
-/// eq. (4.7); `alpha` as in [`reduced_lagrangian_plus`]: `L_d((x0, (1 − α) G), (x1, −α G))` with
-/// `G = g0 + h_d^0(x1, x0)`, eq. (4.7) being `α = 0`.
-pub fn reduced_lagrangian_minus(
+impl Side {
+    /// The group unknown `u`: `g1` (that is `g_k^+`) for (+), `g0` (`g_{k+1}^−`) for (−).
+    pub fn group(self) -> Coordinate {
+        match self {
+            Side::Plus => Sym::G1,
+            Side::Minus => Sym::G0,
+        }
+    }
+}
+
+/// The reduced Lagrangian of `side`, built by substituting into the body's graph `l`:
+///
+/// * (+), eq. (4.5): `l_{d+}(x0, x1, g1) = L_d(x0, 0, x1, g1 + h_d^0(x0, x1))`;
+/// * (−), eq. (4.7): `l_{d−}(x0, g0, x1) = L_d(x0, g0 + h_d^0(x1, x0), x1, 0)`,
+///
+/// with `h_d^0(x0, x1) = B (x1 − x0)`.
+///
+/// `alpha` chooses where the group origin sits: by G-invariance, with `G = u + h_d^0` the shifted
+/// group unknown, `l_{d+} = L_d((x0, −α G), (x1, (1 − α) G))` and
+/// `l_{d−} = L_d((x0, (1 − α) G), (x1, −α G))` for every `α`; the paper's formulas are `α = 0`.
+/// The functions are equal, but their expressions are not: with `α = ½` a midpoint-rule
+/// Lagrangian sees the group coordinate only through its increment, which is what lets
+/// [`eliminate_group`] recognise affine momentum equations structurally.
+pub fn reduced_lagrangian(
     g: &mut Graph,
+    side: Side,
     l: NodeId,
     s: usize,
     b: &[Vec<NodeId>],
     alpha: f64,
 ) -> NodeId {
+    // (+) shifts g1 by B (x1 − x0) and puts the group at q1; (−) shifts g0 by B (x0 − x1) and
+    // puts it at q0.
+    let (to, from): (Coordinate, Coordinate) = match side {
+        Side::Plus => (Sym::X1, Sym::X0),
+        Side::Minus => (Sym::X0, Sym::X1),
+    };
+    let (at_q0, at_q1) = match side {
+        Side::Plus => (-alpha, 1.0 - alpha),
+        Side::Minus => (1.0 - alpha, -alpha),
+    };
+    let u = side.group();
     g.substitute(l, &mut |g, sym| match sym {
         Sym::Q0(i) if i < s => g.var(Sym::X0(i)),
         Sym::Q0(i) => {
-            let total = shifted(g, Sym::G0(i - s), &b[i - s], Sym::X0, Sym::X1);
-            let c = g.constant(1.0 - alpha);
+            let total = shifted(g, u(i - s), &b[i - s], to, from);
+            let c = g.constant(at_q0);
             g.mul(c, total)
         }
         Sym::Q1(i) if i < s => g.var(Sym::X1(i)),
         Sym::Q1(i) => {
-            let total = shifted(g, Sym::G0(i - s), &b[i - s], Sym::X0, Sym::X1);
-            let c = g.constant(-alpha);
+            let total = shifted(g, u(i - s), &b[i - s], to, from);
+            let c = g.constant(at_q1);
             g.mul(c, total)
         }
         other => g.var(other),
@@ -83,8 +97,8 @@ fn shifted(
     g: &mut Graph,
     group: Sym,
     b_row: &[NodeId],
-    to: fn(usize) -> Sym,
-    from: fn(usize) -> Sym,
+    to: Coordinate,
+    from: Coordinate,
 ) -> NodeId {
     let mut v = g.var(group);
     for (i, &bji) in b_row.iter().enumerate() {
@@ -97,37 +111,32 @@ fn shifted(
     v
 }
 
-/// The (+) stepper of eq. (4.6): `R(z) = (∂l_{d+}/∂x0 + w_k, ∂l_{d+}/∂g1 − μ_k)` in
-/// `z = (x_{k+1}, g_k^+)`, momentum update `w_{k+1} = ∂l_{d+}/∂x1`.
-pub fn plus_stepper(g: &mut Graph, l_plus: NodeId, s: usize, k: usize) -> Stepper {
+/// The reduced stepper of `side` on its reduced Lagrangian `l`, in the unknowns
+/// `z = (x_{k+1}, u)`:
+///
+/// * (+), eq. (4.6): `R(z) = (∂l_{d+}/∂x0 + w_k, ∂l_{d+}/∂g1 − μ_k)`, `u = g_k^+`;
+/// * (−): `R(z) = (∂l_{d−}/∂x0 + w_k, ∂l_{d−}/∂g0 + μ_k)`, `u = g_{k+1}^−` (the signs of
+///   Definition 2.8; see `dirac_runtime::Minus` for the derivation and the paper's sign
+///   discrepancy);
+///
+/// momentum update `w_{k+1} = ∂l/∂x1` on both sides.
+pub fn reduced_stepper(g: &mut Graph, side: Side, l: NodeId, s: usize, k: usize) -> Stepper {
+    let u = side.group();
     let mut residual = Vec::with_capacity(s + k);
     for i in 0..s {
-        residual.push(first_plus(g, l_plus, Sym::X0(i), Sym::W(i)));
+        residual.push(first_plus(g, l, Sym::X0(i), Sym::W(i)));
     }
     for j in 0..k {
-        let d = first(g, l_plus, Sym::G1(j));
+        let d = first(g, l, u(j));
         let mu = g.var(Sym::Mu(j));
-        residual.push(g.sub(d, mu));
+        residual.push(match side {
+            Side::Plus => g.sub(d, mu),
+            Side::Minus => g.add(d, mu),
+        });
     }
-    let unknowns: Vec<Sym> = (0..s).map(Sym::X1).chain((0..k).map(Sym::G1)).collect();
+    let unknowns: Vec<Sym> = (0..s).map(Sym::X1).chain((0..k).map(u)).collect();
     let momentum: Vec<Sym> = (0..s).map(Sym::X1).collect();
-    finish(g, l_plus, residual, &unknowns, &momentum)
-}
-
-/// The (−) stepper: `R(z) = (∂l_{d−}/∂x0 + w_k, ∂l_{d−}/∂g0 + μ_k)` in `z = (x_{k+1}, g_{k+1}^−)`,
-/// momentum update `w_{k+1} = ∂l_{d−}/∂x1` (the signs of Definition 2.8; see
-/// `dirac_runtime::ReducedMinus` for the derivation and the paper's sign discrepancy).
-pub fn minus_stepper(g: &mut Graph, l_minus: NodeId, s: usize, k: usize) -> Stepper {
-    let mut residual = Vec::with_capacity(s + k);
-    for i in 0..s {
-        residual.push(first_plus(g, l_minus, Sym::X0(i), Sym::W(i)));
-    }
-    for j in 0..k {
-        residual.push(first_plus(g, l_minus, Sym::G0(j), Sym::Mu(j)));
-    }
-    let unknowns: Vec<Sym> = (0..s).map(Sym::X1).chain((0..k).map(Sym::G0)).collect();
-    let momentum: Vec<Sym> = (0..s).map(Sym::X1).collect();
-    finish(g, l_minus, residual, &unknowns, &momentum)
+    finish(g, l, residual, &unknowns, &momentum)
 }
 
 /// The unreduced stepper of Definitions 2.7/2.8: `R(q1) = D1 L_d(q_k, q1) + p_k` in
@@ -202,11 +211,12 @@ pub struct Eliminated {
 /// the general path is used then.
 pub fn eliminate_group(
     g: &mut Graph,
+    side: Side,
     st: &Stepper,
     s: usize,
     k: usize,
-    group: fn(usize) -> Sym,
 ) -> Option<Eliminated> {
+    let group = side.group();
     if k == 0 || k > 3 {
         return None;
     }

@@ -46,7 +46,7 @@ use crate::error::{IntegrationError, StepError, Steps};
 use crate::integrate::{reduced_guess, ReducedIntegrator, StepStats, Variant};
 use crate::lu::Lu;
 use crate::state::{CanonicalState, ReducedState};
-use crate::system::{join, split, ReducedMinus, ReducedPlus};
+use crate::system::{join, split, Reduced, Side};
 
 /// A change of chart `φ : q_old ↦ q_new`, equivariant for the translation of the group
 /// coordinates (see the [module documentation](self)). `#[chart_transition]` implements it
@@ -124,10 +124,11 @@ pub trait Chart<const S: usize, const K: usize, const N: usize> {
     fn parameter_values(&self) -> Vec<f64>;
 }
 
-impl<L, const S: usize, const K: usize, const N: usize> Chart<S, K, N>
-    for ReducedIntegrator<L, S, K, N>
+impl<L, D, const S: usize, const K: usize, const N: usize> Chart<S, K, N>
+    for ReducedIntegrator<L, D, S, K, N>
 where
-    L: ReducedPlus<S, K, N> + ReducedMinus<S, K, N>,
+    D: Side,
+    L: Reduced<D, S, K, N>,
 {
     fn step(
         &self,

@@ -53,11 +53,10 @@ use nalgebra::{SMatrix, SVector};
 
 use crate::error::{IntegrationError, StepError, Steps};
 use crate::integrate::{
-    canonical_guess, reduced_guess, ReducedIntegrator, StepJacobian, StepStats,
-    UnreducedIntegrator, Variant,
+    canonical_guess, reduced_guess, ReducedIntegrator, StepJacobian, StepStats, UnreducedIntegrator,
 };
 use crate::state::{CanonicalState, ReducedState};
-use crate::system::{join, split, DiscreteLagrangian, ReducedMinus, ReducedPlus, Unreduced};
+use crate::system::{join, split, DiscreteLagrangian, Reduced, Side, Unreduced};
 
 /// A symmetric composition scheme: the coefficients `γ_1, …, γ_s` of the substeps `γ_i h`, with
 /// `Σ γ_i = 1` and `γ_i = γ_{s+1−i}`, and the order it reaches from a symmetric base step of
@@ -185,9 +184,11 @@ pub trait BaseStep: Sized {
     fn state_is_finite(state: &Self::State) -> bool;
 }
 
-impl<L, const S: usize, const K: usize, const N: usize> BaseStep for ReducedIntegrator<L, S, K, N>
+impl<L, D, const S: usize, const K: usize, const N: usize> BaseStep
+    for ReducedIntegrator<L, D, S, K, N>
 where
-    L: ReducedPlus<S, K, N> + ReducedMinus<S, K, N> + Clone,
+    D: Side,
+    L: Reduced<D, S, K, N> + Clone,
 {
     type State = ReducedState<S, K>;
     type Unknown = SVector<f64, N>;
@@ -197,11 +198,7 @@ where
     }
 
     fn with_time_step(&self, h: f64) -> Self {
-        let system = self.system().with_time_step(h);
-        let integ = match self.variant() {
-            Variant::Plus => ReducedIntegrator::plus(system, *self.options()),
-            Variant::Minus => ReducedIntegrator::minus(system, *self.options()),
-        };
+        let integ = Self::new(self.system().with_time_step(h), *self.options());
         // Where the system cannot eliminate, the choice has no effect; where it can, this keeps
         // the path (default or forced) of `self`.
         integ.with_elimination(self.eliminates_group())

@@ -7,11 +7,11 @@
 //! `ω_d(q0, q1) = (g1 − g0) − B (x1 − x0)`, for which `h_d^0(x0, x1) = B (x1 − x0)`,
 //! `h_{d,Σ} = B`, `h*_{d,Σ} = Bᵀ`, `h_{d,Q}((x, 0)) = −B x` and `h_d((0, g), 0) = g`.
 
-use nalgebra::SVector;
+use nalgebra::{SMatrix, SVector};
 
-use crate::integrate::{Trajectory, Variant};
+use crate::integrate::Trajectory;
 use crate::newton::inf_norm;
-use crate::system::{join, DiscreteLagrangian, ReducedMinus, ReducedPlus};
+use crate::system::{join, DiscreteLagrangian, Minus, Plus, Reduced, Side, Variant};
 
 /// The discrete energy of each step along a trajectory, `(E_d)_k = L_d(q_k, q_{k+1})`: the
 /// generalized energy (5.7) on solutions, where `q_k^+ = q_{k+1}` (§7.2.2; see
@@ -34,38 +34,37 @@ where
         .collect()
 }
 
-/// `(∂l_{d+}/∂x0, ∂l_{d+}/∂x1, ∂l_{d+}/∂g1)` at `(x0, x1, g1)`, from the emitted code.
-fn plus_partials<L, const S: usize, const K: usize, const N: usize>(
+/// First partials of the reduced Lagrangian of side `D` at `(x0, x1)` and the group unknown `u`,
+/// read from the emitted code: `(∂l/∂x0, ∂l/∂u, ∂l/∂x1)`. At zero momenta the step residual is
+/// `(∂l/∂x0, ∂l/∂u)` on either side, and the momentum update is `∂l/∂x1`.
+fn partials<D, L, const S: usize, const K: usize, const N: usize>(
     sys: &L,
     x0: &SVector<f64, S>,
     x1: &SVector<f64, S>,
-    g1: &SVector<f64, K>,
-) -> (SVector<f64, S>, SVector<f64, S>, SVector<f64, K>)
-where
-    L: ReducedPlus<S, K, N>,
-{
-    let z = join::<S, K, N>(x1, g1);
-    let f = sys.plus_residual(x0, &SVector::zeros(), &SVector::zeros(), &z);
-    let d_x0 = f.fixed_rows::<S>(0).into_owned();
-    let d_g1 = f.fixed_rows::<K>(S).into_owned();
-    (d_x0, sys.plus_momentum(x0, &z), d_g1)
-}
-
-/// `(∂l_{d−}/∂x0, ∂l_{d−}/∂g0, ∂l_{d−}/∂x1)` at `(x0, g0, x1)`, from the emitted code.
-fn minus_partials<L, const S: usize, const K: usize, const N: usize>(
-    sys: &L,
-    x0: &SVector<f64, S>,
-    g0: &SVector<f64, K>,
-    x1: &SVector<f64, S>,
+    u: &SVector<f64, K>,
 ) -> (SVector<f64, S>, SVector<f64, K>, SVector<f64, S>)
 where
-    L: ReducedMinus<S, K, N>,
+    D: Side,
+    L: Reduced<D, S, K, N>,
 {
-    let z = join::<S, K, N>(x1, g0);
-    let f = sys.minus_residual(x0, &SVector::zeros(), &SVector::zeros(), &z);
+    let z = join::<S, K, N>(x1, u);
+    let f = sys.residual(x0, &SVector::zeros(), &SVector::zeros(), &z);
     let d_x0 = f.fixed_rows::<S>(0).into_owned();
-    let d_g0 = f.fixed_rows::<K>(S).into_owned();
-    (d_x0, d_g0, sys.minus_momentum(x0, &z))
+    let d_u = f.fixed_rows::<K>(S).into_owned();
+    (d_x0, d_u, sys.momentum(x0, &z))
+}
+
+/// The pairing `⟨w − Bᵀμ, Δx⟩ + ⟨μ, Δg⟩` of a reduced momentum `(w, μ)` with a displacement
+/// `(Δx, Δg)`: the canonical pairing `⟨p, Δq⟩` through the trivialization (3.7). Both reduced
+/// generalized energies (Lemmas 5.1 and 5.4) add it to the reduced Lagrangian.
+fn pairing<const S: usize, const K: usize>(
+    b: &SMatrix<f64, K, S>,
+    w: &SVector<f64, S>,
+    mu: &SVector<f64, K>,
+    dx: SVector<f64, S>,
+    dg: SVector<f64, K>,
+) -> f64 {
+    (w - b.transpose() * mu).dot(&dx) + mu.dot(&dg)
 }
 
 /// The reduced (+) discrete Dirac differential at `(x0, x1, g1)`, Proposition 4.3: a point of
@@ -116,10 +115,10 @@ pub fn dirac_differential_plus<L, const S: usize, const K: usize, const N: usize
     g1: &SVector<f64, K>,
 ) -> DiracDifferentialPlus<S, K>
 where
-    L: ReducedPlus<S, K, N>,
+    L: Reduced<Plus, S, K, N>,
 {
     let b = sys.connection();
-    let (d_x0, d_x1, d_g1) = plus_partials(sys, x0, x1, g1);
+    let (d_x0, d_g1, d_x1) = partials::<Plus, L, S, K, N>(sys, x0, x1, g1);
     DiracDifferentialPlus {
         x0: *x0,
         w: d_x1,
@@ -139,10 +138,10 @@ pub fn dirac_differential_minus<L, const S: usize, const K: usize, const N: usiz
     x1: &SVector<f64, S>,
 ) -> DiracDifferentialMinus<S, K>
 where
-    L: ReducedMinus<S, K, N>,
+    L: Reduced<Minus, S, K, N>,
 {
     let b = sys.connection();
-    let (d_x0, d_g0, d_x1) = minus_partials(sys, x0, g0, x1);
+    let (d_x0, d_g0, d_x1) = partials::<Minus, L, S, K, N>(sys, x0, x1, g0);
     DiracDifferentialMinus {
         w: -d_x0,
         mu: -d_g0,
@@ -167,50 +166,57 @@ pub fn dirac_membership_residuals<L, const S: usize, const K: usize, const N: us
     trajectory: &Trajectory<S, K>,
 ) -> Vec<f64>
 where
-    L: ReducedPlus<S, K, N> + ReducedMinus<S, K, N>,
+    L: Reduced<Plus, S, K, N> + Reduced<Minus, S, K, N>,
 {
     let b = sys.connection();
     let bt = b.transpose();
-    let mut out = Vec::with_capacity(trajectory.increments.len());
-    for (k, pair) in trajectory.states.windows(2).enumerate() {
-        let (s0, s1) = (&pair[0], &pair[1]);
-        let unknown = trajectory.increments[k];
-        let mut worst = 0.0f64;
-        let mut diff = |a: f64, b: f64| worst = worst.max((a - b).abs());
-        let each = |d: &mut dyn FnMut(f64, f64), a: &[f64], b: &[f64]| {
-            a.iter().zip(b).for_each(|(x, y)| d(*x, *y));
-        };
-        match trajectory.variant {
-            Variant::Plus => {
+    let steps = trajectory.states.windows(2).zip(&trajectory.increments);
+    match trajectory.variant {
+        Variant::Plus => steps
+            .map(|(pair, u)| {
+                let (s0, s1) = (&pair[0], &pair[1]);
                 // [X̂] = (x_k, w_k, μ_k, q_{k+1} = (x_{k+1}, g_{k+1} − g_k), w_{k+1}, μ_{k+1}) must pair
                 // with (x_k, w_{k+1}, μ_{k+1}, (w_k − Bᵀμ_k, μ_k), x_{k+1}, (g_{k+1} − g_k) − B x_{k+1}).
-                let d = dirac_differential_plus(sys, &s0.x, &s1.x, &unknown);
+                let d = dirac_differential_plus(sys, &s0.x, &s1.x, u);
                 let g_rel = s1.g - s0.g;
-                each(&mut diff, d.x0.as_slice(), s0.x.as_slice());
-                each(&mut diff, d.w.as_slice(), s1.w.as_slice());
-                each(&mut diff, d.mu.as_slice(), s1.mu.as_slice());
-                each(&mut diff, d.p_x.as_slice(), (s0.w - bt * s0.mu).as_slice());
-                each(&mut diff, d.p_g.as_slice(), s0.mu.as_slice());
-                each(&mut diff, d.x1.as_slice(), s1.x.as_slice());
-                each(&mut diff, d.xi.as_slice(), (g_rel - b * s1.x).as_slice());
-            }
-            Variant::Minus => {
+                max_difference(&[
+                    (d.x0.as_slice(), s0.x.as_slice()),
+                    (d.w.as_slice(), s1.w.as_slice()),
+                    (d.mu.as_slice(), s1.mu.as_slice()),
+                    (d.p_x.as_slice(), (s0.w - bt * s0.mu).as_slice()),
+                    (d.p_g.as_slice(), s0.mu.as_slice()),
+                    (d.x1.as_slice(), s1.x.as_slice()),
+                    (d.xi.as_slice(), (g_rel - b * s1.x).as_slice()),
+                ])
+            })
+            .collect(),
+        Variant::Minus => steps
+            .map(|(pair, u)| {
+                let (s0, s1) = (&pair[0], &pair[1]);
                 // [X̂] = (q_k = (x_k, g_k − g_{k+1}), w_k, μ_k, x_{k+1}, w_{k+1}, μ_{k+1}) must pair with
                 // (w_k, μ_k, x_{k+1}, −x_k, −(g_k − g_{k+1}) + B x_k, (−w_{k+1} + Bᵀμ_{k+1}, −μ_{k+1})).
-                let d = dirac_differential_minus(sys, &s0.x, &unknown, &s1.x);
+                let d = dirac_differential_minus(sys, &s0.x, u, &s1.x);
                 let g_rel = s0.g - s1.g;
-                each(&mut diff, d.w.as_slice(), s0.w.as_slice());
-                each(&mut diff, d.mu.as_slice(), s0.mu.as_slice());
-                each(&mut diff, d.x1.as_slice(), s1.x.as_slice());
-                each(&mut diff, d.minus_x0.as_slice(), (-s0.x).as_slice());
-                each(&mut diff, d.xi.as_slice(), (-g_rel + b * s0.x).as_slice());
-                each(&mut diff, d.p_x.as_slice(), (-s1.w + bt * s1.mu).as_slice());
-                each(&mut diff, d.p_g.as_slice(), (-s1.mu).as_slice());
-            }
-        }
-        out.push(worst);
+                max_difference(&[
+                    (d.w.as_slice(), s0.w.as_slice()),
+                    (d.mu.as_slice(), s0.mu.as_slice()),
+                    (d.x1.as_slice(), s1.x.as_slice()),
+                    (d.minus_x0.as_slice(), (-s0.x).as_slice()),
+                    (d.xi.as_slice(), (-g_rel + b * s0.x).as_slice()),
+                    (d.p_x.as_slice(), (-s1.w + bt * s1.mu).as_slice()),
+                    (d.p_g.as_slice(), (-s1.mu).as_slice()),
+                ])
+            })
+            .collect(),
     }
-    out
+}
+
+/// The largest `|a_i − b_i|` over pairs of equally long slices.
+fn max_difference(pairs: &[(&[f64], &[f64])]) -> f64 {
+    pairs
+        .iter()
+        .flat_map(|(a, b)| a.iter().zip(*b))
+        .fold(0.0, |worst, (a, b)| worst.max((a - b).abs()))
 }
 
 /// The reduced (+) discrete generalized energy, Lemma 5.1:
@@ -228,12 +234,16 @@ pub fn reduced_energy_plus<L, const S: usize, const K: usize, const N: usize>(
     mu1: &SVector<f64, K>,
 ) -> f64
 where
-    L: ReducedPlus<S, K, N>,
+    L: Reduced<Plus, S, K, N>,
 {
-    let b = sys.connection();
-    sys.reduced_lagrangian_plus(x0, x0_plus, g0_plus)
-        + (w1 - b.transpose() * mu1).dot(&(x1 - x0_plus))
-        + mu1.dot(&(g1 - g0_plus - b * (x0_plus - x0)))
+    Reduced::<Plus, S, K, N>::reduced_lagrangian(sys, x0, x0_plus, g0_plus)
+        + pairing(
+            &sys.connection(),
+            w1,
+            mu1,
+            x1 - x0_plus,
+            g1 - g0_plus - sys.h_d0(x0, x0_plus),
+        )
 }
 
 /// The reduced (−) discrete generalized energy as printed in Lemma 5.4:
@@ -241,7 +251,7 @@ where
 ///  + ⟨μ0, g0 − g1^− − B (x1^− − x1)⟩`, with `q0 = (x0, g0)` relative to `g1`.
 ///
 /// It follows the (−) action (2.12), whose momenta have the opposite sign to Definition 2.8
-/// (see [`ReducedMinus`]): along a trajectory of the (−) stepper it is stationary when evaluated
+/// (see [`Minus`]): along a trajectory of the (−) stepper it is stationary when evaluated
 /// with `(−w_k, −μ_k)`.
 #[allow(clippy::too_many_arguments)]
 pub fn reduced_energy_minus<L, const S: usize, const K: usize, const N: usize>(
@@ -255,12 +265,16 @@ pub fn reduced_energy_minus<L, const S: usize, const K: usize, const N: usize>(
     g0: &SVector<f64, K>,
 ) -> f64
 where
-    L: ReducedMinus<S, K, N>,
+    L: Reduced<Minus, S, K, N>,
 {
-    let b = sys.connection();
-    sys.reduced_lagrangian_minus(x1_minus, g1_minus, x1)
-        + (w0 - b.transpose() * mu0).dot(&(x0 - x1_minus))
-        + mu0.dot(&(g0 - g1_minus - b * (x1_minus - x1)))
+    Reduced::<Minus, S, K, N>::reduced_lagrangian(sys, x1_minus, x1, g1_minus)
+        + pairing(
+            &sys.connection(),
+            w0,
+            mu0,
+            x0 - x1_minus,
+            g0 - g1_minus - sys.h_d0(x1, x1_minus),
+        )
 }
 
 /// The variables of the reduced (+) discrete action `Σ_k e_{d+}` (Theorem 5.2): configurations
@@ -302,7 +316,7 @@ impl<const S: usize, const K: usize> ReducedActionPlus<S, K> {
     /// `Σ_k e_{d+}(x_k, x_k^+, g_k^+, q_{k+1} − g_k, w_{k+1}, μ_{k+1})`, eq. (5.8).
     pub fn action<L, const N: usize>(&self, sys: &L) -> f64
     where
-        L: ReducedPlus<S, K, N>,
+        L: Reduced<Plus, S, K, N>,
     {
         (0..self.x_plus.len())
             .map(|k| {
@@ -334,7 +348,7 @@ impl<const S: usize, const K: usize> ReducedActionPlus<S, K> {
     /// ```
     pub fn gradient<L, const N: usize>(&self, sys: &L) -> Self
     where
-        L: ReducedPlus<S, K, N>,
+        L: Reduced<Plus, S, K, N>,
     {
         let b = sys.connection();
         let bt = b.transpose();
@@ -348,8 +362,8 @@ impl<const S: usize, const K: usize> ReducedActionPlus<S, K> {
             mu: vec![SVector::zeros(); n],
         };
         for k in 0..n {
-            let (d_x0, d_x1, d_g1) =
-                plus_partials(sys, &self.x[k], &self.x_plus[k], &self.g_plus[k]);
+            let (d_x0, d_g1, d_x1) =
+                partials::<Plus, L, S, K, N>(sys, &self.x[k], &self.x_plus[k], &self.g_plus[k]);
             if k > 0 {
                 grad.x[k] += d_x0 + bt * self.mu[k];
                 grad.g[k] -= self.mu[k];
@@ -362,7 +376,7 @@ impl<const S: usize, const K: usize> ReducedActionPlus<S, K> {
             grad.g_plus[k] = d_g1 - self.mu[k];
             grad.w[k] = self.x[k + 1] - self.x_plus[k];
             grad.mu[k] =
-                (self.g[k + 1] - self.g[k]) - self.g_plus[k] - b * (self.x[k + 1] - self.x[k]);
+                (self.g[k + 1] - self.g[k]) - self.g_plus[k] - sys.h_d0(&self.x[k], &self.x[k + 1]);
         }
         grad
     }

@@ -1,12 +1,15 @@
 //! Marching the reduced (+)/(−) equations and the unreduced equations step by step.
 
+use std::marker::PhantomData;
+
 use nalgebra::{SMatrix, SVector};
 
 use crate::error::{IntegrationError, StepError};
 use crate::lu::Lu;
 use crate::newton::{self, NewtonFailure, NewtonOptions, NewtonSolution};
 use crate::state::{CanonicalState, ReducedState};
-use crate::system::{join, split, ReducedMinus, ReducedPlus, Unreduced};
+pub use crate::system::Variant;
+use crate::system::{join, split, Minus, Plus, Reduced, Side, Unreduced};
 
 /// What one step cost.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -58,16 +61,6 @@ impl StepStatsExt for [StepStats] {
             .filter_map(|(k, s)| s.rcond.map(|r| (k, r)))
             .min_by(|a, b| a.1.total_cmp(&b.1))
     }
-}
-
-/// Which reduced equations a [`ReducedIntegrator`] solves.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Variant {
-    /// Eq. (4.6): unknowns `(x_{k+1}, g_k^+)`.
-    Plus,
-    /// Eq. (4.8) with the signs of Definition 2.8 (see [`ReducedMinus`]): unknowns
-    /// `(x_{k+1}, g_{k+1}^−)`.
-    Minus,
 }
 
 /// A reduced trajectory: states `0..=steps()` at times `t_k = k h`, and for each step the solved
@@ -186,51 +179,63 @@ fn check_inputs(h: f64, parameters: &[f64], state_is_finite: bool) -> Result<(),
     Ok(())
 }
 
-/// Integrates a system with the reduced discrete Lagrange–Poincaré–Dirac equations: (4.6)
-/// ([`ReducedIntegrator::plus`]) or (4.8) ([`ReducedIntegrator::minus`]).
+/// Integrates a system with the reduced discrete Lagrange–Poincaré–Dirac equations of side `D`:
+/// (4.6) ([`ReducedIntegrator::plus`]) or (4.8) ([`ReducedIntegrator::minus`]).
 ///
-/// Each step solves `R(z) = 0` for `z = (x_{k+1}, group unknown)` by Newton's method (see
-/// [`ReducedPlus`], [`ReducedMinus`]), then updates `w_{k+1}` explicitly, sets `μ_{k+1} = μ_k`
-/// exactly, and reconstructs the absolute group coordinate
-/// `g_{k+1} = g_k ± (group unknown) + B (x_{k+1} − x_k)`.
+/// Each step solves `R(z) = 0` for `z = (x_{k+1}, u)` by Newton's method (see [`Reduced`]), then
+/// updates `w_{k+1}` explicitly, sets `μ_{k+1} = μ_k` exactly, and reconstructs the absolute group
+/// coordinate `g_{k+1} = g_k ± u + B (x_{k+1} − x_k)` ([`Side::group_increment`]). The side is a
+/// type, so a step contains no dispatch on it and a (+) integrator needs only `Reduced<Plus, ..>`.
 #[derive(Clone, Debug)]
-pub struct ReducedIntegrator<L, const S: usize, const K: usize, const N: usize> {
+pub struct ReducedIntegrator<L, D, const S: usize, const K: usize, const N: usize> {
     system: L,
     options: NewtonOptions,
-    variant: Variant,
     /// `Some(choice)` forces the eliminated (where available) or the general path; `None` takes
     /// the compiler's verdict.
     eliminate: Option<bool>,
+    side: PhantomData<D>,
 }
 
-impl<L, const S: usize, const K: usize, const N: usize> ReducedIntegrator<L, S, K, N>
+impl<L, const S: usize, const K: usize, const N: usize> ReducedIntegrator<L, Plus, S, K, N>
 where
-    L: ReducedPlus<S, K, N> + ReducedMinus<S, K, N>,
+    L: Reduced<Plus, S, K, N>,
 {
     /// The (+) integrator of eq. (4.6).
     pub fn plus(system: L, options: NewtonOptions) -> Self {
-        Self {
-            system,
-            options,
-            variant: Variant::Plus,
-            eliminate: None,
-        }
+        Self::new(system, options)
     }
+}
 
+impl<L, const S: usize, const K: usize, const N: usize> ReducedIntegrator<L, Minus, S, K, N>
+where
+    L: Reduced<Minus, S, K, N>,
+{
     /// The (−) integrator of eq. (4.8), with the signs of Definition 2.8.
     pub fn minus(system: L, options: NewtonOptions) -> Self {
+        Self::new(system, options)
+    }
+}
+
+impl<L, D, const S: usize, const K: usize, const N: usize> ReducedIntegrator<L, D, S, K, N>
+where
+    D: Side,
+    L: Reduced<D, S, K, N>,
+{
+    /// The integrator of side `D` (what [`Self::plus`] and [`Self::minus`] name).
+    pub fn new(system: L, options: NewtonOptions) -> Self {
+        const { assert!(S + K == N, "the configuration dimension N must be S + K") };
         Self {
             system,
             options,
-            variant: Variant::Minus,
             eliminate: None,
+            side: PhantomData,
         }
     }
 
     /// Forces the path: `true` solves the group unknowns in closed form wherever the system
-    /// provides it ([`ReducedPlus::PLUS_ELIMINATES_GROUP`]), `false` solves shape and group
-    /// unknowns together. Both give the same trajectory to round-off. By default the compiler's
-    /// verdict ([`ReducedPlus::PLUS_ELIMINATION_PAYS`]) decides.
+    /// provides it ([`Reduced::ELIMINATES_GROUP`]), `false` solves shape and group unknowns
+    /// together. Both give the same trajectory to round-off. By default the compiler's verdict
+    /// ([`Reduced::ELIMINATION_PAYS`]) decides.
     pub fn with_elimination(mut self, eliminate: bool) -> Self {
         self.eliminate = Some(eliminate);
         self
@@ -239,11 +244,7 @@ where
     /// Whether steps run Newton on the shape unknowns alone, the group unknowns being solved in
     /// closed form.
     pub fn eliminates_group(&self) -> bool {
-        let (available, pays) = match self.variant {
-            Variant::Plus => (L::PLUS_ELIMINATES_GROUP, L::PLUS_ELIMINATION_PAYS),
-            Variant::Minus => (L::MINUS_ELIMINATES_GROUP, L::MINUS_ELIMINATION_PAYS),
-        };
-        available && self.eliminate.unwrap_or(pays)
+        L::ELIMINATES_GROUP && self.eliminate.unwrap_or(L::ELIMINATION_PAYS)
     }
 
     /// The system being integrated.
@@ -258,11 +259,11 @@ where
 
     /// Which equations are solved.
     pub fn variant(&self) -> Variant {
-        self.variant
+        D::VARIANT
     }
 
-    /// Takes step `k` from `state`, starting Newton at `guess` for `z = (x_{k+1}, group unknown)`.
-    /// Returns the new state, the solved group unknown and the step's statistics.
+    /// Takes step `k` from `state`, starting Newton at `guess` for `z = (x_{k+1}, u)`.
+    /// Returns the new state, the solved group unknown `u` and the step's statistics.
     pub fn step(
         &self,
         k: usize,
@@ -278,30 +279,17 @@ where
         // The residual alone is evaluated with w_{k+1} (one straight line): where Newton accepts
         // that iterate, the momentum update is already known.
         let mut tested: Option<(SVector<f64, N>, SVector<f64, S>)> = None;
-        let solution = match self.variant {
-            Variant::Plus => newton::solve(
-                *guess,
-                rho,
-                &self.options,
-                |z| {
-                    let (r, w1) = sys.plus_residual_momentum(x, w, mu, z);
-                    tested = Some((*z, w1));
-                    r
-                },
-                |z| sys.plus_residual_jacobian(x, w, mu, z),
-            ),
-            Variant::Minus => newton::solve(
-                *guess,
-                rho,
-                &self.options,
-                |z| {
-                    let (r, w1) = sys.minus_residual_momentum(x, w, mu, z);
-                    tested = Some((*z, w1));
-                    r
-                },
-                |z| sys.minus_residual_jacobian(x, w, mu, z),
-            ),
-        }
+        let solution = newton::solve(
+            *guess,
+            rho,
+            &self.options,
+            |z| {
+                let (r, w1) = sys.residual_momentum(x, w, mu, z);
+                tested = Some((*z, w1));
+                r
+            },
+            |z| sys.residual_jacobian(x, w, mu, z),
+        )
         .map_err(|failure| step_error(k, failure))?;
         let w1 = tested.and_then(|(z, w1)| (z == solution.z).then_some(w1));
         self.finish_step(
@@ -328,46 +316,21 @@ where
         // The `None` arms cannot be taken (`eliminates_group` checked the system's flag); they
         // yield NaN, which the solver reports as a typed error rather than a panic.
         let nan_s = || SVector::<f64, S>::repeat(f64::NAN);
-        let solution = match self.variant {
-            Variant::Plus => newton::solve(
-                x_guess,
-                rho,
-                &self.options,
-                |x1| {
-                    sys.plus_eliminated_residual(x, w, mu, x1)
-                        .unwrap_or_else(nan_s)
-                },
-                |x1| {
-                    sys.plus_eliminated_residual_jacobian(x, w, mu, x1)
-                        .unwrap_or_else(|| (nan_s(), SMatrix::repeat(f64::NAN)))
-                },
-            ),
-            Variant::Minus => newton::solve(
-                x_guess,
-                rho,
-                &self.options,
-                |x1| {
-                    sys.minus_eliminated_residual(x, w, mu, x1)
-                        .unwrap_or_else(nan_s)
-                },
-                |x1| {
-                    sys.minus_eliminated_residual_jacobian(x, w, mu, x1)
-                        .unwrap_or_else(|| (nan_s(), SMatrix::repeat(f64::NAN)))
-                },
-            ),
-        }
+        let solution = newton::solve(
+            x_guess,
+            rho,
+            &self.options,
+            |x1| sys.eliminated_residual(x, w, mu, x1).unwrap_or_else(nan_s),
+            |x1| {
+                sys.eliminated_residual_jacobian(x, w, mu, x1)
+                    .unwrap_or_else(|| (nan_s(), SMatrix::repeat(f64::NAN)))
+            },
+        )
         .map_err(|failure| step_error(k, failure))?;
-        let (group, block) = match self.variant {
-            Variant::Plus => (
-                sys.plus_eliminated_group(x, w, mu, &solution.z),
-                sys.plus_eliminated_group_block(x, w, mu, &solution.z),
-            ),
-            Variant::Minus => (
-                sys.minus_eliminated_group(x, w, mu, &solution.z),
-                sys.minus_eliminated_group_block(x, w, mu, &solution.z),
-            ),
-        };
-        let group = group.unwrap_or_else(|| SVector::repeat(f64::NAN));
+        let group = sys
+            .eliminated_group(x, w, mu, &solution.z)
+            .unwrap_or_else(|| SVector::repeat(f64::NAN));
+        let block = sys.eliminated_group_block(x, w, mu, &solution.z);
         // The closed form divides by the group block A, whose degeneracy (e.g. where the symmetry
         // action is not free) the shape Jacobian J_S no longer shows: measure A against the scale
         // of J_S, 1 / (‖A⁻¹‖₁ ‖J_S‖₁), and record the worse of that and rcond(J_S).
@@ -412,8 +375,8 @@ where
         self.finish_step(k, state, z, None, stats)
     }
 
-    /// The explicit updates after the unknowns `z = (x_{k+1}, group unknown)` are known; `w1` is
-    /// `w_{k+1}` if the solve already evaluated it at `z`.
+    /// The explicit updates after the unknowns `z = (x_{k+1}, u)` are known; `w1` is `w_{k+1}`
+    /// if the solve already evaluated it at `z`.
     fn finish_step(
         &self,
         k: usize,
@@ -424,16 +387,12 @@ where
     ) -> Result<(ReducedState<S, K>, SVector<f64, K>, StepStats), StepError> {
         let sys = &self.system;
         let (x, mu) = (&state.x, &state.mu);
-        let (x1, g_unknown) = split::<S, K, N>(&z);
-        let (w1, dg) = match self.variant {
-            Variant::Plus => (w1.unwrap_or_else(|| sys.plus_momentum(x, &z)), g_unknown),
-            Variant::Minus => (w1.unwrap_or_else(|| sys.minus_momentum(x, &z)), -g_unknown),
-        };
+        let (x1, u) = split::<S, K, N>(&z);
         let next = ReducedState {
             x: x1,
-            w: w1,
+            w: w1.unwrap_or_else(|| sys.momentum(x, &z)),
             mu: *mu,
-            g: state.g + dg + sys.connection() * (x1 - x),
+            g: state.g + D::group_increment(u) + sys.h_d0(x, &x1),
         };
         if !next.is_finite() {
             return Err(StepError::NonFinite {
@@ -442,7 +401,7 @@ where
                 residual: stats.residual,
             });
         }
-        Ok((next, g_unknown, stats))
+        Ok((next, u, stats))
     }
 
     /// Integrates `steps` steps from `initial`.
@@ -458,7 +417,7 @@ where
         let h = self.system.time_step();
         let mut trajectory = Trajectory {
             h,
-            variant: self.variant,
+            variant: D::VARIANT,
             states: Vec::with_capacity(steps + 1),
             increments: Vec::with_capacity(steps),
             stats: Vec::with_capacity(steps),
@@ -475,11 +434,11 @@ where
         for k in 0..steps {
             let guess = reduced_guess::<S, K, N>(&state.x, last.as_ref(), before.as_ref());
             match self.step(k, &state, &guess) {
-                Ok((next, g_unknown, stats)) => {
+                Ok((next, u, stats)) => {
                     before = last;
-                    last = Some((next.x - state.x, g_unknown));
+                    last = Some((next.x - state.x, u));
                     trajectory.states.push(next);
-                    trajectory.increments.push(g_unknown);
+                    trajectory.increments.push(u);
                     trajectory.stats.push(stats);
                     state = next;
                 }

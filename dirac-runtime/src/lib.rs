@@ -1,8 +1,9 @@
 //! Runtime for the integrators that `#[reduced_lagrangian]` emits.
 //!
 //! The macro turns a discrete Lagrangian `L_d(q0, q1)` into straight-line `f64` code for the
-//! reduced (+) discrete Lagrange–Poincaré–Dirac equations (Rodríguez Abella & Leok, eq. (4.6)) and
-//! implements the traits of [`system`] for a type holding the Lagrangian's parameters. This crate
+//! reduced (+) and (−) discrete Lagrange–Poincaré–Dirac equations (Rodríguez Abella & Leok,
+//! eqs. (4.6), (4.8)) and the unreduced ones, and implements the traits of [`system`] for a type
+//! holding the Lagrangian's parameters: [`Reduced`] once per [`Side`] ([`Plus`], [`Minus`]). This crate
 //! drives that code: [`newton`] solves each step's equations on fixed-size nalgebra types,
 //! [`integrate`] marches a trajectory, [`state`] holds the reduced and canonical states, and
 //! [`error`] reports a failed step as a value carrying its index and residual. [`compose`] raises
@@ -33,11 +34,11 @@ pub use diagnostics::{
 pub use error::{IntegrationError, StepError, Steps};
 pub use integrate::{
     CanonicalTrajectory, ReducedIntegrator, StepJacobian, StepStats, StepStatsExt, Trajectory,
-    UnreducedIntegrator, Variant,
+    UnreducedIntegrator,
 };
 pub use newton::NewtonOptions;
 pub use state::{CanonicalState, ReducedState};
-pub use system::{DiscreteLagrangian, ReducedMinus, ReducedPlus, Unreduced};
+pub use system::{DiscreteLagrangian, Minus, Plus, Reduced, Side, Unreduced, Variant};
 
 /// Re-exported so that emitted code and users name the same nalgebra.
 pub use nalgebra;

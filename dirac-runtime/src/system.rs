@@ -86,8 +86,49 @@ pub trait DiscreteLagrangian<const S: usize, const K: usize, const N: usize> {
     fn discrete_connection(&self, q0: &SVector<f64, N>, q1: &SVector<f64, N>) -> SVector<f64, K> {
         let (x0, g0) = split::<S, K, N>(q0);
         let (x1, g1) = split::<S, K, N>(q1);
-        (g1 - g0) - self.connection() * (x1 - x0)
+        (g1 - g0) - self.h_d0(&x0, &x1)
     }
+
+    /// `h_d^0(x0, x1) = B (x1 − x0)`, eq. (2.5): the group shift the connection assigns to a shape
+    /// step. The one place the runtime forms `B (x1 − x0)` (reconstruction, diagnostics, `ω_d`).
+    fn h_d0(&self, x0: &SVector<f64, S>, x1: &SVector<f64, S>) -> SVector<f64, K> {
+        self.connection() * (x1 - x0)
+    }
+}
+
+/// Which reduced equations, as a type: [`Plus`] (eq. (4.6)) or [`Minus`] (eq. (4.8) with the
+/// signs of Definition 2.8). [`Reduced`] is parameterised by it, so each idea of a reduced stepper
+/// — Newton on the residual, the momentum update, the elimination of the group unknowns,
+/// reconstruction — is written once and statically dispatched; the two sides differ only where
+/// the paper's equations differ, which is what this trait states.
+///
+/// Sealed: the paper has exactly two sides.
+pub trait Side:
+    sealed::Sealed + Copy + Default + std::fmt::Debug + PartialEq + Eq + Send + Sync + 'static
+{
+    /// The same side as a value, recorded in [`crate::Trajectory::variant`].
+    const VARIANT: Variant;
+
+    /// The increment `g_{k+1} − g_k − h_d^0(x_k, x_{k+1})` that the solved group unknown `u` gives
+    /// in reconstruction: `u = g_k^+` for (+) (last line of eq. (4.6)), `−u` with
+    /// `u = g_{k+1}^−` for (−) (the reconstruction line in [`Minus`]).
+    fn group_increment<const K: usize>(u: SVector<f64, K>) -> SVector<f64, K>;
+}
+
+mod sealed {
+    pub trait Sealed {}
+    impl Sealed for super::Plus {}
+    impl Sealed for super::Minus {}
+}
+
+/// Which reduced equations a trajectory was computed with: the value-level name of a [`Side`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Variant {
+    /// Eq. (4.6): unknowns `(x_{k+1}, g_k^+)` (see [`Plus`]).
+    Plus,
+    /// Eq. (4.8) with the signs of Definition 2.8: unknowns `(x_{k+1}, g_{k+1}^−)` (see
+    /// [`Minus`]).
+    Minus,
 }
 
 /// The reduced (+) discrete Lagrange–Poincaré–Dirac equations, eq. (4.6), for the reduced
@@ -105,118 +146,17 @@ pub trait DiscreteLagrangian<const S: usize, const K: usize, const N: usize> {
 ///
 /// with every partial derivative at `(x_k, x_{k+1}, g_k^+)`. A forward step solves the third and
 /// fourth lines for the unknowns `z = (x_{k+1}, g_k^+) ∈ R^N`; on solutions the third line is
-/// `w_k = −∂l_{d+}/∂x0`, so the step residual is
+/// `w_k = −∂l_{d+}/∂x0`, so the step residual ([`Reduced::residual`]) is
 ///
 /// ```text
 /// R(z) = ( ∂l_{d+}/∂x0 + w_k ,  ∂l_{d+}/∂g1 − μ_k ).
 /// ```
 ///
 /// (The printed third line is this `R_x` plus `Bᵀ R_g`: a constant invertible recombination of
-/// the rows, which leaves Newton's iterates unchanged.)
-pub trait ReducedPlus<const S: usize, const K: usize, const N: usize>:
-    DiscreteLagrangian<S, K, N>
-{
-    /// `l_{d+}(x0, x1, g1)`, eq. (4.5).
-    fn reduced_lagrangian_plus(
-        &self,
-        x0: &SVector<f64, S>,
-        x1: &SVector<f64, S>,
-        g1: &SVector<f64, K>,
-    ) -> f64;
-
-    /// The residual `R(z)` of eq. (4.6) at `(x_k, w_k, μ_k)` and `z = (x_{k+1}, g_k^+)`.
-    fn plus_residual(
-        &self,
-        x_k: &SVector<f64, S>,
-        w_k: &SVector<f64, S>,
-        mu_k: &SVector<f64, K>,
-        z: &SVector<f64, N>,
-    ) -> SVector<f64, N>;
-
-    /// `R(z)` and its exact Jacobian `∂R/∂z` (second derivatives of `l_{d+}`), computed together
-    /// in one straight-line function so shared subexpressions are evaluated once.
-    fn plus_residual_jacobian(
-        &self,
-        x_k: &SVector<f64, S>,
-        w_k: &SVector<f64, S>,
-        mu_k: &SVector<f64, K>,
-        z: &SVector<f64, N>,
-    ) -> (SVector<f64, N>, SMatrix<f64, N, N>);
-
-    /// `w_{k+1} = ∂l_{d+}/∂x1 (x_k, x_{k+1}, g_k^+)`, first line of eq. (4.6).
-    fn plus_momentum(&self, x_k: &SVector<f64, S>, z: &SVector<f64, N>) -> SVector<f64, S>;
-
-    /// `R(z)` and `w_{k+1}` at `z` together: the test of a Newton iterate and, if it passes,
-    /// the momentum update, from one straight line that shares their subexpressions.
-    fn plus_residual_momentum(
-        &self,
-        x_k: &SVector<f64, S>,
-        w_k: &SVector<f64, S>,
-        mu_k: &SVector<f64, K>,
-        z: &SVector<f64, N>,
-    ) -> (SVector<f64, N>, SVector<f64, S>) {
-        (
-            self.plus_residual(x_k, w_k, mu_k, z),
-            self.plus_momentum(x_k, z),
-        )
-    }
-
-    /// Whether the momentum equations `∂l_{d+}/∂g1 = μ_k` are affine in `g_k^+` and were solved
-    /// in closed form at compile time (momentum-level elimination, beyond the paper: a discrete
-    /// Routh-type step). Then the `plus_eliminated_*` functions return `Some` and a step runs
-    /// Newton on the `S` shape unknowns alone.
-    const PLUS_ELIMINATES_GROUP: bool = false;
-
-    /// Whether the eliminated stepper is the better default: the compiler's verdict that its
-    /// straight-line code is no larger (within 10%) than the general path's.
-    const PLUS_ELIMINATION_PAYS: bool = false;
-
-    /// The shape residual `R_x(x_{k+1}, g_k^+(x_{k+1}))` with the group unknowns eliminated.
-    fn plus_eliminated_residual(
-        &self,
-        _x_k: &SVector<f64, S>,
-        _w_k: &SVector<f64, S>,
-        _mu_k: &SVector<f64, K>,
-        _x1: &SVector<f64, S>,
-    ) -> Option<SVector<f64, S>> {
-        None
-    }
-
-    /// The eliminated shape residual and its exact `S × S` Jacobian (the total derivative in
-    /// `x_{k+1}`, through the eliminated group unknowns).
-    fn plus_eliminated_residual_jacobian(
-        &self,
-        _x_k: &SVector<f64, S>,
-        _w_k: &SVector<f64, S>,
-        _mu_k: &SVector<f64, K>,
-        _x1: &SVector<f64, S>,
-    ) -> Option<(SVector<f64, S>, SMatrix<f64, S, S>)> {
-        None
-    }
-
-    /// The group unknowns `g_k^+` solving the momentum equations at `x_{k+1}`, in closed form.
-    fn plus_eliminated_group(
-        &self,
-        _x_k: &SVector<f64, S>,
-        _w_k: &SVector<f64, S>,
-        _mu_k: &SVector<f64, K>,
-        _x1: &SVector<f64, S>,
-    ) -> Option<SVector<f64, K>> {
-        None
-    }
-
-    /// The block `A = ∂R_g/∂(g_k^+)` that the closed form inverts, at `x_{k+1}`; the runtime
-    /// estimates its conditioning, which the shape Jacobian no longer shows.
-    fn plus_eliminated_group_block(
-        &self,
-        _x_k: &SVector<f64, S>,
-        _w_k: &SVector<f64, S>,
-        _mu_k: &SVector<f64, K>,
-        _x1: &SVector<f64, S>,
-    ) -> Option<SMatrix<f64, K, K>> {
-        None
-    }
-}
+/// the rows, which leaves Newton's iterates unchanged.) The momentum update is
+/// `w_{k+1} = ∂l_{d+}/∂x1` and reconstruction `g_{k+1} = g_k + g_k^+ + B (x_{k+1} − x_k)`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Plus;
 
 /// The reduced (−) discrete Lagrange–Poincaré–Dirac equations for the reduced Lagrangian
 /// `l_{d−}(x0, g0, x1) = L_d(x0, g0 + h_d^0(x1, x0), x1, 0)`, eq. (4.7), with
@@ -251,20 +191,50 @@ pub trait ReducedPlus<const S: usize, const K: usize, const N: usize>:
 /// (+) equations, (4.8) integrates the motion with reversed momenta. The signs above are the ones
 /// for which the (+) and (−) steppers, started from the same physical state, produce the same
 /// physical trajectory — the discrete Euler–Lagrange solution — as the paper states they must.
-pub trait ReducedMinus<const S: usize, const K: usize, const N: usize>:
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Minus;
+
+impl Side for Plus {
+    const VARIANT: Variant = Variant::Plus;
+
+    #[inline]
+    fn group_increment<const K: usize>(u: SVector<f64, K>) -> SVector<f64, K> {
+        u
+    }
+}
+
+impl Side for Minus {
+    const VARIANT: Variant = Variant::Minus;
+
+    #[inline]
+    fn group_increment<const K: usize>(u: SVector<f64, K>) -> SVector<f64, K> {
+        -u
+    }
+}
+
+/// The reduced discrete Lagrange–Poincaré–Dirac equations of side `D` ([`Plus`]: eq. (4.6);
+/// [`Minus`]: eq. (4.8) with the signs of Definition 2.8), as the straight-line functions a step
+/// needs. `#[reduced_lagrangian]` implements it for both sides.
+///
+/// Every function reads the step's data `(x_k, w_k, μ_k)` and the unknowns
+/// `z = (x_{k+1}, u) ∈ R^N`, where the group unknown `u` is `g_k^+` for (+) and `g_{k+1}^−` for
+/// (−); see [`Plus`] and [`Minus`] for the equations. A type implementing both sides names one
+/// with the side: `Reduced::<Plus, S, K, N>::residual(&sys, ..)`.
+pub trait Reduced<D: Side, const S: usize, const K: usize, const N: usize>:
     DiscreteLagrangian<S, K, N>
 {
-    /// `l_{d−}(x0, g0, x1)`, eq. (4.7).
-    fn reduced_lagrangian_minus(
+    /// The reduced Lagrangian at `(x0, x1)` and the group unknown `u`:
+    /// `l_{d+}(x0, x1, g1 = u)`, eq. (4.5), or `l_{d−}(x0, g0 = u, x1)`, eq. (4.7).
+    fn reduced_lagrangian(
         &self,
         x0: &SVector<f64, S>,
-        g0: &SVector<f64, K>,
         x1: &SVector<f64, S>,
+        u: &SVector<f64, K>,
     ) -> f64;
 
-    /// The residual `R(z) = (∂l_{d−}/∂x0 + w_k, ∂l_{d−}/∂g0 + μ_k)` at `(x_k, w_k, μ_k)` and
-    /// `z = (x_{k+1}, g_{k+1}^−)`.
-    fn minus_residual(
+    /// The step residual `R(z)` at `(x_k, w_k, μ_k)`: `(∂l/∂x0 + w_k, ∂l/∂u ∓ μ_k)` (`−` for
+    /// (+), `+` for (−)), every derivative at `(x_k, z)`.
+    fn residual(
         &self,
         x_k: &SVector<f64, S>,
         w_k: &SVector<f64, S>,
@@ -272,8 +242,10 @@ pub trait ReducedMinus<const S: usize, const K: usize, const N: usize>:
         z: &SVector<f64, N>,
     ) -> SVector<f64, N>;
 
-    /// `R(z)` and its exact Jacobian `∂R/∂z`, from one straight-line function.
-    fn minus_residual_jacobian(
+    /// `R(z)` and its exact Jacobian `∂R/∂z` (second derivatives of the reduced Lagrangian),
+    /// computed together in one straight-line function so shared subexpressions are evaluated
+    /// once.
+    fn residual_jacobian(
         &self,
         x_k: &SVector<f64, S>,
         w_k: &SVector<f64, S>,
@@ -281,31 +253,34 @@ pub trait ReducedMinus<const S: usize, const K: usize, const N: usize>:
         z: &SVector<f64, N>,
     ) -> (SVector<f64, N>, SMatrix<f64, N, N>);
 
-    /// `w_{k+1} = ∂l_{d−}/∂x1 (x_k, g_{k+1}^−, x_{k+1})`.
-    fn minus_momentum(&self, x_k: &SVector<f64, S>, z: &SVector<f64, N>) -> SVector<f64, S>;
+    /// The momentum update `w_{k+1} = ∂l/∂x1 (x_k, z)` (first line of eq. (4.6); the `w_{k+1}`
+    /// line of [`Minus`]).
+    fn momentum(&self, x_k: &SVector<f64, S>, z: &SVector<f64, N>) -> SVector<f64, S>;
 
-    /// `R(z)` and `w_{k+1}` at `z` together (see [`ReducedPlus::plus_residual_momentum`]).
-    fn minus_residual_momentum(
+    /// `R(z)` and `w_{k+1}` at `z` together: the test of a Newton iterate and, if it passes,
+    /// the momentum update, from one straight line that shares their subexpressions.
+    fn residual_momentum(
         &self,
         x_k: &SVector<f64, S>,
         w_k: &SVector<f64, S>,
         mu_k: &SVector<f64, K>,
         z: &SVector<f64, N>,
     ) -> (SVector<f64, N>, SVector<f64, S>) {
-        (
-            self.minus_residual(x_k, w_k, mu_k, z),
-            self.minus_momentum(x_k, z),
-        )
+        (self.residual(x_k, w_k, mu_k, z), self.momentum(x_k, z))
     }
 
-    /// As [`ReducedPlus::PLUS_ELIMINATES_GROUP`], for `∂l_{d−}/∂g0 = −μ_k` and `g_{k+1}^−`.
-    const MINUS_ELIMINATES_GROUP: bool = false;
+    /// Whether the momentum equations (the last `K` rows of `R`) are affine in the group unknown
+    /// and were solved in closed form at compile time (momentum-level elimination, beyond the
+    /// paper: a discrete Routh-type step). Then the `eliminated_*` functions return `Some` and a
+    /// step runs Newton on the `S` shape unknowns alone.
+    const ELIMINATES_GROUP: bool = false;
 
-    /// As [`ReducedPlus::PLUS_ELIMINATION_PAYS`].
-    const MINUS_ELIMINATION_PAYS: bool = false;
+    /// Whether the eliminated stepper is the better default: the compiler's verdict that its
+    /// straight-line code is no larger (within 10%) than the general path's.
+    const ELIMINATION_PAYS: bool = false;
 
-    /// The shape residual with the group unknowns eliminated.
-    fn minus_eliminated_residual(
+    /// The shape residual `R_x(x_{k+1}, u(x_{k+1}))` with the group unknown eliminated.
+    fn eliminated_residual(
         &self,
         _x_k: &SVector<f64, S>,
         _w_k: &SVector<f64, S>,
@@ -315,8 +290,9 @@ pub trait ReducedMinus<const S: usize, const K: usize, const N: usize>:
         None
     }
 
-    /// The eliminated shape residual and its exact `S × S` Jacobian.
-    fn minus_eliminated_residual_jacobian(
+    /// The eliminated shape residual and its exact `S × S` Jacobian (the total derivative in
+    /// `x_{k+1}`, through the eliminated group unknown).
+    fn eliminated_residual_jacobian(
         &self,
         _x_k: &SVector<f64, S>,
         _w_k: &SVector<f64, S>,
@@ -326,8 +302,8 @@ pub trait ReducedMinus<const S: usize, const K: usize, const N: usize>:
         None
     }
 
-    /// The group unknowns `g_{k+1}^−` in closed form.
-    fn minus_eliminated_group(
+    /// The group unknown `u` solving the momentum equations at `x_{k+1}`, in closed form.
+    fn eliminated_group(
         &self,
         _x_k: &SVector<f64, S>,
         _w_k: &SVector<f64, S>,
@@ -337,9 +313,9 @@ pub trait ReducedMinus<const S: usize, const K: usize, const N: usize>:
         None
     }
 
-    /// The block `A = ∂R_g/∂(g_{k+1}^−)` that the closed form inverts, at `x_{k+1}`; the runtime
+    /// The block `A = ∂R_g/∂u` that the closed form inverts, at `x_{k+1}`; the runtime
     /// estimates its conditioning, which the shape Jacobian no longer shows.
-    fn minus_eliminated_group_block(
+    fn eliminated_group_block(
         &self,
         _x_k: &SVector<f64, S>,
         _w_k: &SVector<f64, S>,
@@ -393,7 +369,7 @@ pub trait Unreduced<const S: usize, const K: usize, const N: usize>:
 pub fn split<const S: usize, const K: usize, const N: usize>(
     q: &SVector<f64, N>,
 ) -> (SVector<f64, S>, SVector<f64, K>) {
-    debug_assert_eq!(S + K, N);
+    const { assert!(S + K == N, "the configuration dimension N must be S + K") };
     (
         q.fixed_rows::<S>(0).into_owned(),
         q.fixed_rows::<K>(S).into_owned(),
@@ -405,7 +381,7 @@ pub fn join<const S: usize, const K: usize, const N: usize>(
     x: &SVector<f64, S>,
     g: &SVector<f64, K>,
 ) -> SVector<f64, N> {
-    debug_assert_eq!(S + K, N);
+    const { assert!(S + K == N, "the configuration dimension N must be S + K") };
     let mut q = SVector::<f64, N>::zeros();
     q.fixed_rows_mut::<S>(0).copy_from(x);
     q.fixed_rows_mut::<K>(S).copy_from(g);

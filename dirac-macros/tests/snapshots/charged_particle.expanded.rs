@@ -57,6 +57,7 @@ impl ChargedParticle {
     ///Generated straight-line code: reduced (+) stepper: 42 operations for the residual, 77 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; reduced (−) stepper: 43 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; unreduced stepper: 44 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 34 for the momentum update. Momentum-level elimination: (+) group unknowns in closed form, Newton on the shape unknowns: 45 operations for the residual, 81 for the residual with its Jacobian (5 nonzero entries), 14 for the momentum update (the third count is the closed form); used by default: yes; (−) group unknowns in closed form, Newton on the shape unknowns: 46 operations for the residual, 81 for the residual with its Jacobian (5 nonzero entries), 15 for the momentum update (the third count is the closed form); used by default: yes.
     pub const GENERATED: &'static str = "Generated straight-line code: reduced (+) stepper: 42 operations for the residual, 77 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; reduced (−) stepper: 43 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; unreduced stepper: 44 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 34 for the momentum update. Momentum-level elimination: (+) group unknowns in closed form, Newton on the shape unknowns: 45 operations for the residual, 81 for the residual with its Jacobian (5 nonzero entries), 14 for the momentum update (the third count is the closed form); used by default: yes; (−) group unknowns in closed form, Newton on the shape unknowns: 46 operations for the residual, 81 for the residual with its Jacobian (5 nonzero entries), 15 for the momentum update (the third count is the closed form); used by default: yes.";
 }
+#[automatically_derived]
 impl ::dirac::runtime::DiscreteLagrangian<3usize, 1usize, 4usize> for ChargedParticle {
     const SHAPE: [&'static str; 3usize] = ["x", "y", "z"];
     const GROUP: [&'static str; 1usize] = ["theta"];
@@ -93,33 +94,51 @@ impl ::dirac::runtime::DiscreteLagrangian<3usize, 1usize, 4usize> for ChargedPar
         ::std::vec![self.h, self.m, self.b0]
     }
 }
-impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
-    fn reduced_lagrangian_plus(
+#[automatically_derived]
+impl ::dirac::runtime::Reduced<::dirac::runtime::Plus, 3usize, 1usize, 4usize>
+for ChargedParticle {
+    #[allow(unused_variables)]
+    fn reduced_lagrangian(
         &self,
         x0: &::dirac::nalgebra::SVector<f64, 3usize>,
         x1: &::dirac::nalgebra::SVector<f64, 3usize>,
-        g1: &::dirac::nalgebra::SVector<f64, 1usize>,
+        u: &::dirac::nalgebra::SVector<f64, 1usize>,
     ) -> f64 {
-        let g1 = g1
-            + <Self as ::dirac::runtime::DiscreteLagrangian<
-                3usize,
-                1usize,
-                4usize,
-            >>::connection(self) * (x1 - x0);
-        let q0 = ::dirac::runtime::system::join::<
-            3usize,
-            1usize,
-            4usize,
-        >(x0, &::dirac::nalgebra::SVector::<f64, 1usize>::repeat(0f64));
-        let q1 = ::dirac::runtime::system::join::<3usize, 1usize, 4usize>(x1, &g1);
-        <Self as ::dirac::runtime::DiscreteLagrangian<
-            3usize,
-            1usize,
-            4usize,
-        >>::lagrangian(self, &q0, &q1)
+        let __p2: f64 = self.b0;
+        let __t11: f64 = 0.5f64 * __p2;
+        let __p1: f64 = self.m;
+        let __t23: f64 = 0.5f64 * __p1;
+        let __p0: f64 = self.h;
+        let __t25: f64 = __t23 / __p0;
+        let __t32: f64 = 0.5f64 / __p0;
+        let __x1_0: f64 = x1[0usize];
+        let __x0_0: f64 = x0[0usize];
+        let __t39: f64 = __x1_0 - __x0_0;
+        let __x1_1: f64 = x1[1usize];
+        let __x0_1: f64 = x0[1usize];
+        let __t42: f64 = __x1_1 - __x0_1;
+        let __x1_2: f64 = x1[2usize];
+        let __x0_2: f64 = x0[2usize];
+        let __t45: f64 = __x1_2 - __x0_2;
+        let __t46: f64 = __t39 * __x0_1;
+        let __t47: f64 = __x0_0 * __t42;
+        let __t48: f64 = __t47 - __t46;
+        let __t49: f64 = __t11 * __t48;
+        let __g1_0: f64 = u[0usize];
+        let __t52: f64 = __t49 + __g1_0;
+        let __t53: f64 = __t39 * __t39;
+        let __t54: f64 = __t42 * __t42;
+        let __t55: f64 = __t53 + __t54;
+        let __t56: f64 = __t45 * __t45;
+        let __t57: f64 = __t55 + __t56;
+        let __t58: f64 = __t25 * __t57;
+        let __t59: f64 = __t32 * __t52;
+        let __t60: f64 = __t52 * __t59;
+        let __t61: f64 = __t58 + __t60;
+        __t61
     }
     #[inline]
-    fn plus_residual(
+    fn residual(
         &self,
         x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
         w_k: &::dirac::nalgebra::SVector<f64, 3usize>,
@@ -185,7 +204,7 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
         ::dirac::nalgebra::SVector::<f64, 4usize>::from([__t75, __t88, __t93, __t96])
     }
     #[inline]
-    fn plus_residual_jacobian(
+    fn residual_jacobian(
         &self,
         x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
         w_k: &::dirac::nalgebra::SVector<f64, 3usize>,
@@ -306,7 +325,7 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
         )
     }
     #[inline]
-    fn plus_momentum(
+    fn momentum(
         &self,
         x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
         z: &::dirac::nalgebra::SVector<f64, 4usize>,
@@ -357,7 +376,7 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
     }
     #[inline]
     #[allow(unused_variables)]
-    fn plus_residual_momentum(
+    fn residual_momentum(
         &self,
         x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
         w_k: &::dirac::nalgebra::SVector<f64, 3usize>,
@@ -450,11 +469,11 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
             ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t146, __t152, __t154]),
         )
     }
-    const PLUS_ELIMINATES_GROUP: bool = true;
-    const PLUS_ELIMINATION_PAYS: bool = true;
+    const ELIMINATES_GROUP: bool = true;
+    const ELIMINATION_PAYS: bool = true;
     #[inline]
     #[allow(unused_variables)]
-    fn plus_eliminated_residual(
+    fn eliminated_residual(
         &self,
         x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
         w_k: &::dirac::nalgebra::SVector<f64, 3usize>,
@@ -525,7 +544,7 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
     }
     #[inline]
     #[allow(unused_variables)]
-    fn plus_eliminated_residual_jacobian(
+    fn eliminated_residual_jacobian(
         &self,
         x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
         w_k: &::dirac::nalgebra::SVector<f64, 3usize>,
@@ -646,7 +665,7 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
     }
     #[inline]
     #[allow(unused_variables)]
-    fn plus_eliminated_group(
+    fn eliminated_group(
         &self,
         x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
         w_k: &::dirac::nalgebra::SVector<f64, 3usize>,
@@ -680,7 +699,7 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
     }
     #[inline]
     #[allow(unused_variables)]
-    fn plus_eliminated_group_block(
+    fn eliminated_group_block(
         &self,
         x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
         w_k: &::dirac::nalgebra::SVector<f64, 3usize>,
@@ -695,33 +714,51 @@ impl ::dirac::runtime::ReducedPlus<3usize, 1usize, 4usize> for ChargedParticle {
         )
     }
 }
-impl ::dirac::runtime::ReducedMinus<3usize, 1usize, 4usize> for ChargedParticle {
-    fn reduced_lagrangian_minus(
+#[automatically_derived]
+impl ::dirac::runtime::Reduced<::dirac::runtime::Minus, 3usize, 1usize, 4usize>
+for ChargedParticle {
+    #[allow(unused_variables)]
+    fn reduced_lagrangian(
         &self,
         x0: &::dirac::nalgebra::SVector<f64, 3usize>,
-        g0: &::dirac::nalgebra::SVector<f64, 1usize>,
         x1: &::dirac::nalgebra::SVector<f64, 3usize>,
+        u: &::dirac::nalgebra::SVector<f64, 1usize>,
     ) -> f64 {
-        let g0 = g0
-            + <Self as ::dirac::runtime::DiscreteLagrangian<
-                3usize,
-                1usize,
-                4usize,
-            >>::connection(self) * (x0 - x1);
-        let q0 = ::dirac::runtime::system::join::<3usize, 1usize, 4usize>(x0, &g0);
-        let q1 = ::dirac::runtime::system::join::<
-            3usize,
-            1usize,
-            4usize,
-        >(x1, &::dirac::nalgebra::SVector::<f64, 1usize>::repeat(0f64));
-        <Self as ::dirac::runtime::DiscreteLagrangian<
-            3usize,
-            1usize,
-            4usize,
-        >>::lagrangian(self, &q0, &q1)
+        let __p2: f64 = self.b0;
+        let __t11: f64 = 0.5f64 * __p2;
+        let __p1: f64 = self.m;
+        let __t23: f64 = 0.5f64 * __p1;
+        let __p0: f64 = self.h;
+        let __t25: f64 = __t23 / __p0;
+        let __t32: f64 = 0.5f64 / __p0;
+        let __x1_0: f64 = x1[0usize];
+        let __x0_0: f64 = x0[0usize];
+        let __t39: f64 = __x1_0 - __x0_0;
+        let __x1_1: f64 = x1[1usize];
+        let __x0_1: f64 = x0[1usize];
+        let __t42: f64 = __x1_1 - __x0_1;
+        let __x1_2: f64 = x1[2usize];
+        let __x0_2: f64 = x0[2usize];
+        let __t45: f64 = __x1_2 - __x0_2;
+        let __t46: f64 = __t39 * __x0_1;
+        let __t47: f64 = __x0_0 * __t42;
+        let __t48: f64 = __t47 - __t46;
+        let __t49: f64 = __t11 * __t48;
+        let __t53: f64 = __t39 * __t39;
+        let __t54: f64 = __t42 * __t42;
+        let __t55: f64 = __t53 + __t54;
+        let __t56: f64 = __t45 * __t45;
+        let __t57: f64 = __t55 + __t56;
+        let __t58: f64 = __t25 * __t57;
+        let __g0_0: f64 = u[0usize];
+        let __t201: f64 = __t49 - __g0_0;
+        let __t202: f64 = __t32 * __t201;
+        let __t203: f64 = __t201 * __t202;
+        let __t204: f64 = __t58 + __t203;
+        __t204
     }
     #[inline]
-    fn minus_residual(
+    fn residual(
         &self,
         x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
         w_k: &::dirac::nalgebra::SVector<f64, 3usize>,
@@ -788,7 +825,7 @@ impl ::dirac::runtime::ReducedMinus<3usize, 1usize, 4usize> for ChargedParticle 
         ::dirac::nalgebra::SVector::<f64, 4usize>::from([__t209, __t214, __t93, __t218])
     }
     #[inline]
-    fn minus_residual_jacobian(
+    fn residual_jacobian(
         &self,
         x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
         w_k: &::dirac::nalgebra::SVector<f64, 3usize>,
@@ -912,7 +949,7 @@ impl ::dirac::runtime::ReducedMinus<3usize, 1usize, 4usize> for ChargedParticle 
         )
     }
     #[inline]
-    fn minus_momentum(
+    fn momentum(
         &self,
         x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
         z: &::dirac::nalgebra::SVector<f64, 4usize>,
@@ -963,7 +1000,7 @@ impl ::dirac::runtime::ReducedMinus<3usize, 1usize, 4usize> for ChargedParticle 
     }
     #[inline]
     #[allow(unused_variables)]
-    fn minus_residual_momentum(
+    fn residual_momentum(
         &self,
         x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
         w_k: &::dirac::nalgebra::SVector<f64, 3usize>,
@@ -1057,11 +1094,11 @@ impl ::dirac::runtime::ReducedMinus<3usize, 1usize, 4usize> for ChargedParticle 
             ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t241, __t245, __t154]),
         )
     }
-    const MINUS_ELIMINATES_GROUP: bool = true;
-    const MINUS_ELIMINATION_PAYS: bool = true;
+    const ELIMINATES_GROUP: bool = true;
+    const ELIMINATION_PAYS: bool = true;
     #[inline]
     #[allow(unused_variables)]
-    fn minus_eliminated_residual(
+    fn eliminated_residual(
         &self,
         x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
         w_k: &::dirac::nalgebra::SVector<f64, 3usize>,
@@ -1133,7 +1170,7 @@ impl ::dirac::runtime::ReducedMinus<3usize, 1usize, 4usize> for ChargedParticle 
     }
     #[inline]
     #[allow(unused_variables)]
-    fn minus_eliminated_residual_jacobian(
+    fn eliminated_residual_jacobian(
         &self,
         x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
         w_k: &::dirac::nalgebra::SVector<f64, 3usize>,
@@ -1254,7 +1291,7 @@ impl ::dirac::runtime::ReducedMinus<3usize, 1usize, 4usize> for ChargedParticle 
     }
     #[inline]
     #[allow(unused_variables)]
-    fn minus_eliminated_group(
+    fn eliminated_group(
         &self,
         x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
         w_k: &::dirac::nalgebra::SVector<f64, 3usize>,
@@ -1289,7 +1326,7 @@ impl ::dirac::runtime::ReducedMinus<3usize, 1usize, 4usize> for ChargedParticle 
     }
     #[inline]
     #[allow(unused_variables)]
-    fn minus_eliminated_group_block(
+    fn eliminated_group_block(
         &self,
         x_k: &::dirac::nalgebra::SVector<f64, 3usize>,
         w_k: &::dirac::nalgebra::SVector<f64, 3usize>,
@@ -1304,6 +1341,7 @@ impl ::dirac::runtime::ReducedMinus<3usize, 1usize, 4usize> for ChargedParticle 
         )
     }
 }
+#[automatically_derived]
 impl ::dirac::runtime::Unreduced<3usize, 1usize, 4usize> for ChargedParticle {
     #[inline]
     fn unreduced_residual(
