@@ -4,12 +4,14 @@
 
 use proc_macro2::{Span, TokenStream};
 use quote::{format_ident, quote};
+use syn::parse::Parser;
 use syn::{Ident, ItemFn};
 
 use crate::check;
 use crate::ctxt::Ctxt;
 use crate::emit::straight_line;
 use crate::graph::{Graph, Node, NodeId, Sym};
+use crate::lints;
 use crate::lower::{Lowering, Names};
 use crate::reduce::{
     eliminate_group, lagrangian_hessian, reduced_lagrangian, reduced_stepper, unreduced_stepper,
@@ -243,6 +245,12 @@ fn user_function(func: &ItemFn, config: &Ident, stub: bool, touch: &[Ident]) -> 
             *pt.ty = syn::parse_quote!(#config);
         }
     }
+    let allow = lints::user_function();
+    func.attrs.extend(
+        syn::Attribute::parse_outer
+            .parse2(allow)
+            .expect("attributes parse"),
+    );
     if stub {
         // The body was rejected: keep the signature so callers type-check, without follow-on
         // warnings about the arguments the stub ignores.
@@ -266,6 +274,7 @@ fn config_struct(spec: &Spec, func: &ItemFn, config: &Ident, type_name: &Ident) 
     }
     let n = coords.len();
     let idx = 0..n;
+    let allow = lints::generated();
     let doc =
         format!(
         "A configuration of [`{type_name}`]: shape coordinates ({}) then group coordinates ({}).",
@@ -279,6 +288,7 @@ fn config_struct(spec: &Spec, func: &ItemFn, config: &Ident, type_name: &Ident) 
             #( pub #coords: f64, )*
         }
 
+        #allow
         impl #config {
             /// Reads `q = (x, g)` in configuration order.
             pub fn from_vector(q: &::dirac::nalgebra::SVector<f64, #n>) -> Self {
@@ -538,7 +548,9 @@ fn reduced_impl(t: &Target, g: &Graph, side: &SideCode) -> (TokenStream, String,
             (tokens, note)
         }
     };
+    let allow = lints::generated();
     let tokens = quote! {
+        #allow
         #[automatically_derived]
         impl #rt::Reduced<#marker, #s, #k, #n> for #ty {
             #[allow(unused_variables)] // a Lagrangian need not read every coordinate
@@ -655,6 +667,7 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
         "Generated straight-line code: reduced (+) stepper: {}; reduced (−) stepper: {}; unreduced stepper: {}.",
         plus_counts, minus_counts, unreduced.counts
     ) + &elimination_note;
+    let allow = lints::generated();
 
     quote! {
         #config_item
@@ -663,6 +676,7 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
 
         #param_item
 
+        #allow
         impl #ty {
             /// Number of shape coordinates `S`.
             pub const SHAPE_DIM: usize = #s;
@@ -674,6 +688,7 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
             pub const GENERATED: &'static str = #counts;
         }
 
+        #allow
         #[automatically_derived]
         impl #rt::DiscreteLagrangian<#s, #k, #n> for #ty {
             const SHAPE: [&'static str; #s] = [ #( #shape_names ),* ];
@@ -707,6 +722,7 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
 
         #minus_impl
 
+        #allow
         #[automatically_derived]
         impl #rt::Unreduced<#s, #k, #n> for #ty {
             #[inline]

@@ -16,6 +16,7 @@ mod expand;
 #[cfg(test)]
 mod fuzz;
 mod graph;
+mod lints;
 mod lower;
 mod reduce;
 mod spec;

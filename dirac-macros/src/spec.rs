@@ -4,7 +4,7 @@
 //! ```text
 //! #[reduced_lagrangian(
 //!     shape(x, y, z),              // shape coordinates x ∈ Σ (required, may be empty: `shape()`)
-//!     group(theta),                // group coordinates g ∈ G, translated by the action (required, ≥ 1)
+//!     group(theta),                // group coordinates g ∈ G, translated by the action (required, may be empty: `group()`)
 //!     connection = [[0.0, b, 0.0]],// optional K × S matrix B: ω_d = (g1 − g0) − B (x1 − x0)
 //!     step = h,                    // optional: the time-step parameter (default: the one named `h`)
 //!     name = ChargedParticle,      // optional: the emitted type (default: the function name in CamelCase)
@@ -147,15 +147,8 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
         seen.push(key_name.clone());
         match (key_name.as_str(), arg) {
             ("shape", Arg::List(_, list)) => shape = Some(list.into_iter().collect()),
-            ("group", Arg::List(k, list)) => {
-                if list.is_empty() {
-                    cx.error_spanned_by(
-                        &k,
-                        "`group()` is empty: declare at least one group coordinate, e.g. `group(theta)`",
-                    );
-                }
-                group = Some(list.into_iter().collect());
-            }
+            // `group()` declares no symmetry: a plain variational integrator (K = 0).
+            ("group", Arg::List(_, list)) => group = Some(list.into_iter().collect()),
             ("connection", Arg::Value(_, value)) => {
                 connection = parse_matrix(cx, &value).map(|rows| (value, rows))
             }
@@ -198,10 +191,16 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
     if group.is_none() && !seen.iter().any(|k| k == "group") {
         cx.error_at(
             Span::call_site(),
-            "missing `group(...)`: list the group coordinates the symmetry translates, e.g. `group(theta)`",
+            "missing `group(...)`: list the group coordinates the symmetry translates, e.g. `group(theta)` (or `group()` for none)",
         );
     }
     let (shape, group) = (shape?, group?);
+    if shape.is_empty() && group.is_empty() {
+        cx.error_at(
+            Span::call_site(),
+            "no coordinates: `shape()` and `group()` are both empty; declare at least one coordinate, e.g. `shape(x), group()`",
+        );
+    }
     check_coordinates(cx, &shape, &group);
     let connection = connection.map(|(value, rows)| {
         check_connection_shape(cx, &value, &rows, shape.len(), group.len());

@@ -142,9 +142,9 @@ impl CompositionMethod {
 /// unreduced integrators share.
 pub trait BaseStep: Sized {
     /// The state a step maps.
-    type State: Copy + std::fmt::Debug;
+    type State: Copy + std::fmt::Debug + Send + Sync + 'static;
     /// The Newton unknowns `z` of a step (what a warm start extrapolates from).
-    type Unknown: Copy + std::fmt::Debug;
+    type Unknown: Copy + std::fmt::Debug + Send + Sync + 'static;
 
     /// The time step `h`.
     fn time_step(&self) -> f64;
@@ -436,8 +436,8 @@ where
     /// initial state finite, and the discrete Lagrangian symmetric at sample points near
     /// `initial` ([`Self::symmetry_defect`] at most [`SYMMETRY_TOLERANCE`]). Newton starts each
     /// stage from the same stage of the previous two macro steps (the shape advanced by the
-    /// increment extrapolated from that stage's last two). On failure the error holds the trajectory computed so far, and its step index
-    /// is the macro step's.
+    /// increment extrapolated from that stage's last two). On failure the error holds the
+    /// trajectory computed so far, and its step index is the macro step's.
     pub fn integrate(&self, initial: I::State, steps: usize) -> ComposedResult<I::State> {
         let h = self.time_step();
         let mut trajectory = ComposedTrajectory {

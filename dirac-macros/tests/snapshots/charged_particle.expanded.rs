@@ -6,6 +6,37 @@ pub struct ChargedParticleConfig {
     pub z: f64,
     pub theta: f64,
 }
+#[allow(
+    clippy::approx_constant,
+    reason = "constants folded at compile time (2π = 6.283185307179586) are printed in full, not named"
+)]
+#[allow(
+    clippy::excessive_precision,
+    clippy::unreadable_literal,
+    reason = "folded constants are printed with every digit f64 round-trips, without separators"
+)]
+#[allow(
+    clippy::many_single_char_names,
+    clippy::similar_names,
+    reason = "generated locals and arguments follow the paper's symbols (x_k, w_k, mu_k, z)"
+)]
+#[allow(
+    clippy::too_many_lines,
+    clippy::let_and_return,
+    clippy::neg_multiply,
+    clippy::double_parens,
+    clippy::unnecessary_cast,
+    clippy::float_cmp,
+    clippy::suboptimal_flops,
+    clippy::imprecise_flops,
+    reason = "straight-line code emitted one operation per line, rounding exactly as the user's expression"
+)]
+#[allow(
+    clippy::must_use_candidate,
+    clippy::missing_const_for_fn,
+    clippy::return_self_not_must_use,
+    reason = "accessors of the emitted types; their results are plain values"
+)]
 impl ChargedParticleConfig {
     /// Reads `q = (x, g)` in configuration order.
     pub fn from_vector(q: &::dirac::nalgebra::SVector<f64, 4usize>) -> Self {
@@ -25,6 +56,14 @@ impl ChargedParticleConfig {
     }
 }
 /// Charged particle in a magnetic field, Kaluza–Klein form (paper §7.1), left-point rule.
+#[allow(
+    clippy::too_many_arguments,
+    reason = "the attribute takes the Lagrangian's parameters as `f64` arguments"
+)]
+#[allow(
+    clippy::many_single_char_names,
+    reason = "parameters keep the physical symbols (h, m, g, l)"
+)]
 pub fn charged_particle(
     q0: ChargedParticleConfig,
     q1: ChargedParticleConfig,
@@ -47,6 +86,37 @@ pub struct ChargedParticle {
     pub m: f64,
     pub b0: f64,
 }
+#[allow(
+    clippy::approx_constant,
+    reason = "constants folded at compile time (2π = 6.283185307179586) are printed in full, not named"
+)]
+#[allow(
+    clippy::excessive_precision,
+    clippy::unreadable_literal,
+    reason = "folded constants are printed with every digit f64 round-trips, without separators"
+)]
+#[allow(
+    clippy::many_single_char_names,
+    clippy::similar_names,
+    reason = "generated locals and arguments follow the paper's symbols (x_k, w_k, mu_k, z)"
+)]
+#[allow(
+    clippy::too_many_lines,
+    clippy::let_and_return,
+    clippy::neg_multiply,
+    clippy::double_parens,
+    clippy::unnecessary_cast,
+    clippy::float_cmp,
+    clippy::suboptimal_flops,
+    clippy::imprecise_flops,
+    reason = "straight-line code emitted one operation per line, rounding exactly as the user's expression"
+)]
+#[allow(
+    clippy::must_use_candidate,
+    clippy::missing_const_for_fn,
+    clippy::return_self_not_must_use,
+    reason = "accessors of the emitted types; their results are plain values"
+)]
 impl ChargedParticle {
     /// Number of shape coordinates `S`.
     pub const SHAPE_DIM: usize = 3usize;
@@ -57,6 +127,37 @@ impl ChargedParticle {
     ///Generated straight-line code: reduced (+) stepper: 42 operations for the residual, 77 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; reduced (−) stepper: 43 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; unreduced stepper: 44 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 34 for the momentum update. Momentum-level elimination: (+) group unknowns in closed form, Newton on the shape unknowns: 45 operations for the residual, 81 for the residual with its Jacobian (5 nonzero entries), 14 for the momentum update (the third count is the closed form); used by default: yes; (−) group unknowns in closed form, Newton on the shape unknowns: 46 operations for the residual, 81 for the residual with its Jacobian (5 nonzero entries), 15 for the momentum update (the third count is the closed form); used by default: yes.
     pub const GENERATED: &'static str = "Generated straight-line code: reduced (+) stepper: 42 operations for the residual, 77 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; reduced (−) stepper: 43 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; unreduced stepper: 44 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 34 for the momentum update. Momentum-level elimination: (+) group unknowns in closed form, Newton on the shape unknowns: 45 operations for the residual, 81 for the residual with its Jacobian (5 nonzero entries), 14 for the momentum update (the third count is the closed form); used by default: yes; (−) group unknowns in closed form, Newton on the shape unknowns: 46 operations for the residual, 81 for the residual with its Jacobian (5 nonzero entries), 15 for the momentum update (the third count is the closed form); used by default: yes.";
 }
+#[allow(
+    clippy::approx_constant,
+    reason = "constants folded at compile time (2π = 6.283185307179586) are printed in full, not named"
+)]
+#[allow(
+    clippy::excessive_precision,
+    clippy::unreadable_literal,
+    reason = "folded constants are printed with every digit f64 round-trips, without separators"
+)]
+#[allow(
+    clippy::many_single_char_names,
+    clippy::similar_names,
+    reason = "generated locals and arguments follow the paper's symbols (x_k, w_k, mu_k, z)"
+)]
+#[allow(
+    clippy::too_many_lines,
+    clippy::let_and_return,
+    clippy::neg_multiply,
+    clippy::double_parens,
+    clippy::unnecessary_cast,
+    clippy::float_cmp,
+    clippy::suboptimal_flops,
+    clippy::imprecise_flops,
+    reason = "straight-line code emitted one operation per line, rounding exactly as the user's expression"
+)]
+#[allow(
+    clippy::must_use_candidate,
+    clippy::missing_const_for_fn,
+    clippy::return_self_not_must_use,
+    reason = "accessors of the emitted types; their results are plain values"
+)]
 #[automatically_derived]
 impl ::dirac::runtime::DiscreteLagrangian<3usize, 1usize, 4usize> for ChargedParticle {
     const SHAPE: [&'static str; 3usize] = ["x", "y", "z"];
@@ -94,6 +195,37 @@ impl ::dirac::runtime::DiscreteLagrangian<3usize, 1usize, 4usize> for ChargedPar
         ::std::vec![self.h, self.m, self.b0]
     }
 }
+#[allow(
+    clippy::approx_constant,
+    reason = "constants folded at compile time (2π = 6.283185307179586) are printed in full, not named"
+)]
+#[allow(
+    clippy::excessive_precision,
+    clippy::unreadable_literal,
+    reason = "folded constants are printed with every digit f64 round-trips, without separators"
+)]
+#[allow(
+    clippy::many_single_char_names,
+    clippy::similar_names,
+    reason = "generated locals and arguments follow the paper's symbols (x_k, w_k, mu_k, z)"
+)]
+#[allow(
+    clippy::too_many_lines,
+    clippy::let_and_return,
+    clippy::neg_multiply,
+    clippy::double_parens,
+    clippy::unnecessary_cast,
+    clippy::float_cmp,
+    clippy::suboptimal_flops,
+    clippy::imprecise_flops,
+    reason = "straight-line code emitted one operation per line, rounding exactly as the user's expression"
+)]
+#[allow(
+    clippy::must_use_candidate,
+    clippy::missing_const_for_fn,
+    clippy::return_self_not_must_use,
+    reason = "accessors of the emitted types; their results are plain values"
+)]
 #[automatically_derived]
 impl ::dirac::runtime::Reduced<::dirac::runtime::Plus, 3usize, 1usize, 4usize>
 for ChargedParticle {
@@ -714,6 +846,37 @@ for ChargedParticle {
         )
     }
 }
+#[allow(
+    clippy::approx_constant,
+    reason = "constants folded at compile time (2π = 6.283185307179586) are printed in full, not named"
+)]
+#[allow(
+    clippy::excessive_precision,
+    clippy::unreadable_literal,
+    reason = "folded constants are printed with every digit f64 round-trips, without separators"
+)]
+#[allow(
+    clippy::many_single_char_names,
+    clippy::similar_names,
+    reason = "generated locals and arguments follow the paper's symbols (x_k, w_k, mu_k, z)"
+)]
+#[allow(
+    clippy::too_many_lines,
+    clippy::let_and_return,
+    clippy::neg_multiply,
+    clippy::double_parens,
+    clippy::unnecessary_cast,
+    clippy::float_cmp,
+    clippy::suboptimal_flops,
+    clippy::imprecise_flops,
+    reason = "straight-line code emitted one operation per line, rounding exactly as the user's expression"
+)]
+#[allow(
+    clippy::must_use_candidate,
+    clippy::missing_const_for_fn,
+    clippy::return_self_not_must_use,
+    reason = "accessors of the emitted types; their results are plain values"
+)]
 #[automatically_derived]
 impl ::dirac::runtime::Reduced<::dirac::runtime::Minus, 3usize, 1usize, 4usize>
 for ChargedParticle {
@@ -1341,6 +1504,37 @@ for ChargedParticle {
         )
     }
 }
+#[allow(
+    clippy::approx_constant,
+    reason = "constants folded at compile time (2π = 6.283185307179586) are printed in full, not named"
+)]
+#[allow(
+    clippy::excessive_precision,
+    clippy::unreadable_literal,
+    reason = "folded constants are printed with every digit f64 round-trips, without separators"
+)]
+#[allow(
+    clippy::many_single_char_names,
+    clippy::similar_names,
+    reason = "generated locals and arguments follow the paper's symbols (x_k, w_k, mu_k, z)"
+)]
+#[allow(
+    clippy::too_many_lines,
+    clippy::let_and_return,
+    clippy::neg_multiply,
+    clippy::double_parens,
+    clippy::unnecessary_cast,
+    clippy::float_cmp,
+    clippy::suboptimal_flops,
+    clippy::imprecise_flops,
+    reason = "straight-line code emitted one operation per line, rounding exactly as the user's expression"
+)]
+#[allow(
+    clippy::must_use_candidate,
+    clippy::missing_const_for_fn,
+    clippy::return_self_not_must_use,
+    reason = "accessors of the emitted types; their results are plain values"
+)]
 #[automatically_derived]
 impl ::dirac::runtime::Unreduced<3usize, 1usize, 4usize> for ChargedParticle {
     #[inline]

@@ -1,0 +1,45 @@
+//! Lagrangians that exercise what the generated code must not trip over in a strict user crate:
+//! folded constants near π (`clippy::approx_constant`), long literals (`excessive_precision`,
+//! `unreadable_literal`), many parameters (`too_many_arguments`), short names
+//! (`many_single_char_names`). The user's own code here is written to pass the same lints, so
+//! every remaining warning comes from the expansion.
+#![deny(warnings, clippy::all, clippy::pedantic)]
+
+use dirac::prelude::*;
+
+/// A pendulum whose frequency is given in hertz: `2π` folds to `6.283185307179586` in the
+/// generated code, and `/ (2π)` to its reciprocal.
+#[reduced_lagrangian(shape(phi), group(theta))]
+#[must_use]
+pub fn hertz_pendulum(q0: Config, q1: Config, h: f64, freq: f64, m: f64) -> f64 {
+    let omega = 2.0 * std::f64::consts::PI * freq;
+    let phi = 0.5 * (q0.phi + q1.phi);
+    let (dphi, dtheta) = ((q1.phi - q0.phi) / h, (q1.theta - q0.theta) / h);
+    let k = 0.5 * m * (dphi * dphi + phi.sin() * phi.sin() * dtheta * dtheta);
+    h * (k - m * omega * omega * (1.0 - phi.cos()) / (2.0 * std::f64::consts::PI))
+}
+
+/// Many single-letter parameters, long literals and a connection.
+#[reduced_lagrangian(shape(a, b), group(c), connection = [[e, 1.0 / std::f64::consts::PI]])]
+#[must_use]
+pub fn many(q0: Config, q1: Config, h: f64, d: f64, e: f64, f: f64, g: f64, k: f64, m: f64) -> f64 {
+    let (x, y) = (q1.a - q0.a, q1.b - q0.b);
+    let w = q1.c - q0.c - e * x - std::f64::consts::FRAC_1_PI * y;
+    let t = 0.5 * m / h * (x * x + y * y) + 0.5 * k / h * w * w;
+    let v = h * (d * q0.a * q0.a + f * q0.b * q0.b) * std::f64::consts::PI / 1.234_567_890_123_456_7e10;
+    t - v - h * g * 1_000_000.123_456_789 * (q0.a + q1.a)
+}
+
+/// Runs the generated steppers, so the emitted items are used.
+///
+/// # Errors
+/// A failed step.
+pub fn run() -> Result<f64, Box<dyn std::error::Error>> {
+    let sys = HertzPendulum { h: 0.01, freq: 0.5, m: 1.0 };
+    let mut integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
+    let traj = integ.integrate(ReducedState::new([0.5], [0.0], [0.1], [0.0]), 10)?;
+    let sys = Many { h: 0.01, d: 1.0, e: 0.5, f: 2.0, g: 0.1, k: 3.0, m: 1.0 };
+    let mut integ = UnreducedIntegrator::plus(sys, NewtonOptions::default());
+    let canon = integ.integrate(sys.untrivialize(&ReducedState::new([0.1, 0.2], [0.0, 0.0], [0.3], [0.0])), 10)?;
+    Ok(traj.last().x[0] + canon.last().q[0])
+}
