@@ -87,6 +87,10 @@ pub use dirac_macros::{chart_transition, reduced_lagrangian};
 pub use dirac_runtime as runtime;
 pub use dirac_runtime::nalgebra;
 pub use dirac_runtime::{
+    continuous_energies, midpoint_energies, reduced_continuous_energies, ContinuousEnergies,
+    ContinuousLagrangian, LegendreError,
+};
+pub use dirac_runtime::{
     trajectory_energies, CanonicalState, CanonicalTrajectory, ComposedTrajectory, Composition,
     CompositionMethod, DiscreteLagrangian, IntegrationError, Minus, NewtonOptions, Plus, Reduced,
     ReducedIntegrator, ReducedState, Side, StepError, StepJacobian, StepStats, StepStatsExt,
@@ -100,9 +104,9 @@ pub mod prelude {
     pub use crate::{chart_transition, reduced_lagrangian};
     pub use crate::{
         CanonicalState, CanonicalTrajectory, ComposedTrajectory, Composition, CompositionMethod,
-        DiscreteLagrangian, IntegrationError, Minus, NewtonOptions, Plus, Reduced,
-        ReducedIntegrator, ReducedState, Side, StepError, StepStats, StepStatsExt, Trajectory,
-        Unreduced, UnreducedIntegrator, Variant,
+        ContinuousLagrangian, DiscreteLagrangian, IntegrationError, Minus, NewtonOptions, Plus,
+        Reduced, ReducedIntegrator, ReducedState, Side, StepError, StepStats, StepStatsExt,
+        Trajectory, Unreduced, UnreducedIntegrator, Variant,
     };
 }
 

@@ -8,6 +8,7 @@ use syn::parse::Parser;
 use syn::{Ident, ItemFn};
 
 use crate::check;
+use crate::continuous;
 use crate::ctxt::Ctxt;
 use crate::emit::straight_line;
 use crate::graph::{Graph, Node, NodeId, Sym};
@@ -33,7 +34,13 @@ pub fn expand(args: TokenStream, item: TokenStream) -> TokenStream {
     };
     let cx = Ctxt::default();
     let spec = parse_spec(&cx, args);
-    let sig = parse_signature(&cx, &func.sig, spec.as_ref().and_then(|s| s.step.as_ref()));
+    let sig = parse_signature(
+        &cx,
+        &func.sig,
+        spec.as_ref().and_then(|s| s.step.as_ref()),
+        spec.as_ref().and_then(|s| s.rule.as_ref()),
+        spec.as_ref().is_some_and(|s| s.rule_written),
+    );
     let compiled = match (&spec, &sig) {
         (Some(spec), Some(sig)) => compile(&cx, spec, sig, &func),
         _ => None,
@@ -64,6 +71,8 @@ struct Compiled {
     unreduced: Stepper,
     /// `(D11, D12, D22)` of `L_d`, for the step-map Jacobian.
     hessian: [Vec<Vec<NodeId>>; 3],
+    /// The Legendre map and energy of a continuous Lagrangian.
+    continuous: Option<continuous::Continuous>,
 }
 
 /// What one side of the reduced equations compiles to.
@@ -95,6 +104,19 @@ fn compile(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<Com
     let ranges = resolve_ranges(cx, spec, sig);
     let mut graph = Graph::default();
     let body = Lowering::new(&mut graph, cx, &names).body(&func.block);
+    // A continuous L(q, v): keep it for the Legendre map and energy, and form L_d by the rule.
+    let (body, continuous) = match (body, spec.rule.as_ref().filter(|_| sig.continuous)) {
+        (Some(l), Some(&(_, rule))) => {
+            let step = sig.params.iter().position(|p| *p == sig.step);
+            let h = graph.var(Sym::Param(step.expect("the step is a parameter")));
+            let parts = continuous::continuous(&mut graph, l, s + k, rule);
+            (
+                Some(continuous::discretize(&mut graph, l, s + k, h, rule)),
+                Some(parts),
+            )
+        }
+        (body, _) => (body, None),
+    };
     let b: Option<Vec<Vec<NodeId>>> = match &spec.connection {
         None => {
             let zero = graph.constant(0.0);
@@ -168,6 +190,7 @@ fn compile(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<Com
         minus,
         unreduced,
         hessian,
+        continuous,
     })
 }
 
@@ -663,11 +686,31 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
     let config_item = config_struct(spec, func, &config, &ty);
     let user_fn = user_function(func, &config, false, &connection_only_params(spec, sig, c));
     let param_item = param_struct(sig, func, &ty);
+    let allow = lints::generated();
+    // The discrete Lagrangian: the user's function, or L_d formed from a continuous L.
+    let fn_params = sig.fn_params();
+    let lagrangian_body = if c.continuous.is_some() {
+        let code = straight_line(&c.graph, &[c.body], &|sym| match sym {
+            Sym::Q0(i) => quote! { q0[#i] },
+            Sym::Q1(i) => quote! { q1[#i] },
+            Sym::Param(i) => param_leaf(i),
+            _ => unreachable!("L_d reads q0, q1 and its parameters"),
+        });
+        let (stmts, out) = (&code.stmts, &code.outputs[0]);
+        quote! { #stmts #out }
+    } else {
+        quote! { #fn_name(#config::from_vector(q0), #config::from_vector(q1), #( self.#fn_params ),*) }
+    };
+    let continuous_impl = c.continuous.as_ref().map(|parts| {
+        let call_l = quote! {
+            #fn_name(#config::from_vector(q), #config::from_vector(v), #( self.#fn_params ),*)
+        };
+        continuous::emit_impl(&c.graph, parts, &ty, n, &param_leaf, &allow, &call_l)
+    });
     let counts = format!(
         "Generated straight-line code: reduced (+) stepper: {}; reduced (−) stepper: {}; unreduced stepper: {}.",
         plus_counts, minus_counts, unreduced.counts
     ) + &elimination_note;
-    let allow = lints::generated();
 
     quote! {
         #config_item
@@ -675,6 +718,8 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
         #user_fn
 
         #param_item
+
+        #continuous_impl
 
         #allow
         impl #ty {
@@ -696,7 +741,7 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
             const PARAMETERS: &'static [&'static str] = &[ #( #param_names ),* ];
 
             fn lagrangian(&self, q0: #vn, q1: #vn) -> f64 {
-                #fn_name(#config::from_vector(q0), #config::from_vector(q1), #( self.#params ),*)
+                #lagrangian_body
             }
 
             fn connection(&self) -> #na::SMatrix<f64, #k, #s> {
@@ -761,7 +806,7 @@ fn connection_only_params(spec: &Spec, sig: &Signature, c: &Compiled) -> Vec<Ide
     let b_flat: Vec<NodeId> = c.b.iter().flatten().copied().collect();
     let in_b = c.graph.symbols(&b_flat);
     let in_body = c.graph.symbols(&[c.body]);
-    sig.params
+    sig.fn_params()
         .iter()
         .enumerate()
         .filter(|(i, _)| in_b.contains(&Sym::Param(*i)) && !in_body.contains(&Sym::Param(*i)))

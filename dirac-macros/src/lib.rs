@@ -9,6 +9,7 @@
 //! span. See the `dirac` crate for the user guide.
 
 mod check;
+mod continuous;
 mod ctxt;
 mod diff;
 mod emit;

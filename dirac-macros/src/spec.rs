@@ -12,6 +12,15 @@
 //! )]
 //! fn f(q0: Config, q1: Config, h: f64, m: f64) -> f64 { … }
 //! ```
+//!
+//! or a continuous Lagrangian `L(q, v)` with a quadrature rule that forms `L_d` (see
+//! [`crate::continuous`]); the time step need not be an argument of `L`, the emitted type has a
+//! field for it either way:
+//!
+//! ```text
+//! #[reduced_lagrangian(shape(x, y, z), group(theta), rule = left)]
+//! fn l(q: Config, v: Velocity, m: f64) -> f64 { … }
+//! ```
 
 use proc_macro2::Span;
 use quote::ToTokens;
@@ -20,9 +29,10 @@ use syn::punctuated::Punctuated;
 use syn::spanned::Spanned;
 use syn::{Expr, Ident, Token};
 
+use crate::continuous::{Rule, RULES};
 use crate::ctxt::Ctxt;
 
-const KEYS: &str = "`shape(...)`, `group(...)`, `connection = [[...], ...]`, `step = <parameter>`, `name = <TypeName>` and `ranges(<name> = (lo, hi), ...)`";
+const KEYS: &str = "`shape(...)`, `group(...)`, `connection = [[...], ...]`, `step = <parameter>`, `name = <TypeName>`, `rule = midpoint | trapezoid | left | right` and `ranges(<name> = (lo, hi), ...)`";
 
 /// What `ranges(...)` accepts, for error messages.
 const RANGES: &str = "`ranges(name = (lo, hi), ...)` with a parameter or coordinate name and finite f64 literals lo < hi, e.g. `ranges(h = (0.001, 0.1))`";
@@ -37,6 +47,10 @@ pub struct Spec {
     pub name: Option<Ident>,
     /// Sampling ranges declared with `ranges(...)` for the invariance check, by name.
     pub ranges: Vec<Range>,
+    /// `rule = ...`: the quadrature rule of a continuous Lagrangian, with the key's token.
+    pub rule: Option<(Ident, Rule)>,
+    /// Whether `rule = ...` was written, valid or not (an invalid one is already reported).
+    pub rule_written: bool,
 }
 
 /// One entry of `ranges(name = (lo, hi), ...)`: where the invariance check samples `name`.
@@ -61,6 +75,20 @@ pub struct Signature {
     pub params: Vec<Ident>,
     /// The time-step parameter.
     pub step: Ident,
+    /// Whether the function is a continuous Lagrangian `L(q, v)` (second argument `Velocity`);
+    /// then `q0`, `q1` above are the names of `q` and `v`.
+    pub continuous: bool,
+    /// Whether the time step is a field of the emitted type but not an argument of the function
+    /// (a continuous `L` need not take `h`): then it is the last of `params`.
+    pub synthetic_step: bool,
+}
+
+impl Signature {
+    /// The parameters the user's function takes, in order.
+    pub fn fn_params(&self) -> &[Ident] {
+        let n = self.params.len() - usize::from(self.synthetic_step);
+        &self.params[..n]
+    }
 }
 
 enum Arg {
@@ -134,6 +162,7 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
     let mut step: Option<Ident> = None;
     let mut name: Option<Ident> = None;
     let mut ranges: Vec<Range> = Vec::new();
+    let mut rule: Option<(Ident, Rule)> = None;
     let mut seen: Vec<String> = Vec::new();
     for arg in args {
         let key = match &arg {
@@ -159,6 +188,26 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
                 name = parse_ident(cx, value, "a type name, e.g. `name = Particle`")
             }
             ("ranges", Arg::Ranges(_, list)) => ranges = parse_ranges(cx, list),
+            ("rule", Arg::Value(k, value)) => {
+                let id = match &value {
+                    Expr::Path(p) => p.path.get_ident().cloned(),
+                    _ => None,
+                };
+                match id.as_ref().and_then(Rule::from_ident) {
+                    Some(r) => rule = Some((k, r)),
+                    None => cx.error_spanned_by(
+                        &value,
+                        format!(
+                            "unknown quadrature rule `{}`; accepted: {RULES}",
+                            value.to_token_stream()
+                        ),
+                    ),
+                }
+            }
+            ("rule", Arg::List(k, _)) => cx.error_spanned_by(
+                &k,
+                format!("expected `rule = <name>`, found `rule(...)`; accepted: {RULES}"),
+            ),
             ("ranges", Arg::Value(k, _)) => cx.error_spanned_by(
                 &k,
                 format!("expected `ranges(...)`, found `ranges = ...`; accepted: {RANGES}"),
@@ -213,6 +262,8 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
         step,
         name,
         ranges,
+        rule,
+        rule_written: seen.iter().any(|k| k == "rule"),
     })
 }
 
@@ -442,8 +493,11 @@ pub fn parse_signature(
     cx: &Ctxt,
     sig: &syn::Signature,
     spec_step: Option<&Ident>,
+    rule: Option<&(Ident, Rule)>,
+    rule_written: bool,
 ) -> Option<Signature> {
     let mut ok = true;
+    let mut velocity: Option<&syn::Type> = None;
     if let Some(g) = sig.generics.params.first() {
         cx.error_spanned_by(
             g,
@@ -497,12 +551,15 @@ pub fn parse_signature(
             continue;
         };
         let ty = &*pat_ty.ty;
+        if i < 2 && is_type(ty, "Velocity") {
+            velocity = Some(ty);
+        }
         if i < 2 {
-            if !is_config(ty) {
+            if !(is_config(ty) || (i == 1 && is_type(ty, "Velocity"))) {
                 cx.error_spanned_by(
                     ty,
                     format!(
-                        "the first two arguments are the configurations `q0: Config, q1: Config`, found `{}: {}`",
+                        "the first two arguments are the configurations `q0: Config, q1: Config` (or, for a continuous Lagrangian, `q: Config, v: Velocity`), found `{}: {}`",
                         pi.ident,
                         ty.to_token_stream()
                     ),
@@ -529,7 +586,34 @@ pub fn parse_signature(
         );
         return None;
     }
-    let params: Vec<Ident> = names.split_off(2);
+    let mut params: Vec<Ident> = names.split_off(2);
+    let continuous = velocity.is_some();
+    match (velocity, rule) {
+        (Some(ty), None) if !rule_written => {
+            cx.error_spanned_by(
+                ty,
+                format!("a continuous Lagrangian `L(q: Config, v: Velocity, ...)` needs a quadrature rule to form L_d; add one of {RULES}"),
+            );
+            ok = false;
+        }
+        (None, Some((key, _))) => {
+            cx.error_spanned_by(
+                key,
+                "`rule = ...` discretizes a continuous Lagrangian `fn l(q: Config, v: Velocity, ...)`; this function takes two configurations `(q0: Config, q1: Config)`, so it already is L_d: remove `rule` or make the second argument `v: Velocity`",
+            );
+            ok = false;
+        }
+        _ => {}
+    }
+    // A continuous L need not take the time step: the emitted type gets a field for it anyway.
+    let mut synthetic_step = false;
+    if continuous {
+        let name = spec_step.map_or_else(|| Ident::new("h", Span::call_site()), Clone::clone);
+        if !params.contains(&name) {
+            params.push(name);
+            synthetic_step = true;
+        }
+    }
     let step = match spec_step {
         Some(step) => {
             if !params.contains(step) {
@@ -560,6 +644,8 @@ pub fn parse_signature(
         q1: names[1].clone(),
         params,
         step,
+        continuous,
+        synthetic_step,
     })
 }
 
@@ -568,5 +654,9 @@ fn is_f64(ty: &syn::Type) -> bool {
 }
 
 fn is_config(ty: &syn::Type) -> bool {
-    matches!(ty, syn::Type::Path(p) if p.qself.is_none() && p.path.is_ident("Config"))
+    is_type(ty, "Config")
+}
+
+fn is_type(ty: &syn::Type, name: &str) -> bool {
+    matches!(ty, syn::Type::Path(p) if p.qself.is_none() && p.path.is_ident(name))
 }

@@ -17,6 +17,7 @@
 
 pub mod atlas;
 pub mod compose;
+pub mod continuous;
 pub mod diagnostics;
 pub mod error;
 pub mod integrate;
@@ -26,6 +27,10 @@ pub mod state;
 pub mod system;
 
 pub use compose::{BaseStep, ComposedTrajectory, Composition, CompositionMethod};
+pub use continuous::{
+    continuous_energies, midpoint_energies, reduced_continuous_energies, ContinuousEnergies,
+    ContinuousLagrangian, LegendreError,
+};
 pub use diagnostics::{
     dirac_differential_minus, dirac_differential_plus, dirac_membership_residuals,
     reduced_energy_minus, reduced_energy_plus, trajectory_energies, DiracDifferentialMinus,

@@ -1,0 +1,203 @@
+//! The continuous front end (issue 10, items 1–2): a Lagrangian `L(q, v)` and a quadrature rule
+//! become the discrete Lagrangian `L_d(q0, q1)` on the expression graph, so everything
+//! downstream (reduction, differentiation, emission) is unchanged; and the Legendre map
+//! `p = ∂L/∂v`, its Jacobian `∂²L/∂v²` and the energy `E = ⟨∂L/∂v, v⟩ − L` are differentiated
+//! here, forward mode, into straight-line code.
+//!
+//! While lowering a continuous body, `Sym::Q0(i)` stands for `q_i` and `Sym::Q1(i)` for `v_i`;
+//! [`discretize`] substitutes the rule's quadrature point and difference quotient for them.
+
+use proc_macro2::TokenStream;
+use quote::quote;
+use syn::Ident;
+
+use crate::diff::derivatives;
+use crate::emit::straight_line;
+use crate::graph::{Graph, NodeId, Sym};
+
+/// What `rule = ...` accepts, for error messages.
+pub const RULES: &str = "`rule = midpoint`, `rule = trapezoid`, `rule = left` or `rule = right`";
+
+/// A quadrature rule forming `L_d` from `L`, with `v = (q1 − q0)/h`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Rule {
+    /// `h L((q0 + q1)/2, v)`.
+    Midpoint,
+    /// `h/2 (L(q0, v) + L(q1, v))`.
+    Trapezoid,
+    /// `h L(q0, v)`.
+    Left,
+    /// `h L(q1, v)`.
+    Right,
+}
+
+impl Rule {
+    pub fn from_ident(id: &Ident) -> Option<Rule> {
+        Some(match id.to_string().as_str() {
+            "midpoint" => Rule::Midpoint,
+            "trapezoid" => Rule::Trapezoid,
+            "left" => Rule::Left,
+            "right" => Rule::Right,
+            _ => return None,
+        })
+    }
+
+    pub fn describe(self) -> &'static str {
+        match self {
+            Rule::Midpoint => "the midpoint rule L_d(q0, q1) = h L((q0 + q1)/2, (q1 − q0)/h)",
+            Rule::Trapezoid => {
+                "the trapezoidal rule L_d(q0, q1) = h/2 (L(q0, (q1 − q0)/h) + L(q1, (q1 − q0)/h))"
+            }
+            Rule::Left => "the left-point rule L_d(q0, q1) = h L(q0, (q1 − q0)/h)",
+            Rule::Right => "the right-point rule L_d(q0, q1) = h L(q1, (q1 − q0)/h)",
+        }
+    }
+}
+
+/// `L_d(q0, q1)` from `l` (over `q = Q0`, `v = Q1`) by `rule`, with the time step `h`.
+///
+/// The nodes are built in the order a hand-written rule reads — `0.5 * (q0 + q1)`,
+/// `(q1 − q0) / h`, `h * L` — so that, the graph being hash-consed, a continuous Lagrangian and
+/// the same rule written out by hand give the same graph and the same code, bit for bit.
+pub fn discretize(g: &mut Graph, l: NodeId, n: usize, h: NodeId, rule: Rule) -> NodeId {
+    let half = g.constant(0.5);
+    let v: Vec<NodeId> = (0..n)
+        .map(|i| {
+            let (a, b) = (g.var(Sym::Q0(i)), g.var(Sym::Q1(i)));
+            let d = g.sub(b, a);
+            g.div(d, h)
+        })
+        .collect();
+    let at = |g: &mut Graph, point: &dyn Fn(&mut Graph, usize) -> NodeId| {
+        g.substitute(l, &mut |g, sym| match sym {
+            Sym::Q0(i) => point(g, i),
+            Sym::Q1(i) => v[i],
+            other => g.var(other),
+        })
+    };
+    match rule {
+        Rule::Midpoint => {
+            let l_mid = at(g, &|g, i| {
+                let (a, b) = (g.var(Sym::Q0(i)), g.var(Sym::Q1(i)));
+                let s = g.add(a, b);
+                g.mul(half, s)
+            });
+            g.mul(h, l_mid)
+        }
+        Rule::Left => {
+            let l0 = at(g, &|g, i| g.var(Sym::Q0(i)));
+            g.mul(h, l0)
+        }
+        Rule::Right => {
+            let l1 = at(g, &|g, i| g.var(Sym::Q1(i)));
+            g.mul(h, l1)
+        }
+        Rule::Trapezoid => {
+            let l0 = at(g, &|g, i| g.var(Sym::Q0(i)));
+            let l1 = at(g, &|g, i| g.var(Sym::Q1(i)));
+            let half_h = g.mul(half, h);
+            let sum = g.add(l0, l1);
+            g.mul(half_h, sum)
+        }
+    }
+}
+
+/// The Legendre map, its Jacobian and the energy of `l` (over `q = Q0`, `v = Q1`).
+pub struct Continuous {
+    pub rule: Rule,
+    /// `∂L/∂v_i`.
+    pub legendre: Vec<NodeId>,
+    /// `∂²L/∂v_i∂v_j`, row `i`.
+    pub hessian: Vec<Vec<NodeId>>,
+    /// `⟨∂L/∂v, v⟩ − L`.
+    pub energy: NodeId,
+}
+
+pub fn continuous(g: &mut Graph, l: NodeId, n: usize, rule: Rule) -> Continuous {
+    let legendre: Vec<NodeId> = (0..n)
+        .map(|i| derivatives(g, &[l], Sym::Q1(i))[0])
+        .collect();
+    let columns: Vec<Vec<NodeId>> = (0..n)
+        .map(|j| derivatives(g, &legendre, Sym::Q1(j)))
+        .collect();
+    let hessian = (0..n)
+        .map(|i| (0..n).map(|j| columns[j][i]).collect())
+        .collect();
+    let mut pv = g.constant(0.0);
+    for (i, &p) in legendre.iter().enumerate() {
+        let v = g.var(Sym::Q1(i));
+        let term = g.mul(p, v);
+        pv = g.add(pv, term);
+    }
+    let energy = g.sub(pv, l);
+    Continuous {
+        rule,
+        legendre,
+        hessian,
+        energy,
+    }
+}
+
+/// `impl ContinuousLagrangian<N>`: `L` calls the user's function (`call_l`), the derivatives are
+/// straight-line code.
+pub fn emit_impl(
+    g: &Graph,
+    c: &Continuous,
+    ty: &Ident,
+    n: usize,
+    param: &dyn Fn(usize) -> TokenStream,
+    allow: &TokenStream,
+    call_l: &TokenStream,
+) -> TokenStream {
+    let rt = quote!(::dirac::runtime);
+    let na = quote!(::dirac::nalgebra);
+    let leaf = |sym: Sym| match sym {
+        Sym::Q0(i) => quote! { q[#i] },
+        Sym::Q1(i) => quote! { v[#i] },
+        Sym::Param(i) => param(i),
+        _ => unreachable!("L reads q, v and its parameters"),
+    };
+    let vn = quote!(&#na::SVector<f64, #n>);
+    let body = |roots: &[NodeId]| {
+        let code = straight_line(g, roots, &leaf);
+        (code.stmts, code.outputs)
+    };
+    let (p_stmts, p_out) = body(&c.legendre);
+    let mut pj_roots = c.legendre.clone();
+    pj_roots.extend(c.hessian.iter().flatten());
+    let (pj_stmts, pj_out) = body(&pj_roots);
+    let (pj_p, pj_j) = pj_out.split_at(n);
+    let (e_stmts, e_out) = body(&[c.energy]);
+    let rule = c.rule.describe();
+    quote! {
+        #allow
+        #[allow(unused_variables)] // L need not read every coordinate and velocity
+        impl #rt::ContinuousLagrangian<#n> for #ty {
+            const RULE: &'static str = #rule;
+
+            fn continuous_lagrangian(&self, q: #vn, v: #vn) -> f64 {
+                #call_l
+            }
+
+            fn legendre(&self, q: #vn, v: #vn) -> #na::SVector<f64, #n> {
+                #p_stmts
+                #na::SVector::<f64, #n>::from([ #( #p_out ),* ])
+            }
+
+            fn legendre_jacobian(
+                &self, q: #vn, v: #vn,
+            ) -> (#na::SVector<f64, #n>, #na::SMatrix<f64, #n, #n>) {
+                #pj_stmts
+                (
+                    #na::SVector::<f64, #n>::from([ #( #pj_p ),* ]),
+                    #na::SMatrix::<f64, #n, #n>::from_row_slice(&[ #( #pj_j ),* ]),
+                )
+            }
+
+            fn energy(&self, q: #vn, v: #vn) -> f64 {
+                #e_stmts
+                #( #e_out )*
+            }
+        }
+    }
+}

@@ -1,0 +1,200 @@
+//! The continuous Lagrangian behind a discrete one (issue 10, items 1–2): when the attribute is
+//! given `L(q, v)` and a quadrature rule, it also emits the Legendre map `p = ∂L/∂v`, its
+//! Jacobian `∂²L/∂v²` and the energy `E(q, v) = ⟨∂L/∂v, v⟩ − L` as straight-line code, and
+//! implements [`ContinuousLagrangian`]. This module turns positions and velocities into the
+//! integrators' initial states and reports the continuous energy along a trajectory.
+
+use nalgebra::{SMatrix, SVector};
+
+use crate::integrate::{CanonicalTrajectory, Trajectory};
+use crate::lu::Lu;
+use crate::state::{CanonicalState, ReducedState};
+use crate::system::DiscreteLagrangian;
+
+/// Solving the Legendre map `∂L/∂v (q, v) = p` for `v` failed.
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum LegendreError {
+    /// `∂²L/∂v²` is singular: the Lagrangian is degenerate (e.g. linear in the velocities), so
+    /// the momentum does not determine the velocity.
+    #[error("singular Legendre map at node {node}: ∂²L/∂v² has no inverse (a degenerate Lagrangian; the momentum does not determine the velocity)")]
+    Singular {
+        /// The trajectory node.
+        node: usize,
+    },
+    /// Newton's method did not reach the tolerance.
+    #[error("Legendre map at node {node}: no velocity found (residual {residual:.3e} after {iterations} iterations)")]
+    NotConverged {
+        /// The trajectory node.
+        node: usize,
+        /// `|∂L/∂v (q, v) − p|∞` at the last iterate.
+        residual: f64,
+        /// Newton iterations taken.
+        iterations: usize,
+    },
+}
+
+/// A Lagrangian `L(q, v)` on `TQ`, with its Legendre map and energy, emitted by the attribute for
+/// a continuous Lagrangian (`fn l(q: Config, v: Velocity, ...)` with `rule = ...`).
+pub trait ContinuousLagrangian<const N: usize> {
+    /// The quadrature rule that forms `L_d` from `L`, e.g. "the midpoint rule L_d(q0, q1) =
+    /// h L((q0 + q1)/2, (q1 − q0)/h)".
+    const RULE: &'static str;
+
+    /// `L(q, v)`.
+    fn continuous_lagrangian(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> f64;
+
+    /// The Legendre map `p = ∂L/∂v (q, v)` (eq. (2.3) of the continuous theory, `FL`).
+    fn legendre(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> SVector<f64, N>;
+
+    /// `∂L/∂v` and its Jacobian `∂²L/∂v²`, one straight line.
+    fn legendre_jacobian(
+        &self,
+        q: &SVector<f64, N>,
+        v: &SVector<f64, N>,
+    ) -> (SVector<f64, N>, SMatrix<f64, N, N>);
+
+    /// The energy `E(q, v) = ⟨∂L/∂v, v⟩ − L(q, v)`.
+    fn energy(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> f64;
+
+    /// The canonical state `(q, ∂L/∂v (q, v))` from a position and a velocity. For a degenerate
+    /// Lagrangian this is the point of the primary constraint `p = ∂L/∂v` over `q`.
+    fn canonical_state(&self, q: SVector<f64, N>, v: SVector<f64, N>) -> CanonicalState<N> {
+        CanonicalState {
+            p: self.legendre(&q, &v),
+            q,
+        }
+    }
+
+    /// The reduced state `(x, w, μ, g)` from a position and a velocity: the canonical state
+    /// trivialized by eq. (3.6).
+    fn reduced_state<const S: usize, const K: usize>(
+        &self,
+        q: SVector<f64, N>,
+        v: SVector<f64, N>,
+    ) -> ReducedState<S, K>
+    where
+        Self: DiscreteLagrangian<S, K, N>,
+    {
+        self.trivialize(&self.canonical_state(q, v))
+    }
+
+    /// Solves the Legendre map `∂L/∂v (q, v) = p` for `v` by Newton's method from `guess`
+    /// (`node` labels errors). Errors: [`LegendreError::Singular`] for a degenerate Lagrangian.
+    fn velocity(
+        &self,
+        node: usize,
+        q: &SVector<f64, N>,
+        p: &SVector<f64, N>,
+        guess: SVector<f64, N>,
+    ) -> Result<SVector<f64, N>, LegendreError> {
+        const MAX_ITERATIONS: usize = 50;
+        let scale = 1.0 + p.amax();
+        let mut v = guess;
+        let mut residual = f64::INFINITY;
+        for _ in 0..MAX_ITERATIONS {
+            let (pv, jac) = self.legendre_jacobian(q, &v);
+            // Checked before the residual: for a degenerate Lagrangian every velocity satisfies
+            // the Legendre map at a constrained momentum, so a small residual proves nothing.
+            // ∂²L/∂v² is singular there in exact arithmetic; in floating point the rounded
+            // Hessian can keep a tiny pivot, so "singular" means a reciprocal condition number
+            // below 1e-12 as well as an exactly zero pivot.
+            let lu = Lu::new(jac)
+                .filter(|lu| lu.rcond() >= 1e-12)
+                .ok_or(LegendreError::Singular { node })?;
+            let r = pv - p;
+            residual = r.amax();
+            if residual <= 4.0 * f64::EPSILON * scale {
+                return Ok(v);
+            }
+            let dv = lu.solve(&r);
+            v -= dv;
+            if dv.amax() <= 4.0 * f64::EPSILON * (1.0 + v.amax()) {
+                return Ok(v);
+            }
+        }
+        Err(LegendreError::NotConverged {
+            node,
+            residual,
+            iterations: MAX_ITERATIONS,
+        })
+    }
+}
+
+/// The continuous energy along a trajectory.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContinuousEnergies {
+    /// `E(q_k, v_k)` at each node, with `v_k` solving the Legendre map `∂L/∂v (q_k, v_k) = p_k`
+    /// for the discrete momentum `p_k` (so the node values need a regular Lagrangian).
+    pub nodes: Vec<f64>,
+    /// `E((q_k + q_{k+1})/2, (q_{k+1} − q_k)/h)` at each step's midpoint.
+    pub midpoints: Vec<f64>,
+}
+
+/// The energy at each step's midpoint, `E((q_k + q_{k+1})/2, (q_{k+1} − q_k)/h)`. Needs only the
+/// positions, so it is defined for degenerate Lagrangians too.
+pub fn midpoint_energies<L, const N: usize>(sys: &L, q: &[SVector<f64, N>], h: f64) -> Vec<f64>
+where
+    L: ContinuousLagrangian<N>,
+{
+    q.windows(2)
+        .map(|w| sys.energy(&(0.5 * (w[0] + w[1])), &((w[1] - w[0]) / h)))
+        .collect()
+}
+
+/// The continuous energy of an unreduced trajectory at its nodes (from the discrete momenta) and
+/// at its midpoints. Newton for each node's velocity starts from the adjacent difference quotient.
+pub fn continuous_energies<L, const N: usize>(
+    sys: &L,
+    trajectory: &CanonicalTrajectory<N>,
+) -> Result<ContinuousEnergies, LegendreError>
+where
+    L: ContinuousLagrangian<N>,
+{
+    let q: Vec<SVector<f64, N>> = trajectory.states.iter().map(|s| s.q).collect();
+    let p: Vec<SVector<f64, N>> = trajectory.states.iter().map(|s| s.p).collect();
+    energies(sys, &q, &p, trajectory.h)
+}
+
+/// [`continuous_energies`] of a reduced trajectory, mapped back to `T*Q` by eq. (3.7).
+pub fn reduced_continuous_energies<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    trajectory: &Trajectory<S, K>,
+) -> Result<ContinuousEnergies, LegendreError>
+where
+    L: ContinuousLagrangian<N> + DiscreteLagrangian<S, K, N>,
+{
+    let canonical: Vec<CanonicalState<N>> = trajectory
+        .states
+        .iter()
+        .map(|s| sys.untrivialize(s))
+        .collect();
+    let q: Vec<SVector<f64, N>> = canonical.iter().map(|s| s.q).collect();
+    let p: Vec<SVector<f64, N>> = canonical.iter().map(|s| s.p).collect();
+    energies(sys, &q, &p, trajectory.h)
+}
+
+fn energies<L, const N: usize>(
+    sys: &L,
+    q: &[SVector<f64, N>],
+    p: &[SVector<f64, N>],
+    h: f64,
+) -> Result<ContinuousEnergies, LegendreError>
+where
+    L: ContinuousLagrangian<N>,
+{
+    let mut nodes = Vec::with_capacity(q.len());
+    for k in 0..q.len() {
+        let guess = match (k.checked_sub(1), q.get(k + 1)) {
+            (_, Some(next)) => (next - q[k]) / h,
+            (Some(prev), None) => (q[k] - q[prev]) / h,
+            (None, None) => SVector::zeros(),
+        };
+        let v = sys.velocity(k, &q[k], &p[k], guess)?;
+        nodes.push(sys.energy(&q[k], &v));
+    }
+    Ok(ContinuousEnergies {
+        nodes,
+        midpoints: midpoint_energies(sys, q, h),
+    })
+}
