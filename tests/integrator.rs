@@ -344,3 +344,27 @@ fn conditioning_is_recorded_and_a_threshold_turns_it_into_an_error() {
     let near = run(pole, 0.0, options, true).unwrap();
     assert!(near.worst_rcond().unwrap().1 < 1e-13);
 }
+
+/// An error chain prints each cause once: `IntegrationError`'s message names the step and what was
+/// kept, and its cause, the `StepError`, comes from `source()` and is not repeated in the message.
+#[test]
+fn an_error_chain_prints_each_cause_once() {
+    let sys = Runaway { h: 0.1 };
+    let err = ReducedIntegrator::plus(sys, NewtonOptions::default())
+        .integrate(ReducedState::new([0.0], [1.0], [0.5], [0.0]), 100)
+        .unwrap_err();
+    let mut chain = Vec::new();
+    let mut cause: Option<&dyn std::error::Error> = Some(&*err);
+    while let Some(e) = cause {
+        chain.push(e.to_string());
+        cause = e.source();
+    }
+    assert_eq!(chain.len(), 2, "{chain:?}");
+    assert_eq!(chain[1], err.source.to_string());
+    let printed = chain.join("\ncaused by: ");
+    assert_eq!(printed.matches(&chain[1]).count(), 1, "{printed}");
+    assert!(
+        chain[0].contains(&format!("step {}", err.source.step())),
+        "{printed}"
+    );
+}

@@ -87,6 +87,20 @@ pub enum StepError {
 }
 
 impl StepError {
+    /// A short name of the failure, for one-line summaries (e.g. [`IntegrationError`]'s
+    /// message); the full message, with the figures, is the `Display` of `self`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            StepError::NotConverged { .. } => "Newton did not converge",
+            StepError::SingularJacobian { .. } => "singular Jacobian",
+            StepError::IllConditioned { .. } => "ill-conditioned Jacobian",
+            StepError::NonFinite { .. } => "non-finite value",
+            StepError::InvalidAtlas { .. } => "invalid atlas",
+            StepError::InvalidTimeStep { .. } => "invalid time step",
+            StepError::NotSymmetric { .. } => "non-symmetric discrete Lagrangian",
+        }
+    }
+
     /// Index of the step that failed.
     pub fn step(&self) -> usize {
         match *self {
@@ -121,22 +135,19 @@ pub trait Steps {
     fn completed_steps(&self) -> usize;
 }
 
-impl<const S: usize, const K: usize> Steps for crate::Trajectory<S, K> {
-    fn completed_steps(&self) -> usize {
-        self.steps()
-    }
-}
-
-impl<const N: usize> Steps for crate::CanonicalTrajectory<N> {
-    fn completed_steps(&self) -> usize {
-        self.steps()
-    }
-}
-
 /// An integration that stopped at a failed step. The trajectory computed up to that step is
 /// kept, intact, in `trajectory`.
+///
+/// Its message names the step, the kind of failure ([`StepError::kind`]) and how much was kept;
+/// the cause itself, with its figures, is [`std::error::Error::source`] (the [`StepError`]) and is
+/// not repeated in the message, so a printed error chain shows each cause once.
 #[derive(Clone, Debug, thiserror::Error)]
-#[error("integration stopped after {} of {requested} steps: {source}", trajectory.completed_steps())]
+#[error(
+    "integration stopped at step {} ({}): {} of {requested} steps completed, the trajectory so far kept",
+    source.step(),
+    source.kind(),
+    trajectory.completed_steps()
+)]
 pub struct IntegrationError<T: Steps + std::fmt::Debug> {
     /// The step that failed.
     pub source: StepError,

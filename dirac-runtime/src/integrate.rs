@@ -4,7 +4,7 @@ use std::marker::PhantomData;
 
 use nalgebra::{SMatrix, SVector};
 
-use crate::error::{IntegrationError, StepError};
+use crate::error::{IntegrationError, StepError, Steps};
 use crate::lu::Lu;
 use crate::newton::{self, NewtonFailure, NewtonOptions, NewtonSolution};
 use crate::state::{CanonicalState, ReducedState};
@@ -129,6 +129,18 @@ macro_rules! trajectory_accessors {
 
 impl<const S: usize, const K: usize> Trajectory<S, K> {
     trajectory_accessors!(ReducedState<S, K>);
+}
+
+impl<const S: usize, const K: usize> Steps for Trajectory<S, K> {
+    fn completed_steps(&self) -> usize {
+        self.steps()
+    }
+}
+
+impl<const N: usize> Steps for CanonicalTrajectory<N> {
+    fn completed_steps(&self) -> usize {
+        self.steps()
+    }
 }
 
 impl<const N: usize> CanonicalTrajectory<N> {

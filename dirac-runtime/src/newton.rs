@@ -164,10 +164,15 @@ pub struct NewtonSolution<V> {
     pub jacobian_norm1: Option<f64>,
 }
 
-/// Why a solve failed, with the residual at the last iterate.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// Why a solve failed, with the residual at the last iterate. The integrators turn it into a
+/// [`crate::StepError`], which adds the step index.
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum NewtonFailure {
     /// The iteration cap was reached.
+    #[error(
+        "Newton iteration did not converge in {iterations} iterations (residual {residual:.3e})"
+    )]
     NotConverged {
         /// Corrections taken.
         iterations: usize,
@@ -175,12 +180,14 @@ pub enum NewtonFailure {
         residual: f64,
     },
     /// The LU factorization found a zero pivot.
+    #[error("singular Jacobian (residual {residual:.3e})")]
     Singular {
         /// `‖R‖∞` at the iterate whose Jacobian is singular.
         residual: f64,
     },
     /// The Jacobian is too ill-conditioned to trust (below [`NewtonOptions::min_rcond`]): at the
     /// solution, or at the last iterate of a solve that failed.
+    #[error("ill-conditioned Jacobian (reciprocal condition estimate {rcond:.3e}, residual {residual:.3e})")]
     IllConditioned {
         /// The reciprocal condition estimate.
         rcond: f64,
@@ -188,6 +195,7 @@ pub enum NewtonFailure {
         residual: f64,
     },
     /// The residual, the Jacobian or the correction is not finite.
+    #[error("non-finite residual, Jacobian or correction (residual {residual:.3e})")]
     NonFinite {
         /// `‖R‖∞` at the last finite iterate (infinite if there was none).
         residual: f64,
