@@ -30,6 +30,15 @@ pub fn many(q0: Config, q1: Config, h: f64, d: f64, e: f64, f: f64, g: f64, k: f
     t - v - h * g * 1_000_000.123_456_789 * (q0.a + q1.a)
 }
 
+/// A continuous Lagrangian without symmetry (`group()`): the quadrature rule, the Legendre map and
+/// the energy are generated too, with the folded `2π`.
+#[reduced_lagrangian(shape(x), group(), rule = midpoint)]
+#[must_use]
+pub fn continuous_oscillator(q: Config, v: Velocity, freq: f64) -> f64 {
+    let omega = 2.0 * std::f64::consts::PI * freq;
+    0.5 * v.x * v.x - 0.5 * omega * omega * q.x * q.x
+}
+
 /// Runs the generated steppers, so the emitted items are used.
 ///
 /// # Errors
@@ -41,5 +50,8 @@ pub fn run() -> Result<f64, Box<dyn std::error::Error>> {
     let sys = Many { h: 0.01, d: 1.0, e: 0.5, f: 2.0, g: 0.1, k: 3.0, m: 1.0 };
     let mut integ = UnreducedIntegrator::plus(sys, NewtonOptions::default());
     let canon = integ.integrate(sys.untrivialize(&ReducedState::new([0.1, 0.2], [0.0, 0.0], [0.3], [0.0])), 10)?;
-    Ok(traj.last().x[0] + canon.last().q[0])
+    let osc = ContinuousOscillator { freq: 1.0, h: 0.01 };
+    let start = osc.canonical_state(SVector::from([1.0]), SVector::from([0.0]));
+    let o = UnreducedIntegrator::plus(osc, NewtonOptions::default()).integrate(start, 10)?;
+    Ok(traj.last().x[0] + canon.last().q[0] + o.last().q[0])
 }
