@@ -368,3 +368,26 @@ fn an_error_chain_prints_each_cause_once() {
         "{printed}"
     );
 }
+
+/// Each step records the residual tolerance it was accepted against: `abs_tol + rel_tol · ρ`
+/// with `ρ = max(‖w_k‖∞, ‖μ_k‖∞)`, the momenta the step's residual balances.
+#[test]
+fn step_stats_record_the_tolerance_of_each_step() {
+    let options = NewtonOptions {
+        abs_tol: 1e-11,
+        rel_tol: 1e-9,
+        ..NewtonOptions::default()
+    };
+    let initial = dirac::paper::ChargedParticle::paper_initial_state();
+    let traj = ReducedIntegrator::plus(dirac::paper::ChargedParticle::paper(50), options)
+        .integrate(initial, 50)
+        .unwrap();
+    for (k, (s, stats)) in traj.states.iter().zip(&traj.stats).enumerate() {
+        let rho = s.w.amax().max(s.mu.amax());
+        assert_eq!(
+            stats.tolerance,
+            options.abs_tol + options.rel_tol * rho,
+            "step {k}"
+        );
+    }
+}

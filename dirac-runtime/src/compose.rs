@@ -297,7 +297,7 @@ where
     }
 
     fn state_is_finite(state: &Self::State) -> bool {
-        state.q.iter().chain(state.p.iter()).all(|v| v.is_finite())
+        state.is_finite()
     }
 }
 
@@ -419,6 +419,7 @@ where
         let mut total = StepStats {
             iterations: 0,
             residual: 0.0,
+            tolerance: 0.0,
             rcond: None,
         };
         for stage in &self.stages {
@@ -459,6 +460,7 @@ where
             let mut total = StepStats {
                 iterations: 0,
                 residual: 0.0,
+                tolerance: 0.0,
                 rcond: None,
             };
             let mut current = state;
@@ -581,6 +583,10 @@ where
 /// Folds one stage's statistics into its macro step's.
 fn accumulate(total: &mut StepStats, stage: &StepStats) {
     total.iterations += stage.iterations;
+    // The tolerance recorded is that of the stage whose residual is the one recorded.
+    if stage.residual >= total.residual {
+        total.tolerance = stage.tolerance;
+    }
     total.residual = total.residual.max(stage.residual);
     total.rcond = match (total.rcond, stage.rcond) {
         (Some(a), Some(b)) => Some(a.min(b)),

@@ -18,16 +18,22 @@ pub struct StepStats {
     pub iterations: usize,
     /// `‖R‖∞` at the accepted solution.
     pub residual: f64,
+    /// The residual tolerance the step was accepted against, `abs_tol + rel_tol · ρ` with `ρ`
+    /// the momentum scale of the step (see [`NewtonOptions`]). A step may also be accepted on a
+    /// small Newton correction, after which `residual` is at round-off level: compare the two to
+    /// see how the step converged.
+    pub tolerance: f64,
     /// Reciprocal condition estimate (1-norm) of the last step Jacobian factored; `None` when
     /// the initial guess already solved the step.
     pub rcond: Option<f64>,
 }
 
 impl StepStats {
-    fn from_solution<V>(s: &NewtonSolution<V>) -> Self {
+    fn from_solution<V>(s: &NewtonSolution<V>, tolerance: f64) -> Self {
         Self {
             iterations: s.iterations,
             residual: s.residual,
+            tolerance,
             rcond: s.rcond,
         }
     }
@@ -309,7 +315,7 @@ where
             state,
             solution.z,
             w1,
-            StepStats::from_solution(&solution),
+            StepStats::from_solution(&solution, self.options.residual_tolerance(rho)),
         )
     }
 
@@ -382,6 +388,7 @@ where
         let stats = StepStats {
             iterations: solution.iterations,
             residual: solution.residual,
+            tolerance: self.options.residual_tolerance(rho),
             rcond,
         };
         self.finish_step(k, state, z, None, stats)
@@ -581,9 +588,10 @@ where
     ) -> Result<(CanonicalState<N>, StepStats), StepError> {
         let sys = &self.system;
         let (q, p) = (&state.q, &state.p);
+        let rho = newton::inf_norm(p);
         let solution = newton::solve(
             *guess,
-            newton::inf_norm(p),
+            rho,
             &self.options,
             |z| sys.unreduced_residual(q, p, z),
             |z| sys.unreduced_residual_jacobian(q, p, z),
@@ -593,14 +601,17 @@ where
             q: solution.z,
             p: sys.unreduced_momentum(q, &solution.z),
         };
-        if next.q.iter().chain(next.p.iter()).any(|v| !v.is_finite()) {
+        if !next.is_finite() {
             return Err(StepError::NonFinite {
                 step: k,
                 what: "the updated state",
                 residual: solution.residual,
             });
         }
-        Ok((next, StepStats::from_solution(&solution)))
+        Ok((
+            next,
+            StepStats::from_solution(&solution, self.options.residual_tolerance(rho)),
+        ))
     }
 
     /// The Jacobian of the step map `(q_k, p_k) ↦ (q_{k+1}, p_{k+1})` at a computed step, from the
@@ -663,12 +674,7 @@ where
         };
         trajectory.states.push(initial);
         let fail = |source, trajectory| Box::new(IntegrationError::new(source, trajectory, steps));
-        let finite = initial
-            .q
-            .iter()
-            .chain(initial.p.iter())
-            .all(|v| v.is_finite());
-        if let Err(e) = check_inputs(h, &self.system.parameter_values(), finite) {
+        if let Err(e) = check_inputs(h, &self.system.parameter_values(), initial.is_finite()) {
             return Err(fail(e, trajectory));
         }
         let mut state = initial;

@@ -28,6 +28,14 @@ pub struct NewtonOptions {
     pub min_rcond: f64,
 }
 
+impl NewtonOptions {
+    /// The residual tolerance `abs_tol + rel_tol · ρ` for momenta of size `ρ`: what a step's
+    /// `‖R‖∞` is tested against (recorded in `StepStats::tolerance`).
+    pub fn residual_tolerance(&self, rho: f64) -> f64 {
+        self.abs_tol + self.rel_tol * rho
+    }
+}
+
 impl Default for NewtonOptions {
     fn default() -> Self {
         Self {
@@ -233,7 +241,7 @@ pub fn solve_with<B: LinearSolver>(
     mut residual: impl FnMut(&B::Vector) -> B::Vector,
     mut residual_jacobian: impl FnMut(&B::Vector) -> (B::Vector, B::Matrix),
 ) -> Result<NewtonSolution<B::Vector>, NewtonFailure> {
-    let tol = options.abs_tol + options.rel_tol * rho;
+    let tol = options.residual_tolerance(rho);
     let mut z = z0;
     let (mut r_j, mut jacobian) = residual_jacobian(&z);
     let mut norm = slice_inf_norm(r_j.components());

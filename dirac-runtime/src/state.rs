@@ -59,3 +59,18 @@ pub struct CanonicalState<const N: usize> {
     /// Canonical momentum `p = (p_x, p_g)`.
     pub p: SVector<f64, N>,
 }
+
+impl<const N: usize> CanonicalState<N> {
+    /// Builds a state from arrays `q = (x, g)` and `p = (p_x, p_g)`.
+    pub fn new(q: [f64; N], p: [f64; N]) -> Self {
+        Self {
+            q: SVector::from(q),
+            p: SVector::from(p),
+        }
+    }
+
+    /// True when every component is finite.
+    pub fn is_finite(&self) -> bool {
+        self.q.iter().chain(self.p.iter()).all(|v| v.is_finite())
+    }
+}
