@@ -181,7 +181,7 @@ pub const DSP_STEPS: usize = 10_000;
 /// The charged particle of [`charged_particle`] written as the physics: the continuous
 /// Kaluza–Klein Lagrangian `L_K(q, q̇) = ½ m |q̇|² + ½ (⟨A(q), q̇⟩ + θ̇)²` and the paper's left-point
 /// rule, which the attribute applies to form `L_d(q0, q1) = h L_K(q0, (q1 − q0)/h)`. The emitted
-/// type also implements [`ContinuousLagrangian`](crate::ContinuousLagrangian): the Legendre map,
+/// type also implements [`ContinuousLagrangian`]: the Legendre map,
 /// the energy, and initial states from `(q, q̇)`.
 ///
 /// The steps agree with [`ChargedParticle`]'s to the last few ulps, not bit for bit: the

@@ -2,10 +2,10 @@
 //! straight-line residual and Jacobian of the reduced (+) discrete Lagrange–Poincaré–Dirac
 //! equations (Rodríguez Abella & Leok, eq. (4.6)).
 //!
-//! Stages, one file each: [`spec`] (the attribute and signature) → [`lower`] (body → graph) →
-//! [`graph`] (hash-consed, simplifying) → [`check`] (G-invariance of the body, sampled) →
-//! [`diff`] (forward-mode derivatives) → [`reduce`] (the paper's construction) → [`emit`]
-//! (straight-line Rust); [`expand`] ties them together and [`ctxt`] collects every error with its
+//! Stages, one file each: `spec` (the attribute and signature) → `lower` (body → graph) →
+//! `graph` (hash-consed, simplifying) → `check` (G-invariance of the body, sampled) →
+//! `diff` (forward-mode derivatives) → `reduce` (the paper's construction) → `emit`
+//! (straight-line Rust); `expand` ties them together and `ctxt` collects every error with its
 //! span. See the `dirac` crate for the user guide.
 
 mod check;
