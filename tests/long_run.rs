@@ -9,7 +9,8 @@
 //!   same T); the unreduced stepper's momentum-map drift over the same 10⁶ steps beside it.
 //!   The run starts near a conical motion, not from the paper's initial state: see
 //!   [`dsp_long_run_initial_state`] and the test `double_spherical_pendulum_from_the_paper_state`,
-//!   which shows why (Remark 7.1).
+//!   which shows why (Remark 7.1); `tests/atlas_long_run.rs` runs the paper's state itself on an
+//!   atlas of three charts (§6).
 //! * The charged particle, 10⁶ steps at `h = 0.2` (the time step of the paper's N = 100 run):
 //!   no failed step, μ bit-for-bit constant, the kinetic energy conserved (to round-off: see
 //!   `charged_particle_million_steps` for why there is no h² oscillation there, and where h²
