@@ -18,6 +18,7 @@ use crate::ctxt::Ctxt;
 use crate::diff::derivatives;
 use crate::emit::straight_line;
 use crate::graph::{Graph, NodeId, Sym};
+use crate::lints;
 use crate::lower::{Lowering, Names};
 
 const USAGE: &str = "accepted: `#[chart_transition(from(shape(..), group(..)), \
@@ -371,12 +372,14 @@ fn generate(
         to.join(", "),
         both.operations
     );
+    let allow = lints::generated();
     quote! {
         #( #docs )*
         #[doc = #note]
         #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
         #vis struct #name;
 
+        #allow
         impl #name {
             /// The coordinates of the old chart, shape then group.
             pub const FROM: [&'static str; #n] = [ #( #from ),* ];
@@ -384,6 +387,7 @@ fn generate(
             pub const TO: [&'static str; #n] = [ #( #to ),* ];
         }
 
+        #allow
         impl ::dirac::runtime::atlas::ChartTransition<#s, #k, #n> for #name {
             #[allow(unused_variables)] // a coordinate the map does not need is still read
             fn map(&self, q: &#na::SVector<f64, #n>) -> #na::SVector<f64, #n> {

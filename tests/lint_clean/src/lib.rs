@@ -55,3 +55,9 @@ pub fn run() -> Result<f64, Box<dyn std::error::Error>> {
     let o = UnreducedIntegrator::plus(osc, NewtonOptions::default()).integrate(start, 10)?;
     Ok(traj.last().x[0] + canon.last().q[0] + o.last().q[0])
 }
+
+/// A chart transition: its emitted `φ` and `Dφ` carry the same allowances.
+#[chart_transition(from(shape(r), group(theta)), to(shape(s), group(phi)))]
+pub fn stretch(q: Config) -> (f64, f64) {
+    (2.0 * std::f64::consts::PI * q.r, q.theta + q.r)
+}
