@@ -49,7 +49,10 @@ fn cycling<T>(
 /// The benchmarks every system gets: generated, num-dual (both Jacobians) and unreduced.
 fn bench_system<L>(c: &mut Criterion, short: &str, w: &Workload<L, 3, 1, 4>)
 where
-    L: Reduced<Plus, 3, 1, 4> + Unreduced<3, 1, 4> + ad::DualLagrangian<4> + Copy,
+    L: Reduced<Plus, 3, 1, 4, Linear = dirac::runtime::Lu<4>>
+        + Unreduced<3, 1, 4, UnreducedLinear = dirac::runtime::Lu<4>>
+        + ad::DualLagrangian<4>
+        + Copy,
 {
     println!(
         "{}: {} steps timed, mean Newton iterations {:.3} on the default path ({})",

@@ -382,7 +382,11 @@ fn step_row<'a, T>(
 /// num-dual (both Jacobians), unreduced, and the pieces of the generated general-path step.
 fn system_rows<'a, L>(bench: &mut Bench<'a>, system: &'static str, w: &'a Workload<L, 3, 1, 4>)
 where
-    L: Reduced<Plus, 3, 1, 4> + Unreduced<3, 1, 4> + ad::DualLagrangian<4> + Copy + 'a,
+    L: Reduced<Plus, 3, 1, 4, Linear = dirac::runtime::Lu<4>>
+        + Unreduced<3, 1, 4, UnreducedLinear = dirac::runtime::Lu<4>>
+        + ad::DualLagrangian<4>
+        + Copy
+        + 'a,
 {
     let sys = w.system;
     let options = NewtonOptions::default();

@@ -50,7 +50,10 @@
 //!   trivialization (3.6)/(3.7) and the momentum map) and [`Reduced`] for each [`Side`]
 //!   ([`Plus`]: eq. (4.6), [`Minus`]: eq. (4.8)) — the straight-line residual, its exact
 //!   Jacobian, the momentum update and, where the group unknowns enter affinely, the eliminated
-//!   stepper — and [`Unreduced`] (Definitions 2.7/2.8 and the Hessian of `L_d`).
+//!   stepper — and [`Unreduced`] (Definitions 2.7/2.8); for systems of at most
+//!   [`runtime::DENSE_MAX`] coordinates also [`LagrangianHessian`] (the Hessian of `L_d`, for the
+//!   step-map Jacobian). Small systems solve their steps with the dense fixed-size [`runtime::Lu`],
+//!   larger ones with [`runtime::SparseLu`] on the Jacobian's compile-time sparsity pattern.
 //!
 //! The body language is a smooth subset of Rust: f64 literals, parameters, coordinates, `let`
 //! (with tuple destructuring and `mut`), `+ - * /`, unary `-`, blocks, tuples, arrays with constant
@@ -92,9 +95,10 @@ pub use dirac_runtime::{
 };
 pub use dirac_runtime::{
     trajectory_energies, CanonicalState, CanonicalTrajectory, ComposedTrajectory, Composition,
-    CompositionMethod, DiscreteLagrangian, IntegrationError, Minus, NewtonOptions, Plus, Reduced,
-    ReducedIntegrator, ReducedState, Side, StepError, StepJacobian, StepStats, StepStatsExt,
-    Trajectory, Unreduced, UnreducedIntegrator, Variant,
+    CompositionMethod, DiscreteLagrangian, IntegrationError, LagrangianHessian, Minus,
+    NewtonOptions, Plus, Reduced, ReducedIntegrator, ReducedState, RunSummary, Side, StepError,
+    StepJacobian, StepRecord, StepStats, StepStatsExt, Trajectory, Unreduced, UnreducedIntegrator,
+    Variant,
 };
 
 /// Everything a user of the attribute needs in scope.
@@ -104,9 +108,9 @@ pub mod prelude {
     pub use crate::{chart_transition, reduced_lagrangian};
     pub use crate::{
         CanonicalState, CanonicalTrajectory, ComposedTrajectory, Composition, CompositionMethod,
-        ContinuousLagrangian, DiscreteLagrangian, IntegrationError, Minus, NewtonOptions, Plus,
-        Reduced, ReducedIntegrator, ReducedState, Side, StepError, StepStats, StepStatsExt,
-        Trajectory, Unreduced, UnreducedIntegrator, Variant,
+        ContinuousLagrangian, DiscreteLagrangian, IntegrationError, LagrangianHessian, Minus,
+        NewtonOptions, Plus, Reduced, ReducedIntegrator, ReducedState, RunSummary, Side, StepError,
+        StepRecord, StepStats, StepStatsExt, Trajectory, Unreduced, UnreducedIntegrator, Variant,
     };
 }
 

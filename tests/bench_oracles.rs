@@ -37,7 +37,7 @@ fn worst_disagreement<L, const S: usize, const K: usize, const N: usize>(
     ) -> (SVector<f64, N>, SMatrix<f64, N, N>),
 ) -> f64
 where
-    L: Reduced<Plus, S, K, N>,
+    L: Reduced<Plus, S, K, N, Linear = dirac::runtime::Lu<N>>,
 {
     let mut worst = 0f64;
     for case in cases {
@@ -106,7 +106,7 @@ fn num_dual_residual_and_momentum_match_the_generated_ones() {
         w: &Workload<L, S, K, N>,
         cases: &[StepCase<S, K, N>],
     ) where
-        L: Reduced<Plus, S, K, N> + ad::DualLagrangian<N>,
+        L: Reduced<Plus, S, K, N, Linear = dirac::runtime::Lu<N>> + ad::DualLagrangian<N>,
     {
         for case in cases {
             let s = &case.state;
@@ -233,7 +233,7 @@ fn num_dual_steps_reproduce_the_generated_stepper() {
         cases: &[StepCase<S, K, N>],
     ) -> f64
     where
-        L: Reduced<Plus, S, K, N> + ad::DualLagrangian<N> + Copy,
+        L: Reduced<Plus, S, K, N, Linear = dirac::runtime::Lu<N>> + ad::DualLagrangian<N> + Copy,
     {
         // The num-dual step solves all N unknowns, like the generated general path.
         let options = NewtonOptions::default();

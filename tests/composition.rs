@@ -221,7 +221,7 @@ fn the_composed_step_map_is_symplectic() {
         steps: usize,
         tolerance: f64,
     ) where
-        L: Unreduced<S, K, N> + Copy,
+        L: LagrangianHessian<S, K, N> + Copy,
     {
         for method in [
             CompositionMethod::TRIPLE_JUMP,

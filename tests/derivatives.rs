@@ -80,7 +80,7 @@ fn compare_at<Sys, const S: usize, const K: usize, const N: usize, const M: usiz
     z: &SVector<f64, N>,
 ) -> f64
 where
-    Sys: Reduced<Plus, S, K, N>,
+    Sys: Reduced<Plus, S, K, N, Linear = dirac::runtime::Lu<N>>,
 {
     let (value, grad, hess) = oracle::<S, K, N, M>(b, lag, x0, z);
     let mut worst = 0f64;
@@ -167,7 +167,7 @@ fn compare_system<Sys, const S: usize, const K: usize, const N: usize, const M: 
     reference: &dyn Fn(&Sys) -> Reference<'_, K, S, M, N>,
 ) -> f64
 where
-    Sys: Reduced<Plus, S, K, N>,
+    Sys: Reduced<Plus, S, K, N, Linear = dirac::runtime::Lu<N>>,
 {
     let mut rng = Rng(seed);
     let mut worst = 0f64;

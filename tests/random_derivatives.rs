@@ -89,7 +89,7 @@ pub fn check_case<Sys, const S: usize, const K: usize, const N: usize, const M: 
     ) -> Dual2SVec64<M>,
     lag_f64: fn([f64; N], [f64; N], f64, f64) -> f64,
 ) where
-    Sys: Reduced<Plus, S, K, N>,
+    Sys: Reduced<Plus, S, K, N, Linear = dirac::runtime::Lu<N>>,
 {
     assert_eq!((S + K, 2 * S + K), (N, M));
     stats.cases += 1;

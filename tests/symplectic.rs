@@ -14,7 +14,7 @@ fn assert_symplectic<L, const S: usize, const K: usize, const N: usize>(
     initial: CanonicalState<N>,
     steps: usize,
 ) where
-    L: Unreduced<S, K, N> + Copy,
+    L: LagrangianHessian<S, K, N> + Copy,
 {
     let integ = UnreducedIntegrator::plus(sys, NewtonOptions::default());
     let traj = integ.clone().integrate(initial, steps).unwrap();
@@ -93,7 +93,7 @@ fn a_non_symplectic_map_is_detected() {
 fn the_step_jacobian_is_the_derivative_of_the_step_map() {
     fn check<L, const S: usize, const K: usize, const N: usize>(sys: L, start: CanonicalState<N>)
     where
-        L: Unreduced<S, K, N> + Copy,
+        L: LagrangianHessian<S, K, N> + Copy,
     {
         let integ = UnreducedIntegrator::plus(sys, NewtonOptions::default());
         let step = |s: &CanonicalState<N>| integ.step(0, s, &s.q).unwrap().0;

@@ -20,6 +20,13 @@ use crate::reduce::{
 };
 use crate::spec::{parse_signature, parse_spec, resolve_ranges, Signature, Spec};
 
+/// Systems with at most this many configuration coordinates get the dense fixed-size backend
+/// (`Lu<N>`, everything on the stack); larger ones the sparse backend (`SparseLu` on the
+/// compile-time pattern of the step Jacobian), and no Hessian impl or momentum-level elimination
+/// (whose `S × S` matrices are dense). Equal to `dirac_runtime::DENSE_MAX`, which documents the
+/// choice (checked by `tests/backends.rs`).
+pub const DENSE_MAX: usize = 16;
+
 pub fn expand(args: TokenStream, item: TokenStream) -> TokenStream {
     let func: ItemFn = match syn::parse2(item) {
         Ok(f) => f,
@@ -69,8 +76,8 @@ struct Compiled {
     minus: SideCode,
     /// The unreduced stepper, Definitions 2.7/2.8.
     unreduced: Stepper,
-    /// `(D11, D12, D22)` of `L_d`, for the step-map Jacobian.
-    hessian: [Vec<Vec<NodeId>>; 3],
+    /// `(D11, D12, D22)` of `L_d`, for the step-map Jacobian (dense systems only).
+    hessian: Option<[Vec<Vec<NodeId>>; 3]>,
     /// The Legendre map and energy of a continuous Lagrangian.
     continuous: Option<continuous::Continuous>,
 }
@@ -154,10 +161,18 @@ fn compile(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<Com
     let plus = cheapest(&mut graph, build(Side::Plus));
     let minus = cheapest(&mut graph, build(Side::Minus));
     let unreduced = unreduced_stepper(&mut graph, body, s + k);
-    let hessian = lagrangian_hessian(&mut graph, body, s + k);
-    // Elimination: the cheapest origin at which the momentum equations are structurally affine.
-    let plus_eliminated = cheapest_eliminated(&mut graph, Side::Plus, s, k, build(Side::Plus));
-    let minus_eliminated = cheapest_eliminated(&mut graph, Side::Minus, s, k, build(Side::Minus));
+    let dense = s + k <= DENSE_MAX;
+    let hessian = dense.then(|| lagrangian_hessian(&mut graph, body, s + k));
+    // Elimination: the cheapest origin at which the momentum equations are structurally affine
+    // (dense systems only: its shape Jacobian is a dense `S × S` matrix).
+    let (plus_eliminated, minus_eliminated) = if dense {
+        (
+            cheapest_eliminated(&mut graph, Side::Plus, s, k, build(Side::Plus)),
+            cheapest_eliminated(&mut graph, Side::Minus, s, k, build(Side::Minus)),
+        )
+    } else {
+        (None, None)
+    };
     // Use the elimination by default only where it does not cost more code per Newton iteration
     // than the general path (10% slack: it also shrinks the linear solve and, for the paper's charged
     // particle, makes each step linear). Substituting the closed form and differentiating through
@@ -353,6 +368,11 @@ struct SteppedFns {
     momentum: TokenStream,
     /// The residual and the momentum update together (they share most subexpressions).
     residual_momentum: TokenStream,
+    /// The type of the Jacobian `residual_jacobian` returns.
+    jacobian_type: TokenStream,
+    /// The linear solver type and the body of the function that builds its workspace.
+    solver_type: TokenStream,
+    solver_new: TokenStream,
     counts: String,
 }
 
@@ -369,7 +389,7 @@ fn stepper_fns(
     // R and ∂R/∂z together: one straight line, so shared subexpressions are computed once, and
     // structurally zero entries of the Jacobian are never computed or stored.
     let mut roots = stepper.residual.clone();
-    let mut entries = Vec::new();
+    let mut entries: Vec<(usize, usize)> = Vec::new();
     for (row, cols) in stepper.jacobian.iter().enumerate() {
         for (col, &node) in cols.iter().enumerate() {
             if g.as_const(node) != Some(0.0) {
@@ -378,17 +398,64 @@ fn stepper_fns(
             }
         }
     }
+    // The sparse backend stores the entries column by column (compressed sparse columns).
+    let sparse = n > DENSE_MAX;
+    if sparse {
+        let mut order: Vec<usize> = (0..entries.len()).collect();
+        order.sort_by_key(|&i| (entries[i].1, entries[i].0));
+        let jac_roots: Vec<NodeId> = order.iter().map(|&i| roots[n + i]).collect();
+        roots.truncate(n);
+        roots.extend(jac_roots);
+        entries = order.iter().map(|&i| entries[i]).collect();
+    }
     let rj = straight_line(g, &roots, leaf);
     let rj_stmts = &rj.stmts;
     let rj_r = &rj.outputs[..n];
-    let assigns = entries
-        .iter()
-        .zip(&rj.outputs[n..])
-        .map(|((row, col), e)| quote! { __jac[(#row, #col)] = #e; });
-    let jac_mut = if entries.is_empty() {
-        quote!()
+    let rt = quote!(::dirac::runtime);
+    let nnz = entries.len();
+    let (jacobian_value, jacobian_type, solver_type, solver_new) = if sparse {
+        let values = &rj.outputs[n..];
+        let mut col_ptr = vec![0usize; n + 1];
+        for &(_, col) in &entries {
+            col_ptr[col + 1] += 1;
+        }
+        for c in 0..n {
+            col_ptr[c + 1] += col_ptr[c];
+        }
+        let row_idx = entries.iter().map(|&(row, _)| row);
+        (
+            quote! { #rt::CscValues([ #( #values ),* ]) },
+            quote!(#rt::CscValues<#nnz>),
+            quote!(#rt::SparseLu<#n, #nnz>),
+            quote! {
+                static PATTERN: #rt::CscPattern = #rt::CscPattern {
+                    n: #n,
+                    col_ptr: &[ #( #col_ptr ),* ],
+                    row_idx: &[ #( #row_idx ),* ],
+                };
+                #rt::SparseLu::new(&PATTERN)
+            },
+        )
     } else {
-        quote!(mut)
+        let assigns = entries
+            .iter()
+            .zip(&rj.outputs[n..])
+            .map(|((row, col), e)| quote! { __jac[(#row, #col)] = #e; });
+        let jac_mut = if entries.is_empty() {
+            quote!()
+        } else {
+            quote!(mut)
+        };
+        (
+            quote! {{
+                let #jac_mut __jac = #na::SMatrix::<f64, #n, #n>::zeros();
+                #( #assigns )*
+                __jac
+            }},
+            quote!(#na::SMatrix<f64, #n, #n>),
+            quote!(#rt::Lu<#n>),
+            quote!(#rt::Lu::empty()),
+        )
     };
     let mo = straight_line(g, &stepper.momentum, leaf);
     let (m_stmts, m_out) = (&mo.stmts, &mo.outputs);
@@ -414,10 +481,11 @@ fn stepper_fns(
         },
         residual_jacobian: quote! {
             #rj_stmts
-            let #jac_mut __jac = #na::SMatrix::<f64, #n, #n>::zeros();
-            #( #assigns )*
-            (#na::SVector::<f64, #n>::from([ #( #rj_r ),* ]), __jac)
+            (#na::SVector::<f64, #n>::from([ #( #rj_r ),* ]), #jacobian_value)
         },
+        jacobian_type,
+        solver_type,
+        solver_new,
         momentum: quote! {
             #m_stmts
             #na::SVector::<f64, #m>::from([ #( #m_out ),* ])
@@ -510,6 +578,11 @@ fn reduced_impl(t: &Target, g: &Graph, side: &SideCode) -> (TokenStream, String,
         &general.momentum,
         &general.residual_momentum,
     );
+    let (jt, st, sn) = (
+        &general.jacobian_type,
+        &general.solver_type,
+        &general.solver_new,
+    );
     // The eliminated stepper: Newton on x_{k+1} alone; the third function returns the group
     // unknowns in closed form.
     let (eliminated, note) = match &side.eliminated {
@@ -576,6 +649,12 @@ fn reduced_impl(t: &Target, g: &Graph, side: &SideCode) -> (TokenStream, String,
         #allow
         #[automatically_derived]
         impl #rt::Reduced<#marker, #s, #k, #n> for #ty {
+            type Linear = #st;
+
+            fn linear_solver(&self) -> #st {
+                #sn
+            }
+
             #[allow(unused_variables)] // a Lagrangian need not read every coordinate
             fn reduced_lagrangian(&self, x0: #vs, x1: #vs, u: #vk) -> f64 {
                 #l_stmts
@@ -590,7 +669,7 @@ fn reduced_impl(t: &Target, g: &Graph, side: &SideCode) -> (TokenStream, String,
             #[inline]
             fn residual_jacobian(
                 &self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn,
-            ) -> (#na::SVector<f64, #n>, #na::SMatrix<f64, #n, #n>) {
+            ) -> (#na::SVector<f64, #n>, #jt) {
                 #rj
             }
 
@@ -647,21 +726,42 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
     let (minus_impl, minus_counts, minus_note) = reduced_impl(&target, &c.graph, &c.minus);
     let elimination_note = format!(" Momentum-level elimination: {plus_note}; {minus_note}.");
     let unreduced = stepper_fns(&c.graph, &c.unreduced, &unreduced_leaf, n, n);
-    let hessian_roots: Vec<NodeId> = c.hessian.iter().flatten().flatten().copied().collect();
-    let hessian_code = straight_line(&c.graph, &hessian_roots, &|sym| match sym {
-        Sym::Q0(i) => quote! { q0[#i] },
-        Sym::Q1(i) => quote! { q1[#i] },
-        Sym::Param(i) => param_leaf(i),
-        _ => unreachable!("L_d reads q0, q1 and its parameters"),
-    });
-    let hessian_stmts = &hessian_code.stmts;
-    let hessian_blocks = hessian_code.outputs.chunks(n * n).map(|block| {
-        quote! { #na::SMatrix::<f64, #n, #n>::from_row_slice(&[ #( #block ),* ]) }
+    let hessian_impl = c.hessian.as_ref().map(|hessian| {
+        let hessian_roots: Vec<NodeId> = hessian.iter().flatten().flatten().copied().collect();
+        let hessian_code = straight_line(&c.graph, &hessian_roots, &|sym| match sym {
+            Sym::Q0(i) => quote! { q0[#i] },
+            Sym::Q1(i) => quote! { q1[#i] },
+            Sym::Param(i) => param_leaf(i),
+            _ => unreachable!("L_d reads q0, q1 and its parameters"),
+        });
+        let hessian_stmts = &hessian_code.stmts;
+        let hessian_blocks = hessian_code.outputs.chunks(n * n).map(|block| {
+            quote! { #na::SMatrix::<f64, #n, #n>::from_row_slice(&[ #( #block ),* ]) }
+        });
+        let allow = lints::generated();
+        quote! {
+            #allow
+            #[automatically_derived]
+            impl #rt::LagrangianHessian<#s, #k, #n> for #ty {
+                #[allow(unused_variables)] // a Lagrangian need not read every coordinate
+                fn lagrangian_hessian(
+                    &self, q0: #vn, q1: #vn,
+                ) -> (#na::SMatrix<f64, #n, #n>, #na::SMatrix<f64, #n, #n>, #na::SMatrix<f64, #n, #n>) {
+                    #hessian_stmts
+                    ( #( #hessian_blocks ),* )
+                }
+            }
+        }
     });
     let (un_r, un_rj, un_m) = (
         &unreduced.residual,
         &unreduced.residual_jacobian,
         &unreduced.momentum,
+    );
+    let (un_jt, un_st, un_sn) = (
+        &unreduced.jacobian_type,
+        &unreduced.solver_type,
+        &unreduced.solver_new,
     );
 
     let b_flat: Vec<NodeId> = c.b.iter().flatten().copied().collect();
@@ -770,6 +870,12 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
         #allow
         #[automatically_derived]
         impl #rt::Unreduced<#s, #k, #n> for #ty {
+            type UnreducedLinear = #un_st;
+
+            fn unreduced_linear_solver(&self) -> #un_st {
+                #un_sn
+            }
+
             #[inline]
             fn unreduced_residual(&self, q_k: #vn, p_k: #vn, z: #vn) -> #na::SVector<f64, #n> {
                 #un_r
@@ -778,7 +884,7 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
             #[inline]
             fn unreduced_residual_jacobian(
                 &self, q_k: #vn, p_k: #vn, z: #vn,
-            ) -> (#na::SVector<f64, #n>, #na::SMatrix<f64, #n, #n>) {
+            ) -> (#na::SVector<f64, #n>, #un_jt) {
                 #un_rj
             }
 
@@ -786,15 +892,9 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
             fn unreduced_momentum(&self, q_k: #vn, z: #vn) -> #na::SVector<f64, #n> {
                 #un_m
             }
-
-            #[allow(unused_variables)] // a Lagrangian need not read every coordinate
-            fn lagrangian_hessian(
-                &self, q0: #vn, q1: #vn,
-            ) -> (#na::SMatrix<f64, #n, #n>, #na::SMatrix<f64, #n, #n>, #na::SMatrix<f64, #n, #n>) {
-                #hessian_stmts
-                ( #( #hessian_blocks ),* )
-            }
         }
+
+        #hessian_impl
     }
 }
 
@@ -881,6 +981,8 @@ fn stub_impls(spec: &Spec, sig: &Signature, ty: &Ident) -> TokenStream {
         #(
             #[allow(unused_variables)]
             impl #rt::Reduced<#sides, #s, #k, #n> for #ty {
+                type Linear = #rt::Lu<#n>;
+                fn linear_solver(&self) -> #rt::Lu<#n> { #stub }
                 fn reduced_lagrangian(&self, x0: #vs, x1: #vs, u: #vk) -> f64 { #stub }
                 fn residual(&self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn) -> #rn { #stub }
                 fn residual_jacobian(
@@ -892,11 +994,17 @@ fn stub_impls(spec: &Spec, sig: &Signature, ty: &Ident) -> TokenStream {
 
         #[allow(unused_variables)]
         impl #rt::Unreduced<#s, #k, #n> for #ty {
+            type UnreducedLinear = #rt::Lu<#n>;
+            fn unreduced_linear_solver(&self) -> #rt::Lu<#n> { #stub }
             fn unreduced_residual(&self, q_k: #vn, p_k: #vn, z: #vn) -> #rn { #stub }
             fn unreduced_residual_jacobian(&self, q_k: #vn, p_k: #vn, z: #vn) -> (#rn, #mnn) {
                 #stub
             }
             fn unreduced_momentum(&self, q_k: #vn, z: #vn) -> #rn { #stub }
+        }
+
+        #[allow(unused_variables)]
+        impl #rt::LagrangianHessian<#s, #k, #n> for #ty {
             fn lagrangian_hessian(&self, q0: #vn, q1: #vn) -> (#mnn, #mnn, #mnn) { #stub }
         }
     }

@@ -56,7 +56,7 @@ use crate::integrate::{
     canonical_guess, reduced_guess, ReducedIntegrator, StepJacobian, StepStats, UnreducedIntegrator,
 };
 use crate::state::{CanonicalState, ReducedState};
-use crate::system::{join, split, DiscreteLagrangian, Reduced, Side, Unreduced};
+use crate::system::{join, split, DiscreteLagrangian, LagrangianHessian, Reduced, Side, Unreduced};
 
 /// A symmetric composition scheme: the coefficients `γ_1, …, γ_s` of the substeps `γ_i h`, with
 /// `Σ γ_i = 1` and `γ_i = γ_{s+1−i}`, and the order it reaches from a symmetric base step of
@@ -513,7 +513,7 @@ where
 
 impl<L, const S: usize, const K: usize, const N: usize> Composition<UnreducedIntegrator<L, S, K, N>>
 where
-    L: Unreduced<S, K, N> + Clone,
+    L: LagrangianHessian<S, K, N> + Clone,
 {
     /// Takes macro step `k` from `from` and returns the end state with the Jacobian of the
     /// composed step map, `M = M_s ⋯ M_2 M_1` by the chain rule, `M_i` the step-map Jacobian of

@@ -9,7 +9,7 @@ use crate::lu::Lu;
 use crate::newton::{self, NewtonFailure, NewtonOptions, NewtonSolution};
 use crate::state::{CanonicalState, ReducedState};
 pub use crate::system::Variant;
-use crate::system::{join, split, Minus, Plus, Reduced, Side, Unreduced};
+use crate::system::{join, split, LagrangianHessian, Minus, Plus, Reduced, Side, Unreduced};
 
 /// What one step cost.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -66,6 +66,84 @@ impl StepStatsExt for [StepStats] {
             .enumerate()
             .filter_map(|(k, s)| s.rcond.map(|r| (k, r)))
             .min_by(|a, b| a.1.total_cmp(&b.1))
+    }
+}
+
+/// What a step produced besides the new state: the solved group unknown (`u`; `()` for the
+/// unreduced equations) and the Newton statistics. Passed to the observer of a streaming run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepRecord<U> {
+    /// The reduced group unknown of the step (see [`Trajectory::increments`]).
+    pub increment: U,
+    /// Newton statistics of the step.
+    pub stats: StepStats,
+}
+
+/// The outcome of a streaming run ([`ReducedIntegrator::run`], [`UnreducedIntegrator::run`]):
+/// the last state and statistics accumulated over the steps, in memory independent of the
+/// number of steps.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RunSummary<St> {
+    /// The time step `h`.
+    pub h: f64,
+    /// Completed steps.
+    pub steps: usize,
+    /// The state after the last completed step (the initial state if none).
+    pub last: St,
+    /// Newton corrections over all steps.
+    pub iterations: usize,
+    /// Most Newton corrections in one step.
+    pub max_iterations: usize,
+    /// Largest accepted residual.
+    pub max_residual: f64,
+    /// The worst (smallest) reciprocal condition estimate of a step Jacobian, and its step.
+    pub worst_rcond: Option<(usize, f64)>,
+}
+
+impl<St> RunSummary<St> {
+    fn new(h: f64, initial: St) -> Self {
+        Self {
+            h,
+            steps: 0,
+            last: initial,
+            iterations: 0,
+            max_iterations: 0,
+            max_residual: 0.0,
+            worst_rcond: None,
+        }
+    }
+
+    fn record(&mut self, next: St, stats: &StepStats) {
+        if let Some(r) = stats.rcond {
+            if self.worst_rcond.is_none_or(|(_, w)| r < w) {
+                self.worst_rcond = Some((self.steps, r));
+            }
+        }
+        self.steps += 1;
+        self.last = next;
+        self.iterations += stats.iterations;
+        self.max_iterations = self.max_iterations.max(stats.iterations);
+        self.max_residual = self.max_residual.max(stats.residual);
+    }
+
+    /// Mean Newton corrections per step (0 for no steps).
+    pub fn mean_iterations(&self) -> f64 {
+        if self.steps == 0 {
+            0.0
+        } else {
+            self.iterations as f64 / self.steps as f64
+        }
+    }
+
+    /// The time reached.
+    pub fn time(&self) -> f64 {
+        self.steps as f64 * self.h
+    }
+}
+
+impl<St> Steps for RunSummary<St> {
+    fn completed_steps(&self) -> usize {
+        self.steps
     }
 }
 
@@ -282,8 +360,30 @@ where
 
     /// Takes step `k` from `state`, starting Newton at `guess` for `z = (x_{k+1}, u)`.
     /// Returns the new state, the solved group unknown `u` and the step's statistics.
+    ///
+    /// Builds a fresh linear-solver workspace ([`Reduced::linear_solver`]): free for the dense
+    /// backend, a symbolic factorization and its memory for the sparse one. Loops over steps
+    /// should build one with [`Self::workspace`] and call [`Self::step_in`], as
+    /// [`Self::integrate`] and [`Self::run`] do.
     pub fn step(
         &self,
+        k: usize,
+        state: &ReducedState<S, K>,
+        guess: &SVector<f64, N>,
+    ) -> Result<(ReducedState<S, K>, SVector<f64, K>, StepStats), StepError> {
+        self.step_in(&mut self.workspace(), k, state, guess)
+    }
+
+    /// The linear-solver workspace a step runs in, to be reused by every step of a run.
+    pub fn workspace(&self) -> L::Linear {
+        self.system.linear_solver()
+    }
+
+    /// [`Self::step`] in the workspace `solver` (from [`Self::workspace`]): after the first
+    /// factorization no step allocates.
+    pub fn step_in(
+        &self,
+        solver: &mut L::Linear,
         k: usize,
         state: &ReducedState<S, K>,
         guess: &SVector<f64, N>,
@@ -297,7 +397,8 @@ where
         // The residual alone is evaluated with w_{k+1} (one straight line): where Newton accepts
         // that iterate, the momentum update is already known.
         let mut tested: Option<(SVector<f64, N>, SVector<f64, S>)> = None;
-        let solution = newton::solve(
+        let solution = newton::solve_with(
+            solver,
             *guess,
             rho,
             &self.options,
@@ -423,48 +524,97 @@ where
         Ok((next, u, stats))
     }
 
-    /// Integrates `steps` steps from `initial`.
+    /// Integrates `steps` steps from `initial` and keeps every state.
     ///
     /// Newton starts each step from [`reduced_guess`], a quadratic extrapolation of the last
     /// shape points and a linear one of the last group unknowns. On failure the error holds the
-    /// trajectory computed so far.
+    /// trajectory computed so far. For long runs that need not keep every state, see
+    /// [`Self::run`].
     pub fn integrate(
         &mut self,
         initial: ReducedState<S, K>,
         steps: usize,
     ) -> Result<Trajectory<S, K>, Box<IntegrationError<Trajectory<S, K>>>> {
-        let h = self.system.time_step();
+        self.collect(initial, steps)
+    }
+
+    /// [`Self::integrate`] through a shared reference (what an ensemble member runs).
+    pub(crate) fn collect(
+        &self,
+        initial: ReducedState<S, K>,
+        steps: usize,
+    ) -> Result<Trajectory<S, K>, Box<IntegrationError<Trajectory<S, K>>>> {
         let mut trajectory = Trajectory {
-            h,
+            h: self.system.time_step(),
             variant: D::VARIANT,
             states: Vec::with_capacity(steps + 1),
             increments: Vec::with_capacity(steps),
             stats: Vec::with_capacity(steps),
         };
-        trajectory.states.push(initial);
-        let fail = |source, trajectory| Box::new(IntegrationError::new(source, trajectory, steps));
-        if let Err(e) = check_inputs(h, &self.system.parameter_values(), initial.is_finite()) {
-            return Err(fail(e, trajectory));
+        let outcome = self.run(initial, steps, |_, state, step| {
+            trajectory.states.push(*state);
+            if let Some(step) = step {
+                trajectory.increments.push(step.increment);
+                trajectory.stats.push(step.stats);
+            }
+        });
+        match outcome {
+            Ok(_) => Ok(trajectory),
+            Err(e) => Err(Box::new(IntegrationError::new(
+                e.source,
+                trajectory,
+                e.requested,
+            ))),
         }
+    }
+
+    /// Integrates `steps` steps from `initial` without storing them: `observe(k, state, step)`
+    /// sees every state `k = 0..=steps` as it is computed (with the step that produced it, `None`
+    /// for the initial state), so a run needs memory independent of its length — keep every
+    /// `k`-th state, accumulate statistics, write to a file. One linear-solver workspace serves
+    /// the whole run, and no step allocates. The summary (last state, Newton statistics) is
+    /// returned, or on failure kept in the error with the step index and residual.
+    pub fn run(
+        &self,
+        initial: ReducedState<S, K>,
+        steps: usize,
+        mut observe: impl FnMut(usize, &ReducedState<S, K>, Option<&StepRecord<SVector<f64, K>>>),
+    ) -> Result<RunSummary<ReducedState<S, K>>, Box<IntegrationError<RunSummary<ReducedState<S, K>>>>>
+    {
+        let mut summary = RunSummary::new(self.system.time_step(), initial);
+        let fail = |source, summary| Box::new(IntegrationError::new(source, summary, steps));
+        // The initial state is part of what a failed run keeps, even if it is invalid.
+        observe(0, &initial, None);
+        if let Err(e) = check_inputs(
+            summary.h,
+            &self.system.parameter_values(),
+            initial.is_finite(),
+        ) {
+            return Err(fail(e, summary));
+        }
+        let mut solver = self.workspace();
         let mut state = initial;
         // The shape increments and group unknowns of the last two steps, newest first.
         let mut last: Option<(SVector<f64, S>, SVector<f64, K>)> = None;
         let mut before: Option<(SVector<f64, S>, SVector<f64, K>)> = None;
         for k in 0..steps {
             let guess = reduced_guess::<S, K, N>(&state.x, last.as_ref(), before.as_ref());
-            match self.step(k, &state, &guess) {
+            match self.step_in(&mut solver, k, &state, &guess) {
                 Ok((next, u, stats)) => {
                     before = last;
                     last = Some((next.x - state.x, u));
-                    trajectory.states.push(next);
-                    trajectory.increments.push(u);
-                    trajectory.stats.push(stats);
+                    let record = StepRecord {
+                        increment: u,
+                        stats,
+                    };
+                    summary.record(next, &stats);
+                    observe(k + 1, &next, Some(&record));
                     state = next;
                 }
-                Err(source) => return Err(fail(source, trajectory)),
+                Err(source) => return Err(fail(source, summary)),
             }
         }
-        Ok(trajectory)
+        Ok(summary)
     }
 }
 
@@ -579,9 +729,26 @@ where
         &self.options
     }
 
-    /// Takes step `k` from `state`, starting Newton at `guess` for `q_{k+1}`.
+    /// Takes step `k` from `state`, starting Newton at `guess` for `q_{k+1}`, in a fresh
+    /// workspace (see [`ReducedIntegrator::step`]; loops use [`Self::step_in`]).
     pub fn step(
         &self,
+        k: usize,
+        state: &CanonicalState<N>,
+        guess: &SVector<f64, N>,
+    ) -> Result<(CanonicalState<N>, StepStats), StepError> {
+        self.step_in(&mut self.workspace(), k, state, guess)
+    }
+
+    /// The linear-solver workspace a step runs in, to be reused by every step of a run.
+    pub fn workspace(&self) -> L::UnreducedLinear {
+        self.system.unreduced_linear_solver()
+    }
+
+    /// [`Self::step`] in the workspace `solver` (from [`Self::workspace`]).
+    pub fn step_in(
+        &self,
+        solver: &mut L::UnreducedLinear,
         k: usize,
         state: &CanonicalState<N>,
         guess: &SVector<f64, N>,
@@ -589,7 +756,8 @@ where
         let sys = &self.system;
         let (q, p) = (&state.q, &state.p);
         let rho = newton::inf_norm(p);
-        let solution = newton::solve(
+        let solution = newton::solve_with(
+            solver,
             *guess,
             rho,
             &self.options,
@@ -614,6 +782,97 @@ where
         ))
     }
 
+    /// Integrates `steps` steps from `initial` and keeps every state, starting Newton from
+    /// [`canonical_guess`], a quadratic extrapolation of the last configurations. On failure the
+    /// error holds the trajectory computed so far. See [`Self::run`] for runs in constant memory.
+    pub fn integrate(
+        &mut self,
+        initial: CanonicalState<N>,
+        steps: usize,
+    ) -> Result<CanonicalTrajectory<N>, Box<IntegrationError<CanonicalTrajectory<N>>>> {
+        self.collect(initial, steps)
+    }
+
+    /// [`Self::integrate`] through a shared reference (what an ensemble member runs).
+    pub(crate) fn collect(
+        &self,
+        initial: CanonicalState<N>,
+        steps: usize,
+    ) -> Result<CanonicalTrajectory<N>, Box<IntegrationError<CanonicalTrajectory<N>>>> {
+        let mut trajectory = CanonicalTrajectory {
+            h: self.system.time_step(),
+            states: Vec::with_capacity(steps + 1),
+            stats: Vec::with_capacity(steps),
+        };
+        let outcome = self.run(initial, steps, |_, state, step| {
+            trajectory.states.push(*state);
+            if let Some(step) = step {
+                trajectory.stats.push(step.stats);
+            }
+        });
+        match outcome {
+            Ok(_) => Ok(trajectory),
+            Err(e) => Err(Box::new(IntegrationError::new(
+                e.source,
+                trajectory,
+                e.requested,
+            ))),
+        }
+    }
+
+    /// Integrates without storing the trajectory: `observe(k, state, step)` sees every state
+    /// (see [`ReducedIntegrator::run`]).
+    pub fn run(
+        &self,
+        initial: CanonicalState<N>,
+        steps: usize,
+        mut observe: impl FnMut(usize, &CanonicalState<N>, Option<&StepRecord<()>>),
+    ) -> Result<RunSummary<CanonicalState<N>>, Box<IntegrationError<RunSummary<CanonicalState<N>>>>>
+    {
+        let mut summary = RunSummary::new(self.system.time_step(), initial);
+        let fail = |source, summary| Box::new(IntegrationError::new(source, summary, steps));
+        // The initial state is part of what a failed run keeps, even if it is invalid.
+        observe(0, &initial, None);
+        if let Err(e) = check_inputs(
+            summary.h,
+            &self.system.parameter_values(),
+            initial.is_finite(),
+        ) {
+            return Err(fail(e, summary));
+        }
+        let mut solver = self.workspace();
+        let mut state = initial;
+        // The increments of the last two steps, newest first.
+        let (mut last, mut before): (Option<SVector<f64, N>>, Option<SVector<f64, N>>) =
+            (None, None);
+        for k in 0..steps {
+            let guess = canonical_guess(&state.q, last.as_ref(), before.as_ref());
+            match self.step_in(&mut solver, k, &state, &guess) {
+                Ok((next, stats)) => {
+                    before = last;
+                    last = Some(next.q - state.q);
+                    summary.record(next, &stats);
+                    observe(
+                        k + 1,
+                        &next,
+                        Some(&StepRecord {
+                            increment: (),
+                            stats,
+                        }),
+                    );
+                    state = next;
+                }
+                Err(source) => return Err(fail(source, summary)),
+            }
+        }
+        Ok(summary)
+    }
+}
+
+impl<L, const S: usize, const K: usize, const N: usize> UnreducedIntegrator<L, S, K, N>
+where
+    L: LagrangianHessian<S, K, N>,
+{
     /// The Jacobian of the step map `(q_k, p_k) ↦ (q_{k+1}, p_{k+1})` at a computed step, from the
     /// implicit-function theorem on `D1 L_d(q_k, q_{k+1}) + p_k = 0` and
     /// `p_{k+1} = D2 L_d(q_k, q_{k+1})` with the generated second derivatives: with
@@ -656,44 +915,5 @@ where
             dp_dq: d12.transpose() + d22 * dq_dq,
             dp_dp: d22 * dq_dp,
         })
-    }
-
-    /// Integrates `steps` steps from `initial`, starting Newton from [`canonical_guess`], a
-    /// quadratic extrapolation of the last configurations. On failure the error holds the
-    /// trajectory computed so far.
-    pub fn integrate(
-        &mut self,
-        initial: CanonicalState<N>,
-        steps: usize,
-    ) -> Result<CanonicalTrajectory<N>, Box<IntegrationError<CanonicalTrajectory<N>>>> {
-        let h = self.system.time_step();
-        let mut trajectory = CanonicalTrajectory {
-            h,
-            states: Vec::with_capacity(steps + 1),
-            stats: Vec::with_capacity(steps),
-        };
-        trajectory.states.push(initial);
-        let fail = |source, trajectory| Box::new(IntegrationError::new(source, trajectory, steps));
-        if let Err(e) = check_inputs(h, &self.system.parameter_values(), initial.is_finite()) {
-            return Err(fail(e, trajectory));
-        }
-        let mut state = initial;
-        // The increments of the last two steps, newest first.
-        let (mut last, mut before): (Option<SVector<f64, N>>, Option<SVector<f64, N>>) =
-            (None, None);
-        for k in 0..steps {
-            let guess = canonical_guess(&state.q, last.as_ref(), before.as_ref());
-            match self.step(k, &state, &guess) {
-                Ok((next, stats)) => {
-                    before = last;
-                    last = Some(next.q - state.q);
-                    trajectory.states.push(next);
-                    trajectory.stats.push(stats);
-                    state = next;
-                }
-                Err(source) => return Err(fail(source, trajectory)),
-            }
-        }
-        Ok(trajectory)
     }
 }

@@ -19,10 +19,12 @@ pub mod atlas;
 pub mod compose;
 pub mod continuous;
 pub mod diagnostics;
+pub mod ensemble;
 pub mod error;
 pub mod integrate;
 pub mod lu;
 pub mod newton;
+pub mod sparse;
 pub mod state;
 pub mod system;
 
@@ -38,12 +40,16 @@ pub use diagnostics::{
 };
 pub use error::{IntegrationError, StepError, Steps};
 pub use integrate::{
-    CanonicalTrajectory, ReducedIntegrator, StepJacobian, StepStats, StepStatsExt, Trajectory,
-    UnreducedIntegrator,
+    CanonicalTrajectory, ReducedIntegrator, RunSummary, StepJacobian, StepRecord, StepStats,
+    StepStatsExt, Trajectory, UnreducedIntegrator,
 };
-pub use newton::NewtonOptions;
+pub use lu::Lu;
+pub use newton::{LinearSolver, NewtonOptions};
+pub use sparse::{CscPattern, CscValues, SparseLu, DENSE_MAX};
 pub use state::{CanonicalState, ReducedState};
-pub use system::{DiscreteLagrangian, Minus, Plus, Reduced, Side, Unreduced, Variant};
+pub use system::{
+    DiscreteLagrangian, LagrangianHessian, Minus, Plus, Reduced, Side, Unreduced, Variant,
+};
 
 /// Re-exported so that emitted code and users name the same nalgebra.
 pub use nalgebra;

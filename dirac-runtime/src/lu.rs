@@ -91,6 +91,22 @@ pub enum FactorError {
 }
 
 impl<const N: usize> Lu<N> {
+    /// Factors of nothing yet: a workspace for [`crate::newton::LinearSolver::factor`] (the
+    /// identity's factors, so every method is defined).
+    pub fn empty() -> Self {
+        let mut lu = [[0.0; N]; N];
+        let mut perm = [0usize; N];
+        for i in 0..N {
+            lu[i][i] = 1.0;
+            perm[i] = i;
+        }
+        Self {
+            lu,
+            perm,
+            norm1: if N == 0 { 0.0 } else { 1.0 },
+        }
+    }
+
     /// Factors `a`; `None` when an entry is not finite or a pivot is exactly zero.
     pub fn new(a: SMatrix<f64, N, N>) -> Option<Self> {
         Self::factor(&a).ok()

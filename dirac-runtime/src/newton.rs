@@ -93,42 +93,46 @@ impl NewtonVector for nalgebra::DVector<f64> {
 
 /// The linear solver the Newton driver is generic over (the separation of SUNDIALS/KINSOL): it
 /// factors a Jacobian, solves with the factors, and reports the conditioning figures the step
-/// is checked with. [`Lu`] is the dense fixed-size backend.
-pub trait LinearSolver: Sized {
+/// is checked with. It is a workspace: `factor` overwrites the previous factors in place, so a
+/// backend that needs memory (the sparse [`crate::SparseLu`]: its symbolic analysis, fill and
+/// scratch) allocates it once, when it is built, and reuses it across Newton iterations and
+/// steps. [`Lu`] is the dense fixed-size backend, whose factors live on the stack.
+pub trait LinearSolver {
     /// The vector type of residuals and corrections.
     type Vector: NewtonVector;
-    /// The Jacobian type.
+    /// The Jacobian type, as the step functions return it.
     type Matrix;
-    /// Factors `j`.
-    fn factor(j: &Self::Matrix) -> Result<Self, FactorError>;
-    /// Solves `J x = b` with the factors.
-    fn solve(&self, b: &Self::Vector) -> Self::Vector;
-    /// `‖J‖₁`.
+    /// Factors `j`, replacing the previous factors.
+    fn factor(&mut self, j: &Self::Matrix) -> Result<(), FactorError>;
+    /// Solves `J x = b` with the current factors.
+    fn solve(&mut self, b: &Self::Vector) -> Self::Vector;
+    /// `‖J‖₁` of the factored Jacobian.
     fn norm1(&self) -> f64;
-    /// A cheap guaranteed lower bound on `1 / (‖J‖₁ ‖J⁻¹‖₁)`.
-    fn rcond_lower_bound(&self) -> f64;
+    /// A cheap guaranteed lower bound on `1 / (‖J‖₁ ‖J⁻¹‖₁)` (0 where a backend has none).
+    fn rcond_lower_bound(&mut self) -> f64;
     /// The (more expensive, more accurate) estimate of `1 / (‖J‖₁ ‖J⁻¹‖₁)`.
-    fn rcond(&self) -> f64;
+    fn rcond(&mut self) -> f64;
 }
 
 impl<const N: usize> LinearSolver for Lu<N> {
     type Vector = SVector<f64, N>;
     type Matrix = SMatrix<f64, N, N>;
     #[inline]
-    fn factor(j: &Self::Matrix) -> Result<Self, FactorError> {
-        Lu::factor(j)
+    fn factor(&mut self, j: &Self::Matrix) -> Result<(), FactorError> {
+        *self = Lu::factor(j)?;
+        Ok(())
     }
     #[inline]
-    fn solve(&self, b: &Self::Vector) -> Self::Vector {
+    fn solve(&mut self, b: &Self::Vector) -> Self::Vector {
         Lu::solve(self, b)
     }
     fn norm1(&self) -> f64 {
         Lu::norm1(self)
     }
-    fn rcond_lower_bound(&self) -> f64 {
+    fn rcond_lower_bound(&mut self) -> f64 {
         Lu::rcond_lower_bound(self)
     }
-    fn rcond(&self) -> f64 {
+    fn rcond(&mut self) -> f64 {
         Lu::rcond(self)
     }
 }
@@ -145,7 +149,7 @@ pub const RCOND_CLEARANCE: f64 = 2.0;
 /// [`LinearSolver::rcond`]. So a step is refused exactly when Hager's estimate is below
 /// `min_rcond`, as if it ran on every step, while healthy steps pay for one extra solve instead
 /// of up to ten.
-pub fn checked_rcond<B: LinearSolver>(factors: &B, min_rcond: f64) -> f64 {
+pub fn checked_rcond<B: LinearSolver>(factors: &mut B, min_rcond: f64) -> f64 {
     let bound = factors.rcond_lower_bound();
     if bound >= RCOND_CLEARANCE * min_rcond {
         bound
@@ -222,10 +226,18 @@ pub fn solve<const N: usize>(
     residual: impl FnMut(&SVector<f64, N>) -> SVector<f64, N>,
     residual_jacobian: impl FnMut(&SVector<f64, N>) -> (SVector<f64, N>, SMatrix<f64, N, N>),
 ) -> Result<NewtonSolution<SVector<f64, N>>, NewtonFailure> {
-    solve_with::<Lu<N>>(z0, rho, options, residual, residual_jacobian)
+    solve_with(
+        &mut Lu::<N>::empty(),
+        z0,
+        rho,
+        options,
+        residual,
+        residual_jacobian,
+    )
 }
 
-/// [`solve`] with the linear solver `B`: the one Newton driver of every step.
+/// [`solve`] with the linear solver `solver` (its factors are overwritten): the one Newton
+/// driver of every step, dense or sparse.
 ///
 /// Per correction: factor the Jacobian at the iterate, solve, update. The new iterate is then
 /// tested with a real residual, from `residual` alone when Newton's quadratic model says it has
@@ -235,6 +247,7 @@ pub fn solve<const N: usize>(
 /// freshly evaluated residual. The conditioning of the last Jacobian factored is checked once per
 /// solve, with [`checked_rcond`].
 pub fn solve_with<B: LinearSolver>(
+    solver: &mut B,
     z0: B::Vector,
     rho: f64,
     options: &NewtonOptions,
@@ -253,15 +266,16 @@ pub fn solve_with<B: LinearSolver>(
     // Whether `r_j, jacobian` were evaluated at the current iterate.
     let mut fresh = true;
     let mut iterations = 0;
-    let mut factor: Option<B> = None;
+    // Whether `solver` holds the factors of a Jacobian of this solve.
+    let mut factored = false;
     // The relative size of the last correction, for the quadratic model.
     let mut last_step: Option<f64> = None;
-    let condition = |f: &B| checked_rcond(f, options.min_rcond);
-    let done = |z, iterations, residual, factor: Option<B>| {
-        let rcond = factor.as_ref().map(condition);
-        let jacobian_norm1 = factor.as_ref().map(|f| f.norm1());
+    let min_rcond = options.min_rcond;
+    let done = |solver: &mut B, z, iterations, residual, factored: bool| {
+        let rcond = factored.then(|| checked_rcond(solver, min_rcond));
+        let jacobian_norm1 = factored.then(|| solver.norm1());
         match rcond {
-            Some(rcond) if rcond < options.min_rcond => {
+            Some(rcond) if rcond < min_rcond => {
                 Err(NewtonFailure::IllConditioned { rcond, residual })
             }
             _ => Ok(NewtonSolution {
@@ -274,8 +288,10 @@ pub fn solve_with<B: LinearSolver>(
         }
     };
     // A failure whose last Jacobian was ill-conditioned is reported as such: that is the cause.
-    let failed = |failure: NewtonFailure, factor: &Option<B>| match factor.as_ref().map(condition) {
-        Some(rcond) if rcond < options.min_rcond => NewtonFailure::IllConditioned {
+    let failed = |solver: &mut B, failure: NewtonFailure, factored: bool| match factored
+        .then(|| checked_rcond(solver, min_rcond))
+    {
+        Some(rcond) if rcond < min_rcond => NewtonFailure::IllConditioned {
             rcond,
             residual: match failure {
                 NewtonFailure::NotConverged { residual, .. }
@@ -288,25 +304,24 @@ pub fn solve_with<B: LinearSolver>(
     };
     loop {
         if norm <= tol {
-            return done(z, iterations, norm, factor);
+            return done(solver, z, iterations, norm, factored);
         }
         if iterations == options.max_iterations {
             let failure = NewtonFailure::NotConverged {
                 iterations,
                 residual: norm,
             };
-            return Err(failed(failure, &factor));
+            return Err(failed(solver, failure, factored));
         }
         if !fresh {
             (r_j, jacobian) = residual_jacobian(&z);
         }
-        let lu = match B::factor(&jacobian) {
-            Ok(lu) => lu,
+        match solver.factor(&jacobian) {
+            Ok(()) => factored = true,
             Err(FactorError::NonFinite) => return Err(NewtonFailure::NonFinite { residual: norm }),
             Err(FactorError::Singular) => return Err(NewtonFailure::Singular { residual: norm }),
-        };
-        let dz = lu.solve(&r_j);
-        factor = Some(lu);
+        }
+        let dz = solver.solve(&r_j);
         if dz.components().iter().any(|v| !v.is_finite()) {
             return Err(NewtonFailure::Singular { residual: norm });
         }
@@ -336,12 +351,13 @@ pub fn solve_with<B: LinearSolver>(
         }
         if !norm.is_finite() {
             return Err(failed(
+                solver,
                 NewtonFailure::NonFinite { residual: previous },
-                &factor,
+                factored,
             ));
         }
         if small {
-            return done(z, iterations, norm, factor);
+            return done(solver, z, iterations, norm, factored);
         }
     }
 }

@@ -5,6 +5,7 @@
 
 use nalgebra::{SMatrix, SVector};
 
+use crate::newton::LinearSolver;
 use crate::state::{CanonicalState, ReducedState};
 
 /// A discrete Lagrangian `L_d : Q × Q → R` invariant under translation of the group coordinates,
@@ -223,6 +224,15 @@ impl Side for Minus {
 pub trait Reduced<D: Side, const S: usize, const K: usize, const N: usize>:
     DiscreteLagrangian<S, K, N>
 {
+    /// The linear algebra of this side's steps, chosen by the compiler from the size of the
+    /// system: [`crate::Lu`] (dense, fixed-size, on the stack) for `N ≤` [`crate::DENSE_MAX`],
+    /// [`crate::SparseLu`] on the compile-time sparsity pattern of `∂R/∂z` above.
+    type Linear: LinearSolver<Vector = SVector<f64, N>>;
+
+    /// A workspace for [`Self::Linear`]: built once per integration (for the sparse backend this
+    /// is the symbolic factorization and all scratch memory) and reused by every step.
+    fn linear_solver(&self) -> Self::Linear;
+
     /// The reduced Lagrangian at `(x0, x1)` and the group unknown `u`:
     /// `l_{d+}(x0, x1, g1 = u)`, eq. (4.5), or `l_{d−}(x0, g0 = u, x1)`, eq. (4.7).
     fn reduced_lagrangian(
@@ -251,7 +261,7 @@ pub trait Reduced<D: Side, const S: usize, const K: usize, const N: usize>:
         w_k: &SVector<f64, S>,
         mu_k: &SVector<f64, K>,
         z: &SVector<f64, N>,
-    ) -> (SVector<f64, N>, SMatrix<f64, N, N>);
+    ) -> (SVector<f64, N>, <Self::Linear as LinearSolver>::Matrix);
 
     /// The momentum update `w_{k+1} = ∂l/∂x1 (x_k, z)` (first line of eq. (4.6); the `w_{k+1}`
     /// line of [`Minus`]).
@@ -335,6 +345,12 @@ pub trait Reduced<D: Side, const S: usize, const K: usize, const N: usize>:
 pub trait Unreduced<const S: usize, const K: usize, const N: usize>:
     DiscreteLagrangian<S, K, N>
 {
+    /// The linear algebra of the unreduced steps (see [`Reduced::Linear`]).
+    type UnreducedLinear: LinearSolver<Vector = SVector<f64, N>>;
+
+    /// A workspace for [`Self::UnreducedLinear`], built once per integration.
+    fn unreduced_linear_solver(&self) -> Self::UnreducedLinear;
+
     /// `R(z) = D1 L_d(q_k, z) + p_k`.
     fn unreduced_residual(
         &self,
@@ -349,11 +365,22 @@ pub trait Unreduced<const S: usize, const K: usize, const N: usize>:
         q_k: &SVector<f64, N>,
         p_k: &SVector<f64, N>,
         z: &SVector<f64, N>,
-    ) -> (SVector<f64, N>, SMatrix<f64, N, N>);
+    ) -> (
+        SVector<f64, N>,
+        <Self::UnreducedLinear as LinearSolver>::Matrix,
+    );
 
     /// `p_{k+1} = D2 L_d(q_k, q_{k+1})`.
     fn unreduced_momentum(&self, q_k: &SVector<f64, N>, z: &SVector<f64, N>) -> SVector<f64, N>;
+}
 
+/// The second derivatives of `L_d`, emitted for systems on the dense backend
+/// (`N ≤` [`crate::DENSE_MAX`]): what the step-map Jacobian needs
+/// ([`crate::UnreducedIntegrator::step_jacobian`]). A large system's step-map Jacobian is a dense
+/// `2N × 2N` matrix and is not offered.
+pub trait LagrangianHessian<const S: usize, const K: usize, const N: usize>:
+    Unreduced<S, K, N>
+{
     /// The Hessian blocks `(D11 L_d, D12 L_d, D22 L_d)` at `(q0, q1)`, with
     /// `D12[(i, j)] = ∂²L_d/∂q0_i ∂q1_j`: what the step-map Jacobian needs (see
     /// [`crate::UnreducedIntegrator::step_jacobian`]).

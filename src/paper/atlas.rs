@@ -27,10 +27,10 @@
 //! itself does not appear (G-invariance by construction). All three use the paper's midpoint
 //! rule in their own coordinates.
 
+use crate::chart_transition;
 use crate::paper::DoubleSphericalPendulum;
 use crate::prelude::*;
 use crate::runtime::atlas::AtlasIntegrator;
-use crate::{chart_transition, Unreduced};
 
 /// The index of the paper's chart in [`DoubleSphericalPendulum::atlas`].
 pub const PAPER: usize = 0;
@@ -259,7 +259,7 @@ pub const SWITCH_BELOW: f64 = 0.3;
 /// singular set).
 pub fn hamiltonian<L>(system: &L, state: &ReducedState<3, 1>) -> Option<f64>
 where
-    L: Unreduced<3, 1, 4>,
+    L: crate::LagrangianHessian<3, 1, 4>,
 {
     let canonical = system.untrivialize(state);
     let q = canonical.q;

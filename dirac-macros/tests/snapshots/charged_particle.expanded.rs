@@ -229,6 +229,10 @@ impl ::dirac::runtime::DiscreteLagrangian<3usize, 1usize, 4usize> for ChargedPar
 #[automatically_derived]
 impl ::dirac::runtime::Reduced<::dirac::runtime::Plus, 3usize, 1usize, 4usize>
 for ChargedParticle {
+    type Linear = ::dirac::runtime::Lu<4usize>;
+    fn linear_solver(&self) -> ::dirac::runtime::Lu<4usize> {
+        ::dirac::runtime::Lu::empty()
+    }
     #[allow(unused_variables)]
     fn reduced_lagrangian(
         &self,
@@ -437,23 +441,29 @@ for ChargedParticle {
         let __t136: f64 = __t69 + __t69;
         let __t137: f64 = __t82 + __t82;
         let __t138: f64 = __t32 + __t32;
-        let mut __jac = ::dirac::nalgebra::SMatrix::<f64, 4usize, 4usize>::zeros();
-        __jac[(0usize, 0usize)] = __t108;
-        __jac[(0usize, 1usize)] = __t130;
-        __jac[(0usize, 3usize)] = __t136;
-        __jac[(1usize, 0usize)] = __t122;
-        __jac[(1usize, 1usize)] = __t134;
-        __jac[(1usize, 3usize)] = __t137;
-        __jac[(2usize, 2usize)] = __t102;
-        __jac[(3usize, 0usize)] = __t123;
-        __jac[(3usize, 1usize)] = __t135;
-        __jac[(3usize, 3usize)] = __t138;
         (
             ::dirac::nalgebra::SVector::<
                 f64,
                 4usize,
             >::from([__t75, __t88, __t93, __t96]),
-            __jac,
+            {
+                let mut __jac = ::dirac::nalgebra::SMatrix::<
+                    f64,
+                    4usize,
+                    4usize,
+                >::zeros();
+                __jac[(0usize, 0usize)] = __t108;
+                __jac[(0usize, 1usize)] = __t130;
+                __jac[(0usize, 3usize)] = __t136;
+                __jac[(1usize, 0usize)] = __t122;
+                __jac[(1usize, 1usize)] = __t134;
+                __jac[(1usize, 3usize)] = __t137;
+                __jac[(2usize, 2usize)] = __t102;
+                __jac[(3usize, 0usize)] = __t123;
+                __jac[(3usize, 1usize)] = __t135;
+                __jac[(3usize, 3usize)] = __t138;
+                __jac
+            },
         )
     }
     #[inline]
@@ -783,15 +793,21 @@ for ChargedParticle {
             let __t448: f64 = __t82 * __t440;
             let __t449: f64 = __t447 + __t448;
             let __t450: f64 = __t102 + __t449;
-            let mut __jac = ::dirac::nalgebra::SMatrix::<f64, 3usize, 3usize>::zeros();
-            __jac[(0usize, 0usize)] = __t429;
-            __jac[(0usize, 1usize)] = __t446;
-            __jac[(1usize, 0usize)] = __t438;
-            __jac[(1usize, 1usize)] = __t450;
-            __jac[(2usize, 2usize)] = __t102;
             (
                 ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t417, __t422, __t93]),
-                __jac,
+                {
+                    let mut __jac = ::dirac::nalgebra::SMatrix::<
+                        f64,
+                        3usize,
+                        3usize,
+                    >::zeros();
+                    __jac[(0usize, 0usize)] = __t429;
+                    __jac[(0usize, 1usize)] = __t446;
+                    __jac[(1usize, 0usize)] = __t438;
+                    __jac[(1usize, 1usize)] = __t450;
+                    __jac[(2usize, 2usize)] = __t102;
+                    __jac
+                },
             )
         })
     }
@@ -880,6 +896,10 @@ for ChargedParticle {
 #[automatically_derived]
 impl ::dirac::runtime::Reduced<::dirac::runtime::Minus, 3usize, 1usize, 4usize>
 for ChargedParticle {
+    type Linear = ::dirac::runtime::Lu<4usize>;
+    fn linear_solver(&self) -> ::dirac::runtime::Lu<4usize> {
+        ::dirac::runtime::Lu::empty()
+    }
     #[allow(unused_variables)]
     fn reduced_lagrangian(
         &self,
@@ -1092,23 +1112,29 @@ for ChargedParticle {
         let __t233: f64 = __t232 - __t69;
         let __t234: f64 = -__t82;
         let __t235: f64 = __t234 - __t82;
-        let mut __jac = ::dirac::nalgebra::SMatrix::<f64, 4usize, 4usize>::zeros();
-        __jac[(0usize, 0usize)] = __t108;
-        __jac[(0usize, 1usize)] = __t229;
-        __jac[(0usize, 3usize)] = __t233;
-        __jac[(1usize, 0usize)] = __t225;
-        __jac[(1usize, 1usize)] = __t134;
-        __jac[(1usize, 3usize)] = __t235;
-        __jac[(2usize, 2usize)] = __t102;
-        __jac[(3usize, 0usize)] = __t226;
-        __jac[(3usize, 1usize)] = __t231;
-        __jac[(3usize, 3usize)] = __t138;
         (
             ::dirac::nalgebra::SVector::<
                 f64,
                 4usize,
             >::from([__t209, __t214, __t93, __t218]),
-            __jac,
+            {
+                let mut __jac = ::dirac::nalgebra::SMatrix::<
+                    f64,
+                    4usize,
+                    4usize,
+                >::zeros();
+                __jac[(0usize, 0usize)] = __t108;
+                __jac[(0usize, 1usize)] = __t229;
+                __jac[(0usize, 3usize)] = __t233;
+                __jac[(1usize, 0usize)] = __t225;
+                __jac[(1usize, 1usize)] = __t134;
+                __jac[(1usize, 3usize)] = __t235;
+                __jac[(2usize, 2usize)] = __t102;
+                __jac[(3usize, 0usize)] = __t226;
+                __jac[(3usize, 1usize)] = __t231;
+                __jac[(3usize, 3usize)] = __t138;
+                __jac
+            },
         )
     }
     #[inline]
@@ -1440,15 +1466,21 @@ for ChargedParticle {
             let __t543: f64 = __t82 * __t535;
             let __t544: f64 = __t542 + __t543;
             let __t545: f64 = __t102 + __t544;
-            let mut __jac = ::dirac::nalgebra::SMatrix::<f64, 3usize, 3usize>::zeros();
-            __jac[(0usize, 0usize)] = __t524;
-            __jac[(0usize, 1usize)] = __t541;
-            __jac[(1usize, 0usize)] = __t533;
-            __jac[(1usize, 1usize)] = __t545;
-            __jac[(2usize, 2usize)] = __t102;
             (
                 ::dirac::nalgebra::SVector::<f64, 3usize>::from([__t512, __t517, __t93]),
-                __jac,
+                {
+                    let mut __jac = ::dirac::nalgebra::SMatrix::<
+                        f64,
+                        3usize,
+                        3usize,
+                    >::zeros();
+                    __jac[(0usize, 0usize)] = __t524;
+                    __jac[(0usize, 1usize)] = __t541;
+                    __jac[(1usize, 0usize)] = __t533;
+                    __jac[(1usize, 1usize)] = __t545;
+                    __jac[(2usize, 2usize)] = __t102;
+                    __jac
+                },
             )
         })
     }
@@ -1537,6 +1569,10 @@ for ChargedParticle {
 )]
 #[automatically_derived]
 impl ::dirac::runtime::Unreduced<3usize, 1usize, 4usize> for ChargedParticle {
+    type UnreducedLinear = ::dirac::runtime::Lu<4usize>;
+    fn unreduced_linear_solver(&self) -> ::dirac::runtime::Lu<4usize> {
+        ::dirac::runtime::Lu::empty()
+    }
     #[inline]
     fn unreduced_residual(
         &self,
@@ -1710,23 +1746,29 @@ impl ::dirac::runtime::Unreduced<3usize, 1usize, 4usize> for ChargedParticle {
         let __t355: f64 = __t291 + __t291;
         let __t356: f64 = __t304 + __t304;
         let __t357: f64 = __t215 - __t32;
-        let mut __jac = ::dirac::nalgebra::SMatrix::<f64, 4usize, 4usize>::zeros();
-        __jac[(0usize, 0usize)] = __t329;
-        __jac[(0usize, 1usize)] = __t348;
-        __jac[(0usize, 3usize)] = __t355;
-        __jac[(1usize, 0usize)] = __t340;
-        __jac[(1usize, 1usize)] = __t352;
-        __jac[(1usize, 3usize)] = __t356;
-        __jac[(2usize, 2usize)] = __t102;
-        __jac[(3usize, 0usize)] = __t341;
-        __jac[(3usize, 1usize)] = __t354;
-        __jac[(3usize, 3usize)] = __t357;
         (
             ::dirac::nalgebra::SVector::<
                 f64,
                 4usize,
             >::from([__t297, __t310, __t315, __t319]),
-            __jac,
+            {
+                let mut __jac = ::dirac::nalgebra::SMatrix::<
+                    f64,
+                    4usize,
+                    4usize,
+                >::zeros();
+                __jac[(0usize, 0usize)] = __t329;
+                __jac[(0usize, 1usize)] = __t348;
+                __jac[(0usize, 3usize)] = __t355;
+                __jac[(1usize, 0usize)] = __t340;
+                __jac[(1usize, 1usize)] = __t352;
+                __jac[(1usize, 3usize)] = __t356;
+                __jac[(2usize, 2usize)] = __t102;
+                __jac[(3usize, 0usize)] = __t341;
+                __jac[(3usize, 1usize)] = __t354;
+                __jac[(3usize, 3usize)] = __t357;
+                __jac
+            },
         )
     }
     #[inline]
@@ -1782,6 +1824,40 @@ impl ::dirac::runtime::Unreduced<3usize, 1usize, 4usize> for ChargedParticle {
         let __t374: f64 = __t33 + __t33;
         ::dirac::nalgebra::SVector::<f64, 4usize>::from([__t365, __t371, __t373, __t374])
     }
+}
+#[allow(
+    clippy::approx_constant,
+    reason = "constants folded at compile time (2π = 6.283185307179586) are printed in full, not named"
+)]
+#[allow(
+    clippy::excessive_precision,
+    clippy::unreadable_literal,
+    reason = "folded constants are printed with every digit f64 round-trips, without separators"
+)]
+#[allow(
+    clippy::many_single_char_names,
+    clippy::similar_names,
+    reason = "generated locals and arguments follow the paper's symbols (x_k, w_k, mu_k, z)"
+)]
+#[allow(
+    clippy::too_many_lines,
+    clippy::let_and_return,
+    clippy::neg_multiply,
+    clippy::double_parens,
+    clippy::unnecessary_cast,
+    clippy::float_cmp,
+    clippy::suboptimal_flops,
+    clippy::imprecise_flops,
+    reason = "straight-line code emitted one operation per line, rounding exactly as the user's expression"
+)]
+#[allow(
+    clippy::must_use_candidate,
+    clippy::missing_const_for_fn,
+    clippy::return_self_not_must_use,
+    reason = "accessors of the emitted types; their results are plain values"
+)]
+#[automatically_derived]
+impl ::dirac::runtime::LagrangianHessian<3usize, 1usize, 4usize> for ChargedParticle {
     #[allow(unused_variables)]
     fn lagrangian_hessian(
         &self,

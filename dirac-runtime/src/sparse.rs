@@ -1,0 +1,339 @@
+//! The large-system backend: the step Jacobian as the compile-time sparsity pattern the compiler
+//! emits, factored by faer's sparse LU with partial pivoting.
+//!
+//! `#[reduced_lagrangian]` knows at compile time which entries of `∂R/∂z` can be nonzero (the
+//! others are structural zeros of its expression graph). Above [`DENSE_MAX`] coordinates it emits
+//! that pattern as a static [`CscPattern`] and the Jacobian as the values of those entries alone,
+//! in compressed-sparse-column order ([`CscValues`]); a step then never forms, stores or factors a
+//! dense `N × N` matrix. [`SparseLu`] is the workspace of one integration: it computes the
+//! fill-reducing column ordering and the symbolic factorization once, when it is built, and every
+//! Newton iteration of every step reuses them and their memory — the numeric factorization and the
+//! solves run in preallocated scratch, with no allocation after the first factorization.
+//!
+//! Why faer: it is maintained, pure Rust (no BLAS/LAPACK or C toolchain on the user's machine),
+//! and its sparse LU separates the symbolic analysis (COLAMD ordering, elimination tree,
+//! supernodes) from the numeric factorization, with explicit scratch memory (`MemStack`), which is
+//! exactly the reuse a Newton iteration on a fixed pattern needs. The patterns of mechanical
+//! systems are not banded in general (a lattice with a common translation is cyclic tridiagonal
+//! plus a dense border; a chain hanging from a cart is dense), so a banded solver would not cover
+//! them.
+
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::sparse::linalg::lu::{
+    factorize_symbolic_lu, LuRef, LuSymbolicParams, NumericLu, SymbolicLu,
+};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, MatMut, Par};
+use nalgebra::SVector;
+
+use crate::lu::FactorError;
+use crate::newton::LinearSolver;
+
+/// Systems with at most this many configuration coordinates get the dense fixed-size backend
+/// ([`crate::Lu`], everything on the stack, unrolled); larger ones the sparse backend. The compiler
+/// chooses by this size, not the user: at 16 unknowns a dense factorization is ≈ 1.5 k flops and
+/// its matrix 2 KiB, beyond which the dense path's cost (`N³/3` flops, `8 N²` bytes of stack per
+/// copy) grows faster than a sparse factorization of a mechanical system's Jacobian.
+pub const DENSE_MAX: usize = 16;
+
+/// The structurally nonzero entries of an `n × n` step Jacobian, in compressed sparse columns:
+/// the entries of column `j` are rows `row_idx[col_ptr[j]..col_ptr[j + 1]]`, increasing.
+#[derive(Debug)]
+pub struct CscPattern {
+    /// Number of rows and columns.
+    pub n: usize,
+    /// Column starts, `n + 1` of them.
+    pub col_ptr: &'static [usize],
+    /// Row of each entry.
+    pub row_idx: &'static [usize],
+}
+
+impl CscPattern {
+    /// Number of structural nonzeros.
+    pub fn nnz(&self) -> usize {
+        self.row_idx.len()
+    }
+
+    /// Whether the arrays describe a valid `n × n` pattern with sorted, distinct rows per column.
+    pub fn is_valid(&self) -> bool {
+        self.col_ptr.len() == self.n + 1
+            && self.col_ptr[0] == 0
+            && self.col_ptr[self.n] == self.row_idx.len()
+            && self.col_ptr.windows(2).all(|w| w[0] <= w[1])
+            && (0..self.n).all(|j| {
+                let rows = &self.row_idx[self.col_ptr[j]..self.col_ptr[j + 1]];
+                rows.iter().all(|&r| r < self.n) && rows.windows(2).all(|w| w[0] < w[1])
+            })
+    }
+
+    /// The position of entry `(row, col)` in the values, if it is structurally nonzero.
+    pub fn position(&self, row: usize, col: usize) -> Option<usize> {
+        let start = self.col_ptr[col];
+        self.row_idx[start..self.col_ptr[col + 1]]
+            .binary_search(&row)
+            .ok()
+            .map(|i| start + i)
+    }
+}
+
+/// The values of a sparse step Jacobian, in the order of its [`CscPattern`]: what the emitted
+/// `residual_jacobian` of a large system returns (no heap, no dense matrix).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CscValues<const NNZ: usize>(pub [f64; NNZ]);
+
+impl<const NNZ: usize> CscValues<NNZ> {
+    /// Entry `(row, col)` of the matrix with this pattern (0 where structurally zero).
+    pub fn get(&self, pattern: &CscPattern, row: usize, col: usize) -> f64 {
+        pattern.position(row, col).map_or(0.0, |i| self.0[i])
+    }
+
+    /// The dense matrix, for tests and diagnostics (heap-allocated).
+    pub fn to_dense(&self, pattern: &CscPattern) -> nalgebra::DMatrix<f64> {
+        let mut m = nalgebra::DMatrix::zeros(pattern.n, pattern.n);
+        for j in 0..pattern.n {
+            for p in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
+                m[(pattern.row_idx[p], j)] = self.0[p];
+            }
+        }
+        m
+    }
+}
+
+/// Sparse LU with partial pivoting (faer), as a reusable workspace for Newton's iteration on a
+/// fixed pattern: the symbolic analysis is done once in [`SparseLu::new`]; each
+/// [`LinearSolver::factor`] is a numeric factorization into the same memory.
+pub struct SparseLu<const N: usize, const NNZ: usize> {
+    pattern: SymbolicSparseColMatRef<'static, usize>,
+    symbolic: SymbolicLu<usize>,
+    numeric: NumericLu<usize, f64>,
+    /// Scratch of the numeric factorization and of the solves.
+    scratch: MemBuffer,
+    norm1: f64,
+    factored: bool,
+}
+
+impl<const N: usize, const NNZ: usize> std::fmt::Debug for SparseLu<N, NNZ> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SparseLu")
+            .field("n", &N)
+            .field("nnz", &NNZ)
+            .field("factored", &self.factored)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<const N: usize, const NNZ: usize> SparseLu<N, NNZ> {
+    /// The workspace for Jacobians with `pattern`: fill-reducing ordering (COLAMD) and symbolic
+    /// factorization, and all the scratch a factorization and a solve need.
+    ///
+    /// # Panics
+    /// If `pattern` is not a valid `N × N` pattern with `NNZ` entries: the compiler emits the
+    /// pattern, so this is a bug in dirac, not a user error.
+    pub fn new(pattern: &'static CscPattern) -> Self {
+        assert!(
+            pattern.n == N && pattern.nnz() == NNZ && pattern.is_valid(),
+            "dirac: the emitted sparsity pattern does not describe an {N} × {N} matrix with {NNZ} entries"
+        );
+        let symbolic_pattern =
+            SymbolicSparseColMatRef::new_checked(N, N, pattern.col_ptr, None, pattern.row_idx);
+        let symbolic = factorize_symbolic_lu(symbolic_pattern, LuSymbolicParams::default())
+            .expect("dirac: symbolic LU of the emitted pattern (out of memory)");
+        let req = StackReq::any_of(&[
+            symbolic.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default()),
+            symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
+            symbolic.solve_transpose_in_place_scratch::<f64>(1, Par::Seq),
+        ]);
+        Self {
+            pattern: symbolic_pattern,
+            symbolic,
+            numeric: NumericLu::new(),
+            scratch: MemBuffer::new(req),
+            norm1: 0.0,
+            factored: false,
+        }
+    }
+
+    /// Solves `A x = b` (or `Aᵀ x = b`) in place.
+    fn solve_in_place(&mut self, x: &mut [f64], transpose: bool) {
+        debug_assert!(self.factored, "solve before factor");
+        let lu = LuRef::new_unchecked(&self.symbolic, &self.numeric);
+        let rhs = MatMut::from_column_major_slice_mut(x, N, 1);
+        let stack = MemStack::new(&mut self.scratch);
+        if transpose {
+            lu.solve_transpose_in_place_with_conj(Conj::No, rhs, Par::Seq, stack);
+        } else {
+            lu.solve_in_place_with_conj(Conj::No, rhs, Par::Seq, stack);
+        }
+    }
+
+    /// Hager's estimate of `‖A⁻¹‖₁` (Higham, Alg. 15.1), as for the dense [`crate::Lu::rcond`].
+    fn inverse_norm1_estimate(&mut self) -> f64 {
+        let mut x = SVector::<f64, N>::repeat(1.0 / N as f64);
+        let mut estimate = 0.0;
+        for _ in 0..5 {
+            let mut y = x;
+            self.solve_in_place(y.as_mut_slice(), false);
+            estimate = y.iter().map(|v| v.abs()).sum::<f64>();
+            let mut z = y.map(|v| if v >= 0.0 { 1.0 } else { -1.0 });
+            self.solve_in_place(z.as_mut_slice(), true);
+            let (j, zj) = z.iter().enumerate().fold((0, 0.0), |(bj, bv), (i, v)| {
+                if v.abs() > bv {
+                    (i, v.abs())
+                } else {
+                    (bj, bv)
+                }
+            });
+            if zj <= z.dot(&x) {
+                break;
+            }
+            x = SVector::zeros();
+            x[j] = 1.0;
+        }
+        estimate
+    }
+}
+
+impl<const N: usize, const NNZ: usize> LinearSolver for SparseLu<N, NNZ> {
+    type Vector = SVector<f64, N>;
+    type Matrix = CscValues<NNZ>;
+
+    fn factor(&mut self, j: &CscValues<NNZ>) -> Result<(), FactorError> {
+        self.factored = false;
+        // ‖A‖₁ and a finiteness test of every entry (a column sum is finite iff its terms are).
+        let col_ptr = self.pattern.col_ptr();
+        let mut norm1 = 0.0f64;
+        for c in 0..N {
+            let sum: f64 = j.0[col_ptr[c]..col_ptr[c + 1]]
+                .iter()
+                .map(|v| v.abs())
+                .sum();
+            if !sum.is_finite() {
+                return Err(FactorError::NonFinite);
+            }
+            norm1 = norm1.max(sum);
+        }
+        self.norm1 = norm1;
+        let a = SparseColMatRef::new(self.pattern, &j.0[..]);
+        let stack = MemStack::new(&mut self.scratch);
+        self.symbolic
+            .factorize_numeric_lu(&mut self.numeric, a, Par::Seq, stack, Default::default())
+            .map_err(|_| FactorError::Singular)?;
+        self.factored = true;
+        Ok(())
+    }
+
+    fn solve(&mut self, b: &SVector<f64, N>) -> SVector<f64, N> {
+        let mut x = *b;
+        self.solve_in_place(x.as_mut_slice(), false);
+        x
+    }
+
+    fn norm1(&self) -> f64 {
+        self.norm1
+    }
+
+    /// No cheap bound for the sparse factors: 0, so [`crate::newton::checked_rcond`] always runs
+    /// Hager's estimator — about ten solves with factors already computed, once per step.
+    fn rcond_lower_bound(&mut self) -> f64 {
+        0.0
+    }
+
+    fn rcond(&mut self) -> f64 {
+        if self.norm1 == 0.0 || !self.factored {
+            return 0.0;
+        }
+        let estimate = self.inverse_norm1_estimate();
+        if !estimate.is_finite() || estimate == 0.0 {
+            return 0.0;
+        }
+        1.0 / (self.norm1 * estimate)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{DMatrix, DVector};
+
+    /// A cyclic tridiagonal 6 × 6 matrix with a dense last row and column (the pattern of a
+    /// periodic lattice with a common translation), as a static pattern.
+    static PATTERN: CscPattern = CscPattern {
+        n: 6,
+        col_ptr: &[0, 4, 8, 12, 16, 20, 26],
+        row_idx: &[
+            0, 1, 4, 5, // col 0
+            0, 1, 2, 5, // col 1
+            1, 2, 3, 5, // col 2
+            2, 3, 4, 5, // col 3
+            0, 3, 4, 5, // col 4
+            0, 1, 2, 3, 4, 5, // col 5
+        ],
+    };
+
+    fn values() -> CscValues<26> {
+        let mut v = [0.0; 26];
+        for (i, x) in v.iter_mut().enumerate() {
+            // Off-diagonal entries of modest size; diagonal entries set below.
+            *x = 0.3 * ((i * 7 % 11) as f64 - 5.0) / 5.0;
+        }
+        for c in 0..6 {
+            let p = PATTERN.position(c, c).unwrap();
+            v[p] = 4.0 + c as f64;
+        }
+        CscValues(v)
+    }
+
+    #[test]
+    fn the_pattern_is_valid_and_positions_are_found() {
+        assert!(PATTERN.is_valid());
+        assert_eq!(PATTERN.position(5, 5), Some(25));
+        assert_eq!(PATTERN.position(2, 0), None);
+    }
+
+    #[test]
+    fn solves_as_the_dense_factorization_does_and_reuses_the_workspace() {
+        let mut lu = SparseLu::<6, 26>::new(&PATTERN);
+        for scale in [1.0, -2.5, 1e3] {
+            let mut v = values();
+            v.0.iter_mut().for_each(|x| *x *= scale);
+            let a: DMatrix<f64> = v.to_dense(&PATTERN);
+            let x = DVector::from_fn(6, |i, _| (i as f64 + 1.0).sin());
+            let b = &a * &x;
+            lu.factor(&v).unwrap();
+            let solved = lu.solve(&SVector::<f64, 6>::from_column_slice(b.as_slice()));
+            let err = (DVector::from_column_slice(solved.as_slice()) - &x).amax();
+            assert!(err < 1e-13, "scale {scale}: {err:e}");
+            // The 1-norm and Hager's estimate against the exact reciprocal condition number.
+            let inv = a.clone().try_inverse().unwrap();
+            let n1 = |m: &DMatrix<f64>| {
+                m.column_iter()
+                    .map(|c| c.iter().map(|x| x.abs()).sum::<f64>())
+                    .fold(0.0, f64::max)
+            };
+            assert!((lu.norm1() - n1(&a)).abs() <= 1e-12 * n1(&a));
+            let exact = 1.0 / (n1(&a) * n1(&inv));
+            let est = lu.rcond();
+            assert!(
+                est >= exact * (1.0 - 1e-9) && est <= 3.0 * exact,
+                "{est:e} vs {exact:e}"
+            );
+        }
+    }
+
+    #[test]
+    fn non_finite_entries_and_singular_matrices_are_errors() {
+        let mut lu = SparseLu::<6, 26>::new(&PATTERN);
+        let mut v = values();
+        v.0[3] = f64::NAN;
+        assert_eq!(lu.factor(&v), Err(FactorError::NonFinite));
+        let singular = CscValues([0.0; 26]);
+        assert!(
+            lu.factor(&singular).is_err()
+                || lu
+                    .solve(&SVector::repeat(1.0))
+                    .iter()
+                    .any(|x| !x.is_finite()),
+            "a zero matrix must not solve"
+        );
+    }
+}
