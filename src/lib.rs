@@ -91,10 +91,10 @@ pub use dirac_runtime::{
     ContinuousLagrangian, LegendreError,
 };
 pub use dirac_runtime::{
-    trajectory_energies, CanonicalState, CanonicalTrajectory, ComposedTrajectory, Composition,
-    CompositionMethod, DiscreteLagrangian, IntegrationError, Minus, NewtonOptions, Plus, Reduced,
-    ReducedIntegrator, ReducedState, Side, StepError, StepJacobian, StepStats, StepStatsExt,
-    Trajectory, Unreduced, UnreducedIntegrator, Variant,
+    trajectory_energies, AdaptedCoordinates, CanonicalState, CanonicalTrajectory,
+    ComposedTrajectory, Composition, CompositionMethod, DiscreteLagrangian, IntegrationError,
+    Minus, NewtonOptions, Plus, Reduced, ReducedIntegrator, ReducedState, Side, StepError,
+    StepJacobian, StepStats, StepStatsExt, Trajectory, Unreduced, UnreducedIntegrator, Variant,
 };
 
 /// Everything a user of the attribute needs in scope.
@@ -103,10 +103,10 @@ pub mod prelude {
     pub use crate::runtime::atlas::{AtlasIntegrator, AtlasTrajectory, ChartTransition, Switch};
     pub use crate::{chart_transition, reduced_lagrangian};
     pub use crate::{
-        CanonicalState, CanonicalTrajectory, ComposedTrajectory, Composition, CompositionMethod,
-        ContinuousLagrangian, DiscreteLagrangian, IntegrationError, Minus, NewtonOptions, Plus,
-        Reduced, ReducedIntegrator, ReducedState, Side, StepError, StepStats, StepStatsExt,
-        Trajectory, Unreduced, UnreducedIntegrator, Variant,
+        AdaptedCoordinates, CanonicalState, CanonicalTrajectory, ComposedTrajectory, Composition,
+        CompositionMethod, ContinuousLagrangian, DiscreteLagrangian, IntegrationError, Minus,
+        NewtonOptions, Plus, Reduced, ReducedIntegrator, ReducedState, Side, StepError, StepStats,
+        StepStatsExt, Trajectory, Unreduced, UnreducedIntegrator, Variant,
     };
 }
 
