@@ -12,8 +12,7 @@ use crate::ctxt::Ctxt;
 use crate::graph::{Fun, Graph, NodeId, Sym};
 
 /// What the body language accepts, for error messages.
-pub const ACCEPTED: &str =
-    "accepted: f64 literals, parameters, coordinates (`q0.x`, `q0.x[i]`), locals \
+pub const ACCEPTED: &str = "accepted: f64 literals, parameters, coordinates (`q0.x`), locals \
 (`let`, `let mut`, tuples), `+ - * /`, unary `-`, blocks, arrays with constant indices, `for` over \
 constant ranges, and the f64 functions sin cos tan asin acos atan exp ln sqrt sinh cosh tanh recip \
 powi powf atan2";

@@ -464,9 +464,9 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
                     cx.error_spanned_by(
                         &key,
                         format!(
-                            "`{key_name}(...)` cannot be combined with `{}(...)`: declare either the shape and group coordinates, \
+                            "`{key_name}(...)` cannot be combined with {}: declare either the shape and group coordinates, \
                              `shape(...), group(...)`, or your own coordinates and their translations, `coordinates(...), translate(...)`",
-                            if earlier == "shape" { "shape/group" } else { "coordinates/translate" }
+                            if earlier == "shape" { "`shape(...)`/`group(...)`" } else { "`coordinates(...)`/`translate(...)`" }
                         ),
                     );
                     continue;
