@@ -491,6 +491,67 @@ mod tests {
     }
 
     #[test]
+    fn ranges_apply_to_every_component_of_an_array_coordinate() {
+        let body = quote! {
+            let mut l = m * (q1.theta - q0.theta).powi(2);
+            for i in 0..3 {
+                l += (q1.x[i] - q0.x[i]).powi(2) / h + h * (q0.x[i] - 3.0).ln();
+            }
+            l
+        };
+        let without = expand(quote!(shape(x[3]), group(theta)), body.clone());
+        assert!(without.contains("not finite at any"), "{without}");
+        let with = expand(
+            quote!(shape(x[3]), group(theta), ranges(x = (3.5, 6.0))),
+            body,
+        );
+        assert!(!with.contains("compile_error"), "{with}");
+    }
+
+    #[test]
+    fn declared_translations_are_checked_in_adapted_coordinates() {
+        let differences = quote! {
+            let mut l = 0.0;
+            for i in 0..3 {
+                l += (q1.x[i] - q0.x[i]).powi(2) / h - h * m * (q0.x[(i + 1) % 3] - q0.x[i]).cos();
+            }
+            l + (q1.y - q0.y).powi(2) / h + h * q0.y.sin()
+        };
+        let ok = expand(
+            quote!(coordinates(x[3], y), translate(x)),
+            differences.clone(),
+        );
+        assert!(!ok.contains("compile_error"), "{ok}");
+        // `y` is not translated with `x`: translating both together is not a symmetry.
+        let broken = expand(quote!(coordinates(x[3], y), translate(x, y)), differences);
+        assert!(
+            broken.contains("not invariant under the translation `translate(x, y)`"),
+            "{broken}"
+        );
+    }
+
+    #[test]
+    fn integer_index_arithmetic() {
+        let out = expand(
+            quote!(shape(x[5]), group()),
+            quote! {
+                let mut l = 0.0;
+                for i in 0..5 {
+                    l += (q1.x[(i + 4) % 5] - q0.x[i / 2 * 2 - i + i]).powi(2) / h
+                        + m * q0.x[(2 * i + 1) % 5] * q0.x[4 - i];
+                }
+                l
+            },
+        );
+        assert!(!out.contains("compile_error"), "{out}");
+        let zero = expand(
+            quote!(shape(x[5]), group()),
+            quote! { (q1.x[1 % 0] - q0.x[0]).powi(2) / h + m },
+        );
+        assert!(zero.contains("integer division by zero"), "{zero}");
+    }
+
+    #[test]
     fn round_off_is_not_a_violation() {
         // cos(θ1 − θ0) written through absolute angles: invariant, but evaluated with different
         // rounding at every translate.
