@@ -531,6 +531,21 @@ mod tests {
     }
 
     #[test]
+    fn an_array_group_coordinate_is_checked_per_component() {
+        let ok = expand(
+            quote!(shape(x), group(c[2])),
+            quote! { (q1.c[0] - q0.c[0]).powi(2) / h + m * (q1.c[1] - q0.c[1] - q0.x).powi(2) },
+        );
+        assert!(!ok.contains("compile_error"), "{ok}");
+        let broken = expand(
+            quote!(shape(x), group(c[2])),
+            quote! { (q1.c[0] - q0.c[0]).powi(2) / h + m * q0.c[1].cos() + q1.x },
+        );
+        assert!(broken.contains("group coordinate `c[1]`"), "{broken}");
+        assert!(!broken.contains("group coordinate `c[0]`"), "{broken}");
+    }
+
+    #[test]
     fn integer_index_arithmetic() {
         let out = expand(
             quote!(shape(x[5]), group()),
