@@ -40,6 +40,13 @@
 //! )]
 //! ```
 //!
+//! A coordinate may be an array of constant length, `shape(x[3])`, read as `q0.x[i]` with an
+//! index known at compile time. Instead of `shape`/`group`, the symmetry may be declared on the
+//! user's own coordinates, `coordinates(x[4], y[4]), translate(x), translate(y)`: the compiler
+//! builds the adapted coordinates of §2.2.1 (`g = x[0]`, `x[i] − x[0]`), and
+//! [`AdaptedCoordinates`] converts states (see the README section "Indexed coordinates and
+//! declared symmetries").
+//!
 //! The function takes the two configurations `q0: Config, q1: Config` (coordinates are read as
 //! fields, `q0.x`) and scalar `f64` parameters, and returns `L_d(q0, q1)`. It stays callable,
 //! with `Config` replaced by the emitted struct `<Name>Config`. The macro emits:
@@ -94,11 +101,11 @@ pub use dirac_runtime::{
     ContinuousLagrangian, LegendreError,
 };
 pub use dirac_runtime::{
-    trajectory_energies, CanonicalState, CanonicalTrajectory, ComposedTrajectory, Composition,
-    CompositionMethod, DiscreteLagrangian, IntegrationError, LagrangianHessian, Minus,
-    NewtonOptions, Plus, Reduced, ReducedIntegrator, ReducedState, RunSummary, Side, StepError,
-    StepJacobian, StepRecord, StepStats, StepStatsExt, Trajectory, Unreduced, UnreducedIntegrator,
-    Variant,
+    trajectory_energies, AdaptedCoordinates, CanonicalState, CanonicalTrajectory,
+    ComposedTrajectory, Composition, CompositionMethod, DiscreteLagrangian, IntegrationError,
+    LagrangianHessian, Minus, NewtonOptions, Plus, Reduced, ReducedIntegrator, ReducedState,
+    RunSummary, Side, StepError, StepJacobian, StepRecord, StepStats, StepStatsExt, Trajectory,
+    Unreduced, UnreducedIntegrator, Variant,
 };
 
 /// Everything a user of the attribute needs in scope.
@@ -107,10 +114,11 @@ pub mod prelude {
     pub use crate::runtime::atlas::{AtlasIntegrator, AtlasTrajectory, ChartTransition, Switch};
     pub use crate::{chart_transition, reduced_lagrangian};
     pub use crate::{
-        CanonicalState, CanonicalTrajectory, ComposedTrajectory, Composition, CompositionMethod,
-        ContinuousLagrangian, DiscreteLagrangian, IntegrationError, LagrangianHessian, Minus,
-        NewtonOptions, Plus, Reduced, ReducedIntegrator, ReducedState, RunSummary, Side, StepError,
-        StepRecord, StepStats, StepStatsExt, Trajectory, Unreduced, UnreducedIntegrator, Variant,
+        AdaptedCoordinates, CanonicalState, CanonicalTrajectory, ComposedTrajectory, Composition,
+        CompositionMethod, ContinuousLagrangian, DiscreteLagrangian, IntegrationError,
+        LagrangianHessian, Minus, NewtonOptions, Plus, Reduced, ReducedIntegrator, ReducedState,
+        RunSummary, Side, StepError, StepRecord, StepStats, StepStatsExt, Trajectory, Unreduced,
+        UnreducedIntegrator, Variant,
     };
 }
 

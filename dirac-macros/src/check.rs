@@ -11,7 +11,7 @@
 
 use crate::ctxt::Ctxt;
 use crate::graph::{Graph, NodeId, Sym};
-use crate::spec::{Ranges, Signature, Spec};
+use crate::spec::{GroupDecl, Layout, Ranges, Signature, Spec};
 
 /// Number of sample points.
 const POINTS: usize = 16;
@@ -89,14 +89,25 @@ struct Point {
 
 /// Where each coordinate and parameter is sampled: the declared range or the default.
 struct Boxes {
+    /// One per component of the user's configuration vector.
     coords: Vec<(f64, f64)>,
+    /// One per user coordinate (for messages).
+    declared: Vec<(f64, f64)>,
     params: Vec<(f64, f64)>,
 }
 
 impl Boxes {
-    fn new(ranges: &Ranges) -> Self {
+    fn new(ranges: &Ranges, layout: &Layout) -> Self {
+        let declared: Vec<(f64, f64)> = ranges.coords.iter().map(|r| r.unwrap_or(COORDS)).collect();
+        let coords = layout
+            .coords
+            .iter()
+            .zip(&declared)
+            .flat_map(|(c, &b)| std::iter::repeat_n(b, c.len.unwrap_or(1)))
+            .collect();
         Boxes {
-            coords: ranges.coords.iter().map(|r| r.unwrap_or(COORDS)).collect(),
+            coords,
+            declared,
             params: ranges.params.iter().map(|r| r.unwrap_or(PARAMS)).collect(),
         }
     }
@@ -131,7 +142,7 @@ impl Boxes {
         };
         let mut parts = Vec::new();
         if with_coords {
-            parts.extend(part("coordinates", &names.coords, &self.coords, COORDS));
+            parts.extend(part("coordinates", &names.declared, &self.declared, COORDS));
         }
         if !names.params.is_empty() {
             parts.extend(part("parameters", &names.params, &self.params, PARAMS));
@@ -160,14 +171,15 @@ pub fn check(
     ranges: &Ranges,
     block: &syn::Block,
 ) {
-    let boxes = Boxes::new(ranges);
+    let boxes = Boxes::new(ranges, &spec.layout);
     let points = boxes.points();
     let names = Names {
-        coords: spec
-            .shape
+        coords: spec.layout.user_components(),
+        declared: spec
+            .layout
+            .coords
             .iter()
-            .chain(&spec.group)
-            .map(|c| c.to_string())
+            .map(|c| c.name.to_string())
             .collect(),
         params: sig.params.iter().map(|p| p.to_string()).collect(),
         q0: sig.q0.to_string(),
@@ -179,7 +191,10 @@ pub fn check(
 
 /// Names for messages.
 struct Names {
+    /// The components of the user's configuration vector.
     coords: Vec<String>,
+    /// The user's coordinates, as declared.
+    declared: Vec<String>,
     params: Vec<String>,
     q0: String,
     q1: String,
@@ -225,6 +240,10 @@ fn invariance(
     points: &[Point],
     names: &Names,
 ) {
+    // The sample points are drawn in the user's coordinates (where `ranges(...)` applies) and
+    // evaluated in the configuration vector `q = T⁻¹ q_user` the body was lowered in (the
+    // identity unless the symmetry is declared with `translate(...)`).
+    let layout = &spec.layout;
     let eval = |q0: &[f64], q1: &[f64], params: &[f64]| {
         graph.eval(&[body], &|sym| match sym {
             Sym::Q0(i) => q0[i],
@@ -233,23 +252,24 @@ fn invariance(
             other => unreachable!("the body reads q0, q1 and parameters, not {other:?}"),
         })[0]
     };
-    let s = spec.shape.len();
+    let s = layout.s();
     let mut finite = 0;
     // The first failure for each group coordinate: one error per broken coordinate.
-    let mut broken: Vec<bool> = vec![false; spec.group.len()];
+    let mut broken: Vec<bool> = vec![false; layout.k()];
     for p in points {
-        let l = eval(&p.q0, &p.q1, &p.params);
+        let (a0, a1) = (layout.to_adapted(&p.q0), layout.to_adapted(&p.q1));
+        let l = eval(&a0, &a1, &p.params);
         // Outside its domain the body says nothing about invariance; skip the point.
         if !l.is_finite() {
             continue;
         }
         finite += 1;
-        for (j, group) in spec.group.iter().enumerate() {
+        for (j, decl) in layout.group_decls.iter().enumerate() {
             if broken[j] {
                 continue;
             }
             for shift in SHIFTS {
-                let (mut q0, mut q1) = (p.q0.clone(), p.q1.clone());
+                let (mut q0, mut q1) = (a0.clone(), a1.clone());
                 q0[s + j] += shift;
                 q1[s + j] += shift;
                 let shifted = eval(&q0, &q1, &p.params);
@@ -261,24 +281,50 @@ fn invariance(
                 broken[j] = true;
                 let (before, after) = distinct(l, shifted);
                 let (q0_name, q1_name) = (&names.q0, &names.q1);
-                cx.error_spanned_by(
-                    group,
-                    format!(
-                        "the discrete Lagrangian is not invariant under translation of the group coordinate `{group}`: \
-                         at {}, shifting `{group}` by {shift} in both `{q0_name}` and `{q1_name}` changes L_d from {before} to {after}; \
-                         `#[reduced_lagrangian]` reduces by translations of the group coordinates, so L_d may depend on \
-                         them only through differences such as `{q1_name}.{group} - {q0_name}.{group}`; \
-                         if L_d depends on `{group}` itself, declare it in `shape(...)`",
-                        names.point(&p.q0, &p.q1, &p.params),
+                let point = names.point(&p.q0, &p.q1, &p.params);
+                match decl {
+                    GroupDecl::Coordinate { ident, component: group } => cx.error_spanned_by(
+                        ident,
+                        format!(
+                            "the discrete Lagrangian is not invariant under translation of the group coordinate `{group}`: \
+                             at {point}, shifting `{group}` by {shift} in both `{q0_name}` and `{q1_name}` changes L_d from {before} to {after}; \
+                             `#[reduced_lagrangian]` reduces by translations of the group coordinates, so L_d may depend on \
+                             them only through differences such as `{q1_name}.{group} - {q0_name}.{group}`; \
+                             if L_d depends on `{group}` itself, declare it in `shape(...)`",
+                        ),
                     ),
-                );
+                    GroupDecl::Translate { key, names: moved } => {
+                        let list: Vec<String> = moved.iter().map(ToString::to_string).collect();
+                        let declared = format!("translate({})", list.join(", "));
+                        let first = &moved[0];
+                        let example = match layout.coords.iter().find(|c| c.name == *first).and_then(|c| c.len) {
+                            Some(n) if n > 1 => format!("`{q0_name}.{first}[1] - {q0_name}.{first}[0]`"),
+                            _ if moved.len() > 1 => format!("`{q0_name}.{} - {q0_name}.{first}`", moved[1]),
+                            _ => format!("`{q1_name}.{first} - {q0_name}.{first}`"),
+                        };
+                        cx.error_spanned_by(
+                            quote::quote!(#key #first),
+                            format!(
+                                "the discrete Lagrangian is not invariant under the translation `{declared}`: at {point}, adding {shift} \
+                                 to every component of {} in both `{q0_name}` and `{q1_name}` changes L_d from {before} to {after}; \
+                                 a declared translation must leave L_d unchanged, so L_d may depend on the translated coordinates only \
+                                 through differences such as {example}; if L_d depends on their absolute values, remove `{declared}`",
+                                list.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", "),
+                            ),
+                        );
+                    }
+                }
                 break;
             }
         }
     }
     if finite == 0 {
         let p = &points[0];
-        let l = eval(&p.q0, &p.q1, &p.params);
+        let l = eval(
+            &layout.to_adapted(&p.q0),
+            &layout.to_adapted(&p.q1),
+            &p.params,
+        );
         let example = names.params.first().map_or("x", String::as_str);
         let message = format!(
             "the discrete Lagrangian is not finite at any of the {POINTS} points where `#[reduced_lagrangian]` checks its \
@@ -328,8 +374,8 @@ fn connection(
                     "the connection entry in row `{}`, column `{}` is {}{at}; accepted: entries that are finite at every \
                      sampled parameter value ({}) — if the parameters are restricted, declare their ranges with \
                      `ranges(name = (lo, hi), ...)`",
-                    spec.group[j],
-                    spec.shape[i],
+                    spec.layout.group[j],
+                    spec.layout.shape[i],
                     fmt_sig(v, 6),
                     boxes.describe(names, false),
                 ),
@@ -442,6 +488,82 @@ mod tests {
             "{out}"
         );
         assert!(out.contains("`if` is not supported"), "{out}");
+    }
+
+    #[test]
+    fn ranges_apply_to_every_component_of_an_array_coordinate() {
+        let body = quote! {
+            let mut l = m * (q1.theta - q0.theta).powi(2);
+            for i in 0..3 {
+                l += (q1.x[i] - q0.x[i]).powi(2) / h + h * (q0.x[i] - 3.0).ln();
+            }
+            l
+        };
+        let without = expand(quote!(shape(x[3]), group(theta)), body.clone());
+        assert!(without.contains("not finite at any"), "{without}");
+        let with = expand(
+            quote!(shape(x[3]), group(theta), ranges(x = (3.5, 6.0))),
+            body,
+        );
+        assert!(!with.contains("compile_error"), "{with}");
+    }
+
+    #[test]
+    fn declared_translations_are_checked_in_adapted_coordinates() {
+        let differences = quote! {
+            let mut l = 0.0;
+            for i in 0..3 {
+                l += (q1.x[i] - q0.x[i]).powi(2) / h - h * m * (q0.x[(i + 1) % 3] - q0.x[i]).cos();
+            }
+            l + (q1.y - q0.y).powi(2) / h + h * q0.y.sin()
+        };
+        let ok = expand(
+            quote!(coordinates(x[3], y), translate(x)),
+            differences.clone(),
+        );
+        assert!(!ok.contains("compile_error"), "{ok}");
+        // `y` is not translated with `x`: translating both together is not a symmetry.
+        let broken = expand(quote!(coordinates(x[3], y), translate(x, y)), differences);
+        assert!(
+            broken.contains("not invariant under the translation `translate(x, y)`"),
+            "{broken}"
+        );
+    }
+
+    #[test]
+    fn an_array_group_coordinate_is_checked_per_component() {
+        let ok = expand(
+            quote!(shape(x), group(c[2])),
+            quote! { (q1.c[0] - q0.c[0]).powi(2) / h + m * (q1.c[1] - q0.c[1] - q0.x).powi(2) },
+        );
+        assert!(!ok.contains("compile_error"), "{ok}");
+        let broken = expand(
+            quote!(shape(x), group(c[2])),
+            quote! { (q1.c[0] - q0.c[0]).powi(2) / h + m * q0.c[1].cos() + q1.x },
+        );
+        assert!(broken.contains("group coordinate `c[1]`"), "{broken}");
+        assert!(!broken.contains("group coordinate `c[0]`"), "{broken}");
+    }
+
+    #[test]
+    fn integer_index_arithmetic() {
+        let out = expand(
+            quote!(shape(x[5]), group()),
+            quote! {
+                let mut l = 0.0;
+                for i in 0..5 {
+                    l += (q1.x[(i + 4) % 5] - q0.x[i / 2 * 2 - i + i]).powi(2) / h
+                        + m * q0.x[(2 * i + 1) % 5] * q0.x[4 - i];
+                }
+                l
+            },
+        );
+        assert!(!out.contains("compile_error"), "{out}");
+        let zero = expand(
+            quote!(shape(x[5]), group()),
+            quote! { (q1.x[1 % 0] - q0.x[0]).powi(2) / h + m },
+        );
+        assert!(zero.contains("integer division by zero"), "{zero}");
     }
 
     #[test]

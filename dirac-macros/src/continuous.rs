@@ -163,10 +163,9 @@ pub fn emit_impl(
         (code.stmts, code.outputs)
     };
     let (p_stmts, p_out) = body(&c.legendre);
-    let mut pj_roots = c.legendre.clone();
-    pj_roots.extend(c.hessian.iter().flatten());
-    let (pj_stmts, pj_out) = body(&pj_roots);
-    let (pj_p, pj_j) = pj_out.split_at(n);
+    let pj = crate::expand::residual_jacobian(g, &c.legendre, &c.hessian, &leaf, n);
+    let (pj_code, pj_type, pj_solver, pj_new) =
+        (&pj.code, &pj.jacobian_type, &pj.solver_type, &pj.solver_new);
     let (e_stmts, e_out) = body(&[c.energy]);
     let rule = c.rule.describe();
     quote! {
@@ -184,14 +183,14 @@ pub fn emit_impl(
                 #na::SVector::<f64, #n>::from([ #( #p_out ),* ])
             }
 
-            fn legendre_jacobian(
-                &self, q: #vn, v: #vn,
-            ) -> (#na::SVector<f64, #n>, #na::SMatrix<f64, #n, #n>) {
-                #pj_stmts
-                (
-                    #na::SVector::<f64, #n>::from([ #( #pj_p ),* ]),
-                    #na::SMatrix::<f64, #n, #n>::from_row_slice(&[ #( #pj_j ),* ]),
-                )
+            type LegendreLinear = #pj_solver;
+
+            fn legendre_solver(&self) -> #pj_solver {
+                #pj_new
+            }
+
+            fn legendre_jacobian(&self, q: #vn, v: #vn) -> (#na::SVector<f64, #n>, #pj_type) {
+                #pj_code
             }
 
             fn energy(&self, q: #vn, v: #vn) -> f64 {

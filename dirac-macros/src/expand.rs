@@ -7,6 +7,7 @@ use quote::{format_ident, quote};
 use syn::parse::Parser;
 use syn::{Ident, ItemFn};
 
+use crate::adapted;
 use crate::check;
 use crate::continuous;
 use crate::ctxt::Ctxt;
@@ -18,7 +19,7 @@ use crate::reduce::{
     eliminate_group, lagrangian_hessian, reduced_lagrangian, reduced_stepper, unreduced_stepper,
     Eliminated, Side, Stepper, GROUP_ORIGINS,
 };
-use crate::spec::{parse_signature, parse_spec, resolve_ranges, Signature, Spec};
+use crate::spec::{parse_signature, parse_spec, resolve_ranges, Coord, Signature, Spec};
 
 /// Systems with at most this many configuration coordinates get the dense fixed-size backend
 /// (`Lu<N>`, everything on the stack); larger ones the sparse backend (`SparseLu` on the
@@ -99,16 +100,15 @@ fn compile(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<Com
     let names = Names {
         q0: &sig.q0,
         q1: &sig.q1,
-        coords: spec
-            .shape
-            .iter()
-            .chain(&spec.group)
-            .map(Ident::to_string)
-            .collect(),
+        coords: spec.layout.lowering_coords(),
         params: sig.params.iter().map(Ident::to_string).collect(),
     };
-    let (s, k) = (spec.shape.len(), spec.group.len());
+    let (s, k) = (spec.layout.s(), spec.layout.k());
     let ranges = resolve_ranges(cx, spec, sig);
+    if !spec.lengths_ok {
+        // A bad array length (reported) would make every index into it a follow-on error.
+        return None;
+    }
     let mut graph = Graph::default();
     let body = Lowering::new(&mut graph, cx, &names).body(&func.block);
     // A continuous L(q, v): keep it for the Legendre map and energy, and form L_d by the rule.
@@ -271,7 +271,13 @@ fn type_name(spec: &Spec, func: &ItemFn) -> Ident {
 }
 
 /// The user's function with `Config` replaced by the emitted configuration struct.
-fn user_function(func: &ItemFn, config: &Ident, stub: bool, touch: &[Ident]) -> TokenStream {
+fn user_function(
+    func: &ItemFn,
+    config: &Ident,
+    stub: bool,
+    touch: &[Ident],
+    indexed: bool,
+) -> TokenStream {
     let mut func = func.clone();
     // Parameters that only the connection matrix reads are still parameters of the function;
     // mark them used there so the user does not get an unused-variable warning.
@@ -283,7 +289,10 @@ fn user_function(func: &ItemFn, config: &Ident, stub: bool, touch: &[Ident]) -> 
             *pt.ty = syn::parse_quote!(#config);
         }
     }
-    let allow = lints::user_function();
+    let mut allow = lints::user_function();
+    if indexed {
+        allow.extend(lints::user_function_indexed());
+    }
     func.attrs.extend(
         syn::Attribute::parse_outer
             .parse2(allow)
@@ -303,41 +312,142 @@ fn user_function(func: &ItemFn, config: &Ident, stub: bool, touch: &[Ident]) -> 
 
 fn config_struct(spec: &Spec, func: &ItemFn, config: &Ident, type_name: &Ident) -> TokenStream {
     let vis = &func.vis;
+    let layout = &spec.layout;
     // Deduplicated, so a coordinate declared twice (already an error) causes no follow-on ones.
-    let mut coords: Vec<&Ident> = Vec::new();
-    for id in spec.shape.iter().chain(&spec.group) {
-        if !coords.contains(&id) {
-            coords.push(id);
+    let mut coords: Vec<&Coord> = Vec::new();
+    for c in &layout.coords {
+        if !coords.iter().any(|d| d.name == c.name) {
+            coords.push(c);
         }
     }
-    let n = coords.len();
-    let idx = 0..n;
+    // Fields, and each coordinate's reads from and writes to the user configuration vector.
+    let mut fields = Vec::new();
+    let mut inits = Vec::new();
+    let mut elems = Vec::new();
+    let mut at = 0usize;
+    for c in &coords {
+        let name = &c.name;
+        match c.len {
+            None => {
+                let i = at;
+                fields.push(quote!(pub #name: f64));
+                inits.push(quote!(#name: q[#i]));
+                elems.push(quote!(self.#name));
+                at += 1;
+            }
+            Some(len) => {
+                let idx: Vec<usize> = (at..at + len).collect();
+                let local = 0..len;
+                fields.push(quote!(pub #name: [f64; #len]));
+                inits.push(quote!(#name: [ #( q[#idx] ),* ]));
+                elems.extend(local.map(|i| quote!(self.#name[#i])));
+                at += len;
+            }
+        }
+    }
+    let n = at;
     let allow = lints::generated();
-    let doc =
+    let list = |cs: &mut dyn Iterator<Item = &Coord>| {
+        cs.map(|c| format!("`{}`", c.declared()))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let doc = if layout.declared {
         format!(
-        "A configuration of [`{type_name}`]: shape coordinates ({}) then group coordinates ({}).",
-        spec.shape.iter().map(|i| format!("`{i}`")).collect::<Vec<_>>().join(", "),
-        spec.group.iter().map(|i| format!("`{i}`")).collect::<Vec<_>>().join(", "),
-    );
+            "A configuration of [`{type_name}`] in your coordinates ({}), in this order in \
+             `to_vector`/`from_vector`. The system's own vectors are in the adapted coordinates of its \
+             declared translations (shape `{}`, group `{}`); convert with \
+             `dirac::runtime::AdaptedCoordinates`.",
+            list(&mut coords.iter().copied()),
+            layout.shape.join("`, `"),
+            layout.group.join("`, `"),
+        )
+    } else {
+        let n_shape = layout.s();
+        let mut shape_count = 0;
+        let (mut shape, mut group) = (Vec::new(), Vec::new());
+        for c in &coords {
+            if shape_count < n_shape {
+                shape_count += c.len.unwrap_or(1);
+                shape.push(*c);
+            } else {
+                group.push(*c);
+            }
+        }
+        format!(
+            "A configuration of [`{type_name}`]: shape coordinates ({}) then group coordinates ({}).",
+            list(&mut shape.into_iter()),
+            list(&mut group.into_iter()),
+        )
+    };
+    // `[f64; N]` implements `Default` only up to N = 32.
+    let (derive, default_impl) = if coords.iter().all(|c| c.len.unwrap_or(1) <= 32) {
+        (
+            quote!(#[derive(Clone, Copy, Debug, Default, PartialEq)]),
+            quote!(),
+        )
+    } else {
+        let zeros = coords.iter().map(|c| {
+            let name = &c.name;
+            match c.len {
+                None => quote!(#name: 0.0),
+                Some(len) => quote!(#name: [0.0; #len]),
+            }
+        });
+        (
+            quote!(#[derive(Clone, Copy, Debug, PartialEq)]),
+            quote! {
+                impl ::core::default::Default for #config {
+                    /// Every coordinate zero.
+                    fn default() -> Self {
+                        Self { #( #zeros, )* }
+                    }
+                }
+            },
+        )
+    };
+    let vector_fns = if layout.declared {
+        quote! {
+            impl #config {
+                /// Reads the user configuration vector: your coordinates, components flattened in
+                /// declaration order (not the system's adapted `q`; see `AdaptedCoordinates`).
+                pub fn from_vector(q: &::dirac::nalgebra::SVector<f64, #n>) -> Self {
+                    Self { #( #inits, )* }
+                }
+
+                /// Writes the user configuration vector: your coordinates, components flattened
+                /// in declaration order (`AdaptedCoordinates::to_adapted` maps it to `q`).
+                pub fn to_vector(&self) -> ::dirac::nalgebra::SVector<f64, #n> {
+                    ::dirac::nalgebra::SVector::<f64, #n>::from([ #( #elems, )* ])
+                }
+            }
+        }
+    } else {
+        quote! {
+            impl #config {
+                /// Reads `q = (x, g)` in configuration order.
+                pub fn from_vector(q: &::dirac::nalgebra::SVector<f64, #n>) -> Self {
+                    Self { #( #inits, )* }
+                }
+
+                /// Writes `q = (x, g)` in configuration order.
+                pub fn to_vector(&self) -> ::dirac::nalgebra::SVector<f64, #n> {
+                    ::dirac::nalgebra::SVector::<f64, #n>::from([ #( #elems, )* ])
+                }
+            }
+        }
+    };
     quote! {
         #[doc = #doc]
-        #[derive(Clone, Copy, Debug, Default, PartialEq)]
+        #derive
         #vis struct #config {
-            #( pub #coords: f64, )*
+            #( #fields, )*
         }
+
+        #default_impl
 
         #allow
-        impl #config {
-            /// Reads `q = (x, g)` in configuration order.
-            pub fn from_vector(q: &::dirac::nalgebra::SVector<f64, #n>) -> Self {
-                Self { #( #coords: q[#idx], )* }
-            }
-
-            /// Writes `q = (x, g)` in configuration order.
-            pub fn to_vector(&self) -> ::dirac::nalgebra::SVector<f64, #n> {
-                ::dirac::nalgebra::SVector::<f64, #n>::from([ #( self.#coords, )* ])
-            }
-        }
+        #vector_fns
     }
 }
 
@@ -386,11 +496,83 @@ fn stepper_fns(
     let na = quote!(::dirac::nalgebra);
     let r = straight_line(g, &stepper.residual, leaf);
     let (r_stmts, r_out) = (&r.stmts, &r.outputs);
-    // R and ∂R/∂z together: one straight line, so shared subexpressions are computed once, and
-    // structurally zero entries of the Jacobian are never computed or stored.
-    let mut roots = stepper.residual.clone();
+    let ResidualJacobian {
+        code: rj_code,
+        operations: rj_operations,
+        nonzeros,
+        jacobian_type,
+        solver_type,
+        solver_new,
+    } = residual_jacobian(g, &stepper.residual, &stepper.jacobian, leaf, n);
+    let mo = straight_line(g, &stepper.momentum, leaf);
+    let (m_stmts, m_out) = (&mo.stmts, &mo.outputs);
+    let fused_roots: Vec<NodeId> = stepper
+        .residual
+        .iter()
+        .chain(&stepper.momentum)
+        .copied()
+        .collect();
+    let rm = straight_line(g, &fused_roots, leaf);
+    let (rm_stmts, rm_r, rm_m) = (&rm.stmts, &rm.outputs[..n], &rm.outputs[n..]);
+    SteppedFns {
+        residual_momentum: quote! {
+            #rm_stmts
+            (
+                #na::SVector::<f64, #n>::from([ #( #rm_r ),* ]),
+                #na::SVector::<f64, #m>::from([ #( #rm_m ),* ]),
+            )
+        },
+        residual: quote! {
+            #r_stmts
+            #na::SVector::<f64, #n>::from([ #( #r_out ),* ])
+        },
+        residual_jacobian: rj_code,
+        jacobian_type,
+        solver_type,
+        solver_new,
+        momentum: quote! {
+            #m_stmts
+            #na::SVector::<f64, #m>::from([ #( #m_out ),* ])
+        },
+        counts: format!(
+            "{} operations for the residual, {} for the residual with its Jacobian ({} nonzero entries), {} for the momentum update",
+            r.operations,
+            rj_operations,
+            nonzeros,
+            mo.operations
+        ),
+    }
+}
+
+/// The straight-line code of a residual `R` (`n` entries) and its Jacobian in the backend the
+/// size calls for (see [`DENSE_MAX`]), with the backend's types.
+pub struct ResidualJacobian {
+    /// Statements and the tuple `(R, J)`.
+    pub code: TokenStream,
+    pub operations: usize,
+    pub nonzeros: usize,
+    /// The type of `J`: `SMatrix<f64, n, n>` or `CscValues<nnz>`.
+    pub jacobian_type: TokenStream,
+    /// The linear solver for `J` (`Lu<n>` or `SparseLu<n, nnz>`) and the body that builds it.
+    pub solver_type: TokenStream,
+    pub solver_new: TokenStream,
+}
+
+/// `R` and `∂R/∂z` together: one straight line, so shared subexpressions are computed once, and
+/// structurally zero entries of the Jacobian are never computed or stored. Dense systems get a
+/// fixed-size matrix; above [`DENSE_MAX`] the structural nonzeros become a static CSC pattern
+/// and the Jacobian is the array of their values.
+pub fn residual_jacobian(
+    g: &Graph,
+    residual: &[NodeId],
+    jacobian: &[Vec<NodeId>],
+    leaf: &dyn Fn(Sym) -> TokenStream,
+    n: usize,
+) -> ResidualJacobian {
+    let na = quote!(::dirac::nalgebra);
+    let mut roots = residual.to_vec();
     let mut entries: Vec<(usize, usize)> = Vec::new();
-    for (row, cols) in stepper.jacobian.iter().enumerate() {
+    for (row, cols) in jacobian.iter().enumerate() {
         for (col, &node) in cols.iter().enumerate() {
             if g.as_const(node) != Some(0.0) {
                 entries.push((row, col));
@@ -457,46 +639,16 @@ fn stepper_fns(
             quote!(#rt::Lu::empty()),
         )
     };
-    let mo = straight_line(g, &stepper.momentum, leaf);
-    let (m_stmts, m_out) = (&mo.stmts, &mo.outputs);
-    let fused_roots: Vec<NodeId> = stepper
-        .residual
-        .iter()
-        .chain(&stepper.momentum)
-        .copied()
-        .collect();
-    let rm = straight_line(g, &fused_roots, leaf);
-    let (rm_stmts, rm_r, rm_m) = (&rm.stmts, &rm.outputs[..n], &rm.outputs[n..]);
-    SteppedFns {
-        residual_momentum: quote! {
-            #rm_stmts
-            (
-                #na::SVector::<f64, #n>::from([ #( #rm_r ),* ]),
-                #na::SVector::<f64, #m>::from([ #( #rm_m ),* ]),
-            )
-        },
-        residual: quote! {
-            #r_stmts
-            #na::SVector::<f64, #n>::from([ #( #r_out ),* ])
-        },
-        residual_jacobian: quote! {
+    ResidualJacobian {
+        code: quote! {
             #rj_stmts
             (#na::SVector::<f64, #n>::from([ #( #rj_r ),* ]), #jacobian_value)
         },
+        operations: rj.operations,
+        nonzeros: nnz,
         jacobian_type,
         solver_type,
         solver_new,
-        momentum: quote! {
-            #m_stmts
-            #na::SVector::<f64, #m>::from([ #( #m_out ),* ])
-        },
-        counts: format!(
-            "{} operations for the residual, {} for the residual with its Jacobian ({} nonzero entries), {} for the momentum update",
-            r.operations,
-            rj.operations,
-            entries.len(),
-            mo.operations
-        ),
     }
 }
 
@@ -695,13 +847,12 @@ fn reduced_impl(t: &Target, g: &Graph, side: &SideCode) -> (TokenStream, String,
 fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenStream {
     let ty = type_name(spec, func);
     let config = format_ident!("{}Config", ty);
-    let (s, k) = (spec.shape.len(), spec.group.len());
+    let (s, k) = (spec.layout.s(), spec.layout.k());
     let n = s + k;
     let fn_name = &func.sig.ident;
     let params = &sig.params;
     let step = &sig.step;
-    let shape_names = spec.shape.iter().map(Ident::to_string);
-    let group_names = spec.group.iter().map(Ident::to_string);
+    let (shape_names, group_names) = (&spec.layout.shape, &spec.layout.group);
     let param_names = params.iter().map(Ident::to_string);
     let target = Target {
         ty: ty.clone(),
@@ -784,7 +935,16 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
     };
 
     let config_item = config_struct(spec, func, &config, &ty);
-    let user_fn = user_function(func, &config, false, &connection_only_params(spec, sig, c));
+    let adapted_item = adapted::adapted_impl(&spec.layout, &ty);
+    // The user's function reads the user's coordinates; the system's vectors are adapted.
+    let user_config = |q: TokenStream| adapted::user_config(&spec.layout, &ty, &config, q);
+    let user_fn = user_function(
+        func,
+        &config,
+        false,
+        &connection_only_params(spec, sig, c),
+        spec.layout.has_arrays(),
+    );
     let param_item = param_struct(sig, func, &ty);
     let allow = lints::generated();
     // The discrete Lagrangian: the user's function, or L_d formed from a continuous L.
@@ -799,11 +959,13 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
         let (stmts, out) = (&code.stmts, &code.outputs[0]);
         quote! { #stmts #out }
     } else {
-        quote! { #fn_name(#config::from_vector(q0), #config::from_vector(q1), #( self.#fn_params ),*) }
+        let (c0, c1) = (user_config(quote!(q0)), user_config(quote!(q1)));
+        quote! { #fn_name(#c0, #c1, #( self.#fn_params ),*) }
     };
     let continuous_impl = c.continuous.as_ref().map(|parts| {
+        let (cq, cv) = (user_config(quote!(q)), user_config(quote!(v)));
         let call_l = quote! {
-            #fn_name(#config::from_vector(q), #config::from_vector(v), #( self.#fn_params ),*)
+            #fn_name(#cq, #cv, #( self.#fn_params ),*)
         };
         continuous::emit_impl(&c.graph, parts, &ty, n, &param_leaf, &allow, &call_l)
     });
@@ -814,6 +976,8 @@ fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> TokenS
 
     quote! {
         #config_item
+
+        #adapted_item
 
         #user_fn
 
@@ -923,7 +1087,14 @@ fn fallback(spec: Option<&Spec>, sig: Option<&Signature>, func: &ItemFn) -> Toke
     let ty = type_name(spec, func);
     let config = format_ident!("{}Config", ty);
     let mut out = config_struct(spec, func, &config, &ty);
-    out.extend(user_function(func, &config, true, &[]));
+    out.extend(adapted::adapted_impl(&spec.layout, &ty));
+    out.extend(user_function(
+        func,
+        &config,
+        true,
+        &[],
+        spec.layout.has_arrays(),
+    ));
     if let Some(sig) = sig {
         out.extend(param_struct(sig, func, &ty));
         out.extend(stub_impls(spec, sig, &ty));
@@ -935,12 +1106,11 @@ fn fallback(spec: Option<&Spec>, sig: Option<&Signature>, func: &ItemFn) -> Toke
 /// never reached (the compilation fails), so `ReducedIntegrator::plus(Name { .. }, ..)` and the
 /// like type-check. Trait methods with default bodies are left to their defaults.
 fn stub_impls(spec: &Spec, sig: &Signature, ty: &Ident) -> TokenStream {
-    let (s, k) = (spec.shape.len(), spec.group.len());
+    let (s, k) = (spec.layout.s(), spec.layout.k());
     let n = s + k;
     let rt = quote!(::dirac::runtime);
     let na = quote!(::dirac::nalgebra);
-    let shape_names = spec.shape.iter().map(Ident::to_string);
-    let group_names = spec.group.iter().map(Ident::to_string);
+    let (shape_names, group_names) = (&spec.layout.shape, &spec.layout.group);
     let param_names = sig.params.iter().map(Ident::to_string);
     let vec = |d: usize| quote!(&#na::SVector<f64, #d>);
     let (vs, vk, vn) = (vec(s), vec(k), vec(n));

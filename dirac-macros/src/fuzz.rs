@@ -62,7 +62,7 @@ use proptest::test_runner::TestRunner;
 use crate::ctxt::Ctxt;
 use crate::diff::derivatives;
 use crate::graph::{Graph, NodeId, Sym};
-use crate::lower::{Lowering, Names};
+use crate::lower::{CoordName, Lowering, Names};
 
 /// Cases per run: at least this many, more if `PROPTEST_CASES` asks for more.
 const CASES: u32 = 2000;
@@ -598,7 +598,7 @@ fn compile(src: &str, at: &[f64; 6]) -> Result<(Compiled, Compiled), String> {
     let names = Names {
         q0: &q0,
         q1: &q1,
-        coords: vec!["a".into(), "b".into()],
+        coords: CoordName::scalars(["a".to_string(), "b".to_string()]),
         params: vec!["h".into(), "p".into()],
     };
     let cx = Ctxt::default();

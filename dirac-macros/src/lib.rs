@@ -8,6 +8,7 @@
 //! (straight-line Rust); `expand` ties them together and `ctxt` collects every error with its
 //! span. See the `dirac` crate for the user guide.
 
+mod adapted;
 mod check;
 mod continuous;
 mod ctxt;

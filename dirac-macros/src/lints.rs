@@ -58,3 +58,15 @@ pub fn user_function() -> TokenStream {
         )]
     }
 }
+
+/// The extra allowance for a user's function that reads array coordinates (`q.x[i]`): the body
+/// language unrolls `for` loops over constant ranges and accepts no iterators, so clippy's
+/// advice to iterate instead of indexing cannot be followed.
+pub fn user_function_indexed() -> TokenStream {
+    quote! {
+        #[allow(
+            clippy::needless_range_loop,
+            reason = "`#[reduced_lagrangian]` bodies index array coordinates in unrolled `for` loops; iterators are not accepted"
+        )]
+    }
+}

@@ -54,13 +54,47 @@ struct Local {
     mutable: bool,
 }
 
+/// How one component of a user coordinate is formed from the configuration vector `q`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Component {
+    /// `q[i]`.
+    Var(usize),
+    /// `q[g] + q[r]`: a component `c = g + r_c` of a coordinate moved by a declared translation,
+    /// with `g` its group coordinate and `r_c = c − g` its shape coordinate (§2.2.1).
+    Sum(usize, usize),
+}
+
+/// A coordinate the body reads as `q0.name` (a scalar) or `q0.name[i]` (an array).
+pub struct CoordName {
+    pub name: String,
+    /// `None` for a scalar, the length for an array.
+    pub len: Option<usize>,
+    /// One per component.
+    pub components: Vec<Component>,
+}
+
+impl CoordName {
+    /// Scalar coordinates `q[0]`, `q[1]`, … named `names`, in order.
+    pub fn scalars(names: impl IntoIterator<Item = String>) -> Vec<CoordName> {
+        names
+            .into_iter()
+            .enumerate()
+            .map(|(i, name)| CoordName {
+                name,
+                len: None,
+                components: vec![Component::Var(i)],
+            })
+            .collect()
+    }
+}
+
 /// The names visible in the body.
 pub struct Names<'a> {
     /// Configuration argument names (`q0`, `q1`).
     pub q0: &'a Ident,
     pub q1: &'a Ident,
-    /// Coordinates in configuration order (shape, then group).
-    pub coords: Vec<String>,
+    /// The coordinates the body reads, in the order of the user's configuration.
+    pub coords: Vec<CoordName>,
     /// Parameters in declaration order.
     pub params: Vec<String>,
 }
@@ -419,6 +453,11 @@ impl<'a> Lowering<'a> {
                 Some(Value::Array(vec![item; n as usize]))
             }
             Expr::Index(ix) => {
+                if let Expr::Field(f) = &*ix.expr {
+                    if let Some((which, member)) = self.coordinate_field(f) {
+                        return self.coordinate_index(ix, f, which, member);
+                    }
+                }
                 let base = self.expr(&ix.expr)?;
                 let i = self.expr(&ix.index)?;
                 let i = self.int(i, &ix.index)?;
@@ -477,7 +516,7 @@ impl<'a> Lowering<'a> {
                     return Some(Value::Scalar(self.g.var(Sym::Param(i))));
                 }
                 if id == self.names.q0 || id == self.names.q1 {
-                    let example = self.names.coords.first().map_or("x", String::as_str);
+                    let example = self.names.coords.first().map_or("x", |c| c.name.as_str());
                     return self.error(
                         id,
                         format!("use a coordinate of `{id}`, e.g. `{id}.{example}`"),
@@ -519,45 +558,147 @@ impl<'a> Lowering<'a> {
         self.error(p, format!("unsupported path; {ACCEPTED}"))
     }
 
-    fn field(&mut self, f: &syn::ExprField) -> Option<Value> {
-        if let Expr::Path(base) = &*f.base {
-            if let Some(id) = base.path.get_ident() {
-                let which = if id == self.names.q0 {
-                    Some(0)
-                } else if id == self.names.q1 {
-                    Some(1)
-                } else {
-                    None
-                };
-                if let (Some(which), None) = (which, self.lookup(&id.to_string())) {
-                    if !self.allow_coords {
-                        return self.error(
-                            f,
-                            format!(
-                                "the connection matrix must be constant: entries are f64 literals and parameters, found the coordinate `{}`",
-                                f.to_token_stream()
-                            ),
-                        );
-                    }
-                    let Member::Named(member) = &f.member else {
-                        return self.error(&f.member, "expected a coordinate name");
-                    };
-                    let name = member.to_string();
-                    return match self.names.coords.iter().position(|c| *c == name) {
-                        Some(i) => {
-                            let sym = if which == 0 { Sym::Q0(i) } else { Sym::Q1(i) };
-                            Some(Value::Scalar(self.g.var(sym)))
-                        }
-                        None => self.error(
-                            member,
-                            format!(
-                                "unknown coordinate `{name}`; declared coordinates: {}",
-                                self.names.coords.join(", ")
-                            ),
-                        ),
-                    };
-                }
+    /// `q0.x` or `q1.x` when `f` reads a coordinate (the configuration names not shadowed by a
+    /// local): which configuration (0 or 1), and the member.
+    fn coordinate_field<'e>(&self, f: &'e syn::ExprField) -> Option<(usize, &'e Member)> {
+        let Expr::Path(base) = &*f.base else {
+            return None;
+        };
+        let id = base.path.get_ident()?;
+        let which = if id == self.names.q0 {
+            0
+        } else if id == self.names.q1 {
+            1
+        } else {
+            return None;
+        };
+        self.lookup(&id.to_string())
+            .is_none()
+            .then_some((which, &f.member))
+    }
+
+    /// The leaf expression of component `c` of configuration `which`.
+    fn component(&mut self, which: usize, c: Component) -> Value {
+        let sym = |i| if which == 0 { Sym::Q0(i) } else { Sym::Q1(i) };
+        let n = match c {
+            Component::Var(i) => self.g.var(sym(i)),
+            Component::Sum(g, r) => {
+                let (g, r) = (self.g.var(sym(g)), self.g.var(sym(r)));
+                self.g.add(g, r)
             }
+        };
+        Value::Scalar(n)
+    }
+
+    /// Resolves the coordinate named by `member` (reporting an unknown name); the connection
+    /// matrix may not read coordinates.
+    fn coordinate(&self, f: &syn::ExprField, member: &Member) -> Option<usize> {
+        if !self.allow_coords {
+            self.cx.error_spanned_by(
+                f,
+                format!(
+                    "the connection matrix must be constant: entries are f64 literals and parameters, found the coordinate `{}`",
+                    f.to_token_stream()
+                ),
+            );
+            return None;
+        }
+        let Member::Named(member) = member else {
+            self.cx
+                .error_spanned_by(member, "expected a coordinate name");
+            return None;
+        };
+        let name = member.to_string();
+        let found = self.names.coords.iter().position(|c| c.name == name);
+        if found.is_none() {
+            let declared: Vec<String> = self
+                .names
+                .coords
+                .iter()
+                .map(|c| match c.len {
+                    None => c.name.clone(),
+                    Some(n) => format!("{}[{n}]", c.name),
+                })
+                .collect();
+            self.cx.error_spanned_by(
+                member,
+                format!(
+                    "unknown coordinate `{name}`; declared coordinates: {}",
+                    declared.join(", ")
+                ),
+            );
+        }
+        found
+    }
+
+    /// `q0.x[i]`: a component of an array coordinate; the index must be a constant integer.
+    fn coordinate_index(
+        &mut self,
+        ix: &syn::ExprIndex,
+        f: &syn::ExprField,
+        which: usize,
+        member: &Member,
+    ) -> Option<Value> {
+        let c = self.coordinate(f, member);
+        let index = self.expr(&ix.index);
+        let c = c?;
+        let name = self.names.coords[c].name.clone();
+        let Some(len) = self.names.coords[c].len else {
+            return self.error(
+                &ix.index,
+                format!(
+                    "coordinate `{name}` is a scalar and cannot be indexed: write `{}`; only array coordinates, declared with a length such as `{name}[3]`, are indexed",
+                    f.to_token_stream()
+                ),
+            );
+        };
+        let i = match index? {
+            Value::Int(i) => i,
+            other => {
+                return self.error(
+                    &ix.index,
+                    format!(
+                        "the index of coordinate `{name}` must be a constant integer known at compile time, found {} `{}`; accepted: \
+                         an integer literal, a loop index of a `for` loop over a constant range, or `+ - * / %` on those, e.g. `{}[(i + 1) % {len}]`",
+                        other.kind(),
+                        ix.index.to_token_stream(),
+                        f.to_token_stream()
+                    ),
+                )
+            }
+        };
+        match usize::try_from(i).ok().filter(|&i| i < len) {
+            Some(i) => {
+                let comp = self.names.coords[c].components[i];
+                Some(self.component(which, comp))
+            }
+            None => self.error(
+                &ix.index,
+                format!(
+                    "index {i} is out of range for coordinate `{name}` of length {len} (valid indices 0..{len}): `{}`",
+                    ix.index.to_token_stream()
+                ),
+            ),
+        }
+    }
+
+    fn field(&mut self, f: &syn::ExprField) -> Option<Value> {
+        if let Some((which, member)) = self.coordinate_field(f) {
+            let c = self.coordinate(f, member)?;
+            let coord = &self.names.coords[c];
+            if let Some(len) = coord.len {
+                let name = coord.name.clone();
+                return self.error(
+                    f,
+                    format!(
+                        "`{name}` is an array coordinate of length {len}: read one component at a time, `{}[i]`, with a constant index \
+                         (a literal, a loop index, or integer arithmetic on those)",
+                        f.to_token_stream()
+                    ),
+                );
+            }
+            let comp = coord.components[0];
+            return Some(self.component(which, comp));
         }
         let base = self.expr(&f.base)?;
         match (&f.member, base) {
@@ -594,7 +735,7 @@ impl<'a> Lowering<'a> {
             return self.assign(&b.left, v);
         }
         match b.op {
-            BinOp::Add(_) | BinOp::Sub(_) | BinOp::Mul(_) | BinOp::Div(_) => {
+            BinOp::Add(_) | BinOp::Sub(_) | BinOp::Mul(_) | BinOp::Div(_) | BinOp::Rem(_) => {
                 let l = self.expr(&b.left);
                 let r = self.expr(&b.right);
                 self.arith(b.op, l?, &b.left, r?, &b.right)
@@ -605,20 +746,29 @@ impl<'a> Lowering<'a> {
 
     fn arith(&mut self, op: BinOp, l: Value, le: &Expr, r: Value, re: &Expr) -> Option<Value> {
         if let (Value::Int(a), Value::Int(c)) = (&l, &r) {
-            let v =
-                match op {
-                    BinOp::Add(_) => a.checked_add(*c),
-                    BinOp::Sub(_) => a.checked_sub(*c),
-                    BinOp::Mul(_) => a.checked_mul(*c),
-                    _ => return self.error(
-                        op,
-                        "integer division is not supported: write f64 literals such as `1.0 / 2.0`",
-                    ),
-                };
+            let v = match op {
+                BinOp::Add(_) => a.checked_add(*c),
+                BinOp::Sub(_) => a.checked_sub(*c),
+                BinOp::Mul(_) => a.checked_mul(*c),
+                // Integer `/` and `%` as in Rust (truncating), for index arithmetic such
+                // as `(i + 1) % n`.
+                BinOp::Div(_) | BinOp::Rem(_) if *c == 0 => {
+                    return self.error(op, "integer division by zero")
+                }
+                BinOp::Div(_) => a.checked_div(*c),
+                BinOp::Rem(_) => a.checked_rem(*c),
+                _ => unreachable!("arith is called with + - * / % only"),
+            };
             return match v {
                 Some(v) => Some(Value::Int(v)),
                 None => self.error(op, "integer overflow"),
             };
+        }
+        if let BinOp::Rem(_) = op {
+            return self.error(
+                op,
+                "`%` is accepted on constant integers only (index arithmetic such as `(i + 1) % n`), not on f64 values",
+            );
         }
         let a = self.scalar(l, le);
         let c = self.scalar(r, re);
@@ -628,7 +778,7 @@ impl<'a> Lowering<'a> {
             BinOp::Sub(_) => self.g.sub(a, c),
             BinOp::Mul(_) => self.g.mul(a, c),
             BinOp::Div(_) => self.g.div(a, c),
-            _ => unreachable!("arith is called with + - * / only"),
+            _ => unreachable!("arith is called with + - * / on f64 only"),
         };
         Some(Value::Scalar(n))
     }
@@ -659,6 +809,12 @@ impl<'a> Lowering<'a> {
                 }
                 local.value = value;
                 Some(Value::Unit)
+            }
+            Expr::Index(ix) if matches!(&*ix.expr, Expr::Field(f) if self.coordinate_field(f).is_some()) => {
+                self.error(
+                    target,
+                    "coordinates are inputs and cannot be assigned: bind a local with `let mut`",
+                )
             }
             Expr::Index(ix) => {
                 let i = self.expr(&ix.index)?;

@@ -21,6 +21,13 @@
 //! #[reduced_lagrangian(shape(x, y, z), group(theta), rule = left)]
 //! fn l(q: Config, v: Velocity, m: f64) -> f64 { … }
 //! ```
+//!
+//! A coordinate may be an array of constant length, `shape(x[199], y)`, read in the body as
+//! `q0.x[i]`. Or the symmetry is declared on the user's own coordinates (see [`Layout`]):
+//!
+//! ```text
+//! #[reduced_lagrangian(coordinates(x[4], y[4]), translate(x), translate(y))]
+//! ```
 
 use proc_macro2::Span;
 use quote::ToTokens;
@@ -31,16 +38,20 @@ use syn::{Expr, Ident, Token};
 
 use crate::continuous::{Rule, RULES};
 use crate::ctxt::Ctxt;
+use crate::lower::{Component, CoordName};
 
-const KEYS: &str = "`shape(...)`, `group(...)`, `connection = [[...], ...]`, `step = <parameter>`, `name = <TypeName>`, `rule = midpoint | trapezoid | left | right` and `ranges(<name> = (lo, hi), ...)`";
+const KEYS: &str = "`shape(...)`, `group(...)` (or `coordinates(...)` with `translate(...)`), `connection = [[...], ...]`, `step = <parameter>`, `name = <TypeName>`, `rule = midpoint | trapezoid | left | right` and `ranges(<name> = (lo, hi), ...)`";
 
 /// What `ranges(...)` accepts, for error messages.
 const RANGES: &str = "`ranges(name = (lo, hi), ...)` with a parameter or coordinate name and finite f64 literals lo < hi, e.g. `ranges(h = (0.001, 0.1))`";
 
 /// The parsed attribute.
 pub struct Spec {
-    pub shape: Vec<Ident>,
-    pub group: Vec<Ident>,
+    /// The coordinates: the user's, and the configuration vector the system works in.
+    pub layout: Layout,
+    /// Whether every array length in the attribute was valid; if not (already reported), the
+    /// body is not lowered, so a bad length causes no follow-on errors.
+    pub lengths_ok: bool,
     /// Rows of `B`, one per group coordinate, each with one entry per shape coordinate.
     pub connection: Option<Vec<Vec<Expr>>>,
     pub step: Option<Ident>,
@@ -62,10 +73,271 @@ pub struct Range {
 
 /// The declared sampling ranges resolved against the signature; `None` where the default applies.
 pub struct Ranges {
-    /// One per coordinate, in configuration order (shape, then group).
+    /// One per user coordinate (an array coordinate's range applies to all its components), in
+    /// the order of [`Layout::coords`].
     pub coords: Vec<Option<(f64, f64)>>,
     /// One per parameter, in declaration order.
     pub params: Vec<Option<(f64, f64)>>,
+}
+
+/// Largest accepted length of an array coordinate (the configuration vector is a fixed-size
+/// nalgebra vector, and every component is a leaf of the expression graph).
+pub const MAX_COMPONENTS: usize = 4096;
+
+/// One entry of `shape(...)`, `group(...)`, `coordinates(...)` or `translate(...)`: a name,
+/// optionally with an array length, `x[3]` (checked later, with a span per mistake).
+struct CoordArg {
+    name: Ident,
+    len: Option<(syn::token::Bracket, Expr)>,
+}
+
+impl Parse for CoordArg {
+    fn parse(input: ParseStream) -> syn::Result<Self> {
+        let name: Ident = input.parse()?;
+        let len = if input.peek(syn::token::Bracket) {
+            let content;
+            let bracket = syn::bracketed!(content in input);
+            Some((bracket, content.parse()?))
+        } else {
+            None
+        };
+        Ok(CoordArg { name, len })
+    }
+}
+
+/// A declared coordinate: a scalar (`len = None`) or an array of `len` components.
+#[derive(Clone)]
+pub struct Coord {
+    pub name: Ident,
+    pub len: Option<usize>,
+}
+
+impl Coord {
+    /// The names of its components: `x`, or `x[0]`, `x[1]`, ….
+    pub fn component_names(&self) -> Vec<String> {
+        match self.len {
+            None => vec![self.name.to_string()],
+            Some(n) => (0..n).map(|i| format!("{}[{i}]", self.name)).collect(),
+        }
+    }
+
+    /// `x` or `x[3]`, as declared.
+    pub fn declared(&self) -> String {
+        match self.len {
+            None => self.name.to_string(),
+            Some(n) => format!("{}[{n}]", self.name),
+        }
+    }
+}
+
+/// What one group dimension is, for messages: a declared group coordinate (component), or a
+/// `translate(...)` key.
+pub enum GroupDecl {
+    /// `group(theta)` or a component of `group(c[3])`: the name of the component (`c[1]`).
+    Coordinate { ident: Ident, component: String },
+    /// `translate(a, b, ...)`: the key and the coordinates it moves together.
+    Translate { key: Ident, names: Vec<Ident> },
+}
+
+/// The coordinates: the user's (the fields of `<Name>Config`, flattened in order into the user
+/// configuration vector) and the configuration vector the system works in, `q = (x, g)` with
+/// `S` shape and `K` group coordinates (the trivialization `Q = Σ × G` of §2.2.1).
+///
+/// With `shape(...), group(...)` the two vectors are the same. With `coordinates(...)` and
+/// `translate(...)` keys they are related by a unimodular `q_user = T q`: for the `j`-th
+/// `translate(a, b, ...)`, the group coordinate `g_j` is the first component `a[0]` of the
+/// first listed coordinate, and every other component `c` of the listed coordinates becomes the
+/// shape coordinate `r_c = c − a[0]`, so `a[0] = g_j`, `c = g_j + r_c`; coordinates in no
+/// `translate` stay shape coordinates unchanged. The shape coordinates follow the order of the
+/// user's flattened components (skipping the group components), then the `K` group coordinates
+/// follow in the order of the `translate` keys. Translating `g_j` moves every listed component
+/// together: the declared symmetry, now a translation of a group coordinate with `B = 0`.
+pub struct Layout {
+    /// The user's coordinates, in the order of `<Name>Config`'s fields.
+    pub coords: Vec<Coord>,
+    /// Names of the `S` shape coordinates (`x`, `x[3]`, `x[3] - x[0]`).
+    pub shape: Vec<String>,
+    /// Names of the `K` group coordinates.
+    pub group: Vec<String>,
+    /// One per group coordinate.
+    pub group_decls: Vec<GroupDecl>,
+    /// One per component of the user configuration vector: its expression in `q`.
+    pub components: Vec<Component>,
+    /// Whether the symmetry is declared on the user's coordinates (`translate`): then
+    /// `q_user ≠ q` in general and the emitted code converts.
+    pub declared: bool,
+}
+
+impl Layout {
+    /// `shape(...), group(...)`: the user's vector is the configuration vector.
+    fn explicit(shape: Vec<Coord>, group: Vec<Coord>) -> Layout {
+        let names =
+            |cs: &[Coord]| -> Vec<String> { cs.iter().flat_map(Coord::component_names).collect() };
+        let (shape_names, group_names) = (names(&shape), names(&group));
+        let group_decls = group
+            .iter()
+            .flat_map(|c| {
+                c.component_names()
+                    .into_iter()
+                    .map(|component| GroupDecl::Coordinate {
+                        ident: c.name.clone(),
+                        component,
+                    })
+            })
+            .collect();
+        let n = shape_names.len() + group_names.len();
+        Layout {
+            coords: shape.into_iter().chain(group).collect(),
+            shape: shape_names,
+            group: group_names,
+            group_decls,
+            components: (0..n).map(Component::Var).collect(),
+            declared: false,
+        }
+    }
+
+    /// `coordinates(...), translate(...), ...`: adapted coordinates (see [`Layout`]).
+    fn declared(cx: &Ctxt, coords: Vec<Coord>, translates: &[(Ident, Vec<Ident>)]) -> Layout {
+        // Which translate each coordinate belongs to.
+        let mut owner: Vec<Option<usize>> = vec![None; coords.len()];
+        let mut decls = Vec::new();
+        for (key, names) in translates {
+            let j = decls.len();
+            let mut valid = Vec::new();
+            for name in names {
+                match coords.iter().position(|c| c.name == *name) {
+                    None => cx.error_spanned_by(
+                        name,
+                        format!(
+                            "unknown coordinate `{name}` in `translate(...)`; declared coordinates: {}",
+                            coords.iter().map(|c| format!("`{}`", c.name)).collect::<Vec<_>>().join(", ")
+                        ),
+                    ),
+                    Some(i) if owner[i].is_some() => cx.error_spanned_by(
+                        name,
+                        format!(
+                            "coordinate `{name}` is already translated by an earlier `translate(...)`: a coordinate may appear in at most one translation"
+                        ),
+                    ),
+                    Some(i) => {
+                        owner[i] = Some(j);
+                        valid.push(i);
+                    }
+                }
+            }
+            if let Some(&first) = valid.first() {
+                decls.push((key.clone(), names.clone(), first));
+            }
+        }
+        let k = decls.len();
+        // The flattened user components: (coordinate, name).
+        let flat: Vec<(usize, String)> = coords
+            .iter()
+            .enumerate()
+            .flat_map(|(i, c)| c.component_names().into_iter().map(move |n| (i, n)))
+            .collect();
+        let first_component = |i: usize| {
+            flat.iter()
+                .position(|(c, _)| *c == i)
+                .expect("a coordinate has a component")
+        };
+        let group_components: Vec<usize> = decls
+            .iter()
+            .map(|&(_, _, first)| first_component(first))
+            .collect();
+        let group: Vec<String> = group_components
+            .iter()
+            .map(|&u| flat[u].1.clone())
+            .collect();
+        let s = flat.len() - k;
+        let mut shape = Vec::with_capacity(s);
+        let mut components = Vec::with_capacity(flat.len());
+        for (u, (c, name)) in flat.iter().enumerate() {
+            if let Some(j) = group_components.iter().position(|&g| g == u) {
+                components.push(Component::Var(s + j));
+                continue;
+            }
+            let index = shape.len();
+            match owner[*c] {
+                Some(j) => {
+                    shape.push(format!("{name} - {}", group[j]));
+                    components.push(Component::Sum(s + j, index));
+                }
+                None => {
+                    shape.push(name.clone());
+                    components.push(Component::Var(index));
+                }
+            }
+        }
+        Layout {
+            coords,
+            shape,
+            group,
+            group_decls: decls
+                .into_iter()
+                .map(|(key, names, _)| GroupDecl::Translate { key, names })
+                .collect(),
+            components,
+            declared: true,
+        }
+    }
+
+    /// Whether some coordinate is an array.
+    pub fn has_arrays(&self) -> bool {
+        self.coords.iter().any(|c| c.len.is_some())
+    }
+
+    /// Number of shape coordinates `S`.
+    pub fn s(&self) -> usize {
+        self.shape.len()
+    }
+
+    /// Number of group coordinates `K`.
+    pub fn k(&self) -> usize {
+        self.group.len()
+    }
+
+    /// Names of the user's components, in the order of the user configuration vector.
+    pub fn user_components(&self) -> Vec<String> {
+        self.coords
+            .iter()
+            .flat_map(Coord::component_names)
+            .collect()
+    }
+
+    /// The coordinates the body reads, and how each component is formed from `q`.
+    pub fn lowering_coords(&self) -> Vec<CoordName> {
+        let mut at = 0;
+        self.coords
+            .iter()
+            .map(|c| {
+                let n = c.len.unwrap_or(1);
+                let comps = self.components[at..at + n].to_vec();
+                at += n;
+                CoordName {
+                    name: c.name.to_string(),
+                    len: c.len,
+                    components: comps,
+                }
+            })
+            .collect()
+    }
+
+    /// `q = T⁻¹ q_user`, evaluated (for the invariance check's sample points).
+    pub fn to_adapted(&self, user: &[f64]) -> Vec<f64> {
+        let mut q = vec![0.0; user.len()];
+        for (u, c) in self.components.iter().enumerate() {
+            if let Component::Var(a) = *c {
+                q[a] = user[u];
+            }
+        }
+        for (u, c) in self.components.iter().enumerate() {
+            if let Component::Sum(g, r) = *c {
+                q[r] = user[u] - q[g];
+            }
+        }
+        q
+    }
 }
 
 /// The parsed function signature.
@@ -92,7 +364,7 @@ impl Signature {
 }
 
 enum Arg {
-    List(Ident, Punctuated<Ident, Token![,]>),
+    List(Ident, Punctuated<CoordArg, Token![,]>),
     Value(Ident, Expr),
     Ranges(Ident, Punctuated<RangeArg, Token![,]>),
 }
@@ -156,28 +428,104 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
             return None;
         }
     };
-    let mut shape: Option<Vec<Ident>> = None;
-    let mut group: Option<Vec<Ident>> = None;
+    let mut shape: Option<Vec<Coord>> = None;
+    let mut group: Option<Vec<Coord>> = None;
+    let mut coordinates: Option<Vec<Coord>> = None;
+    let mut translates: Vec<(Ident, Vec<Ident>)> = Vec::new();
     let mut connection: Option<(Expr, Vec<Vec<Expr>>)> = None;
     let mut step: Option<Ident> = None;
     let mut name: Option<Ident> = None;
     let mut ranges: Vec<Range> = Vec::new();
     let mut rule: Option<(Ident, Rule)> = None;
     let mut seen: Vec<String> = Vec::new();
+    let mut lengths_ok = true;
+    // Which way the symmetry is declared: the first of `shape`/`group` or
+    // `coordinates`/`translate` decides; a key of the other family is an error.
+    let mut family: Option<&'static str> = None;
     for arg in args {
         let key = match &arg {
             Arg::List(k, _) | Arg::Value(k, _) | Arg::Ranges(k, _) => k.clone(),
         };
         let key_name = key.to_string();
-        if seen.contains(&key_name) {
+        // `translate(...)` may be repeated: each one is a group dimension.
+        if seen.contains(&key_name) && key_name != "translate" {
             cx.error_spanned_by(&key, format!("duplicate `{key_name}` argument"));
             continue;
         }
         seen.push(key_name.clone());
+        let this_family = match key_name.as_str() {
+            "shape" | "group" => Some("shape"),
+            "coordinates" | "translate" => Some("coordinates"),
+            _ => None,
+        };
+        if let Some(f) = this_family {
+            match family {
+                Some(earlier) if earlier != f => {
+                    cx.error_spanned_by(
+                        &key,
+                        format!(
+                            "`{key_name}(...)` cannot be combined with {}: declare either the shape and group coordinates, \
+                             `shape(...), group(...)`, or your own coordinates and their translations, `coordinates(...), translate(...)`",
+                            if earlier == "shape" { "`shape(...)`/`group(...)`" } else { "`coordinates(...)`/`translate(...)`" }
+                        ),
+                    );
+                    continue;
+                }
+                _ => family = Some(f),
+            }
+        }
+        let connection_clash = (key_name == "connection" && family == Some("coordinates"))
+            || (this_family == Some("coordinates") && connection.is_some());
+        if connection_clash {
+            cx.error_spanned_by(
+                &key,
+                "`connection = ...` cannot be combined with `coordinates(...)`/`translate(...)`: the adapted coordinates \
+                 the compiler builds from `translate(...)` have the connection B = 0; use `shape(...), group(...), connection = ...` \
+                 for a nonzero B",
+            );
+            if key_name == "connection" {
+                continue;
+            }
+            // The connection came first: keep the coordinates, drop the connection.
+            connection = None;
+        }
         match (key_name.as_str(), arg) {
-            ("shape", Arg::List(_, list)) => shape = Some(list.into_iter().collect()),
+            ("shape", Arg::List(_, list)) => {
+                shape = Some(coord_list(cx, list, &mut lengths_ok));
+            }
             // `group()` declares no symmetry: a plain variational integrator (K = 0).
-            ("group", Arg::List(_, list)) => group = Some(list.into_iter().collect()),
+            ("group", Arg::List(_, list)) => {
+                group = Some(coord_list(cx, list, &mut lengths_ok));
+            }
+            ("coordinates", Arg::List(_, list)) => {
+                coordinates = Some(coord_list(cx, list, &mut lengths_ok));
+            }
+            ("translate", Arg::List(k, list)) => {
+                let mut names = Vec::new();
+                for c in list {
+                    if let Some((_, len)) = &c.len {
+                        cx.error_spanned_by(
+                            len,
+                            format!(
+                                "`translate(...)` lists whole coordinates, found `{}[{}]`: write `translate({})` to translate every component of `{}`",
+                                c.name,
+                                len.to_token_stream(),
+                                c.name,
+                                c.name
+                            ),
+                        );
+                    }
+                    names.push(c.name);
+                }
+                if names.is_empty() {
+                    cx.error_spanned_by(
+                        &k,
+                        "`translate()` is empty: list the coordinates the translation moves together, e.g. `translate(x)` or `translate(x, y)`",
+                    );
+                } else {
+                    translates.push((k, names));
+                }
+            }
             ("connection", Arg::Value(_, value)) => {
                 connection = parse_matrix(cx, &value).map(|rows| (value, rows))
             }
@@ -212,7 +560,7 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
                 &k,
                 format!("expected `ranges(...)`, found `ranges = ...`; accepted: {RANGES}"),
             ),
-            ("shape" | "group", Arg::Value(k, _)) => {
+            ("shape" | "group" | "coordinates" | "translate", Arg::Value(k, _)) => {
                 cx.error_spanned_by(&k, format!("expected a list: `{k}(a, b, ...)`"))
             }
             ("connection", Arg::List(k, _)) => cx.error_spanned_by(
@@ -231,33 +579,55 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
             ),
         }
     }
-    if shape.is_none() && !seen.iter().any(|k| k == "shape") {
-        cx.error_at(
-            Span::call_site(),
-            "missing `shape(...)`: list the shape coordinates, e.g. `shape(x, y)` (or `shape()` for none)",
-        );
-    }
-    if group.is_none() && !seen.iter().any(|k| k == "group") {
-        cx.error_at(
-            Span::call_site(),
-            "missing `group(...)`: list the group coordinates the symmetry translates, e.g. `group(theta)` (or `group()` for none)",
-        );
-    }
-    let (shape, group) = (shape?, group?);
-    if shape.is_empty() && group.is_empty() {
-        cx.error_at(
-            Span::call_site(),
-            "no coordinates: `shape()` and `group()` are both empty; declare at least one coordinate, e.g. `shape(x), group()`",
-        );
-    }
-    check_coordinates(cx, &shape, &group);
+    let layout = if family == Some("coordinates") {
+        let Some(coords) = coordinates else {
+            if !seen.iter().any(|k| k == "coordinates") {
+                let at = translates.first().map(|(k, _)| k.span());
+                cx.error_at(
+                    at.unwrap_or_else(Span::call_site),
+                    "`translate(...)` needs `coordinates(...)`: list your coordinates, e.g. `coordinates(x[4], y[4]), translate(x), translate(y)`",
+                );
+            }
+            return None;
+        };
+        if coords.is_empty() {
+            cx.error_at(
+                Span::call_site(),
+                "no coordinates: `coordinates()` is empty; declare at least one coordinate, e.g. `coordinates(x[3])`",
+            );
+        }
+        check_coordinates(cx, &coords, &[]);
+        Layout::declared(cx, coords, &translates)
+    } else {
+        if shape.is_none() && !seen.iter().any(|k| k == "shape") {
+            cx.error_at(
+                Span::call_site(),
+                "missing `shape(...)`: list the shape coordinates, e.g. `shape(x, y)` (or `shape()` for none)",
+            );
+        }
+        if group.is_none() && !seen.iter().any(|k| k == "group") {
+            cx.error_at(
+                Span::call_site(),
+                "missing `group(...)`: list the group coordinates the symmetry translates, e.g. `group(theta)` (or `group()` for none)",
+            );
+        }
+        let (shape, group) = (shape?, group?);
+        if shape.is_empty() && group.is_empty() {
+            cx.error_at(
+                Span::call_site(),
+                "no coordinates: `shape()` and `group()` are both empty; declare at least one coordinate, e.g. `shape(x), group()`",
+            );
+        }
+        check_coordinates(cx, &shape, &group);
+        Layout::explicit(shape, group)
+    };
     let connection = connection.map(|(value, rows)| {
-        check_connection_shape(cx, &value, &rows, shape.len(), group.len());
+        check_connection_shape(cx, &value, &rows, layout.s(), layout.k());
         rows
     });
     Some(Spec {
-        shape,
-        group,
+        layout,
+        lengths_ok,
         connection,
         step,
         name,
@@ -265,6 +635,54 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
         rule,
         rule_written: seen.iter().any(|k| k == "rule"),
     })
+}
+
+/// The entries of `shape(...)`, `group(...)` or `coordinates(...)`, with their lengths checked.
+fn coord_list(cx: &Ctxt, list: Punctuated<CoordArg, Token![,]>, ok: &mut bool) -> Vec<Coord> {
+    list.into_iter()
+        .map(|c| {
+            let len = match &c.len {
+                None => None,
+                Some((_, e)) => {
+                    let n = match e {
+                        Expr::Lit(syn::ExprLit {
+                            lit: syn::Lit::Int(i),
+                            ..
+                        }) => i.base10_parse::<usize>().ok(),
+                        _ => None,
+                    };
+                    match n {
+                        Some(n) if (1..=MAX_COMPONENTS).contains(&n) => Some(n),
+                        Some(n) => {
+                            cx.error_spanned_by(
+                                e,
+                                format!(
+                                    "array coordinate `{}` has length {n}; accepted: an integer literal from 1 to {MAX_COMPONENTS}, e.g. `{}[3]`",
+                                    c.name, c.name
+                                ),
+                            );
+                            *ok = false;
+                            Some(1)
+                        }
+                        None => {
+                            cx.error_spanned_by(
+                                e,
+                                format!(
+                                    "the length of array coordinate `{}` must be an integer literal, found `{}`; accepted: `{}[3]` (a constant length from 1 to {MAX_COMPONENTS})",
+                                    c.name,
+                                    e.to_token_stream(),
+                                    c.name
+                                ),
+                            );
+                            *ok = false;
+                            Some(1)
+                        }
+                    }
+                }
+            };
+            Coord { name: c.name, len }
+        })
+        .collect()
 }
 
 fn parse_ranges(cx: &Ctxt, list: Punctuated<RangeArg, Token![,]>) -> Vec<Range> {
@@ -348,7 +766,7 @@ fn range_bound(cx: &Ctxt, e: &Expr) -> Option<f64> {
 
 /// Resolves the names in `ranges(...)` against the parameters and coordinates.
 pub fn resolve_ranges(cx: &Ctxt, spec: &Spec, sig: &Signature) -> Ranges {
-    let coords: Vec<&Ident> = spec.shape.iter().chain(&spec.group).collect();
+    let coords: Vec<&Ident> = spec.layout.coords.iter().map(|c| &c.name).collect();
     let mut out = Ranges {
         coords: vec![None; coords.len()],
         params: vec![None; sig.params.len()],
@@ -427,12 +845,12 @@ fn parse_matrix(cx: &Ctxt, value: &Expr) -> Option<Vec<Vec<Expr>>> {
     Some(out)
 }
 
-fn check_coordinates(cx: &Ctxt, shape: &[Ident], group: &[Ident]) {
+fn check_coordinates(cx: &Ctxt, shape: &[Coord], group: &[Coord]) {
     let mut seen: Vec<&Ident> = Vec::new();
-    for id in shape.iter().chain(group) {
+    for id in shape.iter().chain(group).map(|c| &c.name) {
         if let Some(first) = seen.iter().find(|s| **s == id) {
-            let in_shape = |x: &Ident| shape.iter().any(|s| s == x);
-            let in_group = |x: &Ident| group.iter().any(|s| s == x);
+            let in_shape = |x: &Ident| shape.iter().any(|s| s.name == *x);
+            let in_group = |x: &Ident| group.iter().any(|s| s.name == *x);
             if in_shape(first) && in_group(id) {
                 cx.error_spanned_by(
                     id,

@@ -19,7 +19,7 @@ use crate::diff::derivatives;
 use crate::emit::straight_line;
 use crate::graph::{Graph, NodeId, Sym};
 use crate::lints;
-use crate::lower::{Lowering, Names};
+use crate::lower::{CoordName, Lowering, Names};
 
 const USAGE: &str = "accepted: `#[chart_transition(from(shape(..), group(..)), \
 to(shape(..), group(..)), name = Name)]` (`name` optional)";
@@ -242,13 +242,13 @@ fn compile(cx: &Ctxt, spec: &Spec, q: &Ident, func: &ItemFn) -> Option<TokenStre
     let names = Names {
         q0: q,
         q1: &unused,
-        coords: spec
-            .from
-            .shape
-            .iter()
-            .chain(&spec.from.group)
-            .map(Ident::to_string)
-            .collect(),
+        coords: CoordName::scalars(
+            spec.from
+                .shape
+                .iter()
+                .chain(&spec.from.group)
+                .map(Ident::to_string),
+        ),
         params: Vec::new(),
     };
     let mut graph = Graph::default();

@@ -4,10 +4,10 @@
 //! implements [`ContinuousLagrangian`]. This module turns positions and velocities into the
 //! integrators' initial states and reports the continuous energy along a trajectory.
 
-use nalgebra::{SMatrix, SVector};
+use nalgebra::SVector;
 
 use crate::integrate::{CanonicalTrajectory, Trajectory};
-use crate::lu::Lu;
+use crate::newton::LinearSolver;
 use crate::state::{CanonicalState, ReducedState};
 use crate::system::DiscreteLagrangian;
 
@@ -47,12 +47,23 @@ pub trait ContinuousLagrangian<const N: usize> {
     /// The Legendre map `p = ∂L/∂v (q, v)` (eq. (2.3) of the continuous theory, `FL`).
     fn legendre(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> SVector<f64, N>;
 
+    /// The linear algebra of the inverse Legendre map: dense [`crate::Lu`] for small systems, the sparse
+    /// backend on the compile-time pattern of `∂²L/∂v²` above [`crate::DENSE_MAX`] (see
+    /// [`crate::Reduced::Linear`]).
+    type LegendreLinear: LinearSolver<Vector = SVector<f64, N>>;
+
+    /// A workspace for [`Self::LegendreLinear`].
+    fn legendre_solver(&self) -> Self::LegendreLinear;
+
     /// `∂L/∂v` and its Jacobian `∂²L/∂v²`, one straight line.
     fn legendre_jacobian(
         &self,
         q: &SVector<f64, N>,
         v: &SVector<f64, N>,
-    ) -> (SVector<f64, N>, SMatrix<f64, N, N>);
+    ) -> (
+        SVector<f64, N>,
+        <Self::LegendreLinear as LinearSolver>::Matrix,
+    );
 
     /// The energy `E(q, v) = ⟨∂L/∂v, v⟩ − L(q, v)`.
     fn energy(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> f64;
@@ -92,6 +103,7 @@ pub trait ContinuousLagrangian<const N: usize> {
         let scale = 1.0 + p.amax();
         let mut v = guess;
         let mut residual = f64::INFINITY;
+        let mut lu = self.legendre_solver();
         for _ in 0..MAX_ITERATIONS {
             let (pv, jac) = self.legendre_jacobian(q, &v);
             // Checked before the residual: for a degenerate Lagrangian every velocity satisfies
@@ -99,9 +111,9 @@ pub trait ContinuousLagrangian<const N: usize> {
             // ∂²L/∂v² is singular there in exact arithmetic; in floating point the rounded
             // Hessian can keep a tiny pivot, so "singular" means a reciprocal condition number
             // below 1e-12 as well as an exactly zero pivot.
-            let lu = Lu::new(jac)
-                .filter(|lu| lu.rcond() >= 1e-12)
-                .ok_or(LegendreError::Singular { node })?;
+            if lu.factor(&jac).is_err() || lu.rcond() < 1e-12 {
+                return Err(LegendreError::Singular { node });
+            }
             let r = pv - p;
             residual = r.amax();
             if residual <= 4.0 * f64::EPSILON * scale {

@@ -15,6 +15,7 @@
 //! connection matrix `B` (`K × S`) of the linear discrete connection
 //! `ω_d(q0, q1) = (g1 − g0) − B (x1 − x0)`.
 
+pub mod adapted;
 pub mod atlas;
 pub mod compose;
 pub mod continuous;
@@ -28,6 +29,7 @@ pub mod sparse;
 pub mod state;
 pub mod system;
 
+pub use adapted::AdaptedCoordinates;
 pub use compose::{BaseStep, ComposedTrajectory, Composition, CompositionMethod};
 pub use continuous::{
     continuous_energies, midpoint_energies, reduced_continuous_energies, ContinuousEnergies,

@@ -55,6 +55,64 @@ impl ChargedParticleConfig {
         >::from([self.x, self.y, self.z, self.theta])
     }
 }
+#[allow(
+    clippy::approx_constant,
+    reason = "constants folded at compile time (2π = 6.283185307179586) are printed in full, not named"
+)]
+#[allow(
+    clippy::excessive_precision,
+    clippy::unreadable_literal,
+    reason = "folded constants are printed with every digit f64 round-trips, without separators"
+)]
+#[allow(
+    clippy::many_single_char_names,
+    clippy::similar_names,
+    reason = "generated locals and arguments follow the paper's symbols (x_k, w_k, mu_k, z)"
+)]
+#[allow(
+    clippy::too_many_lines,
+    clippy::let_and_return,
+    clippy::neg_multiply,
+    clippy::double_parens,
+    clippy::unnecessary_cast,
+    clippy::float_cmp,
+    clippy::suboptimal_flops,
+    clippy::imprecise_flops,
+    reason = "straight-line code emitted one operation per line, rounding exactly as the user's expression"
+)]
+#[allow(
+    clippy::must_use_candidate,
+    clippy::missing_const_for_fn,
+    clippy::return_self_not_must_use,
+    reason = "accessors of the emitted types; their results are plain values"
+)]
+#[automatically_derived]
+impl ::dirac::runtime::AdaptedCoordinates<4usize> for ChargedParticle {
+    #[inline]
+    fn to_adapted(
+        q_user: &::dirac::nalgebra::SVector<f64, 4usize>,
+    ) -> ::dirac::nalgebra::SVector<f64, 4usize> {
+        *q_user
+    }
+    #[inline]
+    fn from_adapted(
+        q: &::dirac::nalgebra::SVector<f64, 4usize>,
+    ) -> ::dirac::nalgebra::SVector<f64, 4usize> {
+        *q
+    }
+    #[inline]
+    fn momentum_to_adapted(
+        p_user: &::dirac::nalgebra::SVector<f64, 4usize>,
+    ) -> ::dirac::nalgebra::SVector<f64, 4usize> {
+        *p_user
+    }
+    #[inline]
+    fn momentum_from_adapted(
+        p: &::dirac::nalgebra::SVector<f64, 4usize>,
+    ) -> ::dirac::nalgebra::SVector<f64, 4usize> {
+        *p
+    }
+}
 /// Charged particle in a magnetic field, Kaluza–Klein form (paper §7.1), left-point rule.
 #[allow(
     clippy::too_many_arguments,
