@@ -738,6 +738,10 @@ fn reduced_impl(t: &Target, g: &Graph, side: &SideCode) -> (TokenStream, String,
     // The eliminated stepper: Newton on x_{k+1} alone; the third function returns the group
     // unknowns in closed form.
     let (eliminated, note) = match &side.eliminated {
+        None if n > DENSE_MAX => (
+            quote!(),
+            format!("{label} not used on the sparse backend (its shape Jacobian is dense)"),
+        ),
         None => (
             quote!(),
             format!(

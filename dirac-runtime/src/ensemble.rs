@@ -11,6 +11,10 @@
 
 use rayon::prelude::*;
 
+/// The thread pool the ensembles run on (e.g. `rayon::ThreadPoolBuilder` to fix the number of
+/// threads).
+pub use rayon;
+
 use crate::error::IntegrationError;
 use crate::integrate::{
     CanonicalTrajectory, ReducedIntegrator, RunSummary, StepRecord, Trajectory, UnreducedIntegrator,

@@ -103,6 +103,7 @@ impl<const NNZ: usize> CscValues<NNZ> {
 /// fixed pattern: the symbolic analysis is done once in [`SparseLu::new`]; each
 /// [`LinearSolver::factor`] is a numeric factorization into the same memory.
 pub struct SparseLu<const N: usize, const NNZ: usize> {
+    csc: &'static CscPattern,
     pattern: SymbolicSparseColMatRef<'static, usize>,
     symbolic: SymbolicLu<usize>,
     numeric: NumericLu<usize, f64>,
@@ -144,6 +145,7 @@ impl<const N: usize, const NNZ: usize> SparseLu<N, NNZ> {
             symbolic.solve_transpose_in_place_scratch::<f64>(1, Par::Seq),
         ]);
         Self {
+            csc: pattern,
             pattern: symbolic_pattern,
             symbolic,
             numeric: NumericLu::new(),
@@ -151,6 +153,11 @@ impl<const N: usize, const NNZ: usize> SparseLu<N, NNZ> {
             norm1: 0.0,
             factored: false,
         }
+    }
+
+    /// The pattern of the Jacobians this workspace factors.
+    pub fn pattern(&self) -> &'static CscPattern {
+        self.csc
     }
 
     /// Solves `A x = b` (or `Aᵀ x = b`) in place.
