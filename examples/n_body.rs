@@ -66,11 +66,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         sys.h,
         <FourBodies as DiscreteLagrangian<9, 3, 12>>::GROUP
     );
-    let total = |p: &SVector<f64, 12>| {
-        [0, 1, 2].map(|axis| (0..4).map(|i| p[4 * axis + i]).sum::<f64>())
-    };
+    let total =
+        |p: &SVector<f64, 12>| [0, 1, 2].map(|axis| (0..4).map(|i| p[4 * axis + i]).sum::<f64>());
     println!("  total momentum from the bodies' momenta: {:?}", total(&p));
-    println!("  μ of the reduced state (= the total momentum):   {:?}", start.mu.as_slice());
+    println!(
+        "  μ of the reduced state (= the total momentum):   {:?}",
+        start.mu.as_slice()
+    );
 
     let steps = 50_000;
     let integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
@@ -84,7 +86,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (lo, hi) = energies
         .midpoints
         .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &e| (a.min(e), b.max(e)));
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &e| {
+            (a.min(e), b.max(e))
+        });
     let end = FourBodies::from_adapted_state(&sys.untrivialize(traj.last()));
     println!(
         "  {steps} steps (T = {}): mean Newton iterations {:.3}",
