@@ -1,5 +1,11 @@
-//! Graph → straight-line Rust. Each live operation node becomes one `let`; leaves are read
-//! directly; constants are inlined; nodes no output depends on are never emitted.
+//! Graph → straight-line Rust. Each live operation node becomes one local assigned once; leaves
+//! are read directly; constants are inlined; nodes no output depends on are never emitted.
+//!
+//! Locals are declared [`DECLARE_CHUNK`] at a time (`let (a, b, ..);` then `a = ..; b = ..;`)
+//! rather than one `let` each: every `let` opens a lexical scope nested in the previous one,
+//! and with debug info LLVM walks those scopes recursively — a 200-particle lattice (≈ 10⁵
+//! operations) overflowed rustc's stack in a debug build. Declared in chunks, the nesting depth
+//! is the number of chunks; the optimized code is the same.
 
 use std::collections::HashMap;
 
@@ -23,7 +29,7 @@ pub fn straight_line(
     leaf: &dyn Fn(Sym) -> TokenStream,
 ) -> StraightLine {
     let mut expr: HashMap<NodeId, TokenStream> = HashMap::new();
-    let mut stmts = TokenStream::new();
+    let mut bindings: Vec<(Ident, TokenStream)> = Vec::new();
     let mut operations = 0;
     let mut bound_leaves: HashMap<Sym, Ident> = HashMap::new();
     for id in g.cone(outputs) {
@@ -40,7 +46,7 @@ pub fn straight_line(
                     .or_insert_with(|| leaf_name(sym))
                     .clone();
                 let read = leaf(sym);
-                stmts.extend(quote! { let #name: f64 = #read; });
+                bindings.push((name.clone(), quote! { #read }));
                 expr.insert(id, quote! { #name });
                 continue;
             }
@@ -71,16 +77,34 @@ pub fn straight_line(
             }
         };
         let name = format_ident!("__t{}", id.0);
-        stmts.extend(quote! { let #name: f64 = #value; });
+        bindings.push((name.clone(), value));
         operations += 1;
         expr.insert(id, quote! { #name });
     }
     let outputs = outputs.iter().map(|o| expr[o].clone()).collect();
+    let stmts = declare_in_chunks(&bindings);
     StraightLine {
         stmts,
         outputs,
         operations,
     }
+}
+
+/// Locals declared per `let`; see the module documentation.
+const DECLARE_CHUNK: usize = 64;
+
+/// `let (a, b, ..): (f64, f64, ..); a = ..; b = ..;` for each chunk of bindings, in order.
+fn declare_in_chunks(bindings: &[(Ident, TokenStream)]) -> TokenStream {
+    let mut stmts = TokenStream::new();
+    for chunk in bindings.chunks(DECLARE_CHUNK) {
+        let names = chunk.iter().map(|(name, _)| name);
+        let types = chunk.iter().map(|_| quote!(f64));
+        stmts.extend(quote! { let (#(#names,)*): (#(#types,)*); });
+        for (name, value) in chunk {
+            stmts.extend(quote! { #name = #value; });
+        }
+    }
+    stmts
 }
 
 fn binary(a: TokenStream, op: TokenStream, b: TokenStream) -> TokenStream {
