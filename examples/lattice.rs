@@ -109,11 +109,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let spread = e_max - e_min;
     let drift = mean(e_last, counted) - mean(e_first, tenth.min(steps));
     println!(
-        "  {steps} steps (T = {:.0}): {:.1} µs per step, {:.3} Newton iterations per step (max {}), worst rcond {:.2e}",
+        "  {steps} steps (T = {:.0}): {:.1} µs per step, {:.3} corrections per step (max {}), {} Jacobians factored, worst rcond {:.2e}",
         summary.time(),
         1e6 * seconds / steps as f64,
         summary.mean_iterations(),
         summary.max_iterations,
+        summary.factorizations,
         summary.worst_rcond.map_or(f64::NAN, |(_, r)| r),
     );
     println!(

@@ -189,6 +189,39 @@ fn the_sparse_jacobian_is_the_dense_one_and_so_are_the_steps() {
 }
 
 #[test]
+fn chord_iterations_reach_the_steps_newton_reaches() {
+    // A run keeps one sparse workspace, so after its first step a step corrects with the factors
+    // of an earlier step as long as they contract the residual; `step` builds a fresh workspace
+    // and so runs Newton with a Jacobian per correction. Both accept on the same residual test.
+    let integ = ReducedIntegrator::plus(SYS, NewtonOptions::default());
+    let steps = 200;
+    let traj = integ.clone().integrate(initial(2), steps).unwrap();
+    let factored: usize = traj.stats.iter().map(|s| s.factorizations).sum();
+    assert!(traj.stats[0].factorizations >= 1);
+    assert!(
+        factored < steps / 4,
+        "{factored} Jacobians factored in {steps} steps: the factors are not reused"
+    );
+    for k in (0..steps).step_by(20) {
+        let state = &traj.states[k];
+        let guess = dirac::runtime::system::join::<23, 1, 24>(&state.x, &SVector::zeros());
+        let (newton_step, _, stats) = integ.step(k, state, &guess).unwrap();
+        assert_eq!(
+            stats.factorizations, stats.iterations,
+            "step {k}: {stats:?}"
+        );
+        let next = &traj.states[k + 1];
+        let dx = (newton_step.x - next.x).amax();
+        let dw = (newton_step.w - next.w).amax();
+        assert!(
+            dx <= 1e-12 * (1.0 + next.x.amax()) && dw <= 1e-12 * (1.0 + next.w.amax()),
+            "step {k}: chord and Newton steps differ by {dx:e} (x), {dw:e} (w)"
+        );
+        assert_eq!(newton_step.mu, next.mu);
+    }
+}
+
+#[test]
 fn a_streaming_run_sees_what_integrate_keeps_and_keeps_nothing() {
     let integ = ReducedIntegrator::plus(SYS, NewtonOptions::default());
     let traj = integ.clone().integrate(initial(1), 300).unwrap();

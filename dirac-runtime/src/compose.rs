@@ -418,6 +418,7 @@ where
         let mut current = *state;
         let mut total = StepStats {
             iterations: 0,
+            factorizations: 0,
             residual: 0.0,
             tolerance: 0.0,
             rcond: None,
@@ -459,6 +460,7 @@ where
         for k in 0..steps {
             let mut total = StepStats {
                 iterations: 0,
+                factorizations: 0,
                 residual: 0.0,
                 tolerance: 0.0,
                 rcond: None,
@@ -583,6 +585,7 @@ where
 /// Folds one stage's statistics into its macro step's.
 fn accumulate(total: &mut StepStats, stage: &StepStats) {
     total.iterations += stage.iterations;
+    total.factorizations += stage.factorizations;
     // The tolerance recorded is that of the stage whose residual is the one recorded.
     if stage.residual >= total.residual {
         total.tolerance = stage.tolerance;

@@ -16,6 +16,10 @@ use crate::system::{join, split, LagrangianHessian, Minus, Plus, Reduced, Side, 
 pub struct StepStats {
     /// Newton corrections (linear solves) taken.
     pub iterations: usize,
+    /// Step Jacobians factored. On the sparse backend a step first corrects with the factors of
+    /// an earlier step (chord iterations, [`crate::newton::solve_with`]), so this is often 0
+    /// there; on the dense backend it is the number of corrections.
+    pub factorizations: usize,
     /// `‖R‖∞` at the accepted solution.
     pub residual: f64,
     /// The residual tolerance the step was accepted against, `abs_tol + rel_tol · ρ` with `ρ`
@@ -32,6 +36,7 @@ impl StepStats {
     fn from_solution<V>(s: &NewtonSolution<V>, tolerance: f64) -> Self {
         Self {
             iterations: s.iterations,
+            factorizations: s.factorizations,
             residual: s.residual,
             tolerance,
             rcond: s.rcond,
@@ -94,6 +99,8 @@ pub struct RunSummary<St> {
     pub iterations: usize,
     /// Most Newton corrections in one step.
     pub max_iterations: usize,
+    /// Step Jacobians factored over all steps (see [`StepStats::factorizations`]).
+    pub factorizations: usize,
     /// Largest accepted residual.
     pub max_residual: f64,
     /// The worst (smallest) reciprocal condition estimate of a step Jacobian, and its step.
@@ -108,6 +115,7 @@ impl<St> RunSummary<St> {
             last: initial,
             iterations: 0,
             max_iterations: 0,
+            factorizations: 0,
             max_residual: 0.0,
             worst_rcond: None,
         }
@@ -122,6 +130,7 @@ impl<St> RunSummary<St> {
         self.steps += 1;
         self.last = next;
         self.iterations += stats.iterations;
+        self.factorizations += stats.factorizations;
         self.max_iterations = self.max_iterations.max(stats.iterations);
         self.max_residual = self.max_residual.max(stats.residual);
     }
@@ -488,6 +497,7 @@ where
         let z = join::<S, K, N>(&solution.z, &group);
         let stats = StepStats {
             iterations: solution.iterations,
+            factorizations: solution.factorizations,
             residual: solution.residual,
             tolerance: self.options.residual_tolerance(rho),
             rcond,

@@ -112,6 +112,14 @@ pub trait LinearSolver {
     fn rcond_lower_bound(&mut self) -> f64;
     /// The (more expensive, more accurate) estimate of `1 / (‖J‖₁ ‖J⁻¹‖₁)`.
     fn rcond(&mut self) -> f64;
+    /// Whether a solve should first try the factors this workspace holds (of a Jacobian from an
+    /// earlier step) before evaluating and factoring a new one: chord iterations, see
+    /// [`solve_with`]. The sparse backend says yes once it holds factors, because there a
+    /// factorization costs many residual evaluations; the dense fixed-size [`Lu`] never (the
+    /// default), because there it costs less than one.
+    fn has_reusable_factors(&self) -> bool {
+        false
+    }
 }
 
 impl<const N: usize> LinearSolver for Lu<N> {
@@ -165,6 +173,9 @@ pub struct NewtonSolution<V> {
     pub z: V,
     /// Number of Newton corrections (linear solves) taken.
     pub iterations: usize,
+    /// Number of Jacobians factored: fewer than `iterations` when corrections used the factors
+    /// of an earlier step (chord iterations, see [`solve_with`]).
+    pub factorizations: usize,
     /// `‖R(z)‖∞` at the returned `z`.
     pub residual: f64,
     /// Conditioning figure of the last Jacobian factored (see [`checked_rcond`]: a guaranteed
@@ -244,8 +255,17 @@ pub fn solve<const N: usize>(
 /// probably converged, and otherwise from `residual_jacobian`, whose Jacobian the next correction
 /// needs anyway (so no point is evaluated twice in the usual case). The model only chooses which
 /// function to call: acceptance is always the residual test (or the correction test) on a
-/// freshly evaluated residual. The conditioning of the last Jacobian factored is checked once per
-/// solve, with [`checked_rcond`].
+/// freshly evaluated residual.
+///
+/// Chord iterations: when the solver [holds factors worth reusing](LinearSolver::has_reusable_factors)
+/// (from an earlier step of the same run), the solve starts with corrections from those
+/// factors and residuals alone, as long as each one shrinks the residual by at least
+/// [`CHORD_CONTRACTION`]; the first that does not switches the rest of the solve to Newton's
+/// iteration with a fresh Jacobian, whose factors the next steps then reuse. Acceptance is the
+/// same residual test, so only the cost changes, not what is accepted.
+///
+/// The conditioning of the last Jacobian factored (for a chord solve: the Jacobian whose factors
+/// it used) is checked once per solve, with [`checked_rcond`].
 pub fn solve_with<B: LinearSolver>(
     solver: &mut B,
     z0: B::Vector,
@@ -256,22 +276,30 @@ pub fn solve_with<B: LinearSolver>(
 ) -> Result<NewtonSolution<B::Vector>, NewtonFailure> {
     let tol = options.residual_tolerance(rho);
     let mut z = z0;
-    let (mut r_j, mut jacobian) = residual_jacobian(&z);
-    let mut norm = slice_inf_norm(r_j.components());
+    // Whether corrections use the factors the solver already holds (chord iterations).
+    let mut chord = solver.has_reusable_factors();
+    // The residual at `z`, and the Jacobian (`fresh`) when it was evaluated at `z` too.
+    let (mut r, mut jacobian) = if chord {
+        (residual(&z), None)
+    } else {
+        let (r, j) = residual_jacobian(&z);
+        (r, Some(j))
+    };
+    let mut fresh = !chord;
+    let mut norm = slice_inf_norm(r.components());
     if !norm.is_finite() {
         return Err(NewtonFailure::NonFinite {
             residual: f64::INFINITY,
         });
     }
-    // Whether `r_j, jacobian` were evaluated at the current iterate.
-    let mut fresh = true;
     let mut iterations = 0;
-    // Whether `solver` holds the factors of a Jacobian of this solve.
-    let mut factored = false;
-    // The relative size of the last correction, for the quadratic model.
+    // Whether `solver` holds the factors of a Jacobian this solve uses.
+    let mut factored = chord;
+    // The relative size of the last Newton correction, for the quadratic model.
     let mut last_step: Option<f64> = None;
     let min_rcond = options.min_rcond;
-    let done = |solver: &mut B, z, iterations, residual, factored: bool| {
+    let mut factorizations = 0;
+    let done = |solver: &mut B, z, iterations, factorizations, residual, factored: bool| {
         let rcond = factored.then(|| checked_rcond(solver, min_rcond));
         let jacobian_norm1 = factored.then(|| solver.norm1());
         match rcond {
@@ -281,6 +309,7 @@ pub fn solve_with<B: LinearSolver>(
             _ => Ok(NewtonSolution {
                 z,
                 iterations,
+                factorizations,
                 residual,
                 rcond,
                 jacobian_norm1,
@@ -304,7 +333,7 @@ pub fn solve_with<B: LinearSolver>(
     };
     loop {
         if norm <= tol {
-            return done(solver, z, iterations, norm, factored);
+            return done(solver, z, iterations, factorizations, norm, factored);
         }
         if iterations == options.max_iterations {
             let failure = NewtonFailure::NotConverged {
@@ -313,15 +342,26 @@ pub fn solve_with<B: LinearSolver>(
             };
             return Err(failed(solver, failure, factored));
         }
-        if !fresh {
-            (r_j, jacobian) = residual_jacobian(&z);
+        if !chord {
+            if !fresh {
+                let (r_z, j_z) = residual_jacobian(&z);
+                (r, jacobian) = (r_z, Some(j_z));
+            }
+            let j = jacobian
+                .as_ref()
+                .expect("a Newton correction has its Jacobian");
+            factorizations += 1;
+            match solver.factor(j) {
+                Ok(()) => factored = true,
+                Err(FactorError::NonFinite) => {
+                    return Err(NewtonFailure::NonFinite { residual: norm })
+                }
+                Err(FactorError::Singular) => {
+                    return Err(NewtonFailure::Singular { residual: norm })
+                }
+            }
         }
-        match solver.factor(&jacobian) {
-            Ok(()) => factored = true,
-            Err(FactorError::NonFinite) => return Err(NewtonFailure::NonFinite { residual: norm }),
-            Err(FactorError::Singular) => return Err(NewtonFailure::Singular { residual: norm }),
-        }
-        let dz = solver.solve(&r_j);
+        let dz = solver.solve(&r);
         if dz.components().iter().any(|v| !v.is_finite()) {
             return Err(NewtonFailure::Singular { residual: norm });
         }
@@ -333,21 +373,29 @@ pub fn solve_with<B: LinearSolver>(
         let scale = 1.0 + slice_inf_norm(z.components());
         let step = slice_inf_norm(dz.components()) / scale;
         let small = step <= options.rel_tol;
-        // Quadratic convergence: the next correction is about `C step²`, with `C` from the last
-        // two corrections (`step / last²`), or 1 (unit curvature) at the first.
-        let next_step = match last_step {
-            Some(last) if last > 0.0 => step / (last * last) * step * step,
-            _ => step * step,
-        };
-        last_step = Some(step);
-        if small || next_step <= PREDICTED_CONVERGENCE * options.rel_tol {
+        if chord {
             fresh = false;
-            let r = residual(&z);
+            r = residual(&z);
             norm = slice_inf_norm(r.components());
+            // Too slow a contraction: the old factors no longer pay; Newton from here on.
+            chord = norm <= CHORD_CONTRACTION * previous;
         } else {
-            fresh = true;
-            (r_j, jacobian) = residual_jacobian(&z);
-            norm = slice_inf_norm(r_j.components());
+            // Quadratic convergence: the next correction is about `C step²`, with `C` from the
+            // last two corrections (`step / last²`), or 1 (unit curvature) at the first.
+            let next_step = match last_step {
+                Some(last) if last > 0.0 => step / (last * last) * step * step,
+                _ => step * step,
+            };
+            last_step = Some(step);
+            if small || next_step <= PREDICTED_CONVERGENCE * options.rel_tol {
+                fresh = false;
+                r = residual(&z);
+            } else {
+                fresh = true;
+                let (r_z, j_z) = residual_jacobian(&z);
+                (r, jacobian) = (r_z, Some(j_z));
+            }
+            norm = slice_inf_norm(r.components());
         }
         if !norm.is_finite() {
             return Err(failed(
@@ -357,10 +405,18 @@ pub fn solve_with<B: LinearSolver>(
             ));
         }
         if small {
-            return done(solver, z, iterations, norm, factored);
+            return done(solver, z, iterations, factorizations, norm, factored);
         }
     }
 }
+
+/// The residual reduction a chord iteration (a correction from an earlier step's factors) must
+/// achieve for the next correction to use the same factors: `‖R(z⁺)‖∞ ≤ θ ‖R(z)‖∞`. A chord
+/// correction costs a residual and a solve; a Newton correction on the sparse backend also costs
+/// a Jacobian and a factorization, several times more, while converging quadratically. At
+/// θ = 0.1 a chord solve from a guess 10⁶ tolerances off takes at most six corrections, the
+/// break-even point against two Newton corrections on the 200-particle lattice.
+pub const CHORD_CONTRACTION: f64 = 0.1;
 
 /// How large (in units of `rel_tol`) the next correction predicted by Newton's quadratic model
 /// may be for the new iterate to be tested with the residual alone rather than with the residual
@@ -393,6 +449,65 @@ mod tests {
         assert!((sol.z[0] - 2f64.sqrt()).abs() < 1e-14);
         assert!((sol.z[1] - 2f64.sqrt()).abs() < 1e-14);
         assert!(sol.iterations <= 7, "{} iterations", sol.iterations);
+    }
+
+    /// The dense `Lu` offering its factors for reuse, as the sparse backend does.
+    struct Reusing(Lu<2>, bool);
+
+    impl LinearSolver for Reusing {
+        type Vector = Vector2<f64>;
+        type Matrix = Matrix2<f64>;
+        fn factor(&mut self, j: &Matrix2<f64>) -> Result<(), FactorError> {
+            self.1 = false;
+            LinearSolver::factor(&mut self.0, j)?;
+            self.1 = true;
+            Ok(())
+        }
+        fn solve(&mut self, b: &Vector2<f64>) -> Vector2<f64> {
+            self.0.solve(b)
+        }
+        fn norm1(&self) -> f64 {
+            self.0.norm1()
+        }
+        fn rcond_lower_bound(&mut self) -> f64 {
+            self.0.rcond_lower_bound()
+        }
+        fn rcond(&mut self) -> f64 {
+            self.0.rcond()
+        }
+        fn has_reusable_factors(&self) -> bool {
+            self.1
+        }
+    }
+
+    #[test]
+    fn chord_iterations_reuse_good_factors_and_drop_bad_ones() {
+        // x² + y² = c, x = y: root (√(c/2), √(c/2)); Jacobian [[2x, 2y], [1, −1]].
+        let system = |c: f64| {
+            let f =
+                move |z: &Vector2<f64>| Vector2::new(z[0] * z[0] + z[1] * z[1] - c, z[0] - z[1]);
+            let fj =
+                move |z: &Vector2<f64>| (f(z), Matrix2::new(2.0 * z[0], 2.0 * z[1], 1.0, -1.0));
+            (f, fj)
+        };
+        let options = NewtonOptions::default();
+        let mut solver = Reusing(Lu::empty(), false);
+        let (f, fj) = system(4.0);
+        let first = solve_with(&mut solver, Vector2::new(1.0, 0.5), 4.0, &options, f, fj).unwrap();
+        assert_eq!(first.factorizations, first.iterations);
+        // A nearby problem from a nearby guess: the old factors contract fast, none is formed.
+        let (f, fj) = system(4.0001);
+        let root = (4.0001f64 / 2.0).sqrt();
+        let near = solve_with(&mut solver, first.z, 4.0, &options, f, fj).unwrap();
+        assert_eq!(near.factorizations, 0, "{near:?}");
+        assert!((near.z[0] - root).abs() < 1e-14 && (near.z[1] - root).abs() < 1e-14);
+        // A far problem: the old factors contract too slowly, so Newton takes over and converges.
+        let (f, fj) = system(400.0);
+        let root = 200f64.sqrt();
+        let far = solve_with(&mut solver, first.z, 400.0, &options, f, fj).unwrap();
+        assert!(far.factorizations >= 1, "{far:?}");
+        assert!((far.z[0] - root).abs() < 1e-12 && (far.z[1] - root).abs() < 1e-12);
+        assert!(far.iterations <= 12, "{far:?}");
     }
 
     #[test]
