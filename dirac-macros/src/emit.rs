@@ -1,11 +1,12 @@
 //! Graph → straight-line Rust. Each live operation node becomes one local assigned once; leaves
 //! are read directly; constants are inlined; nodes no output depends on are never emitted.
 //!
-//! Locals are declared [`DECLARE_CHUNK`] at a time (`let (a, b, ..);` then `a = ..; b = ..;`)
-//! rather than one `let` each: every `let` opens a lexical scope nested in the previous one,
-//! and with debug info LLVM walks those scopes recursively — a 200-particle lattice (≈ 10⁵
-//! operations) overflowed rustc's stack in a debug build. Declared in chunks, the nesting depth
-//! is the number of chunks; the optimized code is the same.
+//! Every `let` opens a lexical scope nested in the previous one, and with debug info LLVM walks
+//! those scopes recursively: a 200-particle lattice (≈ 10⁵ operations, one `let` each)
+//! overflowed rustc's stack in a debug build. So a function with more than [`PLAIN_LETS_MAX`]
+//! locals declares them [`DECLARE_CHUNK`] at a time (`let (a, b, ..): (f64, ..);` then
+//! `a = ..; b = ..;`), and its nesting depth is the number of chunks; smaller functions (the
+//! paper's systems) keep one readable `let` per operation.
 
 use std::collections::HashMap;
 
@@ -90,12 +91,22 @@ pub fn straight_line(
     }
 }
 
-/// Locals declared per `let`; see the module documentation.
+/// Most locals a function declares with one `let` each; see the module documentation.
+const PLAIN_LETS_MAX: usize = 2048;
+
+/// Locals declared per `let` above [`PLAIN_LETS_MAX`]; see the module documentation.
 const DECLARE_CHUNK: usize = 64;
 
-/// `let (a, b, ..): (f64, f64, ..); a = ..; b = ..;` for each chunk of bindings, in order.
+/// `let a: f64 = ..;` per binding up to [`PLAIN_LETS_MAX`] bindings; above, for each chunk of
+/// bindings in order, `let (a, b, ..): (f64, f64, ..); a = ..; b = ..;`.
 fn declare_in_chunks(bindings: &[(Ident, TokenStream)]) -> TokenStream {
     let mut stmts = TokenStream::new();
+    if bindings.len() <= PLAIN_LETS_MAX {
+        for (name, value) in bindings {
+            stmts.extend(quote! { let #name: f64 = #value; });
+        }
+        return stmts;
+    }
     for chunk in bindings.chunks(DECLARE_CHUNK) {
         let names = chunk.iter().map(|(name, _)| name);
         let types = chunk.iter().map(|_| quote!(f64));
