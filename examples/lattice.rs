@@ -52,18 +52,37 @@ fn peak_memory_mib() -> Option<f64> {
     Some(kib / 1024.0)
 }
 
-fn arg(name: &str, default: usize) -> usize {
-    let args: Vec<String> = std::env::args().collect();
-    args.iter()
-        .position(|a| a == name)
-        .and_then(|i| args.get(i + 1))
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(default)
+const USAGE: &str = "usage: lattice [--steps N] [--ensemble MEMBERS]";
+
+/// `--steps` and `--ensemble` (defaults 100,000 and 8); anything else is an error.
+fn parse_args() -> Result<(usize, usize), String> {
+    let (mut steps, mut members) = (100_000, 8);
+    let mut args = std::env::args().skip(1);
+    while let Some(flag) = args.next() {
+        let target = match flag.as_str() {
+            "--steps" => &mut steps,
+            "--ensemble" => &mut members,
+            "-h" | "--help" => return Err(USAGE.to_string()),
+            other => return Err(format!("unknown argument `{other}`\n{USAGE}")),
+        };
+        let value = args
+            .next()
+            .ok_or(format!("{flag} needs a number\n{USAGE}"))?;
+        *target = value
+            .parse()
+            .map_err(|_| format!("{flag}: `{value}` is not a non-negative integer\n{USAGE}"))?;
+    }
+    if steps == 0 {
+        return Err(format!("--steps must be at least 1\n{USAGE}"));
+    }
+    Ok((steps, members))
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let steps = arg("--steps", 100_000);
-    let members = arg("--ensemble", 8);
+    let (steps, members) = parse_args().unwrap_or_else(|message| {
+        eprintln!("{message}");
+        std::process::exit(2)
+    });
     let sys = Toda {
         m: 1.0,
         d: 1.0,
@@ -133,7 +152,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
 
     // An ensemble: the same lattice from `members` perturbed initial states, on one thread and on
-    // every core; each member has its own typed result.
+    // every core; each member has its own typed result. `--ensemble 0` skips it.
+    if members == 0 {
+        return Ok(());
+    }
     let ensemble_steps = (steps / 10).max(1);
     let starts: Vec<ReducedState<199, 1>> = (0..members)
         .map(|j| initial(&sys, 0.1 + 0.01 * j as f64, 0.3, 0.05))
