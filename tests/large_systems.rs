@@ -222,6 +222,29 @@ fn chord_iterations_reach_the_steps_newton_reaches() {
 }
 
 #[test]
+fn the_conditioning_threshold_holds_on_the_sparse_backend_with_chord_steps() {
+    // The worst figure a run records is that of the factors its steps used; a threshold above it
+    // turns the run into the typed error, with the steps before the failure kept.
+    let integ = ReducedIntegrator::plus(SYS, NewtonOptions::default());
+    let traj = integ.clone().integrate(initial(3), 100).unwrap();
+    let (_, worst) = traj.worst_rcond().expect("the steps factored a Jacobian");
+    let strict = NewtonOptions {
+        min_rcond: 2.0 * worst,
+        ..NewtonOptions::default()
+    };
+    let err = ReducedIntegrator::plus(SYS, strict)
+        .integrate(initial(3), 100)
+        .unwrap_err();
+    match err.source {
+        StepError::IllConditioned { step, rcond, .. } => {
+            assert!(rcond < 2.0 * worst, "{rcond:e}");
+            assert_eq!(err.trajectory.states.len(), step + 1);
+        }
+        other => panic!("expected IllConditioned, got {other:?}"),
+    }
+}
+
+#[test]
 fn a_streaming_run_sees_what_integrate_keeps_and_keeps_nothing() {
     let integ = ReducedIntegrator::plus(SYS, NewtonOptions::default());
     let traj = integ.clone().integrate(initial(1), 300).unwrap();
