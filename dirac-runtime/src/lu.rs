@@ -309,17 +309,8 @@ pub(crate) fn hager_inverse_norm1<const N: usize>(
         estimate = y.iter().map(|v| v.abs()).sum::<f64>();
         let mut z = y.map(|v| if v >= 0.0 { 1.0 } else { -1.0 });
         solve(&mut z, true);
-        let (j, zj) =
-            z.iter().enumerate().fold(
-                (0, 0.0),
-                |(bj, bv), (i, v)| {
-                    if v.abs() > bv {
-                        (i, v.abs())
-                    } else {
-                        (bj, bv)
-                    }
-                },
-            );
+        let j = z.iamax();
+        let zj = z[j].abs();
         if zj <= z.dot(&x) {
             break;
         }

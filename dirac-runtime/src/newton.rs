@@ -278,14 +278,14 @@ pub fn solve_with<B: LinearSolver>(
     let mut z = z0;
     // Whether corrections use the factors the solver already holds (chord iterations).
     let mut chord = solver.has_reusable_factors();
-    // The residual at `z`, and the Jacobian (`fresh`) when it was evaluated at `z` too.
+    // The residual at `z`, and the Jacobian at `z` when it was evaluated there and not yet
+    // factored.
     let (mut r, mut jacobian) = if chord {
         (residual(&z), None)
     } else {
         let (r, j) = residual_jacobian(&z);
         (r, Some(j))
     };
-    let mut fresh = !chord;
     let mut norm = slice_inf_norm(r.components());
     if !norm.is_finite() {
         return Err(NewtonFailure::NonFinite {
@@ -343,15 +343,13 @@ pub fn solve_with<B: LinearSolver>(
             return Err(failed(solver, failure, factored));
         }
         if !chord {
-            if !fresh {
+            let j = jacobian.take().unwrap_or_else(|| {
                 let (r_z, j_z) = residual_jacobian(&z);
-                (r, jacobian) = (r_z, Some(j_z));
-            }
-            let j = jacobian
-                .as_ref()
-                .expect("a Newton correction has its Jacobian");
+                r = r_z;
+                j_z
+            });
             factorizations += 1;
-            match solver.factor(j) {
+            match solver.factor(&j) {
                 Ok(()) => factored = true,
                 Err(FactorError::NonFinite) => {
                     return Err(NewtonFailure::NonFinite { residual: norm })
@@ -374,7 +372,6 @@ pub fn solve_with<B: LinearSolver>(
         let step = slice_inf_norm(dz.components()) / scale;
         let small = step <= options.rel_tol;
         if chord {
-            fresh = false;
             r = residual(&z);
             norm = slice_inf_norm(r.components());
             // Too slow a contraction: the old factors no longer pay; Newton from here on.
@@ -388,10 +385,8 @@ pub fn solve_with<B: LinearSolver>(
             };
             last_step = Some(step);
             if small || next_step <= PREDICTED_CONVERGENCE * options.rel_tol {
-                fresh = false;
                 r = residual(&z);
             } else {
-                fresh = true;
                 let (r_z, j_z) = residual_jacobian(&z);
                 (r, jacobian) = (r_z, Some(j_z));
             }
