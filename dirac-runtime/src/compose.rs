@@ -416,13 +416,7 @@ where
     /// stage's own start (no history). [`Self::integrate`] starts from the previous step instead.
     pub fn step(&self, k: usize, state: &I::State) -> Result<(I::State, StepStats), StepError> {
         let mut current = *state;
-        let mut total = StepStats {
-            iterations: 0,
-            factorizations: 0,
-            residual: 0.0,
-            tolerance: 0.0,
-            rcond: None,
-        };
+        let mut total = StepStats::default();
         for stage in &self.stages {
             let guess = stage.predict(&current, None, None);
             let (next, _, stats) = stage.advance(k, &current, &guess)?;
@@ -458,13 +452,7 @@ where
         let mut previous: Vec<Memory<I>> = vec![[None, None]; self.stages.len()];
         let mut state = initial;
         for k in 0..steps {
-            let mut total = StepStats {
-                iterations: 0,
-                factorizations: 0,
-                residual: 0.0,
-                tolerance: 0.0,
-                rcond: None,
-            };
+            let mut total = StepStats::default();
             let mut current = state;
             for (stage, memory) in self.stages.iter().zip(previous.iter_mut()) {
                 let guess = stage.predict(&current, memory[0].as_ref(), memory[1].as_ref());

@@ -11,8 +11,8 @@ use crate::state::{CanonicalState, ReducedState};
 pub use crate::system::Variant;
 use crate::system::{join, split, LagrangianHessian, Minus, Plus, Reduced, Side, Unreduced};
 
-/// What one step cost.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// What one step cost (the default: nothing yet, as a sum over stages starts).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct StepStats {
     /// Newton corrections (linear solves) taken.
     pub iterations: usize,
