@@ -99,16 +99,16 @@ where
     // The default path (what `ReducedIntegrator::plus` runs), then both paths forced.
     let integ = ReducedIntegrator::plus(sys, options);
     cycling(&mut g, "generated", &w.cases, |c| {
-        integ.step(c.k, &c.state, &c.guess)
+        integ.step_from(c.k, &c.state, &c.guess)
     });
     let general = ReducedIntegrator::plus(sys, options).with_elimination(false);
     cycling(&mut g, "generated_general_path", &w.cases, |c| {
-        general.step(c.k, &c.state, &c.guess)
+        general.step_from(c.k, &c.state, &c.guess)
     });
     let eliminated = ReducedIntegrator::plus(sys, options).with_elimination(true);
     if eliminated.eliminates_group() {
         cycling(&mut g, "generated_eliminated_path", &w.cases, |c| {
-            eliminated.step(c.k, &c.state, &c.guess)
+            eliminated.step_from(c.k, &c.state, &c.guess)
         });
     }
     cycling(&mut g, "num_dual_hessian", &w.cases, |c| {
@@ -120,7 +120,7 @@ where
     });
     let unreduced = UnreducedIntegrator::plus(sys, options);
     cycling(&mut g, "unreduced_generated", &w.cases, |c| {
-        unreduced.step(c.k, &c.canonical, &c.canonical_guess)
+        unreduced.step_from(c.k, &c.canonical, &c.canonical_guess)
     });
     g.finish();
 }

@@ -41,7 +41,7 @@ use common::workload::{self, StepCase, Workload};
 use common::{ad, hand};
 use dirac::paper::{ChargedParticle, DoubleSphericalPendulum, DSP_STEPS};
 use dirac::prelude::*;
-use dirac::runtime::lu::Lu;
+use dirac::runtime::linalg::Lu;
 use dirac::runtime::system::join;
 
 /// Evaluation points per system.
@@ -457,9 +457,9 @@ where
         }
         step_row(bench, system, name, cases, move |c| {
             let r = integ
-                .step(c.k, &c.state, &c.guess)
+                .step_from(c.k, &c.state, &c.guess)
                 .expect("the step succeeds");
-            let it = r.2.iterations;
+            let it = r.1.stats.iterations;
             (r, it)
         });
     }
@@ -477,7 +477,7 @@ where
     let unreduced = UnreducedIntegrator::plus(sys, options);
     step_row(bench, system, "unreduced generated", cases, move |c| {
         let r = unreduced
-            .step(c.k, &c.canonical, &c.canonical_guess)
+            .step_from(c.k, &c.canonical, &c.canonical_guess)
             .expect("the step succeeds");
         let it = r.1.iterations;
         (r, it)
@@ -608,8 +608,8 @@ fn casadi_protocol_run(
     let mut iterations = 0;
     for k in 0..DSP_STEPS {
         let guess = join::<3, 1, 4>(&state.x, &SVector::zeros());
-        let (next, _, stats) = integ
-            .step(k, black_box(&state), &guess)
+        let (next, ReducedStep { stats, .. }) = integ
+            .step_from(k, black_box(&state), &guess)
             .expect("the paper's run succeeds");
         iterations += stats.iterations;
         state = next;

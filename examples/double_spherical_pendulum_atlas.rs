@@ -17,7 +17,6 @@ use common::{write_line_charts, Curve, LineChart};
 use dirac::paper::atlas::PAPER;
 use dirac::paper::DoubleSphericalPendulum;
 use dirac::prelude::*;
-use dirac::runtime::atlas::Event;
 use plotters::style::{BLACK, BLUE, RED};
 
 /// `T = 10⁴` at the paper's `h = 0.01`.
@@ -44,8 +43,25 @@ fn main() -> Result<(), Box<dyn Error>> {
     let (mut e_min, mut e_max) = (e0, e0);
     let mut j = 0usize;
     let start = std::time::Instant::now();
-    let run = atlas.run(PAPER, initial, STEPS, |event| match event {
-        Event::State { chart, state, .. } => {
+    let mut switches: Vec<Switch<3, 1>> = Vec::new();
+    let run = atlas.run((PAPER, initial), STEPS, |_, &(chart, ref state), step| {
+        let (rescue, switch) = step.map_or((None, None), |s| (s.rescue, s.switch));
+        // The chart index steps at the switch itself, so every switch shows in the plot.
+        let mut plot_switch = |sw: Switch<3, 1>, chart_in_use: &mut Vec<(f64, f64)>| {
+            let t = sw.step as f64 * sys.h;
+            chart_in_use.push((t, sw.from as f64));
+            chart_in_use.push((t, sw.to as f64));
+            switches.push(sw);
+        };
+        if let Some(sw) = rescue {
+            plot_switch(sw, &mut chart_in_use);
+        }
+        // A state that changed chart after its step is shown in the chart it was computed in.
+        let (chart, state) = match &switch {
+            Some(sw) => (sw.from, &sw.before),
+            None => (chart, state),
+        };
+        {
             let e = charts.energy(chart, state).unwrap_or(f64::NAN);
             (e_min, e_max) = (e_min.min(e), e_max.max(e));
             if j.is_multiple_of(EVERY) {
@@ -59,11 +75,8 @@ fn main() -> Result<(), Box<dyn Error>> {
             }
             j += 1;
         }
-        Event::Switch(sw) => {
-            // The chart index steps at the switch itself, so every switch shows in the plot.
-            let t = sw.step as f64 * sys.h;
-            chart_in_use.push((t, sw.from as f64));
-            chart_in_use.push((t, sw.to as f64));
+        if let Some(sw) = switch {
+            plot_switch(sw, &mut chart_in_use);
         }
     });
     let elapsed = start.elapsed();
@@ -76,11 +89,11 @@ fn main() -> Result<(), Box<dyn Error>> {
         "  {} steps (t = {:.0}) in {elapsed:.2?}; {} switches, the first at step {}",
         run.steps,
         run.steps as f64 * sys.h,
-        run.switches.len(),
-        run.switches.first().map_or(0, |s| s.step)
+        switches.len(),
+        switches.first().map_or(0, |s| s.step)
     );
     for (i, name) in atlas.chart_names().iter().enumerate() {
-        let into = run.switches.iter().filter(|s| s.to == i).count();
+        let into = switches.iter().filter(|s| s.to == i).count();
         println!("  chart {i}, {name}: entered {into} times");
     }
     println!(
@@ -92,7 +105,7 @@ fn main() -> Result<(), Box<dyn Error>> {
 
     let mut csv = std::fs::File::create(out.join("switches.csv"))?;
     writeln!(csv, "step,t,from,to,rescue")?;
-    for sw in &run.switches {
+    for sw in &switches {
         writeln!(
             csv,
             "{},{},{},{},{}",

@@ -17,7 +17,6 @@ use common::{Curve, LineChart};
 use dirac::kepler::Kepler;
 use dirac::paper::DoubleSphericalPendulum;
 use dirac::prelude::*;
-use dirac::runtime::BaseStep;
 use plotters::style::RGBColor;
 
 /// The methods compared, with their plot colours.
@@ -53,7 +52,7 @@ struct Point {
 /// Integrates `steps` macro steps of `method` from `initial` with `base` (at the macro step),
 /// returning the last state, the best wall time of [`REPEATS`] and the mean Newton corrections
 /// per stage.
-fn timed_run<I: BaseStep>(
+fn timed_run<I: SelfAdjoint>(
     base: I,
     method: CompositionMethod,
     initial: I::State,

@@ -20,7 +20,7 @@
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
 //! let sys = ChargedParticle { h: 0.2, m: 1.0, b0: 1.0 };
 //! let initial = ReducedState::new([0.0; 3], [1.0, 0.0, 1.0], [1.0], [0.0]);
-//! let mut integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
+//! let integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
 //! let traj = integ.integrate(initial, 100)?;
 //! assert_eq!(traj.steps(), 100);
 //! assert_eq!(traj.last().mu, initial.mu); // μ_{k+1} = μ_k, exactly
@@ -87,6 +87,8 @@
 //! chart through the cotangent lift; [`paper::atlas`] is the double spherical pendulum on three
 //! charts.
 
+#![warn(missing_docs)]
+
 // Emitted code names `::dirac::…`; this lets the crate's own `paper` module use the attribute.
 extern crate self as dirac;
 
@@ -96,30 +98,15 @@ pub mod paper;
 pub use dirac_macros::{chart_transition, reduced_lagrangian};
 pub use dirac_runtime as runtime;
 pub use dirac_runtime::nalgebra;
-pub use dirac_runtime::{
-    continuous_energies, midpoint_energies, reduced_continuous_energies, ContinuousEnergies,
-    ContinuousLagrangian, LegendreError,
-};
-pub use dirac_runtime::{
-    trajectory_energies, AdaptedCoordinates, CanonicalState, CanonicalTrajectory,
-    ComposedTrajectory, Composition, CompositionMethod, DiscreteLagrangian, IntegrationError,
-    LagrangianHessian, Minus, NewtonOptions, Plus, Reduced, ReducedIntegrator, ReducedState,
-    RunSummary, Side, StepError, StepJacobian, StepRecord, StepStats, StepStatsExt, Trajectory,
-    Unreduced, UnreducedIntegrator, Variant,
-};
+pub use dirac_runtime::prelude::*;
 
-/// Everything a user of the attribute needs in scope.
+/// Everything a user of the attribute needs in scope: the runtime's one list
+/// ([`runtime::prelude`], which the crate root re-exports too), plus the two attributes and
+/// nalgebra's `SVector`/`SMatrix` (which the root reaches as [`nalgebra`]).
 pub mod prelude {
     pub use crate::nalgebra::{SMatrix, SVector};
-    pub use crate::runtime::atlas::{AtlasIntegrator, AtlasTrajectory, ChartTransition, Switch};
+    pub use crate::runtime::prelude::*;
     pub use crate::{chart_transition, reduced_lagrangian};
-    pub use crate::{
-        AdaptedCoordinates, CanonicalState, CanonicalTrajectory, ComposedTrajectory, Composition,
-        CompositionMethod, ContinuousLagrangian, DiscreteLagrangian, IntegrationError,
-        LagrangianHessian, Minus, NewtonOptions, Plus, Reduced, ReducedIntegrator, ReducedState,
-        RunSummary, Side, StepError, StepRecord, StepStats, StepStatsExt, Trajectory, Unreduced,
-        UnreducedIntegrator, Variant,
-    };
 }
 
 /// The README's example, compiled and run as a doctest so it cannot go stale.

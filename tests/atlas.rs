@@ -185,7 +185,7 @@ fn composed_step_map_across_a_switch_is_symplectic() {
             macro_rules! go {
                 ($sys:expr) => {{
                     let integ = UnreducedIntegrator::plus($sys, opts);
-                    let (next, _) = integ.step(0, s, &s.q).expect("regular step");
+                    let (next, _) = integ.step_from(0, s, &s.q).expect("regular step");
                     let m = integ.step_jacobian(0, s, &next).expect("regular");
                     (next, m)
                 }};
@@ -267,7 +267,7 @@ fn atlas_equals_the_single_chart_run_up_to_the_first_switch() {
     let initial = DoubleSphericalPendulum::paper_initial_state();
     let steps = 6_000;
     let traj = atlas
-        .integrate(PAPER, initial, steps)
+        .integrate((PAPER, initial), steps)
         .expect("the atlas does not fail");
     let first = traj.switches.first().expect("a switch").step;
     assert!(first > 1000, "first switch at {first}");
@@ -305,7 +305,7 @@ fn both_links_vertical_is_a_typed_error() {
         [0.0],
     );
     let err = atlas
-        .integrate(PAPER, initial, 10)
+        .integrate((PAPER, initial), 10)
         .expect_err("no chart is regular here");
     assert_eq!(err.source.step(), 0);
     assert_eq!(err.trajectory.steps(), 0);

@@ -18,7 +18,6 @@
 use dirac::paper::atlas::{DspCharts, PAPER};
 use dirac::paper::DoubleSphericalPendulum;
 use dirac::prelude::*;
-use dirac::runtime::atlas::Event;
 
 const STEPS: usize = 1_000_000;
 
@@ -43,8 +42,22 @@ fn double_spherical_pendulum_atlas_from_the_paper_state() {
     let mut worst_jump = 0.0f64;
     let mut early: Vec<ReducedState<3, 1>> = Vec::new();
     let start = std::time::Instant::now();
-    let result = atlas.run(PAPER, initial, STEPS, |event| match event {
-        Event::State { chart, state, .. } => {
+    let mut switches: Vec<Switch<3, 1>> = Vec::new();
+    let result = atlas.run((PAPER, initial), STEPS, |_, &(chart, ref state), step| {
+        let (rescue, switch) = step.map_or((None, None), |s| (s.rescue, s.switch));
+        let mut jump = |sw: Switch<3, 1>| {
+            let before = charts.energy(sw.from, &sw.before).unwrap_or(f64::NAN);
+            let after = charts.energy(sw.to, &sw.after).unwrap_or(f64::NAN);
+            worst_jump = worst_jump.max((after - before).abs() / before.abs());
+            switches.push(sw);
+        };
+        rescue.into_iter().for_each(&mut jump);
+        // A state that changed chart after its step is observed in the chart it was computed in.
+        let (chart, state) = match &switch {
+            Some(sw) => (sw.from, &sw.before),
+            None => (chart, state),
+        };
+        {
             let e = charts.energy(chart, state).unwrap_or(f64::NAN);
             assert!(
                 (e - e0).abs() <= 0.01 * e0.abs(),
@@ -68,11 +81,7 @@ fn double_spherical_pendulum_atlas_from_the_paper_state() {
             }
             j += 1;
         }
-        Event::Switch(sw) => {
-            let before = charts.energy(sw.from, &sw.before).unwrap_or(f64::NAN);
-            let after = charts.energy(sw.to, &sw.after).unwrap_or(f64::NAN);
-            worst_jump = worst_jump.max((after - before).abs() / before.abs());
-        }
+        switch.into_iter().for_each(jump);
     });
     let elapsed = start.elapsed();
     let run = match result {
@@ -85,7 +94,7 @@ fn double_spherical_pendulum_atlas_from_the_paper_state() {
     let drift = last_sum / last_n as f64 - first_sum / first_n as f64;
     let spread = e_max - e_min;
     let mut per_chart = [0usize; 3];
-    for sw in &run.switches {
+    for sw in &switches {
         per_chart[sw.to] += 1;
     }
     println!(
@@ -98,10 +107,10 @@ fn double_spherical_pendulum_atlas_from_the_paper_state() {
         run.steps,
         run.steps as f64 * sys.h,
         elapsed,
-        run.switches.len(),
-        run.switches.iter().filter(|s| s.rescue).count(),
+        switches.len(),
+        switches.iter().filter(|s| s.rescue).count(),
         per_chart,
-        run.switches.first().map(|s| s.step),
+        switches.first().map(|s| s.step),
         spread / e0.abs(),
         drift / spread,
         match mu_bad {
@@ -120,12 +129,12 @@ fn double_spherical_pendulum_atlas_from_the_paper_state() {
         "T + V jumps across a switch by {worst_jump:e}"
     );
     assert!(
-        !run.switches.is_empty(),
+        !switches.is_empty(),
         "the run was expected to need the atlas"
     );
 
     // Up to the first switch, the atlas is the single-chart run, bit for bit.
-    let first = run.switches[0].step;
+    let first = switches[0].step;
     let single = match ReducedIntegrator::plus(sys, NewtonOptions::default())
         .integrate(initial, first.min(early.len() - 1))
     {
@@ -161,7 +170,10 @@ fn double_spherical_pendulum_atlas_against_a_fine_single_chart_reference() {
         let steps = (horizon / h).round() as usize;
         let traj = sys
             .atlas(NewtonOptions::default())
-            .integrate(PAPER, DoubleSphericalPendulum::paper_initial_state(), steps)
+            .integrate(
+                (PAPER, DoubleSphericalPendulum::paper_initial_state()),
+                steps,
+            )
             .unwrap_or_else(|e| panic!("atlas at h = {h}: {}", e.source));
         let every = (1.0 / h).round() as usize; // once per unit of time
         let positions: Vec<_> = (0..=steps)
@@ -230,22 +242,30 @@ fn double_spherical_pendulum_atlas_with_the_conditioning_fallback() {
     let e0 = charts.energy(PAPER, &initial).unwrap();
     let steps = STEPS;
     let mut worst = 0.0f64;
+    let mut switches: Vec<Switch<3, 1>> = Vec::new();
     let run = sys
         .atlas(NewtonOptions::default())
         .with_conditioning(1e-4)
-        .run(PAPER, initial, steps, |event| {
-            if let Event::State { chart, state, .. } = event {
-                assert_eq!(state.mu, initial.mu);
-                let e = charts.energy(chart, state).unwrap_or(f64::NAN);
-                worst = worst.max((e - e0).abs() / e0.abs());
-            }
+        .run((PAPER, initial), steps, |_, &(chart, ref state), step| {
+            let switch = step.and_then(|s| s.switch);
+            switches.extend(step.and_then(|s| s.rescue));
+            // A state that changed chart after its step is observed in the chart it was
+            // computed in.
+            let (chart, state) = match &switch {
+                Some(sw) => (sw.from, &sw.before),
+                None => (chart, state),
+            };
+            assert_eq!(state.mu, initial.mu);
+            let e = charts.energy(chart, state).unwrap_or(f64::NAN);
+            worst = worst.max((e - e0).abs() / e0.abs());
+            switches.extend(switch);
         })
         .unwrap_or_else(|e| panic!("failed after {} steps: {}", e.trajectory.steps, e.source));
     println!(
         "\nConditioning fallback (rcond < 1e-4), {steps} steps from the paper's state: {} switches \
          (first at step {:?}), max |T + V - E_0| / |E_0| = {worst:.2e}",
-        run.switches.len(),
-        run.switches.first().map(|s| s.step)
+        switches.len(),
+        switches.first().map(|s| s.step)
     );
     assert_eq!(run.steps, steps);
     assert!(worst <= 0.01, "T + V left 1% of E_0: {worst:e}");

@@ -169,9 +169,15 @@ fn the_cases_are_the_integrators_own_steps() {
     {
         let integ = ReducedIntegrator::plus(w.system, NewtonOptions::default());
         for case in &w.cases {
-            let (next, g_plus, stats) = integ.step(case.k, &case.state, &case.guess).unwrap();
+            let (
+                next,
+                ReducedStep {
+                    group_unknown: g_plus,
+                    stats,
+                },
+            ) = integ.step_from(case.k, &case.state, &case.guess).unwrap();
             assert_eq!(next, w.trajectory.states[case.k + 1], "step {}", case.k);
-            assert_eq!(g_plus, w.trajectory.increments[case.k]);
+            assert_eq!(g_plus, w.trajectory.group_unknowns[case.k]);
             assert_eq!(stats.iterations, case.iterations);
         }
     }
@@ -207,8 +213,15 @@ fn hand_coded_steps_reproduce_the_generated_stepper() {
     let general = ReducedIntegrator::plus(p, options).with_elimination(false);
     let (mut worst_newton, mut worst_closed) = (0f64, 0f64);
     for case in &cp.cases {
-        let (next, g_plus, _) = integ.step(case.k, &case.state, &case.guess).unwrap();
-        let (general_next, _, stats) = general.step(case.k, &case.state, &case.guess).unwrap();
+        let (
+            next,
+            ReducedStep {
+                group_unknown: g_plus,
+                ..
+            },
+        ) = integ.step_from(case.k, &case.state, &case.guess).unwrap();
+        let (general_next, ReducedStep { stats, .. }) =
+            general.step_from(case.k, &case.state, &case.guess).unwrap();
         let (hand_next, hand_g, iterations) =
             hand::newton_step(&p, &options, &case.state, &case.guess).unwrap();
         assert_eq!(iterations, stats.iterations, "step {}", case.k);
@@ -240,7 +253,13 @@ fn num_dual_steps_reproduce_the_generated_stepper() {
         let integ = ReducedIntegrator::plus(w.system, options).with_elimination(false);
         let (mut worst, mut differing) = (0f64, 0);
         for case in cases {
-            let (next, g_plus, stats) = integ.step(case.k, &case.state, &case.guess).unwrap();
+            let (
+                next,
+                ReducedStep {
+                    group_unknown: g_plus,
+                    stats,
+                },
+            ) = integ.step_from(case.k, &case.state, &case.guess).unwrap();
             for how in [ad::Jacobian::Hessian, ad::Jacobian::PartialHessian] {
                 let (ad_next, ad_g, iterations) =
                     ad::step::<L, S, K, N, 7>(&w.system, &options, how, &case.state, &case.guess)
@@ -301,7 +320,7 @@ fn the_unreduced_stepper_takes_the_same_steps() {
         let mut worst = 0f64;
         for case in &w.cases {
             let (next, _) = integ
-                .step(case.k, &case.canonical, &case.canonical_guess)
+                .step_from(case.k, &case.canonical, &case.canonical_guess)
                 .unwrap();
             let reduced = &w.trajectory.states[case.k + 1];
             let q = join::<S, K, N>(&reduced.x, &reduced.g);

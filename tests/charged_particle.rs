@@ -5,7 +5,7 @@ use dirac::paper::{ChargedParticle, CHARGED_PARTICLE_T, TABLE_1};
 use dirac::prelude::*;
 
 fn run(n: usize) -> Trajectory<3, 1> {
-    let mut integ = ReducedIntegrator::plus(ChargedParticle::paper(n), NewtonOptions::default());
+    let integ = ReducedIntegrator::plus(ChargedParticle::paper(n), NewtonOptions::default());
     integ
         .integrate(ChargedParticle::paper_initial_state(), n)
         .expect("the paper's run succeeds")

@@ -26,7 +26,7 @@ fn tight() -> NewtonOptions {
 /// `max(|Δr|, |Δφ|, |Δp_r|)` against Kepler's equation after one period with `steps` steps.
 fn kepler_error<I>(make: impl Fn(Kepler) -> I, method: CompositionMethod, steps: usize) -> f64
 where
-    I: dirac::runtime::BaseStep<State = ReducedState<1, 1>>,
+    I: SelfAdjoint<State = ReducedState<1, 1>>,
 {
     let t = 2.0 * PI;
     let sys = Kepler::unit(t / steps as f64);

@@ -72,8 +72,8 @@ fn charged_particle_continuous_agrees_to_round_off() {
     for (k, state) in traj.states.iter().enumerate() {
         // The same state and the same Newton guess, so only L_d differs.
         let guess = SVector::from([state.x[0], state.x[1], state.x[2], 0.0]);
-        let (a, ..) = hand_stepper.step(k, state, &guess).unwrap();
-        let (b, ..) = cont_stepper.step(k, state, &guess).unwrap();
+        let (a, ..) = hand_stepper.step_from(k, state, &guess).unwrap();
+        let (b, ..) = cont_stepper.step_from(k, state, &guess).unwrap();
         let scale = a.x.amax().max(a.w.amax()).max(1.0);
         let d = (a.x - b.x).amax().max((a.w - b.w).amax()) / (f64::EPSILON * scale);
         worst = worst.max(d);

@@ -8,8 +8,7 @@ use dirac::prelude::*;
 use dirac::runtime::system::join;
 
 fn paper_run() -> Trajectory<3, 1> {
-    let mut integ =
-        ReducedIntegrator::plus(DoubleSphericalPendulum::paper(), NewtonOptions::default());
+    let integ = ReducedIntegrator::plus(DoubleSphericalPendulum::paper(), NewtonOptions::default());
     integ
         .integrate(DoubleSphericalPendulum::paper_initial_state(), DSP_STEPS)
         .expect("the paper's run succeeds")

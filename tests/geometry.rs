@@ -3,7 +3,9 @@
 
 use dirac::paper::ChargedParticle;
 use dirac::prelude::*;
-use dirac::runtime::{dirac_membership_residuals, reduced_energy_minus, ReducedActionPlus};
+use dirac::runtime::diagnostics::{
+    dirac_membership_residuals, reduced_energy_minus, ReducedActionPlus,
+};
 
 mod common;
 use common::{ParticleWithConnection, PlanarRotor};
@@ -248,7 +250,7 @@ fn the_printed_minus_energy_is_stationary_with_negated_momenta() {
     traj.states.iter().for_each(|s| v.extend(s.x.iter()));
     traj.states.iter().for_each(|s| v.push(s.g[0]));
     traj.states[..n].iter().for_each(|s| v.extend(s.x.iter()));
-    traj.increments.iter().for_each(|g| v.push(g[0]));
+    traj.group_unknowns.iter().for_each(|g| v.push(g[0]));
     traj.states[..n].iter().for_each(|s| v.extend(s.w.iter()));
     traj.states[..n].iter().for_each(|s| v.push(s.mu[0]));
     let endpoints = [

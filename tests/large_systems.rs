@@ -2,7 +2,8 @@
 //! the same step equations, the choice of backend by size, streaming runs and ensembles.
 
 use dirac::prelude::*;
-use dirac::runtime::newton::{self, LinearSolver};
+use dirac::runtime::linalg::LinearSolver;
+use dirac::runtime::newton;
 use dirac::runtime::{CscValues, Lu, SparseLu, DENSE_MAX};
 use nalgebra::DMatrix;
 
@@ -74,14 +75,14 @@ struct DenseOracle {
 impl LinearSolver for DenseOracle {
     type Vector = SVector<f64, 24>;
     type Matrix = DMatrix<f64>;
-    fn factor(&mut self, j: &DMatrix<f64>) -> Result<(), dirac::runtime::lu::FactorError> {
+    fn factor(&mut self, j: &DMatrix<f64>) -> Result<(), dirac::runtime::linalg::FactorError> {
         self.norm1 = j
             .column_iter()
             .map(|c| c.iter().map(|v| v.abs()).sum::<f64>())
             .fold(0.0, f64::max);
         let lu = j.clone().lu();
         if !lu.is_invertible() {
-            return Err(dirac::runtime::lu::FactorError::Singular);
+            return Err(dirac::runtime::linalg::FactorError::Singular);
         }
         self.lu = Some(lu);
         Ok(())
@@ -133,7 +134,7 @@ fn the_sparse_jacobian_is_the_dense_one_and_so_are_the_steps() {
     let traj = integ.clone().integrate(initial(0), 50).unwrap();
     for k in [0, 17, 49] {
         let (state, next) = (&traj.states[k], &traj.states[k + 1]);
-        let z = dirac::runtime::system::join::<23, 1, 24>(&next.x, &traj.increments[k]);
+        let z = dirac::runtime::system::join::<23, 1, 24>(&next.x, &traj.group_unknowns[k]);
         // The sparse values, placed by their pattern, equal central differences of the residual
         // (an independent check of the pattern and of every entry).
         let (_, values): (_, CscValues<_>) =
@@ -179,7 +180,7 @@ fn the_sparse_jacobian_is_the_dense_one_and_so_are_the_steps() {
             },
         )
         .unwrap();
-        let (sparse_step, _, _) = integ.step(k, state, &guess).unwrap();
+        let (sparse_step, _) = integ.step_from(k, state, &guess).unwrap();
         let dx = (dense_solution.z.fixed_rows::<23>(0) - sparse_step.x).amax();
         assert!(
             dx <= 1e-12 * (1.0 + sparse_step.x.amax()),
@@ -205,7 +206,7 @@ fn chord_iterations_reach_the_steps_newton_reaches() {
     for k in (0..steps).step_by(20) {
         let state = &traj.states[k];
         let guess = dirac::runtime::system::join::<23, 1, 24>(&state.x, &SVector::zeros());
-        let (newton_step, _, stats) = integ.step(k, state, &guess).unwrap();
+        let (newton_step, ReducedStep { stats, .. }) = integ.step_from(k, state, &guess).unwrap();
         assert_eq!(
             stats.factorizations, stats.iterations,
             "step {k}: {stats:?}"
@@ -255,7 +256,7 @@ fn a_streaming_run_sees_what_integrate_keeps_and_keeps_nothing() {
             assert_eq!(step.is_none(), k == 0);
             if let Some(step) = step {
                 assert_eq!(step.stats, traj.stats[k - 1]);
-                assert_eq!(step.increment, traj.increments[k - 1]);
+                assert_eq!(step.group_unknown, traj.group_unknowns[k - 1]);
             }
             seen.push(k);
             if k % 50 == 0 {

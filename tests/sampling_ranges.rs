@@ -16,7 +16,7 @@ fn log_well(q0: Config, q1: Config, h: f64, m: f64) -> f64 {
 fn a_body_defined_on_part_of_the_space_compiles_and_integrates() {
     let sys = LogWell { h: 0.01, m: 1.0 };
     let initial = ReducedState::new([4.0], [0.0], [0.7], [0.0]);
-    let mut integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
+    let integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
     let traj = integ.integrate(initial, 200).expect("the steps converge");
     // The potential pushes x outwards; μ is conserved exactly (it is one of the equations).
     assert!(traj.last().x[0] > 4.0, "x = {}", traj.last().x[0]);

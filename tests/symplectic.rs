@@ -75,7 +75,7 @@ fn a_non_symplectic_map_is_detected() {
     };
     let integ = UnreducedIntegrator::plus(sys, NewtonOptions::default());
     let start = canonical([0.4, 1.0, 2.0], [0.1, 0.5, -0.3]);
-    let (next, _) = integ.step(0, &start, &start.q).unwrap();
+    let (next, _) = integ.step_from(0, &start, &start.q).unwrap();
     let mut m = integ.step_jacobian(0, &start, &next).unwrap();
     assert!(m.symplecticity_defect() < 1e-12);
     m.dp_dp *= 1.001;
@@ -96,7 +96,7 @@ fn the_step_jacobian_is_the_derivative_of_the_step_map() {
         L: LagrangianHessian<S, K, N> + Copy,
     {
         let integ = UnreducedIntegrator::plus(sys, NewtonOptions::default());
-        let step = |s: &CanonicalState<N>| integ.step(0, s, &s.q).unwrap().0;
+        let step = |s: &CanonicalState<N>| integ.step_from(0, s, &s.q).unwrap().0;
         let next = step(&start);
         let m = integ.step_jacobian(0, &start, &next).unwrap();
         for j in 0..2 * N {

@@ -4,8 +4,9 @@
 
 use dirac::paper::{ChargedParticle, DoubleSphericalPendulum, DSP_STEPS};
 use dirac::prelude::*;
-use dirac::runtime::integrate::{canonical_guess, reduced_guess};
+use dirac::runtime::reduced::reduced_guess;
 use dirac::runtime::system::join;
+use dirac::runtime::unreduced::canonical_guess;
 
 /// One step of a paper run, ready to be taken again.
 #[derive(Clone, Copy, Debug)]
@@ -60,7 +61,7 @@ where
                 let j = k - back;
                 (
                     trajectory.states[j + 1].x - trajectory.states[j].x,
-                    trajectory.increments[j],
+                    trajectory.group_unknowns[j],
                 )
             })
         };
@@ -77,7 +78,7 @@ where
                         step(k, 1).as_ref(),
                         step(k, 2).as_ref(),
                     ),
-                    solution: join::<S, K, N>(&next.x, &trajectory.increments[k]),
+                    solution: join::<S, K, N>(&next.x, &trajectory.group_unknowns[k]),
                     iterations: trajectory.stats[k].iterations,
                     canonical: system.untrivialize(&state),
                     canonical_guess: canonical_guess(

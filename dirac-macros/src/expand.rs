@@ -330,7 +330,8 @@ fn config_struct(spec: &Spec, func: &ItemFn, config: &Ident, type_name: &Ident) 
         match c.len {
             None => {
                 let i = at;
-                fields.push(quote!(pub #name: f64));
+                let doc = format!("The coordinate `{name}`.");
+                fields.push(quote!(#[doc = #doc] pub #name: f64));
                 inits.push(quote!(#name: q[#i]));
                 elems.push(quote!(self.#name));
                 at += 1;
@@ -338,7 +339,8 @@ fn config_struct(spec: &Spec, func: &ItemFn, config: &Ident, type_name: &Ident) 
             Some(len) => {
                 let idx: Vec<usize> = (at..at + len).collect();
                 let local = 0..len;
-                fields.push(quote!(pub #name: [f64; #len]));
+                let doc = format!("The coordinates `{name}[0..{len}]`.");
+                fields.push(quote!(#[doc = #doc] pub #name: [f64; #len]));
                 inits.push(quote!(#name: [ #( q[#idx] ),* ]));
                 elems.extend(local.map(|i| quote!(self.#name[#i])));
                 at += len;
@@ -460,12 +462,15 @@ fn param_struct(sig: &Signature, func: &ItemFn, type_name: &Ident) -> TokenStrea
         "\n\nThe parameters of [`{fn_name}`]; emitted by `#[reduced_lagrangian]`, which implements the \
          `dirac` system traits for it."
     );
+    let param_docs = params
+        .iter()
+        .map(|p| format!("The parameter `{p}` of [`{fn_name}`]."));
     quote! {
         #( #docs )*
         #[doc = #note]
         #[derive(Clone, Copy, Debug, PartialEq)]
         #vis struct #type_name {
-            #( pub #params: f64, )*
+            #( #[doc = #param_docs] pub #params: f64, )*
         }
     }
 }

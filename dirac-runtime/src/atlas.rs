@@ -40,13 +40,16 @@
 //! next — is symplectic and conserves `μ` exactly, as the paper's §6 argues for the variational
 //! principle.
 
+use std::any::Any;
+
 use nalgebra::{SMatrix, SVector};
 
-use crate::error::{IntegrationError, StepError, Steps};
-use crate::integrate::{reduced_guess, ReducedIntegrator, StepStats, Variant};
-use crate::lu::Lu;
+use crate::error::{StepError, Steps};
+use crate::linalg::Lu;
+use crate::reduced::{reduced_guess, ReducedIntegrator, ReducedStep, ReducedWorkspace};
 use crate::state::{CanonicalState, ReducedState};
-use crate::system::{join, split, Reduced, Side};
+use crate::stepper::{check_inputs, Collect, History, StepStats, Stepper};
+use crate::system::{join, split, Reduced, Side, Variant};
 
 /// A change of chart `φ : q_old ↦ q_new`, equivariant for the translation of the group
 /// coordinates (see the [module documentation](self)). `#[chart_transition]` implements it
@@ -72,7 +75,8 @@ pub trait ChartTransition<const S: usize, const K: usize, const N: usize> {
 
 /// The reduced state `(x, w, μ, g)` in the new chart (module documentation): `μ` is copied,
 /// `w_new = Dψ^{-T} (w − B_oldᵀ μ − Dcᵀ μ) + B_newᵀ μ`. `None` where `Dψ` is singular or the
-/// result is not finite.
+/// result is not finite. (Users call [`AtlasIntegrator::express`].)
+#[doc(hidden)]
 pub fn transform_state<T, const S: usize, const K: usize, const N: usize>(
     transition: &T,
     state: &ReducedState<S, K>,
@@ -100,16 +104,24 @@ where
 }
 
 /// One chart as the atlas sees it: a reduced stepper in its own coordinates. Implemented by
-/// [`ReducedIntegrator`]; object safe, so an atlas holds charts of different types.
+/// [`ReducedIntegrator`]; object safe, so an atlas holds charts of different types, each with
+/// its own workspace type behind `dyn Any` (built once per run).
 pub trait Chart<const S: usize, const K: usize, const N: usize> {
-    /// Takes step `k` from `state` (see [`ReducedIntegrator::step`]).
-    #[allow(clippy::type_complexity)]
-    fn step(
+    /// A fresh workspace for this chart's steps ([`Stepper::workspace`]).
+    fn chart_workspace(&self) -> Box<dyn Any>;
+
+    /// Takes step `k` from `state`, Newton starting at `guess`, in `workspace` (one that
+    /// [`Self::chart_workspace`] built; another is reported as [`StepError::InvalidAtlas`]).
+    fn chart_step(
         &self,
+        workspace: &mut dyn Any,
         k: usize,
         state: &ReducedState<S, K>,
         guess: &SVector<f64, N>,
-    ) -> Result<(ReducedState<S, K>, SVector<f64, K>, StepStats), StepError>;
+    ) -> Result<(ReducedState<S, K>, ReducedStep<K>), StepError>;
+
+    /// The checks of a run starting in this chart ([`Stepper::check`]).
+    fn chart_check(&self, initial: &ReducedState<S, K>) -> Result<(), StepError>;
 
     /// Which reduced equations the chart solves.
     fn variant(&self) -> Variant;
@@ -129,14 +141,29 @@ impl<L, D, const S: usize, const K: usize, const N: usize> Chart<S, K, N>
 where
     D: Side,
     L: Reduced<D, S, K, N>,
+    L::Linear: 'static,
 {
-    fn step(
+    fn chart_workspace(&self) -> Box<dyn Any> {
+        Box::new(Stepper::workspace(self))
+    }
+
+    fn chart_step(
         &self,
+        workspace: &mut dyn Any,
         k: usize,
         state: &ReducedState<S, K>,
         guess: &SVector<f64, N>,
-    ) -> Result<(ReducedState<S, K>, SVector<f64, K>, StepStats), StepError> {
-        ReducedIntegrator::step(self, k, state, guess)
+    ) -> Result<(ReducedState<S, K>, ReducedStep<K>), StepError> {
+        let Some(workspace) = workspace.downcast_mut::<ReducedWorkspace<L::Linear, S, K>>() else {
+            return Err(StepError::InvalidAtlas {
+                reason: "a chart was given the workspace of another chart",
+            });
+        };
+        self.solve_step(&mut workspace.solver, k, state, guess)
+    }
+
+    fn chart_check(&self, initial: &ReducedState<S, K>) -> Result<(), StepError> {
+        Stepper::check(self, initial)
     }
 
     fn variant(&self) -> Variant {
@@ -218,28 +245,10 @@ impl<const S: usize, const K: usize> Steps for AtlasTrajectory<S, K> {
     }
 }
 
-/// What a memory-constant run ([`AtlasIntegrator::run`]) returns: the switches and the number
-/// of completed steps.
-#[derive(Clone, Debug, PartialEq)]
-pub struct AtlasRun<const S: usize, const K: usize> {
-    /// Number of completed steps.
-    pub steps: usize,
-    /// Every change of chart, in order.
-    pub switches: Vec<Switch<S, K>>,
-    /// The last state and its chart.
-    pub last: (usize, ReducedState<S, K>),
-}
-
-impl<const S: usize, const K: usize> Steps for AtlasRun<S, K> {
-    fn completed_steps(&self) -> usize {
-        self.steps
-    }
-}
-
 /// A chart-quality indicator `quality(chart, state)`: larger is better; typically the distance of
 /// `state.x` to the chart's singular set.
 pub type Quality<'a, const S: usize, const K: usize> =
-    Box<dyn Fn(usize, &ReducedState<S, K>) -> f64 + 'a>;
+    Box<dyn Fn(usize, &ReducedState<S, K>) -> f64 + Send + Sync + 'a>;
 
 /// Integrates on an atlas: steps in the current chart, and changes chart when the quality
 /// indicator of the current chart falls below a threshold, to the chart where it is largest.
@@ -257,9 +266,9 @@ pub type Quality<'a, const S: usize, const K: usize> =
 /// chart's step and the trajectory so far.
 pub struct AtlasIntegrator<'a, const S: usize, const K: usize, const N: usize> {
     names: Vec<String>,
-    charts: Vec<Box<dyn Chart<S, K, N> + 'a>>,
+    charts: Vec<Box<dyn Chart<S, K, N> + Send + Sync + 'a>>,
     /// `transitions[from][to]`.
-    transitions: Vec<Vec<Option<Box<dyn ChartTransition<S, K, N> + 'a>>>>,
+    transitions: Vec<Vec<Option<Box<dyn ChartTransition<S, K, N> + Send + Sync + 'a>>>>,
     quality: Option<Quality<'a, S, K>>,
     switch_below: f64,
 }
@@ -283,7 +292,7 @@ impl<'a, const S: usize, const K: usize, const N: usize> AtlasIntegrator<'a, S, 
     }
 
     /// Adds a chart; its index is the number of charts added before it.
-    pub fn chart(mut self, name: &str, chart: impl Chart<S, K, N> + 'a) -> Self {
+    pub fn chart(mut self, name: &str, chart: impl Chart<S, K, N> + Send + Sync + 'a) -> Self {
         self.names.push(name.to_owned());
         self.charts.push(Box::new(chart));
         for row in &mut self.transitions {
@@ -302,7 +311,7 @@ impl<'a, const S: usize, const K: usize, const N: usize> AtlasIntegrator<'a, S, 
         mut self,
         from: usize,
         to: usize,
-        transition: impl ChartTransition<S, K, N> + 'a,
+        transition: impl ChartTransition<S, K, N> + Send + Sync + 'a,
     ) -> Self {
         assert!(
             from < self.charts.len() && to < self.charts.len() && from != to,
@@ -316,7 +325,7 @@ impl<'a, const S: usize, const K: usize, const N: usize> AtlasIntegrator<'a, S, 
     pub fn with_quality(
         mut self,
         switch_below: f64,
-        quality: impl Fn(usize, &ReducedState<S, K>) -> f64 + 'a,
+        quality: impl Fn(usize, &ReducedState<S, K>) -> f64 + Send + Sync + 'a,
     ) -> Self {
         self.quality = Some(Box::new(quality));
         self.switch_below = switch_below;
@@ -356,16 +365,18 @@ impl<'a, const S: usize, const K: usize, const N: usize> AtlasIntegrator<'a, S, 
         )
     }
 
-    /// The chart to move to from `chart` at `state`, with the state there, if one is better.
+    /// The chart to move to from `chart` at `state`, with the state there, if one is better
+    /// (trial steps of the conditioning fallback run in the charts' workspaces).
     fn better_chart(
         &self,
+        workspaces: &mut [Box<dyn Any>],
         k: usize,
         chart: usize,
         state: &ReducedState<S, K>,
         current: f64,
     ) -> Option<(usize, ReducedState<S, K>)> {
         let mut best: Option<(f64, usize, ReducedState<S, K>)> = None;
-        for to in 0..self.charts.len() {
+        for (to, (target, workspace)) in self.charts.iter().zip(workspaces).enumerate() {
             let Some(mapped) = (to != chart)
                 .then(|| self.express(chart, state, to))
                 .flatten()
@@ -374,9 +385,9 @@ impl<'a, const S: usize, const K: usize, const N: usize> AtlasIntegrator<'a, S, 
             };
             let q = match &self.quality {
                 Some(quality) => quality(to, &mapped),
-                None => self.charts[to]
-                    .step(k, &mapped, &fresh_guess(&mapped))
-                    .map_or(0.0, |(_, _, stats)| stats.rcond.unwrap_or(1.0)),
+                None => target
+                    .chart_step(workspace.as_mut(), k, &mapped, &fresh_guess(&mapped))
+                    .map_or(0.0, |(_, step)| step.stats.rcond.unwrap_or(1.0)),
             };
             if q > current && best.as_ref().is_none_or(|b| q > b.0) {
                 best = Some((q, to, mapped));
@@ -384,192 +395,206 @@ impl<'a, const S: usize, const K: usize, const N: usize> AtlasIntegrator<'a, S, 
         }
         best.map(|(_, to, s)| (to, s))
     }
+}
 
-    /// Integrates `steps` steps from `initial` in chart `chart`, keeping every state.
-    pub fn integrate(
-        &self,
-        chart: usize,
-        initial: ReducedState<S, K>,
-        steps: usize,
-    ) -> Result<AtlasTrajectory<S, K>, Box<IntegrationError<AtlasTrajectory<S, K>>>> {
-        let mut states = Vec::with_capacity(steps + 1);
-        let mut charts = Vec::with_capacity(steps + 1);
-        let mut stats = Vec::with_capacity(steps);
-        let result = self.run(chart, initial, steps, |event| match event {
-            Event::State {
-                chart,
-                state,
-                stats: s,
-            } => {
-                states.push(*state);
-                charts.push(chart);
-                if let Some(s) = s {
-                    stats.push(*s);
-                }
-            }
-            Event::Switch(sw) => {
-                // The switched state replaces its old-chart copy.
-                if let Some(last) = states.last_mut() {
-                    *last = sw.after;
-                }
-                if let Some(last) = charts.last_mut() {
-                    *last = sw.to;
-                }
-            }
-        });
-        let h = self.charts.get(chart).map_or(f64::NAN, |c| c.time_step());
-        let build = |switches| AtlasTrajectory {
-            h,
-            states,
-            charts,
-            stats,
-            switches,
-        };
-        match result {
-            Ok(run) => Ok(build(run.switches)),
-            Err(e) => {
-                let IntegrationError {
-                    source,
-                    trajectory,
-                    requested,
-                } = *e;
-                Err(Box::new(IntegrationError::new(
-                    source,
-                    build(trajectory.switches),
-                    requested,
-                )))
-            }
-        }
-    }
+/// What an atlas step reports besides the new state: its Newton statistics and the changes of
+/// chart it made.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AtlasStep<const S: usize, const K: usize> {
+    /// Newton statistics of the step (in the chart it was taken in).
+    pub stats: StepStats,
+    /// A change of chart before the step, which rescued a step that failed in the old chart
+    /// (`rescue: true`; its `step` is this step's index).
+    pub rescue: Option<Switch<S, K>>,
+    /// A change of chart after the step, asked for by the quality indicator (its `step` is the
+    /// index of the new state, which the run reports in the new chart).
+    pub switch: Option<Switch<S, K>>,
+}
 
-    /// Integrates `steps` steps from `initial` in chart `chart` in constant memory: `observe`
-    /// sees every state (with the statistics of the step that produced it) and every switch.
-    pub fn run(
-        &self,
-        chart: usize,
-        initial: ReducedState<S, K>,
-        steps: usize,
-        mut observe: impl FnMut(Event<'_, S, K>),
-    ) -> Result<AtlasRun<S, K>, Box<IntegrationError<AtlasRun<S, K>>>> {
-        let mut run = AtlasRun {
-            steps: 0,
-            switches: Vec::new(),
-            last: (chart, initial),
-        };
-        observe(Event::State {
-            chart,
-            state: &initial,
-            stats: None,
-        });
-        let fail =
-            |source, run: AtlasRun<S, K>| Box::new(IntegrationError::new(source, run, steps));
-        let Some(first) = self.charts.get(chart) else {
-            return Err(fail(
-                StepError::InvalidAtlas {
-                    reason: "the initial chart index is not a chart of the atlas",
-                },
-                run,
-            ));
-        };
-        if let Err(e) = check_inputs(first.time_step(), initial.is_finite(), &self.charts) {
-            return Err(fail(e, run));
-        }
-        let (mut c, mut state) = (chart, initial);
-        // Newton's guess extrapolates as ReducedIntegrator's does (`reduced_guess`), from the last
-        // two increments `(x_{j+1} − x_j, group unknown of step j)`, newest first; after a switch
-        // the last increment is recomputed in the new chart.
-        let mut last: Option<(SVector<f64, S>, SVector<f64, K>)> = None;
-        let mut before: Option<(SVector<f64, S>, SVector<f64, K>)> = None;
-        for k in 0..steps {
-            let guess = reduced_guess::<S, K, N>(&state.x, last.as_ref(), before.as_ref());
-            let (next, g_unknown, stats) = match self.charts[c].step(k, &state, &guess) {
-                Ok(ok) => ok,
-                Err(error) => {
-                    // Rescue: the same step from the same state in the best other chart.
-                    let rescued = self.better_chart(k, c, &state, f64::NEG_INFINITY);
-                    let Some((to, mapped)) = rescued else {
-                        return Err(fail(error, run));
-                    };
-                    let Ok(ok) = self.charts[to].step(k, &mapped, &fresh_guess(&mapped)) else {
-                        return Err(fail(error, run));
-                    };
-                    let sw = Switch {
-                        step: k,
-                        from: c,
-                        to,
-                        before: state,
-                        after: mapped,
-                        rescue: true,
-                    };
-                    observe(Event::Switch(&sw));
-                    run.switches.push(sw);
-                    (c, state, last) = (to, mapped, None);
-                    ok
-                }
-            };
-            before = last;
-            last = Some((next.x - state.x, g_unknown));
-            let previous = state;
-            state = next;
-            run.steps = k + 1;
-            run.last = (c, state);
-            observe(Event::State {
-                chart: c,
-                state: &state,
-                stats: Some(&stats),
-            });
-            // Is the new state still well inside the current chart?
-            let current = match &self.quality {
-                Some(q) => q(c, &state),
-                None => stats.rcond.unwrap_or(1.0),
-            };
-            if current < self.switch_below {
-                if let Some((to, mapped)) = self.better_chart(k + 1, c, &state, current) {
-                    let sw = Switch {
-                        step: k + 1,
-                        from: c,
-                        to,
-                        before: state,
-                        after: mapped,
-                        rescue: false,
-                    };
-                    observe(Event::Switch(&sw));
-                    run.switches.push(sw);
-                    // The extrapolation continues in the new chart from the previous state mapped
-                    // there and the group unknown its increment implies (last line of (4.6)).
-                    last = self.express(c, &previous, to).map(|p| {
-                        let dg = (mapped.g - p.g) - self.charts[to].connection() * (mapped.x - p.x);
-                        let g_unknown = match self.charts[to].variant() {
-                            Variant::Plus => dg,
-                            Variant::Minus => -dg,
-                        };
-                        (mapped.x - p.x, g_unknown)
-                    });
-                    before = None;
-                    c = to;
-                    state = mapped;
-                    run.last = (c, state);
-                }
-            }
-        }
-        Ok(run)
+impl<const S: usize, const K: usize> AsRef<StepStats> for AtlasStep<S, K> {
+    fn as_ref(&self) -> &StepStats {
+        &self.stats
     }
 }
 
-/// What [`AtlasIntegrator::run`] reports.
-#[derive(Clone, Copy, Debug)]
-pub enum Event<'s, const S: usize, const K: usize> {
-    /// A state: the initial one (`stats: None`) or the result of a step in chart `chart`.
-    State {
-        /// The chart the state is expressed in.
-        chart: usize,
-        /// The state.
-        state: &'s ReducedState<S, K>,
-        /// The statistics of the step that produced it.
-        stats: Option<&'s StepStats>,
-    },
-    /// The last reported state changed chart.
-    Switch(&'s Switch<S, K>),
+/// The workspace of an atlas run: one workspace per chart, and the last two increments
+/// `(x_{j+1} − x_j, u_j)` in the current chart that Newton's guess extrapolates (as
+/// [`ReducedIntegrator`]'s does, [`reduced_guess`]).
+pub struct AtlasWorkspace<const S: usize, const K: usize> {
+    charts: Vec<Box<dyn Any>>,
+    history: History<(SVector<f64, S>, SVector<f64, K>)>,
+}
+
+impl<const S: usize, const K: usize> std::fmt::Debug for AtlasWorkspace<S, K> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("AtlasWorkspace")
+            .field("charts", &self.charts.len())
+            .field("history", &self.history)
+            .finish()
+    }
+}
+
+impl<'a, const S: usize, const K: usize, const N: usize> Collect<AtlasIntegrator<'a, S, K, N>>
+    for AtlasTrajectory<S, K>
+{
+    fn start(atlas: &AtlasIntegrator<'a, S, K, N>, steps: usize) -> Self {
+        AtlasTrajectory {
+            h: atlas.time_step(),
+            states: Vec::with_capacity(steps + 1),
+            charts: Vec::with_capacity(steps + 1),
+            stats: Vec::with_capacity(steps),
+            switches: Vec::new(),
+        }
+    }
+
+    fn push(&mut self, state: &(usize, ReducedState<S, K>), record: Option<&AtlasStep<S, K>>) {
+        if let Some(rescue) = record.and_then(|r| r.rescue) {
+            // The state the step started from is kept in the chart it was taken in.
+            if let (Some(s), Some(c)) = (self.states.last_mut(), self.charts.last_mut()) {
+                (*s, *c) = (rescue.after, rescue.to);
+            }
+            self.switches.push(rescue);
+        }
+        self.charts.push(state.0);
+        self.states.push(state.1);
+        if let Some(record) = record {
+            self.stats.push(record.stats);
+            self.switches.extend(record.switch);
+        }
+    }
+}
+
+/// An atlas is a stepper on states `(chart, state)`: the one driver ([`crate::Drive`]) gives it
+/// `run`, `integrate`, ensembles and stop conditions.
+///
+/// A step is taken in the current chart; if it fails, it is retried from the same state in the
+/// other reachable charts (best quality first) — a rescue — and only when every chart fails is
+/// the run stopped, with the typed error of the current chart's step. After the step, the
+/// quality indicator of the new state (or the step's conditioning) decides whether to change
+/// chart; the state reported is then the one in the new chart.
+impl<'a, const S: usize, const K: usize, const N: usize> Stepper for AtlasIntegrator<'a, S, K, N> {
+    type State = (usize, ReducedState<S, K>);
+    type Record = AtlasStep<S, K>;
+    type Workspace = AtlasWorkspace<S, K>;
+    type Trajectory = AtlasTrajectory<S, K>;
+
+    /// The charts' common time step (NaN for an empty atlas).
+    fn time_step(&self) -> f64 {
+        self.charts.first().map_or(f64::NAN, |c| c.time_step())
+    }
+
+    /// The initial chart must be a chart of the atlas, and its checks hold for the initial state
+    /// ([`Stepper::check`]); every chart has the same time step and finite parameters.
+    fn check(&self, &(chart, ref initial): &Self::State) -> Result<(), StepError> {
+        let Some(first) = self.charts.get(chart) else {
+            return Err(StepError::InvalidAtlas {
+                reason: "the initial chart index is not a chart of the atlas",
+            });
+        };
+        first.chart_check(initial)?;
+        let h = first.time_step();
+        for chart in &self.charts {
+            if chart.time_step() != h {
+                return Err(StepError::InvalidAtlas {
+                    reason: "the charts have different time steps",
+                });
+            }
+            check_inputs(h, &chart.parameter_values(), true)?;
+        }
+        Ok(())
+    }
+
+    fn workspace(&self) -> AtlasWorkspace<S, K> {
+        AtlasWorkspace {
+            charts: self.charts.iter().map(|c| c.chart_workspace()).collect(),
+            history: History::default(),
+        }
+    }
+
+    fn step_in(
+        &self,
+        workspace: &mut AtlasWorkspace<S, K>,
+        k: usize,
+        &(chart, ref from): &Self::State,
+    ) -> Result<(Self::State, AtlasStep<S, K>), StepError> {
+        let history = &workspace.history;
+        let guess =
+            reduced_guess::<S, K, N>(&from.x, history.last.as_ref(), history.before.as_ref());
+        let (c, state, rescue, (next, step)) = match self.charts[chart].chart_step(
+            workspace.charts[chart].as_mut(),
+            k,
+            from,
+            &guess,
+        ) {
+            Ok(ok) => (chart, *from, None, ok),
+            Err(error) => {
+                // Rescue: the same step from the same state in the best other chart.
+                let Some((to, mapped)) =
+                    self.better_chart(&mut workspace.charts, k, chart, from, f64::NEG_INFINITY)
+                else {
+                    return Err(error);
+                };
+                let Ok(ok) = self.charts[to].chart_step(
+                    workspace.charts[to].as_mut(),
+                    k,
+                    &mapped,
+                    &fresh_guess(&mapped),
+                ) else {
+                    return Err(error);
+                };
+                workspace.history.clear();
+                let rescue = Switch {
+                    step: k,
+                    from: chart,
+                    to,
+                    before: *from,
+                    after: mapped,
+                    rescue: true,
+                };
+                (to, mapped, Some(rescue), ok)
+            }
+        };
+        workspace
+            .history
+            .push((next.x - state.x, step.group_unknown));
+        let mut record = AtlasStep {
+            stats: step.stats,
+            rescue,
+            switch: None,
+        };
+        // Is the new state still well inside the current chart?
+        let current = match &self.quality {
+            Some(q) => q(c, &next),
+            None => step.stats.rcond.unwrap_or(1.0),
+        };
+        if current < self.switch_below {
+            if let Some((to, mapped)) =
+                self.better_chart(&mut workspace.charts, k + 1, c, &next, current)
+            {
+                // The extrapolation continues in the new chart from the step's start mapped there
+                // and the group unknown its increment implies (last line of (4.6)).
+                let last = self.express(c, &state, to).map(|p| {
+                    let dg = (mapped.g - p.g) - self.charts[to].connection() * (mapped.x - p.x);
+                    let u = match self.charts[to].variant() {
+                        Variant::Plus => dg,
+                        Variant::Minus => -dg,
+                    };
+                    (mapped.x - p.x, u)
+                });
+                workspace.history.restart(last);
+                record.switch = Some(Switch {
+                    step: k + 1,
+                    from: c,
+                    to,
+                    before: next,
+                    after: mapped,
+                    rescue: false,
+                });
+                return Ok(((to, mapped), record));
+            }
+        }
+        Ok(((c, next), record))
+    }
 }
 
 /// Newton's start without history: stay put, zero group unknown.
@@ -577,34 +602,4 @@ fn fresh_guess<const S: usize, const K: usize, const N: usize>(
     state: &ReducedState<S, K>,
 ) -> SVector<f64, N> {
     join::<S, K, N>(&state.x, &SVector::zeros())
-}
-
-/// The checks made before the first step, as for [`ReducedIntegrator::integrate`].
-fn check_inputs<const S: usize, const K: usize, const N: usize>(
-    h: f64,
-    state_is_finite: bool,
-    charts: &[Box<dyn Chart<S, K, N> + '_>],
-) -> Result<(), StepError> {
-    if !(h.is_finite() && h > 0.0) {
-        return Err(StepError::InvalidTimeStep { h });
-    }
-    let non_finite = |what| StepError::NonFinite {
-        step: 0,
-        what,
-        residual: f64::INFINITY,
-    };
-    for chart in charts {
-        if chart.time_step() != h {
-            return Err(StepError::InvalidAtlas {
-                reason: "the charts have different time steps",
-            });
-        }
-        if chart.parameter_values().iter().any(|p| !p.is_finite()) {
-            return Err(non_finite("the parameters"));
-        }
-    }
-    if !state_is_finite {
-        return Err(non_finite("the initial state"));
-    }
-    Ok(())
 }

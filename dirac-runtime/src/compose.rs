@@ -28,17 +28,18 @@
 //!
 //! # One implementation for every integrator
 //!
-//! [`Composition`] is generic over [`BaseStep`], which the reduced integrator (both the (+)
-//! equations (4.6) and the (−) equations) and the unreduced integrator implement: one stepping
-//! loop, one warm start, one symmetry check. For the unreduced integrator the step-map Jacobian of
+//! [`Composition`] is generic over [`SelfAdjoint`], which the reduced integrator (both the (+)
+//! equations (4.6) and the (−) equations) and the unreduced integrator implement, and is itself a
+//! [`Stepper`]: the one driver ([`crate::Drive`]) gives it `run`, `integrate`, ensembles and stop
+//! conditions, and its workspace holds one workspace per stage. For the unreduced integrator the step-map Jacobian of
 //! the composition is the product of the stage Jacobians (chain rule,
 //! [`Composition::step_with_jacobian`]), so the symplecticity of the composed map is testable.
 //!
 //! # The base rule must be symmetric
 //!
 //! A composition of a non-symmetric rule (the charged particle's left-point rule) stays at the
-//! base rule's order. [`Composition::integrate`] therefore checks the symmetry once, at sample
-//! points near the initial state ([`Composition::symmetry_defect`]), and returns
+//! base rule's order. A run of a [`Composition`] therefore checks the symmetry once, at
+//! sample points near the initial state ([`Composition::symmetry_defect`]), and returns
 //! [`StepError::NotSymmetric`] otherwise.
 //!
 //! ```
@@ -51,12 +52,12 @@
 
 use nalgebra::{SMatrix, SVector};
 
-use crate::error::{IntegrationError, StepError, Steps};
-use crate::integrate::{
-    canonical_guess, reduced_guess, ReducedIntegrator, StepJacobian, StepStats, UnreducedIntegrator,
-};
-use crate::state::{CanonicalState, ReducedState};
-use crate::system::{join, split, DiscreteLagrangian, LagrangianHessian, Reduced, Side, Unreduced};
+use crate::error::{StepError, Steps};
+use crate::reduced::ReducedIntegrator;
+use crate::state::CanonicalState;
+use crate::stepper::{Collect, StepStats, Stepper};
+use crate::system::{join, DiscreteLagrangian, LagrangianHessian, Reduced, Side, Unreduced};
+use crate::unreduced::{StepJacobian, UnreducedIntegrator};
 
 /// A symmetric composition scheme: the coefficients `γ_1, …, γ_s` of the substeps `γ_i h`, with
 /// `Σ γ_i = 1` and `γ_i = γ_{s+1−i}`, and the order it reaches from a symmetric base step of
@@ -138,65 +139,27 @@ impl CompositionMethod {
     }
 }
 
-/// One step of a self-adjoint integrator, as a composition uses it: what the reduced and the
-/// unreduced integrators share.
-pub trait BaseStep: Sized {
-    /// The state a step maps.
-    type State: Copy + std::fmt::Debug + Send + Sync + 'static;
-    /// The Newton unknowns `z` of a step (what a warm start extrapolates from).
-    type Unknown: Copy + std::fmt::Debug + Send + Sync + 'static;
-
-    /// The time step `h`.
-    fn time_step(&self) -> f64;
-
+/// A base step a composition can raise in order: a [`Stepper`] whose time step can be changed
+/// (each stage steps with `γ_i h`) and whose rule can be tested for symmetry. The reduced
+/// integrator (both the (+) equations (4.6) and the (−) equations) and the unreduced integrator
+/// implement it.
+pub trait SelfAdjoint: Stepper + Sized {
     /// The same integrator (same equations, Newton options and path) for the system at time step
     /// `h` (any nonzero `h`, see [`DiscreteLagrangian::with_time_step`]).
     fn with_time_step(&self, h: f64) -> Self;
-
-    /// Takes step `k` from `state`, Newton starting at `guess`; returns the new state, the solved
-    /// unknowns `z` and the step's statistics.
-    fn advance(
-        &self,
-        k: usize,
-        state: &Self::State,
-        guess: &Self::Unknown,
-    ) -> Result<(Self::State, Self::Unknown, StepStats), StepError>;
-
-    /// Newton's starting point for the step from `state`, predicted from `last` and `before`,
-    /// the start and the solved unknowns of the last two steps of the same size, newest first
-    /// (`None`: no such step yet).
-    fn predict(
-        &self,
-        state: &Self::State,
-        last: Option<&(Self::State, Self::Unknown)>,
-        before: Option<&(Self::State, Self::Unknown)>,
-    ) -> Self::Unknown;
 
     /// The largest relative defect `|L_d(q0, q1; −h) + L_d(q1, q0; h)| / max(|L_d(q0, q1; −h)|,
     /// |L_d(q1, q0; h)|)` over sample pairs around the configuration of `at` (see
     /// [`symmetry_defect`]). Zero for a symmetric rule, up to round-off.
     fn symmetry_defect(&self, at: &Self::State) -> f64;
-
-    /// The parameter values of the system.
-    fn parameter_values(&self) -> Vec<f64>;
-
-    /// True when every component of `state` is finite.
-    fn state_is_finite(state: &Self::State) -> bool;
 }
 
-impl<L, D, const S: usize, const K: usize, const N: usize> BaseStep
+impl<L, D, const S: usize, const K: usize, const N: usize> SelfAdjoint
     for ReducedIntegrator<L, D, S, K, N>
 where
     D: Side,
-    L: Reduced<D, S, K, N> + Clone,
+    L: Reduced<D, S, K, N>,
 {
-    type State = ReducedState<S, K>;
-    type Unknown = SVector<f64, N>;
-
-    fn time_step(&self) -> f64 {
-        self.system().time_step()
-    }
-
     fn with_time_step(&self, h: f64) -> Self {
         let integ = Self::new(self.system().with_time_step(h), *self.options());
         // Where the system cannot eliminate, the choice has no effect; where it can, this keeps
@@ -204,100 +167,22 @@ where
         integ.with_elimination(self.eliminates_group())
     }
 
-    fn advance(
-        &self,
-        k: usize,
-        state: &Self::State,
-        guess: &Self::Unknown,
-    ) -> Result<(Self::State, Self::Unknown, StepStats), StepError> {
-        let (next, unknown, stats) = self.step(k, state, guess)?;
-        Ok((next, join::<S, K, N>(&next.x, &unknown), stats))
-    }
-
-    /// The shape advances by the increment extrapolated from the last two steps' increments and
-    /// the group unknown is extrapolated likewise ([`reduced_guess`]) — for a single stage
-    /// exactly the extrapolation of [`ReducedIntegrator::integrate`].
-    fn predict(
-        &self,
-        state: &Self::State,
-        last: Option<&(Self::State, Self::Unknown)>,
-        before: Option<&(Self::State, Self::Unknown)>,
-    ) -> Self::Unknown {
-        let increment = |(from, z): &(Self::State, Self::Unknown)| {
-            let (x1, unknown) = split::<S, K, N>(z);
-            (x1 - from.x, unknown)
-        };
-        reduced_guess::<S, K, N>(
-            &state.x,
-            last.map(increment).as_ref(),
-            before.map(increment).as_ref(),
-        )
-    }
-
     fn symmetry_defect(&self, at: &Self::State) -> f64 {
         symmetry_defect(self.system(), &join::<S, K, N>(&at.x, &at.g))
     }
-
-    fn parameter_values(&self) -> Vec<f64> {
-        self.system().parameter_values()
-    }
-
-    fn state_is_finite(state: &Self::State) -> bool {
-        state.is_finite()
-    }
 }
 
-impl<L, const S: usize, const K: usize, const N: usize> BaseStep for UnreducedIntegrator<L, S, K, N>
+impl<L, const S: usize, const K: usize, const N: usize> SelfAdjoint
+    for UnreducedIntegrator<L, S, K, N>
 where
-    L: Unreduced<S, K, N> + Clone,
+    L: Unreduced<S, K, N>,
 {
-    type State = CanonicalState<N>;
-    type Unknown = SVector<f64, N>;
-
-    fn time_step(&self) -> f64 {
-        self.system().time_step()
-    }
-
     fn with_time_step(&self, h: f64) -> Self {
         UnreducedIntegrator::plus(self.system().with_time_step(h), *self.options())
     }
 
-    fn advance(
-        &self,
-        k: usize,
-        state: &Self::State,
-        guess: &Self::Unknown,
-    ) -> Result<(Self::State, Self::Unknown, StepStats), StepError> {
-        let (next, stats) = self.step(k, state, guess)?;
-        Ok((next, next.q, stats))
-    }
-
-    /// [`canonical_guess`] from the last two steps' increments: for a single stage exactly the
-    /// extrapolation of [`UnreducedIntegrator::integrate`].
-    fn predict(
-        &self,
-        state: &Self::State,
-        last: Option<&(Self::State, Self::Unknown)>,
-        before: Option<&(Self::State, Self::Unknown)>,
-    ) -> Self::Unknown {
-        let increment = |(from, q1): &(Self::State, Self::Unknown)| q1 - from.q;
-        canonical_guess(
-            &state.q,
-            last.map(increment).as_ref(),
-            before.map(increment).as_ref(),
-        )
-    }
-
     fn symmetry_defect(&self, at: &Self::State) -> f64 {
         symmetry_defect(self.system(), &at.q)
-    }
-
-    fn parameter_values(&self) -> Vec<f64> {
-        self.system().parameter_values()
-    }
-
-    fn state_is_finite(state: &Self::State) -> bool {
-        state.is_finite()
     }
 }
 
@@ -347,12 +232,7 @@ impl<St: std::fmt::Debug> Steps for ComposedTrajectory<St> {
     }
 }
 
-/// What [`Composition::integrate`] returns: the trajectory, or the failure with the trajectory
-/// computed up to it.
-pub type ComposedResult<St> =
-    Result<ComposedTrajectory<St>, Box<IntegrationError<ComposedTrajectory<St>>>>;
-
-/// The largest relative symmetry defect accepted by [`Composition::integrate`]. A symmetric rule
+/// The largest relative symmetry defect accepted by [`crate::Drive::integrate`] of a [`Composition`]. A symmetric rule
 /// written the usual way evaluates `L_d(q0, q1; −h)` and `−L_d(q1, q0; h)` with the same
 /// operations up to exact negations (the difference quotient `(q1 − q0)/(−h) = (q0 − q1)/h`, the
 /// midpoint `(q0 + q1)/2`), so its defect is 0 or a few units of round-off (~1e-16); a first-order
@@ -383,7 +263,7 @@ impl<I> Composition<I> {
 
 impl<I> Composition<I>
 where
-    I: BaseStep,
+    I: SelfAdjoint,
 {
     /// The composition `method` of `base`; the macro step is `base`'s time step `h`, the stages
     /// step with `γ_i h`.
@@ -401,94 +281,60 @@ where
         }
     }
 
-    /// The macro time step `h`.
-    pub fn time_step(&self) -> f64 {
-        self.base.time_step()
-    }
-
     /// The symmetry defect of the base rule at sample points near `at`
-    /// ([`BaseStep::symmetry_defect`]).
+    /// ([`SelfAdjoint::symmetry_defect`]).
     pub fn symmetry_defect(&self, at: &I::State) -> f64 {
         self.base.symmetry_defect(at)
     }
+}
 
-    /// Takes macro step `k` from `state`, each stage's Newton iteration starting from the
-    /// stage's own start (no history). [`Self::integrate`] starts from the previous step instead.
-    pub fn step(&self, k: usize, state: &I::State) -> Result<(I::State, StepStats), StepError> {
-        let mut current = *state;
-        let mut total = StepStats::default();
-        for stage in &self.stages {
-            let guess = stage.predict(&current, None, None);
-            let (next, _, stats) = stage.advance(k, &current, &guess)?;
-            accumulate(&mut total, &stats);
-            current = next;
-        }
-        Ok((current, total))
-    }
-
-    /// Integrates `steps` macro steps from `initial`.
-    ///
-    /// Before the first step: the macro step must be positive and finite, the parameters and the
-    /// initial state finite, and the discrete Lagrangian symmetric at sample points near
-    /// `initial` ([`Self::symmetry_defect`] at most [`SYMMETRY_TOLERANCE`]). Newton starts each
-    /// stage from the same stage of the previous two macro steps (the shape advanced by the
-    /// increment extrapolated from that stage's last two). On failure the error holds the
-    /// trajectory computed so far, and its step index is the macro step's.
-    pub fn integrate(&self, initial: I::State, steps: usize) -> ComposedResult<I::State> {
-        let h = self.time_step();
-        let mut trajectory = ComposedTrajectory {
-            h,
-            method: self.method,
+impl<St> Collect<Composition<St>> for ComposedTrajectory<St::State>
+where
+    St: SelfAdjoint,
+{
+    fn start(composition: &Composition<St>, steps: usize) -> Self {
+        ComposedTrajectory {
+            h: composition.time_step(),
+            method: composition.method,
             states: Vec::with_capacity(steps + 1),
             stats: Vec::with_capacity(steps),
-        };
-        trajectory.states.push(initial);
-        let fail = |source, trajectory| Box::new(IntegrationError::new(source, trajectory, steps));
-        if let Err(e) = self.check_inputs(&initial) {
-            return Err(fail(e, trajectory));
         }
-        // Per stage, its start and solved unknowns in the last two macro steps, newest first.
-        type Memory<I> = [Option<(<I as BaseStep>::State, <I as BaseStep>::Unknown)>; 2];
-        let mut previous: Vec<Memory<I>> = vec![[None, None]; self.stages.len()];
-        let mut state = initial;
-        for k in 0..steps {
-            let mut total = StepStats::default();
-            let mut current = state;
-            for (stage, memory) in self.stages.iter().zip(previous.iter_mut()) {
-                let guess = stage.predict(&current, memory[0].as_ref(), memory[1].as_ref());
-                match stage.advance(k, &current, &guess) {
-                    Ok((next, z, stats)) => {
-                        accumulate(&mut total, &stats);
-                        *memory = [Some((current, z)), memory[0]];
-                        current = next;
-                    }
-                    Err(source) => return Err(fail(source, trajectory)),
-                }
-            }
-            state = current;
-            trajectory.states.push(state);
-            trajectory.stats.push(total);
-        }
-        Ok(trajectory)
     }
 
-    /// The checks made before the first step.
-    fn check_inputs(&self, initial: &I::State) -> Result<(), StepError> {
-        let h = self.time_step();
-        if !(h.is_finite() && h > 0.0) {
-            return Err(StepError::InvalidTimeStep { h });
+    fn push(&mut self, state: &St::State, record: Option<&StepStats>) {
+        self.states.push(*state);
+        if let Some(stats) = record {
+            self.stats.push(*stats);
         }
-        let non_finite = |what| StepError::NonFinite {
-            step: 0,
-            what,
-            residual: f64::INFINITY,
-        };
-        if self.base.parameter_values().iter().any(|p| !p.is_finite()) {
-            return Err(non_finite("the parameters"));
-        }
-        if !I::state_is_finite(initial) {
-            return Err(non_finite("the initial state"));
-        }
+    }
+}
+
+/// A composition is a stepper: a macro step runs the stages in order, each in its own workspace
+/// (one per stage, built once per run), so each stage's Newton iteration starts from the same
+/// stage of the previous two macro steps (the shape advanced by the increment extrapolated from
+/// that stage's last two) and, on the sparse backend, reuses that stage's factors. A failed stage
+/// fails the macro step with the macro step's index.
+impl<I> Stepper for Composition<I>
+where
+    I: SelfAdjoint,
+{
+    type State = I::State;
+    /// Per macro step: Newton corrections and factorizations summed over the stages, the largest
+    /// accepted residual and the smallest reciprocal condition estimate of the stages.
+    type Record = StepStats;
+    type Workspace = Vec<I::Workspace>;
+    type Trajectory = ComposedTrajectory<I::State>;
+
+    /// The macro time step `h`.
+    fn time_step(&self) -> f64 {
+        self.base.time_step()
+    }
+
+    /// The base integrator's checks (the macro step must be positive and finite, the parameters
+    /// and the initial state finite), and the discrete Lagrangian symmetric at sample points near
+    /// `initial` ([`Self::symmetry_defect`] at most [`SYMMETRY_TOLERANCE`]).
+    fn check(&self, initial: &I::State) -> Result<(), StepError> {
+        self.base.check(initial)?;
         let defect = self.symmetry_defect(initial);
         // A NaN defect is rejected too.
         if defect.is_nan() || defect > SYMMETRY_TOLERANCE {
@@ -498,6 +344,26 @@ where
             });
         }
         Ok(())
+    }
+
+    fn workspace(&self) -> Vec<I::Workspace> {
+        self.stages.iter().map(Stepper::workspace).collect()
+    }
+
+    fn step_in(
+        &self,
+        workspace: &mut Vec<I::Workspace>,
+        k: usize,
+        state: &I::State,
+    ) -> Result<(I::State, StepStats), StepError> {
+        let mut total = StepStats::default();
+        let mut current = *state;
+        for (stage, stage_workspace) in self.stages.iter().zip(workspace.iter_mut()) {
+            let (next, record) = stage.step_in(stage_workspace, k, &current)?;
+            total.accumulate(record.as_ref());
+            current = next;
+        }
+        Ok((current, total))
     }
 }
 
@@ -522,7 +388,7 @@ where
             dp_dp: SMatrix::identity(),
         };
         for stage in &self.stages {
-            let (next, _) = stage.step(k, &current, &current.q)?;
+            let (next, _) = stage.step_from(k, &current, &current.q)?;
             let m = stage.step_jacobian(k, &current, &next)?;
             product = m.compose(&product);
             current = next;
@@ -568,21 +434,6 @@ where
         }
     }
     worst
-}
-
-/// Folds one stage's statistics into its macro step's.
-fn accumulate(total: &mut StepStats, stage: &StepStats) {
-    total.iterations += stage.iterations;
-    total.factorizations += stage.factorizations;
-    // The tolerance recorded is that of the stage whose residual is the one recorded.
-    if stage.residual >= total.residual {
-        total.tolerance = stage.tolerance;
-    }
-    total.residual = total.residual.max(stage.residual);
-    total.rcond = match (total.rcond, stage.rcond) {
-        (Some(a), Some(b)) => Some(a.min(b)),
-        (a, b) => a.or(b),
-    };
 }
 
 impl<const N: usize> StepJacobian<N> {

@@ -6,10 +6,12 @@
 
 use nalgebra::SVector;
 
-use crate::integrate::{CanonicalTrajectory, Trajectory};
-use crate::newton::LinearSolver;
+use crate::linalg::{checked_rcond, LinearSolver};
+use crate::newton::{self, inf_norm, NewtonFailure, NewtonOptions};
+use crate::reduced::Trajectory;
 use crate::state::{CanonicalState, ReducedState};
 use crate::system::DiscreteLagrangian;
+use crate::unreduced::CanonicalTrajectory;
 
 /// Solving the Legendre map `∂L/∂v (q, v) = p` for `v` failed.
 #[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
@@ -90,8 +92,9 @@ pub trait ContinuousLagrangian<const N: usize> {
         self.trivialize(&self.canonical_state(q, v))
     }
 
-    /// Solves the Legendre map `∂L/∂v (q, v) = p` for `v` by Newton's method from `guess`
-    /// (`node` labels errors). Errors: [`LegendreError::Singular`] for a degenerate Lagrangian.
+    /// Solves the Legendre map `∂L/∂v (q, v) = p` for `v` (the inverse Legendre map) by the
+    /// Newton driver of the steps, from `guess`, with the default [`NewtonOptions`] (`node`
+    /// labels errors). See [`Self::velocity_with`].
     fn velocity(
         &self,
         node: usize,
@@ -99,37 +102,66 @@ pub trait ContinuousLagrangian<const N: usize> {
         p: &SVector<f64, N>,
         guess: SVector<f64, N>,
     ) -> Result<SVector<f64, N>, LegendreError> {
-        const MAX_ITERATIONS: usize = 50;
-        let scale = 1.0 + p.amax();
-        let mut v = guess;
-        let mut residual = f64::INFINITY;
-        let mut lu = self.legendre_solver();
-        for _ in 0..MAX_ITERATIONS {
-            let (pv, jac) = self.legendre_jacobian(q, &v);
-            // Checked before the residual: for a degenerate Lagrangian every velocity satisfies
-            // the Legendre map at a constrained momentum, so a small residual proves nothing.
-            // ∂²L/∂v² is singular there in exact arithmetic; in floating point the rounded
-            // Hessian can keep a tiny pivot, so "singular" means a reciprocal condition number
-            // below 1e-12 as well as an exactly zero pivot.
-            if lu.factor(&jac).is_err() || lu.rcond() < 1e-12 {
+        self.velocity_with(node, q, p, guess, &NewtonOptions::default())
+    }
+
+    /// [`Self::velocity`] with the given options: the residual `∂L/∂v (q, v) − p` is accepted at
+    /// `abs_tol + rel_tol ‖p‖∞` (or on a correction below `rel_tol`, see [`NewtonOptions`]), and
+    /// `∂²L/∂v²` is checked as a step Jacobian is, with [`checked_rcond`] against `min_rcond`.
+    ///
+    /// The conditioning is checked even when the guess already solves the map: for a degenerate
+    /// Lagrangian every velocity satisfies the Legendre map at a momentum on the primary
+    /// constraint, so a small residual proves nothing; `∂²L/∂v²` is singular there in exact
+    /// arithmetic (in floating point the rounded Hessian can keep a tiny pivot, which the
+    /// reciprocal condition figure catches). Errors: [`LegendreError::Singular`] for a
+    /// degenerate Lagrangian (a zero pivot or a condition figure below `min_rcond`),
+    /// [`LegendreError::NotConverged`] otherwise.
+    fn velocity_with(
+        &self,
+        node: usize,
+        q: &SVector<f64, N>,
+        p: &SVector<f64, N>,
+        guess: SVector<f64, N>,
+        options: &NewtonOptions,
+    ) -> Result<SVector<f64, N>, LegendreError> {
+        let mut solver = self.legendre_solver();
+        let solution = newton::solve_with(
+            &mut solver,
+            guess,
+            inf_norm(p),
+            options,
+            |v| self.legendre(q, v) - p,
+            |v| {
+                let (pv, jacobian) = self.legendre_jacobian(q, v);
+                (pv - p, jacobian)
+            },
+        )
+        .map_err(|failure| match failure {
+            NewtonFailure::NotConverged {
+                iterations,
+                residual,
+            } => LegendreError::NotConverged {
+                node,
+                residual,
+                iterations,
+            },
+            NewtonFailure::NonFinite { residual } => LegendreError::NotConverged {
+                node,
+                residual,
+                iterations: 0,
+            },
+            _ => LegendreError::Singular { node },
+        })?;
+        if solution.rcond.is_none() {
+            // The guess solved the map without a factorization: check ∂²L/∂v² there.
+            let (_, jacobian) = self.legendre_jacobian(q, &solution.z);
+            if solver.factor(&jacobian).is_err()
+                || checked_rcond(&mut solver, options.min_rcond) < options.min_rcond
+            {
                 return Err(LegendreError::Singular { node });
             }
-            let r = pv - p;
-            residual = r.amax();
-            if residual <= 4.0 * f64::EPSILON * scale {
-                return Ok(v);
-            }
-            let dv = lu.solve(&r);
-            v -= dv;
-            if dv.amax() <= 4.0 * f64::EPSILON * (1.0 + v.amax()) {
-                return Ok(v);
-            }
         }
-        Err(LegendreError::NotConverged {
-            node,
-            residual,
-            iterations: MAX_ITERATIONS,
-        })
+        Ok(solution.z)
     }
 }
 

@@ -9,8 +9,8 @@
 
 use nalgebra::{SMatrix, SVector};
 
-use crate::integrate::Trajectory;
 use crate::newton::inf_norm;
+use crate::reduced::Trajectory;
 use crate::system::{join, DiscreteLagrangian, Minus, Plus, Reduced, Side, Variant};
 
 /// The discrete energy of each step along a trajectory, `(E_d)_k = L_d(q_k, q_{k+1})`: the
@@ -170,7 +170,7 @@ where
 {
     let b = sys.connection();
     let bt = b.transpose();
-    let steps = trajectory.states.windows(2).zip(&trajectory.increments);
+    let steps = trajectory.states.windows(2).zip(&trajectory.group_unknowns);
     match trajectory.variant {
         Variant::Plus => steps
             .map(|(pair, u)| {
@@ -282,11 +282,17 @@ where
 /// `(x_k^+, g_k^+, w_{k+1}, μ_{k+1})`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReducedActionPlus<const S: usize, const K: usize> {
+    /// Shape coordinates `x_k`, `k = 0..=n`.
     pub x: Vec<SVector<f64, S>>,
+    /// Group coordinates `g_k`, `k = 0..=n`.
     pub g: Vec<SVector<f64, K>>,
+    /// `x_k^+`, `k < n`.
     pub x_plus: Vec<SVector<f64, S>>,
+    /// `g_k^+`, `k < n` (the group unknown of the (+) step).
     pub g_plus: Vec<SVector<f64, K>>,
+    /// Reduced momenta `w_{k+1}`, `k < n`.
     pub w: Vec<SVector<f64, S>>,
+    /// Momentum values `μ_{k+1}`, `k < n`.
     pub mu: Vec<SVector<f64, K>>,
 }
 
@@ -307,7 +313,7 @@ impl<const S: usize, const K: usize> ReducedActionPlus<S, K> {
             x: states.iter().map(|s| s.x).collect(),
             g: states.iter().map(|s| s.g).collect(),
             x_plus: states[1..].iter().map(|s| s.x).collect(),
-            g_plus: trajectory.increments.clone(),
+            g_plus: trajectory.group_unknowns.clone(),
             w: states[1..].iter().map(|s| s.w).collect(),
             mu: states[1..].iter().map(|s| s.mu).collect(),
         }

@@ -3,55 +3,75 @@
 //! The macro turns a discrete Lagrangian `L_d(q0, q1)` into straight-line `f64` code for the
 //! reduced (+) and (−) discrete Lagrange–Poincaré–Dirac equations (Rodríguez Abella & Leok,
 //! eqs. (4.6), (4.8)) and the unreduced ones, and implements the traits of [`system`] for a type
-//! holding the Lagrangian's parameters: [`Reduced`] once per [`Side`] ([`Plus`], [`Minus`]). This crate
-//! drives that code: [`newton`] solves each step's equations on fixed-size nalgebra types,
-//! [`integrate`] marches a trajectory, [`state`] holds the reduced and canonical states, and
-//! [`error`] reports a failed step as a value carrying its index and residual. [`compose`] raises
-//! a symmetric rule to order 4 or 6 by symmetric composition, keeping μ exact and the step map
-//! symplectic.
+//! holding the Lagrangian's parameters: [`Reduced`] once per [`Side`] ([`Plus`], [`Minus`]).
+//! This crate drives that code:
+//!
+//! * [`linalg`]: the linear solvers a Newton step runs on, dense ([`linalg::Lu`]) or sparse
+//!   ([`linalg::SparseLu`]), behind one trait;
+//! * [`newton`]: the one Newton driver, with its [`NewtonOptions`];
+//! * [`stepper`]: the one stepping abstraction ([`Stepper`]), implemented by the integrators
+//!   [`reduced`] (eqs. (4.6)/(4.8)), [`unreduced`] (Definitions 2.7/2.8), [`compose`] (symmetric
+//!   compositions of order 4 and 6) and [`atlas`] (§6: charts and transitions);
+//! * [`driver`]: the one run loop ([`Drive`]: `run`, `integrate`, stop conditions, ensembles),
+//!   written once for every stepper; [`ensemble`]: parallel members;
+//! * [`state`], [`error`] (a failed step is a value carrying its index and residual),
+//!   [`diagnostics`] (the paper's Dirac structures, energies and action along a trajectory),
+//!   [`continuous`] (a continuous Lagrangian's Legendre map and energy), [`adapted`] (declared
+//!   translations).
 //!
 //! Notation follows the paper: `Q = Σ × G` with shape coordinates `x ∈ Σ = R^S` and group
 //! coordinates `g ∈ G = R^K` (G acts by translation), reduced momenta `w ∈ Σ*` and `mu ∈ g*`,
 //! connection matrix `B` (`K × S`) of the linear discrete connection
 //! `ω_d(q0, q1) = (g1 − g0) − B (x1 − x0)`.
+//!
+//! The crate root re-exports [`prelude`], the one list of what a user names; the backends and
+//! the diagnostics are reached through their modules.
+#![warn(missing_docs)]
 
 pub mod adapted;
 pub mod atlas;
 pub mod compose;
 pub mod continuous;
 pub mod diagnostics;
+pub mod driver;
 pub mod ensemble;
 pub mod error;
-pub mod integrate;
-pub mod lu;
+pub mod linalg;
 pub mod newton;
-pub mod sparse;
+pub mod reduced;
 pub mod state;
+pub mod stepper;
 pub mod system;
+pub mod unreduced;
 
-pub use adapted::AdaptedCoordinates;
-pub use compose::{BaseStep, ComposedTrajectory, Composition, CompositionMethod};
-pub use continuous::{
-    continuous_energies, midpoint_energies, reduced_continuous_energies, ContinuousEnergies,
-    ContinuousLagrangian, LegendreError,
-};
-pub use diagnostics::{
-    dirac_differential_minus, dirac_differential_plus, dirac_membership_residuals,
-    reduced_energy_minus, reduced_energy_plus, trajectory_energies, DiracDifferentialMinus,
-    DiracDifferentialPlus, ReducedActionPlus,
-};
-pub use error::{IntegrationError, StepError, Steps};
-pub use integrate::{
-    CanonicalTrajectory, ReducedIntegrator, RunSummary, StepJacobian, StepRecord, StepStats,
-    StepStatsExt, Trajectory, UnreducedIntegrator,
-};
-pub use lu::Lu;
-pub use newton::{LinearSolver, NewtonOptions};
-pub use sparse::{CscPattern, CscValues, SparseLu, DENSE_MAX};
-pub use state::{CanonicalState, ReducedState};
-pub use system::{
-    DiscreteLagrangian, LagrangianHessian, Minus, Plus, Reduced, Side, Unreduced, Variant,
-};
+/// Everything a user of the integrators names, in one list: the crate root re-exports it, and
+/// so do the `dirac` facade's root and prelude.
+pub mod prelude {
+    pub use crate::adapted::AdaptedCoordinates;
+    pub use crate::atlas::{AtlasIntegrator, AtlasStep, AtlasTrajectory, ChartTransition, Switch};
+    pub use crate::compose::{ComposedTrajectory, Composition, CompositionMethod, SelfAdjoint};
+    pub use crate::continuous::{
+        continuous_energies, midpoint_energies, reduced_continuous_energies, ContinuousEnergies,
+        ContinuousLagrangian, LegendreError,
+    };
+    pub use crate::diagnostics::trajectory_energies;
+    pub use crate::driver::{Drive, RunSummary};
+    pub use crate::error::{IntegrationError, StepError, Steps};
+    pub use crate::newton::NewtonOptions;
+    pub use crate::reduced::{ReducedIntegrator, ReducedStep, Trajectory};
+    pub use crate::state::{CanonicalState, ReducedState};
+    pub use crate::stepper::{StepStats, StepStatsExt, Stepper};
+    pub use crate::system::{
+        DiscreteLagrangian, LagrangianHessian, Minus, Plus, Reduced, Side, Unreduced, Variant,
+    };
+    pub use crate::unreduced::{CanonicalTrajectory, StepJacobian, UnreducedIntegrator};
+}
+
+pub use prelude::*;
+
+// The paths the emitted code names (`::dirac::runtime::Lu`, ...): the backends live in `linalg`.
+#[doc(hidden)]
+pub use linalg::{CscPattern, CscValues, Lu, SparseLu, DENSE_MAX};
 
 /// Re-exported so that emitted code and users name the same nalgebra.
 pub use nalgebra;

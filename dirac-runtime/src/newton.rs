@@ -3,7 +3,7 @@
 
 use nalgebra::{SMatrix, SVector};
 
-use crate::lu::{FactorError, Lu};
+use crate::linalg::{checked_rcond, FactorError, LinearSolver, Lu, NewtonVector};
 
 /// Tolerances and iteration cap of the Newton iteration that solves each step.
 ///
@@ -13,6 +13,15 @@ use crate::lu::{FactorError, Lu};
 /// `‖Δz‖∞ ≤ rel_tol · (1 + ‖z‖∞)`, after which the residual is at round-off level. The defaults sit
 /// near machine precision: loosening them trades the structure (momentum, symplecticity) for
 /// speed, so do it deliberately.
+///
+/// The defaults ([`NewtonOptions::default`]): `abs_tol = 1e-12`, `rel_tol = 1e-12`,
+/// `max_iterations = 50`, `min_rcond = 1e-13`.
+///
+/// ```
+/// # use dirac_runtime::NewtonOptions;
+/// let options = NewtonOptions { max_iterations: 20, ..NewtonOptions::default() };
+/// assert_eq!((options.abs_tol, options.rel_tol, options.min_rcond), (1e-12, 1e-12, 1e-13));
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NewtonOptions {
     /// Absolute tolerance on `‖R‖∞`, in the units of momentum.
@@ -49,6 +58,7 @@ impl Default for NewtonOptions {
 
 /// `‖v‖∞`, NaN if any component is NaN. (nalgebra's `amax` skips NaN, which would let a NaN
 /// residual pass for converged.)
+#[doc(hidden)]
 pub fn inf_norm<const N: usize>(v: &SVector<f64, N>) -> f64 {
     slice_inf_norm(v.as_slice())
 }
@@ -62,108 +72,6 @@ fn slice_inf_norm(v: &[f64]) -> f64 {
             m.max(x.abs())
         }
     })
-}
-
-/// The unknowns and residuals of a Newton iteration: whatever holds its components contiguously
-/// (fixed-size `SVector` for the small dense systems of a step, `DVector` for large ones).
-pub trait NewtonVector: Clone {
-    /// The components.
-    fn components(&self) -> &[f64];
-    /// The components, mutably.
-    fn components_mut(&mut self) -> &mut [f64];
-}
-
-impl<const N: usize> NewtonVector for SVector<f64, N> {
-    fn components(&self) -> &[f64] {
-        self.as_slice()
-    }
-    fn components_mut(&mut self) -> &mut [f64] {
-        self.as_mut_slice()
-    }
-}
-
-impl NewtonVector for nalgebra::DVector<f64> {
-    fn components(&self) -> &[f64] {
-        self.as_slice()
-    }
-    fn components_mut(&mut self) -> &mut [f64] {
-        self.as_mut_slice()
-    }
-}
-
-/// The linear solver the Newton driver is generic over (the separation of SUNDIALS/KINSOL): it
-/// factors a Jacobian, solves with the factors, and reports the conditioning figures the step
-/// is checked with. It is a workspace: `factor` overwrites the previous factors in place, so a
-/// backend that needs memory (the sparse [`crate::SparseLu`]: its symbolic analysis, fill and
-/// scratch) allocates it once, when it is built, and reuses it across Newton iterations and
-/// steps. [`Lu`] is the dense fixed-size backend, whose factors live on the stack.
-pub trait LinearSolver {
-    /// The vector type of residuals and corrections.
-    type Vector: NewtonVector;
-    /// The Jacobian type, as the step functions return it.
-    type Matrix;
-    /// Factors `j`, replacing the previous factors.
-    fn factor(&mut self, j: &Self::Matrix) -> Result<(), FactorError>;
-    /// Solves `J x = b` with the current factors.
-    fn solve(&mut self, b: &Self::Vector) -> Self::Vector;
-    /// `‖J‖₁` of the factored Jacobian.
-    fn norm1(&self) -> f64;
-    /// A cheap guaranteed lower bound on `1 / (‖J‖₁ ‖J⁻¹‖₁)` (0 where a backend has none).
-    fn rcond_lower_bound(&mut self) -> f64;
-    /// The (more expensive, more accurate) estimate of `1 / (‖J‖₁ ‖J⁻¹‖₁)`.
-    fn rcond(&mut self) -> f64;
-    /// Whether a solve should first try the factors this workspace holds (of a Jacobian from an
-    /// earlier step) before evaluating and factoring a new one: chord iterations, see
-    /// [`solve_with`]. The sparse backend says yes once it holds factors, because there a
-    /// factorization costs many residual evaluations; the dense fixed-size [`Lu`] never (the
-    /// default), because there it costs less than one.
-    fn has_reusable_factors(&self) -> bool {
-        false
-    }
-}
-
-impl<const N: usize> LinearSolver for Lu<N> {
-    type Vector = SVector<f64, N>;
-    type Matrix = SMatrix<f64, N, N>;
-    #[inline]
-    fn factor(&mut self, j: &Self::Matrix) -> Result<(), FactorError> {
-        *self = Lu::factor(j)?;
-        Ok(())
-    }
-    #[inline]
-    fn solve(&mut self, b: &Self::Vector) -> Self::Vector {
-        Lu::solve(self, b)
-    }
-    fn norm1(&self) -> f64 {
-        Lu::norm1(self)
-    }
-    fn rcond_lower_bound(&mut self) -> f64 {
-        Lu::rcond_lower_bound(self)
-    }
-    fn rcond(&mut self) -> f64 {
-        Lu::rcond(self)
-    }
-}
-
-/// How far above [`NewtonOptions::min_rcond`] the cheap lower bound must be for the estimator to
-/// be skipped: a margin for the round-off of the estimate itself, whose solves carry a relative
-/// error up to `κ ε` (≈ 1e-3 at the default threshold).
-pub const RCOND_CLEARANCE: f64 = 2.0;
-
-/// The conditioning figure a step is checked with: the guaranteed lower bound
-/// [`LinearSolver::rcond_lower_bound`] when it clears `min_rcond` by [`RCOND_CLEARANCE`] (the
-/// step is then certainly well enough conditioned, and Hager's estimate — never below the true
-/// value up to its round-off — would have passed it too), otherwise Hager's estimate
-/// [`LinearSolver::rcond`]. So a step is refused exactly when Hager's estimate is below
-/// `min_rcond`, as if it ran on every step, while healthy steps pay for one extra solve instead
-/// of up to ten.
-pub fn checked_rcond<B: LinearSolver>(factors: &mut B, min_rcond: f64) -> f64 {
-    let bound = factors.rcond_lower_bound();
-    if bound >= RCOND_CLEARANCE * min_rcond {
-        bound
-    } else {
-        factors.rcond()
-    }
 }
 
 /// A converged solve.
@@ -260,7 +168,7 @@ pub fn solve<const N: usize>(
 /// Chord iterations: when the solver [holds factors worth reusing](LinearSolver::has_reusable_factors)
 /// (from an earlier step of the same run), the solve starts with corrections from those
 /// factors and residuals alone, as long as each one shrinks the residual by at least
-/// [`CHORD_CONTRACTION`]; the first that does not switches the rest of the solve to Newton's
+/// a factor 10; the first that does not switches the rest of the solve to Newton's
 /// iteration with a fresh Jacobian, whose factors the next steps then reuse. Acceptance is the
 /// same residual test, so only the cost changes, not what is accepted.
 ///
@@ -411,7 +319,7 @@ pub fn solve_with<B: LinearSolver>(
 /// a Jacobian and a factorization, several times more, while converging quadratically. At
 /// θ = 0.1 a chord solve from a guess 10⁶ tolerances off takes at most six corrections, the
 /// break-even point against two Newton corrections on the 200-particle lattice.
-pub const CHORD_CONTRACTION: f64 = 0.1;
+pub(crate) const CHORD_CONTRACTION: f64 = 0.1;
 
 /// How large (in units of `rel_tol`) the next correction predicted by Newton's quadratic model
 /// may be for the new iterate to be tested with the residual alone rather than with the residual
@@ -421,7 +329,7 @@ pub const CHORD_CONTRACTION: f64 = 0.1;
 /// the integrator's guess / from the CasADi driver's guess `(x_k, 0)`): 1e3 gives 1.49 / 2.02
 /// residuals and 1.50 / 3.03 Jacobians, 1e-4 gives 1.13 / 1.04 and 1.51 / 3.03, 1e-6 gives
 /// 0.88 / 0.95 and 1.69 / 3.09; a Jacobian costs about 2.5 residuals.
-pub const PREDICTED_CONVERGENCE: f64 = 1e-4;
+pub(crate) const PREDICTED_CONVERGENCE: f64 = 1e-4;
 
 #[cfg(test)]
 mod tests {

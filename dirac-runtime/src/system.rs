@@ -5,7 +5,7 @@
 
 use nalgebra::{SMatrix, SVector};
 
-use crate::newton::LinearSolver;
+use crate::linalg::LinearSolver;
 use crate::state::{CanonicalState, ReducedState};
 
 /// A discrete Lagrangian `L_d : Q × Q → R` invariant under translation of the group coordinates,

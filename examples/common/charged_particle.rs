@@ -54,7 +54,7 @@ pub fn print_table_1() -> Result<(), Box<dyn Error>> {
 
 /// Integrates the paper's run with `n` steps.
 pub fn run(n: usize) -> Result<Trajectory<3, 1>, Box<dyn Error>> {
-    let mut integ = ReducedIntegrator::plus(ChargedParticle::paper(n), NewtonOptions::default());
+    let integ = ReducedIntegrator::plus(ChargedParticle::paper(n), NewtonOptions::default());
     Ok(integ.integrate(ChargedParticle::paper_initial_state(), n)?)
 }
 

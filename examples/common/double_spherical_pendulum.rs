@@ -64,8 +64,8 @@ pub fn run() -> Result<Run, Box<dyn Error>> {
     let system = DoubleSphericalPendulum::paper();
     let initial = DoubleSphericalPendulum::paper_initial_state();
     let options = NewtonOptions::default();
-    let mut reduced = ReducedIntegrator::plus(system, options);
-    let mut unreduced = UnreducedIntegrator::plus(system, options);
+    let reduced = ReducedIntegrator::plus(system, options);
+    let unreduced = UnreducedIntegrator::plus(system, options);
     let (mut wall_time, mut unreduced_wall_time) = (Duration::MAX, Duration::MAX);
     let mut results = None;
     for _ in 0..TIMING_REPEATS {

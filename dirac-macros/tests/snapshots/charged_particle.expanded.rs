@@ -1,9 +1,13 @@
 ///A configuration of [`ChargedParticle`]: shape coordinates (`x`, `y`, `z`) then group coordinates (`theta`).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ChargedParticleConfig {
+    ///The coordinate `x`.
     pub x: f64,
+    ///The coordinate `y`.
     pub y: f64,
+    ///The coordinate `z`.
     pub z: f64,
+    ///The coordinate `theta`.
     pub theta: f64,
 }
 #[allow(
@@ -140,8 +144,11 @@ pub fn charged_particle(
 The parameters of [`charged_particle`]; emitted by `#[reduced_lagrangian]`, which implements the `dirac` system traits for it.*/
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ChargedParticle {
+    ///The parameter `h` of [`charged_particle`].
     pub h: f64,
+    ///The parameter `m` of [`charged_particle`].
     pub m: f64,
+    ///The parameter `b0` of [`charged_particle`].
     pub b0: f64,
 }
 #[allow(

@@ -19,7 +19,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         sys.m,
     );
     let initial = ReducedState::new([0.0], [1.0], [0.0], [l]);
-    let mut integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
+    let integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
     let traj = integ.integrate(initial, 10)?;
     println!(
         "{} {}",

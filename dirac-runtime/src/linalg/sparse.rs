@@ -2,7 +2,7 @@
 //! emits, factored by faer's sparse LU with partial pivoting.
 //!
 //! `#[reduced_lagrangian]` knows at compile time which entries of `∂R/∂z` can be nonzero (the
-//! others are structural zeros of its expression graph). Above [`DENSE_MAX`] coordinates it emits
+//! others are structural zeros of its expression graph). Above [`super::DENSE_MAX`] coordinates it emits
 //! that pattern as a static [`CscPattern`] and the Jacobian as the values of those entries alone,
 //! in compressed-sparse-column order ([`CscValues`]); a step then never forms, stores or factors a
 //! dense `N × N` matrix. [`SparseLu`] is the workspace of one integration: it computes the
@@ -32,15 +32,7 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par};
 use nalgebra::SVector;
 
-use crate::lu::{hager_inverse_norm1, reciprocal_condition, FactorError};
-use crate::newton::LinearSolver;
-
-/// Systems with at most this many configuration coordinates get the dense fixed-size backend
-/// ([`crate::Lu`], everything on the stack, unrolled); larger ones the sparse backend. The compiler
-/// chooses by this size, not the user: at 16 unknowns a dense factorization is ≈ 1.5 k flops and
-/// its matrix 2 KiB, beyond which the dense path's cost (`N³/3` flops, `8 N²` bytes of stack per
-/// copy) grows faster than a sparse factorization of a mechanical system's Jacobian.
-pub const DENSE_MAX: usize = 16;
+use super::{hager_inverse_norm1, reciprocal_condition, FactorError, LinearSolver};
 
 /// The structurally nonzero entries of an `n × n` step Jacobian, in compressed sparse columns:
 /// the entries of column `j` are rows `row_idx[col_ptr[j]..col_ptr[j + 1]]`, increasing.

@@ -14,6 +14,8 @@
 
 use nalgebra::{SMatrix, SVector};
 
+use super::{hager_inverse_norm1, reciprocal_condition, FactorError, LinearSolver};
+
 /// `P A = L U`, with `L` unit lower triangular and `U` upper triangular stored together.
 #[derive(Clone, Copy, Debug)]
 pub struct Lu<const N: usize> {
@@ -81,17 +83,8 @@ fn eliminate_column<const N: usize, const C: usize>(
     true
 }
 
-/// Why a matrix could not be factored.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum FactorError {
-    /// An entry is NaN or infinite.
-    NonFinite,
-    /// A pivot is exactly zero (the matrix is singular), or the elimination overflowed.
-    Singular,
-}
-
 impl<const N: usize> Lu<N> {
-    /// Factors of nothing yet: a workspace for [`crate::newton::LinearSolver::factor`] (the
+    /// Factors of nothing yet: a workspace for [`crate::linalg::LinearSolver::factor`] (the
     /// identity's factors, so every method is defined).
     pub fn empty() -> Self {
         let mut lu = [[0.0; N]; N];
@@ -282,42 +275,27 @@ impl<const N: usize> Lu<N> {
     }
 }
 
-/// `1 / (‖A‖₁ ‖A⁻¹‖₁)`, or 0 when either norm is zero or not finite (a singular or broken
-/// factorization is never reported as well conditioned).
-pub(crate) fn reciprocal_condition(norm1: f64, inverse_norm1: f64) -> f64 {
-    let product = norm1 * inverse_norm1;
-    if product.is_finite() && product > 0.0 {
-        1.0 / product
-    } else {
-        0.0
+impl<const N: usize> LinearSolver for Lu<N> {
+    type Vector = SVector<f64, N>;
+    type Matrix = SMatrix<f64, N, N>;
+    #[inline]
+    fn factor(&mut self, j: &Self::Matrix) -> Result<(), FactorError> {
+        *self = Lu::factor(j)?;
+        Ok(())
     }
-}
-
-/// Hager's estimate of `‖A⁻¹‖₁` (Higham, *Accuracy and Stability of Numerical Algorithms*,
-/// Alg. 15.1) from solves with the factors of `A`: `solve(x, false)` overwrites `x` with
-/// `A⁻¹ x`, `solve(x, true)` with `A⁻ᵀ x`. At most five iterations of two solves; the result is
-/// a lower bound on `‖A⁻¹‖₁` (up to the round-off of the solves), almost always within a small
-/// factor of it. Shared by the dense [`Lu`] and the sparse [`crate::SparseLu`].
-pub(crate) fn hager_inverse_norm1<const N: usize>(
-    mut solve: impl FnMut(&mut SVector<f64, N>, bool),
-) -> f64 {
-    let mut x = SVector::<f64, N>::repeat(1.0 / N as f64);
-    let mut estimate = 0.0;
-    for _ in 0..5 {
-        let mut y = x;
-        solve(&mut y, false);
-        estimate = y.iter().map(|v| v.abs()).sum::<f64>();
-        let mut z = y.map(|v| if v >= 0.0 { 1.0 } else { -1.0 });
-        solve(&mut z, true);
-        let j = z.iamax();
-        let zj = z[j].abs();
-        if zj <= z.dot(&x) {
-            break;
-        }
-        x = SVector::zeros();
-        x[j] = 1.0;
+    #[inline]
+    fn solve(&mut self, b: &Self::Vector) -> Self::Vector {
+        Lu::solve(self, b)
     }
-    estimate
+    fn norm1(&self) -> f64 {
+        Lu::norm1(self)
+    }
+    fn rcond_lower_bound(&mut self) -> f64 {
+        Lu::rcond_lower_bound(self)
+    }
+    fn rcond(&mut self) -> f64 {
+        Lu::rcond(self)
+    }
 }
 
 #[cfg(test)]

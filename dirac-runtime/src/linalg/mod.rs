@@ -1,0 +1,151 @@
+//! The linear algebra of a Newton step, behind one trait ([`LinearSolver`]) with one backend per
+//! file: the dense fixed-size [`Lu`] ([`dense`]) for systems of at most [`DENSE_MAX`]
+//! coordinates, and the sparse [`SparseLu`] ([`sparse`]) on the compile-time sparsity pattern of
+//! the step Jacobian above. The Newton driver ([`crate::newton`]) is generic over the trait, so
+//! every integrator runs on either backend (the separation of SUNDIALS/KINSOL and diffsol).
+//!
+//! The choice is made by the compiler from the size of the system, with the same constant:
+//! `dirac-macros` cannot depend on this crate (a proc-macro crate builds before it), so it keeps
+//! its own copy of [`DENSE_MAX`], and `tests/large_systems.rs` fails if the two part (it checks
+//! the backend emitted at `N = DENSE_MAX` and `N = DENSE_MAX + 1` against this constant).
+
+pub mod dense;
+pub mod sparse;
+
+use nalgebra::SVector;
+
+pub use dense::Lu;
+pub use sparse::{CscPattern, CscValues, SparseLu};
+
+/// Systems with at most this many configuration coordinates get the dense fixed-size backend
+/// ([`crate::Lu`], everything on the stack, unrolled); larger ones the sparse backend. The compiler
+/// chooses by this size, not the user: at 16 unknowns a dense factorization is ≈ 1.5 k flops and
+/// its matrix 2 KiB, beyond which the dense path's cost (`N³/3` flops, `8 N²` bytes of stack per
+/// copy) grows faster than a sparse factorization of a mechanical system's Jacobian.
+pub const DENSE_MAX: usize = 16;
+
+/// Why a matrix could not be factored.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FactorError {
+    /// An entry is NaN or infinite.
+    NonFinite,
+    /// A pivot is exactly zero (the matrix is singular), or the elimination overflowed.
+    Singular,
+}
+
+/// The unknowns and residuals of a Newton iteration: whatever holds its components contiguously
+/// (fixed-size `SVector` for the small dense systems of a step, `DVector` for large ones).
+pub trait NewtonVector: Clone {
+    /// The components.
+    fn components(&self) -> &[f64];
+    /// The components, mutably.
+    fn components_mut(&mut self) -> &mut [f64];
+}
+
+impl<const N: usize> NewtonVector for SVector<f64, N> {
+    fn components(&self) -> &[f64] {
+        self.as_slice()
+    }
+    fn components_mut(&mut self) -> &mut [f64] {
+        self.as_mut_slice()
+    }
+}
+
+impl NewtonVector for nalgebra::DVector<f64> {
+    fn components(&self) -> &[f64] {
+        self.as_slice()
+    }
+    fn components_mut(&mut self) -> &mut [f64] {
+        self.as_mut_slice()
+    }
+}
+
+/// The linear solver the Newton driver is generic over (the separation of SUNDIALS/KINSOL): it
+/// factors a Jacobian, solves with the factors, and reports the conditioning figures the step
+/// is checked with. It is a workspace: `factor` overwrites the previous factors in place, so a
+/// backend that needs memory (the sparse [`crate::SparseLu`]: its symbolic analysis, fill and
+/// scratch) allocates it once, when it is built, and reuses it across Newton iterations and
+/// steps. [`Lu`] is the dense fixed-size backend, whose factors live on the stack.
+pub trait LinearSolver {
+    /// The vector type of residuals and corrections.
+    type Vector: NewtonVector;
+    /// The Jacobian type, as the step functions return it.
+    type Matrix;
+    /// Factors `j`, replacing the previous factors.
+    fn factor(&mut self, j: &Self::Matrix) -> Result<(), FactorError>;
+    /// Solves `J x = b` with the current factors.
+    fn solve(&mut self, b: &Self::Vector) -> Self::Vector;
+    /// `‖J‖₁` of the factored Jacobian.
+    fn norm1(&self) -> f64;
+    /// A cheap guaranteed lower bound on `1 / (‖J‖₁ ‖J⁻¹‖₁)` (0 where a backend has none).
+    fn rcond_lower_bound(&mut self) -> f64;
+    /// The (more expensive, more accurate) estimate of `1 / (‖J‖₁ ‖J⁻¹‖₁)`.
+    fn rcond(&mut self) -> f64;
+    /// Whether a solve should first try the factors this workspace holds (of a Jacobian from an
+    /// earlier step) before evaluating and factoring a new one: chord iterations, see
+    /// [`crate::newton::solve_with`]. The sparse backend says yes once it holds factors, because there a
+    /// factorization costs many residual evaluations; the dense fixed-size [`Lu`] never (the
+    /// default), because there it costs less than one.
+    fn has_reusable_factors(&self) -> bool {
+        false
+    }
+}
+
+/// How far above [`crate::NewtonOptions::min_rcond`] the cheap lower bound must be for the estimator to
+/// be skipped: a margin for the round-off of the estimate itself, whose solves carry a relative
+/// error up to `κ ε` (≈ 1e-3 at the default threshold).
+pub(crate) const RCOND_CLEARANCE: f64 = 2.0;
+
+/// The conditioning figure a step is checked with: the guaranteed lower bound
+/// [`LinearSolver::rcond_lower_bound`] when it clears `min_rcond` by a factor 2 (the
+/// step is then certainly well enough conditioned, and Hager's estimate — never below the true
+/// value up to its round-off — would have passed it too), otherwise Hager's estimate
+/// [`LinearSolver::rcond`]. So a step is refused exactly when Hager's estimate is below
+/// `min_rcond`, as if it ran on every step, while healthy steps pay for one extra solve instead
+/// of up to ten.
+pub fn checked_rcond<B: LinearSolver>(factors: &mut B, min_rcond: f64) -> f64 {
+    let bound = factors.rcond_lower_bound();
+    if bound >= RCOND_CLEARANCE * min_rcond {
+        bound
+    } else {
+        factors.rcond()
+    }
+}
+
+/// `1 / (‖A‖₁ ‖A⁻¹‖₁)`, or 0 when either norm is zero or not finite (a singular or broken
+/// factorization is never reported as well conditioned).
+pub(crate) fn reciprocal_condition(norm1: f64, inverse_norm1: f64) -> f64 {
+    let product = norm1 * inverse_norm1;
+    if product.is_finite() && product > 0.0 {
+        1.0 / product
+    } else {
+        0.0
+    }
+}
+
+/// Hager's estimate of `‖A⁻¹‖₁` (Higham, *Accuracy and Stability of Numerical Algorithms*,
+/// Alg. 15.1) from solves with the factors of `A`: `solve(x, false)` overwrites `x` with
+/// `A⁻¹ x`, `solve(x, true)` with `A⁻ᵀ x`. At most five iterations of two solves; the result is
+/// a lower bound on `‖A⁻¹‖₁` (up to the round-off of the solves), almost always within a small
+/// factor of it. Shared by the dense [`Lu`] and the sparse [`crate::SparseLu`].
+pub(crate) fn hager_inverse_norm1<const N: usize>(
+    mut solve: impl FnMut(&mut SVector<f64, N>, bool),
+) -> f64 {
+    let mut x = SVector::<f64, N>::repeat(1.0 / N as f64);
+    let mut estimate = 0.0;
+    for _ in 0..5 {
+        let mut y = x;
+        solve(&mut y, false);
+        estimate = y.iter().map(|v| v.abs()).sum::<f64>();
+        let mut z = y.map(|v| if v >= 0.0 { 1.0 } else { -1.0 });
+        solve(&mut z, true);
+        let j = z.iamax();
+        let zj = z[j].abs();
+        if zj <= z.dot(&x) {
+            break;
+        }
+        x = SVector::zeros();
+        x[j] = 1.0;
+    }
+    estimate
+}

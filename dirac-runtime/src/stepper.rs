@@ -1,0 +1,261 @@
+//! The one stepping abstraction: what every integrator — the reduced (+)/(−) equations
+//! ([`crate::ReducedIntegrator`]), the unreduced ones ([`crate::UnreducedIntegrator`]), a
+//! composition ([`crate::Composition`]) and an atlas ([`crate::atlas::AtlasIntegrator`]) —
+//! provides, so that the one driver ([`crate::driver`]) gives all of them `run`, `integrate`,
+//! ensembles and stop conditions (as argmin's `Executor` drives any `Solver`, and diffsol asks each
+//! method for `step` and gives all of them `solve`).
+//!
+//! A stepper states its state, the record a step leaves besides the new state, the trajectory
+//! `integrate` collects, the input checks made before the first step, and a per-run
+//! [workspace](Stepper::Workspace): the linear-solver workspaces (for the sparse backend the
+//! symbolic factorization, its memory and the factors chord iterations reuse) and the memory of
+//! the last steps that Newton's guess extrapolates from ([`History`]). A workspace is built once
+//! per run and travels with it — through every stage of a composition and every chart of an
+//! atlas — so after the first factorization no step allocates.
+
+use std::fmt::Debug;
+
+use nalgebra::SVector;
+
+use crate::error::StepError;
+use crate::newton::{NewtonFailure, NewtonSolution};
+
+/// One integrator as the driver sees it. Implemented by every integrator of this crate; see the
+/// [module documentation](self).
+pub trait Stepper {
+    /// The state a step maps.
+    type State: Copy + Debug + Send + Sync + 'static;
+    /// What a step reports besides the new state: at least its Newton statistics.
+    type Record: AsRef<StepStats> + Clone + Debug + Send + Sync;
+    /// What a run carries from step to step: linear-solver workspaces and the warm-start memory.
+    type Workspace;
+    /// What [`crate::Drive::integrate`] collects: every state and every record.
+    type Trajectory: Collect<Self> + crate::error::Steps + Debug;
+
+    /// The time step `h` of one step.
+    fn time_step(&self) -> f64;
+
+    /// The checks made before the first step: a valid time step, finite parameters and initial
+    /// state, and whatever the integrator adds (a symmetric rule for a composition, consistent
+    /// charts for an atlas). An error here is reported with step index 0 and no step taken.
+    fn check(&self, initial: &Self::State) -> Result<(), StepError>;
+
+    /// A fresh workspace for one run: no history, no factors.
+    fn workspace(&self) -> Self::Workspace;
+
+    /// Takes step `k` from `state` in `workspace`: Newton starts from the guess that the
+    /// workspace's memory of the previous steps extrapolates, and on success the step is added
+    /// to that memory. Fails with the typed error of step `k`; the workspace is then still valid
+    /// (a later call starts from the memory of the last successful steps).
+    fn step_in(
+        &self,
+        workspace: &mut Self::Workspace,
+        k: usize,
+        state: &Self::State,
+    ) -> Result<(Self::State, Self::Record), StepError>;
+
+    /// One step `k` from `state` in a fresh workspace (Newton starts without history). A loop
+    /// over steps should keep one workspace and call [`Self::step_in`], as the driver does.
+    fn step(
+        &self,
+        k: usize,
+        state: &Self::State,
+    ) -> Result<(Self::State, Self::Record), StepError> {
+        self.step_in(&mut self.workspace(), k, state)
+    }
+}
+
+/// A trajectory that [`crate::Drive::integrate`] fills, state by state.
+pub trait Collect<St: Stepper + ?Sized>: Sized {
+    /// An empty trajectory of `stepper` with room for `steps` steps.
+    fn start(stepper: &St, steps: usize) -> Self;
+    /// Appends a state; `record` is the step that produced it (`None` for the initial state).
+    fn push(&mut self, state: &St::State, record: Option<&St::Record>);
+}
+
+/// What one step cost (the default: nothing yet, as a sum over stages starts).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StepStats {
+    /// Newton corrections (linear solves) taken.
+    pub iterations: usize,
+    /// Step Jacobians factored. On the sparse backend a step first corrects with the factors of
+    /// an earlier step (chord iterations, [`crate::newton::solve_with`]), so this is often 0
+    /// there; on the dense backend it is the number of corrections.
+    pub factorizations: usize,
+    /// `‖R‖∞` at the accepted solution.
+    pub residual: f64,
+    /// The residual tolerance the step was accepted against, `abs_tol + rel_tol · ρ` with `ρ`
+    /// the momentum scale of the step (see [`crate::NewtonOptions`]). A step may also be
+    /// accepted on a small Newton correction, after which `residual` is at round-off level:
+    /// compare the two to see how the step converged.
+    pub tolerance: f64,
+    /// Reciprocal condition estimate (1-norm) of the last step Jacobian factored; `None` when
+    /// the initial guess already solved the step.
+    pub rcond: Option<f64>,
+}
+
+impl AsRef<StepStats> for StepStats {
+    fn as_ref(&self) -> &StepStats {
+        self
+    }
+}
+
+impl StepStats {
+    pub(crate) fn from_solution<V>(s: &NewtonSolution<V>, tolerance: f64) -> Self {
+        Self {
+            iterations: s.iterations,
+            factorizations: s.factorizations,
+            residual: s.residual,
+            tolerance,
+            rcond: s.rcond,
+        }
+    }
+
+    /// Folds the statistics of one more stage into those of its macro step: corrections and
+    /// factorizations add up, the largest residual (with its tolerance) and the smallest
+    /// reciprocal condition estimate are kept.
+    pub fn accumulate(&mut self, stage: &StepStats) {
+        self.iterations += stage.iterations;
+        self.factorizations += stage.factorizations;
+        // The tolerance recorded is that of the stage whose residual is the one recorded.
+        if stage.residual >= self.residual {
+            self.tolerance = stage.tolerance;
+        }
+        self.residual = self.residual.max(stage.residual);
+        self.rcond = match (self.rcond, stage.rcond) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        };
+    }
+}
+
+/// Summary statistics over the steps of a trajectory.
+pub trait StepStatsExt {
+    /// Mean Newton corrections per step (0 for no steps).
+    fn mean_iterations(&self) -> f64;
+    /// Largest accepted residual.
+    fn max_residual(&self) -> f64;
+    /// The worst (smallest) reciprocal condition estimate and the step where it occurred.
+    fn worst_rcond(&self) -> Option<(usize, f64)>;
+}
+
+impl StepStatsExt for [StepStats] {
+    fn mean_iterations(&self) -> f64 {
+        if self.is_empty() {
+            return 0.0;
+        }
+        self.iter().map(|s| s.iterations as f64).sum::<f64>() / self.len() as f64
+    }
+
+    fn max_residual(&self) -> f64 {
+        self.iter().map(|s| s.residual).fold(0.0, f64::max)
+    }
+
+    fn worst_rcond(&self) -> Option<(usize, f64)> {
+        self.iter()
+            .enumerate()
+            .filter_map(|(k, s)| s.rcond.map(|r| (k, r)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+    }
+}
+
+/// The increments of the last two steps, newest first: what Newton's guess for the next step
+/// extrapolates from (GeometricIntegrators.jl's extrapolated initial guess).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct History<T> {
+    /// The last step's increment.
+    pub last: Option<T>,
+    /// The increment of the step before.
+    pub before: Option<T>,
+}
+
+impl<T> Default for History<T> {
+    fn default() -> Self {
+        Self {
+            last: None,
+            before: None,
+        }
+    }
+}
+
+impl<T: Copy> History<T> {
+    /// Records a new step's increment.
+    pub fn push(&mut self, increment: T) {
+        self.before = self.last.replace(increment);
+    }
+
+    /// Forgets everything (after a change of coordinates).
+    pub fn clear(&mut self) {
+        *self = Self::default();
+    }
+
+    /// Restarts from one known increment (after a change of chart, the last step re-expressed in
+    /// the new chart), or from nothing.
+    pub fn restart(&mut self, last: Option<T>) {
+        self.last = last;
+        self.before = None;
+    }
+}
+
+/// The next increment predicted from the last two: `0` before any step, the last one after one,
+/// then `2 Δ_{k−1} − Δ_{k−2}` — the quadratic through the last three points, whose error is
+/// `O(h³)` against the linear one's `O(h²)`.
+pub(crate) fn predicted_increment<const M: usize>(
+    last: Option<&SVector<f64, M>>,
+    before: Option<&SVector<f64, M>>,
+) -> Option<SVector<f64, M>> {
+    match (last, before) {
+        (Some(d1), Some(d2)) => Some(2.0 * d1 - d2),
+        (Some(d1), None) => Some(*d1),
+        _ => None,
+    }
+}
+
+/// The checks every integrator makes before the first step: a positive finite time step, finite
+/// parameters and a finite initial state.
+pub(crate) fn check_inputs(
+    h: f64,
+    parameters: &[f64],
+    state_is_finite: bool,
+) -> Result<(), StepError> {
+    if !(h.is_finite() && h > 0.0) {
+        return Err(StepError::InvalidTimeStep { h });
+    }
+    let non_finite = |what| StepError::NonFinite {
+        step: 0,
+        what,
+        residual: f64::INFINITY,
+    };
+    if parameters.iter().any(|p| !p.is_finite()) {
+        return Err(non_finite("the parameters"));
+    }
+    if !state_is_finite {
+        return Err(non_finite("the initial state"));
+    }
+    Ok(())
+}
+
+/// Maps a Newton failure of step `k` to the public error.
+pub(crate) fn step_error(k: usize, failure: NewtonFailure) -> StepError {
+    match failure {
+        NewtonFailure::NotConverged {
+            iterations,
+            residual,
+        } => StepError::NotConverged {
+            step: k,
+            iterations,
+            residual,
+        },
+        NewtonFailure::Singular { residual } => StepError::SingularJacobian { step: k, residual },
+        NewtonFailure::IllConditioned { rcond, residual } => StepError::IllConditioned {
+            step: k,
+            rcond,
+            residual,
+        },
+        NewtonFailure::NonFinite { residual } => StepError::NonFinite {
+            step: k,
+            what: "the step equations",
+            residual,
+        },
+    }
+}

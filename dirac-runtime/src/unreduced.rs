@@ -1,0 +1,299 @@
+//! The unreduced integrator: the discrete Lagrange–Dirac equations on `Q` (Definitions
+//! 2.7/2.8), the baseline that knows nothing of the symmetry, and the Jacobian of its step map.
+
+use nalgebra::{SMatrix, SVector};
+
+use crate::error::{StepError, Steps};
+use crate::linalg::Lu;
+use crate::newton::{self, inf_norm, NewtonOptions};
+use crate::reduced::trajectory_accessors;
+use crate::state::CanonicalState;
+use crate::stepper::{
+    check_inputs, predicted_increment, step_error, Collect, History, StepStats, StepStatsExt,
+    Stepper,
+};
+use crate::system::{LagrangianHessian, Unreduced};
+
+/// An unreduced trajectory `(q_k, p_k)`, `k = 0..=steps()`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CanonicalTrajectory<const N: usize> {
+    /// The time step `h`.
+    pub h: f64,
+    /// `states[k]` is the state at `t_k`.
+    pub states: Vec<CanonicalState<N>>,
+    /// Newton statistics of each step.
+    pub stats: Vec<StepStats>,
+}
+
+impl<const N: usize> CanonicalTrajectory<N> {
+    trajectory_accessors!(CanonicalState<N>);
+}
+
+impl<const N: usize> Steps for CanonicalTrajectory<N> {
+    fn completed_steps(&self) -> usize {
+        self.steps()
+    }
+}
+
+impl<L, const S: usize, const K: usize, const N: usize> Collect<UnreducedIntegrator<L, S, K, N>>
+    for CanonicalTrajectory<N>
+where
+    L: Unreduced<S, K, N>,
+{
+    fn start(integrator: &UnreducedIntegrator<L, S, K, N>, steps: usize) -> Self {
+        CanonicalTrajectory {
+            h: integrator.system.time_step(),
+            states: Vec::with_capacity(steps + 1),
+            stats: Vec::with_capacity(steps),
+        }
+    }
+
+    fn push(&mut self, state: &CanonicalState<N>, record: Option<&StepStats>) {
+        self.states.push(*state);
+        if let Some(stats) = record {
+            self.stats.push(*stats);
+        }
+    }
+}
+
+/// The workspace of an unreduced run: the linear solver and the last two increments
+/// `q_{j+1} − q_j`, newest first, that Newton's guess extrapolates ([`canonical_guess`]).
+#[derive(Clone, Debug)]
+pub struct UnreducedWorkspace<B, const N: usize> {
+    /// The linear solver ([`Unreduced::UnreducedLinear`]).
+    pub solver: B,
+    /// The last two increments of the configuration.
+    pub history: History<SVector<f64, N>>,
+}
+
+/// The Jacobian `M` of one step of the unreduced map `(q_k, p_k) ↦ (q_{k+1}, p_{k+1})`, in
+/// blocks.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepJacobian<const N: usize> {
+    /// `∂q_{k+1}/∂q_k`.
+    pub dq_dq: SMatrix<f64, N, N>,
+    /// `∂q_{k+1}/∂p_k`.
+    pub dq_dp: SMatrix<f64, N, N>,
+    /// `∂p_{k+1}/∂q_k`.
+    pub dp_dq: SMatrix<f64, N, N>,
+    /// `∂p_{k+1}/∂p_k`.
+    pub dp_dp: SMatrix<f64, N, N>,
+}
+
+impl<const N: usize> StepJacobian<N> {
+    /// How far `Mᵀ Ω M = Ω` (`Ω = [[0, I], [−I, 0]]`) is from holding, relative to the size of
+    /// the terms. In blocks `M = [[A, B], [C, D]]` the condition is `AᵀC = CᵀA`, `BᵀD = DᵀB` and
+    /// `AᵀD − CᵀB = I`; each residual is divided by the size of the products it cancels
+    /// (`‖A‖‖C‖`, `‖B‖‖D‖`, `max(1, ‖A‖‖D‖ + ‖C‖‖B‖)`, max-norms of entries), so the result is
+    /// dimensionless — the blocks can differ by many orders of magnitude (`∂p/∂q ≈ m l²/h`).
+    /// Zero for a symplectic map; round-off gives ~1e-15 to 1e-12.
+    pub fn symplecticity_defect(&self) -> f64 {
+        let (a, b, c, d) = (&self.dq_dq, &self.dq_dp, &self.dp_dq, &self.dp_dp);
+        let n = N as f64;
+        let rel = |m: SMatrix<f64, N, N>, scale: f64| m.amax() / scale.max(f64::MIN_POSITIVE);
+        let qq = rel(
+            a.transpose() * c - c.transpose() * a,
+            n * a.amax() * c.amax(),
+        );
+        let pp = rel(
+            b.transpose() * d - d.transpose() * b,
+            n * b.amax() * d.amax(),
+        );
+        let qp = rel(
+            a.transpose() * d - c.transpose() * b - SMatrix::<f64, N, N>::identity(),
+            (n * (a.amax() * d.amax() + c.amax() * b.amax())).max(1.0),
+        );
+        qq.max(pp).max(qp)
+    }
+}
+
+/// Integrates the unreduced discrete Lagrange–Dirac equations on `Q` (Definitions 2.7/2.8,
+/// see [`Unreduced`]): the baseline that knows nothing of the symmetry.
+#[derive(Clone, Debug)]
+pub struct UnreducedIntegrator<L, const S: usize, const K: usize, const N: usize> {
+    system: L,
+    options: NewtonOptions,
+}
+
+impl<L, const S: usize, const K: usize, const N: usize> UnreducedIntegrator<L, S, K, N>
+where
+    L: Unreduced<S, K, N>,
+{
+    /// The (+) discrete Lagrange–Dirac equations (Definition 2.7). Unconstrained, the (−)
+    /// equations of Definition 2.8 (with `q_{k+1}^− = q_k`) are the same equations, so this one
+    /// integrator serves both.
+    pub fn plus(system: L, options: NewtonOptions) -> Self {
+        Self { system, options }
+    }
+
+    /// The (−) discrete Lagrange–Dirac equations (Definition 2.8). Unconstrained, with
+    /// `q_{k+1}^− = q_k`, they are the same equations as the (+) ones, so this is the same
+    /// integrator; it exists so code can name the variant it means.
+    pub fn minus(system: L, options: NewtonOptions) -> Self {
+        Self::plus(system, options)
+    }
+
+    /// The system being integrated.
+    pub fn system(&self) -> &L {
+        &self.system
+    }
+
+    /// The Newton options.
+    pub fn options(&self) -> &NewtonOptions {
+        &self.options
+    }
+
+    /// Takes step `k` from `state`, Newton starting at `guess` for `q_{k+1}`, in a fresh
+    /// workspace. Runs use [`Stepper::step_in`], which keeps one workspace and extrapolates the
+    /// guess ([`canonical_guess`]).
+    pub fn step_from(
+        &self,
+        k: usize,
+        state: &CanonicalState<N>,
+        guess: &SVector<f64, N>,
+    ) -> Result<(CanonicalState<N>, StepStats), StepError> {
+        self.solve_step(&mut self.system.unreduced_linear_solver(), k, state, guess)
+    }
+
+    /// The step from `state` with Newton starting at `guess`, in the linear solver `solver`.
+    fn solve_step(
+        &self,
+        solver: &mut L::UnreducedLinear,
+        k: usize,
+        state: &CanonicalState<N>,
+        guess: &SVector<f64, N>,
+    ) -> Result<(CanonicalState<N>, StepStats), StepError> {
+        let sys = &self.system;
+        let (q, p) = (&state.q, &state.p);
+        let rho = inf_norm(p);
+        let solution = newton::solve_with(
+            solver,
+            *guess,
+            rho,
+            &self.options,
+            |z| sys.unreduced_residual(q, p, z),
+            |z| sys.unreduced_residual_jacobian(q, p, z),
+        )
+        .map_err(|failure| step_error(k, failure))?;
+        let next = CanonicalState {
+            q: solution.z,
+            p: sys.unreduced_momentum(q, &solution.z),
+        };
+        if !next.is_finite() {
+            return Err(StepError::NonFinite {
+                step: k,
+                what: "the updated state",
+                residual: solution.residual,
+            });
+        }
+        Ok((
+            next,
+            StepStats::from_solution(&solution, self.options.residual_tolerance(rho)),
+        ))
+    }
+}
+
+impl<L, const S: usize, const K: usize, const N: usize> Stepper for UnreducedIntegrator<L, S, K, N>
+where
+    L: Unreduced<S, K, N>,
+{
+    type State = CanonicalState<N>;
+    type Record = StepStats;
+    type Workspace = UnreducedWorkspace<L::UnreducedLinear, N>;
+    type Trajectory = CanonicalTrajectory<N>;
+
+    fn time_step(&self) -> f64 {
+        self.system.time_step()
+    }
+
+    fn check(&self, initial: &CanonicalState<N>) -> Result<(), StepError> {
+        check_inputs(
+            self.system.time_step(),
+            &self.system.parameter_values(),
+            initial.is_finite(),
+        )
+    }
+
+    fn workspace(&self) -> Self::Workspace {
+        UnreducedWorkspace {
+            solver: self.system.unreduced_linear_solver(),
+            history: History::default(),
+        }
+    }
+
+    /// Newton starts from [`canonical_guess`], a quadratic extrapolation of the last
+    /// configurations.
+    fn step_in(
+        &self,
+        workspace: &mut Self::Workspace,
+        k: usize,
+        state: &CanonicalState<N>,
+    ) -> Result<(CanonicalState<N>, StepStats), StepError> {
+        let history = &workspace.history;
+        let guess = canonical_guess(&state.q, history.last.as_ref(), history.before.as_ref());
+        let (next, stats) = self.solve_step(&mut workspace.solver, k, state, &guess)?;
+        workspace.history.push(next.q - state.q);
+        Ok((next, stats))
+    }
+}
+
+/// Newton's initial guess for `q_{k+1}` in the unreduced equations from the last two
+/// increments `q_{j+1} − q_j`, newest first: `q`, `q + Δ_{k−1}`, then `q + 2 Δ_{k−1} − Δ_{k−2}`
+/// (see [`crate::reduced::reduced_guess`]).
+#[doc(hidden)]
+pub fn canonical_guess<const N: usize>(
+    q: &SVector<f64, N>,
+    last: Option<&SVector<f64, N>>,
+    before: Option<&SVector<f64, N>>,
+) -> SVector<f64, N> {
+    predicted_increment(last, before).map_or(*q, |dq| q + dq)
+}
+
+impl<L, const S: usize, const K: usize, const N: usize> UnreducedIntegrator<L, S, K, N>
+where
+    L: LagrangianHessian<S, K, N>,
+{
+    /// The Jacobian of the step map `(q_k, p_k) ↦ (q_{k+1}, p_{k+1})` at a computed step, from the
+    /// implicit-function theorem on `D1 L_d(q_k, q_{k+1}) + p_k = 0` and
+    /// `p_{k+1} = D2 L_d(q_k, q_{k+1})` with the generated second derivatives: with
+    /// `A = D12 L_d`,
+    ///
+    /// ```text
+    /// ∂q_{k+1}/∂q_k = −A⁻¹ D11 L_d      ∂q_{k+1}/∂p_k = −A⁻¹
+    /// ∂p_{k+1}/∂q_k = D21 L_d + D22 L_d ∂q_{k+1}/∂q_k      ∂p_{k+1}/∂p_k = D22 L_d ∂q_{k+1}/∂p_k
+    /// ```
+    ///
+    /// The step map of a variational integrator is symplectic, `Mᵀ Ω M = Ω` (see
+    /// [`StepJacobian::symplecticity_defect`]). Control and estimation use `M` to propagate
+    /// sensitivities and covariances along a trajectory.
+    ///
+    /// `k` is the index of the step `from → to`, for the error: a singular `D12 L_d`
+    /// (`StepError::SingularJacobian`, with no residual to report: NaN).
+    pub fn step_jacobian(
+        &self,
+        k: usize,
+        from: &CanonicalState<N>,
+        to: &CanonicalState<N>,
+    ) -> Result<StepJacobian<N>, StepError> {
+        let (d11, d12, d22) = self.system.lagrangian_hessian(&from.q, &to.q);
+        let lu = Lu::new(d12).ok_or(StepError::SingularJacobian {
+            step: k,
+            residual: f64::NAN,
+        })?;
+        let solve_columns = |m: &SMatrix<f64, N, N>| {
+            let mut out = SMatrix::<f64, N, N>::zeros();
+            for (c, column) in m.column_iter().enumerate() {
+                out.set_column(c, &lu.solve(&column.into_owned()));
+            }
+            out
+        };
+        let dq_dq = -solve_columns(&d11);
+        let dq_dp = -solve_columns(&SMatrix::identity());
+        Ok(StepJacobian {
+            dq_dq,
+            dq_dp,
+            dp_dq: d12.transpose() + d22 * dq_dq,
+            dp_dp: d22 * dq_dp,
+        })
+    }
+}

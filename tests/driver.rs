@@ -1,0 +1,227 @@
+//! The one driver: every integrator — reduced, unreduced, composed, atlas — gets `run`,
+//! `integrate`, ensembles and a stop condition from the same code, and a run's workspace travels
+//! through every stage of a composition, so that after the first factorization no step
+//! allocates.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use dirac::kepler::Kepler;
+use dirac::paper::atlas::PAPER;
+use dirac::paper::DoubleSphericalPendulum;
+use dirac::prelude::*;
+use dirac::runtime::driver::integrate_parameters;
+
+#[path = "../examples/common/toda.rs"]
+mod toda;
+
+/// Counts the allocations of the current thread (the test harness runs tests on several
+/// threads; a global count would see the others').
+struct Counting;
+
+thread_local! {
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+// SAFETY: forwards to the system allocator; the counter is a const-initialized thread-local
+// `Cell`, which neither allocates nor can be accessed re-entrantly from another thread.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn allocations() -> usize {
+    ALLOCATIONS.with(Cell::get)
+}
+
+/// The 200-particle Toda lattice (sparse backend) composed by the triple jump, through `run`:
+/// after the first macro step no step allocates (each stage keeps its workspace: symbolic
+/// factorization, scratch, factors), and chord iterations reuse each stage's factors, so far
+/// fewer Jacobians are factored than stage steps are taken. Before the driver, every stage of
+/// every step built a fresh sparse workspace (147 allocations per macro step).
+#[test]
+fn a_composed_sparse_run_allocates_nothing_after_its_first_step() {
+    let sys = toda::Toda {
+        h: 0.05,
+        m: 1.0,
+        d: 1.0,
+    };
+    let start = toda::initial(&sys, 0.1, 0.3, 0.05);
+    let composed = Composition::new(
+        ReducedIntegrator::plus(sys, NewtonOptions::default()),
+        CompositionMethod::TRIPLE_JUMP,
+    );
+    let steps = 40;
+    let mut at_state = vec![0usize; steps + 1];
+    let summary = composed
+        .run(start, steps, |k, _, _| at_state[k] = allocations())
+        .expect("the lattice steps");
+    assert_eq!(summary.steps, steps);
+    let per_step: Vec<usize> = at_state.windows(2).map(|w| w[1] - w[0]).collect();
+    // The counter counts: the first step builds the workspaces (sparse symbolic analyses).
+    assert!(
+        per_step[0] > 0,
+        "the first step's allocations were not counted"
+    );
+    assert!(
+        per_step[1..].iter().all(|&a| a == 0),
+        "allocations per macro step after the first: {:?}",
+        &per_step[1..]
+    );
+    let stage_steps = 3 * steps;
+    assert!(
+        summary.factorizations * 10 <= stage_steps,
+        "{} Jacobians factored in {stage_steps} stage steps",
+        summary.factorizations
+    );
+    // μ is exact through every stage of every step.
+    assert_eq!(summary.last.mu, start.mu);
+}
+
+/// What a stepper's runs must agree on: `run` observes what `integrate` keeps, a stop condition
+/// ends both after the same state, and the ensemble members are the sequential runs bit for bit.
+fn the_driver_is_one<I>(integrator: &I, starts: &[I::State], steps: usize)
+where
+    I: Drive + Sync,
+    I::State: PartialEq,
+    I::Trajectory: Send + PartialEq,
+{
+    let first = starts[0];
+    let traj = integrator.integrate(first, steps).expect("integrates");
+    let mut observed = Vec::new();
+    let summary = integrator
+        .run(first, steps, |k, state, record| {
+            assert_eq!(record.is_none(), k == 0);
+            observed.push(*state);
+        })
+        .expect("runs");
+    assert_eq!(summary.steps, steps);
+    assert!(!summary.stopped);
+    assert_eq!(observed.len(), steps + 1);
+    assert_eq!(summary.last, observed[steps]);
+
+    // Stop after the third state: the same prefix, flagged.
+    let stopped = integrator
+        .run_until(first, steps, |k, _| k == 3, |_, _, _| {})
+        .expect("runs");
+    assert!(stopped.stopped);
+    assert_eq!(stopped.steps, 3);
+    assert_eq!(stopped.last, observed[3]);
+    let short = integrator
+        .integrate_until(first, steps, |k, _| k == 3)
+        .expect("integrates");
+    assert_eq!(short.completed_steps(), 3);
+    let prefix = integrator.integrate(first, 3).expect("integrates");
+    assert_eq!(short, prefix);
+
+    // Ensembles: members in input order, each the sequential run bit for bit.
+    let members = integrator.integrate_ensemble(starts, steps);
+    for (member, start) in members.iter().zip(starts) {
+        let sequential = integrator.integrate(*start, steps).expect("integrates");
+        assert_eq!(member.as_ref().expect("member integrates"), &sequential);
+    }
+    assert_eq!(members[0].as_ref().ok(), Some(&traj));
+    let observed: Vec<AtomicUsize> = starts.iter().map(|_| AtomicUsize::new(0)).collect();
+    let streamed = integrator.run_ensemble(starts, steps, |i| {
+        let count = &observed[i];
+        move |_: usize, _: &I::State, _: Option<&I::Record>| {
+            count.fetch_add(1, Ordering::Relaxed);
+        }
+    });
+    for (((_, result), start), count) in streamed.iter().zip(starts).zip(&observed) {
+        let sequential = integrator.run(*start, steps, |_, _, _| {}).expect("runs");
+        assert_eq!(result.as_ref().expect("member runs"), &sequential);
+        assert_eq!(count.load(Ordering::Relaxed), steps + 1);
+    }
+}
+
+#[test]
+fn a_composition_gets_run_ensembles_and_a_stop_condition_from_the_driver() {
+    let sys = Kepler::unit(0.05);
+    let base = ReducedIntegrator::plus(sys, NewtonOptions::default());
+    let composed = Composition::new(base, CompositionMethod::TRIPLE_JUMP);
+    let starts: Vec<_> = [0.3, 0.5, 0.7]
+        .iter()
+        .map(|&e| sys.periapsis_state(1.0, e))
+        .collect();
+    the_driver_is_one(&composed, &starts, 30);
+    // The unreduced composition too.
+    let unreduced = Composition::new(
+        UnreducedIntegrator::plus(sys, NewtonOptions::default()),
+        CompositionMethod::TRIPLE_JUMP,
+    );
+    let canonical: Vec<_> = starts.iter().map(|s| sys.untrivialize(s)).collect();
+    the_driver_is_one(&unreduced, &canonical, 30);
+}
+
+#[test]
+fn the_atlas_gets_run_ensembles_and_a_stop_condition_from_the_driver() {
+    let sys = DoubleSphericalPendulum::paper();
+    let atlas = sys.atlas(NewtonOptions::default());
+    let initial = DoubleSphericalPendulum::paper_initial_state();
+    let mut other = initial;
+    other.w[0] += 0.01;
+    the_driver_is_one(&atlas, &[(PAPER, initial), (PAPER, other)], 25);
+}
+
+#[test]
+fn the_plain_integrators_get_the_same_driver() {
+    let sys = DoubleSphericalPendulum::paper();
+    let initial = DoubleSphericalPendulum::paper_initial_state();
+    let mut other = initial;
+    other.w[1] -= 0.02;
+    let reduced = ReducedIntegrator::plus(sys, NewtonOptions::default());
+    the_driver_is_one(&reduced, &[initial, other], 25);
+    let minus = ReducedIntegrator::minus(sys, NewtonOptions::default());
+    the_driver_is_one(&minus, &[initial, other], 25);
+    let unreduced = UnreducedIntegrator::plus(sys, NewtonOptions::default());
+    the_driver_is_one(
+        &unreduced,
+        &[sys.untrivialize(&initial), sys.untrivialize(&other)],
+        25,
+    );
+}
+
+/// An ensemble over parameter sets is an ensemble of integrators: each member is the sequential
+/// run of its own system, bit for bit, in input order; a member with a bad parameter fails alone
+/// with its typed error.
+#[test]
+fn an_ensemble_over_parameter_sets() {
+    let masses = [20.0, 25.0, f64::NAN, 30.0];
+    let member = |&m: &f64| {
+        let sys = DoubleSphericalPendulum {
+            m1: m,
+            ..DoubleSphericalPendulum::paper()
+        };
+        (
+            ReducedIntegrator::plus(sys, NewtonOptions::default()),
+            DoubleSphericalPendulum::paper_initial_state(),
+        )
+    };
+    let results = integrate_parameters(&masses, 20, member);
+    for (m, result) in masses.iter().zip(&results) {
+        let (integ, start) = member(m);
+        match integ.integrate(start, 20) {
+            Ok(t) => assert_eq!(result.as_ref().ok(), Some(&t)),
+            Err(e) => {
+                let failed = result.as_ref().expect_err("the same member fails");
+                assert_eq!(failed.source, e.source);
+                assert!(m.is_nan());
+            }
+        }
+    }
+    assert_eq!(results.iter().filter(|r| r.is_err()).count(), 1);
+}
