@@ -72,6 +72,11 @@ pub trait ContinuousLagrangian<const N: usize> {
 
     /// The canonical state `(q, ∂L/∂v (q, v))` from a position and a velocity. For a degenerate
     /// Lagrangian this is the point of the primary constraint `p = ∂L/∂v` over `q`.
+    ///
+    /// `q` and `v` are in the system's own coordinates: for a system with a declared
+    /// translation (`coordinates(..), translate(..)`) these are the *adapted* coordinates
+    /// `(x, g)` of [`crate::adapted`], not the user's; convert user coordinates first with
+    /// [`crate::AdaptedCoordinates::to_adapted`] (velocities transform like positions).
     fn canonical_state(&self, q: SVector<f64, N>, v: SVector<f64, N>) -> CanonicalState<N> {
         CanonicalState {
             p: self.legendre(&q, &v),
@@ -80,7 +85,8 @@ pub trait ContinuousLagrangian<const N: usize> {
     }
 
     /// The reduced state `(x, w, μ, g)` from a position and a velocity: the canonical state
-    /// trivialized by eq. (3.6).
+    /// trivialized by eq. (3.6). As for [`Self::canonical_state`], `q` and `v` are in the
+    /// system's own (for a declared translation: adapted) coordinates.
     fn reduced_state<const S: usize, const K: usize>(
         &self,
         q: SVector<f64, N>,
