@@ -2,57 +2,15 @@
 //! become the discrete Lagrangian `L_d(q0, q1)` on the expression graph, so everything
 //! downstream (reduction, differentiation, emission) is unchanged; and the Legendre map
 //! `p = ∂L/∂v`, its Jacobian `∂²L/∂v²` and the energy `E = ⟨∂L/∂v, v⟩ − L` are differentiated
-//! here, forward mode, into straight-line code.
+//! here, forward mode, on the graph ([`crate::codegen::continuous`] emits them).
 //!
 //! While lowering a continuous body, `Sym::Q0(i)` stands for `q_i` and `Sym::Q1(i)` for `v_i`;
 //! [`discretize`] substitutes the rule's quadrature point and difference quotient for them.
 
-use proc_macro2::TokenStream;
-use quote::quote;
-use syn::Ident;
+use crate::ast::rule::Rule;
+use crate::ir::diff::derivatives;
+use crate::ir::graph::{Graph, NodeId, Sym};
 
-use crate::diff::derivatives;
-use crate::emit::straight_line;
-use crate::graph::{Graph, NodeId, Sym};
-
-/// What `rule = ...` accepts, for error messages.
-pub const RULES: &str = "`rule = midpoint`, `rule = trapezoid`, `rule = left` or `rule = right`";
-
-/// A quadrature rule forming `L_d` from `L`, with `v = (q1 − q0)/h`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Rule {
-    /// `h L((q0 + q1)/2, v)`.
-    Midpoint,
-    /// `h/2 (L(q0, v) + L(q1, v))`.
-    Trapezoid,
-    /// `h L(q0, v)`.
-    Left,
-    /// `h L(q1, v)`.
-    Right,
-}
-
-impl Rule {
-    pub fn from_ident(id: &Ident) -> Option<Rule> {
-        Some(match id.to_string().as_str() {
-            "midpoint" => Rule::Midpoint,
-            "trapezoid" => Rule::Trapezoid,
-            "left" => Rule::Left,
-            "right" => Rule::Right,
-            _ => return None,
-        })
-    }
-
-    pub fn describe(self) -> &'static str {
-        match self {
-            Rule::Midpoint => "the midpoint rule L_d(q0, q1) = h L((q0 + q1)/2, (q1 − q0)/h)",
-            Rule::Trapezoid => {
-                "the trapezoidal rule L_d(q0, q1) = h/2 (L(q0, (q1 − q0)/h) + L(q1, (q1 − q0)/h))"
-            }
-            Rule::Left => "the left-point rule L_d(q0, q1) = h L(q0, (q1 − q0)/h)",
-            Rule::Right => "the right-point rule L_d(q0, q1) = h L(q1, (q1 − q0)/h)",
-        }
-    }
-}
 
 /// `L_d(q0, q1)` from `l` (over `q = Q0`, `v = Q1`) by `rule`, with the time step `h`.
 ///
@@ -135,68 +93,5 @@ pub fn continuous(g: &mut Graph, l: NodeId, n: usize, rule: Rule) -> Continuous 
         legendre,
         hessian,
         energy,
-    }
-}
-
-/// `impl ContinuousLagrangian<N>`: `L` calls the user's function (`call_l`), the derivatives are
-/// straight-line code.
-pub fn emit_impl(
-    g: &Graph,
-    c: &Continuous,
-    ty: &Ident,
-    n: usize,
-    param: &dyn Fn(usize) -> TokenStream,
-    allow: &TokenStream,
-    call_l: &TokenStream,
-) -> TokenStream {
-    let rt = quote!(::dirac::runtime);
-    let na = quote!(::dirac::nalgebra);
-    let leaf = |sym: Sym| match sym {
-        Sym::Q0(i) => quote! { q[#i] },
-        Sym::Q1(i) => quote! { v[#i] },
-        Sym::Param(i) => param(i),
-        _ => unreachable!("L reads q, v and its parameters"),
-    };
-    let vn = quote!(&#na::SVector<f64, #n>);
-    let body = |roots: &[NodeId]| {
-        let code = straight_line(g, roots, &leaf);
-        (code.stmts, code.outputs)
-    };
-    let (p_stmts, p_out) = body(&c.legendre);
-    let pj = crate::expand::residual_jacobian(g, &c.legendre, &c.hessian, &leaf, n);
-    let (pj_code, pj_type, pj_solver, pj_new) =
-        (&pj.code, &pj.jacobian_type, &pj.solver_type, &pj.solver_new);
-    let (e_stmts, e_out) = body(&[c.energy]);
-    let rule = c.rule.describe();
-    quote! {
-        #allow
-        #[allow(unused_variables)] // L need not read every coordinate and velocity
-        impl #rt::ContinuousLagrangian<#n> for #ty {
-            const RULE: &'static str = #rule;
-
-            fn continuous_lagrangian(&self, q: #vn, v: #vn) -> f64 {
-                #call_l
-            }
-
-            fn legendre(&self, q: #vn, v: #vn) -> #na::SVector<f64, #n> {
-                #p_stmts
-                #na::SVector::<f64, #n>::from([ #( #p_out ),* ])
-            }
-
-            type LegendreLinear = #pj_solver;
-
-            fn legendre_solver(&self) -> #pj_solver {
-                #pj_new
-            }
-
-            fn legendre_jacobian(&self, q: #vn, v: #vn) -> (#na::SVector<f64, #n>, #pj_type) {
-                #pj_code
-            }
-
-            fn energy(&self, q: #vn, v: #vn) -> f64 {
-                #e_stmts
-                #( #e_out )*
-            }
-        }
     }
 }
