@@ -78,7 +78,9 @@ impl Ctxt {
 impl Drop for Ctxt {
     fn drop(&mut self) {
         if self.errors.borrow().is_some() && !std::thread::panicking() {
-            panic!("dirac-macros: a Ctxt was dropped without `finish`, so its errors would be lost");
+            panic!(
+                "dirac-macros: a Ctxt was dropped without `finish`, so its errors would be lost"
+            );
         }
     }
 }

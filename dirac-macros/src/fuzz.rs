@@ -59,10 +59,10 @@ use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 use proptest::test_runner::TestRunner;
 
+use crate::ast::layout::CoordName;
 use crate::ctxt::Ctxt;
 use crate::ir::diff::derivatives;
 use crate::ir::graph::{Graph, NodeId, Sym};
-use crate::ast::layout::CoordName;
 use crate::ir::lower::{Lowering, Names};
 
 /// Cases per run: at least this many, more if `PROPTEST_CASES` asks for more.

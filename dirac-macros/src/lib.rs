@@ -44,5 +44,8 @@ pub fn reduced_lagrangian(args: TokenStream, item: TokenStream) -> TokenStream {
 #[proc_macro_attribute]
 pub fn chart_transition(args: TokenStream, item: TokenStream) -> TokenStream {
     let (args, item) = (args.into(), item.into());
-    stack::run(&args, &item, || expand::expand_transition(args.clone(), item.clone())).into()
+    stack::run(&args, &item, || {
+        expand::expand_transition(args.clone(), item.clone())
+    })
+    .into()
 }

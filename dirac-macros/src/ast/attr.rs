@@ -256,7 +256,9 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
             ),
             (Some(RANGES), Arg::Value(k, _)) => cx.error_spanned_by(
                 &k,
-                format!("expected `ranges(...)`, found `ranges = ...`; accepted: {RANGES_ACCEPTED}"),
+                format!(
+                    "expected `ranges(...)`, found `ranges = ...`; accepted: {RANGES_ACCEPTED}"
+                ),
             ),
             (Some(SHAPE | GROUP | COORDINATES | TRANSLATE), Arg::Value(k, _)) => {
                 cx.error_spanned_by(&k, format!("expected a list: `{k}(a, b, ...)`"))

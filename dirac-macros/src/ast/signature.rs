@@ -204,4 +204,3 @@ fn is_config(ty: &syn::Type) -> bool {
 fn is_type(ty: &syn::Type, name: &str) -> bool {
     matches!(ty, syn::Type::Path(p) if p.qself.is_none() && p.path.is_ident(name))
 }
-

@@ -10,9 +10,9 @@ use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 use syn::Ident;
 
-use crate::codegen::lints;
 use crate::ast::layout::Component;
 use crate::ast::layout::Layout;
+use crate::codegen::lints;
 
 /// `impl ::dirac::runtime::AdaptedCoordinates<N> for ty`.
 pub fn adapted_impl(layout: &Layout, ty: &Ident) -> TokenStream {

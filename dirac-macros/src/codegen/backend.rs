@@ -9,7 +9,6 @@ use crate::codegen::emit::straight_line;
 use crate::ir::graph::{Graph, NodeId, Sym};
 use crate::ir::reduce::Stepper;
 
-
 /// Systems with at most this many configuration coordinates get the dense fixed-size backend
 /// (`Lu<N>`, everything on the stack); larger ones the sparse backend (`SparseLu` on the
 /// compile-time pattern of the step Jacobian), and no Hessian impl or momentum-level elimination

@@ -13,7 +13,6 @@ use crate::codegen::impls::{self, Bodies, Target};
 use crate::ir::discretize::Continuous;
 use crate::ir::graph::{Graph, NodeId, Sym};
 
-
 /// `impl ContinuousLagrangian<N>`: `L` calls the user's function (`call_l`), the derivatives are
 /// straight-line code.
 pub fn emit_impl(g: &Graph, c: &Continuous, t: &Target, call_l: &TokenStream) -> TokenStream {

@@ -11,7 +11,6 @@ use crate::ast::signature::Signature;
 use crate::ast::Spec;
 use crate::codegen::lints;
 
-
 /// The emitted type's name: `name = ..`, or the function's name in CamelCase.
 pub fn type_name(spec: &Spec, func: &ItemFn) -> Ident {
     spec.name

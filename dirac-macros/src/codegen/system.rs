@@ -218,8 +218,8 @@ pub fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> To
     let (minus_impl, minus_counts, minus_note) = reduced_impl(&t, c, &c.minus);
     let elimination_note = format!(" Momentum-level elimination: {plus_note}; {minus_note}.");
     let unreduced = stepper_fns(&c.graph, &c.unreduced, &unreduced_leaf, n, n);
-    let unreduced_impl = impls::unreduced(&t, &unreduced.backend).render(&Bodies::Real(
-        HashMap::from([
+    let unreduced_impl =
+        impls::unreduced(&t, &unreduced.backend).render(&Bodies::Real(HashMap::from([
             ("unreduced_linear_solver", unreduced.solver_new.clone()),
             ("unreduced_residual", unreduced.residual.clone()),
             (
@@ -227,8 +227,7 @@ pub fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> To
                 unreduced.residual_jacobian.clone(),
             ),
             ("unreduced_momentum", unreduced.momentum.clone()),
-        ]),
-    ));
+        ])));
     let hessian_impl = hessian_impl(&t, c);
 
     let config_item = config_struct(spec, func, &config, &ty);
@@ -269,8 +268,10 @@ pub fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> To
         "Generated straight-line code: reduced (+) stepper: {}; reduced (−) stepper: {}; unreduced stepper: {}.",
         plus_counts, minus_counts, unreduced.counts
     ) + &elimination_note;
-    let inherent =
-        impls::inherent(&t).render(&Bodies::Real(HashMap::from([("GENERATED", quote!(#counts))])));
+    let inherent = impls::inherent(&t).render(&Bodies::Real(HashMap::from([(
+        "GENERATED",
+        quote!(#counts),
+    )])));
     let discrete = discrete_impl(&t, spec, sig, c, lagrangian_body);
 
     quote! {

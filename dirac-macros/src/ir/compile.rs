@@ -16,7 +16,6 @@ use crate::ir::reduce::{
     Eliminated, Side, Stepper, GROUP_ORIGINS,
 };
 
-
 /// The lowered body and connection: what the invariance check reads.
 pub struct Lowered {
     /// The graph every later stage adds to.

@@ -11,7 +11,6 @@ use crate::ast::rule::Rule;
 use crate::ir::diff::derivatives;
 use crate::ir::graph::{Graph, NodeId, Sym};
 
-
 /// `L_d(q0, q1)` from `l` (over `q = Q0`, `v = Q1`) by `rule`, with the time step `h`.
 ///
 /// The nodes are built in the order a hand-written rule reads — `0.5 * (q0 + q1)`,

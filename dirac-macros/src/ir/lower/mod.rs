@@ -58,7 +58,6 @@ struct Local {
     mutable: bool,
 }
 
-
 /// The names visible in the body.
 pub struct Names<'a> {
     /// Configuration argument names (`q0`, `q1`).
@@ -472,7 +471,6 @@ impl<'a> Lowering<'a> {
             other => self.error(other, format!("unsupported expression; {ACCEPTED}")),
         }
     }
-
 }
 
 fn f64_const(name: &str) -> Option<f64> {

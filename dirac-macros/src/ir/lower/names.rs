@@ -67,7 +67,10 @@ impl Lowering<'_> {
 
     /// `q0.x` or `q1.x` when `f` reads a coordinate (the configuration names not shadowed by a
     /// local): which configuration (0 or 1), and the member.
-    pub(super) fn coordinate_field<'e>(&self, f: &'e syn::ExprField) -> Option<(usize, &'e Member)> {
+    pub(super) fn coordinate_field<'e>(
+        &self,
+        f: &'e syn::ExprField,
+    ) -> Option<(usize, &'e Member)> {
         let Expr::Path(base) = &*f.base else {
             return None;
         };
@@ -226,5 +229,4 @@ impl Lowering<'_> {
             ),
         }
     }
-
 }

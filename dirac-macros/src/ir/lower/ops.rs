@@ -34,7 +34,14 @@ impl Lowering<'_> {
         }
     }
 
-    pub(super) fn arith(&mut self, op: BinOp, l: Value, le: &Expr, r: Value, re: &Expr) -> Option<Value> {
+    pub(super) fn arith(
+        &mut self,
+        op: BinOp,
+        l: Value,
+        le: &Expr,
+        r: Value,
+        re: &Expr,
+    ) -> Option<Value> {
         if let (Value::Int(a), Value::Int(c)) = (&l, &r) {
             let v = match op {
                 BinOp::Add(_) => a.checked_add(*c),
