@@ -157,38 +157,3 @@ mod tests {
         }
     }
 }
-
-#[cfg(test)]
-mod deep {
-    use quote::quote;
-    use std::time::Instant;
-
-    /// Where the time of a 10⁴-term flat sum goes (run with `--ignored --nocapture`).
-    #[test]
-    #[ignore]
-    fn profile_a_flat_sum() {
-        let terms: Vec<proc_macro2::TokenStream> = (0..10_000)
-            .map(|i| {
-                let c = proc_macro2::Literal::f64_unsuffixed(1.0 + f64::from(i) / 1024.0);
-                quote!((q1.x - q0.x).sin() * #c)
-            })
-            .collect();
-        let item = quote! {
-            fn flat_sum(q0: Config, q1: Config, h: f64, m: f64) -> f64 {
-                0.5 * m / h * (q1.x - q0.x) * (q1.x - q0.x) - h * (#(#terms)+*)
-            }
-        };
-        let start = Instant::now();
-        let out = crate::stack::run(&quote!(), &item, || {
-            super::expand(quote!(shape(x), group(theta)), item.clone())
-        });
-        let text = out.to_string();
-        eprintln!(
-            "expanded in {:?}: {} bytes, {} `let`s, {} `=`",
-            start.elapsed(),
-            text.len(),
-            text.matches("let ").count(),
-            text.matches(" = ").count()
-        );
-    }
-}
