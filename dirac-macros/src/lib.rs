@@ -5,15 +5,15 @@
 //!
 //! Stages, each a module that imports only the ones below it:
 //!
-//! * [`expand`] — the entry: one phase after another, each with its own error context;
-//!   [`fallback`] — the items emitted after an error;
+//! * `expand` — the entry: one phase after another, each with its own error context;
+//!   `fallback` — the items emitted after an error;
 //! * `codegen` — graph → straight-line Rust, the backend choice, the one table of trait impls
 //!   (rendered with real or stub bodies), the items around them;
 //! * `ir` — lowering (body → hash-consed graph), the invariance check, forward-mode
 //!   derivatives, the paper's constructions (reduction, discretization of a continuous `L`);
 //! * `ast` — the attribute grammar, the coordinate layout, the signature, the ranges;
-//! * [`ctxt`] (every error with its span, one report per compilation) and [`symbol`] (the
-//!   attribute keys, spelled once).
+//! * `ctxt` (every error with its span, one report per compilation), `symbol` (the
+//!   attribute keys, spelled once) and `stack` (enough stack for deep expressions).
 //!
 //! The user guide is the `dirac` crate's documentation; the attributes' own documentation below
 //! is the reference of their syntax.
