@@ -1,5 +1,5 @@
 //! Differentiation fuzzing: random expressions over every operation of the body language are
-//! rendered to Rust source, parsed with syn, lowered ([`lower`](crate::lower)), differentiated
+//! rendered to Rust source, parsed with syn, lowered ([`lower`](crate::ir::lower)), differentiated
 //! twice at compile time ([`derivatives`], forward over forward) and evaluated
 //! ([`Graph::eval`]). The oracle is num-dual's hyper-dual numbers running the *same* tree at run
 //! time: a different implementation of every elementary rule, sharing nothing with the compiler
@@ -59,10 +59,11 @@ use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 use proptest::test_runner::TestRunner;
 
+use crate::ast::layout::CoordName;
 use crate::ctxt::Ctxt;
-use crate::diff::derivatives;
-use crate::graph::{Graph, NodeId, Sym};
-use crate::lower::{CoordName, Lowering, Names};
+use crate::ir::diff::derivatives;
+use crate::ir::graph::{Graph, NodeId, Sym};
+use crate::ir::lower::{Lowering, Names};
 
 /// Cases per run: at least this many, more if `PROPTEST_CASES` asks for more.
 const CASES: u32 = 2000;
@@ -102,7 +103,7 @@ const CONSTS: [(&str, f64); 4] = [
 ];
 
 /// The functions of one argument, named by the fuzzer itself (not by the compiler's
-/// [`Fun`](crate::graph::Fun)), so a function lowered under the wrong name is caught.
+/// [`Fun`](crate::ir::graph::Fun)), so a function lowered under the wrong name is caught.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum F1 {
     Sin,
@@ -601,13 +602,12 @@ fn compile(src: &str, at: &[f64; 6]) -> Result<(Compiled, Compiled), String> {
         coords: CoordName::scalars(["a".to_string(), "b".to_string()]),
         params: vec!["h".into(), "p".into()],
     };
-    let cx = Ctxt::default();
+    let cx = Ctxt::new();
     let mut g = Graph::default();
     let root = Lowering::new(&mut g, &cx, &names).body(&block);
-    if let Err(e) = cx.into_result() {
-        return Err(format!("lowering rejected the body: {e}"));
-    }
-    let root = root.ok_or("lowering failed without an error")?;
+    let root = cx
+        .finish(root)
+        .map_err(|e| format!("lowering rejected the body: {e}"))?;
     let first: Vec<_> = SYMS
         .iter()
         .map(|&(_, s)| derivatives(&mut g, &[root], s)[0])

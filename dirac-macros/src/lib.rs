@@ -1,46 +1,51 @@
 //! `#[reduced_lagrangian]`: a small compiler from a discrete Lagrangian written in Rust to the
 //! straight-line residual and Jacobian of the reduced (+) discrete Lagrange–Poincaré–Dirac
-//! equations (Rodríguez Abella & Leok, eq. (4.6)).
+//! equations (Rodríguez Abella & Leok, eq. (4.6)); and `#[chart_transition]`, the same compiler
+//! for a change of chart.
 //!
-//! Stages, one file each: `spec` (the attribute and signature) → `lower` (body → graph) →
-//! `graph` (hash-consed, simplifying) → `check` (G-invariance of the body, sampled) →
-//! `diff` (forward-mode derivatives) → `reduce` (the paper's construction) → `emit`
-//! (straight-line Rust); `expand` ties them together and `ctxt` collects every error with its
-//! span. See the `dirac` crate for the user guide.
+//! Stages, each a module that imports only the ones below it:
+//!
+//! * `expand` — the entry: one phase after another, each with its own error context;
+//!   `fallback` — the items emitted after an error;
+//! * `codegen` — graph → straight-line Rust, the backend choice, the one table of trait impls
+//!   (rendered with real or stub bodies), the items around them;
+//! * `ir` — lowering (body → hash-consed graph), the invariance check, forward-mode
+//!   derivatives, the paper's constructions (reduction, discretization of a continuous `L`);
+//! * `ast` — the attribute grammar, the coordinate layout, the signature, the ranges;
+//! * `ctxt` (every error with its span, one report per compilation), `symbol` (the
+//!   attribute keys, spelled once) and `stack` (enough stack for deep expressions).
+//!
+//! The user guide is the `dirac` crate's documentation; the attributes' own documentation below
+//! is the reference of their syntax.
 
-mod adapted;
-mod check;
-mod continuous;
+#![warn(missing_docs)]
+
+mod ast;
+mod codegen;
 mod ctxt;
-mod diff;
-mod emit;
 mod expand;
+mod fallback;
 #[cfg(test)]
 mod fuzz;
-mod graph;
-mod lints;
-mod lower;
-mod reduce;
-mod spec;
-mod transition;
+mod ir;
+mod stack;
+mod symbol;
 
 use proc_macro::TokenStream;
 
-/// Derives a reduced variational integrator from a discrete Lagrangian at compile time.
-///
-/// See the `dirac` crate's documentation for the attribute syntax and the emitted items.
+#[doc = include_str!("../docs/reduced_lagrangian.md")]
 #[proc_macro_attribute]
 pub fn reduced_lagrangian(args: TokenStream, item: TokenStream) -> TokenStream {
-    expand::expand(args.into(), item.into()).into()
+    let (args, item) = (args.into(), item.into());
+    stack::run(&args, &item, || expand::expand(args.clone(), item.clone())).into()
 }
 
-/// Compiles a change of chart `φ : q_from ↦ q_to` between two charts of one system into
-/// straight-line code for `φ` and its Jacobian `Dφ` (an implementation of
-/// `dirac::runtime::atlas::ChartTransition`), checking at compile time that it is equivariant
-/// (`x_to = ψ(x_from)`, `g_to = g_from + c(x_from)`).
-///
-/// See the `dirac` crate's documentation for the attribute syntax.
+#[doc = include_str!("../docs/chart_transition.md")]
 #[proc_macro_attribute]
 pub fn chart_transition(args: TokenStream, item: TokenStream) -> TokenStream {
-    transition::expand(args.into(), item.into()).into()
+    let (args, item) = (args.into(), item.into());
+    stack::run(&args, &item, || {
+        expand::expand_transition(args.clone(), item.clone())
+    })
+    .into()
 }

@@ -126,13 +126,6 @@ where
         Self { system, options }
     }
 
-    /// The (−) discrete Lagrange–Dirac equations (Definition 2.8). Unconstrained, with
-    /// `q_{k+1}^− = q_k`, they are the same equations as the (+) ones, so this is the same
-    /// integrator; it exists so code can name the variant it means.
-    pub fn minus(system: L, options: NewtonOptions) -> Self {
-        Self::plus(system, options)
-    }
-
     /// The system being integrated.
     pub fn system(&self) -> &L {
         &self.system

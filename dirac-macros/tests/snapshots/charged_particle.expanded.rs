@@ -183,11 +183,14 @@ pub struct ChargedParticle {
     reason = "accessors of the emitted types; their results are plain values"
 )]
 impl ChargedParticle {
-    /// Number of shape coordinates `S`.
+    /// Number of shape coordinates `S` (the first const parameter of the system
+    /// traits, and the length of `ReducedState::x`).
     pub const SHAPE_DIM: usize = 3usize;
-    /// Number of group coordinates `K`.
+    /// Number of group coordinates `K` (the second const parameter of the system
+    /// traits, and the length of `ReducedState::mu`).
     pub const GROUP_DIM: usize = 1usize;
-    /// Number of configuration coordinates `N = S + K`.
+    /// Number of configuration coordinates `N = S + K` (the third const
+    /// parameter of the system traits, and the length of `CanonicalState::q`).
     pub const CONFIG_DIM: usize = 4usize;
     ///Generated straight-line code: reduced (+) stepper: 42 operations for the residual, 77 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; reduced (−) stepper: 43 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; unreduced stepper: 44 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 34 for the momentum update. Momentum-level elimination: (+) group unknowns in closed form, Newton on the shape unknowns: 45 operations for the residual, 81 for the residual with its Jacobian (5 nonzero entries), 14 for the momentum update (the third count is the closed form); used by default: yes; (−) group unknowns in closed form, Newton on the shape unknowns: 46 operations for the residual, 81 for the residual with its Jacobian (5 nonzero entries), 15 for the momentum update (the third count is the closed form); used by default: yes.
     pub const GENERATED: &'static str = "Generated straight-line code: reduced (+) stepper: 42 operations for the residual, 77 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; reduced (−) stepper: 43 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 32 for the momentum update; unreduced stepper: 44 operations for the residual, 80 for the residual with its Jacobian (10 nonzero entries), 34 for the momentum update. Momentum-level elimination: (+) group unknowns in closed form, Newton on the shape unknowns: 45 operations for the residual, 81 for the residual with its Jacobian (5 nonzero entries), 14 for the momentum update (the third count is the closed form); used by default: yes; (−) group unknowns in closed form, Newton on the shape unknowns: 46 operations for the residual, 81 for the residual with its Jacobian (5 nonzero entries), 15 for the momentum update (the third count is the closed form); used by default: yes.";

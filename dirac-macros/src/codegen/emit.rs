@@ -13,7 +13,7 @@ use std::collections::HashMap;
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
 
-use crate::graph::{Graph, Node, NodeId, Sym};
+use crate::ir::graph::{Graph, Node, NodeId, Sym};
 
 /// Straight-line code computing `outputs`: the statements and one expression per output.
 pub struct StraightLine {

@@ -8,7 +8,7 @@
 
 use std::collections::HashMap;
 
-use crate::graph::{Fun, Graph, Node, NodeId, Sym};
+use crate::ir::graph::{Fun, Graph, Node, NodeId, Sym};
 
 /// `∂ root / ∂ seed` for each root.
 pub fn derivatives(g: &mut Graph, roots: &[NodeId], seed: Sym) -> Vec<NodeId> {

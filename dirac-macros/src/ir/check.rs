@@ -9,9 +9,13 @@
 //! by an amount below the tolerance. It catches the realistic mistakes (an absolute group
 //! coordinate anywhere in the body), which change `L_d` by O(1) at almost every point.
 
+use crate::ast::layout::{GroupDecl, Layout};
+use crate::ast::ranges::Ranges;
+use crate::ast::signature::Signature;
+use crate::ast::Spec;
 use crate::ctxt::Ctxt;
-use crate::graph::{Graph, NodeId, Sym};
-use crate::spec::{GroupDecl, Layout, Ranges, Signature, Spec};
+use crate::ir::compile::Lowered;
+use crate::ir::graph::{Graph, NodeId, Sym};
 
 /// Number of sample points.
 const POINTS: usize = 16;
@@ -160,17 +164,15 @@ impl Boxes {
 /// `G = R^K`, holds for every `B`, since `B` multiplies shape differences only, which the action
 /// leaves alone. What can go wrong is only the value of `B`: an entry such as `(b - 1.0).sqrt()`
 /// that is not a number at the parameters the integrator will run with.
-#[allow(clippy::too_many_arguments)] // one call site, in `expand::compile`
 pub fn check(
     cx: &Ctxt,
-    graph: &Graph,
-    body: NodeId,
-    b: &[Vec<NodeId>],
+    lowered: &Lowered,
     spec: &Spec,
     sig: &Signature,
     ranges: &Ranges,
     block: &syn::Block,
 ) {
+    let (graph, body, b) = (&lowered.graph, lowered.body, &lowered.b);
     let boxes = Boxes::new(ranges, &spec.layout);
     let points = boxes.points();
     let names = Names {
@@ -429,9 +431,31 @@ mod tests {
     use super::*;
     use quote::quote;
 
+    /// The front end, the lowering and this check on `body`, phase by phase as the expansion
+    /// runs them, without code generation: the first failing phase's errors as
+    /// `compile_error!` tokens, or nothing.
     fn expand(args: proc_macro2::TokenStream, body: proc_macro2::TokenStream) -> String {
-        let item = quote! { fn f(q0: Config, q1: Config, h: f64, m: f64) -> f64 { #body } };
-        crate::expand::expand(args, item).to_string()
+        let func: syn::ItemFn = syn::parse_quote! {
+            fn f(q0: Config, q1: Config, h: f64, m: f64) -> f64 { #body }
+        };
+        let phases = || -> syn::Result<()> {
+            let cx = Ctxt::new();
+            let spec = crate::ast::parse_spec(&cx, args);
+            let sig = spec.as_ref().and_then(|_| {
+                crate::ast::signature::parse_signature(&cx, &func.sig, None, None, false)
+            });
+            let (spec, sig) = cx.finish(spec.zip(sig))?;
+            let cx = Ctxt::new();
+            let ranges = crate::ast::ranges::resolve_ranges(&cx, &spec, &sig);
+            let lowered = crate::ir::compile::lower(&cx, &spec, &sig, &func);
+            let lowered = cx.finish(lowered)?;
+            let cx = Ctxt::new();
+            check(&cx, &lowered, &spec, &sig, &ranges, &func.block);
+            cx.finish(Some(()))
+        };
+        phases()
+            .err()
+            .map_or_else(String::new, |e| e.into_compile_error().to_string())
     }
 
     #[test]

@@ -4,8 +4,8 @@
 //! each stepper's unknowns and the explicit momentum updates. The (+) and (−) constructions are
 //! one function each, parameterised by [`Side`].
 
-use crate::diff::derivatives;
-use crate::graph::{Graph, NodeId, Sym};
+use crate::ir::diff::derivatives;
+use crate::ir::graph::{Graph, NodeId, Sym};
 
 /// What a stepper needs, as graph nodes: a residual `R(z)` in the unknowns `z`, its Jacobian,
 /// and the momentum update evaluated at the solution.

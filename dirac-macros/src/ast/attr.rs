@@ -1,0 +1,484 @@
+//! The attribute grammar of `#[reduced_lagrangian(...)]`: which coordinates are shape and which
+//! are group (or the user's coordinates and their translations), the connection, the time step,
+//! the type name, the quadrature rule and the sampling ranges. Every mistake is recorded with its
+//! span; the keys are the constants of [`crate::symbol`].
+//!
+//! ```text
+//! #[reduced_lagrangian(
+//!     shape(x, y, z),              // shape coordinates x ∈ Σ (required, may be empty: `shape()`)
+//!     group(theta),                // group coordinates g ∈ G, translated by the action (required, may be empty: `group()`)
+//!     connection = [[0.0, b, 0.0]],// optional K × S matrix B: ω_d = (g1 − g0) − B (x1 − x0)
+//!     step = h,                    // optional: the time-step parameter (default: the one named `h`)
+//!     name = ChargedParticle,      // optional: the emitted type (default: the function name in CamelCase)
+//!     ranges(h = (0.001, 0.1)),    // optional: where the invariance check samples a parameter or coordinate
+//! )]
+//! fn f(q0: Config, q1: Config, h: f64, m: f64) -> f64 { … }
+//! ```
+//!
+//! or a continuous Lagrangian `L(q, v)` with a quadrature rule that forms `L_d` (see
+//! [`crate::ir::discretize`]); the time step need not be an argument of `L`, the emitted type has a
+//! field for it either way:
+//!
+//! ```text
+//! #[reduced_lagrangian(shape(x, y, z), group(theta), rule = left)]
+//! fn l(q: Config, v: Velocity, m: f64) -> f64 { … }
+//! ```
+//!
+//! A coordinate may be an array of constant length, `shape(x[199], y)`, read in the body as
+//! `q0.x[i]`. Or the symmetry is declared on the user's own coordinates (see [`crate::ast::layout::Layout`]):
+//!
+//! ```text
+//! #[reduced_lagrangian(coordinates(x[4], y[4]), translate(x), translate(y))]
+//! ```
+
+use proc_macro2::Span;
+use quote::ToTokens;
+use syn::parse::{Parse, ParseStream};
+use syn::punctuated::Punctuated;
+use syn::{Expr, Ident, Token};
+
+use crate::ast::layout::{Coord, Layout, MAX_COMPONENTS};
+use crate::ast::ranges::{parse_ranges, Range, RangeArg, RANGES as RANGES_ACCEPTED};
+use crate::ast::rule::{Rule, RULES};
+use crate::ctxt::Ctxt;
+use crate::symbol::{
+    self, Symbol, CONNECTION, COORDINATES, GROUP, NAME, RANGES, RULE, SHAPE, STEP, TRANSLATE,
+};
+
+const KEYS: &str = "`shape(...)`, `group(...)` (or `coordinates(...)` with `translate(...)`), `connection = [[...], ...]`, `step = <parameter>`, `name = <TypeName>`, `rule = midpoint | trapezoid | left | right` and `ranges(<name> = (lo, hi), ...)`";
+
+/// The parsed attribute.
+pub struct Spec {
+    /// The coordinates: the user's, and the configuration vector the system works in.
+    pub layout: Layout,
+    /// Rows of `B`, one per group coordinate, each with one entry per shape coordinate.
+    pub connection: Option<Vec<Vec<Expr>>>,
+    /// `step = h`: the time-step parameter, if not the default `h`.
+    pub step: Option<Ident>,
+    /// `name = Type`: the emitted type, if not the function's name in CamelCase.
+    pub name: Option<Ident>,
+    /// Sampling ranges declared with `ranges(...)` for the invariance check, by name.
+    pub ranges: Vec<Range>,
+    /// `rule = ...`: the quadrature rule of a continuous Lagrangian, with the key's token.
+    pub rule: Option<(Ident, Rule)>,
+    /// Whether `rule = ...` was written, valid or not (an invalid one is already reported).
+    pub rule_written: bool,
+}
+
+/// One entry of `shape(...)`, `group(...)`, `coordinates(...)` or `translate(...)`: a name,
+/// optionally with an array length, `x[3]` (checked later, with a span per mistake).
+struct CoordArg {
+    name: Ident,
+    len: Option<(syn::token::Bracket, Expr)>,
+}
+
+impl Parse for CoordArg {
+    fn parse(input: ParseStream) -> syn::Result<Self> {
+        let name: Ident = input.parse()?;
+        let len = if input.peek(syn::token::Bracket) {
+            let content;
+            let bracket = syn::bracketed!(content in input);
+            Some((bracket, content.parse()?))
+        } else {
+            None
+        };
+        Ok(CoordArg { name, len })
+    }
+}
+
+enum Arg {
+    List(Ident, Punctuated<CoordArg, Token![,]>),
+    Value(Ident, Expr),
+    Ranges(Ident, Punctuated<RangeArg, Token![,]>),
+}
+
+impl Parse for Arg {
+    fn parse(input: ParseStream) -> syn::Result<Self> {
+        let key: Ident = input.parse()?;
+        if key == RANGES && input.peek(syn::token::Paren) {
+            let content;
+            syn::parenthesized!(content in input);
+            Ok(Arg::Ranges(key, Punctuated::parse_terminated(&content)?))
+        } else if input.peek(syn::token::Paren) {
+            let content;
+            syn::parenthesized!(content in input);
+            let list = Punctuated::parse_terminated(&content)?;
+            Ok(Arg::List(key, list))
+        } else if input.peek(Token![=]) {
+            input.parse::<Token![=]>()?;
+            Ok(Arg::Value(key, input.parse()?))
+        } else {
+            Err(syn::Error::new(
+                key.span(),
+                format!("expected `{key}(...)` or `{key} = ...`; accepted: {KEYS}"),
+            ))
+        }
+    }
+}
+
+/// Parses the attribute arguments, recording every mistake in `cx`.
+pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
+    let parser = Punctuated::<Arg, Token![,]>::parse_terminated;
+    let args = match syn::parse::Parser::parse2(parser, args) {
+        Ok(args) => args,
+        Err(e) => {
+            cx.syn_error(e);
+            return None;
+        }
+    };
+    let mut shape: Option<Vec<Coord>> = None;
+    let mut group: Option<Vec<Coord>> = None;
+    let mut coordinates: Option<Vec<Coord>> = None;
+    let mut translates: Vec<(Ident, Vec<Ident>)> = Vec::new();
+    let mut connection: Option<(Expr, Vec<Vec<Expr>>)> = None;
+    let mut step: Option<Ident> = None;
+    let mut name: Option<Ident> = None;
+    let mut ranges: Vec<Range> = Vec::new();
+    let mut rule: Option<(Ident, Rule)> = None;
+    let mut seen: Vec<String> = Vec::new();
+    // Which way the symmetry is declared: the first of `shape`/`group` or
+    // `coordinates`/`translate` decides; a key of the other family is an error.
+    let mut family: Option<Symbol> = None;
+    for arg in args {
+        let key = match &arg {
+            Arg::List(k, _) | Arg::Value(k, _) | Arg::Ranges(k, _) => k.clone(),
+        };
+        let key_name = key.to_string();
+        let word = symbol::key(&key);
+        // `translate(...)` may be repeated: each one is a group dimension.
+        if seen.contains(&key_name) && word != Some(TRANSLATE) {
+            cx.error_spanned_by(&key, format!("duplicate `{key_name}` argument"));
+            continue;
+        }
+        seen.push(key_name.clone());
+        let this_family = match word {
+            Some(SHAPE | GROUP) => Some(SHAPE),
+            Some(COORDINATES | TRANSLATE) => Some(COORDINATES),
+            _ => None,
+        };
+        if let Some(f) = this_family {
+            match family {
+                Some(earlier) if earlier != f => {
+                    cx.error_spanned_by(
+                        &key,
+                        format!(
+                            "`{key_name}(...)` cannot be combined with {}: declare either the shape and group coordinates, \
+                             `shape(...), group(...)`, or your own coordinates and their translations, `coordinates(...), translate(...)`",
+                            if earlier == SHAPE { "`shape(...)`/`group(...)`" } else { "`coordinates(...)`/`translate(...)`" }
+                        ),
+                    );
+                    continue;
+                }
+                _ => family = Some(f),
+            }
+        }
+        let connection_clash = (word == Some(CONNECTION) && family == Some(COORDINATES))
+            || (this_family == Some(COORDINATES) && connection.is_some());
+        if connection_clash {
+            cx.error_spanned_by(
+                &key,
+                "`connection = ...` cannot be combined with `coordinates(...)`/`translate(...)`: the adapted coordinates \
+                 the compiler builds from `translate(...)` have the connection B = 0; use `shape(...), group(...), connection = ...` \
+                 for a nonzero B",
+            );
+            if word == Some(CONNECTION) {
+                continue;
+            }
+            // The connection came first: keep the coordinates, drop the connection.
+            connection = None;
+        }
+        match (word, arg) {
+            (Some(SHAPE), Arg::List(_, list)) => {
+                shape = Some(coord_list(cx, list));
+            }
+            // `group()` declares no symmetry: a plain variational integrator (K = 0).
+            (Some(GROUP), Arg::List(_, list)) => {
+                group = Some(coord_list(cx, list));
+            }
+            (Some(COORDINATES), Arg::List(_, list)) => {
+                coordinates = Some(coord_list(cx, list));
+            }
+            (Some(TRANSLATE), Arg::List(k, list)) => {
+                let mut names = Vec::new();
+                for c in list {
+                    if let Some((_, len)) = &c.len {
+                        cx.error_spanned_by(
+                            len,
+                            format!(
+                                "`translate(...)` lists whole coordinates, found `{}[{}]`: write `translate({})` to translate every component of `{}`",
+                                c.name,
+                                len.to_token_stream(),
+                                c.name,
+                                c.name
+                            ),
+                        );
+                    }
+                    names.push(c.name);
+                }
+                if names.is_empty() {
+                    cx.error_spanned_by(
+                        &k,
+                        "`translate()` is empty: list the coordinates the translation moves together, e.g. `translate(x)` or `translate(x, y)`",
+                    );
+                } else {
+                    translates.push((k, names));
+                }
+            }
+            (Some(CONNECTION), Arg::Value(_, value)) => {
+                connection = parse_matrix(cx, &value).map(|rows| (value, rows))
+            }
+            (Some(STEP), Arg::Value(_, value)) => {
+                step = parse_ident(cx, value, "the time-step parameter, e.g. `step = h`")
+            }
+            (Some(NAME), Arg::Value(_, value)) => {
+                name = parse_ident(cx, value, "a type name, e.g. `name = Particle`")
+            }
+            (Some(RANGES), Arg::Ranges(_, list)) => ranges = parse_ranges(cx, list),
+            (Some(RULE), Arg::Value(k, value)) => {
+                let id = match &value {
+                    Expr::Path(p) => p.path.get_ident().cloned(),
+                    _ => None,
+                };
+                match id.as_ref().and_then(Rule::from_ident) {
+                    Some(r) => rule = Some((k, r)),
+                    None => cx.error_spanned_by(
+                        &value,
+                        format!(
+                            "unknown quadrature rule `{}`; accepted: {RULES}",
+                            value.to_token_stream()
+                        ),
+                    ),
+                }
+            }
+            (Some(RULE), Arg::List(k, _)) => cx.error_spanned_by(
+                &k,
+                format!("expected `rule = <name>`, found `rule(...)`; accepted: {RULES}"),
+            ),
+            (Some(RANGES), Arg::Value(k, _)) => cx.error_spanned_by(
+                &k,
+                format!(
+                    "expected `ranges(...)`, found `ranges = ...`; accepted: {RANGES_ACCEPTED}"
+                ),
+            ),
+            (Some(SHAPE | GROUP | COORDINATES | TRANSLATE), Arg::Value(k, _)) => {
+                cx.error_spanned_by(&k, format!("expected a list: `{k}(a, b, ...)`"))
+            }
+            (Some(CONNECTION), Arg::List(k, _)) => cx.error_spanned_by(
+                &k,
+                "expected `connection = [[b11, b12, ...], ...]`, found `connection(...)`",
+            ),
+            (Some(STEP), Arg::List(k, _)) => {
+                cx.error_spanned_by(&k, "expected `step = <parameter>`, found `step(...)`")
+            }
+            (Some(NAME), Arg::List(k, _)) => {
+                cx.error_spanned_by(&k, "expected `name = <TypeName>`, found `name(...)`")
+            }
+            (_, _) => cx.error_spanned_by(
+                &key,
+                format!("unknown argument `{key_name}`; accepted: {KEYS}"),
+            ),
+        }
+    }
+    let layout = if family == Some(COORDINATES) {
+        let Some(coords) = coordinates else {
+            if !seen.iter().any(|k| *k == COORDINATES) {
+                let at = translates.first().map(|(k, _)| k.span());
+                cx.error_at(
+                    at.unwrap_or_else(Span::call_site),
+                    "`translate(...)` needs `coordinates(...)`: list your coordinates, e.g. `coordinates(x[4], y[4]), translate(x), translate(y)`",
+                );
+            }
+            return None;
+        };
+        if coords.is_empty() {
+            cx.error_at(
+                Span::call_site(),
+                "no coordinates: `coordinates()` is empty; declare at least one coordinate, e.g. `coordinates(x[3])`",
+            );
+        }
+        check_coordinates(cx, &coords, &[]);
+        Layout::declared(cx, coords, &translates)
+    } else {
+        if shape.is_none() && !seen.iter().any(|k| *k == SHAPE) {
+            cx.error_at(
+                Span::call_site(),
+                "missing `shape(...)`: list the shape coordinates, e.g. `shape(x, y)` (or `shape()` for none)",
+            );
+        }
+        if group.is_none() && !seen.iter().any(|k| *k == GROUP) {
+            cx.error_at(
+                Span::call_site(),
+                "missing `group(...)`: list the group coordinates the symmetry translates, e.g. `group(theta)` (or `group()` for none)",
+            );
+        }
+        let (shape, group) = (shape?, group?);
+        if shape.is_empty() && group.is_empty() {
+            cx.error_at(
+                Span::call_site(),
+                "no coordinates: `shape()` and `group()` are both empty; declare at least one coordinate, e.g. `shape(x), group()`",
+            );
+        }
+        check_coordinates(cx, &shape, &group);
+        Layout::explicit(shape, group)
+    };
+    let connection = connection.map(|(value, rows)| {
+        check_connection_shape(cx, &value, &rows, layout.s(), layout.k());
+        rows
+    });
+    Some(Spec {
+        layout,
+        connection,
+        step,
+        name,
+        ranges,
+        rule,
+        rule_written: seen.iter().any(|k| *k == RULE),
+    })
+}
+
+/// The entries of `shape(...)`, `group(...)` or `coordinates(...)`, with their lengths checked.
+fn coord_list(cx: &Ctxt, list: Punctuated<CoordArg, Token![,]>) -> Vec<Coord> {
+    list.into_iter()
+        .map(|c| {
+            let len = match &c.len {
+                None => None,
+                Some((_, e)) => {
+                    let n = match e {
+                        Expr::Lit(syn::ExprLit {
+                            lit: syn::Lit::Int(i),
+                            ..
+                        }) => i.base10_parse::<usize>().ok(),
+                        _ => None,
+                    };
+                    match n {
+                        Some(n) if (1..=MAX_COMPONENTS).contains(&n) => Some(n),
+                        Some(n) => {
+                            cx.error_spanned_by(
+                                e,
+                                format!(
+                                    "array coordinate `{}` has length {n}; accepted: an integer literal from 1 to {MAX_COMPONENTS}, e.g. `{}[3]`",
+                                    c.name, c.name
+                                ),
+                            );
+                            Some(1)
+                        }
+                        None => {
+                            cx.error_spanned_by(
+                                e,
+                                format!(
+                                    "the length of array coordinate `{}` must be an integer literal, found `{}`; accepted: `{}[3]` (a constant length from 1 to {MAX_COMPONENTS})",
+                                    c.name,
+                                    e.to_token_stream(),
+                                    c.name
+                                ),
+                            );
+                            Some(1)
+                        }
+                    }
+                }
+            };
+            Coord { name: c.name, len }
+        })
+        .collect()
+}
+
+fn parse_ident(cx: &Ctxt, value: Expr, what: &str) -> Option<Ident> {
+    if let Expr::Path(p) = &value {
+        if let Some(id) = p.path.get_ident() {
+            return Some(id.clone());
+        }
+    }
+    let found = match &value {
+        Expr::Lit(l) if matches!(l.lit, syn::Lit::Str(_)) => {
+            "a string literal: write the name without quotes".to_string()
+        }
+        other => format!("`{}`", other.to_token_stream()),
+    };
+    cx.error_spanned_by(&value, format!("expected {what}, found {found}"));
+    None
+}
+
+fn parse_matrix(cx: &Ctxt, value: &Expr) -> Option<Vec<Vec<Expr>>> {
+    let Expr::Array(rows) = value else {
+        cx.error_spanned_by(
+            value,
+            "expected the connection matrix B as nested arrays, one row per group coordinate: `connection = [[b11, b12], ...]`",
+        );
+        return None;
+    };
+    let mut out = Vec::new();
+    for row in &rows.elems {
+        match row {
+            Expr::Array(cols) => out.push(cols.elems.iter().cloned().collect()),
+            other => {
+                cx.error_spanned_by(
+                    other,
+                    "expected a row of B: `[b1, b2, ...]`, one entry per shape coordinate",
+                );
+                return None;
+            }
+        }
+    }
+    Some(out)
+}
+
+fn check_coordinates(cx: &Ctxt, shape: &[Coord], group: &[Coord]) {
+    let mut seen: Vec<&Ident> = Vec::new();
+    for id in shape.iter().chain(group).map(|c| &c.name) {
+        if let Some(first) = seen.iter().find(|s| **s == id) {
+            let in_shape = |x: &Ident| shape.iter().any(|s| s.name == *x);
+            let in_group = |x: &Ident| group.iter().any(|s| s.name == *x);
+            if in_shape(first) && in_group(id) {
+                cx.error_spanned_by(
+                    id,
+                    format!("coordinate `{id}` is in both `shape` and `group`: a coordinate is either shape or group"),
+                );
+            } else {
+                cx.error_spanned_by(id, format!("coordinate `{id}` is declared twice"));
+            }
+        } else {
+            seen.push(id);
+        }
+    }
+}
+
+fn check_connection_shape(cx: &Ctxt, value: &Expr, rows: &[Vec<Expr>], s: usize, k: usize) {
+    let plural = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
+    let dims = format!(
+        "B must be K × S = {k} × {s} (one row per group coordinate, one entry per shape coordinate)"
+    );
+    let Expr::Array(array) = value else { return };
+    if rows.len() != k {
+        // Point at the first extra row, or at the whole matrix when rows are missing.
+        match array.elems.iter().nth(k) {
+            Some(extra) => cx.error_spanned_by(
+                extra,
+                format!(
+                    "extra row: the connection matrix has {}; {dims}",
+                    plural(rows.len(), "row")
+                ),
+            ),
+            None => cx.error_spanned_by(
+                value,
+                format!(
+                    "the connection matrix has {}; {dims}",
+                    plural(rows.len(), "row")
+                ),
+            ),
+        }
+        return;
+    }
+    for (i, (row, row_expr)) in rows.iter().zip(&array.elems).enumerate() {
+        if row.len() != s {
+            let message = format!(
+                "row {} of the connection matrix has {}; {dims}",
+                i + 1,
+                plural(row.len(), "entry").replace("entrys", "entries")
+            );
+            match row.get(s) {
+                Some(extra) => cx.error_spanned_by(extra, message),
+                None => cx.error_spanned_by(row_expr, message),
+            }
+        }
+    }
+}

@@ -1,0 +1,15 @@
+//! The back end: graph → straight-line Rust ([`emit`]), the backend choice by size
+//! ([`backend`]), the one table of trait impls rendered with real or stub bodies ([`impls`]),
+//! the items around them ([`items`], [`adapted`]), and the bodies of a system ([`system`]), of
+//! a continuous Lagrangian ([`continuous`]) and of a chart transition ([`transition`]). Every
+//! emitted item carries the lint allowances of [`lints`].
+
+pub mod adapted;
+pub mod backend;
+pub mod continuous;
+pub mod emit;
+pub mod impls;
+pub mod items;
+pub mod lints;
+pub mod system;
+pub mod transition;

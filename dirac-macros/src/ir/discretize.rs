@@ -1,0 +1,96 @@
+//! The continuous front end (issue 10, items 1–2): a Lagrangian `L(q, v)` and a quadrature rule
+//! become the discrete Lagrangian `L_d(q0, q1)` on the expression graph, so everything
+//! downstream (reduction, differentiation, emission) is unchanged; and the Legendre map
+//! `p = ∂L/∂v`, its Jacobian `∂²L/∂v²` and the energy `E = ⟨∂L/∂v, v⟩ − L` are differentiated
+//! here, forward mode, on the graph ([`crate::codegen::continuous`] emits them).
+//!
+//! While lowering a continuous body, `Sym::Q0(i)` stands for `q_i` and `Sym::Q1(i)` for `v_i`;
+//! [`discretize`] substitutes the rule's quadrature point and difference quotient for them.
+
+use crate::ast::rule::Rule;
+use crate::ir::diff::derivatives;
+use crate::ir::graph::{Graph, NodeId, Sym};
+
+/// `L_d(q0, q1)` from `l` (over `q = Q0`, `v = Q1`) by `rule`, with the time step `h`.
+///
+/// The nodes are built in the order a hand-written rule reads — `0.5 * (q0 + q1)`,
+/// `(q1 − q0) / h`, `h * L` — so that, the graph being hash-consed, a continuous Lagrangian and
+/// the same rule written out by hand give the same graph and the same code, bit for bit.
+pub fn discretize(g: &mut Graph, l: NodeId, n: usize, h: NodeId, rule: Rule) -> NodeId {
+    let half = g.constant(0.5);
+    let v: Vec<NodeId> = (0..n)
+        .map(|i| {
+            let (a, b) = (g.var(Sym::Q0(i)), g.var(Sym::Q1(i)));
+            let d = g.sub(b, a);
+            g.div(d, h)
+        })
+        .collect();
+    let at = |g: &mut Graph, point: &dyn Fn(&mut Graph, usize) -> NodeId| {
+        g.substitute(l, &mut |g, sym| match sym {
+            Sym::Q0(i) => point(g, i),
+            Sym::Q1(i) => v[i],
+            other => g.var(other),
+        })
+    };
+    match rule {
+        Rule::Midpoint => {
+            let l_mid = at(g, &|g, i| {
+                let (a, b) = (g.var(Sym::Q0(i)), g.var(Sym::Q1(i)));
+                let s = g.add(a, b);
+                g.mul(half, s)
+            });
+            g.mul(h, l_mid)
+        }
+        Rule::Left => {
+            let l0 = at(g, &|g, i| g.var(Sym::Q0(i)));
+            g.mul(h, l0)
+        }
+        Rule::Right => {
+            let l1 = at(g, &|g, i| g.var(Sym::Q1(i)));
+            g.mul(h, l1)
+        }
+        Rule::Trapezoid => {
+            let l0 = at(g, &|g, i| g.var(Sym::Q0(i)));
+            let l1 = at(g, &|g, i| g.var(Sym::Q1(i)));
+            let half_h = g.mul(half, h);
+            let sum = g.add(l0, l1);
+            g.mul(half_h, sum)
+        }
+    }
+}
+
+/// The Legendre map, its Jacobian and the energy of `l` (over `q = Q0`, `v = Q1`).
+pub struct Continuous {
+    pub rule: Rule,
+    /// `∂L/∂v_i`.
+    pub legendre: Vec<NodeId>,
+    /// `∂²L/∂v_i∂v_j`, row `i`.
+    pub hessian: Vec<Vec<NodeId>>,
+    /// `⟨∂L/∂v, v⟩ − L`.
+    pub energy: NodeId,
+}
+
+pub fn continuous(g: &mut Graph, l: NodeId, n: usize, rule: Rule) -> Continuous {
+    let legendre: Vec<NodeId> = (0..n)
+        .map(|i| derivatives(g, &[l], Sym::Q1(i))[0])
+        .collect();
+    let columns: Vec<Vec<NodeId>> = (0..n)
+        .map(|j| derivatives(g, &legendre, Sym::Q1(j)))
+        .collect();
+    let hessian = (0..n)
+        .map(|i| (0..n).map(|j| columns[j][i]).collect())
+        .collect();
+    let mut pv = g.constant(0.0);
+    for (i, &p) in legendre.iter().enumerate() {
+        let v = g.var(Sym::Q1(i));
+        let term = g.mul(p, v);
+        pv = g.add(pv, term);
+    }
+    let energy = g.sub(pv, l);
+    Continuous {
+        rule,
+        legendre,
+        hessian,
+        energy,
+    }
+}
