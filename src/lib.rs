@@ -5,6 +5,9 @@
 //! Abella & Leok, *Discrete Dirac reduction of implicit Lagrangian systems with abelian symmetry
 //! groups*: the reduced (+) discrete Lagrange–Poincaré–Dirac equations, eq. (4.6).
 //!
+//! The [guide] explains, chapter by chapter, how to write a system, integrate it, read its
+//! diagnostics and handle its errors; this page is the reference.
+//!
 //! ```
 //! use dirac::prelude::*;
 //!

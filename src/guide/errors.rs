@@ -30,11 +30,11 @@
 //! member that fails is an `Err` at its position; the other members are unaffected. The message
 //! of an `IntegrationError` names the step, the kind of failure and how much was kept; the cause
 //! with its figures is its [`source()`](std::error::Error::source) and is not repeated, so a
-//! printed error chain shows each cause once:
+//! printed error chain shows each cause once — the output of the example below:
 //!
 //! ```text
-//! integration stopped at step 37 (Newton did not converge): 37 of 100 steps completed, the trajectory so far kept
-//! caused by: step 37: Newton iteration did not converge in 1 iterations (residual 1.234e-9); try a smaller time step or a larger iteration cap
+//! integration stopped at step 1 (Newton did not converge): 1 of 100 steps completed, the trajectory so far kept
+//! caused by: step 1: Newton iteration did not converge in 2 iterations (residual 2.689e-7); try a smaller time step or a larger iteration cap
 //! ```
 //!
 //! ```
@@ -45,13 +45,13 @@
 //! let sys = DoubleSphericalPendulum::paper();
 //! let start = DoubleSphericalPendulum::paper_initial_state();
 //!
-//! // An iteration cap of one correction: the first step that needs two fails, typed.
-//! let tight = NewtonOptions { max_iterations: 1, ..NewtonOptions::default() };
+//! // An iteration cap of two corrections: the first step that needs three fails, typed.
+//! let tight = NewtonOptions { max_iterations: 2, ..NewtonOptions::default() };
 //! let e = ReducedIntegrator::plus(sys, tight).integrate(start, 100).unwrap_err();
 //! let StepError::NotConverged { step, iterations, residual } = e.source else {
 //!     panic!("expected NotConverged, got {}", e.source);
 //! };
-//! assert_eq!(iterations, 1);
+//! assert_eq!(iterations, 2);
 //! assert_eq!(e.trajectory.steps(), step); // every step before the failed one, kept
 //! assert!(residual > 0.0 && e.requested == 100);
 //! println!("{e}\ncaused by: {}", e.source().expect("the StepError"));

@@ -74,8 +74,9 @@
 //!
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
 //! let sys = Toda { m: 1.0, h: 0.05 };
-//! let q = SVector::<f64, 20>::from_fn(|i, _| i as f64);
-//! let p = SVector::<f64, 20>::from_fn(|i, _| 0.2 * (i as f64).sin());
+//! let phase = |i: usize| 2.0 * std::f64::consts::PI * i as f64 / 20.0;
+//! let q = SVector::<f64, 20>::from_fn(|i, _| 0.1 * phase(i).sin());
+//! let p = SVector::<f64, 20>::from_fn(|i, _| 0.05 + 0.2 * phase(i).cos());
 //! let start = sys.trivialize(&Toda::adapted_state(&q, &p));
 //! let integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
 //!
