@@ -11,9 +11,9 @@
 //! | [`StepError`](crate::StepError) | what happened | what to try |
 //! | --- | --- | --- |
 //! | `NotConverged { step, iterations, residual }` | Newton's iteration reached `max_iterations` without meeting the tolerances | a smaller time step, or a larger iteration cap |
-//! | `SingularJacobian { step, residual }` | the Jacobian of the step equations is singular: `L_d` is degenerate here, or the reduction is not valid here | coordinates where the symmetry acts freely; for a degenerate `L`, another rule |
+//! | `SingularJacobian { step, residual }` | the Jacobian of the step equations is singular: `L_d` is degenerate here, or the reduction is not valid here | coordinates where the symmetry acts freely; for a degenerate `L`, whether its discrete Legendre map is invertible |
 //! | `IllConditioned { step, rcond, residual }` | the step converged but its Jacobian's reciprocal condition estimate is below [`NewtonOptions::min_rcond`](crate::NewtonOptions::min_rcond): the result has few or no correct digits | another chart ([atlas](super::integrators#an-atlas-of-charts-6)); near a pole of spherical coordinates the action is not free (Remark 7.1) |
-//! | `NonFinite { step, what, residual }` | a residual, Jacobian, correction or state component is NaN or infinite; `what` says which | the parameters and the state; `ranges(...)` if the body is defined only somewhere |
+//! | `NonFinite { step, what, residual }` | a residual, Jacobian, correction or state component is NaN or infinite; `what` says which | the parameters, the initial state, and whether the motion left the domain of `L` (a square root or logarithm of a negative number) |
 //! | `InvalidTimeStep { h }` | the time step is not positive and finite (step 0, nothing taken) | a positive `h` |
 //! | `NotSymmetric { defect, tolerance }` | a composition was asked of a rule that is not symmetric, so it would not reach its order | the midpoint or trapezoidal rule |
 //! | `InvalidAtlas { reason }` | the charts or transitions of an atlas do not fit together | the atlas's construction |

@@ -26,8 +26,8 @@
 //! `w = p_x + Bᵀ p_g`, `μ = p_g`, and back (3.7): `p = (w − Bᵀ μ, μ)`
 //! ([`DiscreteLagrangian::trivialize`](crate::DiscreteLagrangian::trivialize),
 //! [`untrivialize`](crate::DiscreteLagrangian::untrivialize)). Any `B` gives the same physical
-//! motion; a good one makes the reduced unknowns small (the group unknown `g_k^+` is the part
-//! of the group step the connection does not predict).
+//! motion, as the example below shows; the group unknown `g_k^+` of a step is the part of the
+//! group step that `B (x_{k+1} − x_k)` does not account for.
 //!
 //! ## Indexed coordinates
 //!
