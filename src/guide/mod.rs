@@ -28,10 +28,10 @@
 //! The API reference is the rest of this crate's documentation: [`crate::prelude`] lists what a
 //! program names, [`crate::runtime`] holds the integrators' modules, [`crate::paper`] and
 //! [`crate::kepler`] are worked systems that the chapters reuse.
-//!
-//! Chapters to come, each with its own module here: forces and controls (issue 19),
-//! constraints (issue 20), systems sized at run time (issue 21), output formats and cluster
-//! ensembles (issue 22).
+
+// Each capability still to come adds its chapter as a module here and a line in the list above:
+// forces and controls (issue 19) and constraints (issue 20) after `symmetries`; systems sized at
+// run time (issue 21) after `large_systems`; output formats and cluster ensembles (issue 22) next.
 
 pub mod benchmarks;
 pub mod diagnostics;
