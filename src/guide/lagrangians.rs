@@ -134,7 +134,9 @@
 //! let traj = integ.integrate(start, 1000)?;
 //! let m = integ.step_jacobian(0, &traj.states[0], &traj.states[1])?;
 //! assert!(m.symplecticity_defect() < 1e-12);
-//! assert_eq!(henon_heiles(HenonHeilesConfig { x: 0.0, y: 0.0 }, HenonHeilesConfig { x: 0.0, y: 0.0 }, 0.05), 0.0);
+//! // The function stays callable, on the emitted configuration struct.
+//! let origin = HenonHeilesConfig::default();
+//! assert_eq!(henon_heiles(origin, origin, 0.05), 0.0);
 //!
 //! // Degenerate: the momenta come from the positions alone, so the velocity passed is unused.
 //! let vortices = VortexPair { gamma1: 1.0, gamma2: 2.0, h: 0.05 };
