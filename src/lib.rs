@@ -5,6 +5,9 @@
 //! Abella & Leok, *Discrete Dirac reduction of implicit Lagrangian systems with abelian symmetry
 //! groups*: the reduced (+) discrete Lagrange–Poincaré–Dirac equations, eq. (4.6).
 //!
+//! The [guide] explains, chapter by chapter, how to write a system, integrate it, read its
+//! diagnostics and handle its errors; this page is the reference.
+//!
 //! ```
 //! use dirac::prelude::*;
 //!
@@ -44,8 +47,7 @@
 //! index known at compile time. Instead of `shape`/`group`, the symmetry may be declared on the
 //! user's own coordinates, `coordinates(x[4], y[4]), translate(x), translate(y)`: the compiler
 //! builds the adapted coordinates of §2.2.1 (`g = x[0]`, `x[i] − x[0]`), and
-//! [`AdaptedCoordinates`] converts states (see the README section "Indexed coordinates and
-//! declared symmetries").
+//! [`AdaptedCoordinates`] converts states (see the guide's chapter on [symmetries](guide::symmetries)).
 //!
 //! The function takes the two configurations `q0: Config, q1: Config` (coordinates are read as
 //! fields, `q0.x`) and scalar `f64` parameters, and returns `L_d(q0, q1)`. It stays callable,
@@ -92,6 +94,7 @@
 // Emitted code names `::dirac::…`; this lets the crate's own `paper` module use the attribute.
 extern crate self as dirac;
 
+pub mod guide;
 pub mod kepler;
 pub mod paper;
 

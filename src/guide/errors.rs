@@ -1,0 +1,120 @@
+//! # Errors and what they mean
+//!
+//! A step that cannot be computed is never a panic and never a silent NaN: it is a typed
+//! [`StepError`](crate::StepError) carrying the step index and the residual `‖R‖∞` at the last
+//! iterate, and the run that contained it returns an error that keeps everything computed before
+//! it. A mistake in an annotated function is a compile error that points at the token and says
+//! what is accepted.
+//!
+//! ## A failed step
+//!
+//! | [`StepError`](crate::StepError) | what happened | what to try |
+//! | --- | --- | --- |
+//! | `NotConverged { step, iterations, residual }` | Newton's iteration reached `max_iterations` without meeting the tolerances | a smaller time step, or a larger iteration cap |
+//! | `SingularJacobian { step, residual }` | the Jacobian of the step equations is singular: `L_d` is degenerate here, or the reduction is not valid here | coordinates where the symmetry acts freely; for a degenerate `L`, whether its discrete Legendre map is invertible |
+//! | `IllConditioned { step, rcond, residual }` | the step converged but its Jacobian's reciprocal condition estimate is below [`NewtonOptions::min_rcond`](crate::NewtonOptions::min_rcond): the result has few or no correct digits | another chart ([atlas](super::integrators#an-atlas-of-charts-6)); near a pole of spherical coordinates the action is not free (Remark 7.1) |
+//! | `NonFinite { step, what, residual }` | a residual, Jacobian, correction or state component is NaN or infinite; `what` says which | the parameters, the initial state, and whether the motion left the domain of `L` (a square root or logarithm of a negative number) |
+//! | `InvalidTimeStep { h }` | the time step is not positive and finite (step 0, nothing taken) | a positive `h` |
+//! | `NotSymmetric { defect, tolerance }` | a composition was asked of a rule that is not symmetric, so it would not reach its order | the midpoint or trapezoidal rule |
+//! | `InvalidAtlas { reason }` | the charts or transitions of an atlas do not fit together | the atlas's construction |
+//!
+//! [`StepError::step`](crate::StepError::step), [`residual`](crate::StepError::residual) and
+//! [`kind`](crate::StepError::kind) read the common fields; the enum is `#[non_exhaustive]`.
+//!
+//! ## The trajectory is kept
+//!
+//! `integrate` returns `Err(Box<IntegrationError<Trajectory>>)`: the
+//! [`IntegrationError`](crate::IntegrationError) holds the `source` (the [`StepError`](crate::StepError)),
+//! the `trajectory` up to the failed step, intact, and the number of steps `requested`. `run`
+//! keeps the [`RunSummary`](crate::RunSummary) up to the failed step the same way. An ensemble
+//! member that fails is an `Err` at its position; the other members are unaffected. The message
+//! of an `IntegrationError` names the step, the kind of failure and how much was kept; the cause
+//! with its figures is its [`source()`](std::error::Error::source) and is not repeated, so a
+//! printed error chain shows each cause once — the output of the example below:
+//!
+//! ```text
+//! integration stopped at step 1 (Newton did not converge): 1 of 100 steps completed, the trajectory so far kept
+//! caused by: step 1: Newton iteration did not converge in 2 iterations (residual 2.689e-7); try a smaller time step or a larger iteration cap
+//! ```
+//!
+//! ```
+//! use dirac::paper::DoubleSphericalPendulum;
+//! use dirac::prelude::*;
+//! use std::error::Error;
+//!
+//! let sys = DoubleSphericalPendulum::paper();
+//! let start = DoubleSphericalPendulum::paper_initial_state();
+//!
+//! // An iteration cap of two corrections: the first step that needs three fails, typed.
+//! let tight = NewtonOptions { max_iterations: 2, ..NewtonOptions::default() };
+//! let e = ReducedIntegrator::plus(sys, tight).integrate(start, 100).unwrap_err();
+//! let StepError::NotConverged { step, iterations, residual } = e.source else {
+//!     panic!("expected NotConverged, got {}", e.source);
+//! };
+//! assert_eq!(iterations, 2);
+//! assert_eq!(e.trajectory.steps(), step); // every step before the failed one, kept
+//! assert!(residual > 0.0 && e.requested == 100);
+//! println!("{e}\ncaused by: {}", e.source().expect("the StepError"));
+//!
+//! // Remark 7.1: a bob 1e-7 from the vertical axis, where the rotation is not free.
+//! let mut at_pole = start;
+//! at_pole.x[0] = std::f64::consts::PI - 1e-7;
+//! let integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
+//! let e = integ.run(at_pole, 100, |_, _, _| {}).unwrap_err();
+//! assert_eq!((e.source.step(), e.trajectory.steps), (0, 0)); // refused, nothing taken
+//! println!("{}", e.source);
+//!
+//! // Inputs are checked before the first step.
+//! let backwards = DoubleSphericalPendulum { h: -0.01, ..sys };
+//! let e = ReducedIntegrator::plus(backwards, NewtonOptions::default())
+//!     .integrate(start, 10)
+//!     .unwrap_err();
+//! assert_eq!(e.source, StepError::InvalidTimeStep { h: -0.01 });
+//! ```
+//!
+//! ## Compile errors
+//!
+//! The attributes check what they are given before they emit anything, and report every mistake
+//! in one annotation at once, each at its token. The messages say what was found, what is
+//! accepted, and where:
+//!
+//! * the attribute's keys (`shape`, `group`, `coordinates`, `translate`, `connection`, `step`,
+//!   `name`, `ranges`, `rule`): an unknown or duplicate key, a malformed list;
+//! * the signature: `q0: Config, q1: Config` (or `q: Config, v: Velocity` with a `rule`) and
+//!   `f64` parameters;
+//! * the body: any construct outside the body language (`if`, `match`, closures, macros,
+//!   references, `return`, unknown names, loops over non-constant ranges), array indices out of
+//!   range or not constant;
+//! * the symmetry: a body that is not invariant under translation of a group coordinate (or a
+//!   declared translation), with the coordinate, the sample point and the two values; a body
+//!   that is not finite at any sample point;
+//! * `#[chart_transition]`: a map that is not equivariant (`x' = ψ(x)`, `g' = g + c(x)`).
+//!
+//! A potential in the group coordinate itself is not invariant under its translation:
+//!
+//! ```compile_fail
+//! use dirac::prelude::*;
+//!
+//! #[reduced_lagrangian(shape(x), group(theta))]
+//! fn particle(q0: Config, q1: Config, h: f64, m: f64) -> f64 {
+//!     let (dx, dg) = (q1.x - q0.x, q1.theta - q0.theta);
+//!     0.5 * m / h * (dx * dx + dg * dg) - h * q0.theta.cos()
+//! }
+//! # fn main() {}
+//! ```
+//!
+//! ```text
+//! error: the discrete Lagrangian is not invariant under translation of the group coordinate `theta`:
+//!        at q0 = (x = -0.367, theta = 1.5), q1 = (x = 1.67, theta = -1.67), h = 1.8, m = 1.9, shifting
+//!        `theta` by 0.37 in both `q0` and `q1` changes L_d from 7.3662 to 8.0241; `#[reduced_lagrangian]`
+//!        reduces by translations of the group coordinates, so L_d may depend on them only through
+//!        differences such as `q1.theta - q0.theta`; if L_d depends on `theta` itself, declare it in
+//!        `shape(...)`
+//!  --> src/main.rs:3:38
+//!   |
+//! 3 | #[reduced_lagrangian(shape(x), group(theta))]
+//!   |                                      ^^^^^
+//! ```
+//!
+//! The workspace keeps one compile-fail case per mistake, with its expected message, under
+//! `tests/ui/`.

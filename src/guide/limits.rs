@@ -1,0 +1,41 @@
+//! # Limits
+//!
+//! What the integrators do not do, and where their guarantees end.
+//!
+//! **Fixed time step.** Every integrator takes steps of one size `h` (a composition's substeps
+//! are fixed fractions of it). Near a singularity of the coordinates (spherical coordinates at
+//! a pole, Remark 7.1) a step can solve the discrete equations and still be physically
+//! meaningless when `h` is too coarse there; the conditioning threshold catches degenerate
+//! Jacobians, not coarse steps. In the paper's chart alone, the double spherical pendulum
+//! started from the paper's initial state creeps ever closer to the poles and stops with a typed
+//! error after ≈ 24,600 steps at `h = 0.01`; on its atlas of three charts it runs 10⁶ steps from
+//! the same state. The switching threshold of an atlas is a user choice: for the pendulum, lower
+//! thresholds (0.1, 0.05) let steps pass close to a chart's pole and cost energy accuracy
+//! ([`SWITCH_BELOW`](crate::paper::atlas::SWITCH_BELOW)). Chart transitions take no parameters.
+//!
+//! **Symmetries.** Groups act by translation of coordinates: abelian, with a linear connection
+//! of constant `B`. The momentum-level elimination applies for `K ≤ 3` group coordinates.
+//!
+//! **The body language** is smooth by design: no branches, no calls to your own functions, no
+//! run-time loop bounds or indices (see [Writing a Lagrangian](super::lagrangians#the-attribute)).
+//! Sizes are fixed at compile time.
+//!
+//! **Large systems** (more than [`DENSE_MAX`](crate::runtime::linalg::DENSE_MAX) = 16
+//! coordinates, the sparse backend): no momentum-level elimination, no emitted Hessian blocks of
+//! `L_d` (so no step-map Jacobian), and the conditioning check of a chord step applies to the
+//! Jacobian whose factors it used, which may be an earlier step's. Compile time grows quickly
+//! with dense couplings: a 64-link chain (dense 65 × 65 Jacobian, 157 k operations) takes ≈ 3
+//! minutes to build in release; a 1000-particle lattice ≈ 2 minutes. The lattice step is ≈ 2.4×
+//! a hand-written `O(n)` solver ([Benchmarks](super::benchmarks#scaling-with-the-size-of-the-system)).
+//!
+//! **Speed against the paper.** The reduced stepper is 10–30% faster than the unreduced one on
+//! the double spherical pendulum, not the paper's 75%: both solve four unknowns per step with
+//! the same number of Newton iterations, and the reduced residual and Jacobian are 14% smaller.
+//!
+//! **Signed zeros.** The simplifier folds `−0.0` to `+0` and `x · 0` to `+0`; this can change
+//! the *value* of `atan2` exactly on its branch cut (`x < 0`, `y = ±0`) by `2π` relative to IEEE
+//! evaluation of the same expression. Derivatives are unaffected.
+//!
+//! **Newton tolerances.** With the default tolerances (`1e-12` on the momentum residual) each
+//! stage of a composition leaves up to `1e-12` of momentum error, which floors long order-6 runs
+//! near `1e-9`; tighter tolerances (`abs_tol = rel_tol = 1e-15`) move the floor to round-off.

@@ -1,0 +1,44 @@
+//! The user guide: how to write a system, integrate it, read what a run reports, and what each
+//! failure means. Every code block in these chapters is compiled and run by `cargo test` (as a
+//! doctest of this crate), so the guide cannot drift from the code.
+//!
+//! The chapters, in reading order:
+//!
+//! 1. [The paper's two systems](paper_systems): the charged particle (§7.1, Table 1) and the
+//!    double spherical pendulum (§7.2, Figures 3–4), ready to run from [`crate::paper`].
+//! 2. [Writing a Lagrangian](lagrangians): the attribute and its body language; discrete
+//!    Lagrangians, continuous ones with a quadrature rule, degenerate ones, systems without
+//!    symmetry; what the attribute emits and how it generates code.
+//! 3. [Symmetries](symmetries): group coordinates, connections, translations declared on your
+//!    own coordinates, indexed coordinates.
+//! 4. [Integrators and the driver](integrators): the reduced (+)/(−) and unreduced integrators,
+//!    symmetric compositions of order 4 and 6, an atlas of charts; `run`, `integrate`, stop
+//!    conditions and ensembles, the same for all of them.
+//! 5. [Large systems](large_systems): the sparse backend, chord iterations, streaming runs in
+//!    constant memory, ensembles on all cores, building the attribute optimized.
+//! 6. [Diagnostics](diagnostics): Newton statistics and conditioning per step, energies, the
+//!    Dirac structure and the discrete action along a trajectory, the step-map Jacobian.
+//! 7. [Errors](errors): the typed [`StepError`](crate::StepError) of a failed step, the
+//!    trajectory kept up to it, and the compile errors of the attributes.
+//! 8. [Limits](limits): what the integrators do not do, and where their guarantees end.
+//!
+//! [Benchmarks](benchmarks) is the measurements page (also `BENCHMARKS.md` in the source): each
+//! table with the command that makes it, the date and the machine.
+//!
+//! The API reference is the rest of this crate's documentation: [`crate::prelude`] lists what a
+//! program names, [`crate::runtime`] holds the integrators' modules, [`crate::paper`] and
+//! [`crate::kepler`] are worked systems that the chapters reuse.
+
+// Each capability still to come adds its chapter as a module here and a line in the list above:
+// forces and controls (issue 19) and constraints (issue 20) after `symmetries`; systems sized at
+// run time (issue 21) after `large_systems`; output formats and cluster ensembles (issue 22) next.
+
+pub mod benchmarks;
+pub mod diagnostics;
+pub mod errors;
+pub mod integrators;
+pub mod lagrangians;
+pub mod large_systems;
+pub mod limits;
+pub mod paper_systems;
+pub mod symmetries;
