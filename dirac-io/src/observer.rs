@@ -1,0 +1,436 @@
+//! The Parquet observer: a run's states streamed into a file in memory independent of the run's
+//! length (see the [crate documentation](crate) for the schema).
+
+use std::fs::File;
+use std::io::BufWriter;
+use std::marker::PhantomData;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use arrow_array::{ArrayRef, Float64Array, RecordBatch, UInt32Array, UInt64Array};
+use arrow_schema::{DataType, Field, Schema, SchemaRef};
+use dirac::prelude::*;
+use parquet::arrow::ArrowWriter;
+use parquet::basic::Compression;
+use parquet::file::metadata::KeyValue;
+use parquet::file::properties::{EnabledStatistics, WriterProperties};
+
+use crate::columns::{float_text, RunInfo, StateColumns};
+use crate::error::{Error, Result};
+
+/// Row groups are cut at about this many bytes of values, so that what a writer holds before
+/// it writes is bounded whatever the run's length and the state's size: 2 MiB is 1,300 rows of
+/// the 200-particle lattice (400 state columns) or 20,000 rows of a 4-coordinate system,
+/// large enough that per-row-group overhead (one page header per column) is negligible.
+pub const ROW_GROUP_BYTES: usize = 2 << 20;
+
+/// The energies (or any other derived quantities) written beside each state: the column names,
+/// and a function of the step index and the state that fills one value per name.
+type Extra<St> = (Vec<String>, Box<dyn FnMut(usize, &St, &mut [f64]) + Send>);
+
+/// How a [`ParquetObserver`] writes: which states, which extra columns, which compression.
+pub struct Options<St> {
+    every: usize,
+    member: Option<u64>,
+    extra: Option<Extra<St>>,
+    compression: Compression,
+    row_group_bytes: usize,
+}
+
+impl<St> Default for Options<St> {
+    fn default() -> Self {
+        Options {
+            every: 1,
+            member: None,
+            extra: None,
+            compression: Compression::UNCOMPRESSED,
+            row_group_bytes: ROW_GROUP_BYTES,
+        }
+    }
+}
+
+impl<St: StateColumns> Options<St> {
+    /// Every state (the default).
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Only every `k`-th state (`step % k == 0`); the last state of a run is written too, when
+    /// it is not a multiple of `k`, by [`ParquetObserver::finish_with`].
+    #[must_use]
+    pub fn every(mut self, k: usize) -> Self {
+        self.every = k.max(1);
+        self
+    }
+
+    /// A `member` column with this value on every row (for ensembles written to one file).
+    #[must_use]
+    pub fn member(mut self, member: u64) -> Self {
+        self.member = Some(member);
+        self
+    }
+
+    /// Columns `names` computed from each written state by `f(step, state, out)`, which fills
+    /// `out[i]` for `names[i]`: energies, momenta, invariants.
+    #[must_use]
+    pub fn extra(
+        mut self,
+        names: &[&str],
+        f: impl FnMut(usize, &St, &mut [f64]) + Send + 'static,
+    ) -> Self {
+        self.extra = Some((names.iter().map(|n| (*n).to_owned()).collect(), Box::new(f)));
+        self
+    }
+
+    /// Snappy compression of the pages (default: none). States of a smooth trajectory compress
+    /// little, and compression costs time on every row group.
+    #[must_use]
+    pub fn snappy(mut self) -> Self {
+        self.compression = Compression::SNAPPY;
+        self
+    }
+
+    /// Row groups of about `bytes` bytes of values (default [`ROW_GROUP_BYTES`]).
+    #[must_use]
+    pub fn row_group_bytes(mut self, bytes: usize) -> Self {
+        self.row_group_bytes = bytes.max(1);
+        self
+    }
+}
+
+/// The columns of one row group, before they are written.
+struct Buffer {
+    step: Vec<u64>,
+    t: Vec<f64>,
+    /// Column-major: `state[c]` is column `c`.
+    state: Vec<Vec<f64>>,
+    iterations: Vec<Option<u32>>,
+    residual: Vec<Option<f64>>,
+    rcond: Vec<Option<f64>>,
+    extra: Vec<Vec<f64>>,
+}
+
+impl Buffer {
+    fn new(width: usize, extra: usize, rows: usize) -> Self {
+        Buffer {
+            step: Vec::with_capacity(rows),
+            t: Vec::with_capacity(rows),
+            state: (0..width).map(|_| Vec::with_capacity(rows)).collect(),
+            iterations: Vec::with_capacity(rows),
+            residual: Vec::with_capacity(rows),
+            rcond: Vec::with_capacity(rows),
+            extra: (0..extra).map(|_| Vec::with_capacity(rows)).collect(),
+        }
+    }
+
+    fn len(&self) -> usize {
+        self.step.len()
+    }
+}
+
+/// Streams the states of a run into an Apache Parquet file, in memory independent of the run's
+/// length: rows are buffered column by column and written as one row group every
+/// [`ROW_GROUP_BYTES`] (see the [crate documentation](crate) for the schema and metadata).
+///
+/// Pass [`Self::observer`] to [`Drive::run`], then call [`Self::finish`] (or
+/// [`Self::finish_with`] with the run's result), which writes the footer and returns the path.
+/// A write error inside the observer (a full disk) is kept and returned by `finish`: an
+/// observer cannot fail, and the run goes on.
+///
+/// ```
+/// use dirac::paper::DoubleSphericalPendulum;
+/// use dirac::prelude::*;
+/// use dirac_io::{Describe, Options, ParquetObserver};
+///
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// let integ = ReducedIntegrator::plus(DoubleSphericalPendulum::paper(), NewtonOptions::default());
+/// let path = std::env::temp_dir().join(format!("dsp-doc-{}.parquet", std::process::id()));
+/// let mut out = ParquetObserver::create(&path, integ.describe(), Options::new().every(10))?;
+/// let summary = integ.run(DoubleSphericalPendulum::paper_initial_state(), 100, out.observer());
+/// let written = out.finish_with(&summary)?;
+/// assert_eq!(written, path);
+/// # std::fs::remove_file(path)?;
+/// # Ok(())
+/// # }
+/// ```
+pub struct ParquetObserver<St: StateColumns> {
+    path: PathBuf,
+    writer: Option<ArrowWriter<BufWriter<File>>>,
+    schema: SchemaRef,
+    h: f64,
+    options: Options<St>,
+    rows_per_group: usize,
+    buffer: Buffer,
+    scratch: Vec<f64>,
+    extra_scratch: Vec<f64>,
+    /// The last state observed and its record, kept so that `finish_with` can write the last
+    /// state of a run that `every` skipped.
+    last: Option<(usize, St, Option<StepStats>)>,
+    last_written: Option<usize>,
+    rows: u64,
+    error: Option<Error>,
+    _state: PhantomData<St>,
+}
+
+/// The schema of a trajectory file: `[member], step, t, <state columns>, iterations, residual,
+/// rcond, <extra columns>`.
+pub fn trajectory_schema(columns: &[String], member: bool, extra: &[String]) -> Schema {
+    let mut fields = Vec::with_capacity(columns.len() + extra.len() + 6);
+    if member {
+        fields.push(Field::new("member", DataType::UInt64, false));
+    }
+    fields.push(Field::new("step", DataType::UInt64, false));
+    fields.push(Field::new("t", DataType::Float64, false));
+    for name in columns {
+        fields.push(Field::new(name, DataType::Float64, false));
+    }
+    fields.push(Field::new("iterations", DataType::UInt32, true));
+    fields.push(Field::new("residual", DataType::Float64, true));
+    fields.push(Field::new("rcond", DataType::Float64, true));
+    for name in extra {
+        fields.push(Field::new(name, DataType::Float64, false));
+    }
+    Schema::new(fields)
+}
+
+/// Writer properties for `f64` columns: plain encoding (a dictionary of distinct floats is as
+/// large as the data and costs a hash per value), statistics per column chunk only.
+pub(crate) fn writer_properties(
+    compression: Compression,
+    kv: Vec<(String, String)>,
+) -> WriterProperties {
+    WriterProperties::builder()
+        .set_compression(compression)
+        .set_dictionary_enabled(false)
+        .set_statistics_enabled(EnabledStatistics::Chunk)
+        .set_max_row_group_row_count(None)
+        .set_max_row_group_bytes(Some(ROW_GROUP_BYTES))
+        .set_key_value_metadata(Some(
+            kv.into_iter().map(|(k, v)| KeyValue::new(k, v)).collect(),
+        ))
+        .build()
+}
+
+pub(crate) fn create_writer(
+    path: &Path,
+    schema: SchemaRef,
+    properties: WriterProperties,
+) -> Result<ArrowWriter<BufWriter<File>>> {
+    let file = File::create(path).map_err(Error::io(path))?;
+    ArrowWriter::try_new(
+        BufWriter::with_capacity(1 << 20, file),
+        schema,
+        Some(properties),
+    )
+    .map_err(Error::parquet(path))
+}
+
+/// Writes the footer, flushes the buffer and syncs the file to disk (so that a rename after it
+/// publishes a complete file).
+pub(crate) fn close_writer(mut writer: ArrowWriter<BufWriter<File>>, path: &Path) -> Result<()> {
+    writer.finish().map_err(Error::parquet(path))?;
+    let file = writer
+        .into_inner()
+        .map_err(Error::parquet(path))?
+        .into_inner()
+        .map_err(|e| Error::io(path)(e.into_error()))?;
+    file.sync_all().map_err(Error::io(path))
+}
+
+impl<St: StateColumns> ParquetObserver<St> {
+    /// Creates (or truncates) the file at `path` for a run described by `info`.
+    pub fn create(path: impl AsRef<Path>, info: RunInfo, options: Options<St>) -> Result<Self> {
+        let path = path.as_ref().to_owned();
+        assert_eq!(
+            info.columns.len(),
+            St::WIDTH,
+            "the description's columns are not those of this state"
+        );
+        let extra_names: &[String] = options.extra.as_ref().map_or(&[], |(n, _)| n);
+        let schema = Arc::new(trajectory_schema(
+            &info.columns,
+            options.member.is_some(),
+            extra_names,
+        ));
+        let mut kv = info.key_values();
+        kv.push(("dirac.every".into(), options.every.to_string()));
+        if let Some(m) = options.member {
+            kv.push(("dirac.member".into(), m.to_string()));
+        }
+        let writer = create_writer(
+            &path,
+            schema.clone(),
+            writer_properties(options.compression, kv),
+        )?;
+        let row_bytes = 8 * schema.fields().len();
+        let rows_per_group = (options.row_group_bytes / row_bytes).max(1);
+        let extra = extra_names.len();
+        Ok(ParquetObserver {
+            path,
+            writer: Some(writer),
+            schema,
+            h: info.h,
+            buffer: Buffer::new(St::WIDTH, extra, rows_per_group),
+            options,
+            rows_per_group,
+            scratch: vec![0.0; St::WIDTH],
+            extra_scratch: vec![0.0; extra],
+            last: None,
+            last_written: None,
+            rows: 0,
+            error: None,
+            _state: PhantomData,
+        })
+    }
+
+    /// The path written to.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Rows written or buffered so far.
+    pub fn rows(&self) -> u64 {
+        self.rows
+    }
+
+    /// The observer to pass to [`Drive::run`] (or any loop): it sees `(step, state, record)`.
+    pub fn observer<R: AsRef<StepStats>>(
+        &mut self,
+    ) -> impl FnMut(usize, &St, Option<&R>) + Send + '_ {
+        move |k, state, record| self.observe(k, state, record.map(AsRef::as_ref))
+    }
+
+    /// Observes state `k` and the statistics of the step that produced it (`None` for the
+    /// initial state).
+    pub fn observe(&mut self, k: usize, state: &St, stats: Option<&StepStats>) {
+        if k % self.options.every == 0 {
+            self.push(k, state, stats);
+        }
+        self.last = Some((k, *state, stats.copied()));
+    }
+
+    fn push(&mut self, k: usize, state: &St, stats: Option<&StepStats>) {
+        let b = &mut self.buffer;
+        b.step.push(k as u64);
+        b.t.push(k as f64 * self.h);
+        state.write_to(&mut self.scratch);
+        for (column, v) in b.state.iter_mut().zip(&self.scratch) {
+            column.push(*v);
+        }
+        b.iterations.push(stats.map(|s| s.iterations as u32));
+        b.residual.push(stats.map(|s| s.residual));
+        b.rcond.push(stats.and_then(|s| s.rcond));
+        if let Some((_, f)) = &mut self.options.extra {
+            f(k, state, &mut self.extra_scratch);
+            for (column, v) in b.extra.iter_mut().zip(&self.extra_scratch) {
+                column.push(*v);
+            }
+        }
+        self.rows += 1;
+        self.last_written = Some(k);
+        if b.len() >= self.rows_per_group {
+            self.write_group();
+        }
+    }
+
+    /// Writes the buffered rows as one row group.
+    fn write_group(&mut self) {
+        if self.buffer.len() == 0 || self.error.is_some() {
+            self.buffer = Buffer::new(St::WIDTH, self.extra_scratch.len(), 0);
+            return;
+        }
+        let b = std::mem::replace(
+            &mut self.buffer,
+            Buffer::new(St::WIDTH, self.extra_scratch.len(), self.rows_per_group),
+        );
+        let rows = b.len();
+        let mut columns: Vec<ArrayRef> = Vec::with_capacity(self.schema.fields().len());
+        if let Some(m) = self.options.member {
+            columns.push(Arc::new(UInt64Array::from(vec![m; rows])));
+        }
+        columns.push(Arc::new(UInt64Array::from(b.step)));
+        columns.push(Arc::new(Float64Array::from(b.t)));
+        columns.extend(
+            b.state
+                .into_iter()
+                .map(|c| Arc::new(Float64Array::from(c)) as ArrayRef),
+        );
+        columns.push(Arc::new(UInt32Array::from(b.iterations)));
+        columns.push(Arc::new(Float64Array::from(b.residual)));
+        columns.push(Arc::new(Float64Array::from(b.rcond)));
+        columns.extend(
+            b.extra
+                .into_iter()
+                .map(|c| Arc::new(Float64Array::from(c)) as ArrayRef),
+        );
+        let result = RecordBatch::try_new(self.schema.clone(), columns)
+            .map_err(Error::arrow(&self.path))
+            .and_then(|batch| {
+                let writer = self.writer.as_mut().expect("open until finished");
+                writer.write(&batch).map_err(Error::parquet(&self.path))?;
+                writer.flush().map_err(Error::parquet(&self.path))
+            });
+        if let Err(e) = result {
+            self.error = Some(e);
+        }
+    }
+
+    /// Writes the remaining rows and the footer; returns the path.
+    pub fn finish(mut self) -> Result<PathBuf> {
+        self.close()
+    }
+
+    /// [`Self::finish`] for a run that returned `result`: also writes its last state when
+    /// `every` skipped it, and records its outcome as metadata: `dirac.outcome` (`completed`,
+    /// `stopped` or `failed`), `dirac.steps` (steps completed) and, for a failure,
+    /// `dirac.error.kind`, `.step`, `.residual` and `.message` (the typed [`StepError`]).
+    pub fn finish_with<S2>(
+        mut self,
+        result: &Result<RunSummary<S2>, Box<IntegrationError<RunSummary<S2>>>>,
+    ) -> Result<PathBuf>
+    where
+        S2: std::fmt::Debug,
+    {
+        if let Some((k, state, stats)) = self.last {
+            if self.last_written != Some(k) {
+                self.push(k, &state, stats.as_ref());
+            }
+        }
+        let mut kv = Vec::new();
+        match result {
+            Ok(summary) => {
+                let outcome = if summary.stopped {
+                    "stopped"
+                } else {
+                    "completed"
+                };
+                kv.push(("dirac.outcome", outcome.to_owned()));
+                kv.push(("dirac.steps", summary.steps.to_string()));
+            }
+            Err(e) => {
+                kv.push(("dirac.outcome", "failed".to_owned()));
+                kv.push(("dirac.steps", e.trajectory.steps.to_string()));
+                kv.push(("dirac.error.kind", e.source.kind().to_owned()));
+                kv.push(("dirac.error.step", e.source.step().to_string()));
+                kv.push(("dirac.error.residual", float_text(e.source.residual())));
+                kv.push(("dirac.error.message", e.source.to_string()));
+            }
+        }
+        if let Some(writer) = &mut self.writer {
+            for (k, v) in kv {
+                writer.append_key_value_metadata(KeyValue::new(k.to_owned(), v));
+            }
+        }
+        self.close()
+    }
+
+    fn close(&mut self) -> Result<PathBuf> {
+        self.write_group();
+        if let Some(e) = self.error.take() {
+            return Err(e);
+        }
+        let writer = self.writer.take().expect("closed once");
+        close_writer(writer, &self.path)?;
+        Ok(self.path.clone())
+    }
+}
