@@ -227,8 +227,8 @@ pub(crate) fn create_writer(
 
 /// Writes the footer, flushes the buffer and syncs the file to disk (so that a rename after it
 /// publishes a complete file).
-pub(crate) fn close_writer(mut writer: ArrowWriter<BufWriter<File>>, path: &Path) -> Result<()> {
-    writer.finish().map_err(Error::parquet(path))?;
+pub(crate) fn close_writer(writer: ArrowWriter<BufWriter<File>>, path: &Path) -> Result<()> {
+    // `into_inner` writes the footer.
     let file = writer
         .into_inner()
         .map_err(Error::parquet(path))?

@@ -156,3 +156,12 @@ pub fn first_difference(a: &Path, b: &Path) -> Result<Option<String>> {
 pub fn schema(path: &Path) -> Result<arrow_schema::SchemaRef> {
     Ok(builder(path)?.schema().clone())
 }
+
+/// The number of row groups of the Parquet file at `path`, and the most rows one of them holds:
+/// what a reader or the writer held in memory at once.
+pub fn row_groups(path: &Path) -> Result<(usize, u64)> {
+    let builder = builder(path)?;
+    let groups = builder.metadata().row_groups();
+    let largest = groups.iter().map(|g| g.num_rows() as u64).max().unwrap_or(0);
+    Ok((groups.len(), largest))
+}
