@@ -61,7 +61,8 @@ where
     let bar = progress::bar(initials.len() as u64, "ensemble", "members");
     let members: Vec<(usize, I::State)> = initials.iter().copied().enumerate().collect();
     let outcomes = map(&members, |&(i, initial)| -> Result<RunResult<I::State>> {
-        let mut member_options = options(i);
+        // The members occupy every core: each writes its own row groups.
+        let mut member_options = options(i).background(false);
         if one_file.is_some() {
             member_options = member_options.member(i as u64);
         }

@@ -5,7 +5,9 @@ use std::fs::File;
 use std::io::BufWriter;
 use std::marker::PhantomData;
 use std::path::{Path, PathBuf};
+use std::sync::mpsc::{sync_channel, SyncSender};
 use std::sync::Arc;
+use std::thread::JoinHandle;
 
 use arrow_array::{ArrayRef, Float64Array, RecordBatch, UInt32Array, UInt64Array};
 use arrow_schema::{DataType, Field, Schema, SchemaRef};
@@ -22,7 +24,7 @@ use crate::error::{Error, Result};
 /// it writes is bounded whatever the run's length and the state's size: 2 MiB is 1,300 rows of
 /// the 200-particle lattice (400 state columns) or 20,000 rows of a 4-coordinate system,
 /// large enough that per-row-group overhead (one page header per column) is negligible.
-pub const ROW_GROUP_BYTES: usize = 2 << 20;
+pub const ROW_GROUP_BYTES: usize = 8 << 20;
 
 /// The energies (or any other derived quantities) written beside each state: the column names,
 /// and a function of the step index and the state that fills one value per name.
@@ -35,6 +37,7 @@ pub struct Options<St> {
     extra: Option<Extra<St>>,
     compression: Compression,
     row_group_bytes: usize,
+    background: bool,
 }
 
 impl<St> Default for Options<St> {
@@ -45,6 +48,7 @@ impl<St> Default for Options<St> {
             extra: None,
             compression: Compression::UNCOMPRESSED,
             row_group_bytes: ROW_GROUP_BYTES,
+            background: true,
         }
     }
 }
@@ -87,6 +91,17 @@ impl<St: StateColumns> Options<St> {
     #[must_use]
     pub fn snappy(mut self) -> Self {
         self.compression = Compression::SNAPPY;
+        self
+    }
+
+    /// Whether row groups are encoded and written on a thread of their own (the default), so that
+    /// the run's thread only copies its states into the buffer and goes on stepping while the
+    /// previous row group is written; at most two row groups are then held at once. Off, the
+    /// run's thread writes them itself (what an ensemble, whose members already occupy every
+    /// core, wants: [`crate::write_ensemble`] turns it off).
+    #[must_use]
+    pub fn background(mut self, background: bool) -> Self {
+        self.background = background;
         self
     }
 
@@ -155,8 +170,7 @@ impl Buffer {
 /// ```
 pub struct ParquetObserver<St: StateColumns> {
     path: PathBuf,
-    writer: Option<ArrowWriter<BufWriter<File>>>,
-    schema: SchemaRef,
+    sink: Option<Sink>,
     h: f64,
     options: Options<St>,
     rows_per_group: usize,
@@ -168,7 +182,6 @@ pub struct ParquetObserver<St: StateColumns> {
     last: Option<(usize, St, Option<StepStats>)>,
     last_written: Option<usize>,
     rows: u64,
-    error: Option<Error>,
     _state: PhantomData<St>,
 }
 
@@ -194,7 +207,9 @@ pub fn trajectory_schema(columns: &[String], member: bool, extra: &[String]) -> 
 }
 
 /// Writer properties for `f64` columns: plain encoding (a dictionary of distinct floats is as
-/// large as the data and costs a hash per value), statistics per column chunk only.
+/// large as the data and costs a hash per value), no statistics and no offset index: the
+/// footer, which the writer holds until the file is closed, then grows by one column chunk's
+/// metadata per column and row group and nothing else.
 pub(crate) fn writer_properties(
     compression: Compression,
     kv: Vec<(String, String)>,
@@ -202,7 +217,10 @@ pub(crate) fn writer_properties(
     WriterProperties::builder()
         .set_compression(compression)
         .set_dictionary_enabled(false)
-        .set_statistics_enabled(EnabledStatistics::Chunk)
+        .set_statistics_enabled(EnabledStatistics::None)
+        // A column chunk of a row group is one or a few pages: an index of their offsets
+        // would only grow the footer.
+        .set_offset_index_disabled(true)
         .set_max_row_group_row_count(None)
         .set_max_row_group_bytes(Some(ROW_GROUP_BYTES))
         .set_key_value_metadata(Some(
@@ -225,16 +243,23 @@ pub(crate) fn create_writer(
     .map_err(Error::parquet(path))
 }
 
-/// Writes the footer, flushes the buffer and syncs the file to disk (so that a rename after it
-/// publishes a complete file).
-pub(crate) fn close_writer(writer: ArrowWriter<BufWriter<File>>, path: &Path) -> Result<()> {
+/// Writes the footer and flushes the buffer; with `sync`, also syncs the file to disk (so that a
+/// rename after it publishes a complete file).
+pub(crate) fn close_writer(
+    writer: ArrowWriter<BufWriter<File>>,
+    path: &Path,
+    sync: bool,
+) -> Result<()> {
     // `into_inner` writes the footer.
     let file = writer
         .into_inner()
         .map_err(Error::parquet(path))?
         .into_inner()
         .map_err(|e| Error::io(path)(e.into_error()))?;
-    file.sync_all().map_err(Error::io(path))
+    if sync {
+        file.sync_all().map_err(Error::io(path))?;
+    }
+    Ok(())
 }
 
 impl<St: StateColumns> ParquetObserver<St> {
@@ -266,9 +291,16 @@ impl<St: StateColumns> ParquetObserver<St> {
         let rows_per_group = (options.row_group_bytes / row_bytes).max(1);
         let extra = extra_names.len();
         Ok(ParquetObserver {
-            path,
-            writer: Some(writer),
-            schema,
+            path: path.clone(),
+            sink: Some(Sink::start(
+                writer,
+                Encoder {
+                    schema,
+                    member: options.member,
+                    path,
+                },
+                options.background,
+            )),
             h: info.h,
             buffer: Buffer::new(St::WIDTH, extra, rows_per_group),
             options,
@@ -278,7 +310,6 @@ impl<St: StateColumns> ParquetObserver<St> {
             last: None,
             last_written: None,
             rows: 0,
-            error: None,
             _state: PhantomData,
         })
     }
@@ -333,51 +364,18 @@ impl<St: StateColumns> ParquetObserver<St> {
         }
     }
 
-    /// Writes the buffered rows as one row group.
+    /// Hands the buffered rows to the sink as one row group.
     fn write_group(&mut self) {
-        if self.buffer.len() == 0 || self.error.is_some() {
-            self.buffer = Buffer::new(St::WIDTH, self.extra_scratch.len(), 0);
-            return;
-        }
-        let b = std::mem::replace(
-            &mut self.buffer,
-            Buffer::new(St::WIDTH, self.extra_scratch.len(), self.rows_per_group),
-        );
-        let rows = b.len();
-        let mut columns: Vec<ArrayRef> = Vec::with_capacity(self.schema.fields().len());
-        if let Some(m) = self.options.member {
-            columns.push(Arc::new(UInt64Array::from(vec![m; rows])));
-        }
-        columns.push(Arc::new(UInt64Array::from(b.step)));
-        columns.push(Arc::new(Float64Array::from(b.t)));
-        columns.extend(
-            b.state
-                .into_iter()
-                .map(|c| Arc::new(Float64Array::from(c)) as ArrayRef),
-        );
-        columns.push(Arc::new(UInt32Array::from(b.iterations)));
-        columns.push(Arc::new(Float64Array::from(b.residual)));
-        columns.push(Arc::new(Float64Array::from(b.rcond)));
-        columns.extend(
-            b.extra
-                .into_iter()
-                .map(|c| Arc::new(Float64Array::from(c)) as ArrayRef),
-        );
-        let result = RecordBatch::try_new(self.schema.clone(), columns)
-            .map_err(Error::arrow(&self.path))
-            .and_then(|batch| {
-                let writer = self.writer.as_mut().expect("open until finished");
-                writer.write(&batch).map_err(Error::parquet(&self.path))?;
-                writer.flush().map_err(Error::parquet(&self.path))
-            });
-        if let Err(e) = result {
-            self.error = Some(e);
+        let fresh = Buffer::new(St::WIDTH, self.extra_scratch.len(), self.rows_per_group);
+        let full = std::mem::replace(&mut self.buffer, fresh);
+        if full.len() > 0 {
+            self.sink.as_mut().expect("open until finished").write(full);
         }
     }
 
     /// Writes the remaining rows and the footer; returns the path.
     pub fn finish(mut self) -> Result<PathBuf> {
-        self.close()
+        self.close_with(Vec::new())
     }
 
     /// [`Self::finish`] for a run that returned `result`: also writes its last state when
@@ -416,21 +414,130 @@ impl<St: StateColumns> ParquetObserver<St> {
                 kv.push(("dirac.error.message", e.source.to_string()));
             }
         }
-        if let Some(writer) = &mut self.writer {
-            for (k, v) in kv {
-                writer.append_key_value_metadata(KeyValue::new(k.to_owned(), v));
-            }
-        }
-        self.close()
+        let kv = kv.into_iter().map(|(k, v)| (k.to_owned(), v)).collect();
+        self.close_with(kv)
     }
 
-    fn close(&mut self) -> Result<PathBuf> {
+    fn close_with(&mut self, kv: Vec<(String, String)>) -> Result<PathBuf> {
         self.write_group();
-        if let Some(e) = self.error.take() {
-            return Err(e);
+        let mut writer = self.sink.take().expect("closed once").finish()?;
+        for (k, v) in kv {
+            writer.append_key_value_metadata(KeyValue::new(k, v));
         }
-        let writer = self.writer.take().expect("closed once");
-        close_writer(writer, &self.path)?;
+        close_writer(writer, &self.path, false)?;
         Ok(self.path.clone())
+    }
+}
+
+type Writer = ArrowWriter<BufWriter<File>>;
+
+/// Turns a buffer into a record batch of the file's schema.
+struct Encoder {
+    schema: SchemaRef,
+    member: Option<u64>,
+    path: PathBuf,
+}
+
+impl Encoder {
+    fn write(&self, writer: &mut Writer, b: Buffer) -> Result<()> {
+        let rows = b.len();
+        let mut columns: Vec<ArrayRef> = Vec::with_capacity(self.schema.fields().len());
+        if let Some(m) = self.member {
+            columns.push(Arc::new(UInt64Array::from(vec![m; rows])));
+        }
+        columns.push(Arc::new(UInt64Array::from(b.step)));
+        columns.push(Arc::new(Float64Array::from(b.t)));
+        columns.extend(
+            b.state
+                .into_iter()
+                .map(|c| Arc::new(Float64Array::from(c)) as ArrayRef),
+        );
+        columns.push(Arc::new(UInt32Array::from(b.iterations)));
+        columns.push(Arc::new(Float64Array::from(b.residual)));
+        columns.push(Arc::new(Float64Array::from(b.rcond)));
+        columns.extend(
+            b.extra
+                .into_iter()
+                .map(|c| Arc::new(Float64Array::from(c)) as ArrayRef),
+        );
+        let batch =
+            RecordBatch::try_new(self.schema.clone(), columns).map_err(Error::arrow(&self.path))?;
+        writer.write(&batch).map_err(Error::parquet(&self.path))?;
+        // One batch is one row group: what is held in memory is bounded by it.
+        writer.flush().map_err(Error::parquet(&self.path))
+    }
+}
+
+/// Where full buffers go: written on the run's thread, or sent to a writer thread through a
+/// channel of capacity 1 (so the run waits rather than queue more than one row group ahead).
+enum Sink {
+    Inline {
+        writer: Writer,
+        encoder: Encoder,
+        error: Option<Error>,
+    },
+    Thread {
+        sender: Option<SyncSender<Buffer>>,
+        worker: JoinHandle<Result<Writer>>,
+    },
+}
+
+impl Sink {
+    fn start(writer: Writer, encoder: Encoder, background: bool) -> Self {
+        if !background {
+            return Sink::Inline {
+                writer,
+                encoder,
+                error: None,
+            };
+        }
+        let (sender, receiver) = sync_channel::<Buffer>(1);
+        let worker = std::thread::spawn(move || {
+            let mut writer = writer;
+            for buffer in receiver {
+                // On an error the thread ends, the channel closes, and the run stops sending.
+                encoder.write(&mut writer, buffer)?;
+            }
+            Ok(writer)
+        });
+        Sink::Thread {
+            sender: Some(sender),
+            worker,
+        }
+    }
+
+    fn write(&mut self, buffer: Buffer) {
+        match self {
+            Sink::Inline {
+                writer,
+                encoder,
+                error,
+            } => {
+                if error.is_none() {
+                    if let Err(e) = encoder.write(writer, buffer) {
+                        *error = Some(e);
+                    }
+                }
+            }
+            Sink::Thread { sender, .. } => {
+                if let Some(s) = sender {
+                    if s.send(buffer).is_err() {
+                        // The writer failed; its error is returned by `finish`.
+                        *sender = None;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Waits for every row group to be written; returns the writer, or the first error.
+    fn finish(self) -> Result<Writer> {
+        match self {
+            Sink::Inline { writer, error, .. } => error.map_or(Ok(writer), Err),
+            Sink::Thread { sender, worker } => {
+                drop(sender);
+                worker.join().expect("the writer thread does not panic")
+            }
+        }
     }
 }

@@ -95,7 +95,7 @@ pub fn concatenate(inputs: &[PathBuf], out: &Path, kv: Vec<(String, String)>) ->
             writer.write(&batch).map_err(Error::parquet(out))?;
         }
     }
-    close_writer(writer, out)?;
+    close_writer(writer, out, true)?;
     Ok(rows)
 }
 
@@ -162,6 +162,10 @@ pub fn schema(path: &Path) -> Result<arrow_schema::SchemaRef> {
 pub fn row_groups(path: &Path) -> Result<(usize, u64)> {
     let builder = builder(path)?;
     let groups = builder.metadata().row_groups();
-    let largest = groups.iter().map(|g| g.num_rows() as u64).max().unwrap_or(0);
+    let largest = groups
+        .iter()
+        .map(|g| g.num_rows() as u64)
+        .max()
+        .unwrap_or(0);
     Ok((groups.len(), largest))
 }

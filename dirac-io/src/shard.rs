@@ -439,7 +439,7 @@ fn write_rows(
     )?;
     let batch = RecordBatch::try_new(schema, arrays).map_err(Error::arrow(path))?;
     writer.write(&batch).map_err(Error::parquet(path))?;
-    close_writer(writer, path)
+    close_writer(writer, path, true)
 }
 
 /// What [`merge`] wrote.

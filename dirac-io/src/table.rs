@@ -281,6 +281,6 @@ impl Table {
             .collect();
         let batch = RecordBatch::try_new(schema, columns).map_err(Error::arrow(path))?;
         writer.write(&batch).map_err(Error::parquet(path))?;
-        close_writer(writer, path)
+        close_writer(writer, path, true)
     }
 }

@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-use dirac_io::read::{first_difference, key_values, read_batches, row_count};
 use arrow_array::Array;
+use dirac_io::read::{first_difference, key_values, read_batches, row_count};
 use dirac_io::shard::{merge, Shard};
 
 const BIN: &str = env!("CARGO_BIN_EXE_dsp-ensemble");
