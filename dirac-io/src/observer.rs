@@ -334,7 +334,7 @@ impl<St: StateColumns> ParquetObserver<St> {
     /// Observes state `k` and the statistics of the step that produced it (`None` for the
     /// initial state).
     pub fn observe(&mut self, k: usize, state: &St, stats: Option<&StepStats>) {
-        if k % self.options.every == 0 {
+        if k.is_multiple_of(self.options.every) {
             self.push(k, state, stats);
         }
         self.last = Some((k, *state, stats.copied()));
@@ -472,7 +472,7 @@ impl Encoder {
 /// channel of capacity 1 (so the run waits rather than queue more than one row group ahead).
 enum Sink {
     Inline {
-        writer: Writer,
+        writer: Box<Writer>,
         encoder: Encoder,
         error: Option<Error>,
     },
@@ -486,7 +486,7 @@ impl Sink {
     fn start(writer: Writer, encoder: Encoder, background: bool) -> Self {
         if !background {
             return Sink::Inline {
-                writer,
+                writer: Box::new(writer),
                 encoder,
                 error: None,
             };
@@ -533,7 +533,7 @@ impl Sink {
     /// Waits for every row group to be written; returns the writer, or the first error.
     fn finish(self) -> Result<Writer> {
         match self {
-            Sink::Inline { writer, error, .. } => error.map_or(Ok(writer), Err),
+            Sink::Inline { writer, error, .. } => error.map_or(Ok(*writer), Err),
             Sink::Thread { sender, worker } => {
                 drop(sender);
                 worker.join().expect("the writer thread does not panic")

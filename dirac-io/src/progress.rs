@@ -54,7 +54,7 @@ pub fn follow<St, R>(
     let bar = bar(steps as u64, label, "steps");
     move |k, state, record| {
         observe(k, state, record);
-        if k % STRIDE == 0 || k == steps {
+        if k.is_multiple_of(STRIDE) || k == steps {
             bar.set_position(k as u64);
             if k == steps {
                 bar.finish();
