@@ -38,6 +38,7 @@ pub struct Options<St> {
     compression: Compression,
     row_group_bytes: usize,
     background: bool,
+    rows_per_file: Option<u64>,
 }
 
 impl<St> Default for Options<St> {
@@ -49,6 +50,7 @@ impl<St> Default for Options<St> {
             compression: Compression::UNCOMPRESSED,
             row_group_bytes: ROW_GROUP_BYTES,
             background: true,
+            rows_per_file: None,
         }
     }
 }
@@ -102,6 +104,20 @@ impl<St: StateColumns> Options<St> {
     #[must_use]
     pub fn background(mut self, background: bool) -> Self {
         self.background = background;
+        self
+    }
+
+    /// Splits the output into files of at most about `rows` rows (whole row groups): the path
+    /// given to [`ParquetObserver::create`] is then a directory of `part-00000.parquet`,
+    /// `part-00001.parquet`, …, one dataset for pyarrow (`pq.read_table(dir)`), Polars
+    /// (`pl.read_parquet(f"{dir}/*.parquet")`) and DuckDB (`'dir/*.parquet'`). A Parquet
+    /// file's footer (held by the writer until the file is closed) grows by one entry per
+    /// column and row group, about 120 bytes of memory per row of the 200-particle lattice; with
+    /// parts, memory no longer grows with the run's length at all. Each part carries the run's
+    /// metadata; the last one also its outcome.
+    #[must_use]
+    pub fn rows_per_file(mut self, rows: u64) -> Self {
+        self.rows_per_file = Some(rows.max(1));
         self
     }
 
@@ -282,22 +298,34 @@ impl<St: StateColumns> ParquetObserver<St> {
         if let Some(m) = options.member {
             kv.push(("dirac.member".into(), m.to_string()));
         }
-        let writer = create_writer(
-            &path,
-            schema.clone(),
-            writer_properties(options.compression, kv),
-        )?;
+        let properties = writer_properties(options.compression, kv);
+        let (first, parts) = match options.rows_per_file {
+            None => (path.clone(), None),
+            Some(rows_per_file) => {
+                std::fs::create_dir_all(&path).map_err(Error::io(&path))?;
+                let parts = Parts {
+                    dir: path.clone(),
+                    rows_per_file,
+                    index: 0,
+                    rows: 0,
+                };
+                (parts.file(0), Some(parts))
+            }
+        };
+        let writer = create_writer(&first, schema.clone(), properties.clone())?;
         let row_bytes = 8 * schema.fields().len();
         let rows_per_group = (options.row_group_bytes / row_bytes).max(1);
         let extra = extra_names.len();
         Ok(ParquetObserver {
             path: path.clone(),
             sink: Some(Sink::start(
-                writer,
                 Encoder {
+                    writer,
                     schema,
                     member: options.member,
-                    path,
+                    path: first,
+                    properties,
+                    parts,
                 },
                 options.background,
             )),
@@ -420,27 +448,64 @@ impl<St: StateColumns> ParquetObserver<St> {
 
     fn close_with(&mut self, kv: Vec<(String, String)>) -> Result<PathBuf> {
         self.write_group();
-        let mut writer = self.sink.take().expect("closed once").finish()?;
+        let mut encoder = self.sink.take().expect("closed once").finish()?;
         for (k, v) in kv {
-            writer.append_key_value_metadata(KeyValue::new(k, v));
+            encoder
+                .writer
+                .append_key_value_metadata(KeyValue::new(k, v));
         }
-        close_writer(writer, &self.path, false)?;
+        close_writer(encoder.writer, &encoder.path, false)?;
         Ok(self.path.clone())
     }
 }
 
 type Writer = ArrowWriter<BufWriter<File>>;
 
-/// Turns a buffer into a record batch of the file's schema.
+/// Where [`Options::rows_per_file`] splits a run into parts.
+struct Parts {
+    dir: PathBuf,
+    rows_per_file: u64,
+    /// The part being written.
+    index: usize,
+    /// Rows written to it.
+    rows: u64,
+}
+
+impl Parts {
+    fn file(&self, index: usize) -> PathBuf {
+        self.dir.join(format!("part-{index:05}.parquet"))
+    }
+}
+
+/// Writes buffers as row groups of the file's schema, into the current file or part.
 struct Encoder {
+    writer: Writer,
     schema: SchemaRef,
     member: Option<u64>,
+    /// The file being written.
     path: PathBuf,
+    properties: WriterProperties,
+    parts: Option<Parts>,
 }
 
 impl Encoder {
-    fn write(&self, writer: &mut Writer, b: Buffer) -> Result<()> {
+    fn write(&mut self, b: Buffer) -> Result<()> {
         let rows = b.len();
+        if let Some(parts) = &mut self.parts {
+            // A full part is closed when the next row group arrives, so the last part is never
+            // empty and always open for the run's outcome.
+            if parts.rows >= parts.rows_per_file {
+                parts.index += 1;
+                parts.rows = 0;
+                let next = parts.file(parts.index);
+                let writer = create_writer(&next, self.schema.clone(), self.properties.clone())?;
+                let full = std::mem::replace(&mut self.writer, writer);
+                close_writer(full, &self.path, false)?;
+                self.path = next;
+            }
+            parts.rows += rows as u64;
+        }
+        let writer = &mut self.writer;
         let mut columns: Vec<ArrayRef> = Vec::with_capacity(self.schema.fields().len());
         if let Some(m) = self.member {
             columns.push(Arc::new(UInt64Array::from(vec![m; rows])));
@@ -472,33 +537,31 @@ impl Encoder {
 /// channel of capacity 1 (so the run waits rather than queue more than one row group ahead).
 enum Sink {
     Inline {
-        writer: Box<Writer>,
-        encoder: Encoder,
+        encoder: Box<Encoder>,
         error: Option<Error>,
     },
     Thread {
         sender: Option<SyncSender<Buffer>>,
-        worker: JoinHandle<Result<Writer>>,
+        worker: JoinHandle<Result<Encoder>>,
     },
 }
 
 impl Sink {
-    fn start(writer: Writer, encoder: Encoder, background: bool) -> Self {
+    fn start(encoder: Encoder, background: bool) -> Self {
         if !background {
             return Sink::Inline {
-                writer: Box::new(writer),
-                encoder,
+                encoder: Box::new(encoder),
                 error: None,
             };
         }
         let (sender, receiver) = sync_channel::<Buffer>(1);
         let worker = std::thread::spawn(move || {
-            let mut writer = writer;
+            let mut encoder = encoder;
             for buffer in receiver {
                 // On an error the thread ends, the channel closes, and the run stops sending.
-                encoder.write(&mut writer, buffer)?;
+                encoder.write(buffer)?;
             }
-            Ok(writer)
+            Ok(encoder)
         });
         Sink::Thread {
             sender: Some(sender),
@@ -508,13 +571,9 @@ impl Sink {
 
     fn write(&mut self, buffer: Buffer) {
         match self {
-            Sink::Inline {
-                writer,
-                encoder,
-                error,
-            } => {
+            Sink::Inline { encoder, error } => {
                 if error.is_none() {
-                    if let Err(e) = encoder.write(writer, buffer) {
+                    if let Err(e) = encoder.write(buffer) {
                         *error = Some(e);
                     }
                 }
@@ -530,10 +589,10 @@ impl Sink {
         }
     }
 
-    /// Waits for every row group to be written; returns the writer, or the first error.
-    fn finish(self) -> Result<Writer> {
+    /// Waits for every row group to be written; returns the encoder, or the first error.
+    fn finish(self) -> Result<Encoder> {
         match self {
-            Sink::Inline { writer, error, .. } => error.map_or(Ok(*writer), Err),
+            Sink::Inline { encoder, error } => error.map_or(Ok(*encoder), Err),
             Sink::Thread { sender, worker } => {
                 drop(sender);
                 worker.join().expect("the writer thread does not panic")

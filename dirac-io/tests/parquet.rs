@@ -329,3 +329,55 @@ fn files_for_the_python_round_trip() {
     let json = format!("{{\n{}\n}}\n", fields.join(",\n"));
     std::fs::write(dir.join("dsp.expected.json"), json).unwrap();
 }
+
+/// A run split into parts holds, part after part, exactly the rows of the same run in one file;
+/// every part has the run's metadata, the last one its outcome.
+#[test]
+fn a_run_split_into_parts_is_the_run_in_one_file() {
+    let dir = scratch("parts");
+    let integ = dsp();
+    let start = DoubleSphericalPendulum::paper_initial_state();
+    let write = |path: &Path, options: Options<ReducedState<3, 1>>| {
+        let mut out = ParquetObserver::create(path, integ.describe(), options).unwrap();
+        let result = integ.run(start, 1000, out.observer());
+        out.finish_with(&result).unwrap()
+    };
+    // Row groups of 64 rows (13 columns of 8 bytes), parts of at least 300 rows: 5 groups each.
+    let small = || Options::new().row_group_bytes(64 * 13 * 8);
+    let one = write(&dir.join("one.parquet"), small());
+    let parts = write(&dir.join("parts"), small().rows_per_file(300));
+    assert!(parts.is_dir());
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&parts)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    files.sort();
+    let names: Vec<String> = files
+        .iter()
+        .map(|f| f.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "part-00000.parquet",
+            "part-00001.parquet",
+            "part-00002.parquet",
+            "part-00003.parquet"
+        ]
+    );
+    for f in &files[..3] {
+        assert_eq!(row_groups(f).unwrap(), (5, 64));
+        assert_eq!(
+            key_values(f).unwrap()["dirac.parameters"],
+            "h,m1,m2,l1,l2,g"
+        );
+        assert!(!key_values(f).unwrap().contains_key("dirac.outcome"));
+    }
+    assert_eq!(key_values(&files[3]).unwrap()["dirac.outcome"], "completed");
+    let merged = dir.join("merged.parquet");
+    dirac_io::read::concatenate(&files, &merged, Vec::new()).unwrap();
+    assert_eq!(
+        dirac_io::read::first_difference(&merged, &one).unwrap(),
+        None
+    );
+}
