@@ -3,8 +3,10 @@
 //! machines, one machine in several sittings) and restart where they stopped, and progress bars.
 //!
 //! * [`ParquetObserver`]: an observer for [`Drive::run`](dirac::Drive::run) that streams states
-//!   into a Parquet file in memory independent of the run's length; [`write_ensemble`] for
-//!   ensembles (one file per member, or one file with a `member` column);
+//!   into a Parquet file, one bounded row group at a time, encoded on a thread of its own
+//!   ([`Options::rows_per_file`] splits a long run into parts, so that not even the footer grows
+//!   with it); [`write_ensemble`] for ensembles (one file per member, or one file with a
+//!   `member` column);
 //! * [`table`]: an ensemble as a table of initial states and parameters (CSV or Parquet);
 //! * [`shard`]: shard `i` of `n` of such an ensemble, written atomically and skipped when already
 //!   complete, failed members recorded with their typed error; [`shard::merge`] gives one table;
