@@ -1,8 +1,8 @@
 //! What writing every state to Parquet costs: the 200-particle Toda lattice (the root crate's
 //! `examples/lattice.rs`) run with a no-op observer and with a [`ParquetObserver`] writing every
-//! state (400 state columns), in one process, alternately, best of three; then the peak memory
-//! of runs 1× and 4× as long written in parts (`Options::rows_per_file`), which does not grow
-//! with the run, and of the 4× run written to one file, whose footer does.
+//! state (400 state columns), in one process, alternately, best of five; before that, the peak
+//! memory of runs 1× and 4× as long written in parts (`Options::rows_per_file`), which does not
+//! grow with the run, and of the 4× run written to one file, whose footer does.
 //!
 //! ```sh
 //! cargo run --release --manifest-path dirac-io/Cargo.toml --target-dir target \
@@ -78,6 +78,40 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         2 * toda::N
     );
 
+    // Memory first (the peak is a high-water mark): split into parts of `steps` rows, memory does
+    // not depend on the run's length; one file keeps its growing footer in memory until closed
+    // (one entry per column and row group).
+    let peak_memory = |n: usize, split: bool| -> Result<Option<f64>, Box<dyn std::error::Error>> {
+        let options = if split {
+            Options::new().rows_per_file(steps as u64)
+        } else {
+            Options::new()
+        };
+        let target = if split {
+            out.with_extension("parts")
+        } else {
+            out.clone()
+        };
+        let _ = std::fs::remove_dir_all(&target);
+        let mut writer = ParquetObserver::create(&target, integ.describe(), options)?;
+        let label = format!("{n} steps{}", if split { ", in parts" } else { "" });
+        let result = integ.run(start, n, progress::follow(n, &label, writer.observer()));
+        writer.finish_with(&result)?;
+        result?;
+        Ok(peak_memory_mib())
+    };
+    let parts = [peak_memory(steps, true)?, peak_memory(4 * steps, true)?];
+    let single = peak_memory(4 * steps, false)?;
+    if let ([Some(a), Some(b)], Some(c)) = (parts, single) {
+        println!(
+            "  peak memory, parts of {steps} rows: {a:.1} MiB after {steps} steps, {b:.1} MiB after {} steps",
+            4 * steps
+        );
+        println!(
+            "  peak memory, one file of {} steps: {c:.1} MiB (the footer grows with the run)",
+            4 * steps
+        );
+    }
     let noop = |label: &str| {
         timed(|| {
             integ.run(
@@ -129,38 +163,5 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         best_parquet.0 / best_noop.0,
         best_parquet.1 / best_noop.1
     );
-    // Memory: one file keeps its growing footer in memory until closed (one entry per column and
-    // row group); split into parts of `steps` rows, memory does not depend on the run's length.
-    let peak_memory = |n: usize, split: bool| -> Result<Option<f64>, Box<dyn std::error::Error>> {
-        let options = if split {
-            Options::new().rows_per_file(steps as u64)
-        } else {
-            Options::new()
-        };
-        let target = if split {
-            out.with_extension("parts")
-        } else {
-            out.clone()
-        };
-        let _ = std::fs::remove_dir_all(&target);
-        let mut writer = ParquetObserver::create(&target, integ.describe(), options)?;
-        let label = format!("{n} steps{}", if split { ", in parts" } else { "" });
-        let result = integ.run(start, n, progress::follow(n, &label, writer.observer()));
-        writer.finish_with(&result)?;
-        result?;
-        Ok(peak_memory_mib())
-    };
-    let parts = [peak_memory(steps, true)?, peak_memory(4 * steps, true)?];
-    let single = peak_memory(4 * steps, false)?;
-    if let ([Some(a), Some(b)], Some(c)) = (parts, single) {
-        println!(
-            "  peak memory, parts of {steps} rows: {a:.1} MiB after {steps} steps, {b:.1} MiB after {} steps",
-            4 * steps
-        );
-        println!(
-            "  peak memory, one file of {} steps: {c:.1} MiB (the footer grows with the run)",
-            4 * steps
-        );
-    }
     Ok(())
 }
