@@ -287,3 +287,33 @@ fn the_shard_comes_from_slurm_array_variables() {
     assert!(run("2", "1", &["--shards", "4"]).status.success());
     assert!(dir.join("shard-00002-of-00004.parquet").exists());
 }
+
+/// Progress bars are drawn only on a terminal: with standard error a pipe (a batch job's log),
+/// a shard writes its one start line there and nothing else.
+#[test]
+fn no_progress_bar_when_stderr_is_not_a_terminal() {
+    let dir = scratch("quiet");
+    let table = dir.join("table.csv");
+    dsp_ensemble(&["table", "--members", "50", "--out", s(&table)]);
+    let out = Command::new(BIN)
+        .args([
+            "shard",
+            "--table",
+            s(&table),
+            "--out",
+            s(&dir),
+            "--steps",
+            "200",
+            "--shard",
+            "0/1",
+        ])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert_eq!(stderr.lines().count(), 1, "{stderr:?}");
+    assert!(
+        stderr.starts_with("shard 0/1: members 0..50 of 50"),
+        "{stderr:?}"
+    );
+}
