@@ -17,7 +17,7 @@ work=$root/target/slurm-test
 rm -rf "$work"
 mkdir -p "$work"
 cd "$work"
-members=${MEMBERS:-8000}
+members=${MEMBERS:-12000}
 steps=${STEPS:-1000}
 "$bin" table --members "$members" --out table.csv --failing
 
@@ -53,7 +53,7 @@ for _ in $(seq 1 600); do
     sleep 0.5
 done
 check "shard 2 started" [ "$state" = RUNNING ]
-sleep 2
+sleep 1
 check "shard 2 still running when cancelled" [ "$(squeue -h -j "${job}_2" -o %T 2>/dev/null)" = RUNNING ]
 scancel "${job}_2"
 wait_job "$job"

@@ -193,7 +193,7 @@ fn a_killed_shard_is_simply_rerun() {
             "--out".into(),
             s(&shards).into(),
             "--steps".into(),
-            "400".into(),
+            "800".into(),
             "--shard".into(),
             format!("{i}/2"),
         ]
@@ -210,7 +210,7 @@ fn a_killed_shard_is_simply_rerun() {
         .read_line(&mut line)
         .unwrap();
     assert!(line.starts_with("shard 1/2"), "{line}");
-    std::thread::sleep(Duration::from_millis(300));
+    std::thread::sleep(Duration::from_millis(200));
     assert_eq!(
         child.try_wait().unwrap(),
         None,
@@ -238,7 +238,7 @@ fn a_killed_shard_is_simply_rerun() {
         "--out",
         s(&dir.join("one")),
         "--steps",
-        "400",
+        "800",
         "--shard",
         "0/1",
     ]);
