@@ -72,8 +72,10 @@ use dirac::runtime::ensemble::map;
 use parquet::basic::Compression;
 
 use crate::columns::{Describe, StateColumns};
+use crate::ensemble::member_file;
 use crate::error::{Error, Result};
 use crate::observer::{close_writer, create_writer, writer_properties};
+use crate::observer::{Options, ParquetObserver};
 use crate::progress;
 use crate::read::{concatenate, key_values, row_count};
 pub use crate::table::{Row, Table};
@@ -151,6 +153,15 @@ impl Shard {
     pub fn file_name(&self) -> String {
         format!("shard-{:05}-of-{:05}.parquet", self.index, self.count)
     }
+
+    /// The file of the shard's trajectories ([`run_shard_with_states`]),
+    /// `shard-00002-of-00004.states.parquet`.
+    pub fn states_file_name(&self) -> String {
+        format!(
+            "shard-{:05}-of-{:05}.states.parquet",
+            self.index, self.count
+        )
+    }
 }
 
 /// What [`run_shard`] did.
@@ -223,9 +234,18 @@ struct MemberRow {
 }
 
 /// The identity a shard file records and a rerun checks.
-fn identity(table: &Table, steps: usize, shard: Option<Shard>) -> Vec<(String, String)> {
+fn identity(
+    table: &Table,
+    steps: usize,
+    every: Option<usize>,
+    shard: Option<Shard>,
+) -> Vec<(String, String)> {
     let mut kv = vec![
         ("dirac.steps".to_owned(), steps.to_string()),
+        (
+            "dirac.states.every".to_owned(),
+            every.map_or("none".to_owned(), |k| k.to_string()),
+        ),
         (
             "dirac.table.fingerprint".to_owned(),
             format!("{:016x}", table.fingerprint()),
@@ -270,13 +290,34 @@ where
     I: Describe,
     F: Fn(Row<'_>) -> (I, I::State) + Sync,
 {
+    run_shard_with_states(table, shard, dir, steps, None, member)
+}
+
+/// [`run_shard`] that also writes every member's trajectory, every `every`-th state (and the
+/// last), to `shard-<i>-of-<n>.states.parquet` in the [trajectory schema](crate) with a `member`
+/// column, members in order. Each member streams into its own part (a hidden directory beside
+/// the shard), so memory stays bounded; the parts are concatenated and published before the
+/// shard's own file, whose presence still means "complete". With `every = None`, only the
+/// shard's table of members is written.
+pub fn run_shard_with_states<I, F>(
+    table: &Table,
+    shard: Shard,
+    dir: &Path,
+    steps: usize,
+    every: Option<usize>,
+    member: F,
+) -> Result<ShardReport>
+where
+    I: Describe,
+    F: Fn(Row<'_>) -> (I, I::State) + Sync,
+{
     if table.is_empty() {
         return Err(Error::Usage("the ensemble table has no rows".into()));
     }
     std::fs::create_dir_all(dir).map_err(Error::io(dir))?;
     let path = dir.join(shard.file_name());
     let members = shard.members(table.len());
-    let expected = identity(table, steps, Some(shard));
+    let expected = identity(table, steps, every, Some(shard));
     if path.exists() {
         let found = key_values(&path)?;
         if let Some(d) = disagreement(&found, &expected) {
@@ -295,6 +336,15 @@ where
         }
     }
     remove_partials(&path)?;
+    let states = dir.join(shard.states_file_name());
+    remove_partials(&states)?;
+    let parts = dir.join(format!(".{}.parts", shard.states_file_name()));
+    if parts.exists() {
+        std::fs::remove_dir_all(&parts).map_err(Error::io(&parts))?;
+    }
+    if every.is_some() {
+        std::fs::create_dir_all(&parts).map_err(Error::io(&parts))?;
+    }
 
     let info = member(table.row(0)).0.describe();
     let bar = progress::bar(
@@ -303,9 +353,20 @@ where
         "members",
     );
     let indices: Vec<usize> = members.clone().collect();
-    let rows = map(&indices, |&i| {
+    let rows = map(&indices, |&i| -> Result<MemberRow> {
         let (integ, initial) = member(table.row(i));
-        let result = integ.run(initial, steps, |_, _, _| {});
+        let result = match every {
+            None => integ.run(initial, steps, |_, _, _| {}),
+            Some(k) => {
+                // The members occupy every core: each writes its own row groups.
+                let options = Options::new().every(k).member(i as u64).background(false);
+                let mut out =
+                    ParquetObserver::create(member_file(&parts, i), info.clone(), options)?;
+                let result = integ.run(initial, steps, out.observer());
+                out.finish_with(&result)?;
+                result
+            }
+        };
         let (summary, error) = match result {
             Ok(s) => (s, None),
             Err(e) => (e.trajectory, Some(e.source)),
@@ -313,7 +374,7 @@ where
         let mut last = vec![0.0; I::State::WIDTH];
         summary.last.write_to(&mut last);
         bar.inc(1);
-        MemberRow {
+        Ok(MemberRow {
             member: i as u64,
             steps: summary.steps as u64,
             t: summary.time(),
@@ -326,9 +387,27 @@ where
             max_residual: summary.max_residual,
             worst_rcond: summary.worst_rcond,
             error,
-        }
+        })
     });
     bar.finish_and_clear();
+    let rows = rows.into_iter().collect::<Result<Vec<_>>>()?;
+    if every.is_some() {
+        let files: Vec<PathBuf> = indices.iter().map(|&i| member_file(&parts, i)).collect();
+        let mut kv = info.key_values();
+        kv.extend(expected.iter().cloned());
+        if files.is_empty() {
+            return Err(Error::Usage(format!(
+                "shard {}/{} has no members: use fewer shards than the table's {} rows",
+                shard.index,
+                shard.count,
+                table.len()
+            )));
+        }
+        publish(&states, |partial| {
+            concatenate(&files, partial, kv).map(drop)
+        })?;
+        std::fs::remove_dir_all(&parts).map_err(Error::io(&parts))?;
+    }
     let failed = rows.iter().filter(|r| r.error.is_some()).count();
     let mut kv = info.metadata.clone();
     kv.extend(expected);
@@ -442,6 +521,16 @@ fn write_rows(
     close_writer(writer, path, true)
 }
 
+fn first_states(kv: &BTreeMap<String, String>) -> bool {
+    kv.get("dirac.states.every").is_some_and(|e| e != "none")
+}
+
+/// Where [`merge`] writes the merged trajectories of shards run with states: `out` with
+/// `.parquet` replaced by `.states.parquet` (`merged.parquet` → `merged.states.parquet`).
+pub fn states_path(out: &Path) -> PathBuf {
+    out.with_extension("states.parquet")
+}
+
 /// What [`merge`] wrote.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct MergeReport {
@@ -453,8 +542,9 @@ pub struct MergeReport {
 
 /// Concatenates the `count` shard files in `dir`, in shard order, into one table at `out`
 /// (written atomically): the members in table order, bit for bit what one process running the
-/// whole table as shard `0/1` writes. Fails, naming them, if shards are missing, incomplete or
-/// of different ensembles.
+/// whole table as shard `0/1` writes. Shards run with states ([`run_shard_with_states`]) also
+/// have their trajectories concatenated, into [`states_path`]`(out)`. Fails, naming them, if
+/// shards are missing, incomplete or of different ensembles.
 pub fn merge(dir: &Path, count: usize, out: &Path) -> Result<MergeReport> {
     let paths: Vec<PathBuf> = (0..count)
         .map(|i| dir.join(Shard { index: i, count }.file_name()))
@@ -473,7 +563,12 @@ pub fn merge(dir: &Path, count: usize, out: &Path) -> Result<MergeReport> {
         ));
     }
     let first = key_values(&paths[0])?;
-    let keys = ["dirac.steps", "dirac.table.fingerprint", "dirac.table.rows"];
+    let keys = [
+        "dirac.steps",
+        "dirac.states.every",
+        "dirac.table.fingerprint",
+        "dirac.table.rows",
+    ];
     let common: Vec<(String, String)> = keys
         .iter()
         .filter_map(|k| Some(((*k).to_owned(), first.get(*k)?.clone())))
@@ -494,11 +589,21 @@ pub fn merge(dir: &Path, count: usize, out: &Path) -> Result<MergeReport> {
             ));
         }
     }
+    let with_states = first_states(&first);
     let mut kv: Vec<(String, String)> = first
         .into_iter()
         .filter(|(k, _)| k != "dirac.shard.index")
         .collect();
     kv.sort();
+    if with_states {
+        let states: Vec<PathBuf> = (0..count)
+            .map(|i| dir.join(Shard { index: i, count }.states_file_name()))
+            .collect();
+        let states_out = states_path(out);
+        publish(&states_out, |partial| {
+            concatenate(&states, partial, kv.clone()).map(drop)
+        })?;
+    }
     let mut rows = 0;
     publish(out, |partial| {
         rows = concatenate(&paths, partial, kv)?;

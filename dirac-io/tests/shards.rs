@@ -317,3 +317,68 @@ fn no_progress_bar_when_stderr_is_not_a_terminal() {
         "{stderr:?}"
     );
 }
+
+/// Shards that also write their members' trajectories (every k-th state, `member` column):
+/// merged, the trajectories are those of the one-process run bit for bit, members in order,
+/// a failed member's up to its failure.
+#[test]
+fn shard_trajectories_merge_into_the_one_process_trajectories() {
+    let dir = scratch("states");
+    let table = dir.join("table.csv");
+    dsp_ensemble(&["table", "--members", "23", "--out", s(&table), "--failing"]);
+    let shards = dir.join("shards");
+    let run = |out: &Path, shard: &str| {
+        dsp_ensemble(&[
+            "shard",
+            "--table",
+            s(&table),
+            "--out",
+            s(out),
+            "--steps",
+            "200",
+            "--every",
+            "50",
+            "--shard",
+            shard,
+        ])
+    };
+    for i in 0..3 {
+        run(&shards, &format!("{i}/3"));
+        assert!(shards
+            .join(format!("shard-0000{i}-of-00003.states.parquet"))
+            .exists());
+    }
+    // The same shard without states is another run: refused, not skipped.
+    let other = Command::new(BIN)
+        .args([
+            "shard",
+            "--table",
+            s(&table),
+            "--out",
+            s(&shards),
+            "--steps",
+            "200",
+            "--shard",
+            "0/3",
+        ])
+        .output()
+        .unwrap();
+    assert!(!other.status.success());
+    let merged = dir.join("merged.parquet");
+    merge(&shards, 3, &merged).unwrap();
+    let one = dir.join("one");
+    run(&one, "0/1");
+    let states = dirac_io::shard::states_path(&merged);
+    assert_eq!(states, dir.join("merged.states.parquet"));
+    let single = one.join("shard-00000-of-00001.states.parquet");
+    assert_eq!(first_difference(&states, &single).unwrap(), None);
+    let rows = row_count(&states).unwrap();
+    // 5 states (0, 50, …, 200) per completed member; member 1 fails at step 0 (1 state), member
+    // 2 has a NaN initial state (1 state).
+    assert_eq!(rows, 21 * 5 + 2);
+    let leftovers: Vec<_> = std::fs::read_dir(&shards)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(leftovers.len(), 6, "no parts left behind: {leftovers:?}");
+}

@@ -4,11 +4,14 @@
 //!
 //! ```sh
 //! dsp-ensemble table --members 10000 --out table.csv [--failing]
-//! dsp-ensemble shard --table table.csv --out shards --steps 1000 --shard 2/4
+//! dsp-ensemble shard --table table.csv --out shards --steps 1000 --shard 2/4 [--every 10]
 //! dsp-ensemble shard --table table.csv --out shards --steps 1000 --shards 4   # index from SLURM_ARRAY_TASK_ID
 //! dsp-ensemble merge --out shards --shards 4 --to merged.parquet
 //! dsp-ensemble compare merged.parquet one-process/shard-00000-of-00001.parquet
 //! ```
+//!
+//! With `--every K`, a shard also writes its members' trajectories (every K-th state) to
+//! `shard-…states.parquet`, and `merge` concatenates them into `merged.states.parquet`.
 //!
 //! `table` writes members that perturb the paper's initial state (`x_phi1`, `w_phi1`, `w_vt2`,
 //! `mu_vt1`) and the second mass (`m2`); with `--failing`, member 1 gets an iteration cap of 1
@@ -26,7 +29,7 @@ use dsp::{member, table};
 
 const USAGE: &str = "usage:
   dsp-ensemble table --members N --out FILE [--failing]
-  dsp-ensemble shard --table FILE --out DIR --steps N (--shard i/n | --shards n | [SLURM_ARRAY_TASK_ID/COUNT])
+  dsp-ensemble shard --table FILE --out DIR --steps N [--every K] (--shard i/n | --shards n | [SLURM_ARRAY_TASK_ID/COUNT])
   dsp-ensemble merge --out DIR --shards n --to FILE
   dsp-ensemble compare A.parquet B.parquet";
 
@@ -91,7 +94,8 @@ fn run() -> Result<(), Error> {
                 members.end,
                 table.len()
             );
-            let report = shard::run_shard(&table, shard, &dir, steps, member)?;
+            let every = args.number("--every")?;
+            let report = shard::run_shard_with_states(&table, shard, &dir, steps, every, member)?;
             if report.skipped {
                 println!("{}: already complete, skipped", report.path.display());
             } else {
