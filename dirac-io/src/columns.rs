@@ -18,7 +18,7 @@ use dirac::runtime::compose::Composition;
 /// let names = ReducedState::<2, 1>::column_names(&["r", "z"], &["theta"]);
 /// assert_eq!(names, ["x_r", "x_z", "w_r", "w_z", "mu_theta", "g_theta"]);
 /// ```
-pub trait StateColumns: Copy + Send + Sync + 'static {
+pub trait StateColumns: Copy + std::fmt::Debug + Send + Sync + 'static {
     /// The number of columns, `2 (S + K)`.
     const WIDTH: usize;
     /// The column names, given the shape and group coordinate names of the annotation.

@@ -12,6 +12,7 @@ use std::thread::JoinHandle;
 use arrow_array::{ArrayRef, Float64Array, RecordBatch, UInt32Array, UInt64Array};
 use arrow_schema::{DataType, Field, Schema, SchemaRef};
 use dirac::prelude::*;
+use dirac::runtime::driver::RunResult;
 use parquet::arrow::ArrowWriter;
 use parquet::basic::Compression;
 use parquet::file::metadata::KeyValue;
@@ -412,13 +413,7 @@ impl<St: StateColumns> ParquetObserver<St> {
     /// `every` skipped it, and records its outcome as metadata: `dirac.outcome` (`completed`,
     /// `stopped` or `failed`), `dirac.steps` (steps completed) and, for a failure,
     /// `dirac.error.kind`, `.step`, `.residual` and `.message` (the typed [`StepError`]).
-    pub fn finish_with<S2>(
-        mut self,
-        result: &Result<RunSummary<S2>, Box<IntegrationError<RunSummary<S2>>>>,
-    ) -> Result<PathBuf>
-    where
-        S2: std::fmt::Debug,
-    {
+    pub fn finish_with(mut self, result: &RunResult<St>) -> Result<PathBuf> {
         if let Some((k, state, stats)) = self.last {
             if self.last_written != Some(k) {
                 self.push(k, &state, stats.as_ref());
