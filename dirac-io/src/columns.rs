@@ -1,0 +1,251 @@
+//! What a state and a run are called in a file: the state's columns, named from the annotation
+//! (`#[reduced_lagrangian(shape(..), group(..))]`), and the run's description (time step,
+//! parameters, Newton options) that goes into the file's key-value metadata.
+
+use dirac::prelude::*;
+use dirac::runtime::compose::Composition;
+
+/// A state whose components are written as `f64` columns, one per coordinate and momentum.
+///
+/// * [`ReducedState`]: `x_<shape>`, `w_<shape>`, `mu_<group>`, `g_<group>` (shape `x ∈ Σ`,
+///   reduced momenta `w ∈ Σ*` and `μ ∈ g*` of eq. (3.6), group coordinate `g`);
+/// * [`CanonicalState`]: `q_<coordinate>`, `p_<coordinate>` over the shape then the group
+///   coordinates (`q = (x, g)`, `p = (p_x, p_g)`).
+///
+/// ```
+/// use dirac::prelude::*;
+/// use dirac_io::StateColumns;
+/// let names = ReducedState::<2, 1>::column_names(&["r", "z"], &["theta"]);
+/// assert_eq!(names, ["x_r", "x_z", "w_r", "w_z", "mu_theta", "g_theta"]);
+/// ```
+pub trait StateColumns: Copy + std::fmt::Debug + Send + Sync + 'static {
+    /// The number of columns, `2 (S + K)`.
+    const WIDTH: usize;
+    /// The column names, given the shape and group coordinate names of the annotation.
+    fn column_names(shape: &[&str], group: &[&str]) -> Vec<String>;
+    /// Writes the components into `out` (`out.len() == WIDTH`), in the order of the names.
+    fn write_to(&self, out: &mut [f64]);
+    /// The state whose components are `values` (`values.len() == WIDTH`), the inverse of
+    /// [`Self::write_to`].
+    fn read_from(values: &[f64]) -> Self;
+}
+
+fn prefixed<'a>(prefix: &'a str, names: &'a [&'a str]) -> impl Iterator<Item = String> + 'a {
+    names.iter().map(move |n| format!("{prefix}_{n}"))
+}
+
+impl<const S: usize, const K: usize> StateColumns for ReducedState<S, K> {
+    const WIDTH: usize = 2 * (S + K);
+
+    fn column_names(shape: &[&str], group: &[&str]) -> Vec<String> {
+        assert_eq!(
+            (shape.len(), group.len()),
+            (S, K),
+            "names of another system"
+        );
+        prefixed("x", shape)
+            .chain(prefixed("w", shape))
+            .chain(prefixed("mu", group))
+            .chain(prefixed("g", group))
+            .collect()
+    }
+
+    fn write_to(&self, out: &mut [f64]) {
+        let parts = [
+            self.x.as_slice(),
+            self.w.as_slice(),
+            self.mu.as_slice(),
+            self.g.as_slice(),
+        ];
+        let mut i = 0;
+        for part in parts {
+            out[i..i + part.len()].copy_from_slice(part);
+            i += part.len();
+        }
+    }
+
+    fn read_from(values: &[f64]) -> Self {
+        let mut state = ReducedState::<S, K> {
+            x: SVector::zeros(),
+            w: SVector::zeros(),
+            mu: SVector::zeros(),
+            g: SVector::zeros(),
+        };
+        state.x.copy_from_slice(&values[..S]);
+        state.w.copy_from_slice(&values[S..2 * S]);
+        state.mu.copy_from_slice(&values[2 * S..2 * S + K]);
+        state.g.copy_from_slice(&values[2 * S + K..2 * (S + K)]);
+        state
+    }
+}
+
+impl<const N: usize> StateColumns for CanonicalState<N> {
+    const WIDTH: usize = 2 * N;
+
+    fn column_names(shape: &[&str], group: &[&str]) -> Vec<String> {
+        assert_eq!(shape.len() + group.len(), N, "names of another system");
+        let all: Vec<&str> = shape.iter().chain(group).copied().collect();
+        prefixed("q", &all).chain(prefixed("p", &all)).collect()
+    }
+
+    fn write_to(&self, out: &mut [f64]) {
+        out[..N].copy_from_slice(self.q.as_slice());
+        out[N..2 * N].copy_from_slice(self.p.as_slice());
+    }
+
+    fn read_from(values: &[f64]) -> Self {
+        let mut state = CanonicalState::<N> {
+            q: SVector::zeros(),
+            p: SVector::zeros(),
+        };
+        state.q.copy_from_slice(&values[..N]);
+        state.p.copy_from_slice(&values[N..2 * N]);
+        state
+    }
+}
+
+/// A run as a file describes it: the state's column names, the time step, the parameters by
+/// name and whatever else identifies the run (integrator, Newton options), written as the
+/// Parquet file's key-value metadata (keys `dirac.*`, see the [crate documentation](crate)).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunInfo {
+    /// The state's column names ([`StateColumns::column_names`]).
+    pub columns: Vec<String>,
+    /// The time step `h` of one step of the run (for a composition, the macro step): the
+    /// `t` column is `step · h`.
+    pub h: f64,
+    /// The parameters, by name, in declaration order.
+    pub parameters: Vec<(String, f64)>,
+    /// Further key-value metadata, written as given (keys should start with `dirac.`).
+    pub metadata: Vec<(String, String)>,
+}
+
+/// A key-value pair's value for a float: Rust's shortest representation that parses back to the
+/// same bits.
+pub(crate) fn float_text(v: f64) -> String {
+    format!("{v:?}")
+}
+
+impl RunInfo {
+    /// The description of `system` integrated with states `St`: column names from
+    /// [`DiscreteLagrangian::SHAPE`] and [`DiscreteLagrangian::GROUP`], the parameters from
+    /// [`DiscreteLagrangian::PARAMETERS`] and [`DiscreteLagrangian::parameter_values`], the time
+    /// step from the system.
+    pub fn of_system<St, L, const S: usize, const K: usize, const N: usize>(system: &L) -> Self
+    where
+        St: StateColumns,
+        L: DiscreteLagrangian<S, K, N>,
+    {
+        let parameters = L::PARAMETERS
+            .iter()
+            .map(|p| (*p).to_owned())
+            .zip(system.parameter_values())
+            .collect();
+        RunInfo {
+            columns: St::column_names(&L::SHAPE, &L::GROUP),
+            h: system.time_step(),
+            parameters,
+            metadata: vec![
+                ("dirac.shape".into(), L::SHAPE.join(",")),
+                ("dirac.group".into(), L::GROUP.join(",")),
+            ],
+        }
+    }
+
+    /// Adds the Newton options as `dirac.newton.abs_tol`, `.rel_tol`, `.max_iterations` and
+    /// `.min_rcond`.
+    #[must_use]
+    pub fn with_newton(mut self, options: &NewtonOptions) -> Self {
+        let entries = [
+            ("abs_tol", float_text(options.abs_tol)),
+            ("rel_tol", float_text(options.rel_tol)),
+            ("max_iterations", options.max_iterations.to_string()),
+            ("min_rcond", float_text(options.min_rcond)),
+        ];
+        for (key, value) in entries {
+            self.metadata.push((format!("dirac.newton.{key}"), value));
+        }
+        self
+    }
+
+    /// Adds one key-value pair.
+    #[must_use]
+    pub fn with(mut self, key: impl Into<String>, value: impl Into<String>) -> Self {
+        self.metadata.push((key.into(), value.into()));
+        self
+    }
+
+    /// All key-value metadata this description writes: `dirac.h`, `dirac.parameters` (the names,
+    /// comma-separated), `dirac.parameter.<name>` for each, then [`Self::metadata`].
+    pub fn key_values(&self) -> Vec<(String, String)> {
+        let mut kv = vec![
+            ("dirac.h".to_owned(), float_text(self.h)),
+            (
+                "dirac.parameters".to_owned(),
+                self.parameters
+                    .iter()
+                    .map(|(n, _)| n.as_str())
+                    .collect::<Vec<_>>()
+                    .join(","),
+            ),
+        ];
+        for (name, value) in &self.parameters {
+            kv.push((format!("dirac.parameter.{name}"), float_text(*value)));
+        }
+        kv.extend(self.metadata.iter().cloned());
+        kv
+    }
+}
+
+/// An integrator that can describe its runs ([`RunInfo`]): the reduced and unreduced
+/// integrators and their compositions. (An atlas changes coordinates between charts; describe
+/// its runs with [`RunInfo::of_system`] of the chart whose names the columns should carry.)
+pub trait Describe: Stepper<State: StateColumns> {
+    /// The description of a run of `self`.
+    fn describe(&self) -> RunInfo;
+}
+
+impl<L, D, const S: usize, const K: usize, const N: usize> Describe
+    for ReducedIntegrator<L, D, S, K, N>
+where
+    Self: Stepper<State = ReducedState<S, K>>,
+    D: Side,
+    L: Reduced<D, S, K, N>,
+{
+    fn describe(&self) -> RunInfo {
+        let side = match self.variant() {
+            Variant::Plus => "reduced (+), eq. (4.6)",
+            Variant::Minus => "reduced (-), eq. (4.8)",
+        };
+        RunInfo::of_system::<ReducedState<S, K>, L, S, K, N>(self.system())
+            .with_newton(self.options())
+            .with("dirac.integrator", side)
+    }
+}
+
+impl<L, const S: usize, const K: usize, const N: usize> Describe for UnreducedIntegrator<L, S, K, N>
+where
+    Self: Stepper<State = CanonicalState<N>>,
+    L: Unreduced<S, K, N>,
+{
+    fn describe(&self) -> RunInfo {
+        RunInfo::of_system::<CanonicalState<N>, L, S, K, N>(self.system())
+            .with_newton(self.options())
+            .with("dirac.integrator", "unreduced (Definitions 2.7/2.8)")
+    }
+}
+
+impl<I> Describe for Composition<I>
+where
+    I: Describe,
+    Self: Stepper<State = I::State>,
+{
+    fn describe(&self) -> RunInfo {
+        let mut info = self.base().describe();
+        info.h = self.time_step();
+        info.with(
+            "dirac.composition.stages",
+            self.method().stages().to_string(),
+        )
+    }
+}
