@@ -22,6 +22,11 @@
 //!    trajectory kept up to it, and the compile errors of the attributes.
 //! 8. [Limits](limits): what the integrators do not do, and where their guarantees end.
 //!
+//! Results that leave the process — runs and ensembles in Apache Parquet, sharded ensembles on a
+//! Slurm cluster, progress bars — are the separate crate `dirac-io`, described in
+//! `docs/output-and-clusters.md` and in that crate's rustdoc, whose examples its own test suite
+//! compiles and runs.
+//!
 //! [Benchmarks](benchmarks) is the measurements page (also `BENCHMARKS.md` in the source): each
 //! table with the command that makes it, the date and the machine.
 //!
@@ -31,7 +36,7 @@
 
 // Each capability still to come adds its chapter as a module here and a line in the list above:
 // forces and controls (issue 19) and constraints (issue 20) after `symmetries`; systems sized at
-// run time (issue 21) after `large_systems`; output formats and cluster ensembles (issue 22) next.
+// run time (issue 21) after `large_systems`.
 
 pub mod benchmarks;
 pub mod diagnostics;
