@@ -171,34 +171,30 @@ pub fn config_struct(spec: &Spec, func: &ItemFn, config: &Ident, type_name: &Ide
             },
         )
     };
-    let vector_fns = if layout.declared {
-        quote! {
-            impl #config {
-                /// Reads the user configuration vector: your coordinates, components flattened in
-                /// declaration order (not the system's adapted `q`; see `AdaptedCoordinates`).
-                pub fn from_vector(q: &::dirac::nalgebra::SVector<f64, #n>) -> Self {
-                    Self { #( #inits, )* }
-                }
-
-                /// Writes the user configuration vector: your coordinates, components flattened
-                /// in declaration order (`AdaptedCoordinates::to_adapted` maps it to `q`).
-                pub fn to_vector(&self) -> ::dirac::nalgebra::SVector<f64, #n> {
-                    ::dirac::nalgebra::SVector::<f64, #n>::from([ #( #elems, )* ])
-                }
-            }
-        }
+    // The two layouts differ only in what the vector holds, which the docs say.
+    let (read_doc, write_doc) = if layout.declared {
+        (
+            " Reads the user configuration vector: your coordinates, components flattened in \
+             declaration order (not the system's adapted `q`; see `AdaptedCoordinates`).",
+            " Writes the user configuration vector: your coordinates, components flattened in \
+             declaration order (`AdaptedCoordinates::to_adapted` maps it to `q`).",
+        )
     } else {
-        quote! {
-            impl #config {
-                /// Reads `q = (x, g)` in configuration order.
-                pub fn from_vector(q: &::dirac::nalgebra::SVector<f64, #n>) -> Self {
-                    Self { #( #inits, )* }
-                }
+        (
+            " Reads `q = (x, g)` in configuration order.",
+            " Writes `q = (x, g)` in configuration order.",
+        )
+    };
+    let vector_fns = quote! {
+        impl #config {
+            #[doc = #read_doc]
+            pub fn from_vector(q: &::dirac::nalgebra::SVector<f64, #n>) -> Self {
+                Self { #( #inits, )* }
+            }
 
-                /// Writes `q = (x, g)` in configuration order.
-                pub fn to_vector(&self) -> ::dirac::nalgebra::SVector<f64, #n> {
-                    ::dirac::nalgebra::SVector::<f64, #n>::from([ #( #elems, )* ])
-                }
+            #[doc = #write_doc]
+            pub fn to_vector(&self) -> ::dirac::nalgebra::SVector<f64, #n> {
+                ::dirac::nalgebra::SVector::<f64, #n>::from([ #( #elems, )* ])
             }
         }
     };
