@@ -39,6 +39,9 @@ pub fn expand(args: TokenStream, item: TokenStream) -> TokenStream {
         spec.as_ref().and_then(|s| s.rule.as_ref()),
         spec.as_ref().is_some_and(|s| s.rule_written),
     );
+    if let (Some(spec), Some(sig)) = (&spec, &sig) {
+        crate::ast::signature::check_controls(&cx, &spec.controls, sig);
+    }
     let parsed = cx.finish(spec.as_ref().zip(sig.as_ref()));
     match parsed.and_then(|(spec, sig)| try_expand(spec, sig, &func)) {
         Ok(out) => out,
@@ -66,7 +69,12 @@ fn try_expand(spec: &Spec, sig: &Signature, func: &ItemFn) -> syn::Result<TokenS
     cx.finish(Some(()))?;
     let (s, k) = (spec.layout.s(), spec.layout.k());
     let dense = Backend::for_size(s + k).is_dense();
-    let compiled = compile::construct(lowered, s, k, dense);
+    let controls: Vec<usize> = spec
+        .controls
+        .iter()
+        .filter_map(|c| sig.params.iter().position(|p| p == c))
+        .collect();
+    let compiled = compile::construct(lowered, s, k, dense, &controls);
     Ok(system::generate(spec, sig, func, &compiled))
 }
 

@@ -601,6 +601,7 @@ fn compile(src: &str, at: &[f64; 6]) -> Result<(Compiled, Compiled), String> {
         q1: &q1,
         coords: CoordName::scalars(["a".to_string(), "b".to_string()]),
         params: vec!["h".into(), "p".into()],
+        dq: Vec::new(),
     };
     let cx = Ctxt::new();
     let mut g = Graph::default();

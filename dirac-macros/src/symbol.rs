@@ -27,6 +27,10 @@ pub const NAME: Symbol = Symbol("name");
 pub const RULE: Symbol = Symbol("rule");
 /// `ranges(h = (lo, hi), ..)`: the invariance check's sampling ranges.
 pub const RANGES: Symbol = Symbol("ranges");
+/// `controls(u, ..)`: the parameters a control law sets before every step.
+pub const CONTROLS: Symbol = Symbol("controls");
+/// `force = |dq| ..` or `force = |dq0, dq1| ..`: the virtual work of the forces.
+pub const FORCE: Symbol = Symbol("force");
 /// `rule = midpoint`.
 pub const MIDPOINT: Symbol = Symbol("midpoint");
 /// `rule = trapezoid`.
@@ -53,7 +57,7 @@ impl PartialEq<Symbol> for &Ident {
 }
 
 /// The keys of `#[reduced_lagrangian(...)]`.
-pub const KEYS: [Symbol; 9] = [
+pub const KEYS: [Symbol; 11] = [
     SHAPE,
     GROUP,
     COORDINATES,
@@ -63,6 +67,8 @@ pub const KEYS: [Symbol; 9] = [
     NAME,
     RULE,
     RANGES,
+    CONTROLS,
+    FORCE,
 ];
 
 /// The key `ident` spells, if it is one of [`KEYS`].

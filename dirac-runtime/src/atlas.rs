@@ -110,15 +110,22 @@ pub trait Chart<const S: usize, const K: usize, const N: usize> {
     /// A fresh workspace for this chart's steps ([`Stepper::workspace`]).
     fn chart_workspace(&self) -> Box<dyn Any>;
 
-    /// Takes step `k` from `state`, Newton starting at `guess`, in `workspace` (one that
-    /// [`Self::chart_workspace`] built; another is reported as [`StepError::InvalidAtlas`]).
+    /// Takes step `k` from `state` with the controls `u` (empty: the chart system's own),
+    /// Newton starting at `guess`, in `workspace` (one that [`Self::chart_workspace`] built;
+    /// another is reported as [`StepError::InvalidAtlas`]). Every chart declares the forces in
+    /// its own coordinates; a virtual work written the same way in each is the cotangent lift of
+    /// one force.
     fn chart_step(
         &self,
         workspace: &mut dyn Any,
         k: usize,
         state: &ReducedState<S, K>,
         guess: &SVector<f64, N>,
+        u: &[f64],
     ) -> Result<(ReducedState<S, K>, ReducedStep<K>), StepError>;
+
+    /// The number of controls the chart's system declares.
+    fn chart_control_dim(&self) -> usize;
 
     /// The checks of a run starting in this chart ([`Stepper::check`]).
     fn chart_check(&self, initial: &ReducedState<S, K>) -> Result<(), StepError>;
@@ -153,13 +160,18 @@ where
         k: usize,
         state: &ReducedState<S, K>,
         guess: &SVector<f64, N>,
+        u: &[f64],
     ) -> Result<(ReducedState<S, K>, ReducedStep<K>), StepError> {
         let Some(workspace) = workspace.downcast_mut::<ReducedWorkspace<L::Linear, S, K>>() else {
             return Err(StepError::InvalidAtlas {
                 reason: "a chart was given the workspace of another chart",
             });
         };
-        self.solve_step(&mut workspace.solver, k, state, guess)
+        self.solve_step(&mut workspace.solver, k, state, guess, u)
+    }
+
+    fn chart_control_dim(&self) -> usize {
+        L::CONTROLS.len()
     }
 
     fn chart_check(&self, initial: &ReducedState<S, K>) -> Result<(), StepError> {
@@ -374,6 +386,7 @@ impl<'a, const S: usize, const K: usize, const N: usize> AtlasIntegrator<'a, S, 
         chart: usize,
         state: &ReducedState<S, K>,
         current: f64,
+        u: &[f64],
     ) -> Option<(usize, ReducedState<S, K>)> {
         let mut best: Option<(f64, usize, ReducedState<S, K>)> = None;
         for (to, (target, workspace)) in self.charts.iter().zip(workspaces).enumerate() {
@@ -386,7 +399,7 @@ impl<'a, const S: usize, const K: usize, const N: usize> AtlasIntegrator<'a, S, 
             let q = match &self.quality {
                 Some(quality) => quality(to, &mapped),
                 None => target
-                    .chart_step(workspace.as_mut(), k, &mapped, &fresh_guess(&mapped))
+                    .chart_step(workspace.as_mut(), k, &mapped, &fresh_guess(&mapped), u)
                     .map_or(0.0, |(_, step)| step.stats.rcond.unwrap_or(1.0)),
             };
             if q > current && best.as_ref().is_none_or(|b| q > b.0) {
@@ -511,11 +524,16 @@ impl<'a, const S: usize, const K: usize, const N: usize> Stepper for AtlasIntegr
         }
     }
 
-    fn step_in(
+    fn control_dim(&self) -> usize {
+        self.charts.first().map_or(0, |c| c.chart_control_dim())
+    }
+
+    fn step_with(
         &self,
         workspace: &mut AtlasWorkspace<S, K>,
         k: usize,
         &(chart, ref from): &Self::State,
+        u: &[f64],
     ) -> Result<(Self::State, AtlasStep<S, K>), StepError> {
         let history = &workspace.history;
         let guess =
@@ -525,12 +543,13 @@ impl<'a, const S: usize, const K: usize, const N: usize> Stepper for AtlasIntegr
             k,
             from,
             &guess,
+            u,
         ) {
             Ok(ok) => (chart, *from, None, ok),
             Err(error) => {
                 // Rescue: the same step from the same state in the best other chart.
                 let Some((to, mapped)) =
-                    self.better_chart(&mut workspace.charts, k, chart, from, f64::NEG_INFINITY)
+                    self.better_chart(&mut workspace.charts, k, chart, from, f64::NEG_INFINITY, u)
                 else {
                     return Err(error);
                 };
@@ -539,6 +558,7 @@ impl<'a, const S: usize, const K: usize, const N: usize> Stepper for AtlasIntegr
                     k,
                     &mapped,
                     &fresh_guess(&mapped),
+                    u,
                 ) else {
                     return Err(error);
                 };
@@ -569,7 +589,7 @@ impl<'a, const S: usize, const K: usize, const N: usize> Stepper for AtlasIntegr
         };
         if current < self.switch_below {
             if let Some((to, mapped)) =
-                self.better_chart(&mut workspace.charts, k + 1, c, &next, current)
+                self.better_chart(&mut workspace.charts, k + 1, c, &next, current, u)
             {
                 // The extrapolation continues in the new chart from the step's start mapped there
                 // and the group unknown its increment implies (last line of (4.6)).

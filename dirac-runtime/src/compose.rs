@@ -350,16 +350,23 @@ where
         self.stages.iter().map(Stepper::workspace).collect()
     }
 
-    fn step_in(
+    fn control_dim(&self) -> usize {
+        self.stages.first().map_or(0, Stepper::control_dim)
+    }
+
+    /// Every stage takes the macro step's controls `u`: the forces of a composition are its
+    /// stages' forces, each at its stage's time step `γ_i h`.
+    fn step_with(
         &self,
         workspace: &mut Vec<I::Workspace>,
         k: usize,
         state: &I::State,
+        u: &[f64],
     ) -> Result<(I::State, StepStats), StepError> {
         let mut total = StepStats::default();
         let mut current = *state;
         for (stage, stage_workspace) in self.stages.iter().zip(workspace.iter_mut()) {
-            let (next, record) = stage.step_in(stage_workspace, k, &current)?;
+            let (next, record) = stage.step_with(stage_workspace, k, &current, u)?;
             total.accumulate(record.as_ref());
             current = next;
         }

@@ -14,8 +14,70 @@
 //! before it.
 
 use crate::ensemble::map;
-use crate::error::{IntegrationError, Steps};
+use crate::error::{IntegrationError, StepError, Steps};
 use crate::stepper::{Collect, StepStats, Stepper};
+
+/// Where a controlled run ([`Drive::run_controlled`], [`Drive::integrate_controlled`]) takes
+/// the controls `u_k` of each step, in the order of [`crate::DiscreteLagrangian::CONTROLS`].
+///
+/// Implemented by feedback laws — any closure `|k, state, u| { … }` that writes `u_k` into `u`
+/// from the step index and the state the step starts from — and by [`ControlSequence`], a
+/// precomputed sequence.
+pub trait ControlLaw<St> {
+    /// Writes the controls of step `k`, taken from `state`, into `u` (as many values as the
+    /// system declares). Returns `false` when it has none for this step (a sequence past its
+    /// end): the run then stops with [`StepError::InvalidControls`].
+    fn controls(&mut self, k: usize, state: &St, u: &mut [f64]) -> bool;
+}
+
+impl<St, F: FnMut(usize, &St, &mut [f64])> ControlLaw<St> for F {
+    fn controls(&mut self, k: usize, state: &St, u: &mut [f64]) -> bool {
+        self(k, state, u);
+        true
+    }
+}
+
+/// A precomputed control sequence: row `k` is `u_k`.
+#[derive(Clone, Copy, Debug)]
+pub struct ControlSequence<'a> {
+    values: &'a [f64],
+    m: usize,
+}
+
+impl<'a> ControlSequence<'a> {
+    /// The sequence whose rows are `rows[k] = u_k`.
+    pub fn rows<const M: usize>(rows: &'a [[f64; M]]) -> Self {
+        Self {
+            values: rows.as_flattened(),
+            m: M,
+        }
+    }
+
+    /// The sequence stored row after row in `values`, `m` controls per row.
+    pub fn flat(values: &'a [f64], m: usize) -> Self {
+        Self { values, m }
+    }
+
+    /// The number of steps it covers.
+    pub fn len(&self) -> usize {
+        self.values.len().checked_div(self.m).unwrap_or(0)
+    }
+
+    /// Whether it covers no step.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+impl<St> ControlLaw<St> for ControlSequence<'_> {
+    fn controls(&mut self, k: usize, _state: &St, u: &mut [f64]) -> bool {
+        if self.m != u.len() || k >= self.len() {
+            return false;
+        }
+        u.copy_from_slice(&self.values[k * self.m..(k + 1) * self.m]);
+        true
+    }
+}
 
 /// The outcome of a streaming run ([`Drive::run`]): the last state and statistics accumulated
 /// over the steps, in memory independent of the number of steps.
@@ -123,6 +185,34 @@ pub trait Drive: Stepper {
         &self,
         initial: Self::State,
         max_steps: usize,
+        stop: impl FnMut(usize, &Self::State) -> bool,
+        observe: impl FnMut(usize, &Self::State, Option<&Self::Record>),
+    ) -> RunResult<Self::State> {
+        self.run_controlled_until(initial, max_steps, None, stop, observe)
+    }
+
+    /// [`Self::run`] with the controls of every step from `controls`: a feedback law
+    /// `|k, state, u| …` or a [`ControlSequence`]. Before step `k` the law writes `u_k` (one
+    /// value per control the system declares, [`crate::DiscreteLagrangian::CONTROLS`]); the
+    /// step solves the forced equations with those values. A sequence that ends before the
+    /// run, or a value that is not finite, ends the run with a typed error.
+    fn run_controlled(
+        &self,
+        initial: Self::State,
+        steps: usize,
+        mut controls: impl ControlLaw<Self::State>,
+        observe: impl FnMut(usize, &Self::State, Option<&Self::Record>),
+    ) -> RunResult<Self::State> {
+        self.run_controlled_until(initial, steps, Some(&mut controls), |_, _| false, observe)
+    }
+
+    /// The one run loop: [`Self::run_until`] with the controls of every step from `controls`
+    /// (`None`: the values the system holds).
+    fn run_controlled_until(
+        &self,
+        initial: Self::State,
+        max_steps: usize,
+        mut controls: Option<&mut dyn ControlLaw<Self::State>>,
         mut stop: impl FnMut(usize, &Self::State) -> bool,
         mut observe: impl FnMut(usize, &Self::State, Option<&Self::Record>),
     ) -> RunResult<Self::State> {
@@ -133,9 +223,28 @@ pub trait Drive: Stepper {
             return Err(fail(e, summary));
         }
         let mut workspace = self.workspace();
+        // The controls' buffer: allocated once per run, empty without a control law.
+        let mut u = vec![
+            0.0;
+            if controls.is_some() {
+                self.control_dim()
+            } else {
+                0
+            }
+        ];
         let mut state = initial;
         for k in 0..max_steps {
-            match self.step_in(&mut workspace, k, &state) {
+            if let Some(law) = controls.as_mut() {
+                if !law.controls(k, &state, &mut u) {
+                    let e = StepError::InvalidControls {
+                        step: k,
+                        expected: u.len(),
+                        found: 0,
+                    };
+                    return Err(fail(e, summary));
+                }
+            }
+            match self.step_with(&mut workspace, k, &state, &u) {
                 Ok((next, record)) => {
                     summary.record(next, record.as_ref());
                     observe(k + 1, &next, Some(&record));
@@ -167,10 +276,34 @@ pub trait Drive: Stepper {
         max_steps: usize,
         stop: impl FnMut(usize, &Self::State) -> bool,
     ) -> MemberResult<Self::Trajectory> {
+        self.collect(initial, max_steps, None, stop)
+    }
+
+    /// [`Self::integrate`] with the controls of every step from `controls` (see
+    /// [`Self::run_controlled`]).
+    fn integrate_controlled(
+        &self,
+        initial: Self::State,
+        steps: usize,
+        mut controls: impl ControlLaw<Self::State>,
+    ) -> MemberResult<Self::Trajectory> {
+        self.collect(initial, steps, Some(&mut controls), |_, _| false)
+    }
+
+    /// The trajectory of [`Self::run_controlled_until`].
+    #[doc(hidden)]
+    fn collect(
+        &self,
+        initial: Self::State,
+        max_steps: usize,
+        controls: Option<&mut dyn ControlLaw<Self::State>>,
+        stop: impl FnMut(usize, &Self::State) -> bool,
+    ) -> MemberResult<Self::Trajectory> {
         let mut trajectory = Self::Trajectory::start(self, max_steps);
-        let outcome = self.run_until(initial, max_steps, stop, |_, state, record| {
-            trajectory.push(state, record)
-        });
+        let outcome =
+            self.run_controlled_until(initial, max_steps, controls, stop, |_, state, record| {
+                trajectory.push(state, record)
+            });
         match outcome {
             Ok(_) => Ok(trajectory),
             Err(e) => Err(Box::new(IntegrationError::new(

@@ -84,6 +84,28 @@ pub enum StepError {
         /// The largest accepted.
         tolerance: f64,
     },
+    /// What was asked is not available for this system (e.g. step sensitivities of a system
+    /// compiled without its step partials).
+    #[error("not available: {what}")]
+    Unsupported {
+        /// What is not available, and why.
+        what: &'static str,
+    },
+    /// The controls given for a step are not the ones the system declares (`controls(...)` in
+    /// its attribute, [`crate::DiscreteLagrangian::CONTROLS`]): the wrong number of values, or
+    /// a control sequence that ends before the run does.
+    #[error(
+        "step {step}: {found} control value(s) given, the system declares {expected} \
+         (`controls(...)` in its attribute); a control sequence needs one row per step"
+    )]
+    InvalidControls {
+        /// Index of the step.
+        step: usize,
+        /// The number of controls the system declares.
+        expected: usize,
+        /// The number of values given (0 past the end of a sequence).
+        found: usize,
+    },
 }
 
 impl StepError {
@@ -98,6 +120,8 @@ impl StepError {
             StepError::InvalidAtlas { .. } => "invalid atlas",
             StepError::InvalidTimeStep { .. } => "invalid time step",
             StepError::NotSymmetric { .. } => "non-symmetric discrete Lagrangian",
+            StepError::InvalidControls { .. } => "invalid controls",
+            StepError::Unsupported { .. } => "not available",
         }
     }
 
@@ -107,15 +131,17 @@ impl StepError {
             StepError::NotConverged { step, .. }
             | StepError::SingularJacobian { step, .. }
             | StepError::IllConditioned { step, .. }
-            | StepError::NonFinite { step, .. } => step,
+            | StepError::NonFinite { step, .. }
+            | StepError::InvalidControls { step, .. } => step,
             StepError::InvalidTimeStep { .. }
             | StepError::NotSymmetric { .. }
-            | StepError::InvalidAtlas { .. } => 0,
+            | StepError::InvalidAtlas { .. }
+            | StepError::Unsupported { .. } => 0,
         }
     }
 
-    /// `‖R‖∞` at the last iterate (`NaN` for an invalid time step, a non-symmetric Lagrangian or
-    /// an invalid atlas, where no residual exists).
+    /// `‖R‖∞` at the last iterate (`NaN` for an invalid time step, a non-symmetric Lagrangian,
+    /// an invalid atlas or invalid controls, where no residual exists).
     pub fn residual(&self) -> f64 {
         match *self {
             StepError::NotConverged { residual, .. }
@@ -124,7 +150,9 @@ impl StepError {
             | StepError::NonFinite { residual, .. } => residual,
             StepError::InvalidTimeStep { .. }
             | StepError::NotSymmetric { .. }
-            | StepError::InvalidAtlas { .. } => f64::NAN,
+            | StepError::InvalidAtlas { .. }
+            | StepError::InvalidControls { .. }
+            | StepError::Unsupported { .. } => f64::NAN,
         }
     }
 }

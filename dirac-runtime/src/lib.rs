@@ -39,6 +39,7 @@ pub mod error;
 pub mod linalg;
 pub mod newton;
 pub mod reduced;
+pub mod sensitivity;
 pub mod state;
 pub mod stepper;
 pub mod system;
@@ -55,10 +56,11 @@ pub mod prelude {
         ContinuousLagrangian, LegendreError,
     };
     pub use crate::diagnostics::trajectory_energies;
-    pub use crate::driver::{Drive, RunSummary};
+    pub use crate::driver::{ControlLaw, ControlSequence, Drive, RunSummary};
     pub use crate::error::{IntegrationError, StepError, Steps};
     pub use crate::newton::NewtonOptions;
     pub use crate::reduced::{ReducedIntegrator, ReducedStep, Trajectory};
+    pub use crate::sensitivity::{Sensitivity, StepPartials};
     pub use crate::state::{CanonicalState, ReducedState};
     pub use crate::stepper::{StepStats, StepStatsExt, Stepper};
     pub use crate::system::{

@@ -10,8 +10,8 @@ use crate::linalg::{Lu, RCOND_CLEARANCE};
 use crate::newton::{self, inf_norm, NewtonOptions};
 use crate::state::ReducedState;
 use crate::stepper::{
-    check_inputs, predicted_increment, step_error, Collect, History, StepStats, StepStatsExt,
-    Stepper,
+    check_inputs, controlled, predicted_increment, step_error, Collect, History, StepStats,
+    StepStatsExt, Stepper,
 };
 use crate::system::{join, split, Minus, Plus, Reduced, Side, Variant};
 
@@ -225,22 +225,25 @@ where
         state: &ReducedState<S, K>,
         guess: &SVector<f64, N>,
     ) -> Result<(ReducedState<S, K>, ReducedStep<K>), StepError> {
-        self.solve_step(&mut self.system.linear_solver(), k, state, guess)
+        self.solve_step(&mut self.system.linear_solver(), k, state, guess, &[])
     }
 
-    /// The step from `state` with Newton starting at `guess`, in the linear solver `solver`.
+    /// The step from `state` with the controls `u` (empty: the system's own), Newton starting
+    /// at `guess`, in the linear solver `solver`.
     pub(crate) fn solve_step(
         &self,
         solver: &mut L::Linear,
         k: usize,
         state: &ReducedState<S, K>,
         guess: &SVector<f64, N>,
+        u: &[f64],
     ) -> Result<(ReducedState<S, K>, ReducedStep<K>), StepError> {
-        let sys = &self.system;
+        let owned = controlled(&self.system, k, u)?;
+        let sys = owned.as_ref().unwrap_or(&self.system);
         let (x, w, mu) = (&state.x, &state.w, &state.mu);
         let rho = inf_norm(w).max(inf_norm(mu));
         if self.eliminates_group() {
-            return self.eliminated_step(k, state, guess, rho);
+            return self.eliminated_step(sys, k, state, guess, rho);
         }
         // The residual alone is evaluated with w_{k+1} (one straight line): where Newton accepts
         // that iterate, the momentum update is already known.
@@ -260,6 +263,7 @@ where
         .map_err(|failure| step_error(k, failure))?;
         let w1 = tested.and_then(|(z, w1)| (z == solution.z).then_some(w1));
         self.finish_step(
+            sys,
             k,
             state,
             solution.z,
@@ -272,12 +276,12 @@ where
     /// unknowns in closed form.
     fn eliminated_step(
         &self,
+        sys: &L,
         k: usize,
         state: &ReducedState<S, K>,
         guess: &SVector<f64, N>,
         rho: f64,
     ) -> Result<(ReducedState<S, K>, ReducedStep<K>), StepError> {
-        let sys = &self.system;
         let (x, w, mu) = (&state.x, &state.w, &state.mu);
         let x_guess: SVector<f64, S> = guess.fixed_rows::<S>(0).into_owned();
         // The `None` arms cannot be taken (`eliminates_group` checked the system's flag); they
@@ -341,26 +345,32 @@ where
             tolerance: self.options.residual_tolerance(rho),
             rcond,
         };
-        self.finish_step(k, state, z, None, stats)
+        self.finish_step(sys, k, state, z, None, stats)
     }
 
     /// The explicit updates after the unknowns `z = (x_{k+1}, u)` are known; `w1` is `w_{k+1}`
-    /// if the solve already evaluated it at `z`.
+    /// if the solve already evaluated it at `z`. With a group force `μ` advances by the group
+    /// impulse (the forced discrete Noether balance, [`Reduced::GROUP_FORCED`]); without one it
+    /// is copied.
     fn finish_step(
         &self,
+        sys: &L,
         k: usize,
         state: &ReducedState<S, K>,
         z: SVector<f64, N>,
         w1: Option<SVector<f64, S>>,
         stats: StepStats,
     ) -> Result<(ReducedState<S, K>, ReducedStep<K>), StepError> {
-        let sys = &self.system;
         let (x, mu) = (&state.x, &state.mu);
         let (x1, u) = split::<S, K, N>(&z);
         let next = ReducedState {
             x: x1,
             w: w1.unwrap_or_else(|| sys.momentum(x, &z)),
-            mu: *mu,
+            mu: if L::GROUP_FORCED {
+                mu + sys.group_impulse(x, &z)
+            } else {
+                *mu
+            },
             g: state.g + D::group_increment(u) + sys.h_d0(x, &x1),
         };
         if !next.is_finite() {
@@ -410,18 +420,23 @@ where
         }
     }
 
+    fn control_dim(&self) -> usize {
+        L::CONTROLS.len()
+    }
+
     /// Newton starts from [`reduced_guess`], a quadratic extrapolation of the last shape points
     /// and a linear one of the last group unknowns.
-    fn step_in(
+    fn step_with(
         &self,
         workspace: &mut Self::Workspace,
         k: usize,
         state: &ReducedState<S, K>,
+        u: &[f64],
     ) -> Result<(ReducedState<S, K>, ReducedStep<K>), StepError> {
         let history = &workspace.history;
         let guess =
             reduced_guess::<S, K, N>(&state.x, history.last.as_ref(), history.before.as_ref());
-        let (next, step) = self.solve_step(&mut workspace.solver, k, state, &guess)?;
+        let (next, step) = self.solve_step(&mut workspace.solver, k, state, &guess, u)?;
         workspace
             .history
             .push((next.x - state.x, step.group_unknown));

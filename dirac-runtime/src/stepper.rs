@@ -43,16 +43,35 @@ pub trait Stepper {
     /// A fresh workspace for one run: no history, no factors.
     fn workspace(&self) -> Self::Workspace;
 
-    /// Takes step `k` from `state` in `workspace`: Newton starts from the guess that the
-    /// workspace's memory of the previous steps extrapolates, and on success the step is added
-    /// to that memory. Fails with the typed error of step `k`; the workspace is then still valid
-    /// (a later call starts from the memory of the last successful steps).
+    /// The number of controls a step takes ([`crate::DiscreteLagrangian::CONTROLS`]); 0 for a
+    /// system without controls.
+    fn control_dim(&self) -> usize {
+        0
+    }
+
+    /// Takes step `k` from `state` in `workspace` with the controls `u` (in the order of
+    /// [`crate::DiscreteLagrangian::CONTROLS`]; empty: the values the system holds). Newton
+    /// starts from the guess that the workspace's memory of the previous steps extrapolates,
+    /// and on success the step is added to that memory. Fails with the typed error of step `k`;
+    /// the workspace is then still valid (a later call starts from the memory of the last
+    /// successful steps).
+    fn step_with(
+        &self,
+        workspace: &mut Self::Workspace,
+        k: usize,
+        state: &Self::State,
+        u: &[f64],
+    ) -> Result<(Self::State, Self::Record), StepError>;
+
+    /// [`Self::step_with`] with the controls the system holds.
     fn step_in(
         &self,
         workspace: &mut Self::Workspace,
         k: usize,
         state: &Self::State,
-    ) -> Result<(Self::State, Self::Record), StepError>;
+    ) -> Result<(Self::State, Self::Record), StepError> {
+        self.step_with(workspace, k, state, &[])
+    }
 
     /// One step `k` from `state` in a fresh workspace (Newton starts without history). A loop
     /// over steps should keep one workspace and call [`Self::step_in`], as the driver does.
@@ -63,6 +82,36 @@ pub trait Stepper {
     ) -> Result<(Self::State, Self::Record), StepError> {
         self.step_in(&mut self.workspace(), k, state)
     }
+}
+
+/// The system `sys` with the controls `u` set (`None` for `u` empty: `sys` itself serves); the
+/// typed error of step `k` when `u` has the wrong length or a value that is not finite.
+pub(crate) fn controlled<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    k: usize,
+    u: &[f64],
+) -> Result<Option<L>, StepError>
+where
+    L: crate::DiscreteLagrangian<S, K, N>,
+{
+    if u.is_empty() {
+        return Ok(None);
+    }
+    if u.len() != L::CONTROLS.len() {
+        return Err(StepError::InvalidControls {
+            step: k,
+            expected: L::CONTROLS.len(),
+            found: u.len(),
+        });
+    }
+    if u.iter().any(|v| !v.is_finite()) {
+        return Err(StepError::NonFinite {
+            step: k,
+            what: "the controls",
+            residual: f64::NAN,
+        });
+    }
+    Ok(Some(sys.with_controls(u)))
 }
 
 /// A trajectory that [`crate::Drive::integrate`] fills, state by state.

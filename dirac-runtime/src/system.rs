@@ -21,6 +21,14 @@ pub trait DiscreteLagrangian<const S: usize, const K: usize, const N: usize> {
     const GROUP: [&'static str; K];
     /// Names of the scalar parameters, in declaration order.
     const PARAMETERS: &'static [&'static str];
+    /// Names of the controls (`controls(...)` in the attribute): parameters that a control law
+    /// sets before every step ([`crate::Drive::run_controlled`]), in the order a control vector
+    /// `u_k` lists them. Empty for a system without controls.
+    const CONTROLS: &'static [&'static str] = &[];
+    /// Whether the system declares forces (`force = ...` in the attribute): its steps solve the
+    /// forced discrete Lagrange–Dirac equations `p_k = −D1 L_d − f_d^−`,
+    /// `p_{k+1} = D2 L_d + f_d^+`, and its energy is not conserved.
+    const FORCED: bool = false;
 
     /// `L_d(q0, q1)`, evaluated by the user's own function body.
     fn lagrangian(&self, q0: &SVector<f64, N>, q1: &SVector<f64, N>) -> f64;
@@ -43,6 +51,12 @@ pub trait DiscreteLagrangian<const S: usize, const K: usize, const N: usize> {
 
     /// The parameter values, in the order of [`Self::PARAMETERS`].
     fn parameter_values(&self) -> Vec<f64>;
+
+    /// The same system with its controls set to `u` (in the order of [`Self::CONTROLS`]; the
+    /// caller checks the length), every other parameter unchanged.
+    fn with_controls(&self, u: &[f64]) -> Self
+    where
+        Self: Sized;
 
     /// Right trivialization of `T*Q`, eq. (3.6): `(q, p) ↦ (q, w, μ)` with
     /// `w = p_x + h*_{d,Σ}(p_g) = p_x + Bᵀ p_g` and `μ = J(q, p) = p_g` (Lemma 2.2).
@@ -279,6 +293,33 @@ pub trait Reduced<D: Side, const S: usize, const K: usize, const N: usize>:
         (self.residual(x_k, w_k, mu_k, z), self.momentum(x_k, z))
     }
 
+    /// Whether a force has a group component: then `μ` is not conserved but obeys the forced
+    /// discrete Noether balance `μ_{k+1} = μ_k + f_{d,g}^− + f_{d,g}^+` ([`Self::group_impulse`]),
+    /// applied explicitly, so it holds to round-off at every step. Without a group force `μ` is
+    /// copied: constant bit for bit.
+    const GROUP_FORCED: bool = false;
+
+    /// The group impulse of the step, `f_{d,g}^− + f_{d,g}^+` at `(x_k, z)`: the change of `μ`
+    /// over the step (zero without a group force).
+    fn group_impulse(&self, _x_k: &SVector<f64, S>, _z: &SVector<f64, N>) -> SVector<f64, K> {
+        SVector::zeros()
+    }
+
+    /// Writes the partial derivatives of the step at `(x_k, w_k, μ_k, z)` into `out`
+    /// ([`crate::StepPartials`], with data `y = x_k` and updates `o = (w_{k+1}, μ_{k+1} − μ_k)`),
+    /// what [`crate::ReducedIntegrator::sensitivity`] needs; `false` when the system was compiled
+    /// without them (systems without forces or controls).
+    fn step_partials(
+        &self,
+        _x_k: &SVector<f64, S>,
+        _w_k: &SVector<f64, S>,
+        _mu_k: &SVector<f64, K>,
+        _z: &SVector<f64, N>,
+        _out: &mut crate::StepPartials,
+    ) -> bool {
+        false
+    }
+
     /// Whether the momentum equations (the last `K` rows of `R`) are affine in the group unknown
     /// and were solved in closed form at compile time (momentum-level elimination, beyond the
     /// paper: a discrete Routh-type step). Then the `eliminated_*` functions return `Some` and a
@@ -370,8 +411,22 @@ pub trait Unreduced<const S: usize, const K: usize, const N: usize>:
         <Self::UnreducedLinear as LinearSolver>::Matrix,
     );
 
-    /// `p_{k+1} = D2 L_d(q_k, q_{k+1})`.
+    /// `p_{k+1} = D2 L_d(q_k, q_{k+1})` (`+ f_d^+` with forces).
     fn unreduced_momentum(&self, q_k: &SVector<f64, N>, z: &SVector<f64, N>) -> SVector<f64, N>;
+
+    /// Writes the partial derivatives of the step at `(q_k, p_k, z)` into `out`
+    /// ([`crate::StepPartials`], with data `y = q_k` and update `o = p_{k+1}`), what
+    /// [`crate::UnreducedIntegrator::sensitivity`] needs; `false` when the system was compiled
+    /// without them.
+    fn unreduced_step_partials(
+        &self,
+        _q_k: &SVector<f64, N>,
+        _p_k: &SVector<f64, N>,
+        _z: &SVector<f64, N>,
+        _out: &mut crate::StepPartials,
+    ) -> bool {
+        false
+    }
 }
 
 /// The second derivatives of `L_d`, emitted for systems on the dense backend

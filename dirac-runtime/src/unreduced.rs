@@ -9,8 +9,8 @@ use crate::newton::{self, inf_norm, NewtonOptions};
 use crate::reduced::trajectory_accessors;
 use crate::state::CanonicalState;
 use crate::stepper::{
-    check_inputs, predicted_increment, step_error, Collect, History, StepStats, StepStatsExt,
-    Stepper,
+    check_inputs, controlled, predicted_increment, step_error, Collect, History, StepStats,
+    StepStatsExt, Stepper,
 };
 use crate::system::{LagrangianHessian, Unreduced};
 
@@ -145,18 +145,27 @@ where
         state: &CanonicalState<N>,
         guess: &SVector<f64, N>,
     ) -> Result<(CanonicalState<N>, StepStats), StepError> {
-        self.solve_step(&mut self.system.unreduced_linear_solver(), k, state, guess)
+        self.solve_step(
+            &mut self.system.unreduced_linear_solver(),
+            k,
+            state,
+            guess,
+            &[],
+        )
     }
 
-    /// The step from `state` with Newton starting at `guess`, in the linear solver `solver`.
+    /// The step from `state` with the controls `u` (empty: the system's own), Newton starting
+    /// at `guess`, in the linear solver `solver`.
     fn solve_step(
         &self,
         solver: &mut L::UnreducedLinear,
         k: usize,
         state: &CanonicalState<N>,
         guess: &SVector<f64, N>,
+        u: &[f64],
     ) -> Result<(CanonicalState<N>, StepStats), StepError> {
-        let sys = &self.system;
+        let owned = controlled(&self.system, k, u)?;
+        let sys = owned.as_ref().unwrap_or(&self.system);
         let (q, p) = (&state.q, &state.p);
         let rho = inf_norm(p);
         let solution = newton::solve_with(
@@ -214,17 +223,22 @@ where
         }
     }
 
+    fn control_dim(&self) -> usize {
+        L::CONTROLS.len()
+    }
+
     /// Newton starts from [`canonical_guess`], a quadratic extrapolation of the last
     /// configurations.
-    fn step_in(
+    fn step_with(
         &self,
         workspace: &mut Self::Workspace,
         k: usize,
         state: &CanonicalState<N>,
+        u: &[f64],
     ) -> Result<(CanonicalState<N>, StepStats), StepError> {
         let history = &workspace.history;
         let guess = canonical_guess(&state.q, history.last.as_ref(), history.before.as_ref());
-        let (next, stats) = self.solve_step(&mut workspace.solver, k, state, &guess)?;
+        let (next, stats) = self.solve_step(&mut workspace.solver, k, state, &guess, u)?;
         workspace.history.push(next.q - state.q);
         Ok((next, stats))
     }

@@ -30,6 +30,11 @@
 //! ```text
 //! #[reduced_lagrangian(coordinates(x[4], y[4]), translate(x), translate(y))]
 //! ```
+//!
+//! Forces are declared by their virtual work, a closure linear in the virtual displacements:
+//! `force = |dq| <⟨F(q, v), dq⟩>` for a continuous Lagrangian (the rule forms `f_d^±`), or
+//! `force = |dq0, dq1| <⟨f_d^−, dq0⟩ + ⟨f_d^+, dq1⟩>` for a discrete one; `controls(u, ..)` names
+//! parameters that a control law may set before every step (see [`crate::ir::force`]).
 
 use proc_macro2::Span;
 use quote::ToTokens;
@@ -42,10 +47,11 @@ use crate::ast::ranges::{parse_ranges, Range, RangeArg, RANGES as RANGES_ACCEPTE
 use crate::ast::rule::{Rule, RULES};
 use crate::ctxt::Ctxt;
 use crate::symbol::{
-    self, Symbol, CONNECTION, COORDINATES, GROUP, NAME, RANGES, RULE, SHAPE, STEP, TRANSLATE,
+    self, Symbol, CONNECTION, CONTROLS, COORDINATES, FORCE, GROUP, NAME, RANGES, RULE, SHAPE, STEP,
+    TRANSLATE,
 };
 
-const KEYS: &str = "`shape(...)`, `group(...)` (or `coordinates(...)` with `translate(...)`), `connection = [[...], ...]`, `step = <parameter>`, `name = <TypeName>`, `rule = midpoint | trapezoid | left | right` and `ranges(<name> = (lo, hi), ...)`";
+const KEYS: &str = "`shape(...)`, `group(...)` (or `coordinates(...)` with `translate(...)`), `connection = [[...], ...]`, `step = <parameter>`, `name = <TypeName>`, `rule = midpoint | trapezoid | left | right`, `ranges(<name> = (lo, hi), ...)`, `controls(<parameter>, ...)` and `force = |dq| <virtual work>` (or `|dq0, dq1|` for a discrete Lagrangian)";
 
 /// The parsed attribute.
 pub struct Spec {
@@ -63,6 +69,11 @@ pub struct Spec {
     pub rule: Option<(Ident, Rule)>,
     /// Whether `rule = ...` was written, valid or not (an invalid one is already reported).
     pub rule_written: bool,
+    /// `controls(u, ...)`: parameters that a control law sets before every step.
+    pub controls: Vec<Ident>,
+    /// `force = |dq| ...` (continuous) or `force = |dq0, dq1| ...` (discrete): the virtual work
+    /// of the forces, linear in the virtual displacements.
+    pub force: Option<syn::ExprClosure>,
 }
 
 /// One entry of `shape(...)`, `group(...)`, `coordinates(...)` or `translate(...)`: a name,
@@ -135,6 +146,8 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
     let mut name: Option<Ident> = None;
     let mut ranges: Vec<Range> = Vec::new();
     let mut rule: Option<(Ident, Rule)> = None;
+    let mut controls: Vec<Ident> = Vec::new();
+    let mut force: Option<syn::ExprClosure> = None;
     let mut seen: Vec<String> = Vec::new();
     // Which way the symmetry is declared: the first of `shape`/`group` or
     // `coordinates`/`translate` decides; a key of the other family is an error.
@@ -234,6 +247,43 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
                 name = parse_ident(cx, value, "a type name, e.g. `name = Particle`")
             }
             (Some(RANGES), Arg::Ranges(_, list)) => ranges = parse_ranges(cx, list),
+            (Some(CONTROLS), Arg::List(k, list)) => {
+                for c in list {
+                    if let Some((_, len)) = &c.len {
+                        cx.error_spanned_by(
+                            len,
+                            format!(
+                                "a control is one `f64` parameter, found `{}[{}]`: list each control parameter, e.g. `controls(u1, u2)`",
+                                c.name,
+                                len.to_token_stream()
+                            ),
+                        );
+                    } else if controls.contains(&c.name) {
+                        cx.error_spanned_by(&c.name, format!("control `{}` is listed twice", c.name));
+                    } else {
+                        controls.push(c.name);
+                    }
+                }
+                if controls.is_empty() {
+                    cx.error_spanned_by(
+                        &k,
+                        "`controls()` is empty: list the `f64` parameters a control law sets before every step, e.g. `controls(u)`",
+                    );
+                }
+            }
+            (Some(FORCE), Arg::Value(_, Expr::Closure(closure))) => force = Some(closure),
+            (Some(FORCE), Arg::Value(_, value)) => cx.error_spanned_by(
+                &value,
+                format!(
+                    "expected the forces as their virtual work, a closure linear in the virtual displacement: \
+                     `force = |dq| -c * v.x * dq.x` (continuous Lagrangian) or `force = |dq0, dq1| ...` (discrete), found `{}`",
+                    value.to_token_stream()
+                ),
+            ),
+            (Some(FORCE), Arg::List(k, _)) => cx.error_spanned_by(
+                &k,
+                "expected `force = |dq| <virtual work>` (or `|dq0, dq1|` for a discrete Lagrangian), found `force(...)`",
+            ),
             (Some(RULE), Arg::Value(k, value)) => {
                 let id = match &value {
                     Expr::Path(p) => p.path.get_ident().cloned(),
@@ -260,7 +310,7 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
                     "expected `ranges(...)`, found `ranges = ...`; accepted: {RANGES_ACCEPTED}"
                 ),
             ),
-            (Some(SHAPE | GROUP | COORDINATES | TRANSLATE), Arg::Value(k, _)) => {
+            (Some(SHAPE | GROUP | COORDINATES | TRANSLATE | CONTROLS), Arg::Value(k, _)) => {
                 cx.error_spanned_by(&k, format!("expected a list: `{k}(a, b, ...)`"))
             }
             (Some(CONNECTION), Arg::List(k, _)) => cx.error_spanned_by(
@@ -333,6 +383,8 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
         ranges,
         rule,
         rule_written: seen.iter().any(|k| *k == RULE),
+        controls,
+        force,
     })
 }
 

@@ -193,6 +193,28 @@ pub fn parse_signature(
     })
 }
 
+/// Checks `controls(...)` against the signature: each control is one of the function's `f64`
+/// parameters, and not the time step.
+pub fn check_controls(cx: &Ctxt, controls: &[Ident], sig: &Signature) {
+    for c in controls {
+        if *c == sig.step {
+            cx.error_spanned_by(
+                c,
+                format!("`{c}` is the time step and cannot be a control: a control is a parameter that a control law sets before every step"),
+            );
+        } else if !sig.fn_params().contains(c) {
+            let list: Vec<String> = sig.fn_params().iter().map(|p| format!("`{p}`")).collect();
+            cx.error_spanned_by(
+                c,
+                format!(
+                    "control `{c}` is not a parameter of the function; a control is one of its `f64` parameters ({}): add `{c}: f64` to the signature",
+                    if list.is_empty() { "it has none".to_string() } else { list.join(", ") }
+                ),
+            );
+        }
+    }
+}
+
 fn is_f64(ty: &syn::Type) -> bool {
     matches!(ty, syn::Type::Path(p) if p.qself.is_none() && p.path.is_ident("f64"))
 }

@@ -134,6 +134,8 @@ fn leaf_name(sym: Sym) -> Ident {
         Sym::W(i) => format_ident!("__w_{}", i),
         Sym::Mu(i) => format_ident!("__mu_{}", i),
         Sym::Param(i) => format_ident!("__p{}", i),
+        Sym::D0(i) => format_ident!("__d0_{}", i),
+        Sym::D1(i) => format_ident!("__d1_{}", i),
     }
 }
 

@@ -270,6 +270,8 @@ pub fn discrete_lagrangian(
     shape: &[String],
     group: &[String],
     params: &[String],
+    controls: &[String],
+    forced: bool,
 ) -> ImplBlock {
     let (ty, s, k, n, rt, na) = (&t.ty, t.s, t.k, t.n, &t.rt, &t.na);
     let vn = t.vec(n);
@@ -289,6 +291,11 @@ pub fn discrete_lagrangian(
                 "PARAMETERS",
                 quote!(const PARAMETERS: &'static [&'static str] = &[ #( #params ),* ];),
             ),
+            fixed(
+                "CONTROLS",
+                quote!(const CONTROLS: &'static [&'static str] = &[ #( #controls ),* ];),
+            ),
+            fixed("FORCED", quote!(const FORCED: bool = #forced;)),
             method(
                 "lagrangian",
                 quote!(),
@@ -309,6 +316,11 @@ pub fn discrete_lagrangian(
                 "parameter_values",
                 quote!(),
                 quote!(fn parameter_values(&self) -> ::std::vec::Vec<f64>),
+            ),
+            method(
+                "with_controls",
+                quote!(#[allow(unused_variables)]), // a system without controls ignores `u`
+                quote!(fn with_controls(&self, u: &[f64]) -> Self),
             ),
         ],
     }
@@ -367,6 +379,26 @@ pub fn reduced(t: &Target, side: Side, backend: &Backend) -> ImplBlock {
                 quote!(fn residual_momentum(
                     &self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn,
                 ) -> (#na::SVector<f64, #n>, #na::SVector<f64, #s>)),
+            ),
+            Item {
+                name: "GROUP_FORCED",
+                kind: Kind::Const {
+                    decl: quote!(const GROUP_FORCED: bool),
+                    stub: None,
+                    documented: false,
+                },
+            },
+            provided(
+                "group_impulse",
+                closed_form.clone(),
+                quote!(fn group_impulse(&self, x_k: #vs, z: #vn) -> #na::SVector<f64, #k>),
+            ),
+            provided(
+                "step_partials",
+                closed_form.clone(),
+                quote!(fn step_partials(
+                    &self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vn, out: &mut #rt::StepPartials,
+                ) -> bool),
             ),
             Item {
                 name: "ELIMINATES_GROUP",
@@ -442,6 +474,13 @@ pub fn unreduced(t: &Target, backend: &Backend) -> ImplBlock {
                 "unreduced_momentum",
                 inline,
                 quote!(fn unreduced_momentum(&self, q_k: #vn, z: #vn) -> #na::SVector<f64, #n>),
+            ),
+            provided(
+                "unreduced_step_partials",
+                quote!(#[allow(unused_variables)]), // partials need not read every input
+                quote!(fn unreduced_step_partials(
+                    &self, q_k: #vn, p_k: #vn, z: #vn, out: &mut #rt::StepPartials,
+                ) -> bool),
             ),
         ],
     }

@@ -16,8 +16,44 @@ use crate::codegen::impls::{self, Bodies, Target};
 use crate::codegen::items::{config_struct, param_struct, type_name, user_function};
 use crate::codegen::{adapted, continuous};
 use crate::ir::compile::{Compiled, SideCode};
+use crate::ir::graph::Graph;
 use crate::ir::graph::{NodeId, Sym};
-use crate::ir::reduce::{Side, Stepper};
+use crate::ir::reduce::{Partials, Side, Stepper};
+
+/// The body of a `step_partials` function: every entry of `p` that is not zero by construction
+/// assigned into `out` (a `StepPartials` of zeros, whose other entries stay zero), then `true`.
+fn partials_body(g: &Graph, p: &Partials, leaf: &dyn Fn(Sym) -> TokenStream) -> TokenStream {
+    let blocks = [
+        ("r_y", &p.r_y),
+        ("r_u", &p.r_u),
+        ("o_y", &p.o_y),
+        ("o_z", &p.o_z),
+        ("o_u", &p.o_u),
+    ];
+    let mut roots = Vec::new();
+    let mut targets = Vec::new();
+    for (name, m) in blocks {
+        for (i, row) in m.iter().enumerate() {
+            for (j, &node) in row.iter().enumerate() {
+                if g.as_const(node) != Some(0.0) {
+                    roots.push(node);
+                    targets.push((format_ident!("{}", name), i, j));
+                }
+            }
+        }
+    }
+    let code = straight_line(g, &roots, leaf);
+    let stmts = &code.stmts;
+    let assigns = targets
+        .iter()
+        .zip(&code.outputs)
+        .map(|((f, i, j), v)| quote! { out.#f[(#i, #j)] = #v; });
+    quote! {
+        #stmts
+        #( #assigns )*
+        true
+    }
+}
 
 /// Leaves of the reduced steppers: `x_k`, the unknowns `z = (x_{k+1}, u)`, `w_k`, `μ_k`.
 fn reduced_leaf(t: &Target, sym: Sym) -> TokenStream {
@@ -31,7 +67,7 @@ fn reduced_leaf(t: &Target, sym: Sym) -> TokenStream {
         Sym::W(i) => quote! { w_k[#i] },
         Sym::Mu(j) => quote! { mu_k[#j] },
         Sym::Param(i) => t.param_leaf(i),
-        Sym::Q0(_) | Sym::Q1(_) | Sym::P(_) => {
+        Sym::Q0(_) | Sym::Q1(_) | Sym::P(_) | Sym::D0(_) | Sym::D1(_) => {
             unreachable!("reduced Lagrangians read x0, x1 and g")
         }
     }
@@ -79,6 +115,7 @@ fn reduced_impl(t: &Target, c: &Compiled, side: &SideCode) -> (TokenStream, Stri
                 residual: e.residual.clone(),
                 jacobian: e.jacobian.clone(),
                 momentum: e.group.clone(),
+                impulse: Vec::new(),
             };
             let f = stepper_fns(g, &as_stepper, &leaf, s, k);
             let (r, rj, grp) = (&f.residual, &f.residual_jacobian, &f.momentum);
@@ -117,6 +154,23 @@ fn reduced_impl(t: &Target, c: &Compiled, side: &SideCode) -> (TokenStream, Stri
             )
         }
     };
+    if !side.stepper.impulse.is_empty() {
+        let code = straight_line(g, &side.stepper.impulse, &leaf);
+        let (stmts, out) = (&code.stmts, &code.outputs);
+        bodies.extend([
+            ("GROUP_FORCED", quote!(true)),
+            (
+                "group_impulse",
+                quote! {
+                    #stmts
+                    #na::SVector::<f64, #k>::from_column_slice(&[ #( #out ),* ])
+                },
+            ),
+        ]);
+    }
+    if let Some(p) = &side.partials {
+        bodies.insert("step_partials", partials_body(g, p, &leaf));
+    }
     let tokens = impls::reduced(t, side.side, &general.backend).render(&Bodies::Real(bodies));
     (tokens, general.counts, note)
 }
@@ -188,6 +242,22 @@ fn discrete_impl(
             "parameter_values",
             quote! { ::std::vec![ #( self.#params ),* ] },
         ),
+        ("with_controls", {
+            let set = spec
+                .controls
+                .iter()
+                .enumerate()
+                .map(|(i, c)| quote! { system.#c = u[#i]; });
+            if spec.controls.is_empty() {
+                quote! { *self }
+            } else {
+                quote! {
+                    let mut system = *self;
+                    #( #set )*
+                    system
+                }
+            }
+        }),
     ]);
     discrete_table(t, spec, sig).render(&Bodies::Real(bodies))
 }
@@ -195,7 +265,15 @@ fn discrete_impl(
 /// The table entry of `DiscreteLagrangian` for this system.
 pub fn discrete_table(t: &Target, spec: &Spec, sig: &Signature) -> impls::ImplBlock {
     let params: Vec<String> = sig.params.iter().map(Ident::to_string).collect();
-    impls::discrete_lagrangian(t, &spec.layout.shape, &spec.layout.group, &params)
+    let controls: Vec<String> = spec.controls.iter().map(Ident::to_string).collect();
+    impls::discrete_lagrangian(
+        t,
+        &spec.layout.shape,
+        &spec.layout.group,
+        &params,
+        &controls,
+        spec.force.is_some(),
+    )
 }
 
 /// Every item `#[reduced_lagrangian]` emits for a compiled system.
@@ -218,16 +296,23 @@ pub fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> To
     let (minus_impl, minus_counts, minus_note) = reduced_impl(&t, c, &c.minus);
     let elimination_note = format!(" Momentum-level elimination: {plus_note}; {minus_note}.");
     let unreduced = stepper_fns(&c.graph, &c.unreduced, &unreduced_leaf, n, n);
+    let mut unreduced_bodies = HashMap::from([
+        ("unreduced_linear_solver", unreduced.solver_new.clone()),
+        ("unreduced_residual", unreduced.residual.clone()),
+        (
+            "unreduced_residual_jacobian",
+            unreduced.residual_jacobian.clone(),
+        ),
+        ("unreduced_momentum", unreduced.momentum.clone()),
+    ]);
+    if let Some(p) = &c.unreduced_partials {
+        unreduced_bodies.insert(
+            "unreduced_step_partials",
+            partials_body(&c.graph, p, &unreduced_leaf),
+        );
+    }
     let unreduced_impl =
-        impls::unreduced(&t, &unreduced.backend).render(&Bodies::Real(HashMap::from([
-            ("unreduced_linear_solver", unreduced.solver_new.clone()),
-            ("unreduced_residual", unreduced.residual.clone()),
-            (
-                "unreduced_residual_jacobian",
-                unreduced.residual_jacobian.clone(),
-            ),
-            ("unreduced_momentum", unreduced.momentum.clone()),
-        ])));
+        impls::unreduced(&t, &unreduced.backend).render(&Bodies::Real(unreduced_bodies));
     let hessian_impl = hessian_impl(&t, c);
 
     let config_item = config_struct(spec, func, &config, &ty);
@@ -299,18 +384,22 @@ pub fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> To
     }
 }
 
-/// Parameters the body never reads but the connection matrix does.
+/// Parameters the body never reads but the system does (the connection matrix, the forces, or
+/// as controls): the user's function marks them used.
 fn connection_only_params(spec: &Spec, sig: &Signature, c: &Compiled) -> Vec<Ident> {
-    if spec.connection.is_none() {
-        return Vec::new();
+    let mut roots: Vec<NodeId> = c.b.iter().flatten().copied().collect();
+    if let Some(f) = &c.forces {
+        roots.extend(f.minus.iter().chain(&f.plus));
     }
-    let b_flat: Vec<NodeId> = c.b.iter().flatten().copied().collect();
-    let in_b = c.graph.symbols(&b_flat);
+    let in_system = c.graph.symbols(&roots);
     let in_body = c.graph.symbols(&[c.body]);
     sig.fn_params()
         .iter()
         .enumerate()
-        .filter(|(i, _)| in_b.contains(&Sym::Param(*i)) && !in_body.contains(&Sym::Param(*i)))
+        .filter(|(i, p)| {
+            (in_system.contains(&Sym::Param(*i)) || spec.controls.contains(p))
+                && !in_body.contains(&Sym::Param(*i))
+        })
         .map(|(_, p)| p.clone())
         .collect()
 }

@@ -189,6 +189,75 @@ pub fn check(
     };
     invariance(cx, graph, body, block, spec, &boxes, &points, &names);
     connection(cx, graph, b, spec, &boxes, &points, &names);
+    if let (Some(forces), Some(closure)) = (&lowered.forces, &spec.force) {
+        force_invariance(cx, graph, forces, closure, spec, &points, &names);
+    }
+}
+
+/// The forces must be G-invariant for the reduction (see `crate::ir::reduce::reduced_stepper`):
+/// each component of `f_d^±` unchanged when one group coordinate is translated in both
+/// configurations. One error, at the force, for the first broken group coordinate.
+fn force_invariance(
+    cx: &Ctxt,
+    graph: &Graph,
+    forces: &crate::ir::force::Forces,
+    closure: &syn::ExprClosure,
+    spec: &Spec,
+    points: &[Point],
+    names: &Names,
+) {
+    let layout = &spec.layout;
+    let roots: Vec<NodeId> = forces.minus.iter().chain(&forces.plus).copied().collect();
+    let eval = |q0: &[f64], q1: &[f64], params: &[f64]| {
+        graph.eval(&roots, &|sym| match sym {
+            Sym::Q0(i) => q0[i],
+            Sym::Q1(i) => q1[i],
+            Sym::Param(i) => params[i],
+            other => unreachable!("the forces read q0, q1 and parameters, not {other:?}"),
+        })
+    };
+    let s = layout.s();
+    for p in points {
+        let (a0, a1) = (layout.to_adapted(&p.q0), layout.to_adapted(&p.q1));
+        let f = eval(&a0, &a1, &p.params);
+        if f.iter().any(|v| !v.is_finite()) {
+            continue;
+        }
+        for (j, decl) in layout.group_decls.iter().enumerate() {
+            for shift in SHIFTS {
+                let (mut q0, mut q1) = (a0.clone(), a1.clone());
+                q0[s + j] += shift;
+                q1[s + j] += shift;
+                let shifted = eval(&q0, &q1, &p.params);
+                let changed = f
+                    .iter()
+                    .zip(&shifted)
+                    .any(|(a, b)| !((b - a).abs() <= TOL * a.abs().max(1.0)));
+                if !changed {
+                    continue;
+                }
+                let group = match decl {
+                    GroupDecl::Coordinate { component, .. } => {
+                        format!("group coordinate `{component}`")
+                    }
+                    GroupDecl::Translate { names: moved, .. } => {
+                        let list: Vec<String> = moved.iter().map(ToString::to_string).collect();
+                        format!("translation `translate({})`", list.join(", "))
+                    }
+                };
+                cx.error_spanned_by(
+                    closure,
+                    format!(
+                        "the force is not invariant under the {group}: at {}, shifting it by {shift} in both configurations \
+                         changes the discrete force; `#[reduced_lagrangian]` reduces by this symmetry, so a force may depend on \
+                         the group coordinates only through differences (as the Lagrangian does)",
+                        names.point(&p.q0, &p.q1, &p.params),
+                    ),
+                );
+                return;
+            }
+        }
+    }
 }
 
 /// Names for messages.

@@ -9,11 +9,12 @@ use crate::ast::signature::Signature;
 use crate::ast::Spec;
 use crate::ctxt::Ctxt;
 use crate::ir::discretize::{self, Continuous};
+use crate::ir::force::{self, Forces};
 use crate::ir::graph::{Graph, Node, NodeId, Sym};
 use crate::ir::lower::{Lowering, Names};
 use crate::ir::reduce::{
-    eliminate_group, lagrangian_hessian, reduced_lagrangian, reduced_stepper, unreduced_stepper,
-    Eliminated, Side, Stepper, GROUP_ORIGINS,
+    eliminate_group, lagrangian_hessian, partials, reduce, reduced_lagrangian, reduced_stepper,
+    unreduced_stepper, Eliminated, Partials, Side, StepForces, Stepper, GROUP_ORIGINS,
 };
 
 /// The lowered body and connection: what the invariance check reads.
@@ -26,6 +27,8 @@ pub struct Lowered {
     pub b: Vec<Vec<NodeId>>,
     /// The Legendre map and energy of a continuous Lagrangian.
     pub continuous: Option<Continuous>,
+    /// The discrete forces `f_d^±`, when the attribute declares `force = ...`.
+    pub forces: Option<Forces>,
 }
 
 /// The graph and its roots.
@@ -42,10 +45,15 @@ pub struct Compiled {
     pub minus: SideCode,
     /// The unreduced stepper, Definitions 2.7/2.8.
     pub unreduced: Stepper,
-    /// `(D11, D12, D22)` of `L_d`, for the step-map Jacobian (dense systems only).
+    /// The unreduced stepper's partial derivatives, for its sensitivities.
+    pub unreduced_partials: Option<Partials>,
+    /// `(D11, D12, D22)` of `L_d`, for the step-map Jacobian (dense systems without forces only:
+    /// a forced step has no Hessian form, its sensitivities are [`Partials`]).
     pub hessian: Option<[Vec<Vec<NodeId>>; 3]>,
     /// The Legendre map and energy of a continuous Lagrangian.
     pub continuous: Option<Continuous>,
+    /// The discrete forces `f_d^±`, when declared.
+    pub forces: Option<Forces>,
 }
 
 /// What one side of the reduced equations compiles to.
@@ -60,6 +68,8 @@ pub struct SideCode {
     pub eliminated: Option<Eliminated>,
     /// Whether the eliminated stepper is the better default (no more code than the general).
     pub elimination_pays: bool,
+    /// The general stepper's partial derivatives, for its sensitivities.
+    pub partials: Option<Partials>,
 }
 
 /// Lowers the body (and a continuous `L` to `L_d` by its rule) and the connection matrix;
@@ -70,6 +80,7 @@ pub fn lower(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<L
         q1: &sig.q1,
         coords: spec.layout.lowering_coords(),
         params: sig.params.iter().map(Ident::to_string).collect(),
+        dq: Vec::new(),
     };
     let (s, k) = (spec.layout.s(), spec.layout.k());
     let mut graph = Graph::default();
@@ -101,38 +112,87 @@ pub fn lower(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<L
             })
             .collect(),
     };
+    let forces = spec.force.as_ref().map(|closure| {
+        let form = match spec.rule.as_ref().filter(|_| sig.continuous) {
+            Some(&(_, rule)) => {
+                let step = sig.params.iter().position(|p| *p == sig.step);
+                let h = graph.var(Sym::Param(step.expect("the step is a parameter")));
+                force::Form::Continuous { rule, h }
+            }
+            None => force::Form::Discrete,
+        };
+        force::lower(cx, &mut graph, closure, names, s + k, form)
+    });
+    let forces = match forces {
+        Some(f) => Some(f?),
+        None => None,
+    };
     Some(Lowered {
         graph,
         body: body?,
         b: b?,
         continuous,
+        forces,
     })
 }
 
 /// The paper's constructions on a lowered, checked (G-invariant) Lagrangian; `dense` says whether
-/// the system gets the dense backend, and with it the Hessian and the elimination.
-pub fn construct(lowered: Lowered, s: usize, k: usize, dense: bool) -> Compiled {
+/// the system gets the dense backend, and with it the Hessian and the elimination; `controls`
+/// are the parameter indices of the controls. The steps' partial derivatives (for their
+/// sensitivities) are built for systems with forces or controls (a conservative system's
+/// unreduced step Jacobian comes from the Hessian of `L_d`).
+pub fn construct(
+    lowered: Lowered,
+    s: usize,
+    k: usize,
+    dense: bool,
+    controls: &[usize],
+) -> Compiled {
     let Lowered {
         mut graph,
         body,
         b,
         continuous,
+        forces,
     } = lowered;
+    let with_partials = forces.is_some() || !controls.is_empty();
+    let controls: Vec<Sym> = controls.iter().map(|&i| Sym::Param(i)).collect();
     // The reduced Lagrangians (4.5), (4.7) with the group origin α that gives the least
     // straight-line code: by G-invariance every α gives the same function (eq. (4.5) is α = 0),
     // but e.g. a midpoint rule at α = ½ no longer carries the group unknown through its
     // trigonometric terms. Ties go to the paper's α = 0.
     let build = |side: Side| {
-        let b = &b;
+        let (b, forces) = (&b, &forces);
         move |g: &mut Graph, alpha: f64| {
             let l = reduced_lagrangian(g, side, body, s, b, alpha);
-            reduced_stepper(g, side, l, s, k)
+            // G-invariant forces reduce by the same substitution as the Lagrangian.
+            let reduced: Option<(Vec<NodeId>, Vec<NodeId>)> = forces.as_ref().map(|f| {
+                let mut at = |nodes: &[NodeId]| -> Vec<NodeId> {
+                    nodes
+                        .iter()
+                        .map(|&n| reduce(g, side, n, s, b, alpha))
+                        .collect()
+                };
+                (at(&f.minus), at(&f.plus))
+            });
+            let step_forces = reduced
+                .as_ref()
+                .map(|(minus, plus)| StepForces { minus, plus });
+            reduced_stepper(g, side, l, step_forces, b, s, k)
         }
     };
     let plus = cheapest(&mut graph, build(Side::Plus));
     let minus = cheapest(&mut graph, build(Side::Minus));
-    let unreduced = unreduced_stepper(&mut graph, body, s + k);
-    let hessian = dense.then(|| lagrangian_hessian(&mut graph, body, s + k));
+    let unreduced = unreduced_stepper(
+        &mut graph,
+        body,
+        forces.as_ref().map(|f| StepForces {
+            minus: &f.minus,
+            plus: &f.plus,
+        }),
+        s + k,
+    );
+    let hessian = (dense && forces.is_none()).then(|| lagrangian_hessian(&mut graph, body, s + k));
     // Elimination: the cheapest origin at which the momentum equations are structurally affine
     // (dense systems only: its shape Jacobian is a dense `S × S` matrix).
     let (plus_eliminated, minus_eliminated) = if dense {
@@ -153,20 +213,45 @@ pub fn construct(lowered: Lowered, s: usize, k: usize, dense: bool) -> Compiled 
             10 * cost(g, &e.residual, &e.jacobian) <= 11 * cost(g, &full.residual, &full.jacobian)
         })
     };
-    let side_code = |graph: &mut Graph, side, stepper, eliminated| {
+    let side_code = |graph: &mut Graph, side: Side, stepper: Stepper, eliminated| {
         let elimination_pays = pays(&eliminated, &stepper, graph);
         // Built last, so the nodes of the steppers above keep their numbers (and names).
         let lagrangian = reduced_lagrangian(graph, side, body, s, &b, 0.0);
+        let partials = with_partials.then(|| {
+            let zero = graph.constant(0.0);
+            let mut outputs = stepper.momentum.clone();
+            if stepper.impulse.is_empty() {
+                outputs.extend(std::iter::repeat_n(zero, k));
+            } else {
+                outputs.extend(&stepper.impulse);
+            }
+            let data: Vec<Sym> = (0..s).map(Sym::X0).collect();
+            let unknowns: Vec<Sym> = (0..s)
+                .map(Sym::X1)
+                .chain((0..k).map(side.group()))
+                .collect();
+            partials(graph, &stepper, &outputs, &data, &unknowns, &controls)
+        });
         SideCode {
             side,
             lagrangian,
             stepper,
             eliminated,
             elimination_pays,
+            partials,
         }
     };
     let plus = side_code(&mut graph, Side::Plus, plus, plus_eliminated);
     let minus = side_code(&mut graph, Side::Minus, minus, minus_eliminated);
+    let unreduced_partials = with_partials.then(|| {
+        let n = s + k;
+        let data: Vec<Sym> = (0..n).map(Sym::Q0).collect();
+        let unknowns: Vec<Sym> = (0..n).map(Sym::Q1).collect();
+        let outputs = unreduced.momentum.clone();
+        partials(
+            &mut graph, &unreduced, &outputs, &data, &unknowns, &controls,
+        )
+    });
     Compiled {
         graph,
         body,
@@ -174,8 +259,10 @@ pub fn construct(lowered: Lowered, s: usize, k: usize, dense: bool) -> Compiled 
         plus,
         minus,
         unreduced,
+        unreduced_partials,
         hessian,
         continuous,
+        forces,
     }
 }
 

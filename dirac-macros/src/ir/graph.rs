@@ -33,6 +33,11 @@ pub enum Sym {
     Mu(usize),
     /// Scalar parameter `i`.
     Param(usize),
+    /// Component `i` of the virtual displacement `δq0` in a force's virtual work (`δq` for a
+    /// continuous Lagrangian); gone after differentiation ([`crate::ir::force`]).
+    D0(usize),
+    /// Component `i` of the virtual displacement `δq1` in a discrete force's virtual work.
+    D1(usize),
 }
 
 /// Elementary functions of one argument.

@@ -1,5 +1,6 @@
 //! The middle: the body lowered to a hash-consed expression graph ([`lower`], [`graph`]),
-//! a continuous `L` discretized by its rule ([`discretize`]), the compile-time invariance check
+//! a continuous `L` discretized by its rule ([`discretize`]), the forces from their virtual work
+//! ([`force`]), the compile-time invariance check
 //! ([`check`]), forward-mode derivatives ([`diff`]), the paper's constructions ([`reduce`]),
 //! all of it driven for a system by [`compile`] and for a chart transition by [`transition`].
 //! Imports only the front end ([`crate::ast`]); emits no code.
@@ -8,6 +9,7 @@ pub mod check;
 pub mod compile;
 pub mod diff;
 pub mod discretize;
+pub mod force;
 pub mod graph;
 pub mod lower;
 pub mod reduce;

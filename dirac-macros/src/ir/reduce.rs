@@ -14,6 +14,17 @@ pub struct Stepper {
     /// `∂R/∂z`, row-major.
     pub jacobian: Vec<Vec<NodeId>>,
     pub momentum: Vec<NodeId>,
+    /// The group impulse `μ_{k+1} − μ_k = f_{d,g}^− + f_{d,g}^+` of a reduced stepper (the forced
+    /// discrete Noether balance, see [`reduced_stepper`]); empty when no force has a group
+    /// component (then `μ` is conserved exactly) and for the unreduced stepper.
+    pub impulse: Vec<NodeId>,
+}
+
+/// The discrete forces `f_d^−`, `f_d^+` of a stepper, over its own symbols (for a reduced
+/// stepper: substituted like its Lagrangian, see [`reduce`]).
+pub struct StepForces<'a> {
+    pub minus: &'a [NodeId],
+    pub plus: &'a [NodeId],
 }
 
 /// A family of indexed symbols, e.g. `Sym::X0`.
@@ -53,6 +64,20 @@ impl Side {
 /// Lagrangian sees the group coordinate only through its increment, which is what lets
 /// [`eliminate_group`] recognise affine momentum equations structurally.
 pub fn reduced_lagrangian(
+    g: &mut Graph,
+    side: Side,
+    l: NodeId,
+    s: usize,
+    b: &[Vec<NodeId>],
+    alpha: f64,
+) -> NodeId {
+    reduce(g, side, l, s, b, alpha)
+}
+
+/// Any expression in `(q0, q1)` in the reduced variables of `side`, by the substitution of
+/// [`reduced_lagrangian`]: for the Lagrangian itself, and for G-invariant discrete forces, whose
+/// values at `(q_k, q_{k+1})` are their values at the reduced arguments for the same reason.
+pub fn reduce(
     g: &mut Graph,
     side: Side,
     l: NodeId,
@@ -120,33 +145,165 @@ fn shifted(
 ///   discrepancy);
 ///
 /// momentum update `w_{k+1} = ∂l/∂x1` on both sides.
-pub fn reduced_stepper(g: &mut Graph, side: Side, l: NodeId, s: usize, k: usize) -> Stepper {
+///
+/// # With forces: the reduced forced equations and the forced discrete Noether balance
+///
+/// Let the discrete forces be G-invariant (they depend on the group only through differences;
+/// the compiler checks it as it checks `L_d`), and write them `f^± = (f_x^±, f_g^±)`, reduced by
+/// the same substitution as `l` ([`reduce`]). The forced step
+/// `p_k = −D1 L_d − f^−`, `p_{k+1} = D2 L_d + f^+` ([`crate::ir::force`]) with the chain rule of
+/// `L_d(q0, q1) = l(x0, x1, u)` (for (+), `u = g1 − g0 − B (x1 − x0)`: `∂L_d/∂x0 = ∂l/∂x0 + Bᵀ ∂l/∂u`,
+/// `∂L_d/∂g0 = −∂l/∂u`, `∂L_d/∂x1 = ∂l/∂x1 − Bᵀ ∂l/∂u`, `∂L_d/∂g1 = ∂l/∂u`) and the
+/// trivialization (3.6) `w = p_x + Bᵀ p_g`, `μ = p_g` gives
+///
+/// ```text
+/// w_k      = −∂l/∂x0 − f̃_x^−           f̃_x := f_x + Bᵀ f_g   (a force trivializes as a momentum)
+/// μ_k      =  ∂l/∂u − f_g^−             ((−): μ_k = −∂l/∂u − f_g^−)
+/// w_{k+1}  =  ∂l/∂x1 + f̃_x^+
+/// μ_{k+1}  =  ∂l/∂u + f_g^+ = μ_k + f_g^− + f_g^+      (both sides)
+/// ```
+///
+/// so the residual gains `f̃_x^−` in its shape rows and `∓ f_g^−` in its group rows, the momentum
+/// update gains `f̃_x^+`, and `μ` obeys the **forced discrete Noether balance**
+/// `μ_{k+1} − μ_k = f_g^− + f_g^+` (the discrete counterpart of `dJ/dt = ⟨F, ξ_Q⟩`). The runtime
+/// applies the balance explicitly, so it holds to round-off at every step; with no group force
+/// `impulse` is empty and `μ` stays bit for bit constant. The (−) side is the same computation
+/// with `u = g0 − g1 + B (x1 − x0)`.
+pub fn reduced_stepper(
+    g: &mut Graph,
+    side: Side,
+    l: NodeId,
+    forces: Option<StepForces>,
+    b: &[Vec<NodeId>],
+    s: usize,
+    k: usize,
+) -> Stepper {
     let u = side.group();
+    // f̃_x = f_x + Bᵀ f_g: the shape part of a force in the trivialization (3.6).
+    let trivialized = |g: &mut Graph, f: &[NodeId], i: usize| {
+        let mut v = f[i];
+        for (j, row) in b.iter().enumerate() {
+            let t = g.mul(row[i], f[s + j]);
+            v = g.add(v, t);
+        }
+        v
+    };
     let mut residual = Vec::with_capacity(s + k);
     for i in 0..s {
-        residual.push(first_plus(g, l, Sym::X0(i), Sym::W(i)));
+        let r = first_plus(g, l, Sym::X0(i), Sym::W(i));
+        residual.push(match &forces {
+            Some(f) => {
+                let fx = trivialized(g, f.minus, i);
+                g.add(r, fx)
+            }
+            None => r,
+        });
     }
     for j in 0..k {
         let d = first(g, l, u(j));
-        let mu = g.var(Sym::Mu(j));
+        let mut mu = g.var(Sym::Mu(j));
+        if let Some(f) = &forces {
+            mu = g.add(mu, f.minus[s + j]);
+        }
         residual.push(match side {
             Side::Plus => g.sub(d, mu),
             Side::Minus => g.add(d, mu),
         });
     }
     let unknowns: Vec<Sym> = (0..s).map(Sym::X1).chain((0..k).map(u)).collect();
-    let momentum: Vec<Sym> = (0..s).map(Sym::X1).collect();
-    finish(g, l, residual, &unknowns, &momentum)
+    // Built after the Jacobian, so a system without forces keeps its node numbers (and the
+    // emitted code its names).
+    finish(g, residual, &unknowns, |g| {
+        let momentum: Vec<NodeId> = (0..s)
+            .map(|i| {
+                let m = first(g, l, Sym::X1(i));
+                match &forces {
+                    Some(f) => {
+                        let fx = trivialized(g, f.plus, i);
+                        g.add(m, fx)
+                    }
+                    None => m,
+                }
+            })
+            .collect();
+        let mut impulse = Vec::new();
+        if let Some(f) = &forces {
+            let parts: Vec<NodeId> = (0..k)
+                .map(|j| g.add(f.minus[s + j], f.plus[s + j]))
+                .collect();
+            if parts.iter().any(|&p| g.as_const(p) != Some(0.0)) {
+                impulse = parts;
+            }
+        }
+        (momentum, impulse)
+    })
 }
 
 /// The unreduced stepper of Definitions 2.7/2.8: `R(q1) = D1 L_d(q_k, q1) + p_k` in
-/// `z = q_{k+1}`, momentum update `p_{k+1} = D2 L_d(q_k, q_{k+1})`.
-pub fn unreduced_stepper(g: &mut Graph, l: NodeId, n: usize) -> Stepper {
+/// `z = q_{k+1}`, momentum update `p_{k+1} = D2 L_d(q_k, q_{k+1})`; with forces
+/// `R(q1) = D1 L_d + p_k + f_d^−` and `p_{k+1} = D2 L_d + f_d^+` ([`crate::ir::force`]).
+pub fn unreduced_stepper(
+    g: &mut Graph,
+    l: NodeId,
+    forces: Option<StepForces>,
+    n: usize,
+) -> Stepper {
+    let with = |g: &mut Graph, v: NodeId, f: Option<&[NodeId]>, i: usize| match f {
+        Some(f) => g.add(v, f[i]),
+        None => v,
+    };
     let residual = (0..n)
-        .map(|i| first_plus(g, l, Sym::Q0(i), Sym::P(i)))
+        .map(|i| {
+            let r = first_plus(g, l, Sym::Q0(i), Sym::P(i));
+            with(g, r, forces.as_ref().map(|f| f.minus), i)
+        })
         .collect();
     let unknowns: Vec<Sym> = (0..n).map(Sym::Q1).collect();
-    finish(g, l, residual, &unknowns, &unknowns)
+    finish(g, residual, &unknowns, |g| {
+        let momentum = (0..n)
+            .map(|i| {
+                let m = first(g, l, Sym::Q1(i));
+                with(g, m, forces.as_ref().map(|f| f.plus), i)
+            })
+            .collect();
+        (momentum, Vec::new())
+    })
+}
+
+/// The partial derivatives of one step that its sensitivities need (implicit-function theorem
+/// on `R(z; y, u) = 0`, see `dirac_runtime::sensitivity`), row-major: the residual and the
+/// explicit updates `o` (the momentum update, then the group impulse for a reduced stepper) in
+/// the step's data `y` (`x_k` reduced, `q_k` unreduced), its unknowns `z` and its controls `u`.
+pub struct Partials {
+    pub r_y: Vec<Vec<NodeId>>,
+    pub r_u: Vec<Vec<NodeId>>,
+    pub o_y: Vec<Vec<NodeId>>,
+    pub o_z: Vec<Vec<NodeId>>,
+    pub o_u: Vec<Vec<NodeId>>,
+}
+
+/// The [`Partials`] of `st`; `outputs` are its explicit updates.
+pub fn partials(
+    g: &mut Graph,
+    st: &Stepper,
+    outputs: &[NodeId],
+    data: &[Sym],
+    unknowns: &[Sym],
+    controls: &[Sym],
+) -> Partials {
+    let jacobian = |g: &mut Graph, rows: &[NodeId], vars: &[Sym]| -> Vec<Vec<NodeId>> {
+        let columns: Vec<Vec<NodeId>> = vars.iter().map(|&v| derivatives(g, rows, v)).collect();
+        (0..rows.len())
+            .map(|r| (0..vars.len()).map(|c| columns[c][r]).collect())
+            .collect()
+    };
+    Partials {
+        r_y: jacobian(g, &st.residual, data),
+        r_u: jacobian(g, &st.residual, controls),
+        o_y: jacobian(g, outputs, data),
+        o_z: jacobian(g, outputs, unknowns),
+        o_u: jacobian(g, outputs, controls),
+    }
 }
 
 fn first(g: &mut Graph, l: NodeId, var: Sym) -> NodeId {
@@ -160,13 +317,13 @@ fn first_plus(g: &mut Graph, l: NodeId, var: Sym, leaf: Sym) -> NodeId {
     g.add(d, v)
 }
 
-/// Jacobian columns by forward mode (one pass per unknown) and the momentum update.
+/// Jacobian columns by forward mode (one pass per unknown), then the momentum update and the
+/// group impulse from `updates`.
 fn finish(
     g: &mut Graph,
-    l: NodeId,
     residual: Vec<NodeId>,
     unknowns: &[Sym],
-    momentum: &[Sym],
+    updates: impl FnOnce(&mut Graph) -> (Vec<NodeId>, Vec<NodeId>),
 ) -> Stepper {
     let columns: Vec<Vec<NodeId>> = unknowns
         .iter()
@@ -175,11 +332,12 @@ fn finish(
     let jacobian = (0..residual.len())
         .map(|r| (0..unknowns.len()).map(|c| columns[c][r]).collect())
         .collect();
-    let momentum = momentum.iter().map(|&v| first(g, l, v)).collect();
+    let (momentum, impulse) = updates(g);
     Stepper {
         residual,
         jacobian,
         momentum,
+        impulse,
     }
 }
 

@@ -42,6 +42,7 @@ pub fn lower(cx: &Ctxt, spec: &TransitionSpec, q: &Ident, func: &ItemFn) -> Opti
                 .map(Ident::to_string),
         ),
         params: Vec::new(),
+        dq: Vec::new(),
     };
     let mut graph = Graph::default();
     let phi = Lowering::new(&mut graph, cx, &names).body_tuple(&func.block, n)?;

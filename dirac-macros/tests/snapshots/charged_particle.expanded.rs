@@ -231,6 +231,8 @@ impl ::dirac::runtime::DiscreteLagrangian<3usize, 1usize, 4usize> for ChargedPar
     const SHAPE: [&'static str; 3usize] = ["x", "y", "z"];
     const GROUP: [&'static str; 1usize] = ["theta"];
     const PARAMETERS: &'static [&'static str] = &["h", "m", "b0"];
+    const CONTROLS: &'static [&'static str] = &[];
+    const FORCED: bool = false;
     fn lagrangian(
         &self,
         q0: &::dirac::nalgebra::SVector<f64, 4usize>,
@@ -261,6 +263,10 @@ impl ::dirac::runtime::DiscreteLagrangian<3usize, 1usize, 4usize> for ChargedPar
     }
     fn parameter_values(&self) -> ::std::vec::Vec<f64> {
         ::std::vec![self.h, self.m, self.b0]
+    }
+    #[allow(unused_variables)]
+    fn with_controls(&self, u: &[f64]) -> Self {
+        *self
     }
 }
 #[allow(

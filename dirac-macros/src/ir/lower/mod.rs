@@ -67,6 +67,9 @@ pub struct Names<'a> {
     pub coords: Vec<CoordName>,
     /// Parameters in declaration order.
     pub params: Vec<String>,
+    /// The virtual displacements a force's virtual work reads (`dq`, or `dq0, dq1`); empty
+    /// when lowering the Lagrangian.
+    pub dq: Vec<Ident>,
 }
 
 pub struct Lowering<'a> {
@@ -99,6 +102,21 @@ impl<'a> Lowering<'a> {
                 self.cx.error_at(
                     span,
                     format!("the body must evaluate to an f64, found {}", other.kind()),
+                );
+                None
+            }
+        }
+    }
+
+    /// Lowers an expression that evaluates to an f64 (a force's virtual work); `None` after
+    /// errors (already recorded).
+    pub fn scalar_expr(&mut self, e: &Expr, what: &str) -> Option<NodeId> {
+        match self.expr(e)? {
+            Value::Scalar(n) => Some(n),
+            other => {
+                self.cx.error_spanned_by(
+                    e,
+                    format!("{what} must evaluate to an f64, found {}", other.kind()),
                 );
                 None
             }

@@ -22,7 +22,7 @@ impl Lowering<'_> {
                 if let Some(i) = self.names.params.iter().position(|q| *q == name) {
                     return Some(Value::Scalar(self.g.var(Sym::Param(i))));
                 }
-                if id == self.names.q0 || id == self.names.q1 {
+                if id == self.names.q0 || id == self.names.q1 || self.names.dq.contains(id) {
                     let example = self.names.coords.first().map_or("x", |c| c.name.as_str());
                     return self.error(
                         id,
@@ -79,6 +79,8 @@ impl Lowering<'_> {
             0
         } else if id == self.names.q1 {
             1
+        } else if let Some(d) = self.names.dq.iter().position(|d| d == id) {
+            2 + d
         } else {
             return None;
         };
@@ -87,9 +89,15 @@ impl Lowering<'_> {
             .then_some((which, &f.member))
     }
 
-    /// The leaf expression of component `c` of configuration `which`.
+    /// The leaf expression of component `c` of configuration `which`: 0 and 1 the two
+    /// configurations, 2 and 3 the virtual displacements of a force.
     pub(super) fn component(&mut self, which: usize, c: Component) -> Value {
-        let sym = |i| if which == 0 { Sym::Q0(i) } else { Sym::Q1(i) };
+        let sym = |i| match which {
+            0 => Sym::Q0(i),
+            1 => Sym::Q1(i),
+            2 => Sym::D0(i),
+            _ => Sym::D1(i),
+        };
         let n = match c {
             Component::Var(i) => self.g.var(sym(i)),
             Component::Sum(g, r) => {

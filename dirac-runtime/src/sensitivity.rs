@@ -1,0 +1,276 @@
+//! Sensitivities of one step: the derivative of the step map with respect to the state and the
+//! controls, what trajectory optimisation (DMOC), LQR and Kalman filters need.
+//!
+//! A step solves `R(z; y, a, u) = 0` for its unknowns `z` given the step's data — `y` entering
+//! nonlinearly (`x_k` reduced, `q_k` unreduced), the momenta `a` entering linearly (`w_k`, `μ_k`
+//! reduced; `p_k` unreduced) — and the controls `u`, then forms explicit updates `o(y, z, u)`
+//! (`w_{k+1}` and the group impulse `μ_{k+1} − μ_k`; `p_{k+1}`). By the implicit-function
+//! theorem, where `J = ∂R/∂z` is invertible,
+//!
+//! ```text
+//! dz = −J⁻¹ (∂R/∂y dy + ∂R/∂a da + ∂R/∂u du),    do = ∂o/∂y dy + ∂o/∂z dz + ∂o/∂u du,
+//! ```
+//!
+//! with every partial derivative differentiated at compile time ([`StepPartials`]) and `J` the
+//! step's own Jacobian, factored by the system's backend (dense or sparse). The reduced step then
+//! adds the explicit lines of eqs. (4.6)/(4.8): `x_{k+1} = z_x`, `μ_{k+1} = μ_k + impulse`,
+//! `g_{k+1} = g_k ± u_g + B (x_{k+1} − x_k)`.
+
+use nalgebra::{DMatrix, SVector};
+
+use crate::error::StepError;
+use crate::linalg::{LinearSolver, NewtonVector};
+use crate::reduced::{ReducedIntegrator, ReducedStep};
+use crate::state::{CanonicalState, ReducedState};
+use crate::stepper::{controlled, Stepper};
+use crate::system::{join, Reduced, Side, Unreduced, Variant};
+use crate::UnreducedIntegrator;
+
+/// The partial derivatives of one step's equations that its sensitivity needs, each a dense
+/// matrix (rows: residual components or updates; columns: the variables): for a reduced step
+/// `y = x_k` (`S`), `z = (x_{k+1}, u_g)` (`N`), updates `o = (w_{k+1}, μ_{k+1} − μ_k)`
+/// (`S + K`); for an unreduced step `y = q_k`, `z = q_{k+1}`, `o = p_{k+1}` (`N` each); `m`
+/// controls. Written by the emitted code ([`Reduced::step_partials`],
+/// [`Unreduced::unreduced_step_partials`]), which sets only the entries that are not zero by
+/// construction.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StepPartials {
+    /// `∂R/∂y`.
+    pub r_y: DMatrix<f64>,
+    /// `∂R/∂u`.
+    pub r_u: DMatrix<f64>,
+    /// `∂o/∂y`.
+    pub o_y: DMatrix<f64>,
+    /// `∂o/∂z`.
+    pub o_z: DMatrix<f64>,
+    /// `∂o/∂u`.
+    pub o_u: DMatrix<f64>,
+}
+
+impl StepPartials {
+    /// Zero matrices for `n_z` unknowns (and residual components), `n_y` data, `n_o` updates
+    /// and `m` controls.
+    pub fn zeros(n_z: usize, n_y: usize, n_o: usize, m: usize) -> Self {
+        Self {
+            r_y: DMatrix::zeros(n_z, n_y),
+            r_u: DMatrix::zeros(n_z, m),
+            o_y: DMatrix::zeros(n_o, n_y),
+            o_z: DMatrix::zeros(n_o, n_z),
+            o_u: DMatrix::zeros(n_o, m),
+        }
+    }
+}
+
+/// The derivative of one step `s_{k+1} = Φ(s_k, u_k)`: `state = ∂s_{k+1}/∂s_k` and
+/// `control = ∂s_{k+1}/∂u_k`. The state is ordered `(x, w, μ, g)` for a reduced step
+/// (`2S + 2K` components) and `(q, p)` for an unreduced one (`2N`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sensitivity {
+    /// `∂s_{k+1}/∂s_k`.
+    pub state: DMatrix<f64>,
+    /// `∂s_{k+1}/∂u_k` (one column per control).
+    pub control: DMatrix<f64>,
+}
+
+/// `J = ∂R/∂z` factored, or the typed error of step `k`.
+fn factored<B: LinearSolver>(
+    mut solver: B,
+    r: &B::Vector,
+    j: &B::Matrix,
+    k: usize,
+) -> Result<B, StepError> {
+    let residual = r.components().iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    solver
+        .factor(j)
+        .map_err(|_| StepError::SingularJacobian { step: k, residual })?;
+    Ok(solver)
+}
+
+/// `−J⁻¹ rhs` for each column of `rhs` (`N` rows), as the columns of an `N × cols` matrix.
+fn solve_columns<B, const N: usize>(solver: &mut B, rhs: &DMatrix<f64>) -> DMatrix<f64>
+where
+    B: LinearSolver<Vector = SVector<f64, N>>,
+{
+    let mut out = DMatrix::zeros(N, rhs.ncols());
+    for c in 0..rhs.ncols() {
+        let b = SVector::<f64, N>::from_iterator(rhs.column(c).iter().copied());
+        let x = solver.solve(&b);
+        for r in 0..N {
+            out[(r, c)] = -x[r];
+        }
+    }
+    out
+}
+
+/// The error of a system compiled without its step partials.
+fn unsupported() -> StepError {
+    StepError::Unsupported {
+        what: "step sensitivities: this system was compiled without its step partials (they are \
+               emitted for systems with forces or controls); declare `controls(...)` or \
+               `force = ...`, or use `UnreducedIntegrator::step_jacobian` for a conservative system",
+    }
+}
+
+impl<L, D, const S: usize, const K: usize, const N: usize> ReducedIntegrator<L, D, S, K, N>
+where
+    D: Side,
+    L: Reduced<D, S, K, N>,
+{
+    /// The sensitivity of step `k` from `state` to `next` (with `record`, what the step
+    /// returned) under the controls `u` (empty: the system's own): `∂(x, w, μ, g)_{k+1} /
+    /// ∂((x, w, μ, g)_k, u_k)` by the implicit-function theorem on the step residual (see the
+    /// [module documentation](crate::sensitivity)). Costs one factorization of the step
+    /// Jacobian and `2S + K + m` solves with it.
+    pub fn sensitivity(
+        &self,
+        k: usize,
+        state: &ReducedState<S, K>,
+        next: &ReducedState<S, K>,
+        record: &ReducedStep<K>,
+        u: &[f64],
+    ) -> Result<Sensitivity, StepError> {
+        let owned = controlled(self.system(), k, u)?;
+        let sys = owned.as_ref().unwrap_or(self.system());
+        let m = L::CONTROLS.len();
+        let (x, w, mu) = (&state.x, &state.w, &state.mu);
+        let z = join::<S, K, N>(&next.x, &record.group_unknown);
+        let mut p = StepPartials::zeros(N, S, S + K, m);
+        if !sys.step_partials(x, w, mu, &z, &mut p) {
+            return Err(unsupported());
+        }
+        let (r, j) = sys.residual_jacobian(x, w, mu, &z);
+        let mut solver = factored(sys.linear_solver(), &r, &j, k)?;
+        // ∂R/∂(x_k, w_k, μ_k, u): w_k enters the shape rows with +1, μ_k the group rows with
+        // −1 for (+) and +1 for (−) (see `Plus` and `Minus`).
+        let mu_sign = match D::VARIANT {
+            Variant::Plus => -1.0,
+            Variant::Minus => 1.0,
+        };
+        let cols = 2 * S + K + m;
+        let mut rhs = DMatrix::zeros(N, cols);
+        rhs.view_mut((0, 0), (N, S)).copy_from(&p.r_y);
+        for i in 0..S {
+            rhs[(i, S + i)] = 1.0;
+        }
+        for j in 0..K {
+            rhs[(S + j, 2 * S + j)] = mu_sign;
+        }
+        rhs.view_mut((0, 2 * S + K), (N, m)).copy_from(&p.r_u);
+        let dz = solve_columns(&mut solver, &rhs);
+        // Updates: o = (w_{k+1}, impulse) as functions of (x_k, z, u).
+        let mut d_o = &p.o_z * &dz;
+        *&mut d_o.view_mut((0, 0), (S + K, S)) += &p.o_y;
+        *&mut d_o.view_mut((0, 2 * S + K), (S + K, m)) += &p.o_u;
+        let b = sys.connection();
+        let sign = D::group_increment(SVector::<f64, 1>::repeat(1.0))[0];
+        let n_s = 2 * S + 2 * K;
+        let mut full = DMatrix::zeros(n_s, cols);
+        // x_{k+1} = z_x.
+        full.view_mut((0, 0), (S, cols))
+            .copy_from(&dz.view((0, 0), (S, cols)));
+        // w_{k+1}, μ_{k+1} − μ_k.
+        full.view_mut((S, 0), (S + K, cols)).copy_from(&d_o);
+        for j in 0..K {
+            full[(2 * S + j, 2 * S + j)] += 1.0;
+        }
+        // g_{k+1} = g_k ± u_g + B (x_{k+1} − x_k).
+        let g_rows = 2 * S + K;
+        for j in 0..K {
+            for c in 0..cols {
+                let mut v = sign * dz[(S + j, c)];
+                for i in 0..S {
+                    v += b[(j, i)] * dz[(i, c)];
+                }
+                if c < S {
+                    v -= b[(j, c)];
+                }
+                full[(g_rows + j, c)] = v;
+            }
+        }
+        // Columns: (x, w, μ) then u; g_k enters only through g_{k+1} = g_k + ….
+        let mut state_m = DMatrix::zeros(n_s, n_s);
+        state_m
+            .view_mut((0, 0), (n_s, 2 * S + K))
+            .copy_from(&full.view((0, 0), (n_s, 2 * S + K)));
+        for j in 0..K {
+            state_m[(g_rows + j, g_rows + j)] = 1.0;
+        }
+        let control = full.view((0, 2 * S + K), (n_s, m)).into_owned();
+        Ok(Sensitivity {
+            state: state_m,
+            control,
+        })
+    }
+
+    /// Takes step `k` from `state` with the controls `u` (empty: the system's own) in a fresh
+    /// workspace and returns the new state, the step's record and its [`Sensitivity`].
+    pub fn step_sensitivity(
+        &self,
+        k: usize,
+        state: &ReducedState<S, K>,
+        u: &[f64],
+    ) -> Result<(ReducedState<S, K>, ReducedStep<K>, Sensitivity), StepError> {
+        let (next, record) = self.step_with(&mut self.workspace(), k, state, u)?;
+        let sensitivity = self.sensitivity(k, state, &next, &record, u)?;
+        Ok((next, record, sensitivity))
+    }
+}
+
+impl<L, const S: usize, const K: usize, const N: usize> UnreducedIntegrator<L, S, K, N>
+where
+    L: Unreduced<S, K, N>,
+{
+    /// The sensitivity `∂(q, p)_{k+1} / ∂((q, p)_k, u_k)` of step `k` from `state` to `next`
+    /// under the controls `u` (empty: the system's own), by the implicit-function theorem on
+    /// `R(q_{k+1}) = D1 L_d + p_k + f_d^− = 0` (see the [module
+    /// documentation](crate::sensitivity)).
+    pub fn sensitivity(
+        &self,
+        k: usize,
+        state: &CanonicalState<N>,
+        next: &CanonicalState<N>,
+        u: &[f64],
+    ) -> Result<Sensitivity, StepError> {
+        let owned = controlled(self.system(), k, u)?;
+        let sys = owned.as_ref().unwrap_or(self.system());
+        let m = L::CONTROLS.len();
+        let (q, p_k, z) = (&state.q, &state.p, &next.q);
+        let mut p = StepPartials::zeros(N, N, N, m);
+        if !sys.unreduced_step_partials(q, p_k, z, &mut p) {
+            return Err(unsupported());
+        }
+        let (r, j) = sys.unreduced_residual_jacobian(q, p_k, z);
+        let mut solver = factored(sys.unreduced_linear_solver(), &r, &j, k)?;
+        let cols = 2 * N + m;
+        let mut rhs = DMatrix::zeros(N, cols);
+        rhs.view_mut((0, 0), (N, N)).copy_from(&p.r_y);
+        for i in 0..N {
+            rhs[(i, N + i)] = 1.0;
+        }
+        rhs.view_mut((0, 2 * N), (N, m)).copy_from(&p.r_u);
+        let dz = solve_columns(&mut solver, &rhs);
+        let mut d_p = &p.o_z * &dz;
+        *&mut d_p.view_mut((0, 0), (N, N)) += &p.o_y;
+        *&mut d_p.view_mut((0, 2 * N), (N, m)) += &p.o_u;
+        let mut full = DMatrix::zeros(2 * N, cols);
+        full.view_mut((0, 0), (N, cols)).copy_from(&dz);
+        full.view_mut((N, 0), (N, cols)).copy_from(&d_p);
+        Ok(Sensitivity {
+            state: full.view((0, 0), (2 * N, 2 * N)).into_owned(),
+            control: full.view((0, 2 * N), (2 * N, m)).into_owned(),
+        })
+    }
+
+    /// Takes step `k` from `state` with the controls `u` in a fresh workspace and returns the
+    /// new state, the step's statistics and its [`Sensitivity`].
+    pub fn step_sensitivity(
+        &self,
+        k: usize,
+        state: &CanonicalState<N>,
+        u: &[f64],
+    ) -> Result<(CanonicalState<N>, crate::StepStats, Sensitivity), StepError> {
+        let (next, stats) = self.step_with(&mut self.workspace(), k, state, u)?;
+        let sensitivity = self.sensitivity(k, state, &next, u)?;
+        Ok((next, stats, sensitivity))
+    }
+}
