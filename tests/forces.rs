@@ -35,18 +35,18 @@ fn free_turntable(q: Config, v: Velocity, i0: f64, m: f64, l: f64) -> f64 {
 #[reduced_lagrangian(coordinates(x[20]), translate(x), rule = midpoint, controls(push),
     force = |dq| {
         let mut w = push * dq.x[0];
-        for i in 0..20 { w = w - c * v.x[i] * dq.x[i]; }
+        for i in 0..20 { w -= c * v.x[i] * dq.x[i]; }
         w
     })]
 fn chain(q: Config, v: Velocity, c: f64, push: f64) -> f64 {
     let mut t = 0.0;
     for i in 0..20 {
-        t = t + 0.5 * v.x[i] * v.x[i];
+        t += 0.5 * v.x[i] * v.x[i];
     }
     let mut u = 0.0;
     for i in 0..19 {
         let d = q.x[i + 1] - q.x[i] - 1.0;
-        u = u + 0.5 * d * d + 0.1 * d * d * d * d;
+        u += 0.5 * d * d + 0.1 * d * d * d * d;
     }
     t - u
 }
@@ -275,13 +275,11 @@ fn a_control_sequence_equals_the_same_feedback_law() {
     assert_eq!(e.trajectory.steps(), 100);
 }
 
+/// A step as a map of the flattened state and the controls.
+type StepMap<'a> = &'a dyn Fn(&[f64], &[f64]) -> Vec<f64>;
+
 /// Central differences of `f` (a state and control map) at `(s, u)`.
-fn central(
-    f: &dyn Fn(&[f64], &[f64]) -> Vec<f64>,
-    s: &[f64],
-    u: &[f64],
-    eps: f64,
-) -> (DMatrix<f64>, DMatrix<f64>) {
+fn central(f: StepMap, s: &[f64], u: &[f64], eps: f64) -> (DMatrix<f64>, DMatrix<f64>) {
     let n_out = f(s, u).len();
     let column = |plus: Vec<f64>, minus: Vec<f64>| {
         nalgebra::DVector::from_iterator(

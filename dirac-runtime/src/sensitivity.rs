@@ -105,7 +105,8 @@ where
 /// The error of a system compiled without its step partials.
 fn unsupported() -> StepError {
     StepError::Unsupported {
-        what: "step sensitivities: this system was compiled without its step partials (they are \
+        what:
+            "step sensitivities: this system was compiled without its step partials (they are \
                emitted for systems with forces or controls); declare `controls(...)` or \
                `force = ...`, or use `UnreducedIntegrator::step_jacobian` for a conservative system",
     }
@@ -159,8 +160,10 @@ where
         let dz = solve_columns(&mut solver, &rhs);
         // Updates: o = (w_{k+1}, impulse) as functions of (x_k, z, u).
         let mut d_o = &p.o_z * &dz;
-        *&mut d_o.view_mut((0, 0), (S + K, S)) += &p.o_y;
-        *&mut d_o.view_mut((0, 2 * S + K), (S + K, m)) += &p.o_u;
+        let mut view = d_o.view_mut((0, 0), (S + K, S));
+        view += &p.o_y;
+        let mut view = d_o.view_mut((0, 2 * S + K), (S + K, m));
+        view += &p.o_u;
         let b = sys.connection();
         let sign = D::group_increment(SVector::<f64, 1>::repeat(1.0))[0];
         let n_s = 2 * S + 2 * K;
@@ -250,8 +253,10 @@ where
         rhs.view_mut((0, 2 * N), (N, m)).copy_from(&p.r_u);
         let dz = solve_columns(&mut solver, &rhs);
         let mut d_p = &p.o_z * &dz;
-        *&mut d_p.view_mut((0, 0), (N, N)) += &p.o_y;
-        *&mut d_p.view_mut((0, 2 * N), (N, m)) += &p.o_u;
+        let mut view = d_p.view_mut((0, 0), (N, N));
+        view += &p.o_y;
+        let mut view = d_p.view_mut((0, 2 * N), (N, m));
+        view += &p.o_u;
         let mut full = DMatrix::zeros(2 * N, cols);
         full.view_mut((0, 0), (N, cols)).copy_from(&dz);
         full.view_mut((N, 0), (N, cols)).copy_from(&d_p);

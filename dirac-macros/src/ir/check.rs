@@ -9,6 +9,8 @@
 //! by an amount below the tolerance. It catches the realistic mistakes (an absolute group
 //! coordinate anywhere in the body), which change `L_d` by O(1) at almost every point.
 
+use std::ops::Not;
+
 use crate::ast::layout::{GroupDecl, Layout};
 use crate::ast::ranges::Ranges;
 use crate::ast::signature::Signature;
@@ -232,7 +234,7 @@ fn force_invariance(
                 let changed = f
                     .iter()
                     .zip(&shifted)
-                    .any(|(a, b)| !((b - a).abs() <= TOL * a.abs().max(1.0)));
+                    .any(|(a, b)| ((b - a).abs() <= TOL * a.abs().max(1.0)).not());
                 if !changed {
                     continue;
                 }

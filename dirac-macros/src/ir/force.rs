@@ -31,6 +31,8 @@
 //! [`crate::ir::reduce`]. Controls are parameters (`controls(u)`); the forces read them like any
 //! other parameter.
 
+use std::ops::Not;
+
 use syn::spanned::Spanned;
 use syn::{ExprClosure, Pat};
 
@@ -199,7 +201,7 @@ fn vanishes_without_displacement(g: &mut Graph, w: NodeId) -> bool {
             _ => c,
         })[0];
         // Written so that NaN passes: outside the force's domain the point says nothing.
-        !(v.abs() > 1e-12)
+        (v.abs() > 1e-12).not()
     })
 }
 
