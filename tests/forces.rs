@@ -418,3 +418,87 @@ fn sensitivities_match_central_differences_sparse() {
     let s0 = sys.trivialize(&c0);
     check_reduced(&ReducedIntegrator::plus(sys, options()), s0, &[0.4]);
 }
+
+#[test]
+fn a_composition_of_the_forced_midpoint_step_reaches_order_four() {
+    // The midpoint rule's forced step is self-adjoint (its forces are (h/2) F at the midpoint,
+    // symmetric under (q0, q1, h) → (q1, q0, −h)), so the triple jump of its stages, each with
+    // its own forces at γ_i h, has order 4 on the damped oscillator.
+    let (m, k, c, x0, t_end) = (1.0, 4.0, 0.3, 1.0, 5.0);
+    let tight = NewtonOptions {
+        abs_tol: 1e-15,
+        rel_tol: 1e-15,
+        ..options()
+    };
+    let error = |n: usize| {
+        let sys = Oscillator {
+            h: t_end / n as f64,
+            m,
+            k,
+            c,
+            a: 0.0,
+        };
+        let s0 = CanonicalState {
+            q: SVector::from([x0]),
+            p: SVector::from([0.0]),
+        };
+        let traj = Composition::new(
+            UnreducedIntegrator::plus(sys, tight),
+            CompositionMethod::TRIPLE_JUMP,
+        )
+        .integrate(s0, n)
+        .unwrap();
+        (traj.last().q[0] - driven_exact(m, k, c, 0.0, 1.0, x0, t_end)).abs()
+    };
+    let (e1, e2) = (error(50), error(100));
+    let order = (e1 / e2).log2();
+    assert!((order - 4.0).abs() < 0.2, "order {order} ({e1:e}, {e2:e})");
+}
+
+#[test]
+fn the_atlas_and_a_composition_pass_the_controls_to_their_charts_and_stages() {
+    let sys = Turntable {
+        h: 0.01,
+        i0: 0.7,
+        m: 1.3,
+        l: 0.9,
+        c: 0.1,
+        tau: 0.0,
+    };
+    let s0 = ReducedState::new([0.4], [0.0], [0.3], [0.0]);
+    let law = |k: usize| 0.3 * (0.01 * k as f64).cos();
+    let plain = ReducedIntegrator::plus(sys, options())
+        .integrate_controlled(
+            s0,
+            300,
+            |k: usize, _: &ReducedState<1, 1>, u: &mut [f64]| u[0] = law(k),
+        )
+        .unwrap();
+    // A one-chart atlas steps exactly as its chart.
+    let atlas = dirac::runtime::atlas::AtlasIntegrator::new()
+        .chart("table", ReducedIntegrator::plus(sys, options()));
+    let through_atlas = atlas
+        .integrate_controlled(
+            (0, s0),
+            300,
+            |k: usize, _: &(usize, ReducedState<1, 1>), u: &mut [f64]| u[0] = law(k),
+        )
+        .unwrap();
+    assert_eq!(through_atlas.states, plain.states);
+    // Every stage of a composition takes the macro step's controls: the impulse over a macro
+    // step is Σ γ_i h τ_k = h τ_k.
+    let composed = Composition::new(
+        ReducedIntegrator::plus(sys, options()),
+        CompositionMethod::TRIPLE_JUMP,
+    )
+    .integrate_controlled(
+        s0,
+        300,
+        |k: usize, _: &ReducedState<1, 1>, u: &mut [f64]| u[0] = law(k),
+    )
+    .unwrap();
+    for (k, pair) in composed.states.windows(2).enumerate() {
+        let impulse = 0.01 * law(k);
+        assert!((pair[1].mu[0] - pair[0].mu[0] - impulse).abs() < 1e-14);
+    }
+}
