@@ -31,6 +31,8 @@ pub const RANGES: Symbol = Symbol("ranges");
 pub const CONTROLS: Symbol = Symbol("controls");
 /// `force = |dq| ..` or `force = |dq0, dq1| ..`: the virtual work of the forces.
 pub const FORCE: Symbol = Symbol("force");
+/// `constraints = |q| [φ_1, ..]`: holonomic constraints `φ(q) = 0`.
+pub const CONSTRAINTS: Symbol = Symbol("constraints");
 /// `rule = midpoint`.
 pub const MIDPOINT: Symbol = Symbol("midpoint");
 /// `rule = trapezoid`.
@@ -57,7 +59,7 @@ impl PartialEq<Symbol> for &Ident {
 }
 
 /// The keys of `#[reduced_lagrangian(...)]`.
-pub const KEYS: [Symbol; 11] = [
+pub const KEYS: [Symbol; 12] = [
     SHAPE,
     GROUP,
     COORDINATES,
@@ -69,6 +71,7 @@ pub const KEYS: [Symbol; 11] = [
     RANGES,
     CONTROLS,
     FORCE,
+    CONSTRAINTS,
 ];
 
 /// The key `ident` spells, if it is one of [`KEYS`].

@@ -84,6 +84,18 @@ pub enum StepError {
         /// The largest accepted.
         tolerance: f64,
     },
+    /// The initial state does not satisfy the holonomic constraints: `‖φ(q_0)‖∞` exceeds the
+    /// tolerance (see [`crate::constrained`]).
+    #[error(
+        "the initial configuration violates the constraints: |phi(q0)| = {residual:.3e} > {tolerance:.3e}; \
+         start on the constraint manifold"
+    )]
+    ConstraintViolated {
+        /// `‖φ(q_0)‖∞`.
+        residual: f64,
+        /// The tolerance.
+        tolerance: f64,
+    },
     /// What was asked is not available for this system (e.g. step sensitivities of a system
     /// compiled without its step partials).
     #[error("not available: {what}")]
@@ -121,6 +133,7 @@ impl StepError {
             StepError::InvalidTimeStep { .. } => "invalid time step",
             StepError::NotSymmetric { .. } => "non-symmetric discrete Lagrangian",
             StepError::InvalidControls { .. } => "invalid controls",
+            StepError::ConstraintViolated { .. } => "constraint violated",
             StepError::Unsupported { .. } => "not available",
         }
     }
@@ -136,7 +149,8 @@ impl StepError {
             StepError::InvalidTimeStep { .. }
             | StepError::NotSymmetric { .. }
             | StepError::InvalidAtlas { .. }
-            | StepError::Unsupported { .. } => 0,
+            | StepError::Unsupported { .. }
+            | StepError::ConstraintViolated { .. } => 0,
         }
     }
 
@@ -153,6 +167,7 @@ impl StepError {
             | StepError::InvalidAtlas { .. }
             | StepError::InvalidControls { .. }
             | StepError::Unsupported { .. } => f64::NAN,
+            StepError::ConstraintViolated { residual, .. } => residual,
         }
     }
 }

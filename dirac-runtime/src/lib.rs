@@ -31,6 +31,7 @@
 pub mod adapted;
 pub mod atlas;
 pub mod compose;
+pub mod constrained;
 pub mod continuous;
 pub mod diagnostics;
 pub mod driver;
@@ -51,6 +52,10 @@ pub mod prelude {
     pub use crate::adapted::AdaptedCoordinates;
     pub use crate::atlas::{AtlasIntegrator, AtlasStep, AtlasTrajectory, ChartTransition, Switch};
     pub use crate::compose::{ComposedTrajectory, Composition, CompositionMethod, SelfAdjoint};
+    pub use crate::constrained::{
+        Constrained, ConstrainedIntegrator, ConstrainedStep, ConstrainedTrajectory,
+        ReducedConstrained, ReducedConstrainedIntegrator,
+    };
     pub use crate::continuous::{
         continuous_energies, midpoint_energies, reduced_continuous_energies, ContinuousEnergies,
         ContinuousLagrangian, LegendreError,

@@ -47,11 +47,11 @@ use crate::ast::ranges::{parse_ranges, Range, RangeArg, RANGES as RANGES_ACCEPTE
 use crate::ast::rule::{Rule, RULES};
 use crate::ctxt::Ctxt;
 use crate::symbol::{
-    self, Symbol, CONNECTION, CONTROLS, COORDINATES, FORCE, GROUP, NAME, RANGES, RULE, SHAPE, STEP,
-    TRANSLATE,
+    self, Symbol, CONNECTION, CONSTRAINTS, CONTROLS, COORDINATES, FORCE, GROUP, NAME, RANGES, RULE,
+    SHAPE, STEP, TRANSLATE,
 };
 
-const KEYS: &str = "`shape(...)`, `group(...)` (or `coordinates(...)` with `translate(...)`), `connection = [[...], ...]`, `step = <parameter>`, `name = <TypeName>`, `rule = midpoint | trapezoid | left | right`, `ranges(<name> = (lo, hi), ...)`, `controls(<parameter>, ...)` and `force = |dq| <virtual work>` (or `|dq0, dq1|` for a discrete Lagrangian)";
+const KEYS: &str = "`shape(...)`, `group(...)` (or `coordinates(...)` with `translate(...)`), `connection = [[...], ...]`, `step = <parameter>`, `name = <TypeName>`, `rule = midpoint | trapezoid | left | right`, `ranges(<name> = (lo, hi), ...)`, `controls(<parameter>, ...)`, `force = |dq| <virtual work>` (or `|dq0, dq1|` for a discrete Lagrangian) and `constraints = |q| [<φ_1>, ...]`";
 
 /// The parsed attribute.
 pub struct Spec {
@@ -74,6 +74,9 @@ pub struct Spec {
     /// `force = |dq| ...` (continuous) or `force = |dq0, dq1| ...` (discrete): the virtual work
     /// of the forces, linear in the virtual displacements.
     pub force: Option<syn::ExprClosure>,
+    /// `constraints = |q| [φ_1, ...]`: holonomic constraints `φ(q) = 0` (continuous
+    /// Lagrangians).
+    pub constraints: Option<syn::ExprClosure>,
 }
 
 /// One entry of `shape(...)`, `group(...)`, `coordinates(...)` or `translate(...)`: a name,
@@ -148,6 +151,7 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
     let mut rule: Option<(Ident, Rule)> = None;
     let mut controls: Vec<Ident> = Vec::new();
     let mut force: Option<syn::ExprClosure> = None;
+    let mut constraints: Option<syn::ExprClosure> = None;
     let mut seen: Vec<String> = Vec::new();
     // Which way the symmetry is declared: the first of `shape`/`group` or
     // `coordinates`/`translate` decides; a key of the other family is an error.
@@ -280,6 +284,21 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
                     value.to_token_stream()
                 ),
             ),
+            (Some(CONSTRAINTS), Arg::Value(_, Expr::Closure(closure))) => {
+                constraints = Some(closure)
+            }
+            (Some(CONSTRAINTS), Arg::Value(_, value)) => cx.error_spanned_by(
+                &value,
+                format!(
+                    "expected the holonomic constraints as a closure of the configuration returning their values, \
+                     `constraints = |q| [q.x * q.x + q.y * q.y - l * l]`, found `{}`",
+                    value.to_token_stream()
+                ),
+            ),
+            (Some(CONSTRAINTS), Arg::List(k, _)) => cx.error_spanned_by(
+                &k,
+                "expected `constraints = |q| [<φ_1>, ...]`, found `constraints(...)`",
+            ),
             (Some(FORCE), Arg::List(k, _)) => cx.error_spanned_by(
                 &k,
                 "expected `force = |dq| <virtual work>` (or `|dq0, dq1|` for a discrete Lagrangian), found `force(...)`",
@@ -385,6 +404,7 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
         rule_written: seen.iter().any(|k| *k == RULE),
         controls,
         force,
+        constraints,
     })
 }
 

@@ -136,6 +136,7 @@ fn leaf_name(sym: Sym) -> Ident {
         Sym::Param(i) => format_ident!("__p{}", i),
         Sym::D0(i) => format_ident!("__d0_{}", i),
         Sym::D1(i) => format_ident!("__d1_{}", i),
+        Sym::Lambda(i) => format_ident!("__lambda_{}", i),
     }
 }
 

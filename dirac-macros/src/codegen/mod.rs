@@ -6,6 +6,7 @@
 
 pub mod adapted;
 pub mod backend;
+pub mod constrained;
 pub mod continuous;
 pub mod emit;
 pub mod impls;

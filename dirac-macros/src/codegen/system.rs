@@ -67,7 +67,7 @@ fn reduced_leaf(t: &Target, sym: Sym) -> TokenStream {
         Sym::W(i) => quote! { w_k[#i] },
         Sym::Mu(j) => quote! { mu_k[#j] },
         Sym::Param(i) => t.param_leaf(i),
-        Sym::Q0(_) | Sym::Q1(_) | Sym::P(_) | Sym::D0(_) | Sym::D1(_) => {
+        Sym::Q0(_) | Sym::Q1(_) | Sym::P(_) | Sym::D0(_) | Sym::D1(_) | Sym::Lambda(_) => {
             unreachable!("reduced Lagrangians read x0, x1 and g")
         }
     }
@@ -358,6 +358,10 @@ pub fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> To
         quote!(#counts),
     )])));
     let discrete = discrete_impl(&t, spec, sig, c, lagrangian_body);
+    let constrained_impls = c
+        .constrained
+        .as_ref()
+        .map(|code| crate::codegen::constrained::emit(&t, c, code));
 
     quote! {
         #config_item
@@ -381,6 +385,8 @@ pub fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> To
         #unreduced_impl
 
         #hessian_impl
+
+        #constrained_impls
     }
 }
 
@@ -390,6 +396,9 @@ fn connection_only_params(spec: &Spec, sig: &Signature, c: &Compiled) -> Vec<Ide
     let mut roots: Vec<NodeId> = c.b.iter().flatten().copied().collect();
     if let Some(f) = &c.forces {
         roots.extend(f.minus.iter().chain(&f.plus));
+    }
+    if let Some(code) = &c.constrained {
+        roots.extend(&code.phi);
     }
     let in_system = c.graph.symbols(&roots);
     let in_body = c.graph.symbols(&[c.body]);
@@ -424,6 +433,10 @@ pub fn stubs(spec: &Spec, sig: &Signature, ty: &Ident) -> TokenStream {
     if sig.continuous {
         if let Some((_, rule)) = spec.rule {
             out.extend(impls::continuous_lagrangian(&t, rule.describe(), &backend).render(&stub));
+        }
+        if let Some(closure) = &spec.constraints {
+            let m = crate::codegen::constrained::count(closure);
+            out.extend(crate::codegen::constrained::stubs(&t, m));
         }
     }
     out

@@ -192,30 +192,36 @@ pub fn check(
     invariance(cx, graph, body, block, spec, &boxes, &points, &names);
     connection(cx, graph, b, spec, &boxes, &points, &names);
     if let (Some(forces), Some(closure)) = (&lowered.forces, &spec.force) {
-        force_invariance(cx, graph, forces, closure, spec, &points, &names);
+        let roots: Vec<NodeId> = forces.minus.iter().chain(&forces.plus).copied().collect();
+        values_invariance(cx, graph, &roots, closure, "force", spec, &points, &names);
+    }
+    if let (Some(phi), Some(closure)) = (&lowered.constraints, &spec.constraints) {
+        values_invariance(cx, graph, phi, closure, "constraint", spec, &points, &names);
     }
 }
 
-/// The forces must be G-invariant for the reduction (see `crate::ir::reduce::reduced_stepper`):
-/// each component of `f_d^±` unchanged when one group coordinate is translated in both
-/// configurations. One error, at the force, for the first broken group coordinate.
-fn force_invariance(
+/// The forces and the constraints must be G-invariant for the reduction (see
+/// `crate::ir::reduce::reduced_stepper` and `crate::ir::constraint`): each value unchanged when
+/// one group coordinate is translated in both configurations. One error, at the closure, for the
+/// first broken group coordinate; `what` names the values.
+#[allow(clippy::too_many_arguments)] // two call sites; a struct would only rename them
+fn values_invariance(
     cx: &Ctxt,
     graph: &Graph,
-    forces: &crate::ir::force::Forces,
+    roots: &[NodeId],
     closure: &syn::ExprClosure,
+    what: &str,
     spec: &Spec,
     points: &[Point],
     names: &Names,
 ) {
     let layout = &spec.layout;
-    let roots: Vec<NodeId> = forces.minus.iter().chain(&forces.plus).copied().collect();
     let eval = |q0: &[f64], q1: &[f64], params: &[f64]| {
-        graph.eval(&roots, &|sym| match sym {
+        graph.eval(roots, &|sym| match sym {
             Sym::Q0(i) => q0[i],
             Sym::Q1(i) => q1[i],
             Sym::Param(i) => params[i],
-            other => unreachable!("the forces read q0, q1 and parameters, not {other:?}"),
+            other => unreachable!("the {what}s read q0, q1 and parameters, not {other:?}"),
         })
     };
     let s = layout.s();
@@ -250,8 +256,8 @@ fn force_invariance(
                 cx.error_spanned_by(
                     closure,
                     format!(
-                        "the force is not invariant under the {group}: at {}, shifting it by {shift} in both configurations \
-                         changes the discrete force; `#[reduced_lagrangian]` reduces by this symmetry, so a force may depend on \
+                        "the {what} is not invariant under the {group}: at {}, shifting it by {shift} in both configurations \
+                         changes its value; `#[reduced_lagrangian]` reduces by this symmetry, so a {what} may depend on \
                          the group coordinates only through differences (as the Lagrangian does)",
                         names.point(&p.q0, &p.q1, &p.params),
                     ),

@@ -8,6 +8,7 @@ use syn::{Ident, ItemFn};
 use crate::ast::signature::Signature;
 use crate::ast::Spec;
 use crate::ctxt::Ctxt;
+use crate::ir::constraint::{self, ConstrainedCode};
 use crate::ir::discretize::{self, Continuous};
 use crate::ir::force::{self, Forces};
 use crate::ir::graph::{Graph, Node, NodeId, Sym};
@@ -29,6 +30,8 @@ pub struct Lowered {
     pub continuous: Option<Continuous>,
     /// The discrete forces `f_d^±`, when the attribute declares `force = ...`.
     pub forces: Option<Forces>,
+    /// The holonomic constraints `φ(q)` over `Q0`, when declared.
+    pub constraints: Option<Vec<NodeId>>,
 }
 
 /// The graph and its roots.
@@ -54,6 +57,8 @@ pub struct Compiled {
     pub continuous: Option<Continuous>,
     /// The discrete forces `f_d^±`, when declared.
     pub forces: Option<Forces>,
+    /// The constrained steppers, when constraints are declared.
+    pub constrained: Option<ConstrainedCode>,
 }
 
 /// What one side of the reduced equations compiles to.
@@ -123,8 +128,22 @@ pub fn lower(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<L
         };
         force::lower(cx, &mut graph, closure, names, s + k, form)
     });
+    let constraints = spec.constraints.as_ref().map(|closure| {
+        let names = Names {
+            q0: &sig.q0,
+            q1: &sig.q1,
+            coords: spec.layout.lowering_coords(),
+            params: sig.params.iter().map(Ident::to_string).collect(),
+            dq: Vec::new(),
+        };
+        constraint::lower(cx, &mut graph, closure, names, sig.continuous)
+    });
     let forces = match forces {
         Some(f) => Some(f?),
+        None => None,
+    };
+    let constraints = match constraints {
+        Some(c) => Some(c?),
         None => None,
     };
     Some(Lowered {
@@ -133,6 +152,7 @@ pub fn lower(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<L
         b: b?,
         continuous,
         forces,
+        constraints,
     })
 }
 
@@ -154,6 +174,7 @@ pub fn construct(
         b,
         continuous,
         forces,
+        constraints,
     } = lowered;
     let with_partials = forces.is_some() || !controls.is_empty();
     let controls: Vec<Sym> = controls.iter().map(|&i| Sym::Param(i)).collect();
@@ -252,6 +273,20 @@ pub fn construct(
             &mut graph, &unreduced, &outputs, &data, &unknowns, &controls,
         )
     });
+    let constrained = match (constraints, &continuous) {
+        (Some(phi), Some(parts)) => Some(constraint::construct(
+            &mut graph,
+            phi,
+            &unreduced,
+            &plus.stepper,
+            &minus.stepper,
+            parts,
+            &b,
+            s,
+            k,
+        )),
+        _ => None,
+    };
     Compiled {
         graph,
         body,
@@ -263,6 +298,7 @@ pub fn construct(
         hessian,
         continuous,
         forces,
+        constrained,
     }
 }
 

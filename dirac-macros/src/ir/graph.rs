@@ -38,6 +38,8 @@ pub enum Sym {
     D0(usize),
     /// Component `i` of the virtual displacement `δq1` in a discrete force's virtual work.
     D1(usize),
+    /// Lagrange multiplier `i` of the holonomic constraints ([`crate::ir::constraint`]).
+    Lambda(usize),
 }
 
 /// Elementary functions of one argument.

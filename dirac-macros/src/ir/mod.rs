@@ -7,6 +7,7 @@
 
 pub mod check;
 pub mod compile;
+pub mod constraint;
 pub mod diff;
 pub mod discretize;
 pub mod force;

@@ -317,6 +317,18 @@ fn first_plus(g: &mut Graph, l: NodeId, var: Sym, leaf: Sym) -> NodeId {
     g.add(d, v)
 }
 
+/// A stepper from its residual in `unknowns` and its explicit updates (Jacobian by forward
+/// mode, one pass per unknown).
+pub fn system(
+    g: &mut Graph,
+    residual: Vec<NodeId>,
+    unknowns: &[Sym],
+    momentum: Vec<NodeId>,
+    impulse: Vec<NodeId>,
+) -> Stepper {
+    finish(g, residual, unknowns, |_| (momentum, impulse))
+}
+
 /// Jacobian columns by forward mode (one pass per unknown), then the momentum update and the
 /// group impulse from `updates`.
 fn finish(

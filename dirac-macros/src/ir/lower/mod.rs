@@ -123,6 +123,38 @@ impl<'a> Lowering<'a> {
         }
     }
 
+    /// Lowers an expression that evaluates to an f64, or an array or tuple of f64 (the values
+    /// of the constraints); `None` after errors (already recorded).
+    pub fn scalars_expr(&mut self, e: &Expr, what: &str) -> Option<Vec<NodeId>> {
+        let items = match self.expr(e)? {
+            Value::Scalar(n) => return Some(vec![n]),
+            Value::Array(items) | Value::Tuple(items) => items,
+            other => {
+                self.cx.error_spanned_by(
+                    e,
+                    format!(
+                        "{what} must be an f64 or an array of f64, found {}",
+                        other.kind()
+                    ),
+                );
+                return None;
+            }
+        };
+        items
+            .into_iter()
+            .map(|v| match v {
+                Value::Scalar(n) => Some(n),
+                other => {
+                    self.cx.error_spanned_by(
+                        e,
+                        format!("each of {what} must be an f64, found {}", other.kind()),
+                    );
+                    None
+                }
+            })
+            .collect()
+    }
+
     /// Lowers a body that evaluates to a tuple or array of `n` f64 (a chart transition's new
     /// coordinates); `None` after errors (already recorded).
     pub fn body_tuple(&mut self, block: &Block, n: usize) -> Option<Vec<NodeId>> {
