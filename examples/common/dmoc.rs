@@ -142,8 +142,8 @@ pub struct Solution {
     pub lambda: SVector<f64, 4>,
     /// SQP iterations (each: the Hessian blocks, one Riccati solve, a line search).
     pub iterations: usize,
-    /// Sweeps of all `N` steps with their sensitivities: linearizations (the line search's
-    /// trials included) and the five of each Hessian.
+    /// Sweeps over the `N` steps: one per trial of the line search (steps only; an accepted
+    /// trial's sensitivities reuse its steps) and five per Hessian (steps and sensitivities).
     pub sweeps: usize,
     /// The largest continuity defect at the solution.
     pub violation: f64,
@@ -231,21 +231,52 @@ impl Swingup {
             .collect()
     }
 
-    /// The lifted problem's linearization at the controls `u` and the lifted states `s`
-    /// (`s[0]` the initial state, `s[N]` the target): every step taken from its own lifted
-    /// state, independently. `None` when a step fails.
-    fn linearize(&self, u: &DVector<f64>, s: &[SVector<f64, 4>]) -> Option<Linearization> {
-        let mut lin = Linearization {
+    /// Every step taken from its own lifted state `s[k]` under `u[k]` (`s[0]` the initial
+    /// state, `s[N]` the target), in one workspace, and the defects `Φ(s_k, u_k) − s_{k+1}`.
+    /// `None` when a step fails.
+    fn take_steps(&self, u: &DVector<f64>, s: &[SVector<f64, 4>]) -> Option<Steps> {
+        let mut ws = self.integ.workspace();
+        let mut out = Steps {
+            next: Vec::with_capacity(self.n),
+            records: Vec::with_capacity(self.n),
             defects: Vec::with_capacity(self.n),
+        };
+        for k in 0..self.n {
+            let (next, record) = self
+                .integ
+                .step_with(&mut ws, k, &state_of(&s[k]), &[u[k]])
+                .ok()?;
+            out.defects.push(components(&next) - s[k + 1]);
+            out.next.push(next);
+            out.records.push(record);
+        }
+        Some(out)
+    }
+
+    /// The lifted problem's linearization from the steps `steps` at `(u, s)`: the sensitivities
+    /// of every step. `None` when one fails.
+    fn linearize(
+        &self,
+        u: &DVector<f64>,
+        s: &[SVector<f64, 4>],
+        steps: Steps,
+    ) -> Option<Linearization> {
+        let mut lin = Linearization {
+            defects: steps.defects,
             a: Vec::with_capacity(self.n),
             b: Vec::with_capacity(self.n),
         };
         for k in 0..self.n {
-            let (next, _, sens) = self
+            let sens = self
                 .integ
-                .step_sensitivity(k, &state_of(&s[k]), &[u[k]])
+                .sensitivity(
+                    k,
+                    &state_of(&s[k]),
+                    &steps.next[k],
+                    &steps.records[k],
+                    &[u[k]],
+                )
                 .ok()?;
-            lin.defects.push(components(&next) - s[k + 1]);
             lin.a.push(SMatrix::<f64, 4, 4>::from_iterator(
                 sens.state.iter().copied(),
             ));
@@ -254,6 +285,20 @@ impl Swingup {
             ));
         }
         Some(lin)
+    }
+}
+
+/// The steps of one sweep over the lifted states: what [`Swingup::take_steps`] returns.
+struct Steps {
+    next: Vec<ReducedState<1, 1>>,
+    records: Vec<ReducedStep<1>>,
+    defects: Vec<SVector<f64, 4>>,
+}
+
+impl Steps {
+    /// `Σ_k ‖r_k‖₁`.
+    fn defect_l1(&self) -> f64 {
+        self.defects.iter().map(|r| r.lp_norm(1)).sum()
     }
 }
 
@@ -437,7 +482,8 @@ pub fn solve(
     s[n] = problem.target;
     let mut sweeps = 0;
     let mut lin = problem
-        .linearize(&u, &s)
+        .take_steps(&u, &s)
+        .and_then(|steps| problem.linearize(&u, &s, steps))
         .ok_or("a step fails at the initial guess")?;
     sweeps += 1;
     let mut lambda = vec![SVector::<f64, 4>::zeros(); n];
@@ -509,10 +555,10 @@ pub fn solve(
                 .map(|(sk, dk)| sk + dk * alpha)
                 .collect();
             sweeps += 1;
-            if let Some(lt) = problem.linearize(&ut, &st) {
-                let m = problem.cost(ut.as_slice()) + rho * lt.defect_l1();
+            if let Some(steps) = problem.take_steps(&ut, &st) {
+                let m = problem.cost(ut.as_slice()) + rho * steps.defect_l1();
                 if m <= m0 + 1e-4 * alpha * slope.min(0.0) {
-                    accepted = Some((ut, st, lt));
+                    accepted = Some((ut, st, steps));
                     break;
                 }
             }
@@ -521,8 +567,11 @@ pub fn solve(
         if options.trace {
             eprintln!("    delta {delta:.3e} rho {rho:.3e} alpha {alpha:.3e} |du| {:.3e} slope {slope:.3e}", qp.du.amax());
         }
-        let (ut, st, lt) =
+        let (ut, st, steps) =
             accepted.ok_or_else(|| format!("line search failed at iteration {iteration}"))?;
+        let lt = problem
+            .linearize(&ut, &st, steps)
+            .ok_or_else(|| format!("a sensitivity fails at iteration {iteration}"))?;
         for (l, lq) in lambda.iter_mut().zip(&qp.lambda) {
             *l += (lq - *l) * alpha;
         }
