@@ -33,6 +33,8 @@ pub const CONTROLS: Symbol = Symbol("controls");
 pub const FORCE: Symbol = Symbol("force");
 /// `constraints = |q| [φ_1, ..]`: holonomic constraints `φ(q) = 0`.
 pub const CONSTRAINTS: Symbol = Symbol("constraints");
+/// `nonholonomic = |q, v| [A_1(q) v, ..]`: nonholonomic constraints `A(q) v = 0`.
+pub const NONHOLONOMIC: Symbol = Symbol("nonholonomic");
 /// `rule = midpoint`.
 pub const MIDPOINT: Symbol = Symbol("midpoint");
 /// `rule = trapezoid`.
@@ -59,7 +61,7 @@ impl PartialEq<Symbol> for &Ident {
 }
 
 /// The keys of `#[reduced_lagrangian(...)]`.
-pub const KEYS: [Symbol; 12] = [
+pub const KEYS: [Symbol; 13] = [
     SHAPE,
     GROUP,
     COORDINATES,
@@ -72,6 +74,7 @@ pub const KEYS: [Symbol; 12] = [
     CONTROLS,
     FORCE,
     CONSTRAINTS,
+    NONHOLONOMIC,
 ];
 
 /// The key `ident` spells, if it is one of [`KEYS`].

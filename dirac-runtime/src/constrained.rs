@@ -40,6 +40,9 @@ pub trait Constrained<
     const Z: usize,
 >: DiscreteLagrangian<S, K, N>
 {
+    /// Whether the constraints are holonomic, `φ(q) = 0` (`constraints = ..`), or
+    /// nonholonomic, `A(q) v = 0` (`nonholonomic = ..`, imposed at the step's midpoint).
+    const HOLONOMIC: bool = true;
     /// The linear algebra of the position step (dense up to [`crate::DENSE_MAX`] unknowns).
     type PositionLinear: LinearSolver<Vector = SVector<f64, Z>>;
     /// The linear algebra of the projection.
@@ -48,7 +51,7 @@ pub trait Constrained<
     fn position_solver(&self) -> Self::PositionLinear;
     /// A workspace for the projection.
     fn projection_solver(&self) -> Self::ProjectionLinear;
-    /// `φ(q)`.
+    /// `φ(q)` (zero for nonholonomic constraints, which restrict velocities only).
     fn constraint(&self, q: &SVector<f64, N>) -> SVector<f64, M>;
     /// The position residual at `z = (q_{k+1}, λ_k)`.
     fn constrained_residual(
@@ -100,6 +103,19 @@ pub trait ReducedConstrained<
     const Z: usize,
 >: Reduced<D, S, K, N>
 {
+    /// Whether `μ` changes over a step: by a force's group impulse, or by the group component of
+    /// nonholonomic constraint forces (the discrete nonholonomic momentum equation); without
+    /// either `μ` is copied.
+    const CONSTRAINED_GROUP_FORCED: bool = false;
+    /// `μ_{k+1} − μ_k` of the position step at `z`: the forces' group impulse minus the group
+    /// component of the constraint impulse `A(q_k)ᵀ λ_k`.
+    fn reduced_constrained_impulse(
+        &self,
+        _x_k: &SVector<f64, S>,
+        _z: &SVector<f64, Z>,
+    ) -> SVector<f64, K> {
+        SVector::zeros()
+    }
     /// The linear algebra of the position step.
     type ReducedPositionLinear: LinearSolver<Vector = SVector<f64, Z>>;
     /// The linear algebra of the projection.
@@ -152,13 +168,14 @@ pub trait ReducedConstrained<
         SVector<f64, Z>,
         <Self::ReducedProjectionLinear as LinearSolver>::Matrix,
     );
-    /// The projected `w_{k+1}`.
+    /// The projected `(w_{k+1}, μ_{k+1})`, stacked (`μ` changes only where the constraints
+    /// have a group component, as nonholonomic ones may).
     fn reduced_projected_momentum(
         &self,
         x1: &SVector<f64, S>,
         mu1: &SVector<f64, K>,
         y: &SVector<f64, Z>,
-    ) -> SVector<f64, S>;
+    ) -> SVector<f64, N>;
 }
 
 /// What a constrained step reports besides the new state.
@@ -168,7 +185,8 @@ pub struct ConstrainedStep<const M: usize> {
     pub lambda: SVector<f64, M>,
     /// The projection multipliers `ν_{k+1}`.
     pub nu: SVector<f64, M>,
-    /// `‖φ(q_{k+1})‖∞` at the accepted step.
+    /// `‖φ(q_{k+1})‖∞` at the accepted step (holonomic constraints); for nonholonomic ones the
+    /// position step's residual norm, which bounds the discrete constraint's.
     pub constraint_residual: f64,
     /// Newton statistics of both solves.
     pub stats: StepStats,
@@ -319,6 +337,9 @@ where
             &self.system.parameter_values(),
             initial.is_finite(),
         )?;
+        if !L::HOLONOMIC {
+            return Ok(());
+        }
         check_constraint(
             self.system.constraint(&initial.q),
             inf_norm(&initial.q),
@@ -402,7 +423,11 @@ where
             ConstrainedStep {
                 lambda,
                 nu,
-                constraint_residual: inf_norm(&sys.constraint(&q1)),
+                constraint_residual: if L::HOLONOMIC {
+                    inf_norm(&sys.constraint(&q1))
+                } else {
+                    first.residual
+                },
                 stats,
             },
         ))
@@ -519,6 +544,9 @@ where
             &self.system.parameter_values(),
             initial.is_finite(),
         )?;
+        if !<L as Constrained<S, K, N, M, Z>>::HOLONOMIC {
+            return Ok(());
+        }
         let q = self.system.untrivialize(initial).q;
         check_constraint(self.system.constraint(&q), inf_norm(&q), &self.options)
     }
@@ -573,8 +601,8 @@ where
         let (zq, lambda) = parts::<N, M, Z>(&first.z);
         let (x1, group_unknown) = crate::system::split::<S, K, N>(&zq);
         let w_shake = sys.reduced_constrained_momentum(x, &first.z);
-        let mu1 = if <L as Reduced<D, S, K, N>>::GROUP_FORCED {
-            mu + sys.group_impulse(x, &zq)
+        let mu1 = if L::CONSTRAINED_GROUP_FORCED {
+            mu + sys.reduced_constrained_impulse(x, &first.z)
         } else {
             *mu
         };
@@ -597,10 +625,12 @@ where
             self.options.residual_tolerance(rho2),
         ));
         let (_, nu) = parts::<N, M, Z>(&second.z);
+        let (w_new, mu_new) =
+            crate::system::split::<S, K, N>(&sys.reduced_projected_momentum(&x1, &mu1, &second.z));
         let next = ReducedState {
             x: x1,
-            w: sys.reduced_projected_momentum(&x1, &mu1, &second.z),
-            mu: mu1,
+            w: w_new,
+            mu: mu_new,
             g: g1,
         };
         if !next.is_finite() {
@@ -612,13 +642,17 @@ where
         }
         ws.history.push((x1 - x, group_unknown));
         ws.multipliers = Some((lambda, nu));
-        let q1 = sys.untrivialize(&next).q;
+        let constraint_residual = if <L as Constrained<S, K, N, M, Z>>::HOLONOMIC {
+            inf_norm(&sys.constraint(&sys.untrivialize(&next).q))
+        } else {
+            first.residual
+        };
         Ok((
             next,
             ConstrainedStep {
                 lambda,
                 nu,
-                constraint_residual: inf_norm(&sys.constraint(&q1)),
+                constraint_residual,
                 stats,
             },
         ))

@@ -47,11 +47,11 @@ use crate::ast::ranges::{parse_ranges, Range, RangeArg, RANGES as RANGES_ACCEPTE
 use crate::ast::rule::{Rule, RULES};
 use crate::ctxt::Ctxt;
 use crate::symbol::{
-    self, Symbol, CONNECTION, CONSTRAINTS, CONTROLS, COORDINATES, FORCE, GROUP, NAME, RANGES, RULE,
-    SHAPE, STEP, TRANSLATE,
+    self, Symbol, CONNECTION, CONSTRAINTS, CONTROLS, COORDINATES, FORCE, GROUP, NAME, NONHOLONOMIC,
+    RANGES, RULE, SHAPE, STEP, TRANSLATE,
 };
 
-const KEYS: &str = "`shape(...)`, `group(...)` (or `coordinates(...)` with `translate(...)`), `connection = [[...], ...]`, `step = <parameter>`, `name = <TypeName>`, `rule = midpoint | trapezoid | left | right`, `ranges(<name> = (lo, hi), ...)`, `controls(<parameter>, ...)`, `force = |dq| <virtual work>` (or `|dq0, dq1|` for a discrete Lagrangian) and `constraints = |q| [<φ_1>, ...]`";
+const KEYS: &str = "`shape(...)`, `group(...)` (or `coordinates(...)` with `translate(...)`), `connection = [[...], ...]`, `step = <parameter>`, `name = <TypeName>`, `rule = midpoint | trapezoid | left | right`, `ranges(<name> = (lo, hi), ...)`, `controls(<parameter>, ...)`, `force = |dq| <virtual work>` (or `|dq0, dq1|` for a discrete Lagrangian) `constraints = |q| [<φ_1>, ...]` or `nonholonomic = |q, v| [<A_1(q) v>, ...]`";
 
 /// The parsed attribute.
 pub struct Spec {
@@ -77,6 +77,8 @@ pub struct Spec {
     /// `constraints = |q| [φ_1, ...]`: holonomic constraints `φ(q) = 0` (continuous
     /// Lagrangians).
     pub constraints: Option<syn::ExprClosure>,
+    /// Whether `constraints` are nonholonomic (`nonholonomic = |q, v| [..]`, `A(q) v = 0`).
+    pub nonholonomic: bool,
 }
 
 /// One entry of `shape(...)`, `group(...)`, `coordinates(...)` or `translate(...)`: a name,
@@ -152,6 +154,7 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
     let mut controls: Vec<Ident> = Vec::new();
     let mut force: Option<syn::ExprClosure> = None;
     let mut constraints: Option<syn::ExprClosure> = None;
+    let mut nonholonomic = false;
     let mut seen: Vec<String> = Vec::new();
     // Which way the symmetry is declared: the first of `shape`/`group` or
     // `coordinates`/`translate` decides; a key of the other family is an error.
@@ -284,9 +287,29 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
                     value.to_token_stream()
                 ),
             ),
-            (Some(CONSTRAINTS), Arg::Value(_, Expr::Closure(closure))) => {
-                constraints = Some(closure)
+            (Some(CONSTRAINTS | NONHOLONOMIC), Arg::Value(k, Expr::Closure(closure))) => {
+                if constraints.is_some() {
+                    cx.error_spanned_by(
+                        &k,
+                        "a system declares either holonomic `constraints = |q| [..]` or `nonholonomic = |q, v| [..]`, not both",
+                    );
+                } else {
+                    nonholonomic = k == NONHOLONOMIC;
+                    constraints = Some(closure);
+                }
             }
+            (Some(NONHOLONOMIC), Arg::Value(_, value)) => cx.error_spanned_by(
+                &value,
+                format!(
+                    "expected the nonholonomic constraints as a closure of the configuration and the velocity, linear in the \
+                     velocity: `nonholonomic = |q, v| [q.theta.sin() * v.x - q.theta.cos() * v.y]`, found `{}`",
+                    value.to_token_stream()
+                ),
+            ),
+            (Some(NONHOLONOMIC), Arg::List(k, _)) => cx.error_spanned_by(
+                &k,
+                "expected `nonholonomic = |q, v| [<A_1(q) v>, ...]`, found `nonholonomic(...)`",
+            ),
             (Some(CONSTRAINTS), Arg::Value(_, value)) => cx.error_spanned_by(
                 &value,
                 format!(
@@ -405,6 +428,7 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
         controls,
         force,
         constraints,
+        nonholonomic,
     })
 }
 

@@ -51,6 +51,14 @@ pub fn constrained_table(
         attrs: lints::generated(),
         header: quote!(impl #rt::Constrained<#s, #k, #n, #m, #z> for #ty),
         items: vec![
+            Item {
+                name: "HOLONOMIC",
+                kind: Kind::Const {
+                    decl: quote!(const HOLONOMIC: bool),
+                    stub: None,
+                    documented: false,
+                },
+            },
             fixed("PositionLinear", quote!(type PositionLinear = #ps;)),
             fixed("ProjectionLinear", quote!(type ProjectionLinear = #qs;)),
             method("position_solver", quote!(fn position_solver(&self) -> #ps)),
@@ -111,6 +119,22 @@ pub fn reduced_constrained_table(
         attrs: lints::generated(),
         header: quote!(impl #rt::ReducedConstrained<#marker, #s, #k, #n, #m, #z> for #ty),
         items: vec![
+            Item {
+                name: "CONSTRAINED_GROUP_FORCED",
+                kind: Kind::Const {
+                    decl: quote!(const CONSTRAINED_GROUP_FORCED: bool),
+                    stub: None,
+                    documented: false,
+                },
+            },
+            Item {
+                name: "reduced_constrained_impulse",
+                kind: Kind::Method {
+                    attrs: quote!(#[allow(unused_variables)]),
+                    sig: quote!(fn reduced_constrained_impulse(&self, x_k: #vs, z: #vz) -> #na::SVector<f64, #k>),
+                    provided: true,
+                },
+            },
             fixed(
                 "ReducedPositionLinear",
                 quote!(type ReducedPositionLinear = #ps;),
@@ -149,7 +173,7 @@ pub fn reduced_constrained_table(
             ),
             method(
                 "reduced_projected_momentum",
-                quote!(fn reduced_projected_momentum(&self, x1: #vs, mu1: #vk, y: #vz) -> #na::SVector<f64, #s>),
+                quote!(fn reduced_projected_momentum(&self, x1: #vs, mu1: #vk, y: #vz) -> #na::SVector<f64, #n>),
             ),
         ],
     }
@@ -214,14 +238,18 @@ pub fn emit(t: &Target, c: &Compiled, code: &ConstrainedCode) -> TokenStream {
         other => unreachable!("the constraints read q, not {other:?}"),
     });
     let (phi_stmts, phi_out) = (&phi.stmts, &phi.outputs);
+    let holonomic = code.holonomic;
+    let constraint_body = if holonomic {
+        quote! { #phi_stmts #na::SVector::<f64, #m>::from([ #( #phi_out ),* ]) }
+    } else {
+        quote! { #na::SVector::<f64, #m>::zeros() }
+    };
     let mut out = constrained_table(t, m, &pos.backend, &proj.backend).render(&Bodies::Real(
         HashMap::from([
+            ("HOLONOMIC", quote!(#holonomic)),
             ("position_solver", pos.solver_new.clone()),
             ("projection_solver", proj.solver_new.clone()),
-            (
-                "constraint",
-                quote! { #phi_stmts #na::SVector::<f64, #m>::from([ #( #phi_out ),* ]) },
-            ),
+            ("constraint", constraint_body),
             ("constrained_residual", pos.residual.clone()),
             (
                 "constrained_residual_jacobian",
@@ -269,25 +297,39 @@ pub fn emit(t: &Target, c: &Compiled, code: &ConstrainedCode) -> TokenStream {
             other => unreachable!("the reduced projection reads x1, w1, μ1 and y, not {other:?}"),
         };
         let pos = stepper_fns(g, position, &pos_leaf, z, s);
-        let proj = stepper_fns(g, projection, &proj_leaf, z, s);
+        let proj = stepper_fns(g, projection, &proj_leaf, z, n);
+        let mut bodies = HashMap::new();
+        if !position.impulse.is_empty() {
+            let code = straight_line(g, &position.impulse, &pos_leaf);
+            let (stmts, out) = (&code.stmts, &code.outputs);
+            let k = t.k;
+            bodies.insert("CONSTRAINED_GROUP_FORCED", quote!(true));
+            bodies.insert(
+                "reduced_constrained_impulse",
+                quote! { #stmts #na::SVector::<f64, #k>::from_column_slice(&[ #( #out ),* ]) },
+            );
+        }
         out.extend(
             reduced_constrained_table(t, side, m, &pos.backend, &proj.backend).render(
-                &Bodies::Real(HashMap::from([
-                    ("reduced_position_solver", pos.solver_new.clone()),
-                    ("reduced_projection_solver", proj.solver_new.clone()),
-                    ("reduced_constrained_residual", pos.residual.clone()),
-                    (
-                        "reduced_constrained_residual_jacobian",
-                        pos.residual_jacobian.clone(),
-                    ),
-                    ("reduced_constrained_momentum", pos.momentum.clone()),
-                    ("reduced_projection_residual", proj.residual.clone()),
-                    (
-                        "reduced_projection_residual_jacobian",
-                        proj.residual_jacobian.clone(),
-                    ),
-                    ("reduced_projected_momentum", proj.momentum.clone()),
-                ])),
+                &Bodies::Real({
+                    bodies.extend(HashMap::from([
+                        ("reduced_position_solver", pos.solver_new.clone()),
+                        ("reduced_projection_solver", proj.solver_new.clone()),
+                        ("reduced_constrained_residual", pos.residual.clone()),
+                        (
+                            "reduced_constrained_residual_jacobian",
+                            pos.residual_jacobian.clone(),
+                        ),
+                        ("reduced_constrained_momentum", pos.momentum.clone()),
+                        ("reduced_projection_residual", proj.residual.clone()),
+                        (
+                            "reduced_projection_residual_jacobian",
+                            proj.residual_jacobian.clone(),
+                        ),
+                        ("reduced_projected_momentum", proj.momentum.clone()),
+                    ]));
+                    bodies
+                }),
             ),
         );
     }

@@ -398,7 +398,7 @@ fn connection_only_params(spec: &Spec, sig: &Signature, c: &Compiled) -> Vec<Ide
         roots.extend(f.minus.iter().chain(&f.plus));
     }
     if let Some(code) = &c.constrained {
-        roots.extend(&code.phi);
+        roots.extend(&code.position.residual);
     }
     let in_system = c.graph.symbols(&roots);
     let in_body = c.graph.symbols(&[c.body]);

@@ -195,8 +195,18 @@ pub fn check(
         let roots: Vec<NodeId> = forces.minus.iter().chain(&forces.plus).copied().collect();
         values_invariance(cx, graph, &roots, closure, "force", spec, &points, &names);
     }
-    if let (Some(phi), Some(closure)) = (&lowered.constraints, &spec.constraints) {
-        values_invariance(cx, graph, phi, closure, "constraint", spec, &points, &names);
+    if let (Some(c), Some(closure)) = (&lowered.constraints, &spec.constraints) {
+        // The constraint rows of a step read q_k and q_{k+1}, as the forces do.
+        values_invariance(
+            cx,
+            graph,
+            &c.rows,
+            closure,
+            "constraint",
+            spec,
+            &points,
+            &names,
+        );
     }
 }
 

@@ -30,8 +30,8 @@ pub struct Lowered {
     pub continuous: Option<Continuous>,
     /// The discrete forces `f_d^±`, when the attribute declares `force = ...`.
     pub forces: Option<Forces>,
-    /// The holonomic constraints `φ(q)` over `Q0`, when declared.
-    pub constraints: Option<Vec<NodeId>>,
+    /// The constraints, when declared.
+    pub constraints: Option<constraint::Constraints>,
 }
 
 /// The graph and its roots.
@@ -136,7 +136,17 @@ pub fn lower(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<L
             params: sig.params.iter().map(Ident::to_string).collect(),
             dq: Vec::new(),
         };
-        constraint::lower(cx, &mut graph, closure, names, sig.continuous)
+        let step = sig.params.iter().position(|p| *p == sig.step);
+        let h = graph.var(Sym::Param(step.expect("the step is a parameter")));
+        constraint::lower(
+            cx,
+            &mut graph,
+            closure,
+            names,
+            sig.continuous,
+            !spec.nonholonomic,
+            h,
+        )
     });
     let forces = match forces {
         Some(f) => Some(f?),
