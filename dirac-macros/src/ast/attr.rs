@@ -439,7 +439,13 @@ fn coord_list(cx: &Ctxt, list: Punctuated<CoordArg, Token![,]>) -> Vec<Coord> {
             let len = match &c.len {
                 None => None,
                 Some((_, e)) => {
-                    let n = match e {
+                    // A length passed through `macro_rules!` (`x[$n]`) arrives in an invisible
+                    // group.
+                    let mut inner = e;
+                    while let Expr::Group(g) = inner {
+                        inner = &g.expr;
+                    }
+                    let n = match inner {
                         Expr::Lit(syn::ExprLit {
                             lit: syn::Lit::Int(i),
                             ..
