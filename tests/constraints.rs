@@ -324,3 +324,47 @@ fn the_reduced_rolling_disk_follows_the_discrete_nonholonomic_momentum_equation(
     let (first, last) = (red.states[0].mu, red.last().mu);
     assert!((first - last).amax() > 1e-2);
 }
+
+#[path = "../examples/common/cartesian_dsp.rs"]
+mod cartesian;
+
+#[test]
+fn the_cartesian_double_spherical_pendulum_agrees_with_the_atlas_run() {
+    use dirac::paper::atlas::PAPER;
+    use dirac::paper::DoubleSphericalPendulum;
+    let t_end: f64 = 10.0;
+    let distance = |h: f64| {
+        let n = (t_end / h).round() as usize;
+        let (sys, c0) = cartesian::cartesian_initial(h);
+        let mut worst: f64 = 0.0;
+        let summary = ConstrainedIntegrator::new(sys, NewtonOptions::default())
+            .run(c0, n, |_, s, _| {
+                worst = worst.max(cartesian::sys_residual(&sys, s))
+            })
+            .unwrap();
+        assert!(worst <= 1e-13, "|phi|/l^2 = {worst:e}");
+        let paper = DoubleSphericalPendulum {
+            h,
+            ..DoubleSphericalPendulum::paper()
+        };
+        let atlas = paper
+            .atlas(NewtonOptions::default())
+            .run(
+                (PAPER, DoubleSphericalPendulum::paper_initial_state()),
+                n,
+                |_, _, _| {},
+            )
+            .unwrap();
+        let (chart, state) = atlas.last;
+        let (_, r2) = paper.charts().bob_positions(chart, &state);
+        let c = &summary.last.q;
+        ((c[3] - r2[0]).powi(2) + (c[4] - r2[1]).powi(2) + (c[5] - r2[2]).powi(2)).sqrt()
+    };
+    // The two discretizations of the same motion approach each other as h².
+    let (d1, d2) = (distance(0.02), distance(0.01));
+    let ratio = d1 / d2;
+    assert!(
+        (3.5..4.5).contains(&ratio) && d1 < 1.0,
+        "{d1:e} {d2:e} ratio {ratio}"
+    );
+}
