@@ -13,16 +13,18 @@
 //!    own coordinates, indexed coordinates.
 //! 4. [Forces and controls](forces): forces as their virtual work, control laws and sequences,
 //!    the forced discrete Noether balance, the sensitivities of a step.
-//! 5. [Integrators and the driver](integrators): the reduced (+)/(−) and unreduced integrators,
+//! 5. [Constraints](constraints): holonomic `φ(q) = 0` and nonholonomic `A(q) v = 0`, the
+//!    constrained steps (RATTLE, the discrete Lagrange–d'Alembert step), reduced and unreduced.
+//! 6. [Integrators and the driver](integrators): the reduced (+)/(−) and unreduced integrators,
 //!    symmetric compositions of order 4 and 6, an atlas of charts; `run`, `integrate`, stop
 //!    conditions and ensembles, the same for all of them.
-//! 6. [Large systems](large_systems): the sparse backend, chord iterations, streaming runs in
+//! 7. [Large systems](large_systems): the sparse backend, chord iterations, streaming runs in
 //!    constant memory, ensembles on all cores, building the attribute optimized.
-//! 7. [Diagnostics](diagnostics): Newton statistics and conditioning per step, energies, the
+//! 8. [Diagnostics](diagnostics): Newton statistics and conditioning per step, energies, the
 //!    Dirac structure and the discrete action along a trajectory, the step-map Jacobian.
-//! 8. [Errors](errors): the typed [`StepError`](crate::StepError) of a failed step, the
+//! 9. [Errors](errors): the typed [`StepError`](crate::StepError) of a failed step, the
 //!    trajectory kept up to it, and the compile errors of the attributes.
-//! 9. [Limits](limits): what the integrators do not do, and where their guarantees end.
+//! 10. [Limits](limits): what the integrators do not do, and where their guarantees end.
 //!
 //! Results that leave the process — runs and ensembles in Apache Parquet, sharded ensembles on a
 //! Slurm cluster, progress bars — are the separate crate `dirac-io`, described in
@@ -37,10 +39,10 @@
 //! [`crate::kepler`] are worked systems that the chapters reuse.
 
 // Each capability still to come adds its chapter as a module here and a line in the list above:
-// constraints (issue 20) after `forces`; systems sized at run time (issue 21) after
-// `large_systems`.
+// systems sized at run time (issue 21) after `large_systems`.
 
 pub mod benchmarks;
+pub mod constraints;
 pub mod diagnostics;
 pub mod errors;
 pub mod forces;

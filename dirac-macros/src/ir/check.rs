@@ -269,7 +269,9 @@ fn values_invariance(
                         "the {what} is not invariant under the {group}: at {}, shifting it by {shift} in both configurations \
                          changes its value; `#[reduced_lagrangian]` reduces by this symmetry, so a {what} may depend on \
                          the group coordinates only through differences (as the Lagrangian does)",
-                        names.point(&p.q0, &p.q1, &p.params),
+                        // The values read a step's two configurations, whatever the body's
+                        // arguments are called.
+                        names.point_named(&p.q0, &p.q1, &p.params, "q_k", "q_k+1"),
                     ),
                 );
                 return;
@@ -292,6 +294,11 @@ struct Names {
 impl Names {
     /// `q0 = (x = 0.31, theta = -1.2), q1 = (…), h = 0.8, m = 1.3`.
     fn point(&self, q0: &[f64], q1: &[f64], params: &[f64]) -> String {
+        self.point_named(q0, q1, params, &self.q0, &self.q1)
+    }
+
+    /// [`Self::point`] with the two configurations named `n0`, `n1`.
+    fn point_named(&self, q0: &[f64], q1: &[f64], params: &[f64], n0: &str, n1: &str) -> String {
         let config = |q: &[f64]| {
             let fields: Vec<String> = self
                 .coords
@@ -302,8 +309,8 @@ impl Names {
             format!("({})", fields.join(", "))
         };
         let mut parts = vec![
-            format!("{} = {}", self.q0, config(q0)),
-            format!("{} = {}", self.q1, config(q1)),
+            format!("{n0} = {}", config(q0)),
+            format!("{n1} = {}", config(q1)),
         ];
         parts.extend(self.params(params));
         parts.join(", ")
