@@ -16,15 +16,15 @@ macro_rules! maximal_chain {
     ($name:ident, $ty:ident, $n:literal) => {
         /// The chain of `$n` links in maximal coordinates.
         #[reduced_lagrangian(coordinates(c, x[$n], y[$n]), translate(c, x), rule = midpoint,
-            constraints = |q| {
-                let mut phi = [0.0; $n];
-                phi[0] = (q.x[0] - q.c) * (q.x[0] - q.c) + q.y[0] * q.y[0] - l * l;
-                for i in 1..$n {
-                    let (dx, dy) = (q.x[i] - q.x[i - 1], q.y[i] - q.y[i - 1]);
-                    phi[i] = dx * dx + dy * dy - l * l;
-                }
-                phi
-            })]
+                            constraints = |q| {
+                                let mut phi = [0.0; $n];
+                                phi[0] = (q.x[0] - q.c) * (q.x[0] - q.c) + q.y[0] * q.y[0] - l * l;
+                                for i in 1..$n {
+                                    let (dx, dy) = (q.x[i] - q.x[i - 1], q.y[i] - q.y[i - 1]);
+                                    phi[i] = dx * dx + dy * dy - l * l;
+                                }
+                                phi
+                            })]
         fn $name(q: Config, v: Velocity, mc: f64, m: f64, l: f64, gr: f64) -> f64 {
             let mut t = 0.5 * mc * v.c * v.c;
             let mut u = 0.0;
@@ -39,7 +39,13 @@ macro_rules! maximal_chain {
             /// Time per step (µs) over `steps` steps from the benchmark's state, at rest, and
             /// the largest constraint residual.
             fn measure(steps: usize) -> (f64, f64, f64) {
-                let sys = $ty { h: 0.01, mc: 1.0, m: 1.0, l: 1.0, gr: 9.81 };
+                let sys = $ty {
+                    h: 0.01,
+                    mc: 1.0,
+                    m: 1.0,
+                    l: 1.0,
+                    gr: 9.81,
+                };
                 // θ_i = 0.3 sin(i + 1), as in benches/scaling/chain.rs.in.
                 let mut q = SVector::<f64, { 2 * $n + 1 }>::zeros();
                 let (mut x, mut y) = (0.0, 0.0);
@@ -50,7 +56,10 @@ macro_rules! maximal_chain {
                     q[1 + i] = x;
                     q[1 + $n + i] = y;
                 }
-                let user = CanonicalState { q, p: SVector::zeros() };
+                let user = CanonicalState {
+                    q,
+                    p: SVector::zeros(),
+                };
                 let c0 = <$ty>::to_adapted_state(&user);
                 let integ = ConstrainedIntegrator::new(sys, NewtonOptions::default());
                 let start = Instant::now();
@@ -70,7 +79,10 @@ maximal_chain!(chain128, Chain128, 128);
 fn main() {
     let steps = 2000;
     println!("Planar chain in maximal coordinates (cart + n end points, n length constraints), h = 0.01, {steps} steps:");
-    println!("{:>6} {:>10} {:>14} {:>18} {:>14}", "n", "unknowns", "µs per step", "max |phi| (l = 1)", "Newton/step");
+    println!(
+        "{:>6} {:>10} {:>14} {:>18} {:>14}",
+        "n", "unknowns", "µs per step", "max |phi| (l = 1)", "Newton/step"
+    );
     let rows = [
         (16, Chain16::measure(steps)),
         (32, Chain32::measure(steps)),
@@ -78,7 +90,10 @@ fn main() {
         (128, Chain128::measure(steps)),
     ];
     for (n, (us, phi, it)) in rows {
-        println!("{n:>6} {:>10} {us:>14.1} {phi:>18.1e} {it:>14.2}", 3 * n + 1);
+        println!(
+            "{n:>6} {:>10} {us:>14.1} {phi:>18.1e} {it:>14.2}",
+            3 * n + 1
+        );
     }
     let slope = ((rows[3].1).0 / (rows[0].1).0).ln() / (128.0_f64 / 16.0).ln();
     println!("log-log slope of the step time, n = 16 … 128: {slope:.2} (linear: 1)");

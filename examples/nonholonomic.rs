@@ -38,7 +38,10 @@ fn main() {
     // 1. The rolling disk: φ = ω t, ψ = Ω t, x = (rΩ/ω) sin φ, y = (rΩ/ω)(1 − cos φ).
     let (omega, spin, t_end) = (0.7, 2.0, 10.0);
     println!("1. Vertical rolling disk (m = 1, I = 0.25, J = 0.5, r = 0.5), heading rate {omega}, spin {spin}, T = {t_end}:");
-    println!("   {:>8} {:>10} {:>16} {:>8}", "steps", "h", "max |q_N - q(T)|", "order");
+    println!(
+        "   {:>8} {:>10} {:>16} {:>8}",
+        "steps", "h", "max |q_N - q(T)|", "order"
+    );
     let mut previous: Option<f64> = None;
     for n in [100, 200, 400, 800, 1600] {
         let sys = RollingDisk {
@@ -58,8 +61,15 @@ fn main() {
         let end = sys.untrivialize(traj.last()).q;
         let phi = omega * t_end;
         let radius = sys.r * spin / omega;
-        let exact = [phi, radius * phi.sin(), radius * (1.0 - phi.cos()), spin * t_end];
-        let error = (0..4).map(|i| (end[i] - exact[i]).abs()).fold(0.0, f64::max);
+        let exact = [
+            phi,
+            radius * phi.sin(),
+            radius * (1.0 - phi.cos()),
+            spin * t_end,
+        ];
+        let error = (0..4)
+            .map(|i| (end[i] - exact[i]).abs())
+            .fold(0.0, f64::max);
         let order = previous.map_or(String::new(), |e| format!("{:.3}", (e / error).log2()));
         println!(
             "   {n:>8} {:>10.5} {error:>16.3e} {order:>8}",
@@ -88,7 +98,10 @@ fn main() {
         .integrate(start, steps)
         .expect("the sleigh slides");
     println!("\n2. Chaplygin sleigh (m = 1, I = 0.2, a = 0.5, h = 0.01) from u = {u0}, ω = {w0}: u∞ = √(2E/m) = {u_inf:.6}");
-    println!("   {:>6} {:>12} {:>12} {:>14} {:>16}", "t", "ω", "u", "E/E0 − 1", "constraint");
+    println!(
+        "   {:>6} {:>12} {:>12} {:>14} {:>16}",
+        "t", "ω", "u", "E/E0 − 1", "constraint"
+    );
     let (mut e_min, mut e_max) = (0.0_f64, 0.0_f64);
     for (k, s) in traj.states.iter().enumerate() {
         let de = energy(s) / e0 - 1.0;
