@@ -513,7 +513,7 @@ fn the_eliminated_and_the_general_forced_steps_agree() {
         c: 0.1,
         tau: 0.2,
     };
-    assert!(<Turntable as Reduced<dirac::runtime::Plus, 1, 1, 2>>::ELIMINATES_GROUP);
+    const { assert!(<Turntable as Reduced<dirac::runtime::Plus, 1, 1, 2>>::ELIMINATES_GROUP) };
     let s0 = ReducedState::new([0.4], [0.1], [0.3], [0.0]);
     let tight = NewtonOptions {
         abs_tol: 1e-15,
