@@ -109,15 +109,27 @@ pub fn derivatives(g: &mut Graph, roots: &[NodeId], seed: Sym) -> Vec<NodeId> {
 /// get the constant 0.
 ///
 /// **Factored adjoints.** An adjoint reaching a node along a single path is kept as a product
-/// `b · f` of the adjoint `b` where the path started (a node with several contributions, or the
-/// root) and the product `f` of the local partial derivatives along the path, which involves the
-/// primal values only: through `m = l · s` and then `p = m · ω`, `s` gets `b · (ω · l)` instead
-/// of `(b · ω) · l`. The sweep costs the same (one multiplication per edge, one more where a
-/// factor meets a sum), but `f` is primal: a forward pass over the gradient (the Jacobian's
-/// columns) differentiates one product `b · f` instead of the chain, and where `f` does not
-/// depend on the seed (most columns of a dense Jacobian) that is one multiplication. The
-/// contributions to a node are summed in decreasing parent order, so the result is
-/// deterministic, and the adjoint of a node does not depend on which symbols are asked for.
+/// `b · f` of the adjoint `b` where the path started (a sum of several contributions, or the
+/// root's 1) and the product `f` of the local partial derivatives along the path, which involves
+/// the primal values only: through `m = l · s` and then `p = m · ω`, `s` gets `b · (ω · l)`
+/// instead of `(b · ω) · l`. The sweep costs the same (one multiplication per edge), but `f` is
+/// primal: a forward pass over the gradient (a Jacobian column) differentiates one product `b · f`
+/// instead of the chain, and where `f` does not depend on the seed (most columns of a dense
+/// Jacobian) that is one multiplication.
+///
+/// **Expanded leaves.** A sum of contributions `Σ bₖ · fₖ` that only one entry of the gradient
+/// uses (counted over this call's entries, so a caller asks separately for the entries it
+/// differentiates again) is expanded into that entry, recursively, and contributions with the
+/// same `b` are merged, `b · (f₁ + f₂)`. On a chain of links the adjoint of a link's angle and
+/// of its angular velocity are such sums; expanded, the residual row of link `i` is
+/// `Aᵢ · Pᵢ + Bᵢ · Qᵢ + ..` over the few accumulated adjoints `Aᵢ, Bᵢ` (of the velocity sums
+/// through link `i`) with primal coefficients, and a Jacobian column costs a multiplication and
+/// an addition per accumulated adjoint per row instead of re-deriving the intermediate sums.
+///
+/// The contributions to a node are summed in the order they arrive (decreasing parent order), so
+/// the result is deterministic, and the adjoint of a node does not depend on which symbols are
+/// asked for. These regroupings change the rounding of the derivatives (not of the body's own
+/// value), as any other order of the chain rule would.
 pub fn gradient(g: &mut Graph, root: NodeId, wrt: &[Sym]) -> Vec<NodeId> {
     let zero = g.constant(0.0);
     let one = g.constant(1.0);
@@ -142,34 +154,35 @@ pub fn gradient(g: &mut Graph, root: NodeId, wrt: &[Sym]) -> Vec<NodeId> {
     if active[&root] {
         parts.insert(root, vec![(one, one)]);
     }
-    let mut adjoint: HashMap<NodeId, NodeId> = HashMap::new();
+    // The contributions reaching each leaf; the contributions a sum of adjoints was formed from,
+    // by the sum's node; and how many lists (those, and the leaves') each adjoint appears in.
+    let mut leaf_terms: HashMap<NodeId, Vec<(NodeId, NodeId)>> = HashMap::new();
+    let mut terms: HashMap<NodeId, Vec<(NodeId, NodeId)>> = HashMap::new();
+    let mut uses: HashMap<NodeId, usize> = HashMap::new();
     for &id in cone.iter().rev() {
         let Some(contributions) = parts.remove(&id) else {
             continue;
         };
+        let contributions = merge(g, contributions);
+        if matches!(g.node(id), Node::Var(_)) {
+            leaf_terms.insert(id, contributions);
+            continue;
+        }
         let (b, f) = if let [single] = contributions[..] {
             single
         } else {
-            let mut sum = zero;
-            for (b, f) in contributions {
-                let c = g.mul(b, f);
-                sum = if sum == zero { c } else { g.add(sum, c) };
+            let sum = total(g, &contributions);
+            for &(b, _) in &contributions {
+                *uses.entry(b).or_default() += 1;
             }
+            terms.entry(sum).or_insert(contributions);
             (sum, one)
         };
-        if matches!(g.node(id), Node::Var(_)) {
-            let a = g.mul(b, f);
-            adjoint.insert(id, a);
-            continue;
-        }
         if g.as_const(b) == Some(0.0) || g.as_const(f) == Some(0.0) {
             continue;
         }
-        let mut push = |g: &Graph, child: NodeId, f: NodeId| {
-            if active[&child] && g.as_const(f) != Some(0.0) {
-                parts.entry(child).or_default().push((b, f));
-            }
-        };
+        let mut pushed: Vec<(NodeId, NodeId)> = Vec::with_capacity(2);
+        let mut push = |_: &Graph, child: NodeId, f: NodeId| pushed.push((child, f));
         let is_active = |n: NodeId| active[&n];
         match g.node(id) {
             Node::Const(_) | Node::Var(_) => {}
@@ -259,13 +272,109 @@ pub fn gradient(g: &mut Graph, root: NodeId, wrt: &[Sym]) -> Vec<NodeId> {
                 }
             }
         }
+        for (child, f) in pushed {
+            if !active[&child] || g.as_const(f) == Some(0.0) {
+                continue;
+            }
+            // A factor that varies with the symbols, on the root's adjoint 1, is an adjoint of
+            // its own (a term of a sum, say): it becomes the contribution's `b`, so that the
+            // factors further down multiply it rather than it being buried inside them.
+            let c = if b == one && varies(g, f, &mut active) {
+                (f, one)
+            } else {
+                (b, f)
+            };
+            parts.entry(child).or_default().push(c);
+        }
+    }
+    // The leaves: sums of adjoints used by this leaf alone are expanded into it (see above).
+    for list in leaf_terms.values() {
+        for &(b, _) in list {
+            *uses.entry(b).or_default() += 1;
+        }
     }
     wrt.iter()
         .map(|s| {
-            leaf.get(s)
-                .and_then(|id| adjoint.get(id))
-                .copied()
-                .unwrap_or(zero)
+            let Some(list) = leaf.get(s).and_then(|id| leaf_terms.get(id)) else {
+                return zero;
+            };
+            let mut list = list.clone();
+            while let Some(at) = list
+                .iter()
+                .position(|(b, _)| uses.get(b) == Some(&1) && terms.contains_key(b))
+            {
+                let (b, f) = list.remove(at);
+                for &(inner, fi) in &terms[&b] {
+                    let ff = g.mul(fi, f);
+                    list.push((inner, ff));
+                }
+            }
+            let list = merge(g, list);
+            total(g, &list)
+        })
+        .collect()
+}
+
+/// Whether `n` depends on a symbol the gradient is taken in; `active` holds the answer for the
+/// cone and is extended, memoised, to the nodes the sweep builds.
+fn varies(g: &Graph, n: NodeId, active: &mut HashMap<NodeId, bool>) -> bool {
+    if let Some(&a) = active.get(&n) {
+        return a;
+    }
+    let node = g.node(n);
+    let a = match node {
+        Node::Const(_) | Node::Var(_) => false,
+        _ => node.children().any(|c| varies(g, c, active)),
+    };
+    active.insert(n, a);
+    a
+}
+
+/// Contributions with the same adjoint `b` as one, `b · (f₁ + f₂ + ..)`, in order of first
+/// appearance.
+fn merge(g: &mut Graph, list: Vec<(NodeId, NodeId)>) -> Vec<(NodeId, NodeId)> {
+    let mut out: Vec<(NodeId, NodeId)> = Vec::with_capacity(list.len());
+    for (b, f) in list {
+        match out.iter_mut().find(|(ob, _)| *ob == b) {
+            Some(slot) => slot.1 = g.add(slot.1, f),
+            None => out.push((b, f)),
+        }
+    }
+    out
+}
+
+/// `Σ b · f` over the contributions, in order.
+fn total(g: &mut Graph, list: &[(NodeId, NodeId)]) -> NodeId {
+    let mut sum: Option<NodeId> = None;
+    for &(b, f) in list {
+        let c = g.mul(b, f);
+        sum = Some(match sum {
+            Some(s) => g.add(s, c),
+            None => c,
+        });
+    }
+    sum.unwrap_or_else(|| g.constant(0.0))
+}
+
+/// The symmetric matrix `∂ rows[r] / ∂ var(c)` (rows the gradient of one function in the
+/// symbols `var(0..n)`), built one triangle at a time: column `c` is a forward pass over the rows
+/// `r ≥ c` only, and the upper triangle mirrors the lower.
+pub fn symmetric_jacobian(
+    g: &mut Graph,
+    rows: &[NodeId],
+    var: fn(usize) -> Sym,
+) -> Vec<Vec<NodeId>> {
+    let n = rows.len();
+    // lower[c][r − c] = ∂rows[r]/∂var(c) for r ≥ c.
+    let lower: Vec<Vec<NodeId>> = (0..n).map(|c| derivatives(g, &rows[c..], var(c))).collect();
+    (0..n)
+        .map(|r| {
+            (0..n)
+                .map(|c| {
+                    let (hi, lo) = (r.max(c), r.min(c));
+                    lower[lo][hi - lo]
+                })
+                .collect()
         })
         .collect()
 }

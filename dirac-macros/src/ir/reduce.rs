@@ -4,7 +4,7 @@
 //! each stepper's unknowns and the explicit momentum updates. The (+) and (−) constructions are
 //! one function each, parameterised by [`Side`].
 
-use crate::ir::diff::{derivatives, gradient};
+use crate::ir::diff::{derivatives, gradient, symmetric_jacobian};
 use crate::ir::graph::{Graph, NodeId, Sym};
 
 /// What a stepper needs, as graph nodes: a residual `R(z)` in the unknowns `z`, its Jacobian,
@@ -44,7 +44,7 @@ pub enum Mode {
 }
 
 /// The first derivatives `∂l/∂v` for `v` in `vars`, in `mode`.
-fn firsts(g: &mut Graph, mode: Mode, l: NodeId, vars: &[Sym]) -> Vec<NodeId> {
+pub fn firsts(g: &mut Graph, mode: Mode, l: NodeId, vars: &[Sym]) -> Vec<NodeId> {
     match mode {
         Mode::Forward => vars.iter().map(|&v| first(g, l, v)).collect(),
         Mode::Reverse => gradient(g, l, vars),
@@ -205,14 +205,14 @@ pub fn reduced_stepper(
     mode: Mode,
 ) -> Stepper {
     let u = side.group();
-    // Reverse mode: the whole gradient, momentum update included, from one sweep up front.
+    // Reverse mode: the residual's derivatives from one sweep, the momentum update's from
+    // another (each gradient expands the sums of adjoints only its own entries use).
     let grad = (mode == Mode::Reverse).then(|| {
-        let vars: Vec<Sym> = (0..s)
-            .map(Sym::X0)
-            .chain((0..k).map(u))
-            .chain((0..s).map(Sym::X1))
-            .collect();
-        gradient(g, l, &vars)
+        let rows: Vec<Sym> = (0..s).map(Sym::X0).chain((0..k).map(u)).collect();
+        let mut d = gradient(g, l, &rows);
+        let momentum: Vec<Sym> = (0..s).map(Sym::X1).collect();
+        d.extend(gradient(g, l, &momentum));
+        d
     });
     // f̃_x = f_x + Bᵀ f_g: the shape part of a force in the trivialization (3.6).
     let trivialized = |g: &mut Graph, f: &[NodeId], i: usize| {
@@ -297,8 +297,9 @@ pub fn unreduced_stepper(
     mode: Mode,
 ) -> Stepper {
     let grad = (mode == Mode::Reverse).then(|| {
-        let vars: Vec<Sym> = (0..n).map(Sym::Q0).chain((0..n).map(Sym::Q1)).collect();
-        gradient(g, l, &vars)
+        let mut d = gradient(g, l, &(0..n).map(Sym::Q0).collect::<Vec<_>>());
+        d.extend(gradient(g, l, &(0..n).map(Sym::Q1).collect::<Vec<_>>()));
+        d
     });
     let with = |g: &mut Graph, v: NodeId, f: Option<&[NodeId]>, i: usize| match f {
         Some(f) => g.add(v, f[i]),
@@ -543,31 +544,17 @@ fn det(g: &mut Graph, a: &[Vec<NodeId>]) -> NodeId {
 /// reverse mode the symmetric blocks `D11`, `D22` are built one triangle each (column `c` is a
 /// forward pass over the rows `r ≥ c` only) and mirrored.
 pub fn lagrangian_hessian(g: &mut Graph, l: NodeId, n: usize, mode: Mode) -> [Vec<Vec<NodeId>>; 3] {
-    let vars: Vec<Sym> = (0..n).map(Sym::Q0).chain((0..n).map(Sym::Q1)).collect();
-    let d = firsts(g, mode, l, &vars);
-    let (d1, d2) = d.split_at(n);
+    let d1 = &firsts(g, mode, l, &(0..n).map(Sym::Q0).collect::<Vec<_>>());
+    let d2 = &firsts(g, mode, l, &(0..n).map(Sym::Q1).collect::<Vec<_>>());
     let block = |g: &mut Graph, rows: &[NodeId], var: fn(usize) -> Sym| -> Vec<Vec<NodeId>> {
         let columns: Vec<Vec<NodeId>> = (0..n).map(|c| derivatives(g, rows, var(c))).collect();
         (0..n)
             .map(|r| (0..n).map(|c| columns[c][r]).collect())
             .collect()
     };
-    let symmetric = |g: &mut Graph, rows: &[NodeId], var: fn(usize) -> Sym| {
-        if mode == Mode::Forward {
-            return block(g, rows, var);
-        }
-        // lower[c][r − c] = ∂rows[r]/∂var(c) for r ≥ c.
-        let lower: Vec<Vec<NodeId>> = (0..n).map(|c| derivatives(g, &rows[c..], var(c))).collect();
-        (0..n)
-            .map(|r| {
-                (0..n)
-                    .map(|c| {
-                        let (hi, lo) = (r.max(c), r.min(c));
-                        lower[lo][hi - lo]
-                    })
-                    .collect()
-            })
-            .collect()
+    let symmetric = |g: &mut Graph, rows: &[NodeId], var: fn(usize) -> Sym| match mode {
+        Mode::Forward => block(g, rows, var),
+        Mode::Reverse => symmetric_jacobian(g, rows, var),
     };
     [
         symmetric(g, d1, Sym::Q0),
