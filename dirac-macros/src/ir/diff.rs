@@ -1,10 +1,14 @@
-//! Forward-mode differentiation on the graph, done at compile time.
+//! Differentiation on the graph, done at compile time.
 //!
-//! One pass per seed symbol propagates tangents through the cone of the requested outputs in
-//! topological order — the rule `num-dual`'s dual numbers apply at run time, unrolled here into
-//! new graph nodes. Applying the pass to first-derivative nodes gives second derivatives
-//! (forward over forward). Tangents that are structurally zero stay the constant 0 and fold
-//! away, so they never reach the emitted code.
+//! Forward mode ([`derivatives`]): one pass per seed symbol propagates tangents through the cone
+//! of the requested outputs in topological order — the rule `num-dual`'s dual numbers apply at
+//! run time, unrolled here into new graph nodes. Applying the pass to first-derivative nodes
+//! gives second derivatives (forward over forward). Tangents that are structurally zero stay the
+//! constant 0 and fold away, so they never reach the emitted code.
+//!
+//! Reverse mode ([`gradient`]): one backward sweep gives a whole gradient; forward passes over it
+//! give second derivatives (forward over reverse), symmetric ones one triangle at a time
+//! ([`symmetric_jacobian`]).
 
 use std::collections::HashMap;
 
