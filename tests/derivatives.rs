@@ -408,6 +408,84 @@ fn connected_two_group_coordinates_match_num_dual() {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Seven coordinates, densely coupled: first derivatives by reverse accumulation.
+// ---------------------------------------------------------------------------------------------
+
+/// Six links on a cart (midpoint rule written out), with a connection: at seven coordinates the
+/// attribute takes the gradient of `L_d` by reverse accumulation and the Jacobian forward over
+/// it (`dirac-macros`' `REVERSE_FROM`), with the accumulated adjoints of the velocity sums
+/// expanded into each row. Every link's velocity feeds every later link's energy, so every
+/// Jacobian entry is nonzero.
+#[reduced_lagrangian(shape(th[6]), group(c), connection = [[0.1, 0.0, -0.2, 0.0, 0.3, b]])]
+fn link_chain(q0: Config, q1: Config, h: f64, m: f64, gr: f64, b: f64) -> f64 {
+    let mut vx = (q1.c - q0.c) / h;
+    let mut vy = 0.0;
+    let mut y = 0.0;
+    let mut t = 0.5 * vx * vx;
+    let mut u = 0.0;
+    for i in 0..6 {
+        let a = 0.5 * (q0.th[i] + q1.th[i]);
+        let w = (q1.th[i] - q0.th[i]) / h;
+        let (s, c) = (a.sin(), a.cos());
+        vx += c * w;
+        vy += s * w;
+        y -= c;
+        t += 0.5 * m * (vx * vx + vy * vy);
+        u += m * gr * y + 0.1 * (a * w).tanh() / (1.0 + a * a).sqrt();
+    }
+    h * (t - u)
+}
+
+fn link_chain_ref<T: DualNum<Primitive = f64> + Copy>(
+    q0: [T; 7],
+    q1: [T; 7],
+    h: T,
+    m: T,
+    gr: T,
+) -> T {
+    let half = c::<T>(0.5);
+    let mut vx = (q1[6] - q0[6]) / h;
+    let mut vy = c::<T>(0.0);
+    let mut y = c::<T>(0.0);
+    let mut t = half * vx * vx;
+    let mut u = c::<T>(0.0);
+    for i in 0..6 {
+        let a = half * (q0[i] + q1[i]);
+        let w = (q1[i] - q0[i]) / h;
+        vx += a.cos() * w;
+        vy += a.sin() * w;
+        y -= a.cos();
+        t += half * m * (vx * vx + vy * vy);
+        u += m * gr * y + c::<T>(0.1) * (a * w).tanh() / (c::<T>(1.0) + a * a).sqrt();
+    }
+    h * (t - u)
+}
+
+#[test]
+fn a_densely_coupled_chain_matches_num_dual() {
+    let worst = compare_system::<LinkChain, 6, 1, 7, 13>(
+        "LinkChain",
+        0x0C4A_1175,
+        20,
+        &|rng| LinkChain {
+            h: rng.uniform(0.2, 1.0),
+            m: rng.uniform(0.5, 2.0),
+            gr: rng.uniform(-1.0, 10.0),
+            b: rng.uniform(-0.5, 0.5),
+        },
+        &|s| {
+            let (h, m, gr) = (s.h, s.m, s.gr);
+            (
+                SMatrix::from_row_slice(&[0.1, 0.0, -0.2, 0.0, 0.3, s.b]),
+                Box::new(move |q0, q1| link_chain_ref(q0, q1, h.into(), m.into(), gr.into())),
+                Box::new(move |q0, q1| link_chain_ref(q0, q1, h, m, gr)),
+            )
+        },
+    );
+    assert!(worst <= TOL);
+}
+
+// ---------------------------------------------------------------------------------------------
 // The comparison can fail.
 // ---------------------------------------------------------------------------------------------
 

@@ -91,7 +91,7 @@ where
     let mut z = SVector::<f64, N>::zeros();
     let next = match integ.run(state, 1, |_, next, step| {
         if let Some(step) = step {
-            z = dirac::runtime::system::join::<S, K, N>(&next.x, &step.increment);
+            z = dirac::runtime::system::join::<S, K, N>(&next.x, &step.group_unknown);
         }
     }) {
         Ok(s) => s.last,

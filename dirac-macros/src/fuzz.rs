@@ -1,6 +1,7 @@
 //! Differentiation fuzzing: random expressions over every operation of the body language are
 //! rendered to Rust source, parsed with syn, lowered ([`lower`](crate::ir::lower)), differentiated
-//! twice at compile time ([`derivatives`], forward over forward) and evaluated
+//! twice at compile time ([`derivatives`], forward over forward, and forward over [`gradient`]'s
+//! reverse accumulation) and evaluated
 //! ([`Graph::eval`]). The oracle is num-dual's hyper-dual numbers running the *same* tree at run
 //! time: a different implementation of every elementary rule, sharing nothing with the compiler
 //! but the tree, so a wrong rule, a misnamed function in lowering or a simplification that is not
@@ -61,7 +62,7 @@ use proptest::test_runner::TestRunner;
 
 use crate::ast::layout::CoordName;
 use crate::ctxt::Ctxt;
-use crate::ir::diff::derivatives;
+use crate::ir::diff::{derivatives, gradient};
 use crate::ir::graph::{Graph, NodeId, Sym};
 use crate::ir::lower::{Lowering, Names};
 
@@ -590,7 +591,9 @@ struct Compiled {
 /// Parses and lowers `src`, differentiates the graph twice and evaluates at `at`. Returns the
 /// values and, in the same shape, their scales: the largest magnitude among each value and the
 /// intermediate values it is computed from.
-fn compile(src: &str, at: &[f64; 6]) -> Result<(Compiled, Compiled), String> {
+/// The gradient comes from one forward pass per symbol or, with `reverse`, from one reverse
+/// sweep ([`gradient`]); the Hessian is forward passes over the gradient either way.
+fn compile(src: &str, at: &[f64; 6], reverse: bool) -> Result<(Compiled, Compiled), String> {
     let block: syn::Block = syn::parse_str(src).map_err(|e| format!("syn: {e}"))?;
     let (q0, q1) = (
         Ident::new("q0", Span::call_site()),
@@ -609,10 +612,14 @@ fn compile(src: &str, at: &[f64; 6]) -> Result<(Compiled, Compiled), String> {
     let root = cx
         .finish(root)
         .map_err(|e| format!("lowering rejected the body: {e}"))?;
-    let first: Vec<_> = SYMS
-        .iter()
-        .map(|&(_, s)| derivatives(&mut g, &[root], s)[0])
-        .collect();
+    let syms: Vec<Sym> = SYMS.iter().map(|&(_, s)| s).collect();
+    let first: Vec<_> = if reverse {
+        gradient(&mut g, root, &syms)
+    } else {
+        syms.iter()
+            .map(|&s| derivatives(&mut g, &[root], s)[0])
+            .collect()
+    };
     // second[j][i] = ∂/∂s_j of first[i].
     let second: Vec<Vec<_>> = SYMS
         .iter()
@@ -727,22 +734,26 @@ fn config() -> ProptestConfig {
 proptest! {
     #![proptest_config(config())]
 
-    /// The compiler's value, gradient and Hessian of a random expression equal num-dual's.
+    /// The compiler's value, gradient and Hessian of a random expression equal num-dual's, with
+    /// the gradient by forward passes and by reverse accumulation (forward over reverse).
     #[test]
     fn derivatives_match_num_dual(e in expr(), at in point()) {
         let (g, _) = guard(&e);
         let src = source(&g);
-        let got = compile(&src, &at);
-        prop_assert!(got.is_ok(), "{}\nbody:\n{src}", got.err().unwrap_or_default());
-        let (got, scale) = got.expect("checked");
-        let (failures, strict, scaled) = compare(&got, &scale, &reference(&g, &at));
-        report_worst(strict, scaled, &src, &at);
-        prop_assert!(
-            failures.is_empty(),
-            "{} mismatches at (q0.a, q0.b, q1.a, q1.b, h, p) = {at:?}:\n  {}\nbody:\n{src}",
-            failures.len(),
-            failures.join("\n  ")
-        );
+        let want = reference(&g, &at);
+        for reverse in [false, true] {
+            let got = compile(&src, &at, reverse);
+            prop_assert!(got.is_ok(), "{}\nbody:\n{src}", got.err().unwrap_or_default());
+            let (got, scale) = got.expect("checked");
+            let (failures, strict, scaled) = compare(&got, &scale, &want);
+            report_worst(strict, scaled, &src, &at);
+            prop_assert!(
+                failures.is_empty(),
+                "{} mismatches (reverse: {reverse}) at (q0.a, q0.b, q1.a, q1.b, h, p) = {at:?}:\n  {}\nbody:\n{src}",
+                failures.len(),
+                failures.join("\n  ")
+            );
+        }
     }
 }
 

@@ -9,8 +9,8 @@
 //!   `fallback` — the items emitted after an error;
 //! * `codegen` — graph → straight-line Rust, the backend choice, the one table of trait impls
 //!   (rendered with real or stub bodies), the items around them;
-//! * `ir` — lowering (body → hash-consed graph), the invariance check, forward-mode
-//!   derivatives, the paper's constructions (reduction, discretization of a continuous `L`);
+//! * `ir` — lowering (body → hash-consed graph), the invariance check, forward- and
+//!   reverse-mode derivatives, the paper's constructions (reduction, discretization of a continuous `L`);
 //! * `ast` — the attribute grammar, the coordinate layout, the signature, the ranges;
 //! * `ctxt` (every error with its span, one report per compilation), `symbol` (the
 //!   attribute keys, spelled once) and `stack` (enough stack for deep expressions).

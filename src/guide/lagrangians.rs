@@ -188,10 +188,12 @@
 //! ## How the code is generated
 //!
 //! The body is lowered to a hash-consed expression graph (equal subexpressions are one node),
-//! differentiated in forward mode at compile time, and emitted as one straight-line function per
-//! quantity; constants are folded, exact identities (`x + 0`, `x · 1`, `c·x + (−c)·x = 0`, …)
-//! applied, structurally zero Jacobian entries never computed, and nothing is reassociated, so
-//! results round as the expression you wrote. At run time there are no dual numbers, tapes,
+//! differentiated at compile time — in forward mode, or, for a system of 5 or more coordinates
+//! whose gradient is clearly shorter that way (densely coupled ones, such as a chain of links),
+//! by reverse accumulation with the Jacobians forward over reverse — and emitted as one
+//! straight-line function per quantity; constants are folded, exact identities (`x + 0`, `x · 1`,
+//! `c·x + (−c)·x = 0`, …) applied, structurally zero Jacobian entries never computed, and the
+//! body's own arithmetic is never reassociated, so its value rounds as the expression you wrote. At run time there are no dual numbers, tapes,
 //! interpreters or heap allocations in a step.
 //!
 //! Two optimizations go beyond the paper. (1) By G-invariance the reduced Lagrangian is the same

@@ -8,8 +8,9 @@
 //! [`discretize`] substitutes the rule's quadrature point and difference quotient for them.
 
 use crate::ast::rule::Rule;
-use crate::ir::diff::derivatives;
+use crate::ir::diff::{derivatives, symmetric_jacobian};
 use crate::ir::graph::{Graph, NodeId, Sym};
+use crate::ir::reduce::{firsts, Mode};
 
 /// `L_d(q0, q1)` from `l` (over `q = Q0`, `v = Q1`) by `rule`, with the time step `h`.
 ///
@@ -70,16 +71,22 @@ pub struct Continuous {
     pub energy: NodeId,
 }
 
-pub fn continuous(g: &mut Graph, l: NodeId, n: usize, rule: Rule) -> Continuous {
-    let legendre: Vec<NodeId> = (0..n)
-        .map(|i| derivatives(g, &[l], Sym::Q1(i))[0])
-        .collect();
-    let columns: Vec<Vec<NodeId>> = (0..n)
-        .map(|j| derivatives(g, &legendre, Sym::Q1(j)))
-        .collect();
-    let hessian = (0..n)
-        .map(|i| (0..n).map(|j| columns[j][i]).collect())
-        .collect();
+/// In `mode` (see [`Mode`]): forward passes, or the Legendre map by reverse accumulation and its
+/// symmetric Jacobian one triangle at a time.
+pub fn continuous(g: &mut Graph, l: NodeId, n: usize, rule: Rule, mode: Mode) -> Continuous {
+    let vars: Vec<Sym> = (0..n).map(Sym::Q1).collect();
+    let legendre = firsts(g, mode, l, &vars);
+    let hessian = match mode {
+        Mode::Forward => {
+            let columns: Vec<Vec<NodeId>> = (0..n)
+                .map(|j| derivatives(g, &legendre, Sym::Q1(j)))
+                .collect();
+            (0..n)
+                .map(|i| (0..n).map(|j| columns[j][i]).collect())
+                .collect()
+        }
+        Mode::Reverse => symmetric_jacobian(g, &legendre, Sym::Q1),
+    };
     let mut pv = g.constant(0.0);
     for (i, &p) in legendre.iter().enumerate() {
         let v = g.var(Sym::Q1(i));

@@ -1,7 +1,7 @@
 //! The middle: the body lowered to a hash-consed expression graph ([`lower`], [`graph`]),
 //! a continuous `L` discretized by its rule ([`discretize`]), the forces from their virtual work
 //! ([`force`]), the compile-time invariance check
-//! ([`check`]), forward-mode derivatives ([`diff`]), the paper's constructions ([`reduce`]),
+//! ([`check`]), forward-mode and reverse-mode derivatives ([`diff`]), the paper's constructions ([`reduce`]),
 //! all of it driven for a system by [`compile`] and for a chart transition by [`transition`].
 //! Imports only the front end ([`crate::ast`]); emits no code.
 
