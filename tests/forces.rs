@@ -5,22 +5,9 @@ use dirac::prelude::*;
 use dirac::runtime::DiscreteLagrangian;
 use nalgebra::{DMatrix, SVector};
 
-/// A damped oscillator driven by the control `a`: `m ẍ = −k x − c ẋ + a`, midpoint rule.
-#[reduced_lagrangian(shape(x), group(), rule = midpoint, controls(a), force = |dq| (a - c * v.x) * dq.x)]
-fn oscillator(q: Config, v: Velocity, m: f64, k: f64, c: f64, a: f64) -> f64 {
-    0.5 * m * v.x * v.x - 0.5 * k * q.x * q.x
-}
-
-/// A planar pendulum on a rotating base: base angle `phi` (group), pendulum angle `x` (shape),
-/// a torque `tau` on the base (a group force), damping on the pendulum.
-#[reduced_lagrangian(shape(x), group(phi), rule = midpoint, controls(tau),
-    force = |dq| tau * dq.phi - c * v.x * dq.x)]
-fn turntable(q: Config, v: Velocity, i0: f64, m: f64, l: f64, c: f64, tau: f64) -> f64 {
-    let r = l * q.x.sin();
-    0.5 * i0 * v.phi * v.phi
-        + 0.5 * m * (l * l * v.x * v.x + r * r * v.phi * v.phi)
-        + 9.81 * m * l * q.x.cos()
-}
+#[path = "../examples/common/forced.rs"]
+mod forced;
+use forced::{exact as driven_exact, Oscillator, Turntable};
 
 /// The same turntable without forces.
 #[reduced_lagrangian(shape(x), group(phi), rule = midpoint)]
@@ -192,23 +179,6 @@ fn the_unreduced_forced_step_balances_the_group_momentum() {
         (a.q - b.q).amax() < 1e-9 && (a.p - b.p).amax() < 1e-9,
         "{a:?} {b:?}"
     );
-}
-
-/// The exact solution of `m ẍ + c ẋ + k x = a0 cos(ω t)` from `x(0) = x0`, `ẋ(0) = 0`.
-fn driven_exact(m: f64, k: f64, c: f64, a0: f64, omega: f64, x0: f64, t: f64) -> f64 {
-    // Particular solution A cos ωt + B sin ωt.
-    let (re, im) = (k - m * omega * omega, c * omega);
-    let den = re * re + im * im;
-    let (pa, pb) = (a0 * re / den, a0 * im / den);
-    // Homogeneous part (underdamped): e^{-γt}(C cos ω_d t + D sin ω_d t).
-    let gamma = c / (2.0 * m);
-    let wd = (k / m - gamma * gamma).sqrt();
-    let cc = x0 - pa;
-    // ẋ(0) = −γ C + ω_d D + ω B = 0.
-    let dd = (gamma * cc - omega * pb) / wd;
-    (-gamma * t).exp() * (cc * (wd * t).cos() + dd * (wd * t).sin())
-        + pa * (omega * t).cos()
-        + pb * (omega * t).sin()
 }
 
 #[test]
