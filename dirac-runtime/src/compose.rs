@@ -302,7 +302,7 @@ where
     }
 
     fn push(&mut self, state: &St::State, record: Option<&StepStats>) {
-        self.states.push(*state);
+        self.states.push(state.clone());
         if let Some(stats) = record {
             self.stats.push(*stats);
         }
@@ -364,7 +364,7 @@ where
         u: &[f64],
     ) -> Result<(I::State, StepStats), StepError> {
         let mut total = StepStats::default();
-        let mut current = *state;
+        let mut current = state.clone();
         for (stage, stage_workspace) in self.stages.iter().zip(workspace.iter_mut()) {
             let (next, record) = stage.step_with(stage_workspace, k, &current, u)?;
             total.accumulate(record.as_ref());

@@ -118,14 +118,13 @@ impl<St> RunSummary<St> {
         }
     }
 
-    fn record(&mut self, next: St, stats: &StepStats) {
+    fn record(&mut self, stats: &StepStats) {
         if let Some(r) = stats.rcond {
             if self.worst_rcond.is_none_or(|(_, w)| r < w) {
                 self.worst_rcond = Some((self.steps, r));
             }
         }
         self.steps += 1;
-        self.last = next;
         self.iterations += stats.iterations;
         self.factorizations += stats.factorizations;
         self.max_iterations = self.max_iterations.max(stats.iterations);
@@ -218,8 +217,8 @@ pub trait Drive: Stepper {
     ) -> RunResult<Self::State> {
         let mut summary = RunSummary::new(self.time_step(), initial);
         let fail = |source, summary| Box::new(IntegrationError::new(source, summary, max_steps));
-        observe(0, &initial, None);
-        if let Err(e) = self.check(&initial) {
+        observe(0, &summary.last, None);
+        if let Err(e) = self.check(&summary.last) {
             return Err(fail(e, summary));
         }
         let mut workspace = self.workspace();
@@ -232,10 +231,13 @@ pub trait Drive: Stepper {
                 0
             }
         ];
-        let mut state = initial;
+        // Two states per run, swapped after every step: `summary.last` holds the current one,
+        // `next` receives the step (a heap-backed state reuses its memory, see
+        // `Stepper::step_into`).
+        let mut next = summary.last.clone();
         for k in 0..max_steps {
             if let Some(law) = controls.as_mut() {
-                if !law.controls(k, &state, &mut u) {
+                if !law.controls(k, &summary.last, &mut u) {
                     let e = StepError::InvalidControls {
                         step: k,
                         expected: u.len(),
@@ -244,12 +246,12 @@ pub trait Drive: Stepper {
                     return Err(fail(e, summary));
                 }
             }
-            match self.step_with(&mut workspace, k, &state, &u) {
-                Ok((next, record)) => {
-                    summary.record(next, record.as_ref());
-                    observe(k + 1, &next, Some(&record));
-                    state = next;
-                    if stop(k + 1, &state) {
+            match self.step_into(&mut workspace, k, &summary.last, &u, &mut next) {
+                Ok(record) => {
+                    std::mem::swap(&mut summary.last, &mut next);
+                    summary.record(record.as_ref());
+                    observe(k + 1, &summary.last, Some(&record));
+                    if stop(k + 1, &summary.last) {
                         summary.stopped = true;
                         break;
                     }
@@ -327,7 +329,7 @@ pub trait Drive: Stepper {
         Self: Sync,
         Self::Trajectory: Send,
     {
-        map(initials, |initial| self.integrate(*initial, steps))
+        map(initials, |initial| self.integrate(initial.clone(), steps))
     }
 
     /// Runs `steps` steps from each of `initials` in parallel without storing trajectories: each
@@ -345,10 +347,10 @@ pub trait Drive: Stepper {
         Self: Sync,
         O: FnMut(usize, &Self::State, Option<&Self::Record>) + Send,
     {
-        let members: Vec<(usize, Self::State)> = initials.iter().copied().enumerate().collect();
+        let members: Vec<(usize, Self::State)> = initials.iter().cloned().enumerate().collect();
         map(&members, |(i, initial)| {
             let mut observe = observer(*i);
-            let result = self.run(*initial, steps, &mut observe);
+            let result = self.run(initial.clone(), steps, &mut observe);
             (observe, result)
         })
     }

@@ -182,17 +182,60 @@ pub fn solve_with<B: LinearSolver>(
     mut residual: impl FnMut(&B::Vector) -> B::Vector,
     mut residual_jacobian: impl FnMut(&B::Vector) -> (B::Vector, B::Matrix),
 ) -> Result<NewtonSolution<B::Vector>, NewtonFailure> {
-    let tol = options.residual_tolerance(rho);
     let mut z = z0;
+    let mut r = z.clone();
+    let mut jacobian = None;
+    let s = solve_in(
+        solver,
+        &mut z,
+        &mut r,
+        &mut jacobian,
+        rho,
+        options,
+        |z, r| *r = residual(z),
+        |z, r, j| {
+            let (r_z, j_z) = residual_jacobian(z);
+            *r = r_z;
+            *j = Some(j_z);
+        },
+    )?;
+    Ok(NewtonSolution {
+        z,
+        iterations: s.iterations,
+        factorizations: s.factorizations,
+        residual: s.residual,
+        rcond: s.rcond,
+        jacobian_norm1: s.jacobian_norm1,
+    })
+}
+
+/// The one Newton driver, in place: [`solve_with`] on buffers the caller owns, so that a step
+/// on heap-backed vectors allocates nothing. `z` holds the guess and receives the root, `r` is
+/// the residual's buffer (its contents on entry are ignored), `jacobian` the Jacobian's slot,
+/// which `residual_jacobian(z, r, jacobian)` fills (reusing the memory of a `Some`), and
+/// `residual(z, r)` writes `R(z)` into `r`. The corrections are solved in `r`
+/// ([`LinearSolver::solve_in_place`]). The returned solution carries no `z` (it is in `z`).
+#[allow(clippy::too_many_arguments)]
+pub fn solve_in<B: LinearSolver>(
+    solver: &mut B,
+    z: &mut B::Vector,
+    r: &mut B::Vector,
+    jacobian: &mut Option<B::Matrix>,
+    rho: f64,
+    options: &NewtonOptions,
+    mut residual: impl FnMut(&B::Vector, &mut B::Vector),
+    mut residual_jacobian: impl FnMut(&B::Vector, &mut B::Vector, &mut Option<B::Matrix>),
+) -> Result<NewtonSolution<()>, NewtonFailure> {
+    let tol = options.residual_tolerance(rho);
     // Whether corrections use the factors the solver already holds (chord iterations).
     let mut chord = solver.has_reusable_factors();
-    // The residual at `z`, and the Jacobian at `z` when it was evaluated there and not yet
-    // factored.
-    let (mut r, mut jacobian) = if chord {
-        (residual(&z), None)
+    // Whether `jacobian` holds the Jacobian at `z`, evaluated and not yet factored.
+    let mut fresh = if chord {
+        residual(z, r);
+        false
     } else {
-        let (r, j) = residual_jacobian(&z);
-        (r, Some(j))
+        residual_jacobian(z, r, jacobian);
+        true
     };
     let mut norm = slice_inf_norm(r.components());
     if !norm.is_finite() {
@@ -207,7 +250,7 @@ pub fn solve_with<B: LinearSolver>(
     let mut last_step: Option<f64> = None;
     let min_rcond = options.min_rcond;
     let mut factorizations = 0;
-    let done = |solver: &mut B, z, iterations, factorizations, residual, factored: bool| {
+    let done = |solver: &mut B, iterations, factorizations, residual, factored: bool| {
         let rcond = factored.then(|| checked_rcond(solver, min_rcond));
         let jacobian_norm1 = factored.then(|| solver.norm1());
         match rcond {
@@ -215,7 +258,7 @@ pub fn solve_with<B: LinearSolver>(
                 Err(NewtonFailure::IllConditioned { rcond, residual })
             }
             _ => Ok(NewtonSolution {
-                z,
+                z: (),
                 iterations,
                 factorizations,
                 residual,
@@ -241,7 +284,7 @@ pub fn solve_with<B: LinearSolver>(
     };
     loop {
         if norm <= tol {
-            return done(solver, z, iterations, factorizations, norm, factored);
+            return done(solver, iterations, factorizations, norm, factored);
         }
         if iterations == options.max_iterations {
             let failure = NewtonFailure::NotConverged {
@@ -251,13 +294,15 @@ pub fn solve_with<B: LinearSolver>(
             return Err(failed(solver, failure, factored));
         }
         if !chord {
-            let j = jacobian.take().unwrap_or_else(|| {
-                let (r_z, j_z) = residual_jacobian(&z);
-                r = r_z;
-                j_z
-            });
+            if !fresh {
+                residual_jacobian(z, r, jacobian);
+            }
+            fresh = false;
             factorizations += 1;
-            match solver.factor(&j) {
+            let j = jacobian
+                .as_ref()
+                .expect("residual_jacobian fills the Jacobian's slot");
+            match solver.factor(j) {
                 Ok(()) => factored = true,
                 Err(FactorError::NonFinite) => {
                     return Err(NewtonFailure::NonFinite { residual: norm })
@@ -267,20 +312,22 @@ pub fn solve_with<B: LinearSolver>(
                 }
             }
         }
-        let dz = solver.solve(&r);
-        if dz.components().iter().any(|v| !v.is_finite()) {
+        // The correction, solved in the residual's buffer.
+        solver.solve_in_place(r);
+        let dz = r.components();
+        if dz.iter().any(|v| !v.is_finite()) {
             return Err(NewtonFailure::Singular { residual: norm });
         }
         let previous = norm;
-        for (zi, di) in z.components_mut().iter_mut().zip(dz.components()) {
+        for (zi, di) in z.components_mut().iter_mut().zip(dz) {
             *zi -= di;
         }
         iterations += 1;
         let scale = 1.0 + slice_inf_norm(z.components());
-        let step = slice_inf_norm(dz.components()) / scale;
+        let step = slice_inf_norm(dz) / scale;
         let small = step <= options.rel_tol;
         if chord {
-            r = residual(&z);
+            residual(z, r);
             norm = slice_inf_norm(r.components());
             // Too slow a contraction: the old factors no longer pay; Newton from here on.
             chord = norm <= CHORD_CONTRACTION * previous;
@@ -293,10 +340,10 @@ pub fn solve_with<B: LinearSolver>(
             };
             last_step = Some(step);
             if small || next_step <= PREDICTED_CONVERGENCE * options.rel_tol {
-                r = residual(&z);
+                residual(z, r);
             } else {
-                let (r_z, j_z) = residual_jacobian(&z);
-                (r, jacobian) = (r_z, Some(j_z));
+                residual_jacobian(z, r, jacobian);
+                fresh = true;
             }
             norm = slice_inf_norm(r.components());
         }
@@ -308,7 +355,7 @@ pub fn solve_with<B: LinearSolver>(
             ));
         }
         if small {
-            return done(solver, z, iterations, factorizations, norm, factored);
+            return done(solver, iterations, factorizations, norm, factored);
         }
     }
 }

@@ -24,7 +24,7 @@ use crate::newton::{NewtonFailure, NewtonSolution};
 /// [module documentation](self).
 pub trait Stepper {
     /// The state a step maps.
-    type State: Copy + Debug + Send + Sync + 'static;
+    type State: Clone + Debug + Send + Sync + 'static;
     /// What a step reports besides the new state: at least its Newton statistics.
     type Record: AsRef<StepStats> + Clone + Debug + Send + Sync;
     /// What a run carries from step to step: linear-solver workspaces and the warm-start memory.
@@ -62,6 +62,23 @@ pub trait Stepper {
         state: &Self::State,
         u: &[f64],
     ) -> Result<(Self::State, Self::Record), StepError>;
+
+    /// [`Self::step_with`] into `next`, whose memory a stepper with heap-backed states reuses
+    /// (the driver keeps two states per run and swaps them, so such a run allocates no state
+    /// per step). The default moves the result of [`Self::step_with`] into `next`; on failure
+    /// `next` is unspecified.
+    fn step_into(
+        &self,
+        workspace: &mut Self::Workspace,
+        k: usize,
+        state: &Self::State,
+        u: &[f64],
+        next: &mut Self::State,
+    ) -> Result<Self::Record, StepError> {
+        let (state, record) = self.step_with(workspace, k, state, u)?;
+        *next = state;
+        Ok(record)
+    }
 
     /// [`Self::step_with`] with the controls the system holds.
     fn step_in(

@@ -75,6 +75,11 @@ pub trait LinearSolver {
     fn factor(&mut self, j: &Self::Matrix) -> Result<(), FactorError>;
     /// Solves `J x = b` with the current factors.
     fn solve(&mut self, b: &Self::Vector) -> Self::Vector;
+    /// Solves `J x = b` with the current factors, overwriting `b` with `x` (a backend on heap
+    /// vectors solves without allocating).
+    fn solve_in_place(&mut self, b: &mut Self::Vector) {
+        *b = self.solve(b);
+    }
     /// `‖J‖₁` of the factored Jacobian.
     fn norm1(&self) -> f64;
     /// A cheap guaranteed lower bound on `1 / (‖J‖₁ ‖J⁻¹‖₁)` (0 where a backend has none).
@@ -145,6 +150,45 @@ pub(crate) fn hager_inverse_norm1<const N: usize>(
             break;
         }
         x = SVector::zeros();
+        x[j] = 1.0;
+    }
+    estimate
+}
+
+/// [`hager_inverse_norm1`] on slices of length `n` (the scratch `x`, `y`, `z`): for the sparse
+/// backend, whose scratch is allocated once per workspace. (The dense backend keeps its own
+/// fixed-size copy: nalgebra's `dot` sums in another order, and the dense results stay bit for
+/// bit what they were.)
+pub(crate) fn hager_inverse_norm1_in(
+    x: &mut [f64],
+    y: &mut [f64],
+    z: &mut [f64],
+    mut solve: impl FnMut(&mut [f64], bool),
+) -> f64 {
+    let n = x.len();
+    x.fill(1.0 / n as f64);
+    let mut estimate = 0.0;
+    for _ in 0..5 {
+        y.copy_from_slice(x);
+        solve(y, false);
+        estimate = y.iter().map(|v| v.abs()).sum::<f64>();
+        for (zi, yi) in z.iter_mut().zip(y.iter()) {
+            *zi = if *yi >= 0.0 { 1.0 } else { -1.0 };
+        }
+        solve(z, true);
+        // The first index of the largest |z_j|, as nalgebra's `iamax`.
+        let mut j = 0;
+        for (i, v) in z.iter().enumerate() {
+            if v.abs() > z[j].abs() {
+                j = i;
+            }
+        }
+        let zj = z[j].abs();
+        let ztx: f64 = z.iter().zip(x.iter()).map(|(a, b)| a * b).sum();
+        if zj <= ztx {
+            break;
+        }
+        x.fill(0.0);
         x[j] = 1.0;
     }
     estimate

@@ -28,11 +28,11 @@ use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::perm::{Perm, PermRef};
 use faer::sparse::linalg::lu::simplicial::{self, SimplicialLu};
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuSymbolicParams};
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, MatMut, Par};
 use nalgebra::SVector;
 
-use super::{hager_inverse_norm1, reciprocal_condition, FactorError, LinearSolver};
+use super::{hager_inverse_norm1_in, reciprocal_condition, FactorError, LinearSolver};
 
 /// The structurally nonzero entries of an `n × n` step Jacobian, in compressed sparse columns:
 /// the entries of column `j` are rows `row_idx[col_ptr[j]..col_ptr[j + 1]]`, increasing.
@@ -97,13 +97,17 @@ impl<const NNZ: usize> CscValues<NNZ> {
     }
 }
 
-/// Sparse LU with partial pivoting (faer's simplicial LU), as a reusable workspace for Newton's
-/// iteration on a fixed pattern: the fill-reducing column ordering is computed once in
-/// [`SparseLu::new`]; each [`LinearSolver::factor`] is a numeric factorization into the same
-/// memory (`A Q = Pᵀ L U`, `Q` the ordering, `P` the row pivoting, `L` unit lower triangular).
-pub struct SparseLu<const N: usize, const NNZ: usize> {
-    csc: &'static CscPattern,
-    pattern: SymbolicSparseColMatRef<'static, usize>,
+/// Sparse LU with partial pivoting (faer's simplicial LU) on a pattern known at run time: the
+/// numeric core of [`SparseLu`] (the compile-time pattern of a fixed-size system) and of
+/// [`DynSparseLu`] (the pattern a run-time-sized system assembles from its element stencils).
+/// The fill-reducing column ordering is computed once in [`Factors::new`]; each
+/// [`Factors::factor`] is a numeric factorization into the same memory (`A Q = Pᵀ L U`, `Q` the
+/// ordering, `P` the row pivoting, `L` unit lower triangular), and solves, the conditioning bound
+/// and Hager's estimate run in scratch allocated here, so nothing allocates after the first
+/// factorization.
+struct Factors {
+    n: usize,
+    pattern: SymbolicSparseColMat<usize>,
     /// `Q`: COLAMD's column ordering of the pattern.
     col_perm: Perm<usize>,
     /// `P`, forward and inverse, as the last factorization pivoted.
@@ -112,70 +116,82 @@ pub struct SparseLu<const N: usize, const NNZ: usize> {
     lu: SimplicialLu<usize, f64>,
     /// Scratch of the numeric factorization and of the solves.
     scratch: MemBuffer,
+    /// Three vectors of length `n`: the conditioning bound's and Hager's estimator's.
+    work: [Vec<f64>; 3],
     norm1: f64,
     factored: bool,
-    /// [`LinearSolver::rcond_lower_bound`] and [`LinearSolver::rcond`] of the current factors,
-    /// once computed: chord iterations check the same factors at every step.
+    /// The conditioning bound and Hager's estimate of the current factors, once computed: chord
+    /// iterations check the same factors at every step.
     rcond_cache: (Option<f64>, Option<f64>),
 }
 
-impl<const N: usize, const NNZ: usize> std::fmt::Debug for SparseLu<N, NNZ> {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("SparseLu")
-            .field("n", &N)
-            .field("nnz", &NNZ)
-            .field("factored", &self.factored)
-            .finish_non_exhaustive()
-    }
-}
-
-impl<const N: usize, const NNZ: usize> SparseLu<N, NNZ> {
-    /// The workspace for Jacobians with `pattern`: fill-reducing column ordering (COLAMD) and
-    /// all the scratch a factorization and a solve need.
-    ///
-    /// # Panics
-    /// If `pattern` is not a valid `N × N` pattern with `NNZ` entries: the compiler emits the
-    /// pattern, so this is a bug in dirac, not a user error.
-    pub fn new(pattern: &'static CscPattern) -> Self {
-        assert!(
-            pattern.n == N && pattern.nnz() == NNZ && pattern.is_valid(),
-            "dirac: the emitted sparsity pattern does not describe an {N} × {N} matrix with {NNZ} entries"
-        );
-        let symbolic_pattern =
-            SymbolicSparseColMatRef::new_checked(N, N, pattern.col_ptr, None, pattern.row_idx);
-        let symbolic = factorize_symbolic_lu(symbolic_pattern, LuSymbolicParams::default())
-            .expect("dirac: symbolic LU of the emitted pattern (out of memory)");
+impl Factors {
+    /// The workspace for `n × n` Jacobians with the CSC pattern `(col_ptr, row_idx)`.
+    fn new(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Self {
+        let pattern =
+            SymbolicSparseColMat::new_checked(n, n, col_ptr.to_vec(), None, row_idx.to_vec());
+        let symbolic = factorize_symbolic_lu(pattern.as_ref(), LuSymbolicParams::default())
+            .expect("dirac: symbolic LU of the Jacobian's pattern (out of memory)");
         let (forward, inverse) = symbolic.col_perm().arrays();
-        let col_perm = Perm::new_checked(forward.into(), inverse.into(), N);
+        let col_perm = Perm::new_checked(forward.into(), inverse.into(), n);
         let req = StackReq::any_of(&[
-            simplicial::factorize_simplicial_numeric_lu_scratch::<usize, f64>(N, N),
-            simplicial::solve_in_place_scratch::<usize, f64>(N, 1, Par::Seq),
+            simplicial::factorize_simplicial_numeric_lu_scratch::<usize, f64>(n, n),
+            simplicial::solve_in_place_scratch::<usize, f64>(n, 1, Par::Seq),
         ]);
         Self {
-            csc: pattern,
-            pattern: symbolic_pattern,
+            n,
+            pattern,
             col_perm,
-            row_perm: vec![0; N],
-            row_perm_inv: vec![0; N],
+            row_perm: vec![0; n],
+            row_perm_inv: vec![0; n],
             lu: SimplicialLu::new(),
             scratch: MemBuffer::new(req),
+            work: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
             norm1: 0.0,
             factored: false,
             rcond_cache: (None, None),
         }
     }
 
-    /// The pattern of the Jacobians this workspace factors.
-    pub fn pattern(&self) -> &'static CscPattern {
-        self.csc
+    fn factor(&mut self, values: &[f64]) -> Result<(), FactorError> {
+        self.factored = false;
+        self.rcond_cache = (None, None);
+        // ‖A‖₁ and a finiteness test of every entry (a column sum is finite iff its terms are).
+        let col_ptr = self.pattern.col_ptr();
+        let mut norm1 = 0.0f64;
+        for c in 0..self.n {
+            let sum: f64 = values[col_ptr[c]..col_ptr[c + 1]]
+                .iter()
+                .map(|v| v.abs())
+                .sum();
+            if !sum.is_finite() {
+                return Err(FactorError::NonFinite);
+            }
+            norm1 = norm1.max(sum);
+        }
+        self.norm1 = norm1;
+        let a = SparseColMatRef::new(self.pattern.as_ref(), values);
+        let stack = MemStack::new(&mut self.scratch);
+        simplicial::factorize_simplicial_numeric_lu(
+            &mut self.row_perm,
+            &mut self.row_perm_inv,
+            &mut self.lu,
+            a,
+            self.col_perm.as_ref(),
+            stack,
+        )
+        .map_err(|_| FactorError::Singular)?;
+        self.factored = true;
+        Ok(())
     }
 
     /// Solves `A x = b` (or `Aᵀ x = b`) in place.
     fn solve_in_place(&mut self, x: &mut [f64], transpose: bool) {
         debug_assert!(self.factored, "solve before factor");
-        let row_perm = PermRef::new_checked(&self.row_perm, &self.row_perm_inv, N);
+        let n = self.n;
+        let row_perm = PermRef::new_checked(&self.row_perm, &self.row_perm_inv, n);
         let col_perm = self.col_perm.as_ref();
-        let rhs = MatMut::from_column_major_slice_mut(x, N, 1);
+        let rhs = MatMut::from_column_major_slice_mut(x, n, 1);
         let stack = MemStack::new(&mut self.scratch);
         if transpose {
             self.lu.solve_transpose_in_place_with_conj(
@@ -197,12 +213,13 @@ impl<const N: usize, const NNZ: usize> SparseLu<N, NNZ> {
     /// (Higham, Thm. 8.12), with the factors' columns read in place (the permutations leave
     /// 1-norms unchanged). In a column of `U` the diagonal entry is the one in row `j`; a column
     /// of `L` holds its unit diagonal and the rows below it.
-    pub fn inverse_norm1_bound(&self) -> f64 {
+    fn inverse_norm1_bound(&mut self) -> f64 {
         let (u, l) = (self.lu.u_factor_unsorted(), self.lu.l_factor_unsorted());
-        let mut y = SVector::<f64, N>::zeros();
+        let y = &mut self.work[0];
+        y.fill(0.0);
         // M(U)ᵀ y = e, forward: column j of U gives row j of Uᵀ.
         let mut u_max = 0.0f64;
-        for j in 0..N {
+        for j in 0..self.n {
             let (mut s, mut diagonal) = (1.0, 0.0);
             for (&i, v) in u.row_idx_of_col_raw(j).iter().zip(u.val_of_col(j)) {
                 if i == j {
@@ -216,7 +233,7 @@ impl<const N: usize, const NNZ: usize> SparseLu<N, NNZ> {
         }
         // M(L)ᵀ y = e, backward (unit diagonal).
         let mut l_max = 0.0f64;
-        for j in (0..N).rev() {
+        for j in (0..self.n).rev() {
             let mut s = 1.0;
             for (&i, v) in l.row_idx_of_col_raw(j).iter().zip(l.val_of_col(j)) {
                 if i != j {
@@ -228,53 +245,6 @@ impl<const N: usize, const NNZ: usize> SparseLu<N, NNZ> {
         }
         u_max * l_max
     }
-}
-
-impl<const N: usize, const NNZ: usize> LinearSolver for SparseLu<N, NNZ> {
-    type Vector = SVector<f64, N>;
-    type Matrix = CscValues<NNZ>;
-
-    fn factor(&mut self, j: &CscValues<NNZ>) -> Result<(), FactorError> {
-        self.factored = false;
-        self.rcond_cache = (None, None);
-        // ‖A‖₁ and a finiteness test of every entry (a column sum is finite iff its terms are).
-        let col_ptr = self.pattern.col_ptr();
-        let mut norm1 = 0.0f64;
-        for c in 0..N {
-            let sum: f64 = j.0[col_ptr[c]..col_ptr[c + 1]]
-                .iter()
-                .map(|v| v.abs())
-                .sum();
-            if !sum.is_finite() {
-                return Err(FactorError::NonFinite);
-            }
-            norm1 = norm1.max(sum);
-        }
-        self.norm1 = norm1;
-        let a = SparseColMatRef::new(self.pattern, &j.0[..]);
-        let stack = MemStack::new(&mut self.scratch);
-        simplicial::factorize_simplicial_numeric_lu(
-            &mut self.row_perm,
-            &mut self.row_perm_inv,
-            &mut self.lu,
-            a,
-            self.col_perm.as_ref(),
-            stack,
-        )
-        .map_err(|_| FactorError::Singular)?;
-        self.factored = true;
-        Ok(())
-    }
-
-    fn solve(&mut self, b: &SVector<f64, N>) -> SVector<f64, N> {
-        let mut x = *b;
-        self.solve_in_place(x.as_mut_slice(), false);
-        x
-    }
-
-    fn norm1(&self) -> f64 {
-        self.norm1
-    }
 
     /// `1 / (‖A‖₁ · bound)` with [`Self::inverse_norm1_bound`]: guaranteed below the true
     /// reciprocal condition number (up to round-off), at the cost of one pass over the factors.
@@ -282,18 +252,12 @@ impl<const N: usize, const NNZ: usize> LinearSolver for SparseLu<N, NNZ> {
         if !self.factored {
             return 0.0;
         }
-        let bound = self
-            .rcond_cache
-            .0
-            .unwrap_or_else(|| reciprocal_condition(self.norm1, self.inverse_norm1_bound()));
+        if let Some(bound) = self.rcond_cache.0 {
+            return bound;
+        }
+        let bound = reciprocal_condition(self.norm1, self.inverse_norm1_bound());
         self.rcond_cache.0 = Some(bound);
         bound
-    }
-
-    /// Yes once a factorization succeeded: a sparse factorization costs several residual
-    /// evaluations, so a step first tries the factors of an earlier step (chord iterations).
-    fn has_reusable_factors(&self) -> bool {
-        self.factored
     }
 
     fn rcond(&mut self) -> f64 {
@@ -303,13 +267,190 @@ impl<const N: usize, const NNZ: usize> LinearSolver for SparseLu<N, NNZ> {
         if let Some(rcond) = self.rcond_cache.1 {
             return rcond;
         }
-        let estimate = hager_inverse_norm1::<N>(|x, transpose| {
-            self.solve_in_place(x.as_mut_slice(), transpose);
+        let mut work = std::mem::take(&mut self.work);
+        let [x, y, z] = &mut work;
+        let estimate = hager_inverse_norm1_in(x, y, z, |v, transpose| {
+            self.solve_in_place(v, transpose);
         });
+        self.work = work;
         let rcond = reciprocal_condition(self.norm1, estimate);
         self.rcond_cache.1 = Some(rcond);
         rcond
     }
+}
+
+/// Sparse LU with partial pivoting (faer's simplicial LU) on the compile-time pattern of a
+/// fixed-size system, as a reusable workspace for Newton's iteration: the fill-reducing column
+/// ordering is computed once in [`SparseLu::new`]; each [`LinearSolver::factor`] is a numeric
+/// factorization into the same memory (`A Q = Pᵀ L U`, `Q` the ordering, `P` the row pivoting,
+/// `L` unit lower triangular).
+pub struct SparseLu<const N: usize, const NNZ: usize> {
+    csc: &'static CscPattern,
+    factors: Factors,
+}
+
+impl<const N: usize, const NNZ: usize> std::fmt::Debug for SparseLu<N, NNZ> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SparseLu")
+            .field("n", &N)
+            .field("nnz", &NNZ)
+            .field("factored", &self.factors.factored)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<const N: usize, const NNZ: usize> SparseLu<N, NNZ> {
+    /// The workspace for Jacobians with `pattern`: fill-reducing column ordering (COLAMD) and
+    /// all the scratch a factorization and a solve need.
+    ///
+    /// # Panics
+    /// If `pattern` is not a valid `N × N` pattern with `NNZ` entries: the compiler emits the
+    /// pattern, so this is a bug in dirac, not a user error.
+    pub fn new(pattern: &'static CscPattern) -> Self {
+        assert!(
+            pattern.n == N && pattern.nnz() == NNZ && pattern.is_valid(),
+            "dirac: the emitted sparsity pattern does not describe an {N} × {N} matrix with {NNZ} entries"
+        );
+        Self {
+            csc: pattern,
+            factors: Factors::new(N, pattern.col_ptr, pattern.row_idx),
+        }
+    }
+
+    /// The pattern of the Jacobians this workspace factors.
+    pub fn pattern(&self) -> &'static CscPattern {
+        self.csc
+    }
+
+    /// An upper bound on `‖A⁻¹‖₁` from one pass over the factors (see
+    /// [`crate::Lu::inverse_norm1_bound`]).
+    pub fn inverse_norm1_bound(&mut self) -> f64 {
+        self.factors.inverse_norm1_bound()
+    }
+}
+
+/// The [`LinearSolver`] methods of a backend that delegates to [`Factors`] in `self.factors`.
+macro_rules! delegate_to_factors {
+    () => {
+        fn norm1(&self) -> f64 {
+            self.factors.norm1
+        }
+
+        /// `1 / (‖A‖₁ · bound)`, the bound from one pass over the factors: guaranteed below the
+        /// true reciprocal condition number (up to round-off).
+        fn rcond_lower_bound(&mut self) -> f64 {
+            self.factors.rcond_lower_bound()
+        }
+
+        fn rcond(&mut self) -> f64 {
+            self.factors.rcond()
+        }
+
+        /// Yes once a factorization succeeded: a sparse factorization costs several residual
+        /// evaluations, so a step first tries the factors of an earlier step (chord iterations).
+        fn has_reusable_factors(&self) -> bool {
+            self.factors.factored
+        }
+    };
+}
+
+impl<const N: usize, const NNZ: usize> LinearSolver for SparseLu<N, NNZ> {
+    type Vector = SVector<f64, N>;
+    type Matrix = CscValues<NNZ>;
+
+    fn factor(&mut self, j: &CscValues<NNZ>) -> Result<(), FactorError> {
+        self.factors.factor(&j.0)
+    }
+
+    fn solve(&mut self, b: &SVector<f64, N>) -> SVector<f64, N> {
+        let mut x = *b;
+        self.factors.solve_in_place(x.as_mut_slice(), false);
+        x
+    }
+
+    fn solve_in_place(&mut self, b: &mut SVector<f64, N>) {
+        self.factors.solve_in_place(b.as_mut_slice(), false);
+    }
+
+    delegate_to_factors!();
+}
+
+/// The sparse LU of [`SparseLu`] on a pattern built at run time: the backend of systems whose
+/// size is chosen at run time (element-wise systems, [`crate::element`]), whose step Jacobian's
+/// pattern is assembled once per run from the element stencils. Vectors are `DVector`s and the
+/// Jacobian is its values in the pattern's CSC order; solves are in place, so a Newton step
+/// allocates nothing.
+pub struct DynSparseLu {
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    factors: Factors,
+}
+
+impl std::fmt::Debug for DynSparseLu {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("DynSparseLu")
+            .field("n", &self.factors.n)
+            .field("nnz", &self.row_idx.len())
+            .field("factored", &self.factors.factored)
+            .finish_non_exhaustive()
+    }
+}
+
+impl DynSparseLu {
+    /// The workspace for `n × n` Jacobians whose column `j` has the sorted, distinct rows
+    /// `row_idx[col_ptr[j]..col_ptr[j + 1]]`: fill-reducing ordering and all scratch.
+    ///
+    /// # Panics
+    /// If the arrays do not describe such a pattern (the runtime builds them; a bug in dirac).
+    pub fn new(n: usize, col_ptr: Vec<usize>, row_idx: Vec<usize>) -> Self {
+        let factors = Factors::new(n, &col_ptr, &row_idx);
+        Self {
+            col_ptr,
+            row_idx,
+            factors,
+        }
+    }
+
+    /// Number of rows and columns.
+    pub fn n(&self) -> usize {
+        self.factors.n
+    }
+
+    /// Number of structural nonzeros.
+    pub fn nnz(&self) -> usize {
+        self.row_idx.len()
+    }
+
+    /// Column starts of the pattern.
+    pub fn col_ptr(&self) -> &[usize] {
+        &self.col_ptr
+    }
+
+    /// Row of each entry of the pattern.
+    pub fn row_idx(&self) -> &[usize] {
+        &self.row_idx
+    }
+}
+
+impl LinearSolver for DynSparseLu {
+    type Vector = nalgebra::DVector<f64>;
+    type Matrix = Vec<f64>;
+
+    fn factor(&mut self, j: &Vec<f64>) -> Result<(), FactorError> {
+        self.factors.factor(j)
+    }
+
+    fn solve(&mut self, b: &nalgebra::DVector<f64>) -> nalgebra::DVector<f64> {
+        let mut x = b.clone();
+        self.factors.solve_in_place(x.as_mut_slice(), false);
+        x
+    }
+
+    fn solve_in_place(&mut self, b: &mut nalgebra::DVector<f64>) {
+        self.factors.solve_in_place(b.as_mut_slice(), false);
+    }
+
+    delegate_to_factors!();
 }
 
 #[cfg(test)]
@@ -413,7 +554,7 @@ mod tests {
                 continue;
             };
             lu.factor(&v).unwrap();
-            pivoted += usize::from(lu.row_perm.iter().enumerate().any(|(i, &p)| i != p));
+            pivoted += usize::from(lu.factors.row_perm.iter().enumerate().any(|(i, &p)| i != p));
             let n1 = |m: &DMatrix<f64>| {
                 m.column_iter()
                     .map(|c| c.iter().map(|x| x.abs()).sum::<f64>())
