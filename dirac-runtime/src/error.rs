@@ -62,6 +62,13 @@ pub enum StepError {
         /// What is wrong.
         reason: &'static str,
     },
+    /// The sizes of a run-time-sized system ([`crate::element`]) do not fit its stencils, or a
+    /// state does not have the system's number of coordinates.
+    #[error("invalid size: {reason}")]
+    InvalidSize {
+        /// What is wrong, with the figures.
+        reason: String,
+    },
     /// The time step is not a positive finite number.
     #[error("invalid time step h = {h}: it must be positive and finite")]
     InvalidTimeStep {
@@ -130,6 +137,7 @@ impl StepError {
             StepError::IllConditioned { .. } => "ill-conditioned Jacobian",
             StepError::NonFinite { .. } => "non-finite value",
             StepError::InvalidAtlas { .. } => "invalid atlas",
+            StepError::InvalidSize { .. } => "invalid size",
             StepError::InvalidTimeStep { .. } => "invalid time step",
             StepError::NotSymmetric { .. } => "non-symmetric discrete Lagrangian",
             StepError::InvalidControls { .. } => "invalid controls",
@@ -149,6 +157,7 @@ impl StepError {
             StepError::InvalidTimeStep { .. }
             | StepError::NotSymmetric { .. }
             | StepError::InvalidAtlas { .. }
+            | StepError::InvalidSize { .. }
             | StepError::Unsupported { .. }
             | StepError::ConstraintViolated { .. } => 0,
         }
@@ -165,6 +174,7 @@ impl StepError {
             StepError::InvalidTimeStep { .. }
             | StepError::NotSymmetric { .. }
             | StepError::InvalidAtlas { .. }
+            | StepError::InvalidSize { .. }
             | StepError::InvalidControls { .. }
             | StepError::Unsupported { .. } => f64::NAN,
             StepError::ConstraintViolated { residual, .. } => residual,

@@ -34,6 +34,7 @@ pub mod compose;
 pub mod constrained;
 pub mod continuous;
 pub mod diagnostics;
+pub mod element;
 pub mod driver;
 pub mod ensemble;
 pub mod error;
@@ -61,6 +62,9 @@ pub mod prelude {
         ContinuousLagrangian, LegendreError,
     };
     pub use crate::diagnostics::trajectory_energies;
+    pub use crate::element::{
+        ElementIntegrator, ElementLagrangian, ElementState, ElementTrajectory, Parallel,
+    };
     pub use crate::driver::{ControlLaw, ControlSequence, Drive, RunSummary};
     pub use crate::error::{IntegrationError, StepError, Steps};
     pub use crate::newton::NewtonOptions;

@@ -64,7 +64,7 @@ pub fn inf_norm<const N: usize>(v: &SVector<f64, N>) -> f64 {
 }
 
 #[inline]
-fn slice_inf_norm(v: &[f64]) -> f64 {
+pub(crate) fn slice_inf_norm(v: &[f64]) -> f64 {
     v.iter().fold(0.0, |m: f64, x| {
         if m.is_nan() || x.is_nan() {
             f64::NAN

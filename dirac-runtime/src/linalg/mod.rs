@@ -15,7 +15,7 @@ pub mod sparse;
 use nalgebra::SVector;
 
 pub use dense::Lu;
-pub use sparse::{CscPattern, CscValues, SparseLu};
+pub use sparse::{CscPattern, CscValues, DynSparseLu, SparseLu};
 
 /// Systems with at most this many configuration coordinates get the dense fixed-size backend
 /// ([`crate::Lu`], everything on the stack, unrolled); larger ones the sparse backend. The compiler

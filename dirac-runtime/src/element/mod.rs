@@ -1,0 +1,423 @@
+//! Systems whose size is chosen at run time: a discrete Lagrangian that is a sum of one small
+//! term over many elements, `L_d(q_k, q_{k+1}) = Σ_f Σ_{e ∈ f} L_d^e(q_k|_e, q_{k+1}|_e)`, each
+//! element reading a fixed stencil of coordinates (`x[i]`, `x[i + 1]`, `x[(i + 1) % n]`, a pair
+//! `x[i]`, `x[j]`, a grid neighbour `u[i][(j + 1) % m]`). `#[reduced_lagrangian]` emits one
+//! kernel per family `f` of elements (a `for` loop of the body, or a term outside loops) —
+//! the element's `D_1 L_d^e`, `D_1 D_2 L_d^e` and `D_2 L_d^e`, differentiated at compile time —
+//! and the element's stencil as integer code in the loop indices and the sizes; this module
+//! assembles them at run time, for whatever sizes the system is built with. Generated code and
+//! compile time do not depend on the sizes.
+//!
+//! # The step
+//!
+//! [`ElementIntegrator`] solves the position–momentum form of the discrete Lagrange–Dirac (+)
+//! equations (Definition 2.7; Marsden & West, eq. (1.5.6)) in the user's coordinates:
+//!
+//! ```text
+//! R(q_{k+1}) = p_k + D_1 L_d(q_k, q_{k+1}) = 0,        p_{k+1} = D_2 L_d(q_k, q_{k+1}),
+//! ```
+//!
+//! by the one Newton driver ([`crate::newton::solve_in`]) with chord iterations, on the sparse
+//! LU of a pattern built once per run from the stencils ([`crate::linalg::DynSparseLu`]):
+//! `∂R/∂q_{k+1} = Σ_e D_1 D_2 L_d^e` scattered block by block. Nothing is allocated per step:
+//! the states are `DVector`s whose memory the driver's two states reuse
+//! ([`crate::Stepper::step_into`]), and the residual, the Jacobian's values and the factors live
+//! in the run's [`ElementWorkspace`].
+//!
+//! # Translations and the exact momentum
+//!
+//! With `translate(x)` declared, `L_d` is invariant under `x ↦ x + c·1`, and the momentum map
+//! `μ = Σ_{i} p_{x_i}` of each declared translation is conserved. In the adapted coordinates of
+//! §2.2.1 (group `g = x_0`, shape `r_i = x_i − x_0`) the equations above are the reduced (+)
+//! equations (4.6) with `B = 0` written in another basis — the same unknowns, the same solution —
+//! and the reduced integrator sets `μ_{k+1} = μ_k` rather than computing it. This integrator
+//! does the same: `p_{k+1}` is `D_2 L_d` in every component but the first of each orbit, which
+//! takes the value that makes `Σ_i p_{x_i}` exactly `μ_k` (the user momentum of the reduced
+//! state `(r_{k+1}, p_r = D_{r} ℓ, μ_k)`: `p_{x_i} = p_{r_i}` for `i ≥ 1`,
+//! `p_{x_0} = μ − Σ_{i ≥ 1} p_{r_i}`). So `μ` is conserved to round-off, as in the reduced
+//! integrator, whatever the Newton tolerance.
+//!
+//! # Parallel assembly
+//!
+//! Above a size threshold ([`Parallel::Auto`]) the elements are evaluated in parallel on
+//! rayon's pool into per-element buffers, and each residual row and Jacobian entry then sums
+//! its contributions, also in parallel, in the order the serial assembly adds them (family,
+//! element, slot), starting from the same value. The result is bit for bit the serial one, on
+//! any number of threads (`tests/element_wise.rs` checks it).
+
+mod assembly;
+
+use std::fmt::Debug;
+use std::ops::Range;
+
+use nalgebra::DVector;
+
+use crate::error::{IntegrationError, StepError, Steps};
+use crate::newton::{solve_in, NewtonOptions};
+use crate::stepper::{check_inputs, step_error, Collect, StepStats, Stepper};
+
+pub use assembly::ElementWorkspace;
+
+/// One family of elements of an element-wise Lagrangian: a loop of its body (or a term outside
+/// loops), with a stencil of `S` coordinates. Emitted by `#[reduced_lagrangian]`.
+pub trait Family<const S: usize>: Sync {
+    /// Number of loop indices of an element (0 for a term outside loops).
+    const DEPTH: usize;
+
+    /// Calls `visit(indices, stencil)` for every element, in loop order: the values of the loop
+    /// indices (`DEPTH` of them) and the global indices of the coordinates the element reads,
+    /// slot by slot (negative or too large when the sizes are too small for the stencil; the
+    /// runtime checks them before any step).
+    fn elements(&self, visit: &mut dyn FnMut(&[i64], [i64; S]));
+
+    /// `D_1 L_d^e` at the stencil values `q0`, `q1` of element `indices`.
+    fn d1(&self, indices: &[i64], q0: &[f64; S], q1: &[f64; S]) -> [f64; S];
+
+    /// `D_1 L_d^e` and `D_1 D_2 L_d^e` (row `a`: `∂(D_1 L_d^e)_a / ∂q1_b`).
+    #[allow(clippy::type_complexity)]
+    fn d1_d12(&self, indices: &[i64], q0: &[f64; S], q1: &[f64; S]) -> ([f64; S], [[f64; S]; S]);
+
+    /// `D_2 L_d^e`.
+    fn d2(&self, indices: &[i64], q0: &[f64; S], q1: &[f64; S]) -> [f64; S];
+
+    /// `L_d^e` itself.
+    fn value(&self, indices: &[i64], q0: &[f64; S], q1: &[f64; S]) -> f64;
+
+    /// The element's energy `E^e(q, v) = ⟨∂L^e/∂v, v⟩ − L^e` of a continuous Lagrangian (NaN
+    /// for a discrete one).
+    fn energy(&self, indices: &[i64], q: &[f64; S], v: &[f64; S]) -> f64;
+}
+
+/// What visits the families of an [`ElementLagrangian`], one type per family.
+pub trait FamilyVisitor {
+    /// Visits one family.
+    fn family<const S: usize, F: Family<S>>(&mut self, family: &F);
+}
+
+/// A discrete Lagrangian that is a sum over elements, with sizes chosen at run time: what
+/// `#[reduced_lagrangian]` implements when the function takes `usize` sizes (see the
+/// [module documentation](self)).
+pub trait ElementLagrangian: Clone + Debug + Send + Sync + 'static {
+    /// The names of the sizes, in the order of the function's `usize` arguments.
+    const SIZES: &'static [&'static str];
+    /// The smallest value of every size for which every stencil stays inside its coordinate
+    /// (checked by the compiler on sample sizes, and by the runtime for the sizes given).
+    const MIN_SIZE: usize;
+    /// Whether the system is a continuous Lagrangian with a quadrature rule (then it has an
+    /// energy, [`ElementIntegrator::energy`]).
+    const CONTINUOUS: bool;
+
+    /// The sizes this system is built with, in the order of [`Self::SIZES`].
+    fn sizes(&self) -> Vec<usize>;
+    /// The number of coordinates for these sizes.
+    fn dim(&self) -> usize;
+    /// The time step `h`.
+    fn time_step(&self) -> f64;
+    /// The values of the parameters (for the input checks).
+    fn parameter_values(&self) -> Vec<f64>;
+    /// One entry per declared translation: the ranges of coordinate indices it moves together
+    /// (its orbit; the first index is where the momentum map is kept exact).
+    fn translations(&self) -> Vec<Vec<Range<usize>>>;
+    /// Visits every family of elements, in the order of the body.
+    fn families<V: FamilyVisitor>(&self, visitor: &mut V);
+}
+
+/// A state of a run-time-sized system: configuration and momentum in the user's coordinates.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ElementState {
+    /// `q_k`.
+    pub q: DVector<f64>,
+    /// `p_k`.
+    pub p: DVector<f64>,
+}
+
+impl ElementState {
+    /// The state `(q, p)`.
+    pub fn new(q: DVector<f64>, p: DVector<f64>) -> Self {
+        Self { q, p }
+    }
+
+    /// Whether every component is finite.
+    pub fn is_finite(&self) -> bool {
+        self.q.iter().chain(self.p.iter()).all(|v| v.is_finite())
+    }
+}
+
+/// When the elements are assembled in parallel. The result is the same, bit for bit, either
+/// way (see the [module documentation](self)); only the time differs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Parallel {
+    /// In parallel when the Jacobian's element blocks hold at least [`PARALLEL_MIN_ENTRIES`]
+    /// entries and rayon's pool has more than one thread.
+    #[default]
+    Auto,
+    /// Always serial.
+    Never,
+    /// Always in parallel (on rayon's current pool).
+    Always,
+}
+
+/// The smallest number of Jacobian block entries (elements × stencil²) for which
+/// [`Parallel::Auto`] assembles in parallel: below, the parallel passes' extra memory traffic
+/// and synchronisation cost more than a serial pass (measured on the lattice, `examples/toda_n`).
+pub const PARALLEL_MIN_ENTRIES: usize = 1 << 16;
+
+/// The (+) integrator of an element-wise system (see the [module documentation](self)).
+#[derive(Clone, Debug)]
+pub struct ElementIntegrator<L> {
+    /// The system.
+    pub system: L,
+    /// Newton's tolerances and caps.
+    pub options: NewtonOptions,
+    /// When the assembly runs in parallel.
+    pub parallel: Parallel,
+}
+
+/// Every state and step record of an [`ElementIntegrator`] run (`Drive::integrate`).
+#[derive(Clone, Debug, Default)]
+pub struct ElementTrajectory {
+    /// The time step.
+    pub h: f64,
+    /// `(q_k, p_k)`, `k = 0..=steps`.
+    pub states: Vec<ElementState>,
+    /// The Newton statistics of each step.
+    pub stats: Vec<StepStats>,
+}
+
+impl Steps for ElementTrajectory {
+    fn completed_steps(&self) -> usize {
+        self.stats.len()
+    }
+}
+
+impl<L: ElementLagrangian> Collect<ElementIntegrator<L>> for ElementTrajectory {
+    fn start(integrator: &ElementIntegrator<L>, steps: usize) -> Self {
+        Self {
+            h: integrator.system.time_step(),
+            states: Vec::with_capacity(steps + 1),
+            stats: Vec::with_capacity(steps),
+        }
+    }
+
+    fn push(&mut self, state: &ElementState, record: Option<&StepStats>) {
+        self.states.push(state.clone());
+        if let Some(stats) = record {
+            self.stats.push(*stats);
+        }
+    }
+}
+
+impl<L: ElementLagrangian> ElementIntegrator<L> {
+    /// The (+) integrator with `options`, assembling in parallel above the threshold.
+    pub fn new(system: L, options: NewtonOptions) -> Self {
+        Self {
+            system,
+            options,
+            parallel: Parallel::Auto,
+        }
+    }
+
+    /// The same integrator with the assembly's parallelism set to `parallel`.
+    pub fn with_parallel(mut self, parallel: Parallel) -> Self {
+        self.parallel = parallel;
+        self
+    }
+
+    /// The momentum map `μ` of each declared translation: `Σ p_i` over its orbit.
+    pub fn momentum_map(&self, state: &ElementState) -> Vec<f64> {
+        self.system
+            .translations()
+            .iter()
+            .map(|orbit| orbit.iter().flat_map(|r| r.clone()).map(|i| state.p[i]).sum())
+            .collect()
+    }
+
+    /// `L_d(q0, q1)`: the sum of the element values.
+    pub fn discrete_lagrangian(&self, q0: &DVector<f64>, q1: &DVector<f64>) -> f64 {
+        assembly::value(&self.system, q0.as_slice(), q1.as_slice())
+    }
+
+    /// The energy at the step's midpoint, `E((q0 + q1)/2, (q1 − q0)/h)`, of a continuous
+    /// Lagrangian (`None` for a discrete one): the sum of the element energies, allocation-free.
+    pub fn energy(&self, q0: &DVector<f64>, q1: &DVector<f64>) -> Option<f64> {
+        L::CONTINUOUS.then(|| {
+            assembly::energy(
+                &self.system,
+                q0.as_slice(),
+                q1.as_slice(),
+                self.system.time_step(),
+            )
+        })
+    }
+
+    /// The residual `R(z) = p0 + D_1 L_d(q0, z)` and the values of its Jacobian, in the order
+    /// of the workspace's pattern ([`ElementWorkspace::pattern`]): what one Newton correction
+    /// evaluates (public for benchmarks).
+    pub fn residual_jacobian(
+        &self,
+        workspace: &mut ElementWorkspace,
+        q0: &DVector<f64>,
+        p0: &DVector<f64>,
+        z: &DVector<f64>,
+        r: &mut DVector<f64>,
+        jacobian: &mut Vec<f64>,
+    ) {
+        jacobian.resize(workspace.nnz(), 0.0);
+        workspace.residual_jacobian(
+            &self.system,
+            q0.as_slice(),
+            p0.as_slice(),
+            z.as_slice(),
+            r.as_mut_slice(),
+            Some(jacobian.as_mut_slice()),
+        );
+    }
+
+    fn invalid(&self, reason: String) -> StepError {
+        StepError::InvalidSize { reason }
+    }
+
+    /// The sizes, the state's dimensions and the stencils against each other.
+    fn check_sizes(&self, state: &ElementState) -> Result<(), StepError> {
+        let sizes = self.system.sizes();
+        for (name, &n) in L::SIZES.iter().zip(&sizes) {
+            if n < L::MIN_SIZE {
+                return Err(self.invalid(format!(
+                    "size `{name}` = {n} is below the smallest size the stencils allow ({})",
+                    L::MIN_SIZE
+                )));
+            }
+        }
+        let n = self.system.dim();
+        if state.q.len() != n || state.p.len() != n {
+            return Err(self.invalid(format!(
+                "the state has {} coordinates and {} momenta; the system with sizes {:?} has {n}",
+                state.q.len(),
+                state.p.len(),
+                sizes
+            )));
+        }
+        assembly::check_stencils(&self.system).map_err(|reason| self.invalid(reason))
+    }
+}
+
+impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
+    type State = ElementState;
+    type Record = StepStats;
+    type Workspace = ElementWorkspace;
+    type Trajectory = ElementTrajectory;
+
+    fn time_step(&self) -> f64 {
+        self.system.time_step()
+    }
+
+    fn check(&self, initial: &ElementState) -> Result<(), StepError> {
+        check_inputs(
+            self.system.time_step(),
+            &self.system.parameter_values(),
+            initial.is_finite(),
+        )?;
+        self.check_sizes(initial)
+    }
+
+    fn workspace(&self) -> ElementWorkspace {
+        ElementWorkspace::new(&self.system, self.parallel)
+    }
+
+    fn step_with(
+        &self,
+        workspace: &mut ElementWorkspace,
+        k: usize,
+        state: &ElementState,
+        u: &[f64],
+    ) -> Result<(ElementState, StepStats), StepError> {
+        let mut next = state.clone();
+        let record = self.step_into(workspace, k, state, u, &mut next)?;
+        Ok((next, record))
+    }
+
+    /// Step `k` into `next` (whose memory is reused): Newton on `R(q_{k+1}) = 0` from the
+    /// extrapolated guess, then `p_{k+1} = D_2 L_d` with the momentum map of each translation
+    /// kept exact (see the [module documentation](self)).
+    fn step_into(
+        &self,
+        workspace: &mut ElementWorkspace,
+        k: usize,
+        state: &ElementState,
+        u: &[f64],
+        next: &mut ElementState,
+    ) -> Result<StepStats, StepError> {
+        if !u.is_empty() {
+            return Err(StepError::InvalidControls {
+                step: k,
+                expected: 0,
+                found: u.len(),
+            });
+        }
+        if let Some(reason) = workspace.invalid() {
+            return Err(self.invalid(reason.to_string()));
+        }
+        let n = workspace.dim();
+        if state.q.len() != n || state.p.len() != n {
+            return Err(self.invalid(format!(
+                "the state has {} coordinates and {} momenta, the system {n}",
+                state.q.len(),
+                state.p.len()
+            )));
+        }
+        if next.q.len() != n || next.p.len() != n {
+            *next = state.clone();
+        }
+        workspace.guess(&state.q, &mut next.q);
+        let rho = crate::newton::slice_inf_norm(state.p.as_slice());
+        let sys = &self.system;
+        let (q0, p0) = (state.q.as_slice(), state.p.as_slice());
+        let (solver, r, jacobian, assembler) = workspace.parts();
+        let nnz = assembler.nnz();
+        let solution = solve_in(
+            solver,
+            &mut next.q,
+            r,
+            jacobian,
+            rho,
+            &self.options,
+            |z, r| assembler.residual_jacobian(sys, q0, p0, z.as_slice(), r.as_mut_slice(), None),
+            |z, r, j| {
+                let j = j.get_or_insert_with(|| vec![0.0; nnz]);
+                assembler.residual_jacobian(
+                    sys,
+                    q0,
+                    p0,
+                    z.as_slice(),
+                    r.as_mut_slice(),
+                    Some(j.as_mut_slice()),
+                );
+            },
+        )
+        .map_err(|failure| step_error(k, failure))?;
+        assembler.momentum(sys, q0, next.q.as_slice(), next.p.as_mut_slice());
+        // μ_{k+1} = μ_k exactly: the first component of each orbit takes the difference.
+        for orbit in assembler.orbits() {
+            let mu0: f64 = orbit.iter().flat_map(|r| r.clone()).map(|i| p0[i]).sum();
+            let mu1: f64 = orbit.iter().flat_map(|r| r.clone()).map(|i| next.p[i]).sum();
+            if let Some(first) = orbit.first().map(|r| r.start) {
+                next.p[first] += mu0 - mu1;
+            }
+        }
+        if !next.p.iter().all(|v| v.is_finite()) {
+            return Err(StepError::NonFinite {
+                step: k,
+                what: "the new momentum",
+                residual: solution.residual,
+            });
+        }
+        workspace.remember(&state.q, &next.q);
+        Ok(StepStats::from_solution(
+            &solution,
+            self.options.residual_tolerance(rho),
+        ))
+    }
+}
+
+/// What a failed [`ElementIntegrator`] run keeps.
+pub type ElementError = IntegrationError<ElementTrajectory>;
