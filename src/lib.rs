@@ -107,7 +107,7 @@ pub use dirac_runtime::prelude::*;
 /// ([`runtime::prelude`], which the crate root re-exports too), plus the two attributes and
 /// nalgebra's `SVector`/`SMatrix` (which the root reaches as [`nalgebra`]).
 pub mod prelude {
-    pub use crate::nalgebra::{SMatrix, SVector};
+    pub use crate::nalgebra::{DVector, SMatrix, SVector};
     pub use crate::runtime::prelude::*;
     pub use crate::{chart_transition, reduced_lagrangian};
 }

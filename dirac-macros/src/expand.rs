@@ -29,6 +29,9 @@ pub fn expand(args: TokenStream, item: TokenStream) -> TokenStream {
             return e.into_compile_error();
         }
     };
+    if crate::ast::element::is_element_wise(&func) {
+        return expand_element(args, &func).unwrap_or_else(|e| e.into_compile_error());
+    }
     // The attribute and the signature: kept for the fallback even when they have errors.
     let cx = Ctxt::new();
     let spec = parse_spec(&cx, args);
@@ -55,6 +58,34 @@ pub fn expand(args: TokenStream, item: TokenStream) -> TokenStream {
             out
         }
     }
+}
+
+/// An element-wise system (the function takes `usize` sizes): the attribute and signature, the
+/// body split into families of elements with the stencils' range check, each family's element
+/// lowered and differentiated, and the emitted kernels and assembly types
+/// ([`crate::ast::element`], [`crate::ir::element`], [`crate::codegen::element`]).
+fn expand_element(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> {
+    use crate::ast::element::{families, parse as parse_element};
+    let cx = Ctxt::new();
+    let spec = parse_element(&cx, args, func);
+    let spec = cx.finish(spec)?;
+    let cx = Ctxt::new();
+    let configs = [&spec.sig.q0, &spec.sig.q1];
+    let split = families::split(&cx, &func.block, &spec.sizes, &spec.coords, configs);
+    let split = cx.finish(split)?;
+    let cx = Ctxt::new();
+    let min_size = families::min_size(&cx, &split, &spec.coords, spec.sizes.len());
+    let min_size = cx.finish(min_size)?;
+    let cx = Ctxt::new();
+    let depth = split.iter().map(|f| f.loops.len()).max().unwrap_or(0);
+    let codes: Option<Vec<_>> = split
+        .iter()
+        .map(|f| crate::ir::element::element(&cx, &spec, f, depth))
+        .collect();
+    let codes = cx.finish(codes)?;
+    Ok(crate::codegen::element::generate(
+        &spec, func, &split, &codes, min_size,
+    ))
 }
 
 /// The phases after the attribute and signature parsed cleanly.

@@ -4,6 +4,7 @@
 //! chart-transition attribute ([`transition`]). Nothing here reads the body or emits code.
 
 pub mod attr;
+pub mod element;
 pub mod layout;
 pub mod ranges;
 pub mod rule;

@@ -8,6 +8,7 @@ pub mod adapted;
 pub mod backend;
 pub mod constrained;
 pub mod continuous;
+pub mod element;
 pub mod emit;
 pub mod impls;
 pub mod items;

@@ -9,6 +9,7 @@ pub mod check;
 pub mod compile;
 pub mod constraint;
 pub mod diff;
+pub mod element;
 pub mod discretize;
 pub mod force;
 pub mod graph;

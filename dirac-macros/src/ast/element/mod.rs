@@ -1,0 +1,305 @@
+//! Element-wise systems: a Lagrangian whose function takes `usize` sizes, with coordinates whose
+//! lengths are those sizes, written as sums over elements (see `dirac::runtime::element`).
+//!
+//! ```text
+//! #[reduced_lagrangian(coordinates(x[n]), translate(x), rule = midpoint)]
+//! fn toda(q: Config, v: Velocity, m: f64, d: f64, n: usize) -> f64 {
+//!     let mut l = 0.0;
+//!     for i in 0..n { l += 0.5 * m * v.x[i] * v.x[i]; }
+//!     for i in 0..n - 1 { l -= (-(q.x[i + 1] - q.x[i] - d)).exp(); }
+//!     l - (-(q.x[0] + n as f64 * d - q.x[n - 1] - d)).exp()
+//! }
+//! ```
+//!
+//! The attribute accepts `coordinates(..)` whose lengths are sizes or literals (`x[n]`, a grid
+//! `u[nx][ny]`, a scalar `c`), `translate(..)`, `rule = ..`, `name = ..` and `step = ..`; the
+//! body is split into families of elements by [`families`].
+
+pub mod families;
+pub mod index;
+
+use proc_macro2::Span;
+use quote::ToTokens;
+use syn::parse::{Parse, ParseStream};
+use syn::punctuated::Punctuated;
+use syn::spanned::Spanned;
+use syn::{Expr, Ident, ItemFn, Token};
+
+use crate::ast::rule::{Rule, RULES};
+use crate::ast::signature::{parse_signature, Signature};
+use crate::ctxt::Ctxt;
+
+/// What the attribute of an element-wise system accepts, for messages.
+pub const ELEMENT_KEYS: &str = "`coordinates(x[n], u[nx][ny], c, ...)` (lengths are sizes — the \
+function's `usize` arguments — or integer literals), `translate(<coordinate>, ...)`, \
+`rule = midpoint | trapezoid | left | right`, `name = <TypeName>`, `step = <parameter>`";
+
+/// One dimension of a coordinate: a size or a literal length.
+#[derive(Clone, Debug)]
+pub enum Dim {
+    Size(usize),
+    Fixed(usize),
+}
+
+/// A coordinate of an element-wise system.
+#[derive(Clone, Debug)]
+pub struct ElementCoord {
+    pub name: Ident,
+    /// Empty for a scalar.
+    pub dims: Vec<Dim>,
+}
+
+/// The parsed attribute and signature of an element-wise system.
+pub struct ElementSpec {
+    /// The sizes: the function's `usize` arguments, in order.
+    pub sizes: Vec<Ident>,
+    pub coords: Vec<ElementCoord>,
+    /// Each `translate(..)`: the coordinates it moves together.
+    pub translates: Vec<Vec<usize>>,
+    pub rule: Option<Rule>,
+    pub name: Option<Ident>,
+    /// The signature without the sizes (what the fixed-size front end checks).
+    pub sig: Signature,
+}
+
+/// Whether `func` takes a `usize` argument: then it is an element-wise system.
+pub fn is_element_wise(func: &ItemFn) -> bool {
+    func.sig.inputs.iter().any(|a| match a {
+        syn::FnArg::Typed(t) => is_usize(&t.ty),
+        _ => false,
+    })
+}
+
+fn is_usize(ty: &syn::Type) -> bool {
+    matches!(ty, syn::Type::Path(p) if p.qself.is_none() && p.path.is_ident("usize"))
+}
+
+/// One `key(...)` or `key = value` of the attribute.
+struct Item {
+    key: Ident,
+    list: Option<Punctuated<Expr, Token![,]>>,
+    value: Option<Expr>,
+}
+
+impl Parse for Item {
+    fn parse(input: ParseStream) -> syn::Result<Self> {
+        let key: Ident = input.parse()?;
+        if input.peek(syn::token::Paren) {
+            let content;
+            syn::parenthesized!(content in input);
+            let list = Punctuated::parse_terminated(&content)?;
+            return Ok(Item {
+                key,
+                list: Some(list),
+                value: None,
+            });
+        }
+        if input.peek(Token![=]) {
+            input.parse::<Token![=]>()?;
+            let value: Expr = input.parse()?;
+            return Ok(Item {
+                key,
+                list: None,
+                value: Some(value),
+            });
+        }
+        Err(syn::Error::new(
+            key.span(),
+            format!("expected `{key}(...)` or `{key} = ...`; accepted: {ELEMENT_KEYS}"),
+        ))
+    }
+}
+
+/// The attribute and signature; `None` after errors (recorded).
+pub fn parse(cx: &Ctxt, args: proc_macro2::TokenStream, func: &ItemFn) -> Option<ElementSpec> {
+    let items = match Punctuated::<Item, Token![,]>::parse_terminated.parse2(args) {
+        Ok(items) => items,
+        Err(e) => {
+            cx.syn_error(e);
+            return None;
+        }
+    };
+    // The sizes, and the signature without them.
+    let mut sizes = Vec::new();
+    let mut fixed_sig = func.sig.clone();
+    fixed_sig.inputs = func
+        .sig
+        .inputs
+        .iter()
+        .filter(|a| match a {
+            syn::FnArg::Typed(t) if is_usize(&t.ty) => {
+                match &*t.pat {
+                    syn::Pat::Ident(pi) => sizes.push(pi.ident.clone()),
+                    other => cx.error_spanned_by(other, "expected a plain size name"),
+                }
+                false
+            }
+            _ => true,
+        })
+        .cloned()
+        .collect();
+    let (mut coords, mut translates, mut rule, mut name, mut step) =
+        (Vec::new(), Vec::new(), None, None, None);
+    let (mut rule_key, mut translate_names) = (None, Vec::new());
+    for item in &items {
+        let key = item.key.to_string();
+        match (key.as_str(), &item.list, &item.value) {
+            ("coordinates", Some(list), _) => {
+                for e in list {
+                    if let Some(c) = coordinate(cx, e, &sizes) {
+                        coords.push(c);
+                    }
+                }
+            }
+            ("translate", Some(list), _) => translate_names.push((item.key.clone(), list)),
+            ("rule", _, Some(Expr::Path(p))) if p.path.get_ident().is_some() => {
+                let id = p.path.get_ident().expect("checked");
+                match Rule::from_ident(id) {
+                    Some(r) => {
+                        rule = Some(r);
+                        rule_key = Some((item.key.clone(), r));
+                    }
+                    None => cx.error_spanned_by(id, format!("unknown rule `{id}`; accepted: {RULES}")),
+                }
+            }
+            ("name", _, Some(Expr::Path(p))) if p.path.get_ident().is_some() => {
+                name = p.path.get_ident().cloned();
+            }
+            ("step", _, Some(Expr::Path(p))) if p.path.get_ident().is_some() => {
+                step = p.path.get_ident().cloned();
+            }
+            ("shape" | "group" | "connection" | "ranges" | "controls" | "force" | "constraints"
+            | "nonholonomic", _, _) => cx.error_spanned_by(
+                &item.key,
+                format!(
+                    "`{key}` is not available for systems with run-time sizes (a `usize` argument); accepted: {ELEMENT_KEYS}"
+                ),
+            ),
+            _ => cx.error_spanned_by(
+                &item.key,
+                format!("unexpected `{key}` here; accepted: {ELEMENT_KEYS}"),
+            ),
+        }
+    }
+    if coords.is_empty() && !items.iter().any(|i| i.key == "coordinates") {
+        cx.error_at(
+            Span::call_site(),
+            format!("a system with run-time sizes declares its coordinates: {ELEMENT_KEYS}"),
+        );
+    }
+    for (_, list) in translate_names {
+        let mut members = Vec::new();
+        for e in list {
+            let found = match e {
+                Expr::Path(p) => p
+                    .path
+                    .get_ident()
+                    .and_then(|id| coords.iter().position(|c: &ElementCoord| c.name == *id)),
+                _ => None,
+            };
+            match found {
+                Some(c) if translates.iter().any(|t: &Vec<usize>| t.contains(&c)) || members.contains(&c) => cx
+                    .error_spanned_by(e, "this coordinate is already moved by a `translate(...)`"),
+                Some(c) => members.push(c),
+                None => cx.error_spanned_by(
+                    e,
+                    format!(
+                        "`{}` is not a declared coordinate; declared: {}",
+                        e.to_token_stream(),
+                        coords.iter().map(|c| format!("`{}`", c.name)).collect::<Vec<_>>().join(", ")
+                    ),
+                ),
+            }
+        }
+        if !members.is_empty() {
+            translates.push(members);
+        }
+    }
+    let sig = parse_signature(
+        cx,
+        &fixed_sig,
+        step.as_ref(),
+        rule_key.as_ref(),
+        rule_key.is_some(),
+    )?;
+    Some(ElementSpec {
+        sizes,
+        coords,
+        translates,
+        rule,
+        name,
+        sig,
+    })
+}
+
+use syn::parse::Parser;
+
+/// `x`, `x[n]`, `u[nx][ny]`, `x[3]`.
+fn coordinate(cx: &Ctxt, e: &Expr, sizes: &[Ident]) -> Option<ElementCoord> {
+    let mut dims = Vec::new();
+    let mut cur = e;
+    loop {
+        match cur {
+            Expr::Index(ix) => {
+                let dim = match &*ix.index {
+                    Expr::Path(p) => match p.path.get_ident() {
+                        Some(id) => match sizes.iter().position(|s| s == id) {
+                            Some(k) => Dim::Size(k),
+                            None => {
+                                cx.error_spanned_by(
+                                    &ix.index,
+                                    format!("`{id}` is not a size: sizes are the function's `usize` arguments ({})", sizes.iter().map(|s| format!("`{s}`")).collect::<Vec<_>>().join(", ")),
+                                );
+                                return None;
+                            }
+                        },
+                        None => {
+                            cx.error_spanned_by(&ix.index, "a length is a size or an integer literal");
+                            return None;
+                        }
+                    },
+                    Expr::Lit(syn::ExprLit {
+                        lit: syn::Lit::Int(i),
+                        ..
+                    }) => match i.base10_parse::<usize>() {
+                        Ok(v) if v > 0 => Dim::Fixed(v),
+                        _ => {
+                            cx.error_spanned_by(i, "a length must be a positive integer");
+                            return None;
+                        }
+                    },
+                    other => {
+                        cx.error_spanned_by(other, "a length is a size or an integer literal");
+                        return None;
+                    }
+                };
+                dims.push(dim);
+                cur = &ix.expr;
+            }
+            Expr::Path(p) if p.path.get_ident().is_some() => {
+                dims.reverse();
+                if dims.len() > 2 {
+                    cx.error_spanned_by(e, "coordinates have at most two dimensions (`u[nx][ny]`)");
+                    return None;
+                }
+                return Some(ElementCoord {
+                    name: p.path.get_ident().expect("checked").clone(),
+                    dims,
+                });
+            }
+            other => {
+                cx.error_spanned_by(
+                    other,
+                    format!("expected a coordinate `x`, `x[n]` or `u[nx][ny]`; {ELEMENT_KEYS}"),
+                );
+                return None;
+            }
+        }
+    }
+}
+
+/// The span of the attribute item `e`, for messages.
+#[allow(dead_code)]
+fn span_of(e: &Expr) -> Span {
+    e.span()
+}

@@ -1,0 +1,367 @@
+//! Code generation for element-wise systems: the system type (parameters, time step, sizes),
+//! its configuration type (`Vec`s whose lengths are the sizes), one `Family` impl per family of
+//! elements (its stencil as integer code in the loop indices and sizes, its kernels as
+//! straight-line f64 code over the stencil's slots) and the `ElementLagrangian` impl that the
+//! runtime's assembly drives (`dirac::runtime::element`). Nothing here depends on the sizes'
+//! values: the code is the same for every run.
+
+use proc_macro2::TokenStream;
+use quote::{format_ident, quote};
+use syn::{Ident, ItemFn};
+
+use crate::ast::element::families::FamilySpec;
+use crate::ast::element::{Dim, ElementSpec};
+use crate::codegen::emit::straight_line;
+use crate::codegen::items::{camel_case, user_function};
+use crate::codegen::lints;
+use crate::ir::element::ElementCode;
+use crate::ir::graph::{NodeId, Sym};
+
+/// Every item of an element-wise system.
+pub fn generate(
+    spec: &ElementSpec,
+    func: &ItemFn,
+    families: &[FamilySpec],
+    codes: &[ElementCode],
+    min_size: usize,
+) -> TokenStream {
+    let ty = spec.name.clone().unwrap_or_else(|| camel_case(&func.sig.ident));
+    let config = format_ident!("{}Config", ty);
+    let vis = &func.vis;
+    let rt = quote!(::dirac::runtime::element);
+    let params = &spec.sig.params;
+    let sizes = &spec.sizes;
+    let n_coords = spec.coords.len();
+    let fn_name = &func.sig.ident;
+
+    // Offsets of the coordinates in the flat vector, from the sizes.
+    let lengths: Vec<TokenStream> = spec
+        .coords
+        .iter()
+        .map(|c| {
+            let factors: Vec<TokenStream> = c
+                .dims
+                .iter()
+                .map(|d| match d {
+                    Dim::Size(k) => {
+                        let s = &sizes[*k];
+                        quote!((self.#s as i64))
+                    }
+                    Dim::Fixed(v) => {
+                        let v = *v as i64;
+                        quote!(#v)
+                    }
+                })
+                .collect();
+            quote!(1i64 #(* #factors)*)
+        })
+        .collect();
+    let offsets_fn = quote! {
+        /// The offsets of the coordinates in the flat configuration vector, and its length.
+        #[doc(hidden)]
+        pub fn __offsets(&self) -> [i64; #n_coords + 1] {
+            let mut o = [0i64; #n_coords + 1];
+            let lengths: [i64; #n_coords] = [#(#lengths),*];
+            for c in 0..#n_coords {
+                o[c + 1] = o[c] + lengths[c];
+            }
+            o
+        }
+    };
+
+    let mut family_items = TokenStream::new();
+    let mut visits = Vec::new();
+    let mut described = Vec::new();
+    for (f, (family, code)) in families.iter().zip(codes).enumerate() {
+        let name = format_ident!("__{}Family{}", ty, f);
+        let s = code.width;
+        let depth = family.loops.len();
+        let loop_vars: Vec<Ident> = (0..depth).map(|k| format_ident!("__i{}", k)).collect();
+        let size_tok = |k: usize| {
+            let s = format_ident!("__n{}", k);
+            quote!(#s)
+        };
+        let loop_tok = |k: usize| {
+            let v = &loop_vars[k];
+            quote!(#v)
+        };
+        let stencil: Vec<TokenStream> = family
+            .slots
+            .iter()
+            .map(|slot| {
+                let c = slot.coord;
+                let coord = &spec.coords[c];
+                let ix: Vec<TokenStream> = slot.index.iter().map(|i| i.tokens(&size_tok, &loop_tok)).collect();
+                match (coord.dims.as_slice(), ix.as_slice()) {
+                    ([], []) => quote!(__o[#c]),
+                    ([_], [i]) => quote!(__o[#c] + #i),
+                    ([_, d1], [i, j]) => {
+                        let len1 = match d1 {
+                            Dim::Size(k) => size_tok(*k),
+                            Dim::Fixed(v) => {
+                                let v = *v as i64;
+                                quote!(#v)
+                            }
+                        };
+                        quote!(__o[#c] + #i * #len1 + #j)
+                    }
+                    _ => unreachable!("the rewriter checks the number of indices"),
+                }
+            })
+            .collect();
+        let mut body = quote!(visit(&[#(#loop_vars),*], [#(#stencil),*]););
+        for k in (0..depth).rev() {
+            let v = &loop_vars[k];
+            let (lo, hi) = (
+                family.loops[k].lo.tokens(&size_tok, &loop_tok),
+                family.loops[k].hi.tokens(&size_tok, &loop_tok),
+            );
+            body = quote! { for #v in (#lo)..(#hi) { #body } };
+        }
+        let size_bindings = sizes.iter().enumerate().map(|(k, s)| {
+            let n = format_ident!("__n{}", k);
+            quote!(let #n = sys.#s as i64;)
+        });
+        let n_user = params.len();
+        let leaf = |q0: TokenStream, q1: TokenStream| {
+            move |sym: Sym| -> TokenStream {
+                match sym {
+                    Sym::Q0(a) => quote!(#q0[#a]),
+                    Sym::Q1(a) => quote!(#q1[#a]),
+                    Sym::Param(i) if i < n_user => {
+                        let p = &params[i];
+                        quote!(sys.#p)
+                    }
+                    Sym::Param(i) if i < n_user + sizes.len() => {
+                        let s = &sizes[i - n_user];
+                        quote!((sys.#s as f64))
+                    }
+                    Sym::Param(i) => {
+                        let k = i - n_user - sizes.len();
+                        quote!((indices[#k] as f64))
+                    }
+                    other => unreachable!("an element reads no {other:?}"),
+                }
+            }
+        };
+        let steps = leaf(quote!(q0), quote!(q1));
+        let kernel = |outputs: &[NodeId]| straight_line(&code.graph, outputs, &steps);
+        let d1 = kernel(&code.d1);
+        let (d1_stmts, d1_out) = (&d1.stmts, &d1.outputs);
+        let d12_nodes: Vec<NodeId> = code.d1.iter().copied().chain(code.d12.iter().flatten().copied()).collect();
+        let both = kernel(&d12_nodes);
+        let both_stmts = &both.stmts;
+        let (d1_part, d12_part) = both.outputs.split_at(s);
+        let d12_rows: Vec<TokenStream> = d12_part.chunks(s.max(1)).map(|row| quote!([#(#row),*])).collect();
+        let d2 = kernel(&code.d2);
+        let (d2_stmts, d2_out) = (&d2.stmts, &d2.outputs);
+        let value = kernel(&[code.value]);
+        let (value_stmts, value_out) = (&value.stmts, &value.outputs[0]);
+        let energy = match code.energy {
+            Some(e) => {
+                let el = leaf(quote!(q), quote!(v));
+                let line = straight_line(&code.graph, &[e], &el);
+                let (st, out) = (&line.stmts, &line.outputs[0]);
+                quote! { let sys = self.0; #st #out }
+            }
+            None => quote!(f64::NAN),
+        };
+        described.push(format!("{}×{s} ({} operations for R+J)", depth_word(depth), both.operations));
+        let gen = lints::generated();
+        family_items.extend(quote! {
+            #[doc(hidden)]
+            #[allow(non_camel_case_types)]
+            #vis struct #name<'a>(&'a #ty);
+
+            #gen
+            #[allow(unused_variables, unused_parens, clippy::identity_op, clippy::erasing_op, clippy::unnecessary_cast, clippy::double_parens)]
+            impl #rt::Family<#s> for #name<'_> {
+                const DEPTH: usize = #depth;
+                fn elements(&self, visit: &mut dyn FnMut(&[i64], [i64; #s])) {
+                    let sys = self.0;
+                    let __o = sys.__offsets();
+                    #(#size_bindings)*
+                    #body
+                }
+                #[inline]
+                fn d1(&self, indices: &[i64], q0: &[f64; #s], q1: &[f64; #s]) -> [f64; #s] {
+                    let sys = self.0;
+                    #d1_stmts
+                    [#(#d1_out),*]
+                }
+                #[inline]
+                fn d1_d12(&self, indices: &[i64], q0: &[f64; #s], q1: &[f64; #s]) -> ([f64; #s], [[f64; #s]; #s]) {
+                    let sys = self.0;
+                    #both_stmts
+                    ([#(#d1_part),*], [#(#d12_rows),*])
+                }
+                #[inline]
+                fn d2(&self, indices: &[i64], q0: &[f64; #s], q1: &[f64; #s]) -> [f64; #s] {
+                    let sys = self.0;
+                    #d2_stmts
+                    [#(#d2_out),*]
+                }
+                fn value(&self, indices: &[i64], q0: &[f64; #s], q1: &[f64; #s]) -> f64 {
+                    let sys = self.0;
+                    #value_stmts
+                    #value_out
+                }
+                fn energy(&self, indices: &[i64], q: &[f64; #s], v: &[f64; #s]) -> f64 {
+                    #energy
+                }
+            }
+        });
+        visits.push(quote!(visitor.family::<#s, _>(&#name(self));));
+    }
+
+    let size_names: Vec<String> = sizes.iter().map(|s| s.to_string()).collect();
+    let param_values = params.iter().map(|p| quote!(self.#p));
+    let translations = spec.translates.iter().map(|members| {
+        let ranges = members.iter().map(|&c| {
+            let c1 = c + 1;
+            quote!((o[#c] as usize)..(o[#c1] as usize))
+        });
+        quote!(vec![#(#ranges),*])
+    });
+    let continuous = spec.sig.continuous;
+    let generated = format!(
+        "element-wise, sizes chosen at run time: {} famil{} of elements: {}",
+        codes.len(),
+        if codes.len() == 1 { "y" } else { "ies" },
+        described.join(", ")
+    );
+    let docs = func.attrs.iter().filter(|a| a.path().is_ident("doc"));
+    let note = format!(
+        "\n\nThe parameters and sizes of [`{fn_name}`]; emitted by `#[reduced_lagrangian]`, which implements \
+         `dirac::runtime::element::ElementLagrangian` for it (integrate with `ElementIntegrator`)."
+    );
+    let param_docs = params.iter().map(|p| format!("The parameter `{p}` of [`{fn_name}`]."));
+    let size_docs = sizes.iter().map(|s| format!("The size `{s}` of [`{fn_name}`]."));
+
+    // The configuration type: one field per coordinate.
+    let fields = spec.coords.iter().map(|c| {
+        let name = &c.name;
+        let t = match c.dims.len() {
+            0 => quote!(f64),
+            1 => quote!(::std::vec::Vec<f64>),
+            _ => quote!(::std::vec::Vec<::std::vec::Vec<f64>>),
+        };
+        let doc = format!("The coordinate `{name}`.");
+        quote!(#[doc = #doc] pub #name: #t)
+    });
+    let dim_of = |c: &crate::ast::element::ElementCoord, k: usize| match &c.dims[k] {
+        Dim::Size(s) => {
+            let s = &sizes[*s];
+            quote!(self.#s)
+        }
+        Dim::Fixed(v) => quote!(#v),
+    };
+    let to_config = spec.coords.iter().enumerate().map(|(c, coord)| {
+        let name = &coord.name;
+        match coord.dims.len() {
+            0 => quote!(#name: q[o[#c] as usize]),
+            1 => quote!(#name: q.as_slice()[o[#c] as usize..o[#c + 1] as usize].to_vec()),
+            _ => {
+                let d1 = dim_of(coord, 1);
+                quote!(#name: q.as_slice()[o[#c] as usize..o[#c + 1] as usize].chunks(#d1).map(|r| r.to_vec()).collect())
+            }
+        }
+    });
+    let to_vector = spec.coords.iter().map(|coord| {
+        let name = &coord.name;
+        match coord.dims.len() {
+            0 => quote!(v.push(c.#name);),
+            1 => quote!(v.extend_from_slice(&c.#name);),
+            _ => quote!(for row in &c.#name { v.extend_from_slice(row); }),
+        }
+    });
+    let config_doc = format!("A configuration (or velocity) of [`{ty}`], coordinate by coordinate; lengths are the sizes.");
+    let user = user_function(func, &config, false, &[], true);
+    let gen = lints::generated();
+    let step_field = &spec.sig.step;
+    quote! {
+        #user
+
+        // The function is the system's reference implementation: not dead code when unused.
+        const _: () = {
+            let _ = #fn_name;
+        };
+
+        #( #docs )*
+        #[doc = #note]
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        #vis struct #ty {
+            #( #[doc = #param_docs] pub #params: f64, )*
+            #( #[doc = #size_docs] pub #sizes: usize, )*
+        }
+
+        #[doc = #config_doc]
+        #[derive(Clone, Debug, PartialEq)]
+        #vis struct #config {
+            #(#fields,)*
+        }
+
+        #gen
+        #[allow(clippy::identity_op, clippy::erasing_op, unused_parens)]
+        impl #ty {
+            /// What the compiler generated.
+            pub const GENERATED: &'static str = #generated;
+            #offsets_fn
+            /// The number of coordinates for these sizes.
+            pub fn dim(&self) -> usize {
+                self.__offsets()[#n_coords] as usize
+            }
+            /// The configuration `q` (a flat vector of [`Self::dim`] components), coordinate by
+            /// coordinate.
+            ///
+            /// # Panics
+            /// If `q` has fewer than [`Self::dim`] components.
+            pub fn config(&self, q: &::dirac::nalgebra::DVector<f64>) -> #config {
+                let o = self.__offsets();
+                #config { #(#to_config,)* }
+            }
+            /// The flat vector of `c`, coordinate after coordinate (rows of a grid in order).
+            pub fn vector(&self, c: &#config) -> ::dirac::nalgebra::DVector<f64> {
+                let mut v: ::std::vec::Vec<f64> = ::std::vec::Vec::with_capacity(self.dim());
+                #(#to_vector)*
+                ::dirac::nalgebra::DVector::from_vec(v)
+            }
+        }
+
+        #family_items
+
+        impl #rt::ElementLagrangian for #ty {
+            const SIZES: &'static [&'static str] = &[#(#size_names),*];
+            const MIN_SIZE: usize = #min_size;
+            const CONTINUOUS: bool = #continuous;
+            fn sizes(&self) -> ::std::vec::Vec<usize> {
+                ::std::vec![#(self.#sizes),*]
+            }
+            fn dim(&self) -> usize {
+                #ty::dim(self)
+            }
+            fn time_step(&self) -> f64 {
+                self.#step_field
+            }
+            fn parameter_values(&self) -> ::std::vec::Vec<f64> {
+                ::std::vec![#(#param_values),*]
+            }
+            fn translations(&self) -> ::std::vec::Vec<::std::vec::Vec<::std::ops::Range<usize>>> {
+                let o = self.__offsets();
+                ::std::vec![#(#translations),*]
+            }
+            fn families<V: #rt::FamilyVisitor>(&self, visitor: &mut V) {
+                #(#visits)*
+            }
+        }
+    }
+}
+
+fn depth_word(depth: usize) -> &'static str {
+    match depth {
+        0 => "1 element",
+        1 => "n elements",
+        2 => "pairs/grid",
+        _ => "nested",
+    }
+}
