@@ -20,3 +20,227 @@ fn one_build_runs_at_several_sizes() {
         assert!((mu - mu0).abs() <= 1e-13 * mu0.abs().max(1.0), "n = {n}: {mu} vs {mu0}");
     }
 }
+
+/// The same lattice at n = 16 written with a literal size: unrolled, straight-line code.
+#[reduced_lagrangian(coordinates(x[16]), translate(x), rule = midpoint)]
+fn toda16(q: Config, v: Velocity, m: f64, d: f64) -> f64 {
+    let mut l = 0.0;
+    for i in 0..16 {
+        l += 0.5 * m * v.x[i] * v.x[i];
+    }
+    for i in 0..15 {
+        l -= (-(q.x[i + 1] - q.x[i] - d)).exp();
+    }
+    l - (-(q.x[0] + 16.0 * d - q.x[15] - d)).exp()
+}
+
+type V16 = SVector<f64, 16>;
+
+fn s16(v: &DVector<f64>) -> V16 {
+    V16::from_column_slice(v.as_slice())
+}
+
+#[test]
+fn element_wise_code_equals_the_unrolled_code_at_n_16() {
+    use dirac::runtime::adapted::AdaptedCoordinates;
+    let (m, d, h) = (1.3, 0.9, 0.05);
+    let el = TodaN { m, d, h, n: 16 };
+    let un = Toda16 { m, d, h };
+    let integ = ElementIntegrator::new(el, NewtonOptions::default());
+    let start = initial(&el, 0.2, 0.4, 0.1);
+    let q0 = start.q.clone();
+    let q1 = &q0 + DVector::from_fn(16, |i, _| 0.01 * (i as f64).cos());
+    // L_d: the sum of the element values against the unrolled body, in adapted coordinates.
+    let (a0, a1) = (Toda16::to_adapted(&s16(&q0)), Toda16::to_adapted(&s16(&q1)));
+    let (l_el, l_un) = (integ.discrete_lagrangian(&q0, &q1), un.lagrangian(&a0, &a1));
+    assert!((l_el - l_un).abs() <= 1e-14 * l_un.abs(), "{l_el} vs {l_un}");
+    // The residual and the step Jacobian: R_user = T⁻ᵀ R_adapted, J_user = T⁻ᵀ J_adapted T⁻¹.
+    let mut ws = integ.workspace();
+    let (mut r, mut j) = (DVector::zeros(16), Vec::new());
+    integ.residual_jacobian(&mut ws, &q0, &start.p, &q1, &mut r, &mut j);
+    let pa = Toda16::momentum_to_adapted(&s16(&start.p));
+    let (ra, ja) = un.unreduced_residual_jacobian(&a0, &pa, &a1);
+    let r_un = Toda16::momentum_from_adapted(&ra);
+    let t_inv = SMatrix::<f64, 16, 16>::from_fn(|i, k| Toda16::to_adapted(&V16::from_fn(|j, _| f64::from(j == k)))[i]);
+    let j_un = t_inv.transpose() * ja * t_inv;
+    let (col_ptr, row_idx) = ws.pattern();
+    let mut j_el = SMatrix::<f64, 16, 16>::zeros();
+    for c in 0..16 {
+        for p in col_ptr[c]..col_ptr[c + 1] {
+            j_el[(row_idx[p], c)] = j[p];
+        }
+    }
+    assert!((s16(&r) - r_un).amax() <= 1e-14 * r_un.amax().max(1.0), "R: {:e}", (s16(&r) - r_un).amax());
+    assert!((j_el - j_un).amax() <= 1e-13 * j_un.amax(), "J: {:e}", (j_el - j_un).amax());
+    // Trajectories: the element-wise step against the reduced (+) integrator of the unrolled code.
+    let reduced = ReducedIntegrator::plus(un, NewtonOptions::default());
+    let steps = 300;
+    let el_traj = integ.integrate(start.clone(), steps).unwrap();
+    let r0 = un.trivialize(&Toda16::adapted_state(&s16(&start.q), &s16(&start.p)));
+    let red_traj = reduced.integrate(r0, steps).unwrap();
+    let mut worst = 0.0f64;
+    for k in 1..=steps {
+        let s = &red_traj.states[k];
+        let canonical = Toda16::from_adapted_state(&un.untrivialize(s));
+        worst = worst
+            .max((canonical.q - s16(&el_traj.states[k].q)).amax())
+            .max((canonical.p - s16(&el_traj.states[k].p)).amax());
+    }
+    eprintln!("element-wise vs reduced (+), n = 16, {steps} steps: largest difference {worst:e}");
+    assert!(worst <= 1e-10, "largest difference over {steps} steps: {worst:e}");
+    // The momentum map: exactly μ_0, as the reduced integrator keeps it.
+    let mu0 = integ.momentum_map(&start)[0];
+    for s in &el_traj.states {
+        assert!((integ.momentum_map(s)[0] - mu0).abs() <= 4.0 * f64::EPSILON * 16.0 * mu0.abs().max(1.0));
+    }
+}
+
+#[path = "../examples/common/membrane.rs"]
+mod membrane;
+use membrane::Membrane;
+
+#[path = "../examples/common/cluster.rs"]
+mod cluster;
+use cluster::Cluster;
+
+/// `h L((q0 + q1)/2, (q1 − q0)/h)` from the user's own function (the reference), against the
+/// sum of the element values.
+#[test]
+fn pairs_and_grids_sum_to_the_users_function() {
+    let c = Cluster { m: 1.0, eps: 1.0, sigma: 1.0, h: 0.002, n: 27 };
+    let s = cluster::initial(&c, 1.15, 0.2);
+    let q1 = &s.q + &s.p * (c.h / c.m);
+    let integ = ElementIntegrator::new(c, NewtonOptions::default());
+    let mid = (&s.q + &q1) * 0.5;
+    let vel = (&q1 - &s.q) / c.h;
+    let reference = c.h * cluster::cluster(c.config(&mid), c.config(&vel), c.m, c.eps, c.sigma, c.n);
+    let summed = integ.discrete_lagrangian(&s.q, &q1);
+    assert!((summed - reference).abs() <= 1e-12 * reference.abs(), "{summed} vs {reference}");
+
+    let w = Membrane { rho: 1.0, c2: 1.0, beta: 0.5, delta: 0.1, h: 0.02, nx: 7, ny: 5 };
+    let s = membrane::initial(&w, 0.3, 0.15, 1.0, 0.05);
+    let q1 = &s.q + &s.p * 0.3;
+    let integ = ElementIntegrator::new(w, NewtonOptions::default());
+    let mid = (&s.q + &q1) * 0.5;
+    let vel = (&q1 - &s.q) / w.h;
+    let reference = w.h * membrane::membrane(w.config(&mid), w.config(&vel), w.rho, w.c2, w.beta, w.delta, w.nx, w.ny);
+    let summed = integ.discrete_lagrangian(&s.q, &q1);
+    assert!((summed - reference).abs() <= 1e-12 * reference.abs(), "{summed} vs {reference}");
+    assert_eq!(w.vector(&w.config(&s.q)), s.q, "config and vector are inverse");
+}
+
+/// The assembled Jacobian against central differences of the assembled residual (grid and
+/// pairs: stencils with wrap-around and with every pair).
+#[test]
+fn the_assembled_jacobian_is_the_derivative_of_the_residual() {
+    fn check<L: dirac::runtime::element::ElementLagrangian>(integ: &ElementIntegrator<L>, s: &ElementState, z: &DVector<f64>) {
+        let n = s.q.len();
+        let mut ws = integ.workspace();
+        let (mut r, mut j) = (DVector::zeros(n), Vec::new());
+        integ.residual_jacobian(&mut ws, &s.q, &s.p, z, &mut r, &mut j);
+        let (col_ptr, row_idx) = ws.pattern();
+        let (col_ptr, row_idx) = (col_ptr.to_vec(), row_idx.to_vec());
+        let mut worst = 0.0f64;
+        let mut scale = 0.0f64;
+        for c in 0..n {
+            let eps = 1e-6;
+            let (mut zp, mut zm) = (z.clone(), z.clone());
+            zp[c] += eps;
+            zm[c] -= eps;
+            let (mut rp, mut rm, mut jj) = (DVector::zeros(n), DVector::zeros(n), Vec::new());
+            integ.residual_jacobian(&mut ws, &s.q, &s.p, &zp, &mut rp, &mut jj);
+            integ.residual_jacobian(&mut ws, &s.q, &s.p, &zm, &mut rm, &mut jj);
+            let fd = (rp - rm) / (2.0 * eps);
+            let mut column = DVector::zeros(n);
+            for p in col_ptr[c]..col_ptr[c + 1] {
+                column[row_idx[p]] = j[p];
+            }
+            worst = worst.max((fd - &column).amax());
+            scale = scale.max(column.amax());
+        }
+        assert!(worst <= 1e-6 * scale, "{worst:e} against {scale:e}");
+    }
+    let w = Membrane { rho: 1.0, c2: 1.0, beta: 0.5, delta: 0.1, h: 0.02, nx: 6, ny: 4 };
+    let s = membrane::initial(&w, 0.3, 0.15, 1.0, 0.05);
+    let z = &s.q + &s.p * 0.3;
+    check(&ElementIntegrator::new(w, NewtonOptions::default()), &s, &z);
+    let c = Cluster { m: 1.0, eps: 1.0, sigma: 1.0, h: 0.002, n: 8 };
+    let s = cluster::initial(&c, 1.15, 0.2);
+    let z = &s.q + &s.p * c.h;
+    check(&ElementIntegrator::new(c, NewtonOptions::default()), &s, &z);
+}
+
+/// Parallel assembly is the serial one bit for bit, on 1 and 2 threads.
+#[test]
+fn parallel_assembly_is_the_serial_one_bit_for_bit() {
+    let w = Membrane { rho: 1.0, c2: 1.0, beta: 0.5, delta: 0.05, h: 0.01, nx: 40, ny: 36 };
+    let s = membrane::initial(&w, 0.3, 0.4, 1.0, 0.05);
+    let run = |parallel: Parallel, threads: usize| {
+        let integ = ElementIntegrator::new(w, NewtonOptions::default()).with_parallel(parallel);
+        let pool = dirac::runtime::ensemble::rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            assert_eq!(integ.workspace().is_parallel(), parallel == Parallel::Always);
+            integ.integrate(s.clone(), 8).unwrap()
+        })
+    };
+    let serial = run(Parallel::Never, 1);
+    for threads in [1, 2, 3] {
+        let parallel = run(Parallel::Always, threads);
+        for (a, b) in serial.states.iter().zip(&parallel.states) {
+            assert!(a.q.iter().zip(b.q.iter()).all(|(x, y)| x.to_bits() == y.to_bits()), "q differs on {threads} threads");
+            assert!(a.p.iter().zip(b.p.iter()).all(|(x, y)| x.to_bits() == y.to_bits()), "p differs on {threads} threads");
+        }
+    }
+}
+
+/// The shift of the membrane and the translations of the cluster: their momentum maps stay at
+/// their initial values to round-off, and the energy stays bounded.
+#[test]
+fn momentum_maps_are_exact_on_grids_and_pairs() {
+    let w = Membrane { rho: 1.0, c2: 1.0, beta: 0.5, delta: 0.1, h: 0.02, nx: 16, ny: 12 };
+    let integ = ElementIntegrator::new(w, NewtonOptions::default());
+    let s = membrane::initial(&w, 0.3, 0.3, 1.0, 0.05);
+    let mu0 = integ.momentum_map(&s);
+    let traj = integ.integrate(s, 300).unwrap();
+    let energies: Vec<f64> = traj.states.windows(2).map(|p| integ.energy(&p[0].q, &p[1].q).unwrap()).collect();
+    let (lo, hi) = energies.iter().fold((f64::MAX, f64::MIN), |(a, b), &e| (a.min(e), b.max(e)));
+    assert!((hi - lo) <= 1e-2 * hi.abs(), "energy spread {:e} of {hi}", hi - lo);
+    for st in &traj.states {
+        let mu = integ.momentum_map(st);
+        assert!((mu[0] - mu0[0]).abs() <= 1e-13, "{mu:?} vs {mu0:?}");
+    }
+    let c = Cluster { m: 1.0, eps: 1.0, sigma: 1.0, h: 0.002, n: 27 };
+    let integ = ElementIntegrator::new(c, NewtonOptions::default());
+    let s = cluster::initial(&c, 1.15, 0.2);
+    let mu0 = integ.momentum_map(&s);
+    assert_eq!(mu0.len(), 3);
+    let traj = integ.integrate(s, 200).unwrap();
+    for st in &traj.states {
+        let mu = integ.momentum_map(st);
+        for a in 0..3 {
+            assert!((mu[a] - mu0[a]).abs() <= 1e-13, "{mu:?} vs {mu0:?}");
+        }
+    }
+}
+
+/// Sizes below the stencils' smallest, and states of the wrong length, are typed errors before
+/// any step; the initial state is kept.
+#[test]
+fn sizes_and_states_that_do_not_fit_are_typed_errors() {
+    assert_eq!(<TodaN as dirac::runtime::element::ElementLagrangian>::MIN_SIZE, 1);
+    let sys = TodaN { m: 1.0, d: 1.0, h: 0.05, n: 10 };
+    let integ = ElementIntegrator::new(sys, NewtonOptions::default());
+    let short = ElementState::new(DVector::zeros(9), DVector::zeros(9));
+    let err = integ.integrate(short, 5).unwrap_err();
+    assert!(matches!(err.source, StepError::InvalidSize { .. }), "{err}");
+    assert_eq!(err.trajectory.states.len(), 1);
+    let empty = TodaN { n: 0, ..sys };
+    let err = ElementIntegrator::new(empty, NewtonOptions::default())
+        .integrate(ElementState::new(DVector::zeros(0), DVector::zeros(0)), 5)
+        .unwrap_err();
+    assert!(matches!(err.source, StepError::InvalidSize { .. }), "{err}");
+    assert!(err.source.to_string().contains("size `n` = 0"), "{err}");
+}
