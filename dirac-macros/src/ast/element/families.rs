@@ -22,7 +22,6 @@
 
 use std::collections::HashMap;
 
-use proc_macro2::Span;
 use quote::{format_ident, ToTokens};
 use syn::spanned::Spanned;
 use syn::visit_mut::VisitMut;
@@ -39,8 +38,8 @@ pub struct Loop {
     pub lo: Index,
     /// Exclusive.
     pub hi: Index,
-    /// The span of the range, for messages.
-    pub span: Span,
+    /// The range's tokens, for messages.
+    pub tokens: proc_macro2::TokenStream,
 }
 
 /// A coordinate read of an element: the coordinate and one index per dimension.
@@ -48,8 +47,8 @@ pub struct Loop {
 pub struct Slot {
     pub coord: usize,
     pub index: Vec<Index>,
-    /// The first read's span, for messages.
-    pub span: Span,
+    /// The first read's tokens, for messages.
+    pub tokens: proc_macro2::TokenStream,
     pub text: String,
 }
 
@@ -244,7 +243,7 @@ impl Splitter<'_> {
             var,
             lo,
             hi,
-            span: range.span(),
+            tokens: range.to_token_stream(),
         });
         let mut own: Vec<Stmt> = Vec::new();
         let mut visible = locals.to_vec();
@@ -362,14 +361,14 @@ impl Rewriter<'_> {
             .collect();
         let index: Vec<Index> = parsed.into_iter().collect::<Option<_>>()?;
         let key = format!("{c}:{}", index.iter().map(Index::key).collect::<Vec<_>>().join(","));
-        let text = e.to_token_stream().to_string();
+        let text = e.to_token_stream().to_string().replace(" [", "[").replace(" . ", ".");
         let n = self.slots.len();
         let k = *self.keys.entry(key).or_insert(n);
         if k == n {
             self.slots.push(Slot {
                 coord: c,
                 index,
-                span: e.span(),
+                tokens: e.to_token_stream(),
                 text,
             });
         }
@@ -386,6 +385,22 @@ fn example(coord: &ElementCoord, f: &syn::ExprField) -> String {
     }
 }
 
+impl Rewriter<'_> {
+    /// The element parameter standing for `e` when `e` names a loop index or a size.
+    fn integer_param(&self, e: &Expr) -> Option<Ident> {
+        let e = match e {
+            Expr::Paren(p) => &*p.expr,
+            other => other,
+        };
+        let Expr::Path(p) = e else { return None };
+        let id = p.path.get_ident()?;
+        if let Some(k) = self.loops.iter().rposition(|l| l.var == *id) {
+            return Some(loop_param(k));
+        }
+        self.sizes.iter().position(|s| s == id).map(size_param)
+    }
+}
+
 impl VisitMut for Rewriter<'_> {
     fn visit_expr_mut(&mut self, e: &mut Expr) {
         if self.coordinate_read(e).is_some() {
@@ -397,19 +412,22 @@ impl VisitMut for Rewriter<'_> {
             }
             return;
         }
-        if let Expr::Path(p) = e {
-            if let Some(id) = p.path.get_ident() {
-                if let Some(k) = self.loops.iter().rposition(|l| l.var == *id) {
-                    let name = loop_param(k);
-                    *e = syn::parse_quote!(#name);
-                    return;
-                }
-                if let Some(k) = self.sizes.iter().position(|s| s == id) {
-                    let name = size_param(k);
-                    *e = syn::parse_quote!(#name);
-                    return;
-                }
+        // A size or loop index read as a value: `n as f64` becomes a parameter of the element.
+        if let Expr::Cast(c) = e {
+            let is_f64 = matches!(&*c.ty, syn::Type::Path(p) if p.path.is_ident("f64"));
+            if let (true, Some(param)) = (is_f64, self.integer_param(&c.expr)) {
+                *e = syn::parse_quote!(#param);
+                return;
             }
+        }
+        if let Some(param) = self.integer_param(e) {
+            let name = e.to_token_stream().to_string();
+            self.cx.error_spanned_by(
+                &*e,
+                format!("`{name}` is an integer (a size or a loop index): read its value as an f64 with `{name} as f64`"),
+            );
+            *e = syn::parse_quote!(#param);
+            return;
         }
         syn::visit_mut::visit_expr_mut(self, e);
     }
@@ -419,7 +437,7 @@ impl VisitMut for Rewriter<'_> {
 /// its coordinate at every sampled size: each size from it to it + [`SAMPLE_SPAN`], plus
 /// [`LARGE_SAMPLE`]. `None` (with an error at the offending read) when there is none.
 pub fn min_size(cx: &Ctxt, families: &[FamilySpec], coords: &[ElementCoord], n_sizes: usize) -> Option<usize> {
-    let mut first_failure: Option<(Span, String)> = None;
+    let mut first_failure: Option<(proc_macro2::TokenStream, String)> = None;
     'candidate: for m in 1..=MAX_MIN_SIZE {
         let samples: Vec<i64> = (m..=m + SAMPLE_SPAN).map(|v| v as i64).chain([LARGE_SAMPLE]).collect();
         for sizes in combinations(&samples, n_sizes) {
@@ -434,8 +452,8 @@ pub fn min_size(cx: &Ctxt, families: &[FamilySpec], coords: &[ElementCoord], n_s
         }
         return Some(m);
     }
-    if let Some((span, message)) = first_failure {
-        cx.error_at(span, message);
+    if let Some((tokens, message)) = first_failure {
+        cx.error_spanned_by(tokens, message);
     }
     None
 }
@@ -465,7 +483,7 @@ fn combinations(samples: &[i64], k: usize) -> Vec<Vec<i64>> {
 }
 
 /// Every element of `f` at `sizes`: its reads inside their coordinates.
-fn check_family(f: &FamilySpec, coords: &[ElementCoord], sizes: &[i64]) -> Result<(), (Span, String)> {
+fn check_family(f: &FamilySpec, coords: &[ElementCoord], sizes: &[i64]) -> Result<(), (proc_macro2::TokenStream, String)> {
     let size_text = |sizes: &[i64]| -> String {
         sizes.iter().map(|s| s.to_string()).collect::<Vec<_>>().join(", ")
     };
@@ -476,8 +494,8 @@ fn check_family(f: &FamilySpec, coords: &[ElementCoord], sizes: &[i64]) -> Resul
         sizes: &[i64],
         level: usize,
         indices: &mut Vec<i64>,
-        report: &dyn Fn(&[i64], &Slot, String) -> (Span, String),
-    ) -> Result<(), (Span, String)> {
+        report: &dyn Fn(&[i64], &Slot, String) -> (proc_macro2::TokenStream, String),
+    ) -> Result<(), (proc_macro2::TokenStream, String)> {
         if level == f.loops.len() {
             for slot in &f.slots {
                 let coord = &coords[slot.coord];
@@ -507,7 +525,7 @@ fn check_family(f: &FamilySpec, coords: &[ElementCoord], sizes: &[i64]) -> Resul
             (Ok(lo), Ok(hi)) => (lo, hi),
             _ => {
                 return Err((
-                    l.span,
+                    l.tokens.clone(),
                     "this loop's bounds subtract below zero (a `usize` underflow) for small sizes".to_string(),
                 ))
             }
@@ -518,7 +536,7 @@ fn check_family(f: &FamilySpec, coords: &[ElementCoord], sizes: &[i64]) -> Resul
         }
         Ok(())
     }
-    let report = |indices: &[i64], slot: &Slot, what: String| -> (Span, String) {
+    let report = |indices: &[i64], slot: &Slot, what: String| -> (proc_macro2::TokenStream, String) {
         let at: Vec<String> = f
             .loops
             .iter()
@@ -526,7 +544,7 @@ fn check_family(f: &FamilySpec, coords: &[ElementCoord], sizes: &[i64]) -> Resul
             .map(|(l, v)| format!("{} = {v}", l.var))
             .collect();
         (
-            slot.span,
+            slot.tokens.clone(),
             format!(
                 "the stencil escapes its coordinate: `{}` {what} at sizes ({}){}; every read must stay inside the coordinate for all sizes from some smallest size (at most {MAX_MIN_SIZE}) on",
                 slot.text,

@@ -22,7 +22,6 @@ use proc_macro2::Span;
 use quote::ToTokens;
 use syn::parse::{Parse, ParseStream};
 use syn::punctuated::Punctuated;
-use syn::spanned::Spanned;
 use syn::{Expr, Ident, ItemFn, Token};
 
 use crate::ast::rule::{Rule, RULES};
@@ -296,10 +295,4 @@ fn coordinate(cx: &Ctxt, e: &Expr, sizes: &[Ident]) -> Option<ElementCoord> {
             }
         }
     }
-}
-
-/// The span of the attribute item `e`, for messages.
-#[allow(dead_code)]
-fn span_of(e: &Expr) -> Span {
-    e.span()
 }
