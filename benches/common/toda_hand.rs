@@ -271,8 +271,9 @@ impl TodaHand {
     }
 
     /// Solves `J Δz = −R` (bordered tridiagonal, see the module docs) and applies `z += Δz`
-    /// (to the stored increment `δ` and to `γ`).
-    fn correct(&mut self) {
+    /// (to the stored increment `δ` and to `γ`); returns `‖Δz‖∞ / (1 + ‖z‖∞)`, the relative size
+    /// of the correction.
+    fn correct(&mut self) -> f64 {
         let (n, m, h) = (self.p.n, self.p.m, self.p.h);
         let ns = n - 1;
         let mh = m / h;
@@ -300,15 +301,21 @@ impl TodaHand {
         // border: (m/h) 1ᵀ Δb + (n m/h) Δγ = −R_γ with Δb = y + Δγ u
         let schur = n as f64 * mh + mh * su;
         let dgamma = (-self.res[ns] - mh * sy) / schur;
+        let (mut dz, mut z) = (dgamma.abs(), 0.0f64);
         for s in 0..ns {
-            self.z[s] += self.y[s] + dgamma * self.u[s];
+            let d = self.y[s] + dgamma * self.u[s];
+            self.z[s] += d;
+            dz = dz.max(d.abs());
+            z = z.max(self.z[s].abs());
         }
         self.z[ns] += dgamma;
+        dz / (1.0 + z.max(self.z[ns].abs()))
     }
 
     /// One step of eq. (4.6) from `state`, replaced by the next state. Newton starts from the
     /// quadratic extrapolation of the last two increments (`z = (r_k, 0)` on the first step, linear
-    /// on the second), stops when `‖R‖∞ ≤ 10⁻¹² + 10⁻¹² · max(‖w_k‖∞, |μ_k|)`, at most
+    /// on the second), stops when `‖R‖∞ ≤ 10⁻¹² + 10⁻¹² · max(‖w_k‖∞, |μ_k|)` or when a correction
+    /// is below `10⁻¹² (1 + ‖z‖∞)` (the acceptance rules of dirac's Newton driver), at most
     /// [`MAX_ITERATIONS`] corrections. Returns the corrections taken.
     pub fn step(&mut self, state: &mut TodaState) -> Result<usize, NewtonFailure> {
         for s in 0..self.p.n {
@@ -356,8 +363,14 @@ impl TodaHand {
                     iterations,
                 });
             }
-            self.correct();
+            let step = self.correct();
             iterations += 1;
+            // A correction at round-off level ends the iteration, as in dirac's Newton driver
+            // (at large n the residual's own rounding can exceed the tolerance).
+            if step <= REL_TOL {
+                self.eval(&state.r, &state.w, state.mu);
+                break;
+            }
         }
         // `self.e` is at the solution (the last `eval`).
         let (m, h) = (self.p.m, self.p.h);

@@ -146,15 +146,23 @@ pub fn generate(
         };
         let steps = leaf(quote!(q0), quote!(q1));
         let kernel = |outputs: &[NodeId]| straight_line(&code.graph, outputs, &steps);
-        let d1 = kernel(&code.d1);
-        let (d1_stmts, d1_out) = (&d1.stmts, &d1.outputs);
-        let d12_nodes: Vec<NodeId> = code.d1.iter().copied().chain(code.d12.iter().flatten().copied()).collect();
-        let both = kernel(&d12_nodes);
-        let both_stmts = &both.stmts;
-        let (d1_part, d12_part) = both.outputs.split_at(s);
-        let d12_rows: Vec<TokenStream> = d12_part.chunks(s.max(1)).map(|row| quote!([#(#row),*])).collect();
-        let d2 = kernel(&code.d2);
-        let (d2_stmts, d2_out) = (&d2.stmts, &d2.outputs);
+        let d1_d2: Vec<NodeId> = code.d1.iter().chain(&code.d2).copied().collect();
+        let pair = kernel(&d1_d2);
+        let pair_stmts = &pair.stmts;
+        let (pair_d1, pair_d2) = pair.outputs.split_at(s);
+        let all: Vec<NodeId> = d1_d2
+            .iter()
+            .copied()
+            .chain(code.d12.iter().flatten().copied())
+            .collect();
+        let all = kernel(&all);
+        let all_stmts = &all.stmts;
+        let (all_d1, rest) = all.outputs.split_at(s);
+        let (all_d2, all_d12) = rest.split_at(s);
+        let d12_rows: Vec<TokenStream> = all_d12
+            .chunks(s.max(1))
+            .map(|row| quote!([#(#row),*]))
+            .collect();
         let value = kernel(&[code.value]);
         let (value_stmts, value_out) = (&value.stmts, &value.outputs[0]);
         let energy = match code.energy {
@@ -166,7 +174,7 @@ pub fn generate(
             }
             None => quote!(f64::NAN),
         };
-        described.push(format!("{}×{s} ({} operations for R+J)", depth_word(depth), both.operations));
+        described.push(format!("{}×{s} ({} operations for R + J + p)", depth_word(depth), all.operations));
         let gen = lints::generated();
         family_items.extend(quote! {
             #[doc(hidden)]
@@ -184,22 +192,16 @@ pub fn generate(
                     #body
                 }
                 #[inline]
-                fn d1(&self, indices: &[i64], q0: &[f64; #s], q1: &[f64; #s]) -> [f64; #s] {
+                fn d1_d2(&self, indices: &[i64], q0: &[f64; #s], q1: &[f64; #s]) -> ([f64; #s], [f64; #s]) {
                     let sys = self.0;
-                    #d1_stmts
-                    [#(#d1_out),*]
+                    #pair_stmts
+                    ([#(#pair_d1),*], [#(#pair_d2),*])
                 }
                 #[inline]
-                fn d1_d12(&self, indices: &[i64], q0: &[f64; #s], q1: &[f64; #s]) -> ([f64; #s], [[f64; #s]; #s]) {
+                fn d1_d2_d12(&self, indices: &[i64], q0: &[f64; #s], q1: &[f64; #s]) -> ([f64; #s], [f64; #s], [[f64; #s]; #s]) {
                     let sys = self.0;
-                    #both_stmts
-                    ([#(#d1_part),*], [#(#d12_rows),*])
-                }
-                #[inline]
-                fn d2(&self, indices: &[i64], q0: &[f64; #s], q1: &[f64; #s]) -> [f64; #s] {
-                    let sys = self.0;
-                    #d2_stmts
-                    [#(#d2_out),*]
+                    #all_stmts
+                    ([#(#all_d1),*], [#(#all_d2),*], [#(#d12_rows),*])
                 }
                 fn value(&self, indices: &[i64], q0: &[f64; #s], q1: &[f64; #s]) -> f64 {
                     let sys = self.0;

@@ -1,6 +1,13 @@
 //! Assembly of an element-wise system: the stencils and the Jacobian's pattern, built once per
-//! run, and the passes over the elements that scatter their residuals and Jacobian blocks —
-//! serial, or in parallel with the same sums in the same order (see [`super`]).
+//! run, and the passes over the elements that scatter their residuals, next momenta and Jacobian
+//! blocks — serial, or in parallel with the same sums in the same order (see [`super`]).
+//!
+//! The parallel pass is owner-computes: the rows are cut into contiguous blocks, and a block
+//! evaluates every element whose stencil touches one of its rows (an element on a boundary is
+//! evaluated by each block it touches) and adds only into its own rows. So no two threads write
+//! the same entry, and every row receives its contributions in the serial order — family by
+//! family, element by element — from the same starting value: the result is the serial one, bit
+//! for bit, for any number of threads and blocks.
 
 use std::cell::RefCell;
 use std::ops::Range;
@@ -25,66 +32,35 @@ struct FamilyData {
     stencils: Vec<usize>,
     /// For every element, the positions of its `width²` block entries in the Jacobian's values.
     positions: Vec<usize>,
-    /// Where this family's slots start in the per-element buffers of a parallel pass.
-    slot_offset: usize,
-    /// Where this family's block entries start in the per-element buffers of a parallel pass.
-    block_offset: usize,
 }
 
-/// For each target (a residual row, a Jacobian value) the offsets of its contributions in the
-/// per-element buffers, in increasing order: compressed rows.
-struct Gather {
-    ptr: Vec<usize>,
-    offsets: Vec<usize>,
+/// The row blocks of the parallel passes: block `b` owns rows `ranges[b]` and evaluates the
+/// elements `lists[b][f]` of family `f` (those touching its rows, in increasing order).
+struct Blocks {
+    ranges: Vec<Range<usize>>,
+    lists: Vec<Vec<Vec<u32>>>,
 }
 
-impl Gather {
-    /// From `(target, offset)` pairs: grouped by target, offsets increasing.
-    fn new(targets: usize, mut pairs: Vec<(usize, usize)>) -> Self {
-        pairs.sort_unstable();
-        let mut ptr = vec![0; targets + 1];
-        for &(t, _) in &pairs {
-            ptr[t + 1] += 1;
-        }
-        for t in 0..targets {
-            ptr[t + 1] += ptr[t];
-        }
-        Self {
-            ptr,
-            offsets: pairs.into_iter().map(|(_, o)| o).collect(),
-        }
-    }
+/// A pointer to a buffer that the blocks of a parallel pass write at disjoint rows.
+#[derive(Clone, Copy)]
+struct Shared(*mut f64);
 
-    /// `out[t] = start(t) + Σ buffer[offsets of t]`, in offset order, in parallel over `t`.
-    fn sum_into(&self, out: &mut [f64], buffer: &[f64], start: impl Fn(usize) -> f64 + Sync) {
-        out.par_iter_mut()
-            .with_min_len(4096)
-            .enumerate()
-            .for_each(|(t, o)| {
-                let mut v = start(t);
-                for &off in &self.offsets[self.ptr[t]..self.ptr[t + 1]] {
-                    v += buffer[off];
-                }
-                *o = v;
-            });
-    }
-}
-
-/// The parallel passes' memory: every element's slots and block entries, and how to gather
-/// them into rows and Jacobian values.
-struct ParallelPasses {
-    rows: Gather,
-    values: Gather,
-    slots: RefCell<Vec<f64>>,
-    blocks: RefCell<Vec<f64>>,
-}
+// SAFETY: a `Shared` is only written through by the blocks of one pass, each at the rows (and
+// the Jacobian entries of the rows) it owns; the owned sets are disjoint.
+unsafe impl Send for Shared {}
+unsafe impl Sync for Shared {}
 
 /// The elements, the pattern and the passes over them.
 pub(super) struct Assembler {
     families: Vec<FamilyData>,
     nnz: usize,
-    parallel: Option<ParallelPasses>,
+    /// The row of every Jacobian entry.
+    #[allow(dead_code)]
+    rows_of_values: Vec<usize>,
+    parallel: Option<Blocks>,
     orbits: Vec<Vec<Range<usize>>>,
+    /// `D_2 L_d(q0, z)` at the last `z` a pass evaluated: the next momentum once Newton stops.
+    p1: RefCell<DVector<f64>>,
 }
 
 /// The workspace of an [`super::ElementIntegrator`] run: the elements' stencils, the Jacobian's
@@ -131,8 +107,6 @@ impl FamilyVisitor for Collector {
             indices: Vec::new(),
             stencils: Vec::new(),
             positions: Vec::new(),
-            slot_offset: 0,
-            block_offset: 0,
         };
         let invalid = &mut self.invalid;
         family.elements(&mut |indices, stencil| {
@@ -212,7 +186,7 @@ impl ElementWorkspace {
                     .binary_search(&row)
                     .expect("every block entry is in the pattern")
         };
-        let (mut slots, mut blocks) = (0, 0);
+        let mut entries_total = 0;
         for f in &mut families {
             f.positions = Vec::with_capacity(f.count * f.width * f.width);
             for st in f.stencils.chunks_exact(f.width.max(1)) {
@@ -222,38 +196,41 @@ impl ElementWorkspace {
                     }
                 }
             }
-            f.slot_offset = slots;
-            f.block_offset = blocks;
-            slots += f.count * f.width;
-            blocks += f.count * f.width * f.width;
+            entries_total += f.count * f.width * f.width;
         }
         let nnz = row_idx.len();
         let threads = rayon::current_num_threads();
         let parallel = match parallel {
             Parallel::Never => false,
             Parallel::Always => true,
-            Parallel::Auto => blocks >= PARALLEL_MIN_ENTRIES && threads > 1,
+            Parallel::Auto => entries_total >= PARALLEL_MIN_ENTRIES && threads > 1,
         };
         let parallel = parallel.then(|| {
-            let mut rows = Vec::with_capacity(slots);
-            let mut values = Vec::with_capacity(blocks);
-            for f in &families {
+            // Four blocks per thread, for balance; at least one row each.
+            let count = (4 * threads).clamp(1, n.max(1));
+            let size = n.div_ceil(count).max(1);
+            let ranges: Vec<Range<usize>> = (0..n.div_ceil(size))
+                .map(|b| b * size..((b + 1) * size).min(n))
+                .collect();
+            let mut lists = vec![vec![Vec::new(); families.len()]; ranges.len()];
+            for (fi, f) in families.iter().enumerate() {
                 for (e, st) in f.stencils.chunks_exact(f.width.max(1)).enumerate() {
-                    for (a, &row) in st.iter().enumerate() {
-                        rows.push((row, f.slot_offset + e * f.width + a));
+                    let mut touched: Vec<usize> = st.iter().map(|&row| row / size).collect();
+                    touched.sort_unstable();
+                    touched.dedup();
+                    for b in touched {
+                        lists[b][fi].push(e as u32);
                     }
                 }
-                for (b, &p) in f.positions.iter().enumerate() {
-                    values.push((p, f.block_offset + b));
-                }
             }
-            ParallelPasses {
-                rows: Gather::new(n, rows),
-                values: Gather::new(nnz, values),
-                slots: RefCell::new(vec![0.0; slots]),
-                blocks: RefCell::new(vec![0.0; blocks]),
-            }
+            Blocks { ranges, lists }
         });
+        let mut rows_of_values = vec![0; nnz];
+        for c in 0..n {
+            for p in col_ptr[c]..col_ptr[c + 1] {
+                rows_of_values[p] = row_idx[p];
+            }
+        }
         Self {
             n,
             invalid,
@@ -263,8 +240,10 @@ impl ElementWorkspace {
             assembler: Assembler {
                 families,
                 nnz,
+                rows_of_values,
                 parallel,
                 orbits: system.translations(),
+                p1: RefCell::new(DVector::zeros(n)),
             },
             last: DVector::zeros(n),
             before: DVector::zeros(n),
@@ -355,34 +334,18 @@ impl ElementWorkspace {
     }
 }
 
-/// What a pass over the elements computes.
-enum Pass<'a> {
-    /// `r += Σ D_1 L_d^e` (serial), and `jacobian += Σ D_1 D_2 L_d^e` when given.
-    Residual {
-        q0: &'a [f64],
-        z: &'a [f64],
-        r: &'a mut [f64],
-        jacobian: Option<&'a mut [f64]>,
-    },
-    /// `p += Σ D_2 L_d^e` (serial).
-    Momentum {
-        q0: &'a [f64],
-        z: &'a [f64],
-        p: &'a mut [f64],
-    },
-    /// Every element's `D_1 L_d^e` (or `D_2 L_d^e`) into `slots` and, when given,
-    /// `D_1 D_2 L_d^e` into `blocks` (parallel).
-    Elements {
-        q0: &'a [f64],
-        z: &'a [f64],
-        second: bool,
-        slots: &'a mut [f64],
-        blocks: Option<&'a mut [f64]>,
-    },
+/// The buffers of a pass over the elements: `r += Σ D_1 L_d^e`, `p += Σ D_2 L_d^e` and, when
+/// given, `jacobian += Σ D_1 D_2 L_d^e` (each starting from what the caller put there).
+struct Pass<'a> {
+    q0: &'a [f64],
+    z: &'a [f64],
+    r: &'a mut [f64],
+    p: &'a mut [f64],
+    jacobian: Option<&'a mut [f64]>,
 }
 
 struct Visit<'a, 'p> {
-    families: &'a [FamilyData],
+    assembler: &'a Assembler,
     next: usize,
     pass: Pass<'p>,
 }
@@ -393,100 +356,141 @@ fn gather<const S: usize>(v: &[f64], st: &[usize]) -> [f64; S] {
     std::array::from_fn(|a| v[st[a]])
 }
 
+/// [`gather`] without bounds checks, for the serial pass's inner loop.
+///
+/// # Safety
+/// Every `st[a] < v.len()`: the stencils are checked against the dimension when the workspace
+/// is built (a workspace with an invalid stencil never assembles) and the vectors' lengths at
+/// the entry of [`Assembler::residual_jacobian`].
+#[inline(always)]
+unsafe fn gather_unchecked<const S: usize>(v: &[f64], st: &[usize; S]) -> [f64; S] {
+    // SAFETY: see the function's contract.
+    std::array::from_fn(|a| unsafe { *v.get_unchecked(st[a]) })
+}
+
 impl FamilyVisitor for Visit<'_, '_> {
     fn family<const S: usize, F: Family<S>>(&mut self, family: &F) {
-        let data = &self.families[self.next];
+        let index = self.next;
         self.next += 1;
-        let (depth, count) = (data.depth, data.count);
+        let data = &self.assembler.families[index];
+        let depth = data.depth;
         let indices = |e: usize| &data.indices[e * depth..(e + 1) * depth];
-        let stencil = |e: usize| &data.stencils[e * S..(e + 1) * S];
-        match &mut self.pass {
-            Pass::Residual {
-                q0,
-                z,
-                r,
-                jacobian: None,
-            } => {
-                for e in 0..count {
-                    let st = stencil(e);
-                    let d1 = family.d1(indices(e), &gather(q0, st), &gather(z, st));
-                    for a in 0..S {
-                        r[st[a]] += d1[a];
-                    }
+        let Pass {
+            q0,
+            z,
+            r,
+            p,
+            jacobian,
+        } = &mut self.pass;
+        let (q0, z) = (*q0, *z);
+        match self.assembler.parallel {
+            None => {
+                if S == 0 {
+                    return;
                 }
-            }
-            Pass::Residual {
-                q0,
-                z,
-                r,
-                jacobian: Some(j),
-            } => {
-                for e in 0..count {
-                    let st = stencil(e);
-                    let (d1, d12) = family.d1_d12(indices(e), &gather(q0, st), &gather(z, st));
-                    for a in 0..S {
-                        r[st[a]] += d1[a];
+                let stencils = data.stencils.chunks_exact(S);
+                // SAFETY (every unchecked access below): the stencil entries are below the
+                // dimension `n` (checked when the workspace was built), and `q0`, `z`, `r`, `p`
+                // have length `n` (checked at the entry of the pass); a Jacobian position is an
+                // index into the values of the pattern, of length `nnz`, built with it.
+                match jacobian {
+                    None => {
+                        for (e, st) in stencils.enumerate() {
+                            let st: &[usize; S] = st.try_into().expect("chunks of S");
+                            let (a0, a1) = unsafe { (gather_unchecked(q0, st), gather_unchecked(z, st)) };
+                            let (d1, d2) = family.d1_d2(indices(e), &a0, &a1);
+                            for a in 0..S {
+                                unsafe {
+                                    *r.get_unchecked_mut(st[a]) += d1[a];
+                                    *p.get_unchecked_mut(st[a]) += d2[a];
+                                }
+                            }
+                        }
                     }
-                    let pos = &data.positions[e * S * S..(e + 1) * S * S];
-                    for a in 0..S {
-                        for b in 0..S {
-                            j[pos[a * S + b]] += d12[a][b];
+                    Some(j) => {
+                        let positions = data.positions.chunks_exact(S * S);
+                        for (e, (st, pos)) in stencils.zip(positions).enumerate() {
+                            let st: &[usize; S] = st.try_into().expect("chunks of S");
+                            let (a0, a1) = unsafe { (gather_unchecked(q0, st), gather_unchecked(z, st)) };
+                            let (d1, d2, d12) = family.d1_d2_d12(indices(e), &a0, &a1);
+                            for a in 0..S {
+                                unsafe {
+                                    *r.get_unchecked_mut(st[a]) += d1[a];
+                                    *p.get_unchecked_mut(st[a]) += d2[a];
+                                }
+                            }
+                            for a in 0..S {
+                                for b in 0..S {
+                                    unsafe {
+                                        *j.get_unchecked_mut(pos[a * S + b]) += d12[a][b];
+                                    }
+                                }
+                            }
                         }
                     }
                 }
             }
-            Pass::Momentum { q0, z, p } => {
-                for e in 0..count {
-                    let st = stencil(e);
-                    let d2 = family.d2(indices(e), &gather(q0, st), &gather(z, st));
+            Some(_) => unreachable!("parallel passes visit the families block by block"),
+        }
+    }
+}
+
+/// The parallel pass of one block: every family's elements that touch the block's rows, in
+/// order, added into the block's rows only.
+struct BlockVisit<'a> {
+    families: &'a [FamilyData],
+    blocks: &'a Blocks,
+    block: usize,
+    next: usize,
+    q0: &'a [f64],
+    z: &'a [f64],
+    r: Shared,
+    p: Shared,
+    jacobian: Option<Shared>,
+}
+
+impl FamilyVisitor for BlockVisit<'_> {
+    fn family<const S: usize, F: Family<S>>(&mut self, family: &F) {
+        let index = self.next;
+        self.next += 1;
+        let data = &self.families[index];
+        let blocks = self.blocks;
+        let owned = &blocks.ranges[self.block];
+        let depth = data.depth;
+        let (q0, z, r, p) = (self.q0, self.z, self.r, self.p);
+        for &e in &blocks.lists[self.block][index] {
+            let e = e as usize;
+            let st = &data.stencils[e * S..(e + 1) * S];
+            let indices = &data.indices[e * depth..(e + 1) * depth];
+            match self.jacobian {
+                None => {
+                    let (d1, d2) = family.d1_d2(indices, &gather(q0, st), &gather(z, st));
                     for a in 0..S {
-                        p[st[a]] += d2[a];
+                        if owned.contains(&st[a]) {
+                            // SAFETY: row st[a] is owned by this block alone.
+                            unsafe {
+                                *r.0.add(st[a]) += d1[a];
+                                *p.0.add(st[a]) += d2[a];
+                            }
+                        }
                     }
                 }
-            }
-            Pass::Elements {
-                q0,
-                z,
-                second,
-                slots,
-                blocks,
-            } => {
-                let (q0, z, second) = (*q0, *z, *second);
-                let slots = &mut slots[data.slot_offset..data.slot_offset + count * S];
-                match blocks {
-                    Some(blocks) => {
-                        let blocks =
-                            &mut blocks[data.block_offset..data.block_offset + count * S * S];
-                        slots
-                            .par_chunks_mut(S.max(1))
-                            .zip(blocks.par_chunks_mut((S * S).max(1)))
-                            .with_min_len(256)
-                            .enumerate()
-                            .for_each(|(e, (d1_out, d12_out))| {
-                                let st = stencil(e);
-                                let (d1, d12) =
-                                    family.d1_d12(indices(e), &gather(q0, st), &gather(z, st));
-                                d1_out.copy_from_slice(&d1);
-                                for a in 0..S {
-                                    d12_out[a * S..(a + 1) * S].copy_from_slice(&d12[a]);
-                                }
-                            });
-                    }
-                    None => {
-                        slots
-                            .par_chunks_mut(S.max(1))
-                            .with_min_len(256)
-                            .enumerate()
-                            .for_each(|(e, out)| {
-                                let st = stencil(e);
-                                let (a, b) = (gather(q0, st), gather(z, st));
-                                let d = if second {
-                                    family.d2(indices(e), &a, &b)
-                                } else {
-                                    family.d1(indices(e), &a, &b)
-                                };
-                                out.copy_from_slice(&d);
-                            });
+                Some(j) => {
+                    let (d1, d2, d12) = family.d1_d2_d12(indices, &gather(q0, st), &gather(z, st));
+                    let pos = &data.positions[e * S * S..(e + 1) * S * S];
+                    for a in 0..S {
+                        if !owned.contains(&st[a]) {
+                            continue;
+                        }
+                        // SAFETY: row st[a], and every Jacobian entry of that row, is owned by
+                        // this block alone.
+                        unsafe {
+                            *r.0.add(st[a]) += d1[a];
+                            *p.0.add(st[a]) += d2[a];
+                            for b in 0..S {
+                                *j.0.add(pos[a * S + b]) += d12[a][b];
+                            }
+                        }
                     }
                 }
             }
@@ -503,16 +507,8 @@ impl Assembler {
         &self.orbits
     }
 
-    fn visit<L: ElementLagrangian>(&self, system: &L, pass: Pass<'_>) {
-        let mut visit = Visit {
-            families: &self.families,
-            next: 0,
-            pass,
-        };
-        system.families(&mut visit);
-    }
-
-    /// `r = p0 + D_1 L_d(q0, z)` and, when `jacobian` is given, its values
+    /// `r = p0 + D_1 L_d(q0, z)`, the next momentum `D_2 L_d(q0, z)` into the assembler's
+    /// buffer ([`Self::take_momentum`]) and, when `jacobian` is given, its values
     /// `Σ_e D_1 D_2 L_d^e` in the pattern's order.
     pub(super) fn residual_jacobian<L: ElementLagrangian>(
         &self,
@@ -523,73 +519,67 @@ impl Assembler {
         r: &mut [f64],
         jacobian: Option<&mut [f64]>,
     ) {
-        match &self.parallel {
-            None => {
-                r.copy_from_slice(p0);
-                let jacobian = jacobian.map(|j| {
-                    j.fill(0.0);
-                    j
-                });
-                self.visit(
-                    system,
-                    Pass::Residual {
-                        q0,
-                        z,
-                        r,
-                        jacobian,
-                    },
-                );
-            }
-            Some(passes) => {
-                let mut slots = passes.slots.borrow_mut();
-                let mut blocks = passes.blocks.borrow_mut();
-                let with_jacobian = jacobian.is_some();
-                self.visit(
-                    system,
-                    Pass::Elements {
-                        q0,
-                        z,
-                        second: false,
-                        slots: &mut slots,
-                        blocks: with_jacobian.then_some(&mut blocks[..]),
-                    },
-                );
-                passes.rows.sum_into(r, &slots, |t| p0[t]);
-                if let Some(j) = jacobian {
-                    passes.values.sum_into(j, &blocks, |_| 0.0);
-                }
-            }
-        }
+        let n = self.p1.borrow().len();
+        assert!(
+            q0.len() == n && p0.len() == n && z.len() == n && r.len() == n,
+            "dirac: an element pass on vectors of the wrong length (the integrator checks them)"
+        );
+        assert!(jacobian.as_ref().is_none_or(|j| j.len() == self.nnz));
+        let mut p1 = self.p1.borrow_mut();
+        let Some(blocks) = &self.parallel else {
+            r.copy_from_slice(p0);
+            p1.fill(0.0);
+            let jacobian = jacobian.map(|j| {
+                j.fill(0.0);
+                j
+            });
+            let mut visit = Visit {
+                assembler: self,
+                next: 0,
+                pass: Pass {
+                    q0,
+                    z,
+                    r,
+                    p: p1.as_mut_slice(),
+                    jacobian,
+                },
+            };
+            system.families(&mut visit);
+            return;
+        };
+        // The starting values, in parallel (each entry written once: order-free).
+        const CHUNK: usize = 1 << 13;
+        r.par_chunks_mut(CHUNK)
+            .zip(p0.par_chunks(CHUNK))
+            .for_each(|(r, p0)| r.copy_from_slice(p0));
+        p1.as_mut_slice()
+            .par_chunks_mut(CHUNK)
+            .for_each(|c| c.fill(0.0));
+        let jacobian = jacobian.map(|j| {
+            j.par_chunks_mut(CHUNK).for_each(|c| c.fill(0.0));
+            Shared(j.as_mut_ptr())
+        });
+        let (r, p) = (Shared(r.as_mut_ptr()), Shared(p1.as_mut_slice().as_mut_ptr()));
+        let families = &self.families[..];
+        (0..blocks.ranges.len()).into_par_iter().for_each(|block| {
+            let mut visit = BlockVisit {
+                families,
+                blocks,
+                block,
+                next: 0,
+                q0,
+                z,
+                r,
+                p,
+                jacobian,
+            };
+            system.families(&mut visit);
+        });
     }
 
-    /// `p = D_2 L_d(q0, z)`.
-    pub(super) fn momentum<L: ElementLagrangian>(
-        &self,
-        system: &L,
-        q0: &[f64],
-        z: &[f64],
-        p: &mut [f64],
-    ) {
-        match &self.parallel {
-            None => {
-                p.fill(0.0);
-                self.visit(system, Pass::Momentum { q0, z, p });
-            }
-            Some(passes) => {
-                let mut slots = passes.slots.borrow_mut();
-                self.visit(
-                    system,
-                    Pass::Elements {
-                        q0,
-                        z,
-                        second: true,
-                        slots: &mut slots,
-                        blocks: None,
-                    },
-                );
-                passes.rows.sum_into(p, &slots, |_| 0.0);
-            }
-        }
+    /// Swaps the next momentum of the last pass, `D_2 L_d(q0, z)`, into `p`.
+    pub(super) fn take_momentum(&self, p: &mut DVector<f64>) {
+        std::mem::swap(&mut *self.p1.borrow_mut(), p);
     }
 }
 

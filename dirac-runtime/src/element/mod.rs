@@ -70,15 +70,19 @@ pub trait Family<const S: usize>: Sync {
     /// runtime checks them before any step).
     fn elements(&self, visit: &mut dyn FnMut(&[i64], [i64; S]));
 
-    /// `D_1 L_d^e` at the stencil values `q0`, `q1` of element `indices`.
-    fn d1(&self, indices: &[i64], q0: &[f64; S], q1: &[f64; S]) -> [f64; S];
+    /// `D_1 L_d^e` and `D_2 L_d^e` at the stencil values `q0`, `q1` of element `indices`, from
+    /// one straight-line function (they share the element's subexpressions: a residual pass
+    /// yields the next momentum at no extra transcendental cost).
+    fn d1_d2(&self, indices: &[i64], q0: &[f64; S], q1: &[f64; S]) -> ([f64; S], [f64; S]);
 
-    /// `D_1 L_d^e` and `D_1 D_2 L_d^e` (row `a`: `∂(D_1 L_d^e)_a / ∂q1_b`).
+    /// `D_1 L_d^e`, `D_2 L_d^e` and `D_1 D_2 L_d^e` (row `a`: `∂(D_1 L_d^e)_a / ∂q1_b`).
     #[allow(clippy::type_complexity)]
-    fn d1_d12(&self, indices: &[i64], q0: &[f64; S], q1: &[f64; S]) -> ([f64; S], [[f64; S]; S]);
-
-    /// `D_2 L_d^e`.
-    fn d2(&self, indices: &[i64], q0: &[f64; S], q1: &[f64; S]) -> [f64; S];
+    fn d1_d2_d12(
+        &self,
+        indices: &[i64],
+        q0: &[f64; S],
+        q1: &[f64; S],
+    ) -> ([f64; S], [f64; S], [[f64; S]; S]);
 
     /// `L_d^e` itself.
     fn value(&self, indices: &[i64], q0: &[f64; S], q1: &[f64; S]) -> f64;
@@ -395,7 +399,8 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
             },
         )
         .map_err(|failure| step_error(k, failure))?;
-        assembler.momentum(sys, q0, next.q.as_slice(), next.p.as_mut_slice());
+        // The last pass was at the solution: its `D_2 L_d` is the next momentum.
+        assembler.take_momentum(&mut next.p);
         // μ_{k+1} = μ_k exactly: the first component of each orbit takes the difference.
         for orbit in assembler.orbits() {
             let mu0: f64 = orbit.iter().flat_map(|r| r.clone()).map(|i| p0[i]).sum();

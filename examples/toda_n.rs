@@ -1,0 +1,291 @@
+//! The periodic Toda lattice with `n` on the command line: one build of one element-wise
+//! system serves every size (`examples/common/toda_n.rs`, `coordinates(x[n])`).
+//!
+//! ```sh
+//! cargo run --release --example toda_n -- [--n 100,1000,10000,100000] [--seconds 0.5] [--repeats 3]
+//! ```
+//!
+//! For every `n`: the time per step of `ElementIntegrator` (median of `--repeats` runs of about
+//! `--seconds` each, interleaved with the same number of steps of the hand-written `O(n)`
+//! bordered-tridiagonal Newton step of `benches/common/toda_hand.rs` — the same discrete
+//! equations in adapted coordinates, the physical-limit baseline, up to n = 20,000: above, its
+//! residual test on the border equation does not converge in 50 corrections), their ratio, the Newton
+//! corrections per step, the momentum map's largest deviation (exact: round-off), the spread of
+//! the energy at the step midpoints, one residual + Jacobian assembly serial and on all of
+//! rayon's threads (their ratio is the parallel speed-up; the results are the same bit for bit)
+//! and the process's peak memory so far (`VmHWM`, sizes run in increasing order). Then the
+//! log–log slope of the step time against `n` over the sizes ≥ 1000, and the issue's targets.
+
+use std::time::Instant;
+
+use dirac::prelude::*;
+use dirac::runtime::element::{ElementIntegrator, ElementWorkspace};
+
+#[path = "common/toda_n.rs"]
+mod toda_n;
+use toda_n::{initial, TodaN};
+
+#[path = "../benches/common/toda_hand.rs"]
+#[allow(dead_code)]
+mod toda_hand;
+use toda_hand::{TodaHand, TodaParams, TodaState};
+
+const USAGE: &str = "usage: toda_n [--n N1,N2,..] [--seconds S] [--repeats R]";
+
+struct Options {
+    sizes: Vec<usize>,
+    seconds: f64,
+    repeats: usize,
+}
+
+fn parse_args() -> Result<Options, String> {
+    let mut o = Options {
+        sizes: vec![100, 1000, 10_000, 100_000],
+        seconds: 0.5,
+        repeats: 3,
+    };
+    let mut args = std::env::args().skip(1);
+    while let Some(flag) = args.next() {
+        let value = args.next().ok_or(format!("{flag} needs a value\n{USAGE}"))?;
+        let bad = |what: &str| format!("{flag}: `{value}` is not {what}\n{USAGE}");
+        match flag.as_str() {
+            "--n" => {
+                o.sizes = value
+                    .split(',')
+                    .map(|s| s.trim().parse::<usize>().ok().filter(|&n| n >= 3))
+                    .collect::<Option<_>>()
+                    .ok_or(bad("a list of sizes ≥ 3"))?
+            }
+            "--seconds" => {
+                o.seconds = value
+                    .parse()
+                    .ok()
+                    .filter(|s: &f64| *s > 0.0)
+                    .ok_or(bad("a positive number"))?
+            }
+            "--repeats" => {
+                o.repeats = value
+                    .parse()
+                    .ok()
+                    .filter(|&r| r > 0)
+                    .ok_or(bad("a positive integer"))?
+            }
+            _ => return Err(format!("unknown argument `{flag}`\n{USAGE}")),
+        }
+    }
+    Ok(o)
+}
+
+/// Peak resident memory of this process, in MiB (Linux; `None` elsewhere).
+fn peak_memory_mib() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib / 1024.0)
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// One row of the table.
+struct Row {
+    n: usize,
+    step_us: f64,
+    hand_us: f64,
+    ratios: Vec<f64>,
+    corrections: f64,
+    mu_deviation: f64,
+    energy_spread: f64,
+    rj_serial_us: f64,
+    rj_parallel_us: f64,
+    peak_mib: Option<f64>,
+}
+
+/// Median seconds of one `residual_jacobian` of `integ` at `state` (and a nearby `z`).
+fn time_rj(integ: &ElementIntegrator<TodaN>, ws: &mut ElementWorkspace, state: &ElementState) -> f64 {
+    let n = state.q.len();
+    let z = &state.q + &state.p * integ.system.h;
+    let (mut r, mut j) = (DVector::zeros(n), Vec::new());
+    integ.residual_jacobian(ws, &state.q, &state.p, &z, &mut r, &mut j);
+    let reps = (2_000_000 / n).clamp(3, 2000);
+    let mut samples = Vec::new();
+    for _ in 0..5 {
+        let t0 = Instant::now();
+        for _ in 0..reps {
+            integ.residual_jacobian(ws, &state.q, &state.p, &z, &mut r, &mut j);
+            std::hint::black_box(&r);
+        }
+        samples.push(t0.elapsed().as_secs_f64() / reps as f64);
+    }
+    median(samples)
+}
+
+fn measure(n: usize, o: &Options) -> Result<Row, Box<dyn std::error::Error>> {
+    // Positions measured from the equilibrium sites (`d = 0`, the same dynamics as any `d`): in
+    // absolute positions `x_i ≈ i d` the rounding of `x_{k+1} − x_k` alone exceeds the 10⁻¹²
+    // residual tolerance at n = 10⁴ (ulp(10⁴) · m/h ≈ 4·10⁻¹¹), which the hand-written step,
+    // testing the residual only, cannot meet.
+    let sys = TodaN {
+        m: 1.0,
+        d: 0.0,
+        h: 0.05,
+        n,
+    };
+    let integ = ElementIntegrator::new(sys, NewtonOptions::default());
+    let start = initial(&sys, 0.1, 0.3, 0.0);
+    let _ = &start;
+    let mu0 = integ.momentum_map(&start)[0];
+    // Steps per timed run: about `--seconds`, from a short calibration run.
+    let t0 = Instant::now();
+    integ.run(start.clone(), 10, |_, _, _| ())?;
+    let per_step = t0.elapsed().as_secs_f64() / 10.0;
+    let steps = ((o.seconds / per_step) as usize).clamp(20, 200_000);
+    let hand_params = TodaParams {
+        n,
+        m: sys.m,
+        d: sys.d,
+        h: sys.h,
+    };
+    let v: Vec<f64> = start.p.iter().map(|p| p / sys.m).collect();
+    let hand_start = TodaState::from_positions_velocities(&hand_params, start.q.as_slice(), &v);
+    let mut hand = TodaHand::new(hand_params);
+    // One untimed run through the driver, observing every state: the momentum map's deviation
+    // and the energy at the step midpoints.
+    let (mut mu_deviation, mut e_min, mut e_max) = (0.0f64, f64::INFINITY, f64::NEG_INFINITY);
+    let mut previous = start.q.clone();
+    let summary = integ.run(start.clone(), steps, |k, state, _| {
+        if k > 0 {
+            let e = integ.energy(&previous, &state.q).unwrap_or(f64::NAN);
+            e_min = e_min.min(e);
+            e_max = e_max.max(e);
+            previous.copy_from(&state.q);
+        }
+        mu_deviation = mu_deviation.max((integ.momentum_map(state)[0] - mu0).abs());
+    })?;
+    let corrections = summary.mean_iterations();
+    // Timed: the steps alone (the workspace — pattern, ordering, symbolic factorization — is
+    // built once per run, before), in the driver's way: two states swapped, nothing allocated.
+    let (mut dirac_s, mut hand_s) = (Vec::new(), Vec::new());
+    let mut hand_ok = n <= 20_000;
+    for _ in 0..o.repeats {
+        let mut ws = integ.workspace();
+        let (mut state, mut next) = (start.clone(), start.clone());
+        let t0 = Instant::now();
+        for k in 0..steps {
+            integ.step_into(&mut ws, k, &state, &[], &mut next)?;
+            std::mem::swap(&mut state, &mut next);
+        }
+        dirac_s.push(t0.elapsed().as_secs_f64() / steps as f64);
+        if hand_ok {
+            let mut s = hand_start.clone();
+            hand.reset_history();
+            let t0 = Instant::now();
+            for _ in 0..steps {
+                if hand.step(std::hint::black_box(&mut s)).is_err() {
+                    hand_ok = false;
+                    break;
+                }
+            }
+            hand_s.push(t0.elapsed().as_secs_f64() / steps as f64);
+        }
+    }
+    let step_us = 1e6 * median(dirac_s.clone());
+    let (hand_us, ratios) = if hand_ok {
+        (
+            1e6 * median(hand_s.clone()),
+            dirac_s.iter().zip(&hand_s).map(|(d, h)| d / h).collect(),
+        )
+    } else {
+        (f64::NAN, Vec::new())
+    };
+    let serial = integ.clone().with_parallel(Parallel::Never);
+    let parallel = integ.clone().with_parallel(Parallel::Always);
+    let rj_serial_us = 1e6 * time_rj(&serial, &mut serial.workspace(), &start);
+    let rj_parallel_us = 1e6 * time_rj(&parallel, &mut parallel.workspace(), &start);
+    Ok(Row {
+        n,
+        step_us,
+        hand_us,
+        ratios,
+        corrections,
+        mu_deviation,
+        energy_spread: (e_max - e_min) / e_max.abs(),
+        rj_serial_us,
+        rj_parallel_us,
+        peak_mib: peak_memory_mib(),
+    })
+}
+
+fn main() {
+    let o = parse_args().unwrap_or_else(|m| {
+        eprintln!("{m}");
+        std::process::exit(2)
+    });
+    println!("periodic Toda lattice, one build for every n: {}", TodaN::GENERATED);
+    println!(
+        "rayon threads: {}; each time the median of {} interleaved runs",
+        dirac::runtime::ensemble::rayon::current_num_threads(),
+        o.repeats
+    );
+    println!(
+        "{:>7} {:>11} {:>11} {:>20} {:>6} {:>9} {:>10} {:>11} {:>11} {:>6} {:>8}",
+        "n", "step µs", "hand µs", "ratio (range)", "corr", "max|Δμ|", "E spread", "R+J ser µs", "R+J par µs", "par×", "peak MiB"
+    );
+    let mut rows = Vec::new();
+    for &n in &o.sizes {
+        match measure(n, &o) {
+            Ok(r) => {
+                let ratio = if r.ratios.is_empty() {
+                    "-".to_string()
+                } else {
+                    let (lo, hi) = r
+                        .ratios
+                        .iter()
+                        .fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)));
+                    format!("{:.2} ({lo:.2}–{hi:.2})", median(r.ratios.clone()))
+                };
+                println!(
+                    "{:>7} {:>11.2} {:>11.2} {:>20} {:>6.2} {:>9.1e} {:>10.1e} {:>11.1} {:>11.1} {:>6.2} {:>8}",
+                    r.n,
+                    r.step_us,
+                    r.hand_us,
+                    ratio,
+                    r.corrections,
+                    r.mu_deviation,
+                    r.energy_spread,
+                    r.rj_serial_us,
+                    r.rj_parallel_us,
+                    r.rj_serial_us / r.rj_parallel_us,
+                    r.peak_mib.map_or("-".into(), |m| format!("{m:.1}"))
+                );
+                rows.push(r);
+            }
+            Err(e) => println!("{n:>7} failed: {e}"),
+        }
+    }
+    // log–log slope of the step time over n ≥ 1000 (least squares).
+    let pts: Vec<(f64, f64)> = rows
+        .iter()
+        .filter(|r| r.n >= 1000)
+        .map(|r| ((r.n as f64).ln(), r.step_us.ln()))
+        .collect();
+    if pts.len() >= 2 {
+        let k = pts.len() as f64;
+        let (sx, sy) = pts.iter().fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y));
+        let (mx, my) = (sx / k, sy / k);
+        let (num, den) = pts.iter().fold((0.0, 0.0), |(a, b), (x, y)| {
+            (a + (x - mx) * (y - my), b + (x - mx) * (x - mx))
+        });
+        println!("log–log slope of the step time over n ≥ 1000: {:.3} (target 1 ± 0.1)", num / den);
+    }
+    if let Some(r) = rows.iter().find(|r| r.n == 100_000) {
+        println!(
+            "n = 100000: peak memory {} MiB (target ≤ 200 MB); parallel assembly {:.2}× on {} threads (target ≥ 1.7 on 2)",
+            r.peak_mib.map_or("-".into(), |m| format!("{m:.1}")),
+            r.rj_serial_us / r.rj_parallel_us,
+            dirac::runtime::ensemble::rayon::current_num_threads()
+        );
+    }
+}
