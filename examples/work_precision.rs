@@ -63,13 +63,13 @@ fn timed_run<I: SelfAdjoint>(
     let mut result = None;
     for _ in 0..REPEATS {
         let start = Instant::now();
-        let traj = comp.integrate(initial, steps)?;
+        let traj = comp.integrate(initial.clone(), steps)?;
         best = best.min(start.elapsed().as_secs_f64());
         result = Some(traj);
     }
     let traj = result.ok_or("no run")?;
     let per_stage = traj.mean_iterations() / method.stages() as f64;
-    Ok((*traj.last(), best, per_stage))
+    Ok((traj.last().clone(), best, per_stage))
 }
 
 /// The least-squares slope of `log error` against `log h`.

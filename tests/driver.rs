@@ -99,13 +99,13 @@ where
     I::State: PartialEq,
     I::Trajectory: Send + PartialEq,
 {
-    let first = starts[0];
-    let traj = integrator.integrate(first, steps).expect("integrates");
+    let first = &starts[0];
+    let traj = integrator.integrate(first.clone(), steps).expect("integrates");
     let mut observed = Vec::new();
     let summary = integrator
-        .run(first, steps, |k, state, record| {
+        .run(first.clone(), steps, |k, state, record| {
             assert_eq!(record.is_none(), k == 0);
-            observed.push(*state);
+            observed.push(state.clone());
         })
         .expect("runs");
     assert_eq!(summary.steps, steps);
@@ -115,22 +115,22 @@ where
 
     // Stop after the third state: the same prefix, flagged.
     let stopped = integrator
-        .run_until(first, steps, |k, _| k == 3, |_, _, _| {})
+        .run_until(first.clone(), steps, |k, _| k == 3, |_, _, _| {})
         .expect("runs");
     assert!(stopped.stopped);
     assert_eq!(stopped.steps, 3);
     assert_eq!(stopped.last, observed[3]);
     let short = integrator
-        .integrate_until(first, steps, |k, _| k == 3)
+        .integrate_until(first.clone(), steps, |k, _| k == 3)
         .expect("integrates");
     assert_eq!(short.completed_steps(), 3);
-    let prefix = integrator.integrate(first, 3).expect("integrates");
+    let prefix = integrator.integrate(first.clone(), 3).expect("integrates");
     assert_eq!(short, prefix);
 
     // Ensembles: members in input order, each the sequential run bit for bit.
     let members = integrator.integrate_ensemble(starts, steps);
     for (member, start) in members.iter().zip(starts) {
-        let sequential = integrator.integrate(*start, steps).expect("integrates");
+        let sequential = integrator.integrate(start.clone(), steps).expect("integrates");
         assert_eq!(member.as_ref().expect("member integrates"), &sequential);
     }
     assert_eq!(members[0].as_ref().ok(), Some(&traj));
@@ -142,7 +142,7 @@ where
         }
     });
     for (((_, result), start), count) in streamed.iter().zip(starts).zip(&observed) {
-        let sequential = integrator.run(*start, steps, |_, _, _| {}).expect("runs");
+        let sequential = integrator.run(start.clone(), steps, |_, _, _| {}).expect("runs");
         assert_eq!(result.as_ref().expect("member runs"), &sequential);
         assert_eq!(count.load(Ordering::Relaxed), steps + 1);
     }
