@@ -17,8 +17,9 @@
 //! of constant `B`. The momentum-level elimination applies for `K ≤ 3` group coordinates.
 //!
 //! **The body language** is smooth by design: no branches, no calls to your own functions, no
-//! run-time loop bounds or indices (see [Writing a Lagrangian](super::lagrangians#the-attribute)).
-//! Sizes are fixed at compile time.
+//! run-time loop bounds or indices (see [Writing a Lagrangian](super::lagrangians#the-attribute)),
+//! except in [systems sized at run time](super::run_time_sizes), whose loops over sizes are
+//! compiled element by element (with that chapter's own limits).
 //!
 //! **Large systems** (more than [`DENSE_MAX`](crate::runtime::linalg::DENSE_MAX) = 16
 //! coordinates, the sparse backend): no momentum-level elimination, no emitted Hessian blocks of

@@ -20,11 +20,14 @@
 //!    conditions and ensembles, the same for all of them.
 //! 7. [Large systems](large_systems): the sparse backend, chord iterations, streaming runs in
 //!    constant memory, ensembles on all cores, building the attribute optimized.
-//! 8. [Diagnostics](diagnostics): Newton statistics and conditioning per step, energies, the
+//! 8. [Systems sized at run time](run_time_sizes): element-wise bodies whose sizes are `usize`
+//!    arguments — one build for every size, stencils checked at compile time, the element
+//!    kernels assembled in parallel, 10⁵ degrees of freedom.
+//! 9. [Diagnostics](diagnostics): Newton statistics and conditioning per step, energies, the
 //!    Dirac structure and the discrete action along a trajectory, the step-map Jacobian.
-//! 9. [Errors](errors): the typed [`StepError`](crate::StepError) of a failed step, the
+//! 10. [Errors](errors): the typed [`StepError`](crate::StepError) of a failed step, the
 //!    trajectory kept up to it, and the compile errors of the attributes.
-//! 10. [Limits](limits): what the integrators do not do, and where their guarantees end.
+//! 11. [Limits](limits): what the integrators do not do, and where their guarantees end.
 //!
 //! Results that leave the process — runs and ensembles in Apache Parquet, sharded ensembles on a
 //! Slurm cluster, progress bars — are the separate crate `dirac-io`, described in
@@ -38,8 +41,7 @@
 //! program names, [`crate::runtime`] holds the integrators' modules, [`crate::paper`] and
 //! [`crate::kepler`] are worked systems that the chapters reuse.
 
-// Each capability still to come adds its chapter as a module here and a line in the list above:
-// systems sized at run time (issue 21) after `large_systems`.
+// Each capability still to come adds its chapter as a module here and a line in the list above.
 
 pub mod benchmarks;
 pub mod constraints;
@@ -51,4 +53,5 @@ pub mod lagrangians;
 pub mod large_systems;
 pub mod limits;
 pub mod paper_systems;
+pub mod run_time_sizes;
 pub mod symmetries;

@@ -1,0 +1,119 @@
+//! # Systems sized at run time
+//!
+//! Lattices, chains, discretised strings and membranes, particle systems: the systems that
+//! bring many degrees of freedom are sums of one small term over many elements. Give the
+//! function `usize` arguments — the *sizes* — and declare coordinates whose lengths are sizes;
+//! then the body is compiled element by element, and one build serves every size:
+//!
+//! ```
+//! use dirac::prelude::*;
+//! use dirac::runtime::element::ElementIntegrator;
+//!
+//! /// The periodic Toda lattice of `n` particles, `x_n ≡ x_0 + n d`.
+//! #[reduced_lagrangian(coordinates(x[n]), translate(x), rule = midpoint)]
+//! fn toda(q: Config, v: Velocity, m: f64, d: f64, n: usize) -> f64 {
+//!     let mut l = 0.0;
+//!     for i in 0..n {
+//!         l += 0.5 * m * v.x[i] * v.x[i];
+//!     }
+//!     for i in 0..n - 1 {
+//!         l -= (-(q.x[i + 1] - q.x[i] - d)).exp();
+//!     }
+//!     l - (-(q.x[0] + n as f64 * d - q.x[n - 1] - d)).exp()
+//! }
+//!
+//! for n in [10, 1000] {
+//!     let sys = Toda { m: 1.0, d: 1.0, h: 0.05, n };
+//!     let integ = ElementIntegrator::new(sys, NewtonOptions::default());
+//!     let q = DVector::from_fn(n, |i, _| i as f64 + 0.1 * (i as f64).sin());
+//!     let p = DVector::from_fn(n, |i, _| 0.3 * (0.5 * i as f64).cos());
+//!     let start = ElementState::new(q, p);
+//!     let mu0 = integ.momentum_map(&start)[0];
+//!     let summary = integ.run(start, 100, |_, _, _| ())?;
+//!     // The total momentum of the declared translation is kept exactly (to round-off).
+//!     let mu = integ.momentum_map(&summary.last)[0];
+//!     assert!((mu - mu0).abs() < 1e-10);
+//! }
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! ## The body
+//!
+//! The compiler splits the body into *families* of elements. Every `for` loop over sizes whose
+//! body adds to the accumulator (`l += ..`, `l -= ..`) is a family, one element per iteration;
+//! nested loops — pairs `for j in i + 1..n`, grids `for i in 0..nx { for j in 0..ny { .. } }` —
+//! are families of their own, one element per iteration of the whole nest; the terms outside
+//! loops (the accumulator's initial value, `l += ..` at the top level, the tail `l ± ..`) form
+//! one family of a single element. `let` bindings before the loops are visible to every
+//! element, those in a loop body to the elements of that loop and of the loops nested in it.
+//!
+//! * **Coordinates**: `coordinates(x[n], y[n], u[nx][ny], c)` — one- and two-dimensional arrays
+//!   whose lengths are sizes (or integer literals), and scalars. A two-dimensional coordinate is
+//!   read `q.u[i][j]` and stored row by row.
+//! * **Indices** are integer code in the sizes, the loop indices and literals, affine in the
+//!   loop indices: `x[i]`, `x[i + 1]`, `x[(i + 1) % n]`, `u[i][(j + 1) % ny]`, `x[n - 1]`. A
+//!   product of loop indices, a division, or anything else is a compile error pointing at the
+//!   index. Every read must stay inside its coordinate for every size from some smallest size
+//!   on: the compiler evaluates the stencils on sample sizes and reports an escaping read
+//!   (`x[i + 1]` in `for i in 0..n`) or a `usize` underflow (`x[(i - 1) % n]`: write
+//!   `x[(i + n - 1) % n]`) with the sizes and indices where it happens; the smallest valid size
+//!   is the system's [`MIN_SIZE`](crate::runtime::element::ElementLagrangian::MIN_SIZE), and the
+//!   runtime checks the sizes it is given against it, and every stencil against the dimension,
+//!   before the first step (a typed [`StepError::InvalidSize`](crate::StepError::InvalidSize)).
+//! * **Loop bounds** are built the same way: `0..n`, `1..n - 1`, `i + 1..n`, `0..=n - 2`.
+//! * **Sizes and loop indices as values**: `n as f64`, `i as f64` (e.g. a spatially varying
+//!   coefficient); a bare integer in an f64 expression is an error that says so.
+//! * The rest of the body language is that of [Writing a Lagrangian](super::lagrangians):
+//!   `let`, arithmetic, the f64 functions. A discrete Lagrangian `fn(q0: Config, q1: Config, h:
+//!   f64, ..)` works the same way, element by element.
+//! * Keys: `coordinates`, `translate`, `rule`, `name`, `step`. Forces, controls, constraints,
+//!   connections and sampling ranges are not available for systems sized at run time (a compile
+//!   error says so).
+//!
+//! ## What is emitted
+//!
+//! The system type has a field per parameter and per size, and `dim()`, `config(&q)` and
+//! `vector(&config)` to go between the flat vector `q` and the coordinates (`<Type>Config`, with
+//! `Vec`s); your function stays callable on configurations (it is the reference the tests
+//! compare against). For each family the compiler differentiates **one element** with respect
+//! to its stencil and emits straight-line kernels — `D_1 L_d^e` with `D_2 L_d^e` (one function:
+//! they share subexpressions), the same with `D_1 D_2 L_d^e` — and the stencil as integer code.
+//! `GENERATED` states the families and their operation counts. Nothing depends on the sizes'
+//! values: the toda lattice above builds in the same time for n = 10 and n = 10⁶.
+//!
+//! ## The integrator
+//!
+//! [`ElementIntegrator`](crate::runtime::element::ElementIntegrator) solves the (+) equations in
+//! position–momentum form, `p_k + D_1 L_d(q_k, q_{k+1}) = 0`, `p_{k+1} = D_2 L_d(q_k, q_{k+1})`,
+//! with the residual and Jacobian assembled from the elements, on the one driver (`run`,
+//! `integrate`, stop conditions, ensembles) and the one Newton iteration (chord iterations on
+//! the sparse LU of a pattern built once per run). States are
+//! [`ElementState`](crate::runtime::element::ElementState)s of `DVector`s; a run allocates its
+//! workspace once and nothing per step. With `translate(..)` declared, the momentum map of each
+//! translation is kept exactly, as the reduced integrator keeps `μ` (the equations are the
+//! reduced (+) equations (4.6) in another basis; see the
+//! [module documentation](crate::runtime::element)).
+//!
+//! **Parallel assembly.** Above [`PARALLEL_MIN_ENTRIES`](crate::runtime::element::PARALLEL_MIN_ENTRIES)
+//! Jacobian block entries the elements are evaluated on rayon's pool, each row block evaluating
+//! the elements that touch its rows and writing only its rows: the result is the serial one,
+//! bit for bit, on any number of threads (tested). Choose with
+//! [`with_parallel`](crate::runtime::element::ElementIntegrator::with_parallel).
+//!
+//! ## Examples and figures
+//!
+//! * `cargo run --release --example toda_n -- --n 200,1000,10000,100000`: one build, every n;
+//!   time per step against the hand-written `O(n)` Newton step, parallel assembly, memory.
+//! * `cargo run --release --example wave2d`: a 2-D nonlinear wave equation on 316 × 316 nodes.
+//! * `cargo run --release --example cluster`: a Lennard-Jones cluster, pairs, n = 64 … 256.
+//!
+//! The measured figures are in [Benchmarks](super::benchmarks#systems-sized-at-run-time).
+//!
+//! ## Limits
+//!
+//! Only the (+) position–momentum step: no reduced (−) step, no compositions or atlases of
+//! element-wise systems, no step-map Jacobian or sensitivities; indices with a loop index under
+//! a constant-bound inner loop (`x[3 * i + d]` for `d` in `0..3`) are not accepted — declare one
+//! coordinate per component. At small sizes the chord iterations' linear convergence costs
+//! corrections that a hand-written Newton step on a tridiagonal system does not pay (see
+//! [Benchmarks](super::benchmarks#systems-sized-at-run-time)).
