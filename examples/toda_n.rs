@@ -46,7 +46,9 @@ fn parse_args() -> Result<Options, String> {
     };
     let mut args = std::env::args().skip(1);
     while let Some(flag) = args.next() {
-        let value = args.next().ok_or(format!("{flag} needs a value\n{USAGE}"))?;
+        let value = args
+            .next()
+            .ok_or(format!("{flag} needs a value\n{USAGE}"))?;
         let bad = |what: &str| format!("{flag}: `{value}` is not {what}\n{USAGE}");
         match flag.as_str() {
             "--n" => {
@@ -104,7 +106,11 @@ struct Row {
 }
 
 /// Median seconds of one `residual_jacobian` of `integ` at `state` (and a nearby `z`).
-fn time_rj(integ: &ElementIntegrator<TodaN>, ws: &mut ElementWorkspace, state: &ElementState) -> f64 {
+fn time_rj(
+    integ: &ElementIntegrator<TodaN>,
+    ws: &mut ElementWorkspace,
+    state: &ElementState,
+) -> f64 {
     let n = state.q.len();
     let z = &state.q + &state.p * integ.system.h;
     let (mut r, mut j) = (DVector::zeros(n), Vec::new());
@@ -223,7 +229,10 @@ fn main() {
         eprintln!("{m}");
         std::process::exit(2)
     });
-    println!("periodic Toda lattice, one build for every n: {}", TodaN::GENERATED);
+    println!(
+        "periodic Toda lattice, one build for every n: {}",
+        TodaN::GENERATED
+    );
     println!(
         "rayon threads: {}; each time the median of {} interleaved runs",
         dirac::runtime::ensemble::rayon::current_num_threads(),
@@ -231,7 +240,17 @@ fn main() {
     );
     println!(
         "{:>7} {:>11} {:>11} {:>20} {:>6} {:>9} {:>10} {:>11} {:>11} {:>6} {:>8}",
-        "n", "step µs", "hand µs", "ratio (range)", "corr", "max|Δμ|", "E spread", "R+J ser µs", "R+J par µs", "par×", "peak MiB"
+        "n",
+        "step µs",
+        "hand µs",
+        "ratio (range)",
+        "corr",
+        "max|Δμ|",
+        "E spread",
+        "R+J ser µs",
+        "R+J par µs",
+        "par×",
+        "peak MiB"
     );
     let mut rows = Vec::new();
     for &n in &o.sizes {
@@ -278,7 +297,10 @@ fn main() {
         let (num, den) = pts.iter().fold((0.0, 0.0), |(a, b), (x, y)| {
             (a + (x - mx) * (y - my), b + (x - mx) * (x - mx))
         });
-        println!("log–log slope of the step time over n ≥ 1000: {:.3} (target 1 ± 0.1)", num / den);
+        println!(
+            "log–log slope of the step time over n ≥ 1000: {:.3} (target 1 ± 0.1)",
+            num / den
+        );
     }
     if let Some(r) = rows.iter().find(|r| r.n == 100_000) {
         println!(

@@ -100,7 +100,9 @@ where
     I::Trajectory: Send + PartialEq,
 {
     let first = &starts[0];
-    let traj = integrator.integrate(first.clone(), steps).expect("integrates");
+    let traj = integrator
+        .integrate(first.clone(), steps)
+        .expect("integrates");
     let mut observed = Vec::new();
     let summary = integrator
         .run(first.clone(), steps, |k, state, record| {
@@ -130,7 +132,9 @@ where
     // Ensembles: members in input order, each the sequential run bit for bit.
     let members = integrator.integrate_ensemble(starts, steps);
     for (member, start) in members.iter().zip(starts) {
-        let sequential = integrator.integrate(start.clone(), steps).expect("integrates");
+        let sequential = integrator
+            .integrate(start.clone(), steps)
+            .expect("integrates");
         assert_eq!(member.as_ref().expect("member integrates"), &sequential);
     }
     assert_eq!(members[0].as_ref().ok(), Some(&traj));
@@ -142,7 +146,9 @@ where
         }
     });
     for (((_, result), start), count) in streamed.iter().zip(starts).zip(&observed) {
-        let sequential = integrator.run(start.clone(), steps, |_, _, _| {}).expect("runs");
+        let sequential = integrator
+            .run(start.clone(), steps, |_, _, _| {})
+            .expect("runs");
         assert_eq!(result.as_ref().expect("member runs"), &sequential);
         assert_eq!(count.load(Ordering::Relaxed), steps + 1);
     }

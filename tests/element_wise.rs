@@ -10,14 +10,22 @@ use toda_n::{initial, TodaN};
 #[test]
 fn one_build_runs_at_several_sizes() {
     for n in [3, 16, 200, 2000] {
-        let sys = TodaN { m: 1.0, d: 1.0, h: 0.05, n };
+        let sys = TodaN {
+            m: 1.0,
+            d: 1.0,
+            h: 0.05,
+            n,
+        };
         let integ = ElementIntegrator::new(sys, NewtonOptions::default());
         let start = initial(&sys, 0.1, 0.3, 0.05);
         let mu0 = integ.momentum_map(&start)[0];
         let traj = integ.integrate(start, 200).unwrap();
         let last = traj.states.last().unwrap();
         let mu = integ.momentum_map(last)[0];
-        assert!((mu - mu0).abs() <= 1e-13 * mu0.abs().max(1.0), "n = {n}: {mu} vs {mu0}");
+        assert!(
+            (mu - mu0).abs() <= 1e-13 * mu0.abs().max(1.0),
+            "n = {n}: {mu} vs {mu0}"
+        );
     }
 }
 
@@ -53,7 +61,10 @@ fn element_wise_code_equals_the_unrolled_code_at_n_16() {
     // L_d: the sum of the element values against the unrolled body, in adapted coordinates.
     let (a0, a1) = (Toda16::to_adapted(&s16(&q0)), Toda16::to_adapted(&s16(&q1)));
     let (l_el, l_un) = (integ.discrete_lagrangian(&q0, &q1), un.lagrangian(&a0, &a1));
-    assert!((l_el - l_un).abs() <= 1e-14 * l_un.abs(), "{l_el} vs {l_un}");
+    assert!(
+        (l_el - l_un).abs() <= 1e-14 * l_un.abs(),
+        "{l_el} vs {l_un}"
+    );
     // The residual and the step Jacobian: R_user = T⁻ᵀ R_adapted, J_user = T⁻ᵀ J_adapted T⁻¹.
     let mut ws = integ.workspace();
     let (mut r, mut j) = (DVector::zeros(16), Vec::new());
@@ -61,7 +72,9 @@ fn element_wise_code_equals_the_unrolled_code_at_n_16() {
     let pa = Toda16::momentum_to_adapted(&s16(&start.p));
     let (ra, ja) = un.unreduced_residual_jacobian(&a0, &pa, &a1);
     let r_un = Toda16::momentum_from_adapted(&ra);
-    let t_inv = SMatrix::<f64, 16, 16>::from_fn(|i, k| Toda16::to_adapted(&V16::from_fn(|j, _| f64::from(j == k)))[i]);
+    let t_inv = SMatrix::<f64, 16, 16>::from_fn(|i, k| {
+        Toda16::to_adapted(&V16::from_fn(|j, _| f64::from(j == k)))[i]
+    });
     let j_un = t_inv.transpose() * ja * t_inv;
     let (col_ptr, row_idx) = ws.pattern();
     let mut j_el = SMatrix::<f64, 16, 16>::zeros();
@@ -70,8 +83,16 @@ fn element_wise_code_equals_the_unrolled_code_at_n_16() {
             j_el[(row_idx[p], c)] = j[p];
         }
     }
-    assert!((s16(&r) - r_un).amax() <= 1e-14 * r_un.amax().max(1.0), "R: {:e}", (s16(&r) - r_un).amax());
-    assert!((j_el - j_un).amax() <= 1e-13 * j_un.amax(), "J: {:e}", (j_el - j_un).amax());
+    assert!(
+        (s16(&r) - r_un).amax() <= 1e-14 * r_un.amax().max(1.0),
+        "R: {:e}",
+        (s16(&r) - r_un).amax()
+    );
+    assert!(
+        (j_el - j_un).amax() <= 1e-13 * j_un.amax(),
+        "J: {:e}",
+        (j_el - j_un).amax()
+    );
     // Trajectories: the element-wise step against the reduced (+) integrator of the unrolled code.
     let reduced = ReducedIntegrator::plus(un, NewtonOptions::default());
     let steps = 300;
@@ -87,11 +108,17 @@ fn element_wise_code_equals_the_unrolled_code_at_n_16() {
             .max((canonical.p - s16(&el_traj.states[k].p)).amax());
     }
     eprintln!("element-wise vs reduced (+), n = 16, {steps} steps: largest difference {worst:e}");
-    assert!(worst <= 1e-10, "largest difference over {steps} steps: {worst:e}");
+    assert!(
+        worst <= 1e-10,
+        "largest difference over {steps} steps: {worst:e}"
+    );
     // The momentum map: exactly μ_0, as the reduced integrator keeps it.
     let mu0 = integ.momentum_map(&start)[0];
     for s in &el_traj.states {
-        assert!((integ.momentum_map(s)[0] - mu0).abs() <= 4.0 * f64::EPSILON * 16.0 * mu0.abs().max(1.0));
+        assert!(
+            (integ.momentum_map(s)[0] - mu0).abs()
+                <= 4.0 * f64::EPSILON * 16.0 * mu0.abs().max(1.0)
+        );
     }
 }
 
@@ -107,33 +134,72 @@ use cluster::Cluster;
 /// sum of the element values.
 #[test]
 fn pairs_and_grids_sum_to_the_users_function() {
-    let c = Cluster { m: 1.0, eps: 1.0, sigma: 1.0, h: 0.002, n: 27 };
+    let c = Cluster {
+        m: 1.0,
+        eps: 1.0,
+        sigma: 1.0,
+        h: 0.002,
+        n: 27,
+    };
     let s = cluster::initial(&c, 1.15, 0.2);
     let q1 = &s.q + &s.p * (c.h / c.m);
     let integ = ElementIntegrator::new(c, NewtonOptions::default());
     let mid = (&s.q + &q1) * 0.5;
     let vel = (&q1 - &s.q) / c.h;
-    let reference = c.h * cluster::cluster(c.config(&mid), c.config(&vel), c.m, c.eps, c.sigma, c.n);
+    let reference =
+        c.h * cluster::cluster(c.config(&mid), c.config(&vel), c.m, c.eps, c.sigma, c.n);
     let summed = integ.discrete_lagrangian(&s.q, &q1);
-    assert!((summed - reference).abs() <= 1e-12 * reference.abs(), "{summed} vs {reference}");
+    assert!(
+        (summed - reference).abs() <= 1e-12 * reference.abs(),
+        "{summed} vs {reference}"
+    );
 
-    let w = Membrane { rho: 1.0, c2: 1.0, beta: 0.5, delta: 0.1, h: 0.02, nx: 7, ny: 5 };
+    let w = Membrane {
+        rho: 1.0,
+        c2: 1.0,
+        beta: 0.5,
+        delta: 0.1,
+        h: 0.02,
+        nx: 7,
+        ny: 5,
+    };
     let s = membrane::initial(&w, 0.3, 0.15, 1.0, 0.05);
     let q1 = &s.q + &s.p * 0.3;
     let integ = ElementIntegrator::new(w, NewtonOptions::default());
     let mid = (&s.q + &q1) * 0.5;
     let vel = (&q1 - &s.q) / w.h;
-    let reference = w.h * membrane::membrane(w.config(&mid), w.config(&vel), w.rho, w.c2, w.beta, w.delta, w.nx, w.ny);
+    let reference = w.h
+        * membrane::membrane(
+            w.config(&mid),
+            w.config(&vel),
+            w.rho,
+            w.c2,
+            w.beta,
+            w.delta,
+            w.nx,
+            w.ny,
+        );
     let summed = integ.discrete_lagrangian(&s.q, &q1);
-    assert!((summed - reference).abs() <= 1e-12 * reference.abs(), "{summed} vs {reference}");
-    assert_eq!(w.vector(&w.config(&s.q)), s.q, "config and vector are inverse");
+    assert!(
+        (summed - reference).abs() <= 1e-12 * reference.abs(),
+        "{summed} vs {reference}"
+    );
+    assert_eq!(
+        w.vector(&w.config(&s.q)),
+        s.q,
+        "config and vector are inverse"
+    );
 }
 
 /// The assembled Jacobian against central differences of the assembled residual (grid and
 /// pairs: stencils with wrap-around and with every pair).
 #[test]
 fn the_assembled_jacobian_is_the_derivative_of_the_residual() {
-    fn check<L: dirac::runtime::element::ElementLagrangian>(integ: &ElementIntegrator<L>, s: &ElementState, z: &DVector<f64>) {
+    fn check<L: dirac::runtime::element::ElementLagrangian>(
+        integ: &ElementIntegrator<L>,
+        s: &ElementState,
+        z: &DVector<f64>,
+    ) {
         let n = s.q.len();
         let mut ws = integ.workspace();
         let (mut r, mut j) = (DVector::zeros(n), Vec::new());
@@ -160,11 +226,25 @@ fn the_assembled_jacobian_is_the_derivative_of_the_residual() {
         }
         assert!(worst <= 1e-6 * scale, "{worst:e} against {scale:e}");
     }
-    let w = Membrane { rho: 1.0, c2: 1.0, beta: 0.5, delta: 0.1, h: 0.02, nx: 6, ny: 4 };
+    let w = Membrane {
+        rho: 1.0,
+        c2: 1.0,
+        beta: 0.5,
+        delta: 0.1,
+        h: 0.02,
+        nx: 6,
+        ny: 4,
+    };
     let s = membrane::initial(&w, 0.3, 0.15, 1.0, 0.05);
     let z = &s.q + &s.p * 0.3;
     check(&ElementIntegrator::new(w, NewtonOptions::default()), &s, &z);
-    let c = Cluster { m: 1.0, eps: 1.0, sigma: 1.0, h: 0.002, n: 8 };
+    let c = Cluster {
+        m: 1.0,
+        eps: 1.0,
+        sigma: 1.0,
+        h: 0.002,
+        n: 8,
+    };
     let s = cluster::initial(&c, 1.15, 0.2);
     let z = &s.q + &s.p * c.h;
     check(&ElementIntegrator::new(c, NewtonOptions::default()), &s, &z);
@@ -173,7 +253,15 @@ fn the_assembled_jacobian_is_the_derivative_of_the_residual() {
 /// Parallel assembly is the serial one bit for bit, on 1 and 2 threads.
 #[test]
 fn parallel_assembly_is_the_serial_one_bit_for_bit() {
-    let w = Membrane { rho: 1.0, c2: 1.0, beta: 0.5, delta: 0.05, h: 0.01, nx: 40, ny: 36 };
+    let w = Membrane {
+        rho: 1.0,
+        c2: 1.0,
+        beta: 0.5,
+        delta: 0.05,
+        h: 0.01,
+        nx: 40,
+        ny: 36,
+    };
     let s = membrane::initial(&w, 0.3, 0.4, 1.0, 0.05);
     let run = |parallel: Parallel, threads: usize| {
         let integ = ElementIntegrator::new(w, NewtonOptions::default()).with_parallel(parallel);
@@ -182,7 +270,10 @@ fn parallel_assembly_is_the_serial_one_bit_for_bit() {
             .build()
             .unwrap();
         pool.install(|| {
-            assert_eq!(integ.workspace().is_parallel(), parallel == Parallel::Always);
+            assert_eq!(
+                integ.workspace().is_parallel(),
+                parallel == Parallel::Always
+            );
             integ.integrate(s.clone(), 8).unwrap()
         })
     };
@@ -190,8 +281,18 @@ fn parallel_assembly_is_the_serial_one_bit_for_bit() {
     for threads in [1, 2, 3] {
         let parallel = run(Parallel::Always, threads);
         for (a, b) in serial.states.iter().zip(&parallel.states) {
-            assert!(a.q.iter().zip(b.q.iter()).all(|(x, y)| x.to_bits() == y.to_bits()), "q differs on {threads} threads");
-            assert!(a.p.iter().zip(b.p.iter()).all(|(x, y)| x.to_bits() == y.to_bits()), "p differs on {threads} threads");
+            assert!(
+                a.q.iter()
+                    .zip(b.q.iter())
+                    .all(|(x, y)| x.to_bits() == y.to_bits()),
+                "q differs on {threads} threads"
+            );
+            assert!(
+                a.p.iter()
+                    .zip(b.p.iter())
+                    .all(|(x, y)| x.to_bits() == y.to_bits()),
+                "p differs on {threads} threads"
+            );
         }
     }
 }
@@ -200,19 +301,43 @@ fn parallel_assembly_is_the_serial_one_bit_for_bit() {
 /// their initial values to round-off, and the energy stays bounded.
 #[test]
 fn momentum_maps_are_exact_on_grids_and_pairs() {
-    let w = Membrane { rho: 1.0, c2: 1.0, beta: 0.5, delta: 0.1, h: 0.02, nx: 16, ny: 12 };
+    let w = Membrane {
+        rho: 1.0,
+        c2: 1.0,
+        beta: 0.5,
+        delta: 0.1,
+        h: 0.02,
+        nx: 16,
+        ny: 12,
+    };
     let integ = ElementIntegrator::new(w, NewtonOptions::default());
     let s = membrane::initial(&w, 0.3, 0.3, 1.0, 0.05);
     let mu0 = integ.momentum_map(&s);
     let traj = integ.integrate(s, 300).unwrap();
-    let energies: Vec<f64> = traj.states.windows(2).map(|p| integ.energy(&p[0].q, &p[1].q).unwrap()).collect();
-    let (lo, hi) = energies.iter().fold((f64::MAX, f64::MIN), |(a, b), &e| (a.min(e), b.max(e)));
-    assert!((hi - lo) <= 1e-2 * hi.abs(), "energy spread {:e} of {hi}", hi - lo);
+    let energies: Vec<f64> = traj
+        .states
+        .windows(2)
+        .map(|p| integ.energy(&p[0].q, &p[1].q).unwrap())
+        .collect();
+    let (lo, hi) = energies
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), &e| (a.min(e), b.max(e)));
+    assert!(
+        (hi - lo) <= 1e-2 * hi.abs(),
+        "energy spread {:e} of {hi}",
+        hi - lo
+    );
     for st in &traj.states {
         let mu = integ.momentum_map(st);
         assert!((mu[0] - mu0[0]).abs() <= 1e-13, "{mu:?} vs {mu0:?}");
     }
-    let c = Cluster { m: 1.0, eps: 1.0, sigma: 1.0, h: 0.002, n: 27 };
+    let c = Cluster {
+        m: 1.0,
+        eps: 1.0,
+        sigma: 1.0,
+        h: 0.002,
+        n: 27,
+    };
     let integ = ElementIntegrator::new(c, NewtonOptions::default());
     let s = cluster::initial(&c, 1.15, 0.2);
     let mu0 = integ.momentum_map(&s);
@@ -230,8 +355,16 @@ fn momentum_maps_are_exact_on_grids_and_pairs() {
 /// any step; the initial state is kept.
 #[test]
 fn sizes_and_states_that_do_not_fit_are_typed_errors() {
-    assert_eq!(<TodaN as dirac::runtime::element::ElementLagrangian>::MIN_SIZE, 1);
-    let sys = TodaN { m: 1.0, d: 1.0, h: 0.05, n: 10 };
+    assert_eq!(
+        <TodaN as dirac::runtime::element::ElementLagrangian>::MIN_SIZE,
+        1
+    );
+    let sys = TodaN {
+        m: 1.0,
+        d: 1.0,
+        h: 0.05,
+        n: 10,
+    };
     let integ = ElementIntegrator::new(sys, NewtonOptions::default());
     let short = ElementState::new(DVector::zeros(9), DVector::zeros(9));
     let err = integ.integrate(short, 5).unwrap_err();

@@ -34,8 +34,8 @@ pub mod compose;
 pub mod constrained;
 pub mod continuous;
 pub mod diagnostics;
-pub mod element;
 pub mod driver;
+pub mod element;
 pub mod ensemble;
 pub mod error;
 pub mod linalg;
@@ -62,10 +62,10 @@ pub mod prelude {
         ContinuousLagrangian, LegendreError,
     };
     pub use crate::diagnostics::trajectory_energies;
+    pub use crate::driver::{ControlLaw, ControlSequence, Drive, RunSummary};
     pub use crate::element::{
         ElementIntegrator, ElementLagrangian, ElementState, ElementTrajectory, Parallel,
     };
-    pub use crate::driver::{ControlLaw, ControlSequence, Drive, RunSummary};
     pub use crate::error::{IntegrationError, StepError, Steps};
     pub use crate::newton::NewtonOptions;
     pub use crate::reduced::{ReducedIntegrator, ReducedStep, Trajectory};

@@ -27,7 +27,8 @@ pub fn membrane(
             let ux = (q.u[(i + 1) % nx][j] - q.u[i][j]) / delta;
             let uy = (q.u[i][(j + 1) % ny] - q.u[i][j]) / delta;
             let w = v.u[i][j];
-            l += delta * delta
+            l += delta
+                * delta
                 * (0.5 * rho * w * w
                     - 0.5 * c2 * (ux * ux + uy * uy)
                     - 0.25 * beta * (ux.powi(4) + uy.powi(4)));
@@ -45,7 +46,10 @@ pub fn initial(sys: &Membrane, a: f64, width: f64, s: f64, drift: f64) -> Elemen
         let x = i as f64 * sys.delta - 0.5 * lx;
         let y = j as f64 * sys.delta - 0.5 * ly;
         let r2 = x * x + y * y;
-        (a * (-r2 / (2.0 * width * width)).exp(), -x / (width * width))
+        (
+            a * (-r2 / (2.0 * width * width)).exp(),
+            -x / (width * width),
+        )
     };
     let mut q = DVector::zeros(nx * ny);
     let mut p = DVector::zeros(nx * ny);

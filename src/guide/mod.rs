@@ -26,7 +26,7 @@
 //! 9. [Diagnostics](diagnostics): Newton statistics and conditioning per step, energies, the
 //!    Dirac structure and the discrete action along a trajectory, the step-map Jacobian.
 //! 10. [Errors](errors): the typed [`StepError`](crate::StepError) of a failed step, the
-//!    trajectory kept up to it, and the compile errors of the attributes.
+//!     trajectory kept up to it, and the compile errors of the attributes.
 //! 11. [Limits](limits): what the integrators do not do, and where their guarantees end.
 //!
 //! Results that leave the process — runs and ensembles in Apache Parquet, sharded ensembles on a

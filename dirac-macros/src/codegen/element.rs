@@ -25,7 +25,10 @@ pub fn generate(
     codes: &[ElementCode],
     min_size: usize,
 ) -> TokenStream {
-    let ty = spec.name.clone().unwrap_or_else(|| camel_case(&func.sig.ident));
+    let ty = spec
+        .name
+        .clone()
+        .unwrap_or_else(|| camel_case(&func.sig.ident));
     let config = format_ident!("{}Config", ty);
     let vis = &func.vis;
     let rt = quote!(::dirac::runtime::element);
@@ -91,7 +94,11 @@ pub fn generate(
             .map(|slot| {
                 let c = slot.coord;
                 let coord = &spec.coords[c];
-                let ix: Vec<TokenStream> = slot.index.iter().map(|i| i.tokens(&size_tok, &loop_tok)).collect();
+                let ix: Vec<TokenStream> = slot
+                    .index
+                    .iter()
+                    .map(|i| i.tokens(&size_tok, &loop_tok))
+                    .collect();
                 match (coord.dims.as_slice(), ix.as_slice()) {
                     ([], []) => quote!(__o[#c]),
                     ([_], [i]) => quote!(__o[#c] + #i),
@@ -174,7 +181,11 @@ pub fn generate(
             }
             None => quote!(f64::NAN),
         };
-        described.push(format!("{}×{s} ({} operations for R + J + p)", depth_word(depth), all.operations));
+        described.push(format!(
+            "{}×{s} ({} operations for R + J + p)",
+            depth_word(depth),
+            all.operations
+        ));
         let gen = lints::generated();
         family_items.extend(quote! {
             #[doc(hidden)]
@@ -182,7 +193,7 @@ pub fn generate(
             #vis struct #name<'a>(&'a #ty);
 
             #gen
-            #[allow(unused_variables, unused_parens, clippy::identity_op, clippy::erasing_op, clippy::unnecessary_cast, clippy::double_parens)]
+            #[allow(unused_variables, unused_parens, clippy::identity_op, clippy::erasing_op, clippy::unnecessary_cast, clippy::double_parens, clippy::possible_missing_comma)]
             impl #rt::Family<#s> for #name<'_> {
                 const DEPTH: usize = #depth;
                 fn elements(&self, visit: &mut dyn FnMut(&[i64], [i64; #s])) {
@@ -237,8 +248,12 @@ pub fn generate(
         "\n\nThe parameters and sizes of [`{fn_name}`]; emitted by `#[reduced_lagrangian]`, which implements \
          `dirac::runtime::element::ElementLagrangian` for it (integrate with `ElementIntegrator`)."
     );
-    let param_docs = params.iter().map(|p| format!("The parameter `{p}` of [`{fn_name}`]."));
-    let size_docs = sizes.iter().map(|s| format!("The size `{s}` of [`{fn_name}`]."));
+    let param_docs = params
+        .iter()
+        .map(|p| format!("The parameter `{p}` of [`{fn_name}`]."));
+    let size_docs = sizes
+        .iter()
+        .map(|s| format!("The size `{s}` of [`{fn_name}`]."));
 
     // The configuration type: one field per coordinate.
     let fields = spec.coords.iter().map(|c| {
@@ -278,7 +293,12 @@ pub fn generate(
         }
     });
     let config_doc = format!("A configuration (or velocity) of [`{ty}`], coordinate by coordinate; lengths are the sizes.");
-    let user = user_function(func, &config, false, &[], true);
+    let mut user_func = func.clone();
+    user_func.attrs.push(syn::parse_quote!(#[allow(
+        clippy::needless_pass_by_value,
+        reason = "the configurations hold `Vec`s whose lengths are the sizes; the attribute passes them by value as it does fixed-size ones"
+    )]));
+    let user = user_function(&user_func, &config, false, &[], true);
     let gen = lints::generated();
     let step_field = &spec.sig.step;
     quote! {
@@ -304,7 +324,13 @@ pub fn generate(
         }
 
         #gen
-        #[allow(clippy::identity_op, clippy::erasing_op, unused_parens)]
+        #[allow(
+            clippy::identity_op,
+            clippy::erasing_op,
+            unused_parens,
+            clippy::possible_missing_comma,
+            reason = "generated with the attribute's span: array entries are one-line products, not missing commas"
+        )]
         impl #ty {
             /// What the compiler generated.
             pub const GENERATED: &'static str = #generated;

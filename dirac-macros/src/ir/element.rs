@@ -47,7 +47,12 @@ pub fn param_names(spec: &ElementSpec, depth: usize) -> Vec<String> {
 }
 
 /// Lowers and differentiates one family's element; `None` after errors (recorded).
-pub fn element(cx: &Ctxt, spec: &ElementSpec, family: &FamilySpec, depth: usize) -> Option<ElementCode> {
+pub fn element(
+    cx: &Ctxt,
+    spec: &ElementSpec,
+    family: &FamilySpec,
+    depth: usize,
+) -> Option<ElementCode> {
     let width = family.slots.len();
     let names = Names {
         q0: &spec.sig.q0,
@@ -77,7 +82,9 @@ pub fn element(cx: &Ctxt, spec: &ElementSpec, family: &FamilySpec, depth: usize)
     let q0: Vec<Sym> = (0..width).map(Sym::Q0).collect();
     let q1: Vec<Sym> = (0..width).map(Sym::Q1).collect();
     let d1 = firsts(g, mode, ld, &q0);
-    let columns: Vec<Vec<NodeId>> = (0..width).map(|b| derivatives(g, &d1, Sym::Q1(b))).collect();
+    let columns: Vec<Vec<NodeId>> = (0..width)
+        .map(|b| derivatives(g, &d1, Sym::Q1(b)))
+        .collect();
     let d12 = (0..width)
         .map(|a| (0..width).map(|b| columns[b][a]).collect())
         .collect();

@@ -54,9 +54,6 @@ unsafe impl Sync for Shared {}
 pub(super) struct Assembler {
     families: Vec<FamilyData>,
     nnz: usize,
-    /// The row of every Jacobian entry.
-    #[allow(dead_code)]
-    rows_of_values: Vec<usize>,
     parallel: Option<Blocks>,
     orbits: Vec<Vec<Range<usize>>>,
     /// `D_2 L_d(q0, z)` at the last `z` a pass evaluated: the next momentum once Newton stops.
@@ -225,12 +222,6 @@ impl ElementWorkspace {
             }
             Blocks { ranges, lists }
         });
-        let mut rows_of_values = vec![0; nnz];
-        for c in 0..n {
-            for p in col_ptr[c]..col_ptr[c + 1] {
-                rows_of_values[p] = row_idx[p];
-            }
-        }
         Self {
             n,
             invalid,
@@ -240,7 +231,6 @@ impl ElementWorkspace {
             assembler: Assembler {
                 families,
                 nnz,
-                rows_of_values,
                 parallel,
                 orbits: system.translations(),
                 p1: RefCell::new(DVector::zeros(n)),
@@ -397,7 +387,8 @@ impl FamilyVisitor for Visit<'_, '_> {
                     None => {
                         for (e, st) in stencils.enumerate() {
                             let st: &[usize; S] = st.try_into().expect("chunks of S");
-                            let (a0, a1) = unsafe { (gather_unchecked(q0, st), gather_unchecked(z, st)) };
+                            let (a0, a1) =
+                                unsafe { (gather_unchecked(q0, st), gather_unchecked(z, st)) };
                             let (d1, d2) = family.d1_d2(indices(e), &a0, &a1);
                             for a in 0..S {
                                 unsafe {
@@ -411,7 +402,8 @@ impl FamilyVisitor for Visit<'_, '_> {
                         let positions = data.positions.chunks_exact(S * S);
                         for (e, (st, pos)) in stencils.zip(positions).enumerate() {
                             let st: &[usize; S] = st.try_into().expect("chunks of S");
-                            let (a0, a1) = unsafe { (gather_unchecked(q0, st), gather_unchecked(z, st)) };
+                            let (a0, a1) =
+                                unsafe { (gather_unchecked(q0, st), gather_unchecked(z, st)) };
                             let (d1, d2, d12) = family.d1_d2_d12(indices(e), &a0, &a1);
                             for a in 0..S {
                                 unsafe {
@@ -529,10 +521,10 @@ impl Assembler {
         let Some(blocks) = &self.parallel else {
             r.copy_from_slice(p0);
             p1.fill(0.0);
-            let jacobian = jacobian.map(|j| {
+            let mut jacobian = jacobian;
+            if let Some(j) = jacobian.as_deref_mut() {
                 j.fill(0.0);
-                j
-            });
+            }
             let mut visit = Visit {
                 assembler: self,
                 next: 0,
@@ -559,7 +551,10 @@ impl Assembler {
             j.par_chunks_mut(CHUNK).for_each(|c| c.fill(0.0));
             Shared(j.as_mut_ptr())
         });
-        let (r, p) = (Shared(r.as_mut_ptr()), Shared(p1.as_mut_slice().as_mut_ptr()));
+        let (r, p) = (
+            Shared(r.as_mut_ptr()),
+            Shared(p1.as_mut_slice().as_mut_ptr()),
+        );
         let families = &self.families[..];
         (0..blocks.ranges.len()).into_par_iter().for_each(|block| {
             let mut visit = BlockVisit {

@@ -232,7 +232,13 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
         self.system
             .translations()
             .iter()
-            .map(|orbit| orbit.iter().flat_map(|r| r.clone()).map(|i| state.p[i]).sum())
+            .map(|orbit| {
+                orbit
+                    .iter()
+                    .flat_map(|r| r.clone())
+                    .map(|i| state.p[i])
+                    .sum()
+            })
             .collect()
     }
 
@@ -404,7 +410,11 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
         // μ_{k+1} = μ_k exactly: the first component of each orbit takes the difference.
         for orbit in assembler.orbits() {
             let mu0: f64 = orbit.iter().flat_map(|r| r.clone()).map(|i| p0[i]).sum();
-            let mu1: f64 = orbit.iter().flat_map(|r| r.clone()).map(|i| next.p[i]).sum();
+            let mu1: f64 = orbit
+                .iter()
+                .flat_map(|r| r.clone())
+                .map(|i| next.p[i])
+                .sum();
             if let Some(first) = orbit.first().map(|r| r.start) {
                 next.p[first] += mu0 - mu1;
             }

@@ -61,3 +61,29 @@ pub fn run() -> Result<f64, Box<dyn std::error::Error>> {
 pub fn stretch(q: Config) -> (f64, f64) {
     (2.0 * std::f64::consts::PI * q.r, q.theta + q.r)
 }
+
+/// An element-wise system sized at run time (a grid with wrap-around, a pair loop, a size and a
+/// loop index read as values): its kernels, stencils, configuration type and trait impls.
+#[reduced_lagrangian(
+    coordinates(u[nx][ny], c[k]),
+    translate(u),
+    rule = midpoint
+)]
+#[must_use]
+#[allow(clippy::cast_precision_loss, reason = "grid indices are far below 2^52")]
+pub fn grid_and_pairs(q: Config, v: Velocity, m: f64, s: f64, nx: usize, ny: usize, k: usize) -> f64 {
+    let mut l = 0.0;
+    for i in 0..nx {
+        for j in 0..ny {
+            let du = q.u[(i + 1) % nx][j] - q.u[i][j];
+            l += 0.5 * m * v.u[i][j] * v.u[i][j] - 0.5 * s * du * du * (1.0 + i as f64 / nx as f64);
+        }
+    }
+    for a in 0..k {
+        l += 0.5 * v.c[a] * v.c[a];
+        for b in a + 1..k {
+            l -= (q.c[a] - q.c[b]).powi(2) * 1.234_567_890_123_456_7e-3;
+        }
+    }
+    l
+}

@@ -213,12 +213,18 @@ impl Splitter<'_> {
         let var = match &*f.pat {
             syn::Pat::Ident(pi) => pi.ident.clone(),
             other => {
-                self.cx.error_spanned_by(other, "a loop over elements binds one index, e.g. `for i in 0..n`");
+                self.cx.error_spanned_by(
+                    other,
+                    "a loop over elements binds one index, e.g. `for i in 0..n`",
+                );
                 return;
             }
         };
         let Expr::Range(range) = &*f.expr else {
-            self.cx.error_spanned_by(&f.expr, "a loop over elements runs over a range such as `0..n` or `i + 1..n`");
+            self.cx.error_spanned_by(
+                &f.expr,
+                "a loop over elements runs over a range such as `0..n` or `i + 1..n`",
+            );
             return;
         };
         let vars: Vec<Ident> = outer.iter().map(|l| l.var.clone()).collect();
@@ -226,7 +232,8 @@ impl Splitter<'_> {
             match e {
                 Some(e) => Index::parse(self.cx, e, &vars, self.sizes),
                 None => {
-                    self.cx.error_spanned_by(range, "the range must have both bounds, e.g. `0..n`");
+                    self.cx
+                        .error_spanned_by(range, "the range must have both bounds, e.g. `0..n`");
                     None
                 }
             }
@@ -320,7 +327,10 @@ struct Rewriter<'a> {
 
 impl Rewriter<'_> {
     /// `q.x[..][..]` → the coordinate, its member and its index expressions (outermost last).
-    fn coordinate_read<'e>(&self, e: &'e Expr) -> Option<(usize, &'e syn::ExprField, Vec<&'e Expr>)> {
+    fn coordinate_read<'e>(
+        &self,
+        e: &'e Expr,
+    ) -> Option<(usize, &'e syn::ExprField, Vec<&'e Expr>)> {
         let mut indices = Vec::new();
         let mut cur = e;
         while let Expr::Index(ix) = cur {
@@ -328,12 +338,16 @@ impl Rewriter<'_> {
             cur = &ix.expr;
         }
         let Expr::Field(f) = cur else { return None };
-        let Expr::Path(base) = &*f.base else { return None };
+        let Expr::Path(base) = &*f.base else {
+            return None;
+        };
         let id = base.path.get_ident()?;
         if !self.configs.contains(&id) {
             return None;
         }
-        let Member::Named(m) = &f.member else { return None };
+        let Member::Named(m) = &f.member else {
+            return None;
+        };
         let c = self.coords.iter().position(|c| c.name == *m)?;
         indices.reverse();
         Some((c, f, indices))
@@ -360,8 +374,15 @@ impl Rewriter<'_> {
             .map(|ix| Index::parse(self.cx, ix, &vars, self.sizes))
             .collect();
         let index: Vec<Index> = parsed.into_iter().collect::<Option<_>>()?;
-        let key = format!("{c}:{}", index.iter().map(Index::key).collect::<Vec<_>>().join(","));
-        let text = e.to_token_stream().to_string().replace(" [", "[").replace(" . ", ".");
+        let key = format!(
+            "{c}:{}",
+            index.iter().map(Index::key).collect::<Vec<_>>().join(",")
+        );
+        let text = e
+            .to_token_stream()
+            .to_string()
+            .replace(" [", "[")
+            .replace(" . ", ".");
         let n = self.slots.len();
         let k = *self.keys.entry(key).or_insert(n);
         if k == n {
@@ -405,7 +426,9 @@ impl VisitMut for Rewriter<'_> {
     fn visit_expr_mut(&mut self, e: &mut Expr) {
         if self.coordinate_read(e).is_some() {
             if let Some(k) = self.slot(e) {
-                let Some((_, f, _)) = self.coordinate_read(e) else { return };
+                let Some((_, f, _)) = self.coordinate_read(e) else {
+                    return;
+                };
                 let base = f.base.clone();
                 let name = format_ident!("{}", slot_name(k), span = e.span());
                 *e = syn::parse_quote!(#base.#name);
@@ -436,10 +459,18 @@ impl VisitMut for Rewriter<'_> {
 /// The smallest size, from 1 to [`MAX_MIN_SIZE`], from which every stencil read stays inside
 /// its coordinate at every sampled size: each size from it to it + [`SAMPLE_SPAN`], plus
 /// [`LARGE_SAMPLE`]. `None` (with an error at the offending read) when there is none.
-pub fn min_size(cx: &Ctxt, families: &[FamilySpec], coords: &[ElementCoord], n_sizes: usize) -> Option<usize> {
-    let mut first_failure: Option<(proc_macro2::TokenStream, String)> = None;
+pub fn min_size(
+    cx: &Ctxt,
+    families: &[FamilySpec],
+    coords: &[ElementCoord],
+    n_sizes: usize,
+) -> Option<usize> {
+    let mut first_failure: Option<Failure> = None;
     'candidate: for m in 1..=MAX_MIN_SIZE {
-        let samples: Vec<i64> = (m..=m + SAMPLE_SPAN).map(|v| v as i64).chain([LARGE_SAMPLE]).collect();
+        let samples: Vec<i64> = (m..=m + SAMPLE_SPAN)
+            .map(|v| v as i64)
+            .chain([LARGE_SAMPLE])
+            .collect();
         for sizes in combinations(&samples, n_sizes) {
             for f in families {
                 if let Err(failure) = check_family(f, coords, &sizes) {
@@ -457,6 +488,9 @@ pub fn min_size(cx: &Ctxt, families: &[FamilySpec], coords: &[ElementCoord], n_s
     }
     None
 }
+
+/// An escaping read: the tokens to point at, and the message.
+type Failure = (proc_macro2::TokenStream, String);
 
 /// Largest smallest size the compiler looks for.
 pub const MAX_MIN_SIZE: usize = 8;
@@ -483,9 +517,13 @@ fn combinations(samples: &[i64], k: usize) -> Vec<Vec<i64>> {
 }
 
 /// Every element of `f` at `sizes`: its reads inside their coordinates.
-fn check_family(f: &FamilySpec, coords: &[ElementCoord], sizes: &[i64]) -> Result<(), (proc_macro2::TokenStream, String)> {
+fn check_family(f: &FamilySpec, coords: &[ElementCoord], sizes: &[i64]) -> Result<(), Failure> {
     let size_text = |sizes: &[i64]| -> String {
-        sizes.iter().map(|s| s.to_string()).collect::<Vec<_>>().join(", ")
+        sizes
+            .iter()
+            .map(|s| s.to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
     };
     let mut indices = vec![0i64; f.loops.len()];
     fn walk(
@@ -494,8 +532,8 @@ fn check_family(f: &FamilySpec, coords: &[ElementCoord], sizes: &[i64]) -> Resul
         sizes: &[i64],
         level: usize,
         indices: &mut Vec<i64>,
-        report: &dyn Fn(&[i64], &Slot, String) -> (proc_macro2::TokenStream, String),
-    ) -> Result<(), (proc_macro2::TokenStream, String)> {
+        report: &dyn Fn(&[i64], &Slot, String) -> Failure,
+    ) -> Result<(), Failure> {
         if level == f.loops.len() {
             for slot in &f.slots {
                 let coord = &coords[slot.coord];
@@ -521,22 +559,22 @@ fn check_family(f: &FamilySpec, coords: &[ElementCoord], sizes: &[i64]) -> Resul
             return Ok(());
         }
         let l = &f.loops[level];
-        let (lo, hi) = match (l.lo.eval(sizes, indices), l.hi.eval(sizes, indices)) {
-            (Ok(lo), Ok(hi)) => (lo, hi),
-            _ => {
-                return Err((
+        let (lo, hi) =
+            match (l.lo.eval(sizes, indices), l.hi.eval(sizes, indices)) {
+                (Ok(lo), Ok(hi)) => (lo, hi),
+                _ => return Err((
                     l.tokens.clone(),
-                    "this loop's bounds subtract below zero (a `usize` underflow) for small sizes".to_string(),
-                ))
-            }
-        };
+                    "this loop's bounds subtract below zero (a `usize` underflow) for small sizes"
+                        .to_string(),
+                )),
+            };
         for i in lo..hi {
             indices[level] = i;
             walk(f, coords, sizes, level + 1, indices, report)?;
         }
         Ok(())
     }
-    let report = |indices: &[i64], slot: &Slot, what: String| -> (proc_macro2::TokenStream, String) {
+    let report = |indices: &[i64], slot: &Slot, what: String| -> Failure {
         let at: Vec<String> = f
             .loops
             .iter()

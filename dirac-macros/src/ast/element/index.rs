@@ -47,7 +47,10 @@ impl Index {
 
     fn parse_inner(cx: &Ctxt, e: &Expr, loops: &[Ident], sizes: &[Ident]) -> Option<Index> {
         let fail = |what: String| {
-            cx.error_spanned_by(e, format!("{what}; an index is built from {INDEX_ACCEPTED}"));
+            cx.error_spanned_by(
+                e,
+                format!("{what}; an index is built from {INDEX_ACCEPTED}"),
+            );
             None
         };
         match e {
@@ -62,7 +65,10 @@ impl Index {
             },
             Expr::Path(p) => {
                 let Some(id) = p.path.get_ident() else {
-                    return fail(format!("`{}` is not a size or a loop index", p.to_token_stream()));
+                    return fail(format!(
+                        "`{}` is not a size or a loop index",
+                        p.to_token_stream()
+                    ));
                 };
                 if let Some(k) = loops.iter().rposition(|l| l == id) {
                     Some(Index::Loop(k))

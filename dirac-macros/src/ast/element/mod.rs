@@ -197,15 +197,23 @@ pub fn parse(cx: &Ctxt, args: proc_macro2::TokenStream, func: &ItemFn) -> Option
                 _ => None,
             };
             match found {
-                Some(c) if translates.iter().any(|t: &Vec<usize>| t.contains(&c)) || members.contains(&c) => cx
-                    .error_spanned_by(e, "this coordinate is already moved by a `translate(...)`"),
+                Some(c)
+                    if translates.iter().any(|t: &Vec<usize>| t.contains(&c))
+                        || members.contains(&c) =>
+                {
+                    cx.error_spanned_by(e, "this coordinate is already moved by a `translate(...)`")
+                }
                 Some(c) => members.push(c),
                 None => cx.error_spanned_by(
                     e,
                     format!(
                         "`{}` is not a declared coordinate; declared: {}",
                         e.to_token_stream(),
-                        coords.iter().map(|c| format!("`{}`", c.name)).collect::<Vec<_>>().join(", ")
+                        coords
+                            .iter()
+                            .map(|c| format!("`{}`", c.name))
+                            .collect::<Vec<_>>()
+                            .join(", ")
                     ),
                 ),
             }
@@ -253,7 +261,10 @@ fn coordinate(cx: &Ctxt, e: &Expr, sizes: &[Ident]) -> Option<ElementCoord> {
                             }
                         },
                         None => {
-                            cx.error_spanned_by(&ix.index, "a length is a size or an integer literal");
+                            cx.error_spanned_by(
+                                &ix.index,
+                                "a length is a size or an integer literal",
+                            );
                             return None;
                         }
                     },
