@@ -10,7 +10,7 @@
 //! bordered-tridiagonal Newton step of `benches/common/toda_hand.rs` — the same discrete
 //! equations in adapted coordinates, the physical-limit baseline, up to n = 20,000: above, its
 //! residual test on the border equation does not converge in 50 corrections), their ratio, the Newton
-//! corrections per step, the momentum map's largest deviation (exact: round-off), the spread of
+//! corrections and Jacobian factorizations per step, the momentum map's largest deviation (exact: round-off), the spread of
 //! the energy at the step midpoints, one residual + Jacobian assembly serial and on all of
 //! rayon's threads (their ratio is the parallel speed-up; the results are the same bit for bit)
 //! and the process's peak memory so far (`VmHWM`, sizes run in increasing order). Then the
@@ -98,6 +98,7 @@ struct Row {
     hand_us: f64,
     ratios: Vec<f64>,
     corrections: f64,
+    factorizations: f64,
     mu_deviation: f64,
     energy_spread: f64,
     rj_serial_us: f64,
@@ -171,6 +172,7 @@ fn measure(n: usize, o: &Options) -> Result<Row, Box<dyn std::error::Error>> {
         mu_deviation = mu_deviation.max((integ.momentum_map(state)[0] - mu0).abs());
     })?;
     let corrections = summary.mean_iterations();
+    let factorizations = summary.factorizations as f64 / summary.steps.max(1) as f64;
     // Timed: the steps alone (the workspace — pattern, ordering, symbolic factorization — is
     // built once per run, before), in the driver's way: two states swapped, nothing allocated.
     let (mut dirac_s, mut hand_s) = (Vec::new(), Vec::new());
@@ -216,6 +218,7 @@ fn measure(n: usize, o: &Options) -> Result<Row, Box<dyn std::error::Error>> {
         hand_us,
         ratios,
         corrections,
+        factorizations,
         mu_deviation,
         energy_spread: (e_max - e_min) / e_max.abs(),
         rj_serial_us,
@@ -239,12 +242,13 @@ fn main() {
         o.repeats
     );
     println!(
-        "{:>7} {:>11} {:>11} {:>20} {:>6} {:>9} {:>10} {:>11} {:>11} {:>6} {:>8}",
+        "{:>7} {:>11} {:>11} {:>20} {:>6} {:>7} {:>9} {:>10} {:>11} {:>11} {:>6} {:>8}",
         "n",
         "step µs",
         "hand µs",
         "ratio (range)",
         "corr",
+        "fact",
         "max|Δμ|",
         "E spread",
         "R+J ser µs",
@@ -266,12 +270,13 @@ fn main() {
                     format!("{:.2} ({lo:.2}–{hi:.2})", median(r.ratios.clone()))
                 };
                 println!(
-                    "{:>7} {:>11.2} {:>11.2} {:>20} {:>6.2} {:>9.1e} {:>10.1e} {:>11.1} {:>11.1} {:>6.2} {:>8}",
+                    "{:>7} {:>11.2} {:>11.2} {:>20} {:>6.2} {:>7.4} {:>9.1e} {:>10.1e} {:>11.1} {:>11.1} {:>6.2} {:>8}",
                     r.n,
                     r.step_us,
                     r.hand_us,
                     ratio,
                     r.corrections,
+                    r.factorizations,
                     r.mu_deviation,
                     r.energy_spread,
                     r.rj_serial_us,
