@@ -63,15 +63,21 @@ pub fn inf_norm<const N: usize>(v: &SVector<f64, N>) -> f64 {
     slice_inf_norm(v.as_slice())
 }
 
+/// (Written as a branch-free select and a NaN flag, so that it vectorizes: on the large
+/// element-wise systems it runs three times per Newton correction.)
 #[inline]
 pub(crate) fn slice_inf_norm(v: &[f64]) -> f64 {
-    v.iter().fold(0.0, |m: f64, x| {
-        if m.is_nan() || x.is_nan() {
-            f64::NAN
-        } else {
-            m.max(x.abs())
-        }
-    })
+    let (mut m, mut nan) = (0.0f64, false);
+    for x in v {
+        let a = x.abs();
+        nan |= a.is_nan();
+        m = if a > m { a } else { m };
+    }
+    if nan {
+        f64::NAN
+    } else {
+        m
+    }
 }
 
 /// A converged solve.
