@@ -27,8 +27,10 @@
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::perm::{Perm, PermRef};
 use faer::sparse::linalg::lu::simplicial::{self, SimplicialLu};
-use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuSymbolicParams};
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
+use faer::sparse::linalg::lu::{
+    factorize_symbolic_lu, LuRef, LuSymbolicParams, NumericLu, SymbolicLu,
+};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par};
 use nalgebra::SVector;
 
@@ -97,6 +99,23 @@ impl<const NNZ: usize> CscValues<NNZ> {
     }
 }
 
+/// `‖A‖₁` of the CSC values `values` with column starts `col_ptr`, and a finiteness test of every
+/// entry (a column sum is finite iff its terms are).
+fn column_norm1(col_ptr: &[usize], values: &[f64]) -> Result<f64, FactorError> {
+    let mut norm1 = 0.0f64;
+    for c in 0..col_ptr.len() - 1 {
+        let sum: f64 = values[col_ptr[c]..col_ptr[c + 1]]
+            .iter()
+            .map(|v| v.abs())
+            .sum();
+        if !sum.is_finite() {
+            return Err(FactorError::NonFinite);
+        }
+        norm1 = norm1.max(sum);
+    }
+    Ok(norm1)
+}
+
 /// Sparse LU with partial pivoting (faer's simplicial LU) on a pattern known at run time: the
 /// numeric core of [`SparseLu`] (the compile-time pattern of a fixed-size system) and of
 /// [`DynSparseLu`] (the pattern a run-time-sized system assembles from its element stencils).
@@ -162,20 +181,7 @@ impl Factors {
     fn factor(&mut self, values: &[f64]) -> Result<(), FactorError> {
         self.factored = false;
         self.rcond_cache = (None, None);
-        // ‖A‖₁ and a finiteness test of every entry (a column sum is finite iff its terms are).
-        let col_ptr = self.pattern.col_ptr();
-        let mut norm1 = 0.0f64;
-        for c in 0..self.n {
-            let sum: f64 = values[col_ptr[c]..col_ptr[c + 1]]
-                .iter()
-                .map(|v| v.abs())
-                .sum();
-            if !sum.is_finite() {
-                return Err(FactorError::NonFinite);
-            }
-            norm1 = norm1.max(sum);
-        }
-        self.norm1 = norm1;
+        self.norm1 = column_norm1(self.pattern.col_ptr(), values)?;
         let a = SparseColMatRef::new(self.pattern.as_ref(), values);
         let stack = MemStack::new(&mut self.scratch);
         simplicial::factorize_simplicial_numeric_lu(
@@ -422,45 +428,74 @@ impl<const N: usize, const NNZ: usize> LinearSolver for SparseLu<N, NNZ> {
     delegate_to_factors!();
 }
 
-/// The sparse LU of [`SparseLu`] on a pattern built at run time: the backend of systems whose
-/// size is chosen at run time (element-wise systems, [`crate::element`]), whose step Jacobian's
-/// pattern is assembled once per run from the element stencils. Vectors are `DVector`s and the
-/// Jacobian is its values in the pattern's CSC order; solves are in place, so a Newton step
-/// allocates nothing.
+/// The sparse LU on a pattern built at run time: the backend of systems whose size is chosen at
+/// run time (element-wise systems, [`crate::element`]), whose step Jacobian's pattern is
+/// assembled once per run from the element stencils. Vectors are `DVector`s and the Jacobian is
+/// its values in the pattern's CSC order; solves are in place, so a Newton step allocates
+/// nothing.
+///
+/// Unlike [`SparseLu`] (lattices and chains of a fixed size, whose simplicial factors it reads
+/// for a cheap conditioning bound), this backend lets faer choose between its simplicial and
+/// supernodal numeric LU from the symbolic analysis: the pattern of a 2-D grid fills in far more
+/// than a chain's, and there the supernodal factorization (dense blocks) is what makes a
+/// factorization of 10⁵ unknowns affordable. The factors are then not readable, so the step is
+/// checked with Hager's estimate — once per factorization, which chord iterations make rare.
 pub struct DynSparseLu {
+    n: usize,
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
-    factors: Factors,
+    symbolic: SymbolicLu<usize>,
+    numeric: NumericLu<usize, f64>,
+    scratch: MemBuffer,
+    /// Hager's three vectors.
+    hager: [Vec<f64>; 3],
+    norm1: f64,
+    factored: bool,
+    rcond_cache: Option<f64>,
 }
 
 impl std::fmt::Debug for DynSparseLu {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("DynSparseLu")
-            .field("n", &self.factors.n)
+            .field("n", &self.n)
             .field("nnz", &self.row_idx.len())
-            .field("factored", &self.factors.factored)
+            .field("factored", &self.factored)
             .finish_non_exhaustive()
     }
 }
 
 impl DynSparseLu {
     /// The workspace for `n × n` Jacobians whose column `j` has the sorted, distinct rows
-    /// `row_idx[col_ptr[j]..col_ptr[j + 1]]`: fill-reducing ordering and all scratch.
+    /// `row_idx[col_ptr[j]..col_ptr[j + 1]]`: fill-reducing ordering, symbolic factorization
+    /// and all scratch.
     ///
     /// # Panics
     /// If the arrays do not describe such a pattern (the runtime builds them; a bug in dirac).
     pub fn new(n: usize, col_ptr: Vec<usize>, row_idx: Vec<usize>) -> Self {
-        let factors = Factors::new(n, &col_ptr, &row_idx);
+        let pattern = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
+        let symbolic = factorize_symbolic_lu(pattern, LuSymbolicParams::default())
+            .expect("dirac: symbolic LU of the Jacobian's pattern (out of memory)");
+        let req = StackReq::any_of(&[
+            symbolic.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default()),
+            symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
+        ]);
         Self {
+            n,
             col_ptr,
             row_idx,
-            factors,
+            symbolic,
+            numeric: NumericLu::new(),
+            scratch: MemBuffer::new(req),
+            hager: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
+            norm1: 0.0,
+            factored: false,
+            rcond_cache: None,
         }
     }
 
     /// Number of rows and columns.
     pub fn n(&self) -> usize {
-        self.factors.n
+        self.n
     }
 
     /// Number of structural nonzeros.
@@ -477,6 +512,21 @@ impl DynSparseLu {
     pub fn row_idx(&self) -> &[usize] {
         &self.row_idx
     }
+
+    /// Solves `A x = b` (or `Aᵀ x = b`) in place.
+    fn solve_slice(&mut self, x: &mut [f64], transpose: bool) {
+        debug_assert!(self.factored, "solve before factor");
+        // SAFETY (of `new_unchecked`): `numeric` is the output of this `symbolic`'s
+        // `factorize_numeric_lu` on a matrix of its pattern (`factored` says one succeeded).
+        let lu = LuRef::new_unchecked(&self.symbolic, &self.numeric);
+        let rhs = MatMut::from_column_major_slice_mut(x, self.n, 1);
+        let stack = MemStack::new(&mut self.scratch);
+        if transpose {
+            lu.solve_transpose_in_place_with_conj(Conj::No, rhs, Par::Seq, stack);
+        } else {
+            lu.solve_in_place_with_conj(Conj::No, rhs, Par::Seq, stack);
+        }
+    }
 }
 
 impl LinearSolver for DynSparseLu {
@@ -484,20 +534,61 @@ impl LinearSolver for DynSparseLu {
     type Matrix = Vec<f64>;
 
     fn factor(&mut self, j: &Vec<f64>) -> Result<(), FactorError> {
-        self.factors.factor(j)
+        self.factored = false;
+        self.rcond_cache = None;
+        self.norm1 = column_norm1(&self.col_ptr, j)?;
+        let pattern =
+            SymbolicSparseColMatRef::new_checked(self.n, self.n, &self.col_ptr, None, &self.row_idx);
+        let a = SparseColMatRef::new(pattern, &j[..]);
+        let stack = MemStack::new(&mut self.scratch);
+        self.symbolic
+            .factorize_numeric_lu(&mut self.numeric, a, Par::Seq, stack, Default::default())
+            .map_err(|_| FactorError::Singular)?;
+        self.factored = true;
+        Ok(())
     }
 
     fn solve(&mut self, b: &nalgebra::DVector<f64>) -> nalgebra::DVector<f64> {
         let mut x = b.clone();
-        self.factors.solve_in_place(x.as_mut_slice(), false);
+        self.solve_slice(x.as_mut_slice(), false);
         x
     }
 
     fn solve_in_place(&mut self, b: &mut nalgebra::DVector<f64>) {
-        self.factors.solve_in_place(b.as_mut_slice(), false);
+        self.solve_slice(b.as_mut_slice(), false);
     }
 
-    delegate_to_factors!();
+    fn norm1(&self) -> f64 {
+        self.norm1
+    }
+
+    /// None readable from faer's general factors: 0 (or the cached estimate), so the step is
+    /// checked with [`Self::rcond`], once per factorization.
+    fn rcond_lower_bound(&mut self) -> f64 {
+        self.rcond_cache.unwrap_or(0.0)
+    }
+
+    fn rcond(&mut self) -> f64 {
+        if !self.factored {
+            return 0.0;
+        }
+        if let Some(r) = self.rcond_cache {
+            return r;
+        }
+        let [mut x, mut y, mut z] = std::mem::take(&mut self.hager);
+        let estimate = hager_inverse_norm1_in(&mut x, &mut y, &mut z, |v, transpose| {
+            self.solve_slice(v, transpose)
+        });
+        self.hager = [x, y, z];
+        let r = reciprocal_condition(self.norm1, estimate);
+        self.rcond_cache = Some(r);
+        r
+    }
+
+    /// Yes once a factorization succeeded (chord iterations, as [`SparseLu`]).
+    fn has_reusable_factors(&self) -> bool {
+        self.factored
+    }
 }
 
 #[cfg(test)]
