@@ -5,20 +5,15 @@
 //! rule in time, the shift `u ↦ u + c` as its symmetry.
 //!
 //! ```sh
-//! cargo run --release --example wave2d                        # 128 × 128 = 16 384 nodes, 200 steps
+//! cargo run --release --example wave2d                        # 316 × 316 ≈ 10⁵ nodes, 100 steps
 //! cargo run --release --example wave2d -- --nx 64 --ny 64 --steps 20 --repeats 1   # CI: ~1 s
-//! cargo run --release --example wave2d -- --nx 316 --ny 316 --steps 20 --repeats 1 # 10⁵ nodes: minutes
 //! # all arguments: [--nx NX] [--ny NY] [--steps S] [--h H] [--beta B] [--amplitude A] [--repeats R]
 //! ```
 //!
-//! Why not 10⁵ nodes by default: every run factors the step Jacobian twice in its first step
-//! (there are no factors to reuse yet; the later steps are chord corrections on them), and the
-//! sparse LU (faer's simplicial LU after a COLAMD ordering) of this periodic 2-D pattern grows
-//! about as n^1.8: one factorization takes ~1 s at 128 × 128, ~14 s at 256 × 256 and ~25 s of
-//! CPU at 316 × 316 on the 2-core machine these figures come from, so a single run at 10⁵ nodes
-//! takes most of the minute this example has, and the comparison of thread counts needs several
-//! runs (the 10⁵-node command above took 8 minutes there, the machine shared). The later steps
-//! cost ~7 ms at 128 × 128 and ~45 ms at 316 × 316 (one or two solves with those factors).
+//! Every run factors the step Jacobian in its first step (there are no factors to reuse yet; the
+//! later steps are chord corrections on them) with faer's sparse LU, supernodal on this periodic
+//! 2-D pattern (about 2 s at 316 × 316 on the 2-core machine these figures come from); the later
+//! steps cost one or two solves with those factors and one or two assembly passes each.
 //!
 //! The initial state is a Gaussian bump of width 0.1 and amplitude `--amplitude` (0.05: its
 //! slope reaches 0.3, where the cubic flux adds `3β u_x²` ≈ 14 % to the stiffness) moving at unit
@@ -27,7 +22,7 @@
 //! The time step. The midpoint rule is implicit and symplectic: `h` above the explicit scheme's
 //! CFL limit `δ/(c√2)` is stable, but accuracy decides. The default `h = 0.002` (CFL number
 //! `c h/δ = 0.26` at `nx = 128`, 0.63 at 316) keeps the relative spread of the energy at the
-//! step midpoints near 2·10⁻⁶ over the 200 steps (measured on 128 × 128: `h = 0.004` gives
+//! step midpoints near 2·10⁻⁶ over 200 steps (measured on 128 × 128: `h = 0.004` gives
 //! 9·10⁻⁶; with amplitude 0.1, whose bump steepens within the run, `h = 0.001`, 0.002, 0.004,
 //! 0.008 give 2·10⁻⁶, 3·10⁻⁵, 3·10⁻⁴, 1·10⁻³, and at 0.008 the chord corrections stall and
 //! Newton refactors every few steps: 266 ms per step instead of 8).
@@ -71,13 +66,13 @@ struct Options {
 
 fn parse_args() -> Result<Options, String> {
     let mut o = Options {
-        nx: 128,
-        ny: 128,
-        steps: 200,
+        nx: 316,
+        ny: 316,
+        steps: 100,
         h: 0.002,
         beta: 0.5,
         amplitude: 0.05,
-        repeats: 3,
+        repeats: 1,
     };
     let min = <Membrane as ElementLagrangian>::MIN_SIZE.max(2);
     let mut args = std::env::args().skip(1);

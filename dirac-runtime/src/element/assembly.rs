@@ -41,6 +41,42 @@ struct Blocks {
     lists: Vec<Vec<Vec<u32>>>,
 }
 
+/// The most elements evaluated per element (over all blocks) for [`Parallel::Auto`] to assemble
+/// in parallel (see [`Blocks::redundancy`]).
+const MAX_REDUNDANCY: f64 = 1.25;
+
+impl Blocks {
+    /// Four blocks of contiguous rows per thread (at least one row each), and the elements each
+    /// must evaluate.
+    fn new(n: usize, threads: usize, families: &[FamilyData]) -> Self {
+        let count = (4 * threads).clamp(1, n.max(1));
+        let size = n.div_ceil(count).max(1);
+        let ranges: Vec<Range<usize>> = (0..n.div_ceil(size))
+            .map(|b| b * size..((b + 1) * size).min(n))
+            .collect();
+        let mut lists = vec![vec![Vec::new(); families.len()]; ranges.len()];
+        for (fi, f) in families.iter().enumerate() {
+            for (e, st) in f.stencils.chunks_exact(f.width.max(1)).enumerate() {
+                let mut touched: Vec<usize> = st.iter().map(|&row| row / size).collect();
+                touched.sort_unstable();
+                touched.dedup();
+                for b in touched {
+                    lists[b][fi].push(e as u32);
+                }
+            }
+        }
+        Blocks { ranges, lists }
+    }
+
+    /// Elements evaluated by the blocks per element of the system (1 when no element touches
+    /// two blocks).
+    fn redundancy(&self, families: &[FamilyData]) -> f64 {
+        let evaluated: usize = self.lists.iter().flatten().map(Vec::len).sum();
+        let elements: usize = families.iter().map(|f| f.count).sum();
+        evaluated as f64 / elements.max(1) as f64
+    }
+}
+
 /// A pointer to a buffer that the blocks of a parallel pass write at disjoint rows.
 #[derive(Clone, Copy)]
 struct Shared(*mut f64);
@@ -197,31 +233,19 @@ impl ElementWorkspace {
         }
         let nnz = row_idx.len();
         let threads = rayon::current_num_threads();
-        let parallel = match parallel {
+        let wanted = match parallel {
             Parallel::Never => false,
             Parallel::Always => true,
             Parallel::Auto => entries_total >= PARALLEL_MIN_ENTRIES && threads > 1,
         };
-        let parallel = parallel.then(|| {
-            // Four blocks per thread, for balance; at least one row each.
-            let count = (4 * threads).clamp(1, n.max(1));
-            let size = n.div_ceil(count).max(1);
-            let ranges: Vec<Range<usize>> = (0..n.div_ceil(size))
-                .map(|b| b * size..((b + 1) * size).min(n))
-                .collect();
-            let mut lists = vec![vec![Vec::new(); families.len()]; ranges.len()];
-            for (fi, f) in families.iter().enumerate() {
-                for (e, st) in f.stencils.chunks_exact(f.width.max(1)).enumerate() {
-                    let mut touched: Vec<usize> = st.iter().map(|&row| row / size).collect();
-                    touched.sort_unstable();
-                    touched.dedup();
-                    for b in touched {
-                        lists[b][fi].push(e as u32);
-                    }
-                }
-            }
-            Blocks { ranges, lists }
-        });
+        let blocks = wanted.then(|| Blocks::new(n, threads, &families));
+        // Auto: only when the blocks evaluate few elements twice. Pairs touch rows everywhere,
+        // so every block would evaluate most of them (measured on the Lennard-Jones cluster:
+        // 2–4× slower than serial); lattices and grids evaluate a few boundary elements twice.
+        let parallel = match (parallel, blocks) {
+            (Parallel::Auto, Some(b)) if b.redundancy(&families) > MAX_REDUNDANCY => None,
+            (_, b) => b,
+        };
         Self {
             n,
             invalid,

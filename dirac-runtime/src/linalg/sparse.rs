@@ -537,8 +537,13 @@ impl LinearSolver for DynSparseLu {
         self.factored = false;
         self.rcond_cache = None;
         self.norm1 = column_norm1(&self.col_ptr, j)?;
-        let pattern =
-            SymbolicSparseColMatRef::new_checked(self.n, self.n, &self.col_ptr, None, &self.row_idx);
+        let pattern = SymbolicSparseColMatRef::new_checked(
+            self.n,
+            self.n,
+            &self.col_ptr,
+            None,
+            &self.row_idx,
+        );
         let a = SparseColMatRef::new(pattern, &j[..]);
         let stack = MemStack::new(&mut self.scratch);
         self.symbolic
