@@ -1,11 +1,15 @@
 //! How dirac scales with the size of the system: compile time, code size, evaluation and step
-//! time, Newton iterations and memory, for two systems written with `#[reduced_lagrangian]`,
+//! time, Newton iterations and memory, for three systems written with `#[reduced_lagrangian]`,
 //! optionally against CasADi and (for the lattice) a hand-written `O(n)` Newton step.
 //!
 //! ```sh
 //! cargo run --release --example scaling -- [--casadi] [--chain 2,4,8,16,32,64] \
-//!     [--lattice 16,64,200,1000] [--out DIR] [--build-timeout SECONDS]
+//!     [--lattice 16,64,200,1000] [--lattice-n 100,1000,10000,100000] [--out DIR] \
+//!     [--build-timeout SECONDS]
 //! ```
+//!
+//! The lists shown are the defaults; an empty list (`--chain ''`) skips that system, and so does
+//! `--lattice-n 0`. The `--lattice-n` sizes are run in ascending order.
 //!
 //! # Systems
 //!
@@ -14,18 +18,25 @@
 //!   (`n + 1` unknowns per step);
 //! * `lattice`: the periodic Toda lattice of `n` unit masses in their own positions,
 //!   `coordinates(x[n]), translate(x)`, `m = d = 1`, `h = 0.05`, from
-//!   `x_i = i d + 0.1 sin(2πi/n)`, `v_i = 0.3 cos(2πi/n)` (`n` unknowns per step).
+//!   `x_i = i d + 0.1 sin(2πi/n)`, `v_i = 0.3 cos(2πi/n)` (`n` unknowns per step);
+//! * `lattice_n`: the same lattice as an element-wise system sized at run time (the body of
+//!   `examples/common/toda_n.rs`, `coordinates(x[n]), translate(x)`, a `usize` argument `n`),
+//!   integrated by `ElementIntegrator` (sparse LU, chord Newton): `m = 1`, `h = 0.05`, positions
+//!   from the equilibrium sites (`d = 0`, the same dynamics as any `d`, without the rounding of
+//!   `x_i ≈ i d` at large n), from `x_i = 0.1 sin(2πi/n)`, `p_i = 0.3 cos(2πi/n)` (`n` unknowns
+//!   per step).
 //!
 //! # How
 //!
-//! The attribute needs the size as a literal, so for every `(system, n)` this example writes a
-//! scratch crate `target/dirac-scaling/<system>_<n>/` from the templates in `benches/scaling/`
-//! (`chain.rs.in`, `lattice.rs.in`, with `@N@` placeholders, plus `measure.rs`), depending on
-//! this workspace's `dirac` by path, with the workspace's `Cargo.lock`, default
-//! `[profile.release]` except for the attribute itself, built at `opt-level = 3` as the README
-//! recommends for large systems, its own `[workspace]`, and one shared target directory
-//! `target/dirac-scaling/target`. A warm-up crate (the smallest chain) is built first so that
-//! dirac and its dependencies are compiled once and not counted. For every crate:
+//! For `chain` and `lattice` the attribute needs the size as a literal, so for every
+//! `(system, n)` this example writes a scratch crate `target/dirac-scaling/<system>_<n>/` from
+//! the templates in `benches/scaling/` (`chain.rs.in`, `lattice.rs.in`, with `@N@`
+//! placeholders, plus `measure.rs`), depending on this workspace's `dirac` by path, with the
+//! workspace's `Cargo.lock`, default `[profile.release]` except for the attribute itself, built
+//! at `opt-level = 3` as the README recommends for large systems, its own `[workspace]`, and one
+//! shared target directory `target/dirac-scaling/target`. A warm-up crate (the smallest chain)
+//! is built first so that dirac and its dependencies are compiled once and not counted. For
+//! every crate:
 //!
 //! * **compile s / compile MB**: after a first `cargo build --release`, `src/main.rs` is touched
 //!   and the crate rebuilt; the wall time of that rebuild is the release compile time of the user
@@ -43,10 +54,37 @@
 //!   and times CasADi's residual + sparse Jacobian of the same equations: its instruction count,
 //!   gcc time, ns per evaluation and the ratio dirac R+J / CasADi R+J.
 //!
+//! `lattice_n` is one crate for every `n` (`target/dirac-scaling/lattice_n/`, from
+//! `benches/scaling/lattice_n.rs.in`, no placeholders), built and timed once as above (its
+//! compile s / MB are repeated in each of its rows: the same build), then run once with all the
+//! sizes on its command line, ascending; it prints one `scaling-element:` line per size:
+//!
+//! * **R+J ns**: the median ns of one `ElementIntegrator::residual_jacobian` at the initial state
+//!   with `z = q0 + h p0`, serial (`Parallel::Never`, the column's figure and the one compared
+//!   with CasADi); the same on all of rayon's threads (`Parallel::Always`) is in the note and the
+//!   CSV (`dirac_rj_parallel_ns`; CasADi map's C size is `casadi_c_bytes`). It evaluates
+//!   `R(z) = p0 + D1 L_d(q0, z)`, the Jacobian's values **and the next momentum
+//!   `D2 L_d(q0, z)`** (fused into every residual pass): a superset of what CasADi's `rj`
+//!   computes;
+//! * **step**: the median ns per step of `step_into` with the default `Parallel::Auto` over
+//!   batches of ≈ 0.2 s (at least 100 steps), every batch from the initial state with a fresh
+//!   workspace (pattern, ordering, symbolic factorization) built before its clock starts; the
+//!   mean Newton corrections per step; the process's peak memory (`VmHWM`) after that size;
+//!   no hand-written step and no operation count;
+//! * with `--casadi`, `benches/casadi_map/run.sh --n N` generates, compiles and times CasADi's
+//!   `map` of the lattice's elements (R + sparse J, midpoint rule, user coordinates, `m = d = 1`,
+//!   at `q0_i = i + 0.1 sin(2πi/n)`, `z = q0 + h p0`, `p0_i = 0.3 cos(2πi/n)`: the same point up
+//!   to the translation by `i d`), single-threaded: its C size, gcc time, ns per evaluation and
+//!   the ratio dirac serial R+J / CasADi map R+J.
+//!
 //! A failing build or run of one row is reported in its row and the example continues. The table
 //! is printed, and `scaling.csv` and `scaling.svg` (log-log times against `n`, one panel per
-//! system) are written under `--out` (default `target/dirac-figures/scaling/`). At the end the
-//! issue-8 targets are printed as met / not met by this run.
+//! system measured) are written under `--out` (default `target/dirac-figures/scaling/`). At the
+//! end the targets are printed as met / not met by this run, with the measured values, each
+//! block only when its systems were measured: issue 8's (chain and lattice) and issue 21's
+//! (`lattice_n`: the one build ≤ 5 s, peak memory at n = 10^5 ≤ 200 MB, log-log slope of the
+//! step time over n = 10^3 … 10^5 within 1 ± 0.1, and with `--casadi` R+J at n = 10^4 ≤ 1.0 ×
+//! CasADi map).
 //!
 //! Timings are wall-clock on whatever machine runs this; on a shared machine they are noisy.
 
@@ -65,12 +103,15 @@ const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 const MEASURE: &str = include_str!("../benches/scaling/measure.rs");
 const CHAIN: &str = include_str!("../benches/scaling/chain.rs.in");
 const LATTICE: &str = include_str!("../benches/scaling/lattice.rs.in");
+const LATTICE_N: &str = include_str!("../benches/scaling/lattice_n.rs.in");
 
 /// A scalable system.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum System {
     Chain,
     Lattice,
+    /// The element-wise lattice sized at run time: one crate for every `n`.
+    LatticeN,
 }
 
 impl System {
@@ -78,6 +119,7 @@ impl System {
         match self {
             System::Chain => "chain",
             System::Lattice => "lattice",
+            System::LatticeN => "lattice_n",
         }
     }
 
@@ -85,16 +127,20 @@ impl System {
     fn unknowns(self, n: usize) -> usize {
         match self {
             System::Chain => n + 1,
-            System::Lattice => n,
+            System::Lattice | System::LatticeN => n,
         }
     }
 
     /// The scratch crate's `main.rs`.
     fn source(self, n: usize) -> String {
+        if self == System::LatticeN {
+            return LATTICE_N.to_owned();
+        }
         let hand = Path::new(ROOT).join("benches/common/toda_hand.rs");
         let template = match self {
             System::Chain => CHAIN,
             System::Lattice => LATTICE,
+            System::LatticeN => unreachable!("no placeholders"),
         };
         template
             .replace("@TODA_HAND@", &hand.display().to_string())
@@ -109,6 +155,7 @@ struct Options {
     casadi: bool,
     chain: Vec<usize>,
     lattice: Vec<usize>,
+    lattice_n: Vec<usize>,
     out: PathBuf,
     build_timeout: Duration,
 }
@@ -132,6 +179,7 @@ fn parse_options() -> Result<Options, String> {
         casadi: false,
         chain: vec![2, 4, 8, 16, 32, 64],
         lattice: vec![16, 64, 200, 1000],
+        lattice_n: vec![100, 1000, 10_000, 100_000],
         out: Path::new(ROOT).join("target/dirac-figures/scaling"),
         build_timeout: Duration::from_secs(600),
     };
@@ -141,6 +189,18 @@ fn parse_options() -> Result<Options, String> {
             "--casadi" => o.casadi = true,
             "--chain" => o.chain = parse_list("--chain", args.next(), 1)?,
             "--lattice" => o.lattice = parse_list("--lattice", args.next(), 3)?,
+            "--lattice-n" => {
+                let value = args.next();
+                o.lattice_n = if value.as_deref().map(str::trim) == Some("0") {
+                    Vec::new()
+                } else {
+                    let mut sizes = parse_list("--lattice-n", value, 3)?;
+                    // Ascending: the peak memory reported after each size is the process's.
+                    sizes.sort_unstable();
+                    sizes.dedup();
+                    sizes
+                };
+            }
             "--out" => o.out = PathBuf::from(args.next().ok_or("--out needs a directory")?),
             "--build-timeout" => {
                 let s = args.next().ok_or("--build-timeout needs seconds")?;
@@ -152,8 +212,9 @@ fn parse_options() -> Result<Options, String> {
             "-h" | "--help" => {
                 return Err(
                     "usage: cargo run --release --example scaling -- [--casadi] \
-                     [--chain 2,4,8,16,32,64] [--lattice 16,64,200,1000] [--out DIR] \
-                     [--build-timeout SECONDS]"
+                     [--chain 2,4,8,16,32,64] [--lattice 16,64,200,1000] \
+                     [--lattice-n 100,1000,10000,100000] [--out DIR] [--build-timeout SECONDS] \
+                     (an empty list, '', skips a system; so does --lattice-n 0)"
                         .into(),
                 )
             }
@@ -215,14 +276,21 @@ fn first_error(log: &str) -> String {
 
 /// `key=value` fields of the first line starting with `prefix`.
 fn fields(output: &str, prefix: &str) -> Option<HashMap<String, String>> {
-    let line = output.lines().find(|l| l.starts_with(prefix))?;
-    Some(
-        line[prefix.len()..]
-            .split_whitespace()
-            .filter_map(|kv| kv.split_once('='))
-            .map(|(k, v)| (k.to_owned(), v.to_owned()))
-            .collect(),
-    )
+    all_fields(output, prefix).into_iter().next()
+}
+
+/// `key=value` fields of every line starting with `prefix`, in order.
+fn all_fields(output: &str, prefix: &str) -> Vec<HashMap<String, String>> {
+    output
+        .lines()
+        .filter_map(|l| l.strip_prefix(prefix))
+        .map(|rest| {
+            rest.split_whitespace()
+                .filter_map(|kv| kv.split_once('='))
+                .map(|(k, v)| (k.to_owned(), v.to_owned()))
+                .collect()
+        })
+        .collect()
 }
 
 fn num(f: &HashMap<String, String>, key: &str) -> Option<f64> {
@@ -240,6 +308,8 @@ struct Row {
     ops: Option<f64>,
     nnz: Option<f64>,
     rj_ns: Option<f64>,
+    /// `lattice_n`: R+J assembled in parallel on rayon's pool (`rj_ns` is the serial one).
+    rj_par_ns: Option<f64>,
     step_ns: Option<f64>,
     iterations: Option<f64>,
     mem_mib: Option<f64>,
@@ -248,6 +318,10 @@ struct Row {
     casadi_instructions: Option<f64>,
     casadi_gcc_s: Option<String>,
     casadi_ns: Option<f64>,
+    /// `lattice_n`: the size of CasADi map's generated C.
+    casadi_c_bytes: Option<f64>,
+    /// Facts about the row (how it was measured), shown in its note.
+    notes: Vec<String>,
     /// Why the dirac part of the row is incomplete.
     failure: Option<String>,
     casadi_failure: Option<String>,
@@ -287,13 +361,25 @@ impl Scratch {
         }
     }
 
+    /// The scratch crate's package (and binary) name; `lattice_n` has one crate for every `n`.
     fn package(system: System, n: usize) -> String {
-        format!("scaling-{}-{n}", system.name())
+        match system {
+            System::LatticeN => "scaling-lattice-n".into(),
+            _ => format!("scaling-{}-{n}", system.name()),
+        }
+    }
+
+    /// The scratch crate's directory.
+    fn dir(&self, system: System, n: usize) -> PathBuf {
+        match system {
+            System::LatticeN => self.base.join(system.name()),
+            _ => self.base.join(format!("{}_{n}", system.name())),
+        }
     }
 
     /// Writes the crate (only files whose content changed, so a rerun rebuilds nothing extra).
     fn write(&self, system: System, n: usize) -> io::Result<PathBuf> {
-        let dir = self.base.join(format!("{}_{n}", system.name()));
+        let dir = self.dir(system, n);
         fs::create_dir_all(dir.join("src"))?;
         let manifest = format!(
             "# Generated by examples/scaling.rs; not part of the dirac workspace.\n\
@@ -355,8 +441,9 @@ impl Scratch {
         }
     }
 
-    /// Builds, times a rebuild of the user crate alone, runs the binary; fills `row`.
-    fn measure(&self, system: System, n: usize, row: &mut Row) -> Result<(), String> {
+    /// Writes and builds the crate, then times a rebuild of the user crate alone (`src/main.rs`
+    /// touched): its wall time in s and rustc's peak memory in MB.
+    fn build_timed(&self, system: System, n: usize) -> Result<(PathBuf, f64, Option<f64>), String> {
         let dir = self
             .write(system, n)
             .map_err(|e| format!("cannot write the scratch crate: {e}"))?;
@@ -368,22 +455,31 @@ impl Scratch {
             .and_then(|f| f.set_modified(SystemTime::now()))
             .map_err(|e| format!("cannot touch {}: {e}", main.display()))?;
         let (secs, mb) = self.build(&dir)?;
-        row.compile_s = Some(secs);
-        row.compile_mb = mb;
+        Ok((dir, secs, mb))
+    }
+
+    /// Runs the crate's binary with `args`, its output logged to `run.log`; returns the output.
+    fn run(&self, system: System, n: usize, dir: &Path, args: &[String]) -> Result<String, String> {
         let binary = self.target.join("release").join(Self::package(system, n));
         let log = dir.join("run.log");
-        let (finished, _) = run_logged(&mut Command::new(&binary), &log, self.timeout)
+        let (finished, _) = run_logged(Command::new(&binary).args(args), &log, self.timeout)
             .map_err(|e| format!("run failed: cannot start {}: {e}", binary.display()))?;
         let text = fs::read_to_string(&log).unwrap_or_default();
         match finished {
-            Finished::TimedOut => {
-                return Err(format!("run timeout ({} s)", self.timeout.as_secs()))
-            }
+            Finished::TimedOut => Err(format!("run timeout ({} s)", self.timeout.as_secs())),
             Finished::Exited(s) if !s.success() => {
-                return Err(format!("run failed: {}", first_error(&text)))
+                Err(format!("run failed: {}", first_error(&text)))
             }
-            Finished::Exited(_) => {}
+            Finished::Exited(_) => Ok(text),
         }
+    }
+
+    /// Builds, times a rebuild of the user crate alone, runs the binary; fills `row`.
+    fn measure(&self, system: System, n: usize, row: &mut Row) -> Result<(), String> {
+        let (dir, secs, mb) = self.build_timed(system, n)?;
+        row.compile_s = Some(secs);
+        row.compile_mb = mb;
+        let text = self.run(system, n, &dir, &[])?;
         let f = fields(&text, "scaling:").ok_or("run failed: no `scaling:` line in its output")?;
         row.ops = num(&f, "ops");
         row.nnz = num(&f, "nnz");
@@ -395,6 +491,105 @@ impl Scratch {
         row.hand_diff = num(&f, "hand_rel_diff");
         Ok(())
     }
+}
+
+/// The `lattice_n` rows: one crate built once (the touched rebuild timed), run once with every
+/// size in `sizes`; one row per size, each with the same compile time and memory.
+fn measure_lattice_n(scratch: &Scratch, sizes: &[usize]) -> Vec<Row> {
+    let system = System::LatticeN;
+    let mut rows: Vec<Row> = sizes
+        .iter()
+        .map(|&n| Row {
+            system: system.name(),
+            n,
+            unknowns: system.unknowns(n),
+            ..Row::default()
+        })
+        .collect();
+    let fail = |rows: &mut Vec<Row>, e: String| {
+        eprintln!("  {e}");
+        for r in rows.iter_mut().filter(|r| r.step_ns.is_none()) {
+            r.failure = Some(e.clone());
+        }
+    };
+    eprintln!("lattice_n: build, rebuild (timed) once for every n");
+    let (dir, secs, mb) = match scratch.build_timed(system, 0) {
+        Ok(b) => b,
+        Err(e) => {
+            fail(&mut rows, e);
+            return rows;
+        }
+    };
+    for (k, r) in rows.iter_mut().enumerate() {
+        r.compile_s = Some(secs);
+        r.compile_mb = mb;
+        r.notes.push(if k == 0 {
+            "one build for every n".into()
+        } else {
+            format!("same build as n = {}", sizes[0])
+        });
+    }
+    let list = sizes
+        .iter()
+        .map(usize::to_string)
+        .collect::<Vec<_>>()
+        .join(",");
+    eprintln!("lattice_n: run n = {list}");
+    // A failed run still reports the sizes it finished.
+    let text = scratch.run(system, 0, &dir, &[list]).unwrap_or_else(|e| {
+        fail(&mut rows, e);
+        fs::read_to_string(dir.join("run.log")).unwrap_or_default()
+    });
+    for f in all_fields(&text, "scaling-element:") {
+        let Some(r) = num(&f, "n").and_then(|n| rows.iter_mut().find(|r| r.n as f64 == n)) else {
+            continue;
+        };
+        r.nnz = num(&f, "nnz");
+        r.rj_ns = num(&f, "rj_ns");
+        r.rj_par_ns = num(&f, "rj_par_ns");
+        r.step_ns = num(&f, "step_ns");
+        r.iterations = num(&f, "iterations");
+        r.mem_mib = num(&f, "peak_mib");
+        r.notes.push(format!(
+            "R+J parallel {} ns ({} threads); step parallel: {}",
+            fmt(r.rj_par_ns, 0),
+            f.get("threads").map_or("?", String::as_str),
+            f.get("parallel").map_or("?", String::as_str)
+        ));
+        r.failure = None;
+    }
+    for r in rows
+        .iter_mut()
+        .filter(|r| r.step_ns.is_none() && r.failure.is_none())
+    {
+        r.failure = Some("run failed: no `scaling-element:` line for this n".into());
+    }
+    rows
+}
+
+/// `bash benches/casadi_map/run.sh --n N` (CasADi `map` of the lattice's elements, R + sparse J
+/// of the same equations in user coordinates); fills `row`.
+fn casadi_map(n: usize, row: &mut Row, scratch: &Scratch) -> Result<(), String> {
+    let log = scratch.base.join(format!("casadi_map_{n}.log"));
+    let mut cmd = Command::new("bash");
+    cmd.arg(Path::new(ROOT).join("benches/casadi_map/run.sh"))
+        .args(["--n", &n.to_string(), "--gcc-timeout", "300"])
+        .current_dir(ROOT);
+    let (finished, _) = run_logged(&mut cmd, &log, Duration::from_secs(1800))
+        .map_err(|e| format!("cannot run bash: {e}"))?;
+    let text = fs::read_to_string(&log).unwrap_or_default();
+    match finished {
+        Finished::TimedOut => return Err("casadi map timeout".into()),
+        Finished::Exited(s) if !s.success() => {
+            return Err(format!("casadi map failed: {}", first_error(&text)))
+        }
+        Finished::Exited(_) => {}
+    }
+    let f = fields(&text, "casadi-map:").ok_or("casadi: no `casadi-map:` line")?;
+    row.casadi_c_bytes = num(&f, "c_bytes");
+    row.casadi_gcc_s = f.get("gcc_s").cloned();
+    row.casadi_ns = num(&f, "ns");
+    Ok(())
 }
 
 /// `bash benches/casadi_scaling/run.sh --system S --n N --gcc-timeout 300`; fills `row`.
@@ -460,14 +655,19 @@ fn cells(r: &Row, casadi: bool) -> Vec<String> {
     };
     let mut note: Vec<String> = r.failure.iter().cloned().collect();
     note.extend(r.casadi_failure.iter().cloned());
+    note.extend(r.notes.iter().cloned());
     if let Some(d) = r.hand_diff {
         note.push(format!("hand vs dirac next state {d:.1e}"));
     }
     if let Some(g) = &r.casadi_gcc_s {
-        let i = r
-            .casadi_instructions
-            .map_or("-".into(), |v| format!("{v:.0}"));
-        note.push(format!("CasADi {i} instr, gcc {g} s"));
+        if let Some(bytes) = r.casadi_c_bytes {
+            note.push(format!("CasADi map {bytes:.0} C bytes, gcc {g} s"));
+        } else {
+            let i = r
+                .casadi_instructions
+                .map_or("-".into(), |v| format!("{v:.0}"));
+            note.push(format!("CasADi {i} instr, gcc {g} s"));
+        }
     }
     vec![
         r.system.into(),
@@ -523,7 +723,7 @@ fn write_csv(rows: &[Row], path: &Path) -> io::Result<()> {
     let mut s = String::from(
         "system,n,unknowns,compile_s,compile_mb,rj_ops,nnz,dirac_rj_ns,casadi_instructions,\
          casadi_gcc_s,casadi_rj_ns,ratio,step_ns,newton_iterations,hand_step_ns,step_over_hand,\
-         hand_rel_diff,memory_mib,note\n",
+         hand_rel_diff,memory_mib,dirac_rj_parallel_ns,casadi_c_bytes,note\n",
     );
     let c = |v: Option<f64>| {
         v.filter(|x| x.is_finite())
@@ -533,12 +733,13 @@ fn write_csv(rows: &[Row], path: &Path) -> io::Result<()> {
         let note = [r.failure.clone(), r.casadi_failure.clone()]
             .into_iter()
             .flatten()
+            .chain(r.notes.iter().cloned())
             .collect::<Vec<_>>()
             .join("; ")
             .replace('"', "'");
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},\"{note}\"",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},\"{note}\"",
             r.system,
             r.n,
             r.unknowns,
@@ -557,6 +758,8 @@ fn write_csv(rows: &[Row], path: &Path) -> io::Result<()> {
             c(r.hand_ratio()),
             c(r.hand_diff),
             c(r.mem_mib),
+            c(r.rj_par_ns),
+            c(r.casadi_c_bytes),
         );
     }
     fs::write(path, s)
@@ -564,7 +767,7 @@ fn write_csv(rows: &[Row], path: &Path) -> io::Result<()> {
 
 type Series = (&'static str, RGBColor, fn(&Row) -> Option<f64>);
 
-/// Log-log times (ns) against `n`, one panel per system.
+/// Log-log times (ns) against `n`, one panel per system measured.
 fn write_svg(rows: &[Row], path: &Path) -> Result<(), Box<dyn std::error::Error>> {
     let series: [Series; 4] = [
         ("dirac R+J", RGBColor(31, 119, 180), |r| r.rj_ns),
@@ -572,10 +775,30 @@ fn write_svg(rows: &[Row], path: &Path) -> Result<(), Box<dyn std::error::Error>
         ("dirac step", RGBColor(44, 160, 44), |r| r.step_ns),
         ("hand step", RGBColor(214, 39, 40), |r| r.hand_step_ns),
     ];
-    let root = SVGBackend::new(path, (1100, 480)).into_drawing_area();
+    let element: [Series; 4] = [
+        ("dirac R+J serial", RGBColor(31, 119, 180), |r| r.rj_ns),
+        ("dirac R+J parallel", RGBColor(148, 103, 189), |r| {
+            r.rj_par_ns
+        }),
+        ("CasADi map R+J", RGBColor(255, 127, 14), |r| r.casadi_ns),
+        ("dirac step (Auto)", RGBColor(44, 160, 44), |r| r.step_ns),
+    ];
+    let mut systems: Vec<System> = [System::Chain, System::Lattice, System::LatticeN]
+        .into_iter()
+        .filter(|s| rows.iter().any(|r| r.system == s.name()))
+        .collect();
+    if systems.is_empty() {
+        systems.push(System::Chain);
+    }
+    let width = 550 * systems.len() as u32;
+    let root = SVGBackend::new(path, (width, 480)).into_drawing_area();
     root.fill(&WHITE)?;
-    let panels = root.split_evenly((1, 2));
-    for (area, system) in panels.iter().zip([System::Chain, System::Lattice]) {
+    let panels = root.split_evenly((1, systems.len()));
+    for (area, &system) in panels.iter().zip(&systems) {
+        let (series, caption) = match system {
+            System::LatticeN => (&element, "lattice_n (one build, run-time n)".to_string()),
+            _ => (&series, system.name().to_string()),
+        };
         let points: Vec<(&Series, Vec<(f64, f64)>)> = series
             .iter()
             .map(|s| {
@@ -598,7 +821,7 @@ fn write_svg(rows: &[Row], path: &Path) -> Result<(), Box<dyn std::error::Error>
         }
         let mut chart = ChartBuilder::on(area)
             .caption(
-                format!("{}: time against n (log-log)", system.name()),
+                format!("{caption}: time against n (log-log)"),
                 ("sans-serif", 18),
             )
             .margin(12)
@@ -611,6 +834,7 @@ fn write_svg(rows: &[Row], path: &Path) -> Result<(), Box<dyn std::error::Error>
         chart
             .configure_mesh()
             .x_desc("n")
+            .x_label_formatter(&|v| format!("{v:.0}"))
             .y_desc("ns")
             .y_label_formatter(&|v| format!("{v:.0e}"))
             .draw()?;
@@ -635,14 +859,102 @@ fn write_svg(rows: &[Row], path: &Path) -> Result<(), Box<dyn std::error::Error>
     Ok(())
 }
 
-/// The issue-8 targets, judged on this run's rows.
-fn print_targets(rows: &[Row], casadi: bool) {
-    let find = |s: System, n: usize| rows.iter().find(|r| r.system == s.name() && r.n == n);
-    let verdict = |v: Option<bool>| match v {
+fn verdict(v: Option<bool>) -> &'static str {
+    match v {
         Some(true) => "met",
         Some(false) => "NOT met",
         None => "not measured",
-    };
+    }
+}
+
+/// The least-squares slope of `ln y` against `ln x`; `None` below two points.
+fn log_log_slope(points: &[(f64, f64)]) -> Option<f64> {
+    if points.len() < 2 {
+        return None;
+    }
+    let pts: Vec<(f64, f64)> = points.iter().map(|&(x, y)| (x.ln(), y.ln())).collect();
+    let k = pts.len() as f64;
+    let (mx, my) = pts
+        .iter()
+        .fold((0.0, 0.0), |(a, b), (x, y)| (a + x / k, b + y / k));
+    let (num, den) = pts.iter().fold((0.0, 0.0), |(a, b), (x, y)| {
+        (a + (x - mx) * (y - my), b + (x - mx) * (x - mx))
+    });
+    Some(num / den)
+}
+
+/// The issue-8 targets (chain, lattice) and the issue-21 targets (lattice_n), judged on this
+/// run's rows; each block only when its systems were measured.
+fn print_targets(rows: &[Row], casadi: bool) {
+    let find = |s: System, n: usize| rows.iter().find(|r| r.system == s.name() && r.n == n);
+    let measured = |s: System| rows.iter().any(|r| r.system == s.name());
+    if measured(System::Chain) || measured(System::Lattice) {
+        print_issue8_targets(rows, casadi);
+    }
+    if !measured(System::LatticeN) {
+        return;
+    }
+    let element: Vec<&Row> = rows
+        .iter()
+        .filter(|r| r.system == System::LatticeN.name())
+        .collect();
+    let build = element.iter().find_map(|r| r.compile_s);
+    let build_mb = element.iter().find_map(|r| r.compile_mb);
+    let big = find(System::LatticeN, 100_000);
+    let mib = big.and_then(|r| r.mem_mib);
+    let mb = mib.map(|m| m * 1_048_576.0 / 1e6);
+    // The slope over the sizes measured in 10^3 ..= 10^5, both ends included.
+    let span: Vec<(f64, f64)> = element
+        .iter()
+        .filter(|r| (1000..=100_000).contains(&r.n))
+        .filter_map(|r| Some((r.n as f64, r.step_ns?)))
+        .collect();
+    let ends = [1000.0, 100_000.0].map(|n| span.iter().any(|p| p.0 == n));
+    let slope = log_log_slope(&span).filter(|_| ends == [true, true]);
+    let sizes = span
+        .iter()
+        .map(|p| format!("{:.0}", p.0))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let mid = find(System::LatticeN, 10_000);
+    let targets: [(&str, Option<bool>, String); 4] = [
+        (
+            "lattice_n one build (touched rebuild, release) ≤ 5 s",
+            build.map(|s| s <= 5.0),
+            format!("{} s, rustc {} MB", fmt(build, 2), fmt(build_mb, 0)),
+        ),
+        (
+            "lattice_n n = 10^5 peak memory ≤ 200 MB",
+            mb.map(|m| m <= 200.0),
+            format!("{} MB = {} MiB VmHWM", fmt(mb, 1), fmt(mib, 1)),
+        ),
+        (
+            "lattice_n log-log slope of step time over n = 10^3 … 10^5 in 1 ± 0.1",
+            slope.map(|q| (q - 1.0).abs() <= 0.1),
+            format!("{} over n = {sizes}", fmt(slope, 3)),
+        ),
+        (
+            "lattice_n n = 10^4 R+J ≤ 1.0 × CasADi map",
+            mid.filter(|_| casadi)
+                .and_then(Row::ratio)
+                .map(|q| q <= 1.0),
+            format!(
+                "{} × = {} / {} ns, dirac serial, its R+J also computing D2 L_d",
+                fmt(mid.and_then(Row::ratio), 2),
+                fmt(mid.and_then(|r| r.rj_ns), 0),
+                fmt(mid.and_then(|r| r.casadi_ns), 0)
+            ),
+        ),
+    ];
+    println!("\nissue-21 targets (this run):");
+    for (what, ok, value) in targets {
+        println!("  {:<12} {what}  ({value})", verdict(ok));
+    }
+}
+
+/// The issue-8 targets, judged on this run's rows.
+fn print_issue8_targets(rows: &[Row], casadi: bool) {
+    let find = |s: System, n: usize| rows.iter().find(|r| r.system == s.name() && r.n == n);
     let lattice = find(System::Lattice, 200);
     let chain32 = find(System::Chain, 32);
     let chain64 = find(System::Chain, 64);
@@ -738,6 +1050,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         // The whole row as it stands, so a long run shows its results as they come.
         eprintln!("  {}", cells(&row, o.casadi).join(" | "));
         rows.push(row);
+    }
+    if !o.lattice_n.is_empty() {
+        for mut row in measure_lattice_n(&scratch, &o.lattice_n) {
+            if o.casadi {
+                eprintln!("lattice_n n = {}: CasADi map", row.n);
+                if let Err(e) = casadi_map(row.n, &mut row, &scratch) {
+                    eprintln!("  {e}");
+                    row.casadi_failure = Some(e);
+                }
+            }
+            eprintln!("  {}", cells(&row, o.casadi).join(" | "));
+            rows.push(row);
+        }
     }
 
     println!();
