@@ -8,6 +8,7 @@
 //! cargo run --release --example wave2d                        # 316 × 316 ≈ 10⁵ nodes, 100 steps
 //! cargo run --release --example wave2d -- --nx 64 --ny 64 --steps 20 --repeats 1   # CI: ~1 s
 //! # all arguments: [--nx NX] [--ny NY] [--steps S] [--h H] [--beta B] [--amplitude A] [--repeats R]
+//! #                [--linear auto|direct|iterative]   (the step Jacobian's solver; auto: CG at this size)
 //! ```
 //!
 //! Every run factors the step Jacobian in its first step (there are no factors to reuse yet; the
@@ -43,13 +44,14 @@
 use std::time::Instant;
 
 use dirac::prelude::*;
+use dirac::runtime::element::Linear;
 use dirac::runtime::ensemble::rayon;
 
 #[path = "common/membrane.rs"]
 mod membrane;
 use membrane::Membrane;
 
-const USAGE: &str = "usage: wave2d [--nx NX] [--ny NY] [--steps S] [--h H] [--beta B] [--amplitude A] [--repeats R]";
+const USAGE: &str = "usage: wave2d [--nx NX] [--ny NY] [--steps S] [--h H] [--beta B] [--amplitude A] [--repeats R] [--linear auto|direct|iterative]";
 
 /// The width of the initial bump (the box's x side is 1).
 const WIDTH: f64 = 0.1;
@@ -62,6 +64,7 @@ struct Options {
     beta: f64,
     amplitude: f64,
     repeats: usize,
+    linear: Linear,
 }
 
 fn parse_args() -> Result<Options, String> {
@@ -73,6 +76,7 @@ fn parse_args() -> Result<Options, String> {
         beta: 0.5,
         amplitude: 0.05,
         repeats: 1,
+        linear: Linear::Auto,
     };
     let min = <Membrane as ElementLagrangian>::MIN_SIZE.max(2);
     let mut args = std::env::args().skip(1);
@@ -118,6 +122,14 @@ fn parse_args() -> Result<Options, String> {
                     .ok()
                     .filter(|&r| r > 0)
                     .ok_or(bad("a positive integer"))?
+            }
+            "--linear" => {
+                o.linear = match value.as_str() {
+                    "auto" => Linear::Auto,
+                    "direct" => Linear::Direct,
+                    "iterative" => Linear::Iterative,
+                    _ => return Err(bad("auto, direct or iterative")),
+                }
             }
             _ => return Err(format!("unknown argument `{flag}`\n{USAGE}")),
         }
@@ -219,7 +231,7 @@ fn main() {
         nx: o.nx,
         ny: o.ny,
     };
-    let integ = ElementIntegrator::new(sys, NewtonOptions::default());
+    let integ = ElementIntegrator::new(sys, NewtonOptions::default()).with_linear(o.linear);
     let start = membrane::initial(&sys, o.amplitude, WIDTH, 1.0, 0.05);
     let n = start.q.len();
 
@@ -244,9 +256,10 @@ fn main() {
     );
     let ws = integ.workspace();
     println!(
-        "unknowns {n}; Jacobian nonzeros {} ({:.2} per row); elements per family {:?}; assembly {} on {threads} rayon thread{}",
+        "unknowns {n}; Jacobian nonzeros {} ({:.2} per row); solver: {}; elements per family {:?}; assembly {} on {threads} rayon thread{}",
         ws.nnz(),
         ws.nnz() as f64 / n as f64,
+        ws.linear_solver(),
         ws.elements(),
         if ws.is_parallel() { "parallel" } else { "serial" },
         if threads == 1 { "" } else { "s" }

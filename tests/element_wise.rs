@@ -377,3 +377,77 @@ fn sizes_and_states_that_do_not_fit_are_typed_errors() {
     assert!(matches!(err.source, StepError::InvalidSize { .. }), "{err}");
     assert!(err.source.to_string().contains("size `n` = 0"), "{err}");
 }
+
+/// Conjugate gradients on the membrane's symmetric step Jacobian give the sparse LU's
+/// trajectory; a Jacobian that is not symmetric (a gyroscopic coupling) falls back to the LU.
+#[test]
+fn conjugate_gradients_match_the_lu_and_fall_back_when_not_symmetric() {
+    use dirac::runtime::element::Linear;
+    let w = Membrane {
+        rho: 1.0,
+        c2: 1.0,
+        beta: 0.5,
+        delta: 0.1,
+        h: 0.02,
+        nx: 12,
+        ny: 10,
+    };
+    let s = membrane::initial(&w, 0.3, 0.3, 1.0, 0.05);
+    let run = |linear| {
+        let integ = ElementIntegrator::new(w, NewtonOptions::default()).with_linear(linear);
+        assert_eq!(
+            integ.workspace().linear_solver(),
+            if linear == Linear::Iterative {
+                "conjugate gradients (Jacobi)"
+            } else {
+                "sparse LU"
+            }
+        );
+        integ.integrate(s.clone(), 50).unwrap()
+    };
+    let (cg, lu) = (run(Linear::Iterative), run(Linear::Direct));
+    let worst = cg
+        .states
+        .iter()
+        .zip(&lu.states)
+        .map(|(a, b)| (&a.q - &b.q).amax().max((&a.p - &b.p).amax()))
+        .fold(0.0, f64::max);
+    assert!(worst <= 1e-11, "CG against LU: {worst:e}");
+
+    let sys = Gyro {
+        m: 1.0,
+        b: 0.7,
+        h: 0.05,
+        n: 8,
+    };
+    let integ =
+        ElementIntegrator::new(sys, NewtonOptions::default()).with_linear(Linear::Iterative);
+    let start = ElementState::new(
+        DVector::from_fn(8, |i, _| (i as f64).sin()),
+        DVector::from_fn(8, |i, _| 0.2 * (i as f64).cos()),
+    );
+    let mut ws = integ.workspace();
+    assert_eq!(ws.linear_solver(), "conjugate gradients (Jacobi)");
+    let mut next = start.clone();
+    integ.step_into(&mut ws, 0, &start, &[], &mut next).unwrap();
+    assert_eq!(
+        ws.linear_solver(),
+        "sparse LU",
+        "a non-symmetric Jacobian falls back"
+    );
+    let direct = ElementIntegrator::new(sys, NewtonOptions::default()).with_linear(Linear::Direct);
+    let (reference, _) = direct.step(0, &start).unwrap();
+    assert!((reference.q - next.q).amax() < 1e-13);
+}
+
+/// A ring with a gyroscopic (magnetic-like) coupling: `D_1 D_2 L_d` is not symmetric.
+#[reduced_lagrangian(coordinates(x[n]), rule = midpoint)]
+fn gyro(q: Config, v: Velocity, m: f64, b: f64, n: usize) -> f64 {
+    let mut l = 0.0;
+    for i in 0..n {
+        let j = (i + 1) % n;
+        l += 0.5 * m * v.x[i] * v.x[i] + b * (q.x[i] * v.x[j] - q.x[j] * v.x[i])
+            - 0.5 * (q.x[j] - q.x[i]).powi(2);
+    }
+    l
+}

@@ -56,7 +56,9 @@ use crate::error::{IntegrationError, StepError, Steps};
 use crate::newton::{solve_in, NewtonOptions};
 use crate::stepper::{check_inputs, step_error, Collect, StepStats, Stepper};
 
-pub use assembly::ElementWorkspace;
+pub use assembly::{
+    ElementSolver, ElementWorkspace, ITERATIVE_MIN_DIM, ITERATIVE_MIN_ENTRIES_PER_ROW,
+};
 
 /// One family of elements of an element-wise Lagrangian: a loop of its body (or a term outside
 /// loops), with a stencil of `S` coordinates. Emitted by `#[reduced_lagrangian]`.
@@ -161,6 +163,23 @@ pub enum Parallel {
     Always,
 }
 
+/// Which linear solver an element-wise run solves its step Jacobian with.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Linear {
+    /// Conjugate gradients for large multi-dimensional patterns (at least
+    /// [`ITERATIVE_MIN_DIM`] unknowns and
+    /// [`ITERATIVE_MIN_ENTRIES_PER_ROW`] entries per row: fields on grids), whose
+    /// sparse LU fills in; the sparse LU otherwise (chains, lattices, pairs). CG falls back to
+    /// the LU when the Jacobian is not symmetric.
+    #[default]
+    Auto,
+    /// Always faer's sparse LU ([`crate::linalg::DynSparseLu`]).
+    Direct,
+    /// Jacobi-preconditioned conjugate gradients ([`crate::linalg::Pcg`]) whenever the pattern
+    /// is symmetric, falling back to the LU as [`Linear::Auto`] does.
+    Iterative,
+}
+
 /// The smallest number of Jacobian block entries (elements × stencil²) for which
 /// [`Parallel::Auto`] assembles in parallel: below, the parallel passes' extra memory traffic
 /// and synchronisation cost more than a serial pass (measured on the lattice, `examples/toda_n`).
@@ -175,6 +194,8 @@ pub struct ElementIntegrator<L> {
     pub options: NewtonOptions,
     /// When the assembly runs in parallel.
     pub parallel: Parallel,
+    /// Which linear solver solves the step Jacobian.
+    pub linear: Linear,
 }
 
 /// Every state and step record of an [`ElementIntegrator`] run (`Drive::integrate`).
@@ -218,7 +239,14 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
             system,
             options,
             parallel: Parallel::Auto,
+            linear: Linear::Auto,
         }
+    }
+
+    /// The same integrator with the step Jacobian's solver chosen by `linear`.
+    pub fn with_linear(mut self, linear: Linear) -> Self {
+        self.linear = linear;
+        self
     }
 
     /// The same integrator with the assembly's parallelism set to `parallel`.
@@ -331,7 +359,7 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
     }
 
     fn workspace(&self) -> ElementWorkspace {
-        ElementWorkspace::new(&self.system, self.parallel)
+        ElementWorkspace::new(&self.system, self.parallel, self.linear)
     }
 
     fn step_with(

@@ -10,11 +10,13 @@
 //! the backend emitted at `N = DENSE_MAX` and `N = DENSE_MAX + 1` against this constant).
 
 pub mod dense;
+pub mod iterative;
 pub mod sparse;
 
 use nalgebra::SVector;
 
 pub use dense::Lu;
+pub use iterative::Pcg;
 pub use sparse::{CscPattern, CscValues, DynSparseLu, SparseLu};
 
 /// Systems with at most this many configuration coordinates get the dense fixed-size backend

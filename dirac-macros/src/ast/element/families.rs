@@ -303,6 +303,7 @@ impl Splitter<'_> {
             loops: &loops,
             slots: Vec::new(),
             keys: HashMap::new(),
+            aliases: HashMap::new(),
         };
         rw.visit_block_mut(&mut block);
         let slots = rw.slots;
@@ -323,6 +324,8 @@ struct Rewriter<'a> {
     loops: &'a [Loop],
     slots: Vec<Slot>,
     keys: HashMap<String, usize>,
+    /// Integer `let`s (`let j = (i + 1) % n;`): their index expressions, by name.
+    aliases: HashMap<String, Index>,
 }
 
 impl Rewriter<'_> {
@@ -371,7 +374,7 @@ impl Rewriter<'_> {
         let vars: Vec<Ident> = self.loops.iter().map(|l| l.var.clone()).collect();
         let parsed: Vec<Option<Index>> = indices
             .iter()
-            .map(|ix| Index::parse(self.cx, ix, &vars, self.sizes))
+            .map(|ix| Index::parse_with(self.cx, ix, &vars, self.sizes, &self.aliases))
             .collect();
         let index: Vec<Index> = parsed.into_iter().collect::<Option<_>>()?;
         let key = format!(
@@ -423,6 +426,27 @@ impl Rewriter<'_> {
 }
 
 impl VisitMut for Rewriter<'_> {
+    /// An integer `let` (`let j = (i + 1) % n;`) becomes an alias of its index expression and
+    /// leaves the element body; every other statement is rewritten.
+    fn visit_block_mut(&mut self, block: &mut Block) {
+        let vars: Vec<Ident> = self.loops.iter().map(|l| l.var.clone()).collect();
+        let mut kept = Vec::with_capacity(block.stmts.len());
+        for mut stmt in std::mem::take(&mut block.stmts) {
+            if let Stmt::Local(local) = &stmt {
+                if let (syn::Pat::Ident(pi), Some(init)) = (&local.pat, &local.init) {
+                    let index = Index::try_parse(&init.expr, &vars, self.sizes, &self.aliases);
+                    if let Some(index) = index.filter(|_| init.diverge.is_none()) {
+                        self.aliases.insert(pi.ident.to_string(), index);
+                        continue;
+                    }
+                }
+            }
+            self.visit_stmt_mut(&mut stmt);
+            kept.push(stmt);
+        }
+        block.stmts = kept;
+    }
+
     fn visit_expr_mut(&mut self, e: &mut Expr) {
         if self.coordinate_read(e).is_some() {
             if let Some(k) = self.slot(e) {

@@ -3,6 +3,8 @@
 //! `n - 1`). Parsed from the body, evaluated on sample sizes by the range check, and emitted as
 //! `i64` code for the run-time stencils.
 
+use std::collections::HashMap;
+
 use proc_macro2::TokenStream;
 use quote::{quote, ToTokens};
 use syn::{BinOp, Expr, Ident, Lit};
@@ -41,11 +43,40 @@ impl Index {
     /// Parses `e` with `loops` the enclosing element loops' indices and `sizes` the sizes;
     /// `None` after an error (recorded with its span).
     pub fn parse(cx: &Ctxt, e: &Expr, loops: &[Ident], sizes: &[Ident]) -> Option<Index> {
-        let index = Self::parse_inner(cx, e, loops, sizes)?;
-        Some(index)
+        Self::parse_with(cx, e, loops, sizes, &HashMap::new())
     }
 
-    fn parse_inner(cx: &Ctxt, e: &Expr, loops: &[Ident], sizes: &[Ident]) -> Option<Index> {
+    /// [`Self::parse`] where the names of `aliases` (integer `let`s of the body, `let j = (i +
+    /// 1) % n;`) stand for their index expressions.
+    pub fn parse_with(
+        cx: &Ctxt,
+        e: &Expr,
+        loops: &[Ident],
+        sizes: &[Ident],
+        aliases: &HashMap<String, Index>,
+    ) -> Option<Index> {
+        Self::parse_inner(cx, e, loops, sizes, aliases)
+    }
+
+    /// Whether `e` is an index expression (no error recorded either way).
+    pub fn try_parse(
+        e: &Expr,
+        loops: &[Ident],
+        sizes: &[Ident],
+        aliases: &HashMap<String, Index>,
+    ) -> Option<Index> {
+        let cx = Ctxt::new();
+        let parsed = Self::parse_inner(&cx, e, loops, sizes, aliases);
+        cx.finish(parsed).ok()
+    }
+
+    fn parse_inner(
+        cx: &Ctxt,
+        e: &Expr,
+        loops: &[Ident],
+        sizes: &[Ident],
+        aliases: &HashMap<String, Index>,
+    ) -> Option<Index> {
         let fail = |what: String| {
             cx.error_spanned_by(
                 e,
@@ -54,8 +85,8 @@ impl Index {
             None
         };
         match e {
-            Expr::Paren(p) => Self::parse_inner(cx, &p.expr, loops, sizes),
-            Expr::Group(g) => Self::parse_inner(cx, &g.expr, loops, sizes),
+            Expr::Paren(p) => Self::parse_inner(cx, &p.expr, loops, sizes, aliases),
+            Expr::Group(g) => Self::parse_inner(cx, &g.expr, loops, sizes, aliases),
             Expr::Lit(l) => match &l.lit {
                 Lit::Int(i) => match i.base10_parse::<i64>() {
                     Ok(v) => Some(Index::Lit(v)),
@@ -74,6 +105,8 @@ impl Index {
                     Some(Index::Loop(k))
                 } else if let Some(k) = sizes.iter().position(|s| s == id) {
                     Some(Index::Size(k))
+                } else if let Some(index) = aliases.get(&id.to_string()) {
+                    Some(index.clone())
                 } else {
                     fail(format!(
                         "`{id}` is neither a size (a `usize` argument) nor the index of an enclosing `for` loop over sizes"
@@ -81,8 +114,8 @@ impl Index {
                 }
             }
             Expr::Binary(b) => {
-                let l = Self::parse_inner(cx, &b.left, loops, sizes);
-                let r = Self::parse_inner(cx, &b.right, loops, sizes);
+                let l = Self::parse_inner(cx, &b.left, loops, sizes, aliases);
+                let r = Self::parse_inner(cx, &b.right, loops, sizes, aliases);
                 let (l, r) = (Box::new(l?), Box::new(r?));
                 match b.op {
                     BinOp::Add(_) => Some(Index::Add(l, r)),
