@@ -596,13 +596,20 @@ impl FamilyVisitor for BlockVisit<'_> {
         let owned = &blocks.ranges[self.block];
         let depth = data.depth;
         let (q0, z, r, p) = (self.q0, self.z, self.r, self.p);
+        if S == 0 {
+            return;
+        }
         for &e in &blocks.lists[self.block][index] {
             let e = e as usize;
-            let st = &data.stencils[e * S..(e + 1) * S];
+            let st: &[usize; S] = data.stencils[e * S..(e + 1) * S]
+                .try_into()
+                .expect("S entries");
             let indices = &data.indices[e * depth..(e + 1) * depth];
+            // SAFETY: as in the serial pass (stencils below `n`, vectors of length `n`).
+            let (a0, a1) = unsafe { (gather_unchecked(q0, st), gather_unchecked(z, st)) };
             match self.jacobian {
                 None => {
-                    let (d1, d2) = family.d1_d2(indices, &gather(q0, st), &gather(z, st));
+                    let (d1, d2) = family.d1_d2(indices, &a0, &a1);
                     for a in 0..S {
                         if owned.contains(&st[a]) {
                             // SAFETY: row st[a] is owned by this block alone.
@@ -614,7 +621,7 @@ impl FamilyVisitor for BlockVisit<'_> {
                     }
                 }
                 Some(j) => {
-                    let (d1, d2, d12) = family.d1_d2_d12(indices, &gather(q0, st), &gather(z, st));
+                    let (d1, d2, d12) = family.d1_d2_d12(indices, &a0, &a1);
                     let pos = &data.positions[e * S * S..(e + 1) * S * S];
                     for a in 0..S {
                         if !owned.contains(&st[a]) {
