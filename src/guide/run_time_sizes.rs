@@ -60,7 +60,8 @@
 //!   is the system's [`MIN_SIZE`](crate::runtime::element::ElementLagrangian::MIN_SIZE), and the
 //!   runtime checks the sizes it is given against it, and every stencil against the dimension,
 //!   before the first step (a typed [`StepError::InvalidSize`](crate::StepError::InvalidSize)).
-//! * **Loop bounds** are built the same way: `0..n`, `1..n - 1`, `i + 1..n`, `0..=n - 2`.
+//! * **Loop bounds** are built the same way: `0..n`, `1..n - 1`, `i + 1..n`, `0..=n - 2`; an
+//!   integer `let` names an index (`let j = (i + 1) % n;` then `x[j]`).
 //! * **Sizes and loop indices as values**: `n as f64`, `i as f64` (e.g. a spatially varying
 //!   coefficient); a bare integer in an f64 expression is an error that says so.
 //! * The rest of the body language is that of [Writing a Lagrangian](super::lagrangians):
@@ -86,8 +87,13 @@
 //! [`ElementIntegrator`](crate::runtime::element::ElementIntegrator) solves the (+) equations in
 //! position–momentum form, `p_k + D_1 L_d(q_k, q_{k+1}) = 0`, `p_{k+1} = D_2 L_d(q_k, q_{k+1})`,
 //! with the residual and Jacobian assembled from the elements, on the one driver (`run`,
-//! `integrate`, stop conditions, ensembles) and the one Newton iteration (chord iterations on
-//! the sparse LU of a pattern built once per run). States are
+//! `integrate`, stop conditions, ensembles) and the one Newton iteration (chord iterations on a
+//! pattern built once per run). The step Jacobian is solved by faer's sparse LU — or, for large
+//! fields on grids (at least [`ITERATIVE_MIN_DIM`](crate::runtime::element::ITERATIVE_MIN_DIM)
+//! unknowns and five entries per row), by conjugate gradients with a Jacobi preconditioner,
+//! which needs no factorization and no fill and falls back to the LU when the Jacobian is not
+//! symmetric; choose with
+//! [`with_linear`](crate::runtime::element::ElementIntegrator::with_linear). States are
 //! [`ElementState`](crate::runtime::element::ElementState)s of `DVector`s; a run allocates its
 //! workspace once and nothing per step. With `translate(..)` declared, the momentum map of each
 //! translation is kept exactly, as the reduced integrator keeps `μ` (the equations are the
@@ -104,7 +110,8 @@
 //!
 //! * `cargo run --release --example toda_n -- --n 200,1000,10000,100000`: one build, every n;
 //!   time per step against the hand-written `O(n)` Newton step, parallel assembly, memory.
-//! * `cargo run --release --example wave2d`: a 2-D nonlinear wave equation on 316 × 316 nodes.
+//! * `cargo run --release --example wave2d`: a 2-D nonlinear wave equation on 316 × 316 nodes
+//!   (`--linear direct` for the sparse LU instead of conjugate gradients).
 //! * `cargo run --release --example cluster`: a Lennard-Jones cluster, pairs, n = 64 … 256.
 //!
 //! The measured figures are in [Benchmarks](super::benchmarks#systems-sized-at-run-time).
@@ -112,7 +119,8 @@
 //! ## Limits
 //!
 //! Only the (+) position–momentum step: no reduced (−) step, no compositions or atlases of
-//! element-wise systems, no step-map Jacobian or sensitivities; indices with a loop index under
+//! element-wise systems, no step-map Jacobian or sensitivities; integer `let`s are index
+//! aliases (`let j = (i + 1) % n;`) and cannot be read as values; indices with a loop index under
 //! a constant-bound inner loop (`x[3 * i + d]` for `d` in `0..3`) are not accepted — declare one
 //! coordinate per component. At small sizes the chord iterations' linear convergence costs
 //! corrections that a hand-written Newton step on a tridiagonal system does not pay (see
