@@ -46,6 +46,7 @@
 //! any number of threads (`tests/element_wise.rs` checks it).
 
 mod assembly;
+mod solver;
 
 use std::fmt::Debug;
 use std::ops::Range;
@@ -56,9 +57,8 @@ use crate::error::{IntegrationError, StepError, Steps};
 use crate::newton::{solve_in, NewtonOptions};
 use crate::stepper::{check_inputs, step_error, Collect, StepStats, Stepper};
 
-pub use assembly::{
-    ElementSolver, ElementWorkspace, ITERATIVE_MIN_DIM, ITERATIVE_MIN_ENTRIES_PER_ROW,
-};
+pub use assembly::ElementWorkspace;
+pub use solver::{ElementSolver, ITERATIVE_MIN_DIM, ITERATIVE_MIN_ENTRIES_PER_ROW};
 
 /// One family of elements of an element-wise Lagrangian: a loop of its body (or a term outside
 /// loops), with a stencil of `S` coordinates. Emitted by `#[reduced_lagrangian]`.

@@ -1,0 +1,116 @@
+//! The step Jacobian's solver of an element-wise run, chosen by the pattern's structure
+//! ([`Linear`]): faer's sparse LU, or conjugate gradients for large multi-dimensional symmetric
+//! Jacobians, with the fallback from the one to the other.
+
+use nalgebra::DVector;
+
+use super::Linear;
+use crate::linalg::{DynSparseLu, FactorError, LinearSolver, Pcg};
+
+/// The smallest number of unknowns for which [`Linear::Auto`] solves a multi-dimensional
+/// pattern (at least [`ITERATIVE_MIN_ENTRIES_PER_ROW`] entries per row, as a 2-D grid's 7) by
+/// conjugate gradients. Measured on the membrane of `examples/wave2d.rs` at 316 × 316: the
+/// sparse LU's first factorization takes ≈ 2 s and 0.6 GB of fill, its later steps ≈ 34 ms; see
+/// BENCHMARKS.md for CG's figures. A lattice (3 entries per row) factors in linear time and
+/// keeps the LU.
+pub const ITERATIVE_MIN_DIM: usize = 20_000;
+
+/// See [`ITERATIVE_MIN_DIM`].
+pub const ITERATIVE_MIN_ENTRIES_PER_ROW: usize = 5;
+
+/// The step Jacobian's solver of an element-wise run ([`Linear`]): the sparse LU, or conjugate
+/// gradients on a symmetric definite Jacobian, falling back to the LU for good when the
+/// Jacobian turns out not to be symmetric or CG breaks down.
+#[derive(Debug)]
+pub enum ElementSolver {
+    /// faer's sparse LU.
+    Direct(Box<DynSparseLu>),
+    /// Jacobi-preconditioned conjugate gradients, with the pattern to fall back on.
+    Iterative(Box<Pcg>, Vec<usize>, Vec<usize>),
+}
+
+impl ElementSolver {
+    pub(super) fn new(n: usize, col_ptr: &[usize], row_idx: &[usize], linear: Linear) -> Self {
+        let iterative = match linear {
+            Linear::Direct => false,
+            Linear::Iterative => true,
+            Linear::Auto => {
+                n >= ITERATIVE_MIN_DIM && row_idx.len() >= ITERATIVE_MIN_ENTRIES_PER_ROW * n
+            }
+        };
+        match iterative.then(|| Pcg::new(n, col_ptr, row_idx)).flatten() {
+            Some(cg) => ElementSolver::Iterative(Box::new(cg), col_ptr.to_vec(), row_idx.to_vec()),
+            None => ElementSolver::Direct(Box::new(DynSparseLu::new(
+                n,
+                col_ptr.to_vec(),
+                row_idx.to_vec(),
+            ))),
+        }
+    }
+
+    /// Which solver this is: `"sparse LU"` or `"conjugate gradients"`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            ElementSolver::Direct(_) => "sparse LU",
+            ElementSolver::Iterative(..) => "conjugate gradients (Jacobi)",
+        }
+    }
+}
+
+impl LinearSolver for ElementSolver {
+    type Vector = DVector<f64>;
+    type Matrix = Vec<f64>;
+    fn factor(&mut self, j: &Vec<f64>) -> Result<(), FactorError> {
+        match self {
+            ElementSolver::Direct(lu) => lu.factor(j),
+            ElementSolver::Iterative(cg, col_ptr, row_idx) => match cg.factor(j) {
+                Ok(()) => Ok(()),
+                Err(FactorError::NonFinite) => Err(FactorError::NonFinite),
+                // Not symmetric: the LU from now on (built once, here).
+                Err(FactorError::Singular) => {
+                    let n = col_ptr.len() - 1;
+                    let mut lu =
+                        DynSparseLu::new(n, std::mem::take(col_ptr), std::mem::take(row_idx));
+                    let result = lu.factor(j);
+                    *self = ElementSolver::Direct(Box::new(lu));
+                    result
+                }
+            },
+        }
+    }
+    fn solve(&mut self, b: &DVector<f64>) -> DVector<f64> {
+        let mut x = b.clone();
+        self.solve_in_place(&mut x);
+        x
+    }
+    fn solve_in_place(&mut self, b: &mut DVector<f64>) {
+        match self {
+            ElementSolver::Direct(lu) => lu.solve_in_place(b),
+            ElementSolver::Iterative(cg, ..) => cg.solve_in_place(b),
+        }
+    }
+    fn norm1(&self) -> f64 {
+        match self {
+            ElementSolver::Direct(lu) => lu.norm1(),
+            ElementSolver::Iterative(cg, ..) => cg.norm1(),
+        }
+    }
+    fn rcond_lower_bound(&mut self) -> f64 {
+        match self {
+            ElementSolver::Direct(lu) => lu.rcond_lower_bound(),
+            ElementSolver::Iterative(cg, ..) => cg.rcond_lower_bound(),
+        }
+    }
+    fn rcond(&mut self) -> f64 {
+        match self {
+            ElementSolver::Direct(lu) => lu.rcond(),
+            ElementSolver::Iterative(cg, ..) => cg.rcond(),
+        }
+    }
+    fn has_reusable_factors(&self) -> bool {
+        match self {
+            ElementSolver::Direct(lu) => lu.has_reusable_factors(),
+            ElementSolver::Iterative(cg, ..) => cg.has_reusable_factors(),
+        }
+    }
+}
