@@ -231,3 +231,56 @@ fn an_ensemble_over_parameter_sets() {
     }
     assert_eq!(results.iter().filter(|r| r.is_err()).count(), 1);
 }
+
+#[path = "../examples/common/toda_n.rs"]
+mod toda_n;
+
+/// An element-wise system sized at run time (heap-backed states, the run-time pattern) through
+/// `run`: no step without a factorization allocates, on the sparse LU and on conjugate
+/// gradients (serial assembly: the counter is per thread).
+#[test]
+fn an_element_wise_run_allocates_nothing_per_step() {
+    use dirac::runtime::element::{ElementIntegrator, Linear, Parallel};
+    for linear in [Linear::Direct, Linear::Iterative] {
+        let sys = toda_n::TodaN {
+            m: 1.0,
+            d: 0.0,
+            h: 0.05,
+            n: 500,
+        };
+        let integ = ElementIntegrator::new(sys, NewtonOptions::default())
+            .with_parallel(Parallel::Never)
+            .with_linear(linear);
+        let start = toda_n::initial(&sys, 0.1, 0.3, 0.05);
+        let mut before = allocations();
+        let at_start = before;
+        let (mut counted, mut allocating) = (0, Vec::new());
+        integ
+            .run(start, 300, |k, _, record| {
+                let now = allocations();
+                if let Some(stats) = record {
+                    if k > 1 && stats.factorizations == 0 {
+                        counted += 1;
+                        if now != before {
+                            allocating.push((k, now - before));
+                        }
+                    }
+                }
+                before = allocations();
+            })
+            .expect("runs");
+        // The counter counts: the run's workspace (pattern, solver) was allocated.
+        assert!(
+            allocations() > at_start + 10,
+            "{linear:?}: the counter saw no allocation"
+        );
+        assert!(
+            counted > 250,
+            "{linear:?}: only {counted} steps without a factorization"
+        );
+        assert!(
+            allocating.is_empty(),
+            "{linear:?}: steps that allocated: {allocating:?}"
+        );
+    }
+}
