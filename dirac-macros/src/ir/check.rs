@@ -520,6 +520,63 @@ fn fmt_sig(v: f64, digits: usize) -> String {
     }
 }
 
+/// The invariance check of one element of an element-wise system (`dirac::runtime::element`):
+/// its `L_d^e` (over the stencil's slots, `Q0`/`Q1`) must not change when every slot of a
+/// translated coordinate moves by the same amount, or the momentum map the integrator keeps
+/// exact is not conserved. `translation_of[a]` is the declared translation (index) slot `a`
+/// belongs to, if any; `names[j]` names translation `j` for messages; the error, if any, is
+/// reported at `at`. Parameters (and sizes and loop indices read as values) are sampled in the
+/// default positive range.
+pub fn element_invariance(
+    cx: &Ctxt,
+    g: &Graph,
+    ld: NodeId,
+    translation_of: &[Option<usize>],
+    names: &[String],
+    at: &proc_macro2::TokenStream,
+) {
+    let width = translation_of.len();
+    let mut rng = SplitMix64(SEED);
+    for _ in 0..POINTS {
+        let q0: Vec<f64> = (0..width).map(|_| rng.sample(COORDS)).collect();
+        let q1: Vec<f64> = (0..width).map(|_| rng.sample(COORDS)).collect();
+        let params: Vec<f64> = (0..64).map(|_| rng.sample(PARAMS)).collect();
+        let eval = |shift: Option<(usize, f64)>| {
+            let moved = |a: usize, v: f64| match shift {
+                Some((j, c)) if translation_of[a] == Some(j) => v + c,
+                _ => v,
+            };
+            g.eval(&[ld], &|sym| match sym {
+                Sym::Q0(a) => moved(a, q0[a]),
+                Sym::Q1(a) => moved(a, q1[a]),
+                Sym::Param(i) => params[i % params.len()],
+                _ => 0.0,
+            })[0]
+        };
+        let base = eval(None);
+        if !base.is_finite() {
+            continue;
+        }
+        for (j, name) in names.iter().enumerate() {
+            if !translation_of.contains(&Some(j)) {
+                continue;
+            }
+            for shift in SHIFTS {
+                let moved = eval(Some((j, shift)));
+                if (moved - base).abs() > TOL * base.abs().max(1.0) {
+                    cx.error_spanned_by(
+                        at,
+                        format!(
+                            "this element is not invariant under `translate({name})`: its L_d changes from {base:e} to {moved:e} when every component of the translation moves by {shift}; the momentum map could not be kept. Write the element in differences of the translated coordinates (e.g. `q.x[i + 1] - q.x[i]`), or do not declare the translation"
+                        ),
+                    );
+                    return;
+                }
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

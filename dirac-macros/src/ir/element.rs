@@ -89,6 +89,31 @@ pub fn element(
         .map(|a| (0..width).map(|b| columns[b][a]).collect())
         .collect();
     let d2 = firsts(g, mode, ld, &q1);
+    // The element must be invariant under each declared translation (slots of one coordinate
+    // move together).
+    let translation_of: Vec<Option<usize>> = family
+        .slots
+        .iter()
+        .map(|slot| spec.translates.iter().position(|t| t.contains(&slot.coord)))
+        .collect();
+    let names: Vec<String> = spec
+        .translates
+        .iter()
+        .map(|t| {
+            t.iter()
+                .map(|&c| spec.coords[c].name.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        })
+        .collect();
+    let at = family
+        .loops
+        .last()
+        .map(|l| l.tokens.clone())
+        .or_else(|| family.slots.first().map(|s| s.tokens.clone()));
+    if let Some(at) = at {
+        crate::ir::check::element_invariance(cx, g, ld, &translation_of, &names, &at);
+    }
     Some(ElementCode {
         graph,
         width,
