@@ -137,10 +137,6 @@ struct Factors {
     scratch: MemBuffer,
     /// Three vectors of length `n`: the conditioning bound's and Hager's estimator's.
     work: [Vec<f64>; 3],
-    /// A vector of length `n` for the permutations of a solve.
-    permuted: Vec<f64>,
-    /// For each column `j` of `U`, the position of its diagonal entry in the factor's values.
-    u_diagonal: Vec<usize>,
     norm1: f64,
     factored: bool,
     /// The conditioning bound and Hager's estimate of the current factors, once computed: chord
@@ -170,8 +166,6 @@ impl Factors {
             lu: SimplicialLu::new(),
             scratch: MemBuffer::new(req),
             work: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
-            permuted: vec![0.0; n],
-            u_diagonal: vec![0; n],
             norm1: 0.0,
             factored: false,
             rcond_cache: (None, None),
@@ -193,14 +187,6 @@ impl Factors {
             stack,
         )
         .map_err(|_| FactorError::Singular)?;
-        let u = self.lu.u_factor_unsorted();
-        for j in 0..self.n {
-            let rows = u.row_idx_of_col_raw(j);
-            match rows.iter().position(|&i| i == j) {
-                Some(k) => self.u_diagonal[j] = u.col_ptr()[j] + k,
-                None => return Err(FactorError::Singular),
-            }
-        }
         self.factored = true;
         Ok(())
     }
@@ -224,41 +210,15 @@ impl Factors {
             );
             return;
         }
-        // `x = Q U⁻¹ L⁻¹ P b`, column-oriented on the factors as faer stores them (the same
-        // operations in the same order as faer's `solve_in_place_with_conj`, without its
-        // generic dispatch, which costs more than the arithmetic on a lattice's factors).
-        let t = &mut self.permuted;
-        t.copy_from_slice(x);
-        for (xi, &p) in x.iter_mut().zip(&self.row_perm) {
-            *xi = t[p];
-        }
-        let (l, u) = (self.lu.l_factor_unsorted(), self.lu.u_factor_unsorted());
-        let (l_ptr, l_rows, l_vals) = (l.col_ptr(), l.row_idx(), l.val());
-        for j in 0..n {
-            let xj = x[j];
-            for k in l_ptr[j]..l_ptr[j + 1] {
-                let i = l_rows[k];
-                if i != j {
-                    x[i] -= l_vals[k] * xj;
-                }
-            }
-        }
-        let (u_ptr, u_rows, u_vals) = (u.col_ptr(), u.row_idx(), u.val());
-        for j in (0..n).rev() {
-            let d = self.u_diagonal[j];
-            let xj = x[j] / u_vals[d];
-            x[j] = xj;
-            for k in u_ptr[j]..u_ptr[j + 1] {
-                if k != d {
-                    x[u_rows[k]] -= u_vals[k] * xj;
-                }
-            }
-        }
-        t.copy_from_slice(x);
-        let (_, col_inverse) = self.col_perm.as_ref().arrays();
-        for (xi, &p) in x.iter_mut().zip(col_inverse) {
-            *xi = t[p];
-        }
+        // faer's solve: a column-oriented solve written here on the same factors measured no
+        // faster on the lattice and, by a different summation order, let the ill-conditioned
+        // saddle-point steps of `examples/maximal_chain.rs` drift into a failed step.
+        let row_perm = PermRef::new_checked(&self.row_perm, &self.row_perm_inv, n);
+        let col_perm = self.col_perm.as_ref();
+        let rhs = MatMut::from_column_major_slice_mut(x, n, 1);
+        let stack = MemStack::new(&mut self.scratch);
+        self.lu
+            .solve_in_place_with_conj(row_perm, col_perm, Conj::No, rhs, Par::Seq, stack);
     }
 
     /// An upper bound on `‖A⁻¹‖₁ = ‖U⁻¹ L⁻¹‖₁ ≤ ‖M(U)⁻¹‖₁ ‖M(L)⁻¹‖₁` from one pass over each
