@@ -44,6 +44,10 @@ use dirac::runtime::linalg::{DynSparseLu, LinearSolver};
 // deny-by-default `possible_missing_comma` (reported at the attribute; a lint on generated
 // code, not on anything written here).
 #[allow(clippy::possible_missing_comma)]
+#[path = "common/stats.rs"]
+mod stats;
+use stats::{loglog_slope, median, peak_memory_mib, range};
+
 #[path = "common/cluster.rs"]
 mod cluster;
 use cluster::Cluster;
@@ -110,40 +114,6 @@ fn parse_args() -> Result<Options, String> {
         }
     }
     Ok(o)
-}
-
-/// Peak resident memory of this process, in MiB (Linux; `None` elsewhere).
-fn peak_memory_mib() -> Option<f64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib / 1024.0)
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
-
-fn range(v: &[f64]) -> (f64, f64) {
-    v.iter()
-        .fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)))
-}
-
-/// Least-squares slope of `ln y` against `ln x`.
-fn loglog_slope(points: &[(f64, f64)]) -> Option<f64> {
-    if points.len() < 2 {
-        return None;
-    }
-    let pts: Vec<(f64, f64)> = points.iter().map(|&(x, y)| (x.ln(), y.ln())).collect();
-    let k = pts.len() as f64;
-    let (mx, my) = pts
-        .iter()
-        .fold((0.0, 0.0), |(a, b), (x, y)| (a + x / k, b + y / k));
-    let (num, den) = pts.iter().fold((0.0, 0.0), |(a, b), (x, y)| {
-        (a + (x - mx) * (y - my), b + (x - mx) * (x - mx))
-    });
-    Some(num / den)
 }
 
 /// One row of the table.

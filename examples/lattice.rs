@@ -18,17 +18,13 @@ use std::time::Instant;
 use dirac::prelude::*;
 use dirac::runtime::ensemble;
 
+#[path = "common/stats.rs"]
+mod stats;
+use stats::peak_memory_mib;
+
 #[path = "common/toda.rs"]
 mod toda;
 use toda::{initial, Toda, N};
-
-/// Peak resident memory of this process, in MiB (Linux; `None` elsewhere).
-fn peak_memory_mib() -> Option<f64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib / 1024.0)
-}
 
 const USAGE: &str = "usage: lattice [--steps N] [--ensemble MEMBERS]";
 

@@ -21,6 +21,10 @@ use std::time::Instant;
 use dirac::prelude::*;
 use dirac::runtime::element::{ElementIntegrator, ElementWorkspace};
 
+#[path = "common/stats.rs"]
+mod stats;
+use stats::{loglog_slope, median, peak_memory_mib, range};
+
 #[path = "common/toda_n.rs"]
 mod toda_n;
 use toda_n::{initial, TodaN};
@@ -76,19 +80,6 @@ fn parse_args() -> Result<Options, String> {
         }
     }
     Ok(o)
-}
-
-/// Peak resident memory of this process, in MiB (Linux; `None` elsewhere).
-fn peak_memory_mib() -> Option<f64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib / 1024.0)
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
 }
 
 /// One row of the table.
@@ -263,10 +254,7 @@ fn main() {
                 let ratio = if r.ratios.is_empty() {
                     "-".to_string()
                 } else {
-                    let (lo, hi) = r
-                        .ratios
-                        .iter()
-                        .fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)));
+                    let (lo, hi) = range(&r.ratios);
                     format!("{:.2} ({lo:.2}–{hi:.2})", median(r.ratios.clone()))
                 };
                 println!(
@@ -293,19 +281,10 @@ fn main() {
     let pts: Vec<(f64, f64)> = rows
         .iter()
         .filter(|r| r.n >= 1000)
-        .map(|r| ((r.n as f64).ln(), r.step_us.ln()))
+        .map(|r| (r.n as f64, r.step_us))
         .collect();
-    if pts.len() >= 2 {
-        let k = pts.len() as f64;
-        let (sx, sy) = pts.iter().fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y));
-        let (mx, my) = (sx / k, sy / k);
-        let (num, den) = pts.iter().fold((0.0, 0.0), |(a, b), (x, y)| {
-            (a + (x - mx) * (y - my), b + (x - mx) * (x - mx))
-        });
-        println!(
-            "log–log slope of the step time over n ≥ 1000: {:.3} (target 1 ± 0.1)",
-            num / den
-        );
+    if let Some(slope) = loglog_slope(&pts) {
+        println!("log–log slope of the step time over n ≥ 1000: {slope:.3} (target 1 ± 0.1)");
     }
     if let Some(r) = rows.iter().find(|r| r.n == 100_000) {
         println!(

@@ -47,6 +47,10 @@ use dirac::prelude::*;
 use dirac::runtime::element::Linear;
 use dirac::runtime::ensemble::rayon;
 
+#[path = "common/stats.rs"]
+mod stats;
+use stats::{median, peak_memory_mib, range};
+
 #[path = "common/membrane.rs"]
 mod membrane;
 use membrane::Membrane;
@@ -135,24 +139,6 @@ fn parse_args() -> Result<Options, String> {
         }
     }
     Ok(o)
-}
-
-/// Peak resident memory of this process, in MiB (Linux; `None` elsewhere).
-fn peak_memory_mib() -> Option<f64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib / 1024.0)
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
-
-fn range(v: &[f64]) -> (f64, f64) {
-    v.iter()
-        .fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)))
 }
 
 /// How many of the values of `a` and `b` differ in their bits (all of them if the lengths do).
