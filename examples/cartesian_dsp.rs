@@ -65,7 +65,10 @@ fn main() {
         let n = (t_end / h).round() as usize;
         let (sys, c0) = cartesian_initial(h);
         let summary = ConstrainedIntegrator::new(sys, NewtonOptions::default())
-            .run(c0, n, |_, _, _| {})
+            .run(c0)
+            .steps(n)
+            .observe(|_, _, _, _| {})
+            .stream()
             .expect("the Cartesian pendulum integrates");
         let paper = DoubleSphericalPendulum {
             h,
@@ -73,11 +76,10 @@ fn main() {
         };
         let atlas = paper
             .atlas(NewtonOptions::default())
-            .run(
-                (PAPER, DoubleSphericalPendulum::paper_initial_state()),
-                n,
-                |_, _, _| {},
-            )
+            .run((PAPER, DoubleSphericalPendulum::paper_initial_state()))
+            .steps(n)
+            .observe(|_, _, _, _| {})
+            .stream()
             .expect("the atlas integrates");
         let (chart, state) = atlas.last;
         let (_, r2) = paper.charts().bob_positions(chart, &state);
@@ -104,10 +106,13 @@ fn main() {
     };
     let start = Instant::now();
     let summary = ConstrainedIntegrator::new(sys, tight)
-        .run(c0, steps, |_, s, _| {
+        .run(c0)
+        .steps(steps)
+        .observe(|_, _, s, _| {
             worst_phi = worst_phi.max(sys_residual(&sys, s));
             worst_l = worst_l.max((angular_momentum(s) - l0).abs());
         })
+        .stream()
         .expect("the long run integrates");
     let seconds = start.elapsed().as_secs_f64();
     println!("2. Angular momentum about the vertical over {steps} steps (h = 0.01), steps solved to round-off: L_z(0) = {l0:.3e}, largest drift {worst_l:.2e} = {:.1e} of |q||p| = {scale:.2e} (largest step residual {:.1e})",
@@ -131,12 +136,18 @@ fn main() {
     for _ in 0..5 {
         let start = Instant::now();
         let a = ConstrainedIntegrator::new(sys, NewtonOptions::default())
-            .run(c0, n, |_, _, _| {})
+            .run(c0)
+            .steps(n)
+            .observe(|_, _, _, _| {})
+            .stream()
             .expect("constrained");
         let tc = start.elapsed().as_secs_f64() * 1e6 / n as f64;
         let start = Instant::now();
         let b = UnreducedIntegrator::plus(springs, NewtonOptions::default())
-            .run(c0, n, |_, _, _| {})
+            .run(c0)
+            .steps(n)
+            .observe(|_, _, _, _| {})
+            .stream()
             .expect("springs");
         let ts = start.elapsed().as_secs_f64() * 1e6 / n as f64;
         std::hint::black_box((a.last, b.last));

@@ -60,12 +60,15 @@ fn main() {
     // The nonlinear forced integrator under the feedback u_k = −K s_k, from a displaced start.
     let start = cartpole::at_rest(0.25, 0.5);
     let steps = 1000;
-    let feedback = |_k: usize, s: &ReducedState<1, 1>, u: &mut [f64]| {
+    let feedback = |_k: usize, _t: f64, s: &ReducedState<1, 1>, u: &mut [f64]| {
         let state = SVector::<f64, 4>::from([s.x[0], s.w[0], s.mu[0], s.g[0]]);
         u[0] = -(k * state)[0];
     };
     let traj = integ
-        .integrate_controlled(start, steps, feedback)
+        .run(start)
+        .steps(steps)
+        .feedback(feedback)
+        .collect()
         .expect("the closed loop integrates");
     println!("\nClosed loop from theta = 0.25 rad, cart at 0.5 m, at rest:");
     println!("{:>8} {:>12} {:>12} {:>12}", "t", "theta", "cart", "force");

@@ -217,7 +217,9 @@ fn measure(n: usize, o: &Options) -> Result<Row, Failure> {
     let mut energies = Vec::with_capacity(o.steps);
     let mut previous = start.q.clone();
     let summary = integ
-        .run(start.clone(), o.steps, |k, state, _| {
+        .run(start.clone())
+        .steps(o.steps)
+        .observe(|k, _, state, _| {
             if k > 0 {
                 energies.push(integ.energy(&previous, &state.q).unwrap_or(f64::NAN));
                 previous.copy_from(&state.q);
@@ -229,6 +231,7 @@ fn measure(n: usize, o: &Options) -> Result<Row, Failure> {
                 *d = d.max((mu - m0).abs());
             }
         })
+        .stream()
         .map_err(|e| format!("{e}; {}", e.source))?;
 
     // Timed: the steps alone (the workspace — pattern, ordering, symbolic factorization — is
@@ -239,7 +242,7 @@ fn measure(n: usize, o: &Options) -> Result<Row, Failure> {
         let (mut state, mut next) = (start.clone(), start.clone());
         let t0 = Instant::now();
         for k in 0..o.steps {
-            integ.step_into(&mut ws, k, &state, &[], &mut next)?;
+            integ.step_into(&mut ws, k, integ.time_step(), &state, &[], &mut next)?;
             std::mem::swap(&mut state, &mut next);
         }
         step_ms.push(1e3 * t0.elapsed().as_secs_f64() / o.steps as f64);

@@ -35,7 +35,9 @@ fn main() -> Result<(), Box<dyn Error>> {
 fn continuous_form(hand: &Trajectory<3, 1>) -> Result<(), Box<dyn Error>> {
     let sys = DoubleSphericalPendulumContinuous::paper();
     let traj = ReducedIntegrator::plus(sys, NewtonOptions::default())
-        .integrate(DoubleSphericalPendulum::paper_initial_state(), hand.steps())?;
+        .run(DoubleSphericalPendulum::paper_initial_state())
+        .steps(hand.steps())
+        .collect()?;
     let e = reduced_continuous_energies(&sys, &traj)?;
     let e0 = e.nodes[0];
     let spread = |v: &[f64]| v.iter().map(|x| (x - e0).abs()).fold(0.0, f64::max) / e0.abs();

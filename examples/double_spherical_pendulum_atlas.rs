@@ -44,41 +44,45 @@ fn main() -> Result<(), Box<dyn Error>> {
     let mut j = 0usize;
     let start = std::time::Instant::now();
     let mut switches: Vec<Switch<3, 1>> = Vec::new();
-    let run = atlas.run((PAPER, initial), STEPS, |_, &(chart, ref state), step| {
-        let (rescue, switch) = step.map_or((None, None), |s| (s.rescue, s.switch));
-        // The chart index steps at the switch itself, so every switch shows in the plot.
-        let mut plot_switch = |sw: Switch<3, 1>, chart_in_use: &mut Vec<(f64, f64)>| {
-            let t = sw.step as f64 * sys.h;
-            chart_in_use.push((t, sw.from as f64));
-            chart_in_use.push((t, sw.to as f64));
-            switches.push(sw);
-        };
-        if let Some(sw) = rescue {
-            plot_switch(sw, &mut chart_in_use);
-        }
-        // A state that changed chart after its step is shown in the chart it was computed in.
-        let (chart, state) = match &switch {
-            Some(sw) => (sw.from, &sw.before),
-            None => (chart, state),
-        };
-        {
-            let e = charts.energy(chart, state).unwrap_or(f64::NAN);
-            (e_min, e_max) = (e_min.min(e), e_max.max(e));
-            if j.is_multiple_of(EVERY) {
-                let t = j as f64 * sys.h;
-                let (r1, r2) = charts.bob_positions(chart, state);
-                z1.push((t, r1[2]));
-                z2.push((t, r2[2]));
-                xy2.push((r2[0], r2[1]));
-                energy.push((t, e));
-                chart_in_use.push((t, chart as f64));
+    let run = atlas
+        .run((PAPER, initial))
+        .steps(STEPS)
+        .observe(|_, _, &(chart, ref state), step| {
+            let (rescue, switch) = step.map_or((None, None), |s| (s.rescue, s.switch));
+            // The chart index steps at the switch itself, so every switch shows in the plot.
+            let mut plot_switch = |sw: Switch<3, 1>, chart_in_use: &mut Vec<(f64, f64)>| {
+                let t = sw.step as f64 * sys.h;
+                chart_in_use.push((t, sw.from as f64));
+                chart_in_use.push((t, sw.to as f64));
+                switches.push(sw);
+            };
+            if let Some(sw) = rescue {
+                plot_switch(sw, &mut chart_in_use);
             }
-            j += 1;
-        }
-        if let Some(sw) = switch {
-            plot_switch(sw, &mut chart_in_use);
-        }
-    });
+            // A state that changed chart after its step is shown in the chart it was computed in.
+            let (chart, state) = match &switch {
+                Some(sw) => (sw.from, &sw.before),
+                None => (chart, state),
+            };
+            {
+                let e = charts.energy(chart, state).unwrap_or(f64::NAN);
+                (e_min, e_max) = (e_min.min(e), e_max.max(e));
+                if j.is_multiple_of(EVERY) {
+                    let t = j as f64 * sys.h;
+                    let (r1, r2) = charts.bob_positions(chart, state);
+                    z1.push((t, r1[2]));
+                    z2.push((t, r2[2]));
+                    xy2.push((r2[0], r2[1]));
+                    energy.push((t, e));
+                    chart_in_use.push((t, chart as f64));
+                }
+                j += 1;
+            }
+            if let Some(sw) = switch {
+                plot_switch(sw, &mut chart_in_use);
+            }
+        })
+        .stream();
     let elapsed = start.elapsed();
     let run = run.map_err(|e| format!("{e}"))?;
     println!(

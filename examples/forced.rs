@@ -34,11 +34,14 @@ fn main() {
             p: SVector::from([0.0]),
         };
         // The drive at the step's midpoint, where the midpoint rule evaluates the force.
-        let drive = |k: usize, _: &CanonicalState<1>, u: &mut [f64]| {
+        let drive = |k: usize, _: f64, _: &CanonicalState<1>, u: &mut [f64]| {
             u[0] = a0 * (omega * (k as f64 + 0.5) * h).cos()
         };
         let traj = UnreducedIntegrator::plus(sys, options)
-            .integrate_controlled(s0, n, drive)
+            .run(s0)
+            .steps(n)
+            .feedback(drive)
+            .collect()
             .expect("the oscillator integrates");
         let error = (traj.last().q[0] - exact(m, k, c, a0, omega, x0, t_end)).abs();
         let order = previous.map_or(String::new(), |e| format!("{:.3}", (e / error).log2()));
@@ -54,7 +57,9 @@ fn main() {
         p: SVector::from([0.0]),
     };
     let traj = UnreducedIntegrator::plus(sys, options)
-        .integrate(s0, n)
+        .run(s0)
+        .steps(n)
+        .collect()
         .expect("the oscillator integrates");
     let energy = |s: &CanonicalState<1>| 0.5 * s.p[0] * s.p[0] / m + 0.5 * k * s.q[0] * s.q[0];
     // Over whole periods of the damped motion the oscillation of the decay averages out.
@@ -84,19 +89,18 @@ fn main() {
     let mut applied = 0.0;
     let mut previous = s0.mu[0];
     let summary = ReducedIntegrator::plus(sys, options)
-        .run_controlled(
-            s0,
-            steps,
-            |k: usize, _: &ReducedState<1, 1>, u: &mut [f64]| u[0] = torque(k),
-            |k, s, _| {
-                if k > 0 {
-                    let impulse = h * torque(k - 1);
-                    applied += impulse;
-                    worst = worst.max((s.mu[0] - previous - impulse).abs());
-                }
-                previous = s.mu[0];
-            },
-        )
+        .run(s0)
+        .steps(steps)
+        .feedback(|k: usize, _, _: &ReducedState<1, 1>, u: &mut [f64]| u[0] = torque(k))
+        .observe(|k, _, s, _| {
+            if k > 0 {
+                let impulse = h * torque(k - 1);
+                applied += impulse;
+                worst = worst.max((s.mu[0] - previous - impulse).abs());
+            }
+            previous = s.mu[0];
+        })
+        .stream()
         .expect("the turntable integrates");
     println!("\n2. Turntable with a damped pendulum and a torque tau_k on its axis, {steps} steps of h = {h}:");
     println!(

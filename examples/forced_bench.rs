@@ -78,12 +78,20 @@ fn main() {
     let (mut ratios, mut t_free, mut t_damped) = (Vec::new(), Vec::new(), Vec::new());
     for _ in 0..repeats {
         let a = time_run(&|| {
-            let s = free_integ.run(s0, steps, |_, _, _| {}).expect("free run");
+            let s = free_integ
+                .run(s0)
+                .steps(steps)
+                .observe(|_, _, _, _| {})
+                .stream()
+                .expect("free run");
             s.steps
         });
         let b = time_run(&|| {
             let s = damped_integ
-                .run(s0, steps, |_, _, _| {})
+                .run(s0)
+                .steps(steps)
+                .observe(|_, _, _, _| {})
+                .stream()
                 .expect("damped run");
             s.steps
         });
@@ -93,11 +101,17 @@ fn main() {
     }
     let iterations = (
         free_integ
-            .run(s0, steps, |_, _, _| {})
+            .run(s0)
+            .steps(steps)
+            .observe(|_, _, _, _| {})
+            .stream()
             .expect("free run")
             .mean_iterations(),
         damped_integ
-            .run(s0, steps, |_, _, _| {})
+            .run(s0)
+            .steps(steps)
+            .observe(|_, _, _, _| {})
+            .stream()
             .expect("damped run")
             .mean_iterations(),
     );
@@ -123,10 +137,22 @@ fn main() {
 
     // One step's sensitivity against one step: the trajectory's steps, then their sensitivities.
     let n = steps.min(5000);
-    let traj = damped_integ.integrate(s0, n).expect("damped trajectory");
+    let traj = damped_integ
+        .run(s0)
+        .steps(n)
+        .collect()
+        .expect("damped trajectory");
     let (mut sens_ratios, mut t_sens) = (Vec::new(), Vec::new());
     for _ in 0..repeats {
-        let step = time_run(&|| damped_integ.run(s0, n, |_, _, _| {}).expect("run").steps);
+        let step = time_run(&|| {
+            damped_integ
+                .run(s0)
+                .steps(n)
+                .observe(|_, _, _, _| {})
+                .stream()
+                .expect("run")
+                .steps
+        });
         let sens = time_run(&|| {
             let mut checksum = 0.0;
             for k in 0..n {

@@ -80,23 +80,27 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut previous: Option<SVector<f64, N>> = None;
     let mu0 = start.mu;
     let began = Instant::now();
-    let summary = integ.run(start, steps, |k, state, _| {
-        mu_deviation = mu_deviation.max((state.mu - mu0).amax());
-        let q = dirac::runtime::system::join::<199, 1, N>(&state.x, &state.g);
-        if let Some(q0) = previous {
-            let e = sys.energy(&(0.5 * (q0 + q)), &((q - q0) / sys.h));
-            e_min = e_min.min(e);
-            e_max = e_max.max(e);
-            if k <= tenth {
-                e_first += e;
+    let summary = integ
+        .run(start)
+        .steps(steps)
+        .observe(|k, _, state, _| {
+            mu_deviation = mu_deviation.max((state.mu - mu0).amax());
+            let q = dirac::runtime::system::join::<199, 1, N>(&state.x, &state.g);
+            if let Some(q0) = previous {
+                let e = sys.energy(&(0.5 * (q0 + q)), &((q - q0) / sys.h));
+                e_min = e_min.min(e);
+                e_max = e_max.max(e);
+                if k <= tenth {
+                    e_first += e;
+                }
+                if k > steps - tenth {
+                    e_last += e;
+                    counted += 1;
+                }
             }
-            if k > steps - tenth {
-                e_last += e;
-                counted += 1;
-            }
-        }
-        previous = Some(q);
-    })?;
+            previous = Some(q);
+        })
+        .stream()?;
     let seconds = began.elapsed().as_secs_f64();
     let mean = |s: f64, n: usize| s / n.max(1) as f64;
     let spread = e_max - e_min;
@@ -144,9 +148,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut ratios = Vec::new();
     let (mut base_us, mut composed_us, mut composed_factorizations) = (0.0, 0.0, 0);
     for _ in 0..3 {
-        let (base, _) = timed_run(&|| summary_of(integ.run(start, compose_steps, |_, _, _| {})));
-        let (triple, factorizations) =
-            timed_run(&|| summary_of(composed.run(start, compose_steps, |_, _, _| {})));
+        let (base, _) = timed_run(&|| {
+            summary_of(
+                integ
+                    .run(start)
+                    .steps(compose_steps)
+                    .observe(|_, _, _, _| {})
+                    .stream(),
+            )
+        });
+        let (triple, factorizations) = timed_run(&|| {
+            summary_of(
+                composed
+                    .run(start)
+                    .steps(compose_steps)
+                    .observe(|_, _, _, _| {})
+                    .stream(),
+            )
+        });
         ratios.push(triple / base);
         (base_us, composed_us, composed_factorizations) =
             (1e6 * base, 1e6 * triple, factorizations);
@@ -171,8 +190,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .num_threads(threads)
             .build()?;
         let began = Instant::now();
-        let results =
-            pool.install(|| integ.run_ensemble(&starts, ensemble_steps, |_| |_, _, _| {}));
+        let results = pool.install(|| {
+            integ
+                .ensemble(&starts)
+                .steps(ensemble_steps)
+                .stream(|_| |_, _, _, _| {})
+        });
         let ok = results.iter().filter(|(_, r)| r.is_ok()).count();
         Ok((began.elapsed().as_secs_f64(), ok))
     };

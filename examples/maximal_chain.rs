@@ -68,7 +68,7 @@ macro_rules! maximal_chain {
                 let c0 = <$ty>::to_adapted_state(&user);
                 let integ = ConstrainedIntegrator::new(sys, NewtonOptions::default());
                 let start = Instant::now();
-                let traj = integ.integrate(c0, steps).expect("the chain integrates");
+                let traj = integ.run(c0).steps(steps).collect().expect("the chain integrates");
                 let us = start.elapsed().as_secs_f64() * 1e6 / steps as f64;
                 (us, traj.max_constraint_residual(), traj.mean_iterations())
             }

@@ -76,7 +76,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     let steps = 50_000;
     let integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
-    let traj = integ.clone().integrate(start, steps)?;
+    let traj = integ.clone().run(start).steps(steps).collect()?;
     let mu_deviation = traj
         .states
         .iter()
@@ -108,7 +108,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     // The unreduced integrator from the same annotation carries the momentum only to round-off.
     let unreduced = UnreducedIntegrator::plus(sys, NewtonOptions::default())
-        .integrate(FourBodies::adapted_state(&q, &p), steps)?;
+        .run(FourBodies::adapted_state(&q, &p))
+        .steps(steps)
+        .collect()?;
     let drift = unreduced
         .states
         .iter()

@@ -56,7 +56,9 @@ fn main() {
             [sys.i * omega, sys.m * sys.r * spin, 0.0, sys.j * spin],
         );
         let traj = ReducedConstrainedIntegrator::plus(sys, options)
-            .integrate(sys.trivialize(&start), n)
+            .run(sys.trivialize(&start))
+            .steps(n)
+            .collect()
             .expect("the disk rolls");
         let end = sys.untrivialize(traj.last()).q;
         let phi = omega * t_end;
@@ -95,7 +97,9 @@ fn main() {
     let u_inf = (2.0 * e0 / sys.m).sqrt();
     let steps = 3000;
     let traj = ConstrainedIntegrator::new(sys, options)
-        .integrate(start, steps)
+        .run(start)
+        .steps(steps)
+        .collect()
         .expect("the sleigh slides");
     println!("\n2. Chaplygin sleigh (m = 1, I = 0.2, a = 0.5, h = 0.01) from u = {u0}, ω = {w0}: u∞ = √(2E/m) = {u_inf:.6}");
     println!(

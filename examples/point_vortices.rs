@@ -57,7 +57,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         // Momenta from positions alone: p = ∂L/∂v does not depend on v (degenerate L).
         let initial: ReducedState<3, 1> = sys.reduced_state(q, SVector::zeros());
         let traj = ReducedIntegrator::plus(sys, NewtonOptions::default())
-            .integrate(initial, steps as usize)?;
+            .run(initial)
+            .steps(steps as usize)
+            .collect()?;
         let z = positions(&traj.last().x, traj.last().g[0]);
         let err = (0..2)
             .map(|j| (z[j].0 - exact[j].0).hypot(z[j].1 - exact[j].1))

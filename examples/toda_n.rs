@@ -137,7 +137,11 @@ fn measure(n: usize, o: &Options) -> Result<Row, Box<dyn std::error::Error>> {
     let mu0 = integ.momentum_map(&start)[0];
     // Steps per timed run: about `--seconds`, from a short calibration run.
     let t0 = Instant::now();
-    integ.run(start.clone(), 10, |_, _, _| ())?;
+    integ
+        .run(start.clone())
+        .steps(10)
+        .observe(|_, _, _, _| ())
+        .stream()?;
     let per_step = t0.elapsed().as_secs_f64() / 10.0;
     let steps = ((o.seconds / per_step) as usize).clamp(20, 200_000);
     let hand_params = TodaParams {
@@ -153,15 +157,19 @@ fn measure(n: usize, o: &Options) -> Result<Row, Box<dyn std::error::Error>> {
     // and the energy at the step midpoints.
     let (mut mu_deviation, mut e_min, mut e_max) = (0.0f64, f64::INFINITY, f64::NEG_INFINITY);
     let mut previous = start.q.clone();
-    let summary = integ.run(start.clone(), steps, |k, state, _| {
-        if k > 0 {
-            let e = integ.energy(&previous, &state.q).unwrap_or(f64::NAN);
-            e_min = e_min.min(e);
-            e_max = e_max.max(e);
-            previous.copy_from(&state.q);
-        }
-        mu_deviation = mu_deviation.max((integ.momentum_map(state)[0] - mu0).abs());
-    })?;
+    let summary = integ
+        .run(start.clone())
+        .steps(steps)
+        .observe(|k, _, state, _| {
+            if k > 0 {
+                let e = integ.energy(&previous, &state.q).unwrap_or(f64::NAN);
+                e_min = e_min.min(e);
+                e_max = e_max.max(e);
+                previous.copy_from(&state.q);
+            }
+            mu_deviation = mu_deviation.max((integ.momentum_map(state)[0] - mu0).abs());
+        })
+        .stream()?;
     let corrections = summary.mean_iterations();
     let factorizations = summary.factorizations as f64 / summary.steps.max(1) as f64;
     // Timed: the steps alone (the workspace — pattern, ordering, symbolic factorization — is
@@ -173,7 +181,7 @@ fn measure(n: usize, o: &Options) -> Result<Row, Box<dyn std::error::Error>> {
         let (mut state, mut next) = (start.clone(), start.clone());
         let t0 = Instant::now();
         for k in 0..steps {
-            integ.step_into(&mut ws, k, &state, &[], &mut next)?;
+            integ.step_into(&mut ws, k, integ.time_step(), &state, &[], &mut next)?;
             std::mem::swap(&mut state, &mut next);
         }
         dirac_s.push(t0.elapsed().as_secs_f64() / steps as f64);

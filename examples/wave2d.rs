@@ -180,7 +180,7 @@ fn timed_run(
     let t0 = Instant::now();
     let mut first = 0.0;
     for k in 0..steps {
-        integ.step_into(&mut ws, k, &state, &[], &mut next)?;
+        integ.step_into(&mut ws, k, integ.time_step(), &state, &[], &mut next)?;
         std::mem::swap(&mut state, &mut next);
         if k == 0 {
             first = t0.elapsed().as_secs_f64();
@@ -261,7 +261,9 @@ fn main() {
     let mut previous = start.q.clone();
     let mut factored_at = Vec::new();
     let summary = integ
-        .run(start.clone(), o.steps, |k, state, record| {
+        .run(start.clone())
+        .steps(o.steps)
+        .observe(|k, _, state, record| {
             if record.is_some_and(|r| r.factorizations > 0) {
                 factored_at.push(k - 1);
             }
@@ -271,6 +273,7 @@ fn main() {
             }
             mu_deviation = mu_deviation.max((integ.momentum_map(state)[0] - mu0).abs());
         })
+        .stream()
         .unwrap_or_else(|e| fail("the observed run", format!("{e}; {}", e.source)));
 
     // Timed: `--repeats` runs on all of rayon's threads, interleaved with as many on a pool of

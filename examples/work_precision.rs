@@ -63,7 +63,7 @@ fn timed_run<I: SelfAdjoint>(
     let mut result = None;
     for _ in 0..REPEATS {
         let start = Instant::now();
-        let traj = comp.integrate(initial.clone(), steps)?;
+        let traj = comp.run(initial.clone()).steps(steps).collect()?;
         best = best.min(start.elapsed().as_secs_f64());
         result = Some(traj);
     }

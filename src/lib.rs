@@ -24,7 +24,7 @@
 //! let sys = ChargedParticle { h: 0.2, m: 1.0, b0: 1.0 };
 //! let initial = ReducedState::new([0.0; 3], [1.0, 0.0, 1.0], [1.0], [0.0]);
 //! let integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
-//! let traj = integ.integrate(initial, 100)?;
+//! let traj = integ.run(initial).steps(100).collect()?;
 //! assert_eq!(traj.steps(), 100);
 //! assert_eq!(traj.last().mu, initial.mu); // μ_{k+1} = μ_k, exactly
 //! # Ok(())

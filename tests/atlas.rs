@@ -267,12 +267,16 @@ fn atlas_equals_the_single_chart_run_up_to_the_first_switch() {
     let initial = DoubleSphericalPendulum::paper_initial_state();
     let steps = 6_000;
     let traj = atlas
-        .integrate((PAPER, initial), steps)
+        .run((PAPER, initial))
+        .steps(steps)
+        .collect()
         .expect("the atlas does not fail");
     let first = traj.switches.first().expect("a switch").step;
     assert!(first > 1000, "first switch at {first}");
     let single = ReducedIntegrator::plus(sys, opts)
-        .integrate(initial, first)
+        .run(initial)
+        .steps(first)
+        .collect()
         .expect("the single chart reaches the switch");
     // The state at the switch is stored in the new chart, `before` holds the old one.
     assert_eq!(&single.states[..first], &traj.states[..first]);
@@ -305,7 +309,9 @@ fn both_links_vertical_is_a_typed_error() {
         [0.0],
     );
     let err = atlas
-        .integrate((PAPER, initial), 10)
+        .run((PAPER, initial))
+        .steps(10)
+        .collect()
         .expect_err("no chart is regular here");
     assert_eq!(err.source.step(), 0);
     assert_eq!(err.trajectory.steps(), 0);

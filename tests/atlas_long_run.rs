@@ -43,46 +43,50 @@ fn double_spherical_pendulum_atlas_from_the_paper_state() {
     let mut early: Vec<ReducedState<3, 1>> = Vec::new();
     let start = std::time::Instant::now();
     let mut switches: Vec<Switch<3, 1>> = Vec::new();
-    let result = atlas.run((PAPER, initial), STEPS, |_, &(chart, ref state), step| {
-        let (rescue, switch) = step.map_or((None, None), |s| (s.rescue, s.switch));
-        let mut jump = |sw: Switch<3, 1>| {
-            let before = charts.energy(sw.from, &sw.before).unwrap_or(f64::NAN);
-            let after = charts.energy(sw.to, &sw.after).unwrap_or(f64::NAN);
-            worst_jump = worst_jump.max((after - before).abs() / before.abs());
-            switches.push(sw);
-        };
-        rescue.into_iter().for_each(&mut jump);
-        // A state that changed chart after its step is observed in the chart it was computed in.
-        let (chart, state) = match &switch {
-            Some(sw) => (sw.from, &sw.before),
-            None => (chart, state),
-        };
-        {
-            let e = charts.energy(chart, state).unwrap_or(f64::NAN);
-            assert!(
-                (e - e0).abs() <= 0.01 * e0.abs(),
-                "step {j}: T + V = {e:.6e} is not within 1% of E_0 = {e0:.6e} (chart {chart})"
-            );
-            e_min = e_min.min(e);
-            e_max = e_max.max(e);
-            if j < tenth {
-                first_sum += e - e0;
-                first_n += 1;
+    let result = atlas
+        .run((PAPER, initial))
+        .steps(STEPS)
+        .observe(|_, _, &(chart, ref state), step| {
+            let (rescue, switch) = step.map_or((None, None), |s| (s.rescue, s.switch));
+            let mut jump = |sw: Switch<3, 1>| {
+                let before = charts.energy(sw.from, &sw.before).unwrap_or(f64::NAN);
+                let after = charts.energy(sw.to, &sw.after).unwrap_or(f64::NAN);
+                worst_jump = worst_jump.max((after - before).abs() / before.abs());
+                switches.push(sw);
+            };
+            rescue.into_iter().for_each(&mut jump);
+            // A state that changed chart after its step is observed in the chart it was computed in.
+            let (chart, state) = match &switch {
+                Some(sw) => (sw.from, &sw.before),
+                None => (chart, state),
+            };
+            {
+                let e = charts.energy(chart, state).unwrap_or(f64::NAN);
+                assert!(
+                    (e - e0).abs() <= 0.01 * e0.abs(),
+                    "step {j}: T + V = {e:.6e} is not within 1% of E_0 = {e0:.6e} (chart {chart})"
+                );
+                e_min = e_min.min(e);
+                e_max = e_max.max(e);
+                if j < tenth {
+                    first_sum += e - e0;
+                    first_n += 1;
+                }
+                if j >= STEPS + 1 - tenth {
+                    last_sum += e - e0;
+                    last_n += 1;
+                }
+                if state.mu[0].to_bits() != mu0 && mu_bad.is_none() {
+                    mu_bad = Some(j);
+                }
+                if early.len() < 30_000 {
+                    early.push(*state);
+                }
+                j += 1;
             }
-            if j >= STEPS + 1 - tenth {
-                last_sum += e - e0;
-                last_n += 1;
-            }
-            if state.mu[0].to_bits() != mu0 && mu_bad.is_none() {
-                mu_bad = Some(j);
-            }
-            if early.len() < 30_000 {
-                early.push(*state);
-            }
-            j += 1;
-        }
-        switch.into_iter().for_each(jump);
-    });
+            switch.into_iter().for_each(jump);
+        })
+        .stream();
     let elapsed = start.elapsed();
     let run = match result {
         Ok(run) => run,
@@ -136,7 +140,9 @@ fn double_spherical_pendulum_atlas_from_the_paper_state() {
     // Up to the first switch, the atlas is the single-chart run, bit for bit.
     let first = switches[0].step;
     let single = match ReducedIntegrator::plus(sys, NewtonOptions::default())
-        .integrate(initial, first.min(early.len() - 1))
+        .run(initial)
+        .steps(first.min(early.len() - 1))
+        .collect()
     {
         Ok(t) => t,
         Err(e) => e.trajectory,
@@ -170,10 +176,9 @@ fn double_spherical_pendulum_atlas_against_a_fine_single_chart_reference() {
         let steps = (horizon / h).round() as usize;
         let traj = sys
             .atlas(NewtonOptions::default())
-            .integrate(
-                (PAPER, DoubleSphericalPendulum::paper_initial_state()),
-                steps,
-            )
+            .run((PAPER, DoubleSphericalPendulum::paper_initial_state()))
+            .steps(steps)
+            .collect()
             .unwrap_or_else(|e| panic!("atlas at h = {h}: {}", e.source));
         let every = (1.0 / h).round() as usize; // once per unit of time
         let positions: Vec<_> = (0..=steps)
@@ -191,7 +196,9 @@ fn double_spherical_pendulum_atlas_against_a_fine_single_chart_reference() {
         let charts = sys.charts();
         let steps = (horizon / h).round() as usize;
         let traj = ReducedIntegrator::plus(sys, NewtonOptions::default())
-            .integrate(DoubleSphericalPendulum::paper_initial_state(), steps)
+            .run(DoubleSphericalPendulum::paper_initial_state())
+            .steps(steps)
+            .collect()
             .unwrap_or_else(|e| panic!("reference: {}", e.source));
         let every = (1.0 / h).round() as usize;
         (0..=steps)
@@ -246,7 +253,9 @@ fn double_spherical_pendulum_atlas_with_the_conditioning_fallback() {
     let run = sys
         .atlas(NewtonOptions::default())
         .with_conditioning(1e-4)
-        .run((PAPER, initial), steps, |_, &(chart, ref state), step| {
+        .run((PAPER, initial))
+        .steps(steps)
+        .observe(|_, _, &(chart, ref state), step| {
             let switch = step.and_then(|s| s.switch);
             switches.extend(step.and_then(|s| s.rescue));
             // A state that changed chart after its step is observed in the chart it was
@@ -260,6 +269,7 @@ fn double_spherical_pendulum_atlas_with_the_conditioning_fallback() {
             worst = worst.max((e - e0).abs() / e0.abs());
             switches.extend(switch);
         })
+        .stream()
         .unwrap_or_else(|e| panic!("failed after {} steps: {}", e.trajectory.steps, e.source));
     println!(
         "\nConditioning fallback (rcond < 1e-4), {steps} steps from the paper's state: {} switches \

@@ -33,7 +33,10 @@ fn the_discrete_example_runs() -> Result<(), Box<dyn std::error::Error>> {
         b0: 1.0,
     };
     let initial = ReducedState::new([0.0; 3], [1.0, 0.0, 1.0], [1.0], [0.0]);
-    let traj = ReducedIntegrator::plus(sys, NewtonOptions::default()).integrate(initial, 100)?;
+    let traj = ReducedIntegrator::plus(sys, NewtonOptions::default())
+        .run(initial)
+        .steps(100)
+        .collect()?;
     assert_eq!(traj.steps(), 100);
     // The emitted dimensions name the state's sizes.
     let _: ReducedState<{ ChargedParticle::SHAPE_DIM }, { ChargedParticle::GROUP_DIM }> =
@@ -53,7 +56,10 @@ fn the_continuous_example_runs() -> Result<(), Box<dyn std::error::Error>> {
     // E = ½ m |v|² + ½ k x² = 0.5 + 1.0, exactly in floating point.
     assert_eq!(sys.energy(&q, &v), 1.5);
     let initial = sys.reduced_state::<1, 1>(q, v);
-    let traj = ReducedIntegrator::plus(sys, NewtonOptions::default()).integrate(initial, 10)?;
+    let traj = ReducedIntegrator::plus(sys, NewtonOptions::default())
+        .run(initial)
+        .steps(10)
+        .collect()?;
     assert_eq!(traj.last().mu, initial.mu);
     Ok(())
 }

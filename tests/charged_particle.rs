@@ -7,7 +7,9 @@ use dirac::prelude::*;
 fn run(n: usize) -> Trajectory<3, 1> {
     let integ = ReducedIntegrator::plus(ChargedParticle::paper(n), NewtonOptions::default());
     integ
-        .integrate(ChargedParticle::paper_initial_state(), n)
+        .run(ChargedParticle::paper_initial_state())
+        .steps(n)
+        .collect()
         .expect("the paper's run succeeds")
 }
 

@@ -31,7 +31,9 @@ where
     let t = 2.0 * PI;
     let sys = Kepler::unit(t / steps as f64);
     let traj = Composition::new(make(sys), method)
-        .integrate(sys.periapsis_state(A, E), steps)
+        .run(sys.periapsis_state(A, E))
+        .steps(steps)
+        .collect()
         .unwrap();
     let exact = sys.exact(A, E, t);
     let end = traj.last();
@@ -104,13 +106,19 @@ fn every_integrator_composes_to_the_same_trajectory() {
     let initial = sys.periapsis_state(A, E);
     let method = CompositionMethod::KAHAN_LI_6;
     let plus = Composition::new(ReducedIntegrator::plus(sys, tight()), method)
-        .integrate(initial, steps)
+        .run(initial)
+        .steps(steps)
+        .collect()
         .unwrap();
     let minus = Composition::new(ReducedIntegrator::minus(sys, tight()), method)
-        .integrate(initial, steps)
+        .run(initial)
+        .steps(steps)
+        .collect()
         .unwrap();
     let unreduced = Composition::new(UnreducedIntegrator::plus(sys, tight()), method)
-        .integrate(sys.untrivialize(&initial), steps)
+        .run(sys.untrivialize(&initial))
+        .steps(steps)
+        .collect()
         .unwrap();
     for k in 0..=steps {
         let (p, m, u) = (
@@ -140,9 +148,11 @@ fn a_single_stage_composition_is_the_base_integrator() {
     ) where
         DoubleSphericalPendulum: Reduced<D, 3, 1, 4>,
     {
-        let direct = base.clone().integrate(initial, 50).unwrap();
+        let direct = base.clone().run(initial).steps(50).collect().unwrap();
         let composed = Composition::new(base, CompositionMethod::BASE)
-            .integrate(initial, 50)
+            .run(initial)
+            .steps(50)
+            .collect()
             .unwrap();
         assert_eq!(direct.states, composed.states);
         assert_eq!(direct.stats, composed.stats);
@@ -157,9 +167,11 @@ fn a_single_stage_composition_is_the_base_integrator() {
     );
     let unreduced = UnreducedIntegrator::plus(sys, NewtonOptions::default());
     let start = sys.untrivialize(&initial);
-    let direct = unreduced.clone().integrate(start, 50).unwrap();
+    let direct = unreduced.clone().run(start).steps(50).collect().unwrap();
     let composed = Composition::new(unreduced, CompositionMethod::BASE)
-        .integrate(start, 50)
+        .run(start)
+        .steps(50)
+        .collect()
         .unwrap();
     assert_eq!(direct.states, composed.states);
 }
@@ -175,7 +187,9 @@ fn mu_is_exact<L, D, const S: usize, const K: usize, const N: usize>(
     L: Reduced<D, S, K, N> + Clone,
 {
     let traj = Composition::new(base, method)
-        .integrate(initial, steps)
+        .run(initial)
+        .steps(steps)
+        .collect()
         .unwrap();
     assert!(traj.states.iter().all(|s| s.mu == initial.mu));
 }
@@ -325,7 +339,7 @@ fn a_non_symmetric_rule_is_rejected() {
         CompositionMethod::TRIPLE_JUMP,
     );
     assert!(comp.symmetry_defect(&initial) > 1e-3);
-    let err = comp.integrate(initial, 10).unwrap_err();
+    let err = comp.run(initial).steps(10).collect().unwrap_err();
     assert!(
         matches!(err.source, StepError::NotSymmetric { defect, .. } if defect > 1e-3),
         "{err}"
@@ -388,7 +402,9 @@ fn a_non_positive_macro_step_is_rejected() {
             ReducedIntegrator::plus(sys, NewtonOptions::default()),
             CompositionMethod::TRIPLE_JUMP,
         )
-        .integrate(Kepler::unit(0.1).periapsis_state(A, E), 5)
+        .run(Kepler::unit(0.1).periapsis_state(A, E))
+        .steps(5)
+        .collect()
         .unwrap_err();
         assert!(
             matches!(err.source, StepError::InvalidTimeStep { .. }),
@@ -454,7 +470,9 @@ fn the_trapezoidal_rule_composes_to_orders_4_and_6() {
         };
         let reference = Kepler::unit(1.0);
         let traj = Composition::new(ReducedIntegrator::plus(sys, tight()), method)
-            .integrate(reference.periapsis_state(A, E), steps)
+            .run(reference.periapsis_state(A, E))
+            .steps(steps)
+            .collect()
             .unwrap();
         let (end, exact) = (traj.last(), reference.exact(A, E, t));
         (end.x[0] - exact.x[0])

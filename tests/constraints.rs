@@ -50,7 +50,9 @@ fn the_cartesian_pendulum_stays_on_its_circle_and_matches_the_angle_pendulum() {
             l,
         };
         let traj = ConstrainedIntegrator::new(sys, tight())
-            .integrate(pendulum_start(l, 1.0, 0.0), n)
+            .run(pendulum_start(l, 1.0, 0.0))
+            .steps(n)
+            .collect()
             .unwrap();
         // Every step on the circle, to round-off, and the velocity tangent to it (RATTLE).
         assert!(
@@ -72,7 +74,9 @@ fn the_cartesian_pendulum_stays_on_its_circle_and_matches_the_angle_pendulum() {
             l,
         };
         let traj = UnreducedIntegrator::plus(sys, tight())
-            .integrate(CanonicalState::new([1.0], [0.0]), n)
+            .run(CanonicalState::new([1.0], [0.0]))
+            .steps(n)
+            .collect()
             .unwrap();
         traj.last().q[0]
     };
@@ -95,7 +99,9 @@ fn the_initial_state_must_satisfy_the_constraints() {
         l: 1.0,
     };
     let e = ConstrainedIntegrator::new(sys, tight())
-        .integrate(CanonicalState::new([1.1, 0.0], [0.0, 0.0]), 10)
+        .run(CanonicalState::new([1.1, 0.0], [0.0, 0.0]))
+        .steps(10)
+        .collect()
         .unwrap_err();
     assert!(
         matches!(e.source, StepError::ConstraintViolated { .. }),
@@ -113,14 +119,22 @@ fn reduced_and_unreduced_constrained_steps_agree_and_mu_is_exact() {
     };
     let c0 = CanonicalState::new([0.8, 0.0, 0.0], [0.0, 0.5, 0.7]);
     let unr = ConstrainedIntegrator::new(sys, tight())
-        .integrate(c0, 1000)
+        .run(c0)
+        .steps(1000)
+        .collect()
         .unwrap();
     let s0 = sys.trivialize(&c0);
     for plus in [true, false] {
         let red = if plus {
-            ReducedConstrainedIntegrator::plus(sys, tight()).integrate(s0, 1000)
+            ReducedConstrainedIntegrator::plus(sys, tight())
+                .run(s0)
+                .steps(1000)
+                .collect()
         } else {
-            ReducedConstrainedIntegrator::minus(sys, tight()).integrate(s0, 1000)
+            ReducedConstrainedIntegrator::minus(sys, tight())
+                .run(s0)
+                .steps(1000)
+                .collect()
         }
         .unwrap();
         for (a, b) in red.states.iter().zip(&unr.states) {
@@ -205,7 +219,9 @@ fn the_chain_in_maximal_coordinates_follows_the_chain_in_angles() {
         let user = CanonicalState::new(q, [0.0; 13]);
         let c0 = MaximalChain::to_adapted_state(&user);
         let traj = ConstrainedIntegrator::new(sys, tight())
-            .integrate(c0, n)
+            .run(c0)
+            .steps(n)
+            .collect()
             .unwrap();
         assert!(
             traj.max_constraint_residual() <= 1e-12,
@@ -226,7 +242,9 @@ fn the_chain_in_maximal_coordinates_follows_the_chain_in_angles() {
         let mut q = [0.0; 7];
         q[..6].copy_from_slice(&theta0);
         let traj = UnreducedIntegrator::plus(sys, tight())
-            .integrate(CanonicalState::new(q, [0.0; 7]), n)
+            .run(CanonicalState::new(q, [0.0; 7]))
+            .steps(n)
+            .collect()
             .unwrap();
         let end = traj.last();
         let (mut x, mut y) = (end.q[6], 0.0);
@@ -275,7 +293,9 @@ fn the_rolling_disk_converges_at_order_two_to_its_closed_form() {
             r: 0.5,
         };
         let traj = ConstrainedIntegrator::new(sys, tight())
-            .integrate(disk_start(&sys, omega, spin), n)
+            .run(disk_start(&sys, omega, spin))
+            .steps(n)
+            .collect()
             .unwrap();
         let end = traj.last();
         // φ = ω t, ψ = Ω t, x = (rΩ/ω) sin φ, y = (rΩ/ω)(1 − cos φ).
@@ -307,10 +327,14 @@ fn the_reduced_rolling_disk_follows_the_discrete_nonholonomic_momentum_equation(
     };
     let c0 = disk_start(&sys, 0.7, 2.0);
     let unr = ConstrainedIntegrator::new(sys, tight())
-        .integrate(c0, 500)
+        .run(c0)
+        .steps(500)
+        .collect()
         .unwrap();
     let red = ReducedConstrainedIntegrator::plus(sys, tight())
-        .integrate(sys.trivialize(&c0), 500)
+        .run(sys.trivialize(&c0))
+        .steps(500)
+        .collect()
         .unwrap();
     for (a, b) in red.states.iter().zip(&unr.states) {
         let a = sys.untrivialize(a);
@@ -338,9 +362,10 @@ fn the_cartesian_double_spherical_pendulum_agrees_with_the_atlas_run() {
         let (sys, c0) = cartesian::cartesian_initial(h);
         let mut worst: f64 = 0.0;
         let summary = ConstrainedIntegrator::new(sys, NewtonOptions::default())
-            .run(c0, n, |_, s, _| {
-                worst = worst.max(cartesian::sys_residual(&sys, s))
-            })
+            .run(c0)
+            .steps(n)
+            .observe(|_, _, s, _| worst = worst.max(cartesian::sys_residual(&sys, s)))
+            .stream()
             .unwrap();
         assert!(worst <= 1e-13, "|phi|/l^2 = {worst:e}");
         let paper = DoubleSphericalPendulum {
@@ -349,11 +374,10 @@ fn the_cartesian_double_spherical_pendulum_agrees_with_the_atlas_run() {
         };
         let atlas = paper
             .atlas(NewtonOptions::default())
-            .run(
-                (PAPER, DoubleSphericalPendulum::paper_initial_state()),
-                n,
-                |_, _, _| {},
-            )
+            .run((PAPER, DoubleSphericalPendulum::paper_initial_state()))
+            .steps(n)
+            .observe(|_, _, _, _| {})
+            .stream()
             .unwrap();
         let (chart, state) = atlas.last;
         let (_, r2) = paper.charts().bob_positions(chart, &state);
@@ -382,7 +406,9 @@ fn forces_and_constraints_together() {
     let (m, l, c) = (1.0, 1.3, 0.4);
     let sys = DampedPendulum { h: 0.01, m, l, c };
     let traj = ConstrainedIntegrator::new(sys, tight())
-        .integrate(pendulum_start(l, 1.0, 0.0), 2000)
+        .run(pendulum_start(l, 1.0, 0.0))
+        .steps(2000)
+        .collect()
         .unwrap();
     assert!(traj.max_constraint_residual() <= 1e-13 * l * l);
     // The energy decays, step after step (midpoint drag dissipates), and the velocity stays
@@ -396,10 +422,14 @@ fn forces_and_constraints_together() {
     // With c = 0 the same system is the conservative pendulum, bit for bit.
     let free = CartesianPendulum { h: 0.01, m, l };
     let a = ConstrainedIntegrator::new(DampedPendulum { c: 0.0, ..sys }, tight())
-        .integrate(pendulum_start(l, 1.0, 0.0), 200)
+        .run(pendulum_start(l, 1.0, 0.0))
+        .steps(200)
+        .collect()
         .unwrap();
     let b = ConstrainedIntegrator::new(free, tight())
-        .integrate(pendulum_start(l, 1.0, 0.0), 200)
+        .run(pendulum_start(l, 1.0, 0.0))
+        .steps(200)
+        .collect()
         .unwrap();
     assert_eq!(a.states, b.states);
 }

@@ -27,20 +27,38 @@ fn double_spherical_pendulum_continuous_is_bit_for_bit_the_hand_written() {
         let opts = NewtonOptions::default();
         let (a, b) = if minus {
             (
-                ReducedIntegrator::minus(hand, opts).integrate(initial, 300),
-                ReducedIntegrator::minus(cont, opts).integrate(initial, 300),
+                ReducedIntegrator::minus(hand, opts)
+                    .run(initial)
+                    .steps(300)
+                    .collect(),
+                ReducedIntegrator::minus(cont, opts)
+                    .run(initial)
+                    .steps(300)
+                    .collect(),
             )
         } else {
             (
-                ReducedIntegrator::plus(hand, opts).integrate(initial, 300),
-                ReducedIntegrator::plus(cont, opts).integrate(initial, 300),
+                ReducedIntegrator::plus(hand, opts)
+                    .run(initial)
+                    .steps(300)
+                    .collect(),
+                ReducedIntegrator::plus(cont, opts)
+                    .run(initial)
+                    .steps(300)
+                    .collect(),
             )
         };
         assert_eq!(a.unwrap().states, b.unwrap().states, "minus = {minus}");
     }
     let c0 = hand.untrivialize(&initial);
-    let a = UnreducedIntegrator::plus(hand, NewtonOptions::default()).integrate(c0, 300);
-    let b = UnreducedIntegrator::plus(cont, NewtonOptions::default()).integrate(c0, 300);
+    let a = UnreducedIntegrator::plus(hand, NewtonOptions::default())
+        .run(c0)
+        .steps(300)
+        .collect();
+    let b = UnreducedIntegrator::plus(cont, NewtonOptions::default())
+        .run(c0)
+        .steps(300)
+        .collect();
     assert_eq!(a.unwrap().states, b.unwrap().states);
     let (q0, q1) = (c0.q, c0.q + SVector::from([0.01, -0.02, 0.03, 0.04]));
     assert_eq!(
@@ -62,7 +80,9 @@ fn charged_particle_continuous_agrees_to_round_off() {
     );
     let opts = NewtonOptions::default();
     let traj = ReducedIntegrator::plus(hand, opts)
-        .integrate(ChargedParticle::paper_initial_state(), 200)
+        .run(ChargedParticle::paper_initial_state())
+        .steps(200)
+        .collect()
         .unwrap();
     let (hand_stepper, cont_stepper) = (
         ReducedIntegrator::plus(hand, opts),
@@ -90,7 +110,9 @@ fn charged_particle_continuous_agrees_to_round_off() {
         (t.last().x - SVector::from(exact)).norm()
     };
     let cont_traj = ReducedIntegrator::plus(cont, opts)
-        .integrate(ChargedParticle::paper_initial_state(), 200)
+        .run(ChargedParticle::paper_initial_state())
+        .steps(200)
+        .collect()
         .unwrap();
     let (e_hand, e_cont) = (end(&traj), end(&cont_traj));
     eprintln!("Table 1, N = 200: hand-written {e_hand}, continuous {e_cont}");
@@ -178,7 +200,9 @@ fn continuous_energy_along_a_trajectory() {
     let sys = DoubleSphericalPendulumContinuous::paper();
     let initial = DoubleSphericalPendulum::paper_initial_state();
     let reduced = ReducedIntegrator::plus(sys, NewtonOptions::default())
-        .integrate(initial, 2000)
+        .run(initial)
+        .steps(2000)
+        .collect()
         .unwrap();
     let e = reduced_continuous_energies(&sys, &reduced).unwrap();
     assert_eq!(e.nodes.len(), 2001);
@@ -189,7 +213,9 @@ fn continuous_energy_along_a_trajectory() {
     eprintln!("DSP continuous energy: node spread {nodes:e}, midpoint spread {mids:e} (E0 = {e0})");
     assert!(nodes < 1e-4 && mids < 1e-4, "{nodes:e} {mids:e}");
     let unreduced = UnreducedIntegrator::plus(sys, NewtonOptions::default())
-        .integrate(sys.untrivialize(&initial), 2000)
+        .run(sys.untrivialize(&initial))
+        .steps(2000)
+        .collect()
         .unwrap();
     let u = continuous_energies(&sys, &unreduced).unwrap();
     let diff = e
@@ -238,11 +264,23 @@ fn trapezoid_and_right_rules_are_bit_for_bit_the_hand_written() {
     let (m, k, h) = (1.0, 1.0, 0.01);
     let initial = ReducedState::new([1.0], [0.0], [0.8], [0.0]);
     let opts = NewtonOptions::default();
-    let a = ReducedIntegrator::plus(TrapezoidContinuous { m, k, h }, opts).integrate(initial, 500);
-    let b = ReducedIntegrator::plus(TrapezoidByHand { h, m, k }, opts).integrate(initial, 500);
+    let a = ReducedIntegrator::plus(TrapezoidContinuous { m, k, h }, opts)
+        .run(initial)
+        .steps(500)
+        .collect();
+    let b = ReducedIntegrator::plus(TrapezoidByHand { h, m, k }, opts)
+        .run(initial)
+        .steps(500)
+        .collect();
     assert_eq!(a.unwrap().states, b.unwrap().states);
-    let a = ReducedIntegrator::plus(RightContinuous { m, k, h }, opts).integrate(initial, 500);
-    let b = ReducedIntegrator::plus(RightByHand { h, m, k }, opts).integrate(initial, 500);
+    let a = ReducedIntegrator::plus(RightContinuous { m, k, h }, opts)
+        .run(initial)
+        .steps(500)
+        .collect();
+    let b = ReducedIntegrator::plus(RightByHand { h, m, k }, opts)
+        .run(initial)
+        .steps(500)
+        .collect();
     assert_eq!(a.unwrap().states, b.unwrap().states);
     assert!(TrapezoidContinuous::RULE.starts_with("the trapezoidal rule"));
 }

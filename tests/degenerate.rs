@@ -74,7 +74,9 @@ fn run(steps: usize, t: f64) -> (Trajectory<3, 1>, f64) {
     let q = SVector::from([1.0, 0.8, 2.0, 0.3]);
     let initial: ReducedState<3, 1> = sys.reduced_state(q, SVector::zeros());
     let traj = ReducedIntegrator::plus(sys, NewtonOptions::default())
-        .integrate(initial, steps)
+        .run(initial)
+        .steps(steps)
+        .collect()
         .unwrap();
     let z0 = positions(&initial.x, initial.g[0]);
     let z_ref = exact(z0, t);
@@ -144,7 +146,9 @@ fn singular_discrete_legendre_map_is_a_typed_error() {
     let q = SVector::from([0.5, 0.2]);
     let initial = sys.canonical_state(q, SVector::zeros());
     let err = UnreducedIntegrator::plus(sys, NewtonOptions::default())
-        .integrate(initial, 10)
+        .run(initial)
+        .steps(10)
+        .collect()
         .unwrap_err();
     assert_eq!(err.trajectory.states.len(), 1, "the initial state is kept");
     assert!(
@@ -167,7 +171,9 @@ fn massless_particle_midpoint_rule_is_regular() {
     };
     let q = SVector::from([0.5, 0.2]);
     let traj = UnreducedIntegrator::plus(sys, NewtonOptions::default())
-        .integrate(sys.canonical_state(q, SVector::zeros()), 628)
+        .run(sys.canonical_state(q, SVector::zeros()))
+        .steps(628)
+        .collect()
         .unwrap();
     let r0 = q.norm();
     let worst = traj

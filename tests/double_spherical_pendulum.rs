@@ -10,7 +10,9 @@ use dirac::runtime::system::join;
 fn paper_run() -> Trajectory<3, 1> {
     let integ = ReducedIntegrator::plus(DoubleSphericalPendulum::paper(), NewtonOptions::default());
     integ
-        .integrate(DoubleSphericalPendulum::paper_initial_state(), DSP_STEPS)
+        .run(DoubleSphericalPendulum::paper_initial_state())
+        .steps(DSP_STEPS)
+        .collect()
         .expect("the paper's run succeeds")
 }
 

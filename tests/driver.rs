@@ -11,7 +11,7 @@ use dirac::kepler::Kepler;
 use dirac::paper::atlas::PAPER;
 use dirac::paper::DoubleSphericalPendulum;
 use dirac::prelude::*;
-use dirac::runtime::driver::integrate_parameters;
+use dirac::runtime::driver::parameters;
 
 #[path = "../examples/common/toda.rs"]
 mod toda;
@@ -67,7 +67,10 @@ fn a_composed_sparse_run_allocates_nothing_after_its_first_step() {
     let steps = 40;
     let mut at_state = vec![0usize; steps + 1];
     let summary = composed
-        .run(start, steps, |k, _, _| at_state[k] = allocations())
+        .run(start)
+        .steps(steps)
+        .observe(|k, _, _, _| at_state[k] = allocations())
+        .stream()
         .expect("the lattice steps");
     assert_eq!(summary.steps, steps);
     let per_step: Vec<usize> = at_state.windows(2).map(|w| w[1] - w[0]).collect();
@@ -101,14 +104,19 @@ where
 {
     let first = &starts[0];
     let traj = integrator
-        .integrate(first.clone(), steps)
+        .run(first.clone())
+        .steps(steps)
+        .collect()
         .expect("integrates");
     let mut observed = Vec::new();
     let summary = integrator
-        .run(first.clone(), steps, |k, state, record| {
+        .run(first.clone())
+        .steps(steps)
+        .observe(|k, _, state, record| {
             assert_eq!(record.is_none(), k == 0);
             observed.push(state.clone());
         })
+        .stream()
         .expect("runs");
     assert_eq!(summary.steps, steps);
     assert!(!summary.stopped);
@@ -117,37 +125,53 @@ where
 
     // Stop after the third state: the same prefix, flagged.
     let stopped = integrator
-        .run_until(first.clone(), steps, |k, _| k == 3, |_, _, _| {})
+        .run(first.clone())
+        .steps(steps)
+        .stop(|k, _, _| k == 3)
+        .observe(|_, _, _, _| {})
+        .stream()
         .expect("runs");
     assert!(stopped.stopped);
     assert_eq!(stopped.steps, 3);
     assert_eq!(stopped.last, observed[3]);
     let short = integrator
-        .integrate_until(first.clone(), steps, |k, _| k == 3)
+        .run(first.clone())
+        .steps(steps)
+        .stop(|k, _, _| k == 3)
+        .collect()
         .expect("integrates");
     assert_eq!(short.completed_steps(), 3);
-    let prefix = integrator.integrate(first.clone(), 3).expect("integrates");
+    let prefix = integrator
+        .run(first.clone())
+        .steps(3)
+        .collect()
+        .expect("integrates");
     assert_eq!(short, prefix);
 
     // Ensembles: members in input order, each the sequential run bit for bit.
-    let members = integrator.integrate_ensemble(starts, steps);
+    let members = integrator.ensemble(starts).steps(steps).collect();
     for (member, start) in members.iter().zip(starts) {
         let sequential = integrator
-            .integrate(start.clone(), steps)
+            .run(start.clone())
+            .steps(steps)
+            .collect()
             .expect("integrates");
         assert_eq!(member.as_ref().expect("member integrates"), &sequential);
     }
     assert_eq!(members[0].as_ref().ok(), Some(&traj));
     let observed: Vec<AtomicUsize> = starts.iter().map(|_| AtomicUsize::new(0)).collect();
-    let streamed = integrator.run_ensemble(starts, steps, |i| {
+    let streamed = integrator.ensemble(starts).steps(steps).stream(|i| {
         let count = &observed[i];
-        move |_: usize, _: &I::State, _: Option<&I::Record>| {
+        move |_: usize, _: f64, _: &I::State, _: Option<&I::Record>| {
             count.fetch_add(1, Ordering::Relaxed);
         }
     });
     for (((_, result), start), count) in streamed.iter().zip(starts).zip(&observed) {
         let sequential = integrator
-            .run(start.clone(), steps, |_, _, _| {})
+            .run(start.clone())
+            .steps(steps)
+            .observe(|_, _, _, _| {})
+            .stream()
             .expect("runs");
         assert_eq!(result.as_ref().expect("member runs"), &sequential);
         assert_eq!(count.load(Ordering::Relaxed), steps + 1);
@@ -217,10 +241,10 @@ fn an_ensemble_over_parameter_sets() {
             DoubleSphericalPendulum::paper_initial_state(),
         )
     };
-    let results = integrate_parameters(&masses, 20, member);
+    let results = parameters(&masses, member).steps(20).collect();
     for (m, result) in masses.iter().zip(&results) {
         let (integ, start) = member(m);
-        match integ.integrate(start, 20) {
+        match integ.run(start).steps(20).collect() {
             Ok(t) => assert_eq!(result.as_ref().ok(), Some(&t)),
             Err(e) => {
                 let failed = result.as_ref().expect_err("the same member fails");
@@ -256,7 +280,9 @@ fn an_element_wise_run_allocates_nothing_per_step() {
         let at_start = before;
         let (mut counted, mut allocating) = (0, Vec::new());
         integ
-            .run(start, 300, |k, _, record| {
+            .run(start)
+            .steps(300)
+            .observe(|k, _, _, record| {
                 let now = allocations();
                 if let Some(stats) = record {
                     if k > 1 && stats.factorizations == 0 {
@@ -268,6 +294,7 @@ fn an_element_wise_run_allocates_nothing_per_step() {
                 }
                 before = allocations();
             })
+            .stream()
             .expect("runs");
         // The counter counts: the run's workspace (pattern, solver) was allocated.
         assert!(

@@ -19,7 +19,7 @@ fn one_build_runs_at_several_sizes() {
         let integ = ElementIntegrator::new(sys, NewtonOptions::default());
         let start = initial(&sys, 0.1, 0.3, 0.05);
         let mu0 = integ.momentum_map(&start)[0];
-        let traj = integ.integrate(start, 200).unwrap();
+        let traj = integ.run(start).steps(200).collect().unwrap();
         let last = traj.states.last().unwrap();
         let mu = integ.momentum_map(last)[0];
         assert!(
@@ -96,9 +96,9 @@ fn element_wise_code_equals_the_unrolled_code_at_n_16() {
     // Trajectories: the element-wise step against the reduced (+) integrator of the unrolled code.
     let reduced = ReducedIntegrator::plus(un, NewtonOptions::default());
     let steps = 300;
-    let el_traj = integ.integrate(start.clone(), steps).unwrap();
+    let el_traj = integ.run(start.clone()).steps(steps).collect().unwrap();
     let r0 = un.trivialize(&Toda16::adapted_state(&s16(&start.q), &s16(&start.p)));
-    let red_traj = reduced.integrate(r0, steps).unwrap();
+    let red_traj = reduced.run(r0).steps(steps).collect().unwrap();
     let mut worst = 0.0f64;
     for k in 1..=steps {
         let s = &red_traj.states[k];
@@ -274,7 +274,7 @@ fn parallel_assembly_is_the_serial_one_bit_for_bit() {
                 integ.workspace().is_parallel(),
                 parallel == Parallel::Always
             );
-            integ.integrate(s.clone(), 8).unwrap()
+            integ.run(s.clone()).steps(8).collect().unwrap()
         })
     };
     let serial = run(Parallel::Never, 1);
@@ -313,7 +313,7 @@ fn momentum_maps_are_exact_on_grids_and_pairs() {
     let integ = ElementIntegrator::new(w, NewtonOptions::default());
     let s = membrane::initial(&w, 0.3, 0.3, 1.0, 0.05);
     let mu0 = integ.momentum_map(&s);
-    let traj = integ.integrate(s, 300).unwrap();
+    let traj = integ.run(s).steps(300).collect().unwrap();
     let energies: Vec<f64> = traj
         .states
         .windows(2)
@@ -342,7 +342,7 @@ fn momentum_maps_are_exact_on_grids_and_pairs() {
     let s = cluster::initial(&c, 1.15, 0.2);
     let mu0 = integ.momentum_map(&s);
     assert_eq!(mu0.len(), 3);
-    let traj = integ.integrate(s, 200).unwrap();
+    let traj = integ.run(s).steps(200).collect().unwrap();
     for st in &traj.states {
         let mu = integ.momentum_map(st);
         for a in 0..3 {
@@ -367,12 +367,14 @@ fn sizes_and_states_that_do_not_fit_are_typed_errors() {
     };
     let integ = ElementIntegrator::new(sys, NewtonOptions::default());
     let short = ElementState::new(DVector::zeros(9), DVector::zeros(9));
-    let err = integ.integrate(short, 5).unwrap_err();
+    let err = integ.run(short).steps(5).collect().unwrap_err();
     assert!(matches!(err.source, StepError::InvalidSize { .. }), "{err}");
     assert_eq!(err.trajectory.states.len(), 1);
     let empty = TodaN { n: 0, ..sys };
     let err = ElementIntegrator::new(empty, NewtonOptions::default())
-        .integrate(ElementState::new(DVector::zeros(0), DVector::zeros(0)), 5)
+        .run(ElementState::new(DVector::zeros(0), DVector::zeros(0)))
+        .steps(5)
+        .collect()
         .unwrap_err();
     assert!(matches!(err.source, StepError::InvalidSize { .. }), "{err}");
     assert!(err.source.to_string().contains("size `n` = 0"), "{err}");
@@ -403,7 +405,7 @@ fn conjugate_gradients_match_the_lu_and_fall_back_when_not_symmetric() {
                 "sparse LU"
             }
         );
-        integ.integrate(s.clone(), 50).unwrap()
+        integ.run(s.clone()).steps(50).collect().unwrap()
     };
     let (cg, lu) = (run(Linear::Iterative), run(Linear::Direct));
     let worst = cg
@@ -429,7 +431,9 @@ fn conjugate_gradients_match_the_lu_and_fall_back_when_not_symmetric() {
     let mut ws = integ.workspace();
     assert_eq!(ws.linear_solver(), "conjugate gradients (Jacobi)");
     let mut next = start.clone();
-    integ.step_into(&mut ws, 0, &start, &[], &mut next).unwrap();
+    integ
+        .step_into(&mut ws, 0, integ.time_step(), &start, &[], &mut next)
+        .unwrap();
     assert_eq!(
         ws.linear_solver(),
         "sparse LU",

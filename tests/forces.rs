@@ -61,17 +61,25 @@ fn zero_forces_give_the_unforced_trajectory_bit_for_bit() {
         g: SVector::from([0.0]),
     };
     let a = ReducedIntegrator::plus(forced, options())
-        .integrate(s0, 500)
+        .run(s0)
+        .steps(500)
+        .collect()
         .unwrap();
     let b = ReducedIntegrator::plus(free, options())
-        .integrate(s0, 500)
+        .run(s0)
+        .steps(500)
+        .collect()
         .unwrap();
     assert_eq!(a.states, b.states);
     let a = ReducedIntegrator::minus(forced, options())
-        .integrate(s0, 500)
+        .run(s0)
+        .steps(500)
+        .collect()
         .unwrap();
     let b = ReducedIntegrator::minus(free, options())
-        .integrate(s0, 500)
+        .run(s0)
+        .steps(500)
+        .collect()
         .unwrap();
     assert_eq!(a.states, b.states);
 }
@@ -98,12 +106,15 @@ fn a_group_force_changes_mu_by_exactly_its_impulse() {
     let mut worst = 0.0_f64;
     let mut previous = s0.mu[0];
     ReducedIntegrator::plus(sys, options())
-        .run(s0, steps, |k, s, _| {
+        .run(s0)
+        .steps(steps)
+        .observe(|k, _, s, _| {
             if k > 0 {
                 worst = worst.max((s.mu[0] - previous - h * tau).abs());
             }
             previous = s.mu[0];
         })
+        .stream()
         .unwrap();
     assert!(worst <= 1e-15 * (1.0 + previous.abs()), "{worst:e}");
     let last = previous;
@@ -146,17 +157,16 @@ fn the_unreduced_forced_step_balances_the_group_momentum() {
     // bounded over the 10⁵ steps.
     let torque = |k: usize| 0.4 * (0.003 * k as f64).sin();
     let summary = UnreducedIntegrator::plus(sys, tight)
-        .run_controlled(
-            c0,
-            steps,
-            |k: usize, _: &CanonicalState<2>, u: &mut [f64]| u[0] = torque(k),
-            |k, s, _| {
-                if k > 0 {
-                    worst = worst.max(((s.p[1] - previous) - h * torque(k - 1)).abs());
-                }
-                previous = s.p[1];
-            },
-        )
+        .run(c0)
+        .steps(steps)
+        .feedback(|k: usize, _, _: &CanonicalState<2>, u: &mut [f64]| u[0] = torque(k))
+        .observe(|k, _, s, _| {
+            if k > 0 {
+                worst = worst.max(((s.p[1] - previous) - h * torque(k - 1)).abs());
+            }
+            previous = s.p[1];
+        })
+        .stream()
         .unwrap();
     // p_g is computed by the unreduced momentum update D2 L_d + f^+, which equals
     // p_{g,k} + f^- + f^+ − R_g: the balance holds up to the accepted step residual (the reduced
@@ -168,10 +178,14 @@ fn the_unreduced_forced_step_balances_the_group_momentum() {
     );
     // Reduced and unreduced agree.
     let red = ReducedIntegrator::plus(sys, options())
-        .integrate(s0, 2000)
+        .run(s0)
+        .steps(2000)
+        .collect()
         .unwrap();
     let unr = UnreducedIntegrator::plus(sys, options())
-        .integrate(c0, 2000)
+        .run(c0)
+        .steps(2000)
+        .collect()
         .unwrap();
     let a = sys.untrivialize(red.last());
     let b = unr.last();
@@ -194,9 +208,12 @@ fn the_damped_driven_oscillator_converges_at_order_two() {
         };
         // The drive at the step's midpoint, where the midpoint rule evaluates the force.
         let traj = integ
-            .integrate_controlled(s0, n, |k: usize, _: &CanonicalState<1>, u: &mut [f64]| {
+            .run(s0)
+            .steps(n)
+            .feedback(|k: usize, _, _: &CanonicalState<1>, u: &mut [f64]| {
                 u[0] = a0 * (omega * (k as f64 + 0.5) * h).cos();
             })
+            .collect()
             .unwrap();
         (traj.last().q[0] - driven_exact(m, k, c, a0, omega, x0, t_end)).abs()
     };
@@ -222,17 +239,24 @@ fn a_control_sequence_equals_the_same_feedback_law() {
     };
     let rows: Vec<[f64; 1]> = (0..100).map(|k| [(k as f64 * 0.1).sin()]).collect();
     let a = integ
-        .integrate_controlled(s0, 100, ControlSequence::rows(&rows))
+        .run(s0)
+        .steps(100)
+        .controls(ControlSequence::rows(&rows))
+        .collect()
         .unwrap();
     let b = integ
-        .integrate_controlled(s0, 100, |k: usize, _: &CanonicalState<1>, u: &mut [f64]| {
-            u[0] = (k as f64 * 0.1).sin()
-        })
+        .run(s0)
+        .steps(100)
+        .feedback(|k: usize, _, _: &CanonicalState<1>, u: &mut [f64]| u[0] = (k as f64 * 0.1).sin())
+        .collect()
         .unwrap();
     assert_eq!(a.states, b.states);
     // A sequence shorter than the run ends it with a typed error that keeps the steps taken.
     let e = integ
-        .integrate_controlled(s0, 150, ControlSequence::rows(&rows))
+        .run(s0)
+        .steps(150)
+        .controls(ControlSequence::rows(&rows))
+        .collect()
         .unwrap_err();
     assert!(matches!(
         e.source,
@@ -312,7 +336,13 @@ fn check_reduced<L, D, const S: usize, const K: usize, const N: usize>(
     let (_, _, sens) = integ.step_sensitivity(0, &s0, u).unwrap();
     let step = |s: &[f64], u: &[f64]| {
         let (next, _) = integ
-            .step_with(&mut integ.workspace(), 0, &reduced_from::<S, K>(s), u)
+            .step_with(
+                &mut integ.workspace(),
+                0,
+                integ.time_step(),
+                &reduced_from::<S, K>(s),
+                u,
+            )
             .unwrap();
         reduced_vec(&next)
     };
@@ -336,7 +366,7 @@ fn check_unreduced<L, const S: usize, const K: usize, const N: usize>(
             p: SVector::from_column_slice(&s[N..]),
         };
         let (next, _) = integ
-            .step_with(&mut integ.workspace(), 0, &state, u)
+            .step_with(&mut integ.workspace(), 0, integ.time_step(), &state, u)
             .unwrap();
         flat(&next)
     };
@@ -416,7 +446,9 @@ fn a_composition_of_the_forced_midpoint_step_reaches_order_four() {
             UnreducedIntegrator::plus(sys, tight),
             CompositionMethod::TRIPLE_JUMP,
         )
-        .integrate(s0, n)
+        .run(s0)
+        .steps(n)
+        .collect()
         .unwrap();
         (traj.last().q[0] - driven_exact(m, k, c, 0.0, 1.0, x0, t_end)).abs()
     };
@@ -438,21 +470,19 @@ fn the_atlas_and_a_composition_pass_the_controls_to_their_charts_and_stages() {
     let s0 = ReducedState::new([0.4], [0.0], [0.3], [0.0]);
     let law = |k: usize| 0.3 * (0.01 * k as f64).cos();
     let plain = ReducedIntegrator::plus(sys, options())
-        .integrate_controlled(
-            s0,
-            300,
-            |k: usize, _: &ReducedState<1, 1>, u: &mut [f64]| u[0] = law(k),
-        )
+        .run(s0)
+        .steps(300)
+        .feedback(|k: usize, _, _: &ReducedState<1, 1>, u: &mut [f64]| u[0] = law(k))
+        .collect()
         .unwrap();
     // A one-chart atlas steps exactly as its chart.
     let atlas = dirac::runtime::atlas::AtlasIntegrator::new()
         .chart("table", ReducedIntegrator::plus(sys, options()));
     let through_atlas = atlas
-        .integrate_controlled(
-            (0, s0),
-            300,
-            |k: usize, _: &(usize, ReducedState<1, 1>), u: &mut [f64]| u[0] = law(k),
-        )
+        .run((0, s0))
+        .steps(300)
+        .feedback(|k: usize, _, _: &(usize, ReducedState<1, 1>), u: &mut [f64]| u[0] = law(k))
+        .collect()
         .unwrap();
     assert_eq!(through_atlas.states, plain.states);
     // Every stage of a composition takes the macro step's controls: the impulse over a macro
@@ -461,11 +491,10 @@ fn the_atlas_and_a_composition_pass_the_controls_to_their_charts_and_stages() {
         ReducedIntegrator::plus(sys, options()),
         CompositionMethod::TRIPLE_JUMP,
     )
-    .integrate_controlled(
-        s0,
-        300,
-        |k: usize, _: &ReducedState<1, 1>, u: &mut [f64]| u[0] = law(k),
-    )
+    .run(s0)
+    .steps(300)
+    .feedback(|k: usize, _, _: &ReducedState<1, 1>, u: &mut [f64]| u[0] = law(k))
+    .collect()
     .unwrap();
     for (k, pair) in composed.states.windows(2).enumerate() {
         let impulse = 0.01 * law(k);
@@ -493,7 +522,9 @@ fn the_eliminated_and_the_general_forced_steps_agree() {
     let run = |eliminate: bool| {
         ReducedIntegrator::plus(sys, tight)
             .with_elimination(eliminate)
-            .integrate(s0, 500)
+            .run(s0)
+            .steps(500)
+            .collect()
             .unwrap()
     };
     let (a, b) = (run(true), run(false));

@@ -24,12 +24,14 @@ fn assert_geometry<L, const S: usize, const K: usize, const N: usize>(
 {
     for variant in [Variant::Plus, Variant::Minus] {
         let traj = match variant {
-            Variant::Plus => {
-                ReducedIntegrator::plus(sys, NewtonOptions::default()).integrate(initial, steps)
-            }
-            Variant::Minus => {
-                ReducedIntegrator::minus(sys, NewtonOptions::default()).integrate(initial, steps)
-            }
+            Variant::Plus => ReducedIntegrator::plus(sys, NewtonOptions::default())
+                .run(initial)
+                .steps(steps)
+                .collect(),
+            Variant::Minus => ReducedIntegrator::minus(sys, NewtonOptions::default())
+                .run(initial)
+                .steps(steps)
+                .collect(),
         }
         .unwrap();
         let membership = dirac_membership_residuals(&sys, &traj);
@@ -118,7 +120,9 @@ fn the_action_gradient_is_the_gradient_of_the_action() {
     };
     let initial = ReducedState::new([0.2, -0.1, 0.3], [0.9, 0.2, -0.4], [1.1], [0.7]);
     let traj = ReducedIntegrator::plus(sys, NewtonOptions::default())
-        .integrate(initial, 6)
+        .run(initial)
+        .steps(6)
+        .collect()
         .unwrap();
     let mut vars = ReducedActionPlus::from_trajectory(&traj);
     // Perturb every variable, so no component of the gradient vanishes by accident.
@@ -214,7 +218,9 @@ fn the_printed_minus_energy_is_stationary_with_negated_momenta() {
     };
     let initial = ReducedState::new([0.2, -0.1, 0.3], [0.9, 0.2, -0.4], [1.1], [0.7]);
     let traj = ReducedIntegrator::minus(sys, NewtonOptions::default())
-        .integrate(initial, 6)
+        .run(initial)
+        .steps(6)
+        .collect()
         .unwrap();
     let n = traj.steps();
     // Variables: per step k, (x_{k+1}^−, g_{k+1}^−, w_k, μ_k); configurations (x_k, g_k).

@@ -77,7 +77,9 @@ fn reduced_steps_with_a_connection_solve_the_unreduced_equations() {
     assert!((sys.untrivialize(&initial).p - canonical.p).amax() < 1e-15);
     assert_eq!(sys.momentum_map(&canonical)[0], 1.1);
     let traj = ReducedIntegrator::plus(sys, NewtonOptions::default())
-        .integrate(initial, 50)
+        .run(initial)
+        .steps(50)
+        .collect()
         .unwrap();
     assert_steps_satisfy_unreduced_equations(&sys, &traj);
 }
@@ -100,10 +102,14 @@ fn the_shape_trajectory_does_not_depend_on_the_connection() {
         b0: 0.8,
     };
     let a = ReducedIntegrator::plus(with_b, NewtonOptions::default())
-        .integrate(with_b.trivialize(&canonical), 50)
+        .run(with_b.trivialize(&canonical))
+        .steps(50)
+        .collect()
         .unwrap();
     let b = ReducedIntegrator::plus(without_b, NewtonOptions::default())
-        .integrate(without_b.trivialize(&canonical), 50)
+        .run(without_b.trivialize(&canonical))
+        .steps(50)
+        .collect()
         .unwrap();
     for (sa, sb) in a.states.iter().zip(&b.states) {
         assert!((sa.x - sb.x).amax() < 1e-12, "{} vs {}", sa.x, sb.x);
@@ -123,7 +129,9 @@ fn two_group_coordinates() {
     };
     let initial = ReducedState::new([0.4], [0.1], [0.5, -0.3], [1.0, 2.0]);
     let traj = ReducedIntegrator::plus(sys, NewtonOptions::default())
-        .integrate(initial, 400)
+        .run(initial)
+        .steps(400)
+        .collect()
         .unwrap();
     assert!(traj.states.iter().all(|s| s.mu == initial.mu));
     assert_steps_satisfy_unreduced_equations(&sys, &traj);
@@ -145,7 +153,9 @@ fn a_failed_step_keeps_the_trajectory_computed_so_far() {
     let sys = Runaway { h: 0.1 };
     let initial = ReducedState::new([0.0], [1.0], [0.5], [0.0]);
     let err = ReducedIntegrator::plus(sys, NewtonOptions::default())
-        .integrate(initial, 100)
+        .run(initial)
+        .steps(100)
+        .collect()
         .unwrap_err();
     let failed_at = err.source.step();
     assert!(failed_at > 3, "{err}");
@@ -158,7 +168,9 @@ fn a_failed_step_keeps_the_trajectory_computed_so_far() {
     );
     // The kept prefix is exactly what a shorter, successful run computes.
     let prefix = ReducedIntegrator::plus(sys, NewtonOptions::default())
-        .integrate(initial, failed_at)
+        .run(initial)
+        .steps(failed_at)
+        .collect()
         .unwrap();
     assert_eq!(err.trajectory, prefix);
     assert!(
@@ -180,7 +192,9 @@ fn newton_non_convergence_is_a_typed_error_with_the_residual() {
     // are linear and one correction always suffices.
     let err = ReducedIntegrator::plus(sys, options)
         .with_elimination(false)
-        .integrate(initial, 10)
+        .run(initial)
+        .steps(10)
+        .collect()
         .unwrap_err();
     assert!(
         matches!(err.source, StepError::NotConverged { step: 0, iterations: 1, residual } if residual > 1e-6),
@@ -194,7 +208,9 @@ fn newton_non_convergence_is_a_typed_error_with_the_residual() {
 fn a_singular_jacobian_is_a_typed_error() {
     let sys = Degenerate { h: 0.1 };
     let err = ReducedIntegrator::plus(sys, NewtonOptions::default())
-        .integrate(ReducedState::new([0.5], [0.3], [1.0], [0.0]), 5)
+        .run(ReducedState::new([0.5], [0.3], [1.0], [0.0]))
+        .steps(5)
+        .collect()
         .unwrap_err();
     assert!(
         matches!(err.source, StepError::SingularJacobian { step: 0, residual } if residual > 0.0),
@@ -210,7 +226,9 @@ fn bad_input_is_rejected_before_stepping() {
     let mut nan_state = initial;
     nan_state.w[1] = f64::NAN;
     let err = ReducedIntegrator::plus(good, NewtonOptions::default())
-        .integrate(nan_state, 3)
+        .run(nan_state)
+        .steps(3)
+        .collect()
         .unwrap_err();
     assert!(
         matches!(err.source, StepError::NonFinite { step: 0, .. }),
@@ -220,7 +238,9 @@ fn bad_input_is_rejected_before_stepping() {
     for h in [0.0, -0.1, f64::INFINITY, f64::NAN] {
         let sys = dirac::paper::ChargedParticle { h, ..good };
         let err = ReducedIntegrator::plus(sys, NewtonOptions::default())
-            .integrate(initial, 3)
+            .run(initial)
+            .steps(3)
+            .collect()
             .unwrap_err();
         assert!(
             matches!(err.source, StepError::InvalidTimeStep { .. }),
@@ -232,7 +252,9 @@ fn bad_input_is_rejected_before_stepping() {
         ..good
     };
     let err = ReducedIntegrator::plus(sys, NewtonOptions::default())
-        .integrate(initial, 3)
+        .run(initial)
+        .steps(3)
+        .collect()
         .unwrap_err();
     assert!(
         matches!(
@@ -251,7 +273,9 @@ fn discrete_energy_along_a_trajectory_is_the_generalized_energy() {
     // On solutions q_k^+ = q_{k+1}, so E_{d+}(q_k, q_k^+, q_{k+1}, p_{k+1}) = L_d(q_k, q_{k+1}) (5.7).
     let sys = dirac::paper::ChargedParticle::paper(100);
     let traj = ReducedIntegrator::plus(sys, NewtonOptions::default())
-        .integrate(dirac::paper::ChargedParticle::paper_initial_state(), 20)
+        .run(dirac::paper::ChargedParticle::paper_initial_state())
+        .steps(20)
+        .collect()
         .unwrap();
     let energies = dirac::trajectory_energies(&sys, &traj);
     assert_eq!(energies.len(), 20);
@@ -315,7 +339,9 @@ fn conditioning_is_recorded_and_a_threshold_turns_it_into_an_error() {
     let run = |phi0: f64, w0: f64, options: NewtonOptions, eliminate: bool| {
         ReducedIntegrator::plus(sys, options)
             .with_elimination(eliminate)
-            .integrate(ReducedState::new([phi0], [w0], [0.0], [0.0]), 50)
+            .run(ReducedState::new([phi0], [w0], [0.0], [0.0]))
+            .steps(50)
+            .collect()
     };
     let pole = std::f64::consts::PI - 1e-9;
     for eliminate in [true, false] {
@@ -351,7 +377,9 @@ fn conditioning_is_recorded_and_a_threshold_turns_it_into_an_error() {
 fn an_error_chain_prints_each_cause_once() {
     let sys = Runaway { h: 0.1 };
     let err = ReducedIntegrator::plus(sys, NewtonOptions::default())
-        .integrate(ReducedState::new([0.0], [1.0], [0.5], [0.0]), 100)
+        .run(ReducedState::new([0.0], [1.0], [0.5], [0.0]))
+        .steps(100)
+        .collect()
         .unwrap_err();
     let mut chain = Vec::new();
     let mut cause: Option<&dyn std::error::Error> = Some(&*err);
@@ -380,7 +408,9 @@ fn step_stats_record_the_tolerance_of_each_step() {
     };
     let initial = dirac::paper::ChargedParticle::paper_initial_state();
     let traj = ReducedIntegrator::plus(dirac::paper::ChargedParticle::paper(50), options)
-        .integrate(initial, 50)
+        .run(initial)
+        .steps(50)
+        .collect()
         .unwrap();
     for (k, (s, stats)) in traj.states.iter().zip(&traj.stats).enumerate() {
         let rho = s.w.amax().max(s.mu.amax());

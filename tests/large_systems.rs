@@ -131,7 +131,7 @@ fn the_backend_follows_the_size() {
 #[test]
 fn the_sparse_jacobian_is_the_dense_one_and_so_are_the_steps() {
     let integ = ReducedIntegrator::plus(SYS, NewtonOptions::default());
-    let traj = integ.clone().integrate(initial(0), 50).unwrap();
+    let traj = integ.clone().run(initial(0)).steps(50).collect().unwrap();
     for k in [0, 17, 49] {
         let (state, next) = (&traj.states[k], &traj.states[k + 1]);
         let z = dirac::runtime::system::join::<23, 1, 24>(&next.x, &traj.group_unknowns[k]);
@@ -196,7 +196,12 @@ fn chord_iterations_reach_the_steps_newton_reaches() {
     // and so runs Newton with a Jacobian per correction. Both accept on the same residual test.
     let integ = ReducedIntegrator::plus(SYS, NewtonOptions::default());
     let steps = 200;
-    let traj = integ.clone().integrate(initial(2), steps).unwrap();
+    let traj = integ
+        .clone()
+        .run(initial(2))
+        .steps(steps)
+        .collect()
+        .unwrap();
     let factored: usize = traj.stats.iter().map(|s| s.factorizations).sum();
     assert!(traj.stats[0].factorizations >= 1);
     assert!(
@@ -227,14 +232,16 @@ fn the_conditioning_threshold_holds_on_the_sparse_backend_with_chord_steps() {
     // The worst figure a run records is that of the factors its steps used; a threshold above it
     // turns the run into the typed error, with the steps before the failure kept.
     let integ = ReducedIntegrator::plus(SYS, NewtonOptions::default());
-    let traj = integ.clone().integrate(initial(3), 100).unwrap();
+    let traj = integ.clone().run(initial(3)).steps(100).collect().unwrap();
     let (_, worst) = traj.worst_rcond().expect("the steps factored a Jacobian");
     let strict = NewtonOptions {
         min_rcond: 2.0 * worst,
         ..NewtonOptions::default()
     };
     let err = ReducedIntegrator::plus(SYS, strict)
-        .integrate(initial(3), 100)
+        .run(initial(3))
+        .steps(100)
+        .collect()
         .unwrap_err();
     match err.source {
         StepError::IllConditioned { step, rcond, .. } => {
@@ -248,11 +255,13 @@ fn the_conditioning_threshold_holds_on_the_sparse_backend_with_chord_steps() {
 #[test]
 fn a_streaming_run_sees_what_integrate_keeps_and_keeps_nothing() {
     let integ = ReducedIntegrator::plus(SYS, NewtonOptions::default());
-    let traj = integ.clone().integrate(initial(1), 300).unwrap();
+    let traj = integ.clone().run(initial(1)).steps(300).collect().unwrap();
     let mut seen = Vec::new();
     let mut every_50th = Vec::new();
     let summary = integ
-        .run(initial(1), 300, |k, state, step| {
+        .run(initial(1))
+        .steps(300)
+        .observe(|k, _, state, step| {
             assert_eq!(step.is_none(), k == 0);
             if let Some(step) = step {
                 assert_eq!(step.stats, traj.stats[k - 1]);
@@ -263,6 +272,7 @@ fn a_streaming_run_sees_what_integrate_keeps_and_keeps_nothing() {
                 every_50th.push(*state);
             }
         })
+        .stream()
         .unwrap();
     assert_eq!(seen, (0..=300).collect::<Vec<_>>());
     assert_eq!(summary.steps, 300);
@@ -277,7 +287,12 @@ fn a_streaming_run_sees_what_integrate_keeps_and_keeps_nothing() {
     assert!(traj.states.iter().all(|s| s.mu == traj.states[0].mu));
     // A failing run keeps its summary: an invalid time step fails before the first step.
     let bad = ReducedIntegrator::plus(Toda24 { h: -0.1, ..SYS }, NewtonOptions::default());
-    let err = bad.run(initial(1), 10, |_, _, _| {}).unwrap_err();
+    let err = bad
+        .run(initial(1))
+        .steps(10)
+        .observe(|_, _, _, _| {})
+        .stream()
+        .unwrap_err();
     assert!(matches!(err.source, StepError::InvalidTimeStep { .. }));
     assert_eq!(err.trajectory.steps, 0);
     assert_eq!(err.trajectory.last, initial(1));
@@ -288,7 +303,7 @@ fn ensemble_members_are_the_sequential_runs_each_with_its_own_result() {
     let integ = ReducedIntegrator::plus(SYS, NewtonOptions::default());
     let mut starts: Vec<ReducedState<23, 1>> = (0..6).map(initial).collect();
     starts[3].w[5] = f64::NAN; // this member must fail, alone, with a typed error
-    let results = integ.integrate_ensemble(&starts, 40);
+    let results = integ.ensemble(&starts).steps(40).collect();
     assert_eq!(results.len(), 6);
     for (j, result) in results.iter().enumerate() {
         if j == 3 {
@@ -299,15 +314,16 @@ fn ensemble_members_are_the_sequential_runs_each_with_its_own_result() {
             );
             continue;
         }
-        let sequential = integ.clone().integrate(starts[j], 40).unwrap();
+        let sequential = integ.clone().run(starts[j]).steps(40).collect().unwrap();
         assert_eq!(result.as_ref().unwrap(), &sequential, "member {j}");
     }
     // With observers: each member streams its own states; the summaries are the runs'.
-    let streamed = integ.run_ensemble(&starts[..2], 25, |_| {
-        |_, _: &ReducedState<23, 1>, _: Option<&_>| {}
-    });
+    let streamed = integ
+        .ensemble(&starts[..2])
+        .steps(25)
+        .stream(|_| |_, _, _: &ReducedState<23, 1>, _: Option<&_>| {});
     for (j, (_, result)) in streamed.iter().enumerate() {
-        let sequential = integ.clone().integrate(starts[j], 25).unwrap();
+        let sequential = integ.clone().run(starts[j]).steps(25).collect().unwrap();
         assert_eq!(
             result.as_ref().unwrap().last,
             *sequential.last(),

@@ -96,7 +96,10 @@ where
     L: Reduced<Plus, S, K, N>,
 {
     let start = Instant::now();
-    let result = ReducedIntegrator::plus(sys, NewtonOptions::default()).integrate(initial, steps);
+    let result = ReducedIntegrator::plus(sys, NewtonOptions::default())
+        .run(initial)
+        .steps(steps)
+        .collect();
     let elapsed = start.elapsed();
     match result {
         Ok(trajectory) => (trajectory, elapsed),
@@ -292,7 +295,9 @@ fn double_spherical_pendulum_million_steps() {
     let reduced = reduced.expect("the h run");
     let wall = Instant::now();
     let unreduced = UnreducedIntegrator::plus(sys, NewtonOptions::default())
-        .integrate(sys.untrivialize(&initial), STEPS)
+        .run(sys.untrivialize(&initial))
+        .steps(STEPS)
+        .collect()
         .unwrap_or_else(|e| {
             panic!(
                 "unreduced: failed after {} steps: {}",
@@ -341,7 +346,9 @@ fn double_spherical_pendulum_from_the_paper_state() {
     let mut out = Report(String::new());
     let sys = DoubleSphericalPendulum::paper();
     let result = ReducedIntegrator::plus(sys, NewtonOptions::default())
-        .integrate(DoubleSphericalPendulum::paper_initial_state(), STEPS);
+        .run(DoubleSphericalPendulum::paper_initial_state())
+        .steps(STEPS)
+        .collect();
     let (traj, outcome) = match &result {
         Ok(traj) => (traj, "completed".to_string()),
         Err(e) => (&e.trajectory, format!("stopped: {}", e.source)),

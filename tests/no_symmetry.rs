@@ -44,7 +44,9 @@ fn group_dimension_is_zero() {
 #[test]
 fn unreduced_integrator_has_bounded_energy_error() {
     let traj = UnreducedIntegrator::plus(SYS, NewtonOptions::default())
-        .integrate(initial(), 4000)
+        .run(initial())
+        .steps(4000)
+        .collect()
         .unwrap();
     let e0 = energy(SYS.lambda, &traj.states[0].q, &traj.states[0].p);
     let err = |s: &CanonicalState<2>| (energy(SYS.lambda, &s.q, &s.p) - e0).abs();
@@ -61,7 +63,7 @@ fn unreduced_integrator_has_bounded_energy_error() {
 #[test]
 fn step_map_is_symplectic() {
     let integ = UnreducedIntegrator::plus(SYS, NewtonOptions::default());
-    let traj = integ.clone().integrate(initial(), 200).unwrap();
+    let traj = integ.clone().run(initial()).steps(200).collect().unwrap();
     for (k, pair) in traj.states.windows(2).enumerate() {
         let m = integ.step_jacobian(k, &pair[0], &pair[1]).unwrap();
         let defect = m.symplecticity_defect();
@@ -75,12 +77,20 @@ fn step_map_is_symplectic() {
 #[test]
 fn reduced_steppers_equal_the_unreduced_one() {
     let unreduced = UnreducedIntegrator::plus(SYS, NewtonOptions::default())
-        .integrate(initial(), 500)
+        .run(initial())
+        .steps(500)
+        .collect()
         .unwrap();
     let opts = NewtonOptions::default();
     let start = SYS.trivialize(&initial());
-    let plus = ReducedIntegrator::plus(SYS, opts).integrate(start, 500);
-    let minus = ReducedIntegrator::minus(SYS, opts).integrate(start, 500);
+    let plus = ReducedIntegrator::plus(SYS, opts)
+        .run(start)
+        .steps(500)
+        .collect();
+    let minus = ReducedIntegrator::minus(SYS, opts)
+        .run(start)
+        .steps(500)
+        .collect();
     for (variant, reduced) in [("(+)", plus.unwrap()), ("(−)", minus.unwrap())] {
         let mut worst = 0.0_f64;
         for (k, (r, u)) in reduced.states.iter().zip(&unreduced.states).enumerate() {

@@ -32,13 +32,19 @@ fn assert_reduction_commutes<L, const S: usize, const K: usize, const N: usize>(
 {
     let options = NewtonOptions::default();
     let plus = ReducedIntegrator::plus(sys, options)
-        .integrate(sys.trivialize(&initial), steps)
+        .run(sys.trivialize(&initial))
+        .steps(steps)
+        .collect()
         .unwrap();
     let minus = ReducedIntegrator::minus(sys, options)
-        .integrate(sys.trivialize(&initial), steps)
+        .run(sys.trivialize(&initial))
+        .steps(steps)
+        .collect()
         .unwrap();
     let unreduced = UnreducedIntegrator::plus(sys, options)
-        .integrate(initial, steps)
+        .run(initial)
+        .steps(steps)
+        .collect()
         .unwrap();
     for k in 0..=steps {
         let u = unreduced.states[k];
@@ -117,7 +123,9 @@ fn each_reduced_step_is_an_unreduced_step_at_g_zero() {
     let initial = sys.trivialize(&canonical([0.2, -0.1, 0.3, 0.7], [0.9, 0.2, -0.4, 1.1]));
     let options = NewtonOptions::default();
     let reduced = ReducedIntegrator::plus(sys, options)
-        .integrate(initial, 200)
+        .run(initial)
+        .steps(200)
+        .collect()
         .unwrap();
     let unreduced = UnreducedIntegrator::plus(sys, options);
     for (k, pair) in reduced.states.windows(2).enumerate() {
@@ -147,10 +155,14 @@ fn a_large_group_coordinate_costs_the_unreduced_stepper_digits() {
         state
     };
     let reduced_0 = ReducedIntegrator::plus(sys, options)
-        .integrate(at(0.0), 100)
+        .run(at(0.0))
+        .steps(100)
+        .collect()
         .unwrap();
     let reduced_far = ReducedIntegrator::plus(sys, options)
-        .integrate(at(1e8), 100)
+        .run(at(1e8))
+        .steps(100)
+        .collect()
         .unwrap();
     for (a, b) in reduced_0.states.iter().zip(&reduced_far.states) {
         assert_eq!(a.x, b.x);
@@ -158,7 +170,9 @@ fn a_large_group_coordinate_costs_the_unreduced_stepper_digits() {
     }
     let final_error = |theta0: f64| {
         let traj = UnreducedIntegrator::plus(sys, options)
-            .integrate(sys.untrivialize(&at(theta0)), 100)
+            .run(sys.untrivialize(&at(theta0)))
+            .steps(100)
+            .collect()
             .unwrap();
         let q = traj.last().q;
         let x = reduced_0.last().x;
@@ -193,18 +207,26 @@ fn double_spherical_pendulum_paper_run() {
     let initial = DoubleSphericalPendulum::paper_initial_state();
     let options = NewtonOptions::default();
     let plus = ReducedIntegrator::plus(sys, options)
-        .integrate(initial, DSP_STEPS)
+        .run(initial)
+        .steps(DSP_STEPS)
+        .collect()
         .unwrap();
     let minus = ReducedIntegrator::minus(sys, options)
-        .integrate(initial, DSP_STEPS)
+        .run(initial)
+        .steps(DSP_STEPS)
+        .collect()
         .unwrap();
     let unreduced = UnreducedIntegrator::plus(sys, options)
-        .integrate(sys.untrivialize(&initial), DSP_STEPS)
+        .run(sys.untrivialize(&initial))
+        .steps(DSP_STEPS)
+        .collect()
         .unwrap();
     let mut nudged = initial;
     nudged.x[0] = f64::from_bits(initial.x[0].to_bits() + 1);
     let ulp = ReducedIntegrator::plus(sys, options)
-        .integrate(nudged, DSP_STEPS)
+        .run(nudged)
+        .steps(DSP_STEPS)
+        .collect()
         .unwrap();
     let scale_q = unreduced
         .states
@@ -291,14 +313,14 @@ fn eliminated_and_general_paths_agree() {
                 .with_elimination(eliminate)
         };
         assert!(make(true).eliminates_group() && !make(false).eliminates_group());
-        let fast = make(true).integrate(initial, steps).unwrap();
-        let general = make(false).integrate(initial, steps).unwrap();
+        let fast = make(true).run(initial).steps(steps).collect().unwrap();
+        let general = make(false).run(initial).steps(steps).collect().unwrap();
         // Round-off yardstick: how far a one-ulp change of the initial state moves the
         // general path (≈ 1e-16 for the small systems; ≈ 8e-11 of |w| for the double
         // spherical pendulum over 2,000 steps, whose momenta carry a ~1e-10 round-off floor).
         let mut nudged = initial;
         nudged.x[0] = f64::from_bits(initial.x[0].to_bits() + 1);
-        let ulp = make(false).integrate(nudged, steps).unwrap();
+        let ulp = make(false).run(nudged).steps(steps).collect().unwrap();
         let scale_x = general
             .states
             .iter()
@@ -388,7 +410,9 @@ fn eliminated_and_general_paths_agree() {
     let integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
     assert!(!integ.eliminates_group());
     let traj = ReducedIntegrator::plus(sys, NewtonOptions::default())
-        .integrate(ReducedState::new([0.3], [0.2], [0.4], [0.0]), 100)
+        .run(ReducedState::new([0.3], [0.2], [0.4], [0.0]))
+        .steps(100)
+        .collect()
         .unwrap();
     assert_eq!(traj.steps(), 100);
 }

@@ -17,7 +17,11 @@ fn a_body_defined_on_part_of_the_space_compiles_and_integrates() {
     let sys = LogWell { h: 0.01, m: 1.0 };
     let initial = ReducedState::new([4.0], [0.0], [0.7], [0.0]);
     let integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
-    let traj = integ.integrate(initial, 200).expect("the steps converge");
+    let traj = integ
+        .run(initial)
+        .steps(200)
+        .collect()
+        .expect("the steps converge");
     // The potential pushes x outwards; μ is conserved exactly (it is one of the equations).
     assert!(traj.last().x[0] > 4.0, "x = {}", traj.last().x[0]);
     assert_eq!(traj.last().mu, initial.mu);

@@ -241,7 +241,9 @@ where
                 Some(e) => integrator.with_elimination(e),
                 None => integrator,
             }
-            .integrate(reduced, steps)
+            .run(reduced)
+            .steps(steps)
+            .collect()
         }
         let initial = reduced_components(&reduced);
         let result = match variant {
@@ -273,7 +275,11 @@ where
     }
     let initial = canonical_components(&canonical);
     let what = "unreduced";
-    match UnreducedIntegrator::plus(system, options).integrate(canonical, steps) {
+    match UnreducedIntegrator::plus(system, options)
+        .run(canonical)
+        .steps(steps)
+        .collect()
+    {
         Ok(t) => {
             let states: Vec<_> = t.states.iter().map(canonical_components).collect();
             check_outcome(what, steps, &initial, &states, None)

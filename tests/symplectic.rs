@@ -17,7 +17,7 @@ fn assert_symplectic<L, const S: usize, const K: usize, const N: usize>(
     L: LagrangianHessian<S, K, N> + Copy,
 {
     let integ = UnreducedIntegrator::plus(sys, NewtonOptions::default());
-    let traj = integ.clone().integrate(initial, steps).unwrap();
+    let traj = integ.clone().run(initial).steps(steps).collect().unwrap();
     for (k, pair) in traj.states.windows(2).enumerate() {
         let m = integ.step_jacobian(k, &pair[0], &pair[1]).unwrap();
         let defect = m.symplecticity_defect();

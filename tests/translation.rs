@@ -145,13 +145,19 @@ fn toda_reduced_equals_unreduced_in_user_coordinates() {
     let total: f64 = toda_initial().p.iter().sum();
     assert_eq!(start.p[5], total);
     let reduced = ReducedIntegrator::plus(sys, tight())
-        .integrate(sys.trivialize(&start), STEPS)
+        .run(sys.trivialize(&start))
+        .steps(STEPS)
+        .collect()
         .unwrap();
     let own = UnreducedIntegrator::plus(sys, tight())
-        .integrate(start, STEPS)
+        .run(start)
+        .steps(STEPS)
+        .collect()
         .unwrap();
     let baseline = UnreducedIntegrator::plus(user, tight())
-        .integrate(toda_initial(), STEPS)
+        .run(toda_initial())
+        .steps(STEPS)
+        .collect()
         .unwrap();
     let (mut worst_own, mut worst_user) = (0.0_f64, 0.0_f64);
     for k in 0..=STEPS {
@@ -206,10 +212,14 @@ fn toda_by_hand_in_adapted_coordinates_takes_the_same_steps() {
     };
     let start = sys.trivialize(&Toda::to_adapted_state(&toda_initial()));
     let a = ReducedIntegrator::plus(sys, NewtonOptions::default())
-        .integrate(start, STEPS)
+        .run(start)
+        .steps(STEPS)
+        .collect()
         .unwrap();
     let b = ReducedIntegrator::plus(hand, NewtonOptions::default())
-        .integrate(start, STEPS)
+        .run(start)
+        .steps(STEPS)
+        .collect()
         .unwrap();
     assert_eq!(a.states, b.states);
     assert_eq!(Toda::GENERATED, TodaAdapted::GENERATED);
@@ -291,10 +301,14 @@ fn three_bodies_conserve_total_momentum_and_agree_with_unreduced() {
     );
     let steps = 500;
     let reduced = ReducedIntegrator::plus(sys, tight())
-        .integrate(sys.trivialize(&start), steps)
+        .run(sys.trivialize(&start))
+        .steps(steps)
+        .collect()
         .unwrap();
     let unreduced = UnreducedIntegrator::plus(sys, tight())
-        .integrate(start, steps)
+        .run(start)
+        .steps(steps)
+        .collect()
         .unwrap();
     let (mut worst, mut drift) = (0.0_f64, 0.0_f64);
     for k in 0..=steps {
@@ -443,25 +457,37 @@ fn indexed_coordinates_take_the_same_steps_as_named_ones() {
     let start = ReducedState::new([0.3, -0.2, 0.5], [0.1, 0.4, -0.2], [0.7], [0.0]);
     let opts = NewtonOptions::default();
     let pa = ReducedIntegrator::plus(a, opts)
-        .integrate(start, 300)
+        .run(start)
+        .steps(300)
+        .collect()
         .unwrap();
     let pb = ReducedIntegrator::plus(b, opts)
-        .integrate(start, 300)
+        .run(start)
+        .steps(300)
+        .collect()
         .unwrap();
     assert_eq!(pa.states, pb.states);
     let ma = ReducedIntegrator::minus(a, opts)
-        .integrate(start, 300)
+        .run(start)
+        .steps(300)
+        .collect()
         .unwrap();
     let mb = ReducedIntegrator::minus(b, opts)
-        .integrate(start, 300)
+        .run(start)
+        .steps(300)
+        .collect()
         .unwrap();
     assert_eq!(ma.states, mb.states);
     let c = a.untrivialize(&start);
     let ua = UnreducedIntegrator::plus(a, opts)
-        .integrate(c, 300)
+        .run(c)
+        .steps(300)
+        .collect()
         .unwrap();
     let ub = UnreducedIntegrator::plus(b, opts)
-        .integrate(c, 300)
+        .run(c)
+        .steps(300)
+        .collect()
         .unwrap();
     assert_eq!(ua.states, ub.states);
     // The configuration structs agree field by field.

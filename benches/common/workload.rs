@@ -5,6 +5,7 @@
 use dirac::paper::{ChargedParticle, DoubleSphericalPendulum, DSP_STEPS};
 use dirac::prelude::*;
 use dirac::runtime::reduced::reduced_guess;
+use dirac::runtime::stepper::History;
 use dirac::runtime::system::join;
 use dirac::runtime::unreduced::canonical_guess;
 
@@ -49,8 +50,11 @@ where
         stride: usize,
     ) -> Self {
         let trajectory = ReducedIntegrator::plus(system, NewtonOptions::default())
-            .integrate(initial, steps)
+            .run(initial)
+            .steps(steps)
+            .collect()
             .expect("the paper's run succeeds");
+        let h = system.time_step();
         let config = |k: usize| {
             let s = &trajectory.states[k];
             join::<S, K, N>(&s.x, &s.g)
@@ -75,16 +79,22 @@ where
                     state,
                     guess: reduced_guess::<S, K, N>(
                         &state.x,
-                        step(k, 1).as_ref(),
-                        step(k, 2).as_ref(),
+                        &History {
+                            last: step(k, 1).map(|d| (d, h)),
+                            before: step(k, 2).map(|d| (d, h)),
+                        },
+                        h,
                     ),
                     solution: join::<S, K, N>(&next.x, &trajectory.group_unknowns[k]),
                     iterations: trajectory.stats[k].iterations,
                     canonical: system.untrivialize(&state),
                     canonical_guess: canonical_guess(
                         &config(k),
-                        (k >= 1).then(|| config(k) - config(k - 1)).as_ref(),
-                        (k >= 2).then(|| config(k - 1) - config(k - 2)).as_ref(),
+                        &History {
+                            last: (k >= 1).then(|| (config(k) - config(k - 1), h)),
+                            before: (k >= 2).then(|| (config(k - 1) - config(k - 2), h)),
+                        },
+                        h,
                     ),
                 }
             })

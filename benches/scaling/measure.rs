@@ -84,16 +84,16 @@ pub fn state_from_run<L, const S: usize, const K: usize, const N: usize>(
 where
     L: Reduced<Plus, S, K, N>,
 {
-    let state = match integ.run(initial, warm, |_, _, _| {}) {
+    let state = match integ.run(initial).steps(warm).observe(|_, _, _, _| {}).stream() {
         Ok(s) => s.last,
         Err(e) => panic!("warm-up run failed: {e}"),
     };
     let mut z = SVector::<f64, N>::zeros();
-    let next = match integ.run(state, 1, |_, next, step| {
+    let next = match integ.run(state).steps(1).observe(|_, _, next, step| {
         if let Some(step) = step {
             z = dirac::runtime::system::join::<S, K, N>(&next.x, &step.group_unknown);
         }
-    }) {
+    }).stream() {
         Ok(s) => s.last,
         Err(e) => panic!("step from the run's state failed: {e}"),
     };
@@ -135,7 +135,7 @@ where
     }
 
     let mut iterations = 0.0;
-    let mut run = |steps: usize| match integ.run(black_box(initial), steps, |_, _, _| {}) {
+    let mut run = |steps: usize| match integ.run(black_box(initial)).steps(steps).observe(|_, _, _, _| {}).stream() {
         Ok(s) => iterations = s.mean_iterations(),
         Err(e) => panic!("run of {steps} steps failed: {e}"),
     };

@@ -110,8 +110,8 @@ pub trait Chart<const S: usize, const K: usize, const N: usize> {
     /// A fresh workspace for this chart's steps ([`Stepper::workspace`]).
     fn chart_workspace(&self) -> Box<dyn Any>;
 
-    /// Takes step `k` from `state` with the controls `u` (empty: the chart system's own),
-    /// Newton starting at `guess`, in `workspace` (one that [`Self::chart_workspace`] built;
+    /// Takes step `k`, of size `h`, from `state` with the controls `u` (empty: the chart
+    /// system's own), Newton starting at `guess`, in `workspace` (one that [`Self::chart_workspace`] built;
     /// another is reported as [`StepError::InvalidAtlas`]). Every chart declares the forces in
     /// its own coordinates; a virtual work written the same way in each is the cotangent lift of
     /// one force.
@@ -119,6 +119,7 @@ pub trait Chart<const S: usize, const K: usize, const N: usize> {
         &self,
         workspace: &mut dyn Any,
         k: usize,
+        h: f64,
         state: &ReducedState<S, K>,
         guess: &SVector<f64, N>,
         u: &[f64],
@@ -158,6 +159,7 @@ where
         &self,
         workspace: &mut dyn Any,
         k: usize,
+        h: f64,
         state: &ReducedState<S, K>,
         guess: &SVector<f64, N>,
         u: &[f64],
@@ -167,7 +169,7 @@ where
                 reason: "a chart was given the workspace of another chart",
             });
         };
-        self.solve_step(&mut workspace.solver, k, state, guess, u)
+        self.solve_step(&mut workspace.solver, k, h, state, guess, u)
     }
 
     fn chart_control_dim(&self) -> usize {
@@ -214,13 +216,16 @@ pub struct Switch<const S: usize, const K: usize> {
     pub rescue: bool,
 }
 
-/// A trajectory on an atlas: `states[j]` at `t_j = j h`, in chart `charts[j]`.
+/// A trajectory on an atlas: `states[j]` at `times[j]` (`t_j = j h` for a fixed step), in chart
+/// `charts[j]`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AtlasTrajectory<const S: usize, const K: usize> {
-    /// The time step `h` (the same in every chart).
+    /// The time step `h` (the same in every chart; the default step of a run).
     pub h: f64,
     /// The states, each in its own chart.
     pub states: Vec<ReducedState<S, K>>,
+    /// `times[j] = t_j`, the time of `states[j]`.
+    pub times: Vec<f64>,
     /// `charts[j]` is the chart of `states[j]`.
     pub charts: Vec<usize>,
     /// Newton statistics of each step.
@@ -383,6 +388,7 @@ impl<'a, const S: usize, const K: usize, const N: usize> AtlasIntegrator<'a, S, 
         &self,
         workspaces: &mut [Box<dyn Any>],
         k: usize,
+        h: f64,
         chart: usize,
         state: &ReducedState<S, K>,
         current: f64,
@@ -399,7 +405,7 @@ impl<'a, const S: usize, const K: usize, const N: usize> AtlasIntegrator<'a, S, 
             let q = match &self.quality {
                 Some(quality) => quality(to, &mapped),
                 None => target
-                    .chart_step(workspace.as_mut(), k, &mapped, &fresh_guess(&mapped), u)
+                    .chart_step(workspace.as_mut(), k, h, &mapped, &fresh_guess(&mapped), u)
                     .map_or(0.0, |(_, step)| step.stats.rcond.unwrap_or(1.0)),
             };
             if q > current && best.as_ref().is_none_or(|b| q > b.0) {
@@ -454,13 +460,19 @@ impl<'a, const S: usize, const K: usize, const N: usize> Collect<AtlasIntegrator
         AtlasTrajectory {
             h: atlas.time_step(),
             states: Vec::with_capacity(steps + 1),
+            times: Vec::with_capacity(steps + 1),
             charts: Vec::with_capacity(steps + 1),
             stats: Vec::with_capacity(steps),
             switches: Vec::new(),
         }
     }
 
-    fn push(&mut self, state: &(usize, ReducedState<S, K>), record: Option<&AtlasStep<S, K>>) {
+    fn push(
+        &mut self,
+        t: f64,
+        state: &(usize, ReducedState<S, K>),
+        record: Option<&AtlasStep<S, K>>,
+    ) {
         if let Some(rescue) = record.and_then(|r| r.rescue) {
             // The state the step started from is kept in the chart it was taken in.
             if let (Some(s), Some(c)) = (self.states.last_mut(), self.charts.last_mut()) {
@@ -470,6 +482,7 @@ impl<'a, const S: usize, const K: usize, const N: usize> Collect<AtlasIntegrator
         }
         self.charts.push(state.0);
         self.states.push(state.1);
+        self.times.push(t);
         if let Some(record) = record {
             self.stats.push(record.stats);
             self.switches.extend(record.switch);
@@ -532,15 +545,15 @@ impl<'a, const S: usize, const K: usize, const N: usize> Stepper for AtlasIntegr
         &self,
         workspace: &mut AtlasWorkspace<S, K>,
         k: usize,
+        h: f64,
         &(chart, ref from): &Self::State,
         u: &[f64],
     ) -> Result<(Self::State, AtlasStep<S, K>), StepError> {
-        let history = &workspace.history;
-        let guess =
-            reduced_guess::<S, K, N>(&from.x, history.last.as_ref(), history.before.as_ref());
+        let guess = reduced_guess::<S, K, N>(&from.x, &workspace.history, h);
         let (c, state, rescue, (next, step)) = match self.charts[chart].chart_step(
             workspace.charts[chart].as_mut(),
             k,
+            h,
             from,
             &guess,
             u,
@@ -548,14 +561,21 @@ impl<'a, const S: usize, const K: usize, const N: usize> Stepper for AtlasIntegr
             Ok(ok) => (chart, *from, None, ok),
             Err(error) => {
                 // Rescue: the same step from the same state in the best other chart.
-                let Some((to, mapped)) =
-                    self.better_chart(&mut workspace.charts, k, chart, from, f64::NEG_INFINITY, u)
-                else {
+                let Some((to, mapped)) = self.better_chart(
+                    &mut workspace.charts,
+                    k,
+                    h,
+                    chart,
+                    from,
+                    f64::NEG_INFINITY,
+                    u,
+                ) else {
                     return Err(error);
                 };
                 let Ok(ok) = self.charts[to].chart_step(
                     workspace.charts[to].as_mut(),
                     k,
+                    h,
                     &mapped,
                     &fresh_guess(&mapped),
                     u,
@@ -576,7 +596,7 @@ impl<'a, const S: usize, const K: usize, const N: usize> Stepper for AtlasIntegr
         };
         workspace
             .history
-            .push((next.x - state.x, step.group_unknown));
+            .push((next.x - state.x, step.group_unknown), h);
         let mut record = AtlasStep {
             stats: step.stats,
             rescue,
@@ -589,7 +609,7 @@ impl<'a, const S: usize, const K: usize, const N: usize> Stepper for AtlasIntegr
         };
         if current < self.switch_below {
             if let Some((to, mapped)) =
-                self.better_chart(&mut workspace.charts, k + 1, c, &next, current, u)
+                self.better_chart(&mut workspace.charts, k + 1, h, c, &next, current, u)
             {
                 // The extrapolation continues in the new chart from the step's start mapped there
                 // and the group unknown its increment implies (last line of (4.6)).
@@ -599,7 +619,7 @@ impl<'a, const S: usize, const K: usize, const N: usize> Stepper for AtlasIntegr
                         Variant::Plus => dg,
                         Variant::Minus => -dg,
                     };
-                    (mapped.x - p.x, u)
+                    ((mapped.x - p.x, u), h)
                 });
                 workspace.history.restart(last);
                 record.switch = Some(Switch {

@@ -186,17 +186,19 @@ where
     }
 }
 
-/// A trajectory of a composition: the states at the macro steps `t_k = k h` (the stages inside
-/// a step are not kept: with negative substeps they are not on the time grid), and per macro step
-/// the Newton statistics summed over its stages.
+/// A trajectory of a composition: the states at the macro steps' times `t_k` (`k h` for a fixed
+/// step; the stages inside a step are not kept: with negative substeps they are not on the time
+/// grid), and per macro step the Newton statistics summed over its stages.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ComposedTrajectory<St> {
-    /// The macro time step `h`.
+    /// The macro time step `h` (the default step of a run).
     pub h: f64,
     /// The composition that produced it.
     pub method: CompositionMethod,
-    /// `states[k]` is the state at `t_k`.
+    /// `states[k]` is the state at `times[k]`.
     pub states: Vec<St>,
+    /// `times[k] = t_k`, the time of `states[k]` (`k h` exactly for a fixed step).
+    pub times: Vec<f64>,
     /// Per macro step: Newton corrections summed over the stages, the largest accepted residual
     /// and the smallest reciprocal condition estimate of the stages.
     pub stats: Vec<StepStats>,
@@ -208,9 +210,9 @@ impl<St> ComposedTrajectory<St> {
         self.states.len() - 1
     }
 
-    /// The time of state `k`.
+    /// The time `t_k` of state `k`.
     pub fn time(&self, k: usize) -> f64 {
-        k as f64 * self.h
+        self.times[k]
     }
 
     /// The last state.
@@ -297,12 +299,14 @@ where
             h: composition.time_step(),
             method: composition.method,
             states: Vec::with_capacity(steps + 1),
+            times: Vec::with_capacity(steps + 1),
             stats: Vec::with_capacity(steps),
         }
     }
 
-    fn push(&mut self, state: &St::State, record: Option<&StepStats>) {
+    fn push(&mut self, t: f64, state: &St::State, record: Option<&StepStats>) {
         self.states.push(state.clone());
+        self.times.push(t);
         if let Some(stats) = record {
             self.stats.push(*stats);
         }
@@ -355,18 +359,21 @@ where
     }
 
     /// Every stage takes the macro step's controls `u`: the forces of a composition are its
-    /// stages' forces, each at its stage's time step `γ_i h`.
+    /// stages' forces, each at its stage's time step `γ_i h`. A macro step of size `h_k` runs
+    /// stage `i` with `γ_i h_k` (for `h_k = h` the stage's own step, bit for bit).
     fn step_with(
         &self,
         workspace: &mut Vec<I::Workspace>,
         k: usize,
+        h: f64,
         state: &I::State,
         u: &[f64],
     ) -> Result<(I::State, StepStats), StepError> {
         let mut total = StepStats::default();
         let mut current = state.clone();
-        for (stage, stage_workspace) in self.stages.iter().zip(workspace.iter_mut()) {
-            let (next, record) = stage.step_with(stage_workspace, k, &current, u)?;
+        let stages = self.stages.iter().zip(workspace.iter_mut());
+        for ((stage, stage_workspace), gamma) in stages.zip(self.method.coefficients) {
+            let (next, record) = stage.step_with(stage_workspace, k, gamma * h, &current, u)?;
             total.accumulate(record.as_ref());
             current = next;
         }

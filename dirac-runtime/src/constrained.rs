@@ -25,7 +25,7 @@ use crate::newton::{self, inf_norm, NewtonOptions};
 use crate::reduced::trajectory_accessors;
 use crate::state::{CanonicalState, ReducedState};
 use crate::stepper::{
-    check_inputs, controlled, predicted_increment, step_error, Collect, History, StepStats,
+    check_inputs, predicted_increment, step_error, system_at, Collect, History, StepStats,
     StepStatsExt, Stepper,
 };
 use crate::system::{DiscreteLagrangian, Reduced, Side};
@@ -201,10 +201,12 @@ impl<const M: usize> AsRef<StepStats> for ConstrainedStep<M> {
 /// A constrained trajectory: states, the multipliers of each step and its statistics.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ConstrainedTrajectory<St, const M: usize> {
-    /// The time step `h`.
+    /// The integrator's time step `h` (the default step of a run).
     pub h: f64,
-    /// `states[k]` is the state at `t_k`.
+    /// `states[k]` is the state at `times[k]`.
     pub states: Vec<St>,
+    /// `times[k] = t_k`, the time of `states[k]` (`k h` exactly for a fixed step).
+    pub times: Vec<f64>,
     /// What step `k` reported.
     pub steps: Vec<ConstrainedStep<M>>,
     /// Newton statistics of each step.
@@ -364,14 +366,14 @@ where
         &self,
         ws: &mut Self::Workspace,
         k: usize,
+        h: f64,
         state: &CanonicalState<N>,
         u: &[f64],
     ) -> Result<(CanonicalState<N>, ConstrainedStep<M>), StepError> {
-        let owned = controlled(&self.system, k, u)?;
+        let owned = system_at(&self.system, k, h, u)?;
         let sys = owned.as_ref().unwrap_or(&self.system);
         let (q, p) = (&state.q, &state.p);
-        let h = sys.time_step();
-        let dq = predicted_increment(ws.history.last.as_ref(), ws.history.before.as_ref());
+        let dq = predicted_increment(&ws.history, h);
         let (lambda0, nu0) = ws
             .multipliers
             .unwrap_or((SVector::zeros(), SVector::zeros()));
@@ -416,7 +418,7 @@ where
                 residual: stats.residual,
             });
         }
-        ws.history.push(q1 - q);
+        ws.history.push(q1 - q, h);
         ws.multipliers = Some((lambda, nu));
         Ok((
             next,
@@ -443,13 +445,15 @@ where
         ConstrainedTrajectory {
             h: integrator.system.time_step(),
             states: Vec::with_capacity(steps + 1),
+            times: Vec::with_capacity(steps + 1),
             steps: Vec::with_capacity(steps),
             stats: Vec::with_capacity(steps),
         }
     }
 
-    fn push(&mut self, state: &CanonicalState<N>, record: Option<&ConstrainedStep<M>>) {
+    fn push(&mut self, t: f64, state: &CanonicalState<N>, record: Option<&ConstrainedStep<M>>) {
         self.states.push(*state);
+        self.times.push(t);
         if let Some(step) = record {
             self.steps.push(*step);
             self.stats.push(step.stats);
@@ -568,17 +572,15 @@ where
         &self,
         ws: &mut Self::Workspace,
         k: usize,
+        h: f64,
         state: &ReducedState<S, K>,
         u: &[f64],
     ) -> Result<(ReducedState<S, K>, ConstrainedStep<M>), StepError> {
-        let owned = controlled(&self.system, k, u)?;
+        let owned = system_at(&self.system, k, h, u)?;
         let sys = owned.as_ref().unwrap_or(&self.system);
         let (x, w, mu) = (&state.x, &state.w, &state.mu);
-        let h = sys.time_step();
-        let last = ws.history.last.as_ref();
-        let before = ws.history.before.as_ref();
-        let dx = predicted_increment(last.map(|l| &l.0), before.map(|b| &b.0));
-        let du = predicted_increment(last.map(|l| &l.1), before.map(|b| &b.1));
+        let dx = predicted_increment(&ws.history.map(|l| l.0), h);
+        let du = predicted_increment(&ws.history.map(|l| l.1), h);
         let (lambda0, nu0) = ws
             .multipliers
             .unwrap_or((SVector::zeros(), SVector::zeros()));
@@ -640,7 +642,7 @@ where
                 residual: stats.residual,
             });
         }
-        ws.history.push((x1 - x, group_unknown));
+        ws.history.push((x1 - x, group_unknown), h);
         ws.multipliers = Some((lambda, nu));
         let constraint_residual = if <L as Constrained<S, K, N, M, Z>>::HOLONOMIC {
             inf_norm(&sys.constraint(&sys.untrivialize(&next).q))
@@ -670,13 +672,15 @@ where
         ConstrainedTrajectory {
             h: integrator.system.time_step(),
             states: Vec::with_capacity(steps + 1),
+            times: Vec::with_capacity(steps + 1),
             steps: Vec::with_capacity(steps),
             stats: Vec::with_capacity(steps),
         }
     }
 
-    fn push(&mut self, state: &ReducedState<S, K>, record: Option<&ConstrainedStep<M>>) {
+    fn push(&mut self, t: f64, state: &ReducedState<S, K>, record: Option<&ConstrainedStep<M>>) {
         self.states.push(*state);
+        self.times.push(t);
         if let Some(step) = record {
             self.steps.push(*step);
             self.stats.push(step.stats);

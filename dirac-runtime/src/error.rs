@@ -75,6 +75,29 @@ pub enum StepError {
         /// The offending value.
         h: f64,
     },
+    /// A step-size policy gave a size that is not a positive finite number for step `step`
+    /// (see [`crate::driver::StepSize`]).
+    #[error("step {step}: invalid step size h = {h} from the step-size policy: it must be positive and finite")]
+    InvalidStepSize {
+        /// Index of the step.
+        step: usize,
+        /// The offending value.
+        h: f64,
+    },
+    /// A step-size schedule ([`crate::driver::StepSizes`]) has no size for step `step`: it is
+    /// shorter than the run.
+    #[error("step {step}: the step-size schedule ended before the run (it has {step} size(s)); give one size per step or a shorter run")]
+    ScheduleEnded {
+        /// Index of the step that has no size.
+        step: usize,
+    },
+    /// A run was configured inconsistently (no length, an end time before the start, a zero
+    /// output stride; see [`crate::driver::Run`]). Nothing was computed.
+    #[error("invalid run: {reason}")]
+    InvalidRun {
+        /// What is wrong, with the figures.
+        reason: String,
+    },
     /// A symmetric composition was asked of a discrete Lagrangian that is not symmetric:
     /// `L_d(q0, q1; −h) + L_d(q1, q0; h)` is not zero at sample points near the initial state
     /// (see [`crate::compose`]). Its step is not self-adjoint, so the composition does not reach
@@ -139,6 +162,9 @@ impl StepError {
             StepError::InvalidAtlas { .. } => "invalid atlas",
             StepError::InvalidSize { .. } => "invalid size",
             StepError::InvalidTimeStep { .. } => "invalid time step",
+            StepError::InvalidStepSize { .. } => "invalid step size",
+            StepError::ScheduleEnded { .. } => "step-size schedule ended",
+            StepError::InvalidRun { .. } => "invalid run",
             StepError::NotSymmetric { .. } => "non-symmetric discrete Lagrangian",
             StepError::InvalidControls { .. } => "invalid controls",
             StepError::ConstraintViolated { .. } => "constraint violated",
@@ -153,8 +179,11 @@ impl StepError {
             | StepError::SingularJacobian { step, .. }
             | StepError::IllConditioned { step, .. }
             | StepError::NonFinite { step, .. }
+            | StepError::InvalidStepSize { step, .. }
+            | StepError::ScheduleEnded { step }
             | StepError::InvalidControls { step, .. } => step,
             StepError::InvalidTimeStep { .. }
+            | StepError::InvalidRun { .. }
             | StepError::NotSymmetric { .. }
             | StepError::InvalidAtlas { .. }
             | StepError::InvalidSize { .. }
@@ -172,6 +201,9 @@ impl StepError {
             | StepError::IllConditioned { residual, .. }
             | StepError::NonFinite { residual, .. } => residual,
             StepError::InvalidTimeStep { .. }
+            | StepError::InvalidStepSize { .. }
+            | StepError::ScheduleEnded { .. }
+            | StepError::InvalidRun { .. }
             | StepError::NotSymmetric { .. }
             | StepError::InvalidAtlas { .. }
             | StepError::InvalidSize { .. }

@@ -12,8 +12,9 @@
 //! * [`stepper`]: the one stepping abstraction ([`Stepper`]), implemented by the integrators
 //!   [`reduced`] (eqs. (4.6)/(4.8)), [`unreduced`] (Definitions 2.7/2.8), [`compose`] (symmetric
 //!   compositions of order 4 and 6) and [`atlas`] (§6: charts and transitions);
-//! * [`driver`]: the one run loop ([`Drive`]: `run`, `integrate`, stop conditions, ensembles),
-//!   written once for every stepper; [`ensemble`]: parallel members;
+//! * [`driver`]: the one run, configured ([`Drive::run`]: steps or an end time, step sizes per
+//!   step, controls, stop conditions, observers; collected or streamed; ensembles), written once
+//!   for every stepper; [`ensemble`]: parallel members;
 //! * [`state`], [`error`] (a failed step is a value carrying its index and residual),
 //!   [`diagnostics`] (the paper's Dirac structures, energies and action along a trajectory),
 //!   [`continuous`] (a continuous Lagrangian's Legendre map and energy), [`adapted`] (declared
@@ -62,7 +63,10 @@ pub mod prelude {
         ContinuousLagrangian, LegendreError,
     };
     pub use crate::diagnostics::trajectory_energies;
-    pub use crate::driver::{ControlLaw, ControlSequence, Drive, RunSummary};
+    pub use crate::driver::{
+        ControlLaw, ControlSequence, Drive, Ensemble, Fixed, Observer, Run, RunSummary, StepSize,
+        StepSizes, StopCondition,
+    };
     pub use crate::element::{
         ElementIntegrator, ElementLagrangian, ElementState, ElementTrajectory, Parallel,
     };

@@ -10,7 +10,7 @@ use crate::linalg::{Lu, RCOND_CLEARANCE};
 use crate::newton::{self, inf_norm, NewtonOptions};
 use crate::state::ReducedState;
 use crate::stepper::{
-    check_inputs, controlled, predicted_increment, step_error, Collect, History, StepStats,
+    check_inputs, predicted_increment, step_error, system_at, Collect, History, StepStats,
     StepStatsExt, Stepper,
 };
 use crate::system::{join, split, Minus, Plus, Reduced, Side, Variant};
@@ -32,16 +32,19 @@ impl<const K: usize> AsRef<StepStats> for ReducedStep<K> {
     }
 }
 
-/// A reduced trajectory: states `0..=steps()` at times `t_k = k h`, and for each step the solved
-/// group unknown and the Newton statistics.
+/// A reduced trajectory: states `0..=steps()` at their times `t_k` (`k h` for a fixed step), and
+/// for each step the solved group unknown and the Newton statistics.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Trajectory<const S: usize, const K: usize> {
-    /// The time step `h`.
+    /// The integrator's time step `h` (the default step of a run; see [`Self::times`] for the
+    /// time of each state).
     pub h: f64,
     /// The equations that produced it.
     pub variant: Variant,
-    /// `states[k]` is the state at `t_k`.
+    /// `states[k]` is the state at `times[k]`.
     pub states: Vec<ReducedState<S, K>>,
+    /// `times[k] = t_k`, the time of `states[k]` (`k h` exactly for a fixed step).
+    pub times: Vec<f64>,
     /// The group unknown of step `k` ([`ReducedStep::group_unknown`]).
     pub group_unknowns: Vec<SVector<f64, K>>,
     /// Newton statistics of each step.
@@ -56,9 +59,20 @@ macro_rules! trajectory_accessors {
             self.states.len() - 1
         }
 
-        /// The time of state `k`.
+        /// The time `t_k` of state `k`.
         pub fn time(&self, k: usize) -> f64 {
-            k as f64 * self.h
+            self.times[k]
+        }
+
+        /// The size `t_{k+1} − t_k` of step `k` (`h` itself for a fixed step).
+        pub fn step_size(&self, k: usize) -> f64 {
+            if crate::stepper::same_step(self.times[k + 1], (k + 1) as f64 * self.h)
+                && crate::stepper::same_step(self.times[k], k as f64 * self.h)
+            {
+                self.h
+            } else {
+                self.times[k + 1] - self.times[k]
+            }
         }
 
         /// The last state.
@@ -107,13 +121,15 @@ where
             h: integrator.system.time_step(),
             variant: D::VARIANT,
             states: Vec::with_capacity(steps + 1),
+            times: Vec::with_capacity(steps + 1),
             group_unknowns: Vec::with_capacity(steps),
             stats: Vec::with_capacity(steps),
         }
     }
 
-    fn push(&mut self, state: &ReducedState<S, K>, record: Option<&ReducedStep<K>>) {
+    fn push(&mut self, t: f64, state: &ReducedState<S, K>, record: Option<&ReducedStep<K>>) {
         self.states.push(*state);
+        self.times.push(t);
         if let Some(step) = record {
             self.group_unknowns.push(step.group_unknown);
             self.stats.push(step.stats);
@@ -225,20 +241,22 @@ where
         state: &ReducedState<S, K>,
         guess: &SVector<f64, N>,
     ) -> Result<(ReducedState<S, K>, ReducedStep<K>), StepError> {
-        self.solve_step(&mut self.system.linear_solver(), k, state, guess, &[])
+        let h = self.system.time_step();
+        self.solve_step(&mut self.system.linear_solver(), k, h, state, guess, &[])
     }
 
-    /// The step from `state` with the controls `u` (empty: the system's own), Newton starting
-    /// at `guess`, in the linear solver `solver`.
+    /// The step of size `h` from `state` with the controls `u` (empty: the system's own),
+    /// Newton starting at `guess`, in the linear solver `solver`.
     pub(crate) fn solve_step(
         &self,
         solver: &mut L::Linear,
         k: usize,
+        h: f64,
         state: &ReducedState<S, K>,
         guess: &SVector<f64, N>,
         u: &[f64],
     ) -> Result<(ReducedState<S, K>, ReducedStep<K>), StepError> {
-        let owned = controlled(&self.system, k, u)?;
+        let owned = system_at(&self.system, k, h, u)?;
         let sys = owned.as_ref().unwrap_or(&self.system);
         let (x, w, mu) = (&state.x, &state.w, &state.mu);
         let rho = inf_norm(w).max(inf_norm(mu));
@@ -430,35 +448,34 @@ where
         &self,
         workspace: &mut Self::Workspace,
         k: usize,
+        h: f64,
         state: &ReducedState<S, K>,
         u: &[f64],
     ) -> Result<(ReducedState<S, K>, ReducedStep<K>), StepError> {
-        let history = &workspace.history;
-        let guess =
-            reduced_guess::<S, K, N>(&state.x, history.last.as_ref(), history.before.as_ref());
-        let (next, step) = self.solve_step(&mut workspace.solver, k, state, &guess, u)?;
+        let guess = reduced_guess::<S, K, N>(&state.x, &workspace.history, h);
+        let (next, step) = self.solve_step(&mut workspace.solver, k, h, state, &guess, u)?;
         workspace
             .history
-            .push((next.x - state.x, step.group_unknown));
+            .push((next.x - state.x, step.group_unknown), h);
         Ok((next, step))
     }
 }
 
-/// Newton's initial guess for the step from `x`, `z = (x_{k+1}, u)`, from the last two steps,
-/// each given as its shape increment `x_{j+1} − x_j` and its group unknown (newest first; `None`
-/// before the start): the shape advances by the extrapolated increment (`x` at the first step,
-/// `x + Δ_{k−1}` at the second, then `x + 2 Δ_{k−1} − Δ_{k−2}`, the quadratic through the last
-/// three points, whose error is `O(h³)` against the linear one's `O(h²)`), and the group unknown
-/// by the same rule one order lower (`0`, the last one, then `2 u_{k−1} − u_{k−2}`: it is itself
-/// an increment).
+/// Newton's initial guess for the step of size `h` from `x`, `z = (x_{k+1}, u)`, from the last
+/// two steps, each given as its shape increment `x_{j+1} − x_j` and its group unknown with the
+/// step's size (newest first; none before the start): the shape advances by the extrapolated
+/// increment (`x` at the first step, `x + Δ_{k−1}` at the second, then the quadratic through the
+/// last three points, `x + 2 Δ_{k−1} − Δ_{k−2}` on a uniform grid, whose error is `O(h³)` against
+/// the linear one's `O(h²)`), and the group unknown by the same rule (it is itself an increment);
+/// see [`crate::stepper`]'s `predicted_increment` for unequal steps.
 #[doc(hidden)]
 pub fn reduced_guess<const S: usize, const K: usize, const N: usize>(
     x: &SVector<f64, S>,
-    last: Option<&(SVector<f64, S>, SVector<f64, K>)>,
-    before: Option<&(SVector<f64, S>, SVector<f64, K>)>,
+    history: &History<(SVector<f64, S>, SVector<f64, K>)>,
+    h: f64,
 ) -> SVector<f64, N> {
-    let dx = predicted_increment(last.map(|l| &l.0), before.map(|b| &b.0));
-    let u = predicted_increment(last.map(|l| &l.1), before.map(|b| &b.1));
+    let dx = predicted_increment(&history.map(|l| l.0), h);
+    let u = predicted_increment(&history.map(|l| l.1), h);
     join::<S, K, N>(
         &dx.map_or(*x, |dx| x + dx),
         &u.unwrap_or_else(SVector::zeros),

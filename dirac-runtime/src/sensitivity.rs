@@ -213,7 +213,8 @@ where
         state: &ReducedState<S, K>,
         u: &[f64],
     ) -> Result<(ReducedState<S, K>, ReducedStep<K>, Sensitivity), StepError> {
-        let (next, record) = self.step_with(&mut self.workspace(), k, state, u)?;
+        let (next, record) =
+            self.step_with(&mut self.workspace(), k, self.time_step(), state, u)?;
         let sensitivity = self.sensitivity(k, state, &next, &record, u)?;
         Ok((next, record, sensitivity))
     }
@@ -274,7 +275,7 @@ where
         state: &CanonicalState<N>,
         u: &[f64],
     ) -> Result<(CanonicalState<N>, crate::StepStats, Sensitivity), StepError> {
-        let (next, stats) = self.step_with(&mut self.workspace(), k, state, u)?;
+        let (next, stats) = self.step_with(&mut self.workspace(), k, self.time_step(), state, u)?;
         let sensitivity = self.sensitivity(k, state, &next, u)?;
         Ok((next, stats, sensitivity))
     }

@@ -49,16 +49,22 @@ pub trait Stepper {
         0
     }
 
-    /// Takes step `k` from `state` in `workspace` with the controls `u` (in the order of
-    /// [`crate::DiscreteLagrangian::CONTROLS`]; empty: the values the system holds). Newton
-    /// starts from the guess that the workspace's memory of the previous steps extrapolates,
-    /// and on success the step is added to that memory. Fails with the typed error of step `k`;
-    /// the workspace is then still valid (a later call starts from the memory of the last
-    /// successful steps).
+    /// Takes step `k`, of size `h`, from `state` in `workspace` with the controls `u` (in the
+    /// order of [`crate::DiscreteLagrangian::CONTROLS`]; empty: the values the system holds).
+    ///
+    /// `h` is the step's own size: [`Self::time_step`] for a fixed-step run (then the step is the
+    /// system's own, bit for bit), any other positive value for a step-size schedule. A
+    /// variational step of size `h_k` is the discrete Lagrangian `L_d(q_k, q_{k+1}; h_k)`'s
+    /// step: see the guide's chapter on integrators for what a sequence of such steps keeps.
+    /// Newton starts from the guess that the workspace's memory of the previous steps (and
+    /// their sizes) extrapolates, and on success the step is added to that memory. Fails with
+    /// the typed error of step `k`; the workspace is then still valid (a later call starts from
+    /// the memory of the last successful steps).
     fn step_with(
         &self,
         workspace: &mut Self::Workspace,
         k: usize,
+        h: f64,
         state: &Self::State,
         u: &[f64],
     ) -> Result<(Self::State, Self::Record), StepError>;
@@ -71,23 +77,24 @@ pub trait Stepper {
         &self,
         workspace: &mut Self::Workspace,
         k: usize,
+        h: f64,
         state: &Self::State,
         u: &[f64],
         next: &mut Self::State,
     ) -> Result<Self::Record, StepError> {
-        let (state, record) = self.step_with(workspace, k, state, u)?;
+        let (state, record) = self.step_with(workspace, k, h, state, u)?;
         *next = state;
         Ok(record)
     }
 
-    /// [`Self::step_with`] with the controls the system holds.
+    /// [`Self::step_with`] of size [`Self::time_step`] with the controls the system holds.
     fn step_in(
         &self,
         workspace: &mut Self::Workspace,
         k: usize,
         state: &Self::State,
     ) -> Result<(Self::State, Self::Record), StepError> {
-        self.step_with(workspace, k, state, &[])
+        self.step_with(workspace, k, self.time_step(), state, &[])
     }
 
     /// One step `k` from `state` in a fresh workspace (Newton starts without history). A loop
@@ -99,6 +106,35 @@ pub trait Stepper {
     ) -> Result<(Self::State, Self::Record), StepError> {
         self.step_in(&mut self.workspace(), k, state)
     }
+}
+
+/// The system of step `k`: `sys` itself when the step has the system's own size and no controls
+/// are given (`None`: borrow it, bit for bit the fixed-step system), otherwise a copy with the
+/// controls `u` set and the time step `h` ([`crate::DiscreteLagrangian::with_time_step`]). The
+/// typed error of step `k` when `u` has the wrong length or a value that is not finite.
+pub(crate) fn system_at<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    k: usize,
+    h: f64,
+    u: &[f64],
+) -> Result<Option<L>, StepError>
+where
+    L: crate::DiscreteLagrangian<S, K, N>,
+{
+    let controlled = controlled(sys, k, u)?;
+    if same_step(h, sys.time_step()) {
+        return Ok(controlled);
+    }
+    Ok(Some(match controlled {
+        Some(c) => c.with_time_step(h),
+        None => sys.with_time_step(h),
+    }))
+}
+
+/// Whether `h` is the system's own step `own`, bit for bit (then the system serves unchanged).
+#[inline]
+pub(crate) fn same_step(h: f64, own: f64) -> bool {
+    h.to_bits() == own.to_bits()
 }
 
 /// The system `sys` with the controls `u` set (`None` for `u` empty: `sys` itself serves); the
@@ -135,8 +171,9 @@ where
 pub trait Collect<St: Stepper + ?Sized>: Sized {
     /// An empty trajectory of `stepper` with room for `steps` steps.
     fn start(stepper: &St, steps: usize) -> Self;
-    /// Appends a state; `record` is the step that produced it (`None` for the initial state).
-    fn push(&mut self, state: &St::State, record: Option<&St::Record>);
+    /// Appends the state at time `t`; `record` is the step that produced it (`None` for the
+    /// initial state).
+    fn push(&mut self, t: f64, state: &St::State, record: Option<&St::Record>);
 }
 
 /// What one step cost (the default: nothing yet, as a sum over stages starts).
@@ -225,14 +262,16 @@ impl StepStatsExt for [StepStats] {
     }
 }
 
-/// The increments of the last two steps, newest first: what Newton's guess for the next step
-/// extrapolates from (GeometricIntegrators.jl's extrapolated initial guess).
+/// The increments of the last two steps, newest first, with the sizes of those steps: what
+/// Newton's guess for the next step extrapolates from (GeometricIntegrators.jl's extrapolated
+/// initial guess, here on a nonuniform grid).
+#[doc(hidden)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct History<T> {
-    /// The last step's increment.
-    pub last: Option<T>,
-    /// The increment of the step before.
-    pub before: Option<T>,
+    /// The last step's increment and size.
+    pub last: Option<(T, f64)>,
+    /// The increment and size of the step before.
+    pub before: Option<(T, f64)>,
 }
 
 impl<T> Default for History<T> {
@@ -245,9 +284,9 @@ impl<T> Default for History<T> {
 }
 
 impl<T: Copy> History<T> {
-    /// Records a new step's increment.
-    pub fn push(&mut self, increment: T) {
-        self.before = self.last.replace(increment);
+    /// Records a new step's increment and its size `h`.
+    pub fn push(&mut self, increment: T, h: f64) {
+        self.before = self.last.replace((increment, h));
     }
 
     /// Forgets everything (after a change of coordinates).
@@ -255,24 +294,58 @@ impl<T: Copy> History<T> {
         *self = Self::default();
     }
 
-    /// Restarts from one known increment (after a change of chart, the last step re-expressed in
-    /// the new chart), or from nothing.
-    pub fn restart(&mut self, last: Option<T>) {
+    /// Restarts from one known increment and its step size (after a change of chart, the last
+    /// step re-expressed in the new chart), or from nothing.
+    pub fn restart(&mut self, last: Option<(T, f64)>) {
         self.last = last;
         self.before = None;
     }
+
+    /// The last increment, without its size.
+    pub fn last_increment(&self) -> Option<&T> {
+        self.last.as_ref().map(|(d, _)| d)
+    }
+
+    /// The last two entries, each mapped by `f` (a component of the increment), with their sizes.
+    pub fn map<U>(&self, f: impl Fn(&T) -> U) -> History<U> {
+        History {
+            last: self.last.as_ref().map(|(d, h)| (f(d), *h)),
+            before: self.before.as_ref().map(|(d, h)| (f(d), *h)),
+        }
+    }
 }
 
-/// The next increment predicted from the last two: `0` before any step, the last one after one,
-/// then `2 Δ_{k−1} − Δ_{k−2}` — the quadratic through the last three points, whose error is
-/// `O(h³)` against the linear one's `O(h²)`.
+/// The next increment, over a step of size `h`, predicted from the last two (each with its step
+/// size, newest first): `0` before any step, the last one scaled to `h` after one, then the
+/// quadratic through the last three points. On the grid `t_{k−2}, t_{k−1}, t_k` with slopes
+/// `v_1 = Δ_{k−1}/h_{k−1}`, `v_2 = Δ_{k−2}/h_{k−2}` (Newton's divided differences) the quadratic
+/// gives
+///
+/// ```text
+/// Δ_k = h v_1 + h (h + h_{k−1}) (v_1 − v_2) / (h_{k−1} + h_{k−2}),
+/// ```
+///
+/// with error `O(h³)` against the linear one's `O(h²)`. On a uniform grid this is
+/// `2 Δ_{k−1} − Δ_{k−2}`, which is what is computed there (bit for bit the fixed-step guess).
+/// The same rule serves a group unknown, which is itself an increment.
 pub(crate) fn predicted_increment<const M: usize>(
-    last: Option<&SVector<f64, M>>,
-    before: Option<&SVector<f64, M>>,
+    history: &History<SVector<f64, M>>,
+    h: f64,
 ) -> Option<SVector<f64, M>> {
-    match (last, before) {
-        (Some(d1), Some(d2)) => Some(2.0 * d1 - d2),
-        (Some(d1), None) => Some(*d1),
+    match (&history.last, &history.before) {
+        (Some((d1, h1)), Some((d2, h2))) => {
+            if same_step(*h1, h) && same_step(*h2, h) {
+                Some(2.0 * d1 - d2)
+            } else {
+                let (v1, v2) = (d1 / *h1, d2 / *h2);
+                Some(v1 * h + (v1 - v2) * (h * (h + h1) / (h1 + h2)))
+            }
+        }
+        (Some((d1, h1)), None) => Some(if same_step(*h1, h) {
+            *d1
+        } else {
+            d1 * (h / h1)
+        }),
         _ => None,
     }
 }

@@ -9,7 +9,7 @@ use crate::newton::{self, inf_norm, NewtonOptions};
 use crate::reduced::trajectory_accessors;
 use crate::state::CanonicalState;
 use crate::stepper::{
-    check_inputs, controlled, predicted_increment, step_error, Collect, History, StepStats,
+    check_inputs, predicted_increment, step_error, system_at, Collect, History, StepStats,
     StepStatsExt, Stepper,
 };
 use crate::system::{LagrangianHessian, Unreduced};
@@ -17,10 +17,13 @@ use crate::system::{LagrangianHessian, Unreduced};
 /// An unreduced trajectory `(q_k, p_k)`, `k = 0..=steps()`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CanonicalTrajectory<const N: usize> {
-    /// The time step `h`.
+    /// The integrator's time step `h` (the default step of a run; see [`Self::times`] for the
+    /// time of each state).
     pub h: f64,
-    /// `states[k]` is the state at `t_k`.
+    /// `states[k]` is the state at `times[k]`.
     pub states: Vec<CanonicalState<N>>,
+    /// `times[k] = t_k`, the time of `states[k]` (`k h` exactly for a fixed step).
+    pub times: Vec<f64>,
     /// Newton statistics of each step.
     pub stats: Vec<StepStats>,
 }
@@ -44,12 +47,14 @@ where
         CanonicalTrajectory {
             h: integrator.system.time_step(),
             states: Vec::with_capacity(steps + 1),
+            times: Vec::with_capacity(steps + 1),
             stats: Vec::with_capacity(steps),
         }
     }
 
-    fn push(&mut self, state: &CanonicalState<N>, record: Option<&StepStats>) {
+    fn push(&mut self, t: f64, state: &CanonicalState<N>, record: Option<&StepStats>) {
         self.states.push(*state);
+        self.times.push(t);
         if let Some(stats) = record {
             self.stats.push(*stats);
         }
@@ -148,23 +153,25 @@ where
         self.solve_step(
             &mut self.system.unreduced_linear_solver(),
             k,
+            self.system.time_step(),
             state,
             guess,
             &[],
         )
     }
 
-    /// The step from `state` with the controls `u` (empty: the system's own), Newton starting
-    /// at `guess`, in the linear solver `solver`.
+    /// The step of size `h` from `state` with the controls `u` (empty: the system's own),
+    /// Newton starting at `guess`, in the linear solver `solver`.
     fn solve_step(
         &self,
         solver: &mut L::UnreducedLinear,
         k: usize,
+        h: f64,
         state: &CanonicalState<N>,
         guess: &SVector<f64, N>,
         u: &[f64],
     ) -> Result<(CanonicalState<N>, StepStats), StepError> {
-        let owned = controlled(&self.system, k, u)?;
+        let owned = system_at(&self.system, k, h, u)?;
         let sys = owned.as_ref().unwrap_or(&self.system);
         let (q, p) = (&state.q, &state.p);
         let rho = inf_norm(p);
@@ -233,27 +240,28 @@ where
         &self,
         workspace: &mut Self::Workspace,
         k: usize,
+        h: f64,
         state: &CanonicalState<N>,
         u: &[f64],
     ) -> Result<(CanonicalState<N>, StepStats), StepError> {
-        let history = &workspace.history;
-        let guess = canonical_guess(&state.q, history.last.as_ref(), history.before.as_ref());
-        let (next, stats) = self.solve_step(&mut workspace.solver, k, state, &guess, u)?;
-        workspace.history.push(next.q - state.q);
+        let guess = canonical_guess(&state.q, &workspace.history, h);
+        let (next, stats) = self.solve_step(&mut workspace.solver, k, h, state, &guess, u)?;
+        workspace.history.push(next.q - state.q, h);
         Ok((next, stats))
     }
 }
 
-/// Newton's initial guess for `q_{k+1}` in the unreduced equations from the last two
-/// increments `q_{j+1} − q_j`, newest first: `q`, `q + Δ_{k−1}`, then `q + 2 Δ_{k−1} − Δ_{k−2}`
-/// (see [`crate::reduced::reduced_guess`]).
+/// Newton's initial guess for `q_{k+1}` over a step of size `h` in the unreduced equations from
+/// the last two increments `q_{j+1} − q_j` and their step sizes, newest first: `q`,
+/// `q + Δ_{k−1}`, then `q + 2 Δ_{k−1} − Δ_{k−2}` on a uniform grid (see
+/// [`crate::reduced::reduced_guess`]).
 #[doc(hidden)]
 pub fn canonical_guess<const N: usize>(
     q: &SVector<f64, N>,
-    last: Option<&SVector<f64, N>>,
-    before: Option<&SVector<f64, N>>,
+    history: &History<SVector<f64, N>>,
+    h: f64,
 ) -> SVector<f64, N> {
-    predicted_increment(last, before).map_or(*q, |dq| q + dq)
+    predicted_increment(history, h).map_or(*q, |dq| q + dq)
 }
 
 impl<L, const S: usize, const K: usize, const N: usize> UnreducedIntegrator<L, S, K, N>

@@ -44,7 +44,10 @@ pub fn print_table_1() -> Result<(), Box<dyn Error>> {
     let sys = ChargedParticleContinuous::paper(n);
     let initial: ReducedState<3, 1> =
         sys.reduced_state(SVector::zeros(), SVector::from([1.0, 0.0, 1.0, 1.0]));
-    let traj = ReducedIntegrator::plus(sys, NewtonOptions::default()).integrate(initial, n)?;
+    let traj = ReducedIntegrator::plus(sys, NewtonOptions::default())
+        .run(initial)
+        .steps(n)
+        .collect()?;
     println!(
         "continuous form (L_K(q, q̇), rule = left, initial state from q̇): N = {n}, |q(T) - q_N| = {:.5e}",
         final_error(&traj)
@@ -55,7 +58,10 @@ pub fn print_table_1() -> Result<(), Box<dyn Error>> {
 /// Integrates the paper's run with `n` steps.
 pub fn run(n: usize) -> Result<Trajectory<3, 1>, Box<dyn Error>> {
     let integ = ReducedIntegrator::plus(ChargedParticle::paper(n), NewtonOptions::default());
-    Ok(integ.integrate(ChargedParticle::paper_initial_state(), n)?)
+    Ok(integ
+        .run(ChargedParticle::paper_initial_state())
+        .steps(n)
+        .collect()?)
 }
 
 fn final_error(traj: &Trajectory<3, 1>) -> f64 {

@@ -78,7 +78,10 @@ impl Swingup {
         assert_eq!(u.len(), self.n, "one control per step");
         let traj = self
             .integ
-            .integrate_controlled(self.initial, self.n, ControlSequence::flat(u, 1))
+            .run(self.initial)
+            .steps(self.n)
+            .controls(ControlSequence::flat(u, 1))
+            .collect()
             .map_err(|e| format!("forward pass failed: {e}"))?;
         let defect = components(traj.last()) - self.target;
         Ok(Shot { traj, defect })
@@ -244,7 +247,13 @@ impl Swingup {
         for k in 0..self.n {
             let (next, record) = self
                 .integ
-                .step_with(&mut ws, k, &state_of(&s[k]), &[u[k]])
+                .step_with(
+                    &mut ws,
+                    k,
+                    self.integ.time_step(),
+                    &state_of(&s[k]),
+                    &[u[k]],
+                )
                 .ok()?;
             out.defects.push(components(&next) - s[k + 1]);
             out.next.push(next);

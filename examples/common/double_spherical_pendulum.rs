@@ -70,10 +70,13 @@ pub fn run() -> Result<Run, Box<dyn Error>> {
     let mut results = None;
     for _ in 0..TIMING_REPEATS {
         let start = Instant::now();
-        let trajectory = reduced.integrate(initial, DSP_STEPS)?;
+        let trajectory = reduced.run(initial).steps(DSP_STEPS).collect()?;
         wall_time = wall_time.min(start.elapsed());
         let start = Instant::now();
-        let canonical = unreduced.integrate(system.untrivialize(&initial), DSP_STEPS)?;
+        let canonical = unreduced
+            .run(system.untrivialize(&initial))
+            .steps(DSP_STEPS)
+            .collect()?;
         unreduced_wall_time = unreduced_wall_time.min(start.elapsed());
         results = Some((trajectory, canonical));
     }
@@ -304,8 +307,10 @@ pub fn pole_error_path() {
         initial
     };
     let describe = |label: &str, options: NewtonOptions, distance: f64| {
-        let result =
-            ReducedIntegrator::plus(system, options).integrate(start_at(distance), DSP_STEPS);
+        let result = ReducedIntegrator::plus(system, options)
+            .run(start_at(distance))
+            .steps(DSP_STEPS)
+            .collect();
         match result {
             Ok(traj) => {
                 let (k, rcond) = traj.worst_rcond().unwrap_or((0, f64::NAN));

@@ -50,7 +50,7 @@
 //! let sys = Pendulum { h: 0.01, m: 1.0, l: 1.0 };
 //! let start = CanonicalState::new([1.0, 0.0], [0.0, 0.0]);
 //! let traj = ConstrainedIntegrator::new(sys, NewtonOptions::default())
-//!     .integrate(start, 1000)
+//!     .run(start).steps(1000).collect()
 //!     .unwrap();
 //! assert!(traj.max_constraint_residual() < 1e-10); // on the circle at every step, to the Newton tolerance
 //! let tension = traj.steps[500].lambda[0]; // the rod's multiplier at step 500
@@ -66,7 +66,7 @@
 //! let sys = Sleigh { h: 0.01, m: 1.0, i: 0.2, a: 0.5 };
 //! let start = sys.trivialize(&CanonicalState::new([0.0; 3], [0.4, 0.2, 1.0]));
 //! let traj = ReducedConstrainedIntegrator::plus(sys, NewtonOptions::default())
-//!     .integrate(start, 2000)
+//!     .run(start).steps(2000).collect()
 //!     .unwrap();
 //! // The rotation dies out (ω = p_θ / I).
 //! assert!((traj.last().w[0] / sys.i).abs() < 1e-3);

@@ -59,7 +59,7 @@
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
 //! let sys = DoubleSphericalPendulum::paper();
 //! let start = DoubleSphericalPendulum::paper_initial_state();
-//! let traj = ReducedIntegrator::plus(sys, NewtonOptions::default()).integrate(start, 500)?;
+//! let traj = ReducedIntegrator::plus(sys, NewtonOptions::default()).run(start).steps(500).collect()?;
 //!
 //! // How the steps were solved.
 //! let (step, rcond) = traj.worst_rcond().expect("Newton corrected at least once");

@@ -47,7 +47,7 @@
 //!
 //! // An iteration cap of two corrections: the first step that needs three fails, typed.
 //! let tight = NewtonOptions { max_iterations: 2, ..NewtonOptions::default() };
-//! let e = ReducedIntegrator::plus(sys, tight).integrate(start, 100).unwrap_err();
+//! let e = ReducedIntegrator::plus(sys, tight).run(start).steps(100).collect().unwrap_err();
 //! let StepError::NotConverged { step, iterations, residual } = e.source else {
 //!     panic!("expected NotConverged, got {}", e.source);
 //! };
@@ -60,14 +60,14 @@
 //! let mut at_pole = start;
 //! at_pole.x[0] = std::f64::consts::PI - 1e-7;
 //! let integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
-//! let e = integ.run(at_pole, 100, |_, _, _| {}).unwrap_err();
+//! let e = integ.run(at_pole).steps(100).observe(|_, _, _, _| {}).stream().unwrap_err();
 //! assert_eq!((e.source.step(), e.trajectory.steps), (0, 0)); // refused, nothing taken
 //! println!("{}", e.source);
 //!
 //! // Inputs are checked before the first step.
 //! let backwards = DoubleSphericalPendulum { h: -0.01, ..sys };
 //! let e = ReducedIntegrator::plus(backwards, NewtonOptions::default())
-//!     .integrate(start, 10)
+//!     .run(start).steps(10).collect()
 //!     .unwrap_err();
 //! assert_eq!(e.source, StepError::InvalidTimeStep { h: -0.01 });
 //! ```

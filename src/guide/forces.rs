@@ -54,7 +54,7 @@
 //!
 //! // A feedback law: a torque against the table's momentum.
 //! let law = |_k: usize, s: &ReducedState<1, 1>, u: &mut [f64]| u[0] = -0.8 * s.mu[0];
-//! let traj = integ.integrate_controlled(s0, 1000, law).unwrap();
+//! let traj = integ.run(s0).steps(1000).controls(law).collect().unwrap();
 //! // The forced Noether balance: μ changes by exactly the applied impulse h τ_k.
 //! for pair in traj.states.windows(2) {
 //!     let impulse = h * (-0.8 * pair[0].mu[0]);

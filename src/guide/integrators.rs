@@ -78,8 +78,8 @@
 //! // (+) and (−): the same physical trajectory.
 //! let sys = DoubleSphericalPendulum::paper();
 //! let start = DoubleSphericalPendulum::paper_initial_state();
-//! let plus = ReducedIntegrator::plus(sys, NewtonOptions::default()).integrate(start, 200)?;
-//! let minus = ReducedIntegrator::minus(sys, NewtonOptions::default()).integrate(start, 200)?;
+//! let plus = ReducedIntegrator::plus(sys, NewtonOptions::default()).run(start).steps(200).collect()?;
+//! let minus = ReducedIntegrator::minus(sys, NewtonOptions::default()).run(start).steps(200).collect()?;
 //! assert!((plus.last().x - minus.last().x).amax() < 1e-9);
 //!
 //! // One step from an explicit Newton guess, outside a run.
@@ -96,7 +96,7 @@
 //!     CompositionMethod::KAHAN_LI_6,
 //! );
 //! let initial = kepler.periapsis_state(1.0, 0.5);
-//! let traj = order6.integrate(initial, 100)?;
+//! let traj = order6.run(initial).steps(100).collect()?;
 //! assert!((traj.last().x[0] - 0.5).abs() < 1e-6); // back at periapsis
 //! assert_eq!(traj.last().mu, initial.mu); // μ exact through negative substeps too
 //!
@@ -165,7 +165,7 @@
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
 //! let sys = DoubleSphericalPendulum::paper();
 //! let atlas = sys.atlas(NewtonOptions::default()); // three charts, six transitions
-//! let traj = atlas.integrate((PAPER, DoubleSphericalPendulum::paper_initial_state()), 1000)?;
+//! let traj = atlas.run((PAPER, DoubleSphericalPendulum::paper_initial_state())).steps(1000).collect()?;
 //! assert!(traj.switches.iter().all(|s| s.after.mu == s.before.mu)); // μ carried over exactly
 //! let (chart, last) = traj.last();
 //! println!("after 1000 steps: chart {chart}, {} switches, x = {}", traj.switches.len(), last.x);
@@ -213,22 +213,22 @@
 //!
 //! // Streamed: the largest radius seen, in constant memory.
 //! let mut r_max = 0.0_f64;
-//! let summary = integ.run(start, 1000, |_, state, _| r_max = r_max.max(state.x[0]))?;
+//! let summary = integ.run(start).steps(1000).observe(|_, _, state, _| r_max = r_max.max(state.x[0])).stream()?;
 //! assert!((r_max - 1.5).abs() < 1e-3); // apoapsis a (1 + e)
 //! assert_eq!(summary.steps, 1000);
 //! println!("{:.2} Newton corrections per step", summary.mean_iterations());
 //!
 //! // Stop at the first state past apoapsis (p_r = w turns negative).
-//! let half = integ.integrate_until(start, 1000, |_, s| s.w[0] < 0.0)?;
+//! let half = integ.run(start).steps(1000).stop(|_, _, s| s.w[0] < 0.0).collect()?;
 //! assert!((half.time(half.steps()) - std::f64::consts::PI).abs() < 0.02);
 //!
 //! // Ensembles: three eccentricities in parallel, each its own result, in input order.
 //! let starts: Vec<_> = [0.1, 0.3, 0.5].iter().map(|&e| sys.periapsis_state(1.0, e)).collect();
-//! let members = integ.integrate_ensemble(&starts, 100);
+//! let members = integ.ensemble(&starts).steps(100).collect();
 //! assert!(members.iter().all(|m| m.is_ok()));
 //! // Streamed members: each observer gets its member's index and writes to its own slot.
 //! let r_min: Vec<Mutex<f64>> = starts.iter().map(|_| Mutex::new(f64::INFINITY)).collect();
-//! let summaries = integ.run_ensemble(&starts, 1000, |member| {
+//! let summaries = integ.ensemble(&starts).steps(1000).stream(|member| {
 //!     let slot = &r_min[member];
 //!     move |_: usize, s: &ReducedState<1, 1>, _: Option<&StepStats>| {
 //!         let mut r = slot.lock().unwrap();

@@ -131,7 +131,7 @@
 //! // No symmetry: the plain variational integrator, and the Jacobian of its step map.
 //! let integ = UnreducedIntegrator::plus(HenonHeiles { h: 0.05 }, NewtonOptions::default());
 //! let start = CanonicalState::new([0.1, -0.2], [0.3, 0.25]);
-//! let traj = integ.integrate(start, 1000)?;
+//! let traj = integ.run(start).steps(1000).collect()?;
 //! let m = integ.step_jacobian(0, &traj.states[0], &traj.states[1])?;
 //! assert!(m.symplecticity_defect() < 1e-12);
 //! // The function stays callable, on the emitted configuration struct.
@@ -142,7 +142,7 @@
 //! let vortices = VortexPair { gamma1: 1.0, gamma2: 2.0, h: 0.05 };
 //! let q = SVector::from([1.0, 0.8, 2.0, 0.3]);
 //! let initial: ReducedState<3, 1> = vortices.reduced_state(q, SVector::zeros());
-//! let traj = ReducedIntegrator::plus(vortices, NewtonOptions::default()).integrate(initial, 100)?;
+//! let traj = ReducedIntegrator::plus(vortices, NewtonOptions::default()).run(initial).steps(100).collect()?;
 //! assert_eq!(traj.last().mu, initial.mu); // the angular impulse, exactly
 //!
 //! // The paper's charged particle as L_K(q, q̇) with the left-point rule: from q = 0 and
@@ -151,7 +151,7 @@
 //! let initial: ReducedState<3, 1> =
 //!     sys.reduced_state(SVector::zeros(), SVector::from([1.0, 0.0, 1.0, 1.0]));
 //! assert_eq!(initial, dirac::paper::ChargedParticle::paper_initial_state());
-//! let traj = ReducedIntegrator::plus(sys, NewtonOptions::default()).integrate(initial, 200)?;
+//! let traj = ReducedIntegrator::plus(sys, NewtonOptions::default()).run(initial).steps(200).collect()?;
 //! let e = reduced_continuous_energies(&sys, &traj)?;
 //! assert!((e.nodes[200] - e.nodes[0]).abs() < 1e-12); // E = ½|q̇|² + ½μ², conserved here
 //! # Ok(())

@@ -83,14 +83,14 @@
 //! // Streamed: the energy spread at the step midpoints, nothing stored.
 //! let (mut e_min, mut e_max) = (f64::INFINITY, f64::NEG_INFINITY);
 //! let mut previous = start;
-//! let summary = integ.run(start, 400, |k, state, _| {
+//! let summary = integ.run(start).steps(400).observe(|k, _, state, _| {
 //!     if k > 0 {
 //!         let (a, b) = (sys.untrivialize(&previous).q, sys.untrivialize(state).q);
 //!         let e = sys.energy(&(0.5 * (a + b)), &((b - a) / sys.h));
 //!         (e_min, e_max) = (e_min.min(e), e_max.max(e));
 //!     }
 //!     previous = *state;
-//! })?;
+//! }).stream()?;
 //! assert_eq!(summary.last.mu, start.mu); // the total momentum, exactly
 //! assert!(summary.factorizations < summary.steps / 4); // chord steps reuse factors
 //! println!(
@@ -105,8 +105,8 @@
 //!         sys.trivialize(&Toda::adapted_state(&q, &p))
 //!     })
 //!     .collect();
-//! let members = integ.integrate_ensemble(&starts, 50);
-//! let sequential = integ.integrate(starts[3], 50)?;
+//! let members = integ.ensemble(&starts).steps(50).collect();
+//! let sequential = integ.run(starts[3]).steps(50).collect()?;
 //! assert_eq!(members[3].as_ref().ok(), Some(&sequential));
 //! # Ok(())
 //! # }

@@ -91,7 +91,7 @@
 //! // Table 1, N = 100: |q(T) − q_N| to the digits the paper prints.
 //! let (n, printed) = TABLE_1[2];
 //! let integ = ReducedIntegrator::plus(ChargedParticle::paper(n), NewtonOptions::default());
-//! let traj = integ.integrate(ChargedParticle::paper_initial_state(), n)?;
+//! let traj = integ.run(ChargedParticle::paper_initial_state()).steps(n).collect()?;
 //! let exact = ChargedParticle::exact_position(CHARGED_PARTICLE_T);
 //! let error = (0..3).map(|i| (traj.last().x[i] - exact[i]).powi(2)).sum::<f64>().sqrt();
 //! assert!((error - printed).abs() < 5e-6, "|q(T) − q_N| = {error}");
@@ -100,9 +100,9 @@
 //! // The pendulum: the reduced run keeps μ exactly, the unreduced one to round-off per step.
 //! let sys = DoubleSphericalPendulum::paper();
 //! let start = DoubleSphericalPendulum::paper_initial_state();
-//! let reduced = ReducedIntegrator::plus(sys, NewtonOptions::default()).integrate(start, 1000)?;
+//! let reduced = ReducedIntegrator::plus(sys, NewtonOptions::default()).run(start).steps(1000).collect()?;
 //! let unreduced =
-//!     UnreducedIntegrator::plus(sys, NewtonOptions::default()).integrate(sys.untrivialize(&start), 1000)?;
+//!     UnreducedIntegrator::plus(sys, NewtonOptions::default()).run(sys.untrivialize(&start)).steps(1000).collect()?;
 //! assert!(reduced.states.iter().all(|s| s.mu == start.mu));
 //! // The same motion: the reduced states mapped back by (3.7) are the unreduced ones.
 //! for (r, u) in reduced.states.iter().zip(&unreduced.states) {

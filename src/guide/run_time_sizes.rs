@@ -29,7 +29,7 @@
 //!     let p = DVector::from_fn(n, |i, _| 0.3 * (0.5 * i as f64).cos());
 //!     let start = ElementState::new(q, p);
 //!     let mu0 = integ.momentum_map(&start)[0];
-//!     let summary = integ.run(start, 100, |_, _, _| ())?;
+//!     let summary = integ.run(start).steps(100).observe(|_, _, _, _| ()).stream()?;
 //!     // The total momentum of the declared translation is kept exactly (to round-off).
 //!     let mu = integ.momentum_map(&summary.last)[0];
 //!     assert!((mu - mu0).abs() < 1e-10);

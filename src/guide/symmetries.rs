@@ -101,9 +101,9 @@
 //! let connected = ConnectedParticle { h: 0.2, m: 1.0, b0: 1.0, b: 0.4 };
 //! let canonical = paper.untrivialize(&ChargedParticle::paper_initial_state());
 //! let a = ReducedIntegrator::plus(paper, NewtonOptions::default())
-//!     .integrate(paper.trivialize(&canonical), 50)?;
+//!     .run(paper.trivialize(&canonical)).steps(50).collect()?;
 //! let b = ReducedIntegrator::plus(connected, NewtonOptions::default())
-//!     .integrate(connected.trivialize(&canonical), 50)?;
+//!     .run(connected.trivialize(&canonical)).steps(50).collect()?;
 //! let (qa, qb) = (paper.untrivialize(a.last()).q, connected.untrivialize(b.last()).q);
 //! assert!((qa - qb).amax() < 1e-10);
 //!
@@ -115,7 +115,7 @@
 //! let p = SVector::from([0.5, -0.3, 0.8, -0.6, 0.1, -0.13]);
 //! let start = sys.trivialize(&Toda::adapted_state(&q, &p)); // (3.6) in adapted coordinates
 //! assert!((start.mu[0] - p.sum()).abs() < 1e-15); // μ is the total momentum
-//! let traj = ReducedIntegrator::plus(sys, NewtonOptions::default()).integrate(start, 100)?;
+//! let traj = ReducedIntegrator::plus(sys, NewtonOptions::default()).run(start).steps(100).collect()?;
 //! assert_eq!(traj.last().mu, start.mu); // exactly
 //! let end = Toda::from_adapted_state(&sys.untrivialize(traj.last())); // back to your coordinates
 //! println!("positions after 100 steps: {}", end.q);

@@ -371,6 +371,11 @@ pub fn generate(
             fn time_step(&self) -> f64 {
                 self.#step_field
             }
+            fn with_time_step(&self, h: f64) -> Self {
+                let mut system = ::std::clone::Clone::clone(self);
+                system.#step_field = h;
+                system
+            }
             fn parameter_values(&self) -> ::std::vec::Vec<f64> {
                 ::std::vec![#(#param_values),*]
             }

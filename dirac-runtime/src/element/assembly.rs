@@ -113,6 +113,8 @@ pub struct ElementWorkspace {
     last: DVector<f64>,
     before: DVector<f64>,
     known: u8,
+    /// The sizes of those two steps, newest first.
+    steps: (f64, f64),
 }
 
 impl std::fmt::Debug for ElementWorkspace {
@@ -271,6 +273,7 @@ impl ElementWorkspace {
             last: DVector::zeros(n),
             before: DVector::zeros(n),
             known: 0,
+            steps: (f64::NAN, f64::NAN),
         }
     }
 
@@ -325,26 +328,40 @@ impl ElementWorkspace {
         )
     }
 
-    /// Newton's first guess for `q_{k+1}` into `z`: `q_k` plus the increment the last two
-    /// extrapolate (`2 Δ_{k−1} − Δ_{k−2}`, or `Δ_{k−1}`, or none).
-    pub(super) fn guess(&self, q: &DVector<f64>, z: &mut DVector<f64>) {
+    /// Newton's first guess for `q_{k+1}`, over a step of size `h`, into `z`: `q_k` plus the
+    /// increment the last two extrapolate (`2 Δ_{k−1} − Δ_{k−2}` on a uniform grid, the
+    /// quadratic through the last three points on another: `crate::stepper`'s
+    /// `predicted_increment`; `Δ_{k−1}` scaled to `h` after one step; none before).
+    pub(super) fn guess(&self, q: &DVector<f64>, h: f64, z: &mut DVector<f64>) {
         z.copy_from(q);
+        let (h1, h2) = self.steps;
+        let same = |a: f64| a.to_bits() == h.to_bits();
         match self.known {
             0 => {}
-            1 => *z += &self.last,
-            _ => {
+            1 if same(h1) => *z += &self.last,
+            1 => z.axpy(h / h1, &self.last, 1.0),
+            _ if same(h1) && same(h2) => {
                 for ((zi, l), b) in z.iter_mut().zip(self.last.iter()).zip(self.before.iter()) {
                     *zi += 2.0 * l - b;
+                }
+            }
+            _ => {
+                // Δ = h v1 + c (v1 − v2), v_i = Δ_i / h_i, c = h (h + h1) / (h1 + h2).
+                let c = h * (h + h1) / (h1 + h2);
+                let (a, b) = ((h + c) / h1, c / h2);
+                for ((zi, l), p) in z.iter_mut().zip(self.last.iter()).zip(self.before.iter()) {
+                    *zi += a * l - b * p;
                 }
             }
         }
     }
 
-    /// Records the step `q0 → q1` for the next guess.
-    pub(super) fn remember(&mut self, q0: &DVector<f64>, q1: &DVector<f64>) {
+    /// Records the step `q0 → q1`, of size `h`, for the next guess.
+    pub(super) fn remember(&mut self, q0: &DVector<f64>, q1: &DVector<f64>, h: f64) {
         std::mem::swap(&mut self.last, &mut self.before);
         self.last.copy_from(q1);
         self.last -= q0;
+        self.steps = (h, self.steps.0);
         self.known = (self.known + 1).min(2);
     }
 

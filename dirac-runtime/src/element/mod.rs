@@ -55,7 +55,7 @@ use nalgebra::DVector;
 
 use crate::error::{IntegrationError, StepError, Steps};
 use crate::newton::{solve_in, NewtonOptions};
-use crate::stepper::{check_inputs, step_error, Collect, StepStats, Stepper};
+use crate::stepper::{check_inputs, same_step, step_error, Collect, StepStats, Stepper};
 
 pub use assembly::ElementWorkspace;
 pub use solver::{ElementSolver, ITERATIVE_MIN_DIM, ITERATIVE_MIN_ENTRIES_PER_ROW};
@@ -119,6 +119,9 @@ pub trait ElementLagrangian: Clone + Debug + Send + Sync + 'static {
     fn dim(&self) -> usize;
     /// The time step `h`.
     fn time_step(&self) -> f64;
+    /// The same system with time step `h` (the step of a schedule), every other parameter and
+    /// size unchanged.
+    fn with_time_step(&self, h: f64) -> Self;
     /// The values of the parameters (for the input checks).
     fn parameter_values(&self) -> Vec<f64>;
     /// One entry per declared translation: the ranges of coordinate indices it moves together
@@ -198,13 +201,15 @@ pub struct ElementIntegrator<L> {
     pub linear: Linear,
 }
 
-/// Every state and step record of an [`ElementIntegrator`] run (`Drive::integrate`).
+/// Every state and step record of an [`ElementIntegrator`] run (`Drive::run(..).collect()`).
 #[derive(Clone, Debug, Default)]
 pub struct ElementTrajectory {
-    /// The time step.
+    /// The integrator's time step (the default step of a run).
     pub h: f64,
     /// `(q_k, p_k)`, `k = 0..=steps`.
     pub states: Vec<ElementState>,
+    /// `times[k] = t_k`, the time of `states[k]` (`k h` exactly for a fixed step).
+    pub times: Vec<f64>,
     /// The Newton statistics of each step.
     pub stats: Vec<StepStats>,
 }
@@ -220,12 +225,14 @@ impl<L: ElementLagrangian> Collect<ElementIntegrator<L>> for ElementTrajectory {
         Self {
             h: integrator.system.time_step(),
             states: Vec::with_capacity(steps + 1),
+            times: Vec::with_capacity(steps + 1),
             stats: Vec::with_capacity(steps),
         }
     }
 
-    fn push(&mut self, state: &ElementState, record: Option<&StepStats>) {
+    fn push(&mut self, t: f64, state: &ElementState, record: Option<&StepStats>) {
         self.states.push(state.clone());
+        self.times.push(t);
         if let Some(stats) = record {
             self.stats.push(*stats);
         }
@@ -366,11 +373,12 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
         &self,
         workspace: &mut ElementWorkspace,
         k: usize,
+        h: f64,
         state: &ElementState,
         u: &[f64],
     ) -> Result<(ElementState, StepStats), StepError> {
         let mut next = state.clone();
-        let record = self.step_into(workspace, k, state, u, &mut next)?;
+        let record = self.step_into(workspace, k, h, state, u, &mut next)?;
         Ok((next, record))
     }
 
@@ -381,6 +389,7 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
         &self,
         workspace: &mut ElementWorkspace,
         k: usize,
+        h: f64,
         state: &ElementState,
         u: &[f64],
         next: &mut ElementState,
@@ -406,9 +415,12 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
         if next.q.len() != n || next.p.len() != n {
             *next = state.clone();
         }
-        workspace.guess(&state.q, &mut next.q);
+        workspace.guess(&state.q, h, &mut next.q);
         let rho = crate::newton::slice_inf_norm(state.p.as_slice());
-        let sys = &self.system;
+        // The system at the step's size: itself for a fixed step (bit for bit), a copy with the
+        // time step `h` otherwise (a copy of the parameters: no heap memory).
+        let owned = (!same_step(h, self.system.time_step())).then(|| self.system.with_time_step(h));
+        let sys = owned.as_ref().unwrap_or(&self.system);
         let (q0, p0) = (state.q.as_slice(), state.p.as_slice());
         let (solver, r, jacobian, assembler) = workspace.parts();
         let nnz = assembler.nnz();
@@ -454,7 +466,7 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
                 residual: solution.residual,
             });
         }
-        workspace.remember(&state.q, &next.q);
+        workspace.remember(&state.q, &next.q, h);
         Ok(StepStats::from_solution(
             &solution,
             self.options.residual_tolerance(rho),

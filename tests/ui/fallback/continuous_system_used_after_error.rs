@@ -16,7 +16,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (_, jacobian) = sys.legendre_jacobian(&q, &v);
     let e = sys.energy(&q, &v);
     let initial = sys.reduced_state::<1, 1>(q, v);
-    let traj = ReducedIntegrator::plus(sys, NewtonOptions::default()).integrate(initial, 10)?;
+    let traj = ReducedIntegrator::plus(sys, NewtonOptions::default()).run(initial).steps(10).collect()?;
     let energies = reduced_continuous_energies(&sys, &traj)?;
     println!("{p} {jacobian} {e} {} {}", energies.nodes[0], Rotor::RULE);
     Ok(())

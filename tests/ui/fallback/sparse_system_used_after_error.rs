@@ -17,10 +17,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let sys = Chain { h: 0.1, m: 1.0 };
     assert_eq!(Chain::SHAPE_DIM, 17);
     let initial = ReducedState::new([0.0; 17], [0.0; 17], [1.0], [0.0]);
-    let traj = ReducedIntegrator::plus(sys, NewtonOptions::default()).integrate(initial, 10)?;
-    let back = ReducedIntegrator::minus(sys, NewtonOptions::default()).integrate(initial, 10)?;
+    let traj = ReducedIntegrator::plus(sys, NewtonOptions::default()).run(initial).steps(10).collect()?;
+    let back = ReducedIntegrator::minus(sys, NewtonOptions::default()).run(initial).steps(10).collect()?;
     let unreduced = UnreducedIntegrator::plus(sys, NewtonOptions::default())
-        .integrate(sys.untrivialize(&initial), 10)?;
+        .run(sys.untrivialize(&initial)).steps(10).collect()?;
     let l = chain(ChainConfig::default(), ChainConfig::default(), sys.h, sys.m);
     println!(
         "{} {} {} {l} {}",

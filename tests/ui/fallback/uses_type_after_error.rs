@@ -20,7 +20,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     let initial = ReducedState::new([0.0], [1.0], [0.0], [l]);
     let integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
-    let traj = integ.integrate(initial, 10)?;
+    let traj = integ.run(initial).steps(10).collect()?;
     println!(
         "{} {}",
         traj.last().x,
