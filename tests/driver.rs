@@ -148,6 +148,58 @@ where
         .expect("integrates");
     assert_eq!(short, prefix);
 
+    // An end time of two and a half steps: three steps, the last one shortened to land on it.
+    let h = integrator.time_step();
+    let mut times = Vec::new();
+    let to_end = integrator
+        .run(first.clone())
+        .end_time(2.5 * h)
+        .observe(|k, t, _, _| times.push((k, t)))
+        .stream()
+        .expect("runs");
+    assert_eq!((to_end.steps, to_end.t), (3, 2.5 * h));
+    assert_eq!(times[..3], [(0, 0.0), (1, h), (2, 2.0 * h)]);
+    assert_eq!(times[3], (3, 2.5 * h));
+    assert_eq!(
+        to_end.last == observed[3],
+        false,
+        "the last step is a half step"
+    );
+
+    // The output stride: every 4th state and the last.
+    let mut seen = Vec::new();
+    integrator
+        .run(first.clone())
+        .steps(steps)
+        .every(4)
+        .observe(|k, _, _, _| seen.push(k))
+        .stream()
+        .expect("runs");
+    let mut expected: Vec<usize> = (0..=steps).step_by(4).collect();
+    if steps % 4 != 0 {
+        expected.push(steps);
+    }
+    assert_eq!(seen, expected);
+
+    // A schedule at the system's own step is the fixed-step run bit for bit; a schedule of
+    // another size is another run.
+    let mut scheduled = Vec::new();
+    integrator
+        .run(first.clone())
+        .steps(steps)
+        .schedule(move |_, _, _| h)
+        .observe(|_, _, s, _| scheduled.push(s.clone()))
+        .stream()
+        .expect("runs");
+    assert_eq!(scheduled, observed);
+    let halved = integrator
+        .run(first.clone())
+        .end_time(2.0 * h)
+        .schedule(move |_, _, _| 0.5 * h)
+        .stream()
+        .expect("runs");
+    assert_eq!((halved.steps, halved.t), (4, 2.0 * h));
+
     // Ensembles: members in input order, each the sequential run bit for bit.
     let members = integrator.ensemble(starts).steps(steps).collect();
     for (member, start) in members.iter().zip(starts) {
@@ -159,6 +211,16 @@ where
         assert_eq!(member.as_ref().expect("member integrates"), &sequential);
     }
     assert_eq!(members[0].as_ref().ok(), Some(&traj));
+    // On a pool of its own, to an end time: the same members.
+    let on_two = integrator
+        .ensemble(starts)
+        .end_time(steps as f64 * h)
+        .threads(2)
+        .collect();
+    for (a, b) in on_two.iter().zip(&members) {
+        let (a, b) = (a.as_ref().expect("member"), b.as_ref().expect("member"));
+        assert_eq!(a.completed_steps(), b.completed_steps());
+    }
     let observed: Vec<AtomicUsize> = starts.iter().map(|_| AtomicUsize::new(0)).collect();
     let streamed = integrator.ensemble(starts).steps(steps).stream(|i| {
         let count = &observed[i];
@@ -310,4 +372,71 @@ fn an_element_wise_run_allocates_nothing_per_step() {
             "{linear:?}: steps that allocated: {allocating:?}"
         );
     }
+}
+
+/// The constrained integrators (reduced and unreduced) and an element-wise system through the
+/// same configured run.
+#[test]
+fn constrained_and_element_wise_integrators_get_the_same_driver() {
+    use dirac::runtime::element::ElementIntegrator;
+    let sys = ConstrainedPendulum {
+        h: 0.02,
+        m: 1.0,
+        l: 1.3,
+    };
+    let tight = NewtonOptions {
+        abs_tol: 1e-13,
+        rel_tol: 1e-14,
+        ..NewtonOptions::default()
+    };
+    let start = |theta: f64| {
+        let (x, y) = (1.3 * theta.sin(), -1.3 * theta.cos());
+        CanonicalState::new([x, y], [1.3 * 0.2 * theta.cos(), 1.3 * 0.2 * theta.sin()])
+    };
+    let unreduced = ConstrainedIntegrator::new(sys, tight);
+    the_driver_is_one(&unreduced, &[start(0.3), start(0.5)], 17);
+    let bead = ConstrainedBead {
+        h: 0.02,
+        m: 1.0,
+        r: 1.0,
+    };
+    let reduced = ReducedConstrainedIntegrator::plus(bead, tight);
+    let s = |phase: f64| {
+        let c = CanonicalState::new(
+            [phase.cos(), phase.sin(), 0.0],
+            [-0.7 * phase.sin(), 0.7 * phase.cos(), 0.4],
+        );
+        bead.trivialize(&c)
+    };
+    the_driver_is_one(&reduced, &[s(0.1), s(0.4)], 17);
+    let lattice = toda_n::TodaN {
+        m: 1.0,
+        d: 0.0,
+        h: 0.05,
+        n: 40,
+    };
+    let element = ElementIntegrator::new(lattice, NewtonOptions::default());
+    the_driver_is_one(
+        &element,
+        &[
+            toda_n::initial(&lattice, 0.1, 0.3, 0.05),
+            toda_n::initial(&lattice, 0.2, 0.1, 0.0),
+        ],
+        17,
+    );
+}
+
+/// A planar pendulum in Cartesian coordinates on its circle (holonomic constraint).
+#[reduced_lagrangian(shape(x, y), group(), rule = midpoint,
+    constraints = |q| [q.x * q.x + q.y * q.y - l * l])]
+fn constrained_pendulum(q: Config, v: Velocity, m: f64, l: f64) -> f64 {
+    0.5 * m * (v.x * v.x + v.y * v.y) - 9.81 * m * q.y
+}
+
+/// A bead on a vertical cylinder of radius `r`, free to slide along and around it: the
+/// translation along the axis is a symmetry.
+#[reduced_lagrangian(shape(x, y), group(z), rule = midpoint,
+    constraints = |q| [q.x * q.x + q.y * q.y - r * r])]
+fn constrained_bead(q: Config, v: Velocity, m: f64, r: f64) -> f64 {
+    0.5 * m * (v.x * v.x + v.y * v.y + v.z * v.z) - 0.5 * (q.x - 0.3) * (q.x - 0.3)
 }

@@ -263,7 +263,7 @@ fn a_control_sequence_equals_the_same_feedback_law() {
         StepError::InvalidControls {
             step: 100,
             expected: 1,
-            found: 0
+            found: 1
         }
     ));
     assert_eq!(e.trajectory.steps(), 100);

@@ -234,7 +234,7 @@ impl<St: std::fmt::Debug> Steps for ComposedTrajectory<St> {
     }
 }
 
-/// The largest relative symmetry defect accepted by [`crate::Drive::integrate`] of a [`Composition`]. A symmetric rule
+/// The largest relative symmetry defect accepted by a run ([`crate::Drive::run`]) of a [`Composition`]. A symmetric rule
 /// written the usual way evaluates `L_d(q0, q1; −h)` and `−L_d(q1, q0; h)` with the same
 /// operations up to exact negations (the difference quotient `(q1 − q0)/(−h) = (q0 − q1)/h`, the
 /// midpoint `(q0 + q1)/2`), so its defect is 0 or a few units of round-off (~1e-16); a first-order

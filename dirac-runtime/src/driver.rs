@@ -554,8 +554,10 @@ where
             &mut step_size,
             &mut controls,
             &mut stop,
-            |k, t, state: &I::State, record: Option<&I::Record>| {
-                observer.observe(k, t, state, record)
+            |k, t, state: &I::State, record: Option<&I::Record>, shown| {
+                if shown {
+                    observer.observe(k, t, state, record);
+                }
             },
         )
     }
@@ -575,17 +577,16 @@ where
         } = self;
         let h = integrator.time_step();
         let mut trajectory = I::Trajectory::start(integrator, span.requested(h));
-        let every = span.every;
         let outcome = drive(
             integrator,
             initial,
-            &Span { every: 1, ..span },
+            &span,
             &mut step_size,
             &mut controls,
             &mut stop,
-            |k, t, state: &I::State, record: Option<&I::Record>| {
+            |k, t, state: &I::State, record: Option<&I::Record>, shown| {
                 trajectory.push(t, state, record);
-                if k % every == 0 {
+                if shown {
                     observer.observe(k, t, state, record);
                 }
             },
@@ -609,7 +610,7 @@ fn drive<I, P, C, X>(
     step_size: &mut P,
     controls: &mut C,
     stop: &mut X,
-    mut observe: impl FnMut(usize, f64, &I::State, Option<&I::Record>),
+    mut observe: impl FnMut(usize, f64, &I::State, Option<&I::Record>, bool),
 ) -> RunResult<I::State>
 where
     I: Stepper + ?Sized,
@@ -622,7 +623,8 @@ where
     let requested = span.requested(h0);
     let mut summary = RunSummary::new(h0, initial, t0);
     let fail = |source, summary| Box::new(IntegrationError::new(source, summary, requested));
-    observe(0, t0, &summary.last, None);
+    // Every state is passed on; the last argument says whether the output stride shows it.
+    observe(0, t0, &summary.last, None, true);
     if let Err(e) = span.check().and_then(|()| integrator.check(&summary.last)) {
         return Err(fail(e, summary));
     }
@@ -689,9 +691,13 @@ where
                 k += 1;
                 let stopped = stop.stop(k, t_next, &summary.last);
                 let last = stopped || k == max_steps || span.end.is_some_and(|end| t_next >= end);
-                if k % every == 0 || last {
-                    observe(k, t_next, &summary.last, Some(&record));
-                }
+                observe(
+                    k,
+                    t_next,
+                    &summary.last,
+                    Some(&record),
+                    k % every == 0 || last,
+                );
                 if stopped {
                     summary.stopped = true;
                     break;

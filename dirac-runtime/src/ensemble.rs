@@ -6,12 +6,10 @@
 //! at its position, carrying its step index, residual and the trajectory it computed; the others
 //! are unaffected. Results come back in input order, and each is bit-for-bit what a sequential
 //! integration of that member gives (the arithmetic of a member does not depend on the thread it
-//! runs on). To run on a given number of threads, call inside
-//! `rayon::ThreadPoolBuilder::new().num_threads(n).build()?.install(|| ..)`.
+//! runs on). To run on a given number of threads, configure the ensemble with `.threads(n)`.
 //!
-//! Ensembles over initial states are methods of every integrator
-//! ([`crate::Drive::integrate_ensemble`], [`crate::Drive::run_ensemble`]); ensembles over
-//! parameter sets are [`crate::driver::integrate_parameters`]. Both run on [`map`].
+//! Ensembles over initial states are [`crate::Drive::ensemble`]; ensembles over parameter sets
+//! are [`crate::driver::parameters`]. Both run on [`map`].
 
 use rayon::prelude::*;
 

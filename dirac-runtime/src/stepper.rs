@@ -29,7 +29,7 @@ pub trait Stepper {
     type Record: AsRef<StepStats> + Clone + Debug + Send + Sync;
     /// What a run carries from step to step: linear-solver workspaces and the warm-start memory.
     type Workspace;
-    /// What [`crate::Drive::integrate`] collects: every state and every record.
+    /// What a collected run ([`crate::Run::collect`]) keeps: every state and every record.
     type Trajectory: Collect<Self> + crate::error::Steps + Debug;
 
     /// The time step `h` of one step.
@@ -167,7 +167,7 @@ where
     Ok(Some(sys.with_controls(u)))
 }
 
-/// A trajectory that [`crate::Drive::integrate`] fills, state by state.
+/// A trajectory that a collected run ([`crate::Run::collect`]) fills, state by state.
 pub trait Collect<St: Stepper + ?Sized>: Sized {
     /// An empty trajectory of `stepper` with room for `steps` steps.
     fn start(stepper: &St, steps: usize) -> Self;

@@ -22,7 +22,7 @@ pub trait DiscreteLagrangian<const S: usize, const K: usize, const N: usize> {
     /// Names of the scalar parameters, in declaration order.
     const PARAMETERS: &'static [&'static str];
     /// Names of the controls (`controls(...)` in the attribute): parameters that a control law
-    /// sets before every step ([`crate::Drive::run_controlled`]), in the order a control vector
+    /// sets before every step ([`crate::Run::feedback`], [`crate::Run::controls`]), in the order a control vector
     /// `u_k` lists them. Empty for a system without controls.
     const CONTROLS: &'static [&'static str] = &[];
     /// Whether the system declares forces (`force = ...` in the attribute): its steps solve the

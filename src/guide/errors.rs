@@ -15,6 +15,9 @@
 //! | `IllConditioned { step, rcond, residual }` | the step converged but its Jacobian's reciprocal condition estimate is below [`NewtonOptions::min_rcond`](crate::NewtonOptions::min_rcond): the result has few or no correct digits | another chart ([atlas](super::integrators#an-atlas-of-charts-6)); near a pole of spherical coordinates the action is not free (Remark 7.1) |
 //! | `NonFinite { step, what, residual }` | a residual, Jacobian, correction or state component is NaN or infinite; `what` says which | the parameters, the initial state, and whether the motion left the domain of `L` (a square root or logarithm of a negative number) |
 //! | `InvalidTimeStep { h }` | the time step is not positive and finite (step 0, nothing taken) | a positive `h` |
+//! | `InvalidStepSize { step, h }` | a step-size policy gave a size that is not positive and finite | the schedule |
+//! | `ScheduleEnded { step }` | a precomputed [`StepSizes`](crate::StepSizes) has no size for step `step` | one size per step, or a shorter run |
+//! | `InvalidRun { reason }` | the run has no length (`.steps(n)` or `.end_time(t)`), an end time before its start or a zero output stride (nothing computed) | the run's options |
 //! | `NotSymmetric { defect, tolerance }` | a composition was asked of a rule that is not symmetric, so it would not reach its order | the midpoint or trapezoidal rule |
 //! | `InvalidAtlas { reason }` | the charts or transitions of an atlas do not fit together | the atlas's construction |
 //!
@@ -23,9 +26,9 @@
 //!
 //! ## The trajectory is kept
 //!
-//! `integrate` returns `Err(Box<IntegrationError<Trajectory>>)`: the
+//! `run(..).collect()` returns `Err(Box<IntegrationError<Trajectory>>)`: the
 //! [`IntegrationError`](crate::IntegrationError) holds the `source` (the [`StepError`](crate::StepError)),
-//! the `trajectory` up to the failed step, intact, and the number of steps `requested`. `run`
+//! the `trajectory` up to the failed step, intact, and the number of steps `requested`. `run(..).stream()`
 //! keeps the [`RunSummary`](crate::RunSummary) up to the failed step the same way. An ensemble
 //! member that fails is an `Err` at its position; the other members are unaffected. The message
 //! of an `IntegrationError` names the step, the kind of failure and how much was kept; the cause

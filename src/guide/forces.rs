@@ -22,9 +22,9 @@
 //! without `force`.
 //!
 //! **Controls** are parameters named in `controls(...)`: a run can set them before every step,
-//! from a feedback law `|k, state, u| …` or a [`ControlSequence`](crate::ControlSequence), with
-//! [`Drive::run_controlled`](crate::Drive::run_controlled) or
-//! [`Drive::integrate_controlled`](crate::Drive::integrate_controlled). Without a law a run uses
+//! from a feedback law `.feedback(|k, t, state, u| …)` or a sequence
+//! `.controls(`[`ControlSequence`](crate::ControlSequence)`::rows(&us))`, options of the one
+//! configured [`Drive::run`](crate::Drive::run). Without a law a run uses
 //! the values the system holds, like any parameter.
 //!
 //! **Sensitivities.** For a system with forces or controls, `sensitivity` and

@@ -2,7 +2,8 @@
 //!
 //! One annotated system gives four integrators, and every one of them is a
 //! [`Stepper`](crate::Stepper): the one driver, [`Drive`](crate::Drive), gives all of them the
-//! same `integrate`, `run`, stop conditions and ensembles.
+//! same configured run (`run(initial)`: steps or an end time, step sizes per step, stop
+//! conditions, observers; collected or streamed) and ensembles.
 //!
 //! | integrator | state | what a step reports |
 //! | --- | --- | --- |
@@ -174,33 +175,46 @@
 //! # }
 //! ```
 //!
-//! ## The driver: runs, stop conditions, ensembles
+//! ## The driver: one run, configured
 //!
-//! [`Drive`](crate::Drive) is implemented for every stepper:
+//! [`Drive::run`](crate::Drive::run) is the one entry of every integrator (reduced, unreduced,
+//! composed, atlas, constrained, element-wise). It returns a [`Run`](crate::Run), configured by
+//! options and finished in one of two ways:
 //!
-//! * `integrate(initial, steps)` keeps every state and every step's record;
-//! * `run(initial, steps, |k, state, record| ..)` streams each state to an observer as it is
-//!   computed and keeps nothing, so memory does not grow with the number of steps; `record` is
-//!   `None` for the initial state. It returns a [`RunSummary`](crate::RunSummary): the last
-//!   state, Newton corrections and factorizations, the largest residual, the worst conditioning;
-//! * `integrate_until(initial, max, stop)` and `run_until(initial, max, stop, observe)` end after
-//!   the first state `k` with `stop(k, state)` (the summary then has `stopped` set);
-//! * `integrate_ensemble(&initials, steps)` and `run_ensemble(&initials, steps, |member| observer)`
-//!   integrate many initial states on rayon's thread pool, one workspace per member, each member
-//!   with its own typed result in input order, bit for bit the sequential run of that member;
-//! * [`integrate_parameters`](crate::runtime::driver::integrate_parameters)`(&params, steps,
-//!   |p| (integrator, initial))` is the ensemble over parameter sets.
+//! * a length: `.steps(n)`, `.end_time(t)` (reached exactly: the last step is shortened to land
+//!   on it) or both (whichever comes first); `.start_time(t0)` sets the clock of the initial
+//!   state (default 0);
+//! * `.step_size(policy)` / `.schedule(|k, t, state| h_k)`: the size of each step (see below;
+//!   default [`Fixed`](crate::Fixed), the system's own `h`);
+//! * `.feedback(|k, t, state, u| ..)` or `.controls(ControlSequence::rows(&us))`: the controls of
+//!   each step, for a system that declares them (see [Forces and controls](super::forces));
+//! * `.stop(|k, t, state| ..)`: end after the first state `k` where it holds (the result then
+//!   has `stopped` set);
+//! * `.observe(|k, t, state, record| ..)`: every state as it is computed, at its time `t`, with
+//!   the record of the step that produced it (`None` for the initial state); `.every(k)` shows
+//!   the observer every `k`-th state and the last;
+//! * `.collect()` keeps every state and every step's record, with the time of each state
+//!   (`traj.times[k]`); `.stream()` keeps nothing, so memory does not grow with the number of
+//!   steps, and returns a [`RunSummary`](crate::RunSummary): the last state and its time,
+//!   Newton corrections and factorizations, the largest residual, the worst conditioning.
 //!
-//! A run checks its inputs first (a positive finite time step, finite parameters and state, a
-//! symmetric rule for a composition), builds one workspace (the linear-solver workspaces and
-//! the memory Newton's guess extrapolates from) and steps in it, so after the first step no step
-//! allocates. A failed step ends the run with a typed error that keeps what was computed: see
-//! [Errors](super::errors).
+//! [`Drive::ensemble`](crate::Drive::ensemble)`(&initials)` runs many initial states the same
+//! way on rayon's thread pool (`.threads(n)` for a pool of its own), one workspace per member,
+//! each member with its own typed result in input order, bit for bit the member's own run;
+//! [`parameters`](crate::runtime::driver::parameters)`(&params, |p| (integrator, initial))` is
+//! the ensemble over parameter sets. Both take the options above that apply to every member
+//! and finish with `.collect()` or `.stream(|member| observer)`.
+//!
+//! A run checks its inputs first (a length, a positive finite time step, finite parameters and
+//! state, a symmetric rule for a composition), builds one workspace (the linear-solver
+//! workspaces and the memory Newton's guess extrapolates from) and steps in it, so after the
+//! first step no step allocates. A failed step ends the run with a typed error that keeps what
+//! was computed: see [Errors](super::errors).
 //!
 //! ```
 //! use dirac::kepler::Kepler;
 //! use dirac::prelude::*;
-//! use dirac::runtime::driver::integrate_parameters;
+//! use dirac::runtime::driver::parameters;
 //! use std::sync::Mutex;
 //!
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -213,14 +227,22 @@
 //!
 //! // Streamed: the largest radius seen, in constant memory.
 //! let mut r_max = 0.0_f64;
-//! let summary = integ.run(start).steps(1000).observe(|_, _, state, _| r_max = r_max.max(state.x[0])).stream()?;
+//! let summary = integ
+//!     .run(start)
+//!     .steps(1000)
+//!     .observe(|_, _, state, _| r_max = r_max.max(state.x[0]))
+//!     .stream()?;
 //! assert!((r_max - 1.5).abs() < 1e-3); // apoapsis a (1 + e)
-//! assert_eq!(summary.steps, 1000);
+//! assert_eq!((summary.steps, summary.t), (1000, 1000.0 * 0.01));
 //! println!("{:.2} Newton corrections per step", summary.mean_iterations());
 //!
 //! // Stop at the first state past apoapsis (p_r = w turns negative).
 //! let half = integ.run(start).steps(1000).stop(|_, _, s| s.w[0] < 0.0).collect()?;
 //! assert!((half.time(half.steps()) - std::f64::consts::PI).abs() < 0.02);
+//!
+//! // Up to t = 1.005 exactly: 100 steps of h and a last one of 0.005.
+//! let to_end = integ.run(start).end_time(1.005).collect()?;
+//! assert_eq!((to_end.steps(), *to_end.times.last().unwrap()), (101, 1.005));
 //!
 //! // Ensembles: three eccentricities in parallel, each its own result, in input order.
 //! let starts: Vec<_> = [0.1, 0.3, 0.5].iter().map(|&e| sys.periapsis_state(1.0, e)).collect();
@@ -228,9 +250,9 @@
 //! assert!(members.iter().all(|m| m.is_ok()));
 //! // Streamed members: each observer gets its member's index and writes to its own slot.
 //! let r_min: Vec<Mutex<f64>> = starts.iter().map(|_| Mutex::new(f64::INFINITY)).collect();
-//! let summaries = integ.ensemble(&starts).steps(1000).stream(|member| {
+//! let summaries = integ.ensemble(&starts).steps(1000).threads(2).stream(|member| {
 //!     let slot = &r_min[member];
-//!     move |_: usize, s: &ReducedState<1, 1>, _: Option<&StepStats>| {
+//!     move |_: usize, _: f64, s: &ReducedState<1, 1>, _: Option<&StepStats>| {
 //!         let mut r = slot.lock().unwrap();
 //!         *r = r.min(s.x[0]);
 //!     }
@@ -241,11 +263,61 @@
 //! }
 //!
 //! // An ensemble over parameters: one system per force constant k.
-//! let results = integrate_parameters(&[0.5, 1.0, 2.0], 100, |&k| {
+//! let results = parameters(&[0.5, 1.0, 2.0], |&k| {
 //!     let sys = Kepler { h: 0.01, k };
 //!     (ReducedIntegrator::plus(sys, NewtonOptions::default()), sys.periapsis_state(1.0, 0.2))
-//! });
+//! })
+//! .steps(100)
+//! .collect();
 //! assert!(results.iter().all(|r| r.is_ok()));
+//! # Ok(())
+//! # }
+//! ```
+//!
+//! ## Step sizes per step
+//!
+//! The time step `h` of a system is the default size of its steps. A run may give each step its
+//! own size `h_k`: a precomputed [`StepSizes`](crate::StepSizes)`(&sizes)` or a closure
+//! `.schedule(|k, t, state| h_k)`; state `k` is then at `t_k = t_0 + Σ_{j<k} h_j` (with the
+//! default, `t_k = t_0 + k h` exactly, and the run is the fixed-step run bit for bit).
+//!
+//! Step `k` is the step of the discrete Lagrangian at that size, `L_d(q_k, q_{k+1}; h_k)`: the
+//! system with its time-step parameter set to `h_k`. What a variational step keeps, it keeps for
+//! every `h_k`:
+//!
+//! * **symplecticity**: the map `(q_k, p_k) ↦ (q_{k+1}, p_{k+1})` defined by
+//!   `p_k = −D_1 L_d(q_k, q_{k+1}; h_k)`, `p_{k+1} = D_2 L_d(q_k, q_{k+1}; h_k)` has the
+//!   generating function `L_d(·, ·; h_k)`, so it preserves the canonical symplectic form; a
+//!   sequence of such maps is a composition of symplectic maps;
+//! * **momentum maps**: a symmetry of `L_d(·, ·; h)` for every `h` gives discrete Noether's
+//!   theorem step by step, whatever the sizes; in the reduced equations `μ_{k+1} = μ_k` is one of
+//!   the equations, so `μ` stays constant bit for bit;
+//! * **order**: a schedule `h_k = h σ(t_k)` with smooth `σ` keeps the order of the method (each
+//!   step's local error is `O(h_k^{r+1})`; a composition scales its stages `γ_i h_k`).
+//!
+//! What it does not keep in general is the long-time behaviour of the energy. The bounded energy
+//! error of a fixed step comes from one modified Hamiltonian that every step preserves exactly
+//! (backward error analysis); steps of different sizes preserve different ones, so a schedule
+//! chosen independently of the dynamics may show an energy drift, and a step size that depends
+//! on the state is not variational at all without a time transformation of the Lagrangian. A
+//! smooth periodic schedule is harmless in practice.
+//!
+//! ```
+//! use dirac::kepler::Kepler;
+//! use dirac::prelude::*;
+//!
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! let (h, period) = (0.01, 2.0 * std::f64::consts::PI);
+//! let sys = Kepler::unit(h);
+//! let start = sys.periapsis_state(1.0, 0.5);
+//! let traj = ReducedIntegrator::plus(sys, NewtonOptions::default())
+//!     .run(start)
+//!     .end_time(period)
+//!     .schedule(|_, t, _| h * (1.0 + 0.5 * (t / period * 2.0 * std::f64::consts::PI).sin()))
+//!     .collect()?;
+//! assert_eq!(*traj.times.last().unwrap(), period); // the end time, exactly
+//! assert!(traj.states.iter().all(|s| s.mu == start.mu)); // μ, bit for bit
+//! println!("{} steps of sizes {} .. {}", traj.steps(), traj.step_size(0), traj.step_size(300));
 //! # Ok(())
 //! # }
 //! ```

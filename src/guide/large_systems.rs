@@ -48,13 +48,12 @@
 //!
 //! ## Streaming and ensembles
 //!
-//! [`Drive::run`](crate::Drive::run) calls the observer for every state as it is computed and
-//! keeps nothing: keep every `k`-th state, accumulate statistics, write a file, in memory
-//! independent of the number of steps. [`Drive::integrate_ensemble`](crate::Drive::integrate_ensemble),
-//! [`Drive::run_ensemble`](crate::Drive::run_ensemble) and
-//! [`integrate_parameters`](crate::runtime::driver::integrate_parameters) spread members over
-//! rayon's thread pool (to choose the number of threads, run them inside a pool built with
-//! [`crate::runtime::ensemble::rayon`]). A composition keeps one workspace per stage and an atlas
+//! A streamed run ([`Run::stream`](crate::Run::stream)) calls the observer for every state as it
+//! is computed and keeps nothing: keep every `k`-th state (`.every(k)`), accumulate statistics,
+//! write a file, in memory independent of the number of steps.
+//! [`Drive::ensemble`](crate::Drive::ensemble) and
+//! [`parameters`](crate::runtime::driver::parameters) spread members over rayon's thread pool
+//! (`.threads(n)` for a pool of its own). A composition keeps one workspace per stage and an atlas
 //! one per chart, so a composed sparse run allocates nothing after its first macro step either.
 //!
 //! A lattice of 20 particles, sparse, streamed, and an ensemble of four:

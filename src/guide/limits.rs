@@ -2,8 +2,10 @@
 //!
 //! What the integrators do not do, and where their guarantees end.
 //!
-//! **Fixed time step.** Every integrator takes steps of one size `h` (a composition's substeps
-//! are fixed fractions of it). Near a singularity of the coordinates (spherical coordinates at
+//! **Step sizes are not chosen by the dynamics.** A run takes the system's step `h` or the sizes
+//! a schedule gives ([step sizes per step](super::integrators#step-sizes-per-step)); nothing
+//! estimates an error and adapts the step, and a schedule that depends on the state is not
+//! variational (the energy may drift). Near a singularity of the coordinates (spherical coordinates at
 //! a pole, Remark 7.1) a step can solve the discrete equations and still be physically
 //! meaningless when `h` is too coarse there; the conditioning threshold catches degenerate
 //! Jacobians, not coarse steps. In the paper's chart alone, the double spherical pendulum

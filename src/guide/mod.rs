@@ -16,7 +16,7 @@
 //! 5. [Constraints](constraints): holonomic `φ(q) = 0` and nonholonomic `A(q) v = 0`, the
 //!    constrained steps (RATTLE, the discrete Lagrange–d'Alembert step), reduced and unreduced.
 //! 6. [Integrators and the driver](integrators): the reduced (+)/(−) and unreduced integrators,
-//!    symmetric compositions of order 4 and 6, an atlas of charts; `run`, `integrate`, stop
+//!    symmetric compositions of order 4 and 6, an atlas of charts; one configured `run` (steps or an end time, step sizes per step), stop
 //!    conditions and ensembles, the same for all of them.
 //! 7. [Large systems](large_systems): the sparse backend, chord iterations, streaming runs in
 //!    constant memory, ensembles on all cores, building the attribute optimized.

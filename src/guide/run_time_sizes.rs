@@ -87,7 +87,7 @@
 //! [`ElementIntegrator`](crate::runtime::element::ElementIntegrator) solves the (+) equations in
 //! position–momentum form, `p_k + D_1 L_d(q_k, q_{k+1}) = 0`, `p_{k+1} = D_2 L_d(q_k, q_{k+1})`,
 //! with the residual and Jacobian assembled from the elements, on the one driver (`run`,
-//! `integrate`, stop conditions, ensembles) and the one Newton iteration (chord iterations on a
+//! the configured `run`, stop conditions, ensembles) and the one Newton iteration (chord iterations on a
 //! pattern built once per run). The step Jacobian is solved by faer's sparse LU — or, for large
 //! fields on grids (at least [`ITERATIVE_MIN_DIM`](crate::runtime::element::ITERATIVE_MIN_DIM)
 //! unknowns and five entries per row), by conjugate gradients with a Jacobi preconditioner,

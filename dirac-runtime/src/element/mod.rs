@@ -202,7 +202,7 @@ pub struct ElementIntegrator<L> {
 }
 
 /// Every state and step record of an [`ElementIntegrator`] run (`Drive::run(..).collect()`).
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct ElementTrajectory {
     /// The integrator's time step (the default step of a run).
     pub h: f64,
