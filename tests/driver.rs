@@ -128,6 +128,11 @@ where
     assert_eq!(short.completed_steps(), 3);
     let prefix = integrator.integrate(first.clone(), 3).expect("integrates");
     assert_eq!(short, prefix);
+    // The largest cap with a stop condition: the trajectory grows as the run proceeds.
+    let capped = integrator
+        .integrate_until(first.clone(), usize::MAX, |k, _| k == 3)
+        .expect("integrates");
+    assert_eq!(capped, prefix);
 
     // Ensembles: members in input order, each the sequential run bit for bit.
     let members = integrator.integrate_ensemble(starts, steps);
@@ -283,4 +288,75 @@ fn an_element_wise_run_allocates_nothing_per_step() {
             "{linear:?}: steps that allocated: {allocating:?}"
         );
     }
+}
+
+/// Whether this process is the child that [`in_child`] started.
+fn is_child() -> bool {
+    std::env::var_os("DIRAC_TEST_CHILD").is_some()
+}
+
+/// Runs the test `name` of this test binary again in a child process (so that an abort, e.g. a
+/// failed allocation, ends the child and not the harness), and returns its output.
+fn in_child(name: &str) -> std::process::Output {
+    std::process::Command::new(std::env::current_exe().expect("the test binary"))
+        .args(["--exact", name, "--nocapture", "--test-threads=1"])
+        .env("DIRAC_TEST_CHILD", "1")
+        .output()
+        .expect("the child runs")
+}
+
+/// `integrate_until` with a cap of 10¹¹ steps (far more states than memory holds) and a stop
+/// condition after three: every integrator's trajectory grows as the run proceeds rather than
+/// reserving room for every step before the first one (an allocation that fails and aborts
+/// the process).
+#[test]
+fn a_huge_step_cap_reserves_no_memory_up_front() {
+    const CAP: usize = 100_000_000_000;
+    if !is_child() {
+        let out = in_child("a_huge_step_cap_reserves_no_memory_up_front");
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success() && stdout.contains("every trajectory grew"),
+            "the child ended with {:?}\n{stdout}\n{}",
+            out.status,
+            String::from_utf8_lossy(&out.stderr)
+        );
+        return;
+    }
+    fn three<I: Drive>(integrator: &I, start: I::State) {
+        let traj = integrator
+            .integrate_until(start, CAP, |k, _| k == 3)
+            .expect("integrates");
+        assert_eq!(traj.completed_steps(), 3);
+    }
+    let kepler = Kepler::unit(0.05);
+    let start = kepler.periapsis_state(1.0, 0.5);
+    three(&ReducedIntegrator::plus(kepler, NewtonOptions::default()), start);
+    three(
+        &UnreducedIntegrator::plus(kepler, NewtonOptions::default()),
+        kepler.untrivialize(&start),
+    );
+    three(
+        &Composition::new(
+            ReducedIntegrator::plus(kepler, NewtonOptions::default()),
+            CompositionMethod::TRIPLE_JUMP,
+        ),
+        start,
+    );
+    let pendulum = DoubleSphericalPendulum::paper();
+    three(
+        &pendulum.atlas(NewtonOptions::default()),
+        (PAPER, DoubleSphericalPendulum::paper_initial_state()),
+    );
+    let lattice = toda_n::TodaN {
+        m: 1.0,
+        d: 1.0,
+        h: 0.05,
+        n: 50,
+    };
+    three(
+        &dirac::runtime::element::ElementIntegrator::new(lattice, NewtonOptions::default()),
+        toda_n::initial(&lattice, 0.1, 0.3, 0.05),
+    );
+    println!("every trajectory grew");
 }

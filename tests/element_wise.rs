@@ -451,3 +451,94 @@ fn gyro(q: Config, v: Velocity, m: f64, b: f64, n: usize) -> f64 {
     }
     l
 }
+
+/// The methods of an element integrator that take states or vectors, on vectors of the wrong
+/// length (or a workspace of another system): typed errors, not a panic (index out of bounds,
+/// a failed assertion) or a silent NaN.
+#[test]
+fn methods_on_vectors_of_the_wrong_length_are_typed_errors() {
+    use std::panic::{catch_unwind, AssertUnwindSafe};
+    let sys = TodaN {
+        m: 1.0,
+        d: 1.0,
+        h: 0.05,
+        n: 10,
+    };
+    let integ = ElementIntegrator::new(sys, NewtonOptions::default());
+    let good = initial(&sys, 0.1, 0.3, 0.05);
+    let short = ElementState::new(DVector::zeros(4), DVector::zeros(4));
+    let mut ws = integ.workspace();
+    let other = ElementIntegrator::new(TodaN { n: 12, ..sys }, NewtonOptions::default());
+    let mut other_ws = other.workspace();
+    let (mut r, mut j) = (DVector::zeros(10), Vec::new());
+    let mut outcome = |what: &str, f: &mut dyn FnMut() -> String| {
+        let got = catch_unwind(AssertUnwindSafe(f)).unwrap_or_else(|_| "a panic".to_string());
+        assert!(got.contains("InvalidSize"), "{what}: {got}");
+    };
+    outcome("momentum_map", &mut || format!("{:?}", integ.momentum_map(&short)));
+    outcome("energy", &mut || format!("{:?}", integ.energy(&short.q, &good.q)));
+    outcome("discrete_lagrangian", &mut || {
+        format!("{:?}", integ.discrete_lagrangian(&good.q, &short.q))
+    });
+    outcome("residual_jacobian", &mut || {
+        format!(
+            "{:?}",
+            integ.residual_jacobian(&mut ws, &short.q, &good.p, &good.q, &mut r, &mut j)
+        )
+    });
+    outcome("residual_jacobian, another system's workspace", &mut || {
+        format!(
+            "{:?}",
+            integ.residual_jacobian(&mut other_ws, &good.q, &good.p, &good.q, &mut r, &mut j)
+        )
+    });
+}
+
+/// Whether this process is the child a test started (see the memory test below).
+fn is_child() -> bool {
+    std::env::var_os("DIRAC_TEST_CHILD").is_some()
+}
+
+/// The periodic Toda lattice with n = 10⁸ under a 4 GB address-space limit (`ulimit -v`, in a
+/// child process so that an abort ends the child, not the harness): the input check sees that
+/// the run's workspace does not fit before allocating it, and returns a typed error with the
+/// bytes needed, where the stencils' check used to collect every element and abort.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_lattice_too_large_for_memory_is_a_typed_error_before_any_allocation() {
+    const NAME: &str = "a_lattice_too_large_for_memory_is_a_typed_error_before_any_allocation";
+    if !is_child() {
+        let out = std::process::Command::new("sh")
+            .arg("-c")
+            .arg("ulimit -v 4000000 && exec \"$0\" --exact \"$1\" --nocapture --test-threads=1")
+            .arg(std::env::current_exe().expect("the test binary"))
+            .arg(NAME)
+            .env("DIRAC_TEST_CHILD", "1")
+            .output()
+            .expect("the child runs");
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success() && stdout.contains("typed error:"),
+            "the child ended with {:?}\n{stdout}\n{}",
+            out.status,
+            String::from_utf8_lossy(&out.stderr)
+        );
+        return;
+    }
+    let sys = TodaN {
+        m: 1.0,
+        d: 1.0,
+        h: 0.05,
+        n: 100_000_000,
+    };
+    let integ = ElementIntegrator::new(sys, NewtonOptions::default());
+    let start = initial(&sys, 0.1, 0.3, 0.05);
+    let err = integ.run(start, 1, |_, _, _| {}).unwrap_err();
+    let message = err.source.to_string();
+    assert_eq!(err.trajectory.steps, 0);
+    assert!(
+        message.contains("bytes") && message.contains("memory"),
+        "{message}"
+    );
+    println!("typed error: {message}");
+}
