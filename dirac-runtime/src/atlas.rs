@@ -453,9 +453,9 @@ impl<'a, const S: usize, const K: usize, const N: usize> Collect<AtlasIntegrator
     fn start(atlas: &AtlasIntegrator<'a, S, K, N>, steps: usize) -> Self {
         AtlasTrajectory {
             h: atlas.time_step(),
-            states: Vec::with_capacity(steps + 1),
-            charts: Vec::with_capacity(steps + 1),
-            stats: Vec::with_capacity(steps),
+            states: crate::stepper::reserved(steps.saturating_add(1)),
+            charts: crate::stepper::reserved(steps.saturating_add(1)),
+            stats: crate::stepper::reserved(steps),
             switches: Vec::new(),
         }
     }

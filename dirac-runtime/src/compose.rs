@@ -296,8 +296,8 @@ where
         ComposedTrajectory {
             h: composition.time_step(),
             method: composition.method,
-            states: Vec::with_capacity(steps + 1),
-            stats: Vec::with_capacity(steps),
+            states: crate::stepper::reserved(steps.saturating_add(1)),
+            stats: crate::stepper::reserved(steps),
         }
     }
 

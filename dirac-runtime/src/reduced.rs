@@ -106,9 +106,9 @@ where
         Trajectory {
             h: integrator.system.time_step(),
             variant: D::VARIANT,
-            states: Vec::with_capacity(steps + 1),
-            group_unknowns: Vec::with_capacity(steps),
-            stats: Vec::with_capacity(steps),
+            states: crate::stepper::reserved(steps.saturating_add(1)),
+            group_unknowns: crate::stepper::reserved(steps),
+            stats: crate::stepper::reserved(steps),
         }
     }
 

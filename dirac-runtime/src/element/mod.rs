@@ -219,8 +219,8 @@ impl<L: ElementLagrangian> Collect<ElementIntegrator<L>> for ElementTrajectory {
     fn start(integrator: &ElementIntegrator<L>, steps: usize) -> Self {
         Self {
             h: integrator.system.time_step(),
-            states: Vec::with_capacity(steps + 1),
-            stats: Vec::with_capacity(steps),
+            states: crate::stepper::reserved(steps.saturating_add(1)),
+            stats: crate::stepper::reserved(steps),
         }
     }
 
