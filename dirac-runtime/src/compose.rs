@@ -259,6 +259,20 @@ impl<I> Composition<I> {
     pub fn base(&self) -> &I {
         &self.base
     }
+
+    /// The error of stage `stage` (from 0), `error`, as the composition reports it: naming the
+    /// stage and its substep, with the stage's step index and residual.
+    fn stage_failed(&self, stage: usize, error: StepError) -> StepError
+    where
+        I: Stepper,
+    {
+        StepError::StageFailed {
+            stage,
+            stages: self.stages.len(),
+            substep: self.stages.get(stage).map_or(f64::NAN, Stepper::time_step),
+            error: Box::new(error),
+        }
+    }
 }
 
 impl<I> Composition<I>
@@ -313,7 +327,8 @@ where
 /// (one per stage, built once per run), so each stage's Newton iteration starts from the same
 /// stage of the previous two macro steps (the shape advanced by the increment extrapolated from
 /// that stage's last two) and, on the sparse backend, reuses that stage's factors. A failed stage
-/// fails the macro step with the macro step's index.
+/// fails the macro step with [`StepError::StageFailed`]: the stage, its substep and its own error
+/// with the macro step's index.
 impl<I> Stepper for Composition<I>
 where
     I: SelfAdjoint,
@@ -365,8 +380,11 @@ where
     ) -> Result<(I::State, StepStats), StepError> {
         let mut total = StepStats::default();
         let mut current = state.clone();
-        for (stage, stage_workspace) in self.stages.iter().zip(workspace.iter_mut()) {
-            let (next, record) = stage.step_with(stage_workspace, k, &current, u)?;
+        for (i, (stage, stage_workspace)) in self.stages.iter().zip(workspace.iter_mut()).enumerate()
+        {
+            let (next, record) = stage
+                .step_with(stage_workspace, k, &current, u)
+                .map_err(|e| self.stage_failed(i, e))?;
             total.accumulate(record.as_ref());
             current = next;
         }
@@ -394,9 +412,13 @@ where
             dp_dq: SMatrix::zeros(),
             dp_dp: SMatrix::identity(),
         };
-        for stage in &self.stages {
-            let (next, _) = stage.step_from(k, &current, &current.q)?;
-            let m = stage.step_jacobian(k, &current, &next)?;
+        for (i, stage) in self.stages.iter().enumerate() {
+            let (next, _) = stage
+                .step_from(k, &current, &current.q)
+                .map_err(|e| self.stage_failed(i, e))?;
+            let m = stage
+                .step_jacobian(k, &current, &next)
+                .map_err(|e| self.stage_failed(i, e))?;
             product = m.compose(&product);
             current = next;
         }

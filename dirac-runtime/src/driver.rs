@@ -28,6 +28,13 @@ pub trait ControlLaw<St> {
     /// system declares). Returns `false` when it has none for this step (a sequence past its
     /// end): the run then stops with [`StepError::InvalidControls`].
     fn controls(&mut self, k: usize, state: &St, u: &mut [f64]) -> bool;
+
+    /// The number of values the law has per step when it is fixed (a [`ControlSequence`]'s row
+    /// length), for the error of a step it has no controls for; `None` (the default) for a
+    /// law that writes whatever the system declares.
+    fn values_per_step(&self) -> Option<usize> {
+        None
+    }
 }
 
 impl<St, F: FnMut(usize, &St, &mut [f64])> ControlLaw<St> for F {
@@ -76,6 +83,10 @@ impl<St> ControlLaw<St> for ControlSequence<'_> {
         }
         u.copy_from_slice(&self.values[k * self.m..(k + 1) * self.m]);
         true
+    }
+
+    fn values_per_step(&self) -> Option<usize> {
+        Some(self.m)
     }
 }
 
@@ -241,7 +252,7 @@ pub trait Drive: Stepper {
                     let e = StepError::InvalidControls {
                         step: k,
                         expected: u.len(),
-                        found: 0,
+                        found: law.values_per_step().unwrap_or(u.len()),
                     };
                     return Err(fail(e, summary));
                 }

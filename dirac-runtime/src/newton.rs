@@ -128,8 +128,10 @@ pub enum NewtonFailure {
     IllConditioned {
         /// The reciprocal condition estimate.
         rcond: f64,
-        /// `‖R‖∞` at the solution.
+        /// `‖R‖∞` at the last iterate (the solution when at most `tolerance`).
         residual: f64,
+        /// The residual tolerance of the solve.
+        tolerance: f64,
     },
     /// The residual, the Jacobian or the correction is not finite.
     #[error("non-finite residual, Jacobian or correction (residual {residual:.3e})")]
@@ -261,7 +263,11 @@ pub fn solve_in<B: LinearSolver>(
         let jacobian_norm1 = factored.then(|| solver.norm1());
         match rcond {
             Some(rcond) if rcond < min_rcond => {
-                Err(NewtonFailure::IllConditioned { rcond, residual })
+                Err(NewtonFailure::IllConditioned {
+                    rcond,
+                    residual,
+                    tolerance: tol,
+                })
             }
             _ => Ok(NewtonSolution {
                 z: (),
@@ -279,6 +285,7 @@ pub fn solve_in<B: LinearSolver>(
     {
         Some(rcond) if rcond < min_rcond => NewtonFailure::IllConditioned {
             rcond,
+            tolerance: tol,
             residual: match failure {
                 NewtonFailure::NotConverged { residual, .. }
                 | NewtonFailure::Singular { residual }

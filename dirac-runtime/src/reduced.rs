@@ -334,6 +334,7 @@ where
                     step: k,
                     rcond: r,
                     residual: solution.residual,
+                    tolerance: self.options.residual_tolerance(rho),
                 });
             }
         }

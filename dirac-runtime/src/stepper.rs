@@ -329,10 +329,15 @@ pub(crate) fn step_error(k: usize, failure: NewtonFailure) -> StepError {
             residual,
         },
         NewtonFailure::Singular { residual } => StepError::SingularJacobian { step: k, residual },
-        NewtonFailure::IllConditioned { rcond, residual } => StepError::IllConditioned {
+        NewtonFailure::IllConditioned {
+            rcond,
+            residual,
+            tolerance,
+        } => StepError::IllConditioned {
             step: k,
             rcond,
             residual,
+            tolerance,
         },
         NewtonFailure::NonFinite { residual } => StepError::NonFinite {
             step: k,
