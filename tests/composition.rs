@@ -415,7 +415,10 @@ fn a_failing_stage_is_named() {
     .integrate(sys.periapsis_state(A, E), 20)
     .unwrap_err();
     let message = err.source.to_string();
-    assert!(message.contains("stage ") && message.contains(" of 3"), "{message}");
+    assert!(
+        message.contains("stage ") && message.contains(" of 3"),
+        "{message}"
+    );
     assert!(message.contains("did not converge"), "{message}");
     assert_eq!(err.source.step(), err.trajectory.completed_steps());
     assert!(err.source.residual() > 0.0, "{:?}", err.source);

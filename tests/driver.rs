@@ -331,7 +331,10 @@ fn a_huge_step_cap_reserves_no_memory_up_front() {
     }
     let kepler = Kepler::unit(0.05);
     let start = kepler.periapsis_state(1.0, 0.5);
-    three(&ReducedIntegrator::plus(kepler, NewtonOptions::default()), start);
+    three(
+        &ReducedIntegrator::plus(kepler, NewtonOptions::default()),
+        start,
+    );
     three(
         &UnreducedIntegrator::plus(kepler, NewtonOptions::default()),
         kepler.untrivialize(&start),

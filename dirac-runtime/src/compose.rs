@@ -380,7 +380,8 @@ where
     ) -> Result<(I::State, StepStats), StepError> {
         let mut total = StepStats::default();
         let mut current = state.clone();
-        for (i, (stage, stage_workspace)) in self.stages.iter().zip(workspace.iter_mut()).enumerate()
+        for (i, (stage, stage_workspace)) in
+            self.stages.iter().zip(workspace.iter_mut()).enumerate()
         {
             let (next, record) = stage
                 .step_with(stage_workspace, k, &current, u)

@@ -262,13 +262,11 @@ pub fn solve_in<B: LinearSolver>(
         let rcond = factored.then(|| checked_rcond(solver, min_rcond));
         let jacobian_norm1 = factored.then(|| solver.norm1());
         match rcond {
-            Some(rcond) if rcond < min_rcond => {
-                Err(NewtonFailure::IllConditioned {
-                    rcond,
-                    residual,
-                    tolerance: tol,
-                })
-            }
+            Some(rcond) if rcond < min_rcond => Err(NewtonFailure::IllConditioned {
+                rcond,
+                residual,
+                tolerance: tol,
+            }),
             _ => Ok(NewtonSolution {
                 z: (),
                 iterations,
@@ -516,7 +514,10 @@ mod tests {
         );
         assert!(message.contains("did not converge"), "{message}");
         assert!(message.contains("2.000e0"), "{message}");
-        assert!(!message.contains("the solution cannot be trusted"), "{message}");
+        assert!(
+            !message.contains("the solution cannot be trusted"),
+            "{message}"
+        );
     }
 
     #[test]
