@@ -283,6 +283,9 @@ pub struct AtlasIntegrator<'a, const S: usize, const K: usize, const N: usize> {
     transitions: Vec<Vec<Option<Box<dyn ChartTransition<S, K, N> + Send + Sync + 'a>>>>,
     quality: Option<Quality<'a, S, K>>,
     switch_below: f64,
+    /// Whether a transition was declared between charts not added before (or from a chart to
+    /// itself), reported by the run's check.
+    misdeclared: bool,
 }
 
 impl<'a, const S: usize, const K: usize, const N: usize> Default for AtlasIntegrator<'a, S, K, N> {
@@ -300,6 +303,7 @@ impl<'a, const S: usize, const K: usize, const N: usize> AtlasIntegrator<'a, S, 
             transitions: Vec::new(),
             quality: None,
             switch_below: 1e-3,
+            misdeclared: false,
         }
     }
 
@@ -315,21 +319,23 @@ impl<'a, const S: usize, const K: usize, const N: usize> AtlasIntegrator<'a, S, 
         self
     }
 
-    /// Declares the transition from chart `from` to chart `to`.
-    ///
-    /// # Panics
-    /// If either index is not a chart added before (a programming error at set-up).
+    /// Declares the transition from chart `from` to chart `to`. Both must be distinct charts
+    /// added before: otherwise the transition is dropped and every run of the atlas fails its
+    /// input check with [`StepError::InvalidAtlas`].
     pub fn transition(
         mut self,
         from: usize,
         to: usize,
         transition: impl ChartTransition<S, K, N> + Send + Sync + 'a,
     ) -> Self {
-        assert!(
-            from < self.charts.len() && to < self.charts.len() && from != to,
-            "transition {from} → {to}: both must be distinct charts added before"
-        );
-        self.transitions[from][to] = Some(Box::new(transition));
+        match self
+            .transitions
+            .get_mut(from)
+            .and_then(|row| row.get_mut(to))
+        {
+            Some(slot) if from != to => *slot = Some(Box::new(transition)),
+            _ => self.misdeclared = true,
+        }
         self
     }
 
@@ -496,9 +502,16 @@ impl<'a, const S: usize, const K: usize, const N: usize> Stepper for AtlasIntegr
         self.charts.first().map_or(f64::NAN, |c| c.time_step())
     }
 
-    /// The initial chart must be a chart of the atlas, and its checks hold for the initial state
+    /// Every transition was declared between distinct charts of the atlas; the initial chart
+    /// must be a chart of the atlas, and its checks hold for the initial state
     /// ([`Stepper::check`]); every chart has the same time step and finite parameters.
     fn check(&self, &(chart, ref initial): &Self::State) -> Result<(), StepError> {
+        if self.misdeclared {
+            return Err(StepError::InvalidAtlas {
+                reason: "a transition was declared between charts not added before, or from a \
+                         chart to itself",
+            });
+        }
         let Some(first) = self.charts.get(chart) else {
             return Err(StepError::InvalidAtlas {
                 reason: "the initial chart index is not a chart of the atlas",
