@@ -293,3 +293,24 @@ fn double_spherical_pendulum() {
     let sys = DoubleSphericalPendulum::paper();
     assert_geometry(sys, DoubleSphericalPendulum::paper_initial_state(), 2000);
 }
+
+/// The (+) action's variables of a trajectory of the (−) stepper (Theorem 5.2 is the (+)
+/// principle), or of a trajectory without states: a typed error, not a panic.
+#[test]
+fn the_plus_action_of_a_minus_trajectory_is_a_typed_error() {
+    let sys = ChargedParticle::paper(100);
+    let initial = ChargedParticle::paper_initial_state();
+    let minus = ReducedIntegrator::minus(sys, NewtonOptions::default())
+        .integrate(initial, 3)
+        .unwrap();
+    let mut empty = ReducedIntegrator::plus(sys, NewtonOptions::default())
+        .integrate(initial, 3)
+        .unwrap();
+    empty.states.clear();
+    for traj in [&minus, &empty] {
+        let got =
+            std::panic::catch_unwind(|| format!("{:?}", ReducedActionPlus::from_trajectory(traj)))
+                .unwrap_or_else(|_| "a panic".to_string());
+        assert!(got.starts_with("Err("), "{got}");
+    }
+}
