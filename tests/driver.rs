@@ -363,3 +363,27 @@ fn a_huge_step_cap_reserves_no_memory_up_front() {
     );
     println!("every trajectory grew");
 }
+
+/// `Stepper::step_with` is public: a workspace of another composition, or a state in a chart the
+/// atlas does not have, is a typed error, not an index out of bounds.
+#[test]
+fn a_foreign_workspace_or_chart_index_is_a_typed_error() {
+    let kepler = Kepler::unit(0.05);
+    let start = kepler.periapsis_state(1.0, 0.5);
+    let base = ReducedIntegrator::plus(kepler, NewtonOptions::default());
+    let triple = Composition::new(base.clone(), CompositionMethod::TRIPLE_JUMP);
+    let single = Composition::new(base, CompositionMethod::BASE);
+    let mut foreign = single.workspace();
+    let got = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        format!("{:?}", triple.step_with(&mut foreign, 0, &start, &[]))
+    }))
+    .unwrap_or_else(|_| "a panic".to_string());
+    assert!(got.starts_with("Err(InvalidSize"), "{got}");
+    let atlas = DoubleSphericalPendulum::paper().atlas(NewtonOptions::default());
+    let state = (9, DoubleSphericalPendulum::paper_initial_state());
+    let got = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        format!("{:?}", atlas.step(0, &state))
+    }))
+    .unwrap_or_else(|_| "a panic".to_string());
+    assert!(got.starts_with("Err(InvalidAtlas"), "{got}");
+}
