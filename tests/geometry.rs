@@ -47,7 +47,7 @@ fn assert_geometry<L, const S: usize, const K: usize, const N: usize>(
             );
         }
         if variant == Variant::Plus {
-            let vars = ReducedActionPlus::from_trajectory(&traj);
+            let vars = ReducedActionPlus::from_trajectory(&traj).unwrap();
             let scale = traj
                 .states
                 .iter()
@@ -120,7 +120,7 @@ fn the_action_gradient_is_the_gradient_of_the_action() {
     let traj = ReducedIntegrator::plus(sys, NewtonOptions::default())
         .integrate(initial, 6)
         .unwrap();
-    let mut vars = ReducedActionPlus::from_trajectory(&traj);
+    let mut vars = ReducedActionPlus::from_trajectory(&traj).unwrap();
     // Perturb every variable, so no component of the gradient vanishes by accident.
     let mut i = 0;
     for v in vars

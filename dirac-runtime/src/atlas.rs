@@ -548,6 +548,14 @@ impl<'a, const S: usize, const K: usize, const N: usize> Stepper for AtlasIntegr
         &(chart, ref from): &Self::State,
         u: &[f64],
     ) -> Result<(Self::State, AtlasStep<S, K>), StepError> {
+        // `Stepper::step` and `step_with` are public: a chart index or a workspace that is not
+        // this atlas's is an error, as in the run's check, not an index out of bounds.
+        if chart >= self.charts.len() || workspace.charts.len() != self.charts.len() {
+            return Err(StepError::InvalidAtlas {
+                reason: "the state's chart index is not a chart of the atlas, or the workspace \
+                         is another atlas's",
+            });
+        }
         let history = &workspace.history;
         let guess =
             reduced_guess::<S, K, N>(&from.x, history.last.as_ref(), history.before.as_ref());

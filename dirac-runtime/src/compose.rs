@@ -378,6 +378,16 @@ where
         state: &I::State,
         u: &[f64],
     ) -> Result<(I::State, StepStats), StepError> {
+        if workspace.len() != self.stages.len() {
+            return Err(StepError::InvalidSize {
+                reason: format!(
+                    "the workspace has {} stage workspaces, the composition {} stages: it is \
+                     another composition's",
+                    workspace.len(),
+                    self.stages.len()
+                ),
+            });
+        }
         let mut total = StepStats::default();
         let mut current = state.clone();
         for (i, (stage, stage_workspace)) in

@@ -64,8 +64,9 @@ pub enum StepError {
         /// What is wrong.
         reason: &'static str,
     },
-    /// The sizes of a run-time-sized system ([`crate::element`]) do not fit its stencils, or a
-    /// state does not have the system's number of coordinates.
+    /// Sizes that do not fit: those of a run-time-sized system ([`crate::element`]) against its
+    /// stencils, a state or vector without the system's number of coordinates, or a workspace
+    /// or trajectory that is not of this integrator.
     #[error("invalid size: {reason}")]
     InvalidSize {
         /// What is wrong, with the figures.
