@@ -370,3 +370,30 @@ fn reduced_transformation_is_the_cotangent_lift_with_connections() {
         );
     }
 }
+
+/// A transition declared between charts that were not added (or from a chart to itself) is a
+/// typed error of the run, not a panic while the atlas is set up; the initial state is kept.
+#[test]
+fn a_transition_between_unknown_charts_is_a_typed_error() {
+    let sys = DoubleSphericalPendulum::paper();
+    for (from, to) in [(PAPER, 7), (9, PAPER), (PAPER, PAPER)] {
+        let atlas = std::panic::catch_unwind(|| {
+            sys.atlas(NewtonOptions::default())
+                .transition(from, to, PaperToBob1Frame)
+        });
+        let Ok(atlas) = atlas else {
+            panic!("transition {from} -> {to}: a panic while setting up the atlas");
+        };
+        let err = atlas
+            .run((PAPER, DoubleSphericalPendulum::paper_initial_state()))
+            .steps(3)
+            .collect()
+            .unwrap_err();
+        assert!(
+            err.source.to_string().contains("transition"),
+            "{from} -> {to}: {}",
+            err.source
+        );
+        assert_eq!(err.trajectory.states.len(), 1);
+    }
+}

@@ -413,6 +413,35 @@ fn a_non_positive_macro_step_is_rejected() {
     }
 }
 
+/// A failing stage is named: the error of a composition gives the stage that failed (and how
+/// many there are), with the macro step's index and the stage's residual; the trajectory before
+/// the macro step is kept. Newton with one correction per stage cannot meet round-off
+/// tolerances on Kepler's eccentric orbit.
+#[test]
+fn a_failing_stage_is_named() {
+    let sys = Kepler::unit(0.1);
+    let options = NewtonOptions {
+        max_iterations: 1,
+        ..tight()
+    };
+    let err = Composition::new(
+        ReducedIntegrator::plus(sys, options),
+        CompositionMethod::TRIPLE_JUMP,
+    )
+    .run(sys.periapsis_state(A, E))
+    .steps(20)
+    .collect()
+    .unwrap_err();
+    let message = err.source.to_string();
+    assert!(
+        message.contains("stage ") && message.contains(" of 3"),
+        "{message}"
+    );
+    assert!(message.contains("did not converge"), "{message}");
+    assert_eq!(err.source.step(), err.trajectory.completed_steps());
+    assert!(err.source.residual() > 0.0, "{:?}", err.source);
+}
+
 /// The closed-form reference is right: it conserves the energy `½ p_r² + μ²/(2r²) − k/r` and the
 /// angular momentum, returns to periapsis after one period, and its time derivative of `r`
 /// (central difference) is `p_r`.

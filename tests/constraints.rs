@@ -110,6 +110,41 @@ fn the_initial_state_must_satisfy_the_constraints() {
     assert_eq!(e.trajectory.steps(), 0);
 }
 
+/// The largest step cap with a stop condition: the constrained trajectories grow as the run
+/// proceeds, and stop after the third state as a run of three steps does.
+#[test]
+fn a_constrained_run_up_to_usize_max_steps_stops_on_its_condition() {
+    let sys = Bead {
+        h: 0.01,
+        m: 1.2,
+        r: 0.8,
+    };
+    let c0 = CanonicalState::new([0.8, 0.0, 0.0], [0.0, 0.5, 0.7]);
+    let unreduced = ConstrainedIntegrator::new(sys, tight());
+    let capped = unreduced
+        .run(c0)
+        .steps(usize::MAX)
+        .stop(|k, _, _| k == 3)
+        .collect()
+        .unwrap();
+    assert_eq!(
+        capped.states,
+        unreduced.run(c0).steps(3).collect().unwrap().states
+    );
+    let reduced = ReducedConstrainedIntegrator::plus(sys, tight());
+    let s0 = sys.trivialize(&c0);
+    let capped = reduced
+        .run(s0)
+        .steps(usize::MAX)
+        .stop(|k, _, _| k == 3)
+        .collect()
+        .unwrap();
+    assert_eq!(
+        capped.states,
+        reduced.run(s0).steps(3).collect().unwrap().states
+    );
+}
+
 #[test]
 fn reduced_and_unreduced_constrained_steps_agree_and_mu_is_exact() {
     let sys = Bead {

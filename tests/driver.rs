@@ -147,6 +147,14 @@ where
         .collect()
         .expect("integrates");
     assert_eq!(short, prefix);
+    // The largest cap with a stop condition: the trajectory grows as the run proceeds.
+    let capped = integrator
+        .run(first.clone())
+        .steps(usize::MAX)
+        .stop(|k, _, _| k == 3)
+        .collect()
+        .expect("integrates");
+    assert_eq!(capped, prefix);
 
     // An end time of two and a half steps: three steps, the last one shortened to land on it.
     let h = integrator.time_step();
@@ -439,4 +447,108 @@ fn constrained_pendulum(q: Config, v: Velocity, m: f64, l: f64) -> f64 {
     constraints = |q| [q.x * q.x + q.y * q.y - r * r])]
 fn constrained_bead(q: Config, v: Velocity, m: f64, r: f64) -> f64 {
     0.5 * m * (v.x * v.x + v.y * v.y + v.z * v.z) - 0.5 * (q.x - 0.3) * (q.x - 0.3)
+}
+
+/// Whether this process is the child that [`in_child`] started.
+fn is_child() -> bool {
+    std::env::var_os("DIRAC_TEST_CHILD").is_some()
+}
+
+/// Runs the test `name` of this test binary again in a child process (so that an abort, e.g. a
+/// failed allocation, ends the child and not the harness), and returns its output.
+fn in_child(name: &str) -> std::process::Output {
+    std::process::Command::new(std::env::current_exe().expect("the test binary"))
+        .args(["--exact", name, "--nocapture", "--test-threads=1"])
+        .env("DIRAC_TEST_CHILD", "1")
+        .output()
+        .expect("the child runs")
+}
+
+/// `integrate_until` with a cap of 10¹¹ steps (far more states than memory holds) and a stop
+/// condition after three: every integrator's trajectory grows as the run proceeds rather than
+/// reserving room for every step before the first one (an allocation that fails and aborts
+/// the process).
+#[test]
+fn a_huge_step_cap_reserves_no_memory_up_front() {
+    const CAP: usize = 100_000_000_000;
+    if !is_child() {
+        let out = in_child("a_huge_step_cap_reserves_no_memory_up_front");
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success() && stdout.contains("every trajectory grew"),
+            "the child ended with {:?}\n{stdout}\n{}",
+            out.status,
+            String::from_utf8_lossy(&out.stderr)
+        );
+        return;
+    }
+    fn three<I: Drive>(integrator: &I, start: I::State) {
+        let traj = integrator
+            .run(start)
+            .steps(CAP)
+            .stop(|k, _, _| k == 3)
+            .collect()
+            .expect("integrates");
+        assert_eq!(traj.completed_steps(), 3);
+    }
+    let kepler = Kepler::unit(0.05);
+    let start = kepler.periapsis_state(1.0, 0.5);
+    three(
+        &ReducedIntegrator::plus(kepler, NewtonOptions::default()),
+        start,
+    );
+    three(
+        &UnreducedIntegrator::plus(kepler, NewtonOptions::default()),
+        kepler.untrivialize(&start),
+    );
+    three(
+        &Composition::new(
+            ReducedIntegrator::plus(kepler, NewtonOptions::default()),
+            CompositionMethod::TRIPLE_JUMP,
+        ),
+        start,
+    );
+    let pendulum = DoubleSphericalPendulum::paper();
+    three(
+        &pendulum.atlas(NewtonOptions::default()),
+        (PAPER, DoubleSphericalPendulum::paper_initial_state()),
+    );
+    let lattice = toda_n::TodaN {
+        m: 1.0,
+        d: 1.0,
+        h: 0.05,
+        n: 50,
+    };
+    three(
+        &dirac::runtime::element::ElementIntegrator::new(lattice, NewtonOptions::default()),
+        toda_n::initial(&lattice, 0.1, 0.3, 0.05),
+    );
+    println!("every trajectory grew");
+}
+
+/// `Stepper::step_with` is public: a workspace of another composition, or a state in a chart the
+/// atlas does not have, is a typed error, not an index out of bounds.
+#[test]
+fn a_foreign_workspace_or_chart_index_is_a_typed_error() {
+    let kepler = Kepler::unit(0.05);
+    let start = kepler.periapsis_state(1.0, 0.5);
+    let base = ReducedIntegrator::plus(kepler, NewtonOptions::default());
+    let triple = Composition::new(base.clone(), CompositionMethod::TRIPLE_JUMP);
+    let single = Composition::new(base, CompositionMethod::BASE);
+    let mut foreign = single.workspace();
+    let got = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        format!(
+            "{:?}",
+            triple.step_with(&mut foreign, 0, triple.time_step(), &start, &[])
+        )
+    }))
+    .unwrap_or_else(|_| "a panic".to_string());
+    assert!(got.starts_with("Err(InvalidSize"), "{got}");
+    let atlas = DoubleSphericalPendulum::paper().atlas(NewtonOptions::default());
+    let state = (9, DoubleSphericalPendulum::paper_initial_state());
+    let got = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        format!("{:?}", atlas.step(0, &state))
+    }))
+    .unwrap_or_else(|_| "a panic".to_string());
+    assert!(got.starts_with("Err(InvalidAtlas"), "{got}");
 }

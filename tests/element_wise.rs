@@ -18,10 +18,10 @@ fn one_build_runs_at_several_sizes() {
         };
         let integ = ElementIntegrator::new(sys, NewtonOptions::default());
         let start = initial(&sys, 0.1, 0.3, 0.05);
-        let mu0 = integ.momentum_map(&start)[0];
+        let mu0 = integ.momentum_map(&start).unwrap()[0];
         let traj = integ.run(start).steps(200).collect().unwrap();
         let last = traj.states.last().unwrap();
-        let mu = integ.momentum_map(last)[0];
+        let mu = integ.momentum_map(last).unwrap()[0];
         assert!(
             (mu - mu0).abs() <= 1e-13 * mu0.abs().max(1.0),
             "n = {n}: {mu} vs {mu0}"
@@ -60,7 +60,10 @@ fn element_wise_code_equals_the_unrolled_code_at_n_16() {
     let q1 = &q0 + DVector::from_fn(16, |i, _| 0.01 * (i as f64).cos());
     // L_d: the sum of the element values against the unrolled body, in adapted coordinates.
     let (a0, a1) = (Toda16::to_adapted(&s16(&q0)), Toda16::to_adapted(&s16(&q1)));
-    let (l_el, l_un) = (integ.discrete_lagrangian(&q0, &q1), un.lagrangian(&a0, &a1));
+    let (l_el, l_un) = (
+        integ.discrete_lagrangian(&q0, &q1).unwrap(),
+        un.lagrangian(&a0, &a1),
+    );
     assert!(
         (l_el - l_un).abs() <= 1e-14 * l_un.abs(),
         "{l_el} vs {l_un}"
@@ -68,7 +71,9 @@ fn element_wise_code_equals_the_unrolled_code_at_n_16() {
     // The residual and the step Jacobian: R_user = T⁻ᵀ R_adapted, J_user = T⁻ᵀ J_adapted T⁻¹.
     let mut ws = integ.workspace();
     let (mut r, mut j) = (DVector::zeros(16), Vec::new());
-    integ.residual_jacobian(&mut ws, &q0, &start.p, &q1, &mut r, &mut j);
+    integ
+        .residual_jacobian(&mut ws, &q0, &start.p, &q1, &mut r, &mut j)
+        .unwrap();
     let pa = Toda16::momentum_to_adapted(&s16(&start.p));
     let (ra, ja) = un.unreduced_residual_jacobian(&a0, &pa, &a1);
     let r_un = Toda16::momentum_from_adapted(&ra);
@@ -113,10 +118,10 @@ fn element_wise_code_equals_the_unrolled_code_at_n_16() {
         "largest difference over {steps} steps: {worst:e}"
     );
     // The momentum map: exactly μ_0, as the reduced integrator keeps it.
-    let mu0 = integ.momentum_map(&start)[0];
+    let mu0 = integ.momentum_map(&start).unwrap()[0];
     for s in &el_traj.states {
         assert!(
-            (integ.momentum_map(s)[0] - mu0).abs()
+            (integ.momentum_map(s).unwrap()[0] - mu0).abs()
                 <= 4.0 * f64::EPSILON * 16.0 * mu0.abs().max(1.0)
         );
     }
@@ -148,7 +153,7 @@ fn pairs_and_grids_sum_to_the_users_function() {
     let vel = (&q1 - &s.q) / c.h;
     let reference =
         c.h * cluster::cluster(c.config(&mid), c.config(&vel), c.m, c.eps, c.sigma, c.n);
-    let summed = integ.discrete_lagrangian(&s.q, &q1);
+    let summed = integ.discrete_lagrangian(&s.q, &q1).unwrap();
     assert!(
         (summed - reference).abs() <= 1e-12 * reference.abs(),
         "{summed} vs {reference}"
@@ -179,7 +184,7 @@ fn pairs_and_grids_sum_to_the_users_function() {
             w.nx,
             w.ny,
         );
-    let summed = integ.discrete_lagrangian(&s.q, &q1);
+    let summed = integ.discrete_lagrangian(&s.q, &q1).unwrap();
     assert!(
         (summed - reference).abs() <= 1e-12 * reference.abs(),
         "{summed} vs {reference}"
@@ -203,7 +208,9 @@ fn the_assembled_jacobian_is_the_derivative_of_the_residual() {
         let n = s.q.len();
         let mut ws = integ.workspace();
         let (mut r, mut j) = (DVector::zeros(n), Vec::new());
-        integ.residual_jacobian(&mut ws, &s.q, &s.p, z, &mut r, &mut j);
+        integ
+            .residual_jacobian(&mut ws, &s.q, &s.p, z, &mut r, &mut j)
+            .unwrap();
         let (col_ptr, row_idx) = ws.pattern();
         let (col_ptr, row_idx) = (col_ptr.to_vec(), row_idx.to_vec());
         let mut worst = 0.0f64;
@@ -214,8 +221,12 @@ fn the_assembled_jacobian_is_the_derivative_of_the_residual() {
             zp[c] += eps;
             zm[c] -= eps;
             let (mut rp, mut rm, mut jj) = (DVector::zeros(n), DVector::zeros(n), Vec::new());
-            integ.residual_jacobian(&mut ws, &s.q, &s.p, &zp, &mut rp, &mut jj);
-            integ.residual_jacobian(&mut ws, &s.q, &s.p, &zm, &mut rm, &mut jj);
+            integ
+                .residual_jacobian(&mut ws, &s.q, &s.p, &zp, &mut rp, &mut jj)
+                .unwrap();
+            integ
+                .residual_jacobian(&mut ws, &s.q, &s.p, &zm, &mut rm, &mut jj)
+                .unwrap();
             let fd = (rp - rm) / (2.0 * eps);
             let mut column = DVector::zeros(n);
             for p in col_ptr[c]..col_ptr[c + 1] {
@@ -312,7 +323,7 @@ fn momentum_maps_are_exact_on_grids_and_pairs() {
     };
     let integ = ElementIntegrator::new(w, NewtonOptions::default());
     let s = membrane::initial(&w, 0.3, 0.3, 1.0, 0.05);
-    let mu0 = integ.momentum_map(&s);
+    let mu0 = integ.momentum_map(&s).unwrap();
     let traj = integ.run(s).steps(300).collect().unwrap();
     let energies: Vec<f64> = traj
         .states
@@ -328,7 +339,7 @@ fn momentum_maps_are_exact_on_grids_and_pairs() {
         hi - lo
     );
     for st in &traj.states {
-        let mu = integ.momentum_map(st);
+        let mu = integ.momentum_map(st).unwrap();
         assert!((mu[0] - mu0[0]).abs() <= 1e-13, "{mu:?} vs {mu0:?}");
     }
     let c = Cluster {
@@ -340,11 +351,11 @@ fn momentum_maps_are_exact_on_grids_and_pairs() {
     };
     let integ = ElementIntegrator::new(c, NewtonOptions::default());
     let s = cluster::initial(&c, 1.15, 0.2);
-    let mu0 = integ.momentum_map(&s);
+    let mu0 = integ.momentum_map(&s).unwrap();
     assert_eq!(mu0.len(), 3);
     let traj = integ.run(s).steps(200).collect().unwrap();
     for st in &traj.states {
-        let mu = integ.momentum_map(st);
+        let mu = integ.momentum_map(st).unwrap();
         for a in 0..3 {
             assert!((mu[a] - mu0[a]).abs() <= 1e-13, "{mu:?} vs {mu0:?}");
         }
@@ -454,4 +465,106 @@ fn gyro(q: Config, v: Velocity, m: f64, b: f64, n: usize) -> f64 {
             - 0.5 * (q.x[j] - q.x[i]).powi(2);
     }
     l
+}
+
+/// The methods of an element integrator that take states or vectors, on vectors of the wrong
+/// length (or a workspace of another system): typed errors, not a panic (index out of bounds,
+/// a failed assertion) or a silent NaN.
+#[test]
+fn methods_on_vectors_of_the_wrong_length_are_typed_errors() {
+    use std::panic::{catch_unwind, AssertUnwindSafe};
+    let sys = TodaN {
+        m: 1.0,
+        d: 1.0,
+        h: 0.05,
+        n: 10,
+    };
+    let integ = ElementIntegrator::new(sys, NewtonOptions::default());
+    let good = initial(&sys, 0.1, 0.3, 0.05);
+    let short = ElementState::new(DVector::zeros(4), DVector::zeros(4));
+    let mut ws = integ.workspace();
+    let other = ElementIntegrator::new(TodaN { n: 12, ..sys }, NewtonOptions::default());
+    let mut other_ws = other.workspace();
+    let (mut r, mut j) = (DVector::zeros(10), Vec::new());
+    let outcome = |what: &str, f: &mut dyn FnMut() -> String| {
+        let got = catch_unwind(AssertUnwindSafe(f)).unwrap_or_else(|_| "a panic".to_string());
+        assert!(got.contains("InvalidSize"), "{what}: {got}");
+    };
+    outcome("momentum_map", &mut || {
+        format!("{:?}", integ.momentum_map(&short))
+    });
+    outcome("energy", &mut || {
+        format!("{:?}", integ.energy(&short.q, &good.q))
+    });
+    outcome("discrete_lagrangian", &mut || {
+        format!("{:?}", integ.discrete_lagrangian(&good.q, &short.q))
+    });
+    outcome("residual_jacobian", &mut || {
+        format!(
+            "{:?}",
+            integ.residual_jacobian(&mut ws, &short.q, &good.p, &good.q, &mut r, &mut j)
+        )
+    });
+    outcome("residual_jacobian, another system's workspace", &mut || {
+        format!(
+            "{:?}",
+            integ.residual_jacobian(&mut other_ws, &good.q, &good.p, &good.q, &mut r, &mut j)
+        )
+    });
+}
+
+/// Whether this process is the child a test started (see the memory test below).
+fn is_child() -> bool {
+    std::env::var_os("DIRAC_TEST_CHILD").is_some()
+}
+
+/// The periodic Toda lattice with n = 10⁸ under a 4 GB address-space limit (`ulimit -v`, in a
+/// child process so that an abort ends the child, not the harness): the input check sees that
+/// the run's workspace does not fit before allocating it, and returns a typed error with the
+/// bytes needed, where the stencils' check used to collect every element and abort.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_lattice_too_large_for_memory_is_a_typed_error_before_any_allocation() {
+    const NAME: &str = "a_lattice_too_large_for_memory_is_a_typed_error_before_any_allocation";
+    if !is_child() {
+        let out = std::process::Command::new("sh")
+            .arg("-c")
+            .arg("ulimit -v 4000000 && exec \"$0\" --exact \"$1\" --nocapture --test-threads=1")
+            .arg(std::env::current_exe().expect("the test binary"))
+            .arg(NAME)
+            .env("DIRAC_TEST_CHILD", "1")
+            .output()
+            .expect("the child runs");
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success() && stdout.contains("typed error:"),
+            "the child ended with {:?}\n{stdout}\n{}",
+            out.status,
+            String::from_utf8_lossy(&out.stderr)
+        );
+        return;
+    }
+    let sys = TodaN {
+        m: 1.0,
+        d: 1.0,
+        h: 0.05,
+        n: 100_000_000,
+    };
+    let integ = ElementIntegrator::new(sys, NewtonOptions::default());
+    // At rest at the origin: zeroed vectors, which the allocator hands out untouched.
+    let n = sys.n;
+    let start = ElementState::new(DVector::zeros(n), DVector::zeros(n));
+    let err = integ
+        .run(start)
+        .steps(1)
+        .observe(|_, _, _, _| {})
+        .stream()
+        .unwrap_err();
+    let message = err.source.to_string();
+    assert_eq!(err.trajectory.steps, 0);
+    assert!(
+        message.contains("bytes") && message.contains("memory"),
+        "{message}"
+    );
+    println!("typed error: {message}");
 }

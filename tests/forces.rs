@@ -258,15 +258,47 @@ fn a_control_sequence_equals_the_same_feedback_law() {
         .controls(ControlSequence::rows(&rows))
         .collect()
         .unwrap_err();
-    assert!(matches!(
-        e.source,
-        StepError::InvalidControls {
-            step: 100,
-            expected: 1,
-            found: 1
-        }
-    ));
+    // The error gives the sequence's real row length and says where it ended.
+    assert!(
+        matches!(
+            e.source,
+            StepError::InvalidControls {
+                step: 100,
+                expected: 1,
+                found: 1
+            }
+        ),
+        "{:?}",
+        e.source
+    );
+    let message = e.source.to_string();
+    assert!(message.contains("ended after 100 row(s)"), "{message}");
     assert_eq!(e.trajectory.steps(), 100);
+    // A sequence whose rows have the wrong length: the error gives that length.
+    let wide: Vec<f64> = rows.iter().flat_map(|r| [r[0], 0.0]).collect();
+    let e = integ
+        .run(s0)
+        .steps(10)
+        .controls(ControlSequence::flat(&wide, 2))
+        .collect()
+        .unwrap_err();
+    assert!(
+        matches!(
+            e.source,
+            StepError::InvalidControls {
+                step: 0,
+                expected: 1,
+                found: 2
+            }
+        ),
+        "{:?}",
+        e.source
+    );
+    assert!(
+        e.source.to_string().contains("2 control value(s) given"),
+        "{}",
+        e.source
+    );
 }
 
 /// A step as a map of the flattened state and the controls.

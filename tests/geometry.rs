@@ -49,7 +49,7 @@ fn assert_geometry<L, const S: usize, const K: usize, const N: usize>(
             );
         }
         if variant == Variant::Plus {
-            let vars = ReducedActionPlus::from_trajectory(&traj);
+            let vars = ReducedActionPlus::from_trajectory(&traj).unwrap();
             let scale = traj
                 .states
                 .iter()
@@ -124,7 +124,7 @@ fn the_action_gradient_is_the_gradient_of_the_action() {
         .steps(6)
         .collect()
         .unwrap();
-    let mut vars = ReducedActionPlus::from_trajectory(&traj);
+    let mut vars = ReducedActionPlus::from_trajectory(&traj).unwrap();
     // Perturb every variable, so no component of the gradient vanishes by accident.
     let mut i = 0;
     for v in vars
@@ -298,4 +298,29 @@ fn double_spherical_pendulum() {
     use dirac::paper::DoubleSphericalPendulum;
     let sys = DoubleSphericalPendulum::paper();
     assert_geometry(sys, DoubleSphericalPendulum::paper_initial_state(), 2000);
+}
+
+/// The (+) action's variables of a trajectory of the (−) stepper (Theorem 5.2 is the (+)
+/// principle), or of a trajectory without states: a typed error, not a panic.
+#[test]
+fn the_plus_action_of_a_minus_trajectory_is_a_typed_error() {
+    let sys = ChargedParticle::paper(100);
+    let initial = ChargedParticle::paper_initial_state();
+    let minus = ReducedIntegrator::minus(sys, NewtonOptions::default())
+        .run(initial)
+        .steps(3)
+        .collect()
+        .unwrap();
+    let mut empty = ReducedIntegrator::plus(sys, NewtonOptions::default())
+        .run(initial)
+        .steps(3)
+        .collect()
+        .unwrap();
+    empty.states.clear();
+    for traj in [&minus, &empty] {
+        let got =
+            std::panic::catch_unwind(|| format!("{:?}", ReducedActionPlus::from_trajectory(traj)))
+                .unwrap_or_else(|_| "a panic".to_string());
+        assert!(got.starts_with("Err("), "{got}");
+    }
 }

@@ -288,6 +288,9 @@ pub struct AtlasIntegrator<'a, const S: usize, const K: usize, const N: usize> {
     transitions: Vec<Vec<Option<Box<dyn ChartTransition<S, K, N> + Send + Sync + 'a>>>>,
     quality: Option<Quality<'a, S, K>>,
     switch_below: f64,
+    /// Whether a transition was declared between charts not added before (or from a chart to
+    /// itself), reported by the run's check.
+    misdeclared: bool,
 }
 
 impl<'a, const S: usize, const K: usize, const N: usize> Default for AtlasIntegrator<'a, S, K, N> {
@@ -305,6 +308,7 @@ impl<'a, const S: usize, const K: usize, const N: usize> AtlasIntegrator<'a, S, 
             transitions: Vec::new(),
             quality: None,
             switch_below: 1e-3,
+            misdeclared: false,
         }
     }
 
@@ -320,21 +324,23 @@ impl<'a, const S: usize, const K: usize, const N: usize> AtlasIntegrator<'a, S, 
         self
     }
 
-    /// Declares the transition from chart `from` to chart `to`.
-    ///
-    /// # Panics
-    /// If either index is not a chart added before (a programming error at set-up).
+    /// Declares the transition from chart `from` to chart `to`. Both must be distinct charts
+    /// added before: otherwise the transition is dropped and every run of the atlas fails its
+    /// input check with [`StepError::InvalidAtlas`].
     pub fn transition(
         mut self,
         from: usize,
         to: usize,
         transition: impl ChartTransition<S, K, N> + Send + Sync + 'a,
     ) -> Self {
-        assert!(
-            from < self.charts.len() && to < self.charts.len() && from != to,
-            "transition {from} → {to}: both must be distinct charts added before"
-        );
-        self.transitions[from][to] = Some(Box::new(transition));
+        match self
+            .transitions
+            .get_mut(from)
+            .and_then(|row| row.get_mut(to))
+        {
+            Some(slot) if from != to => *slot = Some(Box::new(transition)),
+            _ => self.misdeclared = true,
+        }
         self
     }
 
@@ -459,10 +465,10 @@ impl<'a, const S: usize, const K: usize, const N: usize> Collect<AtlasIntegrator
     fn start(atlas: &AtlasIntegrator<'a, S, K, N>, steps: usize) -> Self {
         AtlasTrajectory {
             h: atlas.time_step(),
-            states: Vec::with_capacity(steps + 1),
-            times: Vec::with_capacity(steps + 1),
-            charts: Vec::with_capacity(steps + 1),
-            stats: Vec::with_capacity(steps),
+            states: crate::stepper::reserved(steps.saturating_add(1)),
+            times: crate::stepper::reserved(steps.saturating_add(1)),
+            charts: crate::stepper::reserved(steps.saturating_add(1)),
+            stats: crate::stepper::reserved(steps),
             switches: Vec::new(),
         }
     }
@@ -509,9 +515,16 @@ impl<'a, const S: usize, const K: usize, const N: usize> Stepper for AtlasIntegr
         self.charts.first().map_or(f64::NAN, |c| c.time_step())
     }
 
-    /// The initial chart must be a chart of the atlas, and its checks hold for the initial state
+    /// Every transition was declared between distinct charts of the atlas; the initial chart
+    /// must be a chart of the atlas, and its checks hold for the initial state
     /// ([`Stepper::check`]); every chart has the same time step and finite parameters.
     fn check(&self, &(chart, ref initial): &Self::State) -> Result<(), StepError> {
+        if self.misdeclared {
+            return Err(StepError::InvalidAtlas {
+                reason: "a transition was declared between charts not added before, or from a \
+                         chart to itself",
+            });
+        }
         let Some(first) = self.charts.get(chart) else {
             return Err(StepError::InvalidAtlas {
                 reason: "the initial chart index is not a chart of the atlas",
@@ -549,6 +562,14 @@ impl<'a, const S: usize, const K: usize, const N: usize> Stepper for AtlasIntegr
         &(chart, ref from): &Self::State,
         u: &[f64],
     ) -> Result<(Self::State, AtlasStep<S, K>), StepError> {
+        // `Stepper::step` and `step_with` are public: a chart index or a workspace that is not
+        // this atlas's is an error, as in the run's check, not an index out of bounds.
+        if chart >= self.charts.len() || workspace.charts.len() != self.charts.len() {
+            return Err(StepError::InvalidAtlas {
+                reason: "the state's chart index is not a chart of the atlas, or the workspace \
+                         is another atlas's",
+            });
+        }
         let guess = reduced_guess::<S, K, N>(&from.x, &workspace.history, h);
         let (c, state, rescue, (next, step)) = match self.charts[chart].chart_step(
             workspace.charts[chart].as_mut(),

@@ -261,6 +261,17 @@ impl<I> Composition<I> {
     pub fn base(&self) -> &I {
         &self.base
     }
+
+    /// The error of stage `stage` (from 0), `error`, as the composition reports it: naming the
+    /// stage and its substep, with the stage's step index and residual.
+    fn stage_failed(&self, stage: usize, substep: f64, error: StepError) -> StepError {
+        StepError::StageFailed {
+            stage,
+            stages: self.stages.len(),
+            substep,
+            error: Box::new(error),
+        }
+    }
 }
 
 impl<I> Composition<I>
@@ -298,9 +309,9 @@ where
         ComposedTrajectory {
             h: composition.time_step(),
             method: composition.method,
-            states: Vec::with_capacity(steps + 1),
-            times: Vec::with_capacity(steps + 1),
-            stats: Vec::with_capacity(steps),
+            states: crate::stepper::reserved(steps.saturating_add(1)),
+            times: crate::stepper::reserved(steps.saturating_add(1)),
+            stats: crate::stepper::reserved(steps),
         }
     }
 
@@ -317,7 +328,8 @@ where
 /// (one per stage, built once per run), so each stage's Newton iteration starts from the same
 /// stage of the previous two macro steps (the shape advanced by the increment extrapolated from
 /// that stage's last two) and, on the sparse backend, reuses that stage's factors. A failed stage
-/// fails the macro step with the macro step's index.
+/// fails the macro step with [`StepError::StageFailed`]: the stage, its substep and its own error
+/// with the macro step's index.
 impl<I> Stepper for Composition<I>
 where
     I: SelfAdjoint,
@@ -369,11 +381,25 @@ where
         state: &I::State,
         u: &[f64],
     ) -> Result<(I::State, StepStats), StepError> {
+        if workspace.len() != self.stages.len() {
+            return Err(StepError::InvalidSize {
+                reason: format!(
+                    "the workspace has {} stage workspaces, the composition {} stages: it is \
+                     another composition's",
+                    workspace.len(),
+                    self.stages.len()
+                ),
+            });
+        }
         let mut total = StepStats::default();
         let mut current = state.clone();
         let stages = self.stages.iter().zip(workspace.iter_mut());
-        for ((stage, stage_workspace), gamma) in stages.zip(self.method.coefficients) {
-            let (next, record) = stage.step_with(stage_workspace, k, gamma * h, &current, u)?;
+        for (i, ((stage, stage_workspace), gamma)) in
+            stages.zip(self.method.coefficients).enumerate()
+        {
+            let (next, record) = stage
+                .step_with(stage_workspace, k, gamma * h, &current, u)
+                .map_err(|e| self.stage_failed(i, gamma * h, e))?;
             total.accumulate(record.as_ref());
             current = next;
         }
@@ -401,9 +427,13 @@ where
             dp_dq: SMatrix::zeros(),
             dp_dp: SMatrix::identity(),
         };
-        for stage in &self.stages {
-            let (next, _) = stage.step_from(k, &current, &current.q)?;
-            let m = stage.step_jacobian(k, &current, &next)?;
+        for (i, stage) in self.stages.iter().enumerate() {
+            let (next, _) = stage
+                .step_from(k, &current, &current.q)
+                .map_err(|e| self.stage_failed(i, stage.time_step(), e))?;
+            let m = stage
+                .step_jacobian(k, &current, &next)
+                .map_err(|e| self.stage_failed(i, stage.time_step(), e))?;
             product = m.compose(&product);
             current = next;
         }

@@ -444,10 +444,10 @@ where
     fn start(integrator: &ConstrainedIntegrator<L, S, K, N, M, Z>, steps: usize) -> Self {
         ConstrainedTrajectory {
             h: integrator.system.time_step(),
-            states: Vec::with_capacity(steps + 1),
-            times: Vec::with_capacity(steps + 1),
-            steps: Vec::with_capacity(steps),
-            stats: Vec::with_capacity(steps),
+            states: crate::stepper::reserved(steps.saturating_add(1)),
+            times: crate::stepper::reserved(steps.saturating_add(1)),
+            steps: crate::stepper::reserved(steps),
+            stats: crate::stepper::reserved(steps),
         }
     }
 
@@ -671,10 +671,10 @@ where
     fn start(integrator: &ReducedConstrainedIntegrator<L, D, S, K, N, M, Z>, steps: usize) -> Self {
         ConstrainedTrajectory {
             h: integrator.system.time_step(),
-            states: Vec::with_capacity(steps + 1),
-            times: Vec::with_capacity(steps + 1),
-            steps: Vec::with_capacity(steps),
-            stats: Vec::with_capacity(steps),
+            states: crate::stepper::reserved(steps.saturating_add(1)),
+            times: crate::stepper::reserved(steps.saturating_add(1)),
+            steps: crate::stepper::reserved(steps),
+            stats: crate::stepper::reserved(steps),
         }
     }
 

@@ -9,6 +9,7 @@
 
 use nalgebra::{SMatrix, SVector};
 
+use crate::error::StepError;
 use crate::newton::inf_norm;
 use crate::reduced::Trajectory;
 use crate::system::{join, DiscreteLagrangian, Minus, Plus, Reduced, Side, Variant};
@@ -298,25 +299,39 @@ pub struct ReducedActionPlus<const S: usize, const K: usize> {
 
 impl<const S: usize, const K: usize> ReducedActionPlus<S, K> {
     /// The action's variables along a trajectory of the (+) stepper: `x_k^+ = x_{k+1}`, the
-    /// solved `g_k^+`, and the computed momenta.
-    ///
-    /// # Panics
-    /// If the trajectory was computed by the (−) stepper.
-    pub fn from_trajectory(trajectory: &Trajectory<S, K>) -> Self {
-        assert_eq!(
-            trajectory.variant,
-            Variant::Plus,
-            "Theorem 5.2 is the (+) principle"
-        );
+    /// solved `g_k^+`, and the computed momenta. A trajectory of the (−) stepper (Theorem 5.2 is
+    /// the (+) principle) is [`StepError::Unsupported`]; one without states or whose group
+    /// unknowns do not number its steps (not made by `integrate`) is [`StepError::InvalidSize`].
+    pub fn from_trajectory(trajectory: &Trajectory<S, K>) -> Result<Self, StepError> {
+        if trajectory.variant != Variant::Plus {
+            return Err(StepError::Unsupported {
+                what: "the (+) action's variables of a trajectory of the (-) stepper \
+                       (Theorem 5.2 is the (+) principle)",
+            });
+        }
         let states = &trajectory.states;
-        Self {
+        let Some(later) = states.get(1..) else {
+            return Err(StepError::InvalidSize {
+                reason: "the trajectory holds no state".to_string(),
+            });
+        };
+        if trajectory.group_unknowns.len() != later.len() {
+            return Err(StepError::InvalidSize {
+                reason: format!(
+                    "the trajectory has {} steps but {} group unknowns",
+                    later.len(),
+                    trajectory.group_unknowns.len()
+                ),
+            });
+        }
+        Ok(Self {
             x: states.iter().map(|s| s.x).collect(),
             g: states.iter().map(|s| s.g).collect(),
-            x_plus: states[1..].iter().map(|s| s.x).collect(),
+            x_plus: later.iter().map(|s| s.x).collect(),
             g_plus: trajectory.group_unknowns.clone(),
-            w: states[1..].iter().map(|s| s.w).collect(),
-            mu: states[1..].iter().map(|s| s.mu).collect(),
-        }
+            w: later.iter().map(|s| s.w).collect(),
+            mu: later.iter().map(|s| s.mu).collect(),
+        })
     }
 
     /// `Σ_k e_{d+}(x_k, x_k^+, g_k^+, q_{k+1} − g_k, w_{k+1}, μ_{k+1})`, eq. (5.8).

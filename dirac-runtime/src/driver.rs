@@ -72,9 +72,10 @@ pub trait ControlLaw<St> {
     /// its end): the run then stops with [`StepError::InvalidControls`].
     fn controls(&mut self, k: usize, t: f64, state: &St, u: &mut [f64]) -> bool;
 
-    /// How many values a row holds, when the law knows (a sequence): reported in the error of a
-    /// sequence that ends before the run.
-    fn row_len(&self) -> Option<usize> {
+    /// The number of values the law has per step when it is fixed (a [`ControlSequence`]'s row
+    /// length), for the error of a step it has no controls for; `None` (the default) for a
+    /// law that writes whatever the system declares.
+    fn values_per_step(&self) -> Option<usize> {
         None
     }
 
@@ -146,7 +147,7 @@ impl<St> ControlLaw<St> for ControlSequence<'_> {
         true
     }
 
-    fn row_len(&self) -> Option<usize> {
+    fn values_per_step(&self) -> Option<usize> {
         Some(self.m)
     }
 }
@@ -679,7 +680,7 @@ where
             let e = StepError::InvalidControls {
                 step: k,
                 expected: u.len(),
-                found: controls.row_len().unwrap_or(0),
+                found: controls.values_per_step().unwrap_or(u.len()),
             };
             return Err(fail(e, summary));
         }

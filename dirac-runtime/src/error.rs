@@ -28,23 +28,25 @@ pub enum StepError {
         /// `‖R‖∞` at the iterate whose Jacobian is singular.
         residual: f64,
     },
-    /// The step converged but its Jacobian is too ill-conditioned for the result to be trusted:
-    /// its reciprocal condition estimate is below [`NewtonOptions::min_rcond`]. For reduced
-    /// equations this happens where the symmetry action is not free (Remark 7.1).
+    /// The step Jacobian is too ill-conditioned for a result to be trusted: its reciprocal
+    /// condition estimate is below [`NewtonOptions::min_rcond`]. Either the iteration met its
+    /// tolerance (`residual ≤ tolerance`) on that Jacobian, so the step converged but its
+    /// solution has few or no correct digits, or it stopped without meeting it (`residual >
+    /// tolerance`: not converged, and the ill-conditioned Jacobian is the likely cause); the
+    /// message says which. For reduced equations this happens where the symmetry action is not
+    /// free (Remark 7.1).
     ///
     /// [`NewtonOptions::min_rcond`]: crate::NewtonOptions::min_rcond
-    #[error(
-        "step {step}: the step Jacobian is ill-conditioned (reciprocal condition estimate {rcond:.3e}, \
-         residual {residual:.3e}); the solution cannot be trusted: the equations degenerate near a \
-         singularity of the coordinates or of the reduction (e.g. where the symmetry action is not free)"
-    )]
+    #[error("{}", ill_conditioned_message(*.step, *.rcond, *.residual, *.tolerance))]
     IllConditioned {
         /// Index of the failed step.
         step: usize,
         /// The reciprocal condition estimate.
         rcond: f64,
-        /// `‖R‖∞` at the solution.
+        /// `‖R‖∞` at the last iterate (the solution when it is at most `tolerance`).
         residual: f64,
+        /// The residual tolerance of the step ([`crate::NewtonOptions::residual_tolerance`]).
+        tolerance: f64,
     },
     /// A residual, Jacobian, correction or state component is NaN or infinite.
     #[error("step {step}: non-finite value in {what} (residual {residual:.3e})")]
@@ -62,8 +64,9 @@ pub enum StepError {
         /// What is wrong.
         reason: &'static str,
     },
-    /// The sizes of a run-time-sized system ([`crate::element`]) do not fit its stencils, or a
-    /// state does not have the system's number of coordinates.
+    /// Sizes that do not fit: those of a run-time-sized system ([`crate::element`]) against its
+    /// stencils, a state or vector without the system's number of coordinates, or a workspace
+    /// or trajectory that is not of this integrator.
     #[error("invalid size: {reason}")]
     InvalidSize {
         /// What is wrong, with the figures.
@@ -134,19 +137,48 @@ pub enum StepError {
         what: &'static str,
     },
     /// The controls given for a step are not the ones the system declares (`controls(...)` in
-    /// its attribute, [`crate::DiscreteLagrangian::CONTROLS`]): the wrong number of values, or
-    /// a control sequence that ends before the run does.
-    #[error(
-        "step {step}: {found} control value(s) given, the system declares {expected} \
-         (`controls(...)` in its attribute); a control sequence needs one row per step"
-    )]
+    /// its attribute, [`crate::DiscreteLagrangian::CONTROLS`]): the wrong number of values
+    /// (`found ≠ expected`), or a control law with no values for step `step` (`found =
+    /// expected`: a [`crate::ControlSequence`] of `step` rows, which ended before the run did).
+    #[error("{}", controls_message(*.step, *.expected, *.found))]
     InvalidControls {
         /// Index of the step.
         step: usize,
         /// The number of controls the system declares.
         expected: usize,
-        /// The number of values given (0 past the end of a sequence).
+        /// The number of values given per step: a control sequence's row length, or the
+        /// declared number for a feedback law.
         found: usize,
+    },
+    /// A stage of a composition ([`crate::Composition`]) failed: `error` is the stage's own
+    /// error, with the index of the macro step and the stage's residual.
+    #[error(
+        "stage {} of {stages} (substep {substep:.6e}) of the composition failed: {error}",
+        stage + 1
+    )]
+    StageFailed {
+        /// Index of the stage that failed, from 0.
+        stage: usize,
+        /// The number of stages of a macro step.
+        stages: usize,
+        /// The stage's time step `γ_i h`.
+        substep: f64,
+        /// The stage's error.
+        error: Box<StepError>,
+    },
+    /// A run needs more memory than can be allocated: checked before the memory is allocated
+    /// (for a run-time-sized system, [`crate::element`], the workspace its sizes imply), so that
+    /// a system too large for the machine is an error rather than an aborted process.
+    #[error(
+        "not enough memory: {what} needs {bytes} bytes ({:.2} GiB), which cannot be allocated; \
+         choose smaller sizes or a machine with more memory",
+        *bytes as f64 / (1u64 << 30) as f64
+    )]
+    OutOfMemory {
+        /// What needs the memory.
+        what: String,
+        /// The bytes needed.
+        bytes: u128,
     },
 }
 
@@ -169,12 +201,15 @@ impl StepError {
             StepError::InvalidControls { .. } => "invalid controls",
             StepError::ConstraintViolated { .. } => "constraint violated",
             StepError::Unsupported { .. } => "not available",
+            StepError::StageFailed { error, .. } => error.kind(),
+            StepError::OutOfMemory { .. } => "not enough memory",
         }
     }
 
     /// Index of the step that failed.
     pub fn step(&self) -> usize {
         match *self {
+            StepError::StageFailed { ref error, .. } => error.step(),
             StepError::NotConverged { step, .. }
             | StepError::SingularJacobian { step, .. }
             | StepError::IllConditioned { step, .. }
@@ -188,6 +223,7 @@ impl StepError {
             | StepError::InvalidAtlas { .. }
             | StepError::InvalidSize { .. }
             | StepError::Unsupported { .. }
+            | StepError::OutOfMemory { .. }
             | StepError::ConstraintViolated { .. } => 0,
         }
     }
@@ -196,6 +232,7 @@ impl StepError {
     /// an invalid atlas or invalid controls, where no residual exists).
     pub fn residual(&self) -> f64 {
         match *self {
+            StepError::StageFailed { ref error, .. } => error.residual(),
             StepError::NotConverged { residual, .. }
             | StepError::SingularJacobian { residual, .. }
             | StepError::IllConditioned { residual, .. }
@@ -208,9 +245,47 @@ impl StepError {
             | StepError::InvalidAtlas { .. }
             | StepError::InvalidSize { .. }
             | StepError::InvalidControls { .. }
+            | StepError::OutOfMemory { .. }
             | StepError::Unsupported { .. } => f64::NAN,
             StepError::ConstraintViolated { residual, .. } => residual,
         }
+    }
+}
+
+/// The message of [`StepError::IllConditioned`]: a converged step whose solution cannot be
+/// trusted, or a step that did not converge on an ill-conditioned Jacobian.
+fn ill_conditioned_message(step: usize, rcond: f64, residual: f64, tolerance: f64) -> String {
+    let cause = "the equations degenerate near a singularity of the coordinates or of the \
+                 reduction (e.g. where the symmetry action is not free)";
+    if residual <= tolerance {
+        format!(
+            "step {step}: the step Jacobian is ill-conditioned (reciprocal condition estimate \
+             {rcond:.3e}, residual {residual:.3e}): the step converged but its solution cannot be \
+             trusted: {cause}"
+        )
+    } else {
+        format!(
+            "step {step}: Newton iteration did not converge (residual {residual:.3e} above the \
+             tolerance {tolerance:.3e}) on an ill-conditioned step Jacobian (reciprocal condition \
+             estimate {rcond:.3e}): {cause}"
+        )
+    }
+}
+
+/// The message of [`StepError::InvalidControls`]: the wrong number of values, or a law (a
+/// sequence) that ended.
+fn controls_message(step: usize, expected: usize, found: usize) -> String {
+    if found == expected {
+        format!(
+            "step {step}: the controls ended: the control law has no values for step {step} \
+             (a control sequence ended after {step} row(s) of {found} value(s)); a control \
+             sequence needs one row per step"
+        )
+    } else {
+        format!(
+            "step {step}: {found} control value(s) given, the system declares {expected} \
+             (`controls(...)` in its attribute)"
+        )
     }
 }
 

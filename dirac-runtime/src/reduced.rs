@@ -120,10 +120,10 @@ where
         Trajectory {
             h: integrator.system.time_step(),
             variant: D::VARIANT,
-            states: Vec::with_capacity(steps + 1),
-            times: Vec::with_capacity(steps + 1),
-            group_unknowns: Vec::with_capacity(steps),
-            stats: Vec::with_capacity(steps),
+            states: crate::stepper::reserved(steps.saturating_add(1)),
+            times: crate::stepper::reserved(steps.saturating_add(1)),
+            group_unknowns: crate::stepper::reserved(steps),
+            stats: crate::stepper::reserved(steps),
         }
     }
 
@@ -352,6 +352,7 @@ where
                     step: k,
                     rcond: r,
                     residual: solution.residual,
+                    tolerance: self.options.residual_tolerance(rho),
                 });
             }
         }

@@ -167,9 +167,25 @@ where
     Ok(Some(sys.with_controls(u)))
 }
 
+/// The most states (or step records) a trajectory reserves room for before the first step
+/// ([`reserved`]).
+pub(crate) const RESERVED_STATES: usize = 1 << 12;
+
+/// An empty vector with room for `len` items, but for no more than [`RESERVED_STATES`]: what
+/// [`Collect::start`] gives each of a trajectory's vectors. A run asked for `steps` steps may
+/// stop long before (a stop condition, a failed step) and may be asked for more steps than
+/// memory holds (`usize::MAX` with a stop condition), so room for every step is not reserved
+/// before the first one; beyond the reserved room the vectors grow as the run proceeds, by
+/// doubling, so a step still allocates nothing in the amortized sense (`log₂(steps/4096)`
+/// reallocations over a run).
+pub(crate) fn reserved<T>(len: usize) -> Vec<T> {
+    Vec::with_capacity(len.min(RESERVED_STATES))
+}
+
 /// A trajectory that a collected run ([`crate::Run::collect`]) fills, state by state.
 pub trait Collect<St: Stepper + ?Sized>: Sized {
-    /// An empty trajectory of `stepper` with room for `steps` steps.
+    /// An empty trajectory of `stepper` for a run of at most `steps` steps (with room reserved
+    /// for at most a few thousand, see [`reserved`]).
     fn start(stepper: &St, steps: usize) -> Self;
     /// Appends the state at time `t`; `record` is the step that produced it (`None` for the
     /// initial state).
@@ -386,10 +402,15 @@ pub(crate) fn step_error(k: usize, failure: NewtonFailure) -> StepError {
             residual,
         },
         NewtonFailure::Singular { residual } => StepError::SingularJacobian { step: k, residual },
-        NewtonFailure::IllConditioned { rcond, residual } => StepError::IllConditioned {
+        NewtonFailure::IllConditioned {
+            rcond,
+            residual,
+            tolerance,
+        } => StepError::IllConditioned {
             step: k,
             rcond,
             residual,
+            tolerance,
         },
         NewtonFailure::NonFinite { residual } => StepError::NonFinite {
             step: k,

@@ -46,9 +46,9 @@ where
     fn start(integrator: &UnreducedIntegrator<L, S, K, N>, steps: usize) -> Self {
         CanonicalTrajectory {
             h: integrator.system.time_step(),
-            states: Vec::with_capacity(steps + 1),
-            times: Vec::with_capacity(steps + 1),
-            stats: Vec::with_capacity(steps),
+            states: crate::stepper::reserved(steps.saturating_add(1)),
+            times: crate::stepper::reserved(steps.saturating_add(1)),
+            stats: crate::stepper::reserved(steps),
         }
     }
 

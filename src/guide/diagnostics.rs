@@ -84,7 +84,7 @@
 //! let bound = 4.0 * traj.max_residual() + 1e-14 * scale;
 //! let membership = dirac_membership_residuals(&sys, &traj);
 //! assert!(membership.iter().all(|&r| r <= bound));
-//! let gradient = ReducedActionPlus::from_trajectory(&traj).gradient(&sys).max_abs();
+//! let gradient = ReducedActionPlus::from_trajectory(&traj)?.gradient(&sys).max_abs();
 //! assert!(gradient <= bound);
 //!
 //! // The step map of the unreduced integrator is symplectic.

@@ -12,7 +12,7 @@
 //! | --- | --- | --- |
 //! | `NotConverged { step, iterations, residual }` | Newton's iteration reached `max_iterations` without meeting the tolerances | a smaller time step, or a larger iteration cap |
 //! | `SingularJacobian { step, residual }` | the Jacobian of the step equations is singular: `L_d` is degenerate here, or the reduction is not valid here | coordinates where the symmetry acts freely; for a degenerate `L`, whether its discrete Legendre map is invertible |
-//! | `IllConditioned { step, rcond, residual }` | the step converged but its Jacobian's reciprocal condition estimate is below [`NewtonOptions::min_rcond`](crate::NewtonOptions::min_rcond): the result has few or no correct digits | another chart ([atlas](super::integrators#an-atlas-of-charts-6)); near a pole of spherical coordinates the action is not free (Remark 7.1) |
+//! | `IllConditioned { step, rcond, residual, tolerance }` | the step Jacobian's reciprocal condition estimate is below [`NewtonOptions::min_rcond`](crate::NewtonOptions::min_rcond): with `residual ≤ tolerance` the step converged but the result has few or no correct digits; with `residual > tolerance` it did not converge, the ill-conditioning the likely cause (the message says which) | another chart ([atlas](super::integrators#an-atlas-of-charts-6)); near a pole of spherical coordinates the action is not free (Remark 7.1) |
 //! | `NonFinite { step, what, residual }` | a residual, Jacobian, correction or state component is NaN or infinite; `what` says which | the parameters, the initial state, and whether the motion left the domain of `L` (a square root or logarithm of a negative number) |
 //! | `InvalidTimeStep { h }` | the time step is not positive and finite (step 0, nothing taken) | a positive `h` |
 //! | `InvalidStepSize { step, h }` | a step-size policy gave a size that is not positive and finite | the schedule |
@@ -20,6 +20,8 @@
 //! | `InvalidRun { reason }` | the run has no length (`.steps(n)` or `.end_time(t)`), an end time before its start or a zero output stride (nothing computed) | the run's options |
 //! | `NotSymmetric { defect, tolerance }` | a composition was asked of a rule that is not symmetric, so it would not reach its order | the midpoint or trapezoidal rule |
 //! | `InvalidAtlas { reason }` | the charts or transitions of an atlas do not fit together | the atlas's construction |
+//! | `StageFailed { stage, stages, substep, error }` | stage `stage` (from 0) of a composition, stepping with `substep`, failed with `error` (which has the macro step's index and the stage's residual) | what `error` suggests; a smaller macro step |
+//! | `OutOfMemory { what, bytes }` | a run-time-sized system's workspace needs `bytes` bytes, which cannot be allocated (checked before allocating) | smaller sizes, or a machine with more memory |
 //!
 //! [`StepError::step`](crate::StepError::step), [`residual`](crate::StepError::residual) and
 //! [`kind`](crate::StepError::kind) read the common fields; the enum is `#[non_exhaustive]`.

@@ -28,10 +28,10 @@
 //!     let q = DVector::from_fn(n, |i, _| i as f64 + 0.1 * (i as f64).sin());
 //!     let p = DVector::from_fn(n, |i, _| 0.3 * (0.5 * i as f64).cos());
 //!     let start = ElementState::new(q, p);
-//!     let mu0 = integ.momentum_map(&start)[0];
+//!     let mu0 = integ.momentum_map(&start)?[0];
 //!     let summary = integ.run(start).steps(100).observe(|_, _, _, _| ()).stream()?;
 //!     // The total momentum of the declared translation is kept exactly (to round-off).
-//!     let mu = integ.momentum_map(&summary.last)[0];
+//!     let mu = integ.momentum_map(&summary.last)?[0];
 //!     assert!((mu - mu0).abs() < 1e-10);
 //! }
 //! # Ok::<(), Box<dyn std::error::Error>>(())

@@ -17,6 +17,7 @@ use rayon::prelude::*;
 
 use super::solver::ElementSolver;
 use super::{ElementLagrangian, Family, FamilyVisitor, Linear, Parallel, PARALLEL_MIN_ENTRIES};
+use crate::error::StepError;
 
 /// The elements of one family as a run sees them.
 struct FamilyData {
@@ -101,6 +102,8 @@ pub(super) struct Assembler {
 /// Newton's guess extrapolates from. Built once per run (the only allocations of a run).
 pub struct ElementWorkspace {
     n: usize,
+    /// The sizes of the system it was built for.
+    sizes: Vec<usize>,
     invalid: Option<String>,
     solver: ElementSolver,
     /// The step Jacobian's pattern, compressed columns.
@@ -168,15 +171,123 @@ impl FamilyVisitor for Collector {
     }
 }
 
-/// Every stencil against the system's dimension: `Err` with the first one out of range.
-pub(super) fn check_stencils<L: ElementLagrangian>(system: &L) -> Result<(), String> {
-    let mut collector = Collector {
+/// The shape of one family of elements: stencil width, loop depth and number of elements.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) struct FamilyShape {
+    width: usize,
+    depth: usize,
+    count: usize,
+}
+
+/// Counts every family's elements and checks their stencils, storing none of them.
+struct Counter {
+    n: usize,
+    shapes: Vec<FamilyShape>,
+    invalid: Option<String>,
+}
+
+impl FamilyVisitor for Counter {
+    fn family<const S: usize, F: Family<S>>(&mut self, family: &F) {
+        let (n, index) = (self.n, self.shapes.len());
+        let mut count = 0usize;
+        let invalid = &mut self.invalid;
+        family.elements(&mut |indices, stencil| {
+            count += 1;
+            if invalid.is_some() {
+                return;
+            }
+            if let Some((slot, g)) = stencil
+                .iter()
+                .enumerate()
+                .find(|&(_, &g)| usize::try_from(g).map_or(true, |g| g >= n))
+            {
+                *invalid = Some(format!(
+                    "element {indices:?} of family {index} reads coordinate {g} (slot {slot}), outside 0..{n}: the sizes are too small for its stencil"
+                ));
+            }
+        });
+        self.shapes.push(FamilyShape {
+            width: S,
+            depth: F::DEPTH,
+            count,
+        });
+    }
+}
+
+/// Every stencil against the system's dimension: `Err` with the first one out of range, else
+/// the shape of every family. One pass over the elements that stores none of them, so the check
+/// costs no memory whatever the sizes (the workspace's size is checked next, [`check_memory`]).
+pub(super) fn check_stencils<L: ElementLagrangian>(system: &L) -> Result<Vec<FamilyShape>, String> {
+    let mut counter = Counter {
         n: system.dim(),
-        families: Vec::new(),
+        shapes: Vec::new(),
         invalid: None,
     };
-    system.families(&mut collector);
-    collector.invalid.map_or(Ok(()), Err)
+    system.families(&mut counter);
+    counter.invalid.map_or(Ok(counter.shapes), Err)
+}
+
+/// The bytes a run of a system of `n` coordinates with the families `shapes` allocates before
+/// its first step, counted from what [`ElementWorkspace::new`] builds (in 8-byte words): per
+/// element its loop indices (`depth`), stencil (`width`) and Jacobian positions (`width²`);
+/// the pattern's `E = Σ count·width² + n` entries as `(column, row)` pairs while it is sorted
+/// (2E), its row indices and column pointers twice (the solver keeps a copy: 2E + 2(n + 1)),
+/// the Jacobian's values (E); the residual, next momentum and the two increments of the guess
+/// (4n) and the driver's second state (2n). The sparse factors' fill comes on top, so this is a
+/// lower bound of the run's memory. In `u128`, so no count overflows.
+pub(super) fn workspace_bytes(n: usize, shapes: &[FamilyShape]) -> u128 {
+    let n = n as u128;
+    let mut words = 0u128;
+    let mut entries = n;
+    for f in shapes {
+        let (w, d, c) = (f.width as u128, f.depth as u128, f.count as u128);
+        words += c * (d + w + w * w);
+        entries += c * w * w;
+    }
+    words += 2 * entries + 2 * entries + 2 * (n + 1) + entries;
+    words += 4 * n + 2 * n;
+    8 * words
+}
+
+/// Whether the memory a run of `n` coordinates and the families `shapes` needs
+/// ([`workspace_bytes`]) can be allocated: it is reserved once, untouched, and released, before
+/// anything is built. An address-space limit (`ulimit -v`) or a kernel that refuses to commit
+/// that much then gives [`StepError::OutOfMemory`] with the bytes needed, where building the
+/// workspace would abort the process.
+pub(super) fn check_memory(n: usize, shapes: &[FamilyShape]) -> Result<(), StepError> {
+    let bytes = workspace_bytes(n, shapes);
+    let fits = usize::try_from(bytes)
+        .ok()
+        .filter(|&b| b <= isize::MAX as usize)
+        .is_some_and(|b| Vec::<u8>::new().try_reserve_exact(b).is_ok());
+    if fits {
+        Ok(())
+    } else {
+        Err(StepError::OutOfMemory {
+            what: format!(
+                "the run's workspace for {n} coordinates and {} elements (stencils, the step \
+                 Jacobian's pattern and values, the step's vectors; the sparse factors come on top)",
+                shapes.iter().map(|f| f.count as u128).sum::<u128>()
+            ),
+            bytes,
+        })
+    }
+}
+
+/// Whether the families of `system` have the shapes `families` records (stencil widths, loop
+/// depths, as many families): allocation-free.
+struct Fits<'a> {
+    families: &'a [FamilyData],
+    next: usize,
+    fits: bool,
+}
+
+impl FamilyVisitor for Fits<'_> {
+    fn family<const S: usize, F: Family<S>>(&mut self, _family: &F) {
+        let f = self.families.get(self.next);
+        self.fits &= f.is_some_and(|f| f.width == S && f.depth == F::DEPTH);
+        self.next += 1;
+    }
 }
 
 impl ElementWorkspace {
@@ -257,6 +368,7 @@ impl ElementWorkspace {
         };
         Self {
             n,
+            sizes: system.sizes(),
             invalid,
             solver: ElementSolver::new(n, &col_ptr, &row_idx, linear),
             col_ptr,
@@ -309,6 +421,24 @@ impl ElementWorkspace {
 
     pub(super) fn invalid(&self) -> Option<&str> {
         self.invalid.as_deref()
+    }
+
+    /// The sizes of the system the workspace was built for.
+    pub(super) fn sizes(&self) -> &[usize] {
+        &self.sizes
+    }
+
+    /// Whether `system`'s families have the shapes of those the workspace was built from
+    /// (allocation-free; the number of coordinates is checked by the caller).
+    pub(super) fn fits<L: ElementLagrangian>(&self, system: &L) -> bool {
+        let families = &self.assembler.families;
+        let mut fits = Fits {
+            families,
+            next: 0,
+            fits: true,
+        };
+        system.families(&mut fits);
+        fits.fits && fits.next == families.len()
     }
 
     #[allow(clippy::type_complexity)]
@@ -643,9 +773,11 @@ impl Assembler {
 /// Sums a per-element scalar over every element, serially, in order.
 struct Scalar<G> {
     element: G,
-    /// The number of coordinates: an element reading outside makes the sum NaN.
+    /// The number of coordinates: an element reading outside is an error.
     n: usize,
     total: f64,
+    /// The first element that reads outside the coordinates.
+    invalid: Option<String>,
 }
 
 /// What a scalar pass evaluates per element: its stencil values in `q0` and `q1`.
@@ -657,11 +789,14 @@ impl<G: ElementScalar> FamilyVisitor for Scalar<G> {
     fn family<const S: usize, F: Family<S>>(&mut self, family: &F) {
         let (element, n) = (&self.element, self.n);
         let mut total = self.total;
+        let invalid = &mut self.invalid;
         family.elements(&mut |indices, stencil| {
             if stencil.iter().all(|&g| g >= 0 && (g as usize) < n) {
                 total += element.eval(family, indices, stencil.map(|g| g as usize));
-            } else {
-                total = f64::NAN;
+            } else if invalid.is_none() {
+                *invalid = Some(format!(
+                    "element {indices:?} reads coordinates {stencil:?}, outside 0..{n}: the sizes are too small for its stencil"
+                ));
             }
         });
         self.total = total;
@@ -693,29 +828,35 @@ impl ElementScalar for Energy<'_> {
     }
 }
 
-fn scalar<L: ElementLagrangian, G: ElementScalar>(system: &L, element: G) -> f64 {
+/// The sum of `element` over every element, or the first element that reads outside the
+/// coordinates. The callers check the vectors' lengths against the system's dimension.
+fn scalar<L: ElementLagrangian, G: ElementScalar>(system: &L, element: G) -> Result<f64, String> {
     let mut visit = Scalar {
         element,
         n: system.dim(),
         total: 0.0,
+        invalid: None,
     };
     system.families(&mut visit);
-    visit.total
+    visit.invalid.map_or(Ok(visit.total), Err)
 }
 
-/// `L_d(q0, q1)`, the sum of the element values (NaN when a stencil is out of range or the
-/// vectors are shorter than the system).
-pub(super) fn value<L: ElementLagrangian>(system: &L, q0: &[f64], q1: &[f64]) -> f64 {
-    if q0.len() != system.dim() || q1.len() != system.dim() {
-        return f64::NAN;
-    }
+/// `L_d(q0, q1)`, the sum of the element values (`q0`, `q1` of the system's dimension).
+pub(super) fn value<L: ElementLagrangian>(
+    system: &L,
+    q0: &[f64],
+    q1: &[f64],
+) -> Result<f64, String> {
     scalar(system, Value { q0, q1 })
 }
 
-/// `E((q0 + q1)/2, (q1 − q0)/h)`, the sum of the element energies.
-pub(super) fn energy<L: ElementLagrangian>(system: &L, q0: &[f64], q1: &[f64], h: f64) -> f64 {
-    if q0.len() != system.dim() || q1.len() != system.dim() {
-        return f64::NAN;
-    }
+/// `E((q0 + q1)/2, (q1 − q0)/h)`, the sum of the element energies (`q0`, `q1` of the system's
+/// dimension).
+pub(super) fn energy<L: ElementLagrangian>(
+    system: &L,
+    q0: &[f64],
+    q1: &[f64],
+    h: f64,
+) -> Result<f64, String> {
     scalar(system, Energy { q0, q1, h })
 }

@@ -224,9 +224,9 @@ impl<L: ElementLagrangian> Collect<ElementIntegrator<L>> for ElementTrajectory {
     fn start(integrator: &ElementIntegrator<L>, steps: usize) -> Self {
         Self {
             h: integrator.system.time_step(),
-            states: Vec::with_capacity(steps + 1),
-            times: Vec::with_capacity(steps + 1),
-            stats: Vec::with_capacity(steps),
+            states: crate::stepper::reserved(steps.saturating_add(1)),
+            times: crate::stepper::reserved(steps.saturating_add(1)),
+            stats: crate::stepper::reserved(steps),
         }
     }
 
@@ -262,42 +262,65 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
         self
     }
 
-    /// The momentum map `μ` of each declared translation: `Σ p_i` over its orbit.
-    pub fn momentum_map(&self, state: &ElementState) -> Vec<f64> {
+    /// The momentum map `μ` of each declared translation: `Σ p_i` over its orbit. A state
+    /// without the system's number of coordinates is [`StepError::InvalidSize`].
+    pub fn momentum_map(&self, state: &ElementState) -> Result<Vec<f64>, StepError> {
+        self.check_lengths(&[("q", state.q.len()), ("p", state.p.len())])?;
+        let n = state.p.len();
         self.system
             .translations()
             .iter()
             .map(|orbit| {
-                orbit
-                    .iter()
-                    .flat_map(|r| r.clone())
-                    .map(|i| state.p[i])
-                    .sum()
+                orbit.iter().flat_map(|r| r.clone()).try_fold(0.0, |mu, i| {
+                    // The orbits come from the system's declaration; one reaching past the
+                    // coordinates is an inconsistent system, reported as such.
+                    state.p.as_slice().get(i).map(|p| mu + p).ok_or_else(|| {
+                        self.invalid(format!(
+                            "a translation's orbit reads coordinate {i}, outside 0..{n}"
+                        ))
+                    })
+                })
             })
             .collect()
     }
 
-    /// `L_d(q0, q1)`: the sum of the element values.
-    pub fn discrete_lagrangian(&self, q0: &DVector<f64>, q1: &DVector<f64>) -> f64 {
-        assembly::value(&self.system, q0.as_slice(), q1.as_slice())
+    /// `L_d(q0, q1)`: the sum of the element values. Vectors without the system's number of
+    /// coordinates, or sizes too small for the stencils, are [`StepError::InvalidSize`].
+    pub fn discrete_lagrangian(
+        &self,
+        q0: &DVector<f64>,
+        q1: &DVector<f64>,
+    ) -> Result<f64, StepError> {
+        self.check_lengths(&[("q0", q0.len()), ("q1", q1.len())])?;
+        assembly::value(&self.system, q0.as_slice(), q1.as_slice()).map_err(|r| self.invalid(r))
     }
 
     /// The energy at the step's midpoint, `E((q0 + q1)/2, (q1 − q0)/h)`, of a continuous
-    /// Lagrangian (`None` for a discrete one): the sum of the element energies, allocation-free.
-    pub fn energy(&self, q0: &DVector<f64>, q1: &DVector<f64>) -> Option<f64> {
-        L::CONTINUOUS.then(|| {
-            assembly::energy(
-                &self.system,
-                q0.as_slice(),
-                q1.as_slice(),
-                self.system.time_step(),
-            )
-        })
+    /// Lagrangian: the sum of the element energies, allocation-free. A discrete Lagrangian has
+    /// none ([`StepError::Unsupported`]); vectors without the system's number of coordinates,
+    /// or sizes too small for the stencils, are [`StepError::InvalidSize`].
+    pub fn energy(&self, q0: &DVector<f64>, q1: &DVector<f64>) -> Result<f64, StepError> {
+        if !L::CONTINUOUS {
+            return Err(StepError::Unsupported {
+                what: "the energy of a discrete Lagrangian (it has no velocity to evaluate an \
+                       energy at; write the system as a continuous Lagrangian with a rule)",
+            });
+        }
+        self.check_lengths(&[("q0", q0.len()), ("q1", q1.len())])?;
+        assembly::energy(
+            &self.system,
+            q0.as_slice(),
+            q1.as_slice(),
+            self.system.time_step(),
+        )
+        .map_err(|r| self.invalid(r))
     }
 
     /// The residual `R(z) = p0 + D_1 L_d(q0, z)` and the values of its Jacobian, in the order
     /// of the workspace's pattern ([`ElementWorkspace::pattern`]): what one Newton correction
-    /// evaluates (public for benchmarks).
+    /// evaluates (public for benchmarks). `workspace` must be one of this integrator
+    /// ([`Stepper::workspace`]) and the vectors must have the system's number of coordinates:
+    /// otherwise [`StepError::InvalidSize`], with nothing evaluated.
     pub fn residual_jacobian(
         &self,
         workspace: &mut ElementWorkspace,
@@ -306,7 +329,21 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
         z: &DVector<f64>,
         r: &mut DVector<f64>,
         jacobian: &mut Vec<f64>,
-    ) {
+    ) -> Result<(), StepError> {
+        self.check_workspace(workspace)?;
+        if workspace.sizes() != self.system.sizes() {
+            return Err(self.invalid(format!(
+                "the workspace was built for sizes {:?}, the system has sizes {:?}",
+                workspace.sizes(),
+                self.system.sizes()
+            )));
+        }
+        self.check_lengths(&[
+            ("q0", q0.len()),
+            ("p0", p0.len()),
+            ("z", z.len()),
+            ("r", r.len()),
+        ])?;
         jacobian.resize(workspace.nnz(), 0.0);
         workspace.residual_jacobian(
             &self.system,
@@ -316,6 +353,39 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
             r.as_mut_slice(),
             Some(jacobian.as_mut_slice()),
         );
+        Ok(())
+    }
+
+    /// Every vector in `lengths` (a name and a length) against the system's number of
+    /// coordinates.
+    fn check_lengths(&self, lengths: &[(&str, usize)]) -> Result<(), StepError> {
+        let n = self.system.dim();
+        match lengths.iter().find(|(_, len)| *len != n) {
+            Some((name, len)) => Err(self.invalid(format!(
+                "`{name}` has {len} components; the system with sizes {:?} has {n} coordinates",
+                self.system.sizes()
+            ))),
+            None => Ok(()),
+        }
+    }
+
+    /// Whether `workspace` serves this system: valid stencils, the system's number of
+    /// coordinates and its families (stencil widths, loop depths). Allocation-free, so that a
+    /// step can check it.
+    fn check_workspace(&self, workspace: &ElementWorkspace) -> Result<(), StepError> {
+        if let Some(reason) = workspace.invalid() {
+            return Err(self.invalid(reason.to_string()));
+        }
+        if workspace.dim() != self.system.dim() || !workspace.fits(&self.system) {
+            return Err(self.invalid(format!(
+                "the workspace was built for another system ({} coordinates, {} families of \
+                 elements); this one has {} coordinates",
+                workspace.dim(),
+                workspace.elements().len(),
+                self.system.dim()
+            )));
+        }
+        Ok(())
     }
 
     fn invalid(&self, reason: String) -> StepError {
@@ -342,7 +412,9 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
                 sizes
             )));
         }
-        assembly::check_stencils(&self.system).map_err(|reason| self.invalid(reason))
+        let elements =
+            assembly::check_stencils(&self.system).map_err(|reason| self.invalid(reason))?;
+        assembly::check_memory(n, &elements)
     }
 }
 
@@ -401,9 +473,7 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
                 found: u.len(),
             });
         }
-        if let Some(reason) = workspace.invalid() {
-            return Err(self.invalid(reason.to_string()));
-        }
+        self.check_workspace(workspace)?;
         let n = workspace.dim();
         if state.q.len() != n || state.p.len() != n {
             return Err(self.invalid(format!(
