@@ -29,7 +29,9 @@ fn written() -> &'static Written {
         std::fs::create_dir_all(&root).unwrap();
         let integ =
             ReducedIntegrator::plus(DoubleSphericalPendulum::paper(), NewtonOptions::default());
-        let options = Options::new().row_group_bytes(50 * 13 * 8).rows_per_file(150);
+        let options = Options::new()
+            .row_group_bytes(50 * 13 * 8)
+            .rows_per_file(150);
         let mut out = ParquetObserver::create(root.join("run"), integ.describe(), options).unwrap();
         let result = integ.run(
             DoubleSphericalPendulum::paper_initial_state(),
