@@ -253,8 +253,15 @@ pub fn verify(path: &Path) -> Result<Checked> {
         .flatten()
         .filter_map(|kv| Some((kv.key.clone(), kv.value.clone()?)))
         .collect();
-    let Some(expected) = kv.get(CHECKSUM) else {
+    let present = [CHECKSUM, CHECKSUM_BYTES, CHECKSUM_METADATA].map(|k| kv.contains_key(k));
+    if present == [false; 3] {
         return Ok(Checked::Unchecked);
+    }
+    // One of the three missing: a damaged key (one flipped byte changes one key at most).
+    let Some(expected) = kv.get(CHECKSUM) else {
+        return Err(corrupt(format!(
+            "{CHECKSUM_BYTES} and {CHECKSUM_METADATA} without {CHECKSUM}: the footer was damaged"
+        )));
     };
     let covered: Option<u64> = kv.get(CHECKSUM_BYTES).and_then(|b| b.parse().ok());
     if covered != Some(data_end) {
