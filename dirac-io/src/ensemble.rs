@@ -17,7 +17,10 @@ use crate::read::concatenate;
 pub enum EnsembleOutput {
     /// One file per member in this directory (created if missing): `member-000000.parquet`,
     /// `member-000001.parquet`, … (six digits at least, so that names sort in member order),
-    /// each recording its member's outcome ([`ParquetObserver::finish_with`]).
+    /// each recording its member's outcome ([`ParquetObserver::finish_with`]). Each is written
+    /// under a hidden name and renamed when its member ends, so a killed ensemble leaves its
+    /// finished members' files, complete; they are not synced one by one (many small files),
+    /// so a crash of the machine itself may lose the last ones.
     PerMember(PathBuf),
     /// One file with a `member` column, members in input order. Members run in parallel, each
     /// into its own part next to `path` (`<path>.parts/`), and the parts are concatenated in
@@ -62,7 +65,7 @@ where
     let members: Vec<(usize, I::State)> = initials.iter().copied().enumerate().collect();
     let outcomes = map(&members, |&(i, initial)| -> Result<RunResult<I::State>> {
         // The members occupy every core: each writes its own row groups.
-        let mut member_options = options(i).background(false);
+        let mut member_options = options(i).background(false).member_file();
         if one_file.is_some() {
             member_options = member_options.member(i as u64);
         }

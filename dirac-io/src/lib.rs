@@ -3,14 +3,27 @@
 //! machines, one machine in several sittings) and restart where they stopped, and progress bars.
 //!
 //! * [`ParquetObserver`]: an observer for [`Drive::run`](dirac::Drive::run) that streams states
-//!   into a Parquet file, one bounded row group at a time, encoded on a thread of its own
-//!   ([`Options::rows_per_file`] splits a long run into parts, so that not even the footer grows
-//!   with it); [`write_ensemble`] for ensembles (one file per member, or one file with a
-//!   `member` column);
+//!   into Parquet, one bounded row group at a time, encoded on a thread of its own, into a
+//!   directory of parts each published complete when full ([`Options::rows_per_file`]), so that
+//!   a killed run keeps every part it finished and memory does not grow with the run;
+//!   [`write_ensemble`] for ensembles (one file per member, or one file with a `member` column);
 //! * [`table`]: an ensemble as a table of initial states and parameters (CSV or Parquet);
 //! * [`shard`]: shard `i` of `n` of such an ensemble, written atomically and skipped when already
 //!   complete, failed members recorded with their typed error; [`shard::merge`] gives one table;
-//! * [`progress`]: indicatif progress bars, drawn only when standard error is a terminal.
+//! * [`progress`]: indicatif progress bars, drawn only when standard error is a terminal;
+//! * [`integrity`]: the checksums every file written carries, checked by the [`read`]ers,
+//!   [`shard::merge`] and the shards' skip-as-complete.
+//!
+//! # What survives a failure
+//!
+//! * **A killed process** (SIGKILL, a node lost, a time limit): every part published before it
+//!   is complete and readable; the part being written is a hidden partial file
+//!   (`.part-00007.parquet.partial`) that no reader sees. [`ParquetObserver::resume`] continues
+//!   the run from the last state published. A shard killed leaves no shard file.
+//! * **An early return or a panic** (the observer dropped without `finish`): the rows held and
+//!   the last state are written and the part published, with `dirac.outcome = aborted`.
+//! * **Damage on disk** (a flipped bit, a truncation): the checksums disagree; the readers and
+//!   [`shard::merge`] refuse the file naming it, and a rerun of its shard runs it again.
 //!
 //! # The trajectory schema
 //!
@@ -32,10 +45,11 @@
 //! `dirac.parameters` (names, comma-separated) and `dirac.parameter.<name>` (value),
 //! `dirac.shape`, `dirac.group`, `dirac.integrator`, `dirac.newton.{abs_tol, rel_tol,
 //! max_iterations, min_rcond}`, `dirac.every`, and after [`ParquetObserver::finish_with`]
-//! `dirac.outcome`, `dirac.steps` and for a failed run `dirac.error.{kind, step, residual,
-//! message}`. Floats are written in Rust's shortest round-trip form. Values are written with
-//! plain encoding and no compression by default ([`Options::snappy`]), so a reader gets the
-//! run's bits exactly.
+//! `dirac.outcome` (`completed`, `stopped`, `failed`, or `aborted` for an observer dropped
+//! without `finish`), `dirac.steps` and for a failed run `dirac.error.{kind, step, residual,
+//! message}`, and the checksums `dirac.checksum*` ([`integrity`]). Floats are written in Rust's
+//! shortest round-trip form. Values are written with plain encoding and no compression by
+//! default ([`Options::snappy`]), so a reader gets the run's bits exactly.
 //!
 //! ```
 //! use dirac::paper::DoubleSphericalPendulum;
@@ -45,15 +59,19 @@
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
 //! let sys = DoubleSphericalPendulum::paper();
 //! let integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
-//! let path = std::env::temp_dir().join(format!("dsp-lib-doc-{}.parquet", std::process::id()));
+//! // A directory of parts `part-00000.parquet`, …: pyarrow, Polars and DuckDB read it as one table.
+//! let path = std::env::temp_dir().join(format!("dsp-lib-doc-{}", std::process::id()));
 //! // Every state, and the energy at each state beside it.
 //! let options = Options::new().extra(&["x_sum"], |_, s: &ReducedState<3, 1>, out| {
 //!     out[0] = s.x.sum();
 //! });
 //! let mut out = ParquetObserver::create(&path, integ.describe(), options)?;
-//! integ.run(DoubleSphericalPendulum::paper_initial_state(), 1000, out.observer())?;
-//! out.finish()?;
-//! # std::fs::remove_file(path)?;
+//! let result = integ.run(DoubleSphericalPendulum::paper_initial_state(), 1000, out.observer());
+//! // The outcome first (a failed run's typed error goes into the metadata), then `?`.
+//! out.finish_with(&result)?;
+//! result?;
+//! assert_eq!(dirac_io::read::row_count(&path)?, 1001);
+//! # std::fs::remove_dir_all(path)?;
 //! # Ok(())
 //! # }
 //! ```
@@ -62,6 +80,7 @@
 pub mod columns;
 pub mod ensemble;
 pub mod error;
+pub mod integrity;
 pub mod observer;
 pub mod progress;
 pub mod read;

@@ -5,21 +5,42 @@ use std::collections::BTreeMap;
 use std::fs::File;
 use std::path::{Path, PathBuf};
 
-use arrow_array::{Array, Float64Array, RecordBatch};
+use arrow_array::{Array, Float64Array, RecordBatch, UInt64Array};
 use arrow_schema::DataType;
 use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 use parquet::basic::Compression;
 
+use crate::columns::StateColumns;
 use crate::error::{Error, Result};
-use crate::observer::{close_writer, create_writer, writer_properties};
+use crate::integrity::{verify, FileWriter};
+use crate::observer::published_parts;
 
 fn builder(path: &Path) -> Result<ParquetRecordBatchReaderBuilder<File>> {
     let file = File::open(path).map_err(Error::io(path))?;
     ParquetRecordBatchReaderBuilder::try_new(file).map_err(Error::parquet(path))
 }
 
-/// The key-value metadata of the Parquet file at `path` (without the embedded Arrow schema).
-pub fn key_values(path: &Path) -> Result<BTreeMap<String, String>> {
+/// The files of `path`: itself, or for a directory of parts (a [`ParquetObserver`] run's), its
+/// published parts in order (hidden partial parts are not read).
+///
+/// [`ParquetObserver`]: crate::ParquetObserver
+pub fn files(path: &Path) -> Result<Vec<PathBuf>> {
+    if !path.is_dir() {
+        return Ok(vec![path.to_owned()]);
+    }
+    let (parts, _) = published_parts(path)?;
+    if parts.is_empty() {
+        return Err(Error::content(
+            path,
+            "no published part (`part-NNNNN.parquet`) in this directory",
+        ));
+    }
+    Ok(parts)
+}
+
+/// The key-value metadata of the Parquet file at `path` (without the embedded Arrow schema),
+/// read from its footer without checking the checksums.
+pub(crate) fn key_values_unchecked(path: &Path) -> Result<BTreeMap<String, String>> {
     let builder = builder(path)?;
     let kv = builder.metadata().file_metadata().key_value_metadata();
     Ok(kv
@@ -30,32 +51,43 @@ pub fn key_values(path: &Path) -> Result<BTreeMap<String, String>> {
         .collect())
 }
 
-/// The number of rows of the Parquet file at `path`, from its footer.
+/// The key-value metadata of the Parquet file at `path` (without the embedded Arrow schema);
+/// for a directory of parts, its last part's (the run's description and outcome). Read from the
+/// footer alone: the data are not checked (the readers below check them).
+pub fn key_values(path: &Path) -> Result<BTreeMap<String, String>> {
+    let files = files(path)?;
+    key_values_unchecked(files.last().unwrap_or(&path.to_owned()))
+}
+
+/// The number of rows of the Parquet file (or directory of parts) at `path`, from the footers.
 pub fn row_count(path: &Path) -> Result<u64> {
-    let builder = builder(path)?;
-    Ok(builder.metadata().file_metadata().num_rows() as u64)
+    let mut rows = 0;
+    for file in files(path)? {
+        rows += builder(&file)?.metadata().file_metadata().num_rows() as u64;
+    }
+    Ok(rows)
 }
 
-/// Every row of the Parquet file at `path`, as record batches.
+/// Every row of the Parquet file (or directory of parts) at `path`, as record batches, after
+/// checking the checksums of each file ([`crate::integrity::verify`]; a file without them, not
+/// written by this crate, is read unchecked).
 pub fn read_batches(path: &Path) -> Result<Vec<RecordBatch>> {
-    builder(path)?
-        .build()
-        .map_err(Error::parquet(path))?
-        .map(|b| b.map_err(Error::arrow(path)))
-        .collect()
+    let mut out = Vec::new();
+    for file in files(path)? {
+        verify(&file)?;
+        for batch in builder(&file)?.build().map_err(Error::parquet(&file))? {
+            out.push(batch.map_err(Error::arrow(&file))?);
+        }
+    }
+    Ok(out)
 }
 
-/// One `f64` column of the Parquet file at `path`, all rows (nulls as `NaN`).
+/// One `f64` column of the Parquet file (or directory of parts) at `path`, all rows (nulls as
+/// `NaN`), checked as by [`read_batches`].
 pub fn read_f64_column(path: &Path, name: &str) -> Result<Vec<f64>> {
     let mut out = Vec::new();
     for batch in read_batches(path)? {
-        let column = batch
-            .column_by_name(name)
-            .ok_or_else(|| Error::content(path, format!("no column `{name}`")))?;
-        let values = column
-            .as_any()
-            .downcast_ref::<Float64Array>()
-            .ok_or_else(|| Error::content(path, format!("column `{name}` is not f64")))?;
+        let values = f64_column(&batch, path, name)?;
         out.extend((0..values.len()).map(|i| {
             if values.is_null(i) {
                 f64::NAN
@@ -67,21 +99,64 @@ pub fn read_f64_column(path: &Path, name: &str) -> Result<Vec<f64>> {
     Ok(out)
 }
 
-/// Writes the rows of `inputs`, in order, into one file at `out` (same schema required), with
-/// key-value metadata `kv`; reads one batch at a time, so memory does not grow with the
-/// inputs. Returns the number of rows.
+fn f64_column<'a>(batch: &'a RecordBatch, path: &Path, name: &str) -> Result<&'a Float64Array> {
+    let column = batch
+        .column_by_name(name)
+        .ok_or_else(|| Error::content(path, format!("no column `{name}`")))?;
+    column
+        .as_any()
+        .downcast_ref::<Float64Array>()
+        .ok_or_else(|| Error::content(path, format!("column `{name}` is not f64")))
+}
+
+/// The last state written to the trajectory file (or directory of parts) at `path`, and its
+/// step, checked as by [`read_batches`]: where a killed run is continued from
+/// ([`ParquetObserver::resume`](crate::ParquetObserver::resume)). `columns` are the state's
+/// column names ([`RunInfo::columns`](crate::RunInfo)).
+pub fn last_state<St: StateColumns>(path: &Path, columns: &[String]) -> Result<(usize, St)> {
+    let files = files(path)?;
+    let last = files.last().unwrap_or(&path.to_owned()).clone();
+    let batches = read_batches(&last)?;
+    let Some(batch) = batches.iter().rev().find(|b| b.num_rows() > 0) else {
+        return Err(Error::content(&last, "no rows"));
+    };
+    let row = batch.num_rows() - 1;
+    if columns.len() != St::WIDTH {
+        return Err(Error::Usage(format!(
+            "{} column names for a state of {} columns",
+            columns.len(),
+            St::WIDTH
+        )));
+    }
+    let step = batch
+        .column_by_name("step")
+        .and_then(|c| c.as_any().downcast_ref::<UInt64Array>())
+        .ok_or_else(|| Error::content(&last, "no u64 column `step`: not a trajectory"))?
+        .value(row);
+    let mut values = Vec::with_capacity(columns.len());
+    for name in columns {
+        values.push(f64_column(batch, &last, name)?.value(row));
+    }
+    Ok((step as usize, St::read_from(&values)))
+}
+
+/// Writes the rows of `inputs` (files or directories of parts), in order, into one file at
+/// `out` (same schema required), with key-value metadata `kv` and checksums, and syncs it;
+/// reads one batch at a time, so memory does not grow with the inputs, and checks each input's
+/// checksums first. Returns the number of rows.
 pub fn concatenate(inputs: &[PathBuf], out: &Path, kv: Vec<(String, String)>) -> Result<u64> {
-    let Some(first) = inputs.first() else {
+    let mut all = Vec::new();
+    for input in inputs {
+        all.extend(files(input)?);
+    }
+    let Some(first) = all.first() else {
         return Err(Error::content(out, "nothing to concatenate"));
     };
     let schema = builder(first)?.schema().clone();
-    let mut writer = create_writer(
-        out,
-        schema.clone(),
-        writer_properties(Compression::UNCOMPRESSED, kv),
-    )?;
+    let mut writer = FileWriter::create(out, schema.clone(), Compression::UNCOMPRESSED, kv)?;
     let mut rows = 0;
-    for input in inputs {
+    for input in &all {
+        verify(input)?;
         let reader = builder(input)?;
         if reader.schema().fields() != schema.fields() {
             return Err(Error::content(
@@ -92,18 +167,19 @@ pub fn concatenate(inputs: &[PathBuf], out: &Path, kv: Vec<(String, String)>) ->
         for batch in reader.build().map_err(Error::parquet(input))? {
             let batch = batch.map_err(Error::arrow(input))?;
             rows += batch.num_rows() as u64;
-            writer.write(&batch).map_err(Error::parquet(out))?;
+            writer.write(&batch)?;
         }
     }
-    close_writer(writer, out, true)?;
+    writer.close(true)?;
     Ok(rows)
 }
 
 /// Compares the rows of two Parquet files bit for bit (floats by their bit patterns, so `NaN`
 /// equals the same `NaN` and `0.0` differs from `-0.0`): `None` when they hold the same columns
-/// and values, else a description of the first difference. Metadata is not compared.
+/// and values, else a description of the first difference. Metadata is not compared. Either may
+/// be a directory of parts; a file whose checksums disagree with it is an error.
 pub fn first_difference(a: &Path, b: &Path) -> Result<Option<String>> {
-    let (sa, sb) = (builder(a)?.schema().clone(), builder(b)?.schema().clone());
+    let (sa, sb) = (schema(a)?, schema(b)?);
     if sa.fields() != sb.fields() {
         return Ok(Some(format!(
             "the columns differ: {:?} against {:?}",
@@ -129,10 +205,15 @@ pub fn first_difference(a: &Path, b: &Path) -> Result<Option<String>> {
         .zip(ba.columns().iter().zip(bb.columns()))
     {
         if field.data_type() == &DataType::Float64 {
-            let (va, vb) = (
-                ca.as_any().downcast_ref::<Float64Array>().expect("f64"),
-                cb.as_any().downcast_ref::<Float64Array>().expect("f64"),
-            );
+            let (Some(va), Some(vb)) = (
+                ca.as_any().downcast_ref::<Float64Array>(),
+                cb.as_any().downcast_ref::<Float64Array>(),
+            ) else {
+                return Ok(Some(format!(
+                    "column `{}` is not f64 in both",
+                    field.name()
+                )));
+            };
             for i in 0..va.len() {
                 let x = (!va.is_null(i)).then(|| va.value(i).to_bits());
                 let y = (!vb.is_null(i)).then(|| vb.value(i).to_bits());
@@ -152,20 +233,26 @@ pub fn first_difference(a: &Path, b: &Path) -> Result<Option<String>> {
     Ok(None)
 }
 
-/// The Arrow schema of the Parquet file at `path`.
+/// The Arrow schema of the Parquet file at `path` (for a directory of parts, its first part's).
 pub fn schema(path: &Path) -> Result<arrow_schema::SchemaRef> {
-    Ok(builder(path)?.schema().clone())
+    let files = files(path)?;
+    Ok(builder(files.first().unwrap_or(&path.to_owned()))?
+        .schema()
+        .clone())
 }
 
 /// The number of row groups of the Parquet file at `path`, and the most rows one of them holds:
 /// what a reader or the writer held in memory at once.
 pub fn row_groups(path: &Path) -> Result<(usize, u64)> {
-    let builder = builder(path)?;
-    let groups = builder.metadata().row_groups();
-    let largest = groups
-        .iter()
-        .map(|g| g.num_rows() as u64)
-        .max()
-        .unwrap_or(0);
-    Ok((groups.len(), largest))
+    let (mut count, mut largest) = (0, 0);
+    for file in files(path)? {
+        let builder = builder(&file)?;
+        let groups = builder.metadata().row_groups();
+        count += groups.len();
+        largest = groups
+            .iter()
+            .map(|g| g.num_rows() as u64)
+            .fold(largest, u64::max);
+    }
+    Ok((count, largest))
 }

@@ -11,10 +11,14 @@
 //!   renamed to `shard-<i>-of-<n>.parquet` when complete and synced, so a file with that name is
 //!   always a whole shard. A shard killed before that leaves at most a partial file, which the
 //!   next attempt removes.
-//! * **Restart.** A shard whose file exists, and records the same table (its
-//!   [fingerprint](Table::fingerprint)), step count and shard, is skipped: resubmit the whole
-//!   array after a failure or a pre-emption and only the missing shards run. A file of another
-//!   ensemble in its place is an error, never silently kept.
+//! * **Restart.** A shard whose file exists, records the same table (its
+//!   [fingerprint](Table::fingerprint)), step count and shard, and whose checksums hold
+//!   ([`crate::integrity`]), is skipped: resubmit the whole array after a failure or a
+//!   pre-emption and only the missing shards run. A file of another ensemble in its place is an
+//!   error, never silently kept; a damaged one (a changed byte, a truncation) is run again
+//!   ([`ShardReport::corrupt`] says why).
+//! * **Integrity.** [`merge`] checks every shard's checksums and refuses a damaged shard, naming
+//!   it: it is never merged.
 //! * **Failed members are rows.** A member whose integration fails is written with
 //!   `status = "failed"`, the state and statistics up to the failed step, and its typed error
 //!   ([`StepError`]): `error_kind`, `error_step`, `error_residual`, `error_message`.
@@ -74,7 +78,7 @@ use parquet::basic::Compression;
 use crate::columns::{Describe, StateColumns};
 use crate::ensemble::member_file;
 use crate::error::{Error, Result};
-use crate::observer::{close_writer, create_writer, writer_properties};
+use crate::integrity::{verify_required, FileWriter};
 use crate::observer::{Options, ParquetObserver};
 use crate::progress;
 use crate::read::{concatenate, key_values, row_count};
@@ -175,6 +179,9 @@ pub struct ShardReport {
     pub members: Range<usize>,
     /// Members whose integration failed (recorded as rows).
     pub failed: usize,
+    /// A shard file found in place but damaged (its checksums disagree, or it cannot be read),
+    /// and why: it was run again and replaced.
+    pub corrupt: Option<String>,
 }
 
 /// Writes a complete file at `path` atomically: `write` fills a partial file beside it (hidden,
@@ -318,21 +325,46 @@ where
     let path = dir.join(shard.file_name());
     let members = shard.members(table.len());
     let expected = identity(table, steps, every, Some(shard));
+    let mut corrupt = None;
     if path.exists() {
-        let found = key_values(&path)?;
-        if let Some(d) = disagreement(&found, &expected) {
-            return Err(Error::content(
-                &path,
-                format!("this file belongs to another ensemble or run ({d}); remove it to rerun the shard"),
-            ));
-        }
-        if row_count(&path)? == members.len() as u64 {
-            return Ok(ShardReport {
-                path,
-                skipped: true,
-                members,
-                failed: 0,
-            });
+        // A footer that cannot be read is damage (the shard is rerun); a readable one of another
+        // ensemble is an error: that file is someone else's.
+        match key_values(&path) {
+            Ok(found) => {
+                if let Some(d) = disagreement(&found, &expected) {
+                    return Err(Error::content(
+                        &path,
+                        format!("this file belongs to another ensemble or run ({d}); remove it to rerun the shard"),
+                    ));
+                }
+                let states_file = dir.join(shard.states_file_name());
+                let sound = verify_required(&path)
+                    .and_then(|()| match every {
+                        Some(_) => verify_required(&states_file),
+                        None => Ok(()),
+                    })
+                    .and_then(|()| row_count(&path));
+                match sound {
+                    Ok(rows) if rows == members.len() as u64 => {
+                        return Ok(ShardReport {
+                            path,
+                            skipped: true,
+                            members,
+                            failed: 0,
+                            corrupt: None,
+                        });
+                    }
+                    Ok(rows) => {
+                        corrupt = Some(format!(
+                            "{}: {rows} rows where the shard has {} members",
+                            path.display(),
+                            members.len()
+                        ));
+                    }
+                    Err(e) => corrupt = Some(e.to_string()),
+                }
+            }
+            Err(e) => corrupt = Some(e.to_string()),
         }
     }
     remove_partials(&path)?;
@@ -359,7 +391,11 @@ where
             None => integ.run(initial, steps, |_, _, _| {}),
             Some(k) => {
                 // The members occupy every core: each writes its own row groups.
-                let options = Options::new().every(k).member(i as u64).background(false);
+                let options = Options::new()
+                    .every(k)
+                    .member(i as u64)
+                    .background(false)
+                    .member_file();
                 let mut out =
                     ParquetObserver::create(member_file(&parts, i), info.clone(), options)?;
                 let result = integ.run(initial, steps, out.observer());
@@ -419,6 +455,7 @@ where
         skipped: false,
         members,
         failed,
+        corrupt,
     })
 }
 
@@ -511,14 +548,10 @@ fn write_rows(
             .map(|r| r.error.as_ref().map(ToString::to_string))
             .collect::<StringArray>(),
     ));
-    let mut writer = create_writer(
-        path,
-        schema.clone(),
-        writer_properties(Compression::UNCOMPRESSED, kv),
-    )?;
+    let mut writer = FileWriter::create(path, schema.clone(), Compression::UNCOMPRESSED, kv)?;
     let batch = RecordBatch::try_new(schema, arrays).map_err(Error::arrow(path))?;
-    writer.write(&batch).map_err(Error::parquet(path))?;
-    close_writer(writer, path, true)
+    writer.write(&batch)?;
+    writer.close(true)
 }
 
 fn first_states(kv: &BTreeMap<String, String>) -> bool {
@@ -544,7 +577,8 @@ pub struct MergeReport {
 /// (written atomically): the members in table order, bit for bit what one process running the
 /// whole table as shard `0/1` writes. Shards run with states ([`run_shard_with_states`]) also
 /// have their trajectories concatenated, into [`states_path`]`(out)`. Fails, naming them, if
-/// shards are missing, incomplete or of different ensembles.
+/// shards are missing, incomplete, damaged (their checksums disagree: rerun them) or of
+/// different ensembles.
 pub fn merge(dir: &Path, count: usize, out: &Path) -> Result<MergeReport> {
     let paths: Vec<PathBuf> = (0..count)
         .map(|i| dir.join(Shard { index: i, count }.file_name()))
@@ -561,6 +595,10 @@ pub fn merge(dir: &Path, count: usize, out: &Path) -> Result<MergeReport> {
                 missing.join(", ")
             ),
         ));
+    }
+    // A damaged shard is refused, naming it, before anything is written.
+    for path in &paths {
+        verify_required(path)?;
     }
     let first = key_values(&paths[0])?;
     let keys = [
@@ -599,6 +637,9 @@ pub fn merge(dir: &Path, count: usize, out: &Path) -> Result<MergeReport> {
         let states: Vec<PathBuf> = (0..count)
             .map(|i| dir.join(Shard { index: i, count }.states_file_name()))
             .collect();
+        for path in &states {
+            verify_required(path)?;
+        }
         let states_out = states_path(out);
         publish(&states_out, |partial| {
             concatenate(&states, partial, kv.clone()).map(drop)

@@ -16,7 +16,7 @@ use parquet::basic::Compression;
 
 use crate::columns::{float_text, StateColumns};
 use crate::error::{Error, Result};
-use crate::observer::{close_writer, create_writer, writer_properties};
+use crate::integrity::FileWriter;
 
 /// Rows of named `f64` columns (see the [module documentation](self)).
 #[derive(Clone, Debug, PartialEq)]
@@ -269,18 +269,14 @@ impl Table {
             "dirac.table.fingerprint".to_owned(),
             format!("{:016x}", self.fingerprint()),
         )];
-        let mut writer = create_writer(
-            path,
-            schema.clone(),
-            writer_properties(Compression::UNCOMPRESSED, kv),
-        )?;
+        let mut writer = FileWriter::create(path, schema.clone(), Compression::UNCOMPRESSED, kv)?;
         let columns: Vec<ArrayRef> = self
             .columns
             .iter()
             .map(|c| Arc::new(Float64Array::from(c.clone())) as ArrayRef)
             .collect();
         let batch = RecordBatch::try_new(schema, columns).map_err(Error::arrow(path))?;
-        writer.write(&batch).map_err(Error::parquet(path))?;
-        close_writer(writer, path, true)
+        writer.write(&batch)?;
+        writer.close(true)
     }
 }

@@ -273,14 +273,20 @@ fn files_for_the_python_round_trip() {
     let traj = integ
         .integrate(DoubleSphericalPendulum::paper_initial_state(), steps)
         .unwrap();
+    // A directory of parts (200 rows each: 3 parts), as a run writes by default.
     let path = dir.join("dsp.parquet");
-    let mut out = ParquetObserver::create(&path, integ.describe(), Options::new()).unwrap();
+    let _ = std::fs::remove_file(&path);
+    let options = Options::new()
+        .row_group_bytes(100 * 14 * 8)
+        .rows_per_file(200);
+    let mut out = ParquetObserver::create(&path, integ.describe(), options).unwrap();
     let result = integ.run(
         DoubleSphericalPendulum::paper_initial_state(),
         steps,
         out.observer(),
     );
     out.finish_with(&result).unwrap();
+    assert_eq!(dirac_io::read::files(&path).unwrap().len(), 3);
 
     let hex = |v: f64| format!("\"{:016x}\"", v.to_bits());
     let list = |values: Vec<String>| format!("[{}]", values.join(","));

@@ -96,6 +96,12 @@ fn run() -> Result<(), Error> {
             );
             let every = args.number("--every")?;
             let report = shard::run_shard_with_states(&table, shard, &dir, steps, every, member)?;
+            if let Some(why) = &report.corrupt {
+                println!(
+                    "{}: found corrupt, run again ({why})",
+                    report.path.display()
+                );
+            }
             if report.skipped {
                 println!("{}: already complete, skipped", report.path.display());
             } else {
