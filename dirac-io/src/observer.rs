@@ -282,14 +282,22 @@ pub(crate) fn close_writer(
 }
 
 impl<St: StateColumns> ParquetObserver<St> {
-    /// Creates (or truncates) the file at `path` for a run described by `info`.
+    /// Creates (or truncates) the file at `path` for a run described by `info`; an
+    /// [`Error::Content`] if `info` does not name one column per component of the state `St`.
     pub fn create(path: impl AsRef<Path>, info: RunInfo, options: Options<St>) -> Result<Self> {
         let path = path.as_ref().to_owned();
-        assert_eq!(
-            info.columns.len(),
-            St::WIDTH,
-            "the description's columns are not those of this state"
-        );
+        if info.columns.len() != St::WIDTH {
+            return Err(Error::content(
+                &path,
+                format!(
+                    "the description names {} columns ({}), a state of this type has {}: a \
+                     description of another system or state type",
+                    info.columns.len(),
+                    info.columns.join(", "),
+                    St::WIDTH
+                ),
+            ));
+        }
         let extra_names: &[String] = options.extra.as_ref().map_or(&[], |(n, _)| n);
         let schema = Arc::new(trajectory_schema(
             &info.columns,

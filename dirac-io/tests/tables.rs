@@ -9,7 +9,7 @@ use arrow_array::{Array, StringArray};
 use dirac::paper::DoubleSphericalPendulum;
 use dirac::prelude::*;
 use dirac_io::read::read_batches;
-use dirac_io::shard::{run_shard, Row, Shard, Table};
+use dirac_io::shard::{run_shard, Member, Row, Shard, Table};
 use dirac_io::{Describe, Options, ParquetObserver, RunInfo};
 
 fn scratch(name: &str) -> PathBuf {
@@ -22,7 +22,7 @@ fn scratch(name: &str) -> PathBuf {
 type Dsp = ReducedIntegrator<DoubleSphericalPendulum, Plus, 3, 1, 4>;
 
 /// The paper's pendulum, with the mass `m2` and the initial state from the row.
-fn member(row: Row<'_>) -> (Dsp, ReducedState<3, 1>) {
+fn member(row: Row<'_>) -> Member<Dsp> {
     let sys = DoubleSphericalPendulum {
         m2: row.get_or("m2", DoubleSphericalPendulum::paper().m2),
         ..DoubleSphericalPendulum::paper()
@@ -30,7 +30,7 @@ fn member(row: Row<'_>) -> (Dsp, ReducedState<3, 1>) {
     let integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
     let names = integ.describe().columns;
     let initial = row.state_or(&names, DoubleSphericalPendulum::paper_initial_state());
-    (integ, initial)
+    Ok((integ, initial))
 }
 
 fn table(names: &[&str], rows: usize) -> Table {
@@ -45,7 +45,7 @@ fn table(names: &[&str], rows: usize) -> Table {
                 _ => 0.3 + 0.01 * (i + c) as f64,
             })
             .collect();
-        let _ = t.push(&row);
+        t.push(&row).unwrap();
     }
     t
 }
@@ -155,4 +155,121 @@ fn an_observer_for_another_state_type_is_an_error_not_a_panic() {
         .expect("a mismatched description is an error")
         .to_string();
     assert!(err.contains("8 columns") && err.contains('4'), "{err}");
+}
+
+#[test]
+fn a_member_whose_closure_fails_is_a_failed_row_with_its_message() {
+    let dir = scratch("failing_member");
+    // Member 1 has no `m2` (NaN stands for a missing value in this table): its closure says so.
+    let mut t = Table::new(["m2", "w_phi1"]);
+    for (i, m2) in [35.0, f64::NAN, 36.0].into_iter().enumerate() {
+        t.push(&[m2, 0.3 + 0.01 * i as f64]).unwrap();
+    }
+    let steps = 5;
+    let report = dirac_io::shard::run_shard_with_states(
+        &t,
+        Shard::new(0, 1).unwrap(),
+        &dir,
+        steps,
+        Some(2),
+        |row: Row<'_>| -> Member<Dsp> {
+            let m2 = row.require("m2")?;
+            if m2.is_nan() {
+                return Err(format!("member {} has no mass m2", row.index()).into());
+            }
+            // A column the table does not have: a typed error naming it.
+            let missing = row.require("l1").unwrap_err();
+            assert_eq!(missing.name, "l1");
+            assert!(missing.to_string().contains("no column `l1`"));
+            member(row)
+        },
+    )
+    .unwrap();
+    assert_eq!(report.failed, 1);
+    assert_eq!(
+        strings(&report.path, "status")[1].as_deref(),
+        Some("failed")
+    );
+    assert_eq!(
+        strings(&report.path, "error_kind")[1].as_deref(),
+        Some("member")
+    );
+    assert_eq!(
+        strings(&report.path, "error_message")[1].as_deref(),
+        Some("member 1 has no mass m2")
+    );
+    for i in [0, 2] {
+        assert_eq!(
+            strings(&report.path, "status")[i].as_deref(),
+            Some("completed")
+        );
+    }
+    let steps_column = dirac_io::read::read_batches(&report.path).unwrap()[0]
+        .column_by_name("steps")
+        .unwrap()
+        .as_any()
+        .downcast_ref::<arrow_array::UInt64Array>()
+        .unwrap()
+        .values()
+        .to_vec();
+    assert_eq!(steps_column, [5, 0, 5]);
+    // The states file has the two members that ran: 0, 2, 4 and the last state, 5, each.
+    let states = dir.join(Shard::new(0, 1).unwrap().states_file_name());
+    let rows: usize = read_batches(&states)
+        .unwrap()
+        .iter()
+        .map(|b| b.num_rows())
+        .sum();
+    assert_eq!(rows, 2 * 4);
+}
+
+#[test]
+fn a_table_no_member_of_which_can_be_built_is_an_error_naming_the_first() {
+    let dir = scratch("no_member_built");
+    let t = table(&["m2"], 3);
+    let err = run_shard(&t, Shard::new(0, 1).unwrap(), &dir, 5, |row: Row<'_>| {
+        row.require("l2")?;
+        member(row)
+    })
+    .expect_err("no member can be built")
+    .to_string();
+    assert!(
+        err.contains("member 0") && err.contains("no column `l2`"),
+        "{err}"
+    );
+}
+
+#[test]
+fn declared_extra_columns_are_accepted() {
+    let dir = scratch("declared_columns");
+    let t = table(&["m2", "seed"], 2).accept(["seed"]);
+    let report = run_shard(&t, Shard::new(0, 1).unwrap(), &dir, 5, |row: Row<'_>| {
+        row.require("seed")?;
+        member(row)
+    })
+    .unwrap();
+    assert_eq!(report.failed, 0);
+}
+
+#[test]
+fn rows_of_the_wrong_length_and_rows_out_of_range_are_errors_not_panics() {
+    let mut t = Table::new(["m2", "h"]);
+    let err = t
+        .push(&[1.0])
+        .expect_err("one value for two columns")
+        .to_string();
+    assert!(
+        err.contains("a row of 1 values for a table of 2 columns"),
+        "{err}"
+    );
+    t.push(&[1.0, 0.01]).unwrap();
+    assert_eq!(t.len(), 1);
+    assert!(t.row(0).is_some());
+    assert!(t.row(1).is_none());
+    // A shard built by hand beyond its count is refused, not divided by zero.
+    let bad = Shard { index: 0, count: 0 };
+    assert!(bad.members(10).is_empty());
+    let dir = scratch("bad_shard");
+    assert!(run_shard(&t, bad, &dir, 1, member).is_err());
+    assert!(dirac_io::shard::merge(&dir, 0, &dir.join("m.parquet")).is_err());
 }

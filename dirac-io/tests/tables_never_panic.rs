@@ -9,7 +9,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use dirac::paper::DoubleSphericalPendulum;
 use dirac::prelude::*;
-use dirac_io::shard::{run_shard, Row, Shard, Table};
+use dirac_io::shard::{run_shard, Member, Row, Shard, Table};
 use dirac_io::Describe;
 use proptest::prelude::*;
 
@@ -50,7 +50,7 @@ fn case_dir() -> PathBuf {
     dir
 }
 
-fn member(row: Row<'_>) -> (Dsp, ReducedState<3, 1>) {
+fn member(row: Row<'_>) -> Member<Dsp> {
     let p = DoubleSphericalPendulum::paper();
     let sys = DoubleSphericalPendulum {
         m2: row.get_or("m2", p.m2),
@@ -59,7 +59,7 @@ fn member(row: Row<'_>) -> (Dsp, ReducedState<3, 1>) {
     let integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
     let names = integ.describe().columns;
     let initial = row.state_or(&names, DoubleSphericalPendulum::paper_initial_state());
-    (integ, initial)
+    Ok((integ, initial))
 }
 
 /// A header name: accepted, misspelled, unknown, empty or odd.
@@ -170,7 +170,7 @@ proptest! {
         let mut table = Table::new(names.iter().copied());
         for i in 0..rows {
             let row: Vec<f64> = (0..names.len()).map(|c| 0.1 * (i * 7 + c) as f64).collect();
-            let _ = table.push(&row);
+            table.push(&row).unwrap();
         }
         let path = dir.join("table.parquet");
         table.write(&path).unwrap();
