@@ -34,7 +34,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     let _ = std::fs::remove_dir_all(&out);
-    let table = dsp::table(members, false);
+    let table = dsp::table(members, false)?;
     println!(
         "double spherical pendulum ensemble: {members} members × {steps} steps, {} threads",
         dirac::runtime::ensemble::rayon::current_num_threads()

@@ -168,6 +168,31 @@ impl RunInfo {
         self
     }
 
+    /// The columns an ensemble table for this run may have
+    /// ([`Table::validate_for`](crate::table::Table::validate_for)): the state's columns
+    /// ([`Self::columns`]), the parameters ([`Self::parameters`]), `h` (the time step), and the
+    /// Newton options of [`Self::with_newton`] (`abs_tol`, `rel_tol`, `max_iterations`,
+    /// `min_rcond`) when the description has them: every input of the run a member closure
+    /// can take from a row.
+    pub fn table_columns(&self) -> Vec<String> {
+        let mut names = self.columns.clone();
+        let mut add = |name: &str| {
+            if !names.iter().any(|n| n == name) {
+                names.push(name.to_owned());
+            }
+        };
+        for (name, _) in &self.parameters {
+            add(name);
+        }
+        add("h");
+        for (key, _) in &self.metadata {
+            if let Some(option) = key.strip_prefix("dirac.newton.") {
+                add(option);
+            }
+        }
+        names
+    }
+
     /// Adds one key-value pair.
     #[must_use]
     pub fn with(mut self, key: impl Into<String>, value: impl Into<String>) -> Self {

@@ -31,9 +31,62 @@ pub enum Error {
         /// What was found and what is accepted.
         message: String,
     },
-    /// A command-line argument or environment variable is malformed.
+    /// A call's arguments are malformed: a command-line argument or environment variable, a
+    /// shard index not below the count, a table row of the wrong length.
     #[error("{0}")]
     Usage(String),
+    /// An ensemble table's columns are not those its run accepts
+    /// ([`Table::validate`](crate::table::Table::validate)): found before any member runs.
+    #[error("{}", columns_message(.unknown, .duplicated, .accepted))]
+    Columns {
+        /// Columns the run does not accept, each with the closest accepted name when it looks
+        /// like a misspelling of one.
+        unknown: Vec<(String, Option<String>)>,
+        /// Names given to more than one column.
+        duplicated: Vec<String>,
+        /// The names the run accepts.
+        accepted: Vec<String>,
+    },
+    /// No member of an ensemble could be built, so not even the run's columns are known: the
+    /// first member's error (see [`run_shard`](crate::shard::run_shard)).
+    #[error("member {member} could not be built: {message}")]
+    Member {
+        /// The member (row of the table).
+        member: usize,
+        /// Its closure's error, or its panic's message.
+        message: String,
+    },
+}
+
+/// The message of [`Error::Columns`].
+fn columns_message(
+    unknown: &[(String, Option<String>)],
+    duplicated: &[String],
+    accepted: &[String],
+) -> String {
+    let mut parts = Vec::new();
+    if !unknown.is_empty() {
+        let names: Vec<String> = unknown
+            .iter()
+            .map(|(name, close)| match close {
+                Some(c) => format!("`{name}` (did you mean `{c}`?)"),
+                None => format!("`{name}`"),
+            })
+            .collect();
+        parts.push(format!("unknown column(s) {}", names.join(", ")));
+    }
+    if !duplicated.is_empty() {
+        let names: Vec<String> = duplicated.iter().map(|n| format!("`{n}`")).collect();
+        parts.push(format!(
+            "column(s) {} given more than once",
+            names.join(", ")
+        ));
+    }
+    format!(
+        "the ensemble table has {}; the accepted columns are: {}",
+        parts.join(" and "),
+        accepted.join(", ")
+    )
 }
 
 impl Error {

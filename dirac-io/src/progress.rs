@@ -18,10 +18,12 @@ pub fn bar(len: u64, label: &str, unit: &str) -> ProgressBar {
     if !enabled() {
         return ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::hidden());
     }
+    // Braces in `unit` would be read as template keys: doubled, they stand for themselves.
+    let unit = unit.replace('{', "{{").replace('}', "}}");
     let style = ProgressStyle::with_template(&format!(
         "{{prefix}} [{{elapsed_precise}}] {{wide_bar}} {{human_pos}}/{{human_len}} {unit} ({{per_sec}}, eta {{eta}})"
     ))
-    .expect("a valid template");
+    .unwrap_or_else(|_| ProgressStyle::default_bar());
     ProgressBar::new(len)
         .with_style(style)
         .with_prefix(label.to_owned())

@@ -15,6 +15,83 @@ use crate::error::{Error, Result};
 use crate::integrity::{verify, FileWriter};
 use crate::observer::published_parts;
 
+/// `read()` with a panic of the Parquet reader caught: a corrupt file (a flipped byte in the
+/// footer's offsets) can trip an assertion inside the `parquet` crate, which is then an
+/// [`Error::Content`] naming the file like any other unreadable file.
+fn guarded<T>(path: &Path, read: impl FnOnce() -> Result<T>) -> Result<T> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(read)).unwrap_or_else(|payload| {
+        let message = payload
+            .downcast_ref::<&str>()
+            .map(|s| (*s).to_owned())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_default();
+        Err(Error::content(
+            path,
+            format!("corrupt Parquet file: the reader failed ({message})"),
+        ))
+    })
+}
+
+/// The key-value metadata of the Parquet file at `path` (without the embedded Arrow schema);
+/// for a directory of parts, its last part's (the run's description and outcome). Read from the
+/// footer alone: the data are not checked (the readers below check them).
+pub fn key_values(path: &Path) -> Result<BTreeMap<String, String>> {
+    guarded(path, || key_values_unguarded(path))
+}
+
+/// The number of rows of the Parquet file (or directory of parts) at `path`, from the footers.
+pub fn row_count(path: &Path) -> Result<u64> {
+    guarded(path, || row_count_unguarded(path))
+}
+
+/// Every row of the Parquet file (or directory of parts) at `path`, as record batches, after
+/// checking the checksums of each file ([`crate::integrity::verify`]; a file without them, not
+/// written by this crate, is read unchecked).
+pub fn read_batches(path: &Path) -> Result<Vec<RecordBatch>> {
+    guarded(path, || read_batches_unguarded(path))
+}
+
+/// One `f64` column of the Parquet file (or directory of parts) at `path`, all rows (nulls as
+/// `NaN`), checked as by [`read_batches`].
+pub fn read_f64_column(path: &Path, name: &str) -> Result<Vec<f64>> {
+    guarded(path, || read_f64_column_unguarded(path, name))
+}
+
+/// Writes the rows of `inputs` (files or directories of parts), in order, into one file at
+/// `out` (same schema required), with key-value metadata `kv` and checksums, and syncs it;
+/// reads one batch at a time, so memory does not grow with the inputs, and checks each input's
+/// checksums first. Returns the number of rows.
+pub fn concatenate(inputs: &[PathBuf], out: &Path, kv: Vec<(String, String)>) -> Result<u64> {
+    guarded(out, || concatenate_unguarded(inputs, out, kv))
+}
+
+/// Compares the rows of two Parquet files bit for bit (floats by their bit patterns, so `NaN`
+/// equals the same `NaN` and `0.0` differs from `-0.0`): `None` when they hold the same columns
+/// and values, else a description of the first difference. Metadata is not compared. Either may
+/// be a directory of parts; a file whose checksums disagree with it is an error.
+pub fn first_difference(a: &Path, b: &Path) -> Result<Option<String>> {
+    guarded(a, || first_difference_unguarded(a, b))
+}
+
+/// The Arrow schema of the Parquet file at `path` (for a directory of parts, its first part's).
+pub fn schema(path: &Path) -> Result<arrow_schema::SchemaRef> {
+    guarded(path, || schema_unguarded(path))
+}
+
+/// The number of row groups of the Parquet file at `path`, and the most rows one of them holds:
+/// what a reader or the writer held in memory at once.
+pub fn row_groups(path: &Path) -> Result<(usize, u64)> {
+    guarded(path, || row_groups_unguarded(path))
+}
+
+/// The last state written to the trajectory file (or directory of parts) at `path`, and its
+/// step, checked as by [`read_batches`]: where a killed run is continued from
+/// ([`ParquetObserver::resume`](crate::ParquetObserver::resume)). `columns` are the state's
+/// column names ([`RunInfo::columns`](crate::RunInfo)).
+pub fn last_state<St: StateColumns>(path: &Path, columns: &[String]) -> Result<(usize, St)> {
+    guarded(path, || last_state_unguarded::<St>(path, columns))
+}
+
 fn builder(path: &Path) -> Result<ParquetRecordBatchReaderBuilder<File>> {
     let file = File::open(path).map_err(Error::io(path))?;
     ParquetRecordBatchReaderBuilder::try_new(file).map_err(Error::parquet(path))
@@ -51,16 +128,14 @@ pub(crate) fn key_values_unchecked(path: &Path) -> Result<BTreeMap<String, Strin
         .collect())
 }
 
-/// The key-value metadata of the Parquet file at `path` (without the embedded Arrow schema);
-/// for a directory of parts, its last part's (the run's description and outcome). Read from the
-/// footer alone: the data are not checked (the readers below check them).
-pub fn key_values(path: &Path) -> Result<BTreeMap<String, String>> {
+/// [`key_values`] without the guard.
+fn key_values_unguarded(path: &Path) -> Result<BTreeMap<String, String>> {
     let files = files(path)?;
     key_values_unchecked(files.last().unwrap_or(&path.to_owned()))
 }
 
-/// The number of rows of the Parquet file (or directory of parts) at `path`, from the footers.
-pub fn row_count(path: &Path) -> Result<u64> {
+/// [`row_count`] without the guard.
+fn row_count_unguarded(path: &Path) -> Result<u64> {
     let mut rows = 0;
     for file in files(path)? {
         rows += builder(&file)?.metadata().file_metadata().num_rows() as u64;
@@ -68,10 +143,8 @@ pub fn row_count(path: &Path) -> Result<u64> {
     Ok(rows)
 }
 
-/// Every row of the Parquet file (or directory of parts) at `path`, as record batches, after
-/// checking the checksums of each file ([`crate::integrity::verify`]; a file without them, not
-/// written by this crate, is read unchecked).
-pub fn read_batches(path: &Path) -> Result<Vec<RecordBatch>> {
+/// [`read_batches`] without the guard.
+fn read_batches_unguarded(path: &Path) -> Result<Vec<RecordBatch>> {
     let mut out = Vec::new();
     for file in files(path)? {
         verify(&file)?;
@@ -82,9 +155,8 @@ pub fn read_batches(path: &Path) -> Result<Vec<RecordBatch>> {
     Ok(out)
 }
 
-/// One `f64` column of the Parquet file (or directory of parts) at `path`, all rows (nulls as
-/// `NaN`), checked as by [`read_batches`].
-pub fn read_f64_column(path: &Path, name: &str) -> Result<Vec<f64>> {
+/// [`read_f64_column`] without the guard.
+fn read_f64_column_unguarded(path: &Path, name: &str) -> Result<Vec<f64>> {
     let mut out = Vec::new();
     for batch in read_batches(path)? {
         let values = f64_column(&batch, path, name)?;
@@ -109,11 +181,8 @@ fn f64_column<'a>(batch: &'a RecordBatch, path: &Path, name: &str) -> Result<&'a
         .ok_or_else(|| Error::content(path, format!("column `{name}` is not f64")))
 }
 
-/// The last state written to the trajectory file (or directory of parts) at `path`, and its
-/// step, checked as by [`read_batches`]: where a killed run is continued from
-/// ([`ParquetObserver::resume`](crate::ParquetObserver::resume)). `columns` are the state's
-/// column names ([`RunInfo::columns`](crate::RunInfo)).
-pub fn last_state<St: StateColumns>(path: &Path, columns: &[String]) -> Result<(usize, St)> {
+/// [`last_state`] without the guard.
+fn last_state_unguarded<St: StateColumns>(path: &Path, columns: &[String]) -> Result<(usize, St)> {
     let files = files(path)?;
     let last = files.last().unwrap_or(&path.to_owned()).clone();
     let batches = read_batches(&last)?;
@@ -140,11 +209,8 @@ pub fn last_state<St: StateColumns>(path: &Path, columns: &[String]) -> Result<(
     Ok((step as usize, St::read_from(&values)))
 }
 
-/// Writes the rows of `inputs` (files or directories of parts), in order, into one file at
-/// `out` (same schema required), with key-value metadata `kv` and checksums, and syncs it;
-/// reads one batch at a time, so memory does not grow with the inputs, and checks each input's
-/// checksums first. Returns the number of rows.
-pub fn concatenate(inputs: &[PathBuf], out: &Path, kv: Vec<(String, String)>) -> Result<u64> {
+/// [`concatenate`] without the guard.
+fn concatenate_unguarded(inputs: &[PathBuf], out: &Path, kv: Vec<(String, String)>) -> Result<u64> {
     let mut all = Vec::new();
     for input in inputs {
         all.extend(files(input)?);
@@ -174,11 +240,8 @@ pub fn concatenate(inputs: &[PathBuf], out: &Path, kv: Vec<(String, String)>) ->
     Ok(rows)
 }
 
-/// Compares the rows of two Parquet files bit for bit (floats by their bit patterns, so `NaN`
-/// equals the same `NaN` and `0.0` differs from `-0.0`): `None` when they hold the same columns
-/// and values, else a description of the first difference. Metadata is not compared. Either may
-/// be a directory of parts; a file whose checksums disagree with it is an error.
-pub fn first_difference(a: &Path, b: &Path) -> Result<Option<String>> {
+/// [`first_difference`] without the guard.
+fn first_difference_unguarded(a: &Path, b: &Path) -> Result<Option<String>> {
     let (sa, sb) = (schema(a)?, schema(b)?);
     if sa.fields() != sb.fields() {
         return Ok(Some(format!(
@@ -233,17 +296,16 @@ pub fn first_difference(a: &Path, b: &Path) -> Result<Option<String>> {
     Ok(None)
 }
 
-/// The Arrow schema of the Parquet file at `path` (for a directory of parts, its first part's).
-pub fn schema(path: &Path) -> Result<arrow_schema::SchemaRef> {
+/// [`schema`] without the guard.
+fn schema_unguarded(path: &Path) -> Result<arrow_schema::SchemaRef> {
     let files = files(path)?;
     Ok(builder(files.first().unwrap_or(&path.to_owned()))?
         .schema()
         .clone())
 }
 
-/// The number of row groups of the Parquet file at `path`, and the most rows one of them holds:
-/// what a reader or the writer held in memory at once.
-pub fn row_groups(path: &Path) -> Result<(usize, u64)> {
+/// [`row_groups`] without the guard.
+fn row_groups_unguarded(path: &Path) -> Result<(usize, u64)> {
     let (mut count, mut largest) = (0, 0);
     for file in files(path)? {
         let builder = builder(&file)?;

@@ -21,7 +21,14 @@
 //!   it: it is never merged.
 //! * **Failed members are rows.** A member whose integration fails is written with
 //!   `status = "failed"`, the state and statistics up to the failed step, and its typed error
-//!   ([`StepError`]): `error_kind`, `error_step`, `error_residual`, `error_message`.
+//!   ([`StepError`]): `error_kind`, `error_step`, `error_residual`, `error_message`. A member
+//!   whose closure returns an error (`row.require("m2")?`, a value out of range) or panics is
+//!   a failed row too: `error_kind` `member` or `member panicked`, `error_message` the error's
+//!   text or the panic's message, no step or residual, no state (`steps` and `t` 0, the state
+//!   columns `NaN`); the other members run.
+//! * **Validated tables.** Before any member runs, the table's columns are checked against the
+//!   names the run accepts ([`Table::validate_for`]): an unknown, misspelled or repeated name
+//!   is an [`Error::Columns`] naming it and listing the accepted names.
 //!
 //! # The shard schema
 //!
@@ -44,14 +51,14 @@
 //! // Four members that differ in their first shape momentum.
 //! let mut table = Table::new(["w_phi1"]);
 //! for i in 0..4 {
-//!     table.push(&[0.1 * i as f64]);
+//!     table.push(&[0.1 * i as f64])?;
 //! }
-//! let member = |row: shard::Row<'_>| {
+//! let member = |row: shard::Row<'_>| -> shard::Member<_> {
 //!     let integ = ReducedIntegrator::plus(DoubleSphericalPendulum::paper(), NewtonOptions::default());
 //!     let default = DoubleSphericalPendulum::paper_initial_state();
 //!     let names = dirac_io::Describe::describe(&integ).columns;
 //!     let initial = row.state_or(&names, default);
-//!     (integ, initial)
+//!     Ok((integ, initial))
 //! };
 //! let dir = std::env::temp_dir().join(format!("shard-doc-{}", std::process::id()));
 //! for i in 0..2 {
@@ -66,6 +73,7 @@
 
 use std::collections::BTreeMap;
 use std::ops::Range;
+use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -75,14 +83,23 @@ use dirac::prelude::*;
 use dirac::runtime::ensemble::map;
 use parquet::basic::Compression;
 
-use crate::columns::{Describe, StateColumns};
+use crate::columns::{Describe, RunInfo, StateColumns};
 use crate::ensemble::member_file;
 use crate::error::{Error, Result};
 use crate::integrity::{verify_required, FileWriter};
 use crate::observer::{Options, ParquetObserver};
 use crate::progress;
 use crate::read::{concatenate, key_values, row_count};
-pub use crate::table::{Row, Table};
+pub use crate::table::{MissingColumn, Row, Table};
+
+/// Why a member closure could not build its member: any error converts into it with `?`
+/// ([`MissingColumn`] from [`Row::require`], a `String` with `.into()`); its text becomes the
+/// member's `error_message`.
+pub type MemberError = Box<dyn std::error::Error + Send + Sync>;
+
+/// What a member closure returns: the member's integrator and initial state, or why it cannot
+/// be built.
+pub type Member<I> = std::result::Result<(I, <I as Stepper>::State), MemberError>;
 
 /// Shard `index` of `count` (from 0).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -147,7 +164,11 @@ impl Shard {
     }
 
     /// The rows of a table of `total` rows that this shard integrates: `⌊i·N/n⌋ .. ⌊(i+1)·N/n⌋`.
+    /// (Empty for a shard with `index >= count`, which [`Shard::new`] refuses.)
     pub fn members(&self, total: usize) -> Range<usize> {
+        if self.index >= self.count {
+            return total..total;
+        }
         let bound = |i: usize| (i as u128 * total as u128 / self.count as u128) as usize;
         bound(self.index)..bound(self.index + 1)
     }
@@ -237,7 +258,96 @@ struct MemberRow {
     summary: [u64; 3],
     max_residual: f64,
     worst_rcond: Option<(usize, f64)>,
-    error: Option<StepError>,
+    error: Option<Failure>,
+}
+
+/// Why a member failed, as its row records it.
+struct Failure {
+    kind: String,
+    step: Option<u64>,
+    residual: Option<f64>,
+    message: String,
+}
+
+impl From<StepError> for Failure {
+    fn from(e: StepError) -> Self {
+        Failure {
+            kind: e.kind().to_owned(),
+            step: Some(e.step() as u64),
+            residual: Some(e.residual()),
+            message: e.to_string(),
+        }
+    }
+}
+
+/// The text of a panic's payload (a `&str` or a `String`, as `panic!` makes them).
+fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
+        .downcast_ref::<&str>()
+        .map(|s| (*s).to_owned())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "a panic without a message".to_owned())
+}
+
+/// Member `i` built by its closure, or why not: the closure's error (kind `member`), or its
+/// panic (kind `member panicked`), caught so that one member's failure does not end the others
+/// (the closure is called again for the next members: one that keeps state across calls must
+/// tolerate a panic mid-call).
+fn build<I, F>(table: &Table, i: usize, member: &F) -> std::result::Result<(I, I::State), Failure>
+where
+    I: Describe,
+    F: Fn(Row<'_>) -> Member<I>,
+{
+    let failure = |kind: &str, message: String| Failure {
+        kind: kind.to_owned(),
+        step: None,
+        residual: None,
+        message,
+    };
+    let row = table.row(i).ok_or_else(|| {
+        failure(
+            "member",
+            format!("no row {i} in a table of {} rows", table.len()),
+        )
+    })?;
+    match catch_unwind(AssertUnwindSafe(|| member(row))) {
+        Ok(Ok(built)) => Ok(built),
+        Ok(Err(e)) => Err(failure("member", e.to_string())),
+        Err(payload) => Err(failure("member panicked", panic_message(payload.as_ref()))),
+    }
+}
+
+/// The run's description: that of the first member of the table that can be built (the same
+/// member whichever shard asks, so that the shards' files agree), checked to name one column
+/// per state component. If none can be built, the first member's error.
+fn description<I, F>(table: &Table, member: &F) -> Result<RunInfo>
+where
+    I: Describe,
+    F: Fn(Row<'_>) -> Member<I>,
+{
+    let mut first = None;
+    for i in 0..table.len() {
+        match build(table, i, member) {
+            Ok((integ, _)) => {
+                let info = integ.describe();
+                if info.columns.len() != I::State::WIDTH {
+                    return Err(Error::Usage(format!(
+                        "the integrator's description names {} state columns ({}) where its \
+                         state has {}",
+                        info.columns.len(),
+                        info.columns.join(", "),
+                        I::State::WIDTH
+                    )));
+                }
+                return Ok(info);
+            }
+            Err(failure) => {
+                first.get_or_insert((i, failure.message));
+            }
+        }
+    }
+    let (member, message) = first.unwrap_or((0, "the table has no rows".to_owned()));
+    Err(Error::Member { member, message })
 }
 
 /// The identity a shard file records and a rerun checks.
@@ -283,7 +393,14 @@ fn disagreement(found: &BTreeMap<String, String>, expected: &[(String, String)])
 /// Integrates shard `shard` of the ensemble `table`, `steps` steps per member, on all local
 /// cores (rayon's pool), and writes its file into `dir` (created if missing); skips the shard
 /// when its file is already complete (see the [module documentation](self)). `member(row)`
-/// builds each member's integrator and initial state from its row.
+/// builds each member's integrator and initial state from its row, or returns why it cannot
+/// (the member is then a failed row, as when it panics).
+///
+/// Before any member runs, the table's columns are checked against the run's description
+/// ([`Table::validate_for`]; the description is that of the first member that can be built):
+/// an unknown, misspelled or repeated column is an [`Error::Columns`], and a table none of
+/// whose members can be built an [`Error::Member`]. A panic inside an integration (in a
+/// Lagrangian's own code) is not caught.
 ///
 /// A bar of members follows the shard on a terminal ([`progress`]).
 pub fn run_shard<I, F>(
@@ -295,7 +412,7 @@ pub fn run_shard<I, F>(
 ) -> Result<ShardReport>
 where
     I: Describe,
-    F: Fn(Row<'_>) -> (I, I::State) + Sync,
+    F: Fn(Row<'_>) -> Member<I> + Sync,
 {
     run_shard_with_states(table, shard, dir, steps, None, member)
 }
@@ -316,11 +433,15 @@ pub fn run_shard_with_states<I, F>(
 ) -> Result<ShardReport>
 where
     I: Describe,
-    F: Fn(Row<'_>) -> (I, I::State) + Sync,
+    F: Fn(Row<'_>) -> Member<I> + Sync,
 {
     if table.is_empty() {
         return Err(Error::Usage("the ensemble table has no rows".into()));
     }
+    // The fields are public: a shard made without `Shard::new` is checked here.
+    let shard = Shard::new(shard.index, shard.count)?;
+    let info = description(table, &member)?;
+    table.validate_for(&info)?;
     std::fs::create_dir_all(dir).map_err(Error::io(dir))?;
     let path = dir.join(shard.file_name());
     let members = shard.members(table.len());
@@ -378,7 +499,6 @@ where
         std::fs::create_dir_all(&parts).map_err(Error::io(&parts))?;
     }
 
-    let info = member(table.row(0)).0.describe();
     let bar = progress::bar(
         members.len() as u64,
         &format!("shard {}/{}", shard.index, shard.count),
@@ -386,7 +506,31 @@ where
     );
     let indices: Vec<usize> = members.clone().collect();
     let rows = map(&indices, |&i| -> Result<MemberRow> {
-        let (integ, initial) = member(table.row(i));
+        let (integ, initial) = match build(table, i, &member) {
+            Ok(built) => built,
+            Err(failure) => {
+                if let Some(k) = every {
+                    // An empty part, so that the states file still has every member's.
+                    let options = Options::<I::State>::new()
+                        .every(k)
+                        .member(i as u64)
+                        .background(false);
+                    ParquetObserver::create(member_file(&parts, i), info.clone(), options)?
+                        .finish()?;
+                }
+                bar.inc(1);
+                return Ok(MemberRow {
+                    member: i as u64,
+                    steps: 0,
+                    t: 0.0,
+                    last: vec![f64::NAN; I::State::WIDTH],
+                    summary: [0; 3],
+                    max_residual: 0.0,
+                    worst_rcond: None,
+                    error: Some(failure),
+                });
+            }
+        };
         let result = match every {
             None => integ.run(initial, steps, |_, _, _| {}),
             Some(k) => {
@@ -405,7 +549,7 @@ where
         };
         let (summary, error) = match result {
             Ok(s) => (s, None),
-            Err(e) => (e.trajectory, Some(e.source)),
+            Err(e) => (e.trajectory, Some(Failure::from(e.source))),
         };
         let mut last = vec![0.0; I::State::WIDTH];
         summary.last.write_to(&mut last);
@@ -512,7 +656,7 @@ fn write_rows(
         f64s(&|r| r.t),
     ];
     for c in 0..columns.len() {
-        arrays.push(f64s(&|r| r.last[c]));
+        arrays.push(f64s(&|r| r.last.get(c).copied().unwrap_or(f64::NAN)));
     }
     for s in 0..3 {
         arrays.push(u64s(&|r| r.summary[s]));
@@ -530,22 +674,22 @@ fn write_rows(
     ));
     arrays.push(Arc::new(
         rows.iter()
-            .map(|r| r.error.as_ref().map(StepError::kind))
+            .map(|r| r.error.as_ref().map(|e| e.kind.as_str()))
             .collect::<StringArray>(),
     ));
     arrays.push(Arc::new(
         rows.iter()
-            .map(|r| r.error.as_ref().map(|e| e.step() as u64))
+            .map(|r| r.error.as_ref().and_then(|e| e.step))
             .collect::<UInt64Array>(),
     ));
     arrays.push(Arc::new(
         rows.iter()
-            .map(|r| r.error.as_ref().map(StepError::residual))
+            .map(|r| r.error.as_ref().and_then(|e| e.residual))
             .collect::<Float64Array>(),
     ));
     arrays.push(Arc::new(
         rows.iter()
-            .map(|r| r.error.as_ref().map(ToString::to_string))
+            .map(|r| r.error.as_ref().map(|e| e.message.as_str()))
             .collect::<StringArray>(),
     ));
     let mut writer = FileWriter::create(path, schema.clone(), Compression::UNCOMPRESSED, kv)?;
@@ -580,6 +724,11 @@ pub struct MergeReport {
 /// shards are missing, incomplete, damaged (their checksums disagree: rerun them) or of
 /// different ensembles.
 pub fn merge(dir: &Path, count: usize, out: &Path) -> Result<MergeReport> {
+    if count == 0 {
+        return Err(Error::Usage(
+            "merging 0 shards: give the number of shards run".into(),
+        ));
+    }
     let paths: Vec<PathBuf> = (0..count)
         .map(|i| dir.join(Shard { index: i, count }.file_name()))
         .collect();

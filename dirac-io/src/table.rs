@@ -3,7 +3,16 @@
 //! [trajectory schema](crate)). Read from CSV or Parquet, written to either; member `i` is row
 //! `i`. What a column means is up to the closure that turns a [`Row`] into an integrator and an
 //! initial state, which takes the components it finds and defaults for the others
-//! ([`Row::state_or`], [`Row::get_or`]).
+//! ([`Row::state_or`], [`Row::get_or`]), or requires them ([`Row::require`]).
+//!
+//! A column the run does not read would be silently ignored, and every member would run its
+//! default in its place: a misspelled `w__phi1` for `w_phi1`, a name given twice. So the
+//! columns are checked before any member runs ([`Table::validate`], called by
+//! [`run_shard`](crate::shard::run_shard)): every name must be one the run accepts
+//! ([`RunInfo::table_columns`]: the state's columns, the parameters, the time step and the
+//! Newton options, and the names declared with [`Table::accept`]), and no name may appear twice.
+//! The error names the offending columns, suggests the closest accepted name for each unknown
+//! one, and lists the accepted names.
 
 use std::fs::File;
 use std::io::{BufRead, BufReader, BufWriter, Write};
@@ -14,7 +23,7 @@ use arrow_array::{Array, ArrayRef, Float64Array, RecordBatch};
 use arrow_schema::{DataType, Field, Schema};
 use parquet::basic::Compression;
 
-use crate::columns::{float_text, StateColumns};
+use crate::columns::{float_text, RunInfo, StateColumns};
 use crate::error::{Error, Result};
 use crate::integrity::FileWriter;
 
@@ -22,8 +31,30 @@ use crate::integrity::FileWriter;
 #[derive(Clone, Debug, PartialEq)]
 pub struct Table {
     names: Vec<String>,
-    /// Column-major.
+    /// Column-major; every column has the same length.
     columns: Vec<Vec<f64>>,
+    /// Names accepted beyond those of the run's description ([`Table::accept`]).
+    accepted: Vec<String>,
+}
+
+/// [`Row::require`] found no such column: the typed error a member closure returns with `?`,
+/// which becomes the member's failed row (`error_kind = "member"`, `error_message` its text).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("the table has no column `{name}` (its columns: {})", list(.columns))]
+pub struct MissingColumn {
+    /// The column asked for.
+    pub name: String,
+    /// The table's columns.
+    pub columns: Vec<String>,
+}
+
+/// `a, b, c`, or `(none)`.
+fn list(names: &[String]) -> String {
+    if names.is_empty() {
+        "(none)".to_owned()
+    } else {
+        names.join(", ")
+    }
 }
 
 /// Row `index` of a [`Table`]: member `index` of the ensemble.
@@ -41,7 +72,16 @@ impl Row<'_> {
 
     /// The value in column `name`, if the table has it.
     pub fn get(&self, name: &str) -> Option<f64> {
-        self.table.column(name).map(|c| c[self.index])
+        self.table.column(name)?.get(self.index).copied()
+    }
+
+    /// The value in column `name`, or a [`MissingColumn`] error naming it: in a member closure,
+    /// `let m2 = row.require("m2")?;` makes a member without it a failed row with that message.
+    pub fn require(&self, name: &str) -> Result<f64, MissingColumn> {
+        self.get(name).ok_or_else(|| MissingColumn {
+            name: name.to_owned(),
+            columns: self.table.names.clone(),
+        })
     }
 
     /// The value in column `name`, or `default` when the table has no such column.
@@ -68,18 +108,75 @@ impl Table {
     pub fn new<S: Into<String>>(names: impl IntoIterator<Item = S>) -> Self {
         let names: Vec<String> = names.into_iter().map(Into::into).collect();
         let columns = names.iter().map(|_| Vec::new()).collect();
-        Table { names, columns }
+        Table {
+            names,
+            columns,
+            accepted: Vec::new(),
+        }
     }
 
-    /// Appends a row, one value per column in order.
-    ///
-    /// # Panics
-    /// If `row` does not have one value per column.
-    pub fn push(&mut self, row: &[f64]) {
-        assert_eq!(row.len(), self.names.len(), "one value per column");
+    /// Appends a row, one value per column in order; an error ([`Error::Usage`]) unless `row`
+    /// has one value per column.
+    pub fn push(&mut self, row: &[f64]) -> Result<()> {
+        if row.len() != self.names.len() {
+            return Err(Error::Usage(format!(
+                "a row of {} values for a table of {} columns ({})",
+                row.len(),
+                self.names.len(),
+                list(&self.names)
+            )));
+        }
         for (c, v) in self.columns.iter_mut().zip(row) {
             c.push(*v);
         }
+        Ok(())
+    }
+
+    /// Declares columns that the member closure reads beyond those of the run's description
+    /// (a seed, a perturbation's amplitude): [`Self::validate`] accepts them.
+    #[must_use]
+    pub fn accept<S: Into<String>>(mut self, names: impl IntoIterator<Item = S>) -> Self {
+        self.accepted.extend(names.into_iter().map(Into::into));
+        self
+    }
+
+    /// Checks the columns against the names a run accepts (`accepted`, e.g.
+    /// [`RunInfo::table_columns`], and those declared with [`Self::accept`]): an
+    /// [`Error::Columns`] naming every unknown column (with the closest accepted name when one
+    /// is within a third of its length in edits: a misspelling) and every name given more than
+    /// once, and listing the accepted names.
+    pub fn validate<S: AsRef<str>>(&self, accepted: &[S]) -> Result<()> {
+        let mut all: Vec<String> = accepted.iter().map(|a| a.as_ref().to_owned()).collect();
+        for a in &self.accepted {
+            if !all.contains(a) {
+                all.push(a.clone());
+            }
+        }
+        let mut unknown = Vec::new();
+        let mut duplicated: Vec<String> = Vec::new();
+        for (i, name) in self.names.iter().enumerate() {
+            if self.names[..i].contains(name) {
+                if !duplicated.contains(name) {
+                    duplicated.push(name.clone());
+                }
+            } else if !all.contains(name) {
+                unknown.push((name.clone(), closest(name, &all)));
+            }
+        }
+        if unknown.is_empty() && duplicated.is_empty() {
+            return Ok(());
+        }
+        Err(Error::Columns {
+            unknown,
+            duplicated,
+            accepted: all,
+        })
+    }
+
+    /// [`Self::validate`] against the columns a run described by `info` accepts
+    /// ([`RunInfo::table_columns`]).
+    pub fn validate_for(&self, info: &RunInfo) -> Result<()> {
+        self.validate(&info.table_columns())
     }
 
     /// The column names.
@@ -97,19 +194,15 @@ impl Table {
         self.len() == 0
     }
 
-    /// The column `name`, if any.
+    /// The column `name`, if any (the first of that name).
     pub fn column(&self, name: &str) -> Option<&[f64]> {
         let c = self.names.iter().position(|n| n == name)?;
-        Some(&self.columns[c])
+        self.columns.get(c).map(Vec::as_slice)
     }
 
-    /// Row `index`.
-    ///
-    /// # Panics
-    /// If `index >= self.len()`.
-    pub fn row(&self, index: usize) -> Row<'_> {
-        assert!(index < self.len(), "row {index} of {}", self.len());
-        Row { table: self, index }
+    /// Row `index`, if `index < self.len()`.
+    pub fn row(&self, index: usize) -> Option<Row<'_>> {
+        (index < self.len()).then_some(Row { table: self, index })
     }
 
     /// A 64-bit FNV-1a hash of the names and the values' bits: shards record it, and merging
@@ -166,7 +259,13 @@ impl Table {
             }
             let fields = line.split(',').map(str::trim);
             match &mut table {
-                None => table = Some(Table::new(fields)),
+                None => {
+                    let header = Table::new(fields);
+                    if let Some(message) = header.repeated_name() {
+                        return Err(Error::content(path, format!("line {}: {message}", n + 1)));
+                    }
+                    table = Some(header);
+                }
                 Some(t) => {
                     let row = fields
                         .enumerate()
@@ -194,7 +293,7 @@ impl Table {
                             ),
                         ));
                     }
-                    t.push(&row);
+                    t.push(&row)?;
                 }
             }
         }
@@ -210,7 +309,11 @@ impl Table {
         let mut write = || -> std::io::Result<()> {
             writeln!(out, "{}", self.names.join(","))?;
             for i in 0..self.len() {
-                let row: Vec<String> = self.columns.iter().map(|c| float_text(c[i])).collect();
+                let row: Vec<String> = self
+                    .columns
+                    .iter()
+                    .map(|c| c.get(i).map_or_else(String::new, |v| float_text(*v)))
+                    .collect();
                 writeln!(out, "{}", row.join(","))?;
             }
             out.flush()
@@ -230,10 +333,17 @@ impl Table {
                     .iter()
                     .map(|f| f.name().clone())
                     .collect();
-                return Ok(Table::new(names));
+                let table = Table::new(names);
+                return match table.repeated_name() {
+                    Some(message) => Err(Error::content(path, message)),
+                    None => Ok(table),
+                };
             }
         };
         let mut table = Table::new(schema.fields().iter().map(|f| f.name().clone()));
+        if let Some(message) = table.repeated_name() {
+            return Err(Error::content(path, message));
+        }
         for batch in &batches {
             for (c, (field, column)) in schema.fields().iter().zip(batch.columns()).enumerate() {
                 let values = column
@@ -250,7 +360,9 @@ impl Table {
                             ),
                         )
                     })?;
-                table.columns[c].extend_from_slice(values.values());
+                if let Some(out) = table.columns.get_mut(c) {
+                    out.extend_from_slice(values.values());
+                }
             }
         }
         Ok(table)
@@ -278,5 +390,84 @@ impl Table {
         let batch = RecordBatch::try_new(schema, columns).map_err(Error::arrow(path))?;
         writer.write(&batch)?;
         writer.close(true)
+    }
+}
+
+impl Table {
+    /// The first name the header gives twice, as an error message: a second column of the same
+    /// name could never be read (a reader finds the first), so a header with one is refused.
+    fn repeated_name(&self) -> Option<String> {
+        self.names.iter().enumerate().find_map(|(i, name)| {
+            let first = self.names[..i].iter().position(|n| n == name)?;
+            Some(format!(
+                "column `{name}` is given more than once in the header (columns {} and {})",
+                first + 1,
+                i + 1
+            ))
+        })
+    }
+}
+
+/// The accepted name closest to `name`, if it is a plausible misspelling: equal but for case, or
+/// within `max(1, len / 3)` edits (insertions, deletions, substitutions, transpositions of
+/// adjacent characters), the nearest first.
+pub(crate) fn closest(name: &str, accepted: &[String]) -> Option<String> {
+    let lower = name.to_lowercase();
+    if let Some(a) = accepted.iter().find(|a| a.to_lowercase() == lower) {
+        return Some(a.clone());
+    }
+    let limit = (name.chars().count() / 3).max(1);
+    accepted
+        .iter()
+        .map(|a| (edit_distance(name, a), a))
+        .filter(|(d, _)| *d <= limit)
+        .min_by_key(|(d, _)| *d)
+        .map(|(_, a)| a.clone())
+}
+
+/// The optimal-string-alignment distance between `a` and `b` (Damerau–Levenshtein without
+/// repeated edits of a substring), over characters, by the usual dynamic programme on three
+/// rows.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let (a, b): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
+    let mut before: Vec<usize> = vec![0; b.len() + 1];
+    let mut previous: Vec<usize> = (0..=b.len()).collect();
+    let mut current: Vec<usize> = vec![0; b.len() + 1];
+    for i in 1..=a.len() {
+        current[0] = i;
+        for j in 1..=b.len() {
+            let cost = usize::from(a[i - 1] != b[j - 1]);
+            let mut d = (previous[j] + 1)
+                .min(current[j - 1] + 1)
+                .min(previous[j - 1] + cost);
+            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
+                d = d.min(before[j - 2] + 1);
+            }
+            current[j] = d;
+        }
+        std::mem::swap(&mut before, &mut previous);
+        std::mem::swap(&mut previous, &mut current);
+    }
+    previous[b.len()]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn edit_distances() {
+        assert_eq!(edit_distance("w__phi1", "w_phi1"), 1);
+        assert_eq!(edit_distance("w_ph1i", "w_phi1"), 1);
+        assert_eq!(edit_distance("", "abc"), 3);
+        assert_eq!(edit_distance("kitten", "sitting"), 3);
+    }
+
+    #[test]
+    fn misspellings_find_their_name_and_strangers_none() {
+        let accepted: Vec<String> = ["x_phi1", "w_phi1", "w_vt2", "m2"].map(String::from).into();
+        assert_eq!(closest("w__phi1", &accepted).as_deref(), Some("w_phi1"));
+        assert_eq!(closest("M2", &accepted).as_deref(), Some("m2"));
+        assert_eq!(closest("seed", &accepted), None);
     }
 }

@@ -3,16 +3,20 @@
 
 use dirac::paper::DoubleSphericalPendulum;
 use dirac::prelude::*;
-use dirac_io::shard::{Row, Table};
-use dirac_io::Describe;
+use dirac_io::shard::{MemberError, Row, Table};
+use dirac_io::{Describe, Error};
 
-/// Member `row`: the paper's system and initial state, with what the row gives in their place.
+/// Member `row`: the paper's system and initial state, with what the row gives in their place;
+/// an error (the member's failed row) for an iteration cap that is not a positive whole number.
 pub fn member(
     row: Row<'_>,
-) -> (
-    impl Describe<State = ReducedState<3, 1>>,
-    ReducedState<3, 1>,
-) {
+) -> Result<
+    (
+        impl Describe<State = ReducedState<3, 1>>,
+        ReducedState<3, 1>,
+    ),
+    MemberError,
+> {
     let p = DoubleSphericalPendulum::paper();
     let sys = DoubleSphericalPendulum {
         h: row.get_or("h", p.h),
@@ -23,18 +27,22 @@ pub fn member(
         g: row.get_or("g", p.g),
     };
     let defaults = NewtonOptions::default();
+    let cap = row.get_or("max_iterations", defaults.max_iterations as f64);
+    if !(cap >= 1.0 && cap.fract() == 0.0 && cap <= u32::MAX as f64) {
+        return Err(format!("max_iterations = {cap} is not a positive whole number").into());
+    }
     let options = NewtonOptions {
-        max_iterations: row.get_or("max_iterations", defaults.max_iterations as f64) as usize,
+        max_iterations: cap as usize,
         ..defaults
     };
     let integ = ReducedIntegrator::plus(sys, options);
     let columns = integ.describe().columns;
     let initial = row.state_or(&columns, DoubleSphericalPendulum::paper_initial_state());
-    (integ, initial)
+    Ok((integ, initial))
 }
 
 /// The table of `members` perturbed members (see the module documentation).
-pub fn table(members: usize, failing: bool) -> Table {
+pub fn table(members: usize, failing: bool) -> Result<Table, Error> {
     let start = DoubleSphericalPendulum::paper_initial_state();
     let m2 = DoubleSphericalPendulum::paper().m2;
     let mut t = Table::new([
@@ -63,7 +71,7 @@ pub fn table(members: usize, failing: bool) -> Table {
         if failing && i == 2 {
             row[0] = f64::NAN;
         }
-        t.push(&row);
+        t.push(&row)?;
     }
-    t
+    Ok(t)
 }

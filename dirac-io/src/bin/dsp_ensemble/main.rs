@@ -71,7 +71,7 @@ fn run() -> Result<(), Error> {
                 .number("--members")?
                 .ok_or_else(|| Error::Usage(format!("--members is required\n{USAGE}")))?;
             let out = PathBuf::from(args.required("--out")?);
-            table(members, args.flag("--failing")).write(&out)?;
+            table(members, args.flag("--failing"))?.write(&out)?;
             println!("{members} members written to {}", out.display());
         }
         "shard" => {
