@@ -97,7 +97,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let _ = std::fs::remove_file(&target);
         let mut writer = ParquetObserver::create(&target, integ.describe(), options)?;
         let label = format!("{n} steps{}", if split { ", in parts" } else { "" });
-        let result = integ.run(start, n, progress::follow(n, &label, writer.observer()));
+        let result = integ
+            .run(start)
+            .steps(n)
+            .observe(progress::follow(n, &label, writer.observer()))
+            .stream();
         writer.finish_with(&result)?;
         result?;
         Ok(peak_memory_mib())
@@ -116,11 +120,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let noop = |label: &str| {
         timed(|| {
-            integ.run(
-                start,
-                steps,
-                progress::follow(steps, label, |_, _, _: Option<&ReducedStep<1>>| {}),
-            )?;
+            integ
+                .run(start)
+                .steps(steps)
+                .observe(progress::follow(
+                    steps,
+                    label,
+                    |_, _, _, _: Option<&ReducedStep<1>>| {},
+                ))
+                .stream()?;
             Ok(())
         })
     };
@@ -129,11 +137,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let options = Options::new().background(background);
             let _ = std::fs::remove_file(&out);
             let mut writer = ParquetObserver::create(&out, integ.describe(), options)?;
-            let result = integ.run(
-                start,
-                steps,
-                progress::follow(steps, label, writer.observer()),
-            );
+            let result = integ
+                .run(start)
+                .steps(steps)
+                .observe(progress::follow(steps, label, writer.observer()))
+                .stream();
             writer.finish_with(&result)?;
             result?;
             Ok(())

@@ -70,7 +70,11 @@ where
             member_options = member_options.member(i as u64);
         }
         let mut out = ParquetObserver::create(member_file(&dir, i), info.clone(), member_options)?;
-        let result = integrator.run(initial, steps, out.observer());
+        let result = integrator
+            .run(initial)
+            .steps(steps)
+            .observe(out.observer())
+            .stream();
         out.finish_with(&result)?;
         bar.inc(1);
         Ok(result)

@@ -33,7 +33,7 @@
 //! | --- | --- | --- |
 //! | `member` | u64 | the ensemble member (only in ensemble files written to one file) |
 //! | `step` | u64 | `k`, from 0 (the initial state) |
-//! | `t` | f64 | `k · h` |
+//! | `t` | f64 | the time `t_k` of the state (`k · h` for a fixed step; a step-size schedule gives its own times) |
 //! | `x_<name>`, `w_<name>`, `mu_<name>`, `g_<name>` | f64 | a [`ReducedState`](dirac::ReducedState): shape `x`, momenta `w`, `μ`, group `g`, one column per coordinate named in the annotation |
 //! | `q_<name>`, `p_<name>` | f64 | a [`CanonicalState`](dirac::CanonicalState) instead |
 //! | `iterations` | u32, null at step 0 | Newton corrections of the step that produced the state |
@@ -66,7 +66,7 @@
 //!     out[0] = s.x.sum();
 //! });
 //! let mut out = ParquetObserver::create(&path, integ.describe(), options)?;
-//! let result = integ.run(DoubleSphericalPendulum::paper_initial_state(), 1000, out.observer());
+//! let result = integ.run(DoubleSphericalPendulum::paper_initial_state()).steps(1000).observe(out.observer()).stream();
 //! // The outcome first (a failed run's typed error goes into the metadata), then `?`.
 //! out.finish_with(&result)?;
 //! result?;
@@ -90,4 +90,4 @@ pub mod table;
 pub use columns::{Describe, RunInfo, StateColumns};
 pub use ensemble::{write_ensemble, EnsembleOutput};
 pub use error::{Error, Result};
-pub use observer::{Options, ParquetObserver};
+pub use observer::{Options, ParquetObserver, Resumed};

@@ -213,6 +213,18 @@ impl Buffer {
     }
 }
 
+/// Where a resumed run continues ([`ParquetObserver::resume`]): the last state published, its
+/// step `k` and its time `t_k`. Continue with `integ.run(state).start_time(t).steps(n − step)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Resumed<St> {
+    /// The step index `k` of the state.
+    pub step: usize,
+    /// Its time `t_k`.
+    pub t: f64,
+    /// The state.
+    pub state: St,
+}
+
 /// Streams the states of a run into Apache Parquet, in memory independent of the run's length:
 /// rows are buffered column by column and written as one row group every [`ROW_GROUP_BYTES`],
 /// into a directory of parts, each published complete when full (see [`Options::rows_per_file`];
@@ -239,7 +251,7 @@ impl Buffer {
 /// let integ = ReducedIntegrator::plus(DoubleSphericalPendulum::paper(), NewtonOptions::default());
 /// let path = std::env::temp_dir().join(format!("dsp-doc-{}", std::process::id()));
 /// let mut out = ParquetObserver::create(&path, integ.describe(), Options::new().every(10))?;
-/// let result = integ.run(DoubleSphericalPendulum::paper_initial_state(), 100, out.observer());
+/// let result = integ.run(DoubleSphericalPendulum::paper_initial_state()).steps(100).observe(out.observer()).stream();
 /// let written = out.finish_with(&result)?; // the outcome recorded, then the run's error if any
 /// result?;
 /// assert_eq!(written, path);
@@ -251,7 +263,6 @@ impl Buffer {
 pub struct ParquetObserver<St: StateColumns> {
     path: PathBuf,
     sink: Option<Sink>,
-    h: f64,
     options: Options<St>,
     rows_per_group: usize,
     buffer: Buffer,
@@ -259,7 +270,7 @@ pub struct ParquetObserver<St: StateColumns> {
     extra_scratch: Vec<f64>,
     /// The last state observed and its record, kept so that `finish_with` can write the last
     /// state of a run that `every` skipped.
-    last: Option<(usize, St, Option<StepStats>)>,
+    last: Option<(usize, f64, St, Option<StepStats>)>,
     last_written: Option<usize>,
     rows: u64,
     /// The step of a resumed run's first state ([`Self::resume`]): observed step `k` is written
@@ -412,8 +423,16 @@ impl<St: StateColumns> ParquetObserver<St> {
     /// # let _ = std::fs::remove_dir_all(&dir);
     /// let (steps, options) = (1000, || Options::new().rows_per_file(300));
     /// let (mut out, last) = ParquetObserver::resume(&dir, integ.describe(), options())?;
-    /// let (done, start) = last.unwrap_or((0, DoubleSphericalPendulum::paper_initial_state()));
-    /// let result = integ.run(start, steps - done, out.observer());
+    /// let (done, t, start) = match last {
+    ///     Some(r) => (r.step, r.t, r.state),
+    ///     None => (0, 0.0, DoubleSphericalPendulum::paper_initial_state()),
+    /// };
+    /// let result = integ
+    ///     .run(start)
+    ///     .start_time(t)
+    ///     .steps(steps - done)
+    ///     .observe(out.observer())
+    ///     .stream();
     /// out.finish_with(&result)?;
     /// result?;
     /// assert_eq!(dirac_io::read::row_count(&dir)?, 1001);
@@ -425,7 +444,7 @@ impl<St: StateColumns> ParquetObserver<St> {
         path: impl AsRef<Path>,
         info: RunInfo,
         options: Options<St>,
-    ) -> Result<(Self, Option<(usize, St)>)> {
+    ) -> Result<(Self, Option<Resumed<St>>)> {
         let path = path.as_ref().to_owned();
         if let Layout::File = options.layout {
             return Err(Error::Usage(
@@ -450,9 +469,9 @@ impl<St: StateColumns> ParquetObserver<St> {
                 format!("the run ended ({outcome}): nothing to resume"),
             ));
         }
-        let (step, state) = crate::read::last_state::<St>(last_part, &info.columns)?;
+        let (step, t, state) = crate::read::last_state::<St>(last_part, &info.columns)?;
         let observer = Self::open(path, info, options, parts.len(), step)?;
-        Ok((observer, Some((step, state))))
+        Ok((observer, Some(Resumed { step, t, state })))
     }
 
     /// The observer writing to `path`, its first part numbered `first_part`, its first state
@@ -514,7 +533,6 @@ impl<St: StateColumns> ParquetObserver<St> {
                 },
                 options.background,
             )),
-            h: info.h,
             buffer: Buffer::new(St::WIDTH, extra, rows_per_group),
             options,
             rows_per_group,
@@ -542,27 +560,27 @@ impl<St: StateColumns> ParquetObserver<St> {
     /// The observer to pass to [`Drive::run`] (or any loop): it sees `(step, state, record)`.
     pub fn observer<R: AsRef<StepStats>>(
         &mut self,
-    ) -> impl FnMut(usize, &St, Option<&R>) + Send + '_ {
-        move |k, state, record| self.observe(k, state, record.map(AsRef::as_ref))
+    ) -> impl FnMut(usize, f64, &St, Option<&R>) + Send + '_ {
+        move |k, t, state, record| self.observe(k, t, state, record.map(AsRef::as_ref))
     }
 
-    /// Observes state `k` and the statistics of the step that produced it (`None` for the
-    /// initial state).
-    pub fn observe(&mut self, k: usize, state: &St, stats: Option<&StepStats>) {
+    /// Observes state `k` at time `t` and the statistics of the step that produced it (`None`
+    /// for the initial state).
+    pub fn observe(&mut self, k: usize, t: f64, state: &St, stats: Option<&StepStats>) {
         let k = k + self.offset;
         if self.offset > 0 && k == self.offset {
             // A resumed run's first state: published already.
             self.last_written = Some(k);
         } else if k.is_multiple_of(self.options.every) {
-            self.push(k, state, stats);
+            self.push(k, t, state, stats);
         }
-        self.last = Some((k, *state, stats.copied()));
+        self.last = Some((k, t, *state, stats.copied()));
     }
 
-    fn push(&mut self, k: usize, state: &St, stats: Option<&StepStats>) {
+    fn push(&mut self, k: usize, t: f64, state: &St, stats: Option<&StepStats>) {
         let b = &mut self.buffer;
         b.step.push(k as u64);
-        b.t.push(k as f64 * self.h);
+        b.t.push(t);
         state.write_to(&mut self.scratch);
         for (column, v) in b.state.iter_mut().zip(&self.scratch) {
             column.push(*v);
@@ -596,9 +614,9 @@ impl<St: StateColumns> ParquetObserver<St> {
 
     /// Writes the last state observed when `every` skipped it.
     fn write_last(&mut self) {
-        if let Some((k, state, stats)) = self.last {
+        if let Some((k, t, state, stats)) = self.last {
             if self.last_written != Some(k) {
-                self.push(k, &state, stats.as_ref());
+                self.push(k, t, &state, stats.as_ref());
             }
         }
     }
@@ -661,7 +679,7 @@ impl<St: StateColumns> Drop for ParquetObserver<St> {
             return;
         }
         self.write_last();
-        let steps = self.last.map_or(self.offset, |(k, _, _)| k);
+        let steps = self.last.map_or(self.offset, |(k, _, _, _)| k);
         let _ = self.close_with(vec![
             ("dirac.outcome".to_owned(), "aborted".to_owned()),
             ("dirac.steps".to_owned(), steps.to_string()),

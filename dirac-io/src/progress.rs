@@ -44,18 +44,18 @@ const STRIDE: usize = 64;
 ///
 /// let integ = ReducedIntegrator::plus(DoubleSphericalPendulum::paper(), NewtonOptions::default());
 /// let mut count = 0;
-/// let observe = progress::follow(100, "run", |_, _: &ReducedState<3, 1>, _: Option<&ReducedStep<1>>| count += 1);
-/// integ.run(DoubleSphericalPendulum::paper_initial_state(), 100, observe).unwrap();
+/// let observe = progress::follow(100, "run", |_, _, _: &ReducedState<3, 1>, _: Option<&ReducedStep<1>>| count += 1);
+/// integ.run(DoubleSphericalPendulum::paper_initial_state()).steps(100).observe(observe).stream().unwrap();
 /// assert_eq!(count, 101);
 /// ```
 pub fn follow<St, R>(
     steps: usize,
     label: &str,
-    mut observe: impl FnMut(usize, &St, Option<&R>),
-) -> impl FnMut(usize, &St, Option<&R>) {
+    mut observe: impl FnMut(usize, f64, &St, Option<&R>),
+) -> impl FnMut(usize, f64, &St, Option<&R>) {
     let bar = bar(steps as u64, label, "steps");
-    move |k, state, record| {
-        observe(k, state, record);
+    move |k, t, state, record| {
+        observe(k, t, state, record);
         if k.is_multiple_of(STRIDE) || k == steps {
             bar.set_position(k as u64);
             if k == steps {

@@ -88,7 +88,7 @@ pub fn row_groups(path: &Path) -> Result<(usize, u64)> {
 /// step, checked as by [`read_batches`]: where a killed run is continued from
 /// ([`ParquetObserver::resume`](crate::ParquetObserver::resume)). `columns` are the state's
 /// column names ([`RunInfo::columns`](crate::RunInfo)).
-pub fn last_state<St: StateColumns>(path: &Path, columns: &[String]) -> Result<(usize, St)> {
+pub fn last_state<St: StateColumns>(path: &Path, columns: &[String]) -> Result<(usize, f64, St)> {
     guarded(path, || last_state_unguarded::<St>(path, columns))
 }
 
@@ -182,7 +182,10 @@ fn f64_column<'a>(batch: &'a RecordBatch, path: &Path, name: &str) -> Result<&'a
 }
 
 /// [`last_state`] without the guard.
-fn last_state_unguarded<St: StateColumns>(path: &Path, columns: &[String]) -> Result<(usize, St)> {
+fn last_state_unguarded<St: StateColumns>(
+    path: &Path,
+    columns: &[String],
+) -> Result<(usize, f64, St)> {
     let files = files(path)?;
     let last = files.last().unwrap_or(&path.to_owned()).clone();
     let batches = read_batches(&last)?;
@@ -202,11 +205,12 @@ fn last_state_unguarded<St: StateColumns>(path: &Path, columns: &[String]) -> Re
         .and_then(|c| c.as_any().downcast_ref::<UInt64Array>())
         .ok_or_else(|| Error::content(&last, "no u64 column `step`: not a trajectory"))?
         .value(row);
+    let t = f64_column(batch, &last, "t")?.value(row);
     let mut values = Vec::with_capacity(columns.len());
     for name in columns {
         values.push(f64_column(batch, &last, name)?.value(row));
     }
-    Ok((step as usize, St::read_from(&values)))
+    Ok((step as usize, t, St::read_from(&values)))
 }
 
 /// [`concatenate`] without the guard.

@@ -532,7 +532,11 @@ where
             }
         };
         let result = match every {
-            None => integ.run(initial, steps, |_, _, _| {}),
+            None => integ
+                .run(initial)
+                .steps(steps)
+                .observe(|_, _, _, _| {})
+                .stream(),
             Some(k) => {
                 // The members occupy every core: each writes its own row groups.
                 let options = Options::new()
@@ -542,7 +546,11 @@ where
                     .member_file();
                 let mut out =
                     ParquetObserver::create(member_file(&parts, i), info.clone(), options)?;
-                let result = integ.run(initial, steps, out.observer());
+                let result = integ
+                    .run(initial)
+                    .steps(steps)
+                    .observe(out.observer())
+                    .stream();
                 out.finish_with(&result)?;
                 result
             }

@@ -34,11 +34,11 @@ fn written() -> &'static Written {
             .row_group_bytes(50 * 13 * 8)
             .rows_per_file(150);
         let mut out = ParquetObserver::create(root.join("run"), integ.describe(), options).unwrap();
-        let result = integ.run(
-            DoubleSphericalPendulum::paper_initial_state(),
-            400,
-            out.observer(),
-        );
+        let result = integ
+            .run(DoubleSphericalPendulum::paper_initial_state())
+            .steps(400)
+            .observe(out.observer())
+            .stream();
         out.finish_with(&result).unwrap();
         let table = root.join("table.csv");
         let shards = root.join("shards");

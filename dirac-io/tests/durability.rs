@@ -37,11 +37,11 @@ fn capped() -> ReducedIntegrator<DoubleSphericalPendulum, Plus, 3, 1, 4> {
 fn run_and_return_early(path: &Path) -> Result<(), Box<dyn std::error::Error>> {
     let integ = capped();
     let mut out = ParquetObserver::create(path, integ.describe(), Options::new())?;
-    integ.run(
-        DoubleSphericalPendulum::paper_initial_state(),
-        100_000,
-        out.observer(),
-    )?;
+    integ
+        .run(DoubleSphericalPendulum::paper_initial_state())
+        .steps(100_000)
+        .observe(out.observer())
+        .stream()?;
     out.finish()?;
     Ok(())
 }
@@ -59,7 +59,9 @@ fn a_run_that_returns_early_through_question_mark_keeps_its_rows_and_says_so() {
     assert!(failed_at > 100, "the run fails after {failed_at} steps");
     // Every state up to the failure is there, bit for bit what the same run gives in memory.
     let traj = capped()
-        .integrate(DoubleSphericalPendulum::paper_initial_state(), failed_at)
+        .run(DoubleSphericalPendulum::paper_initial_state())
+        .steps(failed_at)
+        .collect()
         .unwrap();
     let x = read_f64_column(&path, "x_phi1").unwrap();
     assert_eq!(x.len(), failed_at + 1);
@@ -79,16 +81,16 @@ fn a_run_that_panics_keeps_its_rows_and_says_so() {
     let unwound = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         let mut out = ParquetObserver::create(&path, integ.describe(), Options::new()).unwrap();
         let mut observer = out.observer();
-        let _ = integ.run(
-            DoubleSphericalPendulum::paper_initial_state(),
-            1000,
-            |k, s: &ReducedState<3, 1>, r: Option<&ReducedStep<1>>| {
-                observer(k, s, r);
+        let _ = integ
+            .run(DoubleSphericalPendulum::paper_initial_state())
+            .steps(1000)
+            .observe(|k, t, s: &ReducedState<3, 1>, r: Option<&ReducedStep<1>>| {
+                observer(k, t, s, r);
                 if k == 700 {
                     panic!("an observer that panics at step 700");
                 }
-            },
-        );
+            })
+            .stream();
     }));
     assert!(unwound.is_err());
     let steps = read_batches(&path).unwrap();
@@ -121,19 +123,27 @@ fn killed_writer_process() {
 fn write_run(dir: &Path) {
     let integ = dsp();
     let mut out = ParquetObserver::create(dir, integ.describe(), kill_options()).unwrap();
-    let result = integ.run(
-        DoubleSphericalPendulum::paper_initial_state(),
-        KILL_STEPS,
-        out.observer(),
-    );
+    let result = integ
+        .run(DoubleSphericalPendulum::paper_initial_state())
+        .steps(KILL_STEPS)
+        .observe(out.observer())
+        .stream();
     out.finish_with(&result).unwrap();
 }
 
 fn resume_run(dir: &Path) {
     let integ = dsp();
     let (mut out, last) = ParquetObserver::resume(dir, integ.describe(), kill_options()).unwrap();
-    let (done, start) = last.unwrap_or((0, DoubleSphericalPendulum::paper_initial_state()));
-    let result = integ.run(start, KILL_STEPS - done, out.observer());
+    let (done, t, start) = last.map_or(
+        (0, 0.0, DoubleSphericalPendulum::paper_initial_state()),
+        |r| (r.step, r.t, r.state),
+    );
+    let result = integ
+        .run(start)
+        .start_time(t)
+        .steps(KILL_STEPS - done)
+        .observe(out.observer())
+        .stream();
     out.finish_with(&result).unwrap();
 }
 

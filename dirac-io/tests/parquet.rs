@@ -34,7 +34,9 @@ fn every_state_of_a_run_is_written_bit_for_bit_under_its_names() {
     let integ = dsp();
     let steps = 3000;
     let traj = integ
-        .integrate(DoubleSphericalPendulum::paper_initial_state(), steps)
+        .run(DoubleSphericalPendulum::paper_initial_state())
+        .steps(steps)
+        .collect()
         .unwrap();
     let path = dir.join("dsp.parquet");
     // Small row groups, so that the file has many: what is held in memory is one of them.
@@ -48,11 +50,11 @@ fn every_state_of_a_run_is_written_bit_for_bit_under_its_names() {
             }
         });
     let mut out = ParquetObserver::create(&path, integ.describe(), options).unwrap();
-    let summary = integ.run(
-        DoubleSphericalPendulum::paper_initial_state(),
-        steps,
-        out.observer(),
-    );
+    let summary = integ
+        .run(DoubleSphericalPendulum::paper_initial_state())
+        .steps(steps)
+        .observe(out.observer())
+        .stream();
     assert_eq!(out.rows(), steps as u64 + 1);
     assert_eq!(out.finish_with(&summary).unwrap(), path);
 
@@ -122,11 +124,11 @@ fn every_kth_state_and_the_last_one() {
     let path = dir.join("every7.parquet");
     let mut out =
         ParquetObserver::create(&path, integ.describe(), Options::new().every(7)).unwrap();
-    let result = integ.run(
-        DoubleSphericalPendulum::paper_initial_state(),
-        100,
-        out.observer(),
-    );
+    let result = integ
+        .run(DoubleSphericalPendulum::paper_initial_state())
+        .steps(100)
+        .observe(out.observer())
+        .stream();
     out.finish_with(&result).unwrap();
     let steps = read_batches(&path).unwrap()[0]
         .column_by_name("step")
@@ -157,7 +159,12 @@ fn canonical_states_are_named_q_and_p() {
     let start = sys.untrivialize(&DoubleSphericalPendulum::paper_initial_state());
     let path = dir.join("canonical.parquet");
     let mut out = ParquetObserver::create(&path, integ.describe(), Options::new()).unwrap();
-    let summary = integ.run(start, 20, out.observer()).unwrap();
+    let summary = integ
+        .run(start)
+        .steps(20)
+        .observe(out.observer())
+        .stream()
+        .unwrap();
     out.finish().unwrap();
     let schema = read_batches(&path).unwrap()[0].schema();
     let names: Vec<&str> = schema.fields().iter().map(|f| f.name().as_str()).collect();
@@ -182,11 +189,11 @@ fn a_failed_run_records_its_error() {
     );
     let path = dir.join("failed.parquet");
     let mut out = ParquetObserver::create(&path, integ.describe(), Options::new()).unwrap();
-    let result = integ.run(
-        DoubleSphericalPendulum::paper_initial_state(),
-        50,
-        out.observer(),
-    );
+    let result = integ
+        .run(DoubleSphericalPendulum::paper_initial_state())
+        .steps(50)
+        .observe(out.observer())
+        .stream();
     let error = result.as_ref().expect_err("one correction is not enough");
     out.finish_with(&result).unwrap();
     let kv = key_values(&path).unwrap();
@@ -237,7 +244,12 @@ fn ensembles_one_file_per_member_or_one_file() {
     .unwrap();
     assert_eq!(a.len(), 5);
     for (i, (ra, rb)) in a.iter().zip(&b).enumerate() {
-        let sequential = integ.run(initials[i], 200, |_, _, _| {}).unwrap();
+        let sequential = integ
+            .run(initials[i])
+            .steps(200)
+            .observe(|_, _, _, _| {})
+            .stream()
+            .unwrap();
         assert_eq!(ra.as_ref().unwrap(), &sequential);
         assert_eq!(rb.as_ref().unwrap(), &sequential);
     }
@@ -271,7 +283,9 @@ fn files_for_the_python_round_trip() {
     let integ = dsp();
     let steps = 500;
     let traj = integ
-        .integrate(DoubleSphericalPendulum::paper_initial_state(), steps)
+        .run(DoubleSphericalPendulum::paper_initial_state())
+        .steps(steps)
+        .collect()
         .unwrap();
     // A directory of parts (200 rows each: 3 parts), as a run writes by default.
     let path = dir.join("dsp.parquet");
@@ -280,11 +294,11 @@ fn files_for_the_python_round_trip() {
         .row_group_bytes(100 * 14 * 8)
         .rows_per_file(200);
     let mut out = ParquetObserver::create(&path, integ.describe(), options).unwrap();
-    let result = integ.run(
-        DoubleSphericalPendulum::paper_initial_state(),
-        steps,
-        out.observer(),
-    );
+    let result = integ
+        .run(DoubleSphericalPendulum::paper_initial_state())
+        .steps(steps)
+        .observe(out.observer())
+        .stream();
     out.finish_with(&result).unwrap();
     assert_eq!(dirac_io::read::files(&path).unwrap().len(), 3);
 
@@ -345,7 +359,11 @@ fn a_run_split_into_parts_is_the_run_in_one_file() {
     let start = DoubleSphericalPendulum::paper_initial_state();
     let write = |path: &Path, options: Options<ReducedState<3, 1>>| {
         let mut out = ParquetObserver::create(path, integ.describe(), options).unwrap();
-        let result = integ.run(start, 1000, out.observer());
+        let result = integ
+            .run(start)
+            .steps(1000)
+            .observe(out.observer())
+            .stream();
         out.finish_with(&result).unwrap()
     };
     // Row groups of 64 rows (13 columns of 8 bytes), parts of at least 300 rows: 5 groups each.
