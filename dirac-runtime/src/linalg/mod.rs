@@ -195,3 +195,60 @@ pub(crate) fn hager_inverse_norm1_in(
     }
     estimate
 }
+
+/// Hager's estimate of `1 / κ₁(A)` for a heap-backed solver ([`hager_inverse_norm1_in`] over
+/// [`reciprocal_condition`]), made at most once per factorization — chord iterations check the
+/// same factors at every step — in scratch allocated once with the solver.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct HagerCache {
+    /// The estimator's three vectors of length `n`.
+    scratch: [Vec<f64>; 3],
+    /// The estimate for the current factors, once made.
+    rcond: Option<f64>,
+}
+
+impl HagerCache {
+    /// The cache of an `n × n` solver, empty.
+    pub(crate) fn new(n: usize) -> Self {
+        Self {
+            scratch: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
+            rcond: None,
+        }
+    }
+
+    /// Forgets the estimate: the factors changed.
+    pub(crate) fn clear(&mut self) {
+        self.rcond = None;
+    }
+
+    /// The estimate for the current factors, if made.
+    pub(crate) fn cached(&self) -> Option<f64> {
+        self.rcond
+    }
+
+    /// The estimate for the factors `solver` holds: 0 when `norm1` is `None` (no factorization
+    /// succeeded), else the cached one, or the one made now and cached. `cache` finds `solver`'s
+    /// own cache; `solve(solver, x, transpose)` overwrites `x` with `A⁻¹ x` (`A⁻ᵀ x`).
+    pub(crate) fn rcond<T>(
+        solver: &mut T,
+        cache: impl Fn(&mut T) -> &mut Self,
+        norm1: Option<f64>,
+        mut solve: impl FnMut(&mut T, &mut [f64], bool),
+    ) -> f64 {
+        let Some(norm1) = norm1 else {
+            return 0.0;
+        };
+        let own = cache(solver);
+        if let Some(rcond) = own.rcond {
+            return rcond;
+        }
+        let mut scratch = std::mem::take(&mut own.scratch);
+        let [x, y, z] = &mut scratch;
+        let estimate = hager_inverse_norm1_in(x, y, z, |v, transpose| solve(solver, v, transpose));
+        let rcond = reciprocal_condition(norm1, estimate);
+        let own = cache(solver);
+        own.scratch = scratch;
+        own.rcond = Some(rcond);
+        rcond
+    }
+}
