@@ -192,25 +192,8 @@ impl LinearSolver for Pcg {
         self.solve_slice(b.as_mut_slice());
     }
 
-    fn norm1(&self) -> f64 {
-        self.norm1
-    }
-
-    /// None cheaper than Hager's estimate: 0 (or the cached estimate).
-    fn rcond_lower_bound(&mut self) -> f64 {
-        self.hager.cached().unwrap_or(0.0)
-    }
-
-    /// Hager's estimate; `A` is symmetric, so a transposed solve is a solve.
-    fn rcond(&mut self) -> f64 {
-        let norm1 = self.factored.then_some(self.norm1);
-        HagerCache::rcond(
-            self,
-            |pcg| &mut pcg.hager,
-            norm1,
-            |pcg, v, _| pcg.solve_slice(v),
-        )
-    }
+    // `A` is symmetric: a transposed solve is a solve.
+    hager_conditioning!(|pcg: &mut Self, x: &mut [f64], _| pcg.solve_slice(x));
 
     /// Yes once a matrix is stored (chord iterations: a solve costs the same either way, and
     /// the assembly of a fresh Jacobian is saved).

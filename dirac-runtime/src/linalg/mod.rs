@@ -9,6 +9,30 @@
 //! its own copy of [`DENSE_MAX`], and `tests/large_systems.rs` fails if the two part (it checks
 //! the backend emitted at `N = DENSE_MAX` and `N = DENSE_MAX + 1` against this constant).
 
+/// The conditioning methods of a heap-backed [`LinearSolver`] whose only check is Hager's
+/// estimate (none cheaper is readable from its factors), written once for the backends that
+/// share them: [`LinearSolver::rcond_lower_bound`] is the estimate once made (0 before, so the
+/// step is checked with [`LinearSolver::rcond`]), and [`LinearSolver::rcond`] makes it, once per
+/// factorization ([`HagerCache`]). The backend has the fields `hager: HagerCache`,
+/// `factored: bool` and `norm1: f64`; `$solve(backend, x, transpose)` overwrites `x` with
+/// `A⁻¹ x` (`A⁻ᵀ x`).
+macro_rules! hager_conditioning {
+    ($solve:expr) => {
+        fn norm1(&self) -> f64 {
+            self.norm1
+        }
+
+        fn rcond_lower_bound(&mut self) -> f64 {
+            self.hager.cached().unwrap_or(0.0)
+        }
+
+        fn rcond(&mut self) -> f64 {
+            let norm1 = self.factored.then_some(self.norm1);
+            HagerCache::rcond(self, |solver| &mut solver.hager, norm1, $solve)
+        }
+    };
+}
+
 pub mod dense;
 pub mod iterative;
 pub mod sparse;

@@ -512,20 +512,9 @@ impl LinearSolver for DynSparseLu {
         self.solve_slice(b.as_mut_slice(), false);
     }
 
-    fn norm1(&self) -> f64 {
-        self.norm1
-    }
-
-    /// None readable from faer's general factors: 0 (or the cached estimate), so the step is
-    /// checked with [`Self::rcond`], once per factorization.
-    fn rcond_lower_bound(&mut self) -> f64 {
-        self.hager.cached().unwrap_or(0.0)
-    }
-
-    fn rcond(&mut self) -> f64 {
-        let norm1 = self.factored.then_some(self.norm1);
-        HagerCache::rcond(self, |lu| &mut lu.hager, norm1, Self::solve_slice)
-    }
+    // No bound is readable from faer's general factors: the step is checked with Hager's
+    // estimate, once per factorization.
+    hager_conditioning!(Self::solve_slice);
 
     /// Yes once a factorization succeeded (chord iterations, as [`SparseLu`]).
     fn has_reusable_factors(&self) -> bool {
