@@ -13,7 +13,7 @@
 
 use nalgebra::DVector;
 
-use super::{FactorError, HagerCache, LinearSolver};
+use super::{column_norm1, FactorError, HagerCache, LinearSolver};
 
 /// The relative residual `‖b − A x‖₂ ≤ tol ‖b‖₂` a solve stops at: below the Newton iteration's
 /// own round-off, so a correction is as good as a direct solve's.
@@ -148,18 +148,8 @@ impl LinearSolver for Pcg {
     fn factor(&mut self, j: &Vec<f64>) -> Result<(), FactorError> {
         self.factored = false;
         self.hager.clear();
-        let mut norm1 = 0.0f64;
+        let norm1 = column_norm1(&self.col_ptr, j)?;
         let mut largest = 0.0f64;
-        for c in 0..self.n {
-            let sum: f64 = j[self.col_ptr[c]..self.col_ptr[c + 1]]
-                .iter()
-                .map(|v| v.abs())
-                .sum();
-            if !sum.is_finite() {
-                return Err(FactorError::NonFinite);
-            }
-            norm1 = norm1.max(sum);
-        }
         for (p, &t) in self.transpose.iter().enumerate() {
             largest = largest.max((j[p] - j[t]).abs());
         }

@@ -276,3 +276,20 @@ impl HagerCache {
         rcond
     }
 }
+
+/// `‖A‖₁` of the CSC values `values` with column starts `col_ptr`, and a finiteness test of every
+/// entry (a column sum is finite iff its terms are).
+pub(crate) fn column_norm1(col_ptr: &[usize], values: &[f64]) -> Result<f64, FactorError> {
+    let mut norm1 = 0.0f64;
+    for c in 0..col_ptr.len() - 1 {
+        let sum: f64 = values[col_ptr[c]..col_ptr[c + 1]]
+            .iter()
+            .map(|v| v.abs())
+            .sum();
+        if !sum.is_finite() {
+            return Err(FactorError::NonFinite);
+        }
+        norm1 = norm1.max(sum);
+    }
+    Ok(norm1)
+}

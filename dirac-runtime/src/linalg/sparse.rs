@@ -34,7 +34,7 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRe
 use faer::{Conj, MatMut, Par};
 use nalgebra::SVector;
 
-use super::{reciprocal_condition, FactorError, HagerCache, LinearSolver};
+use super::{column_norm1, reciprocal_condition, FactorError, HagerCache, LinearSolver};
 
 /// The structurally nonzero entries of an `n × n` step Jacobian, in compressed sparse columns:
 /// the entries of column `j` are rows `row_idx[col_ptr[j]..col_ptr[j + 1]]`, increasing.
@@ -97,23 +97,6 @@ impl<const NNZ: usize> CscValues<NNZ> {
         }
         m
     }
-}
-
-/// `‖A‖₁` of the CSC values `values` with column starts `col_ptr`, and a finiteness test of every
-/// entry (a column sum is finite iff its terms are).
-fn column_norm1(col_ptr: &[usize], values: &[f64]) -> Result<f64, FactorError> {
-    let mut norm1 = 0.0f64;
-    for c in 0..col_ptr.len() - 1 {
-        let sum: f64 = values[col_ptr[c]..col_ptr[c + 1]]
-            .iter()
-            .map(|v| v.abs())
-            .sum();
-        if !sum.is_finite() {
-            return Err(FactorError::NonFinite);
-        }
-        norm1 = norm1.max(sum);
-    }
-    Ok(norm1)
 }
 
 /// Sparse LU with partial pivoting (faer's simplicial LU) on a pattern known at run time: the
