@@ -4,8 +4,11 @@
 
 use std::fmt::{self, Display};
 
-use syn::parse::ParseStream;
+use syn::parse::{Parse, ParseStream, Parser};
+use syn::punctuated::Punctuated;
 use syn::{Ident, Token};
+
+use crate::ctxt::Ctxt;
 
 /// An attribute key or keyword value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -149,4 +152,19 @@ impl<L, V> KeyArg<L, V> {
 /// `accepted`.
 pub fn list_or_value(key: &Ident, accepted: &str) -> String {
     format!("expected `{key}(...)` or `{key} = ...`; accepted: {accepted}")
+}
+
+/// An attribute's comma-separated arguments, each parsed as `A` (a [`KeyArg`]); `None` after
+/// the first syntax error, which is recorded in `cx`.
+pub fn parse_args<A: Parse>(
+    cx: &Ctxt,
+    args: proc_macro2::TokenStream,
+) -> Option<Punctuated<A, Token![,]>> {
+    match Punctuated::<A, Token![,]>::parse_terminated.parse2(args) {
+        Ok(args) => Some(args),
+        Err(e) => {
+            cx.syn_error(e);
+            None
+        }
+    }
 }

@@ -130,14 +130,7 @@ impl Parse for Arg {
 
 /// Parses the attribute arguments, recording every mistake in `cx`.
 pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
-    let parser = Punctuated::<Arg, Token![,]>::parse_terminated;
-    let args = match syn::parse::Parser::parse2(parser, args) {
-        Ok(args) => args,
-        Err(e) => {
-            cx.syn_error(e);
-            return None;
-        }
-    };
+    let args = symbol::parse_args::<Arg>(cx, args)?;
     let mut shape: Option<Vec<Coord>> = None;
     let mut group: Option<Vec<Coord>> = None;
     let mut coordinates: Option<Vec<Coord>> = None;

@@ -10,7 +10,7 @@ use syn::punctuated::Punctuated;
 use syn::{FnArg, Ident, ItemFn, Pat, Token};
 
 use crate::ctxt::Ctxt;
-use crate::symbol::{KeyArg, FROM, GROUP, NAME, SHAPE, TO};
+use crate::symbol::{self, KeyArg, FROM, GROUP, NAME, SHAPE, TO};
 
 const USAGE: &str = "accepted: `#[chart_transition(from(shape(..), group(..)), \
 to(shape(..), group(..)), name = Name)]` (`name` optional)";
@@ -102,14 +102,7 @@ impl Parse for Arg {
 
 /// Parses the attribute, recording every mistake in `cx`.
 pub fn parse_spec(cx: &Ctxt, args: TokenStream) -> Option<TransitionSpec> {
-    let parser = Punctuated::<Arg, Token![,]>::parse_terminated;
-    let args = match syn::parse::Parser::parse2(parser, args) {
-        Ok(a) => a,
-        Err(e) => {
-            cx.syn_error(e);
-            return None;
-        }
-    };
+    let args = symbol::parse_args::<Arg>(cx, args)?;
     let (mut from, mut to, mut name) = (None, None, None);
     for arg in args {
         match arg {
@@ -149,25 +142,18 @@ pub fn parse_spec(cx: &Ctxt, args: TokenStream) -> Option<TransitionSpec> {
             );
         }
     }
-    if from.shape.len() != to.shape.len() {
-        cx.error_at(
-            Span::call_site(),
-            format!(
-                "both charts must have the same number of shape coordinates: `from` has {}, `to` has {}",
-                from.shape.len(),
-                to.shape.len()
-            ),
-        );
-    }
-    if from.group.len() != to.group.len() {
-        cx.error_at(
-            Span::call_site(),
-            format!(
-                "both charts must have the same number of group coordinates: `from` has {}, `to` has {}",
-                from.group.len(),
-                to.group.len()
-            ),
-        );
+    for (what, a, b) in [
+        (SHAPE, from.shape.len(), to.shape.len()),
+        (GROUP, from.group.len(), to.group.len()),
+    ] {
+        if a != b {
+            cx.error_at(
+                Span::call_site(),
+                format!(
+                    "both charts must have the same number of {what} coordinates: `from` has {a}, `to` has {b}"
+                ),
+            );
+        }
     }
     Some(TransitionSpec { from, to, name })
 }

@@ -93,13 +93,7 @@ impl Parse for Item {
 
 /// The attribute and signature; `None` after errors (recorded).
 pub fn parse(cx: &Ctxt, args: proc_macro2::TokenStream, func: &ItemFn) -> Option<ElementSpec> {
-    let items = match Punctuated::<Item, Token![,]>::parse_terminated.parse2(args) {
-        Ok(items) => items,
-        Err(e) => {
-            cx.syn_error(e);
-            return None;
-        }
-    };
+    let items = symbol::parse_args::<Item>(cx, args)?;
     // The sizes, and the signature without them.
     let mut sizes = Vec::new();
     let mut fixed_sig = func.sig.clone();
@@ -225,8 +219,6 @@ pub fn parse(cx: &Ctxt, args: proc_macro2::TokenStream, func: &ItemFn) -> Option
         sig,
     })
 }
-
-use syn::parse::Parser;
 
 /// `x`, `x[n]`, `u[nx][ny]`, `x[3]`.
 fn coordinate(cx: &Ctxt, e: &Expr, sizes: &[Ident]) -> Option<ElementCoord> {
