@@ -1,9 +1,14 @@
 //! The attribute keys, each spelled once (serde_derive's `symbol.rs`): the parsers match on
-//! these and the messages print them.
+//! these and the messages print them; and the one parser of an attribute argument,
+//! `key(...)` or `key = ...` ([`KeyArg`]), that all three attributes share.
 
 use std::fmt::{self, Display};
 
-use syn::Ident;
+use syn::parse::{Parse, ParseStream, Parser};
+use syn::punctuated::Punctuated;
+use syn::{Ident, Token};
+
+use crate::ctxt::Ctxt;
 
 /// An attribute key or keyword value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -97,5 +102,69 @@ impl PartialEq<Symbol> for str {
 impl Display for Symbol {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.0)
+    }
+}
+
+/// One argument of an attribute: `key(...)` with its contents, or `key = value`. What the
+/// contents and the value are depends on the attribute and the key, so [`KeyArg::parse_with`]
+/// leaves both to its caller.
+pub enum KeyArg<L, V> {
+    /// `key(...)`, the contents parsed.
+    List(Ident, L),
+    /// `key = value`.
+    Value(Ident, V),
+}
+
+impl<L, V> KeyArg<L, V> {
+    /// The key as written.
+    pub fn key(&self) -> &Ident {
+        match self {
+            KeyArg::List(key, _) | KeyArg::Value(key, _) => key,
+        }
+    }
+
+    /// Parses a key, then `(...)` with `list(key, contents)` or `= ...` with
+    /// `value(key, input)`; a key followed by neither is an error at the key, `neither(key)`
+    /// its message. The first syntax error ends the attribute's parse (as syn does).
+    pub fn parse_with(
+        input: ParseStream,
+        list: impl FnOnce(&Ident, ParseStream) -> syn::Result<L>,
+        value: impl FnOnce(&Ident, ParseStream) -> syn::Result<V>,
+        neither: impl FnOnce(&Ident) -> String,
+    ) -> syn::Result<Self> {
+        let key: Ident = input.parse()?;
+        if input.peek(syn::token::Paren) {
+            let content;
+            syn::parenthesized!(content in input);
+            let contents = list(&key, &content)?;
+            Ok(KeyArg::List(key, contents))
+        } else if input.peek(Token![=]) {
+            input.parse::<Token![=]>()?;
+            let value = value(&key, input)?;
+            Ok(KeyArg::Value(key, value))
+        } else {
+            Err(syn::Error::new(key.span(), neither(&key)))
+        }
+    }
+}
+
+/// The message of a key followed by neither `(...)` nor `= ...`, for an attribute that accepts
+/// `accepted`.
+pub fn list_or_value(key: &Ident, accepted: &str) -> String {
+    format!("expected `{key}(...)` or `{key} = ...`; accepted: {accepted}")
+}
+
+/// An attribute's comma-separated arguments, each parsed as `A` (a [`KeyArg`]); `None` after
+/// the first syntax error, which is recorded in `cx`.
+pub fn parse_args<A: Parse>(
+    cx: &Ctxt,
+    args: proc_macro2::TokenStream,
+) -> Option<Punctuated<A, Token![,]>> {
+    match Punctuated::<A, Token![,]>::parse_terminated.parse2(args) {
+        Ok(args) => Some(args),
+        Err(e) => {
+            cx.syn_error(e);
+            None
+        }
     }
 }

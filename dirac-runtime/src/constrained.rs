@@ -16,6 +16,10 @@
 //! compiler's `ir::constraint`). The multipliers `(λ_k, ν_{k+1})` are reported per step. For a
 //! constraint invariant under the symmetry the reduced step keeps `μ` exact (or its forced
 //! Noether balance): the constraint forces have no group component.
+//!
+//! The unreduced and the reduced steps are the same sequence of solves on different states; a
+//! [`Form`] states only where they differ, and one [`ConstrainedStepper`] takes the step for all
+//! three forms ([`Canonical`], [`Plus`](crate::Plus), [`Minus`](crate::Minus)).
 
 use nalgebra::SVector;
 
@@ -28,21 +32,51 @@ use crate::stepper::{
     check_inputs, predicted_increment, step_error, system_at, Collect, History, StepStats,
     StepStatsExt, Stepper,
 };
-use crate::system::{DiscreteLagrangian, Reduced, Side};
+use crate::system::{join, split, DiscreteLagrangian, Side};
 
-/// The unreduced constrained steps a `#[reduced_lagrangian]` system with `constraints = ..`
-/// implements: `M` constraints, `Z = N + M` unknowns in each solve.
+/// The constraints of a `#[reduced_lagrangian]` system with `constraints = ..` or
+/// `nonholonomic = ..`: `M` of them, the same for every [`Form`] of the step.
+pub trait Constraints<const S: usize, const K: usize, const N: usize, const M: usize>:
+    DiscreteLagrangian<S, K, N>
+{
+    /// Whether the constraints are holonomic, `φ(q) = 0` (`constraints = ..`), or
+    /// nonholonomic, `A(q) v = 0` (`nonholonomic = ..`, imposed at the step's midpoint).
+    const HOLONOMIC: bool = true;
+    /// `φ(q)` (zero for nonholonomic constraints, which restrict velocities only).
+    fn constraint(&self, q: &SVector<f64, N>) -> SVector<f64, M>;
+}
+
+/// The constrained steps of form `F` ([`Canonical`]: the unreduced equations on `(q, p)`;
+/// [`Plus`](crate::Plus) or [`Minus`](crate::Minus): the reduced equations of that side on
+/// `(x, w, μ, g)`, for constraints invariant under the symmetry) that `#[reduced_lagrangian]`
+/// implements for all three forms: `Z = N + M` unknowns in each solve.
+///
+/// Every function reads a state of the form, [`Form::State`]: the position step reads the state
+/// `s_k` it starts from and `z = (q_{k+1}, λ_k)` (reduced: `z = (x_{k+1}, u, λ_k)` with the
+/// group unknown `u` of the side); the projection reads the state after the position step,
+/// `s̃` — the configuration `q_{k+1}` with the momentum `p̃` that step leaves (reduced:
+/// `(x_{k+1}, w̃_{k+1}, μ_{k+1}, g_{k+1})`) — and `y = (v, ν)`. A type implementing several
+/// forms names one with the form: `Constrained::<Plus, S, K, N, M, Z>::constrained_residual(&sys, ..)`.
 pub trait Constrained<
+    F: Form<S, K, N>,
     const S: usize,
     const K: usize,
     const N: usize,
     const M: usize,
     const Z: usize,
->: DiscreteLagrangian<S, K, N>
+>: Constraints<S, K, N, M>
 {
-    /// Whether the constraints are holonomic, `φ(q) = 0` (`constraints = ..`), or
-    /// nonholonomic, `A(q) v = 0` (`nonholonomic = ..`, imposed at the step's midpoint).
-    const HOLONOMIC: bool = true;
+    /// Whether `μ` changes over a reduced step: by a force's group impulse, or by the group
+    /// component of nonholonomic constraint forces (the discrete nonholonomic momentum
+    /// equation); without either `μ` is copied. Always `false` for [`Canonical`], whose step
+    /// has no `μ` of its own.
+    const CONSTRAINED_GROUP_FORCED: bool = false;
+    /// `μ_{k+1} − μ_k` of a reduced position step at `z`: the forces' group impulse minus the
+    /// group component of the constraint impulse `A(q_k)ᵀ λ_k` (read only where
+    /// [`Self::CONSTRAINED_GROUP_FORCED`]).
+    fn constrained_impulse(&self, _state: &F::State, _z: &SVector<f64, Z>) -> SVector<f64, K> {
+        SVector::zeros()
+    }
     /// The linear algebra of the position step (dense up to [`crate::DENSE_MAX`] unknowns).
     type PositionLinear: LinearSolver<Vector = SVector<f64, Z>>;
     /// The linear algebra of the projection.
@@ -51,131 +85,221 @@ pub trait Constrained<
     fn position_solver(&self) -> Self::PositionLinear;
     /// A workspace for the projection.
     fn projection_solver(&self) -> Self::ProjectionLinear;
-    /// `φ(q)` (zero for nonholonomic constraints, which restrict velocities only).
-    fn constraint(&self, q: &SVector<f64, N>) -> SVector<f64, M>;
-    /// The position residual at `z = (q_{k+1}, λ_k)`.
-    fn constrained_residual(
-        &self,
-        q_k: &SVector<f64, N>,
-        p_k: &SVector<f64, N>,
-        z: &SVector<f64, Z>,
-    ) -> SVector<f64, Z>;
+    /// The position residual at `z` from `state`.
+    fn constrained_residual(&self, state: &F::State, z: &SVector<f64, Z>) -> SVector<f64, Z>;
     /// The position residual and its Jacobian.
     fn constrained_residual_jacobian(
         &self,
-        q_k: &SVector<f64, N>,
-        p_k: &SVector<f64, N>,
+        state: &F::State,
         z: &SVector<f64, Z>,
     ) -> (
         SVector<f64, Z>,
         <Self::PositionLinear as LinearSolver>::Matrix,
     );
-    /// `p̃ = D2 L_d(q_k, q_{k+1}) + f_d^+`.
-    fn constrained_momentum(&self, q_k: &SVector<f64, N>, z: &SVector<f64, Z>) -> SVector<f64, N>;
-    /// The projection residual at `y = (v, ν)` for the momentum `p̃` at `q1`.
-    fn projection_residual(
-        &self,
-        q1: &SVector<f64, N>,
-        p1: &SVector<f64, N>,
-        y: &SVector<f64, Z>,
-    ) -> SVector<f64, Z>;
+    /// The momentum the position step leaves at `z`: `p̃ = D2 L_d(q_k, q_{k+1}) + f_d^+`
+    /// (reduced: `w̃_{k+1} = ∂l/∂x1 + f̃_x^+`).
+    fn constrained_momentum(&self, state: &F::State, z: &SVector<f64, Z>) -> F::Momentum;
+    /// The projection residual at `y = (v, ν)` from the state `shake` after the position step.
+    fn projection_residual(&self, shake: &F::State, y: &SVector<f64, Z>) -> SVector<f64, Z>;
     /// The projection residual and its Jacobian.
     fn projection_residual_jacobian(
         &self,
-        q1: &SVector<f64, N>,
-        p1: &SVector<f64, N>,
+        shake: &F::State,
         y: &SVector<f64, Z>,
     ) -> (
         SVector<f64, Z>,
         <Self::ProjectionLinear as LinearSolver>::Matrix,
     );
-    /// The projected momentum `∂L/∂v(q1, v)`.
-    fn projected_momentum(&self, q1: &SVector<f64, N>, y: &SVector<f64, Z>) -> SVector<f64, N>;
+    /// The projected momentum `p_{k+1} = ∂L/∂v(q_{k+1}, v)` (reduced: `(w_{k+1}, μ_{k+1})`,
+    /// stacked; `μ` changes only where the constraints have a group component, as
+    /// nonholonomic ones may).
+    fn projected_momentum(&self, shake: &F::State, y: &SVector<f64, Z>) -> SVector<f64, N>;
 }
 
-/// The reduced constrained steps of side `D` (for constraints invariant under the symmetry).
-pub trait ReducedConstrained<
-    D: Side,
-    const S: usize,
-    const K: usize,
-    const N: usize,
-    const M: usize,
-    const Z: usize,
->: Reduced<D, S, K, N>
+/// The unreduced form of the constrained steps: the state is the canonical `(q, p)`
+/// ([`CanonicalState`]), the position step's unknowns `z = (q_{k+1}, λ_k)`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Canonical;
+
+mod sealed {
+    pub trait Sealed {}
+    impl Sealed for super::Canonical {}
+    impl<D: crate::system::Side> Sealed for D {}
+}
+
+/// Where the unreduced and the reduced constrained steps differ — the state, the guess of the
+/// position step, the state that step leaves, and the state the projection gives — so that the
+/// step itself, two Newton solves and their bookkeeping, is written once
+/// ([`ConstrainedStepper`]), as [`Side`] does for the reduced (+) and (−) equations.
+///
+/// Sealed: the forms are [`Canonical`], [`Plus`](crate::Plus) and [`Minus`](crate::Minus).
+pub trait Form<const S: usize, const K: usize, const N: usize>:
+    sealed::Sealed + Copy + Default + std::fmt::Debug + Send + Sync + 'static
 {
-    /// Whether `μ` changes over a step: by a force's group impulse, or by the group component of
-    /// nonholonomic constraint forces (the discrete nonholonomic momentum equation); without
-    /// either `μ` is copied.
-    const CONSTRAINED_GROUP_FORCED: bool = false;
-    /// `μ_{k+1} − μ_k` of the position step at `z`: the forces' group impulse minus the group
-    /// component of the constraint impulse `A(q_k)ᵀ λ_k`.
-    fn reduced_constrained_impulse(
-        &self,
-        _x_k: &SVector<f64, S>,
-        _z: &SVector<f64, Z>,
-    ) -> SVector<f64, K> {
-        SVector::zeros()
-    }
-    /// The linear algebra of the position step.
-    type ReducedPositionLinear: LinearSolver<Vector = SVector<f64, Z>>;
-    /// The linear algebra of the projection.
-    type ReducedProjectionLinear: LinearSolver<Vector = SVector<f64, Z>>;
-    /// A workspace for the position step.
-    fn reduced_position_solver(&self) -> Self::ReducedPositionLinear;
-    /// A workspace for the projection.
-    fn reduced_projection_solver(&self) -> Self::ReducedProjectionLinear;
-    /// The position residual at `z = (x_{k+1}, u, λ_k)`.
-    fn reduced_constrained_residual(
-        &self,
-        x_k: &SVector<f64, S>,
-        w_k: &SVector<f64, S>,
-        mu_k: &SVector<f64, K>,
-        z: &SVector<f64, Z>,
-    ) -> SVector<f64, Z>;
-    /// The position residual and its Jacobian.
-    fn reduced_constrained_residual_jacobian(
-        &self,
-        x_k: &SVector<f64, S>,
-        w_k: &SVector<f64, S>,
-        mu_k: &SVector<f64, K>,
-        z: &SVector<f64, Z>,
-    ) -> (
-        SVector<f64, Z>,
-        <Self::ReducedPositionLinear as LinearSolver>::Matrix,
-    );
-    /// `w̃_{k+1} = ∂l/∂x1 + f̃_x^+` at `z`.
-    fn reduced_constrained_momentum(
-        &self,
-        x_k: &SVector<f64, S>,
-        z: &SVector<f64, Z>,
-    ) -> SVector<f64, S>;
-    /// The projection residual at `y = (v, ν)` for `(w̃_{k+1}, μ_{k+1})` at `x1`.
-    fn reduced_projection_residual(
-        &self,
-        x1: &SVector<f64, S>,
-        w1: &SVector<f64, S>,
-        mu1: &SVector<f64, K>,
-        y: &SVector<f64, Z>,
-    ) -> SVector<f64, Z>;
-    /// The projection residual and its Jacobian.
-    fn reduced_projection_residual_jacobian(
-        &self,
-        x1: &SVector<f64, S>,
-        w1: &SVector<f64, S>,
-        mu1: &SVector<f64, K>,
-        y: &SVector<f64, Z>,
-    ) -> (
-        SVector<f64, Z>,
-        <Self::ReducedProjectionLinear as LinearSolver>::Matrix,
-    );
-    /// The projected `(w_{k+1}, μ_{k+1})`, stacked (`μ` changes only where the constraints
-    /// have a group component, as nonholonomic ones may).
-    fn reduced_projected_momentum(
-        &self,
-        x1: &SVector<f64, S>,
-        mu1: &SVector<f64, K>,
-        y: &SVector<f64, Z>,
+    /// The state a step maps: [`CanonicalState`] or [`ReducedState`].
+    type State: Copy + std::fmt::Debug + PartialEq + Send + Sync + 'static;
+    /// What a step remembers for the next guess: `q_{k+1} − q_k`, or `(x_{k+1} − x_k, u)`.
+    type Increment: Copy + std::fmt::Debug;
+    /// The momentum the position step leaves: `p̃ ∈ R^N`, or `w̃ ∈ R^S`.
+    type Momentum;
+
+    /// True when every component of `state` is finite.
+    fn is_finite(state: &Self::State) -> bool;
+    /// The momentum scale of the Newton tolerance: `‖p‖∞`, or `max(‖w‖∞, ‖μ‖∞)`.
+    fn scale(state: &Self::State) -> f64;
+    /// The configuration `q` of `state` (reduced: reconstructed, `(x, g)`), where `φ` is read.
+    fn configuration<L: DiscreteLagrangian<S, K, N>>(
+        sys: &L,
+        state: &Self::State,
     ) -> SVector<f64, N>;
+    /// The guess of the position step's configuration unknowns (the first `N` of `z`) for a
+    /// step of size `h`: the configuration moved by the increment the last two steps (and their
+    /// sizes) extrapolate.
+    fn guess(state: &Self::State, history: &History<Self::Increment>, h: f64) -> SVector<f64, N>;
+    /// The state the position step leaves at its solution `z` — the new configuration with the
+    /// unprojected momentum ([`Constrained::constrained_momentum`]; reduced: `μ` moved by
+    /// [`Constrained::constrained_impulse`] and `g` reconstructed) — and the step's increment.
+    fn shake<L, const M: usize, const Z: usize>(
+        sys: &L,
+        state: &Self::State,
+        z: &SVector<f64, Z>,
+    ) -> (Self::State, Self::Increment)
+    where
+        L: Constrained<Self, S, K, N, M, Z>;
+    /// The projection's velocity guess: the secant from `state` to `shake` over `h`.
+    fn secant(state: &Self::State, shake: &Self::State, h: f64) -> SVector<f64, N>;
+    /// The state `shake` with the projected momentum ([`Constrained::projected_momentum`]).
+    fn projected(shake: &Self::State, momentum: &SVector<f64, N>) -> Self::State;
+}
+
+impl<const S: usize, const K: usize, const N: usize> Form<S, K, N> for Canonical {
+    type State = CanonicalState<N>;
+    type Increment = SVector<f64, N>;
+    type Momentum = SVector<f64, N>;
+
+    fn is_finite(state: &CanonicalState<N>) -> bool {
+        state.is_finite()
+    }
+
+    fn scale(state: &CanonicalState<N>) -> f64 {
+        inf_norm(&state.p)
+    }
+
+    fn configuration<L: DiscreteLagrangian<S, K, N>>(
+        _sys: &L,
+        state: &CanonicalState<N>,
+    ) -> SVector<f64, N> {
+        state.q
+    }
+
+    fn guess(
+        state: &CanonicalState<N>,
+        history: &History<SVector<f64, N>>,
+        h: f64,
+    ) -> SVector<f64, N> {
+        let dq = predicted_increment(history, h);
+        dq.map_or(state.q, |d| state.q + d)
+    }
+
+    fn shake<L, const M: usize, const Z: usize>(
+        sys: &L,
+        state: &CanonicalState<N>,
+        z: &SVector<f64, Z>,
+    ) -> (CanonicalState<N>, SVector<f64, N>)
+    where
+        L: Constrained<Self, S, K, N, M, Z>,
+    {
+        let (q1, _) = parts::<N, M, Z>(z);
+        let shake = CanonicalState {
+            q: q1,
+            p: sys.constrained_momentum(state, z),
+        };
+        (shake, q1 - state.q)
+    }
+
+    fn secant(state: &CanonicalState<N>, shake: &CanonicalState<N>, h: f64) -> SVector<f64, N> {
+        (shake.q - state.q) / h
+    }
+
+    fn projected(shake: &CanonicalState<N>, momentum: &SVector<f64, N>) -> CanonicalState<N> {
+        CanonicalState {
+            q: shake.q,
+            p: *momentum,
+        }
+    }
+}
+
+impl<D: Side, const S: usize, const K: usize, const N: usize> Form<S, K, N> for D {
+    type State = ReducedState<S, K>;
+    type Increment = (SVector<f64, S>, SVector<f64, K>);
+    type Momentum = SVector<f64, S>;
+
+    fn is_finite(state: &ReducedState<S, K>) -> bool {
+        state.is_finite()
+    }
+
+    fn scale(state: &ReducedState<S, K>) -> f64 {
+        inf_norm(&state.w).max(inf_norm(&state.mu))
+    }
+
+    fn configuration<L: DiscreteLagrangian<S, K, N>>(
+        sys: &L,
+        state: &ReducedState<S, K>,
+    ) -> SVector<f64, N> {
+        sys.untrivialize(state).q
+    }
+
+    fn guess(
+        state: &ReducedState<S, K>,
+        history: &History<Self::Increment>,
+        h: f64,
+    ) -> SVector<f64, N> {
+        let dx = predicted_increment(&history.map(|l| l.0), h);
+        let du = predicted_increment(&history.map(|l| l.1), h);
+        join::<S, K, N>(
+            &dx.map_or(state.x, |d| state.x + d),
+            &du.unwrap_or_else(SVector::zeros),
+        )
+    }
+
+    /// `g_{k+1} = g_k + D::group_increment(u) + B (x_{k+1} − x_k)` ([`Side::group_increment`]).
+    fn shake<L, const M: usize, const Z: usize>(
+        sys: &L,
+        state: &ReducedState<S, K>,
+        z: &SVector<f64, Z>,
+    ) -> (ReducedState<S, K>, Self::Increment)
+    where
+        L: Constrained<Self, S, K, N, M, Z>,
+    {
+        let (head, _) = parts::<N, M, Z>(z);
+        let (x1, u) = split::<S, K, N>(&head);
+        let shake = ReducedState {
+            x: x1,
+            w: sys.constrained_momentum(state, z),
+            mu: if L::CONSTRAINED_GROUP_FORCED {
+                state.mu + sys.constrained_impulse(state, z)
+            } else {
+                state.mu
+            },
+            g: state.g + D::group_increment(u) + sys.h_d0(&state.x, &x1),
+        };
+        (shake, (x1 - state.x, u))
+    }
+
+    /// The secant in the configuration `(x, g)`.
+    fn secant(state: &ReducedState<S, K>, shake: &ReducedState<S, K>, h: f64) -> SVector<f64, N> {
+        join::<S, K, N>(&((shake.x - state.x) / h), &((shake.g - state.g) / h))
+    }
+
+    fn projected(shake: &ReducedState<S, K>, momentum: &SVector<f64, N>) -> ReducedState<S, K> {
+        let (w, mu) = split::<S, K, N>(momentum);
+        ReducedState {
+            x: shake.x,
+            w,
+            mu,
+            g: shake.g,
+        }
+    }
 }
 
 /// What a constrained step reports besides the new state.
@@ -286,10 +410,13 @@ fn joined<const N: usize, const M: usize, const Z: usize>(
     z
 }
 
-/// Integrates the unreduced constrained equations (see the [module documentation](self)).
+/// Integrates the constrained equations of form `F` (see the [module documentation](self)):
+/// [`ConstrainedIntegrator`] for the unreduced ones, [`ReducedConstrainedIntegrator`] for
+/// each reduced side.
 #[derive(Clone, Debug)]
-pub struct ConstrainedIntegrator<
+pub struct ConstrainedStepper<
     L,
+    F,
     const S: usize,
     const K: usize,
     const N: usize,
@@ -298,16 +425,60 @@ pub struct ConstrainedIntegrator<
 > {
     system: L,
     options: NewtonOptions,
+    form: std::marker::PhantomData<F>,
 }
 
-impl<L, const S: usize, const K: usize, const N: usize, const M: usize, const Z: usize>
-    ConstrainedIntegrator<L, S, K, N, M, Z>
+/// Integrates the unreduced constrained equations (see the [module documentation](self)).
+pub type ConstrainedIntegrator<
+    L,
+    const S: usize,
+    const K: usize,
+    const N: usize,
+    const M: usize,
+    const Z: usize,
+> = ConstrainedStepper<L, Canonical, S, K, N, M, Z>;
+
+/// Integrates the reduced constrained equations of side `D` (see the [module
+/// documentation](self)).
+pub type ReducedConstrainedIntegrator<
+    L,
+    D,
+    const S: usize,
+    const K: usize,
+    const N: usize,
+    const M: usize,
+    const Z: usize,
+> = ConstrainedStepper<L, D, S, K, N, M, Z>;
+
+/// The workspace of a constrained run of form `F`.
+type Workspace<
+    L,
+    F,
+    const S: usize,
+    const K: usize,
+    const N: usize,
+    const M: usize,
+    const Z: usize,
+> = ConstrainedWorkspace<
+    <L as Constrained<F, S, K, N, M, Z>>::PositionLinear,
+    <L as Constrained<F, S, K, N, M, Z>>::ProjectionLinear,
+    <F as Form<S, K, N>>::Increment,
+    M,
+>;
+
+impl<L, F, const S: usize, const K: usize, const N: usize, const M: usize, const Z: usize>
+    ConstrainedStepper<L, F, S, K, N, M, Z>
 where
-    L: Constrained<S, K, N, M, Z>,
+    F: Form<S, K, N>,
+    L: Constrained<F, S, K, N, M, Z>,
 {
-    /// The constrained integrator of `system`.
+    /// The constrained integrator of `system` in the form `F`.
     pub fn new(system: L, options: NewtonOptions) -> Self {
-        Self { system, options }
+        Self {
+            system,
+            options,
+            form: std::marker::PhantomData,
+        }
     }
 
     /// The system being integrated.
@@ -316,16 +487,114 @@ where
     }
 }
 
-impl<L, const S: usize, const K: usize, const N: usize, const M: usize, const Z: usize> Stepper
-    for ConstrainedIntegrator<L, S, K, N, M, Z>
+impl<L, const S: usize, const K: usize, const N: usize, const M: usize, const Z: usize>
+    ConstrainedStepper<L, crate::Plus, S, K, N, M, Z>
 where
-    L: Constrained<S, K, N, M, Z>,
+    L: Constrained<crate::Plus, S, K, N, M, Z>,
 {
-    type State = CanonicalState<N>;
+    /// The constrained (+) equations.
+    pub fn plus(system: L, options: NewtonOptions) -> Self {
+        Self::new(system, options)
+    }
+}
+
+impl<L, const S: usize, const K: usize, const N: usize, const M: usize, const Z: usize>
+    ConstrainedStepper<L, crate::Minus, S, K, N, M, Z>
+where
+    L: Constrained<crate::Minus, S, K, N, M, Z>,
+{
+    /// The constrained (−) equations.
+    pub fn minus(system: L, options: NewtonOptions) -> Self {
+        Self::new(system, options)
+    }
+}
+
+/// One constrained step `k` of form `F` from `state` for `sys` (the system with this step's
+/// controls and time step): the position step's Newton solve from the guess that `ws`'s
+/// history extrapolates (the multipliers from the last step's), the state it leaves
+/// ([`Form::shake`]), the projection's Newton solve from the secant velocity, and the projected
+/// state. On success the step's increment and multipliers enter `ws`.
+fn step<L, F, const S: usize, const K: usize, const N: usize, const M: usize, const Z: usize>(
+    sys: &L,
+    options: &NewtonOptions,
+    ws: &mut Workspace<L, F, S, K, N, M, Z>,
+    k: usize,
+    state: &F::State,
+) -> Result<(F::State, ConstrainedStep<M>), StepError>
+where
+    F: Form<S, K, N>,
+    L: Constrained<F, S, K, N, M, Z>,
+{
+    let h = sys.time_step();
+    let (lambda0, nu0) = ws
+        .multipliers
+        .unwrap_or((SVector::zeros(), SVector::zeros()));
+    let guess = joined::<N, M, Z>(&F::guess(state, &ws.history, h), &lambda0);
+    let rho = F::scale(state);
+    let first = newton::solve_with(
+        &mut ws.position,
+        guess,
+        rho,
+        options,
+        |z| sys.constrained_residual(state, z),
+        |z| sys.constrained_residual_jacobian(state, z),
+    )
+    .map_err(|failure| step_error(k, failure))?;
+    let mut stats = StepStats::from_solution(&first, options.residual_tolerance(rho));
+    let (_, lambda) = parts::<N, M, Z>(&first.z);
+    let (shake, increment) = F::shake(sys, state, &first.z);
+    let rho2 = F::scale(&shake);
+    let y0 = joined::<N, M, Z>(&F::secant(state, &shake, h), &nu0);
+    let second = newton::solve_with(
+        &mut ws.projection,
+        y0,
+        rho2,
+        options,
+        |y| sys.projection_residual(&shake, y),
+        |y| sys.projection_residual_jacobian(&shake, y),
+    )
+    .map_err(|failure| step_error(k, failure))?;
+    stats.accumulate(&StepStats::from_solution(
+        &second,
+        options.residual_tolerance(rho2),
+    ));
+    let (_, nu) = parts::<N, M, Z>(&second.z);
+    let next = F::projected(&shake, &sys.projected_momentum(&shake, &second.z));
+    if !F::is_finite(&next) {
+        return Err(StepError::NonFinite {
+            step: k,
+            what: "the updated state",
+            residual: stats.residual,
+        });
+    }
+    ws.history.push(increment, h);
+    ws.multipliers = Some((lambda, nu));
+    let constraint_residual = if L::HOLONOMIC {
+        inf_norm(&sys.constraint(&F::configuration(sys, &next)))
+    } else {
+        first.residual
+    };
+    Ok((
+        next,
+        ConstrainedStep {
+            lambda,
+            nu,
+            constraint_residual,
+            stats,
+        },
+    ))
+}
+
+impl<L, F, const S: usize, const K: usize, const N: usize, const M: usize, const Z: usize> Stepper
+    for ConstrainedStepper<L, F, S, K, N, M, Z>
+where
+    F: Form<S, K, N>,
+    L: Constrained<F, S, K, N, M, Z>,
+{
+    type State = F::State;
     type Record = ConstrainedStep<M>;
-    type Workspace =
-        ConstrainedWorkspace<L::PositionLinear, L::ProjectionLinear, SVector<f64, N>, M>;
-    type Trajectory = ConstrainedTrajectory<CanonicalState<N>, M>;
+    type Workspace = Workspace<L, F, S, K, N, M, Z>;
+    type Trajectory = ConstrainedTrajectory<F::State, M>;
 
     fn time_step(&self) -> f64 {
         self.system.time_step()
@@ -333,20 +602,17 @@ where
 
     /// The inputs, and `‖φ(q_0)‖∞` within the Newton tolerances (×10³): a typed
     /// [`StepError::ConstraintViolated`] otherwise.
-    fn check(&self, initial: &CanonicalState<N>) -> Result<(), StepError> {
+    fn check(&self, initial: &F::State) -> Result<(), StepError> {
         check_inputs(
             self.system.time_step(),
             &self.system.parameter_values(),
-            initial.is_finite(),
+            F::is_finite(initial),
         )?;
         if !L::HOLONOMIC {
             return Ok(());
         }
-        check_constraint(
-            self.system.constraint(&initial.q),
-            inf_norm(&initial.q),
-            &self.options,
-        )
+        let q = F::configuration(&self.system, initial);
+        check_constraint(self.system.constraint(&q), inf_norm(&q), &self.options)
     }
 
     fn workspace(&self) -> Self::Workspace {
@@ -367,81 +633,29 @@ where
         ws: &mut Self::Workspace,
         k: usize,
         h: f64,
-        state: &CanonicalState<N>,
+        state: &F::State,
         u: &[f64],
-    ) -> Result<(CanonicalState<N>, ConstrainedStep<M>), StepError> {
+    ) -> Result<(F::State, ConstrainedStep<M>), StepError> {
+        // The system at the step's size and controls (itself for the system's own step).
         let owned = system_at(&self.system, k, h, u)?;
-        let sys = owned.as_ref().unwrap_or(&self.system);
-        let (q, p) = (&state.q, &state.p);
-        let dq = predicted_increment(&ws.history, h);
-        let (lambda0, nu0) = ws
-            .multipliers
-            .unwrap_or((SVector::zeros(), SVector::zeros()));
-        let guess = joined::<N, M, Z>(&dq.map_or(*q, |d| q + d), &lambda0);
-        let rho = inf_norm(p);
-        let first = newton::solve_with(
-            &mut ws.position,
-            guess,
-            rho,
+        step(
+            owned.as_ref().unwrap_or(&self.system),
             &self.options,
-            |z| sys.constrained_residual(q, p, z),
-            |z| sys.constrained_residual_jacobian(q, p, z),
+            ws,
+            k,
+            state,
         )
-        .map_err(|failure| step_error(k, failure))?;
-        let mut stats = StepStats::from_solution(&first, self.options.residual_tolerance(rho));
-        let (q1, lambda) = parts::<N, M, Z>(&first.z);
-        let p_shake = sys.constrained_momentum(q, &first.z);
-        let rho2 = inf_norm(&p_shake);
-        let y0 = joined::<N, M, Z>(&((q1 - q) / h), &nu0);
-        let second = newton::solve_with(
-            &mut ws.projection,
-            y0,
-            rho2,
-            &self.options,
-            |y| sys.projection_residual(&q1, &p_shake, y),
-            |y| sys.projection_residual_jacobian(&q1, &p_shake, y),
-        )
-        .map_err(|failure| step_error(k, failure))?;
-        stats.accumulate(&StepStats::from_solution(
-            &second,
-            self.options.residual_tolerance(rho2),
-        ));
-        let (_, nu) = parts::<N, M, Z>(&second.z);
-        let next = CanonicalState {
-            q: q1,
-            p: sys.projected_momentum(&q1, &second.z),
-        };
-        if !next.is_finite() {
-            return Err(StepError::NonFinite {
-                step: k,
-                what: "the updated state",
-                residual: stats.residual,
-            });
-        }
-        ws.history.push(q1 - q, h);
-        ws.multipliers = Some((lambda, nu));
-        Ok((
-            next,
-            ConstrainedStep {
-                lambda,
-                nu,
-                constraint_residual: if L::HOLONOMIC {
-                    inf_norm(&sys.constraint(&q1))
-                } else {
-                    first.residual
-                },
-                stats,
-            },
-        ))
     }
 }
 
-impl<L, const S: usize, const K: usize, const N: usize, const M: usize, const Z: usize>
-    Collect<ConstrainedIntegrator<L, S, K, N, M, Z>> for ConstrainedTrajectory<CanonicalState<N>, M>
+impl<L, F, St, const S: usize, const K: usize, const N: usize, const M: usize, const Z: usize>
+    Collect<ConstrainedStepper<L, F, S, K, N, M, Z>> for ConstrainedTrajectory<St, M>
 where
-    L: Constrained<S, K, N, M, Z>,
+    St: Copy,
+    F: Form<S, K, N, State = St>,
+    L: Constrained<F, S, K, N, M, Z>,
 {
-    fn start(integrator: &ConstrainedIntegrator<L, S, K, N, M, Z>, steps: usize) -> Self {
+    fn start(integrator: &ConstrainedStepper<L, F, S, K, N, M, Z>, steps: usize) -> Self {
         ConstrainedTrajectory {
             h: integrator.system.time_step(),
             states: crate::stepper::reserved(steps.saturating_add(1)),
@@ -451,234 +665,7 @@ where
         }
     }
 
-    fn push(&mut self, t: f64, state: &CanonicalState<N>, record: Option<&ConstrainedStep<M>>) {
-        self.states.push(*state);
-        self.times.push(t);
-        if let Some(step) = record {
-            self.steps.push(*step);
-            self.stats.push(step.stats);
-        }
-    }
-}
-
-/// Integrates the reduced constrained equations of side `D` (see the [module
-/// documentation](self)).
-#[derive(Clone, Debug)]
-pub struct ReducedConstrainedIntegrator<
-    L,
-    D,
-    const S: usize,
-    const K: usize,
-    const N: usize,
-    const M: usize,
-    const Z: usize,
-> {
-    system: L,
-    options: NewtonOptions,
-    side: std::marker::PhantomData<D>,
-}
-
-impl<L, D, const S: usize, const K: usize, const N: usize, const M: usize, const Z: usize>
-    ReducedConstrainedIntegrator<L, D, S, K, N, M, Z>
-where
-    D: Side,
-    L: ReducedConstrained<D, S, K, N, M, Z>,
-{
-    /// The reduced constrained integrator of side `D`.
-    pub fn new(system: L, options: NewtonOptions) -> Self {
-        Self {
-            system,
-            options,
-            side: std::marker::PhantomData,
-        }
-    }
-
-    /// The system being integrated.
-    pub fn system(&self) -> &L {
-        &self.system
-    }
-}
-
-impl<L, const S: usize, const K: usize, const N: usize, const M: usize, const Z: usize>
-    ReducedConstrainedIntegrator<L, crate::Plus, S, K, N, M, Z>
-where
-    L: ReducedConstrained<crate::Plus, S, K, N, M, Z>,
-{
-    /// The constrained (+) equations.
-    pub fn plus(system: L, options: NewtonOptions) -> Self {
-        Self::new(system, options)
-    }
-}
-
-impl<L, const S: usize, const K: usize, const N: usize, const M: usize, const Z: usize>
-    ReducedConstrainedIntegrator<L, crate::Minus, S, K, N, M, Z>
-where
-    L: ReducedConstrained<crate::Minus, S, K, N, M, Z>,
-{
-    /// The constrained (−) equations.
-    pub fn minus(system: L, options: NewtonOptions) -> Self {
-        Self::new(system, options)
-    }
-}
-
-impl<L, D, const S: usize, const K: usize, const N: usize, const M: usize, const Z: usize> Stepper
-    for ReducedConstrainedIntegrator<L, D, S, K, N, M, Z>
-where
-    D: Side,
-    L: ReducedConstrained<D, S, K, N, M, Z> + Constrained<S, K, N, M, Z>,
-{
-    type State = ReducedState<S, K>;
-    type Record = ConstrainedStep<M>;
-    type Workspace = ConstrainedWorkspace<
-        L::ReducedPositionLinear,
-        L::ReducedProjectionLinear,
-        (SVector<f64, S>, SVector<f64, K>),
-        M,
-    >;
-    type Trajectory = ConstrainedTrajectory<ReducedState<S, K>, M>;
-
-    fn time_step(&self) -> f64 {
-        self.system.time_step()
-    }
-
-    /// The inputs, and `‖φ(q_0)‖∞` within the Newton tolerances (×10³).
-    fn check(&self, initial: &ReducedState<S, K>) -> Result<(), StepError> {
-        check_inputs(
-            self.system.time_step(),
-            &self.system.parameter_values(),
-            initial.is_finite(),
-        )?;
-        if !<L as Constrained<S, K, N, M, Z>>::HOLONOMIC {
-            return Ok(());
-        }
-        let q = self.system.untrivialize(initial).q;
-        check_constraint(self.system.constraint(&q), inf_norm(&q), &self.options)
-    }
-
-    fn workspace(&self) -> Self::Workspace {
-        ConstrainedWorkspace {
-            position: self.system.reduced_position_solver(),
-            projection: self.system.reduced_projection_solver(),
-            history: History::default(),
-            multipliers: None,
-        }
-    }
-
-    fn control_dim(&self) -> usize {
-        L::CONTROLS.len()
-    }
-
-    fn step_with(
-        &self,
-        ws: &mut Self::Workspace,
-        k: usize,
-        h: f64,
-        state: &ReducedState<S, K>,
-        u: &[f64],
-    ) -> Result<(ReducedState<S, K>, ConstrainedStep<M>), StepError> {
-        let owned = system_at(&self.system, k, h, u)?;
-        let sys = owned.as_ref().unwrap_or(&self.system);
-        let (x, w, mu) = (&state.x, &state.w, &state.mu);
-        let dx = predicted_increment(&ws.history.map(|l| l.0), h);
-        let du = predicted_increment(&ws.history.map(|l| l.1), h);
-        let (lambda0, nu0) = ws
-            .multipliers
-            .unwrap_or((SVector::zeros(), SVector::zeros()));
-        let head: SVector<f64, N> = crate::system::join::<S, K, N>(
-            &dx.map_or(*x, |d| x + d),
-            &du.unwrap_or_else(SVector::zeros),
-        );
-        let guess = joined::<N, M, Z>(&head, &lambda0);
-        let rho = inf_norm(w).max(inf_norm(mu));
-        let first = newton::solve_with(
-            &mut ws.position,
-            guess,
-            rho,
-            &self.options,
-            |z| sys.reduced_constrained_residual(x, w, mu, z),
-            |z| sys.reduced_constrained_residual_jacobian(x, w, mu, z),
-        )
-        .map_err(|failure| step_error(k, failure))?;
-        let mut stats = StepStats::from_solution(&first, self.options.residual_tolerance(rho));
-        let (zq, lambda) = parts::<N, M, Z>(&first.z);
-        let (x1, group_unknown) = crate::system::split::<S, K, N>(&zq);
-        let w_shake = sys.reduced_constrained_momentum(x, &first.z);
-        let mu1 = if L::CONSTRAINED_GROUP_FORCED {
-            mu + sys.reduced_constrained_impulse(x, &first.z)
-        } else {
-            *mu
-        };
-        let g1 = state.g + D::group_increment(group_unknown) + sys.h_d0(x, &x1);
-        // The velocity guess: the step's secant in the configuration (x, g).
-        let v_guess = crate::system::join::<S, K, N>(&((x1 - x) / h), &((g1 - state.g) / h));
-        let rho2 = inf_norm(&w_shake).max(inf_norm(&mu1));
-        let y0 = joined::<N, M, Z>(&v_guess, &nu0);
-        let second = newton::solve_with(
-            &mut ws.projection,
-            y0,
-            rho2,
-            &self.options,
-            |y| sys.reduced_projection_residual(&x1, &w_shake, &mu1, y),
-            |y| sys.reduced_projection_residual_jacobian(&x1, &w_shake, &mu1, y),
-        )
-        .map_err(|failure| step_error(k, failure))?;
-        stats.accumulate(&StepStats::from_solution(
-            &second,
-            self.options.residual_tolerance(rho2),
-        ));
-        let (_, nu) = parts::<N, M, Z>(&second.z);
-        let (w_new, mu_new) =
-            crate::system::split::<S, K, N>(&sys.reduced_projected_momentum(&x1, &mu1, &second.z));
-        let next = ReducedState {
-            x: x1,
-            w: w_new,
-            mu: mu_new,
-            g: g1,
-        };
-        if !next.is_finite() {
-            return Err(StepError::NonFinite {
-                step: k,
-                what: "the updated state",
-                residual: stats.residual,
-            });
-        }
-        ws.history.push((x1 - x, group_unknown), h);
-        ws.multipliers = Some((lambda, nu));
-        let constraint_residual = if <L as Constrained<S, K, N, M, Z>>::HOLONOMIC {
-            inf_norm(&sys.constraint(&sys.untrivialize(&next).q))
-        } else {
-            first.residual
-        };
-        Ok((
-            next,
-            ConstrainedStep {
-                lambda,
-                nu,
-                constraint_residual,
-                stats,
-            },
-        ))
-    }
-}
-
-impl<L, D, const S: usize, const K: usize, const N: usize, const M: usize, const Z: usize>
-    Collect<ReducedConstrainedIntegrator<L, D, S, K, N, M, Z>>
-    for ConstrainedTrajectory<ReducedState<S, K>, M>
-where
-    D: Side,
-    L: ReducedConstrained<D, S, K, N, M, Z> + Constrained<S, K, N, M, Z>,
-{
-    fn start(integrator: &ReducedConstrainedIntegrator<L, D, S, K, N, M, Z>, steps: usize) -> Self {
-        ConstrainedTrajectory {
-            h: integrator.system.time_step(),
-            states: crate::stepper::reserved(steps.saturating_add(1)),
-            times: crate::stepper::reserved(steps.saturating_add(1)),
-            steps: crate::stepper::reserved(steps),
-            stats: crate::stepper::reserved(steps),
-        }
-    }
-
-    fn push(&mut self, t: f64, state: &ReducedState<S, K>, record: Option<&ConstrainedStep<M>>) {
+    fn push(&mut self, t: f64, state: &St, record: Option<&ConstrainedStep<M>>) {
         self.states.push(*state);
         self.times.push(t);
         if let Some(step) = record {

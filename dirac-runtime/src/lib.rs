@@ -55,8 +55,8 @@ pub mod prelude {
     pub use crate::atlas::{AtlasIntegrator, AtlasStep, AtlasTrajectory, ChartTransition, Switch};
     pub use crate::compose::{ComposedTrajectory, Composition, CompositionMethod, SelfAdjoint};
     pub use crate::constrained::{
-        Constrained, ConstrainedIntegrator, ConstrainedStep, ConstrainedTrajectory,
-        ReducedConstrained, ReducedConstrainedIntegrator,
+        Canonical, Constrained, ConstrainedIntegrator, ConstrainedStep, ConstrainedStepper,
+        ConstrainedTrajectory, Constraints, ReducedConstrainedIntegrator,
     };
     pub use crate::continuous::{
         continuous_energies, midpoint_energies, reduced_continuous_energies, ContinuousEnergies,

@@ -68,7 +68,6 @@ pub fn cartesian_initial(h: f64) -> (CartesianDsp, CanonicalState<6>) {
 
 /// `max_j |φ_j(q)| / l_j²`.
 pub fn sys_residual(sys: &CartesianDsp, s: &CanonicalState<6>) -> f64 {
-    use dirac::runtime::Constrained;
     let phi = sys.constraint(&s.q);
     (phi[0] / (sys.l1 * sys.l1))
         .abs()

@@ -47,8 +47,8 @@ use crate::ast::ranges::{parse_ranges, Range, RangeArg, RANGES as RANGES_ACCEPTE
 use crate::ast::rule::{Rule, RULES};
 use crate::ctxt::Ctxt;
 use crate::symbol::{
-    self, Symbol, CONNECTION, CONSTRAINTS, CONTROLS, COORDINATES, FORCE, GROUP, NAME, NONHOLONOMIC,
-    RANGES, RULE, SHAPE, STEP, TRANSLATE,
+    self, KeyArg, Symbol, CONNECTION, CONSTRAINTS, CONTROLS, COORDINATES, FORCE, GROUP, NAME,
+    NONHOLONOMIC, RANGES, RULE, SHAPE, STEP, TRANSLATE,
 };
 
 const KEYS: &str = "`shape(...)`, `group(...)` (or `coordinates(...)` with `translate(...)`), `connection = [[...], ...]`, `step = <parameter>`, `name = <TypeName>`, `rule = midpoint | trapezoid | left | right`, `ranges(<name> = (lo, hi), ...)`, `controls(<parameter>, ...)`, `force = |dq| <virtual work>` (or `|dq0, dq1|` for a discrete Lagrangian) `constraints = |q| [<φ_1>, ...]` or `nonholonomic = |q, v| [<A_1(q) v>, ...]`";
@@ -102,46 +102,35 @@ impl Parse for CoordArg {
     }
 }
 
-enum Arg {
-    List(Ident, Punctuated<CoordArg, Token![,]>),
-    Value(Ident, Expr),
-    Ranges(Ident, Punctuated<RangeArg, Token![,]>),
+/// The contents of `key(...)`: coordinates (`shape`, `group`, `coordinates`, `translate`,
+/// `controls`), or sampling ranges (`ranges`).
+enum List {
+    Coords(Punctuated<CoordArg, Token![,]>),
+    Ranges(Punctuated<RangeArg, Token![,]>),
 }
+
+type Arg = KeyArg<List, Expr>;
 
 impl Parse for Arg {
     fn parse(input: ParseStream) -> syn::Result<Self> {
-        let key: Ident = input.parse()?;
-        if key == RANGES && input.peek(syn::token::Paren) {
-            let content;
-            syn::parenthesized!(content in input);
-            Ok(Arg::Ranges(key, Punctuated::parse_terminated(&content)?))
-        } else if input.peek(syn::token::Paren) {
-            let content;
-            syn::parenthesized!(content in input);
-            let list = Punctuated::parse_terminated(&content)?;
-            Ok(Arg::List(key, list))
-        } else if input.peek(Token![=]) {
-            input.parse::<Token![=]>()?;
-            Ok(Arg::Value(key, input.parse()?))
-        } else {
-            Err(syn::Error::new(
-                key.span(),
-                format!("expected `{key}(...)` or `{key} = ...`; accepted: {KEYS}"),
-            ))
-        }
+        KeyArg::parse_with(
+            input,
+            |key, content| {
+                Ok(if key == RANGES {
+                    List::Ranges(Punctuated::parse_terminated(content)?)
+                } else {
+                    List::Coords(Punctuated::parse_terminated(content)?)
+                })
+            },
+            |_, input| input.parse(),
+            |key| symbol::list_or_value(key, KEYS),
+        )
     }
 }
 
 /// Parses the attribute arguments, recording every mistake in `cx`.
 pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
-    let parser = Punctuated::<Arg, Token![,]>::parse_terminated;
-    let args = match syn::parse::Parser::parse2(parser, args) {
-        Ok(args) => args,
-        Err(e) => {
-            cx.syn_error(e);
-            return None;
-        }
-    };
+    let args = symbol::parse_args::<Arg>(cx, args)?;
     let mut shape: Option<Vec<Coord>> = None;
     let mut group: Option<Vec<Coord>> = None;
     let mut coordinates: Option<Vec<Coord>> = None;
@@ -160,9 +149,7 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
     // `coordinates`/`translate` decides; a key of the other family is an error.
     let mut family: Option<Symbol> = None;
     for arg in args {
-        let key = match &arg {
-            Arg::List(k, _) | Arg::Value(k, _) | Arg::Ranges(k, _) => k.clone(),
-        };
+        let key = arg.key().clone();
         let key_name = key.to_string();
         let word = symbol::key(&key);
         // `translate(...)` may be repeated: each one is a group dimension.
@@ -208,17 +195,17 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
             connection = None;
         }
         match (word, arg) {
-            (Some(SHAPE), Arg::List(_, list)) => {
+            (Some(SHAPE), KeyArg::List(_, List::Coords(list))) => {
                 shape = Some(coord_list(cx, list));
             }
             // `group()` declares no symmetry: a plain variational integrator (K = 0).
-            (Some(GROUP), Arg::List(_, list)) => {
+            (Some(GROUP), KeyArg::List(_, List::Coords(list))) => {
                 group = Some(coord_list(cx, list));
             }
-            (Some(COORDINATES), Arg::List(_, list)) => {
+            (Some(COORDINATES), KeyArg::List(_, List::Coords(list))) => {
                 coordinates = Some(coord_list(cx, list));
             }
-            (Some(TRANSLATE), Arg::List(k, list)) => {
+            (Some(TRANSLATE), KeyArg::List(k, List::Coords(list))) => {
                 let mut names = Vec::new();
                 for c in list {
                     if let Some((_, len)) = &c.len {
@@ -244,17 +231,17 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
                     translates.push((k, names));
                 }
             }
-            (Some(CONNECTION), Arg::Value(_, value)) => {
+            (Some(CONNECTION), KeyArg::Value(_, value)) => {
                 connection = parse_matrix(cx, &value).map(|rows| (value, rows))
             }
-            (Some(STEP), Arg::Value(_, value)) => {
+            (Some(STEP), KeyArg::Value(_, value)) => {
                 step = parse_ident(cx, value, "the time-step parameter, e.g. `step = h`")
             }
-            (Some(NAME), Arg::Value(_, value)) => {
+            (Some(NAME), KeyArg::Value(_, value)) => {
                 name = parse_ident(cx, value, "a type name, e.g. `name = Particle`")
             }
-            (Some(RANGES), Arg::Ranges(_, list)) => ranges = parse_ranges(cx, list),
-            (Some(CONTROLS), Arg::List(k, list)) => {
+            (Some(RANGES), KeyArg::List(_, List::Ranges(list))) => ranges = parse_ranges(cx, list),
+            (Some(CONTROLS), KeyArg::List(k, List::Coords(list))) => {
                 for c in list {
                     if let Some((_, len)) = &c.len {
                         cx.error_spanned_by(
@@ -278,8 +265,8 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
                     );
                 }
             }
-            (Some(FORCE), Arg::Value(_, Expr::Closure(closure))) => force = Some(closure),
-            (Some(FORCE), Arg::Value(_, value)) => cx.error_spanned_by(
+            (Some(FORCE), KeyArg::Value(_, Expr::Closure(closure))) => force = Some(closure),
+            (Some(FORCE), KeyArg::Value(_, value)) => cx.error_spanned_by(
                 &value,
                 format!(
                     "expected the forces as their virtual work, a closure linear in the virtual displacement: \
@@ -287,7 +274,7 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
                     value.to_token_stream()
                 ),
             ),
-            (Some(CONSTRAINTS | NONHOLONOMIC), Arg::Value(k, Expr::Closure(closure))) => {
+            (Some(CONSTRAINTS | NONHOLONOMIC), KeyArg::Value(k, Expr::Closure(closure))) => {
                 if constraints.is_some() {
                     cx.error_spanned_by(
                         &k,
@@ -298,7 +285,7 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
                     constraints = Some(closure);
                 }
             }
-            (Some(NONHOLONOMIC), Arg::Value(_, value)) => cx.error_spanned_by(
+            (Some(NONHOLONOMIC), KeyArg::Value(_, value)) => cx.error_spanned_by(
                 &value,
                 format!(
                     "expected the nonholonomic constraints as a closure of the configuration and the velocity, linear in the \
@@ -306,11 +293,11 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
                     value.to_token_stream()
                 ),
             ),
-            (Some(NONHOLONOMIC), Arg::List(k, _)) => cx.error_spanned_by(
+            (Some(NONHOLONOMIC), KeyArg::List(k, _)) => cx.error_spanned_by(
                 &k,
                 "expected `nonholonomic = |q, v| [<A_1(q) v>, ...]`, found `nonholonomic(...)`",
             ),
-            (Some(CONSTRAINTS), Arg::Value(_, value)) => cx.error_spanned_by(
+            (Some(CONSTRAINTS), KeyArg::Value(_, value)) => cx.error_spanned_by(
                 &value,
                 format!(
                     "expected the holonomic constraints as a closure of the configuration returning their values, \
@@ -318,15 +305,15 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
                     value.to_token_stream()
                 ),
             ),
-            (Some(CONSTRAINTS), Arg::List(k, _)) => cx.error_spanned_by(
+            (Some(CONSTRAINTS), KeyArg::List(k, _)) => cx.error_spanned_by(
                 &k,
                 "expected `constraints = |q| [<φ_1>, ...]`, found `constraints(...)`",
             ),
-            (Some(FORCE), Arg::List(k, _)) => cx.error_spanned_by(
+            (Some(FORCE), KeyArg::List(k, _)) => cx.error_spanned_by(
                 &k,
                 "expected `force = |dq| <virtual work>` (or `|dq0, dq1|` for a discrete Lagrangian), found `force(...)`",
             ),
-            (Some(RULE), Arg::Value(k, value)) => {
+            (Some(RULE), KeyArg::Value(k, value)) => {
                 let id = match &value {
                     Expr::Path(p) => p.path.get_ident().cloned(),
                     _ => None,
@@ -342,27 +329,27 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
                     ),
                 }
             }
-            (Some(RULE), Arg::List(k, _)) => cx.error_spanned_by(
+            (Some(RULE), KeyArg::List(k, _)) => cx.error_spanned_by(
                 &k,
                 format!("expected `rule = <name>`, found `rule(...)`; accepted: {RULES}"),
             ),
-            (Some(RANGES), Arg::Value(k, _)) => cx.error_spanned_by(
+            (Some(RANGES), KeyArg::Value(k, _)) => cx.error_spanned_by(
                 &k,
                 format!(
                     "expected `ranges(...)`, found `ranges = ...`; accepted: {RANGES_ACCEPTED}"
                 ),
             ),
-            (Some(SHAPE | GROUP | COORDINATES | TRANSLATE | CONTROLS), Arg::Value(k, _)) => {
+            (Some(SHAPE | GROUP | COORDINATES | TRANSLATE | CONTROLS), KeyArg::Value(k, _)) => {
                 cx.error_spanned_by(&k, format!("expected a list: `{k}(a, b, ...)`"))
             }
-            (Some(CONNECTION), Arg::List(k, _)) => cx.error_spanned_by(
+            (Some(CONNECTION), KeyArg::List(k, _)) => cx.error_spanned_by(
                 &k,
                 "expected `connection = [[b11, b12, ...], ...]`, found `connection(...)`",
             ),
-            (Some(STEP), Arg::List(k, _)) => {
+            (Some(STEP), KeyArg::List(k, _)) => {
                 cx.error_spanned_by(&k, "expected `step = <parameter>`, found `step(...)`")
             }
-            (Some(NAME), Arg::List(k, _)) => {
+            (Some(NAME), KeyArg::List(k, _)) => {
                 cx.error_spanned_by(&k, "expected `name = <TypeName>`, found `name(...)`")
             }
             (_, _) => cx.error_spanned_by(

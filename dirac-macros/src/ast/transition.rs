@@ -10,7 +10,7 @@ use syn::punctuated::Punctuated;
 use syn::{FnArg, Ident, ItemFn, Pat, Token};
 
 use crate::ctxt::Ctxt;
-use crate::symbol::{FROM, GROUP, NAME, SHAPE, TO};
+use crate::symbol::{self, KeyArg, FROM, GROUP, NAME, SHAPE, TO};
 
 const USAGE: &str = "accepted: `#[chart_transition(from(shape(..), group(..)), \
 to(shape(..), group(..)), name = Name)]` (`name` optional)";
@@ -33,10 +33,8 @@ pub struct TransitionSpec {
     pub name: Option<Ident>,
 }
 
-enum Arg {
-    Side(Ident, Side),
-    Name(Ident, Ident),
-}
+/// `from(..)` or `to(..)` (a side), or `name = ..`.
+type Arg = KeyArg<Side, Ident>;
 
 fn ident_list(input: ParseStream) -> syn::Result<Vec<Ident>> {
     let content;
@@ -79,44 +77,43 @@ impl Parse for Side {
 
 impl Parse for Arg {
     fn parse(input: ParseStream) -> syn::Result<Self> {
-        let key: Ident = input.parse()?;
-        if (key == FROM || key == TO) && input.peek(syn::token::Paren) {
-            let content;
-            syn::parenthesized!(content in input);
-            Ok(Arg::Side(key, content.parse()?))
-        } else if key == NAME && input.peek(Token![=]) {
-            input.parse::<Token![=]>()?;
-            Ok(Arg::Name(key, input.parse()?))
-        } else {
-            Err(syn::Error::new(
-                key.span(),
-                format!("unexpected `{key}`; {USAGE}"),
-            ))
-        }
+        let unexpected =
+            |key: &Ident| syn::Error::new(key.span(), format!("unexpected `{key}`; {USAGE}"));
+        KeyArg::parse_with(
+            input,
+            |key, content| {
+                if key == FROM || key == TO {
+                    content.parse()
+                } else {
+                    Err(unexpected(key))
+                }
+            },
+            |key, input| {
+                if key == NAME {
+                    input.parse()
+                } else {
+                    Err(unexpected(key))
+                }
+            },
+            |key| unexpected(key).to_string(),
+        )
     }
 }
 
 /// Parses the attribute, recording every mistake in `cx`.
 pub fn parse_spec(cx: &Ctxt, args: TokenStream) -> Option<TransitionSpec> {
-    let parser = Punctuated::<Arg, Token![,]>::parse_terminated;
-    let args = match syn::parse::Parser::parse2(parser, args) {
-        Ok(a) => a,
-        Err(e) => {
-            cx.syn_error(e);
-            return None;
-        }
-    };
+    let args = symbol::parse_args::<Arg>(cx, args)?;
     let (mut from, mut to, mut name) = (None, None, None);
     for arg in args {
         match arg {
-            Arg::Side(key, side) => {
+            KeyArg::List(key, side) => {
                 let slot = if key == FROM { &mut from } else { &mut to };
                 if slot.is_some() {
                     cx.error_spanned_by(&key, format!("duplicate `{key}` argument"));
                 }
                 *slot = Some(side);
             }
-            Arg::Name(key, n) => {
+            KeyArg::Value(key, n) => {
                 if name.is_some() {
                     cx.error_spanned_by(&key, "duplicate `name` argument");
                 }
@@ -145,25 +142,18 @@ pub fn parse_spec(cx: &Ctxt, args: TokenStream) -> Option<TransitionSpec> {
             );
         }
     }
-    if from.shape.len() != to.shape.len() {
-        cx.error_at(
-            Span::call_site(),
-            format!(
-                "both charts must have the same number of shape coordinates: `from` has {}, `to` has {}",
-                from.shape.len(),
-                to.shape.len()
-            ),
-        );
-    }
-    if from.group.len() != to.group.len() {
-        cx.error_at(
-            Span::call_site(),
-            format!(
-                "both charts must have the same number of group coordinates: `from` has {}, `to` has {}",
-                from.group.len(),
-                to.group.len()
-            ),
-        );
+    for (what, a, b) in [
+        (SHAPE, from.shape.len(), to.shape.len()),
+        (GROUP, from.group.len(), to.group.len()),
+    ] {
+        if a != b {
+            cx.error_at(
+                Span::call_site(),
+                format!(
+                    "both charts must have the same number of {what} coordinates: `from` has {a}, `to` has {b}"
+                ),
+            );
+        }
     }
     Some(TransitionSpec { from, to, name })
 }

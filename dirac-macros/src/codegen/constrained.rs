@@ -1,6 +1,7 @@
-//! The impls of a system with holonomic constraints (`constraints = |q| [..]`): the runtime's
-//! `Constrained` (unreduced) and `ReducedConstrained` (each side), whose position steps and
-//! projections are built in [`crate::ir::constraint`].
+//! The impls of a system with constraints (`constraints = |q| [..]`, `nonholonomic = ..`): the
+//! runtime's `Constraints` (`φ` itself) and `Constrained` for each form of the step (unreduced,
+//! and reduced on each side), whose position steps and projections are built in
+//! [`crate::ir::constraint`].
 
 use std::collections::HashMap;
 
@@ -34,22 +35,88 @@ fn fixed(name: &'static str, tokens: TokenStream) -> Item {
     }
 }
 
-/// The table entry of `Constrained<S, K, N, M, Z>`; `position` and `projection` are the
-/// backends of the two solves.
-pub fn constrained_table(
-    t: &Target,
-    m: usize,
-    position: &Backend,
-    projection: &Backend,
-) -> ImplBlock {
+/// The form of the constrained steps an impl is for: the unreduced equations on `(q, p)` or the
+/// reduced equations of a side on `(x, w, μ, g)`.
+#[derive(Clone, Copy)]
+enum Form {
+    Canonical,
+    Reduced(Side),
+}
+
+impl Form {
+    const ALL: [Form; 3] = [
+        Form::Canonical,
+        Form::Reduced(Side::Plus),
+        Form::Reduced(Side::Minus),
+    ];
+
+    /// The runtime's marker type of the form.
+    fn marker(self, rt: &TokenStream) -> TokenStream {
+        match self {
+            Form::Canonical => quote!(#rt::Canonical),
+            Form::Reduced(Side::Plus) => quote!(#rt::Plus),
+            Form::Reduced(Side::Minus) => quote!(#rt::Minus),
+        }
+    }
+
+    /// The form's state type, `&CanonicalState<N>` or `&ReducedState<S, K>`.
+    fn state(self, t: &Target) -> TokenStream {
+        let (rt, s, k, n) = (&t.rt, t.s, t.k, t.n);
+        match self {
+            Form::Canonical => quote!(&#rt::CanonicalState<#n>),
+            Form::Reduced(_) => quote!(&#rt::ReducedState<#s, #k>),
+        }
+    }
+
+    /// The dimension of the momentum the position step leaves: `p̃ ∈ R^N` or `w̃ ∈ R^S`.
+    fn momentum_dim(self, t: &Target) -> usize {
+        match self {
+            Form::Canonical => t.n,
+            Form::Reduced(_) => t.s,
+        }
+    }
+
+    /// How a step function of the form reads a leaf: `input` is the state it reads (`state`
+    /// for the position step, `shake` for the projection), `unknowns` its unknowns (`z`, `y`),
+    /// `(s, n)` the sizes of the shape and of the configuration.
+    fn leaf(
+        self,
+        sym: Sym,
+        (input, unknowns): (&TokenStream, &TokenStream),
+        (s, n): (usize, usize),
+        param: &dyn Fn(usize) -> TokenStream,
+    ) -> TokenStream {
+        match (self, sym) {
+            (_, Sym::Q1(i)) => quote!(#unknowns[#i]),
+            (_, Sym::Lambda(j)) => {
+                let j = n + j;
+                quote!(#unknowns[#j])
+            }
+            (_, Sym::Param(i)) => param(i),
+            (Form::Canonical, Sym::Q0(i)) => quote!(#input.q[#i]),
+            (Form::Canonical, Sym::P(i)) => quote!(#input.p[#i]),
+            (Form::Reduced(_), Sym::X0(i) | Sym::Q0(i)) => quote!(#input.x[#i]),
+            (Form::Reduced(_), Sym::X1(i)) => quote!(#unknowns[#i]),
+            (Form::Reduced(_), Sym::G1(j) | Sym::G0(j)) => {
+                let j = s + j;
+                quote!(#unknowns[#j])
+            }
+            (Form::Reduced(_), Sym::W(i)) => quote!(#input.w[#i]),
+            (Form::Reduced(_), Sym::Mu(j)) => quote!(#input.mu[#j]),
+            (_, other) => unreachable!(
+                "a constrained step reads its state, its unknowns and the parameters, not {other:?}"
+            ),
+        }
+    }
+}
+
+/// The table entry of `Constraints<S, K, N, M>`: whether they are holonomic, and `φ(q)`.
+fn constraints_table(t: &Target, m: usize) -> ImplBlock {
     let (ty, s, k, n, rt, na) = (&t.ty, t.s, t.k, t.n, &t.rt, &t.na);
-    let z = n + m;
-    let (vn, vz) = (t.vec(n), t.vec(z));
-    let (pj, ps) = (position.matrix_type(z), position.solver_type(z));
-    let (qj, qs) = (projection.matrix_type(z), projection.solver_type(z));
+    let vn = t.vec(n);
     ImplBlock {
         attrs: lints::generated(),
-        header: quote!(impl #rt::Constrained<#s, #k, #n, #m, #z> for #ty),
+        header: quote!(impl #rt::Constraints<#s, #k, #n, #m> for #ty),
         items: vec![
             Item {
                 name: "HOLONOMIC",
@@ -59,65 +126,32 @@ pub fn constrained_table(
                     documented: false,
                 },
             },
-            fixed("PositionLinear", quote!(type PositionLinear = #ps;)),
-            fixed("ProjectionLinear", quote!(type ProjectionLinear = #qs;)),
-            method("position_solver", quote!(fn position_solver(&self) -> #ps)),
-            method(
-                "projection_solver",
-                quote!(fn projection_solver(&self) -> #qs),
-            ),
             method(
                 "constraint",
                 quote!(fn constraint(&self, q: #vn) -> #na::SVector<f64, #m>),
-            ),
-            method(
-                "constrained_residual",
-                quote!(fn constrained_residual(&self, q_k: #vn, p_k: #vn, z: #vz) -> #na::SVector<f64, #z>),
-            ),
-            method(
-                "constrained_residual_jacobian",
-                quote!(fn constrained_residual_jacobian(&self, q_k: #vn, p_k: #vn, z: #vz) -> (#na::SVector<f64, #z>, #pj)),
-            ),
-            method(
-                "constrained_momentum",
-                quote!(fn constrained_momentum(&self, q_k: #vn, z: #vz) -> #na::SVector<f64, #n>),
-            ),
-            method(
-                "projection_residual",
-                quote!(fn projection_residual(&self, q1: #vn, p1: #vn, y: #vz) -> #na::SVector<f64, #z>),
-            ),
-            method(
-                "projection_residual_jacobian",
-                quote!(fn projection_residual_jacobian(&self, q1: #vn, p1: #vn, y: #vz) -> (#na::SVector<f64, #z>, #qj)),
-            ),
-            method(
-                "projected_momentum",
-                quote!(fn projected_momentum(&self, q1: #vn, y: #vz) -> #na::SVector<f64, #n>),
             ),
         ],
     }
 }
 
-/// The table entry of `ReducedConstrained<D, S, K, N, M, Z>`.
-pub fn reduced_constrained_table(
+/// The table entry of `Constrained<F, S, K, N, M, Z>` for the form `form`; `position` and
+/// `projection` are the backends of the two solves.
+fn constrained_table(
     t: &Target,
-    side: Side,
+    form: Form,
     m: usize,
     position: &Backend,
     projection: &Backend,
 ) -> ImplBlock {
     let (ty, s, k, n, rt, na) = (&t.ty, t.s, t.k, t.n, &t.rt, &t.na);
     let z = n + m;
-    let (vs, vk, vz) = (t.vec(s), t.vec(k), t.vec(z));
-    let marker = match side {
-        Side::Plus => quote!(#rt::Plus),
-        Side::Minus => quote!(#rt::Minus),
-    };
+    let vz = t.vec(z);
+    let (marker, state, dim) = (form.marker(rt), form.state(t), form.momentum_dim(t));
     let (pj, ps) = (position.matrix_type(z), position.solver_type(z));
     let (qj, qs) = (projection.matrix_type(z), projection.solver_type(z));
     ImplBlock {
         attrs: lints::generated(),
-        header: quote!(impl #rt::ReducedConstrained<#marker, #s, #k, #n, #m, #z> for #ty),
+        header: quote!(impl #rt::Constrained<#marker, #s, #k, #n, #m, #z> for #ty),
         items: vec![
             Item {
                 name: "CONSTRAINED_GROUP_FORCED",
@@ -128,52 +162,43 @@ pub fn reduced_constrained_table(
                 },
             },
             Item {
-                name: "reduced_constrained_impulse",
+                name: "constrained_impulse",
                 kind: Kind::Method {
                     attrs: quote!(#[allow(unused_variables)]),
-                    sig: quote!(fn reduced_constrained_impulse(&self, x_k: #vs, z: #vz) -> #na::SVector<f64, #k>),
+                    sig: quote!(fn constrained_impulse(&self, state: #state, z: #vz) -> #na::SVector<f64, #k>),
                     provided: true,
                 },
             },
-            fixed(
-                "ReducedPositionLinear",
-                quote!(type ReducedPositionLinear = #ps;),
-            ),
-            fixed(
-                "ReducedProjectionLinear",
-                quote!(type ReducedProjectionLinear = #qs;),
+            fixed("PositionLinear", quote!(type PositionLinear = #ps;)),
+            fixed("ProjectionLinear", quote!(type ProjectionLinear = #qs;)),
+            method("position_solver", quote!(fn position_solver(&self) -> #ps)),
+            method(
+                "projection_solver",
+                quote!(fn projection_solver(&self) -> #qs),
             ),
             method(
-                "reduced_position_solver",
-                quote!(fn reduced_position_solver(&self) -> #ps),
+                "constrained_residual",
+                quote!(fn constrained_residual(&self, state: #state, z: #vz) -> #na::SVector<f64, #z>),
             ),
             method(
-                "reduced_projection_solver",
-                quote!(fn reduced_projection_solver(&self) -> #qs),
+                "constrained_residual_jacobian",
+                quote!(fn constrained_residual_jacobian(&self, state: #state, z: #vz) -> (#na::SVector<f64, #z>, #pj)),
             ),
             method(
-                "reduced_constrained_residual",
-                quote!(fn reduced_constrained_residual(&self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vz) -> #na::SVector<f64, #z>),
+                "constrained_momentum",
+                quote!(fn constrained_momentum(&self, state: #state, z: #vz) -> #na::SVector<f64, #dim>),
             ),
             method(
-                "reduced_constrained_residual_jacobian",
-                quote!(fn reduced_constrained_residual_jacobian(&self, x_k: #vs, w_k: #vs, mu_k: #vk, z: #vz) -> (#na::SVector<f64, #z>, #pj)),
+                "projection_residual",
+                quote!(fn projection_residual(&self, shake: #state, y: #vz) -> #na::SVector<f64, #z>),
             ),
             method(
-                "reduced_constrained_momentum",
-                quote!(fn reduced_constrained_momentum(&self, x_k: #vs, z: #vz) -> #na::SVector<f64, #s>),
+                "projection_residual_jacobian",
+                quote!(fn projection_residual_jacobian(&self, shake: #state, y: #vz) -> (#na::SVector<f64, #z>, #qj)),
             ),
             method(
-                "reduced_projection_residual",
-                quote!(fn reduced_projection_residual(&self, x1: #vs, w1: #vs, mu1: #vk, y: #vz) -> #na::SVector<f64, #z>),
-            ),
-            method(
-                "reduced_projection_residual_jacobian",
-                quote!(fn reduced_projection_residual_jacobian(&self, x1: #vs, w1: #vs, mu1: #vk, y: #vz) -> (#na::SVector<f64, #z>, #qj)),
-            ),
-            method(
-                "reduced_projected_momentum",
-                quote!(fn reduced_projected_momentum(&self, x1: #vs, mu1: #vk, y: #vz) -> #na::SVector<f64, #n>),
+                "projected_momentum",
+                quote!(fn projected_momentum(&self, shake: #state, y: #vz) -> #na::SVector<f64, #n>),
             ),
         ],
     }
@@ -184,9 +209,9 @@ pub fn reduced_constrained_table(
 pub fn stubs(t: &Target, m: usize) -> TokenStream {
     let backend = Backend::for_size(t.n + m);
     let stub = Bodies::Stub("reduced_lagrangian");
-    let mut out = constrained_table(t, m, &backend, &backend).render(&stub);
-    for side in [Side::Plus, Side::Minus] {
-        out.extend(reduced_constrained_table(t, side, m, &backend, &backend).render(&stub));
+    let mut out = constraints_table(t, m).render(&stub);
+    for form in Form::ALL {
+        out.extend(constrained_table(t, form, m, &backend, &backend).render(&stub));
     }
     out
 }
@@ -207,31 +232,6 @@ pub fn emit(t: &Target, c: &Compiled, code: &ConstrainedCode) -> TokenStream {
     let z = n + m;
     let na = &t.na;
     let param = |i: usize| t.param_leaf(i);
-    // Unreduced.
-    let pos_leaf = |sym: Sym| match sym {
-        Sym::Q0(i) => quote!(q_k[#i]),
-        Sym::Q1(i) => quote!(z[#i]),
-        Sym::Lambda(j) => {
-            let j = n + j;
-            quote!(z[#j])
-        }
-        Sym::P(i) => quote!(p_k[#i]),
-        Sym::Param(i) => param(i),
-        other => unreachable!("the constrained step reads q_k, p_k and z, not {other:?}"),
-    };
-    let proj_leaf = |sym: Sym| match sym {
-        Sym::Q0(i) => quote!(q1[#i]),
-        Sym::Q1(i) => quote!(y[#i]),
-        Sym::Lambda(j) => {
-            let j = n + j;
-            quote!(y[#j])
-        }
-        Sym::P(i) => quote!(p1[#i]),
-        Sym::Param(i) => param(i),
-        other => unreachable!("the projection reads q1, p1 and y, not {other:?}"),
-    };
-    let pos = stepper_fns(g, &code.position, &pos_leaf, z, n);
-    let proj = stepper_fns(g, &code.projection, &proj_leaf, z, n);
     let phi = straight_line(g, &code.phi, &|sym| match sym {
         Sym::Q0(i) => quote!(q[#i]),
         Sym::Param(i) => param(i),
@@ -244,93 +244,43 @@ pub fn emit(t: &Target, c: &Compiled, code: &ConstrainedCode) -> TokenStream {
     } else {
         quote! { #na::SVector::<f64, #m>::zeros() }
     };
-    let mut out = constrained_table(t, m, &pos.backend, &proj.backend).render(&Bodies::Real(
-        HashMap::from([
-            ("HOLONOMIC", quote!(#holonomic)),
-            ("position_solver", pos.solver_new.clone()),
-            ("projection_solver", proj.solver_new.clone()),
-            ("constraint", constraint_body),
-            ("constrained_residual", pos.residual.clone()),
-            (
-                "constrained_residual_jacobian",
-                pos.residual_jacobian.clone(),
-            ),
-            ("constrained_momentum", pos.momentum.clone()),
-            ("projection_residual", proj.residual.clone()),
-            (
-                "projection_residual_jacobian",
-                proj.residual_jacobian.clone(),
-            ),
-            ("projected_momentum", proj.momentum.clone()),
-        ]),
-    ));
-    // Reduced, each side.
-    for (side, (position, projection)) in [(Side::Plus, &code.plus), (Side::Minus, &code.minus)] {
-        let pos_leaf = |sym: Sym| match sym {
-            Sym::X0(i) => quote!(x_k[#i]),
-            Sym::X1(i) => quote!(z[#i]),
-            Sym::G1(j) | Sym::G0(j) => {
-                let j = s + j;
-                quote!(z[#j])
-            }
-            Sym::Lambda(j) => {
-                let j = n + j;
-                quote!(z[#j])
-            }
-            Sym::W(i) => quote!(w_k[#i]),
-            Sym::Mu(j) => quote!(mu_k[#j]),
-            Sym::Param(i) => param(i),
-            other => unreachable!(
-                "the reduced constrained step reads x_k, w_k, μ_k and z, not {other:?}"
-            ),
-        };
-        let proj_leaf = |sym: Sym| match sym {
-            Sym::Q0(i) => quote!(x1[#i]),
-            Sym::Q1(i) => quote!(y[#i]),
-            Sym::Lambda(j) => {
-                let j = n + j;
-                quote!(y[#j])
-            }
-            Sym::W(i) => quote!(w1[#i]),
-            Sym::Mu(j) => quote!(mu1[#j]),
-            Sym::Param(i) => param(i),
-            other => unreachable!("the reduced projection reads x1, w1, μ1 and y, not {other:?}"),
-        };
-        let pos = stepper_fns(g, position, &pos_leaf, z, s);
+    let mut out = constraints_table(t, m).render(&Bodies::Real(HashMap::from([
+        ("HOLONOMIC", quote!(#holonomic)),
+        ("constraint", constraint_body),
+    ])));
+    let steps = [
+        (&code.position, &code.projection),
+        (&code.plus.0, &code.plus.1),
+        (&code.minus.0, &code.minus.1),
+    ];
+    for (form, (position, projection)) in Form::ALL.into_iter().zip(steps) {
+        let pos_leaf = |sym: Sym| form.leaf(sym, (&quote!(state), &quote!(z)), (s, n), &param);
+        let proj_leaf = |sym: Sym| form.leaf(sym, (&quote!(shake), &quote!(y)), (s, n), &param);
+        let pos = stepper_fns(g, position, &pos_leaf, z, form.momentum_dim(t));
         let proj = stepper_fns(g, projection, &proj_leaf, z, n);
-        let mut bodies = HashMap::new();
+        let mut bodies = HashMap::from([
+            ("position_solver", pos.solver_new),
+            ("projection_solver", proj.solver_new),
+            ("constrained_residual", pos.residual),
+            ("constrained_residual_jacobian", pos.residual_jacobian),
+            ("constrained_momentum", pos.momentum),
+            ("projection_residual", proj.residual),
+            ("projection_residual_jacobian", proj.residual_jacobian),
+            ("projected_momentum", proj.momentum),
+        ]);
         if !position.impulse.is_empty() {
             let code = straight_line(g, &position.impulse, &pos_leaf);
             let (stmts, out) = (&code.stmts, &code.outputs);
             let k = t.k;
             bodies.insert("CONSTRAINED_GROUP_FORCED", quote!(true));
             bodies.insert(
-                "reduced_constrained_impulse",
+                "constrained_impulse",
                 quote! { #stmts #na::SVector::<f64, #k>::from_column_slice(&[ #( #out ),* ]) },
             );
         }
         out.extend(
-            reduced_constrained_table(t, side, m, &pos.backend, &proj.backend).render(
-                &Bodies::Real({
-                    bodies.extend(HashMap::from([
-                        ("reduced_position_solver", pos.solver_new.clone()),
-                        ("reduced_projection_solver", proj.solver_new.clone()),
-                        ("reduced_constrained_residual", pos.residual.clone()),
-                        (
-                            "reduced_constrained_residual_jacobian",
-                            pos.residual_jacobian.clone(),
-                        ),
-                        ("reduced_constrained_momentum", pos.momentum.clone()),
-                        ("reduced_projection_residual", proj.residual.clone()),
-                        (
-                            "reduced_projection_residual_jacobian",
-                            proj.residual_jacobian.clone(),
-                        ),
-                        ("reduced_projected_momentum", proj.momentum.clone()),
-                    ]));
-                    bodies
-                }),
-            ),
+            constrained_table(t, form, m, &pos.backend, &proj.backend)
+                .render(&Bodies::Real(bodies)),
         );
     }
     out

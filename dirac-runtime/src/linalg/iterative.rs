@@ -13,7 +13,7 @@
 
 use nalgebra::DVector;
 
-use super::{hager_inverse_norm1_in, reciprocal_condition, FactorError, LinearSolver};
+use super::{column_norm1, FactorError, HagerCache, LinearSolver};
 
 /// The relative residual `‖b − A x‖₂ ≤ tol ‖b‖₂` a solve stops at: below the Newton iteration's
 /// own round-off, so a correction is as good as a direct solve's.
@@ -35,11 +35,10 @@ pub struct Pcg {
     inverse_diagonal: Vec<f64>,
     /// `r`, `z`, `p`, `Ap`.
     work: [Vec<f64>; 4],
-    /// Hager's three vectors.
-    hager: [Vec<f64>; 3],
+    /// Hager's estimate of the stored matrix, once computed.
+    hager: HagerCache,
     norm1: f64,
     factored: bool,
-    rcond_cache: Option<f64>,
     /// Iterations of the last solve, and whether it converged.
     last: (usize, bool),
 }
@@ -65,10 +64,9 @@ impl Pcg {
             values: vec![0.0; row_idx.len()],
             inverse_diagonal: vec![0.0; n],
             work: [vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]],
-            hager: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
+            hager: HagerCache::new(n),
             norm1: 0.0,
             factored: false,
-            rcond_cache: None,
             last: (0, true),
         })
     }
@@ -149,19 +147,9 @@ impl LinearSolver for Pcg {
     /// or has a zero on its diagonal.
     fn factor(&mut self, j: &Vec<f64>) -> Result<(), FactorError> {
         self.factored = false;
-        self.rcond_cache = None;
-        let mut norm1 = 0.0f64;
+        self.hager.clear();
+        let norm1 = column_norm1(&self.col_ptr, j)?;
         let mut largest = 0.0f64;
-        for c in 0..self.n {
-            let sum: f64 = j[self.col_ptr[c]..self.col_ptr[c + 1]]
-                .iter()
-                .map(|v| v.abs())
-                .sum();
-            if !sum.is_finite() {
-                return Err(FactorError::NonFinite);
-            }
-            norm1 = norm1.max(sum);
-        }
         for (p, &t) in self.transpose.iter().enumerate() {
             largest = largest.max((j[p] - j[t]).abs());
         }
@@ -194,29 +182,8 @@ impl LinearSolver for Pcg {
         self.solve_slice(b.as_mut_slice());
     }
 
-    fn norm1(&self) -> f64 {
-        self.norm1
-    }
-
-    /// None cheaper than Hager's estimate: 0 (or the cached estimate).
-    fn rcond_lower_bound(&mut self) -> f64 {
-        self.rcond_cache.unwrap_or(0.0)
-    }
-
-    fn rcond(&mut self) -> f64 {
-        if !self.factored {
-            return 0.0;
-        }
-        if let Some(r) = self.rcond_cache {
-            return r;
-        }
-        let [mut x, mut y, mut z] = std::mem::take(&mut self.hager);
-        let estimate = hager_inverse_norm1_in(&mut x, &mut y, &mut z, |v, _| self.solve_slice(v));
-        self.hager = [x, y, z];
-        let r = reciprocal_condition(self.norm1, estimate);
-        self.rcond_cache = Some(r);
-        r
-    }
+    // `A` is symmetric: a transposed solve is a solve.
+    hager_conditioning!(|pcg: &mut Self, x: &mut [f64], _| pcg.solve_slice(x));
 
     /// Yes once a matrix is stored (chord iterations: a solve costs the same either way, and
     /// the assembly of a fresh Jacobian is saved).

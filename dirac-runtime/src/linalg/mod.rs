@@ -9,6 +9,30 @@
 //! its own copy of [`DENSE_MAX`], and `tests/large_systems.rs` fails if the two part (it checks
 //! the backend emitted at `N = DENSE_MAX` and `N = DENSE_MAX + 1` against this constant).
 
+/// The conditioning methods of a heap-backed [`LinearSolver`] whose only check is Hager's
+/// estimate (none cheaper is readable from its factors), written once for the backends that
+/// share them: [`LinearSolver::rcond_lower_bound`] is the estimate once made (0 before, so the
+/// step is checked with [`LinearSolver::rcond`]), and [`LinearSolver::rcond`] makes it, once per
+/// factorization ([`HagerCache`]). The backend has the fields `hager: HagerCache`,
+/// `factored: bool` and `norm1: f64`; `$solve(backend, x, transpose)` overwrites `x` with
+/// `A⁻¹ x` (`A⁻ᵀ x`).
+macro_rules! hager_conditioning {
+    ($solve:expr) => {
+        fn norm1(&self) -> f64 {
+            self.norm1
+        }
+
+        fn rcond_lower_bound(&mut self) -> f64 {
+            self.hager.cached().unwrap_or(0.0)
+        }
+
+        fn rcond(&mut self) -> f64 {
+            let norm1 = self.factored.then_some(self.norm1);
+            HagerCache::rcond(self, |solver| &mut solver.hager, norm1, $solve)
+        }
+    };
+}
+
 pub mod dense;
 pub mod iterative;
 pub mod sparse;
@@ -194,4 +218,78 @@ pub(crate) fn hager_inverse_norm1_in(
         x[j] = 1.0;
     }
     estimate
+}
+
+/// Hager's estimate of `1 / κ₁(A)` for a heap-backed solver ([`hager_inverse_norm1_in`] over
+/// [`reciprocal_condition`]), made at most once per factorization — chord iterations check the
+/// same factors at every step — in scratch allocated once with the solver.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct HagerCache {
+    /// The estimator's three vectors of length `n`.
+    scratch: [Vec<f64>; 3],
+    /// The estimate for the current factors, once made.
+    rcond: Option<f64>,
+}
+
+impl HagerCache {
+    /// The cache of an `n × n` solver, empty.
+    pub(crate) fn new(n: usize) -> Self {
+        Self {
+            scratch: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
+            rcond: None,
+        }
+    }
+
+    /// Forgets the estimate: the factors changed.
+    pub(crate) fn clear(&mut self) {
+        self.rcond = None;
+    }
+
+    /// The estimate for the current factors, if made.
+    pub(crate) fn cached(&self) -> Option<f64> {
+        self.rcond
+    }
+
+    /// The estimate for the factors `solver` holds: 0 when `norm1` is `None` (no factorization
+    /// succeeded), else the cached one, or the one made now and cached. `cache` finds `solver`'s
+    /// own cache; `solve(solver, x, transpose)` overwrites `x` with `A⁻¹ x` (`A⁻ᵀ x`).
+    pub(crate) fn rcond<T>(
+        solver: &mut T,
+        cache: impl Fn(&mut T) -> &mut Self,
+        norm1: Option<f64>,
+        mut solve: impl FnMut(&mut T, &mut [f64], bool),
+    ) -> f64 {
+        let Some(norm1) = norm1 else {
+            return 0.0;
+        };
+        let own = cache(solver);
+        if let Some(rcond) = own.rcond {
+            return rcond;
+        }
+        let mut scratch = std::mem::take(&mut own.scratch);
+        let [x, y, z] = &mut scratch;
+        let estimate = hager_inverse_norm1_in(x, y, z, |v, transpose| solve(solver, v, transpose));
+        let rcond = reciprocal_condition(norm1, estimate);
+        let own = cache(solver);
+        own.scratch = scratch;
+        own.rcond = Some(rcond);
+        rcond
+    }
+}
+
+/// `‖A‖₁` of the CSC values `values` with column starts `col_ptr`, and a finiteness test of every
+/// entry (a column sum is finite iff its terms are).
+pub(crate) fn column_norm1(col_ptr: &[usize], values: &[f64]) -> Result<f64, FactorError> {
+    let mut norm1 = 0.0f64;
+    for c in 0..col_ptr.len() - 1 {
+        let sum: f64 = values[col_ptr[c]..col_ptr[c + 1]]
+            .iter()
+            .map(|v| v.abs())
+            .sum();
+        if !sum.is_finite() {
+            return Err(FactorError::NonFinite);
+        }
+        norm1 = norm1.max(sum);
+    }
+    Ok(norm1)
 }

@@ -34,7 +34,7 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRe
 use faer::{Conj, MatMut, Par};
 use nalgebra::SVector;
 
-use super::{hager_inverse_norm1_in, reciprocal_condition, FactorError, LinearSolver};
+use super::{column_norm1, reciprocal_condition, FactorError, HagerCache, LinearSolver};
 
 /// The structurally nonzero entries of an `n × n` step Jacobian, in compressed sparse columns:
 /// the entries of column `j` are rows `row_idx[col_ptr[j]..col_ptr[j + 1]]`, increasing.
@@ -99,23 +99,6 @@ impl<const NNZ: usize> CscValues<NNZ> {
     }
 }
 
-/// `‖A‖₁` of the CSC values `values` with column starts `col_ptr`, and a finiteness test of every
-/// entry (a column sum is finite iff its terms are).
-fn column_norm1(col_ptr: &[usize], values: &[f64]) -> Result<f64, FactorError> {
-    let mut norm1 = 0.0f64;
-    for c in 0..col_ptr.len() - 1 {
-        let sum: f64 = values[col_ptr[c]..col_ptr[c + 1]]
-            .iter()
-            .map(|v| v.abs())
-            .sum();
-        if !sum.is_finite() {
-            return Err(FactorError::NonFinite);
-        }
-        norm1 = norm1.max(sum);
-    }
-    Ok(norm1)
-}
-
 /// Sparse LU with partial pivoting (faer's simplicial LU) on a pattern known at run time: the
 /// numeric core of [`SparseLu`] (the compile-time pattern of a fixed-size system) and of
 /// [`DynSparseLu`] (the pattern a run-time-sized system assembles from its element stencils).
@@ -135,13 +118,15 @@ struct Factors {
     lu: SimplicialLu<usize, f64>,
     /// Scratch of the numeric factorization and of the solves.
     scratch: MemBuffer,
-    /// Three vectors of length `n`: the conditioning bound's and Hager's estimator's.
-    work: [Vec<f64>; 3],
+    /// The conditioning bound's vector of length `n`.
+    work: Vec<f64>,
     norm1: f64,
     factored: bool,
-    /// The conditioning bound and Hager's estimate of the current factors, once computed: chord
-    /// iterations check the same factors at every step.
-    rcond_cache: (Option<f64>, Option<f64>),
+    /// The conditioning bound of the current factors, once computed: chord iterations check the
+    /// same factors at every step.
+    bound_cache: Option<f64>,
+    /// Hager's estimate of the current factors, likewise.
+    hager: HagerCache,
 }
 
 impl Factors {
@@ -165,16 +150,18 @@ impl Factors {
             row_perm_inv: vec![0; n],
             lu: SimplicialLu::new(),
             scratch: MemBuffer::new(req),
-            work: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
+            work: vec![0.0; n],
             norm1: 0.0,
             factored: false,
-            rcond_cache: (None, None),
+            bound_cache: None,
+            hager: HagerCache::new(n),
         }
     }
 
     fn factor(&mut self, values: &[f64]) -> Result<(), FactorError> {
         self.factored = false;
-        self.rcond_cache = (None, None);
+        self.bound_cache = None;
+        self.hager.clear();
         self.norm1 = column_norm1(self.pattern.col_ptr(), values)?;
         let a = SparseColMatRef::new(self.pattern.as_ref(), values);
         let stack = MemStack::new(&mut self.scratch);
@@ -228,7 +215,7 @@ impl Factors {
     /// of `L` holds its unit diagonal and the rows below it.
     fn inverse_norm1_bound(&mut self) -> f64 {
         let (u, l) = (self.lu.u_factor_unsorted(), self.lu.l_factor_unsorted());
-        let y = &mut self.work[0];
+        let y = &mut self.work;
         y.fill(0.0);
         // M(U)ᵀ y = e, forward: column j of U gives row j of Uᵀ.
         let mut u_max = 0.0f64;
@@ -265,30 +252,17 @@ impl Factors {
         if !self.factored {
             return 0.0;
         }
-        if let Some(bound) = self.rcond_cache.0 {
+        if let Some(bound) = self.bound_cache {
             return bound;
         }
         let bound = reciprocal_condition(self.norm1, self.inverse_norm1_bound());
-        self.rcond_cache.0 = Some(bound);
+        self.bound_cache = Some(bound);
         bound
     }
 
     fn rcond(&mut self) -> f64 {
-        if !self.factored {
-            return 0.0;
-        }
-        if let Some(rcond) = self.rcond_cache.1 {
-            return rcond;
-        }
-        let mut work = std::mem::take(&mut self.work);
-        let [x, y, z] = &mut work;
-        let estimate = hager_inverse_norm1_in(x, y, z, |v, transpose| {
-            self.solve_in_place(v, transpose);
-        });
-        self.work = work;
-        let rcond = reciprocal_condition(self.norm1, estimate);
-        self.rcond_cache.1 = Some(rcond);
-        rcond
+        let norm1 = self.factored.then_some(self.norm1);
+        HagerCache::rcond(self, |f| &mut f.hager, norm1, Self::solve_in_place)
     }
 }
 
@@ -407,11 +381,10 @@ pub struct DynSparseLu {
     symbolic: SymbolicLu<usize>,
     numeric: NumericLu<usize, f64>,
     scratch: MemBuffer,
-    /// Hager's three vectors.
-    hager: [Vec<f64>; 3],
+    /// Hager's estimate of the current factors, once computed.
+    hager: HagerCache,
     norm1: f64,
     factored: bool,
-    rcond_cache: Option<f64>,
 }
 
 impl std::fmt::Debug for DynSparseLu {
@@ -446,10 +419,9 @@ impl DynSparseLu {
             symbolic,
             numeric: NumericLu::new(),
             scratch: MemBuffer::new(req),
-            hager: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
+            hager: HagerCache::new(n),
             norm1: 0.0,
             factored: false,
-            rcond_cache: None,
         }
     }
 
@@ -495,7 +467,7 @@ impl LinearSolver for DynSparseLu {
 
     fn factor(&mut self, j: &Vec<f64>) -> Result<(), FactorError> {
         self.factored = false;
-        self.rcond_cache = None;
+        self.hager.clear();
         self.norm1 = column_norm1(&self.col_ptr, j)?;
         let pattern = SymbolicSparseColMatRef::new_checked(
             self.n,
@@ -523,32 +495,9 @@ impl LinearSolver for DynSparseLu {
         self.solve_slice(b.as_mut_slice(), false);
     }
 
-    fn norm1(&self) -> f64 {
-        self.norm1
-    }
-
-    /// None readable from faer's general factors: 0 (or the cached estimate), so the step is
-    /// checked with [`Self::rcond`], once per factorization.
-    fn rcond_lower_bound(&mut self) -> f64 {
-        self.rcond_cache.unwrap_or(0.0)
-    }
-
-    fn rcond(&mut self) -> f64 {
-        if !self.factored {
-            return 0.0;
-        }
-        if let Some(r) = self.rcond_cache {
-            return r;
-        }
-        let [mut x, mut y, mut z] = std::mem::take(&mut self.hager);
-        let estimate = hager_inverse_norm1_in(&mut x, &mut y, &mut z, |v, transpose| {
-            self.solve_slice(v, transpose)
-        });
-        self.hager = [x, y, z];
-        let r = reciprocal_condition(self.norm1, estimate);
-        self.rcond_cache = Some(r);
-        r
-    }
+    // No bound is readable from faer's general factors: the step is checked with Hager's
+    // estimate, once per factorization.
+    hager_conditioning!(Self::solve_slice);
 
     /// Yes once a factorization succeeded (chord iterations, as [`SparseLu`]).
     fn has_reusable_factors(&self) -> bool {

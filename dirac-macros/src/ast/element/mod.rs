@@ -27,6 +27,10 @@ use syn::{Expr, Ident, ItemFn, Token};
 use crate::ast::rule::{Rule, RULES};
 use crate::ast::signature::{parse_signature, Signature};
 use crate::ctxt::Ctxt;
+use crate::symbol::{
+    self, KeyArg, CONNECTION, CONSTRAINTS, CONTROLS, COORDINATES, FORCE, GROUP, NAME, NONHOLONOMIC,
+    RANGES, RULE, SHAPE, STEP, TRANSLATE,
+};
 
 /// What the attribute of an element-wise system accepts, for messages.
 pub const ELEMENT_KEYS: &str = "`coordinates(x[n], u[nx][ny], c, ...)` (lengths are sizes — the \
@@ -74,50 +78,22 @@ fn is_usize(ty: &syn::Type) -> bool {
 }
 
 /// One `key(...)` or `key = value` of the attribute.
-struct Item {
-    key: Ident,
-    list: Option<Punctuated<Expr, Token![,]>>,
-    value: Option<Expr>,
-}
+type Item = KeyArg<Punctuated<Expr, Token![,]>, Expr>;
 
 impl Parse for Item {
     fn parse(input: ParseStream) -> syn::Result<Self> {
-        let key: Ident = input.parse()?;
-        if input.peek(syn::token::Paren) {
-            let content;
-            syn::parenthesized!(content in input);
-            let list = Punctuated::parse_terminated(&content)?;
-            return Ok(Item {
-                key,
-                list: Some(list),
-                value: None,
-            });
-        }
-        if input.peek(Token![=]) {
-            input.parse::<Token![=]>()?;
-            let value: Expr = input.parse()?;
-            return Ok(Item {
-                key,
-                list: None,
-                value: Some(value),
-            });
-        }
-        Err(syn::Error::new(
-            key.span(),
-            format!("expected `{key}(...)` or `{key} = ...`; accepted: {ELEMENT_KEYS}"),
-        ))
+        KeyArg::parse_with(
+            input,
+            |_, content| Punctuated::parse_terminated(content),
+            |_, input| input.parse(),
+            |key| symbol::list_or_value(key, ELEMENT_KEYS),
+        )
     }
 }
 
 /// The attribute and signature; `None` after errors (recorded).
 pub fn parse(cx: &Ctxt, args: proc_macro2::TokenStream, func: &ItemFn) -> Option<ElementSpec> {
-    let items = match Punctuated::<Item, Token![,]>::parse_terminated.parse2(args) {
-        Ok(items) => items,
-        Err(e) => {
-            cx.syn_error(e);
-            return None;
-        }
-    };
+    let items = symbol::parse_args::<Item>(cx, args)?;
     // The sizes, and the signature without them.
     let mut sizes = Vec::new();
     let mut fixed_sig = func.sig.clone();
@@ -141,52 +117,57 @@ pub fn parse(cx: &Ctxt, args: proc_macro2::TokenStream, func: &ItemFn) -> Option
         (Vec::new(), Vec::new(), None, None, None);
     let (mut rule_key, mut translate_names) = (None, Vec::new());
     for item in &items {
-        let key = item.key.to_string();
-        match (key.as_str(), &item.list, &item.value) {
-            ("coordinates", Some(list), _) => {
+        let key = item.key().to_string();
+        match (symbol::key(item.key()), item) {
+            (Some(COORDINATES), KeyArg::List(_, list)) => {
                 for e in list {
                     if let Some(c) = coordinate(cx, e, &sizes) {
                         coords.push(c);
                     }
                 }
             }
-            ("translate", Some(list), _) => translate_names.push((item.key.clone(), list)),
-            ("rule", _, Some(Expr::Path(p))) if p.path.get_ident().is_some() => {
+            (Some(TRANSLATE), KeyArg::List(_, list)) => translate_names.push(list),
+            (Some(RULE), KeyArg::Value(k, Expr::Path(p))) if p.path.get_ident().is_some() => {
                 let id = p.path.get_ident().expect("checked");
                 match Rule::from_ident(id) {
                     Some(r) => {
                         rule = Some(r);
-                        rule_key = Some((item.key.clone(), r));
+                        rule_key = Some((k.clone(), r));
                     }
                     None => cx.error_spanned_by(id, format!("unknown rule `{id}`; accepted: {RULES}")),
                 }
             }
-            ("name", _, Some(Expr::Path(p))) if p.path.get_ident().is_some() => {
+            (Some(NAME), KeyArg::Value(_, Expr::Path(p))) if p.path.get_ident().is_some() => {
                 name = p.path.get_ident().cloned();
             }
-            ("step", _, Some(Expr::Path(p))) if p.path.get_ident().is_some() => {
+            (Some(STEP), KeyArg::Value(_, Expr::Path(p))) if p.path.get_ident().is_some() => {
                 step = p.path.get_ident().cloned();
             }
-            ("shape" | "group" | "connection" | "ranges" | "controls" | "force" | "constraints"
-            | "nonholonomic", _, _) => cx.error_spanned_by(
-                &item.key,
+            (
+                Some(
+                    SHAPE | GROUP | CONNECTION | RANGES | CONTROLS | FORCE | CONSTRAINTS
+                    | NONHOLONOMIC,
+                ),
+                _,
+            ) => cx.error_spanned_by(
+                item.key(),
                 format!(
                     "`{key}` is not available for systems with run-time sizes (a `usize` argument); accepted: {ELEMENT_KEYS}"
                 ),
             ),
             _ => cx.error_spanned_by(
-                &item.key,
+                item.key(),
                 format!("unexpected `{key}` here; accepted: {ELEMENT_KEYS}"),
             ),
         }
     }
-    if coords.is_empty() && !items.iter().any(|i| i.key == "coordinates") {
+    if coords.is_empty() && !items.iter().any(|i| i.key() == COORDINATES) {
         cx.error_at(
             Span::call_site(),
             format!("a system with run-time sizes declares its coordinates: {ELEMENT_KEYS}"),
         );
     }
-    for (_, list) in translate_names {
+    for list in translate_names {
         let mut members = Vec::new();
         for e in list {
             let found = match e {
@@ -238,8 +219,6 @@ pub fn parse(cx: &Ctxt, args: proc_macro2::TokenStream, func: &ItemFn) -> Option
         sig,
     })
 }
-
-use syn::parse::Parser;
 
 /// `x`, `x[n]`, `u[nx][ny]`, `x[3]`.
 fn coordinate(cx: &Ctxt, e: &Expr, sizes: &[Ident]) -> Option<ElementCoord> {
