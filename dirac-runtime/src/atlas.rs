@@ -389,7 +389,9 @@ impl<'a, const S: usize, const K: usize, const N: usize> AtlasIntegrator<'a, S, 
     }
 
     /// The chart to move to from `chart` at `state`, with the state there, if one is better
-    /// (trial steps of the conditioning fallback run in the charts' workspaces).
+    /// (trial steps of the conditioning fallback run in the charts' workspaces, step `k` of size
+    /// `h` with the controls `u`).
+    #[allow(clippy::too_many_arguments)]
     fn better_chart(
         &self,
         workspaces: &mut [Box<dyn Any>],
