@@ -72,7 +72,7 @@ fn given_values_parse() {
 
 #[test]
 fn bad_arguments_are_errors_with_a_message() {
-    let usage = "usage: demo [--n N1,N2,..] [--steps S] [--h H] [--fast] [--mode NAME] [--extra X]";
+    let usage = "usage: demo [--n N1,N2,..] [--steps S] [--h H] [--fast] [--mode a|b] [--extra X]";
     let cases: [(&[&str], &str); 13] = [
         (&["--bogus"], "unknown flag `--bogus`"),
         (&["--bogus", "3"], "unknown flag `--bogus`"),
