@@ -28,8 +28,14 @@
 //! The correctness of every baseline against the generated code at these inputs is
 //! `tests/bench_oracles.rs`.
 
+#[path = "common/cli.rs"]
+mod cli;
 #[path = "../benches/common/mod.rs"]
 mod common;
+use cli::{at_least, greater_than, Check, Cli};
+#[path = "common/stats.rs"]
+mod stats;
+use stats::{median, range};
 
 use std::error::Error;
 use std::hint::black_box;
@@ -60,39 +66,55 @@ struct Args {
     casadi_step_ns: Option<f64>,
 }
 
-const USAGE: &str = "usage: bench_table [--batches B] [--batch-ms T] [--casadi] \
-                     [--casadi-repeats R] [--casadi-eval-ns N --casadi-step-ns M]";
-
 impl Args {
-    fn parse() -> Result<Self, Box<dyn Error>> {
-        let mut args = Self {
-            batches: 21,
-            batch: Duration::from_millis(20),
-            casadi: false,
-            casadi_repeats: 5,
-            casadi_eval_ns: None,
-            casadi_step_ns: None,
+    /// The command line: `--help` lists it; a bad value stops the example with exit code 2.
+    fn parse() -> Self {
+        let mut cli = Cli::new(
+            "bench_table",
+            "every stepper benchmark of the paper's two systems in one process, one table",
+        );
+        let args = Self {
+            batches: cli.value("--batches", "B", "timed batches per row", 21, at_least(1)),
+            batch: Duration::from_secs_f64(
+                cli.value(
+                    "--batch-ms",
+                    "T",
+                    "milliseconds per batch",
+                    20.0,
+                    Check::new("a number of milliseconds > 0 and ≤ 60000", |&ms| {
+                        ms > 0.0 && ms <= 6e4
+                    }),
+                ) / 1e3,
+            ),
+            casadi: cli.switch(
+                "--casadi",
+                "also time CasADi's generated C (benches/casadi.sh, needs casadi)",
+            ),
+            casadi_repeats: cli.value(
+                "--casadi-repeats",
+                "R",
+                "reruns of CasADi's compiled driver, spread between the batches",
+                5,
+                at_least(1),
+            ),
+            casadi_eval_ns: cli.optional(
+                "--casadi-eval-ns",
+                "NS",
+                "CasADi's ns per R+J evaluation, measured elsewhere (with --casadi-step-ns)",
+                greater_than(0.0),
+            ),
+            casadi_step_ns: cli.optional(
+                "--casadi-step-ns",
+                "NS",
+                "CasADi's ns per step, measured elsewhere (with --casadi-eval-ns)",
+                greater_than(0.0),
+            ),
         };
-        let mut it = std::env::args().skip(1);
-        while let Some(arg) = it.next() {
-            let mut value = |name: &str| -> Result<f64, Box<dyn Error>> {
-                let v = it.next().ok_or(format!("{name} needs a value; {USAGE}"))?;
-                Ok(v.parse::<f64>()
-                    .map_err(|e| format!("{name} {v}: {e}; {USAGE}"))?)
-            };
-            match arg.as_str() {
-                "--batches" => args.batches = (value("--batches")? as usize).max(1),
-                "--batch-ms" => args.batch = Duration::from_secs_f64(value("--batch-ms")? / 1e3),
-                "--casadi" => args.casadi = true,
-                "--casadi-repeats" => {
-                    args.casadi_repeats = (value("--casadi-repeats")? as usize).max(1)
-                }
-                "--casadi-eval-ns" => args.casadi_eval_ns = Some(value("--casadi-eval-ns")?),
-                "--casadi-step-ns" => args.casadi_step_ns = Some(value("--casadi-step-ns")?),
-                other => return Err(format!("unknown argument `{other}`; {USAGE}").into()),
-            }
+        if args.casadi_eval_ns.is_some() != args.casadi_step_ns.is_some() {
+            cli.reject("give both --casadi-eval-ns and --casadi-step-ns, or neither");
         }
-        Ok(args)
+        cli.finish();
+        args
     }
 }
 
@@ -210,13 +232,13 @@ impl Casadi {
 
     /// Median, min and max ns per evaluation (`eval`) or per step over the driver's runs.
     fn stats(&self, eval: bool) -> (f64, f64, f64) {
-        let mut v = if eval {
+        let v = if eval {
             self.evals.clone()
         } else {
             self.steps.clone()
         };
-        let mid = median(&mut v);
-        (mid, v[0], v[v.len() - 1])
+        let (lo, hi) = range(&v);
+        (median(v), lo, hi)
     }
 
     /// Reruns the compiled driver (20 runs of the paper's 10⁴ steps, as the script does).
@@ -233,16 +255,6 @@ impl Casadi {
 // ---------------------------------------------------------------------------------------------
 // Timing.
 // ---------------------------------------------------------------------------------------------
-
-fn median(v: &mut [f64]) -> f64 {
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
-}
 
 /// One row of the table.
 struct Row<'a> {
@@ -329,7 +341,7 @@ impl<'a> Bench<'a> {
             .rows
             .iter()
             .find(|r| r.system == system && r.quantity == quantity && r.name == name)?;
-        Some(median(&mut row.samples.clone()))
+        Some(median(row.samples.clone()))
     }
 }
 
@@ -714,15 +726,14 @@ fn print_table<L1, L2>(
                 .iter()
                 .filter(|r| r.system == system && r.quantity == quantity)
             {
-                let mut s = row.samples.clone();
-                let mid = median(&mut s);
+                let (lo, hi) = range(&row.samples);
                 print([
                     row.system,
                     row.quantity,
                     row.name,
-                    &ns(mid),
-                    &ns(s[0]),
-                    &ns(s[s.len() - 1]),
+                    &ns(median(row.samples.clone())),
+                    &ns(lo),
+                    &ns(hi),
                     &it(row.iterations),
                 ]);
             }
@@ -866,7 +877,7 @@ fn print_pieces(bench: &Bench<'_>) {
     }
 }
 
-/// The targets of issue 9, each as measured in this run (ratios of medians), met or not.
+/// The speed targets, each as measured in this run (ratios of medians), met or not.
 fn print_targets(bench: &Bench<'_>, casadi: &[Casadi]) {
     let m = |system: &str, quantity: &str, name: &str| bench.median(system, quantity, name);
     let iterations = |system: &str, name: &str| {
@@ -888,7 +899,7 @@ fn print_targets(bench: &Bench<'_>, casadi: &[Casadi]) {
     };
     let ratio = |a: Option<f64>, b: Option<f64>| a.zip(b).map(|(a, b)| a / b);
     println!();
-    println!("targets (issue 9), ratios of medians in this run");
+    println!("speed targets, ratios of medians in this run");
     for c in casadi {
         line(
             format!("DSP step, CasADi protocol: dirac / {}", c.label),
@@ -925,7 +936,7 @@ fn print_targets(bench: &Bench<'_>, casadi: &[Casadi]) {
 }
 
 fn main() -> Result<(), Box<dyn Error>> {
-    let args = Args::parse()?;
+    let args = Args::parse();
     if cfg!(debug_assertions) {
         eprintln!("warning: a debug build; run with --release for meaningful numbers");
     }
@@ -938,12 +949,8 @@ fn main() -> Result<(), Box<dyn Error>> {
         casadi.push(Casadi::build("CasADi C, gcc -O3", &[])?);
         casadi.push(Casadi::build("CasADi C (cse), gcc -O3", &["--cse"])?);
     }
-    match (args.casadi_eval_ns, args.casadi_step_ns) {
-        (Some(eval_ns), Some(step_ns)) => casadi.push(Casadi::given(eval_ns, step_ns)),
-        (None, None) => {}
-        _ => {
-            return Err(format!("give both --casadi-eval-ns and --casadi-step-ns; {USAGE}").into())
-        }
+    if let (Some(eval_ns), Some(step_ns)) = (args.casadi_eval_ns, args.casadi_step_ns) {
+        casadi.push(Casadi::given(eval_ns, step_ns));
     }
 
     let cp = workload::charged_particle();

@@ -1,4 +1,4 @@
-//! The paper's double spherical pendulum in Cartesian coordinates (issue 20): the two bobs in
+//! The paper's double spherical pendulum in Cartesian coordinates: the two bobs in
 //! R³ and two length constraints, with no singular chart anywhere.
 //!
 //! 1. From the paper's initial state (§7.2), the bob positions at `T` against the atlas run of
@@ -20,6 +20,10 @@ use dirac::paper::atlas::PAPER;
 use dirac::paper::DoubleSphericalPendulum;
 use dirac::prelude::*;
 
+#[path = "common/cli.rs"]
+mod cli;
+use cli::{at_least, Cli};
+
 #[path = "common/cartesian_dsp.rs"]
 mod cartesian;
 use cartesian::{cartesian_initial, sys_residual};
@@ -38,21 +42,24 @@ fn spring_dsp(q: Config, v: Velocity, m1: f64, m2: f64, l1: f64, l2: f64, g: f64
         - 0.5 * k * (d1 * d1 + d2 * d2)
 }
 
-fn arg(name: &str, default: usize) -> usize {
-    let args: Vec<String> = std::env::args().collect();
-    args.iter()
-        .position(|a| a == name)
-        .and_then(|i| args.get(i + 1))
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(default)
-}
-
 /// `L_z = Σ (x p_y − y p_x)`.
 fn angular_momentum(s: &CanonicalState<6>) -> f64 {
     s.q[0] * s.p[1] - s.q[1] * s.p[0] + s.q[3] * s.p[4] - s.q[4] * s.p[3]
 }
 
 fn main() {
+    let mut cli = Cli::new(
+        "cartesian_dsp",
+        "the paper's double spherical pendulum in Cartesian coordinates with two rod constraints",
+    );
+    let steps = cli.value(
+        "--steps",
+        "S",
+        "steps of the long constraint-residual run (h = 0.01)",
+        1_000_000,
+        at_least(1),
+    );
+    cli.finish();
     let t_end: f64 = 100.0;
     println!("Double spherical pendulum in Cartesian coordinates, from the paper's initial state (§7.2):");
     println!("1. Bob 2 at T = {t_end} against the atlas run of the paper's coordinates (§6):");
@@ -91,7 +98,6 @@ fn main() {
         previous = Some(d);
     }
 
-    let steps = arg("--steps", 1_000_000);
     let (sys, c0) = cartesian_initial(0.01);
     let l0 = angular_momentum(&c0);
     // The scale of L_z's terms, |q| |p|: L_z itself is 0 at the paper's state (μ0 = 0).

@@ -1,5 +1,5 @@
 //! An LQR controller for the cart-pole, designed on the discrete linearisation that the step
-//! sensitivities give (issue 19).
+//! sensitivities give.
 //!
 //! The cart position is the group coordinate (the cart-pole is invariant under translating the
 //! cart), the force on the cart a control. The step sensitivity at the upright equilibrium,
@@ -15,10 +15,19 @@
 use dirac::prelude::*;
 use nalgebra::{DMatrix, SMatrix, SVector};
 
+#[path = "common/cli.rs"]
+mod cli;
+
 #[path = "common/cartpole.rs"]
 mod cartpole;
 
 fn main() {
+    // No options: `--help` says so, and any argument stops the example with exit code 2.
+    cli::Cli::new(
+        "cartpole_lqr",
+        "an LQR controller for the cart-pole, designed on the step sensitivities",
+    )
+    .finish();
     let h = 0.01;
     let sys = cartpole::baseline(h);
     let integ = ReducedIntegrator::plus(sys, NewtonOptions::default());

@@ -13,7 +13,11 @@ use std::error::Error;
 use common::charged_particle;
 
 fn main() -> Result<(), Box<dyn Error>> {
-    let out = common::output_dir("charged_particle", "target/dirac-figures/charged_particle")?;
+    let out = common::output_dir(
+        "charged_particle",
+        "the paper's charged particle (§7.1): Table 1 and Figure 1",
+        "target/dirac-figures/charged_particle",
+    );
     charged_particle::print_table_1()?;
     charged_particle::write_figure_1(&out)?;
     println!("\nFigure 1 (N = 100, h = 0.2): {}", out.display());

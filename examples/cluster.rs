@@ -48,11 +48,13 @@ use dirac::runtime::linalg::{DynSparseLu, LinearSolver};
 mod stats;
 use stats::{loglog_slope, median, peak_memory_mib, range};
 
+#[path = "common/cli.rs"]
+mod cli;
+use cli::{at_least, greater_than, Cli};
+
 #[path = "common/cluster.rs"]
 mod cluster;
 use cluster::Cluster;
-
-const USAGE: &str = "usage: cluster [--n N1,N2,..] [--steps S] [--h H] [--repeats R]";
 
 /// Initial lattice spacing, in units of σ.
 const SPACING: f64 = 1.15;
@@ -66,54 +68,36 @@ struct Options {
     repeats: usize,
 }
 
-fn parse_args() -> Result<Options, String> {
-    let mut o = Options {
-        sizes: vec![64, 128, 256],
-        steps: 300,
-        h: 0.002,
-        repeats: 3,
-    };
+/// The command line: `--help` lists it; a bad value stops the example with exit code 2.
+fn parse_args() -> Options {
     let min = <Cluster as ElementLagrangian>::MIN_SIZE.max(2);
-    let mut args = std::env::args().skip(1);
-    while let Some(flag) = args.next() {
-        let value = args
-            .next()
-            .ok_or(format!("{flag} needs a value\n{USAGE}"))?;
-        let bad = |what: &str| format!("{flag}: `{value}` is not {what}\n{USAGE}");
-        match flag.as_str() {
-            "--n" => {
-                let mut sizes: Vec<usize> = value
-                    .split(',')
-                    .map(|s| s.trim().parse::<usize>().ok().filter(|&n| n >= min))
-                    .collect::<Option<_>>()
-                    .ok_or(bad(&format!("a list of sizes ≥ {min}")))?;
-                sizes.sort_unstable();
-                sizes.dedup();
-                o.sizes = sizes;
-            }
-            "--steps" => {
-                o.steps = value.parse().ok().filter(|&s| s >= 10).ok_or(bad(
-                    "an integer ≥ 10 (the drift compares tenths of the run)",
-                ))?
-            }
-            "--h" => {
-                o.h = value
-                    .parse::<f64>()
-                    .ok()
-                    .filter(|x| x.is_finite() && *x > 0.0)
-                    .ok_or(bad("a positive number"))?
-            }
-            "--repeats" => {
-                o.repeats = value
-                    .parse()
-                    .ok()
-                    .filter(|&r| r > 0)
-                    .ok_or(bad("a positive integer"))?
-            }
-            _ => return Err(format!("unknown argument `{flag}`\n{USAGE}")),
-        }
-    }
-    Ok(o)
+    let mut cli = Cli::new(
+        "cluster",
+        "a Lennard-Jones cluster, one build for every number of particles n",
+    );
+    let mut sizes = cli.list(
+        "--n",
+        "N1,N2,..",
+        "cluster sizes",
+        &[64, 128, 256],
+        at_least(min),
+    );
+    sizes.sort_unstable();
+    sizes.dedup();
+    let o = Options {
+        sizes,
+        steps: cli.value(
+            "--steps",
+            "S",
+            "steps per run (the drift compares tenths of the run)",
+            300,
+            at_least(10),
+        ),
+        h: cli.value("--h", "H", "time step", 0.002, greater_than(0.0)),
+        repeats: cli.value("--repeats", "R", "timed runs per size", 3, at_least(1)),
+    };
+    cli.finish();
+    o
 }
 
 /// One row of the table.
@@ -298,10 +282,7 @@ fn measure(n: usize, o: &Options) -> Result<Row, Failure> {
 
 fn main() {
     let wall = Instant::now();
-    let o = parse_args().unwrap_or_else(|m| {
-        eprintln!("{m}");
-        std::process::exit(2)
-    });
+    let o = parse_args();
     println!(
         "Lennard-Jones cluster, one build for every n: {}",
         Cluster::GENERATED

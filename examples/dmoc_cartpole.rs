@@ -33,14 +33,19 @@ use std::time::Instant;
 
 use dirac::nalgebra::DVector;
 
+#[path = "common/cli.rs"]
+mod cli;
+use cli::{at_least, greater_than, Cli};
+#[path = "common/stats.rs"]
+mod stats;
+use stats::median;
+
 #[path = "common/cartpole.rs"]
 mod cartpole;
 #[path = "common/dmoc.rs"]
 mod dmoc;
 
 use dmoc::{multipliers, solve, SqpOptions, Swingup};
-
-const USAGE: &str = "usage: dmoc_cartpole [--N 100] [--T 2] [--repeats 10] [--casadi]";
 
 struct Args {
     n: usize,
@@ -49,29 +54,23 @@ struct Args {
     casadi: bool,
 }
 
-fn parse_args() -> Result<Args, String> {
-    let mut out = Args {
-        n: 100,
-        t: 2.0,
-        repeats: 10,
-        casadi: false,
+/// The command line: `--help` lists it; a bad value stops the example with exit code 2.
+fn parse_args() -> Args {
+    let mut cli = Cli::new(
+        "dmoc_cartpole",
+        "DMOC swing-up of the cart-pole by dirac's SQP, optionally against CasADi + IPOPT",
+    );
+    let args = Args {
+        n: cli.value("--N", "N", "number of time steps", 100, at_least(2)),
+        t: cli.value("--T", "T", "final time", 2.0, greater_than(0.0)),
+        repeats: cli.value("--repeats", "R", "timed solves", 10, at_least(1)),
+        casadi: cli.switch(
+            "--casadi",
+            "also solve the same problem with CasADi + IPOPT (python3)",
+        ),
     };
-    let mut args = std::env::args().skip(1);
-    while let Some(flag) = args.next() {
-        let mut value = || args.next().ok_or(format!("{flag} needs a value\n{USAGE}"));
-        match flag.as_str() {
-            "--N" => out.n = value()?.parse().map_err(|e| format!("--N: {e}"))?,
-            "--T" => out.t = value()?.parse().map_err(|e| format!("--T: {e}"))?,
-            "--repeats" => out.repeats = value()?.parse().map_err(|e| format!("--repeats: {e}"))?,
-            "--casadi" => out.casadi = true,
-            "-h" | "--help" => return Err(USAGE.into()),
-            other => return Err(format!("unknown argument {other}\n{USAGE}")),
-        }
-    }
-    if out.n < 2 || out.t <= 0.0 || out.repeats < 1 {
-        return Err(format!("need N >= 2, T > 0, repeats >= 1\n{USAGE}"));
-    }
-    Ok(out)
+    cli.finish();
+    args
 }
 
 /// The number after `"key":` in a one-line JSON object.
@@ -117,19 +116,8 @@ fn run_casadi(args: &Args) -> Result<Option<String>, String> {
     ))
 }
 
-fn median(v: &[f64]) -> f64 {
-    let mut s = v.to_vec();
-    s.sort_by(f64::total_cmp);
-    let m = s.len() / 2;
-    if s.len() % 2 == 1 {
-        s[m]
-    } else {
-        0.5 * (s[m - 1] + s[m])
-    }
-}
-
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args = parse_args()?;
+    let args = parse_args();
     let problem = Swingup::new(args.n, args.t);
     let (u0, s0) = (vec![0.0; args.n], problem.linear_guess());
     println!(
@@ -152,7 +140,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let grad = DVector::from_column_slice(&sol.u) * (2.0 * problem.h);
     let (lambda, stationarity) = multipliers(&grad, &jac);
     let (med, min) = (
-        median(&times),
+        median(times.clone()),
         times.iter().copied().fold(f64::INFINITY, f64::min),
     );
     println!("  optimal cost J                 {:.15}", sol.cost);

@@ -18,8 +18,9 @@ use dirac::reduced_continuous_energies;
 fn main() -> Result<(), Box<dyn Error>> {
     let out = common::output_dir(
         "double_spherical_pendulum",
+        "the paper's double spherical pendulum (§7.2): summary, Figures 3 and 4",
         "target/dirac-figures/double_spherical_pendulum",
-    )?;
+    );
     let run = dsp::run()?;
     dsp::report(&run);
     dsp::pole_error_path();

@@ -27,8 +27,9 @@ const EVERY: usize = 100;
 fn main() -> Result<(), Box<dyn Error>> {
     let out = common::output_dir(
         "double_spherical_pendulum_atlas",
+        "the double spherical pendulum on its atlas of charts, T = 10⁴ from the paper's state",
         "target/dirac-figures/double_spherical_pendulum_atlas",
-    )?;
+    );
     std::fs::create_dir_all(&out)?;
     let sys = DoubleSphericalPendulum::paper();
     let charts = sys.charts();

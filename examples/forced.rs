@@ -1,4 +1,4 @@
-//! Forces and controls, on two systems with known answers (issue 19):
+//! Forces and controls, on two systems with known answers:
 //!
 //! 1. A damped, driven oscillator `m ẍ + c ẋ + k x = a0 cos ωt`, midpoint rule, the drive a
 //!    control set by a feedback-free law of the step index: the error against the closed-form
@@ -17,7 +17,16 @@ use dirac::prelude::*;
 mod forced;
 use forced::{exact, Oscillator, Turntable};
 
+#[path = "common/cli.rs"]
+mod cli;
+
 fn main() {
+    // No options: `--help` says so, and any argument stops the example with exit code 2.
+    cli::Cli::new(
+        "forced",
+        "forces and controls on a damped, driven oscillator and a driven turntable",
+    )
+    .finish();
     let options = NewtonOptions::default();
     let (m, k, c, a0, omega, x0, t_end) = (1.0, 4.0, 0.3, 0.5, 1.3, 1.0, 10.0);
     println!("1. Damped, driven oscillator m x'' + c x' + k x = a0 cos(w t): m = {m}, k = {k}, c = {c}, a0 = {a0}, w = {omega}, x(0) = {x0}, T = {t_end}");

@@ -1,4 +1,4 @@
-//! What forces and sensitivities cost (issue 19's targets), measured in one run with interleaved
+//! What forces and sensitivities cost, against their targets, measured in one run with interleaved
 //! repeats: the paper's double spherical pendulum (continuous form, midpoint rule) against the
 //! same Lagrangian with a damping force on both polar angles, and one step's sensitivity against
 //! one step.
@@ -9,6 +9,13 @@ use std::time::Instant;
 
 use dirac::paper::DoubleSphericalPendulumContinuous;
 use dirac::prelude::*;
+
+#[path = "common/cli.rs"]
+mod cli;
+use cli::{at_least, Cli};
+#[path = "common/stats.rs"]
+mod stats;
+use stats::median;
 
 /// The paper's double spherical pendulum (the body of
 /// `dirac::paper::double_spherical_pendulum_continuous`) with viscous damping `c` on the polar
@@ -37,23 +44,14 @@ fn damped_dsp(q: Config, v: Velocity, m1: f64, m2: f64, l1: f64, l2: f64, g: f64
     kinetic - g * (m1 * l1 * c1 + m2 * (l1 * c1 + l2 * c2))
 }
 
-fn arg(name: &str, default: usize) -> usize {
-    let args: Vec<String> = std::env::args().collect();
-    args.iter()
-        .position(|a| a == name)
-        .and_then(|i| args.get(i + 1))
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(default)
-}
-
-fn median(v: &mut [f64]) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
-
 fn main() {
-    let steps = arg("--steps", 20_000);
-    let repeats = arg("--repeats", 7);
+    let mut cli = Cli::new(
+        "forced_bench",
+        "what forces and sensitivities cost on the paper's double spherical pendulum",
+    );
+    let steps: usize = cli.value("--steps", "S", "steps per timed run", 20_000, at_least(1));
+    let repeats: usize = cli.value("--repeats", "R", "interleaved repeats", 7, at_least(1));
+    cli.finish();
     let free = DoubleSphericalPendulumContinuous::paper();
     let damped = DampedDsp {
         h: free.h,
@@ -124,14 +122,14 @@ fn main() {
     println!("Double spherical pendulum (paper parameters, midpoint rule, h = {}), {steps} steps, {repeats} interleaved repeats:", free.h);
     println!(
         "  unforced step: {:.3} µs, damped step: {:.3} µs (mean Newton iterations {:.2} and {:.2})",
-        median(&mut t_free),
-        median(&mut t_damped),
+        median(t_free.clone()),
+        median(t_damped.clone()),
         iterations.0,
         iterations.1
     );
     println!(
         "  forced / unforced step time: median {:.3}, range {} (target ≤ 1.2)",
-        median(&mut ratios.clone()),
+        median(ratios.clone()),
         spread(&ratios)
     );
 
@@ -173,8 +171,8 @@ fn main() {
     }
     println!(
         "  one step's sensitivity (8 × 8 state Jacobian): {:.3} µs; sensitivity / step time: median {:.3}, range {} (target ≤ 3)",
-        median(&mut t_sens),
-        median(&mut sens_ratios.clone()),
+        median(t_sens.clone()),
+        median(sens_ratios.clone()),
         spread(&sens_ratios)
     );
 }

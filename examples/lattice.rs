@@ -22,41 +22,35 @@ use dirac::runtime::ensemble;
 mod stats;
 use stats::peak_memory_mib;
 
+#[path = "common/cli.rs"]
+mod cli;
+use cli::{any, at_least, Cli};
+
 #[path = "common/toda.rs"]
 mod toda;
 use toda::{initial, Toda, N};
 
-const USAGE: &str = "usage: lattice [--steps N] [--ensemble MEMBERS]";
-
-/// `--steps` and `--ensemble` (defaults 100,000 and 8); anything else is an error.
-fn parse_args() -> Result<(usize, usize), String> {
-    let (mut steps, mut members) = (100_000, 8);
-    let mut args = std::env::args().skip(1);
-    while let Some(flag) = args.next() {
-        let target = match flag.as_str() {
-            "--steps" => &mut steps,
-            "--ensemble" => &mut members,
-            "-h" | "--help" => return Err(USAGE.to_string()),
-            other => return Err(format!("unknown argument `{other}`\n{USAGE}")),
-        };
-        let value = args
-            .next()
-            .ok_or(format!("{flag} needs a number\n{USAGE}"))?;
-        *target = value
-            .parse()
-            .map_err(|_| format!("{flag}: `{value}` is not a non-negative integer\n{USAGE}"))?;
-    }
-    if steps == 0 {
-        return Err(format!("--steps must be at least 1\n{USAGE}"));
-    }
-    Ok((steps, members))
+/// `--steps` and `--ensemble` (defaults 100,000 and 8; `--ensemble 0` skips the ensemble); a bad
+/// value stops the example with exit code 2.
+fn parse_args() -> (usize, usize) {
+    let mut cli = Cli::new(
+        "lattice",
+        "the 200-particle periodic Toda lattice, streamed, and an ensemble on every core",
+    );
+    let steps = cli.value("--steps", "N", "steps of the run", 100_000, at_least(1));
+    let members = cli.value(
+        "--ensemble",
+        "MEMBERS",
+        "members of the ensemble (0: none)",
+        8,
+        any(),
+    );
+    cli.finish();
+    (steps, members)
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let (steps, members) = parse_args().unwrap_or_else(|message| {
-        eprintln!("{message}");
-        std::process::exit(2)
-    });
+    let (steps, members) = parse_args();
     let sys = Toda {
         m: 1.0,
         d: 1.0,

@@ -1,5 +1,5 @@
 //! The planar chain of the scaling benchmark (`n` links hanging from a cart) in maximal
-//! coordinates (issue 20): the cart `c` and every link's end point `(x_i, y_i)`, one length
+//! coordinates: the cart `c` and every link's end point `(x_i, y_i)`, one length
 //! constraint per link, integrated by the unreduced constrained integrator. Each step solves two
 //! saddle-point systems of `3n + 1` unknowns on the sparse backend (banded: each link couples
 //! only to its neighbours), so the time per step grows about linearly with `n` where the chain
@@ -16,6 +16,9 @@
 use std::time::Instant;
 
 use dirac::prelude::*;
+
+#[path = "common/cli.rs"]
+mod cli;
 
 macro_rules! maximal_chain {
     ($name:ident, $ty:ident, $n:literal) => {
@@ -82,6 +85,12 @@ maximal_chain!(chain64, Chain64, 64);
 maximal_chain!(chain128, Chain128, 128);
 
 fn main() {
+    // No options: `--help` says so, and any argument stops the example with exit code 2.
+    cli::Cli::new(
+        "maximal_chain",
+        "the scaling benchmark's chain in maximal coordinates, one constraint per link",
+    )
+    .finish();
     let steps = 2000;
     println!("Planar chain in maximal coordinates (cart + n end points, n length constraints), h = 0.01, {steps} steps:");
     println!(

@@ -13,6 +13,9 @@
 
 use dirac::prelude::*;
 
+#[path = "common/cli.rs"]
+mod cli;
+
 /// Softened gravity between four bodies; masses are parameters.
 #[reduced_lagrangian(
     coordinates(x[4], y[4], z[4]),
@@ -38,6 +41,12 @@ fn four_bodies(q: Config, v: Velocity, m0: f64, m1: f64, m2: f64, m3: f64, eps: 
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
+    // No options: `--help` says so, and any argument stops the example with exit code 2.
+    cli::Cli::new(
+        "n_body",
+        "four bodies in space, one declared translation per axis: total momentum exact",
+    )
+    .finish();
     let sys = FourBodies {
         m0: 1.0,
         m1: 0.3,

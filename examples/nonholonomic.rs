@@ -1,4 +1,4 @@
-//! Nonholonomic constraints (issue 20): the discrete Lagrange–d'Alembert step with the discrete
+//! Nonholonomic constraints: the discrete Lagrange–d'Alembert step with the discrete
 //! constraint imposed at the step's midpoint, `A((q_k + q_{k+1})/2) (q_{k+1} − q_k)/h = 0`
 //! (McLachlan & Perlmutter), constraint forces `A(q_k)ᵀ λ_k`, and momenta projected so that
 //! their velocities satisfy the constraint.
@@ -13,6 +13,9 @@
 //! Run: `cargo run --release --example nonholonomic`.
 
 use dirac::prelude::*;
+
+#[path = "common/cli.rs"]
+mod cli;
 
 /// The vertical rolling disk: heading `phi`, contact point `(x, y)`, rolling angle `psi`.
 #[reduced_lagrangian(shape(phi), group(x, y, psi), rule = midpoint,
@@ -30,6 +33,12 @@ fn sleigh(_q: Config, v: Velocity, m: f64, i: f64, a: f64) -> f64 {
 }
 
 fn main() {
+    // No options: `--help` says so, and any argument stops the example with exit code 2.
+    cli::Cli::new(
+        "nonholonomic",
+        "nonholonomic constraints: the rolling disk and the Chaplygin sleigh",
+    )
+    .finish();
     let options = NewtonOptions {
         abs_tol: 1e-14,
         rel_tol: 1e-14,

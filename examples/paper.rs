@@ -13,7 +13,11 @@ use std::error::Error;
 use common::{charged_particle, double_spherical_pendulum as dsp};
 
 fn main() -> Result<(), Box<dyn Error>> {
-    let out = common::output_dir("paper", "target/dirac-figures")?;
+    let out = common::output_dir(
+        "paper",
+        "all of the paper's §7: Table 1, Figures 1, 3, 4 and the summaries",
+        "target/dirac-figures",
+    );
 
     charged_particle::print_table_1()?;
     let dir = out.join("charged_particle");

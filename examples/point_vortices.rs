@@ -10,6 +10,9 @@
 use dirac::prelude::*;
 use std::f64::consts::PI;
 
+#[path = "common/cli.rs"]
+mod cli;
+
 /// Two point vortices in polar coordinates: `θ1 = vt` (translated by rotations), `θ2 = vt + phi`.
 #[reduced_lagrangian(shape(r1, r2, phi), group(vt), rule = midpoint)]
 fn vortex_pair(q: Config, v: Velocity, gamma1: f64, gamma2: f64) -> f64 {
@@ -26,6 +29,12 @@ fn positions(x: &SVector<f64, 3>, vt: f64) -> [(f64, f64); 2] {
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
+    // No options: `--help` says so, and any argument stops the example with exit code 2.
+    cli::Cli::new(
+        "point_vortices",
+        "two point vortices, a degenerate Lagrangian, reduced by rotations",
+    )
+    .finish();
     let (g1, g2, t) = (1.0, 2.0, 5.0);
     let q = SVector::from([1.0, 0.8, 2.0, 0.3]);
     let z0 = positions(&q.fixed_rows::<3>(0).into(), q[3]);

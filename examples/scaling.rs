@@ -31,10 +31,10 @@
 //! For `chain` and `lattice` the attribute needs the size as a literal, so for every
 //! `(system, n)` this example writes a scratch crate `target/dirac-scaling/<system>_<n>/` from
 //! the templates in `benches/scaling/` (`chain.rs.in`, `lattice.rs.in`, with `@N@`
-//! placeholders, plus `measure.rs`), depending on this workspace's `dirac` by path, with the
-//! workspace's `Cargo.lock`, default `[profile.release]` except for the attribute itself, built
-//! at `opt-level = 3` as the README recommends for large systems, its own `[workspace]`, and one
-//! shared target directory `target/dirac-scaling/target`. A warm-up crate (the smallest chain)
+//! placeholders, plus `measure.rs` and the examples' `stats.rs` and `cli.rs`), depending on this
+//! workspace's `dirac` by path, with the workspace's `Cargo.lock`, default `[profile.release]`
+//! except for the attribute itself, built at `opt-level = 3` as the README recommends for large
+//! systems, its own `[workspace]`, and one shared target directory `target/dirac-scaling/target`. A warm-up crate (the smallest chain)
 //! is built first so that dirac and its dependencies are compiled once and not counted. For
 //! every crate:
 //!
@@ -81,12 +81,12 @@
 //! is printed, and `scaling.csv` and `scaling.svg` (log-log times against `n`, one panel per
 //! system measured) are written under `--out` (default `target/dirac-figures/scaling/`). At the
 //! end the targets are printed as met / not met by this run, with the measured values, each
-//! block only when its systems were measured: issue 8's (chain and lattice) and issue 21's
-//! (`lattice_n`: the one build ≤ 5 s, peak memory at n = 10^5 ≤ 200 MB, log-log slope of the
-//! step time over n = 10^3 … 10^5 within 1 ± 0.1, and with `--casadi` R+J at n = 10^4 ≤ 1.0 ×
-//! CasADi map).
+//! block only when its systems were measured: those of the systems sized at compile time (chain
+//! and lattice) and those of the system sized at run time (`lattice_n`: the one build ≤ 5 s,
+//! peak memory at n = 10^5 ≤ 200 MB, log-log slope of the step time over n = 10^3 … 10^5 within
+//! 1 ± 0.1, and with `--casadi` R+J at n = 10^4 ≤ 1.0 × CasADi map).
 //!
-//! Timings are wall-clock on whatever machine runs this; on a shared machine they are noisy.
+//! Timings are wall-clock on whatever machine runs this; on a loaded machine they are noisy.
 
 use std::collections::HashMap;
 use std::fmt::Write as _;
@@ -99,8 +99,14 @@ use std::time::{Duration, Instant, SystemTime};
 
 use plotters::prelude::*;
 
+#[path = "common/cli.rs"]
+mod cli;
+use cli::{at_least, Check, Cli};
+
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 const MEASURE: &str = include_str!("../benches/scaling/measure.rs");
+const STATS: &str = include_str!("common/stats.rs");
+const CLI: &str = include_str!("common/cli.rs");
 const CHAIN: &str = include_str!("../benches/scaling/chain.rs.in");
 const LATTICE: &str = include_str!("../benches/scaling/lattice.rs.in");
 const LATTICE_N: &str = include_str!("../benches/scaling/lattice_n.rs.in");
@@ -160,68 +166,62 @@ struct Options {
     build_timeout: Duration,
 }
 
-fn parse_list(flag: &str, value: Option<String>, min: usize) -> Result<Vec<usize>, String> {
-    let value = value.ok_or(format!("{flag} needs a value such as 2,8"))?;
-    if value.is_empty() {
-        return Ok(Vec::new());
+/// The command line: `--help` lists it; a bad value stops the example with exit code 2.
+fn parse_options() -> Options {
+    let mut cli = Cli::new(
+        "scaling",
+        "compile time, code size, step time and memory against the size of the system",
+    );
+    let casadi = cli.switch(
+        "--casadi",
+        "also time CasADi's generated C (benches/casadi_scaling, benches/casadi_map)",
+    );
+    let chain = cli.list(
+        "--chain",
+        "N1,N2,..",
+        "chain sizes",
+        &[2, 4, 8, 16, 32, 64],
+        at_least(1).or_none(),
+    );
+    let lattice = cli.list(
+        "--lattice",
+        "N1,N2,..",
+        "lattice sizes (one build each)",
+        &[16, 64, 200, 1000],
+        at_least(3).or_none(),
+    );
+    let mut lattice_n = cli.list(
+        "--lattice-n",
+        "N1,N2,..",
+        "lattice sizes at run time (one build), run in ascending order",
+        &[100, 1000, 10_000, 100_000],
+        Check::new("an integer ≥ 3 (or 0 alone: none)", |&n| n == 0 || n >= 3).or_none(),
+    );
+    if lattice_n == [0] {
+        lattice_n.clear();
+    } else if lattice_n.contains(&0) {
+        cli.reject("--lattice-n: 0 (none) cannot be listed with sizes");
     }
-    value
-        .split(',')
-        .map(|s| match s.trim().parse::<usize>() {
-            Ok(n) if n >= min => Ok(n),
-            _ => Err(format!("{flag}: `{s}` is not an integer ≥ {min}")),
-        })
-        .collect()
-}
-
-fn parse_options() -> Result<Options, String> {
-    let mut o = Options {
-        casadi: false,
-        chain: vec![2, 4, 8, 16, 32, 64],
-        lattice: vec![16, 64, 200, 1000],
-        lattice_n: vec![100, 1000, 10_000, 100_000],
-        out: Path::new(ROOT).join("target/dirac-figures/scaling"),
-        build_timeout: Duration::from_secs(600),
-    };
-    let mut args = std::env::args().skip(1);
-    while let Some(a) = args.next() {
-        match a.as_str() {
-            "--casadi" => o.casadi = true,
-            "--chain" => o.chain = parse_list("--chain", args.next(), 1)?,
-            "--lattice" => o.lattice = parse_list("--lattice", args.next(), 3)?,
-            "--lattice-n" => {
-                let value = args.next();
-                o.lattice_n = if value.as_deref().map(str::trim) == Some("0") {
-                    Vec::new()
-                } else {
-                    let mut sizes = parse_list("--lattice-n", value, 3)?;
-                    // Ascending: the peak memory reported after each size is the process's.
-                    sizes.sort_unstable();
-                    sizes.dedup();
-                    sizes
-                };
-            }
-            "--out" => o.out = PathBuf::from(args.next().ok_or("--out needs a directory")?),
-            "--build-timeout" => {
-                let s = args.next().ok_or("--build-timeout needs seconds")?;
-                let secs: u64 = s
-                    .parse()
-                    .map_err(|_| format!("--build-timeout: `{s}` is not a number of seconds"))?;
-                o.build_timeout = Duration::from_secs(secs);
-            }
-            "-h" | "--help" => {
-                return Err(
-                    "usage: cargo run --release --example scaling -- [--casadi] \
-                     [--chain 2,4,8,16,32,64] [--lattice 16,64,200,1000] \
-                     [--lattice-n 100,1000,10000,100000] [--out DIR] [--build-timeout SECONDS] \
-                     (an empty list, '', skips a system; so does --lattice-n 0)"
-                        .into(),
-                )
-            }
-            other => return Err(format!("unknown argument `{other}` (try --help)")),
-        }
+    // Ascending: the peak memory reported after each size is the process's.
+    lattice_n.sort_unstable();
+    lattice_n.dedup();
+    let out = cli.out_dir(Path::new(ROOT).join("target/dirac-figures/scaling"));
+    let build_timeout = cli.value(
+        "--build-timeout",
+        "SECONDS",
+        "wall-time limit of one scratch crate's build",
+        600,
+        at_least(1),
+    );
+    cli.finish();
+    Options {
+        casadi,
+        chain,
+        lattice,
+        lattice_n,
+        out,
+        build_timeout: Duration::from_secs(build_timeout),
     }
-    Ok(o)
 }
 
 /// How a child process ended.
@@ -394,6 +394,8 @@ impl Scratch {
             (dir.join("Cargo.toml"), manifest),
             (dir.join("src/main.rs"), system.source(n)),
             (dir.join("src/measure.rs"), MEASURE.to_owned()),
+            (dir.join("src/stats.rs"), STATS.to_owned()),
+            (dir.join("src/cli.rs"), CLI.to_owned()),
         ] {
             if fs::read_to_string(&path).ok().as_deref() != Some(text.as_str()) {
                 fs::write(&path, text)?;
@@ -536,10 +538,12 @@ fn measure_lattice_n(scratch: &Scratch, sizes: &[usize]) -> Vec<Row> {
         .join(",");
     eprintln!("lattice_n: run n = {list}");
     // A failed run still reports the sizes it finished.
-    let text = scratch.run(system, 0, &dir, &[list]).unwrap_or_else(|e| {
-        fail(&mut rows, e);
-        fs::read_to_string(dir.join("run.log")).unwrap_or_default()
-    });
+    let text = scratch
+        .run(system, 0, &dir, &["--n".into(), list])
+        .unwrap_or_else(|e| {
+            fail(&mut rows, e);
+            fs::read_to_string(dir.join("run.log")).unwrap_or_default()
+        });
     for f in all_fields(&text, "scaling-element:") {
         let Some(r) = num(&f, "n").and_then(|n| rows.iter_mut().find(|r| r.n as f64 == n)) else {
             continue;
@@ -883,13 +887,13 @@ fn log_log_slope(points: &[(f64, f64)]) -> Option<f64> {
     Some(num / den)
 }
 
-/// The issue-8 targets (chain, lattice) and the issue-21 targets (lattice_n), judged on this
-/// run's rows; each block only when its systems were measured.
+/// The targets of the systems sized at compile time (chain, lattice) and at run time
+/// (lattice_n), judged on this run's rows; each block only when its systems were measured.
 fn print_targets(rows: &[Row], casadi: bool) {
     let find = |s: System, n: usize| rows.iter().find(|r| r.system == s.name() && r.n == n);
     let measured = |s: System| rows.iter().any(|r| r.system == s.name());
     if measured(System::Chain) || measured(System::Lattice) {
-        print_issue8_targets(rows, casadi);
+        print_compile_time_targets(rows, casadi);
     }
     if !measured(System::LatticeN) {
         return;
@@ -946,14 +950,14 @@ fn print_targets(rows: &[Row], casadi: bool) {
             ),
         ),
     ];
-    println!("\nissue-21 targets (this run):");
+    println!("\ntargets of the system sized at run time (this run):");
     for (what, ok, value) in targets {
         println!("  {:<12} {what}  ({value})", verdict(ok));
     }
 }
 
-/// The issue-8 targets, judged on this run's rows.
-fn print_issue8_targets(rows: &[Row], casadi: bool) {
+/// The targets of the systems sized at compile time, judged on this run's rows.
+fn print_compile_time_targets(rows: &[Row], casadi: bool) {
     let find = |s: System, n: usize| rows.iter().find(|r| r.system == s.name() && r.n == n);
     let lattice = find(System::Lattice, 200);
     let chain32 = find(System::Chain, 32);
@@ -990,20 +994,14 @@ fn print_issue8_targets(rows: &[Row], casadi: bool) {
                 .unwrap_or_else(|| fmt(chain64.and_then(|r| r.compile_s), 1) + " s compile"),
         ),
     ];
-    println!("\nissue-8 targets (this run):");
+    println!("\ntargets of the systems sized at compile time (this run):");
     for (what, ok, value) in targets {
         println!("  {:<12} {what}  ({value})", verdict(ok));
     }
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let o = match parse_options() {
-        Ok(o) => o,
-        Err(e) => {
-            eprintln!("{e}");
-            std::process::exit(2);
-        }
-    };
+    let o = parse_options();
     let scratch = Scratch::new(o.build_timeout);
     fs::create_dir_all(&scratch.base)?;
     fs::create_dir_all(&o.out)?;

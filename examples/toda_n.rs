@@ -14,7 +14,7 @@
 //! the energy at the step midpoints, one residual + Jacobian assembly serial and on all of
 //! rayon's threads (their ratio is the parallel speed-up; the results are the same bit for bit)
 //! and the process's peak memory so far (`VmHWM`, sizes run in increasing order). Then the
-//! log–log slope of the step time against `n` over the sizes ≥ 1000, and the targets.
+//! log–log slope of the step time against `n` over the sizes ≥ 1000, and the targets, each met or not.
 
 use std::time::Instant;
 
@@ -25,6 +25,10 @@ use dirac::runtime::element::{ElementIntegrator, ElementWorkspace};
 mod stats;
 use stats::{loglog_slope, median, peak_memory_mib, range};
 
+#[path = "common/cli.rs"]
+mod cli;
+use cli::{at_least, greater_than, Cli};
+
 #[path = "common/toda_n.rs"]
 mod toda_n;
 use toda_n::{initial, TodaN};
@@ -34,52 +38,37 @@ use toda_n::{initial, TodaN};
 mod toda_hand;
 use toda_hand::{TodaHand, TodaParams, TodaState};
 
-const USAGE: &str = "usage: toda_n [--n N1,N2,..] [--seconds S] [--repeats R]";
-
 struct Options {
     sizes: Vec<usize>,
     seconds: f64,
     repeats: usize,
 }
 
-fn parse_args() -> Result<Options, String> {
-    let mut o = Options {
-        sizes: vec![100, 1000, 10_000, 100_000],
-        seconds: 0.5,
-        repeats: 3,
+/// The command line: `--help` lists it; a bad value stops the example with exit code 2.
+fn parse_args() -> Options {
+    let mut cli = Cli::new(
+        "toda_n",
+        "the periodic Toda lattice, one build for every n, against a hand-written O(n) step",
+    );
+    let o = Options {
+        sizes: cli.list(
+            "--n",
+            "N1,N2,..",
+            "lattice sizes, run in the order given",
+            &[100, 1000, 10_000, 100_000],
+            at_least(3),
+        ),
+        seconds: cli.value(
+            "--seconds",
+            "S",
+            "wall time of one timed run",
+            0.5,
+            greater_than(0.0),
+        ),
+        repeats: cli.value("--repeats", "R", "timed runs per size", 3, at_least(1)),
     };
-    let mut args = std::env::args().skip(1);
-    while let Some(flag) = args.next() {
-        let value = args
-            .next()
-            .ok_or(format!("{flag} needs a value\n{USAGE}"))?;
-        let bad = |what: &str| format!("{flag}: `{value}` is not {what}\n{USAGE}");
-        match flag.as_str() {
-            "--n" => {
-                o.sizes = value
-                    .split(',')
-                    .map(|s| s.trim().parse::<usize>().ok().filter(|&n| n >= 3))
-                    .collect::<Option<_>>()
-                    .ok_or(bad("a list of sizes ≥ 3"))?
-            }
-            "--seconds" => {
-                o.seconds = value
-                    .parse()
-                    .ok()
-                    .filter(|s: &f64| *s > 0.0)
-                    .ok_or(bad("a positive number"))?
-            }
-            "--repeats" => {
-                o.repeats = value
-                    .parse()
-                    .ok()
-                    .filter(|&r| r > 0)
-                    .ok_or(bad("a positive integer"))?
-            }
-            _ => return Err(format!("unknown argument `{flag}`\n{USAGE}")),
-        }
-    }
-    Ok(o)
+    cli.finish();
+    o
 }
 
 /// One row of the table.
@@ -230,10 +219,7 @@ fn measure(n: usize, o: &Options) -> Result<Row, Box<dyn std::error::Error>> {
 }
 
 fn main() {
-    let o = parse_args().unwrap_or_else(|m| {
-        eprintln!("{m}");
-        std::process::exit(2)
-    });
+    let o = parse_args();
     println!(
         "periodic Toda lattice, one build for every n: {}",
         TodaN::GENERATED

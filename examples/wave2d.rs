@@ -51,11 +51,13 @@ use dirac::runtime::ensemble::rayon;
 mod stats;
 use stats::{median, peak_memory_mib, range};
 
+#[path = "common/cli.rs"]
+mod cli;
+use cli::{at_least, greater_than, Cli};
+
 #[path = "common/membrane.rs"]
 mod membrane;
 use membrane::Membrane;
-
-const USAGE: &str = "usage: wave2d [--nx NX] [--ny NY] [--steps S] [--h H] [--beta B] [--amplitude A] [--repeats R] [--linear auto|direct|iterative]";
 
 /// The width of the initial bump (the box's x side is 1).
 const WIDTH: f64 = 0.1;
@@ -71,74 +73,52 @@ struct Options {
     linear: Linear,
 }
 
-fn parse_args() -> Result<Options, String> {
-    let mut o = Options {
-        nx: 316,
-        ny: 316,
-        steps: 100,
-        h: 0.002,
-        beta: 0.5,
-        amplitude: 0.05,
-        repeats: 1,
-        linear: Linear::Auto,
-    };
+/// The command line: `--help` lists it; a bad value stops the example with exit code 2.
+fn parse_args() -> Options {
     let min = <Membrane as ElementLagrangian>::MIN_SIZE.max(2);
-    let mut args = std::env::args().skip(1);
-    while let Some(flag) = args.next() {
-        let value = args
-            .next()
-            .ok_or(format!("{flag} needs a value\n{USAGE}"))?;
-        let bad = |what: &str| format!("{flag}: `{value}` is not {what}\n{USAGE}");
-        let size = || {
-            value
-                .parse::<usize>()
-                .ok()
-                .filter(|&n| n >= min)
-                .ok_or(bad(&format!("a size ≥ {min}")))
-        };
-        let positive = || {
-            value
-                .parse::<f64>()
-                .ok()
-                .filter(|x| x.is_finite() && *x > 0.0)
-                .ok_or(bad("a positive number"))
-        };
-        match flag.as_str() {
-            "--nx" => o.nx = size()?,
-            "--ny" => o.ny = size()?,
-            "--h" => o.h = positive()?,
-            "--amplitude" => o.amplitude = positive()?,
-            "--beta" => {
-                o.beta = value
-                    .parse::<f64>()
-                    .ok()
-                    .filter(|x| x.is_finite() && *x >= 0.0)
-                    .ok_or(bad("a number ≥ 0"))?
-            }
-            "--steps" => {
-                o.steps = value.parse().ok().filter(|&s| s >= 10).ok_or(bad(
-                    "an integer ≥ 10 (the drift compares tenths of the run)",
-                ))?
-            }
-            "--repeats" => {
-                o.repeats = value
-                    .parse()
-                    .ok()
-                    .filter(|&r| r > 0)
-                    .ok_or(bad("a positive integer"))?
-            }
-            "--linear" => {
-                o.linear = match value.as_str() {
-                    "auto" => Linear::Auto,
-                    "direct" => Linear::Direct,
-                    "iterative" => Linear::Iterative,
-                    _ => return Err(bad("auto, direct or iterative")),
-                }
-            }
-            _ => return Err(format!("unknown argument `{flag}`\n{USAGE}")),
-        }
-    }
-    Ok(o)
+    let mut cli = Cli::new(
+        "wave2d",
+        "a 2-D nonlinear wave equation on a periodic grid, one build for every grid size",
+    );
+    let o = Options {
+        nx: cli.value("--nx", "NX", "grid nodes along x", 316, at_least(min)),
+        ny: cli.value("--ny", "NY", "grid nodes along y", 316, at_least(min)),
+        steps: cli.value(
+            "--steps",
+            "S",
+            "steps per run (the drift compares tenths of the run)",
+            100,
+            at_least(10),
+        ),
+        h: cli.value("--h", "H", "time step", 0.002, greater_than(0.0)),
+        beta: cli.value(
+            "--beta",
+            "B",
+            "β, the coefficient of the cubic flux",
+            0.5,
+            at_least(0.0),
+        ),
+        amplitude: cli.value(
+            "--amplitude",
+            "A",
+            "amplitude of the initial Gaussian bump",
+            0.05,
+            greater_than(0.0),
+        ),
+        repeats: cli.value("--repeats", "R", "timed runs", 1, at_least(1)),
+        linear: cli.choice(
+            "--linear",
+            "the step Jacobian's solver",
+            "auto",
+            &[
+                ("auto", Linear::Auto),
+                ("direct", Linear::Direct),
+                ("iterative", Linear::Iterative),
+            ],
+        ),
+    };
+    cli.finish();
+    o
 }
 
 /// How many of the values of `a` and `b` differ in their bits (all of them if the lengths do).
@@ -203,10 +183,7 @@ fn fail(what: &str, e: impl std::fmt::Display) -> ! {
 
 fn main() {
     let wall = Instant::now();
-    let o = parse_args().unwrap_or_else(|m| {
-        eprintln!("{m}");
-        std::process::exit(2)
-    });
+    let o = parse_args();
     let threads = rayon::current_num_threads();
     let sys = Membrane {
         rho: 1.0,

@@ -286,7 +286,11 @@ fn double_spherical_pendulum() -> Result<LineChart, Box<dyn Error>> {
 }
 
 fn main() -> Result<(), Box<dyn Error>> {
-    let out = common::output_dir("work_precision", "target/dirac-figures/work_precision")?;
+    let out = common::output_dir(
+        "work_precision",
+        "compositions: error against wall time on Kepler and the double spherical pendulum",
+        "target/dirac-figures/work_precision",
+    );
     std::fs::create_dir_all(&out)?;
     let kepler = kepler()?;
     let dsp = double_spherical_pendulum()?;

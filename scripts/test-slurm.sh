@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The Slurm test of dirac-io (issue 22, item 3), on a real single-node cluster started by
+# The Slurm test of dirac-io, on a real single-node cluster started by
 # scripts/setup-slurm.sh: submits dirac-io/examples/slurm/ensemble.sbatch as an array of 4
 # shards, cancels one shard while it runs (scancel of one array element), checks that merging
 # names it as missing, resubmits that element alone, resubmits the whole array (every shard is

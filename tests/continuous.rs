@@ -1,4 +1,4 @@
-//! The continuous front end (issue 10, items 1–2): a Lagrangian `L(q, v)` with `rule = ...` gives
+//! The continuous front end: a Lagrangian `L(q, v)` with `rule = ...` gives
 //! the same integrator as the hand-written `L_d`, and the Legendre map, energy and initial states
 //! from `(q, q̇)` it also emits.
 

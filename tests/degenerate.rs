@@ -1,4 +1,4 @@
-//! Degenerate Lagrangians, linear in the velocities (issue 10, item 5), through the same
+//! Degenerate Lagrangians, linear in the velocities, through the same
 //! annotation: point vortices (converging at the midpoint rule's order 2, angular impulse μ
 //! exact) and a massless charged particle whose left-point discrete Legendre map is singular
 //! (a typed error, not a panic).

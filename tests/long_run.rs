@@ -219,9 +219,9 @@ fn dsp_long_run_initial_state(sys: &DoubleSphericalPendulum) -> ReducedState<3, 
     ReducedState::new([q[0], q[1], q[2]], [p[0], p[1], p[2]], [p[3]], [q[3]])
 }
 
-/// Issue item 6 for the double spherical pendulum: 10⁶ steps at h = 0.01 (T = 10⁴) and 2·10⁶ at
-/// h/2, no failed step, μ exact, no secular drift of `T + V`, spread ∝ h², and the unreduced
-/// stepper's momentum-map drift over the same 10⁶ steps.
+/// The long-run guarantees for the double spherical pendulum: 10⁶ steps at h = 0.01 (T = 10⁴) and
+/// 2·10⁶ at h/2, no failed step, μ exact, no secular drift of `T + V`, spread ∝ h², and the
+/// unreduced stepper's momentum-map drift over the same 10⁶ steps.
 #[test]
 #[ignore = "long run: release mode, run by .ci/run"]
 fn double_spherical_pendulum_million_steps() {
@@ -399,8 +399,8 @@ fn double_spherical_pendulum_from_the_paper_state() {
     assert_mu_exact(traj);
 }
 
-/// Issue item 6 for the charged particle: 10⁶ steps at h = 0.2 and 2·10⁶ at h/2, no failed step,
-/// μ exact, and the physical energy.
+/// The long-run guarantees for the charged particle: 10⁶ steps at h = 0.2 and 2·10⁶ at h/2, no
+/// failed step, μ exact, and the physical energy.
 ///
 /// The physical energy is the kinetic energy ½ m |q̇|²: the Lorentz force does no work and there
 /// is no potential (the Kaluza–Klein term ½ (⟨A, q̇⟩ + θ̇)² = ½ μ² is a constant). It is measured
@@ -415,8 +415,8 @@ fn double_spherical_pendulum_from_the_paper_state() {
 /// from the momenta at the nodes, `½ |w_k − μ A(q_k)|² / m` (`p = m q̇ + μ A`), equals the exact
 /// energy 1 for every h, and is reported.
 ///
-/// So the issue's drift criterion (|drift| ≤ 0.1 × spread) compares round-off with round-off: the
-/// spread is itself the accumulated round-off, and a random walk's late mean differs from its
+/// So the pendulum's drift criterion (|drift| ≤ 0.1 × spread) compares round-off with round-off:
+/// the spread is itself the accumulated round-off, and a random walk's late mean differs from its
 /// early mean by a good fraction of its range. It is printed; what is asserted is that the spread
 /// and the drift are at round-off level, ≤ 1e-8 relative.
 #[test]

@@ -1,4 +1,4 @@
-//! Systems without symmetry (issue 10, item 4): `group()` declares K = 0 and the attribute gives a
+//! Systems without symmetry: `group()` declares K = 0 and the attribute gives a
 //! plain variational integrator. The reduced steppers still exist and are the same discrete
 //! Euler–Lagrange equations (with K = 0, eq. (4.6) is Definition 2.7 with `w = p`), so they agree
 //! with the unreduced stepper.

@@ -1,4 +1,4 @@
-//! Reduction commutes with integration (issue: "reduction commutes — as a test"): the reduced
+//! Reduction commutes with integration, as a test: the reduced
 //! (+) and (−) trajectories, mapped back with the trivialization (3.7) and the group
 //! reconstruction, are the unreduced discrete Lagrange–Dirac trajectory (Definitions 2.7/2.8), for
 //! `B = 0` and for nonzero connection matrices, with one and two group coordinates.

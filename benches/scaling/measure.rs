@@ -1,5 +1,6 @@
 //! Measurement helpers shared by the scratch crates that `examples/scaling.rs` generates (copied
-//! verbatim to `src/measure.rs` of each crate). Each crate prints one line starting `scaling:`
+//! verbatim to `src/measure.rs` of each crate, next to `examples/common/stats.rs` as
+//! `src/stats.rs` and `examples/common/cli.rs` as `src/cli.rs`). Each crate prints one line starting `scaling:`
 //! with `key=value` fields; `examples/scaling.rs` parses it.
 
 use std::hint::black_box;
@@ -12,24 +13,12 @@ pub const BATCH_SECONDS: f64 = 0.2;
 /// Timed batches per quantity (the median is reported).
 pub const BATCHES: usize = 7;
 
-/// The median of `v` (sorted in place); NaN for an empty slice.
-pub fn median(v: &mut [f64]) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
+pub use crate::stats::median;
 
-/// Peak resident memory of this process (`VmHWM`), in MiB; NaN where `/proc` is not available.
+/// Peak resident memory of this process (`VmHWM`), in MiB; NaN where `/proc` is not available
+/// (printed as such in the `scaling:` line).
 pub fn peak_memory_mib() -> f64 {
-    std::fs::read_to_string("/proc/self/status")
-        .ok()
-        .and_then(|s| {
-            let line = s.lines().find(|l| l.starts_with("VmHWM:"))?.to_owned();
-            line.split_whitespace().nth(1)?.parse::<f64>().ok()
-        })
-        .map_or(f64::NAN, |kib| kib / 1024.0)
+    crate::stats::peak_memory_mib().unwrap_or(f64::NAN)
 }
 
 /// The operation count and Jacobian nonzeros of the reduced (+) stepper's residual with its
@@ -149,8 +138,8 @@ where
     }
     Measured {
         counts: plus_rj_counts(generated),
-        rj_ns: median(&mut rj_ns),
-        step_ns: median(&mut step_ns),
+        rj_ns: median(rj_ns),
+        step_ns: median(step_ns),
         steps,
         iterations,
         state,

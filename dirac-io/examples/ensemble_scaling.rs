@@ -8,7 +8,7 @@
 //!     --example ensemble_scaling -- [--members 10000] [--steps 1000] [--shards 4] [--out target/ensemble-scaling]
 //! ```
 //!
-//! Target (issue 22): merged = one process; 4 shards ≤ 1.1× one process.
+//! Target: merged = one process; 4 shards ≤ 1.1× one process.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -16,23 +16,39 @@ use std::time::Instant;
 use dirac_io::read::first_difference;
 use dirac_io::shard::{self, Shard};
 
+#[path = "../../examples/common/cli.rs"]
+mod cli;
 #[path = "../src/bin/dsp_ensemble/dsp.rs"]
 mod dsp;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let (mut members, mut steps, mut count) = (10_000, 1000, 4);
-    let mut out = PathBuf::from("target/ensemble-scaling");
-    let mut args = std::env::args().skip(1);
-    while let Some(a) = args.next() {
-        let mut value = || args.next().ok_or(format!("{a} needs a value"));
-        match a.as_str() {
-            "--members" => members = value()?.parse()?,
-            "--steps" => steps = value()?.parse()?,
-            "--shards" => count = value()?.parse()?,
-            "--out" => out = value()?.into(),
-            _ => return Err(format!("unknown argument {a}").into()),
-        }
-    }
+    let mut cli = cli::Cli::new(
+        "ensemble_scaling",
+        "a sharded ensemble of the double spherical pendulum against one process",
+    );
+    let members = cli.value(
+        "--members",
+        "M",
+        "ensemble members",
+        10_000,
+        cli::at_least(1),
+    );
+    let steps = cli.value("--steps", "S", "steps per member", 1000, cli::at_least(1));
+    let count = cli.value(
+        "--shards",
+        "K",
+        "shards of the second run",
+        4,
+        cli::at_least(1),
+    );
+    let out = cli.value(
+        "--out",
+        "DIR",
+        "where the shards and tables are written (emptied first)",
+        PathBuf::from("target/ensemble-scaling"),
+        cli::any(),
+    );
+    cli.finish();
     let _ = std::fs::remove_dir_all(&out);
     let table = dsp::table(members, false)?;
     println!(

@@ -10,7 +10,7 @@
 //!     --example lattice_parquet -- [--steps 5000] [--out target/lattice.parquet]
 //! ```
 //!
-//! Target (issue 22): Parquet ≤ 1.3× the no-op run.
+//! Target: Parquet ≤ 1.3× the no-op run.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -18,16 +18,13 @@ use std::time::Instant;
 use dirac::prelude::*;
 use dirac_io::{progress, Describe, Options, ParquetObserver};
 
+#[path = "../../examples/common/cli.rs"]
+mod cli;
+#[path = "../../examples/common/stats.rs"]
+mod stats;
+use stats::peak_memory_mib;
 #[path = "../../examples/common/toda.rs"]
 mod toda;
-
-/// Peak resident memory of this process, in MiB (Linux; `None` elsewhere).
-fn peak_memory_mib() -> Option<f64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib / 1024.0)
-}
 
 /// CPU time of this process so far (all threads, those ended included), in seconds (Linux;
 /// `None` elsewhere): what a busy machine, or an ensemble on every core, pays.
@@ -51,18 +48,25 @@ fn timed(
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut steps = 5000;
-    let mut out = PathBuf::from("target/lattice.parquet");
-    let mut args = std::env::args().skip(1);
-    while let Some(a) = args.next() {
-        match a.as_str() {
-            "--steps" => steps = args.next().ok_or("--steps N")?.parse()?,
-            "--out" => out = args.next().ok_or("--out FILE")?.into(),
-            _ => {
-                return Err(format!("unknown argument {a}; usage: [--steps N] [--out FILE]").into())
-            }
-        }
-    }
+    let mut cli = cli::Cli::new(
+        "lattice_parquet",
+        "every state of the 200-particle lattice to Parquet against a no-op observer",
+    );
+    let steps = cli.value(
+        "--steps",
+        "N",
+        "steps of the timed runs",
+        5000,
+        cli::at_least(1),
+    );
+    let out = cli.value(
+        "--out",
+        "FILE",
+        "the Parquet file (its parts: FILE with the extension .parts)",
+        PathBuf::from("target/lattice.parquet"),
+        cli::any(),
+    );
+    cli.finish();
     if let Some(dir) = out.parent() {
         std::fs::create_dir_all(dir)?;
     }

@@ -1,4 +1,4 @@
-//! The continuous Lagrangian behind a discrete one (issue 10, items 1–2): when the attribute is
+//! The continuous Lagrangian behind a discrete one: when the attribute is
 //! given `L(q, v)` and a quadrature rule, it also emits the Legendre map `p = ∂L/∂v`, its
 //! Jacobian `∂²L/∂v²` and the energy `E(q, v) = ⟨∂L/∂v, v⟩ − L` as straight-line code, and
 //! implements [`ContinuousLagrangian`]. This module turns positions and velocities into the

@@ -1,11 +1,13 @@
-//! Code shared by the examples: the `--out DIR` argument, the runs and figures of the paper's §7
-//! systems, and a line-chart helper.
+//! Code shared by the examples: the command line (`cli`, and `output_dir` for the examples whose
+//! only option is `--out DIR`), the runs and figures of the paper's §7 systems, and a line-chart
+//! helper.
 //!
 //! Every example compiles this module tree on its own and uses only part of it (the §7.1 example
 //! has no use for the double spherical pendulum), hence `allow(dead_code)`.
 #![allow(dead_code)]
 
 pub mod charged_particle;
+pub mod cli;
 pub mod double_spherical_pendulum;
 
 use std::error::Error;
@@ -14,22 +16,14 @@ use std::path::{Path, PathBuf};
 
 use plotters::prelude::*;
 
-/// The output directory: the value of `--out DIR`, the only argument the examples take, or
-/// `default`. `example` names the example in the usage message.
-pub fn output_dir(example: &str, default: &str) -> Result<PathBuf, Box<dyn Error>> {
-    let mut args = std::env::args().skip(1);
-    let mut out = PathBuf::from(default);
-    while let Some(arg) = args.next() {
-        match arg.as_str() {
-            "--out" => out = PathBuf::from(args.next().ok_or("--out needs a directory")?),
-            other => {
-                return Err(
-                    format!("unknown argument `{other}`; usage: {example} [--out DIR]").into(),
-                )
-            }
-        }
-    }
-    Ok(out)
+/// The output directory: the value of `--out DIR`, the only option of the examples that call
+/// this, or `default`; `example` and `about` name the example and what it does in `--help`. A
+/// bad argument stops the example with its message and exit code 2.
+pub fn output_dir(example: &'static str, about: &'static str, default: &str) -> PathBuf {
+    let mut cli = cli::Cli::new(example, about);
+    let out = cli.out_dir(default);
+    cli.finish();
+    out
 }
 
 /// One curve of a [`LineChart`].

@@ -1,5 +1,6 @@
 //! What the measuring examples share: the process's peak memory, medians, ranges and log–log
-//! slopes. Included with `#[path]` by `toda_n`, `wave2d`, `cluster` and `lattice`.
+//! slopes. Included with `#[path]` by the examples that time or measure (and, copied, by the
+//! scratch crates of `examples/scaling.rs`, through `benches/scaling/measure.rs`).
 
 #![allow(dead_code)]
 
@@ -11,10 +12,16 @@ pub fn peak_memory_mib() -> Option<f64> {
     Some(kib / 1024.0)
 }
 
-/// The median (the upper one of an even count).
+/// The median: the middle value of an odd count, the mean of the two middle values of an even
+/// one; NaN for no values (printed as such in a table: nothing was measured).
 pub fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
+    let n = v.len();
+    match n {
+        0 => f64::NAN,
+        _ if n % 2 == 1 => v[n / 2],
+        _ => 0.5 * (v[n / 2 - 1] + v[n / 2]),
+    }
 }
 
 /// The smallest and largest value.

@@ -1,5 +1,5 @@
 //! The lint allowances every emitted item carries, each with its reason, so that a user crate
-//! under `#![deny(warnings, clippy::all, clippy::pedantic)]` builds (issue 10, item 6).
+//! under `#![deny(warnings, clippy::all, clippy::pedantic)]` builds.
 //!
 //! Most lints skip code whose spans come from a procedural macro, but not all: `approx_constant`
 //! fires on the folded `2.0 * PI` = `6.283185307179586` the graph emits. The list is explicit so

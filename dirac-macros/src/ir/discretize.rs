@@ -1,4 +1,4 @@
-//! The continuous front end (issue 10, items 1–2): a Lagrangian `L(q, v)` and a quadrature rule
+//! The continuous front end: a Lagrangian `L(q, v)` and a quadrature rule
 //! become the discrete Lagrangian `L_d(q0, q1)` on the expression graph, so everything
 //! downstream (reduction, differentiation, emission) is unchanged; and the Legendre map
 //! `p = ∂L/∂v`, its Jacobian `∂²L/∂v²` and the energy `E = ⟨∂L/∂v, v⟩ − L` are differentiated
