@@ -394,6 +394,37 @@ impl Span {
     }
 }
 
+/// The options of a [`Span`], the same for a [`Run`] and every member of an [`Ensemble`].
+macro_rules! span_options {
+    () => {
+        /// At most `n` steps (with `end_time`: whichever ends the run first).
+        pub fn steps(mut self, n: usize) -> Self {
+            self.span.steps = Some(n);
+            self
+        }
+
+        /// Up to the time `t`, reached exactly: the last step is shortened to land on it.
+        pub fn end_time(mut self, t: f64) -> Self {
+            self.span.end = Some(t);
+            self
+        }
+
+        /// The time of the initial state (default 0): a run continued from a saved state keeps
+        /// its clock.
+        pub fn start_time(mut self, t0: f64) -> Self {
+            self.span.start = t0;
+            self
+        }
+
+        /// The observer sees every `k`-th state (and the last; `k ≥ 1`, default 1). A collected
+        /// trajectory keeps every state regardless: the stride is an output option.
+        pub fn every(mut self, k: usize) -> Self {
+            self.span.every = k;
+            self
+        }
+    };
+}
+
 /// One run of an integrator, configured by options and finished by [`Self::collect`] (every
 /// state kept) or [`Self::stream`] (constant memory); see the [module documentation](self).
 ///
@@ -423,31 +454,7 @@ where
     X: StopCondition<I::State>,
     O: Observer<I::State, I::Record>,
 {
-    /// At most `n` steps (with [`Self::end_time`]: whichever ends the run first).
-    pub fn steps(mut self, n: usize) -> Self {
-        self.span.steps = Some(n);
-        self
-    }
-
-    /// Up to the time `t`, reached exactly: the last step is shortened to land on it.
-    pub fn end_time(mut self, t: f64) -> Self {
-        self.span.end = Some(t);
-        self
-    }
-
-    /// The time of the initial state (default 0): a run continued from a saved state keeps its
-    /// clock.
-    pub fn start_time(mut self, t0: f64) -> Self {
-        self.span.start = t0;
-        self
-    }
-
-    /// The observer sees every `k`-th state (and the last; `k ≥ 1`, default 1). A collected
-    /// trajectory keeps every state regardless: the stride is an output option.
-    pub fn every(mut self, k: usize) -> Self {
-        self.span.every = k;
-        self
-    }
+    span_options!();
 
     /// The size of each step: [`StepSizes`] (a precomputed sequence), [`Fixed`] (the default)
     /// or any [`StepSize`] policy; a closure is given with [`Self::schedule`]. Each size must be
@@ -860,29 +867,7 @@ where
     P: StepSize<StateOf<M>> + Clone + Sync,
     X: StopCondition<StateOf<M>> + Clone + Sync,
 {
-    /// At most `n` steps per member ([`Run::steps`]).
-    pub fn steps(mut self, n: usize) -> Self {
-        self.span.steps = Some(n);
-        self
-    }
-
-    /// Up to the time `t`, reached exactly ([`Run::end_time`]).
-    pub fn end_time(mut self, t: f64) -> Self {
-        self.span.end = Some(t);
-        self
-    }
-
-    /// The time of every initial state ([`Run::start_time`]).
-    pub fn start_time(mut self, t0: f64) -> Self {
-        self.span.start = t0;
-        self
-    }
-
-    /// Each member's observer sees every `k`-th state and the last ([`Run::every`]).
-    pub fn every(mut self, k: usize) -> Self {
-        self.span.every = k;
-        self
-    }
+    span_options!();
 
     /// On `n` threads (a pool of its own) instead of rayon's global pool.
     pub fn threads(mut self, n: usize) -> Self {
