@@ -118,7 +118,7 @@ where
         let how = ad::Jacobian::PartialHessian;
         ad::step::<L, 3, 1, 4, 7>(&sys, &options, how, &c.state, &c.guess)
     });
-    let unreduced = UnreducedIntegrator::plus(sys, options);
+    let unreduced = UnreducedIntegrator::new(sys, options);
     cycling(&mut g, "unreduced_generated", &w.cases, |c| {
         unreduced.step_from(c.k, &c.canonical, &c.canonical_guess)
     });

@@ -486,7 +486,7 @@ where
             (r, it)
         });
     }
-    let unreduced = UnreducedIntegrator::plus(sys, options);
+    let unreduced = UnreducedIntegrator::new(sys, options);
     step_row(bench, system, "unreduced generated", cases, move |c| {
         let r = unreduced
             .step_from(c.k, &c.canonical, &c.canonical_guess)

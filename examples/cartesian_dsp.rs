@@ -43,7 +43,7 @@ fn spring_dsp(q: Config, v: Velocity, m1: f64, m2: f64, l1: f64, l2: f64, g: f64
 }
 
 /// `L_z = Σ (x p_y − y p_x)`.
-fn angular_momentum(s: &CanonicalState<6>) -> f64 {
+fn angular_momentum(s: &UnreducedState<6>) -> f64 {
     s.q[0] * s.p[1] - s.q[1] * s.p[0] + s.q[3] * s.p[4] - s.q[4] * s.p[3]
 }
 
@@ -149,7 +149,7 @@ fn main() {
             .expect("constrained");
         let tc = start.elapsed().as_secs_f64() * 1e6 / n as f64;
         let start = Instant::now();
-        let b = UnreducedIntegrator::plus(springs, NewtonOptions::default())
+        let b = UnreducedIntegrator::new(springs, NewtonOptions::default())
             .run(c0)
             .steps(n)
             .observe(|_, _, _, _| {})

@@ -38,15 +38,15 @@ fn main() {
     for n in [100, 200, 400, 800, 1600] {
         let h = t_end / n as f64;
         let sys = Oscillator { h, m, k, c, a: 0.0 };
-        let s0 = CanonicalState {
+        let s0 = UnreducedState {
             q: SVector::from([x0]),
             p: SVector::from([0.0]),
         };
         // The drive at the step's midpoint, where the midpoint rule evaluates the force.
-        let drive = |k: usize, _: f64, _: &CanonicalState<1>, u: &mut [f64]| {
+        let drive = |k: usize, _: f64, _: &UnreducedState<1>, u: &mut [f64]| {
             u[0] = a0 * (omega * (k as f64 + 0.5) * h).cos()
         };
-        let traj = UnreducedIntegrator::plus(sys, options)
+        let traj = UnreducedIntegrator::new(sys, options)
             .run(s0)
             .steps(n)
             .feedback(drive)
@@ -61,16 +61,16 @@ fn main() {
     let h = 0.001;
     let sys = Oscillator { h, m, k, c, a: 0.0 };
     let n = (t_end / h) as usize;
-    let s0 = CanonicalState {
+    let s0 = UnreducedState {
         q: SVector::from([x0]),
         p: SVector::from([0.0]),
     };
-    let traj = UnreducedIntegrator::plus(sys, options)
+    let traj = UnreducedIntegrator::new(sys, options)
         .run(s0)
         .steps(n)
         .collect()
         .expect("the oscillator integrates");
-    let energy = |s: &CanonicalState<1>| 0.5 * s.p[0] * s.p[0] / m + 0.5 * k * s.q[0] * s.q[0];
+    let energy = |s: &UnreducedState<1>| 0.5 * s.p[0] * s.p[0] / m + 0.5 * k * s.q[0] * s.q[0];
     // Over whole periods of the damped motion the oscillation of the decay averages out.
     let period = 2.0 * std::f64::consts::PI / (k / m - (c / (2.0 * m)).powi(2)).sqrt();
     let whole = ((t_end / period).floor() * period / h).round() as usize;

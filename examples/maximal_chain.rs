@@ -64,7 +64,7 @@ macro_rules! maximal_chain {
                     q[1 + i] = x;
                     q[1 + $n + i] = y;
                 }
-                let user = CanonicalState {
+                let user = UnreducedState {
                     q,
                     p: SVector::zeros(),
                 };

@@ -116,7 +116,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         (hi - lo) / lo.abs().max(hi.abs())
     );
     // The unreduced integrator from the same annotation carries the momentum only to round-off.
-    let unreduced = UnreducedIntegrator::plus(sys, NewtonOptions::default())
+    let unreduced = UnreducedIntegrator::new(sys, NewtonOptions::default())
         .run(FourBodies::adapted_state(&q, &p))
         .steps(steps)
         .collect()?;

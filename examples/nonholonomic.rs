@@ -60,7 +60,7 @@ fn main() {
             j: 0.5,
             r: 0.5,
         };
-        let start = CanonicalState::new(
+        let start = UnreducedState::new(
             [0.0; 4],
             [sys.i * omega, sys.m * sys.r * spin, 0.0, sys.j * spin],
         );
@@ -98,8 +98,8 @@ fn main() {
     };
     let (u0, w0) = (0.2, 2.0);
     // Velocities satisfying the constraint at θ = 0: ẋ = u0, ẏ = a ω0, θ̇ = ω0.
-    let start = CanonicalState::new([0.0; 3], [sys.i * w0, sys.m * u0, sys.m * sys.a * w0]);
-    let energy = |s: &CanonicalState<3>| {
+    let start = UnreducedState::new([0.0; 3], [sys.i * w0, sys.m * u0, sys.m * sys.a * w0]);
+    let energy = |s: &UnreducedState<3>| {
         0.5 * (s.p[1] * s.p[1] + s.p[2] * s.p[2]) / sys.m + 0.5 * s.p[0] * s.p[0] / sys.i
     };
     let e0 = energy(&start);

@@ -93,7 +93,7 @@ fn time_rj(
     state: &ElementState,
 ) -> Result<f64, StepError> {
     let n = state.q.len();
-    let z = &state.q + &state.p * integ.system.h;
+    let z = &state.q + &state.p * integ.system().h;
     let (mut r, mut j) = (DVector::zeros(n), Vec::new());
     integ.residual_jacobian(ws, &state.q, &state.p, &z, &mut r, &mut j)?;
     let reps = (2_000_000 / n).clamp(3, 2000);

@@ -44,7 +44,7 @@
 use std::time::Instant;
 
 use dirac::prelude::*;
-use dirac::runtime::element::Linear;
+use dirac::runtime::element::StepSolver;
 use dirac::runtime::ensemble::rayon;
 
 #[path = "common/stats.rs"]
@@ -70,7 +70,7 @@ struct Options {
     beta: f64,
     amplitude: f64,
     repeats: usize,
-    linear: Linear,
+    linear: StepSolver,
 }
 
 /// The command line: `--help` lists it; a bad value stops the example with exit code 2.
@@ -111,9 +111,9 @@ fn parse_args() -> Options {
             "the step Jacobian's solver",
             "auto",
             &[
-                ("auto", Linear::Auto),
-                ("direct", Linear::Direct),
-                ("iterative", Linear::Iterative),
+                ("auto", StepSolver::Auto),
+                ("direct", StepSolver::Direct),
+                ("iterative", StepSolver::Iterative),
             ],
         ),
     };
@@ -194,7 +194,7 @@ fn main() {
         nx: o.nx,
         ny: o.ny,
     };
-    let integ = ElementIntegrator::new(sys, NewtonOptions::default()).with_linear(o.linear);
+    let integ = ElementIntegrator::new(sys, NewtonOptions::default()).with_solver(o.linear);
     let start = membrane::initial(&sys, o.amplitude, WIDTH, 1.0, 0.05);
     let n = start.q.len();
 

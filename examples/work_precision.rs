@@ -14,9 +14,9 @@ use std::f64::consts::PI;
 use std::time::Instant;
 
 use common::{Curve, LineChart};
-use dirac::kepler::Kepler;
 use dirac::paper::DoubleSphericalPendulum;
 use dirac::prelude::*;
+use dirac::systems::kepler::Kepler;
 use plotters::style::RGBColor;
 
 /// The methods compared, with their plot colours.

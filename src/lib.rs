@@ -95,8 +95,8 @@
 extern crate self as dirac;
 
 pub mod guide;
-pub mod kepler;
 pub mod paper;
+pub mod systems;
 
 pub use dirac_macros::{chart_transition, reduced_lagrangian};
 pub use dirac_runtime as runtime;

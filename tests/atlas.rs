@@ -10,7 +10,7 @@ use dirac::paper::DoubleSphericalPendulum;
 use dirac::prelude::*;
 use dirac::runtime::atlas::transform_state;
 use dirac::runtime::system::join;
-use dirac::{StepJacobian, UnreducedIntegrator};
+use dirac::{Sensitivity, UnreducedIntegrator};
 
 mod common;
 use common::Rng;
@@ -181,10 +181,10 @@ fn composed_step_map_across_a_switch_is_symplectic() {
             BOB1_FRAME => charts.bob1.untrivialize(s),
             _ => charts.bob2.untrivialize(s),
         };
-        let step = |c: usize, s: &CanonicalState<4>| -> (CanonicalState<4>, StepJacobian<4>) {
+        let step = |c: usize, s: &UnreducedState<4>| -> (UnreducedState<4>, Sensitivity) {
             macro_rules! go {
                 ($sys:expr) => {{
-                    let integ = UnreducedIntegrator::plus($sys, opts);
+                    let integ = UnreducedIntegrator::new($sys, opts);
                     let (next, _) = integ.step_from(0, s, &s.q).expect("regular step");
                     let m = integ.step_jacobian(0, s, &next).expect("regular");
                     (next, m)
@@ -210,21 +210,16 @@ fn composed_step_map_across_a_switch_is_symplectic() {
         let mut dp_dq = SMatrix::<f64, 4, 4>::zeros();
         for j in 0..4 {
             let e = SVector::<f64, 4>::from_fn(|i, _| if i == j { eps } else { 0.0 });
-            let p_at = |q: SVector<f64, 4>| map.lift(&CanonicalState { q, p: z1.p }).unwrap().p;
+            let p_at = |q: SVector<f64, 4>| map.lift(&UnreducedState { q, p: z1.p }).unwrap().p;
             dp_dq.set_column(j, &((p_at(z1.q + e) - p_at(z1.q - e)) / (2.0 * eps)));
         }
-        let lift = StepJacobian {
-            dq_dq: d,
-            dq_dp: SMatrix::zeros(),
-            dp_dq,
-            dp_dp: d_inv_t,
-        };
+        let lift = Sensitivity::from_blocks(&d, &SMatrix::zeros(), &dp_dq, &d_inv_t);
         let composed = compose(&m_new, &compose(&lift, &m_old));
         let defect = composed.symplecticity_defect();
         assert!(defect <= 1e-8, "{from} → {to}: defect {defect:e}");
         assert!(lift.symplecticity_defect() <= 1e-8);
-        let mut perturbed = lift;
-        perturbed.dp_dp[(0, 0)] += 1e-4 * d_inv_t.amax();
+        let mut perturbed = lift.clone();
+        perturbed.state[(4, 4)] += 1e-4 * d_inv_t.amax(); // the (0, 0) entry of ∂p'/∂p
         let caught = compose(&m_new, &compose(&perturbed, &m_old)).symplecticity_defect();
         println!("{from} → {to}: defect {defect:.2e}, perturbed {caught:.2e}");
         assert!(
@@ -234,7 +229,7 @@ fn composed_step_map_across_a_switch_is_symplectic() {
     }
 }
 
-fn charts_state(z: &CanonicalState<4>) -> ReducedState<3, 1> {
+fn charts_state(z: &UnreducedState<4>) -> ReducedState<3, 1> {
     // B = 0: w = p_x, μ = p_g.
     ReducedState {
         x: z.q.fixed_rows::<3>(0).into_owned(),
@@ -245,13 +240,13 @@ fn charts_state(z: &CanonicalState<4>) -> ReducedState<3, 1> {
 }
 
 /// `a ∘ b` in blocks.
-fn compose(a: &StepJacobian<4>, b: &StepJacobian<4>) -> StepJacobian<4> {
-    StepJacobian {
-        dq_dq: a.dq_dq * b.dq_dq + a.dq_dp * b.dp_dq,
-        dq_dp: a.dq_dq * b.dq_dp + a.dq_dp * b.dp_dp,
-        dp_dq: a.dp_dq * b.dq_dq + a.dp_dp * b.dp_dq,
-        dp_dp: a.dp_dq * b.dq_dp + a.dp_dp * b.dp_dp,
-    }
+fn compose(a: &Sensitivity, b: &Sensitivity) -> Sensitivity {
+    Sensitivity::from_blocks(
+        &(a.dq_dq() * b.dq_dq() + a.dq_dp() * b.dp_dq()),
+        &(a.dq_dq() * b.dq_dp() + a.dq_dp() * b.dp_dp()),
+        &(a.dp_dq() * b.dq_dq() + a.dp_dp() * b.dp_dq()),
+        &(a.dp_dq() * b.dq_dp() + a.dp_dp() * b.dp_dp()),
+    )
 }
 
 /// Up to its first switch the atlas is the single-chart integrator, bit for bit (same steps, same

@@ -316,7 +316,7 @@ fn the_unreduced_stepper_takes_the_same_steps() {
     where
         L: Unreduced<S, K, N> + Copy,
     {
-        let integ = UnreducedIntegrator::plus(w.system, NewtonOptions::default());
+        let integ = UnreducedIntegrator::new(w.system, NewtonOptions::default());
         let mut worst = 0f64;
         for case in &w.cases {
             let (next, _) = integ

@@ -34,10 +34,10 @@ fn tight() -> NewtonOptions {
     }
 }
 
-fn pendulum_start(l: f64, theta: f64, omega: f64) -> CanonicalState<2> {
+fn pendulum_start(l: f64, theta: f64, omega: f64) -> UnreducedState<2> {
     let (x, y) = (l * theta.sin(), -l * theta.cos());
     let (vx, vy) = (l * omega * theta.cos(), l * omega * theta.sin());
-    CanonicalState::new([x, y], [vx, vy])
+    UnreducedState::new([x, y], [vx, vy])
 }
 
 #[test]
@@ -73,8 +73,8 @@ fn the_cartesian_pendulum_stays_on_its_circle_and_matches_the_angle_pendulum() {
             m,
             l,
         };
-        let traj = UnreducedIntegrator::plus(sys, tight())
-            .run(CanonicalState::new([1.0], [0.0]))
+        let traj = UnreducedIntegrator::new(sys, tight())
+            .run(UnreducedState::new([1.0], [0.0]))
             .steps(n)
             .collect()
             .unwrap();
@@ -99,7 +99,7 @@ fn the_initial_state_must_satisfy_the_constraints() {
         l: 1.0,
     };
     let e = ConstrainedIntegrator::new(sys, tight())
-        .run(CanonicalState::new([1.1, 0.0], [0.0, 0.0]))
+        .run(UnreducedState::new([1.1, 0.0], [0.0, 0.0]))
         .steps(10)
         .collect()
         .unwrap_err();
@@ -119,7 +119,7 @@ fn a_constrained_run_up_to_usize_max_steps_stops_on_its_condition() {
         m: 1.2,
         r: 0.8,
     };
-    let c0 = CanonicalState::new([0.8, 0.0, 0.0], [0.0, 0.5, 0.7]);
+    let c0 = UnreducedState::new([0.8, 0.0, 0.0], [0.0, 0.5, 0.7]);
     let unreduced = ConstrainedIntegrator::new(sys, tight());
     let capped = unreduced
         .run(c0)
@@ -152,7 +152,7 @@ fn reduced_and_unreduced_constrained_steps_agree_and_mu_is_exact() {
         m: 1.2,
         r: 0.8,
     };
-    let c0 = CanonicalState::new([0.8, 0.0, 0.0], [0.0, 0.5, 0.7]);
+    let c0 = UnreducedState::new([0.8, 0.0, 0.0], [0.0, 0.5, 0.7]);
     let unr = ConstrainedIntegrator::new(sys, tight())
         .run(c0)
         .steps(1000)
@@ -251,7 +251,7 @@ fn the_chain_in_maximal_coordinates_follows_the_chain_in_angles() {
             q[1 + i] = *x;
             q[7 + i] = *y;
         }
-        let user = CanonicalState::new(q, [0.0; 13]);
+        let user = UnreducedState::new(q, [0.0; 13]);
         let c0 = MaximalChain::to_adapted_state(&user);
         let traj = ConstrainedIntegrator::new(sys, tight())
             .run(c0)
@@ -276,8 +276,8 @@ fn the_chain_in_maximal_coordinates_follows_the_chain_in_angles() {
         };
         let mut q = [0.0; 7];
         q[..6].copy_from_slice(&theta0);
-        let traj = UnreducedIntegrator::plus(sys, tight())
-            .run(CanonicalState::new(q, [0.0; 7]))
+        let traj = UnreducedIntegrator::new(sys, tight())
+            .run(UnreducedState::new(q, [0.0; 7]))
             .steps(n)
             .collect()
             .unwrap();
@@ -307,10 +307,10 @@ fn rolling_disk(_q: Config, v: Velocity, m: f64, i: f64, j: f64, r: f64) -> f64 
     0.5 * m * (v.x * v.x + v.y * v.y) + 0.5 * i * v.phi * v.phi + 0.5 * j * v.psi * v.psi
 }
 
-fn disk_start(sys: &RollingDisk, omega: f64, spin: f64) -> CanonicalState<4> {
+fn disk_start(sys: &RollingDisk, omega: f64, spin: f64) -> UnreducedState<4> {
     // (phi, x, y, psi) = (0, 0, 0, 0), rolling at spin Ω while turning at ω.
     let (vx, vy) = (sys.r * spin, 0.0);
-    CanonicalState::new(
+    UnreducedState::new(
         [0.0; 4],
         [sys.i * omega, sys.m * vx, sys.m * vy, sys.j * spin],
     )
@@ -449,7 +449,7 @@ fn forces_and_constraints_together() {
     // The energy decays, step after step (midpoint drag dissipates), and the velocity stays
     // tangent to the circle.
     let energy =
-        |s: &CanonicalState<2>| 0.5 * (s.p[0] * s.p[0] + s.p[1] * s.p[1]) / m + 9.81 * m * s.q[1];
+        |s: &UnreducedState<2>| 0.5 * (s.p[0] * s.p[0] + s.p[1] * s.p[1]) / m + 9.81 * m * s.q[1];
     for pair in traj.states.windows(2) {
         assert!(energy(&pair[1]) <= energy(&pair[0]) + 1e-12);
         assert!((pair[1].q[0] * pair[1].p[0] + pair[1].q[1] * pair[1].p[1]).abs() < 1e-12);

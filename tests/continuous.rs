@@ -51,11 +51,11 @@ fn double_spherical_pendulum_continuous_is_bit_for_bit_the_hand_written() {
         assert_eq!(a.unwrap().states, b.unwrap().states, "minus = {minus}");
     }
     let c0 = hand.untrivialize(&initial);
-    let a = UnreducedIntegrator::plus(hand, NewtonOptions::default())
+    let a = UnreducedIntegrator::new(hand, NewtonOptions::default())
         .run(c0)
         .steps(300)
         .collect();
-    let b = UnreducedIntegrator::plus(cont, NewtonOptions::default())
+    let b = UnreducedIntegrator::new(cont, NewtonOptions::default())
         .run(c0)
         .steps(300)
         .collect();
@@ -176,7 +176,7 @@ fn initial_state_from_positions_and_velocities() {
     let state: ReducedState<3, 1> =
         sys.reduced_state(SVector::zeros(), SVector::from([1.0, 0.0, 1.0, 1.0]));
     assert_eq!(state, ChargedParticle::paper_initial_state());
-    let c = sys.canonical_state(SVector::zeros(), SVector::from([1.0, 0.0, 1.0, 1.0]));
+    let c = sys.unreduced_state(SVector::zeros(), SVector::from([1.0, 0.0, 1.0, 1.0]));
     assert_eq!(sys.trivialize(&c), state);
 }
 
@@ -212,7 +212,7 @@ fn continuous_energy_along_a_trajectory() {
     let (nodes, mids) = (spread(&e.nodes), spread(&e.midpoints));
     eprintln!("DSP continuous energy: node spread {nodes:e}, midpoint spread {mids:e} (E0 = {e0})");
     assert!(nodes < 1e-4 && mids < 1e-4, "{nodes:e} {mids:e}");
-    let unreduced = UnreducedIntegrator::plus(sys, NewtonOptions::default())
+    let unreduced = UnreducedIntegrator::new(sys, NewtonOptions::default())
         .run(sys.untrivialize(&initial))
         .steps(2000)
         .collect()

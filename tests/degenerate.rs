@@ -144,8 +144,8 @@ fn singular_discrete_legendre_map_is_a_typed_error() {
         h: 0.01,
     };
     let q = SVector::from([0.5, 0.2]);
-    let initial = sys.canonical_state(q, SVector::zeros());
-    let err = UnreducedIntegrator::plus(sys, NewtonOptions::default())
+    let initial = sys.unreduced_state(q, SVector::zeros());
+    let err = UnreducedIntegrator::new(sys, NewtonOptions::default())
         .run(initial)
         .steps(10)
         .collect()
@@ -170,8 +170,8 @@ fn massless_particle_midpoint_rule_is_regular() {
         h: 0.01,
     };
     let q = SVector::from([0.5, 0.2]);
-    let traj = UnreducedIntegrator::plus(sys, NewtonOptions::default())
-        .run(sys.canonical_state(q, SVector::zeros()))
+    let traj = UnreducedIntegrator::new(sys, NewtonOptions::default())
+        .run(sys.unreduced_state(q, SVector::zeros()))
         .steps(628)
         .collect()
         .unwrap();

@@ -7,11 +7,11 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use dirac::kepler::Kepler;
 use dirac::paper::atlas::PAPER;
 use dirac::paper::DoubleSphericalPendulum;
 use dirac::prelude::*;
 use dirac::runtime::driver::parameters;
+use dirac::systems::kepler::Kepler;
 
 #[path = "../examples/common/toda.rs"]
 mod toda;
@@ -256,7 +256,7 @@ fn a_composition_gets_run_ensembles_and_a_stop_condition_from_the_driver() {
     the_driver_is_one(&composed, &starts, 30);
     // The unreduced composition too.
     let unreduced = Composition::new(
-        UnreducedIntegrator::plus(sys, NewtonOptions::default()),
+        UnreducedIntegrator::new(sys, NewtonOptions::default()),
         CompositionMethod::TRIPLE_JUMP,
     );
     let canonical: Vec<_> = starts.iter().map(|s| sys.untrivialize(s)).collect();
@@ -283,7 +283,7 @@ fn the_plain_integrators_get_the_same_driver() {
     the_driver_is_one(&reduced, &[initial, other], 25);
     let minus = ReducedIntegrator::minus(sys, NewtonOptions::default());
     the_driver_is_one(&minus, &[initial, other], 25);
-    let unreduced = UnreducedIntegrator::plus(sys, NewtonOptions::default());
+    let unreduced = UnreducedIntegrator::new(sys, NewtonOptions::default());
     the_driver_is_one(
         &unreduced,
         &[sys.untrivialize(&initial), sys.untrivialize(&other)],
@@ -330,8 +330,8 @@ mod toda_n;
 /// gradients (serial assembly: the counter is per thread).
 #[test]
 fn an_element_wise_run_allocates_nothing_per_step() {
-    use dirac::runtime::element::{ElementIntegrator, Linear, Parallel};
-    for linear in [Linear::Direct, Linear::Iterative] {
+    use dirac::runtime::element::{ElementIntegrator, Parallel, StepSolver};
+    for linear in [StepSolver::Direct, StepSolver::Iterative] {
         let sys = toda_n::TodaN {
             m: 1.0,
             d: 0.0,
@@ -340,7 +340,7 @@ fn an_element_wise_run_allocates_nothing_per_step() {
         };
         let integ = ElementIntegrator::new(sys, NewtonOptions::default())
             .with_parallel(Parallel::Never)
-            .with_linear(linear);
+            .with_solver(linear);
         let start = toda_n::initial(&sys, 0.1, 0.3, 0.05);
         let mut before = allocations();
         let at_start = before;
@@ -395,7 +395,7 @@ fn constrained_and_element_wise_integrators_get_the_same_driver() {
     };
     let start = |theta: f64| {
         let (x, y) = (1.3 * theta.sin(), -1.3 * theta.cos());
-        CanonicalState::new([x, y], [1.3 * 0.2 * theta.cos(), 1.3 * 0.2 * theta.sin()])
+        UnreducedState::new([x, y], [1.3 * 0.2 * theta.cos(), 1.3 * 0.2 * theta.sin()])
     };
     let unreduced = ConstrainedIntegrator::new(sys, tight);
     the_driver_is_one(&unreduced, &[start(0.3), start(0.5)], 17);
@@ -406,7 +406,7 @@ fn constrained_and_element_wise_integrators_get_the_same_driver() {
     };
     let reduced = ReducedConstrainedIntegrator::plus(bead, tight);
     let s = |phase: f64| {
-        let c = CanonicalState::new(
+        let c = UnreducedState::new(
             [phase.cos(), phase.sin(), 0.0],
             [-0.7 * phase.sin(), 0.7 * phase.cos(), 0.4],
         );
@@ -494,7 +494,7 @@ fn a_huge_step_cap_reserves_no_memory_up_front() {
         start,
     );
     three(
-        &UnreducedIntegrator::plus(kepler, NewtonOptions::default()),
+        &UnreducedIntegrator::new(kepler, NewtonOptions::default()),
         kepler.untrivialize(&start),
     );
     three(

@@ -395,7 +395,7 @@ fn sizes_and_states_that_do_not_fit_are_typed_errors() {
 /// trajectory; a Jacobian that is not symmetric (a gyroscopic coupling) falls back to the LU.
 #[test]
 fn conjugate_gradients_match_the_lu_and_fall_back_when_not_symmetric() {
-    use dirac::runtime::element::Linear;
+    use dirac::runtime::element::StepSolver;
     let w = Membrane {
         rho: 1.0,
         c2: 1.0,
@@ -407,10 +407,10 @@ fn conjugate_gradients_match_the_lu_and_fall_back_when_not_symmetric() {
     };
     let s = membrane::initial(&w, 0.3, 0.3, 1.0, 0.05);
     let run = |linear| {
-        let integ = ElementIntegrator::new(w, NewtonOptions::default()).with_linear(linear);
+        let integ = ElementIntegrator::new(w, NewtonOptions::default()).with_solver(linear);
         assert_eq!(
             integ.workspace().linear_solver(),
-            if linear == Linear::Iterative {
+            if linear == StepSolver::Iterative {
                 "conjugate gradients (Jacobi)"
             } else {
                 "sparse LU"
@@ -418,7 +418,7 @@ fn conjugate_gradients_match_the_lu_and_fall_back_when_not_symmetric() {
         );
         integ.run(s.clone()).steps(50).collect().unwrap()
     };
-    let (cg, lu) = (run(Linear::Iterative), run(Linear::Direct));
+    let (cg, lu) = (run(StepSolver::Iterative), run(StepSolver::Direct));
     let worst = cg
         .states
         .iter()
@@ -434,7 +434,7 @@ fn conjugate_gradients_match_the_lu_and_fall_back_when_not_symmetric() {
         n: 8,
     };
     let integ =
-        ElementIntegrator::new(sys, NewtonOptions::default()).with_linear(Linear::Iterative);
+        ElementIntegrator::new(sys, NewtonOptions::default()).with_solver(StepSolver::Iterative);
     let start = ElementState::new(
         DVector::from_fn(8, |i, _| (i as f64).sin()),
         DVector::from_fn(8, |i, _| 0.2 * (i as f64).cos()),
@@ -450,7 +450,8 @@ fn conjugate_gradients_match_the_lu_and_fall_back_when_not_symmetric() {
         "sparse LU",
         "a non-symmetric Jacobian falls back"
     );
-    let direct = ElementIntegrator::new(sys, NewtonOptions::default()).with_linear(Linear::Direct);
+    let direct =
+        ElementIntegrator::new(sys, NewtonOptions::default()).with_solver(StepSolver::Direct);
     let (reference, _) = direct.step(0, &start).unwrap();
     assert!((reference.q - next.q).amax() < 1e-13);
 }

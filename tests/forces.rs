@@ -156,10 +156,10 @@ fn the_unreduced_forced_step_balances_the_group_momentum() {
     // A torque that changes sign (a feedback-free law of the step index) keeps the motion
     // bounded over the 10⁵ steps.
     let torque = |k: usize| 0.4 * (0.003 * k as f64).sin();
-    let summary = UnreducedIntegrator::plus(sys, tight)
+    let summary = UnreducedIntegrator::new(sys, tight)
         .run(c0)
         .steps(steps)
-        .feedback(|k: usize, _, _: &CanonicalState<2>, u: &mut [f64]| u[0] = torque(k))
+        .feedback(|k: usize, _, _: &UnreducedState<2>, u: &mut [f64]| u[0] = torque(k))
         .observe(|k, _, s, _| {
             if k > 0 {
                 worst = worst.max(((s.p[1] - previous) - h * torque(k - 1)).abs());
@@ -182,7 +182,7 @@ fn the_unreduced_forced_step_balances_the_group_momentum() {
         .steps(2000)
         .collect()
         .unwrap();
-    let unr = UnreducedIntegrator::plus(sys, options())
+    let unr = UnreducedIntegrator::new(sys, options())
         .run(c0)
         .steps(2000)
         .collect()
@@ -201,8 +201,8 @@ fn the_damped_driven_oscillator_converges_at_order_two() {
     let error = |n: usize| {
         let h = t_end / n as f64;
         let sys = Oscillator { h, m, k, c, a: 0.0 };
-        let integ = UnreducedIntegrator::plus(sys, options());
-        let s0 = CanonicalState {
+        let integ = UnreducedIntegrator::new(sys, options());
+        let s0 = UnreducedState {
             q: SVector::from([x0]),
             p: SVector::from([0.0]),
         };
@@ -210,7 +210,7 @@ fn the_damped_driven_oscillator_converges_at_order_two() {
         let traj = integ
             .run(s0)
             .steps(n)
-            .feedback(|k: usize, _, _: &CanonicalState<1>, u: &mut [f64]| {
+            .feedback(|k: usize, _, _: &UnreducedState<1>, u: &mut [f64]| {
                 u[0] = a0 * (omega * (k as f64 + 0.5) * h).cos();
             })
             .collect()
@@ -232,8 +232,8 @@ fn a_control_sequence_equals_the_same_feedback_law() {
         c: 0.3,
         a: 0.0,
     };
-    let integ = UnreducedIntegrator::plus(sys, options());
-    let s0 = CanonicalState {
+    let integ = UnreducedIntegrator::new(sys, options());
+    let s0 = UnreducedState {
         q: SVector::from([1.0]),
         p: SVector::from([0.0]),
     };
@@ -247,7 +247,7 @@ fn a_control_sequence_equals_the_same_feedback_law() {
     let b = integ
         .run(s0)
         .steps(100)
-        .feedback(|k: usize, _, _: &CanonicalState<1>, u: &mut [f64]| u[0] = (k as f64 * 0.1).sin())
+        .feedback(|k: usize, _, _: &UnreducedState<1>, u: &mut [f64]| u[0] = (k as f64 * 0.1).sin())
         .collect()
         .unwrap();
     assert_eq!(a.states, b.states);
@@ -385,15 +385,15 @@ fn check_reduced<L, D, const S: usize, const K: usize, const N: usize>(
 
 fn check_unreduced<L, const S: usize, const K: usize, const N: usize>(
     integ: &UnreducedIntegrator<L, S, K, N>,
-    s0: CanonicalState<N>,
+    s0: UnreducedState<N>,
     u: &[f64],
 ) where
     L: Unreduced<S, K, N>,
 {
     let (_, _, sens) = integ.step_sensitivity(0, &s0, u).unwrap();
-    let flat = |s: &CanonicalState<N>| s.q.iter().chain(s.p.iter()).copied().collect::<Vec<_>>();
+    let flat = |s: &UnreducedState<N>| s.q.iter().chain(s.p.iter()).copied().collect::<Vec<_>>();
     let step = |s: &[f64], u: &[f64]| {
-        let state = CanonicalState {
+        let state = UnreducedState {
             q: SVector::from_column_slice(&s[..N]),
             p: SVector::from_column_slice(&s[N..]),
         };
@@ -426,7 +426,7 @@ fn sensitivities_match_central_differences_dense() {
     check_reduced(&ReducedIntegrator::plus(sys, options()), s0, &[0.3]);
     check_reduced(&ReducedIntegrator::minus(sys, options()), s0, &[-0.2]);
     check_unreduced(
-        &UnreducedIntegrator::plus(sys, options()),
+        &UnreducedIntegrator::new(sys, options()),
         sys.untrivialize(&s0),
         &[0.5],
     );
@@ -445,8 +445,8 @@ fn sensitivities_match_central_differences_sparse() {
         q[i] = 1.05 * i as f64 + 0.03 * (i as f64).sin();
         p[i] = 0.1 * (0.7 * i as f64).cos();
     }
-    let c0 = CanonicalState { q, p };
-    check_unreduced(&UnreducedIntegrator::plus(sys, options()), c0, &[0.4]);
+    let c0 = UnreducedState { q, p };
+    check_unreduced(&UnreducedIntegrator::new(sys, options()), c0, &[0.4]);
     let s0 = sys.trivialize(&c0);
     check_reduced(&ReducedIntegrator::plus(sys, options()), s0, &[0.4]);
 }
@@ -470,12 +470,12 @@ fn a_composition_of_the_forced_midpoint_step_reaches_order_four() {
             c,
             a: 0.0,
         };
-        let s0 = CanonicalState {
+        let s0 = UnreducedState {
             q: SVector::from([x0]),
             p: SVector::from([0.0]),
         };
         let traj = Composition::new(
-            UnreducedIntegrator::plus(sys, tight),
+            UnreducedIntegrator::new(sys, tight),
             CompositionMethod::TRIPLE_JUMP,
         )
         .run(s0)

@@ -65,7 +65,7 @@ fn reduced_steps_with_a_connection_solve_the_unreduced_equations() {
         b0: 0.8,
         b: 0.45,
     };
-    let canonical = CanonicalState {
+    let canonical = UnreducedState {
         q: SVector::from([0.2, -0.1, 0.3, 0.7]),
         p: SVector::from([0.9, 0.2, -0.4, 1.1]),
     };
@@ -86,7 +86,7 @@ fn reduced_steps_with_a_connection_solve_the_unreduced_equations() {
 
 #[test]
 fn the_shape_trajectory_does_not_depend_on_the_connection() {
-    let canonical = CanonicalState {
+    let canonical = UnreducedState {
         q: SVector::from([0.2, -0.1, 0.3, 0.7]),
         p: SVector::from([0.9, 0.2, -0.4, 1.1]),
     };

@@ -294,7 +294,7 @@ fn double_spherical_pendulum_million_steps() {
     // The unreduced equations from the same state, over the same 10⁶ steps.
     let reduced = reduced.expect("the h run");
     let wall = Instant::now();
-    let unreduced = UnreducedIntegrator::plus(sys, NewtonOptions::default())
+    let unreduced = UnreducedIntegrator::new(sys, NewtonOptions::default())
         .run(sys.untrivialize(&initial))
         .steps(STEPS)
         .collect()

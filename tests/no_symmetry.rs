@@ -24,8 +24,8 @@ const SYS: HenonHeiles = HenonHeiles {
     lambda: 1.0,
 };
 
-fn initial() -> CanonicalState<2> {
-    CanonicalState {
+fn initial() -> UnreducedState<2> {
+    UnreducedState {
         q: SVector::from([0.1, -0.2]),
         p: SVector::from([0.3, 0.25]),
     }
@@ -43,13 +43,13 @@ fn group_dimension_is_zero() {
 /// with t.
 #[test]
 fn unreduced_integrator_has_bounded_energy_error() {
-    let traj = UnreducedIntegrator::plus(SYS, NewtonOptions::default())
+    let traj = UnreducedIntegrator::new(SYS, NewtonOptions::default())
         .run(initial())
         .steps(4000)
         .collect()
         .unwrap();
     let e0 = energy(SYS.lambda, &traj.states[0].q, &traj.states[0].p);
-    let err = |s: &CanonicalState<2>| (energy(SYS.lambda, &s.q, &s.p) - e0).abs();
+    let err = |s: &UnreducedState<2>| (energy(SYS.lambda, &s.q, &s.p) - e0).abs();
     let first_half = traj.states[..2000].iter().map(err).fold(0.0, f64::max);
     let second_half = traj.states[2000..].iter().map(err).fold(0.0, f64::max);
     eprintln!("energy error: first half {first_half:e}, second half {second_half:e} (E0 = {e0})");
@@ -62,7 +62,7 @@ fn unreduced_integrator_has_bounded_energy_error() {
 
 #[test]
 fn step_map_is_symplectic() {
-    let integ = UnreducedIntegrator::plus(SYS, NewtonOptions::default());
+    let integ = UnreducedIntegrator::new(SYS, NewtonOptions::default());
     let traj = integ.clone().run(initial()).steps(200).collect().unwrap();
     for (k, pair) in traj.states.windows(2).enumerate() {
         let m = integ.step_jacobian(k, &pair[0], &pair[1]).unwrap();
@@ -76,7 +76,7 @@ fn step_map_is_symplectic() {
 /// trajectories are bit-for-bit equal.
 #[test]
 fn reduced_steppers_equal_the_unreduced_one() {
-    let unreduced = UnreducedIntegrator::plus(SYS, NewtonOptions::default())
+    let unreduced = UnreducedIntegrator::new(SYS, NewtonOptions::default())
         .run(initial())
         .steps(500)
         .collect()

@@ -24,7 +24,7 @@ fn assert_close<const N: usize>(a: &SVector<f64, N>, b: &SVector<f64, N>, tol: f
 /// they describe the same physical trajectory `(q_k, p_k)` to `tol` (relative).
 fn assert_reduction_commutes<L, const S: usize, const K: usize, const N: usize>(
     sys: L,
-    initial: CanonicalState<N>,
+    initial: UnreducedState<N>,
     steps: usize,
     tol: f64,
 ) where
@@ -41,7 +41,7 @@ fn assert_reduction_commutes<L, const S: usize, const K: usize, const N: usize>(
         .steps(steps)
         .collect()
         .unwrap();
-    let unreduced = UnreducedIntegrator::plus(sys, options)
+    let unreduced = UnreducedIntegrator::new(sys, options)
         .run(initial)
         .steps(steps)
         .collect()
@@ -64,8 +64,8 @@ fn assert_reduction_commutes<L, const S: usize, const K: usize, const N: usize>(
     }
 }
 
-fn canonical<const N: usize>(q: [f64; N], p: [f64; N]) -> CanonicalState<N> {
-    CanonicalState {
+fn canonical<const N: usize>(q: [f64; N], p: [f64; N]) -> UnreducedState<N> {
+    UnreducedState {
         q: SVector::from(q),
         p: SVector::from(p),
     }
@@ -127,7 +127,7 @@ fn each_reduced_step_is_an_unreduced_step_at_g_zero() {
         .steps(200)
         .collect()
         .unwrap();
-    let unreduced = UnreducedIntegrator::plus(sys, options);
+    let unreduced = UnreducedIntegrator::new(sys, options);
     for (k, pair) in reduced.states.windows(2).enumerate() {
         let mut at_zero = pair[0];
         at_zero.g = SVector::zeros();
@@ -169,7 +169,7 @@ fn a_large_group_coordinate_costs_the_unreduced_stepper_digits() {
         assert_eq!(a.w, b.w);
     }
     let final_error = |theta0: f64| {
-        let traj = UnreducedIntegrator::plus(sys, options)
+        let traj = UnreducedIntegrator::new(sys, options)
             .run(sys.untrivialize(&at(theta0)))
             .steps(100)
             .collect()
@@ -216,7 +216,7 @@ fn double_spherical_pendulum_paper_run() {
         .steps(DSP_STEPS)
         .collect()
         .unwrap();
-    let unreduced = UnreducedIntegrator::plus(sys, options)
+    let unreduced = UnreducedIntegrator::new(sys, options)
         .run(sys.untrivialize(&initial))
         .steps(DSP_STEPS)
         .collect()

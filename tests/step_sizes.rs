@@ -4,9 +4,9 @@
 
 use std::f64::consts::PI;
 
-use dirac::kepler::Kepler;
 use dirac::paper::{DoubleSphericalPendulum, DSP_STEPS, DSP_T};
 use dirac::prelude::*;
+use dirac::systems::kepler::Kepler;
 
 /// The smooth schedule `h_k = h (1 + ½ sin(2π t_k / T))`: sizes between `h/2` and `3h/2`.
 fn smooth(h: f64, period: f64) -> impl FnMut(usize, f64, &ReducedState<1, 1>) -> f64 + Clone {
@@ -111,8 +111,8 @@ fn a_smooth_schedule_keeps_order_two_and_mu_on_the_double_spherical_pendulum() {
         ..NewtonOptions::default()
     };
     let law =
-        move |_: usize, t: f64, _: &CanonicalState<4>| h * (1.0 + 0.5 * (2.0 * PI * t / end).sin());
-    let unreduced = UnreducedIntegrator::plus(sys, tight)
+        move |_: usize, t: f64, _: &UnreducedState<4>| h * (1.0 + 0.5 * (2.0 * PI * t / end).sin());
+    let unreduced = UnreducedIntegrator::new(sys, tight)
         .run(sys.untrivialize(&start))
         .end_time(end)
         .schedule(law)
@@ -209,7 +209,7 @@ fn a_constant_schedule_is_the_fixed_step_run_bit_for_bit() {
         .collect()
         .unwrap();
     assert_eq!(a.states, b.states);
-    let unreduced = UnreducedIntegrator::plus(sys, options);
+    let unreduced = UnreducedIntegrator::new(sys, options);
     let c0 = sys.untrivialize(&start);
     let a = unreduced.run(c0).steps(50).collect().unwrap();
     let b = unreduced

@@ -92,9 +92,9 @@ fn reduced_state() -> impl Strategy<Value = ReducedState<3, 1>> {
         .prop_map(|(x, w, mu, g)| ReducedState::new(x, w, [mu], [g]))
 }
 
-fn canonical_state() -> impl Strategy<Value = CanonicalState<4>> {
+fn unreduced_state() -> impl Strategy<Value = UnreducedState<4>> {
     let four = || [coordinate(), coordinate(), coordinate(), coordinate()];
-    (four(), four()).prop_map(|(q, p)| CanonicalState {
+    (four(), four()).prop_map(|(q, p)| UnreducedState {
         q: SVector::from(q),
         p: SVector::from(p),
     })
@@ -159,7 +159,7 @@ fn reduced_components(s: &ReducedState<3, 1>) -> Vec<f64> {
         .collect()
 }
 
-fn canonical_components(s: &CanonicalState<4>) -> Vec<f64> {
+fn canonical_components(s: &UnreducedState<4>) -> Vec<f64> {
     s.q.iter().chain(s.p.iter()).copied().collect()
 }
 
@@ -218,7 +218,7 @@ fn check_outcome(
 fn check_system<L>(
     system: L,
     reduced: ReducedState<3, 1>,
-    canonical: CanonicalState<4>,
+    canonical: UnreducedState<4>,
     steps: usize,
     eliminate: Option<bool>,
     options: NewtonOptions,
@@ -275,7 +275,7 @@ where
     }
     let initial = canonical_components(&canonical);
     let what = "unreduced";
-    match UnreducedIntegrator::plus(system, options)
+    match UnreducedIntegrator::new(system, options)
         .run(canonical)
         .steps(steps)
         .collect()
@@ -316,7 +316,7 @@ proptest! {
     fn charged_particle_steps_are_ok_and_finite_or_a_typed_error(
         system in charged_particle(),
         reduced in reduced_state(),
-        canonical in canonical_state(),
+        canonical in unreduced_state(),
         steps in 0..=MAX_STEPS,
         eliminate in proptest::option::of(any::<bool>()),
         options in newton_options(),
@@ -328,7 +328,7 @@ proptest! {
     fn double_spherical_pendulum_steps_are_ok_and_finite_or_a_typed_error(
         system in double_spherical_pendulum(),
         reduced in reduced_state(),
-        canonical in canonical_state(),
+        canonical in unreduced_state(),
         steps in 0..=MAX_STEPS,
         eliminate in proptest::option::of(any::<bool>()),
         options in newton_options(),

@@ -47,9 +47,9 @@ fn toda_adapted(q: Config, v: Velocity, m: f64, a: f64) -> f64 {
 const H: f64 = 0.05;
 const STEPS: usize = 400;
 
-fn toda_initial() -> CanonicalState<6> {
+fn toda_initial() -> UnreducedState<6> {
     // Positions and momenta of the six particles; total momentum 0.37.
-    CanonicalState::new(
+    UnreducedState::new(
         [0.0, 0.9, 2.1, 2.8, 4.2, 5.0],
         [0.5, -0.3, 0.8, -0.6, 0.1, -0.13],
     )
@@ -149,12 +149,12 @@ fn toda_reduced_equals_unreduced_in_user_coordinates() {
         .steps(STEPS)
         .collect()
         .unwrap();
-    let own = UnreducedIntegrator::plus(sys, tight())
+    let own = UnreducedIntegrator::new(sys, tight())
         .run(start)
         .steps(STEPS)
         .collect()
         .unwrap();
-    let baseline = UnreducedIntegrator::plus(user, tight())
+    let baseline = UnreducedIntegrator::new(user, tight())
         .run(toda_initial())
         .steps(STEPS)
         .collect()
@@ -263,8 +263,8 @@ const BODIES: ThreeBody = ThreeBody {
     eps: 0.05,
 };
 
-fn three_body_initial() -> CanonicalState<9> {
-    CanonicalState::new(
+fn three_body_initial() -> UnreducedState<9> {
+    UnreducedState::new(
         [1.0, -0.5, -0.4, 0.0, 0.9, -0.8, 0.1, -0.2, 0.15],
         [0.1, 0.5, -0.3, 0.7, -0.2, -0.4, 0.05, 0.3, -0.1],
     )
@@ -305,7 +305,7 @@ fn three_bodies_conserve_total_momentum_and_agree_with_unreduced() {
         .steps(steps)
         .collect()
         .unwrap();
-    let unreduced = UnreducedIntegrator::plus(sys, tight())
+    let unreduced = UnreducedIntegrator::new(sys, tight())
         .run(start)
         .steps(steps)
         .collect()
@@ -479,12 +479,12 @@ fn indexed_coordinates_take_the_same_steps_as_named_ones() {
         .unwrap();
     assert_eq!(ma.states, mb.states);
     let c = a.untrivialize(&start);
-    let ua = UnreducedIntegrator::plus(a, opts)
+    let ua = UnreducedIntegrator::new(a, opts)
         .run(c)
         .steps(300)
         .collect()
         .unwrap();
-    let ub = UnreducedIntegrator::plus(b, opts)
+    let ub = UnreducedIntegrator::new(b, opts)
         .run(c)
         .steps(300)
         .collect()

@@ -23,7 +23,7 @@ pub struct StepCase<const S: usize, const K: usize, const N: usize> {
     /// Newton corrections the generated stepper took from `guess` on its default path.
     pub iterations: usize,
     /// The same physical state for the unreduced stepper, `(q_k, p_k)` by eq. (3.7).
-    pub canonical: CanonicalState<N>,
+    pub canonical: UnreducedState<N>,
     /// The unreduced integrator's guess, `integrate::canonical_guess`.
     pub canonical_guess: SVector<f64, N>,
 }

@@ -9,7 +9,7 @@ use dirac::runtime::compose::Composition;
 ///
 /// * [`ReducedState`]: `x_<shape>`, `w_<shape>`, `mu_<group>`, `g_<group>` (shape `x ∈ Σ`,
 ///   reduced momenta `w ∈ Σ*` and `μ ∈ g*` of eq. (3.6), group coordinate `g`);
-/// * [`CanonicalState`]: `q_<coordinate>`, `p_<coordinate>` over the shape then the group
+/// * [`UnreducedState`]: `q_<coordinate>`, `p_<coordinate>` over the shape then the group
 ///   coordinates (`q = (x, g)`, `p = (p_x, p_g)`).
 ///
 /// ```
@@ -79,7 +79,7 @@ impl<const S: usize, const K: usize> StateColumns for ReducedState<S, K> {
     }
 }
 
-impl<const N: usize> StateColumns for CanonicalState<N> {
+impl<const N: usize> StateColumns for UnreducedState<N> {
     const WIDTH: usize = 2 * N;
 
     fn column_names(shape: &[&str], group: &[&str]) -> Vec<String> {
@@ -94,7 +94,7 @@ impl<const N: usize> StateColumns for CanonicalState<N> {
     }
 
     fn read_from(values: &[f64]) -> Self {
-        let mut state = CanonicalState::<N> {
+        let mut state = UnreducedState::<N> {
             q: SVector::zeros(),
             p: SVector::zeros(),
         };
@@ -250,11 +250,11 @@ where
 
 impl<L, const S: usize, const K: usize, const N: usize> Describe for UnreducedIntegrator<L, S, K, N>
 where
-    Self: Stepper<State = CanonicalState<N>>,
+    Self: Stepper<State = UnreducedState<N>>,
     L: Unreduced<S, K, N>,
 {
     fn describe(&self) -> RunInfo {
-        RunInfo::of_system::<CanonicalState<N>, L, S, K, N>(self.system())
+        RunInfo::of_system::<UnreducedState<N>, L, S, K, N>(self.system())
             .with_newton(self.options())
             .with("dirac.integrator", "unreduced (Definitions 2.7/2.8)")
     }

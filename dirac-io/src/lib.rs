@@ -35,7 +35,7 @@
 //! | `step` | u64 | `k`, from 0 (the initial state) |
 //! | `t` | f64 | the time `t_k` of the state (`k · h` for a fixed step; a step-size schedule gives its own times) |
 //! | `x_<name>`, `w_<name>`, `mu_<name>`, `g_<name>` | f64 | a [`ReducedState`](dirac::ReducedState): shape `x`, momenta `w`, `μ`, group `g`, one column per coordinate named in the annotation |
-//! | `q_<name>`, `p_<name>` | f64 | a [`CanonicalState`](dirac::CanonicalState) instead |
+//! | `q_<name>`, `p_<name>` | f64 | a [`UnreducedState`](dirac::UnreducedState) instead |
 //! | `iterations` | u32, null at step 0 | Newton corrections of the step that produced the state |
 //! | `residual` | f64, null at step 0 | its accepted `‖R‖∞` |
 //! | `rcond` | f64, nullable | its reciprocal condition estimate (null when no Jacobian was factored) |

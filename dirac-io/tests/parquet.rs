@@ -155,7 +155,7 @@ fn every_kth_state_and_the_last_one() {
 fn canonical_states_are_named_q_and_p() {
     let dir = scratch("canonical");
     let sys = DoubleSphericalPendulum::paper();
-    let integ = UnreducedIntegrator::plus(sys, NewtonOptions::default());
+    let integ = UnreducedIntegrator::new(sys, NewtonOptions::default());
     let start = sys.untrivialize(&DoubleSphericalPendulum::paper_initial_state());
     let path = dir.join("canonical.parquet");
     let mut out = ParquetObserver::create(&path, integ.describe(), Options::new()).unwrap();

@@ -149,7 +149,7 @@ fn an_observer_for_another_state_type_is_an_error_not_a_panic() {
             .describe();
     // The description has the 8 columns of a `ReducedState<3, 1>`; a canonical state has 4.
     let created =
-        ParquetObserver::<CanonicalState<2>>::create(dir.join("x.parquet"), info, Options::new());
+        ParquetObserver::<UnreducedState<2>>::create(dir.join("x.parquet"), info, Options::new());
     let err = created
         .err()
         .expect("a mismatched description is an error")

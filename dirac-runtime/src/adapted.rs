@@ -23,7 +23,7 @@
 
 use nalgebra::SVector;
 
-use crate::state::CanonicalState;
+use crate::state::UnreducedState;
 
 /// Adapted coordinates `q = T⁻¹ q_user` of a symmetry declared on the user's coordinates
 /// (`translate`): the unimodular change of coordinates of the trivialization `Q = Σ × G`
@@ -49,22 +49,22 @@ pub trait AdaptedCoordinates<const N: usize> {
 
     /// The canonical state `(q, p) = (T⁻¹ q_user, Tᵀ p_user)` in adapted coordinates, from the
     /// user's positions and momenta; `trivialize` it (eq. (3.6)) for a reduced initial state.
-    fn adapted_state(q_user: &SVector<f64, N>, p_user: &SVector<f64, N>) -> CanonicalState<N> {
-        CanonicalState {
+    fn adapted_state(q_user: &SVector<f64, N>, p_user: &SVector<f64, N>) -> UnreducedState<N> {
+        UnreducedState {
             q: Self::to_adapted(q_user),
             p: Self::momentum_to_adapted(p_user),
         }
     }
 
     /// [`Self::adapted_state`] of a state given in the user's coordinates.
-    fn to_adapted_state(user: &CanonicalState<N>) -> CanonicalState<N> {
+    fn to_adapted_state(user: &UnreducedState<N>) -> UnreducedState<N> {
         Self::adapted_state(&user.q, &user.p)
     }
 
     /// The user's positions and momenta `(T q, T⁻ᵀ p)` of an adapted canonical state (e.g. from
-    /// `untrivialize`, eq. (3.7)), as a `CanonicalState` in the user's coordinates.
-    fn from_adapted_state(state: &CanonicalState<N>) -> CanonicalState<N> {
-        CanonicalState {
+    /// `untrivialize`, eq. (3.7)), as a `UnreducedState` in the user's coordinates.
+    fn from_adapted_state(state: &UnreducedState<N>) -> UnreducedState<N> {
+        UnreducedState {
             q: Self::from_adapted(&state.q),
             p: Self::momentum_from_adapted(&state.p),
         }

@@ -47,7 +47,7 @@ use nalgebra::{SMatrix, SVector};
 use crate::error::{StepError, Steps};
 use crate::linalg::Lu;
 use crate::reduced::{reduced_guess, ReducedIntegrator, ReducedStep, ReducedWorkspace};
-use crate::state::{CanonicalState, ReducedState};
+use crate::state::{ReducedState, UnreducedState};
 use crate::stepper::{check_inputs, Collect, History, StepStats, Stepper};
 use crate::system::{join, split, Reduced, Side, Variant};
 
@@ -63,10 +63,10 @@ pub trait ChartTransition<const S: usize, const K: usize, const N: usize> {
 
     /// The cotangent lift `(q, p) ↦ (φ(q), Dφ(q)^{-T} p)`; `None` where `Dφ` is singular (the
     /// point is on the singular set of one of the two charts).
-    fn lift(&self, state: &CanonicalState<N>) -> Option<CanonicalState<N>> {
+    fn lift(&self, state: &UnreducedState<N>) -> Option<UnreducedState<N>> {
         let (q, d) = self.map_jacobian(&state.q);
         let lu = Lu::new(d)?;
-        Some(CanonicalState {
+        Some(UnreducedState {
             q,
             p: lu.solve_transpose(&state.p),
         })

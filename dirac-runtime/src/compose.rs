@@ -50,14 +50,15 @@
 //! assert!((m.coefficients.iter().sum::<f64>() - 1.0).abs() < 1e-15);
 //! ```
 
-use nalgebra::{SMatrix, SVector};
+use nalgebra::{DMatrix, SVector};
 
 use crate::error::{StepError, Steps};
 use crate::reduced::ReducedIntegrator;
-use crate::state::CanonicalState;
+use crate::sensitivity::Sensitivity;
+use crate::state::UnreducedState;
 use crate::stepper::{Collect, StepStats, Stepper};
 use crate::system::{join, DiscreteLagrangian, LagrangianHessian, Reduced, Side, Unreduced};
-use crate::unreduced::{StepJacobian, UnreducedIntegrator};
+use crate::unreduced::UnreducedIntegrator;
 
 /// A symmetric composition scheme: the coefficients `γ_1, …, γ_s` of the substeps `γ_i h`, with
 /// `Σ γ_i = 1` and `γ_i = γ_{s+1−i}`, and the order it reaches from a symmetric base step of
@@ -178,7 +179,7 @@ where
     L: Unreduced<S, K, N>,
 {
     fn with_time_step(&self, h: f64) -> Self {
-        UnreducedIntegrator::plus(self.system().with_time_step(h), *self.options())
+        UnreducedIntegrator::new(self.system().with_time_step(h), *self.options())
     }
 
     fn symmetry_defect(&self, at: &Self::State) -> f64 {
@@ -414,18 +415,16 @@ where
     /// Takes macro step `k` from `from` and returns the end state with the Jacobian of the
     /// composed step map, `M = M_s ⋯ M_2 M_1` by the chain rule, `M_i` the step-map Jacobian of
     /// stage `i` ([`UnreducedIntegrator::step_jacobian`]). A product of symplectic matrices is
-    /// symplectic, so [`StepJacobian::symplecticity_defect`] of `M` stays at round-off.
+    /// symplectic, so [`Sensitivity::symplecticity_defect`] of `M` stays at round-off.
     pub fn step_with_jacobian(
         &self,
         k: usize,
-        from: &CanonicalState<N>,
-    ) -> Result<(CanonicalState<N>, StepJacobian<N>), StepError> {
+        from: &UnreducedState<N>,
+    ) -> Result<(UnreducedState<N>, Sensitivity), StepError> {
         let mut current = *from;
-        let mut product = StepJacobian {
-            dq_dq: SMatrix::identity(),
-            dq_dp: SMatrix::zeros(),
-            dp_dq: SMatrix::zeros(),
-            dp_dp: SMatrix::identity(),
+        let mut product = Sensitivity {
+            state: DMatrix::identity(2 * N, 2 * N),
+            control: DMatrix::zeros(2 * N, 0),
         };
         for (i, stage) in self.stages.iter().enumerate() {
             let (next, _) = stage
@@ -478,19 +477,6 @@ where
         }
     }
     worst
-}
-
-impl<const N: usize> StepJacobian<N> {
-    /// The Jacobian of the map `self ∘ first` (first `first`, then `self`): the block product
-    /// `[[A, B], [C, D]] · [[A₁, B₁], [C₁, D₁]]`.
-    pub fn compose(&self, first: &StepJacobian<N>) -> StepJacobian<N> {
-        StepJacobian {
-            dq_dq: self.dq_dq * first.dq_dq + self.dq_dp * first.dp_dq,
-            dq_dp: self.dq_dq * first.dq_dp + self.dq_dp * first.dp_dp,
-            dp_dq: self.dp_dq * first.dq_dq + self.dp_dp * first.dp_dq,
-            dp_dp: self.dp_dq * first.dq_dp + self.dp_dp * first.dp_dp,
-        }
-    }
 }
 
 #[cfg(test)]

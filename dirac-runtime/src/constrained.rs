@@ -19,15 +19,18 @@
 //!
 //! The unreduced and the reduced steps are the same sequence of solves on different states; a
 //! [`Form`] states only where they differ, and one [`ConstrainedStepper`] takes the step for all
-//! three forms ([`Canonical`], [`Plus`](crate::Plus), [`Minus`](crate::Minus)).
+//! three forms ([`UnreducedForm`], [`Plus`](crate::Plus), [`Minus`](crate::Minus)).
 
 use nalgebra::SVector;
 
+use crate::continuous::{
+    unreduced_energies, ContinuousEnergies, ContinuousLagrangian, LegendreError,
+};
 use crate::error::{StepError, Steps};
 use crate::linalg::LinearSolver;
 use crate::newton::{self, inf_norm, NewtonOptions};
 use crate::reduced::trajectory_accessors;
-use crate::state::{CanonicalState, ReducedState};
+use crate::state::{ReducedState, UnreducedState};
 use crate::stepper::{
     check_inputs, predicted_increment, step_error, system_at, Collect, History, StepStats,
     StepStatsExt, Stepper,
@@ -46,7 +49,7 @@ pub trait Constraints<const S: usize, const K: usize, const N: usize, const M: u
     fn constraint(&self, q: &SVector<f64, N>) -> SVector<f64, M>;
 }
 
-/// The constrained steps of form `F` ([`Canonical`]: the unreduced equations on `(q, p)`;
+/// The constrained steps of form `F` ([`UnreducedForm`]: the unreduced equations on `(q, p)`;
 /// [`Plus`](crate::Plus) or [`Minus`](crate::Minus): the reduced equations of that side on
 /// `(x, w, μ, g)`, for constraints invariant under the symmetry) that `#[reduced_lagrangian]`
 /// implements for all three forms: `Z = N + M` unknowns in each solve.
@@ -68,7 +71,7 @@ pub trait Constrained<
 {
     /// Whether `μ` changes over a reduced step: by a force's group impulse, or by the group
     /// component of nonholonomic constraint forces (the discrete nonholonomic momentum
-    /// equation); without either `μ` is copied. Always `false` for [`Canonical`], whose step
+    /// equation); without either `μ` is copied. Always `false` for [`UnreducedForm`], whose step
     /// has no `μ` of its own.
     const CONSTRAINED_GROUP_FORCED: bool = false;
     /// `μ_{k+1} − μ_k` of a reduced position step at `z`: the forces' group impulse minus the
@@ -117,13 +120,13 @@ pub trait Constrained<
 }
 
 /// The unreduced form of the constrained steps: the state is the canonical `(q, p)`
-/// ([`CanonicalState`]), the position step's unknowns `z = (q_{k+1}, λ_k)`.
+/// ([`UnreducedState`]), the position step's unknowns `z = (q_{k+1}, λ_k)`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub struct Canonical;
+pub struct UnreducedForm;
 
 mod sealed {
     pub trait Sealed {}
-    impl Sealed for super::Canonical {}
+    impl Sealed for super::UnreducedForm {}
     impl<D: crate::system::Side> Sealed for D {}
 }
 
@@ -132,11 +135,11 @@ mod sealed {
 /// step itself, two Newton solves and their bookkeeping, is written once
 /// ([`ConstrainedStepper`]), as [`Side`] does for the reduced (+) and (−) equations.
 ///
-/// Sealed: the forms are [`Canonical`], [`Plus`](crate::Plus) and [`Minus`](crate::Minus).
+/// Sealed: the forms are [`UnreducedForm`], [`Plus`](crate::Plus) and [`Minus`](crate::Minus).
 pub trait Form<const S: usize, const K: usize, const N: usize>:
     sealed::Sealed + Copy + Default + std::fmt::Debug + Send + Sync + 'static
 {
-    /// The state a step maps: [`CanonicalState`] or [`ReducedState`].
+    /// The state a step maps: [`UnreducedState`] or [`ReducedState`].
     type State: Copy + std::fmt::Debug + PartialEq + Send + Sync + 'static;
     /// What a step remembers for the next guess: `q_{k+1} − q_k`, or `(x_{k+1} − x_k, u)`.
     type Increment: Copy + std::fmt::Debug;
@@ -152,6 +155,9 @@ pub trait Form<const S: usize, const K: usize, const N: usize>:
         sys: &L,
         state: &Self::State,
     ) -> SVector<f64, N>;
+    /// `state` as an unreduced state `(q, p)` (reduced: by eq. (3.7)).
+    fn unreduced<L: DiscreteLagrangian<S, K, N>>(sys: &L, state: &Self::State)
+        -> UnreducedState<N>;
     /// The guess of the position step's configuration unknowns (the first `N` of `z`) for a
     /// step of size `h`: the configuration moved by the increment the last two steps (and their
     /// sizes) extrapolate.
@@ -172,28 +178,35 @@ pub trait Form<const S: usize, const K: usize, const N: usize>:
     fn projected(shake: &Self::State, momentum: &SVector<f64, N>) -> Self::State;
 }
 
-impl<const S: usize, const K: usize, const N: usize> Form<S, K, N> for Canonical {
-    type State = CanonicalState<N>;
+impl<const S: usize, const K: usize, const N: usize> Form<S, K, N> for UnreducedForm {
+    type State = UnreducedState<N>;
     type Increment = SVector<f64, N>;
     type Momentum = SVector<f64, N>;
 
-    fn is_finite(state: &CanonicalState<N>) -> bool {
+    fn is_finite(state: &UnreducedState<N>) -> bool {
         state.is_finite()
     }
 
-    fn scale(state: &CanonicalState<N>) -> f64 {
+    fn scale(state: &UnreducedState<N>) -> f64 {
         inf_norm(&state.p)
     }
 
     fn configuration<L: DiscreteLagrangian<S, K, N>>(
         _sys: &L,
-        state: &CanonicalState<N>,
+        state: &UnreducedState<N>,
     ) -> SVector<f64, N> {
         state.q
     }
 
+    fn unreduced<L: DiscreteLagrangian<S, K, N>>(
+        _sys: &L,
+        state: &UnreducedState<N>,
+    ) -> UnreducedState<N> {
+        *state
+    }
+
     fn guess(
-        state: &CanonicalState<N>,
+        state: &UnreducedState<N>,
         history: &History<SVector<f64, N>>,
         h: f64,
     ) -> SVector<f64, N> {
@@ -203,26 +216,26 @@ impl<const S: usize, const K: usize, const N: usize> Form<S, K, N> for Canonical
 
     fn shake<L, const M: usize, const Z: usize>(
         sys: &L,
-        state: &CanonicalState<N>,
+        state: &UnreducedState<N>,
         z: &SVector<f64, Z>,
-    ) -> (CanonicalState<N>, SVector<f64, N>)
+    ) -> (UnreducedState<N>, SVector<f64, N>)
     where
         L: Constrained<Self, S, K, N, M, Z>,
     {
         let (q1, _) = parts::<N, M, Z>(z);
-        let shake = CanonicalState {
+        let shake = UnreducedState {
             q: q1,
             p: sys.constrained_momentum(state, z),
         };
         (shake, q1 - state.q)
     }
 
-    fn secant(state: &CanonicalState<N>, shake: &CanonicalState<N>, h: f64) -> SVector<f64, N> {
+    fn secant(state: &UnreducedState<N>, shake: &UnreducedState<N>, h: f64) -> SVector<f64, N> {
         (shake.q - state.q) / h
     }
 
-    fn projected(shake: &CanonicalState<N>, momentum: &SVector<f64, N>) -> CanonicalState<N> {
-        CanonicalState {
+    fn projected(shake: &UnreducedState<N>, momentum: &SVector<f64, N>) -> UnreducedState<N> {
+        UnreducedState {
             q: shake.q,
             p: *momentum,
         }
@@ -247,6 +260,13 @@ impl<D: Side, const S: usize, const K: usize, const N: usize> Form<S, K, N> for 
         state: &ReducedState<S, K>,
     ) -> SVector<f64, N> {
         sys.untrivialize(state).q
+    }
+
+    fn unreduced<L: DiscreteLagrangian<S, K, N>>(
+        sys: &L,
+        state: &ReducedState<S, K>,
+    ) -> UnreducedState<N> {
+        sys.untrivialize(state)
     }
 
     fn guess(
@@ -357,14 +377,19 @@ impl<St: std::fmt::Debug, const M: usize> Steps for ConstrainedTrajectory<St, M>
 /// The workspace of a constrained run: both solvers, the last multipliers and the memory of
 /// the last steps' increments.
 #[derive(Clone, Debug)]
+#[doc(hidden)]
 pub struct ConstrainedWorkspace<P, Q, H, const M: usize> {
     /// The position step's linear solver.
+    #[doc(hidden)]
     pub position: P,
     /// The projection's linear solver.
+    #[doc(hidden)]
     pub projection: Q,
     /// The last two increments (Newton's guess extrapolates them).
+    #[doc(hidden)]
     pub history: History<H>,
     /// The last step's multipliers `(λ, ν)`: the next step's guess.
+    #[doc(hidden)]
     pub multipliers: Option<(SVector<f64, M>, SVector<f64, M>)>,
 }
 
@@ -436,7 +461,7 @@ pub type ConstrainedIntegrator<
     const N: usize,
     const M: usize,
     const Z: usize,
-> = ConstrainedStepper<L, Canonical, S, K, N, M, Z>;
+> = ConstrainedStepper<L, UnreducedForm, S, K, N, M, Z>;
 
 /// Integrates the reduced constrained equations of side `D` (see the [module
 /// documentation](self)).
@@ -472,7 +497,9 @@ where
     F: Form<S, K, N>,
     L: Constrained<F, S, K, N, M, Z>,
 {
-    /// The constrained integrator of `system` in the form `F`.
+    /// The constrained integrator of `system` in the form `F`: [`ConstrainedIntegrator::new`]
+    /// for the unreduced equations; the reduced sides are named by
+    /// [`ReducedConstrainedIntegrator::plus`] and [`ReducedConstrainedIntegrator::minus`].
     pub fn new(system: L, options: NewtonOptions) -> Self {
         Self {
             system,
@@ -484,6 +511,29 @@ where
     /// The system being integrated.
     pub fn system(&self) -> &L {
         &self.system
+    }
+
+    /// The momentum map `J(q, p) = p_g` of the declared translations at `state` (a reduced
+    /// state's `μ`). Constraint forces that are not invariant change it along a run.
+    pub fn momentum_map(&self, state: &F::State) -> SVector<f64, K> {
+        self.system.momentum_map(&F::unreduced(&self.system, state))
+    }
+
+    /// The continuous energy of a trajectory of this integrator at its nodes and midpoints
+    /// ([`crate::continuous_energies`], reduced states mapped back by eq. (3.7)).
+    pub fn energies(
+        &self,
+        trajectory: &ConstrainedTrajectory<F::State, M>,
+    ) -> Result<ContinuousEnergies, LegendreError>
+    where
+        L: ContinuousLagrangian<N>,
+    {
+        let states: Vec<UnreducedState<N>> = trajectory
+            .states
+            .iter()
+            .map(|s| F::unreduced(&self.system, s))
+            .collect();
+        unreduced_energies(&self.system, &states, &trajectory.times, trajectory.h)
     }
 }
 

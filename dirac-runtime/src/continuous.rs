@@ -9,9 +9,9 @@ use nalgebra::SVector;
 use crate::linalg::{checked_rcond, LinearSolver};
 use crate::newton::{self, inf_norm, NewtonFailure, NewtonOptions};
 use crate::reduced::Trajectory;
-use crate::state::{CanonicalState, ReducedState};
+use crate::state::{IntoVector, ReducedState, UnreducedState};
 use crate::system::DiscreteLagrangian;
-use crate::unreduced::CanonicalTrajectory;
+use crate::unreduced::UnreducedTrajectory;
 
 /// Solving the Legendre map `∂L/∂v (q, v) = p` for `v` failed.
 #[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
@@ -70,32 +70,40 @@ pub trait ContinuousLagrangian<const N: usize> {
     /// The energy `E(q, v) = ⟨∂L/∂v, v⟩ − L(q, v)`.
     fn energy(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> f64;
 
-    /// The canonical state `(q, ∂L/∂v (q, v))` from a position and a velocity. For a degenerate
-    /// Lagrangian this is the point of the primary constraint `p = ∂L/∂v` over `q`.
+    /// The unreduced state `(q, ∂L/∂v (q, v))` from a position and a velocity (arrays or
+    /// nalgebra vectors). For a degenerate Lagrangian this is the point of the primary
+    /// constraint `p = ∂L/∂v` over `q`.
     ///
-    /// `q` and `v` are in the system's own coordinates: for a system with a declared
+    /// `q` and `v` list the system's own coordinates in the order of
+    /// [`DiscreteLagrangian::SHAPE`] followed by [`DiscreteLagrangian::GROUP`]: for a system with a declared
     /// translation (`coordinates(..), translate(..)`) these are the *adapted* coordinates
     /// `(x, g)` of [`crate::adapted`], not the user's; convert user coordinates first with
     /// [`crate::AdaptedCoordinates::to_adapted`] (velocities transform like positions).
-    fn canonical_state(&self, q: SVector<f64, N>, v: SVector<f64, N>) -> CanonicalState<N> {
-        CanonicalState {
+    fn unreduced_state(
+        &self,
+        q: impl IntoVector<SVector<f64, N>>,
+        v: impl IntoVector<SVector<f64, N>>,
+    ) -> UnreducedState<N> {
+        let (q, v) = (q.into_vector(), v.into_vector());
+        UnreducedState {
             p: self.legendre(&q, &v),
             q,
         }
     }
 
-    /// The reduced state `(x, w, μ, g)` from a position and a velocity: the canonical state
-    /// trivialized by eq. (3.6). As for [`Self::canonical_state`], `q` and `v` are in the
-    /// system's own (for a declared translation: adapted) coordinates.
+    /// The reduced state `(x, w, μ, g)` from a position and a velocity: the unreduced state
+    /// trivialized by eq. (3.6). As for [`Self::unreduced_state`], `q` and `v` list the system's
+    /// own (for a declared translation: adapted) coordinates in the order of
+    /// [`DiscreteLagrangian::SHAPE`] followed by [`DiscreteLagrangian::GROUP`].
     fn reduced_state<const S: usize, const K: usize>(
         &self,
-        q: SVector<f64, N>,
-        v: SVector<f64, N>,
+        q: impl IntoVector<SVector<f64, N>>,
+        v: impl IntoVector<SVector<f64, N>>,
     ) -> ReducedState<S, K>
     where
         Self: DiscreteLagrangian<S, K, N>,
     {
-        self.trivialize(&self.canonical_state(q, v))
+        self.trivialize(&self.unreduced_state(q, v))
     }
 
     /// Solves the Legendre map `∂L/∂v (q, v) = p` for `v` (the inverse Legendre map) by the
@@ -193,17 +201,17 @@ where
 }
 
 /// The continuous energy of an unreduced trajectory at its nodes (from the discrete momenta) and
-/// at its midpoints. Newton for each node's velocity starts from the adjacent difference quotient.
+/// at its midpoints; [`UnreducedIntegrator::energies`](crate::UnreducedIntegrator::energies)
+/// and the other integrators' `energies` call it. Newton for each node's velocity starts from
+/// the adjacent difference quotient.
 pub fn continuous_energies<L, const N: usize>(
     sys: &L,
-    trajectory: &CanonicalTrajectory<N>,
+    trajectory: &UnreducedTrajectory<N>,
 ) -> Result<ContinuousEnergies, LegendreError>
 where
     L: ContinuousLagrangian<N>,
 {
-    let q: Vec<SVector<f64, N>> = trajectory.states.iter().map(|s| s.q).collect();
-    let p: Vec<SVector<f64, N>> = trajectory.states.iter().map(|s| s.p).collect();
-    energies(sys, &q, &p, trajectory.h)
+    unreduced_energies(sys, &trajectory.states, &trajectory.times, trajectory.h)
 }
 
 /// [`continuous_energies`] of a reduced trajectory, mapped back to `T*Q` by eq. (3.7).
@@ -214,37 +222,62 @@ pub fn reduced_continuous_energies<L, const S: usize, const K: usize, const N: u
 where
     L: ContinuousLagrangian<N> + DiscreteLagrangian<S, K, N>,
 {
-    let canonical: Vec<CanonicalState<N>> = trajectory
+    let unreduced: Vec<UnreducedState<N>> = trajectory
         .states
         .iter()
         .map(|s| sys.untrivialize(s))
         .collect();
-    let q: Vec<SVector<f64, N>> = canonical.iter().map(|s| s.q).collect();
-    let p: Vec<SVector<f64, N>> = canonical.iter().map(|s| s.p).collect();
-    energies(sys, &q, &p, trajectory.h)
+    unreduced_energies(sys, &unreduced, &trajectory.times, trajectory.h)
 }
 
-fn energies<L, const N: usize>(
+/// The node and midpoint energies of `states` at `times` (step `k` of size `t_{k+1} − t_k`;
+/// `h` where a hand-built trajectory has no times).
+pub(crate) fn unreduced_energies<L, const N: usize>(
     sys: &L,
-    q: &[SVector<f64, N>],
-    p: &[SVector<f64, N>],
+    states: &[UnreducedState<N>],
+    times: &[f64],
     h: f64,
 ) -> Result<ContinuousEnergies, LegendreError>
 where
     L: ContinuousLagrangian<N>,
 {
+    let q: Vec<SVector<f64, N>> = states.iter().map(|s| s.q).collect();
     let mut nodes = Vec::with_capacity(q.len());
     for k in 0..q.len() {
         let guess = match (k.checked_sub(1), q.get(k + 1)) {
-            (_, Some(next)) => (next - q[k]) / h,
-            (Some(prev), None) => (q[k] - q[prev]) / h,
+            (_, Some(next)) => (next - q[k]) / step(times, k, h),
+            (Some(prev), None) => (q[k] - q[prev]) / step(times, prev, h),
             (None, None) => SVector::zeros(),
         };
-        let v = sys.velocity(k, &q[k], &p[k], guess)?;
+        let v = sys.velocity(k, &q[k], &states[k].p, guess)?;
         nodes.push(sys.energy(&q[k], &v));
     }
     Ok(ContinuousEnergies {
         nodes,
-        midpoints: midpoint_energies(sys, q, h),
+        midpoints: unreduced_midpoints(sys, &q, times, h),
     })
+}
+
+/// The size of step `k`, `t_{k+1} − t_k` (`h` without times).
+fn step(times: &[f64], k: usize, h: f64) -> f64 {
+    match (times.get(k), times.get(k + 1)) {
+        (Some(t0), Some(t1)) => t1 - t0,
+        _ => h,
+    }
+}
+
+/// The midpoint energies of the configurations `q` at `times`: step `k` uses its own size.
+pub(crate) fn unreduced_midpoints<L, const N: usize>(
+    sys: &L,
+    q: &[SVector<f64, N>],
+    times: &[f64],
+    h: f64,
+) -> Vec<f64>
+where
+    L: ContinuousLagrangian<N>,
+{
+    q.windows(2)
+        .enumerate()
+        .map(|(k, w)| sys.energy(&(0.5 * (w[0] + w[1])), &((w[1] - w[0]) / step(times, k, h))))
+        .collect()
 }

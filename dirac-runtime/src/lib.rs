@@ -55,8 +55,8 @@ pub mod prelude {
     pub use crate::atlas::{AtlasIntegrator, AtlasStep, AtlasTrajectory, ChartTransition, Switch};
     pub use crate::compose::{ComposedTrajectory, Composition, CompositionMethod, SelfAdjoint};
     pub use crate::constrained::{
-        Canonical, Constrained, ConstrainedIntegrator, ConstrainedStep, ConstrainedStepper,
-        ConstrainedTrajectory, Constraints, ReducedConstrainedIntegrator,
+        Constrained, ConstrainedIntegrator, ConstrainedStep, ConstrainedStepper,
+        ConstrainedTrajectory, Constraints, ReducedConstrainedIntegrator, UnreducedForm,
     };
     pub use crate::continuous::{
         continuous_energies, midpoint_energies, reduced_continuous_energies, ContinuousEnergies,
@@ -68,18 +68,18 @@ pub mod prelude {
         StepSizes, StopCondition,
     };
     pub use crate::element::{
-        ElementIntegrator, ElementLagrangian, ElementState, ElementTrajectory, Parallel,
+        ElementIntegrator, ElementLagrangian, ElementState, ElementTrajectory, Parallel, StepSolver,
     };
     pub use crate::error::{IntegrationError, StepError, Steps};
     pub use crate::newton::NewtonOptions;
     pub use crate::reduced::{ReducedIntegrator, ReducedStep, Trajectory};
     pub use crate::sensitivity::{Sensitivity, StepPartials};
-    pub use crate::state::{CanonicalState, ReducedState};
+    pub use crate::state::{IntoVector, ReducedState, UnreducedState};
     pub use crate::stepper::{StepStats, StepStatsExt, Stepper};
     pub use crate::system::{
         DiscreteLagrangian, LagrangianHessian, Minus, Plus, Reduced, Side, Unreduced, Variant,
     };
-    pub use crate::unreduced::{CanonicalTrajectory, StepJacobian, UnreducedIntegrator};
+    pub use crate::unreduced::{UnreducedIntegrator, UnreducedTrajectory};
 }
 
 pub use prelude::*;

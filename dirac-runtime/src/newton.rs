@@ -224,6 +224,7 @@ pub fn solve_with<B: LinearSolver>(
 /// `residual(z, r)` writes `R(z)` into `r`. The corrections are solved in `r`
 /// ([`LinearSolver::solve_in_place`]). The returned solution carries no `z` (it is in `z`).
 #[allow(clippy::too_many_arguments)]
+#[doc(hidden)]
 pub fn solve_in<B: LinearSolver>(
     solver: &mut B,
     z: &mut B::Vector,

@@ -143,8 +143,10 @@ where
 #[derive(Clone, Debug)]
 pub struct ReducedWorkspace<B, const S: usize, const K: usize> {
     /// The linear solver ([`Reduced::Linear`]).
+    #[doc(hidden)]
     pub solver: B,
     /// The last two steps' shape increments and group unknowns.
+    #[doc(hidden)]
     pub history: History<(SVector<f64, S>, SVector<f64, K>)>,
 }
 
@@ -190,7 +192,9 @@ where
     D: Side,
     L: Reduced<D, S, K, N>,
 {
-    /// The integrator of side `D` (what [`Self::plus`] and [`Self::minus`] name).
+    /// The integrator of side `D`, for code generic over the side; a program names the side by
+    /// its constructor, [`Self::plus`] or [`Self::minus`].
+    #[doc(hidden)]
     pub fn new(system: L, options: NewtonOptions) -> Self {
         const { assert!(S + K == N, "the configuration dimension N must be S + K") };
         Self {
@@ -199,6 +203,24 @@ where
             eliminate: None,
             side: PhantomData,
         }
+    }
+
+    /// The momentum map `μ = J(q, p)` of the declared translations at `state`: its `mu`,
+    /// constant along a run of a system without forces (exactly, bit for bit).
+    pub fn momentum_map(&self, state: &ReducedState<S, K>) -> SVector<f64, K> {
+        state.mu
+    }
+
+    /// The continuous energy of a trajectory of this integrator at its nodes and midpoints
+    /// ([`crate::reduced_continuous_energies`]).
+    pub fn energies(
+        &self,
+        trajectory: &Trajectory<S, K>,
+    ) -> Result<crate::ContinuousEnergies, crate::LegendreError>
+    where
+        L: crate::ContinuousLagrangian<N>,
+    {
+        crate::reduced_continuous_energies(&self.system, trajectory)
     }
 
     /// Forces the path: `true` solves the group unknowns in closed form wherever the system

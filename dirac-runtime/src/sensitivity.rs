@@ -16,12 +16,12 @@
 //! adds the explicit lines of eqs. (4.6)/(4.8): `x_{k+1} = z_x`, `μ_{k+1} = μ_k + impulse`,
 //! `g_{k+1} = g_k ± u_g + B (x_{k+1} − x_k)`.
 
-use nalgebra::{DMatrix, SVector};
+use nalgebra::{DMatrix, Dim, Matrix, RawStorage, SVector};
 
 use crate::error::StepError;
 use crate::linalg::{LinearSolver, NewtonVector};
 use crate::reduced::{ReducedIntegrator, ReducedStep};
-use crate::state::{CanonicalState, ReducedState};
+use crate::state::{ReducedState, UnreducedState};
 use crate::stepper::{controlled, Stepper};
 use crate::system::{join, Reduced, Side, Unreduced, Variant};
 use crate::UnreducedIntegrator;
@@ -70,6 +70,111 @@ pub struct Sensitivity {
     pub state: DMatrix<f64>,
     /// `∂s_{k+1}/∂u_k` (one column per control).
     pub control: DMatrix<f64>,
+}
+
+impl Sensitivity {
+    /// The sensitivity of an unreduced step `(q, p) ↦ (q', p')` with no controls, from its
+    /// blocks `M = [[∂q'/∂q, ∂q'/∂p], [∂p'/∂q, ∂p'/∂p]]` (fixed- or run-time-sized matrices).
+    pub fn from_blocks<R, C, St>(
+        dq_dq: &Matrix<f64, R, C, St>,
+        dq_dp: &Matrix<f64, R, C, St>,
+        dp_dq: &Matrix<f64, R, C, St>,
+        dp_dp: &Matrix<f64, R, C, St>,
+    ) -> Self
+    where
+        R: Dim,
+        C: Dim,
+        St: RawStorage<f64, R, C>,
+    {
+        let n = dq_dq.nrows();
+        let mut state = DMatrix::zeros(2 * n, 2 * n);
+        for (block, (r, c)) in
+            [dq_dq, dq_dp, dp_dq, dp_dp]
+                .into_iter()
+                .zip([(0, 0), (0, n), (n, 0), (n, n)])
+        {
+            for i in 0..n {
+                for j in 0..n {
+                    state[(r + i, c + j)] = block[(i, j)];
+                }
+            }
+        }
+        Self {
+            state,
+            control: DMatrix::zeros(2 * n, 0),
+        }
+    }
+
+    /// Block `(r, c)` of an unreduced step's state matrix (`N = rows / 2`).
+    fn block(&self, r: usize, c: usize) -> DMatrix<f64> {
+        let n = self.state.nrows() / 2;
+        self.state.view((r * n, c * n), (n, n)).into_owned()
+    }
+
+    /// `∂q_{k+1}/∂q_k` of an unreduced step.
+    pub fn dq_dq(&self) -> DMatrix<f64> {
+        self.block(0, 0)
+    }
+
+    /// `∂q_{k+1}/∂p_k` of an unreduced step.
+    pub fn dq_dp(&self) -> DMatrix<f64> {
+        self.block(0, 1)
+    }
+
+    /// `∂p_{k+1}/∂q_k` of an unreduced step.
+    pub fn dp_dq(&self) -> DMatrix<f64> {
+        self.block(1, 0)
+    }
+
+    /// `∂p_{k+1}/∂p_k` of an unreduced step.
+    pub fn dp_dp(&self) -> DMatrix<f64> {
+        self.block(1, 1)
+    }
+
+    /// The sensitivity of `self ∘ first` (first `first`, then `self`) by the chain rule:
+    /// `state = A A₁`, and for the same controls held over both, `control = A B₁ + B`.
+    pub fn compose(&self, first: &Sensitivity) -> Sensitivity {
+        let control = if first.control.ncols() == self.control.ncols() {
+            &self.state * &first.control + &self.control
+        } else {
+            &self.state * &first.control
+        };
+        Sensitivity {
+            state: &self.state * &first.state,
+            control,
+        }
+    }
+
+    /// How far an unreduced step's `Mᵀ Ω M = Ω` (`Ω = [[0, I], [−I, 0]]`) is from holding,
+    /// relative to the size of the terms. In blocks `M = [[A, B], [C, D]]` the condition is
+    /// `AᵀC = CᵀA`, `BᵀD = DᵀB` and `AᵀD − CᵀB = I`; each residual is divided by the size of the
+    /// products it cancels (`‖A‖‖C‖`, `‖B‖‖D‖`, `max(1, ‖A‖‖D‖ + ‖C‖‖B‖)`, max-norms of
+    /// entries), so the result is dimensionless — the blocks can differ by many orders of
+    /// magnitude (`∂p/∂q ≈ m l²/h`). Zero for a symplectic map; round-off gives ~1e-15 to
+    /// 1e-12. NaN when the state matrix is not square with an even number of rows.
+    pub fn symplecticity_defect(&self) -> f64 {
+        if !self.state.is_square() || !self.state.nrows().is_multiple_of(2) {
+            return f64::NAN;
+        }
+        let (a, b, c, d) = (self.dq_dq(), self.dq_dp(), self.dp_dq(), self.dp_dp());
+        let n = a.nrows() as f64;
+        let rel = |m: DMatrix<f64>, scale: f64| m.amax() / scale.max(f64::MIN_POSITIVE);
+        let qq = rel(
+            a.transpose() * &c - c.transpose() * &a,
+            n * a.amax() * c.amax(),
+        );
+        let pp = rel(
+            b.transpose() * &d - d.transpose() * &b,
+            n * b.amax() * d.amax(),
+        );
+        let qp = rel(
+            a.transpose() * &d
+                - c.transpose() * &b
+                - DMatrix::<f64>::identity(a.nrows(), a.nrows()),
+            (n * (a.amax() * d.amax() + c.amax() * b.amax())).max(1.0),
+        );
+        qq.max(pp).max(qp)
+    }
 }
 
 /// `J = ∂R/∂z` factored, or the typed error of step `k`.
@@ -231,8 +336,8 @@ where
     pub fn sensitivity(
         &self,
         k: usize,
-        state: &CanonicalState<N>,
-        next: &CanonicalState<N>,
+        state: &UnreducedState<N>,
+        next: &UnreducedState<N>,
         u: &[f64],
     ) -> Result<Sensitivity, StepError> {
         let owned = controlled(self.system(), k, u)?;
@@ -272,9 +377,9 @@ where
     pub fn step_sensitivity(
         &self,
         k: usize,
-        state: &CanonicalState<N>,
+        state: &UnreducedState<N>,
         u: &[f64],
-    ) -> Result<(CanonicalState<N>, crate::StepStats, Sensitivity), StepError> {
+    ) -> Result<(UnreducedState<N>, crate::StepStats, Sensitivity), StepError> {
         let (next, stats) = self.step_with(&mut self.workspace(), k, self.time_step(), state, u)?;
         let sensitivity = self.sensitivity(k, state, &next, u)?;
         Ok((next, stats, sensitivity))

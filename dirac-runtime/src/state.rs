@@ -1,6 +1,77 @@
-//! States of the reduced and the canonical (unreduced) descriptions.
+//! States of the reduced and the unreduced descriptions, and what their constructors accept.
 
-use nalgebra::SVector;
+use nalgebra::{DVector, SVector};
+
+/// A vector of components as a state's constructors take it: every state constructor and
+/// [`crate::ContinuousLagrangian::reduced_state`] / [`unreduced_state`](crate::ContinuousLagrangian::unreduced_state)
+/// accept arrays and nalgebra vectors alike, and a state sized at run time
+/// ([`crate::ElementState`]) accepts slices and `Vec`s too — whatever carries the size the
+/// state needs (a fixed size is checked by the compiler, so slices, whose length is known only
+/// at run time, are not accepted there).
+pub trait IntoVector<V> {
+    /// The components as `V`.
+    fn into_vector(self) -> V;
+}
+
+impl<const N: usize> IntoVector<SVector<f64, N>> for [f64; N] {
+    fn into_vector(self) -> SVector<f64, N> {
+        SVector::from(self)
+    }
+}
+
+impl<const N: usize> IntoVector<SVector<f64, N>> for &[f64; N] {
+    fn into_vector(self) -> SVector<f64, N> {
+        SVector::from(*self)
+    }
+}
+
+impl<const N: usize> IntoVector<SVector<f64, N>> for SVector<f64, N> {
+    fn into_vector(self) -> SVector<f64, N> {
+        self
+    }
+}
+
+impl<const N: usize> IntoVector<SVector<f64, N>> for &SVector<f64, N> {
+    fn into_vector(self) -> SVector<f64, N> {
+        *self
+    }
+}
+
+impl IntoVector<DVector<f64>> for DVector<f64> {
+    fn into_vector(self) -> DVector<f64> {
+        self
+    }
+}
+
+impl IntoVector<DVector<f64>> for &DVector<f64> {
+    fn into_vector(self) -> DVector<f64> {
+        self.clone()
+    }
+}
+
+impl IntoVector<DVector<f64>> for Vec<f64> {
+    fn into_vector(self) -> DVector<f64> {
+        DVector::from_vec(self)
+    }
+}
+
+impl IntoVector<DVector<f64>> for &[f64] {
+    fn into_vector(self) -> DVector<f64> {
+        DVector::from_column_slice(self)
+    }
+}
+
+impl<const N: usize> IntoVector<DVector<f64>> for [f64; N] {
+    fn into_vector(self) -> DVector<f64> {
+        DVector::from_column_slice(&self)
+    }
+}
+
+impl<const N: usize> IntoVector<DVector<f64>> for &[f64; N] {
+    fn into_vector(self) -> DVector<f64> {
+        DVector::from_column_slice(self)
+    }
+}
 
 /// A point of the reduced phase space with its reconstructed group coordinate:
 /// shape `x ∈ Σ`, reduced momenta `w ∈ Σ*`, `μ ∈ g*` (eq. (3.6)), and the absolute group
@@ -19,14 +90,18 @@ pub struct ReducedState<const S: usize, const K: usize> {
 }
 
 impl<const S: usize, const K: usize> ReducedState<S, K> {
-    /// Builds a state from slices; panics only if a slice has the wrong length, which is a
-    /// programming error caught at the first run.
-    pub fn new(x: [f64; S], w: [f64; S], mu: [f64; K], g: [f64; K]) -> Self {
+    /// The state `(x, w, μ, g)`, each given as an array or an nalgebra vector ([`IntoVector`]).
+    pub fn new(
+        x: impl IntoVector<SVector<f64, S>>,
+        w: impl IntoVector<SVector<f64, S>>,
+        mu: impl IntoVector<SVector<f64, K>>,
+        g: impl IntoVector<SVector<f64, K>>,
+    ) -> Self {
         Self {
-            x: SVector::from(x),
-            w: SVector::from(w),
-            mu: SVector::from(mu),
-            g: SVector::from(g),
+            x: x.into_vector(),
+            w: w.into_vector(),
+            mu: mu.into_vector(),
+            g: g.into_vector(),
         }
     }
 
@@ -53,19 +128,22 @@ impl<const S: usize, const K: usize> ReducedState<S, K> {
 
 /// A point `(q, p) ∈ T*Q ≃ Q × Q*` with `q = (x, g)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CanonicalState<const N: usize> {
+pub struct UnreducedState<const N: usize> {
     /// Configuration `q = (x, g)`.
     pub q: SVector<f64, N>,
     /// Canonical momentum `p = (p_x, p_g)`.
     pub p: SVector<f64, N>,
 }
 
-impl<const N: usize> CanonicalState<N> {
-    /// Builds a state from arrays `q = (x, g)` and `p = (p_x, p_g)`.
-    pub fn new(q: [f64; N], p: [f64; N]) -> Self {
+impl<const N: usize> UnreducedState<N> {
+    /// The state `(q, p)` with `q = (x, g)` and `p = (p_x, p_g)` in the order of the system's
+    /// coordinates ([`crate::DiscreteLagrangian::SHAPE`], then
+    /// [`crate::DiscreteLagrangian::GROUP`]), each given as an array or an
+    /// nalgebra vector ([`IntoVector`]).
+    pub fn new(q: impl IntoVector<SVector<f64, N>>, p: impl IntoVector<SVector<f64, N>>) -> Self {
         Self {
-            q: SVector::from(q),
-            p: SVector::from(p),
+            q: q.into_vector(),
+            p: p.into_vector(),
         }
     }
 

@@ -283,6 +283,7 @@ impl StepStatsExt for [StepStats] {
 /// initial guess, here on a nonuniform grid).
 #[doc(hidden)]
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[doc(hidden)]
 pub struct History<T> {
     /// The last step's increment and size.
     pub last: Option<(T, f64)>,

@@ -6,7 +6,7 @@
 use nalgebra::{SMatrix, SVector};
 
 use crate::linalg::LinearSolver;
-use crate::state::{CanonicalState, ReducedState};
+use crate::state::{ReducedState, UnreducedState};
 
 /// A discrete Lagrangian `L_d : Q × Q → R` invariant under translation of the group coordinates,
 /// together with a linear discrete connection `ω_d(q0, q1) = (g1 − g0) − B (x1 − x0)`.
@@ -60,7 +60,7 @@ pub trait DiscreteLagrangian<const S: usize, const K: usize, const N: usize> {
 
     /// Right trivialization of `T*Q`, eq. (3.6): `(q, p) ↦ (q, w, μ)` with
     /// `w = p_x + h*_{d,Σ}(p_g) = p_x + Bᵀ p_g` and `μ = J(q, p) = p_g` (Lemma 2.2).
-    fn trivialize(&self, state: &CanonicalState<N>) -> ReducedState<S, K> {
+    fn trivialize(&self, state: &UnreducedState<N>) -> ReducedState<S, K> {
         let (x, g) = split::<S, K, N>(&state.q);
         let (p_x, p_g) = split::<S, K, N>(&state.p);
         ReducedState {
@@ -72,16 +72,16 @@ pub trait DiscreteLagrangian<const S: usize, const K: usize, const N: usize> {
     }
 
     /// Inverse trivialization, eq. (3.7): `p = (w − h*_{d,Σ}(μ), μ) = (w − Bᵀ μ, μ)`.
-    fn untrivialize(&self, state: &ReducedState<S, K>) -> CanonicalState<N> {
+    fn untrivialize(&self, state: &ReducedState<S, K>) -> UnreducedState<N> {
         let p_x = state.w - self.connection().transpose() * state.mu;
-        CanonicalState {
+        UnreducedState {
             q: join::<S, K, N>(&state.x, &state.g),
             p: join::<S, K, N>(&p_x, &state.mu),
         }
     }
 
     /// The momentum map of the translation action, `J(q, p) = p_g` (§2.1.1, Lemma 2.2).
-    fn momentum_map(&self, state: &CanonicalState<N>) -> SVector<f64, K> {
+    fn momentum_map(&self, state: &UnreducedState<N>) -> SVector<f64, K> {
         split::<S, K, N>(&state.p).1
     }
 

@@ -7,7 +7,8 @@ use crate::error::{StepError, Steps};
 use crate::linalg::Lu;
 use crate::newton::{self, inf_norm, NewtonOptions};
 use crate::reduced::trajectory_accessors;
-use crate::state::CanonicalState;
+use crate::sensitivity::Sensitivity;
+use crate::state::UnreducedState;
 use crate::stepper::{
     check_inputs, predicted_increment, step_error, system_at, Collect, History, StepStats,
     StepStatsExt, Stepper,
@@ -16,35 +17,35 @@ use crate::system::{LagrangianHessian, Unreduced};
 
 /// An unreduced trajectory `(q_k, p_k)`, `k = 0..=steps()`.
 #[derive(Clone, Debug, PartialEq)]
-pub struct CanonicalTrajectory<const N: usize> {
+pub struct UnreducedTrajectory<const N: usize> {
     /// The integrator's time step `h` (the default step of a run; see [`Self::times`] for the
     /// time of each state).
     pub h: f64,
     /// `states[k]` is the state at `times[k]`.
-    pub states: Vec<CanonicalState<N>>,
+    pub states: Vec<UnreducedState<N>>,
     /// `times[k] = t_k`, the time of `states[k]` (`k h` exactly for a fixed step).
     pub times: Vec<f64>,
     /// Newton statistics of each step.
     pub stats: Vec<StepStats>,
 }
 
-impl<const N: usize> CanonicalTrajectory<N> {
-    trajectory_accessors!(CanonicalState<N>);
+impl<const N: usize> UnreducedTrajectory<N> {
+    trajectory_accessors!(UnreducedState<N>);
 }
 
-impl<const N: usize> Steps for CanonicalTrajectory<N> {
+impl<const N: usize> Steps for UnreducedTrajectory<N> {
     fn completed_steps(&self) -> usize {
         self.steps()
     }
 }
 
 impl<L, const S: usize, const K: usize, const N: usize> Collect<UnreducedIntegrator<L, S, K, N>>
-    for CanonicalTrajectory<N>
+    for UnreducedTrajectory<N>
 where
     L: Unreduced<S, K, N>,
 {
     fn start(integrator: &UnreducedIntegrator<L, S, K, N>, steps: usize) -> Self {
-        CanonicalTrajectory {
+        UnreducedTrajectory {
             h: integrator.system.time_step(),
             states: crate::stepper::reserved(steps.saturating_add(1)),
             times: crate::stepper::reserved(steps.saturating_add(1)),
@@ -52,7 +53,7 @@ where
         }
     }
 
-    fn push(&mut self, t: f64, state: &CanonicalState<N>, record: Option<&StepStats>) {
+    fn push(&mut self, t: f64, state: &UnreducedState<N>, record: Option<&StepStats>) {
         self.states.push(*state);
         self.times.push(t);
         if let Some(stats) = record {
@@ -66,50 +67,11 @@ where
 #[derive(Clone, Debug)]
 pub struct UnreducedWorkspace<B, const N: usize> {
     /// The linear solver ([`Unreduced::UnreducedLinear`]).
+    #[doc(hidden)]
     pub solver: B,
     /// The last two increments of the configuration.
+    #[doc(hidden)]
     pub history: History<SVector<f64, N>>,
-}
-
-/// The Jacobian `M` of one step of the unreduced map `(q_k, p_k) ↦ (q_{k+1}, p_{k+1})`, in
-/// blocks.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct StepJacobian<const N: usize> {
-    /// `∂q_{k+1}/∂q_k`.
-    pub dq_dq: SMatrix<f64, N, N>,
-    /// `∂q_{k+1}/∂p_k`.
-    pub dq_dp: SMatrix<f64, N, N>,
-    /// `∂p_{k+1}/∂q_k`.
-    pub dp_dq: SMatrix<f64, N, N>,
-    /// `∂p_{k+1}/∂p_k`.
-    pub dp_dp: SMatrix<f64, N, N>,
-}
-
-impl<const N: usize> StepJacobian<N> {
-    /// How far `Mᵀ Ω M = Ω` (`Ω = [[0, I], [−I, 0]]`) is from holding, relative to the size of
-    /// the terms. In blocks `M = [[A, B], [C, D]]` the condition is `AᵀC = CᵀA`, `BᵀD = DᵀB` and
-    /// `AᵀD − CᵀB = I`; each residual is divided by the size of the products it cancels
-    /// (`‖A‖‖C‖`, `‖B‖‖D‖`, `max(1, ‖A‖‖D‖ + ‖C‖‖B‖)`, max-norms of entries), so the result is
-    /// dimensionless — the blocks can differ by many orders of magnitude (`∂p/∂q ≈ m l²/h`).
-    /// Zero for a symplectic map; round-off gives ~1e-15 to 1e-12.
-    pub fn symplecticity_defect(&self) -> f64 {
-        let (a, b, c, d) = (&self.dq_dq, &self.dq_dp, &self.dp_dq, &self.dp_dp);
-        let n = N as f64;
-        let rel = |m: SMatrix<f64, N, N>, scale: f64| m.amax() / scale.max(f64::MIN_POSITIVE);
-        let qq = rel(
-            a.transpose() * c - c.transpose() * a,
-            n * a.amax() * c.amax(),
-        );
-        let pp = rel(
-            b.transpose() * d - d.transpose() * b,
-            n * b.amax() * d.amax(),
-        );
-        let qp = rel(
-            a.transpose() * d - c.transpose() * b - SMatrix::<f64, N, N>::identity(),
-            (n * (a.amax() * d.amax() + c.amax() * b.amax())).max(1.0),
-        );
-        qq.max(pp).max(qp)
-    }
 }
 
 /// Integrates the unreduced discrete Lagrange–Dirac equations on `Q` (Definitions 2.7/2.8,
@@ -127,13 +89,30 @@ where
     /// The (+) discrete Lagrange–Dirac equations (Definition 2.7). Unconstrained, the (−)
     /// equations of Definition 2.8 (with `q_{k+1}^− = q_k`) are the same equations, so this one
     /// integrator serves both.
-    pub fn plus(system: L, options: NewtonOptions) -> Self {
+    pub fn new(system: L, options: NewtonOptions) -> Self {
         Self { system, options }
     }
 
     /// The system being integrated.
     pub fn system(&self) -> &L {
         &self.system
+    }
+
+    /// The momentum map `J(q, p) = p_g` of the declared translations at `state`.
+    pub fn momentum_map(&self, state: &UnreducedState<N>) -> SVector<f64, K> {
+        self.system.momentum_map(state)
+    }
+
+    /// The continuous energy of a trajectory of this integrator at its nodes and midpoints
+    /// ([`crate::continuous_energies`]).
+    pub fn energies(
+        &self,
+        trajectory: &UnreducedTrajectory<N>,
+    ) -> Result<crate::ContinuousEnergies, crate::LegendreError>
+    where
+        L: crate::ContinuousLagrangian<N>,
+    {
+        crate::continuous_energies(&self.system, trajectory)
     }
 
     /// The Newton options.
@@ -147,9 +126,9 @@ where
     pub fn step_from(
         &self,
         k: usize,
-        state: &CanonicalState<N>,
+        state: &UnreducedState<N>,
         guess: &SVector<f64, N>,
-    ) -> Result<(CanonicalState<N>, StepStats), StepError> {
+    ) -> Result<(UnreducedState<N>, StepStats), StepError> {
         self.solve_step(
             &mut self.system.unreduced_linear_solver(),
             k,
@@ -167,10 +146,10 @@ where
         solver: &mut L::UnreducedLinear,
         k: usize,
         h: f64,
-        state: &CanonicalState<N>,
+        state: &UnreducedState<N>,
         guess: &SVector<f64, N>,
         u: &[f64],
-    ) -> Result<(CanonicalState<N>, StepStats), StepError> {
+    ) -> Result<(UnreducedState<N>, StepStats), StepError> {
         let owned = system_at(&self.system, k, h, u)?;
         let sys = owned.as_ref().unwrap_or(&self.system);
         let (q, p) = (&state.q, &state.p);
@@ -184,7 +163,7 @@ where
             |z| sys.unreduced_residual_jacobian(q, p, z),
         )
         .map_err(|failure| step_error(k, failure))?;
-        let next = CanonicalState {
+        let next = UnreducedState {
             q: solution.z,
             p: sys.unreduced_momentum(q, &solution.z),
         };
@@ -206,16 +185,16 @@ impl<L, const S: usize, const K: usize, const N: usize> Stepper for UnreducedInt
 where
     L: Unreduced<S, K, N>,
 {
-    type State = CanonicalState<N>;
+    type State = UnreducedState<N>;
     type Record = StepStats;
     type Workspace = UnreducedWorkspace<L::UnreducedLinear, N>;
-    type Trajectory = CanonicalTrajectory<N>;
+    type Trajectory = UnreducedTrajectory<N>;
 
     fn time_step(&self) -> f64 {
         self.system.time_step()
     }
 
-    fn check(&self, initial: &CanonicalState<N>) -> Result<(), StepError> {
+    fn check(&self, initial: &UnreducedState<N>) -> Result<(), StepError> {
         check_inputs(
             self.system.time_step(),
             &self.system.parameter_values(),
@@ -241,9 +220,9 @@ where
         workspace: &mut Self::Workspace,
         k: usize,
         h: f64,
-        state: &CanonicalState<N>,
+        state: &UnreducedState<N>,
         u: &[f64],
-    ) -> Result<(CanonicalState<N>, StepStats), StepError> {
+    ) -> Result<(UnreducedState<N>, StepStats), StepError> {
         let guess = canonical_guess(&state.q, &workspace.history, h);
         let (next, stats) = self.solve_step(&mut workspace.solver, k, h, state, &guess, u)?;
         workspace.history.push(next.q - state.q, h);
@@ -278,8 +257,12 @@ where
     /// ∂p_{k+1}/∂q_k = D21 L_d + D22 L_d ∂q_{k+1}/∂q_k      ∂p_{k+1}/∂p_k = D22 L_d ∂q_{k+1}/∂p_k
     /// ```
     ///
+    /// The result is the [`Sensitivity`] of the step with no control columns: the same
+    /// derivative that [`Self::sensitivity`] computes from the step partials, here from the
+    /// Hessian of `L_d` alone, so it needs no forces or controls to have been declared.
+    ///
     /// The step map of a variational integrator is symplectic, `Mᵀ Ω M = Ω` (see
-    /// [`StepJacobian::symplecticity_defect`]). Control and estimation use `M` to propagate
+    /// [`Sensitivity::symplecticity_defect`]). Control and estimation use `M` to propagate
     /// sensitivities and covariances along a trajectory.
     ///
     /// `k` is the index of the step `from → to`, for the error: a singular `D12 L_d`
@@ -287,9 +270,9 @@ where
     pub fn step_jacobian(
         &self,
         k: usize,
-        from: &CanonicalState<N>,
-        to: &CanonicalState<N>,
-    ) -> Result<StepJacobian<N>, StepError> {
+        from: &UnreducedState<N>,
+        to: &UnreducedState<N>,
+    ) -> Result<Sensitivity, StepError> {
         let (d11, d12, d22) = self.system.lagrangian_hessian(&from.q, &to.q);
         let lu = Lu::new(d12).ok_or(StepError::SingularJacobian {
             step: k,
@@ -304,11 +287,11 @@ where
         };
         let dq_dq = -solve_columns(&d11);
         let dq_dp = -solve_columns(&SMatrix::identity());
-        Ok(StepJacobian {
-            dq_dq,
-            dq_dp,
-            dp_dq: d12.transpose() + d22 * dq_dq,
-            dp_dp: d22 * dq_dp,
-        })
+        Ok(Sensitivity::from_blocks(
+            &dq_dq,
+            &dq_dp,
+            &(d12.transpose() + d22 * dq_dq),
+            &(d22 * dq_dp),
+        ))
     }
 }

@@ -20,7 +20,7 @@ pub fn cartesian_dsp(q: Config, v: Velocity, m1: f64, m2: f64, l1: f64, l2: f64,
 }
 
 /// The paper's initial state in Cartesian positions and momenta.
-pub fn cartesian_initial(h: f64) -> (CartesianDsp, CanonicalState<6>) {
+pub fn cartesian_initial(h: f64) -> (CartesianDsp, UnreducedState<6>) {
     let paper = DoubleSphericalPendulum::paper();
     let continuous = DoubleSphericalPendulumContinuous::paper();
     let s0 = DoubleSphericalPendulum::paper_initial_state();
@@ -63,11 +63,11 @@ pub fn cartesian_initial(h: f64) -> (CartesianDsp, CanonicalState<6>) {
         sys.m2 * (v1[2] + u2[2]),
     ];
     let q = [r1[0], r1[1], r1[2], r2[0], r2[1], r2[2]];
-    (sys, CanonicalState::new(q, p))
+    (sys, UnreducedState::new(q, p))
 }
 
 /// `max_j |φ_j(q)| / l_j²`.
-pub fn sys_residual(sys: &CartesianDsp, s: &CanonicalState<6>) -> f64 {
+pub fn sys_residual(sys: &CartesianDsp, s: &UnreducedState<6>) -> f64 {
     let phi = sys.constraint(&s.q);
     (phi[0] / (sys.l1 * sys.l1))
         .abs()

@@ -36,7 +36,7 @@ pub struct Run {
     /// Wall time of the reduced integration alone (the best of [`TIMING_REPEATS`]).
     pub wall_time: Duration,
     /// The same run with the unreduced equations.
-    pub unreduced: CanonicalTrajectory<4>,
+    pub unreduced: UnreducedTrajectory<4>,
     /// Wall time of the unreduced integration (the best of [`TIMING_REPEATS`]).
     pub unreduced_wall_time: Duration,
     /// `L_d(q_k, q_{k+1})` along the unreduced trajectory.
@@ -58,14 +58,14 @@ impl Run {
 /// How often each integration is repeated for timing; the fastest repetition counts.
 pub const TIMING_REPEATS: usize = 5;
 
-/// Integrates the paper's run with `ReducedIntegrator::plus` and with `UnreducedIntegrator::plus`
+/// Integrates the paper's run with `ReducedIntegrator::plus` and with `UnreducedIntegrator::new`
 /// (default Newton options), timing both in alternation.
 pub fn run() -> Result<Run, Box<dyn Error>> {
     let system = DoubleSphericalPendulum::paper();
     let initial = DoubleSphericalPendulum::paper_initial_state();
     let options = NewtonOptions::default();
     let reduced = ReducedIntegrator::plus(system, options);
-    let unreduced = UnreducedIntegrator::plus(system, options);
+    let unreduced = UnreducedIntegrator::new(system, options);
     let (mut wall_time, mut unreduced_wall_time) = (Duration::MAX, Duration::MAX);
     let mut results = None;
     for _ in 0..TIMING_REPEATS {
@@ -272,7 +272,7 @@ pub fn report(run: &Run) {
     );
 }
 
-fn max_abs(traj: &CanonicalTrajectory<4>, f: impl Fn(&CanonicalState<4>) -> f64) -> f64 {
+fn max_abs(traj: &UnreducedTrajectory<4>, f: impl Fn(&UnreducedState<4>) -> f64) -> f64 {
     traj.states.iter().map(f).fold(0.0, f64::max)
 }
 

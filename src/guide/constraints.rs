@@ -48,7 +48,7 @@
 //! }
 //!
 //! let sys = Pendulum { h: 0.01, m: 1.0, l: 1.0 };
-//! let start = CanonicalState::new([1.0, 0.0], [0.0, 0.0]);
+//! let start = UnreducedState::new([1.0, 0.0], [0.0, 0.0]);
 //! let traj = ConstrainedIntegrator::new(sys, NewtonOptions::default())
 //!     .run(start).steps(1000).collect()
 //!     .unwrap();
@@ -64,7 +64,7 @@
 //! }
 //!
 //! let sys = Sleigh { h: 0.01, m: 1.0, i: 0.2, a: 0.5 };
-//! let start = sys.trivialize(&CanonicalState::new([0.0; 3], [0.4, 0.2, 1.0]));
+//! let start = sys.trivialize(&UnreducedState::new([0.0; 3], [0.4, 0.2, 1.0]));
 //! let traj = ReducedConstrainedIntegrator::plus(sys, NewtonOptions::default())
 //!     .run(start).steps(2000).collect()
 //!     .unwrap();

@@ -48,7 +48,7 @@
 //!   [Writing a Lagrangian](super::lagrangians#continuous-lagrangians-with-a-rule)).
 //! * [`UnreducedIntegrator::step_jacobian`](crate::UnreducedIntegrator::step_jacobian): the
 //!   Jacobian of the step map, for sensitivities and covariance propagation, and its
-//!   [`symplecticity_defect`](crate::StepJacobian::symplecticity_defect).
+//!   [`symplecticity_defect`](crate::Sensitivity::symplecticity_defect).
 //! * `<Name>::GENERATED`: the operation counts of everything the attribute emitted for a system.
 //!
 //! ```
@@ -88,7 +88,7 @@
 //! assert!(gradient <= bound);
 //!
 //! // The step map of the unreduced integrator is symplectic.
-//! let unreduced = UnreducedIntegrator::plus(sys, NewtonOptions::default());
+//! let unreduced = UnreducedIntegrator::new(sys, NewtonOptions::default());
 //! let from = sys.untrivialize(&start);
 //! let (to, _) = unreduced.step_from(0, &from, &from.q)?;
 //! assert!(unreduced.step_jacobian(0, &from, &to)?.symplecticity_defect() < 1e-10);

@@ -8,7 +8,7 @@
 //! | integrator | state | what a step reports |
 //! | --- | --- | --- |
 //! | [`ReducedIntegrator::plus`](crate::ReducedIntegrator::plus) / [`minus`](crate::ReducedIntegrator::minus) | [`ReducedState`](crate::ReducedState) | [`ReducedStep`](crate::ReducedStep) `{ group_unknown, stats }` |
-//! | [`UnreducedIntegrator::plus`](crate::UnreducedIntegrator::plus) | [`CanonicalState`](crate::CanonicalState) | [`StepStats`](crate::StepStats) |
+//! | [`UnreducedIntegrator::new`](crate::UnreducedIntegrator::new) | [`UnreducedState`](crate::UnreducedState) | [`StepStats`](crate::StepStats) |
 //! | [`Composition::new`](crate::Composition::new)`(base, method)` | the base's | [`StepStats`](crate::StepStats), summed over the stages |
 //! | [`AtlasIntegrator`](crate::AtlasIntegrator) | `(chart, ReducedState)` | [`AtlasStep`](crate::AtlasStep) `{ stats, rescue, switch }` |
 //!
@@ -36,7 +36,7 @@
 //!
 //! ## The unreduced integrator
 //!
-//! `UnreducedIntegrator::plus(system, options)` integrates the discrete Lagrange–Dirac equations
+//! `UnreducedIntegrator::new(system, options)` integrates the discrete Lagrange–Dirac equations
 //! on `Q` (Definitions 2.7/2.8; unconstrained, the (+) and (−) forms are the same equations) in
 //! canonical coordinates `(q, p)`: the baseline that knows nothing of the symmetry, from the same
 //! annotation. Its momentum map is conserved to the Newton tolerance per step, not exactly.
@@ -71,7 +71,7 @@
 //! paper-size test systems ([Benchmarks](super::benchmarks#compositions-error-against-wall-time)).
 //!
 //! ```
-//! use dirac::kepler::Kepler; // L = ½(ṙ² + r²φ̇²) + k/r, midpoint rule, φ the group coordinate
+//! use dirac::systems::kepler::Kepler; // L = ½(ṙ² + r²φ̇²) + k/r, midpoint rule, φ the group coordinate
 //! use dirac::paper::DoubleSphericalPendulum;
 //! use dirac::prelude::*;
 //!
@@ -103,7 +103,7 @@
 //!
 //! // The unreduced composition, and its symplectic step map.
 //! let unreduced = Composition::new(
-//!     UnreducedIntegrator::plus(kepler, NewtonOptions::default()),
+//!     UnreducedIntegrator::new(kepler, NewtonOptions::default()),
 //!     CompositionMethod::TRIPLE_JUMP,
 //! );
 //! let (_, m) = unreduced.step_with_jacobian(0, &kepler.untrivialize(&initial))?;
@@ -212,7 +212,7 @@
 //! was computed: see [Errors](super::errors).
 //!
 //! ```
-//! use dirac::kepler::Kepler;
+//! use dirac::systems::kepler::Kepler;
 //! use dirac::prelude::*;
 //! use dirac::runtime::driver::parameters;
 //! use std::sync::Mutex;
@@ -303,7 +303,7 @@
 //! smooth periodic schedule is harmless in practice.
 //!
 //! ```
-//! use dirac::kepler::Kepler;
+//! use dirac::systems::kepler::Kepler;
 //! use dirac::prelude::*;
 //!
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {

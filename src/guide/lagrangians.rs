@@ -74,7 +74,7 @@
 //! [`ContinuousLagrangian`](crate::ContinuousLagrangian): the Legendre map `p = ∂L/∂v` and its
 //! Jacobian, the energy `E(q, v) = ⟨∂L/∂v, v⟩ − L` (straight-line code, differentiated at compile
 //! time), initial states from positions and velocities
-//! ([`canonical_state`](crate::ContinuousLagrangian::canonical_state), and
+//! ([`unreduced_state`](crate::ContinuousLagrangian::unreduced_state), and
 //! [`reduced_state`](crate::ContinuousLagrangian::reduced_state), trivialized by (3.6)), and the
 //! inverse Legendre map by Newton ([`velocity`](crate::ContinuousLagrangian::velocity)).
 //! [`continuous_energies`](crate::continuous_energies) and
@@ -129,8 +129,8 @@
 //!
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
 //! // No symmetry: the plain variational integrator, and the Jacobian of its step map.
-//! let integ = UnreducedIntegrator::plus(HenonHeiles { h: 0.05 }, NewtonOptions::default());
-//! let start = CanonicalState::new([0.1, -0.2], [0.3, 0.25]);
+//! let integ = UnreducedIntegrator::new(HenonHeiles { h: 0.05 }, NewtonOptions::default());
+//! let start = UnreducedState::new([0.1, -0.2], [0.3, 0.25]);
 //! let traj = integ.run(start).steps(1000).collect()?;
 //! let m = integ.step_jacobian(0, &traj.states[0], &traj.states[1])?;
 //! assert!(m.symplecticity_defect() < 1e-12);

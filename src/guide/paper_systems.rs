@@ -102,7 +102,7 @@
 //! let start = DoubleSphericalPendulum::paper_initial_state();
 //! let reduced = ReducedIntegrator::plus(sys, NewtonOptions::default()).run(start).steps(1000).collect()?;
 //! let unreduced =
-//!     UnreducedIntegrator::plus(sys, NewtonOptions::default()).run(sys.untrivialize(&start)).steps(1000).collect()?;
+//!     UnreducedIntegrator::new(sys, NewtonOptions::default()).run(sys.untrivialize(&start)).steps(1000).collect()?;
 //! assert!(reduced.states.iter().all(|s| s.mu == start.mu));
 //! // The same motion: the reduced states mapped back by (3.7) are the unreduced ones.
 //! for (r, u) in reduced.states.iter().zip(&unreduced.states) {

@@ -93,7 +93,7 @@
 //! unknowns and five entries per row), by conjugate gradients with a Jacobi preconditioner,
 //! which needs no factorization and no fill and falls back to the LU when the Jacobian is not
 //! symmetric; choose with
-//! [`with_linear`](crate::runtime::element::ElementIntegrator::with_linear). States are
+//! [`with_solver`](crate::runtime::element::ElementIntegrator::with_solver). States are
 //! [`ElementState`](crate::runtime::element::ElementState)s of `DVector`s; a run allocates its
 //! workspace once and nothing per step. With `translate(..)` declared, the momentum map of each
 //! translation is kept exactly, as the reduced integrator keeps `μ` (the equations are the

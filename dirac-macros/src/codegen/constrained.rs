@@ -39,13 +39,13 @@ fn fixed(name: &'static str, tokens: TokenStream) -> Item {
 /// reduced equations of a side on `(x, w, μ, g)`.
 #[derive(Clone, Copy)]
 enum Form {
-    Canonical,
+    Unreduced,
     Reduced(Side),
 }
 
 impl Form {
     const ALL: [Form; 3] = [
-        Form::Canonical,
+        Form::Unreduced,
         Form::Reduced(Side::Plus),
         Form::Reduced(Side::Minus),
     ];
@@ -53,17 +53,17 @@ impl Form {
     /// The runtime's marker type of the form.
     fn marker(self, rt: &TokenStream) -> TokenStream {
         match self {
-            Form::Canonical => quote!(#rt::Canonical),
+            Form::Unreduced => quote!(#rt::UnreducedForm),
             Form::Reduced(Side::Plus) => quote!(#rt::Plus),
             Form::Reduced(Side::Minus) => quote!(#rt::Minus),
         }
     }
 
-    /// The form's state type, `&CanonicalState<N>` or `&ReducedState<S, K>`.
+    /// The form's state type, `&UnreducedState<N>` or `&ReducedState<S, K>`.
     fn state(self, t: &Target) -> TokenStream {
         let (rt, s, k, n) = (&t.rt, t.s, t.k, t.n);
         match self {
-            Form::Canonical => quote!(&#rt::CanonicalState<#n>),
+            Form::Unreduced => quote!(&#rt::UnreducedState<#n>),
             Form::Reduced(_) => quote!(&#rt::ReducedState<#s, #k>),
         }
     }
@@ -71,7 +71,7 @@ impl Form {
     /// The dimension of the momentum the position step leaves: `p̃ ∈ R^N` or `w̃ ∈ R^S`.
     fn momentum_dim(self, t: &Target) -> usize {
         match self {
-            Form::Canonical => t.n,
+            Form::Unreduced => t.n,
             Form::Reduced(_) => t.s,
         }
     }
@@ -93,8 +93,8 @@ impl Form {
                 quote!(#unknowns[#j])
             }
             (_, Sym::Param(i)) => param(i),
-            (Form::Canonical, Sym::Q0(i)) => quote!(#input.q[#i]),
-            (Form::Canonical, Sym::P(i)) => quote!(#input.p[#i]),
+            (Form::Unreduced, Sym::Q0(i)) => quote!(#input.q[#i]),
+            (Form::Unreduced, Sym::P(i)) => quote!(#input.p[#i]),
             (Form::Reduced(_), Sym::X0(i) | Sym::Q0(i)) => quote!(#input.x[#i]),
             (Form::Reduced(_), Sym::X1(i)) => quote!(#unknowns[#i]),
             (Form::Reduced(_), Sym::G1(j) | Sym::G0(j)) => {

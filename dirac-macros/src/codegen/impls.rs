@@ -248,7 +248,7 @@ pub fn inherent(t: &Target) -> ImplBlock {
                 "CONFIG_DIM",
                 quote! {
                     /// Number of configuration coordinates `N = S + K` (the third const
-                    /// parameter of the system traits, and the length of `CanonicalState::q`).
+                    /// parameter of the system traits, and the length of `UnreducedState::q`).
                     pub const CONFIG_DIM: usize = #n;
                 },
             ),

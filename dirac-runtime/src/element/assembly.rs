@@ -16,7 +16,7 @@ use nalgebra::DVector;
 use rayon::prelude::*;
 
 use super::solver::ElementSolver;
-use super::{ElementLagrangian, Family, FamilyVisitor, Linear, Parallel, PARALLEL_MIN_ENTRIES};
+use super::{ElementLagrangian, Family, FamilyVisitor, Parallel, StepSolver, PARALLEL_MIN_ENTRIES};
 use crate::error::StepError;
 
 /// The elements of one family as a run sees them.
@@ -294,7 +294,7 @@ impl ElementWorkspace {
     pub(super) fn new<L: ElementLagrangian>(
         system: &L,
         parallel: Parallel,
-        linear: Linear,
+        linear: StepSolver,
     ) -> Self {
         let n = system.dim();
         let mut collector = Collector {

@@ -62,6 +62,7 @@ pub use solver::{ElementSolver, ITERATIVE_MIN_DIM, ITERATIVE_MIN_ENTRIES_PER_ROW
 
 /// One family of elements of an element-wise Lagrangian: a loop of its body (or a term outside
 /// loops), with a stencil of `S` coordinates. Emitted by `#[reduced_lagrangian]`.
+#[doc(hidden)]
 pub trait Family<const S: usize>: Sync {
     /// Number of loop indices of an element (0 for a term outside loops).
     const DEPTH: usize;
@@ -95,6 +96,7 @@ pub trait Family<const S: usize>: Sync {
 }
 
 /// What visits the families of an [`ElementLagrangian`], one type per family.
+#[doc(hidden)]
 pub trait FamilyVisitor {
     /// Visits one family.
     fn family<const S: usize, F: Family<S>>(&mut self, family: &F);
@@ -141,9 +143,16 @@ pub struct ElementState {
 }
 
 impl ElementState {
-    /// The state `(q, p)`.
-    pub fn new(q: DVector<f64>, p: DVector<f64>) -> Self {
-        Self { q, p }
+    /// The state `(q, p)`, each given as a slice, a `Vec`, an array or an nalgebra vector
+    /// ([`crate::state::IntoVector`]).
+    pub fn new(
+        q: impl crate::state::IntoVector<DVector<f64>>,
+        p: impl crate::state::IntoVector<DVector<f64>>,
+    ) -> Self {
+        Self {
+            q: q.into_vector(),
+            p: p.into_vector(),
+        }
     }
 
     /// Whether every component is finite.
@@ -168,7 +177,7 @@ pub enum Parallel {
 
 /// Which linear solver an element-wise run solves its step Jacobian with.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Linear {
+pub enum StepSolver {
     /// Conjugate gradients for large multi-dimensional patterns (at least
     /// [`ITERATIVE_MIN_DIM`] unknowns and
     /// [`ITERATIVE_MIN_ENTRIES_PER_ROW`] entries per row: fields on grids), whose
@@ -179,7 +188,7 @@ pub enum Linear {
     /// Always faer's sparse LU ([`crate::linalg::DynSparseLu`]).
     Direct,
     /// Jacobi-preconditioned conjugate gradients ([`crate::linalg::Pcg`]) whenever the pattern
-    /// is symmetric, falling back to the LU as [`Linear::Auto`] does.
+    /// is symmetric, falling back to the LU as [`StepSolver::Auto`] does.
     Iterative,
 }
 
@@ -191,14 +200,10 @@ pub const PARALLEL_MIN_ENTRIES: usize = 1 << 16;
 /// The (+) integrator of an element-wise system (see the [module documentation](self)).
 #[derive(Clone, Debug)]
 pub struct ElementIntegrator<L> {
-    /// The system.
-    pub system: L,
-    /// Newton's tolerances and caps.
-    pub options: NewtonOptions,
-    /// When the assembly runs in parallel.
-    pub parallel: Parallel,
-    /// Which linear solver solves the step Jacobian.
-    pub linear: Linear,
+    system: L,
+    options: NewtonOptions,
+    parallel: Parallel,
+    linear: StepSolver,
 }
 
 /// Every state and step record of an [`ElementIntegrator`] run (`Drive::run(..).collect()`).
@@ -246,13 +251,13 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
             system,
             options,
             parallel: Parallel::Auto,
-            linear: Linear::Auto,
+            linear: StepSolver::Auto,
         }
     }
 
-    /// The same integrator with the step Jacobian's solver chosen by `linear`.
-    pub fn with_linear(mut self, linear: Linear) -> Self {
-        self.linear = linear;
+    /// The same integrator with the step Jacobian's solver chosen by `solver`.
+    pub fn with_solver(mut self, solver: StepSolver) -> Self {
+        self.linear = solver;
         self
     }
 
@@ -260,6 +265,26 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
     pub fn with_parallel(mut self, parallel: Parallel) -> Self {
         self.parallel = parallel;
         self
+    }
+
+    /// The system being integrated.
+    pub fn system(&self) -> &L {
+        &self.system
+    }
+
+    /// Newton's tolerances and caps.
+    pub fn options(&self) -> &NewtonOptions {
+        &self.options
+    }
+
+    /// When the assembly runs in parallel.
+    pub fn parallel(&self) -> Parallel {
+        self.parallel
+    }
+
+    /// Which solver solves the step Jacobian.
+    pub fn solver(&self) -> StepSolver {
+        self.linear
     }
 
     /// The momentum map `μ` of each declared translation: `Σ p_i` over its orbit. A state
@@ -300,6 +325,11 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
     /// none ([`StepError::Unsupported`]); vectors without the system's number of coordinates,
     /// or sizes too small for the stencils, are [`StepError::InvalidSize`].
     pub fn energy(&self, q0: &DVector<f64>, q1: &DVector<f64>) -> Result<f64, StepError> {
+        self.energy_with(q0, q1, self.system.time_step())
+    }
+
+    /// [`Self::energy`] for a step of size `h`.
+    fn energy_with(&self, q0: &DVector<f64>, q1: &DVector<f64>, h: f64) -> Result<f64, StepError> {
         if !L::CONTINUOUS {
             return Err(StepError::Unsupported {
                 what: "the energy of a discrete Lagrangian (it has no velocity to evaluate an \
@@ -307,13 +337,26 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
             });
         }
         self.check_lengths(&[("q0", q0.len()), ("q1", q1.len())])?;
-        assembly::energy(
-            &self.system,
-            q0.as_slice(),
-            q1.as_slice(),
-            self.system.time_step(),
-        )
-        .map_err(|r| self.invalid(r))
+        assembly::energy(&self.system, q0.as_slice(), q1.as_slice(), h).map_err(|r| self.invalid(r))
+    }
+
+    /// The energy at each step's midpoint along a trajectory of this integrator
+    /// ([`Self::energy`] of each step, with the step's own size `t_{k+1} − t_k`). Node
+    /// energies, which need the inverse Legendre map, are computed for systems of fixed size
+    /// only (their integrators' `energies`).
+    pub fn midpoint_energies(&self, trajectory: &ElementTrajectory) -> Result<Vec<f64>, StepError> {
+        trajectory
+            .states
+            .windows(2)
+            .enumerate()
+            .map(|(k, pair)| {
+                let h = match (trajectory.times.get(k), trajectory.times.get(k + 1)) {
+                    (Some(t0), Some(t1)) => t1 - t0,
+                    _ => trajectory.h,
+                };
+                self.energy_with(&pair[0].q, &pair[1].q, h)
+            })
+            .collect()
     }
 
     /// The residual `R(z) = p0 + D_1 L_d(q0, z)` and the values of its Jacobian, in the order

@@ -1,13 +1,13 @@
 //! The step Jacobian's solver of an element-wise run, chosen by the pattern's structure
-//! ([`Linear`]): faer's sparse LU, or conjugate gradients for large multi-dimensional symmetric
+//! ([`StepSolver`]): faer's sparse LU, or conjugate gradients for large multi-dimensional symmetric
 //! Jacobians, with the fallback from the one to the other.
 
 use nalgebra::DVector;
 
-use super::Linear;
+use super::StepSolver;
 use crate::linalg::{DynSparseLu, FactorError, LinearSolver, Pcg};
 
-/// The smallest number of unknowns for which [`Linear::Auto`] solves a multi-dimensional
+/// The smallest number of unknowns for which [`StepSolver::Auto`] solves a multi-dimensional
 /// pattern (at least [`ITERATIVE_MIN_ENTRIES_PER_ROW`] entries per row, as a 2-D grid's 7) by
 /// conjugate gradients. Measured on the membrane of `examples/wave2d.rs` at 316 × 316: the
 /// sparse LU's first factorization takes ≈ 2 s and 0.6 GB of fill, its later steps ≈ 34 ms; see
@@ -18,10 +18,11 @@ pub const ITERATIVE_MIN_DIM: usize = 20_000;
 /// See [`ITERATIVE_MIN_DIM`].
 pub const ITERATIVE_MIN_ENTRIES_PER_ROW: usize = 5;
 
-/// The step Jacobian's solver of an element-wise run ([`Linear`]): the sparse LU, or conjugate
+/// The step Jacobian's solver of an element-wise run ([`StepSolver`]): the sparse LU, or conjugate
 /// gradients on a symmetric definite Jacobian, falling back to the LU for good when the
 /// Jacobian turns out not to be symmetric or CG breaks down.
 #[derive(Debug)]
+#[doc(hidden)]
 pub enum ElementSolver {
     /// faer's sparse LU.
     Direct(Box<DynSparseLu>),
@@ -30,11 +31,11 @@ pub enum ElementSolver {
 }
 
 impl ElementSolver {
-    pub(super) fn new(n: usize, col_ptr: &[usize], row_idx: &[usize], linear: Linear) -> Self {
+    pub(super) fn new(n: usize, col_ptr: &[usize], row_idx: &[usize], linear: StepSolver) -> Self {
         let iterative = match linear {
-            Linear::Direct => false,
-            Linear::Iterative => true,
-            Linear::Auto => {
+            StepSolver::Direct => false,
+            StepSolver::Iterative => true,
+            StepSolver::Auto => {
                 n >= ITERATIVE_MIN_DIM && row_idx.len() >= ITERATIVE_MIN_ENTRIES_PER_ROW * n
             }
         };

@@ -61,6 +61,7 @@ pub enum FactorError {
 
 /// The unknowns and residuals of a Newton iteration: whatever holds its components contiguously
 /// (fixed-size `SVector` for the small dense systems of a step, `DVector` for large ones).
+#[doc(hidden)]
 pub trait NewtonVector: Clone {
     /// The components.
     fn components(&self) -> &[f64];
@@ -134,6 +135,7 @@ pub(crate) const RCOND_CLEARANCE: f64 = 2.0;
 /// [`LinearSolver::rcond`]. So a step is refused exactly when Hager's estimate is below
 /// `min_rcond`, as if it ran on every step, while healthy steps pay for one extra solve instead
 /// of up to ten.
+#[doc(hidden)]
 pub fn checked_rcond<B: LinearSolver>(factors: &mut B, min_rcond: f64) -> f64 {
     let bound = factors.rcond_lower_bound();
     if bound >= RCOND_CLEARANCE * min_rcond {

@@ -48,11 +48,11 @@ pub fn run() -> Result<f64, Box<dyn std::error::Error>> {
     let integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
     let traj = integ.run(ReducedState::new([0.5], [0.0], [0.1], [0.0])).steps(10).collect()?;
     let sys = Many { h: 0.01, d: 1.0, e: 0.5, f: 2.0, g: 0.1, k: 3.0, m: 1.0 };
-    let integ = UnreducedIntegrator::plus(sys, NewtonOptions::default());
+    let integ = UnreducedIntegrator::new(sys, NewtonOptions::default());
     let canon = integ.run(sys.untrivialize(&ReducedState::new([0.1, 0.2], [0.0, 0.0], [0.3], [0.0]))).steps(10).collect()?;
     let osc = ContinuousOscillator { freq: 1.0, h: 0.01 };
-    let start = osc.canonical_state(SVector::from([1.0]), SVector::from([0.0]));
-    let o = UnreducedIntegrator::plus(osc, NewtonOptions::default()).run(start).steps(10).collect()?;
+    let start = osc.unreduced_state(SVector::from([1.0]), SVector::from([0.0]));
+    let o = UnreducedIntegrator::new(osc, NewtonOptions::default()).run(start).steps(10).collect()?;
     Ok(traj.last().x[0] + canon.last().q[0] + o.last().q[0])
 }
 

@@ -19,7 +19,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let initial = ReducedState::new([0.0; 17], [0.0; 17], [1.0], [0.0]);
     let traj = ReducedIntegrator::plus(sys, NewtonOptions::default()).run(initial).steps(10).collect()?;
     let back = ReducedIntegrator::minus(sys, NewtonOptions::default()).run(initial).steps(10).collect()?;
-    let unreduced = UnreducedIntegrator::plus(sys, NewtonOptions::default())
+    let unreduced = UnreducedIntegrator::new(sys, NewtonOptions::default())
         .run(sys.untrivialize(&initial)).steps(10).collect()?;
     let l = chain(ChainConfig::default(), ChainConfig::default(), sys.h, sys.m);
     println!(

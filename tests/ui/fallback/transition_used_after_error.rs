@@ -13,7 +13,7 @@ fn main() {
     let q = SVector::<f64, 3>::from([1.0, 2.0, 0.5]);
     let moved = t.map(&q);
     let (_, jacobian) = t.map_jacobian(&q);
-    let state = CanonicalState::new([1.0, 2.0, 0.5], [0.0, 0.0, 1.0]);
+    let state = UnreducedState::new([1.0, 2.0, 0.5], [0.0, 0.0, 1.0]);
     let lifted = ChartTransition::<2, 1, 3>::lift(&t, &state);
     println!("{moved} {jacobian} {:?} {:?} {:?}", lifted.is_some(), Shear::FROM, Shear::TO);
 }

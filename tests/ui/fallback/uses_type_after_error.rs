@@ -26,7 +26,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         traj.last().x,
         sys.lagrangian(&SVector::zeros(), &SVector::zeros())
     );
-    let unreduced = UnreducedIntegrator::plus(sys, NewtonOptions::default());
+    let unreduced = UnreducedIntegrator::new(sys, NewtonOptions::default());
     let _ = unreduced.system();
     Ok(())
 }

@@ -1,0 +1,70 @@
+//! The cost of the driver: nanoseconds per step of a streamed run with no options set (the
+//! system's own step, no controls, no stop condition, no observer), on the paper's double
+//! spherical pendulum (the dense backend) and the 200-particle Toda lattice (the sparse one).
+//! Each figure is the median over `--repeats` runs, with its range, printed one per line so
+//! that two builds can be compared run by run (see BENCHMARKS.md).
+//!
+//! ```text
+//! cargo run --release --example run_cost -- [--repeats 7]
+//! ```
+
+use std::hint::black_box;
+use std::time::Instant;
+
+use dirac::paper::DoubleSphericalPendulum;
+use dirac::prelude::*;
+
+#[path = "common/toda.rs"]
+mod toda;
+
+/// Nanoseconds per step of `steps` steps of `integ` from `start`, streamed.
+fn per_step<I: Drive>(integ: &I, start: I::State, steps: usize) -> f64 {
+    let began = Instant::now();
+    let summary = integ
+        .run(start)
+        .steps(steps)
+        .stream()
+        .expect("the run succeeds");
+    black_box(&summary.last);
+    began.elapsed().as_secs_f64() * 1e9 / steps as f64
+}
+
+fn main() {
+    let mut repeats = 7;
+    let mut args = std::env::args().skip(1);
+    while let Some(flag) = args.next() {
+        match (flag.as_str(), args.next().map(|v| v.parse::<usize>())) {
+            ("--repeats", Some(Ok(n))) if n > 0 => repeats = n,
+            _ => {
+                eprintln!("usage: run_cost [--repeats R] (R >= 1)");
+                std::process::exit(2);
+            }
+        }
+    }
+    let dsp = ReducedIntegrator::plus(DoubleSphericalPendulum::paper(), NewtonOptions::default());
+    let dsp_start = DoubleSphericalPendulum::paper_initial_state();
+    let lattice = toda::Toda {
+        m: 1.0,
+        d: 1.0,
+        h: 0.05,
+    };
+    let lattice_start = toda::initial(&lattice, 0.1, 0.3, 0.05);
+    let lattice = ReducedIntegrator::plus(lattice, NewtonOptions::default());
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    for _ in 0..repeats {
+        a.push(per_step(&dsp, dsp_start, 20_000));
+        b.push(per_step(&lattice, lattice_start, 2_000));
+    }
+    for (name, mut v) in [
+        ("double spherical pendulum", a),
+        ("Toda lattice, n = 200", b),
+    ] {
+        v.sort_by(f64::total_cmp);
+        println!(
+            "{name}: median {:.1} ns/step (range {:.1} .. {:.1}, {repeats} runs)",
+            v[v.len() / 2],
+            v[0],
+            v[v.len() - 1]
+        );
+    }
+}
