@@ -310,14 +310,8 @@ fn the_composed_jacobian_is_the_derivative_of_the_composed_map() {
             )
         };
         let scale = 1.0 + mq.amax().max(mp.amax());
-        assert!(
-            (dq - &mq).amax() < 1e-6 * scale,
-            "column {j}: {dq} vs {mq}"
-        );
-        assert!(
-            (dp - &mp).amax() < 1e-6 * scale,
-            "column {j}: {dp} vs {mp}"
-        );
+        assert!((dq - &mq).amax() < 1e-6 * scale, "column {j}: {dq} vs {mq}");
+        assert!((dp - &mp).amax() < 1e-6 * scale, "column {j}: {dp} vs {mp}");
     }
 }
 

@@ -56,7 +56,7 @@ macro_rules! trajectory_accessors {
     ($state:ty) => {
         /// Number of completed steps.
         pub fn steps(&self) -> usize {
-            self.states.len() - 1
+            self.states.len().saturating_sub(1)
         }
 
         /// The time `t_k` of state `k`.

@@ -185,7 +185,7 @@ pub(crate) fn reserved<T>(len: usize) -> Vec<T> {
 /// A trajectory that a collected run ([`crate::Run::collect`]) fills, state by state.
 pub trait Collect<St: Stepper + ?Sized>: Sized {
     /// An empty trajectory of `stepper` for a run of at most `steps` steps (with room reserved
-    /// for at most a few thousand, see [`reserved`]).
+    /// up front for at most a few thousand: a long run grows as it goes).
     fn start(stepper: &St, steps: usize) -> Self;
     /// Appends the state at time `t`; `record` is the step that produced it (`None` for the
     /// initial state).

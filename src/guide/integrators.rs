@@ -12,6 +12,28 @@
 //! | [`Composition::new`](crate::Composition::new)`(base, method)` | the base's | [`StepStats`](crate::StepStats), summed over the stages |
 //! | [`AtlasIntegrator`](crate::AtlasIntegrator) | `(chart, ReducedState)` | [`AtlasStep`](crate::AtlasStep) `{ stats, rescue, switch }` |
 //!
+//! The constrained integrators ([Constraints](super::constraints)) and the integrator of
+//! systems sized at run time ([Run-time sizes](super::run_time_sizes)) follow the same rules:
+//!
+//! * **Construction.** `new(system, options)` builds every integrator; where the paper has two
+//!   sides, `plus` and `minus` name the side instead
+//!   ([`ReducedIntegrator`](crate::ReducedIntegrator),
+//!   [`ReducedConstrainedIntegrator`](crate::ReducedConstrainedIntegrator)). Wrappers take
+//!   what they wrap: `Composition::new(base, method)`.
+//! * **Initial states.** Every state constructor, and the systems'
+//!   [`reduced_state(q, v)`](crate::ContinuousLagrangian::reduced_state) and
+//!   [`unreduced_state(q, v)`](crate::ContinuousLagrangian::unreduced_state), takes arrays and
+//!   nalgebra vectors alike; a state sized at run time also slices and `Vec`s
+//!   ([`IntoVector`](crate::IntoVector)). Coordinates are listed in the order of the system's
+//!   [`SHAPE`](crate::DiscreteLagrangian::SHAPE) followed by its
+//!   [`GROUP`](crate::DiscreteLagrangian::GROUP).
+//! * **Quantities.** `integ.momentum_map(&state)` on every integrator; `integ.energies(&traj)`
+//!   (node and midpoint energies of a continuous Lagrangian) on every integrator of fixed size,
+//!   constrained ones included, and `integ.midpoint_energies(&traj)` on one sized at run time.
+//! * **Derivatives of a step.** One type, [`Sensitivity`](crate::Sensitivity) (`∂s_{k+1}/∂s_k`
+//!   and `∂s_{k+1}/∂u_k`), whether it comes from the step partials (`sensitivity`) or from the
+//!   Hessian of `L_d` (`step_jacobian`).
+//!
 //! ## The reduced integrators: eqs. (4.6) and (4.8)
 //!
 //! `ReducedIntegrator::plus(system, options)` marches the reduced (+) discrete

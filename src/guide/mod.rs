@@ -39,7 +39,7 @@
 //!
 //! The API reference is the rest of this crate's documentation: [`crate::prelude`] lists what a
 //! program names, [`crate::runtime`] holds the integrators' modules, [`crate::paper`] and
-//! [`crate::kepler`] are worked systems that the chapters reuse.
+//! [`crate::systems::kepler`] are worked systems that the chapters reuse.
 
 // Each capability still to come adds its chapter as a module here and a line in the list above.
 

@@ -55,7 +55,9 @@ use nalgebra::DVector;
 
 use crate::error::{IntegrationError, StepError, Steps};
 use crate::newton::{solve_in, NewtonOptions};
-use crate::stepper::{check_inputs, same_step, step_error, Collect, StepStats, Stepper};
+use crate::stepper::{
+    check_inputs, same_step, step_error, Collect, StepStats, StepStatsExt, Stepper,
+};
 
 pub use assembly::ElementWorkspace;
 pub use solver::{ElementSolver, ITERATIVE_MIN_DIM, ITERATIVE_MIN_ENTRIES_PER_ROW};
@@ -217,6 +219,10 @@ pub struct ElementTrajectory {
     pub times: Vec<f64>,
     /// The Newton statistics of each step.
     pub stats: Vec<StepStats>,
+}
+
+impl ElementTrajectory {
+    crate::reduced::trajectory_accessors!(ElementState);
 }
 
 impl Steps for ElementTrajectory {
