@@ -14,8 +14,15 @@ use std::time::Instant;
 use dirac::paper::DoubleSphericalPendulum;
 use dirac::prelude::*;
 
+#[path = "common/cli.rs"]
+mod cli;
+#[path = "common/stats.rs"]
+mod stats;
 #[path = "common/toda.rs"]
 mod toda;
+
+use cli::{at_least, Cli};
+use stats::{median, range};
 
 /// Nanoseconds per step of `steps` steps of `integ` from `start`, streamed.
 fn per_step<I: Drive>(integ: &I, start: I::State, steps: usize) -> f64 {
@@ -30,17 +37,12 @@ fn per_step<I: Drive>(integ: &I, start: I::State, steps: usize) -> f64 {
 }
 
 fn main() {
-    let mut repeats = 7;
-    let mut args = std::env::args().skip(1);
-    while let Some(flag) = args.next() {
-        match (flag.as_str(), args.next().map(|v| v.parse::<usize>())) {
-            ("--repeats", Some(Ok(n))) if n > 0 => repeats = n,
-            _ => {
-                eprintln!("usage: run_cost [--repeats R] (R >= 1)");
-                std::process::exit(2);
-            }
-        }
-    }
+    let mut cli = Cli::new(
+        "run_cost",
+        "nanoseconds per step of a configured run with no options set",
+    );
+    let repeats: usize = cli.value("--repeats", "R", "repeats of each run", 7, at_least(1));
+    cli.finish();
     let dsp = ReducedIntegrator::plus(DoubleSphericalPendulum::paper(), NewtonOptions::default());
     let dsp_start = DoubleSphericalPendulum::paper_initial_state();
     let lattice = toda::Toda {
@@ -55,16 +57,14 @@ fn main() {
         a.push(per_step(&dsp, dsp_start, 20_000));
         b.push(per_step(&lattice, lattice_start, 2_000));
     }
-    for (name, mut v) in [
+    for (name, v) in [
         ("double spherical pendulum", a),
         ("Toda lattice, n = 200", b),
     ] {
-        v.sort_by(f64::total_cmp);
+        let (lo, hi) = range(&v);
         println!(
-            "{name}: median {:.1} ns/step (range {:.1} .. {:.1}, {repeats} runs)",
-            v[v.len() / 2],
-            v[0],
-            v[v.len() - 1]
+            "{name}: median {:.1} ns/step (range {lo:.1} .. {hi:.1}, {repeats} runs)",
+            median(v.clone()),
         );
     }
 }
