@@ -53,8 +53,12 @@
 //! let s0 = ReducedState::new([0.3], [0.0], [0.5], [0.0]);
 //!
 //! // A feedback law: a torque against the table's momentum.
-//! let law = |_k: usize, s: &ReducedState<1, 1>, u: &mut [f64]| u[0] = -0.8 * s.mu[0];
-//! let traj = integ.run(s0).steps(1000).controls(law).collect().unwrap();
+//! let traj = integ
+//!     .run(s0)
+//!     .steps(1000)
+//!     .feedback(|_k, _t, s, u| u[0] = -0.8 * s.mu[0])
+//!     .collect()
+//!     .unwrap();
 //! // The forced Noether balance: μ changes by exactly the applied impulse h τ_k.
 //! for pair in traj.states.windows(2) {
 //!     let impulse = h * (-0.8 * pair[0].mu[0]);
