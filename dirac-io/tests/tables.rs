@@ -154,7 +154,10 @@ fn an_observer_for_another_state_type_is_an_error_not_a_panic() {
         .err()
         .expect("a mismatched description is an error")
         .to_string();
-    assert!(err.contains("8 state columns") && err.contains("have 4"), "{err}");
+    assert!(
+        err.contains("8 state columns") && err.contains("have 4"),
+        "{err}"
+    );
 }
 
 #[test]
