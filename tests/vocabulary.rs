@@ -3,6 +3,9 @@
 //! run-time sizes and for constrained runs, checked against closed forms computed here; the
 //! derivative of a step as one type.
 
+// The constructors are called with borrowed arguments on purpose: accepting them is the point.
+#![allow(clippy::needless_borrows_for_generic_args)]
+
 use dirac::nalgebra::{DVector, SVector};
 use dirac::prelude::*;
 use dirac::runtime::{DiscreteLagrangian, ReducedConstrainedIntegrator};

@@ -527,7 +527,7 @@ struct Visit<'a, 'p> {
 
 /// The stencil values of element `e`.
 #[inline(always)]
-fn gather<const S: usize>(v: &[f64], st: &[usize]) -> [f64; S] {
+pub(super) fn gather<const S: usize>(v: &[f64], st: &[usize]) -> [f64; S] {
     std::array::from_fn(|a| v[st[a]])
 }
 
@@ -768,95 +768,4 @@ impl Assembler {
     pub(super) fn take_momentum(&self, p: &mut DVector<f64>) {
         std::mem::swap(&mut *self.p1.borrow_mut(), p);
     }
-}
-
-/// Sums a per-element scalar over every element, serially, in order.
-struct Scalar<G> {
-    element: G,
-    /// The number of coordinates: an element reading outside is an error.
-    n: usize,
-    total: f64,
-    /// The first element that reads outside the coordinates.
-    invalid: Option<String>,
-}
-
-/// What a scalar pass evaluates per element: its stencil values in `q0` and `q1`.
-trait ElementScalar {
-    fn eval<const S: usize, F: Family<S>>(&self, f: &F, indices: &[i64], st: [usize; S]) -> f64;
-}
-
-impl<G: ElementScalar> FamilyVisitor for Scalar<G> {
-    fn family<const S: usize, F: Family<S>>(&mut self, family: &F) {
-        let (element, n) = (&self.element, self.n);
-        let mut total = self.total;
-        let invalid = &mut self.invalid;
-        family.elements(&mut |indices, stencil| {
-            if stencil.iter().all(|&g| g >= 0 && (g as usize) < n) {
-                total += element.eval(family, indices, stencil.map(|g| g as usize));
-            } else if invalid.is_none() {
-                *invalid = Some(format!(
-                    "element {indices:?} reads coordinates {stencil:?}, outside 0..{n}: the sizes are too small for its stencil"
-                ));
-            }
-        });
-        self.total = total;
-    }
-}
-
-struct Value<'a> {
-    q0: &'a [f64],
-    q1: &'a [f64],
-}
-
-impl ElementScalar for Value<'_> {
-    fn eval<const S: usize, F: Family<S>>(&self, f: &F, indices: &[i64], st: [usize; S]) -> f64 {
-        f.value(indices, &gather(self.q0, &st), &gather(self.q1, &st))
-    }
-}
-
-struct Energy<'a> {
-    q0: &'a [f64],
-    q1: &'a [f64],
-    h: f64,
-}
-
-impl ElementScalar for Energy<'_> {
-    fn eval<const S: usize, F: Family<S>>(&self, f: &F, indices: &[i64], st: [usize; S]) -> f64 {
-        let q = std::array::from_fn(|a| 0.5 * (self.q0[st[a]] + self.q1[st[a]]));
-        let v = std::array::from_fn(|a| (self.q1[st[a]] - self.q0[st[a]]) / self.h);
-        f.energy(indices, &q, &v)
-    }
-}
-
-/// The sum of `element` over every element, or the first element that reads outside the
-/// coordinates. The callers check the vectors' lengths against the system's dimension.
-fn scalar<L: ElementLagrangian, G: ElementScalar>(system: &L, element: G) -> Result<f64, String> {
-    let mut visit = Scalar {
-        element,
-        n: system.dim(),
-        total: 0.0,
-        invalid: None,
-    };
-    system.families(&mut visit);
-    visit.invalid.map_or(Ok(visit.total), Err)
-}
-
-/// `L_d(q0, q1)`, the sum of the element values (`q0`, `q1` of the system's dimension).
-pub(super) fn value<L: ElementLagrangian>(
-    system: &L,
-    q0: &[f64],
-    q1: &[f64],
-) -> Result<f64, String> {
-    scalar(system, Value { q0, q1 })
-}
-
-/// `E((q0 + q1)/2, (q1 − q0)/h)`, the sum of the element energies (`q0`, `q1` of the system's
-/// dimension).
-pub(super) fn energy<L: ElementLagrangian>(
-    system: &L,
-    q0: &[f64],
-    q1: &[f64],
-    h: f64,
-) -> Result<f64, String> {
-    scalar(system, Energy { q0, q1, h })
 }

@@ -47,6 +47,7 @@
 
 mod assembly;
 mod solver;
+mod sums;
 
 use std::fmt::Debug;
 use std::ops::Range;
@@ -323,7 +324,7 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
         q1: &DVector<f64>,
     ) -> Result<f64, StepError> {
         self.check_lengths(&[("q0", q0.len()), ("q1", q1.len())])?;
-        assembly::value(&self.system, q0.as_slice(), q1.as_slice()).map_err(|r| self.invalid(r))
+        sums::value(&self.system, q0.as_slice(), q1.as_slice()).map_err(|r| self.invalid(r))
     }
 
     /// The energy at the step's midpoint, `E((q0 + q1)/2, (q1 − q0)/h)`, of a continuous
@@ -343,7 +344,7 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
             });
         }
         self.check_lengths(&[("q0", q0.len()), ("q1", q1.len())])?;
-        assembly::energy(&self.system, q0.as_slice(), q1.as_slice(), h).map_err(|r| self.invalid(r))
+        sums::energy(&self.system, q0.as_slice(), q1.as_slice(), h).map_err(|r| self.invalid(r))
     }
 
     /// The energy at each step's midpoint along a trajectory of this integrator

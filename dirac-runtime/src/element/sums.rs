@@ -1,0 +1,97 @@
+//! Sums of a per-element scalar over every element — the discrete Lagrangian `L_d(q0, q1)` and
+//! the midpoint energy — serially and in the order of the body, with the first element that
+//! reads outside the coordinates reported instead of a panic.
+
+use super::assembly::gather;
+use super::{ElementLagrangian, Family, FamilyVisitor};
+
+/// Sums a per-element scalar over every element, serially, in order.
+struct Scalar<G> {
+    element: G,
+    /// The number of coordinates: an element reading outside is an error.
+    n: usize,
+    total: f64,
+    /// The first element that reads outside the coordinates.
+    invalid: Option<String>,
+}
+
+/// What a scalar pass evaluates per element: its stencil values in `q0` and `q1`.
+trait ElementScalar {
+    fn eval<const S: usize, F: Family<S>>(&self, f: &F, indices: &[i64], st: [usize; S]) -> f64;
+}
+
+impl<G: ElementScalar> FamilyVisitor for Scalar<G> {
+    fn family<const S: usize, F: Family<S>>(&mut self, family: &F) {
+        let (element, n) = (&self.element, self.n);
+        let mut total = self.total;
+        let invalid = &mut self.invalid;
+        family.elements(&mut |indices, stencil| {
+            if stencil.iter().all(|&g| g >= 0 && (g as usize) < n) {
+                total += element.eval(family, indices, stencil.map(|g| g as usize));
+            } else if invalid.is_none() {
+                *invalid = Some(format!(
+                    "element {indices:?} reads coordinates {stencil:?}, outside 0..{n}: the sizes are too small for its stencil"
+                ));
+            }
+        });
+        self.total = total;
+    }
+}
+
+struct Value<'a> {
+    q0: &'a [f64],
+    q1: &'a [f64],
+}
+
+impl ElementScalar for Value<'_> {
+    fn eval<const S: usize, F: Family<S>>(&self, f: &F, indices: &[i64], st: [usize; S]) -> f64 {
+        f.value(indices, &gather(self.q0, &st), &gather(self.q1, &st))
+    }
+}
+
+struct Energy<'a> {
+    q0: &'a [f64],
+    q1: &'a [f64],
+    h: f64,
+}
+
+impl ElementScalar for Energy<'_> {
+    fn eval<const S: usize, F: Family<S>>(&self, f: &F, indices: &[i64], st: [usize; S]) -> f64 {
+        let q = std::array::from_fn(|a| 0.5 * (self.q0[st[a]] + self.q1[st[a]]));
+        let v = std::array::from_fn(|a| (self.q1[st[a]] - self.q0[st[a]]) / self.h);
+        f.energy(indices, &q, &v)
+    }
+}
+
+/// The sum of `element` over every element, or the first element that reads outside the
+/// coordinates. The callers check the vectors' lengths against the system's dimension.
+fn scalar<L: ElementLagrangian, G: ElementScalar>(system: &L, element: G) -> Result<f64, String> {
+    let mut visit = Scalar {
+        element,
+        n: system.dim(),
+        total: 0.0,
+        invalid: None,
+    };
+    system.families(&mut visit);
+    visit.invalid.map_or(Ok(visit.total), Err)
+}
+
+/// `L_d(q0, q1)`, the sum of the element values (`q0`, `q1` of the system's dimension).
+pub(super) fn value<L: ElementLagrangian>(
+    system: &L,
+    q0: &[f64],
+    q1: &[f64],
+) -> Result<f64, String> {
+    scalar(system, Value { q0, q1 })
+}
+
+/// `E((q0 + q1)/2, (q1 − q0)/h)`, the sum of the element energies (`q0`, `q1` of the system's
+/// dimension).
+pub(super) fn energy<L: ElementLagrangian>(
+    system: &L,
+    q0: &[f64],
+    q1: &[f64],
+    h: f64,
+) -> Result<f64, String> {
+    scalar(system, Energy { q0, q1, h })
+}
