@@ -5,7 +5,7 @@
 //! that two builds can be compared run by run (see BENCHMARKS.md).
 //!
 //! ```text
-//! cargo run --release --example run_cost -- [--repeats 7]
+//! cargo run --release --example run_cost -- [--repeats 7] [--system both|dsp|lattice]
 //! ```
 
 use std::hint::black_box;
@@ -42,6 +42,16 @@ fn main() {
         "nanoseconds per step of a configured run with no options set",
     );
     let repeats: usize = cli.value("--repeats", "R", "repeats of each run", 7, at_least(1));
+    let (dsp_on, lattice_on) = cli.choice(
+        "--system",
+        "which systems to time",
+        "both",
+        &[
+            ("both", (true, true)),
+            ("dsp", (true, false)),
+            ("lattice", (false, true)),
+        ],
+    );
     cli.finish();
     let dsp = ReducedIntegrator::plus(DoubleSphericalPendulum::paper(), NewtonOptions::default());
     let dsp_start = DoubleSphericalPendulum::paper_initial_state();
@@ -54,13 +64,20 @@ fn main() {
     let lattice = ReducedIntegrator::plus(lattice, NewtonOptions::default());
     let (mut a, mut b) = (Vec::new(), Vec::new());
     for _ in 0..repeats {
-        a.push(per_step(&dsp, dsp_start, 20_000));
-        b.push(per_step(&lattice, lattice_start, 2_000));
+        if dsp_on {
+            a.push(per_step(&dsp, dsp_start, 20_000));
+        }
+        if lattice_on {
+            b.push(per_step(&lattice, lattice_start, 2_000));
+        }
     }
     for (name, v) in [
         ("double spherical pendulum", a),
         ("Toda lattice, n = 200", b),
     ] {
+        if v.is_empty() {
+            continue;
+        }
         let (lo, hi) = range(&v);
         println!(
             "{name}: median {:.1} ns/step (range {lo:.1} .. {hi:.1}, {repeats} runs)",

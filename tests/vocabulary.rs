@@ -230,7 +230,18 @@ fn the_derivative_of_a_step_is_one_type() {
     let m1: Sensitivity = integ.step_jacobian(0, &a, &b).unwrap();
     let m2 = integ.step_jacobian(1, &b, &c).unwrap();
     assert_eq!((m1.state.shape(), m1.control.ncols()), ((4, 4), 0));
-    let both = m2.compose(&m1);
+    let both = m2.compose(&m1).unwrap();
+    // Steps of different sizes do not compose: a typed error, not a panic in the product.
+    let other = Sensitivity::from_blocks(
+        &m1.dq_dq().view((0, 0), (1, 1)),
+        &m1.dq_dp().view((0, 0), (1, 1)),
+        &m1.dp_dq().view((0, 0), (1, 1)),
+        &m1.dp_dp().view((0, 0), (1, 1)),
+    );
+    assert!(matches!(
+        m2.compose(&other),
+        Err(StepError::InvalidSize { .. })
+    ));
     assert!(both.symplecticity_defect() < 1e-12);
     assert_eq!(both.state, &m2.state * &m1.state);
     // Blocks read back what from_blocks puts in.

@@ -433,7 +433,7 @@ where
             let m = stage
                 .step_jacobian(k, &current, &next)
                 .map_err(|e| self.stage_failed(i, stage.time_step(), e))?;
-            product = m.compose(&product);
+            product = m.compose(&product)?;
             current = next;
         }
         Ok((current, product))

@@ -10,6 +10,7 @@ use crate::linalg::{checked_rcond, LinearSolver};
 use crate::newton::{self, inf_norm, NewtonFailure, NewtonOptions};
 use crate::reduced::Trajectory;
 use crate::state::{IntoVector, ReducedState, UnreducedState};
+use crate::stepper::step_between as step;
 use crate::system::DiscreteLagrangian;
 use crate::unreduced::UnreducedTrajectory;
 
@@ -195,9 +196,7 @@ pub fn midpoint_energies<L, const N: usize>(sys: &L, q: &[SVector<f64, N>], h: f
 where
     L: ContinuousLagrangian<N>,
 {
-    q.windows(2)
-        .map(|w| sys.energy(&(0.5 * (w[0] + w[1])), &((w[1] - w[0]) / h)))
-        .collect()
+    unreduced_midpoints(sys, q, &[], h)
 }
 
 /// The continuous energy of an unreduced trajectory at its nodes (from the discrete momenta) and
@@ -256,14 +255,6 @@ where
         nodes,
         midpoints: unreduced_midpoints(sys, &q, times, h),
     })
-}
-
-/// The size of step `k`, `t_{k+1} − t_k` (`h` without times).
-fn step(times: &[f64], k: usize, h: f64) -> f64 {
-    match (times.get(k), times.get(k + 1)) {
-        (Some(t0), Some(t1)) => t1 - t0,
-        _ => h,
-    }
 }
 
 /// The midpoint energies of the configurations `q` at `times`: step `k` uses its own size.

@@ -132,17 +132,32 @@ impl Sensitivity {
     }
 
     /// The sensitivity of `self ∘ first` (first `first`, then `self`) by the chain rule:
-    /// `state = A A₁`, and for the same controls held over both, `control = A B₁ + B`.
-    pub fn compose(&self, first: &Sensitivity) -> Sensitivity {
-        let control = if first.control.ncols() == self.control.ncols() {
-            &self.state * &first.control + &self.control
-        } else {
-            &self.state * &first.control
+    /// `state = A A₁`, and with the same controls held over both steps `control = A B₁ + B`
+    /// (a step with no control columns depends on none: `A B₁`, or `B`). States of different
+    /// sizes, or steps with different numbers of controls, are [`StepError::InvalidSize`].
+    pub fn compose(&self, first: &Sensitivity) -> Result<Sensitivity, StepError> {
+        let invalid = |reason: String| StepError::InvalidSize { reason };
+        if self.state.ncols() != first.state.nrows() {
+            return Err(invalid(format!(
+                "a step from {} state components composed after one to {}",
+                self.state.ncols(),
+                first.state.nrows()
+            )));
+        }
+        let control = match (first.control.ncols(), self.control.ncols()) {
+            (a, b) if a == b => &self.state * &first.control + &self.control,
+            (0, _) => self.control.clone(),
+            (_, 0) => &self.state * &first.control,
+            (a, b) => {
+                return Err(invalid(format!(
+                    "steps with {a} and {b} controls composed: the controls must be the same"
+                )))
+            }
         };
-        Sensitivity {
+        Ok(Sensitivity {
             state: &self.state * &first.state,
             control,
-        }
+        })
     }
 
     /// How far an unreduced step's `Mᵀ Ω M = Ω` (`Ω = [[0, I], [−I, 0]]`) is from holding,

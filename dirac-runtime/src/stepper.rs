@@ -171,6 +171,15 @@ where
 /// ([`reserved`]).
 pub(crate) const RESERVED_STATES: usize = 1 << 12;
 
+/// The size of step `k` of a trajectory with state times `times`, `t_{k+1} − t_k`; `h` where
+/// the times are missing (a trajectory built by hand).
+pub(crate) fn step_between(times: &[f64], k: usize, h: f64) -> f64 {
+    match (times.get(k), times.get(k + 1)) {
+        (Some(t0), Some(t1)) => t1 - t0,
+        _ => h,
+    }
+}
+
 /// An empty vector with room for `len` items, but for no more than [`RESERVED_STATES`]: what
 /// [`Collect::start`] gives each of a trajectory's vectors. A run asked for `steps` steps may
 /// stop long before (a stop condition, a failed step) and may be asked for more steps than

@@ -357,10 +357,7 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
             .windows(2)
             .enumerate()
             .map(|(k, pair)| {
-                let h = match (trajectory.times.get(k), trajectory.times.get(k + 1)) {
-                    (Some(t0), Some(t1)) => t1 - t0,
-                    _ => trajectory.h,
-                };
+                let h = crate::stepper::step_between(&trajectory.times, k, trajectory.h);
                 self.energy_with(&pair[0].q, &pair[1].q, h)
             })
             .collect()
