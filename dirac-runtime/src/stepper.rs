@@ -73,6 +73,7 @@ pub trait Stepper {
     /// (the driver keeps two states per run and swaps them, so such a run allocates no state
     /// per step). The default moves the result of [`Self::step_with`] into `next`; on failure
     /// `next` is unspecified.
+    #[inline]
     fn step_into(
         &self,
         workspace: &mut Self::Workspace,
@@ -112,7 +113,25 @@ pub trait Stepper {
 /// are given (`None`: borrow it, bit for bit the fixed-step system), otherwise a copy with the
 /// controls `u` set and the time step `h` ([`crate::DiscreteLagrangian::with_time_step`]). The
 /// typed error of step `k` when `u` has the wrong length or a value that is not finite.
+#[inline]
 pub(crate) fn system_at<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    k: usize,
+    h: f64,
+    u: &[f64],
+) -> Result<Option<L>, StepError>
+where
+    L: crate::DiscreteLagrangian<S, K, N>,
+{
+    // The step of every fixed-step run without controls, decided inline.
+    if u.is_empty() && same_step(h, sys.time_step()) {
+        return Ok(None);
+    }
+    system_with(sys, k, h, u)
+}
+
+/// [`system_at`] when the step has controls or a size of its own: a copy of the system.
+fn system_with<L, const S: usize, const K: usize, const N: usize>(
     sys: &L,
     k: usize,
     h: f64,
