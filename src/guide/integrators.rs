@@ -27,9 +27,9 @@
 //!   ([`IntoVector`](crate::IntoVector)). Coordinates are listed in the order of the system's
 //!   [`SHAPE`](crate::DiscreteLagrangian::SHAPE) followed by its
 //!   [`GROUP`](crate::DiscreteLagrangian::GROUP).
-//! * **Quantities.** `integ.momentum_map(&state)` on every integrator; `integ.energies(&traj)`
-//!   (node and midpoint energies of a continuous Lagrangian) on every integrator of fixed size,
-//!   constrained ones included, and `integ.midpoint_energies(&traj)` on one sized at run time.
+//! * **Quantities.** `integ.momentum_map(&state)` and `integ.energies(&traj)` (node and
+//!   midpoint energies of a continuous Lagrangian, the nodes through the inverse Legendre map)
+//!   on every integrator, constrained ones and those sized at run time included.
 //! * **Derivatives of a step.** One type, [`Sensitivity`](crate::Sensitivity) (`∂s_{k+1}/∂s_k`
 //!   and `∂s_{k+1}/∂u_k`), whether it comes from the step partials (`sensitivity`) or from the
 //!   Hessian of `L_d` (`step_jacobian`).

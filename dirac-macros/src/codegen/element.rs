@@ -181,6 +181,19 @@ pub fn generate(
             }
             None => quote!(f64::NAN),
         };
+        let legendre = match &code.legendre {
+            Some((p, hessian)) => {
+                let el = leaf(quote!(q), quote!(v));
+                let outputs: Vec<NodeId> =
+                    p.iter().chain(hessian.iter().flatten()).copied().collect();
+                let line = straight_line(&code.graph, &outputs, &el);
+                let (p_out, h_out) = line.outputs.split_at(s);
+                let rows = h_out.chunks(s.max(1)).map(|row| quote!([#(#row),*]));
+                let st = &line.stmts;
+                quote! { let sys = self.0; #st ([#(#p_out),*], [#(#rows),*]) }
+            }
+            None => quote!(([f64::NAN; #s], [[f64::NAN; #s]; #s])),
+        };
         described.push(format!(
             "{}×{s} ({} operations for R + J + p)",
             depth_word(depth),
@@ -221,6 +234,9 @@ pub fn generate(
                 }
                 fn energy(&self, indices: &[i64], q: &[f64; #s], v: &[f64; #s]) -> f64 {
                     #energy
+                }
+                fn legendre(&self, indices: &[i64], q: &[f64; #s], v: &[f64; #s]) -> ([f64; #s], [[f64; #s]; #s]) {
+                    #legendre
                 }
             }
         });

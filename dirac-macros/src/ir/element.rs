@@ -32,6 +32,9 @@ pub struct ElementCode {
     pub d2: Vec<NodeId>,
     /// `E^e(q, v)` (over `Q0 = q`, `Q1 = v`) of a continuous Lagrangian.
     pub energy: Option<NodeId>,
+    /// `∂L^e/∂v` and `∂²L^e/∂v²` (row `a`), over `Q0 = q`, `Q1 = v`, of a continuous
+    /// Lagrangian: the element's share of the Legendre map and its Jacobian.
+    pub legendre: Option<(Vec<NodeId>, Vec<Vec<NodeId>>)>,
 }
 
 /// The names of the parameters an element body reads: the function's, then the sizes and the
@@ -64,7 +67,7 @@ pub fn element(
     let mut graph = Graph::default();
     let body = Lowering::new(&mut graph, cx, &names).body(&family.block)?;
     let g = &mut graph;
-    let (ld, energy) = if spec.sig.continuous {
+    let (ld, energy, legendre) = if spec.sig.continuous {
         let step = spec
             .sig
             .params
@@ -73,10 +76,14 @@ pub fn element(
             .expect("the time step is a parameter");
         let h = g.var(Sym::Param(step));
         let rule = spec.rule.expect("a continuous Lagrangian has a rule");
-        let energy = continuous(g, body, width, rule, Mode::Forward).energy;
-        (discretize(g, body, width, h, rule), Some(energy))
+        let c = continuous(g, body, width, rule, Mode::Forward);
+        (
+            discretize(g, body, width, h, rule),
+            Some(c.energy),
+            Some((c.legendre, c.hessian)),
+        )
     } else {
-        (body, None)
+        (body, None, None)
     };
     let mode = mode_for(width);
     let q0: Vec<Sym> = (0..width).map(Sym::Q0).collect();
@@ -122,5 +129,6 @@ pub fn element(
         d12,
         d2,
         energy,
+        legendre,
     })
 }

@@ -46,6 +46,7 @@
 //! any number of threads (`tests/element_wise.rs` checks it).
 
 mod assembly;
+mod legendre;
 mod solver;
 mod sums;
 
@@ -54,6 +55,7 @@ use std::ops::Range;
 
 use nalgebra::DVector;
 
+use crate::continuous::ContinuousEnergies;
 use crate::error::{IntegrationError, StepError, Steps};
 use crate::newton::{solve_in, NewtonOptions};
 use crate::stepper::{
@@ -96,6 +98,15 @@ pub trait Family<const S: usize>: Sync {
     /// The element's energy `E^e(q, v) = ⟨∂L^e/∂v, v⟩ − L^e` of a continuous Lagrangian (NaN
     /// for a discrete one).
     fn energy(&self, indices: &[i64], q: &[f64; S], v: &[f64; S]) -> f64;
+
+    /// The element's share of the Legendre map, `∂L^e/∂v`, and its Jacobian `∂²L^e/∂v²` (row
+    /// `a`) at `(q, v)` of a continuous Lagrangian (NaN for a discrete one, and by default for
+    /// a family written by hand).
+    #[allow(clippy::type_complexity)]
+    fn legendre(&self, indices: &[i64], q: &[f64; S], v: &[f64; S]) -> ([f64; S], [[f64; S]; S]) {
+        let _ = (indices, q, v);
+        ([f64::NAN; S], [[f64::NAN; S]; S])
+    }
 }
 
 /// What visits the families of an [`ElementLagrangian`], one type per family.
@@ -337,20 +348,61 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
 
     /// [`Self::energy`] for a step of size `h`.
     fn energy_with(&self, q0: &DVector<f64>, q1: &DVector<f64>, h: f64) -> Result<f64, StepError> {
-        if !L::CONTINUOUS {
-            return Err(StepError::Unsupported {
-                what: "the energy of a discrete Lagrangian (it has no velocity to evaluate an \
-                       energy at; write the system as a continuous Lagrangian with a rule)",
-            });
-        }
+        self.require_continuous()?;
         self.check_lengths(&[("q0", q0.len()), ("q1", q1.len())])?;
         sums::energy(&self.system, q0.as_slice(), q1.as_slice(), h).map_err(|r| self.invalid(r))
     }
 
+    /// The continuous energy of a trajectory of this integrator at its nodes and midpoints, as
+    /// the fixed-size integrators' `energies` give it: at node `k`, `E(q_k, v_k)` with `v_k`
+    /// solving the Legendre map `∂L/∂v (q_k, v_k) = p_k` for the discrete momentum (Newton from
+    /// the adjacent difference quotient, the Jacobian `∂²L/∂v²` assembled element by element
+    /// into the step Jacobian's pattern and solved by the sparse LU, with this integrator's
+    /// tolerances); the midpoints as [`Self::midpoint_energies`]. A discrete Lagrangian has no
+    /// energy ([`StepError::Unsupported`]); a degenerate one no node energies
+    /// ([`StepError::SingularJacobian`] at the node, as the step index).
+    pub fn energies(
+        &self,
+        trajectory: &ElementTrajectory,
+    ) -> Result<ContinuousEnergies, StepError> {
+        self.require_continuous()?;
+        let states = &trajectory.states;
+        let ws = ElementWorkspace::new(&self.system, Parallel::Never, StepSolver::Direct);
+        if let Some(reason) = ws.invalid() {
+            return Err(self.invalid(reason.to_string()));
+        }
+        let mut nodes = Vec::with_capacity(states.len());
+        for (k, state) in states.iter().enumerate() {
+            self.check_lengths(&[("q", state.q.len()), ("p", state.p.len())])?;
+            let step = |j: usize| crate::stepper::step_between(&trajectory.times, j, trajectory.h);
+            let guess = match (k.checked_sub(1), states.get(k + 1)) {
+                (_, Some(next)) => (&next.q - &state.q) / step(k),
+                (Some(prev), None) => (&state.q - &states[prev].q) / step(prev),
+                (None, None) => DVector::zeros(state.q.len()),
+            };
+            let v = legendre::velocity(
+                &self.system,
+                ws.pattern(),
+                k,
+                &state.q,
+                &state.p,
+                guess,
+                &self.options,
+            )?;
+            nodes.push(
+                sums::energy_at(&self.system, state.q.as_slice(), v.as_slice())
+                    .map_err(|r| self.invalid(r))?,
+            );
+        }
+        Ok(ContinuousEnergies {
+            nodes,
+            midpoints: self.midpoint_energies(trajectory)?,
+        })
+    }
+
     /// The energy at each step's midpoint along a trajectory of this integrator
-    /// ([`Self::energy`] of each step, with the step's own size `t_{k+1} − t_k`). Node
-    /// energies, which need the inverse Legendre map, are computed for systems of fixed size
-    /// only (their integrators' `energies`).
+    /// ([`Self::energy`] of each step, with the step's own size `t_{k+1} − t_k`);
+    /// [`Self::energies`] adds the node energies.
     pub fn midpoint_energies(&self, trajectory: &ElementTrajectory) -> Result<Vec<f64>, StepError> {
         trajectory
             .states
@@ -437,6 +489,18 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
 
     fn invalid(&self, reason: String) -> StepError {
         StepError::InvalidSize { reason }
+    }
+
+    /// `Ok` for a continuous Lagrangian; a discrete one has no energy.
+    fn require_continuous(&self) -> Result<(), StepError> {
+        if L::CONTINUOUS {
+            Ok(())
+        } else {
+            Err(StepError::Unsupported {
+                what: "the energy of a discrete Lagrangian (it has no velocity to evaluate an \
+                       energy at; write the system as a continuous Lagrangian with a rule)",
+            })
+        }
     }
 
     /// The sizes, the state's dimensions and the stencils against each other.

@@ -63,6 +63,17 @@ impl ElementScalar for Energy<'_> {
     }
 }
 
+struct EnergyAt<'a> {
+    q: &'a [f64],
+    v: &'a [f64],
+}
+
+impl ElementScalar for EnergyAt<'_> {
+    fn eval<const S: usize, F: Family<S>>(&self, f: &F, indices: &[i64], st: [usize; S]) -> f64 {
+        f.energy(indices, &gather(self.q, &st), &gather(self.v, &st))
+    }
+}
+
 /// The sum of `element` over every element, or the first element that reads outside the
 /// coordinates. The callers check the vectors' lengths against the system's dimension.
 fn scalar<L: ElementLagrangian, G: ElementScalar>(system: &L, element: G) -> Result<f64, String> {
@@ -94,4 +105,14 @@ pub(super) fn energy<L: ElementLagrangian>(
     h: f64,
 ) -> Result<f64, String> {
     scalar(system, Energy { q0, q1, h })
+}
+
+/// `E(q, v)`, the sum of the element energies at a point of `TQ` (`q`, `v` of the system's
+/// dimension).
+pub(super) fn energy_at<L: ElementLagrangian>(
+    system: &L,
+    q: &[f64],
+    v: &[f64],
+) -> Result<f64, String> {
+    scalar(system, EnergyAt { q, v })
 }
