@@ -100,14 +100,17 @@ pub mod systems;
 
 pub use dirac_macros::{chart_transition, reduced_lagrangian};
 pub use dirac_runtime as runtime;
+pub use dirac_runtime::lie;
 pub use dirac_runtime::nalgebra;
 pub use dirac_runtime::prelude::*;
 
 /// Everything a user of the attribute needs in scope: the runtime's one list
 /// ([`runtime::prelude`], which the crate root re-exports too), plus the two attributes and
-/// nalgebra's `SVector`/`SMatrix` (which the root reaches as [`nalgebra`]).
+/// nalgebra's vectors and matrices (which the root reaches as [`nalgebra`]), with the `Matrix3`
+/// and `Vector3` that rotation and direction coordinates are, and [`lie::hat`] / [`lie::vee`].
 pub mod prelude {
-    pub use crate::nalgebra::{DVector, SMatrix, SVector};
+    pub use crate::lie::{hat, vee};
+    pub use crate::nalgebra::{DVector, Matrix3, SMatrix, SVector, Vector3};
     pub use crate::runtime::prelude::*;
     pub use crate::{chart_transition, reduced_lagrangian};
 }

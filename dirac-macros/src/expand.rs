@@ -29,6 +29,9 @@ pub fn expand(args: TokenStream, item: TokenStream) -> TokenStream {
             return e.into_compile_error();
         }
     };
+    if crate::ast::lie::is_lie(&args) {
+        return expand_lie(args, &func).unwrap_or_else(|e| e.into_compile_error());
+    }
     if crate::ast::element::is_element_wise(&func) {
         return expand_element(args, &func).unwrap_or_else(|e| e.into_compile_error());
     }
@@ -85,6 +88,46 @@ fn expand_element(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> 
     let codes = cx.finish(codes)?;
     Ok(crate::codegen::element::generate(
         &spec, func, &split, &codes, min_size,
+    ))
+}
+
+/// A system on rotation groups (`rotation(..)` or `direction(..)` coordinates): the attribute
+/// and signature, the body lowered with matrix and vector values, the Lie group variational
+/// step on the graph, and the emitted items ([`crate::ast::lie`], [`crate::ir::lie`],
+/// [`crate::codegen::lie`]).
+fn expand_lie(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> {
+    use crate::ir::graph::Graph;
+    use crate::ir::lower::{Lowering, Names};
+    let cx = Ctxt::new();
+    let spec = crate::ast::lie::parse(&cx, args);
+    let sig = parse_signature(
+        &cx,
+        &func.sig,
+        spec.as_ref().and_then(|s| s.step.as_ref()),
+        None,
+        false,
+    );
+    if let Some(sig) = sig.as_ref().filter(|s| s.continuous) {
+        cx.error_spanned_by(
+            &sig.q1,
+            "a continuous Lagrangian `L(q, v)` is not available with rotation or direction              coordinates yet: write the discrete Lagrangian `L_d(q0, q1)`              (`fn name(q0: Config, q1: Config, h: f64, ...) -> f64`)",
+        );
+    }
+    let (spec, sig) = cx.finish(spec.zip(sig))?;
+    let cx = Ctxt::new();
+    let names = Names {
+        q0: &sig.q0,
+        q1: &sig.q1,
+        coords: spec.lowering_coords(),
+        params: sig.params.iter().map(ToString::to_string).collect(),
+        dq: Vec::new(),
+    };
+    let mut graph = Graph::default();
+    let body = Lowering::new(&mut graph, &cx, &names).body(&func.block);
+    let body = cx.finish(body)?;
+    let code = crate::ir::lie::compile(&mut graph, &spec, body, compile::mode_for(spec.n()));
+    Ok(crate::codegen::lie::generate(
+        &spec, &sig, func, &graph, &code,
     ))
 }
 

@@ -48,6 +48,10 @@ pub const TRAPEZOID: Symbol = Symbol("trapezoid");
 pub const LEFT: Symbol = Symbol("left");
 /// `rule = right`.
 pub const RIGHT: Symbol = Symbol("right");
+/// `rotation(R, ..)`: coordinates in the rotation group `SO(3)` (a 3 × 3 matrix in the body).
+pub const ROTATION: Symbol = Symbol("rotation");
+/// `direction(n, ..)`: coordinates on the sphere `S²` (a unit 3-vector in the body).
+pub const DIRECTION: Symbol = Symbol("direction");
 /// `#[chart_transition(from(..))]`: the old chart.
 pub const FROM: Symbol = Symbol("from");
 /// `#[chart_transition(to(..))]`: the new chart.

@@ -72,6 +72,14 @@ pub enum StepError {
         /// What is wrong, with the figures.
         reason: String,
     },
+    /// An initial configuration that is not on its manifold: a rotation coordinate that is not a
+    /// rotation matrix, or a direction that is not a unit vector with an orthonormal frame (see
+    /// [`crate::lie`]).
+    #[error("the initial configuration is not on its manifold: {reason}")]
+    OffManifold {
+        /// Which coordinate, and by how much.
+        reason: String,
+    },
     /// The time step is not a positive finite number.
     #[error("invalid time step h = {h}: it must be positive and finite")]
     InvalidTimeStep {
@@ -193,6 +201,7 @@ impl StepError {
             StepError::NonFinite { .. } => "non-finite value",
             StepError::InvalidAtlas { .. } => "invalid atlas",
             StepError::InvalidSize { .. } => "invalid size",
+            StepError::OffManifold { .. } => "configuration off its manifold",
             StepError::InvalidTimeStep { .. } => "invalid time step",
             StepError::InvalidStepSize { .. } => "invalid step size",
             StepError::ScheduleEnded { .. } => "step-size schedule ended",
@@ -222,6 +231,7 @@ impl StepError {
             | StepError::NotSymmetric { .. }
             | StepError::InvalidAtlas { .. }
             | StepError::InvalidSize { .. }
+            | StepError::OffManifold { .. }
             | StepError::Unsupported { .. }
             | StepError::OutOfMemory { .. }
             | StepError::ConstraintViolated { .. } => 0,
@@ -244,6 +254,7 @@ impl StepError {
             | StepError::NotSymmetric { .. }
             | StepError::InvalidAtlas { .. }
             | StepError::InvalidSize { .. }
+            | StepError::OffManifold { .. }
             | StepError::InvalidControls { .. }
             | StepError::OutOfMemory { .. }
             | StepError::Unsupported { .. } => f64::NAN,

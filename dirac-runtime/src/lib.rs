@@ -11,7 +11,8 @@
 //! * [`newton`]: the one Newton driver, with its [`NewtonOptions`];
 //! * [`stepper`]: the one stepping abstraction ([`Stepper`]), implemented by the integrators
 //!   [`reduced`] (eqs. (4.6)/(4.8)), [`unreduced`] (Definitions 2.7/2.8), [`compose`] (symmetric
-//!   compositions of order 4 and 6) and [`atlas`] (§6: charts and transitions);
+//!   compositions of order 4 and 6), [`atlas`] (§6: charts and transitions) and [`lie`]
+//!   (rotations and directions: Lie group variational integrators);
 //! * [`driver`]: the one run, configured ([`Drive::run`]: steps or an end time, step sizes per
 //!   step, controls, stop conditions, observers; collected or streamed; ensembles), written once
 //!   for every stepper; [`ensemble`]: parallel members;
@@ -39,6 +40,7 @@ pub mod driver;
 pub mod element;
 pub mod ensemble;
 pub mod error;
+pub mod lie;
 pub mod linalg;
 pub mod newton;
 pub mod reduced;
@@ -71,6 +73,7 @@ pub mod prelude {
         ElementIntegrator, ElementLagrangian, ElementState, ElementTrajectory, Parallel, StepSolver,
     };
     pub use crate::error::{IntegrationError, StepError, Steps};
+    pub use crate::lie::{CoordinateKind, LieIntegrator, LieLagrangian, LieState, LieTrajectory};
     pub use crate::newton::NewtonOptions;
     pub use crate::reduced::{ReducedIntegrator, ReducedStep, Trajectory};
     pub use crate::sensitivity::{Sensitivity, StepPartials};

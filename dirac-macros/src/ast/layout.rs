@@ -222,6 +222,7 @@ impl Layout {
                     name: c.name.to_string(),
                     len: c.len,
                     components: comps,
+                    matrix: None,
                 }
             })
             .collect()
@@ -254,13 +255,17 @@ pub enum Component {
     Sum(usize, usize),
 }
 
-/// A coordinate the body reads as `q0.name` (a scalar) or `q0.name[i]` (an array).
+/// A coordinate the body reads as `q0.name` (a scalar), `q0.name[i]` (an array), or as a
+/// matrix or vector value (a rotation or a direction, [`crate::ast::lie`]).
 pub struct CoordName {
     pub name: String,
     /// `None` for a scalar, the length for an array.
     pub len: Option<usize>,
     /// One per component.
     pub components: Vec<Component>,
+    /// A rotation (3 × 3) or a direction (3 × 1) read whole: its shape and, row by row, the
+    /// entries of the stored point it reads.
+    pub matrix: Option<(usize, usize, Vec<usize>)>,
 }
 
 impl CoordName {
@@ -273,6 +278,7 @@ impl CoordName {
                 name,
                 len: None,
                 components: vec![Component::Var(i)],
+                matrix: None,
             })
             .collect()
     }

@@ -6,6 +6,7 @@
 pub mod attr;
 pub mod element;
 pub mod layout;
+pub mod lie;
 pub mod ranges;
 pub mod rule;
 pub mod signature;

@@ -137,6 +137,10 @@ fn leaf_name(sym: Sym) -> Ident {
         Sym::D0(i) => format_ident!("__d0_{}", i),
         Sym::D1(i) => format_ident!("__d1_{}", i),
         Sym::Lambda(i) => format_ident!("__lambda_{}", i),
+        Sym::Base(i) => format_ident!("__b_{}", i),
+        Sym::Chart0(i) => format_ident!("__xi_{}", i),
+        Sym::Chart1(i) => format_ident!("__z_{}", i),
+        Sym::Rel(i) => format_ident!("__rel_{}", i),
     }
 }
 

@@ -12,6 +12,7 @@ pub mod element;
 pub mod emit;
 pub mod impls;
 pub mod items;
+pub mod lie;
 pub mod lints;
 pub mod system;
 pub mod transition;

@@ -67,7 +67,16 @@ fn reduced_leaf(t: &Target, sym: Sym) -> TokenStream {
         Sym::W(i) => quote! { w_k[#i] },
         Sym::Mu(j) => quote! { mu_k[#j] },
         Sym::Param(i) => t.param_leaf(i),
-        Sym::Q0(_) | Sym::Q1(_) | Sym::P(_) | Sym::D0(_) | Sym::D1(_) | Sym::Lambda(_) => {
+        Sym::Q0(_)
+        | Sym::Q1(_)
+        | Sym::P(_)
+        | Sym::D0(_)
+        | Sym::D1(_)
+        | Sym::Lambda(_)
+        | Sym::Base(_)
+        | Sym::Chart0(_)
+        | Sym::Chart1(_)
+        | Sym::Rel(_) => {
             unreachable!("reduced Lagrangians read x0, x1 and g")
         }
     }

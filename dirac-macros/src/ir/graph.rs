@@ -40,6 +40,19 @@ pub enum Sym {
     D1(usize),
     /// Lagrange multiplier `i` of the holonomic constraints ([`crate::ir::constraint`]).
     Lambda(usize),
+    /// Entry `i` of the stored point `q_k` at the centre of a step's chart (rotation and
+    /// direction coordinates, [`crate::ir::lie`]).
+    Base(usize),
+    /// Chart coordinate `j` of the point being varied: `q_k` in the residual, `q_{k+1}` in the
+    /// momentum update (differentiated, then zero).
+    Chart0(usize),
+    /// Chart coordinate `j` of `q_{k+1}`: the step's unknown `z`.
+    Chart1(usize),
+    /// Entry `i` of the stored point of a rotation coordinate standing for the relative rotation
+    /// `F = R0ᵀ R1` (`i` runs over the coordinate's 9 point entries, row by row): what
+    /// `q0.R.transpose() * q1.R` lowers to ([`crate::ir::lie`] substitutes the step's own
+    /// `cay(ξ0)ᵀ cay(z)`).
+    Rel(usize),
 }
 
 /// Elementary functions of one argument.

@@ -13,6 +13,7 @@ pub mod discretize;
 pub mod element;
 pub mod force;
 pub mod graph;
+pub mod lie;
 pub mod lower;
 pub mod reduce;
 pub mod transition;

@@ -12,8 +12,11 @@ use crate::ast::layout::CoordName;
 use crate::ctxt::Ctxt;
 use crate::ir::graph::{Graph, NodeId};
 
+mod matrix;
 mod names;
 mod ops;
+
+use matrix::Mat;
 
 /// What the body language accepts, for error messages.
 pub const ACCEPTED: &str = "accepted: f64 literals, parameters, coordinates (`q0.x`), locals \
@@ -35,21 +38,25 @@ enum Value {
     Int(i64),
     Tuple(Vec<Value>),
     Array(Vec<Value>),
+    /// A matrix or vector (rotation and direction coordinates, [`matrix`]).
+    Mat(Mat),
     Unit,
     /// A name whose initializer was rejected: uses fail silently, so one mistake is reported once.
     Poison,
 }
 
 impl Value {
-    fn kind(&self) -> &'static str {
+    fn kind(&self) -> String {
         match self {
             Value::Scalar(_) => "an f64",
             Value::Int(_) => "an integer",
             Value::Tuple(_) => "a tuple",
             Value::Array(_) => "an array",
+            Value::Mat(m) => return m.kind(),
             Value::Unit => "`()`",
             Value::Poison => "an invalid value",
         }
+        .to_string()
     }
 }
 
@@ -413,6 +420,7 @@ impl<'a> Lowering<'a> {
                     let v = self.expr(&u.expr)?;
                     match v {
                         Value::Int(i) => Some(Value::Int(-i)),
+                        Value::Mat(m) => Some(self.mat_neg(m)),
                         v => {
                             let n = self.scalar(v, &u.expr)?;
                             Some(Value::Scalar(self.g.neg(n)))
@@ -435,6 +443,12 @@ impl<'a> Lowering<'a> {
                 self.call(&m.method, receiver, &m.receiver, &args)
             }
             Expr::Call(c) => {
+                if let Expr::Path(p) = &*c.func {
+                    let args: Vec<&Expr> = c.args.iter().collect();
+                    if let Some(v) = self.mat_call(&p.path, &args) {
+                        return v;
+                    }
+                }
                 let name = match &*c.func {
                     Expr::Path(p) if p.qself.is_none() && p.path.segments.len() == 2 && p.path.segments[0].ident == "f64" => {
                         p.path.segments[1].ident.clone()
@@ -475,11 +489,16 @@ impl<'a> Lowering<'a> {
             Expr::Index(ix) => {
                 if let Expr::Field(f) = &*ix.expr {
                     if let Some((which, member)) = self.coordinate_field(f) {
-                        return self.coordinate_index(ix, f, which, member);
+                        if !self.is_matrix_coordinate(member) {
+                            return self.coordinate_index(ix, f, which, member);
+                        }
                     }
                 }
                 let base = self.expr(&ix.expr)?;
                 let i = self.expr(&ix.index)?;
+                if let Value::Mat(m) = base {
+                    return self.mat_index(m, i, &ix.index);
+                }
                 let i = self.int(i, &ix.index)?;
                 match base {
                     Value::Array(items) => match usize::try_from(i).ok().and_then(|i| items.get(i)) {
@@ -513,7 +532,11 @@ impl<'a> Lowering<'a> {
             ),
             Expr::While(w) => self.error(w.while_token, format!("`while` loops are not supported (bounds must be constant: use `for i in 0..N`); {ACCEPTED}")),
             Expr::Loop(l) => self.error(l.loop_token, format!("`loop` is not supported (use `for i in 0..N`); {ACCEPTED}")),
-            Expr::Reference(r) => self.error(r, format!("references are not supported: coordinates and parameters are plain f64 values; {ACCEPTED}")),
+            Expr::Reference(r) => match self.expr(&r.expr)? {
+                // `&v` where nalgebra takes a reference (`a.dot(&b)`, `hat(&v)`).
+                Value::Mat(m) if r.mutability.is_none() => Some(Value::Mat(m)),
+                _ => self.error(r, format!("references are accepted on matrices and vectors only (`a.dot(&b)`): f64 values are used as they are; {ACCEPTED}")),
+            },
             Expr::Return(r) => self.error(r.return_token, "`return` is not supported: end the body with its value"),
             Expr::Macro(m) => self.error(&m.mac.path, format!("macros are not supported in the body; {ACCEPTED}")),
             Expr::Unsafe(u) => self.error(u.unsafe_token, "`unsafe` is not supported"),

@@ -200,10 +200,41 @@ impl Lowering<'_> {
         }
     }
 
+    /// Whether `member` names a rotation or direction coordinate (read whole, as a matrix or
+    /// a vector).
+    pub(super) fn is_matrix_coordinate(&self, member: &Member) -> bool {
+        let Member::Named(id) = member else {
+            return false;
+        };
+        self.names
+            .coords
+            .iter()
+            .any(|c| *id == c.name && c.matrix.is_some())
+    }
+
     pub(super) fn field(&mut self, f: &syn::ExprField) -> Option<Value> {
         if let Some((which, member)) = self.coordinate_field(f) {
             let c = self.coordinate(f, member)?;
             let coord = &self.names.coords[c];
+            if let Some((r, cols, entries)) = &coord.matrix {
+                let sym = |i: usize| match which {
+                    0 => Sym::Q0(i),
+                    1 => Sym::Q1(i),
+                    2 => Sym::D0(i),
+                    _ => Sym::D1(i),
+                };
+                let (r, cols) = (*r, *cols);
+                let e = entries
+                    .clone()
+                    .into_iter()
+                    .map(|i| self.g.var(sym(i)))
+                    .collect();
+                let mut m = super::Mat::new(r, cols, e);
+                if (r, cols) == (3, 3) {
+                    m.origin = Some((which, entries[0], false));
+                }
+                return Some(Value::Mat(m));
+            }
             if let Some(len) = coord.len {
                 let name = coord.name.clone();
                 return self.error(
@@ -231,6 +262,7 @@ impl Lowering<'_> {
                     ),
                 ),
             },
+            (m, Value::Mat(a)) => self.mat_field(a, m),
             (m, v) => self.error(
                 m,
                 format!("no field `{}` on {}", m.to_token_stream(), v.kind()),

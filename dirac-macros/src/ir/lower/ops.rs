@@ -61,6 +61,9 @@ impl Lowering<'_> {
                 None => self.error(op, "integer overflow"),
             };
         }
+        if matches!(l, Value::Mat(_)) || matches!(r, Value::Mat(_)) {
+            return self.mat_arith(op, l, le, r, re);
+        }
         if let BinOp::Rem(_) = op {
             return self.error(
                 op,
@@ -168,6 +171,9 @@ impl Lowering<'_> {
         receiver_expr: &Expr,
         args: &[&Expr],
     ) -> Option<Value> {
+        if let Value::Mat(m) = receiver {
+            return self.mat_method(method, m, args);
+        }
         let name = method.to_string();
         let arity = match name.as_str() {
             "powi" | "powf" | "atan2" => 1,

@@ -1,0 +1,232 @@
+//! Systems on rotation groups: an attribute with `rotation(..)` or `direction(..)`
+//! coordinates (see `dirac::runtime::lie`).
+//!
+//! ```text
+//! #[reduced_lagrangian(rotation(r), step = h)]
+//! fn rigid_body(q0: Config, q1: Config, h: f64, j1: f64, j2: f64, j3: f64) -> f64 {
+//!     let jd = Matrix3::from_diagonal(&Vector3::new(j2 + j3 - j1, j1 + j3 - j2, j1 + j2 - j3)) * 0.5;
+//!     ((Matrix3::identity() - q0.r.transpose() * q1.r) * jd).trace() / h
+//! }
+//! ```
+//!
+//! The coordinates are `rotation(..)` (3 × 3 matrices), `direction(..)` (unit 3-vectors) and
+//! `shape(..)` (scalars), in the order the attribute lists them; `step = ..` and `name = ..`
+//! as for any system.
+
+use proc_macro2::{Span, TokenStream, TokenTree};
+use syn::parse::{Parse, ParseStream};
+use syn::punctuated::Punctuated;
+use syn::{Expr, Ident, Token};
+
+use crate::ast::layout::CoordName;
+use crate::ctxt::Ctxt;
+use crate::symbol::{self, KeyArg, DIRECTION, NAME, ROTATION, SHAPE, STEP};
+
+/// What the attribute of a system on rotation groups accepts, for messages.
+pub const LIE_KEYS: &str = "`rotation(R, ...)` (rotation matrices), `direction(n, ...)` (unit \
+vectors), `shape(x, ...)` (scalar coordinates), `step = <parameter>`, `name = <TypeName>`";
+
+/// What a coordinate is (the runtime's `CoordinateKind`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    Scalar,
+    Rotation,
+    Direction,
+}
+
+impl Kind {
+    /// Entries of the stored point.
+    pub fn point_len(self) -> usize {
+        match self {
+            Kind::Scalar => 1,
+            Kind::Rotation | Kind::Direction => 9,
+        }
+    }
+
+    /// Entries of the chart and the momentum.
+    pub fn chart_len(self) -> usize {
+        match self {
+            Kind::Scalar => 1,
+            Kind::Rotation => 3,
+            Kind::Direction => 2,
+        }
+    }
+}
+
+/// One declared coordinate, with its place in the point and the chart.
+#[derive(Clone, Debug)]
+pub struct LieCoord {
+    pub name: Ident,
+    pub kind: Kind,
+    pub point: usize,
+    pub chart: usize,
+}
+
+/// The parsed attribute.
+pub struct LieSpec {
+    pub coords: Vec<LieCoord>,
+    pub step: Option<Ident>,
+    pub name: Option<Ident>,
+}
+
+impl LieSpec {
+    /// `P`, the length of a stored point.
+    pub fn p(&self) -> usize {
+        self.coords.iter().map(|c| c.kind.point_len()).sum()
+    }
+
+    /// `N = dim Q`, the length of the chart and the momentum.
+    pub fn n(&self) -> usize {
+        self.coords.iter().map(|c| c.kind.chart_len()).sum()
+    }
+
+    /// The coordinates as the body reads them: a rotation whole (3 × 3, its point entries row
+    /// by row), a direction as the third column of its frame, a scalar as one entry.
+    pub fn lowering_coords(&self) -> Vec<CoordName> {
+        self.coords
+            .iter()
+            .map(|c| {
+                let p = c.point;
+                let matrix = match c.kind {
+                    Kind::Scalar => None,
+                    Kind::Rotation => Some((3, 3, (p..p + 9).collect())),
+                    Kind::Direction => Some((3, 1, vec![p + 2, p + 5, p + 8])),
+                };
+                CoordName {
+                    name: c.name.to_string(),
+                    len: None,
+                    components: vec![crate::ast::layout::Component::Var(p)],
+                    matrix,
+                }
+            })
+            .collect()
+    }
+}
+
+/// Whether the attribute declares a `rotation(..)` or `direction(..)` coordinate.
+pub fn is_lie(args: &TokenStream) -> bool {
+    let mut tokens = args.clone().into_iter().peekable();
+    while let Some(t) = tokens.next() {
+        if let TokenTree::Ident(id) = &t {
+            if (id == ROTATION.0 || id == DIRECTION.0)
+                && matches!(tokens.peek(), Some(TokenTree::Group(_)))
+            {
+                return true;
+            }
+        }
+    }
+    false
+}
+
+/// One `key(...)` or `key = value` of the attribute.
+type Item = KeyArg<Punctuated<Expr, Token![,]>, Expr>;
+
+struct LieItem(Item);
+
+impl Parse for LieItem {
+    fn parse(input: ParseStream) -> syn::Result<Self> {
+        KeyArg::parse_with(
+            input,
+            |_, content| Punctuated::parse_terminated(content),
+            |_, input| input.parse(),
+            |key| symbol::list_or_value(key, LIE_KEYS),
+        )
+        .map(LieItem)
+    }
+}
+
+/// The attribute; `None` after errors (recorded).
+pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
+    let items = symbol::parse_args::<LieItem>(cx, args)?;
+    let (mut coords, mut step, mut name) = (Vec::<LieCoord>::new(), None, None);
+    let (mut point, mut chart) = (0, 0);
+    for LieItem(item) in &items {
+        let key = item.key();
+        let kind = if key == ROTATION {
+            Some(Kind::Rotation)
+        } else if key == DIRECTION {
+            Some(Kind::Direction)
+        } else if key == SHAPE {
+            Some(Kind::Scalar)
+        } else {
+            None
+        };
+        match (kind, item) {
+            (Some(kind), KeyArg::List(_, list)) => {
+                for e in list {
+                    let id = match e {
+                        Expr::Path(p) if p.path.get_ident().is_some() => {
+                            p.path.get_ident().expect("checked").clone()
+                        }
+                        other => {
+                            cx.error_spanned_by(
+                                other,
+                                format!(
+                                    "expected a coordinate name; `{key}(..)` lists names, e.g. `{key}(a, b)` (arrays are not accepted with rotations or directions)"
+                                ),
+                            );
+                            continue;
+                        }
+                    };
+                    if coords.iter().any(|c| c.name == id) {
+                        cx.error_spanned_by(&id, format!("coordinate `{id}` is declared twice"));
+                        continue;
+                    }
+                    coords.push(LieCoord {
+                        name: id,
+                        kind,
+                        point,
+                        chart,
+                    });
+                    point += kind.point_len();
+                    chart += kind.chart_len();
+                }
+            }
+            (None, KeyArg::Value(_, Expr::Path(p)))
+                if key == STEP && p.path.get_ident().is_some() =>
+            {
+                step = p.path.get_ident().cloned();
+            }
+            (None, KeyArg::Value(_, Expr::Path(p)))
+                if key == NAME && p.path.get_ident().is_some() =>
+            {
+                name = p.path.get_ident().cloned();
+            }
+            (None, _) if key == STEP || key == NAME => cx.error_spanned_by(
+                key,
+                format!("expected `{key} = <name>`; accepted: {LIE_KEYS}"),
+            ),
+            (Some(_), KeyArg::Value(..)) => cx.error_spanned_by(
+                key,
+                format!("expected `{key}(a, b, ...)`; accepted: {LIE_KEYS}"),
+            ),
+            (None, _) => {
+                let why = if symbol::key(key).is_some() {
+                    "is not available with rotation or direction coordinates yet"
+                } else {
+                    "is not a key of this attribute"
+                };
+                cx.error_spanned_by(key, format!("`{key}` {why}; accepted: {LIE_KEYS}"));
+            }
+        }
+    }
+    if coords.is_empty() {
+        cx.error_at(
+            Span::call_site(),
+            format!("declare the coordinates: {LIE_KEYS}"),
+        );
+    }
+    Some(LieSpec { coords, step, name })
+}
+
+impl LieSpec {
+    /// The name of coordinate kind `k`, as the runtime spells it.
+    pub fn kind_path(k: Kind) -> Ident {
+        let name = match k {
+            Kind::Scalar => "Scalar",
+            Kind::Rotation => "Rotation",
+            Kind::Direction => "Direction",
+        };
+        Ident::new(name, Span::call_site())
+    }
+}

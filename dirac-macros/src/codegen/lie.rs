@@ -1,0 +1,298 @@
+//! The items of a system on rotation groups: the user's function over `<Name>Config` (fields
+//! `nalgebra::Matrix3` for rotations, `Vector3` for directions, `f64` for scalars),
+//! `<Name>Momentum` (body momenta of rotations, momenta of directions as vectors tangent to the
+//! sphere), the parameter struct, and `impl LieLagrangian<P, N>` with the straight-line step of
+//! [`crate::ir::lie`].
+
+use proc_macro2::TokenStream;
+use quote::{format_ident, quote};
+use syn::{Ident, ItemFn};
+
+use crate::ast::lie::{Kind, LieSpec};
+use crate::ast::signature::Signature;
+use crate::codegen::backend::stepper_fns;
+use crate::codegen::items::{camel_case, param_struct, user_function};
+use crate::codegen::lints;
+use crate::ir::graph::{Graph, Sym};
+use crate::ir::lie::LieCode;
+
+/// Every item the attribute emits for a system on rotation groups.
+pub fn generate(
+    spec: &LieSpec,
+    sig: &Signature,
+    func: &ItemFn,
+    g: &Graph,
+    code: &LieCode,
+) -> TokenStream {
+    let ty = spec
+        .name
+        .clone()
+        .unwrap_or_else(|| camel_case(&func.sig.ident));
+    let config = format_ident!("{}Config", ty);
+    let momentum = format_ident!("{}Momentum", ty);
+    let (p, n) = (spec.p(), spec.n());
+    let (na, rt) = (quote!(::dirac::nalgebra), quote!(::dirac::runtime));
+    let params = &sig.params;
+    let leaf = |sym: Sym| match sym {
+        Sym::Base(i) => quote! { q_k[#i] },
+        Sym::Chart1(j) => quote! { z[#j] },
+        Sym::P(j) => quote! { p_k[#j] },
+        Sym::Param(i) => {
+            let p = &params[i];
+            quote! { self.#p }
+        }
+        other => unreachable!("the step reads q_k, z, p_k and parameters, not {other:?}"),
+    };
+    let fns = stepper_fns(g, &code.stepper, &leaf, n, n);
+    let retract = crate::codegen::emit::straight_line(g, &code.retract, &leaf);
+    let (retract_stmts, retract_out) = (&retract.stmts, &retract.outputs);
+    let (residual, residual_jacobian, momentum_body, solver_new) = (
+        &fns.residual,
+        &fns.residual_jacobian,
+        &fns.momentum,
+        &fns.solver_new,
+    );
+    let matrix = fns.backend.matrix_type(n);
+    let solver = fns.backend.solver_type(n);
+    let step = &sig.step;
+    let fn_name = &func.sig.ident;
+    let fn_params = sig.fn_params();
+    let param_names: Vec<String> = params.iter().map(Ident::to_string).collect();
+    let coords: Vec<TokenStream> = spec
+        .coords
+        .iter()
+        .map(|c| {
+            let name = c.name.to_string();
+            let kind = LieSpec::kind_path(c.kind);
+            quote!((#name, #rt::lie::CoordinateKind::#kind))
+        })
+        .collect();
+    let counts = format!(
+        "{}; {} operations for the retraction",
+        fns.counts, retract.operations
+    );
+    let allow = lints::generated();
+    let user_fn = user_function(func, &config, false, &[], false);
+    let params_item = param_struct(sig, func, &ty);
+    let structs = config_and_momentum(spec, func, &ty, &config, &momentum);
+    let doc_p = format!("Length `P` of a stored point of [`{ty}`] (`LieState::q`).");
+    let doc_n = format!("Dimension `N` of the configuration space of [`{ty}`] (`LieState::p`).");
+    quote! {
+        #user_fn
+        #params_item
+        #structs
+
+        #allow
+        impl #ty {
+            #[doc = #doc_p]
+            pub const POINT_DIM: usize = #p;
+            #[doc = #doc_n]
+            pub const CONFIG_DIM: usize = #n;
+            /// What the compiler generated: operation counts of the straight-line step.
+            pub const GENERATED: &'static str = #counts;
+
+            /// The state at the configuration `q` with the momenta `p`.
+            pub fn state(&self, q: &#config, p: &#momentum) -> #rt::LieState<#p, #n> {
+                let point = q.to_point();
+                #rt::LieState { q: point, p: p.to_chart(&point) }
+            }
+
+            /// The configuration of `state`.
+            pub fn config(&self, state: &#rt::LieState<#p, #n>) -> #config {
+                #config::from_point(&state.q)
+            }
+
+            /// The momenta of `state`.
+            pub fn momenta(&self, state: &#rt::LieState<#p, #n>) -> #momentum {
+                #momentum::from_chart(&state.q, &state.p)
+            }
+        }
+
+        #allow
+        #[automatically_derived]
+        impl #rt::LieLagrangian<#p, #n> for #ty {
+            const COORDINATES: &'static [(&'static str, #rt::lie::CoordinateKind)] = &[ #( #coords ),* ];
+            const PARAMETERS: &'static [&'static str] = &[ #( #param_names ),* ];
+            type Linear = #solver;
+
+            fn linear_solver(&self) -> Self::Linear {
+                #solver_new
+            }
+
+            fn lagrangian(&self, q0: &#na::SVector<f64, #p>, q1: &#na::SVector<f64, #p>) -> f64 {
+                #fn_name(#config::from_point(q0), #config::from_point(q1), #( self.#fn_params ),*)
+            }
+
+            fn time_step(&self) -> f64 {
+                self.#step
+            }
+
+            fn with_time_step(&self, h: f64) -> Self {
+                Self { #step: h, ..*self }
+            }
+
+            fn parameter_values(&self) -> ::std::vec::Vec<f64> {
+                ::std::vec![ #( self.#params ),* ]
+            }
+
+            fn retract(&self, q_k: &#na::SVector<f64, #p>, z: &#na::SVector<f64, #n>) -> #na::SVector<f64, #p> {
+                #retract_stmts
+                #na::SVector::<f64, #p>::from([ #( #retract_out ),* ])
+            }
+
+            fn residual(
+                &self,
+                q_k: &#na::SVector<f64, #p>,
+                p_k: &#na::SVector<f64, #n>,
+                z: &#na::SVector<f64, #n>,
+            ) -> #na::SVector<f64, #n> {
+                #residual
+            }
+
+            fn residual_jacobian(
+                &self,
+                q_k: &#na::SVector<f64, #p>,
+                p_k: &#na::SVector<f64, #n>,
+                z: &#na::SVector<f64, #n>,
+            ) -> (#na::SVector<f64, #n>, #matrix) {
+                #residual_jacobian
+            }
+
+            fn momentum(&self, q_k: &#na::SVector<f64, #p>, z: &#na::SVector<f64, #n>) -> #na::SVector<f64, #n> {
+                #momentum_body
+            }
+        }
+    }
+}
+
+/// `<Name>Config` and `<Name>Momentum`, with their conversions to and from the stored point and
+/// the chart momentum.
+fn config_and_momentum(
+    spec: &LieSpec,
+    func: &ItemFn,
+    ty: &Ident,
+    config: &Ident,
+    momentum: &Ident,
+) -> TokenStream {
+    let vis = &func.vis;
+    let (p, n) = (spec.p(), spec.n());
+    let (na, rt) = (quote!(::dirac::nalgebra), quote!(::dirac::runtime));
+    let mut config_fields = Vec::new();
+    let mut momentum_fields = Vec::new();
+    let (mut from_point, mut to_point) = (Vec::new(), Vec::new());
+    let (mut from_chart, mut to_chart) = (Vec::new(), Vec::new());
+    for c in &spec.coords {
+        let name = &c.name;
+        let (at, ch) = (c.point, c.chart);
+        let rows: Vec<usize> = (at..at + 9).collect();
+        match c.kind {
+            Kind::Scalar => {
+                let doc = format!("The coordinate `{name}`.");
+                config_fields.push(quote!(#[doc = #doc] pub #name: f64));
+                let doc = format!("The momentum conjugate to `{name}`.");
+                momentum_fields.push(quote!(#[doc = #doc] pub #name: f64));
+                from_point.push(quote!(#name: q[#at]));
+                to_point.push(quote!(q[#at] = self.#name;));
+                from_chart.push(quote!(#name: p[#ch]));
+                to_chart.push(quote!(p[#ch] = self.#name;));
+            }
+            Kind::Rotation => {
+                let doc = format!("The rotation `{name}` (a rotation matrix).");
+                config_fields.push(quote!(#[doc = #doc] pub #name: #na::Matrix3<f64>));
+                let doc = format!(
+                    "The body momentum `Π` of `{name}` (left-trivialized: `⟨P, {name} η̂⟩ = Π·η`)."
+                );
+                momentum_fields.push(quote!(#[doc = #doc] pub #name: #na::Vector3<f64>));
+                from_point.push(quote!(#name: #na::Matrix3::new( #( q[#rows] ),* )));
+                to_point.push(quote! {
+                    for (i, v) in #rt::lie::rows(&self.#name).into_iter().enumerate() {
+                        q[#at + i] = v;
+                    }
+                });
+                let (c1, c2) = (ch + 1, ch + 2);
+                from_chart.push(quote!(#name: #na::Vector3::new(p[#ch], p[#c1], p[#c2])));
+                to_chart.push(
+                    quote! { p[#ch] = self.#name.x; p[#c1] = self.#name.y; p[#c2] = self.#name.z; },
+                );
+            }
+            Kind::Direction => {
+                let doc = format!("The direction `{name}` (a unit vector).");
+                config_fields.push(quote!(#[doc = #doc] pub #name: #na::Vector3<f64>));
+                let doc = format!(
+                    "The momentum of `{name}`: a vector tangent to the sphere at `{name}` (its component along `{name}` is dropped)."
+                );
+                momentum_fields.push(quote!(#[doc = #doc] pub #name: #na::Vector3<f64>));
+                let (n0, n1, n2) = (at + 2, at + 5, at + 8);
+                from_point.push(quote!(#name: #na::Vector3::new(q[#n0], q[#n1], q[#n2])));
+                to_point.push(quote! {
+                    for (i, v) in #rt::lie::rows(&#rt::lie::frame(&self.#name)).into_iter().enumerate() {
+                        q[#at + i] = v;
+                    }
+                });
+                let c1 = ch + 1;
+                let frame = quote!(#na::Matrix3::new( #( q[#rows] ),* ));
+                from_chart.push(quote! {
+                    #name: {
+                        let f = #frame;
+                        f.column(0) * p[#ch] + f.column(1) * p[#c1]
+                    }
+                });
+                to_chart.push(quote! {
+                    let f = #frame;
+                    p[#ch] = f.column(0).dot(&self.#name);
+                    p[#c1] = f.column(1).dot(&self.#name);
+                });
+            }
+        }
+    }
+    let allow = lints::generated();
+    let config_doc =
+        format!("A configuration of [`{ty}`]: its coordinates as matrices, vectors and scalars.");
+    let momentum_doc = format!("The momenta of a state of [`{ty}`].");
+    quote! {
+        #[doc = #config_doc]
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        #[allow(non_snake_case, reason = "coordinates keep the user's names (R, n)")]
+        #vis struct #config {
+            #( #config_fields, )*
+        }
+
+        #[doc = #momentum_doc]
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        #[allow(non_snake_case, reason = "momenta keep the names of their coordinates")]
+        #vis struct #momentum {
+            #( #momentum_fields, )*
+        }
+
+        #allow
+        impl #config {
+            /// Reads a stored point (`LieState::q`).
+            pub fn from_point(q: &#na::SVector<f64, #p>) -> Self {
+                Self { #( #from_point, )* }
+            }
+
+            /// The stored point: each rotation row by row, each direction with the frame
+            /// `dirac::lie::frame` completes it to.
+            pub fn to_point(&self) -> #na::SVector<f64, #p> {
+                let mut q = #na::SVector::<f64, #p>::zeros();
+                #( #to_point )*
+                q
+            }
+        }
+
+        #allow
+        impl #momentum {
+            /// Reads the chart momentum `p` of a state at the stored point `q`.
+            pub fn from_chart(q: &#na::SVector<f64, #p>, p: &#na::SVector<f64, #n>) -> Self {
+                Self { #( #from_chart, )* }
+            }
+
+            /// The chart momentum at the stored point `q` (`LieState::p`).
+            pub fn to_chart(&self, q: &#na::SVector<f64, #p>) -> #na::SVector<f64, #n> {
+                let mut p = #na::SVector::<f64, #n>::zeros();
+                #( #to_chart )*
+                p
+            }
+        }
+    }
+}

@@ -1,0 +1,209 @@
+//! The Lie group variational step of a system on rotation groups (`dirac::runtime::lie`), on
+//! the graph: the chart `φ_{q_k}(z)` centred at the current point (scalars `x + z`, rotations
+//! `R cay(z)`, directions by the shortest-arc rotation of their frame), the residual
+//! `R(z) = D1 L_d(q_k, φ(z)) · dφ_{q_k}(0) + p_k` with its exact Jacobian in `z`, and the
+//! momentum update `p_{k+1} = D2 L_d(q_k, φ(z)) · dφ_{φ(z)}(0)`.
+//!
+//! Both are derivatives at the centre of a chart (`φ_q(ξ)` at `ξ = 0`), taken on the graph: for a
+//! rotation `dφ(0) η = R η̂`, for a direction `dφ(0)(a, b) = a e1 + b e2`.
+
+use crate::ast::lie::{Kind, LieSpec};
+use crate::ir::diff::derivatives;
+use crate::ir::graph::{Graph, NodeId, Sym};
+use crate::ir::reduce::{firsts, Mode, Stepper};
+
+/// What a system on rotation groups compiles to.
+pub struct LieCode {
+    /// `φ_{q_k}(z)`: the next point, `P` entries.
+    pub retract: Vec<NodeId>,
+    /// The residual, its Jacobian in `z` and the momentum update.
+    pub stepper: Stepper,
+}
+
+/// `cay(x) = I + α x̂ + (α/2)(x xᵀ − |x|² I)`, `α = 4/(4 + |x|²)`, row by row.
+fn cayley(g: &mut Graph, x: [NodeId; 3]) -> [[NodeId; 3]; 3] {
+    let one = g.constant(1.0);
+    let squares: Vec<NodeId> = x.iter().map(|&v| g.mul(v, v)).collect();
+    let s01 = g.add(squares[0], squares[1]);
+    let n2 = g.add(s01, squares[2]);
+    let four = g.constant(4.0);
+    let den = g.add(four, n2);
+    let alpha = g.div(four, den);
+    let half = g.constant(0.5);
+    let beta = g.mul(half, alpha);
+    let bn2 = g.mul(beta, n2);
+    let diag = g.sub(one, bn2);
+    let hat = [
+        [None, Some((2, -1.0)), Some((1, 1.0))],
+        [Some((2, 1.0)), None, Some((0, -1.0))],
+        [Some((1, -1.0)), Some((0, 1.0)), None],
+    ];
+    let mut m = [[one; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            let xx = g.mul(x[i], x[j]);
+            let outer = g.mul(beta, xx);
+            let mut e = if i == j { g.add(diag, outer) } else { outer };
+            if let Some((k, sign)) = hat[i][j] {
+                let t = g.mul(alpha, x[k]);
+                e = if sign > 0.0 { g.add(e, t) } else { g.sub(e, t) };
+            }
+            m[i][j] = e;
+        }
+    }
+    m
+}
+
+/// `a b` of 3 × 3 matrices (`a` transposed first if `ta`).
+fn product(
+    g: &mut Graph,
+    a: &[[NodeId; 3]; 3],
+    ta: bool,
+    b: &[[NodeId; 3]; 3],
+) -> [[NodeId; 3]; 3] {
+    let mut m = *a;
+    for (i, row) in m.iter_mut().enumerate() {
+        for (j, e) in row.iter_mut().enumerate() {
+            let terms: Vec<NodeId> = (0..3)
+                .map(|k| {
+                    let x = if ta { a[k][i] } else { a[i][k] };
+                    g.mul(x, b[k][j])
+                })
+                .collect();
+            let s01 = g.add(terms[0], terms[1]);
+            *e = g.add(s01, terms[2]);
+        }
+    }
+    m
+}
+
+/// `φ_q(ξ)` at the point `base` (`P` nodes) and chart coordinates `xi` (`N` nodes).
+pub fn chart(g: &mut Graph, spec: &LieSpec, base: &[NodeId], xi: &[NodeId]) -> Vec<NodeId> {
+    let mut out = Vec::with_capacity(base.len());
+    for c in &spec.coords {
+        let (p, q) = (c.point, c.chart);
+        let b = |i: usize, j: usize| base[p + 3 * i + j];
+        let one = g.constant(1.0);
+        // The rotation each kind multiplies its stored matrix by, on the right.
+        let m: [[NodeId; 3]; 3] = match c.kind {
+            Kind::Scalar => {
+                out.push(g.add(base[p], xi[q]));
+                continue;
+            }
+            Kind::Rotation => cayley(g, [xi[q], xi[q + 1], xi[q + 2]]),
+            Kind::Direction => {
+                // The shortest-arc rotation taking e3 to u = (a, b, 1)/√(1 + a² + b²).
+                let (a, bb) = (xi[q], xi[q + 1]);
+                let (a2, b2) = (g.mul(a, a), g.mul(bb, bb));
+                let s1 = g.add(one, a2);
+                let s2 = g.add(s1, b2);
+                let r = g.fun(crate::ir::graph::Fun::Sqrt, s2);
+                let s = g.div(one, r);
+                let (ux, uy, uz) = (g.mul(a, s), g.mul(bb, s), s);
+                let d = g.add(one, uz);
+                let uxux = g.mul(ux, ux);
+                let uyuy = g.mul(uy, uy);
+                let uxuy = g.mul(ux, uy);
+                let (t00, t11, t01) = (g.div(uxux, d), g.div(uyuy, d), g.div(uxuy, d));
+                let m00 = g.sub(one, t00);
+                let m11 = g.sub(one, t11);
+                let m01 = g.neg(t01);
+                let (nux, nuy) = (g.neg(ux), g.neg(uy));
+                [[m00, m01, ux], [m01, m11, uy], [nux, nuy, uz]]
+            }
+        };
+        for i in 0..3 {
+            for j in 0..3 {
+                let terms: Vec<NodeId> = (0..3).map(|k| g.mul(b(i, k), m[k][j])).collect();
+                let s01 = g.add(terms[0], terms[1]);
+                out.push(g.add(s01, terms[2]));
+            }
+        }
+    }
+    out
+}
+
+/// The step's code from `L_d` (the lowered body, over the points `Q0`, `Q1` and the relative
+/// rotations `Rel`): with `ξ` the chart coordinate of the point being varied,
+///
+/// ```text
+/// R_j(z)   = ∂/∂ξ_j L_d(φ_{q_k}(ξ), φ_{q_k}(z))|_{ξ=0} + p_k,j        F = cay(ξ)ᵀ cay(z)
+/// p_{k+1,j} = ∂/∂ξ_j L_d(q_k, φ_{φ_{q_k}(z)}(ξ))|_{ξ=0}               F = cay(z) cay(ξ)
+/// ```
+///
+/// where `F` is the value of each relative rotation `R0ᵀ R1` (exact for rotations, with no
+/// round-off from the stored matrices: `R_kᵀ R_k = I` is used, not computed).
+pub fn compile(g: &mut Graph, spec: &LieSpec, l: NodeId, mode: Mode) -> LieCode {
+    let (p, n) = (spec.p(), spec.n());
+    let base: Vec<NodeId> = (0..p).map(|i| g.var(Sym::Base(i))).collect();
+    let z: Vec<NodeId> = (0..n).map(|j| g.var(Sym::Chart1(j))).collect();
+    let xi: Vec<NodeId> = (0..n).map(|j| g.var(Sym::Chart0(j))).collect();
+    let vary: Vec<Sym> = (0..n).map(Sym::Chart0).collect();
+    let next = chart(g, spec, &base, &z);
+    // The relative rotation of each rotation coordinate, for the residual and the momentum.
+    let mut rel_residual = vec![None; p];
+    let mut rel_momentum = vec![None; p];
+    for c in spec.coords.iter().filter(|c| c.kind == Kind::Rotation) {
+        let q = c.chart;
+        let cz = cayley(g, [z[q], z[q + 1], z[q + 2]]);
+        let cx = cayley(g, [xi[q], xi[q + 1], xi[q + 2]]);
+        let f0 = product(g, &cx, true, &cz);
+        let f1 = product(g, &cz, false, &cx);
+        for i in 0..3 {
+            for j in 0..3 {
+                rel_residual[c.point + 3 * i + j] = Some(f0[i][j]);
+                rel_momentum[c.point + 3 * i + j] = Some(f1[i][j]);
+            }
+        }
+    }
+    let at_zero = |g: &mut Graph, d: NodeId| {
+        g.substitute(d, &mut |g, sym| match sym {
+            Sym::Chart0(_) => g.constant(0.0),
+            other => g.var(other),
+        })
+    };
+    // The residual: q_k varied along its chart.
+    let varied = chart(g, spec, &base, &xi);
+    let l0 = g.substitute(l, &mut |g, sym| match sym {
+        Sym::Q0(i) => varied[i],
+        Sym::Q1(i) => next[i],
+        Sym::Rel(i) => rel_residual[i].expect("Rel reads a rotation coordinate"),
+        other => g.var(other),
+    });
+    let residual: Vec<NodeId> = firsts(g, mode, l0, &vary)
+        .into_iter()
+        .enumerate()
+        .map(|(j, d)| {
+            let d = at_zero(g, d);
+            let pj = g.var(Sym::P(j));
+            g.add(d, pj)
+        })
+        .collect();
+    // The momentum update: q_{k+1} varied along its own chart.
+    let varied = chart(g, spec, &next, &xi);
+    let l1 = g.substitute(l, &mut |g, sym| match sym {
+        Sym::Q0(i) => base[i],
+        Sym::Q1(i) => varied[i],
+        Sym::Rel(i) => rel_momentum[i].expect("Rel reads a rotation coordinate"),
+        other => g.var(other),
+    });
+    let momentum: Vec<NodeId> = firsts(g, mode, l1, &vary)
+        .into_iter()
+        .map(|d| at_zero(g, d))
+        .collect();
+    let columns: Vec<Vec<NodeId>> = (0..n)
+        .map(|c| derivatives(g, &residual, Sym::Chart1(c)))
+        .collect();
+    let jacobian = (0..n)
+        .map(|r| (0..n).map(|c| columns[c][r]).collect())
+        .collect();
+    LieCode {
+        retract: next,
+        stepper: Stepper {
+            residual,
+            jacobian,
+            momentum,
+            impulse: Vec::new(),
+        },
+    }
+}
