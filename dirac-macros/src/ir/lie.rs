@@ -112,15 +112,72 @@ pub fn chart(g: &mut Graph, spec: &LieSpec, base: &[NodeId], xi: &[NodeId]) -> V
                 [[m00, m01, ux], [m01, m11, uy], [nux, nuy, uz]]
             }
         };
-        for i in 0..3 {
-            for j in 0..3 {
+        let mut f = [[one; 3]; 3];
+        for (i, row) in f.iter_mut().enumerate() {
+            for (j, e) in row.iter_mut().enumerate() {
                 let terms: Vec<NodeId> = (0..3).map(|k| g.mul(b(i, k), m[k][j])).collect();
                 let s01 = g.add(terms[0], terms[1]);
-                out.push(g.add(s01, terms[2]));
+                *e = g.add(s01, terms[2]);
             }
         }
+        if c.kind == Kind::Direction {
+            f = orthonormal(
+                g,
+                f,
+                [b(0, 2), b(1, 2), b(2, 2)],
+                [xi[q], xi[q + 1]],
+                [b(0, 0), b(1, 0), b(2, 0)],
+                [b(0, 1), b(1, 1), b(2, 1)],
+            );
+        }
+        out.extend(f.iter().flatten());
     }
     out
+}
+
+/// A direction's next frame from the carried one `f`: the point
+/// `n' = (n + a e1 + b e2)/|n + a e1 + b e2|` (the sphere's retraction, so `|n'| = 1` to
+/// round-off at every step whatever the frame's own round-off), `e1'` the carried first column
+/// made orthogonal to `n'` and normalized, `e2' = n' × e1'`. To first order in round-off this is
+/// `f` itself; it keeps the frame orthonormal over any number of steps.
+fn orthonormal(
+    g: &mut Graph,
+    f: [[NodeId; 3]; 3],
+    n: [NodeId; 3],
+    ab: [NodeId; 2],
+    e1: [NodeId; 3],
+    e2: [NodeId; 3],
+) -> [[NodeId; 3]; 3] {
+    let unit = |g: &mut Graph, v: [NodeId; 3]| {
+        let sq: Vec<NodeId> = v.iter().map(|&x| g.mul(x, x)).collect();
+        let s01 = g.add(sq[0], sq[1]);
+        let s = g.add(s01, sq[2]);
+        let norm = g.fun(crate::ir::graph::Fun::Sqrt, s);
+        v.map(|x| g.div(x, norm))
+    };
+    let w: [NodeId; 3] = std::array::from_fn(|i| {
+        let t1 = g.mul(ab[0], e1[i]);
+        let t2 = g.mul(ab[1], e2[i]);
+        let s = g.add(n[i], t1);
+        g.add(s, t2)
+    });
+    let n1 = unit(g, w);
+    let t = [f[0][0], f[1][0], f[2][0]];
+    let tn: Vec<NodeId> = (0..3).map(|i| g.mul(t[i], n1[i])).collect();
+    let s01 = g.add(tn[0], tn[1]);
+    let dot = g.add(s01, tn[2]);
+    let perp: [NodeId; 3] = std::array::from_fn(|i| {
+        let d = g.mul(dot, n1[i]);
+        g.sub(t[i], d)
+    });
+    let u1 = unit(g, perp);
+    let cross = |g: &mut Graph, i: usize, j: usize| {
+        let x = g.mul(n1[i], u1[j]);
+        let y = g.mul(n1[j], u1[i]);
+        g.sub(x, y)
+    };
+    let u2 = [cross(g, 1, 2), cross(g, 2, 0), cross(g, 0, 1)];
+    std::array::from_fn(|i| [u1[i], u2[i], n1[i]])
 }
 
 /// The step's code from `L_d` (the lowered body, over the points `Q0`, `Q1` and the relative
