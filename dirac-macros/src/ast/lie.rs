@@ -210,7 +210,10 @@ pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
             }
         }
     }
-    if coords.is_empty() {
+    let listed = items
+        .iter()
+        .any(|LieItem(i)| i.key() == ROTATION || i.key() == DIRECTION || i.key() == SHAPE);
+    if coords.is_empty() && !listed {
         cx.error_at(
             Span::call_site(),
             format!("declare the coordinates: {LIE_KEYS}"),

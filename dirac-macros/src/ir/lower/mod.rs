@@ -106,9 +106,18 @@ impl<'a> Lowering<'a> {
             Value::Scalar(n) => Some(n),
             other => {
                 let span = block.stmts.last().map_or(block.span(), |s| s.span());
+                let hint = if matches!(other, Value::Mat(_)) {
+                    ": reduce the matrix or vector to a number, e.g. with `.trace()`, `.dot(&b)`, \
+                     `.norm_squared()` or an entry `m[(i, j)]`"
+                } else {
+                    ""
+                };
                 self.cx.error_at(
                     span,
-                    format!("the body must evaluate to an f64, found {}", other.kind()),
+                    format!(
+                        "the body must evaluate to an f64, found {}{hint}",
+                        other.kind()
+                    ),
                 );
                 None
             }
@@ -535,7 +544,7 @@ impl<'a> Lowering<'a> {
             Expr::Reference(r) => match self.expr(&r.expr)? {
                 // `&v` where nalgebra takes a reference (`a.dot(&b)`, `hat(&v)`).
                 Value::Mat(m) if r.mutability.is_none() => Some(Value::Mat(m)),
-                _ => self.error(r, format!("references are accepted on matrices and vectors only (`a.dot(&b)`): f64 values are used as they are; {ACCEPTED}")),
+                _ => self.error(r, format!("references are not supported: coordinates and parameters are plain f64 values; {ACCEPTED}")),
             },
             Expr::Return(r) => self.error(r.return_token, "`return` is not supported: end the body with its value"),
             Expr::Macro(m) => self.error(&m.mac.path, format!("macros are not supported in the body; {ACCEPTED}")),

@@ -1,0 +1,9 @@
+use dirac::prelude::*;
+
+#[reduced_lagrangian(rotation(r))]
+fn body(q0: Config, q1: Config, h: f64) -> f64 {
+    let f = q0.r.transpose() * q1.r;
+    (Matrix3::identity() - f) / h
+}
+
+fn main() {}
