@@ -3,3 +3,4 @@
 //! would write it.
 
 pub mod kepler;
+pub mod rotations;

@@ -1,47 +1,16 @@
 //! Rotations and directions: Lie group variational integrators from `#[reduced_lagrangian]`
 //! with `rotation(..)` and `direction(..)` coordinates, checked against a hand-written LGVI.
 
-use dirac::lie::{cayley, hat, orthogonality_defect, vee};
+use dirac::lie::{cayley, hat, orthogonality_defect};
 use dirac::prelude::*;
+use dirac::systems::rotations::{
+    DspOnSpheres, DspOnSpheresConfig, DspOnSpheresMomentum, HeavyTop, HeavyTopConfig,
+    HeavyTopMomentum, RigidBody, RigidBodyConfig, RigidBodyMomentum, Satellite, SatelliteConfig,
+    SatelliteMomentum,
+};
 
-/// The free rigid body's discrete Lagrangian of Lee, Leok & McClamroch:
-/// `L_d = tr((I − F) J_d)/h`, `F = R0ᵀ R1`, `J_d = ½ tr(J) I − J`.
-#[reduced_lagrangian(rotation(r))]
-fn rigid_body(q0: Config, q1: Config, h: f64, j1: f64, j2: f64, j3: f64) -> f64 {
-    let jd = Matrix3::from_diagonal(&Vector3::new(j2 + j3 - j1, j1 + j3 - j2, j1 + j2 - j3)) * 0.5;
-    let f = q0.r.transpose() * q1.r;
-    ((Matrix3::identity() - f) * jd).trace() / h
-}
-
-/// A hand-written LGVI step for the same `L_d`: Newton on `h Π_k = vee(F J_d − J_d Fᵀ)` with
-/// `F = cay(ξ)` and a central-difference Jacobian, then `R_{k+1} = R_k F`, `Π_{k+1} = Fᵀ Π_k`.
-fn lgvi_step(
-    jd: &Matrix3<f64>,
-    h: f64,
-    r: &Matrix3<f64>,
-    pi: &Vector3<f64>,
-) -> (Matrix3<f64>, Vector3<f64>) {
-    let res = |xi: &Vector3<f64>| {
-        let f = cayley(xi);
-        vee(&(f * jd - jd * f.transpose())) - h * pi
-    };
-    let mut xi = Vector3::zeros();
-    for _ in 0..50 {
-        let r0 = res(&xi);
-        if r0.amax() < 1e-15 {
-            break;
-        }
-        let mut jac = Matrix3::zeros();
-        for c in 0..3 {
-            let mut d = Vector3::zeros();
-            d[c] = 1e-7;
-            jac.set_column(c, &((res(&(xi + d)) - res(&(xi - d))) / 2e-7));
-        }
-        xi -= jac.lu().solve(&r0).unwrap();
-    }
-    let f = cayley(&xi);
-    (r * f, f.transpose() * pi)
-}
+#[path = "../examples/common/lgvi.rs"]
+mod lgvi;
 
 fn body() -> (RigidBody, Matrix3<f64>) {
     let sys = RigidBody {
@@ -50,8 +19,7 @@ fn body() -> (RigidBody, Matrix3<f64>) {
         j2: 2.0,
         j3: 3.0,
     };
-    let jd = Matrix3::from_diagonal(&Vector3::new(2.0, 1.0, 0.0));
-    (sys, jd)
+    (sys, lgvi::nonstandard(&Vector3::new(1.0, 2.0, 3.0)))
 }
 
 #[test]
@@ -67,10 +35,10 @@ fn the_rigid_body_matches_a_hand_written_lgvi() {
         },
     );
     let traj = integ.run(s0).steps(1000).collect().unwrap();
-    let (mut r, mut pi) = (sys.config(&s0).r, sys.momenta(&s0).r);
+    let (mut r, mut pi, mut xi) = (sys.config(&s0).r, sys.momenta(&s0).r, Vector3::zeros());
     let mut worst: f64 = 0.0;
     for k in 1..=1000 {
-        (r, pi) = lgvi_step(&jd, sys.h, &r, &pi);
+        (r, pi, xi) = lgvi::rigid_body_step(&jd, sys.h, &r, &pi, xi, 1e-16);
         let s = &traj.states[k];
         worst = worst
             .max((sys.config(s).r - r).amax())
@@ -111,36 +79,24 @@ fn spatial_momentum_and_orthogonality_over_long_runs() {
     assert!(orth < 1e-12, "|RᵀR − I| = {orth:e}");
 }
 
-/// The paper's double spherical pendulum on `S² × S²`: the two link directions, the same
-/// discrete Lagrangian as the Cartesian run with rod constraints (midpoint rule: chord
-/// velocities, the potential averaged), so the two give the same discrete trajectory.
-#[reduced_lagrangian(direction(n1, n2))]
-#[allow(clippy::too_many_arguments)]
-fn dsp_sphere(q0: Config, q1: Config, h: f64, m1: f64, m2: f64, l1: f64, l2: f64, g: f64) -> f64 {
-    let d1 = (q1.n1 - q0.n1) * l1;
-    let d2 = d1 + (q1.n2 - q0.n2) * l2;
-    let z1 = 0.5 * l1 * (q0.n1.z + q1.n1.z);
-    let z2 = z1 + 0.5 * l2 * (q0.n2.z + q1.n2.z);
-    (0.5 * m1 * d1.norm_squared() + 0.5 * m2 * d2.norm_squared()) / h - h * g * (m1 * z1 + m2 * z2)
-}
-
 #[path = "../examples/common/cartesian_dsp.rs"]
+#[allow(dead_code)]
 mod cartesian;
 
 /// The Cartesian state `(r1, r2, p1, p2)` on `S² × S²`: `n1 = r1/l1`, `n2 = (r2 − r1)/l2`, and
 /// the momenta of the directions from `δr1 = l1 δn1`, `δr2 = l1 δn1 + l2 δn2`:
 /// `P_n1 = l1 (p1 + p2)`, `P_n2 = l2 p2` (their tangent parts).
-fn on_spheres(sys: &DspSphere, s: &UnreducedState<6>) -> LieState<18, 4> {
+fn on_spheres(sys: &DspOnSpheres, s: &UnreducedState<6>) -> LieState<18, 4> {
     let r1 = Vector3::new(s.q[0], s.q[1], s.q[2]);
     let r2 = Vector3::new(s.q[3], s.q[4], s.q[5]);
     let p1 = Vector3::new(s.p[0], s.p[1], s.p[2]);
     let p2 = Vector3::new(s.p[3], s.p[4], s.p[5]);
     sys.state(
-        &DspSphereConfig {
+        &DspOnSpheresConfig {
             n1: r1 / sys.l1,
             n2: (r2 - r1) / sys.l2,
         },
-        &DspSphereMomentum {
+        &DspOnSpheresMomentum {
             n1: (p1 + p2) * sys.l1,
             n2: p2 * sys.l2,
         },
@@ -162,7 +118,7 @@ fn the_double_spherical_pendulum_on_two_spheres_is_the_cartesian_run() {
     // small differences in this chaotic motion (about ×10 per 100 steps from the paper's state).
     let h = 0.01;
     let (csys, c0) = cartesian::cartesian_initial(h);
-    let sys = DspSphere {
+    let sys = DspOnSpheres {
         h,
         m1: csys.m1,
         m2: csys.m2,
@@ -201,7 +157,7 @@ fn the_double_spherical_pendulum_on_two_spheres_is_the_cartesian_run() {
 fn bob2_at_one(steps: usize) -> Vector3<f64> {
     let h = 1.0 / steps as f64;
     let (csys, c0) = cartesian::cartesian_initial(h);
-    let sys = DspSphere {
+    let sys = DspOnSpheres {
         h,
         m1: csys.m1,
         m2: csys.m2,
@@ -304,21 +260,12 @@ fn the_rigid_body_has_order_two_and_the_triple_jump_order_four() {
     }
 }
 
-/// The heavy (Lagrange) top: a symmetric body (`J = diag(j1, j1, j3)`) on a fixed point with its
-/// centre of mass on its axis, at distance `l` (`mgl = m g l`), the trapezoid rule on the
-/// potential `m g l (R e3)·e3`.
-#[reduced_lagrangian(rotation(r))]
-fn heavy_top(q0: Config, q1: Config, h: f64, j1: f64, j3: f64, mgl: f64) -> f64 {
-    let jd = Matrix3::from_diagonal(&Vector3::new(0.5 * j3, 0.5 * j3, j1 - 0.5 * j3));
-    let f = q0.r.transpose() * q1.r;
-    ((Matrix3::identity() - f) * jd).trace() / h - 0.5 * h * mgl * (q0.r[(2, 2)] + q1.r[(2, 2)])
-}
-
 #[test]
 fn the_heavy_top_keeps_its_two_momenta_and_a_bounded_energy() {
     let sys = HeavyTop {
         h: 0.01,
         j1: 1.0,
+        j2: 1.0,
         j3: 0.4,
         mgl: 2.0,
     };
@@ -331,11 +278,7 @@ fn the_heavy_top_keeps_its_two_momenta_and_a_bounded_energy() {
             r: Vector3::new(0.1, 0.3, 4.0),
         },
     );
-    let energy = |s: &LieState<9, 3>| {
-        let (q, p) = (sys.config(s), sys.momenta(s));
-        let omega = p.r.component_div(&Vector3::new(1.0, 1.0, 0.4));
-        0.5 * p.r.dot(&omega) + sys.mgl * q.r[(2, 2)]
-    };
+    let energy = |s: &LieState<9, 3>| sys.energy(s);
     let (vertical0, axial0, e0) = (integ.spatial_momentum(&s0).z, s0.p[2], energy(&s0));
     let (mut vertical, mut axial, mut spread): (f64, f64, f64) = (0.0, 0.0, 0.0);
     let (mut half, mut second_half): (f64, f64) = (0.0, 0.0);
@@ -372,4 +315,94 @@ fn the_heavy_top_keeps_its_two_momenta_and_a_bounded_energy() {
         second_half < 1.35 * half,
         "energy error {half:e} then {second_half:e}"
     );
+}
+
+#[test]
+fn the_heavy_top_matches_a_hand_written_lgvi() {
+    // An asymmetric body: the 3-D pendulum.
+    let sys = HeavyTop {
+        h: 0.01,
+        j1: 1.0,
+        j2: 1.5,
+        j3: 0.4,
+        mgl: 2.0,
+    };
+    let jd = lgvi::nonstandard(&Vector3::new(1.0, 1.5, 0.4));
+    let integ = LieIntegrator::new(sys, NewtonOptions::default());
+    let s0 = sys.state(
+        &HeavyTopConfig {
+            r: cayley(&Vector3::new(0.6, -0.3, 0.2)),
+        },
+        &HeavyTopMomentum {
+            r: Vector3::new(0.5, -0.3, 2.0),
+        },
+    );
+    let traj = integ.run(s0).steps(1000).collect().unwrap();
+    let (mut r, mut pi, mut xi) = (sys.config(&s0).r, sys.momenta(&s0).r, Vector3::zeros());
+    let mut worst: f64 = 0.0;
+    for s in &traj.states[1..] {
+        (r, pi, xi) = lgvi::heavy_top_step(&jd, sys.h, sys.mgl, &r, &pi, xi, 1e-16);
+        worst = worst
+            .max((sys.config(s).r - r).amax())
+            .max((sys.momenta(s).r - pi).amax());
+    }
+    assert!(worst < 1e-12, "{worst:e}");
+}
+
+#[test]
+fn a_satellite_with_a_reaction_wheel_keeps_both_momenta() {
+    // A rotation and an ordinary coordinate in one system.
+    let sys = Satellite {
+        h: 0.01,
+        j1: 2.0,
+        j2: 3.0,
+        j3: 4.0,
+        jw: 0.5,
+    };
+    let integ = LieIntegrator::new(sys, NewtonOptions::default());
+    let s0 = sys.state(
+        &SatelliteConfig {
+            r: cayley(&Vector3::new(0.1, 0.2, -0.3)),
+            phi: 0.0,
+        },
+        &SatelliteMomentum {
+            r: Vector3::new(0.4, -0.2, 1.0),
+            phi: 0.7,
+        },
+    );
+    let pi0 = integ.spatial_momentum(&s0);
+    let (mut wheel, mut spatial): (f64, f64) = (0.0, 0.0);
+    integ
+        .run(s0)
+        .steps(20_000)
+        .observe(|_, _, s: &LieState<10, 4>, _| {
+            wheel = wheel.max((sys.momenta(s).phi - 0.7).abs());
+            spatial = spatial.max((integ.spatial_momentum(s) - pi0).norm());
+        })
+        .stream()
+        .unwrap();
+    assert!(wheel < 1e-13, "wheel momentum drift {wheel:e}");
+    assert!(
+        spatial < 1e-12 * pi0.norm(),
+        "spatial momentum drift {spatial:e}"
+    );
+}
+
+#[test]
+fn states_off_the_group_are_rejected_before_the_first_step() {
+    let (sys, _) = body();
+    let integ = LieIntegrator::new(sys, NewtonOptions::default());
+    let mut s0 = sys.state(
+        &RigidBodyConfig {
+            r: Matrix3::identity(),
+        },
+        &RigidBodyMomentum {
+            r: Vector3::new(0.3, 1.0, -0.2),
+        },
+    );
+    s0.q[1] = 1e-6;
+    let err = integ.run(s0).steps(10).collect().unwrap_err();
+    assert!(matches!(err.source, StepError::OffManifold { .. }), "{err}");
+    assert_eq!(err.trajectory.states.len(), 1);
+    let _ = hat(&Vector3::x());
 }
