@@ -38,7 +38,7 @@ fn the_rigid_body_matches_a_hand_written_lgvi() {
     let (mut r, mut pi, mut xi) = (sys.config(&s0).r, sys.momenta(&s0).r, Vector3::zeros());
     let mut worst: f64 = 0.0;
     for k in 1..=1000 {
-        (r, pi, xi) = lgvi::rigid_body_step(&jd, sys.h, &r, &pi, xi, 1e-16);
+        (r, pi, xi) = lgvi::rigid_body_step(&jd, sys.h, &r, &pi, xi, 1e-16, &mut 0);
         let s = &traj.states[k];
         worst = worst
             .max((sys.config(s).r - r).amax())
@@ -341,7 +341,7 @@ fn the_heavy_top_matches_a_hand_written_lgvi() {
     let (mut r, mut pi, mut xi) = (sys.config(&s0).r, sys.momenta(&s0).r, Vector3::zeros());
     let mut worst: f64 = 0.0;
     for s in &traj.states[1..] {
-        (r, pi, xi) = lgvi::heavy_top_step(&jd, sys.h, sys.mgl, &r, &pi, xi, 1e-16);
+        (r, pi, xi) = lgvi::heavy_top_step(&jd, sys.h, sys.mgl, &r, &pi, xi, 1e-16, &mut 0);
         worst = worst
             .max((sys.config(s).r - r).amax())
             .max((sys.momenta(s).r - pi).amax());

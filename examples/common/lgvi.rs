@@ -60,7 +60,8 @@ pub fn solve_cayley(
 }
 
 /// One step of the free rigid body: `h Π_k = vee(F J_d − J_d Fᵀ)`, `R_{k+1} = R_k F`,
-/// `Π_{k+1} = Fᵀ Π_k`. Returns the new state and `ξ` (the next step's guess).
+/// `Π_{k+1} = Fᵀ Π_k`. Returns the new state and `ξ` (the next step's guess); `iterations`
+/// counts the Newton corrections.
 pub fn rigid_body_step(
     jd: &Matrix3<f64>,
     h: f64,
@@ -68,13 +69,15 @@ pub fn rigid_body_step(
     pi: &Vector3<f64>,
     guess: Vector3<f64>,
     tol: f64,
+    iterations: &mut usize,
 ) -> (Matrix3<f64>, Vector3<f64>, Vector3<f64>) {
-    let (xi, _) = solve_cayley(jd, &(pi * h), guess, tol);
+    let (xi, n) = solve_cayley(jd, &(pi * h), guess, tol);
+    *iterations += n;
     let f = cayley(&xi);
     (r * f, f.transpose() * pi, xi)
 }
 
-/// One step of the heavy top (`mgl e3ᵀ R e3` potential, trapezoid rule):
+/// One step of the heavy top (`mgl e3ᵀ R e3` potential, trapezoid rule), as [`rigid_body_step`]:
 /// `vee(F J_d − J_d Fᵀ) = h Π_k − (h²/2) m g l (e3 × R_kᵀ e3)`, then
 /// `Π_{k+1} = Fᵀ (Π_k − (h/2) m g l (e3 × R_kᵀ e3)) − (h/2) m g l (e3 × R_{k+1}ᵀ e3)`.
 #[allow(clippy::too_many_arguments)]
@@ -86,11 +89,13 @@ pub fn heavy_top_step(
     pi: &Vector3<f64>,
     guess: Vector3<f64>,
     tol: f64,
+    iterations: &mut usize,
 ) -> (Matrix3<f64>, Vector3<f64>, Vector3<f64>) {
     let e3 = Vector3::z();
     let torque = |r: &Matrix3<f64>| e3.cross(&(r.transpose() * e3)) * (0.5 * h * mgl);
     let kick = pi - torque(r);
-    let (xi, _) = solve_cayley(jd, &(kick * h), guess, tol);
+    let (xi, n) = solve_cayley(jd, &(kick * h), guess, tol);
+    *iterations += n;
     let f = cayley(&xi);
     let next = r * f;
     (next, f.transpose() * kick - torque(&next), xi)
