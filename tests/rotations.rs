@@ -406,3 +406,87 @@ fn states_off_the_group_are_rejected_before_the_first_step() {
     assert_eq!(err.trajectory.states.len(), 1);
     let _ = hat(&Vector3::x());
 }
+
+/// Six free rigid bodies in one system (`N = 18`, above the dense backend's size: the sparse
+/// backend), each with the moments of [`RigidBody`] scaled by its index.
+#[reduced_lagrangian(rotation(r1, r2, r3, r4, r5, r6))]
+fn six_bodies(q0: Config, q1: Config, h: f64) -> f64 {
+    let jd = Matrix3::from_diagonal(&Vector3::new(2.0, 1.0, 0.0));
+    let one = Matrix3::identity();
+    let (f1, f2, f3) = (
+        q0.r1.transpose() * q1.r1,
+        q0.r2.transpose() * q1.r2,
+        q0.r3.transpose() * q1.r3,
+    );
+    let (f4, f5, f6) = (
+        q0.r4.transpose() * q1.r4,
+        q0.r5.transpose() * q1.r5,
+        q0.r6.transpose() * q1.r6,
+    );
+    (((one - f1) * jd).trace()
+        + ((one - f2) * jd).trace() * 2.0
+        + ((one - f3) * jd).trace() * 3.0
+        + ((one - f4) * jd).trace() * 4.0
+        + ((one - f5) * jd).trace() * 5.0
+        + ((one - f6) * jd).trace() * 6.0)
+        / h
+}
+
+#[test]
+fn a_large_system_on_the_sparse_backend_matches_its_parts() {
+    let sys = SixBodies { h: 0.01 };
+    let rotations: Vec<Matrix3<f64>> = (1..=6)
+        .map(|i| cayley(&Vector3::new(0.1 * i as f64, -0.2, 0.3)))
+        .collect();
+    let momenta: Vec<Vector3<f64>> = (1..=6)
+        .map(|i| Vector3::new(0.3, 1.0, -0.2 * i as f64))
+        .collect();
+    let s0 = sys.state(
+        &SixBodiesConfig {
+            r1: rotations[0],
+            r2: rotations[1],
+            r3: rotations[2],
+            r4: rotations[3],
+            r5: rotations[4],
+            r6: rotations[5],
+        },
+        &SixBodiesMomentum {
+            r1: momenta[0],
+            r2: momenta[1],
+            r3: momenta[2],
+            r4: momenta[3],
+            r5: momenta[4],
+            r6: momenta[5],
+        },
+    );
+    let backend = std::any::type_name::<<SixBodies as LieLagrangian<54, 18>>::Linear>();
+    assert!(backend.contains("SparseLu"), "{backend}");
+    let all = LieIntegrator::new(sys, tight())
+        .run(s0)
+        .steps(500)
+        .collect()
+        .unwrap();
+    let last = sys.config(all.last());
+    let ends = [last.r1, last.r2, last.r3, last.r4, last.r5, last.r6];
+    for i in 0..6 {
+        // Body i alone: J_d scaled by i + 1 is J = diag(1, 2, 3) scaled.
+        let s = (i + 1) as f64;
+        let one = RigidBody {
+            h: 0.01,
+            j1: s,
+            j2: 2.0 * s,
+            j3: 3.0 * s,
+        };
+        let start = one.state(
+            &RigidBodyConfig { r: rotations[i] },
+            &RigidBodyMomentum { r: momenta[i] },
+        );
+        let alone = LieIntegrator::new(one, tight())
+            .run(start)
+            .steps(500)
+            .collect()
+            .unwrap();
+        let d = (one.config(alone.last()).r - ends[i]).amax();
+        assert!(d < 1e-12, "body {i}: {d:e}");
+    }
+}
