@@ -100,19 +100,14 @@ fn expand_lie(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> {
     use crate::ir::lower::{Lowering, Names};
     let cx = Ctxt::new();
     let spec = crate::ast::lie::parse(&cx, args);
+    let rule = spec.as_ref().and_then(|s| s.rule.as_ref());
     let sig = parse_signature(
         &cx,
         &func.sig,
         spec.as_ref().and_then(|s| s.step.as_ref()),
-        None,
-        false,
+        rule,
+        spec.as_ref().is_some_and(|s| s.rule_written),
     );
-    if let Some(sig) = sig.as_ref().filter(|s| s.continuous) {
-        cx.error_spanned_by(
-            &sig.q1,
-            "a continuous Lagrangian `L(q, v)` is not available with rotation or direction              coordinates yet: write the discrete Lagrangian `L_d(q0, q1)`              (`fn name(q0: Config, q1: Config, h: f64, ...) -> f64`)",
-        );
-    }
     let (spec, sig) = cx.finish(spec.zip(sig))?;
     let cx = Ctxt::new();
     let names = Names {
@@ -125,6 +120,17 @@ fn expand_lie(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> {
     let mut graph = Graph::default();
     let body = Lowering::new(&mut graph, &cx, &names).body(&func.block);
     let body = cx.finish(body)?;
+    // A continuous L(q, v): L_d by its rule.
+    let body = match spec.rule.as_ref().filter(|_| sig.continuous) {
+        Some(&(_, rule)) => {
+            let step = sig.params.iter().position(|p| *p == sig.step);
+            let h = graph.var(crate::ir::graph::Sym::Param(
+                step.expect("the step is a parameter"),
+            ));
+            crate::ir::lie::discretize(&mut graph, &spec, body, rule, h)
+        }
+        None => body,
+    };
     let code = crate::ir::lie::compile(&mut graph, &spec, body, compile::mode_for(spec.n()));
     Ok(crate::codegen::lie::generate(
         &spec, &sig, func, &graph, &code,

@@ -83,7 +83,39 @@
 //!   with no special function, exact where `ξ → 0`, and a rotation for every `ξ`. It differs from
 //!   the exponential by `O(|ξ|³)`, which changes `L_d` at third order in `h` and keeps a
 //!   second-order `L_d` second order.
-//! * **The rule.** You write `L_d` directly. Rules of order 2 that are symmetric
+//! * **Continuous Lagrangians.** `fn l(q: Config, v: Velocity, ..)` with `rule = trapezoid`
+//!   (or `left`, `right`) reads `v.R` as the body angular velocity `Ω`, `v.n` as a direction's
+//!   velocity and `v.x` as a scalar's rate; the compiler forms
+//!   `L_d = h/2 (L(q0, v) + L(q1, v))` with `Ω = cay⁻¹(R0ᵀ R1)/h` (the Cayley parameter of the
+//!   relative rotation, `cay⁻¹(F) = 2 vee(F − Fᵀ)/(1 + tr F)` with the exact vee of a skew
+//!   matrix) and the chords `(n1 − n0)/h`, `(x1 − x0)/h`. The trapezoid rule is symmetric, so of
+//!   order 2 (4 composed); left and right are of order 1. The midpoint rule is refused: the mean
+//!   of two rotations is not a rotation.
+//!
+//!   ```
+//!   use dirac::prelude::*;
+//!
+//!   /// The heavy top, `L = ½ Ωᵀ J Ω − m g l e3ᵀ R e3`.
+//!   #[reduced_lagrangian(rotation(r), rule = trapezoid)]
+//!   fn top(q: Config, v: Velocity, j1: f64, j3: f64, mgl: f64) -> f64 {
+//!       let omega = v.r;
+//!       0.5 * (j1 * (omega.x * omega.x + omega.y * omega.y) + j3 * omega.z * omega.z)
+//!           - mgl * q.r[(2, 2)]
+//!   }
+//!
+//!   let sys = Top { h: 0.01, j1: 1.0, j3: 0.4, mgl: 2.0 };
+//!   let start = sys.state(
+//!       &TopConfig { r: dirac::lie::cayley(&Vector3::new(0.6, 0.0, 0.0)) },
+//!       &TopMomentum { r: Vector3::new(0.1, 0.3, 4.0) },
+//!   );
+//!   let integ = LieIntegrator::new(sys, NewtonOptions::default());
+//!   let traj = integ.run(start).end_time(10.0).collect().unwrap();
+//!   // Rotations about the vertical and about the body's axis are symmetries.
+//!   let vertical = |s| integ.spatial_momentum(s).z;
+//!   assert!((vertical(traj.last()) - vertical(&start)).abs() < 1e-12);
+//!   assert!((traj.last().p[2] - start.p[2]).abs() < 1e-12);
+//!   ```
+//! * **The rule.** Or you write `L_d` directly. Rules of order 2 that are symmetric
 //!   (`L_d(q0, q1; −h) = −L_d(q1, q0; h)`) — the kinetic term `tr((I − F) J_d)/h` with a potential
 //!   averaged over both ends (trapezoid), or chord velocities `|n1 − n0|²/h` — give a symmetric
 //!   step of order 2 that the triple jump raises to 4 (`tests/rotations.rs` measures both
@@ -103,8 +135,9 @@
 //!
 //! ## Limits
 //!
-//! Systems with rotation or direction coordinates take a discrete Lagrangian (no continuous `L`
-//! and rule yet), scalar coordinates beside them, and `step` and `name`. Not yet available for
+//! Systems with rotation or direction coordinates take a discrete Lagrangian or a continuous one
+//! with the trapezoid, left or right rule, scalar coordinates beside them, and `step` and
+//! `name`. Not yet available for
 //! them: declared translations and their reduction, reduction by rotations, forces and controls,
 //! constraints, step sensitivities, the (−) side, and Parquet output (`dirac-io`). Above 16
 //! dimensions the step runs on the sparse backend, as every other system does. A rotation's momentum map is kept to round-off; it is not copied

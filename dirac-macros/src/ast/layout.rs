@@ -223,6 +223,7 @@ impl Layout {
                     len: c.len,
                     components: comps,
                     matrix: None,
+                    velocity: None,
                 }
             })
             .collect()
@@ -266,6 +267,10 @@ pub struct CoordName {
     /// A rotation (3 × 3) or a direction (3 × 1) read whole: its shape and, row by row, the
     /// entries of the stored point it reads.
     pub matrix: Option<(usize, usize, Vec<usize>)>,
+    /// What the velocity argument of a continuous Lagrangian on rotation groups reads for this
+    /// coordinate: its shape (`1 × 1` for a scalar, `3 × 1` for a rotation's body angular
+    /// velocity or a direction's velocity) and the indices of its velocity symbols.
+    pub velocity: Option<(usize, usize, Vec<usize>)>,
 }
 
 impl CoordName {
@@ -279,6 +284,7 @@ impl CoordName {
                 len: None,
                 components: vec![Component::Var(i)],
                 matrix: None,
+                velocity: None,
             })
             .collect()
     }

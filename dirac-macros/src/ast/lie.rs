@@ -19,12 +19,14 @@ use syn::punctuated::Punctuated;
 use syn::{Expr, Ident, Token};
 
 use crate::ast::layout::CoordName;
+use crate::ast::rule::Rule;
 use crate::ctxt::Ctxt;
-use crate::symbol::{self, KeyArg, DIRECTION, NAME, ROTATION, SHAPE, STEP};
+use crate::symbol::{self, KeyArg, DIRECTION, NAME, ROTATION, RULE, SHAPE, STEP};
 
 /// What the attribute of a system on rotation groups accepts, for messages.
 pub const LIE_KEYS: &str = "`rotation(R, ...)` (rotation matrices), `direction(n, ...)` (unit \
-vectors), `shape(x, ...)` (scalar coordinates), `step = <parameter>`, `name = <TypeName>`";
+vectors), `shape(x, ...)` (scalar coordinates), `rule = trapezoid | left | right` (for \
+`L(q: Config, v: Velocity, ...)`), `step = <parameter>`, `name = <TypeName>`";
 
 /// What a coordinate is (the runtime's `CoordinateKind`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -51,6 +53,15 @@ impl Kind {
             Kind::Direction => 2,
         }
     }
+
+    /// Entries of the velocity a continuous Lagrangian reads: the body angular velocity `Ω` of a
+    /// rotation, the velocity `ṅ` of a direction (a 3-vector), a scalar's rate.
+    pub fn velocity_len(self) -> usize {
+        match self {
+            Kind::Scalar => 1,
+            Kind::Rotation | Kind::Direction => 3,
+        }
+    }
 }
 
 /// One declared coordinate, with its place in the point and the chart.
@@ -60,6 +71,8 @@ pub struct LieCoord {
     pub kind: Kind,
     pub point: usize,
     pub chart: usize,
+    /// The first of its velocity symbols (a continuous Lagrangian's `v`).
+    pub velocity: usize,
 }
 
 /// The parsed attribute.
@@ -67,12 +80,21 @@ pub struct LieSpec {
     pub coords: Vec<LieCoord>,
     pub step: Option<Ident>,
     pub name: Option<Ident>,
+    /// The quadrature rule of a continuous Lagrangian `L(q, v)`.
+    pub rule: Option<(Ident, Rule)>,
+    /// Whether `rule = ..` was written (even if rejected: no follow-on error then).
+    pub rule_written: bool,
 }
 
 impl LieSpec {
     /// `P`, the length of a stored point.
     pub fn p(&self) -> usize {
         self.coords.iter().map(|c| c.kind.point_len()).sum()
+    }
+
+    /// The length of a continuous Lagrangian's velocity.
+    pub fn velocity_len(&self) -> usize {
+        self.coords.iter().map(|c| c.kind.velocity_len()).sum()
     }
 
     /// `N = dim Q`, the length of the chart and the momentum.
@@ -82,21 +104,30 @@ impl LieSpec {
 
     /// The coordinates as the body reads them: a rotation whole (3 × 3, its point entries row
     /// by row), a direction as the third column of its frame, a scalar as one entry.
+    ///
+    /// The velocity argument of a continuous Lagrangian reads a rotation's body angular velocity
+    /// and a direction's velocity as 3-vectors, a scalar's rate as an f64, each from its own
+    /// velocity symbols.
     pub fn lowering_coords(&self) -> Vec<CoordName> {
         self.coords
             .iter()
             .map(|c| {
-                let p = c.point;
+                let (p, v) = (c.point, c.velocity);
                 let matrix = match c.kind {
                     Kind::Scalar => None,
                     Kind::Rotation => Some((3, 3, (p..p + 9).collect())),
                     Kind::Direction => Some((3, 1, vec![p + 2, p + 5, p + 8])),
+                };
+                let velocity = match c.kind {
+                    Kind::Scalar => (1, 1, vec![v]),
+                    Kind::Rotation | Kind::Direction => (3, 1, (v..v + 3).collect()),
                 };
                 CoordName {
                     name: c.name.to_string(),
                     len: None,
                     components: vec![crate::ast::layout::Component::Var(p)],
                     matrix,
+                    velocity: self.rule.is_some().then_some(velocity),
                 }
             })
             .collect()
@@ -138,8 +169,8 @@ impl Parse for LieItem {
 /// The attribute; `None` after errors (recorded).
 pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
     let items = symbol::parse_args::<LieItem>(cx, args)?;
-    let (mut coords, mut step, mut name) = (Vec::<LieCoord>::new(), None, None);
-    let (mut point, mut chart) = (0, 0);
+    let (mut coords, mut step, mut name, mut rule) = (Vec::<LieCoord>::new(), None, None, None);
+    let (mut point, mut chart, mut velocity) = (0, 0, 0);
     for LieItem(item) in &items {
         let key = item.key();
         let kind = if key == ROTATION {
@@ -177,9 +208,11 @@ pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
                         kind,
                         point,
                         chart,
+                        velocity,
                     });
                     point += kind.point_len();
                     chart += kind.chart_len();
+                    velocity += kind.velocity_len();
                 }
             }
             (None, KeyArg::Value(_, Expr::Path(p)))
@@ -192,7 +225,25 @@ pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
             {
                 name = p.path.get_ident().cloned();
             }
-            (None, _) if key == STEP || key == NAME => cx.error_spanned_by(
+            (None, KeyArg::Value(_, Expr::Path(p)))
+                if key == RULE && p.path.get_ident().is_some() =>
+            {
+                let id = p.path.get_ident().expect("checked");
+                match Rule::from_ident(id) {
+                    Some(Rule::Midpoint) => cx.error_spanned_by(
+                        id,
+                        "`rule = midpoint` is not available with rotation or direction coordinates: \
+                         the mean of two rotations is not a rotation, nor that of two unit vectors a \
+                         unit vector; use `rule = trapezoid` (symmetric, order 2), `left` or `right`",
+                    ),
+                    Some(r) => rule = Some((id.clone(), r)),
+                    None => cx.error_spanned_by(
+                        id,
+                        "unknown rule; accepted: `rule = trapezoid`, `rule = left` or `rule = right`",
+                    ),
+                }
+            }
+            (None, _) if key == STEP || key == NAME || key == RULE => cx.error_spanned_by(
                 key,
                 format!("expected `{key} = <name>`; accepted: {LIE_KEYS}"),
             ),
@@ -219,7 +270,14 @@ pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
             format!("declare the coordinates: {LIE_KEYS}"),
         );
     }
-    Some(LieSpec { coords, step, name })
+    let rule_written = items.iter().any(|LieItem(i)| i.key() == RULE);
+    Some(LieSpec {
+        coords,
+        step,
+        name,
+        rule,
+        rule_written,
+    })
 }
 
 impl LieSpec {

@@ -72,9 +72,59 @@ pub fn generate(
         fns.counts, retract.operations
     );
     let allow = lints::generated();
-    let user_fn = user_function(func, &config, false, &[], false);
+    let velocity = format_ident!("{}Velocity", ty);
+    let user_fn = if sig.continuous {
+        continuous_user_function(func, &config, &velocity)
+    } else {
+        user_function(func, &config, false, &[], false)
+    };
     let params_item = param_struct(sig, func, &ty);
-    let structs = config_and_momentum(spec, func, &ty, &config, &momentum);
+    let mut structs = config_and_momentum(spec, func, &ty, &config, &momentum);
+    if sig.continuous {
+        structs.extend(velocity_struct(spec, func, &ty, &velocity));
+    }
+    // L_d: the user's function, or formed from a continuous L by its rule (then from the graph,
+    // the relative rotations computed from the two points).
+    let lagrangian_body = if sig.continuous {
+        let rels = spec
+            .coords
+            .iter()
+            .filter(|c| c.kind == Kind::Rotation)
+            .map(|c| {
+                let at = c.point;
+                let f = format_ident!("__rel_matrix_{}", at);
+                let rows: Vec<usize> = (at..at + 9).collect();
+                quote! {
+                    let #f = #na::Matrix3::new( #( q0[#rows] ),* ).transpose()
+                        * #na::Matrix3::new( #( q1[#rows] ),* );
+                }
+            });
+        let code = crate::codegen::emit::straight_line(g, &[code.lagrangian], &|sym| match sym {
+            Sym::Q0(i) => quote! { q0[#i] },
+            Sym::Q1(i) => quote! { q1[#i] },
+            Sym::Rel(i) => {
+                let c = spec
+                    .coords
+                    .iter()
+                    .find(|c| c.kind == Kind::Rotation && (c.point..c.point + 9).contains(&i))
+                    .expect("Rel reads a rotation coordinate");
+                let f = format_ident!("__rel_matrix_{}", c.point);
+                let (r, col) = ((i - c.point) / 3, (i - c.point) % 3);
+                quote! { #f[(#r, #col)] }
+            }
+            Sym::Param(i) => {
+                let p = &params[i];
+                quote! { self.#p }
+            }
+            other => {
+                unreachable!("L_d reads q0, q1, relative rotations and parameters, not {other:?}")
+            }
+        });
+        let (stmts, out) = (&code.stmts, &code.outputs[0]);
+        quote! { #( #rels )* #stmts #out }
+    } else {
+        quote! { #fn_name(#config::from_point(q0), #config::from_point(q1), #( self.#fn_params ),*) }
+    };
     let doc_p = format!("Length `P` of a stored point of [`{ty}`] (`LieState::q`).");
     let doc_n = format!("Dimension `N` of the configuration space of [`{ty}`] (`LieState::p`).");
     quote! {
@@ -120,7 +170,7 @@ pub fn generate(
             }
 
             fn lagrangian(&self, q0: &#na::SVector<f64, #p>, q1: &#na::SVector<f64, #p>) -> f64 {
-                #fn_name(#config::from_point(q0), #config::from_point(q1), #( self.#fn_params ),*)
+                #lagrangian_body
             }
 
             fn time_step(&self) -> f64 {
@@ -128,7 +178,9 @@ pub fn generate(
             }
 
             fn with_time_step(&self, h: f64) -> Self {
-                Self { #step: h, ..*self }
+                let mut system = *self;
+                system.#step = h;
+                system
             }
 
             fn parameter_values(&self) -> ::std::vec::Vec<f64> {
@@ -293,6 +345,50 @@ fn config_and_momentum(
                 #( #to_chart )*
                 p
             }
+        }
+    }
+}
+
+/// The user's continuous `L(q: Config, v: Velocity, ..)` with the emitted types.
+fn continuous_user_function(func: &ItemFn, config: &Ident, velocity: &Ident) -> TokenStream {
+    let mut func = func.clone();
+    for (input, ty) in func.sig.inputs.iter_mut().zip([config, velocity]) {
+        if let syn::FnArg::Typed(pt) = input {
+            *pt.ty = syn::parse_quote!(#ty);
+        }
+    }
+    let allow = lints::user_function();
+    quote! { #allow #func }
+}
+
+/// `<Name>Velocity`: what a continuous Lagrangian's `v` holds.
+fn velocity_struct(spec: &LieSpec, func: &ItemFn, ty: &Ident, velocity: &Ident) -> TokenStream {
+    let vis = &func.vis;
+    let na = quote!(::dirac::nalgebra);
+    let fields = spec.coords.iter().map(|c| {
+        let name = &c.name;
+        match c.kind {
+            Kind::Scalar => {
+                let doc = format!("The rate of `{name}`.");
+                quote!(#[doc = #doc] pub #name: f64)
+            }
+            Kind::Rotation => {
+                let doc = format!("The body angular velocity `Ω` of `{name}` (`Ṙ = R Ω̂`).");
+                quote!(#[doc = #doc] pub #name: #na::Vector3<f64>)
+            }
+            Kind::Direction => {
+                let doc = format!("The velocity of `{name}`.");
+                quote!(#[doc = #doc] pub #name: #na::Vector3<f64>)
+            }
+        }
+    });
+    let doc = format!("A velocity of [`{ty}`], as its continuous Lagrangian reads it.");
+    quote! {
+        #[doc = #doc]
+        #[derive(Clone, Copy, Debug, Default, PartialEq)]
+        #[allow(non_snake_case, reason = "velocities keep the names of their coordinates")]
+        #vis struct #velocity {
+            #( #fields, )*
         }
     }
 }

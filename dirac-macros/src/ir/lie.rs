@@ -8,12 +8,95 @@
 //! rotation `dφ(0) η = R η̂`, for a direction `dφ(0)(a, b) = a e1 + b e2`.
 
 use crate::ast::lie::{Kind, LieSpec};
+use crate::ast::rule::Rule;
 use crate::ir::diff::derivatives;
 use crate::ir::graph::{Graph, NodeId, Sym};
 use crate::ir::reduce::{firsts, Mode, Stepper};
 
+/// `L_d` from a continuous `L(q, v)` by `rule`, with the velocity of each coordinate over the
+/// step: a scalar's `(x1 − x0)/h`, a direction's chord `(n1 − n0)/h`, and a rotation's body
+/// angular velocity `Ω = cay⁻¹(F)/h`, `F = R0ᵀ R1` (the relative rotation, [`Sym::Rel`]), with
+/// the inverse Cayley map `cay⁻¹(F) = 2 vee(F − Fᵀ)/(1 + tr F)` (exact: for `F = cay(ξ)`,
+/// `vee(F − Fᵀ) = 2α ξ` and `1 + tr F = 4α` with `α = 4/(4 + |ξ|²)`; smooth wherever
+/// `tr F > −1`, i.e. for every rotation by less than π).
+///
+/// * trapezoid: `L_d = h/2 (L(q0, v) + L(q1, v))`, symmetric (`v` changes sign with `h` and
+///   with the order of the points), so of order 2;
+/// * left, right: `h L(q0, v)`, `h L(q1, v)`, of order 1.
+///
+/// The lowered `L` reads the configuration as `Q0` and the velocity as `Q1` (indexed by the
+/// coordinates' velocity offsets).
+pub fn discretize(g: &mut Graph, spec: &LieSpec, l: NodeId, rule: Rule, h: NodeId) -> NodeId {
+    let mut velocity = vec![None; spec.velocity_len()];
+    let inv_h = {
+        let one = g.constant(1.0);
+        g.div(one, h)
+    };
+    for c in &spec.coords {
+        let (p, v) = (c.point, c.velocity);
+        let rate = |g: &mut Graph, i: usize| {
+            let (a, b) = (g.var(Sym::Q1(i)), g.var(Sym::Q0(i)));
+            let d = g.sub(a, b);
+            g.mul(d, inv_h)
+        };
+        match c.kind {
+            Kind::Scalar => velocity[v] = Some(rate(g, p)),
+            Kind::Direction => {
+                for (k, i) in [p + 2, p + 5, p + 8].into_iter().enumerate() {
+                    velocity[v + k] = Some(rate(g, i));
+                }
+            }
+            Kind::Rotation => {
+                let f = |g: &mut Graph, i: usize, j: usize| g.var(Sym::Rel(p + 3 * i + j));
+                let diagonal: Vec<NodeId> = (0..3).map(|i| f(g, i, i)).collect();
+                let one = g.constant(1.0);
+                let t01 = g.add(diagonal[0], diagonal[1]);
+                let trace = g.add(t01, diagonal[2]);
+                let den = g.add(one, trace);
+                let two = g.constant(2.0);
+                for (k, (a, b)) in [((2, 1), (1, 2)), ((0, 2), (2, 0)), ((1, 0), (0, 1))]
+                    .into_iter()
+                    .enumerate()
+                {
+                    let (x, y) = (f(g, a.0, a.1), f(g, b.0, b.1));
+                    let d = g.sub(x, y);
+                    let num = g.mul(two, d);
+                    let xi = g.div(num, den);
+                    velocity[v + k] = Some(g.mul(xi, inv_h));
+                }
+            }
+        }
+    }
+    let at = |g: &mut Graph, end: usize| {
+        g.substitute(l, &mut |g, sym| match sym {
+            Sym::Q0(i) if end == 1 => g.var(Sym::Q1(i)),
+            Sym::Q1(i) => velocity[i].expect("every velocity symbol is formed"),
+            other => g.var(other),
+        })
+    };
+    match rule {
+        Rule::Left => {
+            let l0 = at(g, 0);
+            g.mul(h, l0)
+        }
+        Rule::Right => {
+            let l1 = at(g, 1);
+            g.mul(h, l1)
+        }
+        Rule::Trapezoid | Rule::Midpoint => {
+            let (l0, l1) = (at(g, 0), at(g, 1));
+            let sum = g.add(l0, l1);
+            let half = g.constant(0.5);
+            let hh = g.mul(half, h);
+            g.mul(hh, sum)
+        }
+    }
+}
+
 /// What a system on rotation groups compiles to.
 pub struct LieCode {
+    /// `L_d` over the points `Q0`, `Q1` and the relative rotations `Rel`.
+    pub lagrangian: NodeId,
     /// `φ_{q_k}(z)`: the next point, `P` entries.
     pub retract: Vec<NodeId>,
     /// The residual, its Jacobian in `z` and the momentum update.
@@ -255,6 +338,7 @@ pub fn compile(g: &mut Graph, spec: &LieSpec, l: NodeId, mode: Mode) -> LieCode 
         .map(|r| (0..n).map(|c| columns[c][r]).collect())
         .collect();
     LieCode {
+        lagrangian: l,
         retract: next,
         stepper: Stepper {
             residual,

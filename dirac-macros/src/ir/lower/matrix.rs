@@ -5,7 +5,7 @@
 //! `.dot(&b)`, `.cross(&b)`, `.norm()`, `.norm_squared()`, `.normalize()`, `.cross_matrix()`
 //! (`ξ̂`), entries `m[(i, j)]`, `v[i]`, `v.x`, the constructors `Matrix3::identity()`,
 //! `Matrix3::zeros()`, `Matrix3::new(..)`, `Matrix3::from_diagonal(&v)`, `Vector3::new(..)`,
-//! `Vector3::zeros()`, and `hat(&v)`, `vee(&m)` (`dirac::lie`). Every entry is a node of the
+//! `Vector3::zeros()`, `Vector3::x()` (`y`, `z`), and `hat(&v)`, `vee(&m)` (`dirac::lie`). Every entry is a node of the
 //! graph: a product of matrices is its 27 scalar products, shared by hash-consing.
 
 use quote::ToTokens;
@@ -19,7 +19,8 @@ pub const MATRIX_ACCEPTED: &str = "on matrices and vectors: `+ - *`, `/` by an f
 `.transpose()`, `.trace()`, `.determinant()`, `.dot(&b)`, `.cross(&b)`, `.norm()`, \
 `.norm_squared()`, `.normalize()`, `.cross_matrix()`, entries `m[(i, j)]`, `v[i]`, `v.x`, \
 `Matrix3::identity()`, `Matrix3::zeros()`, `Matrix3::new(..9 entries)`, \
-`Matrix3::from_diagonal(&v)`, `Vector3::new(x, y, z)`, `Vector3::zeros()`, `hat(&v)`, `vee(&m)`";
+`Matrix3::from_diagonal(&v)`, `Vector3::new(x, y, z)`, `Vector3::zeros()`, `Vector3::x()` (and \
+`y()`, `z()`), `hat(&v)`, `vee(&m)`";
 
 /// A matrix value: `r × c` entries, row by row (a vector is `3 × 1`).
 #[derive(Clone, Debug)]
@@ -312,7 +313,8 @@ impl Lowering<'_> {
             return None;
         }
         let wanted = match (ty, last) {
-            (Some("Matrix3"), "identity" | "zeros") | (Some("Vector3"), "zeros") => 0,
+            (Some("Matrix3"), "identity" | "zeros")
+            | (Some("Vector3"), "zeros" | "x" | "y" | "z") => 0,
             (Some("Matrix3"), "new") => 9,
             (Some("Vector3"), "new") => 3,
             (Some("Matrix3"), "from_diagonal") | (_, "hat" | "vee") => 1,
@@ -359,6 +361,16 @@ impl Lowering<'_> {
             }))),
             (Some("Matrix3"), "zeros") => Some(Value::Mat(self.build(3, 3, |_, _, _| zero))),
             (Some("Vector3"), "zeros") => Some(Value::Mat(self.build(3, 1, |_, _, _| zero))),
+            (Some("Vector3"), axis @ ("x" | "y" | "z")) => {
+                let k = usize::from(axis.as_bytes()[0] - b'x');
+                Some(Value::Mat(self.build(3, 1, |_, i, _| {
+                    if i == k {
+                        one
+                    } else {
+                        zero
+                    }
+                })))
+            }
             (Some("Matrix3" | "Vector3"), "new") => {
                 let mut e = Vec::new();
                 for (v, a) in values.into_iter().zip(args) {

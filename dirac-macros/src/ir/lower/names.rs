@@ -216,6 +216,14 @@ impl Lowering<'_> {
         if let Some((which, member)) = self.coordinate_field(f) {
             let c = self.coordinate(f, member)?;
             let coord = &self.names.coords[c];
+            if let (1, Some((r, cols, entries))) = (which, &coord.velocity) {
+                // The velocity argument of a continuous Lagrangian on rotation groups.
+                let e: Vec<_> = entries.iter().map(|&i| self.g.var(Sym::Q1(i))).collect();
+                if (*r, *cols) == (1, 1) {
+                    return Some(Value::Scalar(e[0]));
+                }
+                return Some(Value::Mat(super::Mat::new(*r, *cols, e)));
+            }
             if let Some((r, cols, entries)) = &coord.matrix {
                 let sym = |i: usize| match which {
                     0 => Sym::Q0(i),
