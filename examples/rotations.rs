@@ -259,6 +259,7 @@ fn main() {
         j2: 3.0,
         j3: 4.0,
         jw: 0.5,
+        u: 0.0,
     };
     let s0 = sys.state(
         &SatelliteConfig {

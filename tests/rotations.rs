@@ -358,6 +358,7 @@ fn a_satellite_with_a_reaction_wheel_keeps_both_momenta() {
         j2: 3.0,
         j3: 4.0,
         jw: 0.5,
+        u: 0.0,
     };
     let integ = LieIntegrator::new(sys, NewtonOptions::default());
     let s0 = sys.state(
@@ -552,4 +553,105 @@ fn a_continuous_lagrangian_in_the_body_angular_velocity_has_order_two_and_four()
         4.0,
     );
     assert_eq!(l, 1.0);
+}
+
+#[test]
+fn a_wheel_torque_control_moves_the_wheel_momentum_by_h_u_and_keeps_the_spatial_momentum() {
+    let sys = Satellite {
+        h: 0.01,
+        j1: 2.0,
+        j2: 3.0,
+        j3: 4.0,
+        jw: 0.5,
+        u: 0.0,
+    };
+    let integ = LieIntegrator::new(sys, NewtonOptions::default());
+    let s0 = sys.state(
+        &SatelliteConfig {
+            r: cayley(&Vector3::new(0.1, 0.2, -0.3)),
+            phi: 0.0,
+        },
+        &SatelliteMomentum {
+            r: Vector3::new(0.4, -0.2, 1.0),
+            phi: 0.7,
+        },
+    );
+    let pi0 = integ.spatial_momentum(&s0);
+    // A feedback law: the motor torque from the time and the state.
+    let law = |_k: usize, t: f64, s: &LieState<10, 4>, u: &mut [f64]| {
+        u[0] = (2.0 * t).sin() - 0.1 * s.p[3]
+    };
+    let traj = integ.run(s0).steps(2000).feedback(law).collect().unwrap();
+    let mut worst_pi: f64 = 0.0;
+    let mut worst_wheel: f64 = 0.0;
+    for k in 0..2000 {
+        let (a, b) = (&traj.states[k], &traj.states[k + 1]);
+        let mut u = [0.0];
+        law(k, traj.times[k], a, &mut u);
+        // p_φ changes by f_d^− + f_d^+ = h u exactly (the Lagrangian does not read φ).
+        worst_wheel = worst_wheel.max((b.p[3] - a.p[3] - sys.h * u[0]).abs());
+        worst_pi = worst_pi.max((integ.spatial_momentum(b) - pi0).norm());
+    }
+    assert!(worst_wheel < 1e-14, "wheel balance {worst_wheel:e}");
+    assert!(
+        worst_pi < 1e-12 * pi0.norm(),
+        "spatial momentum drift {worst_pi:e}"
+    );
+    // The wrong number of controls is a typed error of the step.
+    let rows = [[1.0, 2.0]; 3];
+    let err = integ
+        .run(s0)
+        .steps(3)
+        .controls(ControlSequence::rows(&rows))
+        .collect();
+    assert!(matches!(
+        err.unwrap_err().source,
+        StepError::InvalidControls {
+            expected: 1,
+            found: 2,
+            ..
+        }
+    ));
+}
+
+/// A rigid body driven by a constant torque `τ` fixed in the body: continuous form.
+#[reduced_lagrangian(rotation(r), rule = trapezoid,
+    force = |dq| t1 * dq.r.x + t2 * dq.r.y + t3 * dq.r.z)]
+#[allow(clippy::too_many_arguments)]
+fn torqued(q: Config, v: Velocity, j1: f64, j2: f64, j3: f64, t1: f64, t2: f64, t3: f64) -> f64 {
+    let _ = q.r;
+    0.5 * (j1 * v.r.x * v.r.x + j2 * v.r.y * v.r.y + j3 * v.r.z * v.r.z)
+}
+
+#[test]
+fn a_body_torque_obeys_the_forced_noether_balance_step_by_step() {
+    let sys = Torqued {
+        h: 0.01,
+        j1: 1.0,
+        j2: 2.0,
+        j3: 3.0,
+        t1: 0.3,
+        t2: -0.2,
+        t3: 0.5,
+    };
+    let integ = LieIntegrator::new(sys, NewtonOptions::default());
+    let s0 = sys.state(
+        &TorquedConfig {
+            r: cayley(&Vector3::new(0.2, -0.1, 0.4)),
+        },
+        &TorquedMomentum {
+            r: Vector3::new(0.3, 1.0, -0.2),
+        },
+    );
+    let traj = integ.run(s0).steps(1000).collect().unwrap();
+    let tau = Vector3::new(sys.t1, sys.t2, sys.t3);
+    let mut worst: f64 = 0.0;
+    for w in traj.states.windows(2) {
+        // π_{k+1} − π_k = R_k f_d^− + R_{k+1} f_d^+ with f_d^± = (h/2) τ (the trapezoid rule).
+        let (ra, rb) = (sys.config(&w[0]).r, sys.config(&w[1]).r);
+        let impulse = (ra + rb) * tau * (0.5 * sys.h);
+        let balance = integ.spatial_momentum(&w[1]) - integ.spatial_momentum(&w[0]) - impulse;
+        worst = worst.max(balance.amax());
+    }
+    assert!(worst < 1e-14, "forced Noether balance off by {worst:e}");
 }

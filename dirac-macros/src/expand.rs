@@ -108,6 +108,9 @@ fn expand_lie(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> {
         rule,
         spec.as_ref().is_some_and(|s| s.rule_written),
     );
+    if let (Some(spec), Some(sig)) = (&spec, &sig) {
+        crate::ast::signature::check_controls(&cx, &spec.controls, sig);
+    }
     let (spec, sig) = cx.finish(spec.zip(sig))?;
     let cx = Ctxt::new();
     let names = Names {
@@ -131,7 +134,46 @@ fn expand_lie(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> {
         }
         None => body,
     };
-    let code = crate::ir::lie::compile(&mut graph, &spec, body, compile::mode_for(spec.n()));
+    // The forces, in the displacement symbols of each coordinate.
+    let forces = match &spec.force {
+        None => None,
+        Some(closure) => {
+            let names = Names {
+                q0: &sig.q0,
+                q1: &sig.q1,
+                coords: spec.lowering_coords(),
+                params: sig.params.iter().map(ToString::to_string).collect(),
+                dq: Vec::new(),
+            };
+            let cx = Ctxt::new();
+            let parts = crate::ir::force::lower_parts(
+                &cx,
+                &mut graph,
+                closure,
+                names,
+                spec.velocity_len(),
+                !sig.continuous,
+            );
+            let parts = cx.finish(parts)?;
+            Some(match spec.rule.as_ref().filter(|_| sig.continuous) {
+                Some(&(_, rule)) => {
+                    let step = sig.params.iter().position(|p| *p == sig.step);
+                    let h = graph.var(crate::ir::graph::Sym::Param(
+                        step.expect("the step is a parameter"),
+                    ));
+                    crate::ir::lie::discretize_force(&mut graph, &spec, &parts[0], rule, h)
+                }
+                None => (parts[0].clone(), parts[1].clone()),
+            })
+        }
+    };
+    let code = crate::ir::lie::compile(
+        &mut graph,
+        &spec,
+        body,
+        forces.as_ref(),
+        compile::mode_for(spec.n()),
+    );
     Ok(crate::codegen::lie::generate(
         &spec, &sig, func, &graph, &code,
     ))

@@ -126,6 +126,9 @@ pub trait LieLagrangian<const P: usize, const N: usize>: Clone + Send + Sync + '
     const COORDINATES: &'static [(&'static str, CoordinateKind)];
     /// Names of the scalar parameters, in declaration order.
     const PARAMETERS: &'static [&'static str];
+    /// Names of the controls (`controls(..)` in the attribute): parameters a control law sets
+    /// before every step, in the order a control vector lists them.
+    const CONTROLS: &'static [&'static str] = &[];
 
     /// The linear algebra of the steps: dense LU on the stack for small `N`.
     type Linear: LinearSolver<Vector = SVector<f64, N>>;
@@ -145,6 +148,13 @@ pub trait LieLagrangian<const P: usize, const N: usize>: Clone + Send + Sync + '
 
     /// The parameter values, in the order of [`Self::PARAMETERS`].
     fn parameter_values(&self) -> Vec<f64>;
+
+    /// The same system with its controls set to `u` (in the order of [`Self::CONTROLS`]; the
+    /// caller checks the length).
+    fn with_controls(&self, u: &[f64]) -> Self {
+        let _ = u;
+        self.clone()
+    }
 
     /// The point `φ_q(z)` of the chart centred at `q`.
     fn retract(&self, q: &SVector<f64, P>, z: &SVector<f64, N>) -> SVector<f64, P>;
@@ -352,6 +362,38 @@ where
         worst
     }
 
+    /// The system of step `k`: `None` (the system itself) for its own step without controls,
+    /// otherwise a copy at step `h` with the controls `u` set; the typed error of step `k` for
+    /// controls of the wrong number or not finite.
+    fn system_at(&self, k: usize, h: f64, u: &[f64]) -> Result<Option<L>, StepError> {
+        if u.is_empty() && same_step(h, self.system.time_step()) {
+            return Ok(None);
+        }
+        let mut system = if u.is_empty() {
+            self.system.clone()
+        } else {
+            if u.len() != L::CONTROLS.len() {
+                return Err(StepError::InvalidControls {
+                    step: k,
+                    expected: L::CONTROLS.len(),
+                    found: u.len(),
+                });
+            }
+            if u.iter().any(|v| !v.is_finite()) {
+                return Err(StepError::NonFinite {
+                    step: k,
+                    what: "the controls",
+                    residual: f64::NAN,
+                });
+            }
+            self.system.with_controls(u)
+        };
+        if !same_step(h, system.time_step()) {
+            system = system.with_time_step(h);
+        }
+        Ok(Some(system))
+    }
+
     /// The step of size `h` from `state`, Newton starting at `guess` for the chart coordinate of
     /// the next point.
     fn solve_step(
@@ -361,8 +403,9 @@ where
         h: f64,
         state: &LieState<P, N>,
         guess: &SVector<f64, N>,
+        u: &[f64],
     ) -> Result<(LieState<P, N>, SVector<f64, N>, StepStats), StepError> {
-        let owned = (!same_step(h, self.system.time_step())).then(|| self.system.with_time_step(h));
+        let owned = self.system_at(k, h, u)?;
         let sys = owned.as_ref().unwrap_or(&self.system);
         let (q, p) = (&state.q, &state.p);
         let rho = inf_norm(p);
@@ -449,6 +492,10 @@ where
         Ok(())
     }
 
+    fn control_dim(&self) -> usize {
+        L::CONTROLS.len()
+    }
+
     fn workspace(&self) -> Self::Workspace {
         LieWorkspace {
             solver: self.system.linear_solver(),
@@ -466,15 +513,8 @@ where
         state: &LieState<P, N>,
         u: &[f64],
     ) -> Result<(LieState<P, N>, StepStats), StepError> {
-        if !u.is_empty() {
-            return Err(StepError::InvalidControls {
-                step: k,
-                expected: 0,
-                found: u.len(),
-            });
-        }
         let guess = predicted_increment(&workspace.history, h).unwrap_or_else(SVector::zeros);
-        let (next, z, stats) = self.solve_step(&mut workspace.solver, k, h, state, &guess)?;
+        let (next, z, stats) = self.solve_step(&mut workspace.solver, k, h, state, &guess, u)?;
         workspace.history.push(z, h);
         Ok((next, stats))
     }

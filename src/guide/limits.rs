@@ -18,8 +18,7 @@
 //! **Symmetries.** Groups act by translation of coordinates: abelian, with a linear connection
 //! of constant `B`. The momentum-level elimination applies for `K ≤ 3` group coordinates.
 //! [Rotation and direction coordinates](super::rotations#limits) are stepped on their group but
-//! not yet reduced by it, and take a discrete Lagrangian without forces, controls or
-//! constraints.
+//! not yet reduced by it, and have no constraints or step sensitivities yet.
 //!
 //! **The body language** is smooth by design: no branches, no calls to your own functions, no
 //! run-time loop bounds or indices (see [Writing a Lagrangian](super::lagrangians#the-attribute)),

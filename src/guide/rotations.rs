@@ -124,6 +124,19 @@
 //!   angular momentum use [`LieIntegrator::spatial_momentum`](crate::LieIntegrator::spatial_momentum),
 //!   `π = Σ R Π + Σ n × P`.
 //!
+//! ## Forces, torques and controls
+//!
+//! `force = |dq| W` (with a rule) or `force = |dq0, dq1| W` (a discrete Lagrangian) is the virtual
+//! work, as for ordinary coordinates, with the virtual displacement of a rotation read as the
+//! algebra element `η` of `δR = R η̂` — so `τ.dot(&dq.r)` is the work of a torque `τ` in the body
+//! frame — of a direction as the tangent vector `δn`, and of a scalar as `δx`. The forced step is
+//! `p_k = −D1 L_d − f_d^−`, `p_{k+1} = D2 L_d + f_d^+` in the charts of `q_k` and `q_{k+1}`, and
+//! the discrete Noether balance `π_{k+1} − π_k = R_k f_d^− + R_{k+1} f_d^+` holds to round-off.
+//! `controls(u, ..)` names parameters a control law sets before every step
+//! (`.feedback(..)`, `.controls(..)` on the run). The satellite of
+//! [`crate::systems::rotations`] drives its wheel with a motor torque `u`: the wheel's momentum
+//! moves by `h u` per step to round-off while the satellite's spatial angular momentum stays put.
+//!
 //! ## Ready-made systems
 //!
 //! [`crate::systems::rotations`] has the free rigid body, the heavy top (the Lagrange top, and the
@@ -136,9 +149,9 @@
 //! ## Limits
 //!
 //! Systems with rotation or direction coordinates take a discrete Lagrangian or a continuous one
-//! with the trapezoid, left or right rule, scalar coordinates beside them, and `step` and
-//! `name`. Not yet available for
-//! them: declared translations and their reduction, reduction by rotations, forces and controls,
-//! constraints, step sensitivities, the (−) side, and Parquet output (`dirac-io`). Above 16
-//! dimensions the step runs on the sparse backend, as every other system does. A rotation's momentum map is kept to round-off; it is not copied
-//! bit for bit as the reduced integrators copy `μ`.
+//! with the trapezoid, left or right rule, scalar coordinates beside them, forces, controls,
+//! `step` and `name`. Not yet available for them: declared translations and their reduction,
+//! reduction by rotations, constraints, step sensitivities, the (−) side, and Parquet output
+//! (`dirac-io`). Above 16 dimensions the step runs on the sparse backend, as every other system
+//! does. A rotation's momentum map is kept to round-off; it is not copied bit for bit as the
+//! reduced integrators copy `μ`.

@@ -54,13 +54,24 @@ impl HeavyTop {
 
 /// A satellite with a reaction wheel: a rigid body (principal moments `j1, j2, j3`, wheel
 /// included) and a wheel of axial moment `jw` spinning about the body's third axis by the angle
-/// `phi`. With the body's discrete angular velocity `ω = vee(F − Fᵀ)/(2h)` (the Cayley
-/// parameter of `F` to second order),
-/// `L_d = tr((I − F) J_d)/h + (h/2) jw (ω_3 + Δφ/h)²`, `Δφ = φ1 − φ0`. Invariant under the
-/// rotation of the satellite in space (`π` conserved) and under the wheel's own rotation (its
-/// momentum `p_φ` conserved).
-#[reduced_lagrangian(rotation(r), shape(phi))]
-pub fn satellite(q0: Config, q1: Config, h: f64, j1: f64, j2: f64, j3: f64, jw: f64) -> f64 {
+/// `phi`, driven by the motor torque `u` (a control). With the body's discrete angular velocity
+/// `ω = vee(F − Fᵀ)/(2h)` (the Cayley parameter of `F` to second order),
+/// `L_d = tr((I − F) J_d)/h + (h/2) jw (ω_3 + Δφ/h)²`, `Δφ = φ1 − φ0`, and the motor's virtual
+/// work `(h/2) u (δφ0 + δφ1)` (the trapezoid rule on `u δφ`). The motor is internal: the
+/// satellite's spatial angular momentum `π` is kept whatever `u` does, while the wheel's
+/// momentum `p_φ` changes by exactly `h u` per step.
+#[reduced_lagrangian(rotation(r), shape(phi), controls(u), force = |dq0, dq1| 0.5 * h * u * (dq0.phi + dq1.phi))]
+#[allow(clippy::too_many_arguments)]
+pub fn satellite(
+    q0: Config,
+    q1: Config,
+    h: f64,
+    j1: f64,
+    j2: f64,
+    j3: f64,
+    jw: f64,
+    u: f64,
+) -> f64 {
     let jd = Matrix3::from_diagonal(&Vector3::new(j2 + j3 - j1, j1 + j3 - j2, j1 + j2 - j3)) * 0.5;
     let f = q0.r.transpose() * q1.r;
     let omega3 = 0.5 * (f[(1, 0)] - f[(0, 1)]) / h;

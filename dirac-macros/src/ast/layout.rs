@@ -224,6 +224,7 @@ impl Layout {
                     components: comps,
                     matrix: None,
                     velocity: None,
+                    displacement: None,
                 }
             })
             .collect()
@@ -271,6 +272,10 @@ pub struct CoordName {
     /// coordinate: its shape (`1 × 1` for a scalar, `3 × 1` for a rotation's body angular
     /// velocity or a direction's velocity) and the indices of its velocity symbols.
     pub velocity: Option<(usize, usize, Vec<usize>)>,
+    /// What a force's virtual displacement reads for this coordinate on rotation groups: a
+    /// rotation's `η` (`δR = R η̂`), a direction's tangent vector `δn`, a scalar's `δx`, with
+    /// the indices of their displacement symbols.
+    pub displacement: Option<(usize, usize, Vec<usize>)>,
 }
 
 impl CoordName {
@@ -285,6 +290,7 @@ impl CoordName {
                 components: vec![Component::Var(i)],
                 matrix: None,
                 velocity: None,
+                displacement: None,
             })
             .collect()
     }

@@ -21,12 +21,13 @@ use syn::{Expr, Ident, Token};
 use crate::ast::layout::CoordName;
 use crate::ast::rule::Rule;
 use crate::ctxt::Ctxt;
-use crate::symbol::{self, KeyArg, DIRECTION, NAME, ROTATION, RULE, SHAPE, STEP};
+use crate::symbol::{self, KeyArg, CONTROLS, DIRECTION, FORCE, NAME, ROTATION, RULE, SHAPE, STEP};
 
 /// What the attribute of a system on rotation groups accepts, for messages.
 pub const LIE_KEYS: &str = "`rotation(R, ...)` (rotation matrices), `direction(n, ...)` (unit \
 vectors), `shape(x, ...)` (scalar coordinates), `rule = trapezoid | left | right` (for \
-`L(q: Config, v: Velocity, ...)`), `step = <parameter>`, `name = <TypeName>`";
+`L(q: Config, v: Velocity, ...)`), `force = |dq| ...` (or `|dq0, dq1|` for a discrete \
+Lagrangian), `controls(u, ...)`, `step = <parameter>`, `name = <TypeName>`";
 
 /// What a coordinate is (the runtime's `CoordinateKind`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -84,6 +85,11 @@ pub struct LieSpec {
     pub rule: Option<(Ident, Rule)>,
     /// Whether `rule = ..` was written (even if rejected: no follow-on error then).
     pub rule_written: bool,
+    /// `force = |dq| W` or `|dq0, dq1| W`: the virtual work, whose displacements read a
+    /// rotation's `η` (`δR = R η̂`, body frame), a direction's tangent `δn`, a scalar's `δx`.
+    pub force: Option<syn::ExprClosure>,
+    /// `controls(u, ..)`: parameters a control law sets before every step.
+    pub controls: Vec<Ident>,
 }
 
 impl LieSpec {
@@ -127,7 +133,8 @@ impl LieSpec {
                     len: None,
                     components: vec![crate::ast::layout::Component::Var(p)],
                     matrix,
-                    velocity: self.rule.is_some().then_some(velocity),
+                    velocity: self.rule.is_some().then_some(velocity.clone()),
+                    displacement: Some(velocity),
                 }
             })
             .collect()
@@ -170,6 +177,7 @@ impl Parse for LieItem {
 pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
     let items = symbol::parse_args::<LieItem>(cx, args)?;
     let (mut coords, mut step, mut name, mut rule) = (Vec::<LieCoord>::new(), None, None, None);
+    let (mut force, mut controls) = (None, Vec::new());
     let (mut point, mut chart, mut velocity) = (0, 0, 0);
     for LieItem(item) in &items {
         let key = item.key();
@@ -243,6 +251,21 @@ pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
                     ),
                 }
             }
+            (None, KeyArg::Value(_, Expr::Closure(c))) if key == FORCE => force = Some(c.clone()),
+            (None, KeyArg::List(_, list)) if key == CONTROLS => {
+                for e in list {
+                    match e {
+                        Expr::Path(p) if p.path.get_ident().is_some() => {
+                            controls.push(p.path.get_ident().expect("checked").clone());
+                        }
+                        other => cx.error_spanned_by(other, "expected a parameter name"),
+                    }
+                }
+            }
+            (None, _) if key == FORCE => cx.error_spanned_by(
+                key,
+                format!("expected `force = |dq| <virtual work>`; accepted: {LIE_KEYS}"),
+            ),
             (None, _) if key == STEP || key == NAME || key == RULE => cx.error_spanned_by(
                 key,
                 format!("expected `{key} = <name>`; accepted: {LIE_KEYS}"),
@@ -277,6 +300,8 @@ pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
         name,
         rule,
         rule_written,
+        force,
+        controls,
     })
 }
 

@@ -58,6 +58,9 @@ pub fn generate(
     let fn_name = &func.sig.ident;
     let fn_params = sig.fn_params();
     let param_names: Vec<String> = params.iter().map(Ident::to_string).collect();
+    let controls = &spec.controls;
+    let control_names: Vec<String> = controls.iter().map(Ident::to_string).collect();
+    let control_index = 0..controls.len();
     let coords: Vec<TokenStream> = spec
         .coords
         .iter()
@@ -73,10 +76,21 @@ pub fn generate(
     );
     let allow = lints::generated();
     let velocity = format_ident!("{}Velocity", ty);
+    // Parameters the body does not read (only the force does) are still arguments of the
+    // function; mark them used there.
+    let read = g.symbols(&[code.lagrangian]);
+    let touch: Vec<Ident> = params
+        .iter()
+        .enumerate()
+        .filter(|&(i, p)| {
+            !read.contains(&Sym::Param(i)) && sig.fn_params().contains(p) && *p != sig.step
+        })
+        .map(|(_, p)| p.clone())
+        .collect();
     let user_fn = if sig.continuous {
-        continuous_user_function(func, &config, &velocity)
+        continuous_user_function(func, &config, &velocity, &touch)
     } else {
-        user_function(func, &config, false, &[], false)
+        user_function(func, &config, false, &touch, false)
     };
     let params_item = param_struct(sig, func, &ty);
     let mut structs = config_and_momentum(spec, func, &ty, &config, &momentum);
@@ -163,6 +177,7 @@ pub fn generate(
         impl #rt::LieLagrangian<#p, #n> for #ty {
             const COORDINATES: &'static [(&'static str, #rt::lie::CoordinateKind)] = &[ #( #coords ),* ];
             const PARAMETERS: &'static [&'static str] = &[ #( #param_names ),* ];
+            const CONTROLS: &'static [&'static str] = &[ #( #control_names ),* ];
             type Linear = #solver;
 
             fn linear_solver(&self) -> Self::Linear {
@@ -185,6 +200,14 @@ pub fn generate(
 
             fn parameter_values(&self) -> ::std::vec::Vec<f64> {
                 ::std::vec![ #( self.#params ),* ]
+            }
+
+            #[allow(unused_variables, reason = "a system without controls ignores `u`")]
+            fn with_controls(&self, u: &[f64]) -> Self {
+                #[allow(unused_mut, reason = "a system without controls changes nothing")]
+                let mut system = *self;
+                #( system.#controls = u[#control_index]; )*
+                system
             }
 
             fn retract(&self, q_k: &#na::SVector<f64, #p>, z: &#na::SVector<f64, #n>) -> #na::SVector<f64, #p> {
@@ -350,15 +373,27 @@ fn config_and_momentum(
 }
 
 /// The user's continuous `L(q: Config, v: Velocity, ..)` with the emitted types.
-fn continuous_user_function(func: &ItemFn, config: &Ident, velocity: &Ident) -> TokenStream {
+fn continuous_user_function(
+    func: &ItemFn,
+    config: &Ident,
+    velocity: &Ident,
+    touch: &[Ident],
+) -> TokenStream {
     let mut func = func.clone();
+    for p in touch.iter().rev() {
+        func.block.stmts.insert(0, syn::parse_quote!(let _ = #p;));
+    }
     for (input, ty) in func.sig.inputs.iter_mut().zip([config, velocity]) {
         if let syn::FnArg::Typed(pt) = input {
             *pt.ty = syn::parse_quote!(#ty);
         }
     }
     let allow = lints::user_function();
-    quote! { #allow #func }
+    quote! {
+        #allow
+        #[allow(dead_code, reason = "the step reads L through the compiled L_d; the function stays callable")]
+        #func
+    }
 }
 
 /// `<Name>Velocity`: what a continuous Lagrangian's `v` holds.

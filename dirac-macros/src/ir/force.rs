@@ -69,10 +69,28 @@ pub fn lower(
     n: usize,
     form: Form,
 ) -> Option<Forces> {
-    let expected = match form {
-        Form::Continuous { .. } => 1,
-        Form::Discrete => 2,
-    };
+    let parts = lower_parts(cx, g, closure, names, n, matches!(form, Form::Discrete))?;
+    Some(match form {
+        Form::Discrete => Forces {
+            minus: parts[0].clone(),
+            plus: parts[1].clone(),
+        },
+        Form::Continuous { rule, h } => discretize(g, &parts[0], n, h, rule),
+    })
+}
+
+/// Lowers `force = |..| W` and differentiates `W` in its `n` virtual displacements of each
+/// argument: `[∂W/∂dq]` (`discrete` false: `|dq|`) or `[∂W/∂dq0, ∂W/∂dq1]`, with `W` checked
+/// to be linear in them; `None` after errors, all recorded in `cx`.
+pub fn lower_parts(
+    cx: &Ctxt,
+    g: &mut Graph,
+    closure: &ExprClosure,
+    names: Names,
+    n: usize,
+    discrete: bool,
+) -> Option<Vec<Vec<NodeId>>> {
+    let expected = if discrete { 2 } else { 1 };
     let dq = closure_args(cx, closure, expected)?;
     let names = Names { dq, ..names };
     let w = Lowering::new(g, cx, &names).scalar_expr(&closure.body, "the virtual work")?;
@@ -100,13 +118,7 @@ pub fn lower(
         );
         return None;
     }
-    Some(match form {
-        Form::Discrete => Forces {
-            minus: parts[0].clone(),
-            plus: parts[1].clone(),
-        },
-        Form::Continuous { rule, h } => discretize(g, &parts[0], n, h, rule),
-    })
+    Some(parts)
 }
 
 /// The closure's argument names, `expected` of them, each a plain name or `name: Config`.

@@ -27,6 +27,58 @@ use crate::ir::reduce::{firsts, Mode, Stepper};
 /// The lowered `L` reads the configuration as `Q0` and the velocity as `Q1` (indexed by the
 /// coordinates' velocity offsets).
 pub fn discretize(g: &mut Graph, spec: &LieSpec, l: NodeId, rule: Rule, h: NodeId) -> NodeId {
+    let v = velocities(g, spec, h);
+    match rule {
+        Rule::Left => {
+            let l0 = at_end(g, l, 0, &v);
+            g.mul(h, l0)
+        }
+        Rule::Right => {
+            let l1 = at_end(g, l, 1, &v);
+            g.mul(h, l1)
+        }
+        Rule::Trapezoid | Rule::Midpoint => {
+            let (l0, l1) = (at_end(g, l, 0, &v), at_end(g, l, 1, &v));
+            let sum = g.add(l0, l1);
+            let half = g.constant(0.5);
+            let hh = g.mul(half, h);
+            g.mul(hh, sum)
+        }
+    }
+}
+
+/// The discrete forces `(f_d^−, f_d^+)` of a continuous force `F(q, v)` (one node per
+/// displacement symbol) by the rule's own quadrature of the virtual work, as for ordinary
+/// coordinates: trapezoid `(h/2) F(q0, v)`, `(h/2) F(q1, v)`; left `h F(q0, v)`, 0; right 0,
+/// `h F(q1, v)`.
+pub fn discretize_force(
+    g: &mut Graph,
+    spec: &LieSpec,
+    f: &[NodeId],
+    rule: Rule,
+    h: NodeId,
+) -> (Vec<NodeId>, Vec<NodeId>) {
+    let v = velocities(g, spec, h);
+    let zero = g.constant(0.0);
+    let half = g.constant(0.5);
+    let half_h = g.mul(half, h);
+    let scaled = |g: &mut Graph, end: usize, w: NodeId| -> Vec<NodeId> {
+        f.iter()
+            .map(|&fi| {
+                let at = at_end(g, fi, end, &v);
+                g.mul(w, at)
+            })
+            .collect()
+    };
+    match rule {
+        Rule::Left => (scaled(g, 0, h), vec![zero; f.len()]),
+        Rule::Right => (vec![zero; f.len()], scaled(g, 1, h)),
+        Rule::Trapezoid | Rule::Midpoint => (scaled(g, 0, half_h), scaled(g, 1, half_h)),
+    }
+}
+
+/// Each coordinate's velocity over the step, by velocity symbol.
+fn velocities(g: &mut Graph, spec: &LieSpec, h: NodeId) -> Vec<NodeId> {
     let mut velocity = vec![None; spec.velocity_len()];
     let inv_h = {
         let one = g.constant(1.0);
@@ -67,30 +119,43 @@ pub fn discretize(g: &mut Graph, spec: &LieSpec, l: NodeId, rule: Rule, h: NodeI
             }
         }
     }
-    let at = |g: &mut Graph, end: usize| {
-        g.substitute(l, &mut |g, sym| match sym {
-            Sym::Q0(i) if end == 1 => g.var(Sym::Q1(i)),
-            Sym::Q1(i) => velocity[i].expect("every velocity symbol is formed"),
-            other => g.var(other),
-        })
-    };
-    match rule {
-        Rule::Left => {
-            let l0 = at(g, 0);
-            g.mul(h, l0)
-        }
-        Rule::Right => {
-            let l1 = at(g, 1);
-            g.mul(h, l1)
-        }
-        Rule::Trapezoid | Rule::Midpoint => {
-            let (l0, l1) = (at(g, 0), at(g, 1));
-            let sum = g.add(l0, l1);
-            let half = g.constant(0.5);
-            let hh = g.mul(half, h);
-            g.mul(hh, sum)
+    velocity
+        .into_iter()
+        .map(|v| v.expect("every velocity symbol is formed"))
+        .collect()
+}
+
+/// `node` over `q = Q0` and the velocity symbols `Q1`, at the end `end` of the step (`q0` or
+/// `q1`) with the velocities `v`.
+fn at_end(g: &mut Graph, node: NodeId, end: usize, v: &[NodeId]) -> NodeId {
+    g.substitute(node, &mut |g, sym| match sym {
+        Sym::Q0(i) if end == 1 => g.var(Sym::Q1(i)),
+        Sym::Q1(i) => v[i],
+        other => g.var(other),
+    })
+}
+
+/// A force in displacement symbols as a covector of the chart at `point`: a rotation's and a
+/// scalar's components as they are, a direction's `(F·e1, F·e2)` with the frame of `point`.
+fn to_chart(g: &mut Graph, spec: &LieSpec, f: &[NodeId], point: &[NodeId]) -> Vec<NodeId> {
+    let mut out = Vec::with_capacity(spec.n());
+    for c in &spec.coords {
+        let (p, v) = (c.point, c.velocity);
+        match c.kind {
+            Kind::Scalar => out.push(f[v]),
+            Kind::Rotation => out.extend_from_slice(&f[v..v + 3]),
+            Kind::Direction => {
+                for column in 0..2 {
+                    let terms: Vec<NodeId> = (0..3)
+                        .map(|k| g.mul(f[v + k], point[p + 3 * k + column]))
+                        .collect();
+                    let s01 = g.add(terms[0], terms[1]);
+                    out.push(g.add(s01, terms[2]));
+                }
+            }
         }
     }
+    out
 }
 
 /// What a system on rotation groups compiles to.
@@ -273,7 +338,13 @@ fn orthonormal(
 ///
 /// where `F` is the value of each relative rotation `R0ᵀ R1` (exact for rotations, with no
 /// round-off from the stored matrices: `R_kᵀ R_k = I` is used, not computed).
-pub fn compile(g: &mut Graph, spec: &LieSpec, l: NodeId, mode: Mode) -> LieCode {
+pub fn compile(
+    g: &mut Graph,
+    spec: &LieSpec,
+    l: NodeId,
+    forces: Option<&(Vec<NodeId>, Vec<NodeId>)>,
+    mode: Mode,
+) -> LieCode {
     let (p, n) = (spec.p(), spec.n());
     let base: Vec<NodeId> = (0..p).map(|i| g.var(Sym::Base(i))).collect();
     let z: Vec<NodeId> = (0..n).map(|j| g.var(Sym::Chart1(j))).collect();
@@ -327,10 +398,46 @@ pub fn compile(g: &mut Graph, spec: &LieSpec, l: NodeId, mode: Mode) -> LieCode 
         Sym::Rel(i) => rel_momentum[i].expect("Rel reads a rotation coordinate"),
         other => g.var(other),
     });
-    let momentum: Vec<NodeId> = firsts(g, mode, l1, &vary)
+    let mut momentum: Vec<NodeId> = firsts(g, mode, l1, &vary)
         .into_iter()
         .map(|d| at_zero(g, d))
         .collect();
+    // The forced step: p_k = −D1 L_d − f_d^−, p_{k+1} = D2 L_d + f_d^+, each force a covector
+    // of its point's chart, at (q_k, q_{k+1}) with the relative rotations cay(z).
+    let mut residual = residual;
+    if let Some((minus, plus)) = forces {
+        let mut rel_step = vec![None; p];
+        for c in spec.coords.iter().filter(|c| c.kind == Kind::Rotation) {
+            let q = c.chart;
+            let cz = cayley(g, [z[q], z[q + 1], z[q + 2]]);
+            for (i, row) in cz.iter().enumerate() {
+                for (j, &e) in row.iter().enumerate() {
+                    rel_step[c.point + 3 * i + j] = Some(e);
+                }
+            }
+        }
+        let at_step = |g: &mut Graph, f: &[NodeId]| -> Vec<NodeId> {
+            f.iter()
+                .map(|&fi| {
+                    g.substitute(fi, &mut |g, sym| match sym {
+                        Sym::Q0(i) => base[i],
+                        Sym::Q1(i) => next[i],
+                        Sym::Rel(i) => rel_step[i].expect("Rel reads a rotation coordinate"),
+                        other => g.var(other),
+                    })
+                })
+                .collect()
+        };
+        let (minus, plus) = (at_step(g, minus), at_step(g, plus));
+        let minus = to_chart(g, spec, &minus, &base);
+        let plus = to_chart(g, spec, &plus, &next);
+        for (r, f) in residual.iter_mut().zip(minus) {
+            *r = g.add(*r, f);
+        }
+        for (m, f) in momentum.iter_mut().zip(plus) {
+            *m = g.add(*m, f);
+        }
+    }
     let columns: Vec<Vec<NodeId>> = (0..n)
         .map(|c| derivatives(g, &residual, Sym::Chart1(c)))
         .collect();

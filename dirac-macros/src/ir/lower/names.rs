@@ -216,6 +216,15 @@ impl Lowering<'_> {
         if let Some((which, member)) = self.coordinate_field(f) {
             let c = self.coordinate(f, member)?;
             let coord = &self.names.coords[c];
+            if let (2.., Some((r, cols, entries))) = (which, &coord.displacement) {
+                // A force's virtual displacement on rotation groups.
+                let d = if which == 2 { Sym::D0 } else { Sym::D1 };
+                let e: Vec<_> = entries.iter().map(|&i| self.g.var(d(i))).collect();
+                if (*r, *cols) == (1, 1) {
+                    return Some(Value::Scalar(e[0]));
+                }
+                return Some(Value::Mat(super::Mat::new(*r, *cols, e)));
+            }
             if let (1, Some((r, cols, entries))) = (which, &coord.velocity) {
                 // The velocity argument of a continuous Lagrangian on rotation groups.
                 let e: Vec<_> = entries.iter().map(|&i| self.g.var(Sym::Q1(i))).collect();
