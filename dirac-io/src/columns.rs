@@ -1,5 +1,6 @@
 //! What a state and a run are called in a file: the state's columns, named from the annotation
-//! (`#[reduced_lagrangian(shape(..), group(..))]`), and the run's description (time step,
+//! (`#[reduced_lagrangian(shape(..), group(..))]`, or `rotation(..)` and `direction(..)`), and
+//! the run's description (time step,
 //! parameters, Newton options) that goes into the file's key-value metadata.
 
 use dirac::prelude::*;
@@ -102,6 +103,70 @@ impl<const N: usize> StateColumns for UnreducedState<N> {
         state.p.copy_from_slice(&values[N..2 * N]);
         state
     }
+}
+
+/// States on rotation groups ([`LieState`]): the stored point then the momentum, named
+/// `q_<entry>` and `p_<component>`. The names come from [`lie_names`]: a rotation `R` stores
+/// `q_R_00` … `q_R_22` (row by row) and its body momentum `p_R_x`, `p_R_y`, `p_R_z`; a direction
+/// `n` stores its frame `[e1 e2 n]` row by row (`q_n_00` … `q_n_22`, so `n = (q_n_02, q_n_12,
+/// q_n_22)`) and its momentum's components in the frame, `p_n_1`, `p_n_2`; a scalar `x` stores
+/// `q_x` and `p_x`. Every entry is written, so a state reads back bit for bit.
+impl<const P: usize, const N: usize> StateColumns for LieState<P, N> {
+    const WIDTH: usize = P + N;
+
+    /// `point` and `chart` are the names of the point's entries and of the momentum's
+    /// components ([`lie_names`]).
+    fn column_names(point: &[&str], chart: &[&str]) -> Vec<String> {
+        assert_eq!(
+            (point.len(), chart.len()),
+            (P, N),
+            "names of another system"
+        );
+        prefixed("q", point).chain(prefixed("p", chart)).collect()
+    }
+
+    fn write_to(&self, out: &mut [f64]) {
+        out[..P].copy_from_slice(self.q.as_slice());
+        out[P..P + N].copy_from_slice(self.p.as_slice());
+    }
+
+    fn read_from(values: &[f64]) -> Self {
+        let mut state = LieState::<P, N> {
+            q: SVector::zeros(),
+            p: SVector::zeros(),
+        };
+        state.q.copy_from_slice(&values[..P]);
+        state.p.copy_from_slice(&values[P..P + N]);
+        state
+    }
+}
+
+/// The names of a stored point's entries and of the momentum's components of a system on
+/// rotation groups (see [`LieState`]'s columns).
+pub fn lie_names(coordinates: &[(&str, CoordinateKind)]) -> (Vec<String>, Vec<String>) {
+    let (mut point, mut chart) = (Vec::new(), Vec::new());
+    for &(name, kind) in coordinates {
+        match kind {
+            CoordinateKind::Scalar => {
+                point.push(name.to_owned());
+                chart.push(name.to_owned());
+            }
+            CoordinateKind::Rotation | CoordinateKind::Direction => {
+                for i in 0..3 {
+                    for j in 0..3 {
+                        point.push(format!("{name}_{i}{j}"));
+                    }
+                }
+                let components: &[&str] = if kind == CoordinateKind::Rotation {
+                    &["x", "y", "z"]
+                } else {
+                    &["1", "2"]
+                };
+                chart.extend(components.iter().map(|c| format!("{name}_{c}")));
+            }
+        }
+    }
+    (point, chart)
 }
 
 /// A run as a file describes it: the state's column names, the time step, the parameters by
@@ -257,6 +322,37 @@ where
         RunInfo::of_system::<UnreducedState<N>, L, S, K, N>(self.system())
             .with_newton(self.options())
             .with("dirac.integrator", "unreduced (Definitions 2.7/2.8)")
+    }
+}
+
+impl<L, const P: usize, const N: usize> Describe for LieIntegrator<L, P, N>
+where
+    L: LieLagrangian<P, N>,
+{
+    fn describe(&self) -> RunInfo {
+        let system = self.system();
+        let (point, chart) = lie_names(L::COORDINATES);
+        let point: Vec<&str> = point.iter().map(String::as_str).collect();
+        let chart: Vec<&str> = chart.iter().map(String::as_str).collect();
+        let kinds: Vec<String> = L::COORDINATES
+            .iter()
+            .map(|(name, kind)| format!("{name}:{kind:?}"))
+            .collect();
+        RunInfo {
+            columns: LieState::<P, N>::column_names(&point, &chart),
+            h: system.time_step(),
+            parameters: L::PARAMETERS
+                .iter()
+                .map(|p| (*p).to_owned())
+                .zip(system.parameter_values())
+                .collect(),
+            metadata: vec![("dirac.coordinates".into(), kinds.join(","))],
+        }
+        .with_newton(self.options())
+        .with(
+            "dirac.integrator",
+            "Lie group variational (Cayley retraction)",
+        )
     }
 }
 

@@ -87,7 +87,7 @@ pub mod read;
 pub mod shard;
 pub mod table;
 
-pub use columns::{Describe, RunInfo, StateColumns};
+pub use columns::{lie_names, Describe, RunInfo, StateColumns};
 pub use ensemble::{write_ensemble, EnsembleOutput};
 pub use error::{Error, Result};
 pub use observer::{Options, ParquetObserver, Resumed};
