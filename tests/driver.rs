@@ -548,3 +548,38 @@ fn a_foreign_workspace_or_chart_index_is_a_typed_error() {
     .unwrap_or_else(|_| "a panic".to_string());
     assert!(got.starts_with("Err(InvalidAtlas"), "{got}");
 }
+
+#[test]
+fn integrators_on_rotation_groups_get_the_one_driver() {
+    use dirac::systems::rotations::{RigidBody, RigidBodyConfig, RigidBodyMomentum};
+    let sys = RigidBody {
+        h: 0.02,
+        j1: 1.0,
+        j2: 2.0,
+        j3: 3.0,
+    };
+    let starts: Vec<_> = [0.1, 0.5, 0.9]
+        .iter()
+        .map(|&a| {
+            sys.state(
+                &RigidBodyConfig {
+                    r: dirac::lie::cayley(&Vector3::new(a, -0.2, 0.3)),
+                },
+                &RigidBodyMomentum {
+                    r: Vector3::new(0.3, 1.0, -a),
+                },
+            )
+        })
+        .collect();
+    let integ = LieIntegrator::new(sys, NewtonOptions::default());
+    the_driver_is_one(&integ, &starts, 30);
+    the_driver_is_one(
+        &Composition::new(integ.clone(), CompositionMethod::TRIPLE_JUMP),
+        &starts,
+        30,
+    );
+    // An end time that is not a multiple of h is reached exactly, by a shortened last step.
+    let traj = integ.run(starts[0]).end_time(0.55).collect().unwrap();
+    assert_eq!(*traj.times.last().unwrap(), 0.55);
+    assert_eq!(traj.steps(), 28);
+}

@@ -121,7 +121,12 @@ fn expand_lie(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> {
         dq: Vec::new(),
     };
     let mut graph = Graph::default();
-    let body = Lowering::new(&mut graph, &cx, &names).body(&func.block);
+    let mut lowering = Lowering::new(&mut graph, &cx, &names);
+    let body = lowering.body(&func.block);
+    let skew = lowering.skew_checks().to_vec();
+    if body.is_some() {
+        crate::ir::lie::check_skew(&cx, &graph, &spec, &skew);
+    }
     let body = cx.finish(body)?;
     // A continuous L(q, v): L_d by its rule.
     let body = match spec.rule.as_ref().filter(|_| sig.continuous) {

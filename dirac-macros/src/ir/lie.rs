@@ -455,3 +455,80 @@ pub fn compile(
         },
     }
 }
+
+/// `cay(x)` in plain arithmetic, row by row (for the sample configurations).
+fn cayley_value(x: [f64; 3]) -> [[f64; 3]; 3] {
+    let n2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
+    let alpha = 4.0 / (4.0 + n2);
+    let hat = [[0.0, -x[2], x[1]], [x[2], 0.0, -x[0]], [-x[1], x[0], 0.0]];
+    let mut m = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            let diag = if i == j { 1.0 - 0.5 * alpha * n2 } else { 0.0 };
+            m[i][j] = diag + alpha * hat[i][j] + 0.5 * alpha * x[i] * x[j];
+        }
+    }
+    m
+}
+
+/// Checks that every `vee(&m)` of the body reads a skew-symmetric `m` (an element of `so(3)`):
+/// `m + mᵀ` at three sample configurations — rotations, frames of directions and relative
+/// rotations consistent with each other, scalars and velocities arbitrary, parameters
+/// positive — must vanish to round-off. The runtime's `vee` takes the skew part of any matrix;
+/// a body that hands it a matrix with a symmetric part has almost always mistaken one matrix for
+/// another (`vee(&f)` for `vee(&(f − fᵀ))/2`), so that is a compile error at the argument.
+pub fn check_skew(
+    cx: &crate::ctxt::Ctxt,
+    g: &Graph,
+    spec: &LieSpec,
+    checks: &[(Vec<NodeId>, proc_macro2::Span)],
+) {
+    for sample in 0..3 {
+        let t = sample as f64;
+        let mut point = [vec![0.0; spec.p()], vec![0.0; spec.p()]];
+        let mut rel = vec![0.0; spec.p()];
+        for c in &spec.coords {
+            let p = c.point;
+            match c.kind {
+                Kind::Scalar => {
+                    point[0][p] = 0.3 + 0.2 * t;
+                    point[1][p] = -0.4 + 0.1 * t;
+                }
+                Kind::Rotation | Kind::Direction => {
+                    let r0 = cayley_value([0.3 + t, -0.5, 0.2 * t + 0.1]);
+                    let r1 = cayley_value([-0.2, 0.4 + 0.3 * t, 0.6]);
+                    for i in 0..3 {
+                        for j in 0..3 {
+                            point[0][p + 3 * i + j] = r0[i][j];
+                            point[1][p + 3 * i + j] = r1[i][j];
+                            rel[p + 3 * i + j] = (0..3).map(|k| r0[k][i] * r1[k][j]).sum();
+                        }
+                    }
+                }
+            }
+        }
+        let value = |sym: Sym| match sym {
+            Sym::Q0(i) => point[0].get(i).copied().unwrap_or(0.7 - 0.1 * i as f64),
+            // A continuous Lagrangian reads its velocities as Q1: any values serve.
+            Sym::Q1(i) => point[1].get(i).copied().unwrap_or(0.5 + 0.1 * i as f64),
+            Sym::Rel(i) => rel[i],
+            Sym::Param(i) => 0.9 + 0.07 * i as f64 + 0.1 * t,
+            _ => 0.3 + 0.05 * t,
+        };
+        for (entries, span) in checks {
+            let values = g.eval(entries, &value);
+            let scale = values.iter().fold(1.0_f64, |m, v| m.max(v.abs()));
+            if let Some(v) = values.iter().find(|v| v.abs() > 1e-9 * scale) {
+                cx.error_at(
+                    *span,
+                    format!(
+                        "`vee` needs a skew-symmetric matrix (an element of so(3)), but this one has a symmetric part \
+                         (an entry of `m + mᵀ` is {v:.3e} at a sample configuration): write the skew part you mean, \
+                         e.g. `vee(&(m - m.transpose())) * 0.5`"
+                    ),
+                );
+                return;
+            }
+        }
+    }
+}

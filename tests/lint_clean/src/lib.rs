@@ -95,7 +95,7 @@ pub fn grid_and_pairs(q: Config, v: Velocity, m: f64, s: f64, nx: usize, ny: usi
 pub fn top_and_pendulum(q0: Config, q1: Config, h: f64, j1: f64, j3: f64, mgl: f64, jw: f64) -> f64 {
     let jd = Matrix3::from_diagonal(&Vector3::new(0.5 * j3, 0.5 * j3, j1 - 0.5 * j3));
     let f = q0.r.transpose() * q1.r;
-    let spin = vee(&f).z / h + (q1.phi - q0.phi) / h;
+    let spin = 0.5 * vee(&(f - f.transpose())).z / h + (q1.phi - q0.phi) / h;
     let dn = q1.n - q0.n;
     let up = Vector3::z();
     ((Matrix3::identity() - f) * jd).trace() / h + 0.5 * h * jw * spin * spin + 0.5 * dn.norm_squared() / h

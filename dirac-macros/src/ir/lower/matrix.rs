@@ -408,6 +408,15 @@ impl Lowering<'_> {
             }
             (_, "vee") => match values.into_iter().next().expect("one argument") {
                 Value::Mat(m) if (m.r, m.c) == (3, 3) => {
+                    // `m + mᵀ` must vanish: checked at sample configurations later.
+                    let mut symmetric = Vec::new();
+                    for i in 0..3 {
+                        for j in i..3 {
+                            symmetric.push(self.g.add(m.at(i, j), m.at(j, i)));
+                        }
+                    }
+                    self.skew
+                        .push((symmetric, syn::spanned::Spanned::span(args[0])));
                     // The vector of the skew-symmetric part, as `dirac::lie::vee` computes it.
                     let half = self.g.constant(0.5);
                     let pairs = [((2, 1), (1, 2)), ((0, 2), (2, 0)), ((1, 0), (0, 1))];

@@ -86,6 +86,10 @@ pub struct Lowering<'a> {
     scopes: Vec<HashMap<String, Local>>,
     /// Whether coordinates may appear (false for connection entries).
     allow_coords: bool,
+    /// Each `vee(&m)`: the entries of `m + mᵀ` that must vanish (its argument must be
+    /// skew-symmetric, an element of `so(3)`), and the span of the call, for a check at sample
+    /// configurations once the coordinates' manifolds are known ([`Self::skew_checks`]).
+    skew: Vec<(Vec<NodeId>, proc_macro2::Span)>,
 }
 
 impl<'a> Lowering<'a> {
@@ -96,7 +100,13 @@ impl<'a> Lowering<'a> {
             names,
             scopes: vec![HashMap::new()],
             allow_coords: true,
+            skew: Vec::new(),
         }
+    }
+
+    /// The skew-symmetry obligations of the `vee` calls lowered so far.
+    pub fn skew_checks(&self) -> &[(Vec<NodeId>, proc_macro2::Span)] {
+        &self.skew
     }
 
     /// Lowers the function body; `None` after errors (already recorded).
