@@ -2,6 +2,7 @@
 //! with `rotation(..)` and `direction(..)` coordinates, checked against a hand-written LGVI.
 
 use dirac::lie::{cayley, hat, orthogonality_defect};
+use dirac::nalgebra::{DMatrix, DVector};
 use dirac::prelude::*;
 use dirac::systems::rotations::{
     DspOnSpheres, DspOnSpheresConfig, DspOnSpheresMomentum, HeavyTop, HeavyTopConfig,
@@ -654,4 +655,130 @@ fn a_body_torque_obeys_the_forced_noether_balance_step_by_step() {
         worst = worst.max(balance.amax());
     }
     assert!(worst < 1e-14, "forced Noether balance off by {worst:e}");
+}
+
+/// The columns of a step's sensitivity by central differences on the group: the state is
+/// perturbed in the chart at `s0` (`φ_{q0}(±ε e_j)`, or `p0 ± ε e_j`), the controls by `±ε`, and
+/// each perturbed result is read in the chart at the nominal next point (`w`, and the momenta
+/// in the frame of `φ_{q1}(w)`).
+fn central_differences<L, const P: usize, const N: usize>(
+    integ: &LieIntegrator<L, P, N>,
+    s0: &LieState<P, N>,
+    u: &[f64],
+    eps: f64,
+    momentum_at: impl Fn(&LieState<P, N>, &SVector<f64, P>) -> SVector<f64, N>,
+) -> (DMatrix<f64>, DMatrix<f64>)
+where
+    L: LieLagrangian<P, N>,
+{
+    let (next, _) = integ
+        .step_with(&mut integ.workspace(), 0, integ.time_step(), s0, u)
+        .unwrap();
+    let read = |s: &LieState<P, N>| {
+        let w = integ.chart_coordinates(&next.q, &s.q);
+        let at = integ.system().retract(&next.q, &w);
+        let p = momentum_at(s, &at);
+        let mut v = DVector::zeros(2 * N);
+        v.rows_mut(0, N).copy_from(&w);
+        v.rows_mut(N, N).copy_from(&p);
+        v
+    };
+    let step = |s: &LieState<P, N>, u: &[f64]| {
+        integ
+            .step_with(&mut integ.workspace(), 0, integ.time_step(), s, u)
+            .unwrap()
+            .0
+    };
+    let mut state = DMatrix::zeros(2 * N, 2 * N);
+    for j in 0..2 * N {
+        let shifted = |sign: f64| {
+            let mut s = *s0;
+            if j < N {
+                let mut d = SVector::<f64, N>::zeros();
+                d[j] = sign * eps;
+                s.q = integ.system().retract(&s0.q, &d);
+            } else {
+                s.p[j - N] += sign * eps;
+            }
+            read(&step(&s, u))
+        };
+        state.set_column(j, &((shifted(1.0) - shifted(-1.0)) / (2.0 * eps)));
+    }
+    let mut control = DMatrix::zeros(2 * N, u.len());
+    for j in 0..u.len() {
+        let shifted = |sign: f64| {
+            let mut v = u.to_vec();
+            v[j] += sign * eps;
+            read(&step(s0, &v))
+        };
+        control.set_column(j, &((shifted(1.0) - shifted(-1.0)) / (2.0 * eps)));
+    }
+    (state, control)
+}
+
+#[test]
+fn step_sensitivities_match_central_differences_on_the_group() {
+    // A rotation with a control (the satellite's wheel motor).
+    let sat = Satellite {
+        h: 0.05,
+        j1: 2.0,
+        j2: 3.0,
+        j3: 4.0,
+        jw: 0.5,
+        u: 0.0,
+    };
+    let integ = LieIntegrator::new(sat, tight());
+    let s0 = sat.state(
+        &SatelliteConfig {
+            r: cayley(&Vector3::new(0.1, 0.2, -0.3)),
+            phi: 0.4,
+        },
+        &SatelliteMomentum {
+            r: Vector3::new(0.4, -0.2, 1.0),
+            phi: 0.7,
+        },
+    );
+    let (_, _, sens) = integ.step_sensitivity(0, &s0, &[0.3]).unwrap();
+    let (state, control) = central_differences(&integ, &s0, &[0.3], 1e-6, |s, _| s.p);
+    let d = (&sens.state - &state)
+        .amax()
+        .max((&sens.control - &control).amax());
+    assert!(
+        d < 1e-7 * state.amax(),
+        "satellite: {d:e}\n{}\n{}",
+        sens.state,
+        state
+    );
+    // Two directions: momenta compared in the frame of the point they are read at.
+    let dsp = DspOnSpheres::paper(0.05);
+    let integ = LieIntegrator::new(dsp, tight());
+    let s0 = dsp.paper_initial_state();
+    let (_, _, sens) = integ.step_sensitivity(0, &s0, &[]).unwrap();
+    // Its momenta are ~10⁴ times the positions' scale: a larger step keeps the differences
+    // above the Newton tolerance's noise.
+    let (state, _) =
+        central_differences(&integ, &s0, &[], 1e-4, |s, at| dsp.momenta(s).to_chart(at));
+    let d = (&sens.state - &state).amax();
+    assert!(
+        d < 1e-7 * state.amax(),
+        "double spherical pendulum: {d:e}\n{:.4}\n{:.4}",
+        sens.state,
+        state
+    );
+    // A conservative system: the rigid body, whose step map is a symplectomorphism in canonical
+    // coordinates; here only its chart derivatives are compared.
+    let (body, _) = body();
+    let integ = LieIntegrator::new(body, tight());
+    let s0 = body.state(
+        &RigidBodyConfig {
+            r: cayley(&Vector3::new(0.2, -0.1, 0.4)),
+        },
+        &RigidBodyMomentum {
+            r: Vector3::new(0.3, 1.0, -0.2),
+        },
+    );
+    let (_, _, sens) = integ.step_sensitivity(0, &s0, &[]).unwrap();
+    let (state, _) = central_differences(&integ, &s0, &[], 1e-6, |s, _| s.p);
+    let d = (&sens.state - &state).amax();
+    assert!(d < 1e-7 * state.amax(), "rigid body: {d:e}");
 }

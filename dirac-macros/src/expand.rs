@@ -172,13 +172,24 @@ fn expand_lie(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> {
             })
         }
     };
-    let code = crate::ir::lie::compile(
-        &mut graph,
-        &spec,
-        body,
-        forces.as_ref(),
-        compile::mode_for(spec.n()),
-    );
+    let mode = compile::mode_for(spec.n());
+    let mut code = crate::ir::lie::compile(&mut graph, &spec, body, forces.as_ref(), mode);
+    // The step's partial derivatives for its sensitivities, on the dense backend.
+    if Backend::for_size(spec.n()).is_dense() {
+        let controls: Vec<usize> = spec
+            .controls
+            .iter()
+            .filter_map(|c| sig.params.iter().position(|p| p == c))
+            .collect();
+        code.partials = Some(crate::ir::lie::partials(
+            &mut graph,
+            &spec,
+            body,
+            forces.as_ref(),
+            &controls,
+            mode,
+        ));
+    }
     Ok(crate::codegen::lie::generate(
         &spec, &sig, func, &graph, &code,
     ))

@@ -73,7 +73,9 @@ pub mod prelude {
         ElementIntegrator, ElementLagrangian, ElementState, ElementTrajectory, Parallel, StepSolver,
     };
     pub use crate::error::{IntegrationError, StepError, Steps};
-    pub use crate::lie::{CoordinateKind, LieIntegrator, LieLagrangian, LieState, LieTrajectory};
+    pub use crate::lie::{
+        CoordinateKind, LieIntegrator, LieLagrangian, LiePartials, LieState, LieTrajectory,
+    };
     pub use crate::newton::NewtonOptions;
     pub use crate::reduced::{ReducedIntegrator, ReducedStep, Trajectory};
     pub use crate::sensitivity::{Sensitivity, StepPartials};

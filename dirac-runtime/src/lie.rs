@@ -178,6 +178,38 @@ pub trait LieLagrangian<const P: usize, const N: usize>: Clone + Send + Sync + '
     /// The momentum update `p_{k+1} = D2 L_d(q_k, q_{k+1}) · dφ_{q_{k+1}}(0)` at
     /// `q_{k+1} = φ_{q_k}(z)`.
     fn momentum(&self, q_k: &SVector<f64, P>, z: &SVector<f64, N>) -> SVector<f64, N>;
+
+    /// The partial derivatives of the step from `(q_k, p_k)` to `q_{k+1} = φ_{q_k}(z)` that its
+    /// sensitivity needs ([`LiePartials`]); `None` where the compiler emitted none (systems on
+    /// the sparse backend).
+    fn step_partials(
+        &self,
+        _q_k: &SVector<f64, P>,
+        _p_k: &SVector<f64, N>,
+        _z: &SVector<f64, N>,
+    ) -> Option<LiePartials> {
+        None
+    }
+}
+
+/// The partial derivatives of a step in the charts at its nominal points (see
+/// [`LieIntegrator::sensitivity`]): the step from `q' = φ_{q_k}(δ)` with momentum `p` to
+/// `q'_{k+1} = φ_{q_{k+1}}(w)` solves `R̃(w; δ, p, u) = 0` (with `∂R̃/∂p = I`) and sets
+/// `p_{k+1} = O(w; δ, u)`; each block is a derivative at `δ = 0`, `w = 0`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LiePartials {
+    /// `∂R̃/∂w`.
+    pub r_w: nalgebra::DMatrix<f64>,
+    /// `∂R̃/∂δ`.
+    pub r_y: nalgebra::DMatrix<f64>,
+    /// `∂R̃/∂u`.
+    pub r_u: nalgebra::DMatrix<f64>,
+    /// `∂O/∂w`.
+    pub o_w: nalgebra::DMatrix<f64>,
+    /// `∂O/∂δ`.
+    pub o_y: nalgebra::DMatrix<f64>,
+    /// `∂O/∂u`.
+    pub o_u: nalgebra::DMatrix<f64>,
 }
 
 /// A state `(q, p)` of a system on rotation groups: the stored point `q` (see
@@ -325,6 +357,107 @@ where
             }
         }
         pi
+    }
+
+    /// The chart coordinates `z` of `point` in the chart centred at `base`, the inverse of
+    /// [`LieLagrangian::retract`] (`φ_base(z) = point`): `x − x_base` for a scalar,
+    /// `cay⁻¹(R_baseᵀ R) = 2 vee(F − Fᵀ)/(1 + tr F)` for a rotation (any rotation by less than
+    /// π), `(n·e1, n·e2)/(n·n_base)` in the frame of `base` for a direction (any `n` in the
+    /// open hemisphere about `n_base`).
+    pub fn chart_coordinates(
+        &self,
+        base: &SVector<f64, P>,
+        point: &SVector<f64, P>,
+    ) -> SVector<f64, N> {
+        let mut z = SVector::<f64, N>::zeros();
+        for block in blocks::<L, P, N>() {
+            let (at, c) = (block.point, block.chart);
+            match block.kind {
+                CoordinateKind::Scalar => z[c] = point[at] - base[at],
+                CoordinateKind::Rotation => {
+                    let f = matrix_at(base, at).transpose() * matrix_at(point, at);
+                    let xi = vee(&f) * (4.0 / (1.0 + f.trace()));
+                    z[c] = xi.x;
+                    z[c + 1] = xi.y;
+                    z[c + 2] = xi.z;
+                }
+                CoordinateKind::Direction => {
+                    let (f0, f1) = (matrix_at(base, at), matrix_at(point, at));
+                    let n = f1.column(2);
+                    let along = n.dot(&f0.column(2));
+                    z[c] = n.dot(&f0.column(0)) / along;
+                    z[c + 1] = n.dot(&f0.column(1)) / along;
+                }
+            }
+        }
+        z
+    }
+
+    /// The sensitivity of step `k` from `state` to `next` under the controls `u` (empty: the
+    /// system's own), in the charts at the two points: the state near `(q, p)` is
+    /// `(φ_q(δ), p)` — `δ` the chart coordinate, `p` the momentum in the chart at the perturbed
+    /// point — so [`Sensitivity::state`] is `∂(w, p_{k+1})/∂(δ, p_k)` (each `N × N` block in the
+    /// order of [`LieLagrangian::COORDINATES`]) and [`Sensitivity::control`] is
+    /// `∂(w, p_{k+1})/∂u`, where `q'_{k+1} = φ_{q_{k+1}}(w)`. By the implicit-function theorem
+    /// on the step residual in these charts ([`LiePartials`]): `dw = −R̃_w⁻¹ (R̃_δ dδ + dp + R̃_u
+    /// du)`, `dp_{k+1} = O_w dw + O_δ dδ + O_u du`.
+    ///
+    /// A typed error for a system compiled without its partials (the sparse backend), a step
+    /// whose chart Jacobian is singular, or controls of the wrong number.
+    pub fn sensitivity(
+        &self,
+        k: usize,
+        state: &LieState<P, N>,
+        next: &LieState<P, N>,
+        u: &[f64],
+    ) -> Result<crate::Sensitivity, StepError> {
+        let owned = self.system_at(k, self.system.time_step(), u)?;
+        let sys = owned.as_ref().unwrap_or(&self.system);
+        let z = self.chart_coordinates(&state.q, &next.q);
+        let parts = sys
+            .step_partials(&state.q, &state.p, &z)
+            .ok_or(StepError::Unsupported {
+                what: "step sensitivities: the compiler emits the step's partial derivatives for \
+                       systems on rotation groups of at most 16 dimensions",
+            })?;
+        let m = L::CONTROLS.len();
+        let cols = 2 * N + m;
+        let mut rhs = nalgebra::DMatrix::<f64>::zeros(N, cols);
+        rhs.view_mut((0, 0), (N, N)).copy_from(&parts.r_y);
+        for i in 0..N {
+            rhs[(i, N + i)] = 1.0;
+        }
+        rhs.view_mut((0, 2 * N), (N, m)).copy_from(&parts.r_u);
+        let residual = crate::newton::inf_norm(&sys.residual(&state.q, &state.p, &z));
+        let lu = parts.r_w.clone().lu();
+        let dw = -lu
+            .solve(&rhs)
+            .ok_or(StepError::SingularJacobian { step: k, residual })?;
+        let mut dp = &parts.o_w * &dw;
+        let mut view = dp.view_mut((0, 0), (N, N));
+        view += &parts.o_y;
+        let mut view = dp.view_mut((0, 2 * N), (N, m));
+        view += &parts.o_u;
+        let mut full = nalgebra::DMatrix::<f64>::zeros(2 * N, cols);
+        full.view_mut((0, 0), (N, cols)).copy_from(&dw);
+        full.view_mut((N, 0), (N, cols)).copy_from(&dp);
+        Ok(crate::Sensitivity {
+            state: full.view((0, 0), (2 * N, 2 * N)).into_owned(),
+            control: full.view((0, 2 * N), (2 * N, m)).into_owned(),
+        })
+    }
+
+    /// Takes step `k` from `state` with the controls `u` in a fresh workspace and returns the
+    /// new state, the step's statistics and its [`Self::sensitivity`].
+    pub fn step_sensitivity(
+        &self,
+        k: usize,
+        state: &LieState<P, N>,
+        u: &[f64],
+    ) -> Result<(LieState<P, N>, StepStats, crate::Sensitivity), StepError> {
+        let (next, stats) = self.step_with(&mut self.workspace(), k, self.time_step(), state, u)?;
+        let sensitivity = self.sensitivity(k, state, &next, u)?;
+        Ok((next, stats, sensitivity))
     }
 
     /// The largest departure from the manifold over the rotation and direction coordinates of

@@ -18,7 +18,7 @@
 //! **Symmetries.** Groups act by translation of coordinates: abelian, with a linear connection
 //! of constant `B`. The momentum-level elimination applies for `K ≤ 3` group coordinates.
 //! [Rotation and direction coordinates](super::rotations#limits) are stepped on their group but
-//! not yet reduced by it, and have no constraints or step sensitivities yet.
+//! not yet reduced by it, have no constraints yet, and step sensitivities up to 16 dimensions.
 //!
 //! **The body language** is smooth by design: no branches, no calls to your own functions, no
 //! run-time loop bounds or indices (see [Writing a Lagrangian](super::lagrangians#the-attribute)),

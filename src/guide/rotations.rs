@@ -137,6 +137,17 @@
 //! [`crate::systems::rotations`] drives its wheel with a motor torque `u`: the wheel's momentum
 //! moves by `h u` per step to round-off while the satellite's spatial angular momentum stays put.
 //!
+//! ## Step sensitivities
+//!
+//! [`LieIntegrator::sensitivity`](crate::LieIntegrator::sensitivity) (and `step_sensitivity`)
+//! gives the derivative of a step in the charts at its two points: a state near `(q, p)` is
+//! `(φ_q(δ), p)`, so the `2N × 2N` matrix is `∂(w, p_{k+1})/∂(δ, p_k)` with
+//! `q'_{k+1} = φ_{q_{k+1}}(w)`, and one column per control. The compiler emits the partial
+//! derivatives of the step residual in these charts (every relative rotation from the charts'
+//! own increments); the runtime applies the implicit-function theorem. `tests/rotations.rs`
+//! checks it against central differences on the group. [`LieIntegrator::chart_coordinates`](crate::LieIntegrator::chart_coordinates)
+//! is the inverse of the chart, for reading a nearby state in the chart of another.
+//!
 //! ## Ready-made systems
 //!
 //! [`crate::systems::rotations`] has the free rigid body, the heavy top (the Lagrange top, and the
@@ -151,7 +162,8 @@
 //! Systems with rotation or direction coordinates take a discrete Lagrangian or a continuous one
 //! with the trapezoid, left or right rule, scalar coordinates beside them, forces, controls,
 //! `step` and `name`. Not yet available for them: declared translations and their reduction,
-//! reduction by rotations, constraints, step sensitivities, the (−) side, and Parquet output
-//! (`dirac-io`). Above 16 dimensions the step runs on the sparse backend, as every other system
-//! does. A rotation's momentum map is kept to round-off; it is not copied bit for bit as the
+//! reduction by rotations, constraints, and the (−) side. Above 16 dimensions the step runs on
+//! the sparse backend, as every other system does, without step sensitivities. `dirac-io`
+//! writes these states to Parquet with one column per stored entry (a rotation's nine, a
+//! direction's frame) and per momentum component. A rotation's momentum map is kept to round-off; it is not copied bit for bit as the
 //! reduced integrators copy `μ`.

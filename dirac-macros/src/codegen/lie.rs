@@ -53,6 +53,47 @@ pub fn generate(
         &fns.solver_new,
     );
     let matrix = fns.backend.matrix_type(n);
+    let partials_fn = code.partials.as_ref().map(|parts| {
+        let roots: Vec<_> = parts.blocks.iter().flatten().flatten().copied().collect();
+        let line = crate::codegen::emit::straight_line(g, &roots, &leaf);
+        let stmts = &line.stmts;
+        let mut outputs = line.outputs.iter();
+        let names = ["r_w", "r_y", "r_u", "o_w", "o_y", "o_u"];
+        let fills = parts
+            .blocks
+            .iter()
+            .zip(names)
+            .map(|(block, name)| {
+                let field = format_ident!("{}", name);
+                let (rows, cols) = (block.len(), block.first().map_or(0, Vec::len));
+                let sets = (0..rows)
+                    .flat_map(|r| (0..cols).map(move |c| (r, c)))
+                    .map(|(r, c)| {
+                        let e = outputs.next().expect("one output per entry");
+                        quote! { m[(#r, #c)] = #e; }
+                    })
+                    .collect::<Vec<_>>();
+                quote! {
+                    #field: {
+                        let mut m = #na::DMatrix::<f64>::zeros(#rows, #cols);
+                        #( #sets )*
+                        m
+                    }
+                }
+            })
+            .collect::<Vec<_>>();
+        quote! {
+            fn step_partials(
+                &self,
+                q_k: &#na::SVector<f64, #p>,
+                p_k: &#na::SVector<f64, #n>,
+                z: &#na::SVector<f64, #n>,
+            ) -> ::core::option::Option<#rt::lie::LiePartials> {
+                #stmts
+                ::core::option::Option::Some(#rt::lie::LiePartials { #( #fills, )* })
+            }
+        }
+    });
     let solver = fns.backend.solver_type(n);
     let step = &sig.step;
     let fn_name = &func.sig.ident;
@@ -236,6 +277,8 @@ pub fn generate(
             fn momentum(&self, q_k: &#na::SVector<f64, #p>, z: &#na::SVector<f64, #n>) -> #na::SVector<f64, #n> {
                 #momentum_body
             }
+
+            #partials_fn
         }
     }
 }
