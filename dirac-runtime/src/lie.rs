@@ -396,8 +396,8 @@ where
     /// The sensitivity of step `k` from `state` to `next` under the controls `u` (empty: the
     /// system's own), in the charts at the two points: the state near `(q, p)` is
     /// `(φ_q(δ), p)` — `δ` the chart coordinate, `p` the momentum in the chart at the perturbed
-    /// point — so [`Sensitivity::state`] is `∂(w, p_{k+1})/∂(δ, p_k)` (each `N × N` block in the
-    /// order of [`LieLagrangian::COORDINATES`]) and [`Sensitivity::control`] is
+    /// point — so [`Sensitivity::state`](crate::Sensitivity::state) is `∂(w, p_{k+1})/∂(δ, p_k)` (each `N × N` block in the
+    /// order of [`LieLagrangian::COORDINATES`]) and [`Sensitivity::control`](crate::Sensitivity::control) is
     /// `∂(w, p_{k+1})/∂u`, where `q'_{k+1} = φ_{q_{k+1}}(w)`. By the implicit-function theorem
     /// on the step residual in these charts ([`LiePartials`]): `dw = −R̃_w⁻¹ (R̃_δ dδ + dp + R̃_u
     /// du)`, `dp_{k+1} = O_w dw + O_δ dδ + O_u du`.
