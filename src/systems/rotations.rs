@@ -4,7 +4,7 @@
 //! reaction wheel, and the paper's double spherical pendulum on `S² × S²` with no charts.
 //!
 //! Every discrete Lagrangian here is symmetric (`L_d(q0, q1; −h) = −L_d(q1, q0; h)`), so its
-//! step has order 2 and the compositions of [`crate::compose`] raise it to 4 and 6.
+//! step has order 2 and the compositions of [`crate::runtime::compose`] raise it to 4 and 6.
 
 use crate::paper::{DoubleSphericalPendulum, DoubleSphericalPendulumContinuous};
 use crate::prelude::*;
