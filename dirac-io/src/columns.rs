@@ -147,7 +147,7 @@ pub fn lie_names(coordinates: &[(&str, CoordinateKind)]) -> (Vec<String>, Vec<St
     let (mut point, mut chart) = (Vec::new(), Vec::new());
     for &(name, kind) in coordinates {
         match kind {
-            CoordinateKind::Scalar => {
+            CoordinateKind::Scalar | CoordinateKind::Group => {
                 point.push(name.to_owned());
                 chart.push(name.to_owned());
             }

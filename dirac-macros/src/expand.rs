@@ -139,6 +139,10 @@ fn expand_lie(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> {
         }
         None => body,
     };
+    // The declared translations must be symmetries of L_d.
+    let cx = Ctxt::new();
+    crate::ir::lie::check_translations(&cx, &graph, &spec, body);
+    cx.finish(Some(()))?;
     // The forces, in the displacement symbols of each coordinate.
     let forces = match &spec.force {
         None => None,

@@ -90,6 +90,10 @@ use crate::stepper::{
 pub enum CoordinateKind {
     /// An ordinary real coordinate (`shape(x)`): one entry of the point, one of the chart.
     Scalar,
+    /// A real coordinate whose translations are a symmetry (`group(x)`, checked at compile
+    /// time): its momentum `μ` obeys the discrete Noether balance explicitly,
+    /// `μ_{k+1} = μ_k + f_d^− + f_d^+` — copied bit for bit without forces.
+    Group,
     /// A rotation matrix `R ∈ SO(3)` (`rotation(R)`): 9 entries of the point (row by row), 3 of
     /// the chart (the body-frame algebra element).
     Rotation,
@@ -102,7 +106,7 @@ impl CoordinateKind {
     /// Entries of the stored point.
     pub const fn point_len(self) -> usize {
         match self {
-            CoordinateKind::Scalar => 1,
+            CoordinateKind::Scalar | CoordinateKind::Group => 1,
             CoordinateKind::Rotation | CoordinateKind::Direction => 9,
         }
     }
@@ -110,7 +114,7 @@ impl CoordinateKind {
     /// Entries of the chart (and of the momentum).
     pub const fn chart_len(self) -> usize {
         match self {
-            CoordinateKind::Scalar => 1,
+            CoordinateKind::Scalar | CoordinateKind::Group => 1,
             CoordinateKind::Rotation => 3,
             CoordinateKind::Direction => 2,
         }
@@ -176,8 +180,14 @@ pub trait LieLagrangian<const P: usize, const N: usize>: Clone + Send + Sync + '
     ) -> (SVector<f64, N>, <Self::Linear as LinearSolver>::Matrix);
 
     /// The momentum update `p_{k+1} = D2 L_d(q_k, q_{k+1}) · dφ_{q_{k+1}}(0)` at
-    /// `q_{k+1} = φ_{q_k}(z)`.
-    fn momentum(&self, q_k: &SVector<f64, P>, z: &SVector<f64, N>) -> SVector<f64, N>;
+    /// `q_{k+1} = φ_{q_k}(z)` (`+ f_d^+` with forces); for a [`CoordinateKind::Group`]
+    /// coordinate the Noether balance `p_k + f_d^− + f_d^+`, which reads `p_k`.
+    fn momentum(
+        &self,
+        q_k: &SVector<f64, P>,
+        p_k: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> SVector<f64, N>;
 
     /// The partial derivatives of the step from `(q_k, p_k)` to `q_{k+1} = φ_{q_k}(z)` that its
     /// sensitivity needs ([`LiePartials`]); `None` where the compiler emitted none (systems on
@@ -338,7 +348,7 @@ where
         let mut pi = Vector3::zeros();
         for block in blocks::<L, P, N>() {
             match block.kind {
-                CoordinateKind::Scalar => {}
+                CoordinateKind::Scalar | CoordinateKind::Group => {}
                 CoordinateKind::Rotation => {
                     let r = matrix_at(&state.q, block.point);
                     let body = Vector3::new(
@@ -373,7 +383,7 @@ where
         for block in blocks::<L, P, N>() {
             let (at, c) = (block.point, block.chart);
             match block.kind {
-                CoordinateKind::Scalar => z[c] = point[at] - base[at],
+                CoordinateKind::Scalar | CoordinateKind::Group => z[c] = point[at] - base[at],
                 CoordinateKind::Rotation => {
                     let f = matrix_at(base, at).transpose() * matrix_at(point, at);
                     let xi = vee(&f) * (4.0 / (1.0 + f.trace()));
@@ -464,7 +474,7 @@ where
     /// `q`: `‖RᵀR − I‖∞` of each rotation and frame (for a direction this bounds `||n| − 1|`).
     pub fn manifold_defect(&self, q: &SVector<f64, P>) -> f64 {
         blocks::<L, P, N>()
-            .filter(|b| b.kind != CoordinateKind::Scalar)
+            .filter(|b| matches!(b.kind, CoordinateKind::Rotation | CoordinateKind::Direction))
             .map(|b| orthogonality_defect(&matrix_at(q, b.point)))
             .fold(0.0, f64::max)
     }
@@ -559,7 +569,7 @@ where
         )
         .map_err(|failure| step_error(k, failure))?;
         let q_next = sys.retract(q, &z);
-        let mut p_next = sys.momentum(q, &z);
+        let mut p_next = sys.momentum(q, p, &z);
         compensate::<L, P, N>(q, &q_next, &r, &mut p_next);
         let next = LieState {
             q: q_next,
@@ -602,7 +612,7 @@ where
             initial.is_finite(),
         )?;
         for block in blocks::<L, P, N>() {
-            if block.kind == CoordinateKind::Scalar {
+            if matches!(block.kind, CoordinateKind::Scalar | CoordinateKind::Group) {
                 continue;
             }
             let m = matrix_at(&initial.q, block.point);
@@ -686,6 +696,8 @@ fn compensate<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
         let c = block.chart;
         match block.kind {
             CoordinateKind::Scalar => p_next[c] += r[c],
+            // Its momentum is the explicit Noether balance, exact as it is.
+            CoordinateKind::Group => {}
             CoordinateKind::Rotation => {
                 let f = matrix_at(q, block.point).transpose() * matrix_at(q_next, block.point);
                 let t = f.transpose() * Vector3::new(r[c], r[c + 1], r[c + 2]);

@@ -124,6 +124,17 @@
 //!   angular momentum use [`LieIntegrator::spatial_momentum`](crate::LieIntegrator::spatial_momentum),
 //!   `π = Σ R Π + Σ n × P`.
 //!
+//! ## Translations beside rotations
+//!
+//! `group(x, ..)` declares scalar coordinates whose translations are a symmetry — a rigid body
+//! in space: `rotation(R), group(x, y, z)`. The compiler checks the invariance of `L_d` at sample
+//! configurations (a body that is not invariant is a compile error at the coordinate), and the
+//! step updates their momenta by the discrete Noether balance itself,
+//! `μ_{k+1} = μ_k + f_d^− + f_d^+`: bit for bit constant without forces, and moved by exactly the
+//! forces' impulse with them (a thruster on a spacecraft, `tests/rotations.rs`). These
+//! coordinates stay in the state (the step solves their equations with the rest) rather than
+//! being reduced away as the reduced integrators do.
+//!
 //! ## Forces, torques and controls
 //!
 //! `force = |dq| W` (with a rule) or `force = |dq0, dq1| W` (a discrete Lagrangian) is the virtual
@@ -160,10 +171,11 @@
 //! ## Limits
 //!
 //! Systems with rotation or direction coordinates take a discrete Lagrangian or a continuous one
-//! with the trapezoid, left or right rule, scalar coordinates beside them, forces, controls,
-//! `step` and `name`. Not yet available for them: declared translations and their reduction,
-//! reduction by rotations, constraints, and the (−) side. Above 16 dimensions the step runs on
-//! the sparse backend, as every other system does, without step sensitivities. `dirac-io`
-//! writes these states to Parquet with one column per stored entry (a rotation's nine, a
-//! direction's frame) and per momentum component. A rotation's momentum map is kept to round-off; it is not copied bit for bit as the
-//! reduced integrators copy `μ`.
+//! with the trapezoid, left or right rule, scalar and translation coordinates beside them,
+//! forces, controls, `step` and `name`. Not yet available for them: the reduced state of declared
+//! translations (they are kept in the state, their momenta exact), reduction by rotations,
+//! constraints, and the (−) side. Above 16 dimensions the step runs on the sparse backend, as
+//! every other system does, without step sensitivities. `dirac-io` writes these states to
+//! Parquet with one column per stored entry (a rotation's nine, a direction's frame) and per
+//! momentum component. A rotation's momentum map is kept to round-off; it is not copied bit for
+//! bit as the reduced integrators copy `μ`.

@@ -21,11 +21,14 @@ use syn::{Expr, Ident, Token};
 use crate::ast::layout::CoordName;
 use crate::ast::rule::Rule;
 use crate::ctxt::Ctxt;
-use crate::symbol::{self, KeyArg, CONTROLS, DIRECTION, FORCE, NAME, ROTATION, RULE, SHAPE, STEP};
+use crate::symbol::{
+    self, KeyArg, CONTROLS, DIRECTION, FORCE, GROUP, NAME, ROTATION, RULE, SHAPE, STEP,
+};
 
 /// What the attribute of a system on rotation groups accepts, for messages.
 pub const LIE_KEYS: &str = "`rotation(R, ...)` (rotation matrices), `direction(n, ...)` (unit \
-vectors), `shape(x, ...)` (scalar coordinates), `rule = trapezoid | left | right` (for \
+vectors), `shape(x, ...)` (scalar coordinates), `group(x, ...)` (scalar coordinates whose \
+translations are a symmetry), `rule = trapezoid | left | right` (for \
 `L(q: Config, v: Velocity, ...)`), `force = |dq| ...` (or `|dq0, dq1|` for a discrete \
 Lagrangian), `controls(u, ...)`, `step = <parameter>`, `name = <TypeName>`";
 
@@ -74,6 +77,8 @@ pub struct LieCoord {
     pub chart: usize,
     /// The first of its velocity symbols (a continuous Lagrangian's `v`).
     pub velocity: usize,
+    /// A scalar declared in `group(..)`: its translations are a symmetry.
+    pub group: bool,
 }
 
 /// The parsed attribute.
@@ -185,7 +190,7 @@ pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
             Some(Kind::Rotation)
         } else if key == DIRECTION {
             Some(Kind::Direction)
-        } else if key == SHAPE {
+        } else if key == SHAPE || key == GROUP {
             Some(Kind::Scalar)
         } else {
             None
@@ -217,6 +222,7 @@ pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
                         point,
                         chart,
                         velocity,
+                        group: key == GROUP,
                     });
                     point += kind.point_len();
                     chart += kind.chart_len();
@@ -284,9 +290,11 @@ pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
             }
         }
     }
-    let listed = items
-        .iter()
-        .any(|LieItem(i)| i.key() == ROTATION || i.key() == DIRECTION || i.key() == SHAPE);
+    let listed = items.iter().any(|LieItem(i)| {
+        [ROTATION, DIRECTION, SHAPE, GROUP]
+            .iter()
+            .any(|k| i.key() == k)
+    });
     if coords.is_empty() && !listed {
         cx.error_at(
             Span::call_site(),
@@ -306,9 +314,10 @@ pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
 }
 
 impl LieSpec {
-    /// The name of coordinate kind `k`, as the runtime spells it.
-    pub fn kind_path(k: Kind) -> Ident {
-        let name = match k {
+    /// The name of coordinate `c`'s kind, as the runtime spells it.
+    pub fn kind_path(c: &LieCoord) -> Ident {
+        let name = match c.kind {
+            Kind::Scalar if c.group => "Group",
             Kind::Scalar => "Scalar",
             Kind::Rotation => "Rotation",
             Kind::Direction => "Direction",

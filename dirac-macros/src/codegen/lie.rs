@@ -107,7 +107,7 @@ pub fn generate(
         .iter()
         .map(|c| {
             let name = c.name.to_string();
-            let kind = LieSpec::kind_path(c.kind);
+            let kind = LieSpec::kind_path(c);
             quote!((#name, #rt::lie::CoordinateKind::#kind))
         })
         .collect();
@@ -274,7 +274,13 @@ pub fn generate(
                 #residual_jacobian
             }
 
-            fn momentum(&self, q_k: &#na::SVector<f64, #p>, z: &#na::SVector<f64, #n>) -> #na::SVector<f64, #n> {
+            #[allow(unused_variables, reason = "only group coordinates' momenta read p_k")]
+            fn momentum(
+                &self,
+                q_k: &#na::SVector<f64, #p>,
+                p_k: &#na::SVector<f64, #n>,
+                z: &#na::SVector<f64, #n>,
+            ) -> #na::SVector<f64, #n> {
                 #momentum_body
             }
 

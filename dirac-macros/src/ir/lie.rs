@@ -407,6 +407,7 @@ pub fn compile(
     // The forced step: p_k = −D1 L_d − f_d^−, p_{k+1} = D2 L_d + f_d^+, each force a covector
     // of its point's chart, at (q_k, q_{k+1}) with the relative rotations cay(z).
     let mut residual = residual;
+    let mut impulse = None;
     if let Some((minus, plus)) = forces {
         let mut rel_step = vec![None; p];
         for c in spec.coords.iter().filter(|c| c.kind == Kind::Rotation) {
@@ -433,12 +434,25 @@ pub fn compile(
         let (minus, plus) = (at_step(g, minus), at_step(g, plus));
         let minus = to_chart(g, spec, &minus, &base);
         let plus = to_chart(g, spec, &plus, &next);
-        for (r, f) in residual.iter_mut().zip(minus) {
+        for (r, &f) in residual.iter_mut().zip(&minus) {
             *r = g.add(*r, f);
         }
-        for (m, f) in momentum.iter_mut().zip(plus) {
+        for (m, &f) in momentum.iter_mut().zip(&plus) {
             *m = g.add(*m, f);
         }
+        impulse = Some((minus, plus));
+    }
+    // A group coordinate's momentum: the explicit discrete Noether balance
+    // μ_{k+1} = μ_k + f_d^− + f_d^+ (copied without forces), which L_d's invariance makes equal
+    // to D2 L_d + f_d^+ on every solution of the step, and exact in floating point.
+    for c in spec.coords.iter().filter(|c| c.group) {
+        let j = c.chart;
+        let mut mu = g.var(Sym::P(j));
+        if let Some((minus, plus)) = &impulse {
+            let f = g.add(minus[j], plus[j]);
+            mu = g.add(mu, f);
+        }
+        momentum[j] = mu;
     }
     let columns: Vec<Vec<NodeId>> = (0..n)
         .map(|c| derivatives(g, &residual, Sym::Chart1(c)))
@@ -474,6 +488,72 @@ fn cayley_value(x: [f64; 3]) -> [[f64; 3]; 3] {
     m
 }
 
+/// Values of the symbols at sample configuration `t`: rotations and frames `cay(..)` of sample
+/// vectors, relative rotations `R0ᵀ R1` consistent with them, scalars and velocities arbitrary,
+/// parameters positive; the scalar coordinate at point entry `shift.0` (if any) translated by
+/// `shift.1` in both configurations.
+fn sampler(spec: &LieSpec, t: f64, by: f64, shift: Option<usize>) -> impl Fn(Sym) -> f64 {
+    let mut point = [vec![0.0; spec.p()], vec![0.0; spec.p()]];
+    let mut rel = vec![0.0; spec.p()];
+    for c in &spec.coords {
+        let p = c.point;
+        match c.kind {
+            Kind::Scalar => {
+                let moved = if shift == Some(p) { by } else { 0.0 };
+                point[0][p] = 0.3 + 0.2 * t + 0.11 * p as f64 + moved;
+                point[1][p] = -0.4 + 0.1 * t - 0.07 * p as f64 + moved;
+            }
+            Kind::Rotation | Kind::Direction => {
+                let k = p as f64;
+                let r0 = cayley_value([0.3 + t, -0.5 + 0.1 * k, 0.2 * t + 0.1]);
+                let r1 = cayley_value([-0.2, 0.4 + 0.3 * t, 0.6 - 0.05 * k]);
+                for i in 0..3 {
+                    for j in 0..3 {
+                        point[0][p + 3 * i + j] = r0[i][j];
+                        point[1][p + 3 * i + j] = r1[i][j];
+                        rel[p + 3 * i + j] = (0..3).map(|k| r0[k][i] * r1[k][j]).sum();
+                    }
+                }
+            }
+        }
+    }
+    move |sym: Sym| match sym {
+        Sym::Q0(i) => point[0].get(i).copied().unwrap_or(0.7 - 0.1 * i as f64),
+        // A continuous Lagrangian reads its velocities as Q1: any values serve.
+        Sym::Q1(i) => point[1].get(i).copied().unwrap_or(0.5 + 0.1 * i as f64),
+        Sym::Rel(i) => rel[i],
+        Sym::Param(i) => 0.9 + 0.07 * i as f64 + 0.1 * t,
+        _ => 0.3 + 0.05 * t,
+    }
+}
+
+/// Checks that `L_d` is invariant under the translations of each `group(..)` coordinate:
+/// `L_d(q0 + a e_g, q1 + a e_g) = L_d(q0, q1)` at three sample configurations and two shifts
+/// `a` (to `1e-9` relative). A body that is not is a compile error at the coordinate's name.
+pub fn check_translations(cx: &crate::ctxt::Ctxt, g: &Graph, spec: &LieSpec, l: NodeId) {
+    for c in spec.coords.iter().filter(|c| c.group) {
+        let varies = (0..3).any(|sample| {
+            let t = sample as f64;
+            let at = g.eval(&[l], &sampler(spec, t, 0.0, None))[0];
+            [0.37, -1.3].iter().any(|&a| {
+                let moved = g.eval(&[l], &sampler(spec, t, a, Some(c.point)))[0];
+                (moved - at).abs() > 1e-9 * at.abs().max(moved.abs()).max(1.0)
+            })
+        });
+        if varies {
+            cx.error_spanned_by(
+                &c.name,
+                format!(
+                    "the discrete Lagrangian is not invariant under translations of `{}`: its value changes when `{0}` \
+                     is shifted by the same amount in both configurations; declare it in `shape(..)`, or make the \
+                     body depend on `{0}` only through `q1.{0} - q0.{0}`",
+                    c.name
+                ),
+            );
+        }
+    }
+}
+
 /// Checks that every `vee(&m)` of the body reads a skew-symmetric `m` (an element of `so(3)`):
 /// `m + mᵀ` at three sample configurations — rotations, frames of directions and relative
 /// rotations consistent with each other, scalars and velocities arbitrary, parameters
@@ -488,36 +568,7 @@ pub fn check_skew(
 ) {
     for sample in 0..3 {
         let t = sample as f64;
-        let mut point = [vec![0.0; spec.p()], vec![0.0; spec.p()]];
-        let mut rel = vec![0.0; spec.p()];
-        for c in &spec.coords {
-            let p = c.point;
-            match c.kind {
-                Kind::Scalar => {
-                    point[0][p] = 0.3 + 0.2 * t;
-                    point[1][p] = -0.4 + 0.1 * t;
-                }
-                Kind::Rotation | Kind::Direction => {
-                    let r0 = cayley_value([0.3 + t, -0.5, 0.2 * t + 0.1]);
-                    let r1 = cayley_value([-0.2, 0.4 + 0.3 * t, 0.6]);
-                    for i in 0..3 {
-                        for j in 0..3 {
-                            point[0][p + 3 * i + j] = r0[i][j];
-                            point[1][p + 3 * i + j] = r1[i][j];
-                            rel[p + 3 * i + j] = (0..3).map(|k| r0[k][i] * r1[k][j]).sum();
-                        }
-                    }
-                }
-            }
-        }
-        let value = |sym: Sym| match sym {
-            Sym::Q0(i) => point[0].get(i).copied().unwrap_or(0.7 - 0.1 * i as f64),
-            // A continuous Lagrangian reads its velocities as Q1: any values serve.
-            Sym::Q1(i) => point[1].get(i).copied().unwrap_or(0.5 + 0.1 * i as f64),
-            Sym::Rel(i) => rel[i],
-            Sym::Param(i) => 0.9 + 0.07 * i as f64 + 0.1 * t,
-            _ => 0.3 + 0.05 * t,
-        };
+        let value = sampler(spec, t, 0.0, None);
         for (entries, span) in checks {
             let values = g.eval(entries, &value);
             let scale = values.iter().fold(1.0_f64, |m, v| m.max(v.abs()));
