@@ -7,8 +7,10 @@
 //! 2. The heavy top (a symmetric top and an asymmetric 3-D pendulum): vertical and axial momenta,
 //!    energy.
 //! 3. The paper's double spherical pendulum on `S² × S²` from the paper's state over `--steps`
-//!    steps (`h = 0.01`): no chart, no switch; `| |n_i| − 1 |`, the energy error.
-//! 4. A satellite with a reaction wheel: a rotation and an ordinary coordinate in one system.
+//!    steps (`h = 0.01`): no chart, no switch; `| |n_i| − 1 |`, the energy error; bob 2 at
+//!    `T = 1` against the atlas run of the paper's angles at two steps (they approach as `h²`).
+//! 4. A satellite with a reaction wheel: a rotation and an ordinary coordinate in one system,
+//!    the wheel free and then driven by its motor (a feedback control).
 //! 5. Cost: nanoseconds per step, median and range over `--repeats` interleaved repeats of the
 //!    rigid body and the heavy top against a hand-written LGVI step for the same discrete
 //!    Lagrangian (Newton on the Cayley parameter with the analytic 3 × 3 Jacobian), and of the
@@ -252,6 +254,40 @@ fn main() {
         energy / e0.abs()
     );
 
+    // Against the atlas run of the paper's angles (a different discretization of the same
+    // motion): bob 2 at T = 1 for two steps; the two approach each other as h².
+    let bob2_at_one = |h: f64| {
+        let n = (1.0 / h).round() as usize;
+        let sys = DspOnSpheres::paper(h);
+        let last = *LieIntegrator::new(sys, options)
+            .run(sys.paper_initial_state())
+            .steps(n)
+            .collect()
+            .expect("the double spherical pendulum integrates")
+            .last();
+        let paper = DoubleSphericalPendulum {
+            h,
+            ..DoubleSphericalPendulum::paper()
+        };
+        let atlas = paper
+            .atlas(options)
+            .run((
+                dirac::paper::atlas::PAPER,
+                DoubleSphericalPendulum::paper_initial_state(),
+            ))
+            .steps(n)
+            .collect()
+            .expect("the atlas integrates");
+        let (chart, state) = atlas.last();
+        let r2 = paper.charts().bob_positions(chart, state).1;
+        (sys.bobs(&last).1 - Vector3::from(r2)).norm()
+    };
+    let (coarse, fine) = (bob2_at_one(0.01), bob2_at_one(0.005));
+    println!(
+        "   bob 2 at T = 1 against the atlas run: {coarse:.3e} (h = 0.01), {fine:.3e} (h = 0.005), ratio {:.2}",
+        coarse / fine
+    );
+
     println!("4. Satellite with a reaction wheel (a rotation and the wheel angle), {steps} steps:");
     let sys = Satellite {
         h: 0.01,
@@ -284,7 +320,25 @@ fn main() {
         .stream()
         .expect("the satellite integrates");
     println!(
-        "   |Δp_wheel| = {wheel:.2e}, |Δπ| / |π| = {:.2e}",
+        "   wheel free:   |Δp_wheel| = {wheel:.2e}, |Δπ| / |π| = {:.2e}",
+        spatial / pi0.norm()
+    );
+    // The motor spins the wheel up to p_φ = 2 by the feedback u = 5 (2 − p_φ): the body turns
+    // the other way, and the satellite's angular momentum in space does not change.
+    let (mut spatial, mut last_wheel) = (0.0_f64, 0.0);
+    let driven = steps.min(100_000);
+    integ
+        .run(s0)
+        .steps(driven)
+        .feedback(|_, _, s: &LieState<10, 4>, u: &mut [f64]| u[0] = 5.0 * (2.0 - s.p[3]))
+        .observe(|_, _, s: &LieState<10, 4>, _| {
+            spatial = spatial.max((integ.spatial_momentum(s) - pi0).norm());
+            last_wheel = s.p[3];
+        })
+        .stream()
+        .expect("the driven satellite integrates");
+    println!(
+        "   wheel driven: p_wheel 0.7 → {last_wheel:.6} over {driven} steps, |Δπ| / |π| = {:.2e}",
         spatial / pi0.norm()
     );
 
