@@ -1,0 +1,326 @@
+//! Configurations on rotation groups: rotations `R ∈ SO(3)`, directions `n ∈ S²` and ordinary
+//! scalars, stepped by a Lie group variational integrator whose residual and Jacobian
+//! `#[reduced_lagrangian]` derives from the discrete Lagrangian `L_d(q0, q1)` written with
+//! matrices and vectors (`rotation(R)`, `direction(n)` in the attribute).
+//!
+//! # Charts centred at the current point
+//!
+//! The configuration space is `Q = R^m × SO(3)^a × (S²)^b`, of dimension `N = m + 3a + 2b`. At
+//! each point `q` the integrator works in a chart `φ_q : R^N → Q` centred at `q` (`φ_q(0) = q`),
+//! one block per coordinate:
+//!
+//! * a scalar `x`: `φ(ξ) = x + ξ`;
+//! * a rotation `R`: `φ(ξ) = R cay(ξ)`, with the Cayley retraction
+//!   `cay(ξ) = (I − ξ̂/2)⁻¹ (I + ξ̂/2) = I + 4/(4 + |ξ|²) (ξ̂ + ξ̂²/2)` ([`cayley`]), so that
+//!   `dφ(0) η = R η̂`: the left trivialization, the body frame;
+//! * a direction `n`, stored with an orthonormal frame `F = [e1 e2 n]` (a rotation whose third
+//!   column is `n`, see [`frame`]): `φ(a, b) = (n + a e1 + b e2) / √(1 + a² + b²)`, the frame
+//!   carried along by the rotation that takes `e3` to `u = (a, b, 1)/√(1 + a² + b²)` by the
+//!   shortest arc, so `dφ(0) (a, b) = a e1 + b e2`.
+//!
+//! A configuration is stored as its point `q ∈ R^P` (scalars, then for each rotation its 9
+//! entries row by row, for each direction its frame's 9 entries row by row, in the order the
+//! attribute declares them), and a step's unknown is the chart coordinate `z ∈ R^N` of the next
+//! point. The step is a smooth map of `z` (no angle, no chart switch) and the next point is
+//! formed by products of rotations: it stays on the group to round-off with no projection.
+//!
+//! # The equations
+//!
+//! The momentum `p ∈ R^N` is the covector in the chart at its centre, `p·η = ⟨P, dφ_q(0) η⟩`:
+//! for a rotation the body momentum `Π ∈ so(3)*` (`⟨P, R η̂⟩ = Π·η`), for a direction the
+//! components `e_a·P` of its momentum in the frame, for a scalar its momentum. With the
+//! variations `δq_k = dφ_{q_k}(0) η_k` — on a rotation `δR = R η̂`, the variations of the Lie
+//! group variational integrators (Lee, Leok & McClamroch 2005, 2007; Bou-Rabee & Marsden 2009
+//! for the Hamilton–Pontryagin form; Lee, Leok & McClamroch 2009 on two-spheres) — the discrete
+//! Hamilton–Pontryagin principle `δ Σ L_d(q_k, q_{k+1}) = 0` gives
+//! `D2 L_d(q_{k−1}, q_k)·δq_k + D1 L_d(q_k, q_{k+1})·δq_k = 0` for every `η_k`, and with the
+//! discrete Legendre transforms in the trivialization the position–momentum form of the discrete
+//! Lagrange–Dirac equations (the paper's Definition 2.7, on a Lie group):
+//!
+//! ```text
+//! p_k · η     = −D1 L_d(q_k, q_{k+1}) · dφ_{q_k}(0) η
+//! p_{k+1} · η =  D2 L_d(q_k, q_{k+1}) · dφ_{q_{k+1}}(0) η        for every η ∈ R^N.
+//! ```
+//!
+//! On a rotation these read `Π_k = −T*_e L_{R_k}(D1 L_d)`, `Π_{k+1} = T*_e L_{R_{k+1}}(D2 L_d)`,
+//! with `T*_e L_R(G) = vee(Rᵀ G − Gᵀ R)` for the matrix `G` of partial derivatives in the
+//! entries. A step knows `(q_k, p_k)` and solves the first line for `z`, `q_{k+1} = φ_{q_k}(z)`:
+//! with the chart Lagrangian `L̃(ξ0, ξ1) = L_d(φ_{q_k}(ξ0), φ_{q_k}(ξ1))` the residual is
+//! `R(z) = D1 L̃(0, z) + p_k` and its Jacobian `D2 D1 L̃(0, z)`, both straight-line code the
+//! compiler derives through `φ` ([`LieLagrangian`]); the second line is then explicit.
+//!
+//! For the free rigid body `L_d = tr((I − F_k) J_d)/h`, `F_k = R_kᵀ R_{k+1}`,
+//! `J_d = ½ tr(J) I − J`, the first line is the LGVI's `h Π_k = vee(F_k J_d − J_d F_kᵀ)` and the
+//! second `Π_{k+1} = F_kᵀ Π_k`.
+//!
+//! # What is kept
+//!
+//! The step map is the discrete flow of `L_d`: symplectic on `T*Q`. If `L_d` is invariant under
+//! the rotation of every rotation and direction coordinate together (`R ↦ g R`, `n ↦ g n`,
+//! scalars fixed), differentiating `L_d(g q_k, g q_{k+1}) = L_d(q_k, q_{k+1})` in `g` along `ζ`
+//! gives `D1 L_d·(ζ̂ q_k) + D2 L_d·(ζ̂ q_{k+1}) = 0`; with `ζ̂ R = R (Rᵀζ)^` and
+//! `⟨P, ζ × n⟩ = ζ·(n × P)` this is the discrete Noether theorem for the spatial angular momentum
+//! ([`LieIntegrator::spatial_momentum`])
+//!
+//! ```text
+//! π = Σ_rotations R Π + Σ_directions n × P,        π_{k+1} = π_k,
+//! ```
+//!
+//! kept up to the residual Newton accepts (not bit for bit: the update is not a copy). A
+//! rotation about one axis only (a body in a uniform field) keeps that component of `π`.
+//!
+//! A symmetric `L_d` (`L_d(q0, q1; −h) = −L_d(q1, q0; h)`, e.g. the rigid body's above or a
+//! midpoint-type rule) gives a symmetric step of order 2, which the compositions of
+//! [`crate::compose`] raise to order 4 and 6.
+
+mod integrator;
+mod so3;
+
+pub use integrator::{LieIntegrator, LieWorkspace, MANIFOLD_TOLERANCE};
+pub use so3::{cayley, frame, hat, orthogonality_defect, rows, vee};
+
+use nalgebra::{Matrix3, SVector};
+
+use crate::error::Steps;
+use crate::linalg::LinearSolver;
+use crate::reduced::trajectory_accessors;
+use crate::state::IntoVector;
+use crate::stepper::{Collect, StepStats, StepStatsExt};
+
+/// What one declared coordinate of a system on rotation groups is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum CoordinateKind {
+    /// An ordinary real coordinate (`shape(x)`): one entry of the point, one of the chart.
+    Scalar,
+    /// A real coordinate whose translations are a symmetry (`group(x)`, checked at compile
+    /// time): its momentum `μ` obeys the discrete Noether balance explicitly,
+    /// `μ_{k+1} = μ_k + f_d^− + f_d^+` — copied bit for bit without forces.
+    Group,
+    /// A rotation matrix `R ∈ SO(3)` (`rotation(R)`): 9 entries of the point (row by row), 3 of
+    /// the chart (the body-frame algebra element).
+    Rotation,
+    /// A unit vector `n ∈ S²` (`direction(n)`): the 9 entries of its frame `[e1 e2 n]` (row by
+    /// row), 2 of the chart.
+    Direction,
+}
+
+impl CoordinateKind {
+    /// Entries of the stored point.
+    pub const fn point_len(self) -> usize {
+        match self {
+            CoordinateKind::Scalar | CoordinateKind::Group => 1,
+            CoordinateKind::Rotation | CoordinateKind::Direction => 9,
+        }
+    }
+
+    /// Entries of the chart (and of the momentum).
+    pub const fn chart_len(self) -> usize {
+        match self {
+            CoordinateKind::Scalar | CoordinateKind::Group => 1,
+            CoordinateKind::Rotation => 3,
+            CoordinateKind::Direction => 2,
+        }
+    }
+}
+
+/// A discrete Lagrangian on `Q = R^m × SO(3)^a × (S²)^b`, with the straight-line functions of
+/// its Lie group variational step (see the [module documentation](self)). `P` is the length of a
+/// stored point, `N = dim Q` that of the chart and the momentum. `#[reduced_lagrangian]`
+/// implements it for a function with `rotation(..)` or `direction(..)` coordinates.
+pub trait LieLagrangian<const P: usize, const N: usize>: Clone + Send + Sync + 'static {
+    /// The coordinates, in the order of the point and the chart.
+    const COORDINATES: &'static [(&'static str, CoordinateKind)];
+    /// Names of the scalar parameters, in declaration order.
+    const PARAMETERS: &'static [&'static str];
+    /// Names of the controls (`controls(..)` in the attribute): parameters a control law sets
+    /// before every step, in the order a control vector lists them.
+    const CONTROLS: &'static [&'static str] = &[];
+
+    /// The linear algebra of the steps: dense LU on the stack for small `N`.
+    type Linear: LinearSolver<Vector = SVector<f64, N>>;
+
+    /// A workspace for [`Self::Linear`], built once per run.
+    fn linear_solver(&self) -> Self::Linear;
+
+    /// `L_d(q0, q1)`, evaluated by the user's own function body.
+    fn lagrangian(&self, q0: &SVector<f64, P>, q1: &SVector<f64, P>) -> f64;
+
+    /// The time step `h`.
+    fn time_step(&self) -> f64;
+
+    /// The same system at time step `h` (any nonzero `h`, negative included for the stages of a
+    /// composition).
+    fn with_time_step(&self, h: f64) -> Self;
+
+    /// The parameter values, in the order of [`Self::PARAMETERS`].
+    fn parameter_values(&self) -> Vec<f64>;
+
+    /// The same system with its controls set to `u` (in the order of [`Self::CONTROLS`]; the
+    /// caller checks the length).
+    fn with_controls(&self, u: &[f64]) -> Self {
+        let _ = u;
+        self.clone()
+    }
+
+    /// The point `φ_q(z)` of the chart centred at `q`.
+    fn retract(&self, q: &SVector<f64, P>, z: &SVector<f64, N>) -> SVector<f64, P>;
+
+    /// `R(z) = D1 L̃(0, z) + p_k`, the step residual in the chart centred at `q_k`.
+    fn residual(
+        &self,
+        q_k: &SVector<f64, P>,
+        p_k: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> SVector<f64, N>;
+
+    /// `R(z)` and its exact Jacobian `D2 D1 L̃(0, z)`, from one straight-line function.
+    fn residual_jacobian(
+        &self,
+        q_k: &SVector<f64, P>,
+        p_k: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> (SVector<f64, N>, <Self::Linear as LinearSolver>::Matrix);
+
+    /// The momentum update `p_{k+1} = D2 L_d(q_k, q_{k+1}) · dφ_{q_{k+1}}(0)` at
+    /// `q_{k+1} = φ_{q_k}(z)` (`+ f_d^+` with forces); for a [`CoordinateKind::Group`]
+    /// coordinate the Noether balance `p_k + f_d^− + f_d^+`, which reads `p_k`.
+    fn momentum(
+        &self,
+        q_k: &SVector<f64, P>,
+        p_k: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> SVector<f64, N>;
+
+    /// The partial derivatives of the step from `(q_k, p_k)` to `q_{k+1} = φ_{q_k}(z)` that its
+    /// sensitivity needs ([`LiePartials`]); `None` where the compiler emitted none (systems on
+    /// the sparse backend).
+    fn step_partials(
+        &self,
+        _q_k: &SVector<f64, P>,
+        _p_k: &SVector<f64, N>,
+        _z: &SVector<f64, N>,
+    ) -> Option<LiePartials> {
+        None
+    }
+}
+
+/// The partial derivatives of a step in the charts at its nominal points (see
+/// [`LieIntegrator::sensitivity`]): the step from `q' = φ_{q_k}(δ)` with momentum `p` to
+/// `q'_{k+1} = φ_{q_{k+1}}(w)` solves `R̃(w; δ, p, u) = 0` (with `∂R̃/∂p = I`) and sets
+/// `p_{k+1} = O(w; δ, u)`; each block is a derivative at `δ = 0`, `w = 0`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LiePartials {
+    /// `∂R̃/∂w`.
+    pub r_w: nalgebra::DMatrix<f64>,
+    /// `∂R̃/∂δ`.
+    pub r_y: nalgebra::DMatrix<f64>,
+    /// `∂R̃/∂u`.
+    pub r_u: nalgebra::DMatrix<f64>,
+    /// `∂O/∂w`.
+    pub o_w: nalgebra::DMatrix<f64>,
+    /// `∂O/∂δ`.
+    pub o_y: nalgebra::DMatrix<f64>,
+    /// `∂O/∂u`.
+    pub o_u: nalgebra::DMatrix<f64>,
+}
+
+/// A state `(q, p)` of a system on rotation groups: the stored point `q` (see
+/// [`CoordinateKind`]) and the momentum `p` in the chart at `q` (body momenta for rotations,
+/// frame components for directions).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LieState<const P: usize, const N: usize> {
+    /// The stored point.
+    pub q: SVector<f64, P>,
+    /// The momentum in the chart centred at `q`.
+    pub p: SVector<f64, N>,
+}
+
+impl<const P: usize, const N: usize> LieState<P, N> {
+    /// The state from a stored point and a momentum (arrays or nalgebra vectors). The emitted
+    /// `<Name>Config::to_point` and `<Name>Momentum::to_chart` build them from matrices and
+    /// vectors.
+    pub fn new(q: impl IntoVector<SVector<f64, P>>, p: impl IntoVector<SVector<f64, N>>) -> Self {
+        Self {
+            q: q.into_vector(),
+            p: p.into_vector(),
+        }
+    }
+
+    /// Whether every entry is finite.
+    pub fn is_finite(&self) -> bool {
+        self.q.iter().chain(self.p.iter()).all(|v| v.is_finite())
+    }
+}
+
+/// A trajectory `(q_k, p_k)`, `k = 0..=steps()`, of a system on rotation groups.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LieTrajectory<const P: usize, const N: usize> {
+    /// The integrator's time step `h` (the default step of a run).
+    pub h: f64,
+    /// `states[k]` is the state at `times[k]`.
+    pub states: Vec<LieState<P, N>>,
+    /// `times[k] = t_k`.
+    pub times: Vec<f64>,
+    /// Newton statistics of each step.
+    pub stats: Vec<StepStats>,
+}
+
+impl<const P: usize, const N: usize> LieTrajectory<P, N> {
+    trajectory_accessors!(LieState<P, N>);
+}
+
+impl<const P: usize, const N: usize> Steps for LieTrajectory<P, N> {
+    fn completed_steps(&self) -> usize {
+        self.steps()
+    }
+}
+
+impl<L, const P: usize, const N: usize> Collect<LieIntegrator<L, P, N>> for LieTrajectory<P, N>
+where
+    L: LieLagrangian<P, N>,
+{
+    fn start(integrator: &LieIntegrator<L, P, N>, steps: usize) -> Self {
+        LieTrajectory {
+            h: integrator.system().time_step(),
+            states: crate::stepper::reserved(steps.saturating_add(1)),
+            times: crate::stepper::reserved(steps.saturating_add(1)),
+            stats: crate::stepper::reserved(steps),
+        }
+    }
+
+    fn push(&mut self, t: f64, state: &LieState<P, N>, record: Option<&StepStats>) {
+        self.states.push(*state);
+        self.times.push(t);
+        if let Some(stats) = record {
+            self.stats.push(*stats);
+        }
+    }
+}
+
+/// One coordinate's place in the point and the chart.
+struct Block {
+    name: &'static str,
+    kind: CoordinateKind,
+    point: usize,
+    chart: usize,
+}
+
+fn blocks<L: LieLagrangian<P, N>, const P: usize, const N: usize>() -> impl Iterator<Item = Block> {
+    let (mut point, mut chart) = (0, 0);
+    L::COORDINATES.iter().map(move |&(name, kind)| {
+        let block = Block {
+            name,
+            kind,
+            point,
+            chart,
+        };
+        point += kind.point_len();
+        chart += kind.chart_len();
+        block
+    })
+}
+
+/// The 3 × 3 matrix stored row by row at `q[at..at + 9]`.
+fn matrix_at<const P: usize>(q: &SVector<f64, P>, at: usize) -> Matrix3<f64> {
+    Matrix3::from_fn(|i, j| q[at + 3 * i + j])
+}
