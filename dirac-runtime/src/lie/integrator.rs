@@ -1,5 +1,5 @@
 //! The Lie group variational integrator: the step on the charts of the
-//! [module documentation](super), its checks, sensitivities and the Noether-exact momentum
+//! [module documentation](crate::lie), its checks, sensitivities and the Noether-exact momentum
 //! update.
 
 use nalgebra::{SVector, Vector3};
@@ -25,7 +25,7 @@ pub struct LieWorkspace<B, const N: usize> {
 }
 
 /// The Lie group variational integrator of a [`LieLagrangian`] (see the
-/// [module documentation](self)).
+/// [module documentation](crate::lie)).
 #[derive(Clone, Debug)]
 pub struct LieIntegrator<L, const P: usize, const N: usize> {
     system: L,
@@ -62,7 +62,7 @@ where
 
     /// The spatial angular momentum `π = Σ R Π + Σ n × P` of the rotation and direction
     /// coordinates: the momentum map of rotating all of them together, conserved when `L_d` is
-    /// invariant under that rotation (see the [module documentation](self)).
+    /// invariant under that rotation (see the [module documentation](crate::lie)).
     pub fn spatial_momentum(&self, state: &LieState<P, N>) -> Vector3<f64> {
         let mut pi = Vector3::zeros();
         for block in blocks::<L, P, N>() {
@@ -128,7 +128,7 @@ where
     /// point — so [`Sensitivity::state`](crate::Sensitivity::state) is `∂(w, p_{k+1})/∂(δ, p_k)` (each `N × N` block in the
     /// order of [`LieLagrangian::COORDINATES`]) and [`Sensitivity::control`](crate::Sensitivity::control) is
     /// `∂(w, p_{k+1})/∂u`, where `q'_{k+1} = φ_{q_{k+1}}(w)`. By the implicit-function theorem
-    /// on the step residual in these charts ([`LiePartials`]): `dw = −R̃_w⁻¹ (R̃_δ dδ + dp + R̃_u
+    /// on the step residual in these charts ([`LiePartials`](super::LiePartials)): `dw = −R̃_w⁻¹ (R̃_δ dδ + dp + R̃_u
     /// du)`, `dp_{k+1} = O_w dw + O_δ dδ + O_u du`.
     ///
     /// A typed error for a system compiled without its partials (the sparse backend), a step
