@@ -1,6 +1,6 @@
 //! The Lie group variational step of a system on rotation groups (`dirac::runtime::lie`), on
 //! the graph: the chart `φ_{q_k}(z)` centred at the current point (scalars `x + z`, rotations
-//! `R cay(z)`, directions by the shortest-arc rotation of their frame), the residual
+//! `R cay(z)`, directions by the sphere's retraction with their frame carried along), the residual
 //! `R(z) = D1 L_d(q_k, φ(z)) · dφ_{q_k}(0) + p_k` with its exact Jacobian in `z`, and the
 //! momentum update `p_{k+1} = D2 L_d(q_k, φ(z)) · dφ_{φ(z)}(0)`.
 //!

@@ -14,9 +14,10 @@
 //!   `cay(ξ) = (I − ξ̂/2)⁻¹ (I + ξ̂/2) = I + 4/(4 + |ξ|²) (ξ̂ + ξ̂²/2)` ([`cayley`]), so that
 //!   `dφ(0) η = R η̂`: the left trivialization, the body frame;
 //! * a direction `n`, stored with an orthonormal frame `F = [e1 e2 n]` (a rotation whose third
-//!   column is `n`, see [`frame`]): `φ(a, b) = (n + a e1 + b e2) / √(1 + a² + b²)`, the frame
-//!   carried along by the rotation that takes `e3` to `u = (a, b, 1)/√(1 + a² + b²)` by the
-//!   shortest arc, so `dφ(0) (a, b) = a e1 + b e2`.
+//!   column is `n`, see [`frame`]): `φ(a, b) = (n + a e1 + b e2) / |n + a e1 + b e2|` (the
+//!   sphere's retraction, so `|n| = 1` to round-off at every step), the frame carried along by
+//!   the rotation that takes `e3` to `(a, b, 1)/√(1 + a² + b²)` by the shortest arc and made
+//!   orthonormal to the new `n` again, so `dφ(0) (a, b) = a e1 + b e2`.
 //!
 //! A configuration is stored as its point `q ∈ R^P` (scalars, then for each rotation its 9
 //! entries row by row, for each direction its frame's 9 entries row by row, in the order the
