@@ -173,8 +173,10 @@ impl DspOnSpheres {
     }
 }
 
-/// The bobs' positions and velocities in the paper's initial state.
-fn paper_bobs() -> (Vector3<f64>, Vector3<f64>, Vector3<f64>, Vector3<f64>) {
+/// The bobs' positions and velocities `(r1, r2, ṙ1, ṙ2)` in the paper's initial state (§7.2),
+/// from its angles and their rates: the state every Cartesian or spherical form of the double
+/// spherical pendulum starts from.
+pub fn paper_bobs() -> (Vector3<f64>, Vector3<f64>, Vector3<f64>, Vector3<f64>) {
     let paper = DoubleSphericalPendulum::paper();
     let continuous = DoubleSphericalPendulumContinuous::paper();
     let c0 = continuous.untrivialize(&DoubleSphericalPendulum::paper_initial_state());
