@@ -176,8 +176,31 @@ fn expand_lie(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> {
             })
         }
     };
+    // The declared rotations must be symmetries of L_d and of the forces.
+    let cx = Ctxt::new();
+    crate::ir::lie::check_rotations(&cx, &graph, &spec, body, forces.as_ref());
+    cx.finish(Some(()))?;
     let mode = compile::mode_for(spec.n());
-    let mut code = crate::ir::lie::compile(&mut graph, &spec, body, forces.as_ref(), mode);
+    let mut code = crate::ir::lie::compile(&mut graph, &spec, body, forces.as_ref(), mode, None);
+    // Reduced by every rotation of one rotation coordinate: the step of the reduced Lagrangian.
+    if let Some(symmetry) = &spec.symmetry {
+        if symmetry.kind == crate::ast::lie::SymmetryKind::Rotations {
+            let at = spec.coords[symmetry.coords[0].0].point;
+            let reduced =
+                crate::ir::lie::compile(&mut graph, &spec, body, forces.as_ref(), mode, Some(at));
+            code.reduced = Some(reduced.stepper);
+        }
+        code.symmetry_forced = forces.as_ref().is_some_and(|(minus, plus)| {
+            symmetry.coords.iter().any(|&(i, _)| {
+                let c = &spec.coords[i];
+                (c.velocity..c.velocity + c.kind.velocity_len()).any(|v| {
+                    [minus[v], plus[v]]
+                        .iter()
+                        .any(|&f| graph.as_const(f) != Some(0.0))
+                })
+            })
+        });
+    }
     // The step's partial derivatives for its sensitivities, on the dense backend.
     if Backend::for_size(spec.n()).is_dense() {
         let controls: Vec<usize> = spec

@@ -52,6 +52,10 @@ pub const RIGHT: Symbol = Symbol("right");
 pub const ROTATION: Symbol = Symbol("rotation");
 /// `direction(n, ..)`: coordinates on the sphere `S²` (a unit 3-vector in the body).
 pub const DIRECTION: Symbol = Symbol("direction");
+/// `symmetry(R)` or `symmetry(n, .., axis = z)`: rotations that leave the Lagrangian invariant.
+pub const SYMMETRY: Symbol = Symbol("symmetry");
+/// `axis = x | y | z` inside `symmetry(..)`: the fixed axis of the rotations.
+pub const AXIS: Symbol = Symbol("axis");
 /// `#[chart_transition(from(..))]`: the old chart.
 pub const FROM: Symbol = Symbol("from");
 /// `#[chart_transition(to(..))]`: the new chart.

@@ -74,7 +74,9 @@ pub mod prelude {
     };
     pub use crate::error::{IntegrationError, StepError, Steps};
     pub use crate::lie::{
-        CoordinateKind, LieIntegrator, LieLagrangian, LiePartials, LieState, LieTrajectory,
+        CoordinateKind, LieIntegrator, LieLagrangian, LiePartials, LieState, LieSymmetric,
+        LieTrajectory, ReducedLieIntegrator, ReducedLieState, ReducedLieTrajectory,
+        RotationSymmetry,
     };
     pub use crate::newton::NewtonOptions;
     pub use crate::reduced::{ReducedIntegrator, ReducedStep, Trajectory};

@@ -14,8 +14,10 @@ use crate::runtime::ContinuousLagrangian;
 /// of the Lie group variational integrator (Lee, Leok & McClamroch 2005),
 /// `L_d(R0, R1) = tr((I − F) J_d)/h` with the relative rotation `F = R0ᵀ R1` and the nonstandard
 /// inertia `J_d = ½ tr(J) I − J`. It is invariant under `R ↦ g R`, so the spatial angular
-/// momentum `π = R Π` is conserved ([`LieIntegrator::spatial_momentum`]).
-#[reduced_lagrangian(rotation(r))]
+/// momentum `π = R Π` is conserved ([`LieIntegrator::spatial_momentum`]); declared
+/// `symmetry(r)`, it also runs reduced ([`ReducedLieIntegrator`]: the discrete Euler–Poincaré
+/// equations, `π` a parameter of the run).
+#[reduced_lagrangian(rotation(r), symmetry(r))]
 pub fn rigid_body(q0: Config, q1: Config, h: f64, j1: f64, j2: f64, j3: f64) -> f64 {
     let jd = Matrix3::from_diagonal(&Vector3::new(j2 + j3 - j1, j1 + j3 - j2, j1 + j2 - j3)) * 0.5;
     let f = q0.r.transpose() * q1.r;
@@ -35,8 +37,9 @@ impl RigidBody {
 /// `L_d = tr((I − F) J_d)/h − (h/2) m g l (R0[(2, 2)] + R1[(2, 2)])`, the trapezoid rule on the
 /// potential `m g l e3ᵀ R e3`. With `j1 = j2` it is the Lagrange top; otherwise the 3-D pendulum
 /// of Lee, Leok & McClamroch (2007). The rotations about the vertical keep the vertical component
-/// of `π`; for `j1 = j2` the rotations about the body axis keep the axial body momentum `Π_3`.
-#[reduced_lagrangian(rotation(r))]
+/// of `π` (declared `symmetry(r, axis = z)`: [`ReducedLieIntegrator`] carries it as a parameter);
+/// for `j1 = j2` the rotations about the body axis keep the axial body momentum `Π_3`.
+#[reduced_lagrangian(rotation(r), symmetry(r, axis = z))]
 pub fn heavy_top(q0: Config, q1: Config, h: f64, j1: f64, j2: f64, j3: f64, mgl: f64) -> f64 {
     let jd = Matrix3::from_diagonal(&Vector3::new(j2 + j3 - j1, j1 + j3 - j2, j1 + j2 - j3)) * 0.5;
     let f = q0.r.transpose() * q1.r;
@@ -59,8 +62,10 @@ impl HeavyTop {
 /// `L_d = tr((I − F) J_d)/h + (h/2) jw (ω_3 + Δφ/h)²`, `Δφ = φ1 − φ0`, and the motor's virtual
 /// work `(h/2) u (δφ0 + δφ1)` (the trapezoid rule on `u δφ`). The motor is internal: the
 /// satellite's spatial angular momentum `π` is kept whatever `u` does, while the wheel's
-/// momentum `p_φ` changes by exactly `h u` per step.
-#[reduced_lagrangian(rotation(r), shape(phi), controls(u), force = |dq0, dq1| 0.5 * h * u * (dq0.phi + dq1.phi))]
+/// momentum `p_φ` changes by exactly `h u` per step. Declared `symmetry(r)`, it runs reduced by
+/// every rotation of the attitude ([`ReducedLieIntegrator`]: the discrete Lagrange–Poincaré
+/// equations in `(Π, φ, p_φ)`).
+#[reduced_lagrangian(rotation(r), shape(phi), symmetry(r), controls(u), force = |dq0, dq1| 0.5 * h * u * (dq0.phi + dq1.phi))]
 #[allow(clippy::too_many_arguments)]
 pub fn satellite(
     q0: Config,
@@ -83,8 +88,10 @@ pub fn satellite(
 /// two links, bobs at `r1 = l1 n1`, `r2 = r1 + l2 n2`, in the field `(0, 0, −g)`. The discrete
 /// Lagrangian is the midpoint rule on the bobs' positions (chord velocities, the potential
 /// averaged), the same as the Cartesian run with rod constraints of `examples/cartesian_dsp.rs`:
-/// there is no chart, no singular configuration and no switch.
-#[reduced_lagrangian(direction(n1, n2))]
+/// there is no chart, no singular configuration and no switch. The rotations about the vertical
+/// are a symmetry (`symmetry(n1, n2, axis = z)`): [`ReducedLieIntegrator`] carries their
+/// momentum, the vertical angular momentum, as a parameter.
+#[reduced_lagrangian(direction(n1, n2), symmetry(n1, n2, axis = z))]
 #[allow(clippy::too_many_arguments)]
 pub fn dsp_on_spheres(
     q0: Config,

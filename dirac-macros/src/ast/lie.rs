@@ -22,7 +22,8 @@ use crate::ast::layout::CoordName;
 use crate::ast::rule::Rule;
 use crate::ctxt::Ctxt;
 use crate::symbol::{
-    self, KeyArg, CONTROLS, DIRECTION, FORCE, GROUP, NAME, ROTATION, RULE, SHAPE, STEP,
+    self, KeyArg, AXIS, CONTROLS, DIRECTION, FORCE, GROUP, NAME, ROTATION, RULE, SHAPE, STEP,
+    SYMMETRY,
 };
 
 /// What the attribute of a system on rotation groups accepts, for messages.
@@ -30,7 +31,9 @@ pub const LIE_KEYS: &str = "`rotation(R, ...)` (rotation matrices), `direction(n
 vectors), `shape(x, ...)` (scalar coordinates), `group(x, ...)` (scalar coordinates whose \
 translations are a symmetry), `rule = trapezoid | left | right` (for \
 `L(q: Config, v: Velocity, ...)`), `force = |dq| ...` (or `|dq0, dq1|` for a discrete \
-Lagrangian), `controls(u, ...)`, `step = <parameter>`, `name = <TypeName>`";
+Lagrangian), `controls(u, ...)`, `symmetry(R)` (every rotation `R ↦ g R`) or \
+`symmetry(R, n, ..., axis = z)` (rotations about a coordinate axis), `step = <parameter>`, \
+`name = <TypeName>`";
 
 /// What a coordinate is (the runtime's `CoordinateKind`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -81,6 +84,25 @@ pub struct LieCoord {
     pub group: bool,
 }
 
+/// Which rotations a `symmetry(..)` declares.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SymmetryKind {
+    /// Every rotation `R ↦ g R` of one rotation coordinate (`symmetry(R)`): `SO(3)`.
+    Rotations,
+    /// The rotations about coordinate axis `0`, `1` or `2` (`x`, `y`, `z`) of every listed
+    /// coordinate together (`symmetry(R, n, .., axis = z)`): `SO(2)`.
+    Axis(usize),
+}
+
+/// A declared rotation symmetry.
+#[derive(Clone, Debug)]
+pub struct Symmetry {
+    pub kind: SymmetryKind,
+    /// The coordinates it acts on (indices into [`LieSpec::coords`]), with their names as
+    /// written.
+    pub coords: Vec<(usize, Ident)>,
+}
+
 /// The parsed attribute.
 pub struct LieSpec {
     pub coords: Vec<LieCoord>,
@@ -95,6 +117,8 @@ pub struct LieSpec {
     pub force: Option<syn::ExprClosure>,
     /// `controls(u, ..)`: parameters a control law sets before every step.
     pub controls: Vec<Ident>,
+    /// `symmetry(..)`: the rotations under which `L_d` is invariant.
+    pub symmetry: Option<Symmetry>,
 }
 
 impl LieSpec {
@@ -183,6 +207,7 @@ pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
     let items = symbol::parse_args::<LieItem>(cx, args)?;
     let (mut coords, mut step, mut name, mut rule) = (Vec::<LieCoord>::new(), None, None, None);
     let (mut force, mut controls) = (None, Vec::new());
+    let mut symmetry: Option<(&Ident, &Punctuated<Expr, Token![,]>)> = None;
     let (mut point, mut chart, mut velocity) = (0, 0, 0);
     for LieItem(item) in &items {
         let key = item.key();
@@ -268,6 +293,22 @@ pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
                     }
                 }
             }
+            (None, KeyArg::List(_, list)) if key == SYMMETRY => {
+                if symmetry.is_some() {
+                    cx.error_spanned_by(
+                        key,
+                        "`symmetry(..)` is declared twice; declare one symmetry (list every \
+                         coordinate it rotates in it)",
+                    );
+                } else {
+                    symmetry = Some((key, list));
+                }
+            }
+            (None, _) if key == SYMMETRY => cx.error_spanned_by(
+                key,
+                "expected `symmetry(R)` (every rotation of the rotation `R`) or \
+                 `symmetry(R, n, .., axis = z)` (rotations about a coordinate axis)",
+            ),
             (None, _) if key == FORCE => cx.error_spanned_by(
                 key,
                 format!("expected `force = |dq| <virtual work>`; accepted: {LIE_KEYS}"),
@@ -302,6 +343,7 @@ pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
         );
     }
     let rule_written = items.iter().any(|LieItem(i)| i.key() == RULE);
+    let symmetry = symmetry.and_then(|(key, list)| parse_symmetry(cx, &coords, key, list));
     Some(LieSpec {
         coords,
         step,
@@ -310,6 +352,119 @@ pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
         rule_written,
         force,
         controls,
+        symmetry,
+    })
+}
+
+/// `symmetry(R)` or `symmetry(a, b, .., axis = x | y | z)`, against the declared coordinates.
+fn parse_symmetry(
+    cx: &Ctxt,
+    coords: &[LieCoord],
+    key: &Ident,
+    list: &Punctuated<Expr, Token![,]>,
+) -> Option<Symmetry> {
+    let (mut listed, mut axis) = (Vec::new(), None);
+    let failed = std::cell::Cell::new(false);
+    let error = |tokens: &dyn quote::ToTokens, message: String| {
+        failed.set(true);
+        cx.error_spanned_by(tokens.to_token_stream(), message);
+    };
+    for e in list {
+        match e {
+            Expr::Path(p) if p.path.get_ident().is_some() => {
+                let id = p.path.get_ident().expect("checked");
+                match coords.iter().position(|c| c.name == *id) {
+                    Some(i) if coords[i].kind == Kind::Scalar => error(
+                        id,
+                        format!(
+                            "`{id}` is a scalar coordinate; `symmetry(..)` lists rotation and \
+                             direction coordinates (declare translations of a scalar with \
+                             `group({id})`)"
+                        ),
+                    ),
+                    Some(_) if listed.iter().any(|(_, n): &(usize, Ident)| n == id) => {
+                        error(id, format!("`{id}` is listed twice"));
+                    }
+                    Some(i) => listed.push((i, id.clone())),
+                    None => error(
+                        id,
+                        format!(
+                            "`{id}` is not a declared coordinate; `symmetry(..)` lists coordinates \
+                             declared in `rotation(..)` or `direction(..)`"
+                        ),
+                    ),
+                }
+            }
+            Expr::Assign(a) if matches!(&*a.left, Expr::Path(p) if p.path.is_ident(AXIS.0)) => {
+                let which = match &*a.right {
+                    Expr::Path(p) => p
+                        .path
+                        .get_ident()
+                        .and_then(|id| ["x", "y", "z"].iter().position(|a| id == a)),
+                    _ => None,
+                };
+                match which {
+                    Some(k) if axis.is_none() => axis = Some(k),
+                    Some(_) => error(a, "`axis` is given twice".into()),
+                    None => error(
+                        &a.right,
+                        "expected a coordinate axis: `axis = x`, `axis = y` or `axis = z`".into(),
+                    ),
+                }
+            }
+            other => error(
+                other,
+                "expected a coordinate name or `axis = x | y | z`; e.g. `symmetry(R)` for every \
+                 rotation of `R`, `symmetry(n1, n2, axis = z)` for the rotations about the z-axis"
+                    .into(),
+            ),
+        }
+    }
+    if failed.get() {
+        return None;
+    }
+    if listed.is_empty() {
+        cx.error_spanned_by(
+            key,
+            "`symmetry(..)` lists the coordinates it rotates, e.g. `symmetry(R)` or \
+             `symmetry(n1, n2, axis = z)`",
+        );
+        return None;
+    }
+    let kind = match axis {
+        Some(k) => SymmetryKind::Axis(k),
+        None => {
+            if let Some((i, id)) = listed
+                .iter()
+                .find(|(i, _)| coords[*i].kind != Kind::Rotation)
+            {
+                let _ = i;
+                cx.error_spanned_by(
+                    id,
+                    format!(
+                        "every rotation of a direction leaves only the rotations about it; \
+                         `symmetry(..)` without an axis acts on one rotation coordinate (`R ↦ g R`), \
+                         and `{id}` is a direction: declare the rotations about a fixed axis, \
+                         `symmetry({id}, axis = z)`"
+                    ),
+                );
+                return None;
+            }
+            if let Some((_, id)) = listed.get(1) {
+                cx.error_spanned_by(
+                    id,
+                    "`symmetry(..)` without an axis reduces by every rotation of one rotation \
+                     coordinate; list one (rotations acting on several bodies at once are \
+                     available about a fixed axis: `symmetry(R1, R2, axis = z)`)",
+                );
+                return None;
+            }
+            SymmetryKind::Rotations
+        }
+    };
+    Some(Symmetry {
+        kind,
+        coords: listed,
     })
 }
 

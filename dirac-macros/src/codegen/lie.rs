@@ -8,7 +8,7 @@ use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 use syn::{Ident, ItemFn};
 
-use crate::ast::lie::{Kind, LieSpec};
+use crate::ast::lie::{Kind, LieSpec, SymmetryKind};
 use crate::ast::signature::Signature;
 use crate::codegen::backend::stepper_fns;
 use crate::codegen::items::{camel_case, param_struct, user_function};
@@ -180,6 +180,7 @@ pub fn generate(
     } else {
         quote! { #fn_name(#config::from_point(q0), #config::from_point(q1), #( self.#fn_params ),*) }
     };
+    let symmetric = symmetry_impl(spec, g, code, &ty, &leaf);
     let doc_p = format!("Length `P` of a stored point of [`{ty}`] (`LieState::q`).");
     let doc_n = format!("Dimension `N` of the configuration space of [`{ty}`] (`LieState::p`).");
     quote! {
@@ -285,6 +286,83 @@ pub fn generate(
             }
 
             #partials_fn
+        }
+
+        #symmetric
+    }
+}
+
+/// `impl LieSymmetric<P, N>` for a system with `symmetry(..)`: the declared action, whether the
+/// forces act on it, and for every rotation of a rotation coordinate the reduced step's
+/// functions (the step with that rotation replaced by the identity).
+fn symmetry_impl(
+    spec: &LieSpec,
+    g: &Graph,
+    code: &LieCode,
+    ty: &Ident,
+    leaf: &dyn Fn(Sym) -> TokenStream,
+) -> TokenStream {
+    let Some(symmetry) = &spec.symmetry else {
+        return TokenStream::new();
+    };
+    let (p, n) = (spec.p(), spec.n());
+    let (na, rt) = (quote!(::dirac::nalgebra), quote!(::dirac::runtime));
+    let kind = match symmetry.kind {
+        SymmetryKind::Rotations => {
+            let coordinate = symmetry.coords[0].0;
+            quote!(#rt::lie::RotationSymmetry::Rotations { coordinate: #coordinate })
+        }
+        SymmetryKind::Axis(axis) => {
+            let coordinates = symmetry.coords.iter().map(|(i, _)| *i);
+            quote!(#rt::lie::RotationSymmetry::Axis { axis: #axis, coordinates: &[ #( #coordinates ),* ] })
+        }
+    };
+    let forced = code.symmetry_forced;
+    let reduced = code.reduced.as_ref().map(|stepper| {
+        let fns = stepper_fns(g, stepper, leaf, n, n);
+        let matrix = fns.backend.matrix_type(n);
+        let (residual, residual_jacobian, momentum) =
+            (&fns.residual, &fns.residual_jacobian, &fns.momentum);
+        quote! {
+            #[allow(unused_variables, reason = "the reduced step does not read the rotation it removes")]
+            fn reduced_residual(
+                &self,
+                q_k: &#na::SVector<f64, #p>,
+                p_k: &#na::SVector<f64, #n>,
+                z: &#na::SVector<f64, #n>,
+            ) -> #na::SVector<f64, #n> {
+                #residual
+            }
+
+            #[allow(unused_variables, reason = "the reduced step does not read the rotation it removes")]
+            fn reduced_residual_jacobian(
+                &self,
+                q_k: &#na::SVector<f64, #p>,
+                p_k: &#na::SVector<f64, #n>,
+                z: &#na::SVector<f64, #n>,
+            ) -> (#na::SVector<f64, #n>, #matrix) {
+                #residual_jacobian
+            }
+
+            #[allow(unused_variables, reason = "the reduced step does not read the rotation it removes")]
+            fn reduced_momentum(
+                &self,
+                q_k: &#na::SVector<f64, #p>,
+                p_k: &#na::SVector<f64, #n>,
+                z: &#na::SVector<f64, #n>,
+            ) -> #na::SVector<f64, #n> {
+                #momentum
+            }
+        }
+    });
+    let allow = lints::generated();
+    quote! {
+        #allow
+        #[automatically_derived]
+        impl #rt::lie::LieSymmetric<#p, #n> for #ty {
+            const SYMMETRY: #rt::lie::RotationSymmetry = #kind;
+            const SYMMETRY_FORCED: bool = #forced;
+            #reduced
         }
     }
 }

@@ -227,7 +227,7 @@ where
     /// The system of step `k`: `None` (the system itself) for its own step without controls,
     /// otherwise a copy at step `h` with the controls `u` set; the typed error of step `k` for
     /// controls of the wrong number or not finite.
-    fn system_at(&self, k: usize, h: f64, u: &[f64]) -> Result<Option<L>, StepError> {
+    pub(super) fn system_at(&self, k: usize, h: f64, u: &[f64]) -> Result<Option<L>, StepError> {
         if u.is_empty() && same_step(h, self.system.time_step()) {
             return Ok(None);
         }
@@ -267,6 +267,22 @@ where
         guess: &SVector<f64, N>,
         u: &[f64],
     ) -> Result<(LieState<P, N>, SVector<f64, N>, StepStats), StepError> {
+        self.chart_step::<Unreduced>(solver, k, h, state, guess, u)
+    }
+
+    /// The step of size `h` from `state` with the equations `E` (the unreduced step's or a
+    /// reduced one's): Newton on the residual for the chart coordinate `z` of the next point
+    /// from `guess`, the retraction, the momentum update and its compensation ([`compensate`]).
+    /// Returns the new state, `z` and the step's statistics.
+    pub(super) fn chart_step<E: StepEquations<L, P, N>>(
+        &self,
+        solver: &mut L::Linear,
+        k: usize,
+        h: f64,
+        state: &LieState<P, N>,
+        guess: &SVector<f64, N>,
+        u: &[f64],
+    ) -> Result<(LieState<P, N>, SVector<f64, N>, StepStats), StepError> {
         let owned = self.system_at(k, h, u)?;
         let sys = owned.as_ref().unwrap_or(&self.system);
         let (q, p) = (&state.q, &state.p);
@@ -279,16 +295,16 @@ where
             &mut jacobian,
             rho,
             &self.options,
-            |z, r| *r = sys.residual(q, p, z),
+            |z, r| *r = E::residual(sys, q, p, z),
             |z, r, j| {
-                let (r_z, j_z) = sys.residual_jacobian(q, p, z);
+                let (r_z, j_z) = E::residual_jacobian(sys, q, p, z);
                 *r = r_z;
                 *j = Some(j_z);
             },
         )
         .map_err(|failure| step_error(k, failure))?;
         let q_next = sys.retract(q, &z);
-        let mut p_next = sys.momentum(q, p, &z);
+        let mut p_next = E::momentum(sys, q, p, &z);
         compensate::<L, P, N>(q, &q_next, &r, &mut p_next);
         let next = LieState {
             q: q_next,
@@ -306,6 +322,71 @@ where
             z,
             StepStats::from_solution(&solution, self.options.residual_tolerance(rho)),
         ))
+    }
+}
+
+/// The equations a step on the charts solves: the unreduced ones of [`LieLagrangian`]
+/// ([`Unreduced`]) or the reduced ones of [`super::LieSymmetric`]. A type, so that a step
+/// contains no dispatch on it.
+pub(super) trait StepEquations<L: LieLagrangian<P, N>, const P: usize, const N: usize> {
+    /// The step residual at `z`.
+    fn residual(
+        sys: &L,
+        q: &SVector<f64, P>,
+        p: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> SVector<f64, N>;
+    /// The residual and its Jacobian at `z`.
+    fn residual_jacobian(
+        sys: &L,
+        q: &SVector<f64, P>,
+        p: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> (
+        SVector<f64, N>,
+        <L::Linear as crate::linalg::LinearSolver>::Matrix,
+    );
+    /// The momentum update at the solution `z`.
+    fn momentum(
+        sys: &L,
+        q: &SVector<f64, P>,
+        p: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> SVector<f64, N>;
+}
+
+/// The unreduced step's equations.
+pub(super) struct Unreduced;
+
+impl<L: LieLagrangian<P, N>, const P: usize, const N: usize> StepEquations<L, P, N> for Unreduced {
+    fn residual(
+        sys: &L,
+        q: &SVector<f64, P>,
+        p: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> SVector<f64, N> {
+        sys.residual(q, p, z)
+    }
+
+    fn residual_jacobian(
+        sys: &L,
+        q: &SVector<f64, P>,
+        p: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> (
+        SVector<f64, N>,
+        <L::Linear as crate::linalg::LinearSolver>::Matrix,
+    ) {
+        sys.residual_jacobian(q, p, z)
+    }
+
+    fn momentum(
+        sys: &L,
+        q: &SVector<f64, P>,
+        p: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> SVector<f64, N> {
+        sys.momentum(q, p, z)
     }
 }
 

@@ -75,9 +75,13 @@
 //! [`crate::compose`] raise to order 4 and 6.
 
 mod integrator;
+mod reduced;
 mod so3;
 
 pub use integrator::{LieIntegrator, LieWorkspace, MANIFOLD_TOLERANCE};
+pub use reduced::{
+    LieSymmetric, ReducedLieIntegrator, ReducedLieState, ReducedLieTrajectory, RotationSymmetry,
+};
 pub use so3::{cayley, frame, hat, orthogonality_defect, rows, vee};
 
 use nalgebra::{Matrix3, SVector};

@@ -13,6 +13,12 @@ use crate::ir::diff::derivatives;
 use crate::ir::graph::{Graph, NodeId, Sym};
 use crate::ir::reduce::{firsts, Mode, Stepper};
 
+mod check;
+mod partials;
+
+pub use check::{check_rotations, check_skew, check_translations};
+pub use partials::{partials, LiePartials};
+
 /// `L_d` from a continuous `L(q, v)` by `rule`, with the velocity of each coordinate over the
 /// step: a scalar's `(x1 − x0)/h`, a direction's chord `(n1 − n0)/h`, and a rotation's body
 /// angular velocity `Ω = cay⁻¹(F)/h`, `F = R0ᵀ R1` (the relative rotation, [`Sym::Rel`]), with
@@ -168,6 +174,11 @@ pub struct LieCode {
     pub stepper: Stepper,
     /// The partial derivatives for the step's sensitivities (dense systems only).
     pub partials: Option<LiePartials>,
+    /// The reduced step of a system reduced by every rotation of one rotation coordinate.
+    pub reduced: Option<Stepper>,
+    /// Whether the forces act on a coordinate the declared symmetry rotates (then its momentum
+    /// obeys a forced balance rather than being constant).
+    pub symmetry_forced: bool,
 }
 
 /// `cay(x) = I + α x̂ + (α/2)(x xᵀ − |x|² I)`, `α = 4/(4 + |x|²)`, row by row.
@@ -340,18 +351,36 @@ fn orthonormal(
 ///
 /// where `F` is the value of each relative rotation `R0ᵀ R1` (exact for rotations, with no
 /// round-off from the stored matrices: `R_kᵀ R_k = I` is used, not computed).
+///
+/// With `reduced = Some(at)` — the rotation stored at point entry `at` is acted on by every
+/// rotation `R ↦ g R` and `L_d` is invariant — the step is the reduced one: `R_k` is replaced by
+/// the identity (`L_d(R_k, R_{k+1}) = L_d(I, R_kᵀ R_{k+1})`, the reduced Lagrangian
+/// `l_d(F, ..) = L_d(I, .., F, ..)`), so the residual and the momentum update read the relative
+/// rotation `F_k = cay(z)` alone; the retraction `R_{k+1} = R_k cay(z)` is then the
+/// reconstruction.
 pub fn compile(
     g: &mut Graph,
     spec: &LieSpec,
     l: NodeId,
     forces: Option<&(Vec<NodeId>, Vec<NodeId>)>,
     mode: Mode,
+    reduced: Option<usize>,
 ) -> LieCode {
     let (p, n) = (spec.p(), spec.n());
-    let base: Vec<NodeId> = (0..p).map(|i| g.var(Sym::Base(i))).collect();
+    let stored: Vec<NodeId> = (0..p).map(|i| g.var(Sym::Base(i))).collect();
+    let base: Vec<NodeId> = (0..p)
+        .map(|i| match reduced {
+            Some(at) if (at..at + 9).contains(&i) => {
+                let (r, c) = ((i - at) / 3, (i - at) % 3);
+                g.constant(if r == c { 1.0 } else { 0.0 })
+            }
+            _ => stored[i],
+        })
+        .collect();
     let z: Vec<NodeId> = (0..n).map(|j| g.var(Sym::Chart1(j))).collect();
     let xi: Vec<NodeId> = (0..n).map(|j| g.var(Sym::Chart0(j))).collect();
     let vary: Vec<Sym> = (0..n).map(Sym::Chart0).collect();
+    let retract = chart(g, spec, &stored, &z);
     let next = chart(g, spec, &base, &z);
     // The relative rotation of each rotation coordinate, for the residual and the momentum.
     let mut rel_residual = vec![None; p];
@@ -462,272 +491,15 @@ pub fn compile(
         .collect();
     LieCode {
         partials: None,
+        reduced: None,
+        symmetry_forced: false,
         lagrangian: l,
-        retract: next,
+        retract,
         stepper: Stepper {
             residual,
             jacobian,
             momentum,
             impulse: Vec::new(),
         },
-    }
-}
-
-/// `cay(x)` in plain arithmetic, row by row (for the sample configurations).
-fn cayley_value(x: [f64; 3]) -> [[f64; 3]; 3] {
-    let n2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
-    let alpha = 4.0 / (4.0 + n2);
-    let hat = [[0.0, -x[2], x[1]], [x[2], 0.0, -x[0]], [-x[1], x[0], 0.0]];
-    let mut m = [[0.0; 3]; 3];
-    for i in 0..3 {
-        for j in 0..3 {
-            let diag = if i == j { 1.0 - 0.5 * alpha * n2 } else { 0.0 };
-            m[i][j] = diag + alpha * hat[i][j] + 0.5 * alpha * x[i] * x[j];
-        }
-    }
-    m
-}
-
-/// Values of the symbols at sample configuration `t`: rotations and frames `cay(..)` of sample
-/// vectors, relative rotations `R0ᵀ R1` consistent with them, scalars and velocities arbitrary,
-/// parameters positive; the scalar coordinate at point entry `shift.0` (if any) translated by
-/// `shift.1` in both configurations.
-fn sampler(spec: &LieSpec, t: f64, by: f64, shift: Option<usize>) -> impl Fn(Sym) -> f64 {
-    let mut point = [vec![0.0; spec.p()], vec![0.0; spec.p()]];
-    let mut rel = vec![0.0; spec.p()];
-    for c in &spec.coords {
-        let p = c.point;
-        match c.kind {
-            Kind::Scalar => {
-                let moved = if shift == Some(p) { by } else { 0.0 };
-                point[0][p] = 0.3 + 0.2 * t + 0.11 * p as f64 + moved;
-                point[1][p] = -0.4 + 0.1 * t - 0.07 * p as f64 + moved;
-            }
-            Kind::Rotation | Kind::Direction => {
-                let k = p as f64;
-                let r0 = cayley_value([0.3 + t, -0.5 + 0.1 * k, 0.2 * t + 0.1]);
-                let r1 = cayley_value([-0.2, 0.4 + 0.3 * t, 0.6 - 0.05 * k]);
-                for i in 0..3 {
-                    for j in 0..3 {
-                        point[0][p + 3 * i + j] = r0[i][j];
-                        point[1][p + 3 * i + j] = r1[i][j];
-                        rel[p + 3 * i + j] = (0..3).map(|k| r0[k][i] * r1[k][j]).sum();
-                    }
-                }
-            }
-        }
-    }
-    move |sym: Sym| match sym {
-        Sym::Q0(i) => point[0].get(i).copied().unwrap_or(0.7 - 0.1 * i as f64),
-        // A continuous Lagrangian reads its velocities as Q1: any values serve.
-        Sym::Q1(i) => point[1].get(i).copied().unwrap_or(0.5 + 0.1 * i as f64),
-        Sym::Rel(i) => rel[i],
-        Sym::Param(i) => 0.9 + 0.07 * i as f64 + 0.1 * t,
-        _ => 0.3 + 0.05 * t,
-    }
-}
-
-/// Checks that `L_d` is invariant under the translations of each `group(..)` coordinate:
-/// `L_d(q0 + a e_g, q1 + a e_g) = L_d(q0, q1)` at three sample configurations and two shifts
-/// `a` (to `1e-9` relative). A body that is not is a compile error at the coordinate's name.
-pub fn check_translations(cx: &crate::ctxt::Ctxt, g: &Graph, spec: &LieSpec, l: NodeId) {
-    for c in spec.coords.iter().filter(|c| c.group) {
-        let varies = (0..3).any(|sample| {
-            let t = sample as f64;
-            let at = g.eval(&[l], &sampler(spec, t, 0.0, None))[0];
-            [0.37, -1.3].iter().any(|&a| {
-                let moved = g.eval(&[l], &sampler(spec, t, a, Some(c.point)))[0];
-                (moved - at).abs() > 1e-9 * at.abs().max(moved.abs()).max(1.0)
-            })
-        });
-        if varies {
-            cx.error_spanned_by(
-                &c.name,
-                format!(
-                    "the discrete Lagrangian is not invariant under translations of `{}`: its value changes when `{0}` \
-                     is shifted by the same amount in both configurations; declare it in `shape(..)`, or make the \
-                     body depend on `{0}` only through `q1.{0} - q0.{0}`",
-                    c.name
-                ),
-            );
-        }
-    }
-}
-
-/// Checks that every `vee(&m)` of the body reads a skew-symmetric `m` (an element of `so(3)`):
-/// `m + mᵀ` at three sample configurations — rotations, frames of directions and relative
-/// rotations consistent with each other, scalars and velocities arbitrary, parameters
-/// positive — must vanish to round-off. The runtime's `vee` takes the skew part of any matrix;
-/// a body that hands it a matrix with a symmetric part has almost always mistaken one matrix for
-/// another (`vee(&f)` for `vee(&(f − fᵀ))/2`), so that is a compile error at the argument.
-pub fn check_skew(
-    cx: &crate::ctxt::Ctxt,
-    g: &Graph,
-    spec: &LieSpec,
-    checks: &[(Vec<NodeId>, proc_macro2::Span)],
-) {
-    for sample in 0..3 {
-        let t = sample as f64;
-        let value = sampler(spec, t, 0.0, None);
-        for (entries, span) in checks {
-            let values = g.eval(entries, &value);
-            let scale = values.iter().fold(1.0_f64, |m, v| m.max(v.abs()));
-            if let Some(v) = values.iter().find(|v| v.abs() > 1e-9 * scale) {
-                cx.error_at(
-                    *span,
-                    format!(
-                        "`vee` needs a skew-symmetric matrix (an element of so(3)), but this one has a symmetric part \
-                         (an entry of `m + mᵀ` is {v:.3e} at a sample configuration): write the skew part you mean, \
-                         e.g. `vee(&(m - m.transpose())) * 0.5`"
-                    ),
-                );
-                return;
-            }
-        }
-    }
-}
-
-/// The partial derivatives of one step for its sensitivities, in the charts at the nominal
-/// points: the step from `q' = φ_{q_k}(δ)` with the momentum `p` (in the chart at `q'`) to
-/// `q'_{k+1} = φ_{q_{k+1}}(w)`, `q_{k+1} = φ_{q_k}(z̄)` the nominal step, solves
-///
-/// ```text
-/// R̃(w; δ, p, u) = ∂/∂ξ L_d(φ_{q'}(ξ), q'_{k+1})|_0 + p + f_d^−      = 0
-/// O(w; δ, u)     = ∂/∂η L_d(q', φ_{q'_{k+1}}(η))|_0 + f_d^+          (= p_{k+1})
-/// ```
-///
-/// with every relative rotation `cay(ξ)ᵀ cay(δ)ᵀ cay(z̄) cay(w)` (resp.
-/// `cay(δ)ᵀ cay(z̄) cay(w) cay(η)`), so that no product of stored rotations enters. The
-/// implicit-function theorem at `δ = 0`, `w = 0` gives the derivatives of `(w, p_{k+1})` in
-/// `(δ, p, u)` (the runtime's `LieIntegrator::sensitivity`). `δ` is `Sym::X0`, `w` is `Sym::X1`.
-pub struct LiePartials {
-    /// `∂R̃/∂w`, `∂R̃/∂δ`, `∂R̃/∂u`, `∂O/∂w`, `∂O/∂δ`, `∂O/∂u`, row-major.
-    pub blocks: [Vec<Vec<NodeId>>; 6],
-}
-
-/// The [`LiePartials`] of `L_d` with its forces, `controls` the indices of the control
-/// parameters.
-pub fn partials(
-    g: &mut Graph,
-    spec: &LieSpec,
-    l: NodeId,
-    forces: Option<&(Vec<NodeId>, Vec<NodeId>)>,
-    controls: &[usize],
-    mode: Mode,
-) -> LiePartials {
-    let (p, n) = (spec.p(), spec.n());
-    let base: Vec<NodeId> = (0..p).map(|i| g.var(Sym::Base(i))).collect();
-    let var = |g: &mut Graph, f: fn(usize) -> Sym| -> Vec<NodeId> {
-        (0..n).map(|j| g.var(f(j))).collect()
-    };
-    let (zbar, delta, w, xi) = (
-        var(g, Sym::Chart1),
-        var(g, Sym::X0),
-        var(g, Sym::X1),
-        var(g, Sym::Chart0),
-    );
-    let start = chart(g, spec, &base, &delta);
-    let nominal = chart(g, spec, &base, &zbar);
-    let next = chart(g, spec, &nominal, &w);
-    // The relative rotations: (varied start)ᵀ next, start ᵀ (varied next), start ᵀ next.
-    let mut rel = [vec![None; p], vec![None; p], vec![None; p]];
-    for c in spec.coords.iter().filter(|c| c.kind == Kind::Rotation) {
-        let q = c.chart;
-        let at = |v: &[NodeId]| [v[q], v[q + 1], v[q + 2]];
-        let (cd, cz, cw, cx) = (
-            cayley(g, at(&delta)),
-            cayley(g, at(&zbar)),
-            cayley(g, at(&w)),
-            cayley(g, at(&xi)),
-        );
-        let zw = product(g, &cz, false, &cw);
-        let dzw = product(g, &cd, true, &zw);
-        let residual = product(g, &cx, true, &dzw);
-        let momentum = product(g, &dzw, false, &cx);
-        for (slot, m) in rel.iter_mut().zip([residual, momentum, dzw]) {
-            for i in 0..3 {
-                for j in 0..3 {
-                    slot[c.point + 3 * i + j] = Some(m[i][j]);
-                }
-            }
-        }
-    }
-    let vary: Vec<Sym> = (0..n).map(Sym::Chart0).collect();
-    let zero_vary = |g: &mut Graph, d: NodeId| {
-        g.substitute(d, &mut |g, sym| match sym {
-            Sym::Chart0(_) => g.constant(0.0),
-            other => g.var(other),
-        })
-    };
-    let substituted =
-        |g: &mut Graph, node: NodeId, q0: &[NodeId], q1: &[NodeId], rel: &[Option<NodeId>]| {
-            g.substitute(node, &mut |g, sym| match sym {
-                Sym::Q0(i) => q0[i],
-                Sym::Q1(i) => q1[i],
-                Sym::Rel(i) => rel[i].expect("Rel reads a rotation coordinate"),
-                other => g.var(other),
-            })
-        };
-    let varied_start = chart(g, spec, &start, &xi);
-    let l0 = substituted(g, l, &varied_start, &next, &rel[0]);
-    let mut residual: Vec<NodeId> = firsts(g, mode, l0, &vary)
-        .into_iter()
-        .enumerate()
-        .map(|(j, d)| {
-            let d = zero_vary(g, d);
-            let pj = g.var(Sym::P(j));
-            g.add(d, pj)
-        })
-        .collect();
-    let varied_next = chart(g, spec, &next, &xi);
-    let l1 = substituted(g, l, &start, &varied_next, &rel[1]);
-    let mut output: Vec<NodeId> = firsts(g, mode, l1, &vary)
-        .into_iter()
-        .map(|d| zero_vary(g, d))
-        .collect();
-    if let Some((minus, plus)) = forces {
-        let at_step = |g: &mut Graph, f: &[NodeId]| -> Vec<NodeId> {
-            f.iter()
-                .map(|&fi| substituted(g, fi, &start, &next, &rel[2]))
-                .collect()
-        };
-        let (minus, plus) = (at_step(g, minus), at_step(g, plus));
-        let minus = to_chart(g, spec, &minus, &start);
-        let plus = to_chart(g, spec, &plus, &next);
-        for (r, f) in residual.iter_mut().zip(minus) {
-            *r = g.add(*r, f);
-        }
-        for (o, f) in output.iter_mut().zip(plus) {
-            *o = g.add(*o, f);
-        }
-    }
-    let nominal_point = |g: &mut Graph, d: NodeId| {
-        g.substitute(d, &mut |g, sym| match sym {
-            Sym::X0(_) | Sym::X1(_) => g.constant(0.0),
-            other => g.var(other),
-        })
-    };
-    let jacobian = |g: &mut Graph, rows: &[NodeId], by: &[Sym]| -> Vec<Vec<NodeId>> {
-        let columns: Vec<Vec<NodeId>> = by.iter().map(|&s| derivatives(g, rows, s)).collect();
-        (0..rows.len())
-            .map(|r| {
-                (0..by.len())
-                    .map(|c| nominal_point(g, columns[c][r]))
-                    .collect()
-            })
-            .collect()
-    };
-    let by_w: Vec<Sym> = (0..n).map(Sym::X1).collect();
-    let by_delta: Vec<Sym> = (0..n).map(Sym::X0).collect();
-    let by_u: Vec<Sym> = controls.iter().map(|&i| Sym::Param(i)).collect();
-    LiePartials {
-        blocks: [
-            jacobian(g, &residual, &by_w),
-            jacobian(g, &residual, &by_delta),
-            jacobian(g, &residual, &by_u),
-            jacobian(g, &output, &by_w),
-            jacobian(g, &output, &by_delta),
-            jacobian(g, &output, &by_u),
-        ],
     }
 }

@@ -1,0 +1,556 @@
+//! Reduction by rotations: the discrete Euler–Poincaré and Lagrange–Poincaré equations of a
+//! discrete Lagrangian invariant under every rotation of one rotation coordinate, and the
+//! reduced step of one invariant under the rotations about a fixed axis.
+//!
+//! # Every rotation of the attitude: `Q = SO(3) × S`
+//!
+//! Let `L_d(R0, s0, R1, s1)` be invariant under `R ↦ g R` for every `g ∈ SO(3)` (declared
+//! `symmetry(R)`, sampled at compile time), `s` the other coordinates (scalars, other rotations
+//! and directions, untouched by `g`). The discrete connection `A_d(q0, q1) = R1 R0⁻¹` identifies
+//! `(Q × Q)/SO(3)` with `SO(3) × S × S` through `(R0, s0, R1, s1) ↦ (F = R0ᵀ R1, s0, s1)`, and the
+//! reduced Lagrangian is
+//!
+//! ```text
+//! l_d(F, s0, s1) = L_d(I, s0, F, s1) = L_d(R0, s0, R0 F, s1)            for every R0.
+//! ```
+//!
+//! With the variations of the unreduced step, `δR_k = R_k η̂_k`, the relative rotation varies by
+//! `δF_k = −η̂_k F_k + F_k η̂_{k+1}` (Marsden, Pekarsky & Shkoller 1999; Leok, Marsden &
+//! Weinstein 2005), and the reduced Hamilton–Pontryagin principle
+//! `δ Σ l_d(F_k, s_k, s_{k+1}) = 0` gives, with the body momentum `Π ∈ so(3)*` and the momenta
+//! `w` of `s` in their charts, the position–momentum form of the reduced discrete
+//! Lagrange–Poincaré–Dirac equations:
+//!
+//! ```text
+//! Π_k · η     = ⟨D_F l_d, η̂ F_k⟩          w_k     = −D_{s0} l_d
+//! Π_{k+1} · η = ⟨D_F l_d, F_k η̂⟩          w_{k+1} =  D_{s1} l_d          for every η ∈ R³,
+//! R_{k+1}     = R_k F_k                                                  (reconstruction)
+//! ```
+//!
+//! at `(F_k, s_k, s_{k+1})`. They are the unreduced equations of [`crate::lie`] with `R_k`
+//! replaced by the identity: the compiler emits them from the same body with the stored
+//! rotation set to `I` ([`LieSymmetric::reduced_residual`]), so a step solves for the chart
+//! coordinate `z` of `F_k = cay(z)` and of `s_{k+1}` without reading the attitude, and the
+//! attitude is reconstructed afterwards. For `S` empty (the free rigid body,
+//! `l_d(F) = tr((I − F) J_d)/h`) these are the discrete Euler–Poincaré equations
+//! `h Π_k = vee(F_k J_d − J_d F_kᵀ)`; with shapes (a satellite with rotors) the discrete
+//! Lagrange–Poincaré equations.
+//!
+//! Since `F_k η̂ = (F_k η)^ F_k`, the two lines for `Π` give `Π_{k+1} · η = Π_k · (F_k η)`:
+//!
+//! ```text
+//! Π_{k+1} = F_kᵀ Π_k = Ad*_{F_k} Π_k,
+//! ```
+//!
+//! the discrete Lie–Poisson equation — `Π` moves on its coadjoint orbit (the sphere
+//! `|Π| = const`, a Casimir), and the spatial momentum `π = R Π` is constant:
+//! `R_{k+1} Π_{k+1} = R_k F_k F_kᵀ Π_k = R_k Π_k`. The reduced integrator therefore carries `π`
+//! as a parameter of the run, as the abelian reduced integrators carry `μ`: a step reads `Π_k`
+//! and the shapes, not `π`; after it, `Π_{k+1}` is scaled onto the orbit `|Π| = |π|` and the
+//! reconstructed attitude is turned by the smallest rotation that makes `R_{k+1} Π_{k+1} = π`
+//! and brought back onto `SO(3)` by one Newton–Schulz step `R (3I − RᵀR)/2` (the corrections
+//! are of the size of the round-off of the step: in exact arithmetic they are the identity). So
+//! `π_k = R_k Π_k` equals `π`, `|Π_k|` equals `|π|` and `R_kᵀ R_k` equals `I` to a few units of
+//! round-off at every step, with no drift, where the unreduced step's `π` and `RᵀR` perform
+//! random walks of round-off.
+//!
+//! # The rotations about a fixed axis `e`
+//!
+//! Declared `symmetry(R, n, .., axis = z)`: `L_d` invariant under `R ↦ exp(θ ê) R`,
+//! `n ↦ exp(θ ê) n` of every listed coordinate together — a body in a uniform field along `e`
+//! (the heavy top), pendula on a pivot. The group `SO(2)` is abelian and acts on a nonlinear
+//! configuration space; in the chart centred at `q` its generator is
+//! `ζ(q) = (Rᵀ e, ((e × n)·e_1, (e × n)·e_2), 0)` (a rotation's body components, a direction's
+//! frame components, nothing on other coordinates), and its momentum map is
+//! `μ = ⟨p, ζ(q)⟩ = e · π`. The reduced step carries `μ` as a parameter, as the paper's reduced
+//! equations (4.6) do: the momentum a step reads is the shape part of `p_k` with the group part
+//! `μ` — `p_k + (μ − ⟨p_k, ζ⟩) ζ / |ζ|²` — so the group component of the residual is the
+//! equation `⟨D1 L̃, ζ⟩ + μ = 0`; the step then solves the chart equations of
+//! [`crate::lie`], which by invariance read the configuration only through its orbit (`Rᵀ e`
+//! for the heavy top), and the group part of `p_{k+1}` is set to `μ` again. `μ` is copied from
+//! step to step, bit for bit, and the stored rotation's phase about `e` is the reconstruction.
+//! A configuration on the axis (`|ζ| = 0`, e.g. a pendulum hanging straight down) has no group
+//! part to set; there `μ = 0` necessarily.
+//!
+//! # What is kept
+//!
+//! The reduced step is the unreduced step of the same `L_d` (to round-off), so everything of
+//! [`crate::lie`] holds: symplecticity on `T*Q` (on the reduced space, the Lie–Poisson structure
+//! of `so(3)*` and its coadjoint orbits for the free body), order 2 for a symmetric `L_d` and 4
+//! and 6 by composition, the energy without drift over long runs. With forces that act on the
+//! coordinates the symmetry moves, the momentum obeys the forced balance and is recomputed from
+//! the state after every step (no orbit correction then).
+
+use nalgebra::{Matrix3, SVector, Vector3};
+
+use super::integrator::StepEquations;
+use super::{
+    blocks, matrix_at, CoordinateKind, LieIntegrator, LieLagrangian, LieState, LieWorkspace,
+};
+use crate::error::{StepError, Steps};
+use crate::newton::NewtonOptions;
+use crate::reduced::trajectory_accessors;
+use crate::stepper::{predicted_increment, Collect, History, StepStats, StepStatsExt, Stepper};
+
+/// A rotation symmetry of a system on rotation groups (`symmetry(..)` in the attribute).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RotationSymmetry {
+    /// Every rotation `R ↦ g R` of the rotation coordinate `COORDINATES[coordinate]`:
+    /// `SO(3)`, with the spatial momentum `π = R Π` (`symmetry(R)`).
+    Rotations {
+        /// Its index in [`LieLagrangian::COORDINATES`].
+        coordinate: usize,
+    },
+    /// The rotations about the coordinate axis `axis` (0, 1, 2 for x, y, z) of the listed
+    /// coordinates together: `SO(2)`, with the momentum `μ = e · π`
+    /// (`symmetry(R, n, .., axis = z)`).
+    Axis {
+        /// 0, 1 or 2.
+        axis: usize,
+        /// Their indices in [`LieLagrangian::COORDINATES`].
+        coordinates: &'static [usize],
+    },
+}
+
+/// A [`LieLagrangian`] with a declared rotation symmetry, checked at compile time, and the
+/// reduced step's straight-line functions (see the [module documentation](self)).
+/// `#[reduced_lagrangian]` implements it for a function with `symmetry(..)` in its attribute.
+pub trait LieSymmetric<const P: usize, const N: usize>: LieLagrangian<P, N> {
+    /// The declared symmetry.
+    const SYMMETRY: RotationSymmetry;
+    /// Whether the forces act on a coordinate the symmetry moves (then its momentum obeys the
+    /// forced balance instead of being constant).
+    const SYMMETRY_FORCED: bool;
+
+    /// The reduced step residual (`R_k` replaced by the identity for [`RotationSymmetry::Rotations`];
+    /// the unreduced residual for [`RotationSymmetry::Axis`]).
+    fn reduced_residual(
+        &self,
+        q_k: &SVector<f64, P>,
+        p_k: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> SVector<f64, N> {
+        self.residual(q_k, p_k, z)
+    }
+
+    /// The reduced residual and its exact Jacobian.
+    fn reduced_residual_jacobian(
+        &self,
+        q_k: &SVector<f64, P>,
+        p_k: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> (
+        SVector<f64, N>,
+        <Self::Linear as crate::linalg::LinearSolver>::Matrix,
+    ) {
+        self.residual_jacobian(q_k, p_k, z)
+    }
+
+    /// The reduced momentum update.
+    fn reduced_momentum(
+        &self,
+        q_k: &SVector<f64, P>,
+        p_k: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> SVector<f64, N> {
+        self.momentum(q_k, p_k, z)
+    }
+}
+
+/// The reduced step's equations.
+struct ReducedEquations;
+
+impl<L: LieSymmetric<P, N>, const P: usize, const N: usize> StepEquations<L, P, N>
+    for ReducedEquations
+{
+    fn residual(
+        sys: &L,
+        q: &SVector<f64, P>,
+        p: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> SVector<f64, N> {
+        sys.reduced_residual(q, p, z)
+    }
+
+    fn residual_jacobian(
+        sys: &L,
+        q: &SVector<f64, P>,
+        p: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> (
+        SVector<f64, N>,
+        <L::Linear as crate::linalg::LinearSolver>::Matrix,
+    ) {
+        sys.reduced_residual_jacobian(q, p, z)
+    }
+
+    fn momentum(
+        sys: &L,
+        q: &SVector<f64, P>,
+        p: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> SVector<f64, N> {
+        sys.reduced_momentum(q, p, z)
+    }
+}
+
+/// A state of a reduced system on rotation groups: the stored point `q` (the rotation the
+/// symmetry acts on is the reconstruction), the momentum `p` in the chart at `q` (the reduced
+/// momentum `Π` for [`RotationSymmetry::Rotations`]) and the conserved momentum `mu` of the
+/// symmetry: the spatial momentum `π` for every rotation, `μ e` (one nonzero entry, on the
+/// axis) for the rotations about an axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ReducedLieState<const P: usize, const N: usize> {
+    /// The stored point.
+    pub q: SVector<f64, P>,
+    /// The momentum in the chart centred at `q`.
+    pub p: SVector<f64, N>,
+    /// The momentum of the symmetry, a parameter of the reduced dynamics.
+    pub mu: Vector3<f64>,
+}
+
+impl<const P: usize, const N: usize> ReducedLieState<P, N> {
+    /// The unreduced state `(q, p)`.
+    pub fn unreduced(&self) -> LieState<P, N> {
+        LieState {
+            q: self.q,
+            p: self.p,
+        }
+    }
+
+    /// Whether every entry is finite.
+    pub fn is_finite(&self) -> bool {
+        self.unreduced().is_finite() && self.mu.iter().all(|v| v.is_finite())
+    }
+}
+
+/// A trajectory of a reduced system on rotation groups.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReducedLieTrajectory<const P: usize, const N: usize> {
+    /// The integrator's time step `h` (the default step of a run).
+    pub h: f64,
+    /// `states[k]` is the state at `times[k]`.
+    pub states: Vec<ReducedLieState<P, N>>,
+    /// `times[k] = t_k`.
+    pub times: Vec<f64>,
+    /// Newton statistics of each step.
+    pub stats: Vec<StepStats>,
+}
+
+impl<const P: usize, const N: usize> ReducedLieTrajectory<P, N> {
+    trajectory_accessors!(ReducedLieState<P, N>);
+}
+
+impl<const P: usize, const N: usize> Steps for ReducedLieTrajectory<P, N> {
+    fn completed_steps(&self) -> usize {
+        self.steps()
+    }
+}
+
+impl<L, const P: usize, const N: usize> Collect<ReducedLieIntegrator<L, P, N>>
+    for ReducedLieTrajectory<P, N>
+where
+    L: LieSymmetric<P, N>,
+{
+    fn start(integrator: &ReducedLieIntegrator<L, P, N>, steps: usize) -> Self {
+        ReducedLieTrajectory {
+            h: integrator.system().time_step(),
+            states: crate::stepper::reserved(steps.saturating_add(1)),
+            times: crate::stepper::reserved(steps.saturating_add(1)),
+            stats: crate::stepper::reserved(steps),
+        }
+    }
+
+    fn push(&mut self, t: f64, state: &ReducedLieState<P, N>, record: Option<&StepStats>) {
+        self.states.push(*state);
+        self.times.push(t);
+        if let Some(stats) = record {
+            self.stats.push(*stats);
+        }
+    }
+}
+
+/// The reduced integrator of a [`LieSymmetric`] system (see the [module documentation](self)):
+/// the same run API, compositions and checks as [`LieIntegrator`], on [`ReducedLieState`]s.
+#[derive(Clone, Debug)]
+pub struct ReducedLieIntegrator<L, const P: usize, const N: usize> {
+    unreduced: LieIntegrator<L, P, N>,
+}
+
+/// Largest accepted relative mismatch between a reduced state's `mu` and the momentum map of its
+/// `(q, p)`.
+const MOMENTUM_TOLERANCE: f64 = 1e-9;
+
+impl<L, const P: usize, const N: usize> ReducedLieIntegrator<L, P, N>
+where
+    L: LieSymmetric<P, N>,
+{
+    /// The reduced integrator of `system` with Newton's `options`.
+    pub fn new(system: L, options: NewtonOptions) -> Self {
+        Self {
+            unreduced: LieIntegrator::new(system, options),
+        }
+    }
+
+    /// The system being integrated.
+    pub fn system(&self) -> &L {
+        self.unreduced.system()
+    }
+
+    /// The unreduced integrator of the same system: its steps are this integrator's to
+    /// round-off, and its diagnostics ([`LieIntegrator::manifold_defect`],
+    /// [`LieIntegrator::chart_coordinates`], ..) apply to reduced states through
+    /// [`ReducedLieState::unreduced`].
+    pub fn unreduced(&self) -> &LieIntegrator<L, P, N> {
+        &self.unreduced
+    }
+
+    /// The momentum map of the symmetry at `(q, p)`: `π = R Π` of the rotation coordinate for
+    /// [`RotationSymmetry::Rotations`], `(e · π) e` for the rotations about the axis `e`.
+    pub fn momentum_map(&self, state: &LieState<P, N>) -> Vector3<f64> {
+        match L::SYMMETRY {
+            RotationSymmetry::Rotations { coordinate } => {
+                let (r, c) = rotation_block::<L, P, N>(coordinate);
+                matrix_at(&state.q, r) * Vector3::new(state.p[c], state.p[c + 1], state.p[c + 2])
+            }
+            RotationSymmetry::Axis { axis, coordinates } => {
+                let zeta = generator::<L, P, N>(&state.q, axis, coordinates);
+                let mut mu = Vector3::zeros();
+                mu[axis] = zeta.dot(&state.p);
+                mu
+            }
+        }
+    }
+
+    /// The reduced state of `state`: its momentum map as `mu`.
+    pub fn reduce(&self, state: &LieState<P, N>) -> ReducedLieState<P, N> {
+        ReducedLieState {
+            q: state.q,
+            p: state.p,
+            mu: self.momentum_map(state),
+        }
+    }
+
+    /// The step of size `h` from `state`.
+    fn solve_step(
+        &self,
+        workspace: &mut LieWorkspace<L::Linear, N>,
+        k: usize,
+        h: f64,
+        state: &ReducedLieState<P, N>,
+        u: &[f64],
+    ) -> Result<(ReducedLieState<P, N>, StepStats), StepError> {
+        let guess = predicted_increment(&workspace.history, h).unwrap_or_else(SVector::zeros);
+        let mut start = state.unreduced();
+        if let RotationSymmetry::Axis { axis, coordinates } = L::SYMMETRY {
+            set_group_part::<L, P, N>(&mut start, axis, coordinates, state.mu[axis]);
+        }
+        let (mut next, z, stats) = self.unreduced.chart_step::<ReducedEquations>(
+            &mut workspace.solver,
+            k,
+            h,
+            &start,
+            &guess,
+            u,
+        )?;
+        workspace.history.push(z, h);
+        let mu = if L::SYMMETRY_FORCED {
+            self.momentum_map(&next)
+        } else {
+            state.mu
+        };
+        match L::SYMMETRY {
+            RotationSymmetry::Rotations { coordinate } if !L::SYMMETRY_FORCED => {
+                onto_level::<L, P, N>(&mut next, coordinate, &mu);
+            }
+            RotationSymmetry::Rotations { .. } => {}
+            RotationSymmetry::Axis { axis, coordinates } => {
+                set_group_part::<L, P, N>(&mut next, axis, coordinates, mu[axis]);
+            }
+        }
+        let next = ReducedLieState {
+            q: next.q,
+            p: next.p,
+            mu,
+        };
+        if !next.is_finite() {
+            return Err(StepError::NonFinite {
+                step: k,
+                what: "the updated state",
+                residual: stats.residual,
+            });
+        }
+        Ok((next, stats))
+    }
+}
+
+/// The point and chart offsets of coordinate `index`.
+fn rotation_block<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
+    index: usize,
+) -> (usize, usize) {
+    let block = blocks::<L, P, N>()
+        .nth(index)
+        .expect("the symmetry names a declared coordinate");
+    (block.point, block.chart)
+}
+
+/// The generator `ζ(q)` of the rotations about coordinate axis `axis` of the listed
+/// coordinates, in the chart at `q`: a rotation's body components `Rᵀ e`, a direction's frame
+/// components `((e × n)·e_1, (e × n)·e_2)`.
+fn generator<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
+    q: &SVector<f64, P>,
+    axis: usize,
+    coordinates: &[usize],
+) -> SVector<f64, N> {
+    let e = Vector3::ith(axis, 1.0);
+    let mut zeta = SVector::<f64, N>::zeros();
+    for (index, block) in blocks::<L, P, N>().enumerate() {
+        if !coordinates.contains(&index) {
+            continue;
+        }
+        let (m, c) = (matrix_at(q, block.point), block.chart);
+        match block.kind {
+            CoordinateKind::Rotation => {
+                let body = m.transpose() * e;
+                zeta[c] = body.x;
+                zeta[c + 1] = body.y;
+                zeta[c + 2] = body.z;
+            }
+            CoordinateKind::Direction => {
+                let turn = e.cross(&m.column(2));
+                zeta[c] = turn.dot(&m.column(0));
+                zeta[c + 1] = turn.dot(&m.column(1));
+            }
+            CoordinateKind::Scalar | CoordinateKind::Group => {}
+        }
+    }
+    zeta
+}
+
+/// Sets the group part of `state.p` to `mu`: `p + (μ − ⟨p, ζ⟩) ζ / |ζ|²` (nothing on the axis,
+/// where `ζ = 0`).
+fn set_group_part<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
+    state: &mut LieState<P, N>,
+    axis: usize,
+    coordinates: &[usize],
+    mu: f64,
+) {
+    let zeta = generator::<L, P, N>(&state.q, axis, coordinates);
+    let norm2 = zeta.norm_squared();
+    if norm2 > 0.0 {
+        let missing = mu - zeta.dot(&state.p);
+        state.p += zeta * (missing / norm2);
+    }
+}
+
+/// Puts `state` on the momentum level `R Π = π` of the rotation coordinate `index`: `Π` scaled
+/// onto the orbit `|Π| = |π|`, then `R` turned by the smallest rotation taking `R Π` to `π` and
+/// made orthogonal to round-off (all three of the size of the step's round-off). Nothing where
+/// `π` or `Π` vanishes.
+fn onto_level<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
+    state: &mut LieState<P, N>,
+    index: usize,
+    pi: &Vector3<f64>,
+) {
+    let (at, c) = rotation_block::<L, P, N>(index);
+    let body = Vector3::new(state.p[c], state.p[c + 1], state.p[c + 2]);
+    let (size, own) = (pi.norm(), body.norm());
+    if size == 0.0 || own == 0.0 {
+        return;
+    }
+    let body = body * (size / own);
+    let r = matrix_at(&state.q, at);
+    let (from, to) = ((r * body) / size, pi / size);
+    let (v, cos) = (from.cross(&to), from.dot(&to));
+    let turned = if cos > 0.0 {
+        let vh = super::hat(&v);
+        (Matrix3::identity() + vh + vh * vh / (1.0 + cos)) * r
+    } else {
+        // Not a round-off correction (an inconsistent state): left as it is.
+        r
+    };
+    // One Newton–Schulz step towards the nearest rotation, `R (3I − RᵀR)/2`: squares the
+    // orthogonality defect, so the reconstruction stays on SO(3) at the round-off of one step
+    // instead of a random walk of them (the reduced dynamics does not read it).
+    let turned = turned * (Matrix3::identity() * 3.0 - turned.transpose() * turned) * 0.5;
+    for i in 0..3 {
+        for j in 0..3 {
+            state.q[at + 3 * i + j] = turned[(i, j)];
+        }
+        state.p[c + i] = body[i];
+    }
+}
+
+impl<L, const P: usize, const N: usize> Stepper for ReducedLieIntegrator<L, P, N>
+where
+    L: LieSymmetric<P, N>,
+{
+    type State = ReducedLieState<P, N>;
+    type Record = StepStats;
+    type Workspace = LieWorkspace<L::Linear, N>;
+    type Trajectory = ReducedLieTrajectory<P, N>;
+
+    fn time_step(&self) -> f64 {
+        self.unreduced.time_step()
+    }
+
+    /// The unreduced integrator's checks, and `mu` the momentum map of `(q, p)` (to `1e-9`
+    /// relative; build reduced states with [`ReducedLieIntegrator::reduce`]).
+    fn check(&self, initial: &ReducedLieState<P, N>) -> Result<(), StepError> {
+        let state = initial.unreduced();
+        self.unreduced.check(&state)?;
+        let expected = self.momentum_map(&state);
+        let scale = expected.norm().max(initial.mu.norm()).max(1.0);
+        let off = (expected - initial.mu).norm();
+        if !(off <= MOMENTUM_TOLERANCE * scale) {
+            return Err(StepError::OffManifold {
+                reason: format!(
+                    "the momentum `mu` = {:?} of the reduced state is not the momentum map {:?} of its \
+                     (q, p) (they differ by {off:.3e}); build reduced states with \
+                     `ReducedLieIntegrator::reduce`",
+                    initial.mu.as_slice(),
+                    expected.as_slice()
+                ),
+            });
+        }
+        Ok(())
+    }
+
+    fn control_dim(&self) -> usize {
+        L::CONTROLS.len()
+    }
+
+    fn workspace(&self) -> Self::Workspace {
+        LieWorkspace {
+            solver: self.system().linear_solver(),
+            history: History::default(),
+        }
+    }
+
+    /// Newton starts from the chart coordinate of the last steps, extrapolated (zero on the
+    /// first step of a run).
+    fn step_with(
+        &self,
+        workspace: &mut Self::Workspace,
+        k: usize,
+        h: f64,
+        state: &ReducedLieState<P, N>,
+        u: &[f64],
+    ) -> Result<(ReducedLieState<P, N>, StepStats), StepError> {
+        self.solve_step(workspace, k, h, state, u)
+    }
+}
+
+impl<L, const P: usize, const N: usize> crate::compose::SelfAdjoint
+    for ReducedLieIntegrator<L, P, N>
+where
+    L: LieSymmetric<P, N>,
+{
+    fn with_time_step(&self, h: f64) -> Self {
+        Self::new(self.system().with_time_step(h), *self.unreduced.options())
+    }
+
+    fn symmetry_defect(&self, at: &ReducedLieState<P, N>) -> f64 {
+        self.unreduced.symmetry_defect(&at.q)
+    }
+}
