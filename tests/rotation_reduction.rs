@@ -175,3 +175,105 @@ fn the_double_spherical_pendulum_reduced_about_the_vertical() {
     let worst = reduced_against_unreduced(sys, s0, 2000);
     assert!(worst < 1e-10, "{worst:e}");
 }
+
+/// Euler's equations `Π̇ = Π × J⁻¹Π` of the free rigid body — the reduced dynamics on `so(3)*`
+/// alone — over `t` by the classical Runge–Kutta method with 20,000 steps per unit time.
+fn euler_exact(j: &Vector3<f64>, pi: &Vector3<f64>, t: f64) -> Vector3<f64> {
+    let f = |pi: &Vector3<f64>| pi.cross(&pi.component_div(j));
+    let n = (20_000.0 * t).ceil() as usize;
+    let dt = t / n as f64;
+    let mut pi = *pi;
+    for _ in 0..n {
+        let k1 = f(&pi);
+        let k2 = f(&(pi + k1 * (dt / 2.0)));
+        let k3 = f(&(pi + k2 * (dt / 2.0)));
+        let k4 = f(&(pi + k3 * dt));
+        pi += (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (dt / 6.0);
+    }
+    pi
+}
+
+/// `|Π_N − Π(1)|` of the reduced free rigid body after `n` steps of size `1/n`, by the reduced
+/// step or its triple-jump composition.
+fn reduced_error(n: usize, composed: bool) -> f64 {
+    let (mut sys, s0) = body();
+    sys.h = 1.0 / n as f64;
+    let options = NewtonOptions {
+        abs_tol: 1e-14,
+        rel_tol: 1e-14,
+        ..NewtonOptions::default()
+    };
+    let integ = ReducedLieIntegrator::new(sys, options);
+    let r0 = integ.reduce(&s0);
+    let last = if composed {
+        let c = Composition::new(integ, CompositionMethod::TRIPLE_JUMP);
+        *c.run(r0).steps(n).collect().unwrap().last()
+    } else {
+        *integ.run(r0).steps(n).collect().unwrap().last()
+    };
+    let exact = euler_exact(&Vector3::new(1.0, 2.0, 3.0), &sys.momenta(&s0).r, 1.0);
+    (sys.momenta(&last.unreduced()).r - exact).amax()
+}
+
+#[test]
+fn the_reduced_rigid_body_has_order_two_and_its_triple_jump_order_four_against_euler() {
+    for (composed, order, steps) in [(false, 2.0, [20, 40, 80]), (true, 4.0, [10, 20, 40])] {
+        let e: Vec<f64> = steps.iter().map(|&n| reduced_error(n, composed)).collect();
+        for w in e.windows(2) {
+            let observed = (w[0] / w[1]).log2();
+            assert!(
+                (observed - order).abs() < 0.2,
+                "order {observed} (expected {order}) from errors {e:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn the_diagnostics_of_reduced_and_unreduced_runs_agree() {
+    let sys = DspOnSpheres::paper(0.01);
+    let s0 = sys.paper_initial_state();
+    let unreduced = LieIntegrator::new(sys, NewtonOptions::default());
+    let reduced = ReducedLieIntegrator::new(sys, NewtonOptions::default());
+    let a = unreduced.run(s0).steps(300).collect().unwrap();
+    let b = reduced
+        .run(reduced.reduce(&s0))
+        .steps(300)
+        .collect()
+        .unwrap();
+    // Each step is a point of the discrete Dirac structure to Newton's accepted residual.
+    let worst = |r: Vec<f64>| r.into_iter().fold(0.0, f64::max);
+    let (ra, rb) = (
+        worst(unreduced.dirac_residuals(&a)),
+        worst(reduced.dirac_residuals(&b)),
+    );
+    assert!(ra < 1e-8 && rb < 1e-8, "{ra:e} {rb:e}");
+    // The discrete generalized energy along both runs, and the action.
+    let (ea, eb) = (
+        unreduced.discrete_energies(&a),
+        reduced.discrete_energies(&b),
+    );
+    let scale = ea.iter().fold(0.0_f64, |m, e| m.max(e.abs()));
+    let gap = ea
+        .iter()
+        .zip(&eb)
+        .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()));
+    assert!(gap < 1e-9 * scale, "{gap:e} of {scale:e}");
+    let (sa, sb) = (unreduced.discrete_action(&a), reduced.discrete_action(&b));
+    assert!((sa - sb).abs() < 1e-9 * sa.abs(), "{sa} {sb}");
+    // A step that is not a solution is far from the structure.
+    let mut broken = b.clone();
+    broken.states[100].p[0] *= 1.01;
+    assert!(worst(reduced.dirac_residuals(&broken)) > 1e-4);
+}
+
+#[test]
+fn a_reduced_state_whose_momentum_is_not_its_momentum_map_is_rejected() {
+    let (sys, s0) = body();
+    let integ = ReducedLieIntegrator::new(sys, NewtonOptions::default());
+    let mut r0 = integ.reduce(&s0);
+    r0.mu.x += 0.1;
+    let err = integ.run(r0).steps(10).collect().unwrap_err();
+    assert!(matches!(err.source, StepError::OffManifold { .. }), "{err}");
+    assert!(err.source.to_string().contains("reduce"), "{}", err.source);
+}

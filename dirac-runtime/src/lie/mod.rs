@@ -74,6 +74,7 @@
 //! midpoint-type rule) gives a symmetric step of order 2, which the compositions of
 //! [`crate::compose`] raise to order 4 and 6.
 
+mod diagnostics;
 mod integrator;
 mod reduced;
 mod so3;

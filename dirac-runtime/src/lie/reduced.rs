@@ -429,7 +429,7 @@ fn generator<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
 
 /// Sets the group part of `state.p` to `mu`: `p + (μ − ⟨p, ζ⟩) ζ / |ζ|²` (nothing on the axis,
 /// where `ζ = 0`).
-fn set_group_part<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
+pub(super) fn set_group_part<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
     state: &mut LieState<P, N>,
     axis: usize,
     coordinates: &[usize],

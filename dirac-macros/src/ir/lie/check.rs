@@ -139,23 +139,24 @@ pub fn check_rotations(
                 .iter()
                 .map(|(_, n)| format!("`{n}`"))
                 .collect();
+            let together = if names.len() > 1 { " together" } else { "" };
             format!(
-                "the rotations about the {}-axis of {} together",
+                "the rotations about the {}-axis of {}{together}",
                 ["x", "y", "z"][k],
                 names.join(", ")
             )
         }
     };
+    let first = &symmetry.coords[0].1;
     let hint = match symmetry.kind {
-        SymmetryKind::Rotations => {
-            "a body in empty space reads its rotation only through `q0.R.transpose() * q1.R` and body-frame \
-             vectors; a potential (gravity, a field along an axis) leaves the rotations about that axis: declare \
-             `symmetry(R, axis = z)`"
-        }
-        SymmetryKind::Axis(_) => {
-            "a field along another axis, or a coordinate that the body compares with a listed one but the list \
-             leaves out, breaks it; list every rotation and direction the rotations move"
-        }
+        SymmetryKind::Rotations => format!(
+            "a body in empty space reads its rotation only through `q0.{first}.transpose() * q1.{first}` and \
+             body-frame vectors; a potential (gravity, a field along an axis) leaves the rotations about that \
+             axis: declare `symmetry({first}, axis = z)`"
+        ),
+        SymmetryKind::Axis(_) => "a field along another axis, or a coordinate that the body compares with a \
+             listed one but the list leaves out, breaks it; list every rotation and direction the rotations move"
+            .to_string(),
     };
     let lagrangian_varies = (0..3).any(|sample| {
         let t = sample as f64;
@@ -203,8 +204,8 @@ pub fn check_rotations(
             format!(
                 "the force is not invariant under {what}: its virtual work changes when the configurations \
                  and the displacements are rotated together, so the momentum of the symmetry would not obey \
-                 its balance; write torques in the body frame (`tau.dot(&dq.R)`) and forces on directions \
-                 with vectors that turn with them"
+                 its balance; write torques in the body frame (`tau.dot(&dq.{first})`) and forces on \
+                 directions with vectors that turn with them"
             ),
         );
     }
