@@ -35,9 +35,12 @@ mod cli;
 mod lgvi;
 #[path = "common/stats.rs"]
 mod stats;
+#[path = "common/timing.rs"]
+mod timing;
 
 use cli::{at_least, Cli};
 use stats::{median, range};
+use timing::per_step;
 
 fn rigid_body() -> (RigidBody, LieState<9, 3>) {
     let sys = RigidBody {
@@ -74,18 +77,6 @@ fn heavy_top(j2: f64) -> (HeavyTop, LieState<9, 3>) {
         },
     );
     (sys, s0)
-}
-
-/// Nanoseconds per step of a streamed run.
-fn per_step<I: Drive>(integ: &I, start: I::State, steps: usize) -> f64 {
-    let began = Instant::now();
-    let summary = integ
-        .run(start)
-        .steps(steps)
-        .stream()
-        .expect("the run succeeds");
-    black_box(&summary.last);
-    began.elapsed().as_secs_f64() * 1e9 / steps as f64
 }
 
 /// Nanoseconds per step of the hand-written LGVI (`step` from `(R, Π)` and a guess of `ξ`,

@@ -8,9 +8,6 @@
 //! cargo run --release --example run_cost -- [--repeats 7] [--system both|dsp|lattice]
 //! ```
 
-use std::hint::black_box;
-use std::time::Instant;
-
 use dirac::paper::DoubleSphericalPendulum;
 use dirac::prelude::*;
 
@@ -18,23 +15,14 @@ use dirac::prelude::*;
 mod cli;
 #[path = "common/stats.rs"]
 mod stats;
+#[path = "common/timing.rs"]
+mod timing;
 #[path = "common/toda.rs"]
 mod toda;
 
 use cli::{at_least, Cli};
 use stats::{median, range};
-
-/// Nanoseconds per step of `steps` steps of `integ` from `start`, streamed.
-fn per_step<I: Drive>(integ: &I, start: I::State, steps: usize) -> f64 {
-    let began = Instant::now();
-    let summary = integ
-        .run(start)
-        .steps(steps)
-        .stream()
-        .expect("the run succeeds");
-    black_box(&summary.last);
-    began.elapsed().as_secs_f64() * 1e9 / steps as f64
-}
+use timing::per_step;
 
 fn main() {
     let mut cli = Cli::new(
