@@ -21,16 +21,19 @@
 //! 7. [Rotations and directions](rotations): configurations on `SO(3)` and `S²` (rigid bodies,
 //!    tops, satellites, pendula in 3-D) stepped on the group by Lie group variational
 //!    integrators, with no charts.
-//! 8. [Large systems](large_systems): the sparse backend, chord iterations, streaming runs in
+//! 8. [Reduction by rotations](rotation_reduction): `symmetry(R)` and
+//!    `symmetry(n1, n2, axis = z)`, the discrete Euler–Poincaré and Lagrange–Poincaré steps, the
+//!    spatial momentum or its axial component as a parameter of the run.
+//! 9. [Large systems](large_systems): the sparse backend, chord iterations, streaming runs in
 //!    constant memory, ensembles on all cores, building the attribute optimized.
-//! 9. [Systems sized at run time](run_time_sizes): element-wise bodies whose sizes are `usize`
-//!    arguments — one build for every size, stencils checked at compile time, the element
-//!    kernels assembled in parallel, 10⁵ degrees of freedom.
-//! 10. [Diagnostics](diagnostics): Newton statistics and conditioning per step, energies, the
+//! 10. [Systems sized at run time](run_time_sizes): element-wise bodies whose sizes are `usize`
+//!     arguments — one build for every size, stencils checked at compile time, the element
+//!     kernels assembled in parallel, 10⁵ degrees of freedom.
+//! 11. [Diagnostics](diagnostics): Newton statistics and conditioning per step, energies, the
 //!     Dirac structure and the discrete action along a trajectory, the step-map Jacobian.
-//! 11. [Errors](errors): the typed [`StepError`](crate::StepError) of a failed step, the
+//! 12. [Errors](errors): the typed [`StepError`](crate::StepError) of a failed step, the
 //!     trajectory kept up to it, and the compile errors of the attributes.
-//! 12. [Limits](limits): what the integrators do not do, and where their guarantees end.
+//! 13. [Limits](limits): what the integrators do not do, and where their guarantees end.
 //!
 //! Results that leave the process — runs and ensembles in Apache Parquet, sharded ensembles on a
 //! Slurm cluster, progress bars — are the separate crate `dirac-io`, described in
@@ -56,6 +59,7 @@ pub mod lagrangians;
 pub mod large_systems;
 pub mod limits;
 pub mod paper_systems;
+pub mod rotation_reduction;
 pub mod rotations;
 pub mod run_time_sizes;
 pub mod symmetries;

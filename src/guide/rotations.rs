@@ -172,10 +172,11 @@
 //!
 //! Systems with rotation or direction coordinates take a discrete Lagrangian or a continuous one
 //! with the trapezoid, left or right rule, scalar and translation coordinates beside them,
-//! forces, controls, `step` and `name`. Not yet available for them: the reduced state of declared
-//! translations (they are kept in the state, their momenta exact), reduction by rotations,
+//! forces, controls, `step` and `name`, and rotation symmetries (`symmetry(..)`, see
+//! [Reduction by rotations](super::rotation_reduction)). Not yet available for them: the
+//! reduced state of declared translations (they are kept in the state, their momenta exact),
 //! constraints, and the (−) side. Above 16 dimensions the step runs on the sparse backend, as
 //! every other system does, without step sensitivities. `dirac-io` writes these states to
 //! Parquet with one column per stored entry (a rotation's nine, a direction's frame) and per
-//! momentum component. A rotation's momentum map is kept to round-off; it is not copied bit for
-//! bit as the reduced integrators copy `μ`.
+//! momentum component. In the unreduced step a rotation's momentum map is kept to round-off; the
+//! [reduced integrator](super::rotation_reduction) carries it as a parameter.

@@ -74,9 +74,9 @@
 //! midpoint-type rule) gives a symmetric step of order 2, which the compositions of
 //! [`crate::compose`] raise to order 4 and 6.
 
-mod diagnostics;
+pub mod diagnostics;
 mod integrator;
-mod reduced;
+pub mod reduced;
 mod so3;
 
 pub use integrator::{LieIntegrator, LieWorkspace, MANIFOLD_TOLERANCE};

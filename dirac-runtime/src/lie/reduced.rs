@@ -502,7 +502,7 @@ where
         let expected = self.momentum_map(&state);
         let scale = expected.norm().max(initial.mu.norm()).max(1.0);
         let off = (expected - initial.mu).norm();
-        if !(off <= MOMENTUM_TOLERANCE * scale) {
+        if off.is_nan() || off > MOMENTUM_TOLERANCE * scale {
             return Err(StepError::OffManifold {
                 reason: format!(
                     "the momentum `mu` = {:?} of the reduced state is not the momentum map {:?} of its \
