@@ -141,6 +141,34 @@ impl<const P: usize, const N: usize> StateColumns for LieState<P, N> {
     }
 }
 
+/// Reduced states on rotation groups ([`ReducedLieState`]): the columns of [`LieState`], then
+/// the momentum of the symmetry `mu_x`, `mu_y`, `mu_z` (the spatial momentum `π` for every
+/// rotation, `μ e` for the rotations about the axis `e`). Every entry is written, so a state reads
+/// back bit for bit.
+impl<const P: usize, const N: usize> StateColumns for ReducedLieState<P, N> {
+    const WIDTH: usize = P + N + 3;
+
+    fn column_names(point: &[&str], chart: &[&str]) -> Vec<String> {
+        let mut names = LieState::<P, N>::column_names(point, chart);
+        names.extend(["mu_x", "mu_y", "mu_z"].map(String::from));
+        names
+    }
+
+    fn write_to(&self, out: &mut [f64]) {
+        self.unreduced().write_to(&mut out[..P + N]);
+        out[P + N..].copy_from_slice(self.mu.as_slice());
+    }
+
+    fn read_from(values: &[f64]) -> Self {
+        let state = LieState::<P, N>::read_from(&values[..P + N]);
+        ReducedLieState {
+            q: state.q,
+            p: state.p,
+            mu: Vector3::new(values[P + N], values[P + N + 1], values[P + N + 2]),
+        }
+    }
+}
+
 /// The names of a stored point's entries and of the momentum's components of a system on
 /// rotation groups (see [`LieState`]'s columns).
 pub fn lie_names(coordinates: &[(&str, CoordinateKind)]) -> (Vec<String>, Vec<String>) {
@@ -353,6 +381,25 @@ where
             "dirac.integrator",
             "Lie group variational (Cayley retraction)",
         )
+    }
+}
+
+impl<L, const P: usize, const N: usize> Describe for ReducedLieIntegrator<L, P, N>
+where
+    L: LieSymmetric<P, N>,
+{
+    fn describe(&self) -> RunInfo {
+        let mut info = self.unreduced().describe();
+        let (point, chart) = lie_names(L::COORDINATES);
+        let point: Vec<&str> = point.iter().map(String::as_str).collect();
+        let chart: Vec<&str> = chart.iter().map(String::as_str).collect();
+        info.columns = ReducedLieState::<P, N>::column_names(&point, &chart);
+        info.metadata.retain(|(key, _)| key != "dirac.integrator");
+        info.with(
+            "dirac.integrator",
+            "reduced Lie group variational (Cayley retraction)",
+        )
+        .with("dirac.symmetry", format!("{:?}", L::SYMMETRY))
     }
 }
 
