@@ -461,14 +461,11 @@ fn onto_level<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
     let body = body * (size / own);
     let r = matrix_at(&state.q, at);
     let (from, to) = ((r * body) / size, pi / size);
-    let (v, cos) = (from.cross(&to), from.dot(&to));
-    let turned = if cos > 0.0 {
-        let vh = super::hat(&v);
-        (Matrix3::identity() + vh + vh * vh / (1.0 + cos)) * r
-    } else {
-        // Not a round-off correction (an inconsistent state): left as it is.
-        r
-    };
+    // The smallest rotation taking `from` to `to` is `I + v̂ + v̂²/(1 + cos)`, `v = from × to`;
+    // `|v|` is of the size of the step's round-off (the check of a run's first state bounds it
+    // by 1e-9), so `v̂²` is below the round-off of `I + v̂` and is left out, and the
+    // Newton–Schulz step below restores orthogonality to second order.
+    let turned = r + super::hat(&from.cross(&to)) * r;
     // One Newton–Schulz step towards the nearest rotation, `R (3I − RᵀR)/2`: squares the
     // orthogonality defect, so the reconstruction stays on SO(3) at the round-off of one step
     // instead of a random walk of them (the reduced dynamics does not read it).
