@@ -77,7 +77,7 @@
 //! and turns the reconstructed attitude by the smallest rotation that gives `R Π = π`, with one
 //! Newton–Schulz step `R (3I − RᵀR)/2` to keep it on `SO(3)`: corrections of the size of the
 //! step's round-off, which stop the random walks of `π` and `RᵀR` (over 10⁶ free-body steps:
-//! `|π_k − π_0|/|π_0| ≤ 5.4e-16` and `|RᵀR − I| ≤ 6.7e-16` reduced, against 5.7e-13 and 3.2e-13
+//! `|π_k − π_0|/|π_0| ≤ 6.3e-16` and `|RᵀR − I| ≤ 6.7e-16` reduced, against 5.7e-13 and 3.2e-13
 //! unreduced).
 //!
 //! *About an axis `e`.* An abelian group on a nonlinear space (the paper's §6 setting, here with
