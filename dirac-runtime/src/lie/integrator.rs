@@ -274,6 +274,7 @@ where
     /// reduced one's): Newton on the residual for the chart coordinate `z` of the next point
     /// from `guess`, the retraction, the momentum update and its compensation ([`compensate`]).
     /// Returns the new state, `z` and the step's statistics.
+    #[inline]
     pub(super) fn chart_step<E: StepEquations<L, P, N>>(
         &self,
         solver: &mut L::Linear,

@@ -373,7 +373,8 @@ where
             p: next.p,
             mu,
         };
-        if !next.is_finite() {
+        // The step checked its own state; what the corrections computed from it is checked here.
+        if !next.mu.iter().chain(next.p.iter()).all(|v| v.is_finite()) {
             return Err(StepError::NonFinite {
                 step: k,
                 what: "the updated state",

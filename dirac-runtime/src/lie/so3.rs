@@ -9,12 +9,14 @@ pub fn orthogonality_defect(m: &Matrix3<f64>) -> f64 {
 }
 
 /// `ξ̂`, the skew-symmetric matrix with `ξ̂ v = ξ × v`.
+#[inline]
 pub fn hat(xi: &Vector3<f64>) -> Matrix3<f64> {
     xi.cross_matrix()
 }
 
 /// `vee(A)`, the vector of the skew-symmetric part of `A`: `vee(ξ̂) = ξ`, and
 /// `vee(A) = vee((A − Aᵀ)/2)` in general.
+#[inline]
 pub fn vee(a: &Matrix3<f64>) -> Vector3<f64> {
     Vector3::new(
         0.5 * (a[(2, 1)] - a[(1, 2)]),
@@ -25,6 +27,7 @@ pub fn vee(a: &Matrix3<f64>) -> Vector3<f64> {
 
 /// The Cayley retraction `cay(ξ) = (I − ξ̂/2)⁻¹ (I + ξ̂/2) = I + 4/(4 + |ξ|²) (ξ̂ + ξ̂²/2)`: a
 /// rotation for every `ξ ∈ R³`, with `cay(ξ) = exp(ξ̂) + O(|ξ|³)`.
+#[inline]
 pub fn cayley(xi: &Vector3<f64>) -> Matrix3<f64> {
     let s = hat(xi);
     Matrix3::identity() + (4.0 / (4.0 + xi.norm_squared())) * (s + 0.5 * s * s)
