@@ -10,7 +10,7 @@ use syn::{Ident, ItemFn};
 
 use crate::ast::lie::{Kind, LieSpec, SymmetryKind};
 use crate::ast::signature::Signature;
-use crate::codegen::backend::stepper_fns;
+use crate::codegen::backend::{stepper_fns, SteppedFns};
 use crate::codegen::items::{camel_case, param_struct, user_function};
 use crate::codegen::lints;
 use crate::ir::graph::{Graph, Sym};
@@ -46,13 +46,8 @@ pub fn generate(
     let fns = stepper_fns(g, &code.stepper, &leaf, n, n);
     let retract = crate::codegen::emit::straight_line(g, &code.retract, &leaf);
     let (retract_stmts, retract_out) = (&retract.stmts, &retract.outputs);
-    let (residual, residual_jacobian, momentum_body, solver_new) = (
-        &fns.residual,
-        &fns.residual_jacobian,
-        &fns.momentum,
-        &fns.solver_new,
-    );
-    let matrix = fns.backend.matrix_type(n);
+    let solver_new = &fns.solver_new;
+    let step_methods = step_methods("", &fns, p, n);
     let partials_fn = code.partials.as_ref().map(|parts| {
         let roots: Vec<_> = parts.blocks.iter().flatten().flatten().copied().collect();
         let line = crate::codegen::emit::straight_line(g, &roots, &leaf);
@@ -257,33 +252,7 @@ pub fn generate(
                 #na::SVector::<f64, #p>::from([ #( #retract_out ),* ])
             }
 
-            fn residual(
-                &self,
-                q_k: &#na::SVector<f64, #p>,
-                p_k: &#na::SVector<f64, #n>,
-                z: &#na::SVector<f64, #n>,
-            ) -> #na::SVector<f64, #n> {
-                #residual
-            }
-
-            fn residual_jacobian(
-                &self,
-                q_k: &#na::SVector<f64, #p>,
-                p_k: &#na::SVector<f64, #n>,
-                z: &#na::SVector<f64, #n>,
-            ) -> (#na::SVector<f64, #n>, #matrix) {
-                #residual_jacobian
-            }
-
-            #[allow(unused_variables, reason = "only group coordinates' momenta read p_k")]
-            fn momentum(
-                &self,
-                q_k: &#na::SVector<f64, #p>,
-                p_k: &#na::SVector<f64, #n>,
-                z: &#na::SVector<f64, #n>,
-            ) -> #na::SVector<f64, #n> {
-                #momentum_body
-            }
+            #step_methods
 
             #partials_fn
         }
@@ -306,7 +275,7 @@ fn symmetry_impl(
         return TokenStream::new();
     };
     let (p, n) = (spec.p(), spec.n());
-    let (na, rt) = (quote!(::dirac::nalgebra), quote!(::dirac::runtime));
+    let rt = quote!(::dirac::runtime);
     let kind = match symmetry.kind {
         SymmetryKind::Rotations => {
             let coordinate = symmetry.coords[0].0;
@@ -318,43 +287,10 @@ fn symmetry_impl(
         }
     };
     let forced = code.symmetry_forced;
-    let reduced = code.reduced.as_ref().map(|stepper| {
-        let fns = stepper_fns(g, stepper, leaf, n, n);
-        let matrix = fns.backend.matrix_type(n);
-        let (residual, residual_jacobian, momentum) =
-            (&fns.residual, &fns.residual_jacobian, &fns.momentum);
-        quote! {
-            #[allow(unused_variables, reason = "the reduced step does not read the rotation it removes")]
-            fn reduced_residual(
-                &self,
-                q_k: &#na::SVector<f64, #p>,
-                p_k: &#na::SVector<f64, #n>,
-                z: &#na::SVector<f64, #n>,
-            ) -> #na::SVector<f64, #n> {
-                #residual
-            }
-
-            #[allow(unused_variables, reason = "the reduced step does not read the rotation it removes")]
-            fn reduced_residual_jacobian(
-                &self,
-                q_k: &#na::SVector<f64, #p>,
-                p_k: &#na::SVector<f64, #n>,
-                z: &#na::SVector<f64, #n>,
-            ) -> (#na::SVector<f64, #n>, #matrix) {
-                #residual_jacobian
-            }
-
-            #[allow(unused_variables, reason = "the reduced step does not read the rotation it removes")]
-            fn reduced_momentum(
-                &self,
-                q_k: &#na::SVector<f64, #p>,
-                p_k: &#na::SVector<f64, #n>,
-                z: &#na::SVector<f64, #n>,
-            ) -> #na::SVector<f64, #n> {
-                #momentum
-            }
-        }
-    });
+    let reduced = code
+        .reduced
+        .as_ref()
+        .map(|stepper| step_methods("reduced_", &stepper_fns(g, stepper, leaf, n, n), p, n));
     let allow = lints::generated();
     quote! {
         #allow
@@ -551,6 +487,44 @@ fn velocity_struct(spec: &LieSpec, func: &ItemFn, ty: &Ident, velocity: &Ident) 
         #[allow(non_snake_case, reason = "velocities keep the names of their coordinates")]
         #vis struct #velocity {
             #( #fields, )*
+        }
+    }
+}
+
+/// The three step methods of a [`SteppedFns`] — `{prefix}residual`, `{prefix}residual_jacobian`
+/// and `{prefix}momentum` over `(q_k, p_k, z)` — for the unreduced step (`""`) and the reduced
+/// one (`"reduced_"`).
+fn step_methods(prefix: &str, fns: &SteppedFns, p: usize, n: usize) -> TokenStream {
+    let na = quote!(::dirac::nalgebra);
+    let matrix = fns.backend.matrix_type(n);
+    let (residual, residual_jacobian, momentum) =
+        (&fns.residual, &fns.residual_jacobian, &fns.momentum);
+    let name = |what: &str| format_ident!("{prefix}{what}");
+    let (r, rj, m) = (
+        name("residual"),
+        name("residual_jacobian"),
+        name("momentum"),
+    );
+    let args = quote! {
+        &self,
+        q_k: &#na::SVector<f64, #p>,
+        p_k: &#na::SVector<f64, #n>,
+        z: &#na::SVector<f64, #n>,
+    };
+    quote! {
+        #[allow(unused_variables, reason = "a step function need not read all of its inputs (a reduced step drops the rotation it removes, only group momenta read p_k)")]
+        fn #r(#args) -> #na::SVector<f64, #n> {
+            #residual
+        }
+
+        #[allow(unused_variables, reason = "a step function need not read all of its inputs (a reduced step drops the rotation it removes, only group momenta read p_k)")]
+        fn #rj(#args) -> (#na::SVector<f64, #n>, #matrix) {
+            #residual_jacobian
+        }
+
+        #[allow(unused_variables, reason = "a step function need not read all of its inputs (a reduced step drops the rotation it removes, only group momenta read p_k)")]
+        fn #m(#args) -> #na::SVector<f64, #n> {
+            #momentum
         }
     }
 }

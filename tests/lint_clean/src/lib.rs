@@ -26,7 +26,8 @@ pub fn many(q0: Config, q1: Config, h: f64, d: f64, e: f64, f: f64, g: f64, k: f
     let (x, y) = (q1.a - q0.a, q1.b - q0.b);
     let w = q1.c - q0.c - e * x - std::f64::consts::FRAC_1_PI * y;
     let t = 0.5 * m / h * (x * x + y * y) + 0.5 * k / h * w * w;
-    let v = h * (d * q0.a * q0.a + f * q0.b * q0.b) * std::f64::consts::PI / 1.234_567_890_123_456_7e10;
+    let v =
+        h * (d * q0.a * q0.a + f * q0.b * q0.b) * std::f64::consts::PI / 1.234_567_890_123_456_7e10;
     t - v - h * g * 1_000_000.123_456_789 * (q0.a + q1.a)
 }
 
@@ -44,15 +45,36 @@ pub fn continuous_oscillator(q: Config, v: Velocity, freq: f64) -> f64 {
 /// # Errors
 /// A failed step.
 pub fn run() -> Result<f64, Box<dyn std::error::Error>> {
-    let sys = HertzPendulum { h: 0.01, freq: 0.5, m: 1.0 };
+    let sys = HertzPendulum {
+        h: 0.01,
+        freq: 0.5,
+        m: 1.0,
+    };
     let integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
-    let traj = integ.run(ReducedState::new([0.5], [0.0], [0.1], [0.0])).steps(10).collect()?;
-    let sys = Many { h: 0.01, d: 1.0, e: 0.5, f: 2.0, g: 0.1, k: 3.0, m: 1.0 };
+    let traj = integ
+        .run(ReducedState::new([0.5], [0.0], [0.1], [0.0]))
+        .steps(10)
+        .collect()?;
+    let sys = Many {
+        h: 0.01,
+        d: 1.0,
+        e: 0.5,
+        f: 2.0,
+        g: 0.1,
+        k: 3.0,
+        m: 1.0,
+    };
     let integ = UnreducedIntegrator::new(sys, NewtonOptions::default());
-    let canon = integ.run(sys.untrivialize(&ReducedState::new([0.1, 0.2], [0.0, 0.0], [0.3], [0.0]))).steps(10).collect()?;
+    let canon = integ
+        .run(sys.untrivialize(&ReducedState::new([0.1, 0.2], [0.0, 0.0], [0.3], [0.0])))
+        .steps(10)
+        .collect()?;
     let osc = ContinuousOscillator { freq: 1.0, h: 0.01 };
     let start = osc.unreduced_state(SVector::from([1.0]), SVector::from([0.0]));
-    let o = UnreducedIntegrator::new(osc, NewtonOptions::default()).run(start).steps(10).collect()?;
+    let o = UnreducedIntegrator::new(osc, NewtonOptions::default())
+        .run(start)
+        .steps(10)
+        .collect()?;
     Ok(traj.last().x[0] + canon.last().q[0] + o.last().q[0])
 }
 
@@ -70,8 +92,19 @@ pub fn stretch(q: Config) -> (f64, f64) {
     rule = midpoint
 )]
 #[must_use]
-#[allow(clippy::cast_precision_loss, reason = "grid indices are far below 2^52")]
-pub fn grid_and_pairs(q: Config, v: Velocity, m: f64, s: f64, nx: usize, ny: usize, k: usize) -> f64 {
+#[allow(
+    clippy::cast_precision_loss,
+    reason = "grid indices are far below 2^52"
+)]
+pub fn grid_and_pairs(
+    q: Config,
+    v: Velocity,
+    m: f64,
+    s: f64,
+    nx: usize,
+    ny: usize,
+    k: usize,
+) -> f64 {
     let mut l = 0.0;
     for i in 0..nx {
         for j in 0..ny {
@@ -89,15 +122,37 @@ pub fn grid_and_pairs(q: Config, v: Velocity, m: f64, s: f64, nx: usize, ny: usi
 }
 
 /// A heavy top beside a wheel angle, and a pendulum direction: rotation, direction and scalar
-/// coordinates with the matrix and vector operations of the body language.
-#[reduced_lagrangian(rotation(r), direction(n), shape(phi))]
+/// coordinates with the matrix and vector operations of the body language, and the rotations
+/// about the vertical as a symmetry.
+#[reduced_lagrangian(rotation(r), direction(n), shape(phi), symmetry(r, n, axis = z))]
 #[must_use]
-pub fn top_and_pendulum(q0: Config, q1: Config, h: f64, j1: f64, j3: f64, mgl: f64, jw: f64) -> f64 {
+pub fn top_and_pendulum(
+    q0: Config,
+    q1: Config,
+    h: f64,
+    j1: f64,
+    j3: f64,
+    mgl: f64,
+    jw: f64,
+) -> f64 {
     let jd = Matrix3::from_diagonal(&Vector3::new(0.5 * j3, 0.5 * j3, j1 - 0.5 * j3));
     let f = q0.r.transpose() * q1.r;
     let spin = 0.5 * vee(&(f - f.transpose())).z / h + (q1.phi - q0.phi) / h;
     let dn = q1.n - q0.n;
     let up = Vector3::z();
-    ((Matrix3::identity() - f) * jd).trace() / h + 0.5 * h * jw * spin * spin + 0.5 * dn.norm_squared() / h
+    ((Matrix3::identity() - f) * jd).trace() / h
+        + 0.5 * h * jw * spin * spin
+        + 0.5 * dn.norm_squared() / h
         - 0.5 * h * mgl * (q0.r[(2, 2)] + q1.r[(2, 2)] + q0.n.dot(&up) + q1.n.cross(&up).norm())
+}
+
+/// A body with a wheel in empty space, reduced by every rotation of its attitude, with a motor
+/// torque on the wheel.
+#[reduced_lagrangian(rotation(r), shape(phi), symmetry(r), controls(u), force = |dq0, dq1| 0.5 * h * u * (dq0.phi + dq1.phi))]
+#[must_use]
+pub fn body_and_wheel(q0: Config, q1: Config, h: f64, j1: f64, j3: f64, jw: f64, u: f64) -> f64 {
+    let jd = Matrix3::from_diagonal(&Vector3::new(0.5 * j3, 0.5 * j3, j1 - 0.5 * j3));
+    let f = q0.r.transpose() * q1.r;
+    let spin = 0.5 * vee(&(f - f.transpose())).z / h + (q1.phi - q0.phi) / h;
+    ((Matrix3::identity() - f) * jd).trace() / h + 0.5 * h * jw * spin * spin
 }
