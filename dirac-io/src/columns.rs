@@ -381,6 +381,7 @@ where
             "dirac.integrator",
             "Lie group variational (Cayley retraction)",
         )
+        .with("dirac.variant", format!("{:?}", self.variant()))
     }
 }
 

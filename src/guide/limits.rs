@@ -19,7 +19,7 @@
 //! of constant `B`. The momentum-level elimination applies for `K ≤ 3` group coordinates.
 //! [Rotation and direction coordinates](super::rotations#limits) are stepped on their group and
 //! [reduced by rotations](super::rotation_reduction) (every rotation of one attitude, or the
-//! rotations about a coordinate axis), have no constraints and no (−) side yet, and step
+//! rotations about a coordinate axis), have no constraints yet, and step
 //! sensitivities up to 16 dimensions (of the unreduced step). The reduced step is not faster
 //! than the unreduced Lie group step, which already solves in the chart at the current attitude.
 //!

@@ -89,6 +89,16 @@
 //! the stored phase about `e` being the reconstruction. `μ` is copied from step to step: bit
 //! for bit.
 //!
+//! *The (−) side.* [`ReducedLieIntegrator::minus`](crate::ReducedLieIntegrator::minus) (and
+//! [`LieIntegrator::minus`](crate::LieIntegrator::minus)) solve Definition 2.8's (−) equations,
+//! trivialized at the next point: the unknown is the coordinate `w` of `q_k` in the chart
+//! centred at `q_{k+1}`, and for every rotation the reduced (−) Lagrangian is
+//! `l_{d−}(G, s0, s1) = L_d(G, s0, I, s1)`, `G = R_{k+1}ᵀ R_k`. Each chart here is inverted by
+//! a sign (`cay(w)ᵀ = cay(−w)`, and the sphere's shortest-arc rotation `M(w)ᵀ = M(−w)`), so
+//! `l_{d−}(G) = l_{d+}(G⁻¹)` and the (−) equations are the (+) ones at `z = −w`: the two sides
+//! take the same steps, bit for bit, as the paper's (+) and (−) equations do for an
+//! unconstrained system (end of its §2.3.2).
+//!
 //! With forces that act on a coordinate the symmetry moves, the momentum obeys the forced
 //! balance and is recomputed from each new state. The derivation in full is in
 //! [`crate::lie::reduced`].
@@ -117,7 +127,7 @@
 //! for these systems it solves the reduced step's unknowns (3 for the free body) and the reduced
 //! step is not cheaper: it adds the momentum-level reconstruction (measured in
 //! [Benchmarks](super::benchmarks)). Choose it for what it keeps — `π` or `μ` as exact
-//! parameters, the attitude on `SO(3)` at round-off — not for speed. Not yet available: the (−)
-//! side, constraints, step sensitivities of the reduced step (those of the unreduced step apply to
+//! parameters, the attitude on `SO(3)` at round-off — not for speed. Not yet available:
+//! constraints, step sensitivities of the reduced step (those of the unreduced step apply to
 //! its trajectories), the rotations of several bodies at once by every rotation (about an axis
 //! they are available), and dropping the reconstruction altogether.

@@ -175,7 +175,8 @@
 //! forces, controls, `step` and `name`, and rotation symmetries (`symmetry(..)`, see
 //! [Reduction by rotations](super::rotation_reduction)). Not yet available for them: the
 //! reduced state of declared translations (they are kept in the state, their momenta exact),
-//! constraints, and the (−) side. Above 16 dimensions the step runs on the sparse backend, as
+//! and constraints. `LieIntegrator::minus` solves the (−) equations (trivialized at the next
+//! point), which take the same steps. Above 16 dimensions the step runs on the sparse backend, as
 //! every other system does, without step sensitivities. `dirac-io` writes these states to
 //! Parquet with one column per stored entry (a rotation's nine, a direction's frame) and per
 //! momentum component. In the unreduced step a rotation's momentum map is kept to round-off; the

@@ -13,6 +13,7 @@ use crate::newton::{self, inf_norm, NewtonOptions};
 use crate::stepper::{
     check_inputs, predicted_increment, same_step, step_error, History, StepStats, Stepper,
 };
+use crate::system::Variant;
 
 /// The workspace of a run: the linear solver and the chart coordinates of the last two steps,
 /// which Newton's guess extrapolates.
@@ -30,6 +31,7 @@ pub struct LieWorkspace<B, const N: usize> {
 pub struct LieIntegrator<L, const P: usize, const N: usize> {
     system: L,
     options: NewtonOptions,
+    variant: Variant,
 }
 
 /// Largest accepted `‖RᵀR − I‖∞` (and `|det R − 1|`) of an initial rotation or frame.
@@ -39,7 +41,8 @@ impl<L, const P: usize, const N: usize> LieIntegrator<L, P, N>
 where
     L: LieLagrangian<P, N>,
 {
-    /// The integrator of `system` with Newton's `options`.
+    /// The integrator of `system` with Newton's `options`: the (+) equations, solved for the
+    /// chart coordinate `z` of the next point about the current one.
     pub fn new(system: L, options: NewtonOptions) -> Self {
         const {
             assert!(
@@ -47,7 +50,28 @@ where
                 "a stored point has at least as many entries as the chart"
             )
         };
-        Self { system, options }
+        Self {
+            system,
+            options,
+            variant: Variant::Plus,
+        }
+    }
+
+    /// The (−) integrator of Definition 2.8 on the charts: solved for the chart coordinate `w`
+    /// of the current point about the next one, `q_k = φ_{q_{k+1}}(w)` (see the
+    /// [module documentation](crate::lie#the-equations), where the (−) equations are shown to be
+    /// the (+) equations at `z = −w`: the same steps).
+    pub fn minus(system: L, options: NewtonOptions) -> Self {
+        Self {
+            variant: Variant::Minus,
+            ..Self::new(system, options)
+        }
+    }
+
+    /// Which equations are solved: [`Variant::Plus`] ([`Self::new`]) or [`Variant::Minus`]
+    /// ([`Self::minus`]).
+    pub fn variant(&self) -> Variant {
+        self.variant
     }
 
     /// The system being integrated.
@@ -272,8 +296,11 @@ where
 
     /// The step of size `h` from `state` with the equations `E` (the unreduced step's or a
     /// reduced one's): Newton on the residual for the chart coordinate `z` of the next point
-    /// from `guess`, the retraction, the momentum update and its compensation ([`compensate`]).
-    /// Returns the new state, `z` and the step's statistics.
+    /// from `guess` — for the (−) equations on `w = −z`, the coordinate of the current point in
+    /// the chart about the next, with the residual `−R(−w)` (whose Jacobian in `w` is `R`'s in
+    /// `z`) — then the retraction, the momentum update and its compensation ([`compensate`]).
+    /// Returns the new state, the unknown Newton solved for (`z`, or `w`) and the step's
+    /// statistics.
     #[inline]
     pub(super) fn chart_step<E: StepEquations<L, P, N>>(
         &self,
@@ -288,22 +315,28 @@ where
         let sys = owned.as_ref().unwrap_or(&self.system);
         let (q, p) = (&state.q, &state.p);
         let rho = inf_norm(p);
-        let (mut z, mut r, mut jacobian) = (*guess, SVector::<f64, N>::zeros(), None);
+        // z = s u and R̃(u) = s R(s u) with s = ±1: dR̃/du = R'(z), and the (+) residual is s R̃.
+        let s = match self.variant {
+            Variant::Plus => 1.0,
+            Variant::Minus => -1.0,
+        };
+        let (mut unknown, mut r, mut jacobian) = (*guess, SVector::<f64, N>::zeros(), None);
         let solution = newton::solve_in(
             solver,
-            &mut z,
+            &mut unknown,
             &mut r,
             &mut jacobian,
             rho,
             &self.options,
-            |z, r| *r = E::residual(sys, q, p, z),
-            |z, r, j| {
-                let (r_z, j_z) = E::residual_jacobian(sys, q, p, z);
-                *r = r_z;
+            |u, r| *r = E::residual(sys, q, p, &(u * s)) * s,
+            |u, r, j| {
+                let (r_z, j_z) = E::residual_jacobian(sys, q, p, &(u * s));
+                *r = r_z * s;
                 *j = Some(j_z);
             },
         )
         .map_err(|failure| step_error(k, failure))?;
+        let (z, r) = (unknown * s, r * s);
         let q_next = sys.retract(q, &z);
         let mut p_next = E::momentum(sys, q, p, &z);
         compensate::<L, P, N>(q, &q_next, &r, &mut p_next);
@@ -320,7 +353,7 @@ where
         }
         Ok((
             next,
-            z,
+            unknown,
             StepStats::from_solution(&solution, self.options.residual_tolerance(rho)),
         ))
     }
@@ -469,7 +502,10 @@ where
     L: LieLagrangian<P, N>,
 {
     fn with_time_step(&self, h: f64) -> Self {
-        Self::new(self.system.with_time_step(h), self.options)
+        Self {
+            system: self.system.with_time_step(h),
+            ..self.clone()
+        }
     }
 
     fn symmetry_defect(&self, at: &LieState<P, N>) -> f64 {

@@ -50,6 +50,18 @@
 //! `R(z) = D1 L̃(0, z) + p_k` and its Jacobian `D2 D1 L̃(0, z)`, both straight-line code the
 //! compiler derives through `φ` ([`LieLagrangian`]); the second line is then explicit.
 //!
+//! The (−) equations of Definition 2.8 (`q_{k+1}^− = q_k`, `p_k = −D1 L_d(q_{k+1}^−, q_{k+1})`,
+//! `p_{k+1} = D2 L_d(q_{k+1}^−, q_{k+1})`) trivialize at the other end: their unknown is the
+//! coordinate `w` of the current point in the chart centred at the next one,
+//! `q_k = φ_{q_{k+1}}(w)` ([`LieIntegrator::minus`]). Each chart is inverted by a sign:
+//! `R_k = R_{k+1} cay(w)` is `R_{k+1} = R_k cay(w)ᵀ = R_k cay(−w)`; a scalar's `x_k = x_{k+1} + w`
+//! is `x_{k+1} = x_k − w`; a direction's frame is moved by the shortest-arc rotation `M(w)`
+//! taking `e3` to `(a, b, 1)/√(1 + a² + b²)`, and `M(w)ᵀ = M(−w)` (a rotation about the opposite
+//! axis by the same angle), so `q_{k+1} = φ_{q_k}(−w)` for every kind. The momenta are the same
+//! covectors in the same charts, so the (−) equations are the (+) equations at `z = −w`: the
+//! (−) integrator solves `−R(−w) = 0` (whose Jacobian in `w` is `R`'s in `z`) and takes the same
+//! steps as the (+) one — bit for bit, negation being exact.
+//!
 //! For the free rigid body `L_d = tr((I − F_k) J_d)/h`, `F_k = R_kᵀ R_{k+1}`,
 //! `J_d = ½ tr(J) I − J`, the first line is the LGVI's `h Π_k = vee(F_k J_d − J_d F_kᵀ)` and the
 //! second `Π_{k+1} = F_kᵀ Π_k`.

@@ -292,6 +292,21 @@ where
         }
     }
 
+    /// The reduced (−) integrator: the reduced equations solved for the chart coordinate of the
+    /// current point about the next one (for every rotation, the reduced (−) Lagrangian
+    /// `l_{d−}(G, s0, s1) = L_d(G, s0, I, s1)` with `G = R_{k+1}ᵀ R_k = cay(w)`), the same
+    /// steps as [`Self::new`]'s (see [`LieIntegrator::minus`]).
+    pub fn minus(system: L, options: NewtonOptions) -> Self {
+        Self {
+            unreduced: LieIntegrator::minus(system, options),
+        }
+    }
+
+    /// Which equations are solved.
+    pub fn variant(&self) -> crate::Variant {
+        self.unreduced.variant()
+    }
+
     /// The system being integrated.
     pub fn system(&self) -> &L {
         self.unreduced.system()
@@ -545,7 +560,9 @@ where
     L: LieSymmetric<P, N>,
 {
     fn with_time_step(&self, h: f64) -> Self {
-        Self::new(self.system().with_time_step(h), *self.unreduced.options())
+        Self {
+            unreduced: crate::compose::SelfAdjoint::with_time_step(&self.unreduced, h),
+        }
     }
 
     fn symmetry_defect(&self, at: &ReducedLieState<P, N>) -> f64 {
