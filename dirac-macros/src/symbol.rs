@@ -52,6 +52,10 @@ pub const RIGHT: Symbol = Symbol("right");
 pub const ROTATION: Symbol = Symbol("rotation");
 /// `direction(n, ..)`: coordinates on the sphere `S²` (a unit 3-vector in the body).
 pub const DIRECTION: Symbol = Symbol("direction");
+/// `time(t)`: the group coordinate that is physical time, for adaptive steps.
+pub const TIME: Symbol = Symbol("time");
+/// `adapt = |q| g`: the step monitor of adaptive steps, `dt = g(q) dτ`.
+pub const ADAPT: Symbol = Symbol("adapt");
 /// `symmetry(R)` or `symmetry(n, .., axis = z)`: rotations that leave the Lagrangian invariant.
 pub const SYMMETRY: Symbol = Symbol("symmetry");
 /// `axis = x | y | z` inside `symmetry(..)`: the fixed axis of the rotations.
@@ -74,7 +78,7 @@ impl PartialEq<Symbol> for &Ident {
 }
 
 /// The keys of `#[reduced_lagrangian(...)]`.
-pub const KEYS: [Symbol; 13] = [
+pub const KEYS: [Symbol; 15] = [
     SHAPE,
     GROUP,
     COORDINATES,
@@ -88,6 +92,8 @@ pub const KEYS: [Symbol; 13] = [
     FORCE,
     CONSTRAINTS,
     NONHOLONOMIC,
+    TIME,
+    ADAPT,
 ];
 
 /// The key `ident` spells, if it is one of [`KEYS`].

@@ -80,6 +80,20 @@ pub enum StepError {
         /// Which coordinate, and by how much.
         reason: String,
     },
+    /// The step monitor `g(q)` of a system with adaptive steps (`time(t), adapt = |q| g`) is not
+    /// a positive finite number at the state step `step` reached (0: the initial state): the
+    /// physical step `Δt ≈ ε g` would vanish, turn back or be undefined there.
+    #[error(
+        "step {step}: the step monitor g(q) = {value} is not a positive finite number; adaptive steps need \
+         g > 0 along the whole run (a monitor like a distance vanishes at a collision: add a floor, e.g. \
+         `r.powf(1.5) + 1e-6`)"
+    )]
+    InvalidMonitor {
+        /// The step after which the monitor was evaluated (0 for the initial state).
+        step: usize,
+        /// The monitor's value.
+        value: f64,
+    },
     /// The time step is not a positive finite number.
     #[error("invalid time step h = {h}: it must be positive and finite")]
     InvalidTimeStep {
@@ -203,6 +217,7 @@ impl StepError {
             StepError::InvalidSize { .. } => "invalid size",
             StepError::OffManifold { .. } => "configuration off its manifold",
             StepError::InvalidTimeStep { .. } => "invalid time step",
+            StepError::InvalidMonitor { .. } => "invalid step monitor",
             StepError::InvalidStepSize { .. } => "invalid step size",
             StepError::ScheduleEnded { .. } => "step-size schedule ended",
             StepError::InvalidRun { .. } => "invalid run",
@@ -225,7 +240,8 @@ impl StepError {
             | StepError::NonFinite { step, .. }
             | StepError::InvalidStepSize { step, .. }
             | StepError::ScheduleEnded { step }
-            | StepError::InvalidControls { step, .. } => step,
+            | StepError::InvalidControls { step, .. }
+            | StepError::InvalidMonitor { step, .. } => step,
             StepError::InvalidTimeStep { .. }
             | StepError::InvalidRun { .. }
             | StepError::NotSymmetric { .. }
@@ -256,6 +272,7 @@ impl StepError {
             | StepError::InvalidSize { .. }
             | StepError::OffManifold { .. }
             | StepError::InvalidControls { .. }
+            | StepError::InvalidMonitor { .. }
             | StepError::OutOfMemory { .. }
             | StepError::Unsupported { .. } => f64::NAN,
             StepError::ConstraintViolated { residual, .. } => residual,

@@ -19,7 +19,7 @@
 //! * [`state`], [`error`] (a failed step is a value carrying its index and residual),
 //!   [`diagnostics`] (the paper's Dirac structures, energies and action along a trajectory),
 //!   [`continuous`] (a continuous Lagrangian's Legendre map and energy), [`adapted`] (declared
-//!   translations).
+//!   translations), [`adaptive`] (adaptive steps by the Poincaré time transformation).
 //!
 //! Notation follows the paper: `Q = Σ × G` with shape coordinates `x ∈ Σ = R^S` and group
 //! coordinates `g ∈ G = R^K` (G acts by translation), reduced momenta `w ∈ Σ*` and `mu ∈ g*`,
@@ -31,6 +31,7 @@
 #![warn(missing_docs)]
 
 pub mod adapted;
+pub mod adaptive;
 pub mod atlas;
 pub mod compose;
 pub mod constrained;

@@ -421,6 +421,7 @@ where
                 residual: stats.residual,
             });
         }
+        crate::adaptive::monitor_at(sys, k, &next.x)?;
         Ok((
             next,
             ReducedStep {
@@ -451,7 +452,8 @@ where
             self.system.time_step(),
             &self.system.parameter_values(),
             initial.is_finite(),
-        )
+        )?;
+        crate::adaptive::monitor_at(&self.system, 0, &initial.x).map(|_| ())
     }
 
     fn workspace(&self) -> Self::Workspace {
@@ -475,7 +477,16 @@ where
         state: &ReducedState<S, K>,
         u: &[f64],
     ) -> Result<(ReducedState<S, K>, ReducedStep<K>), StepError> {
-        let guess = reduced_guess::<S, K, N>(&state.x, &workspace.history, h);
+        let mut guess = reduced_guess::<S, K, N>(&state.x, &workspace.history, h);
+        // Adaptive steps: a run's first step starts from the motion in fictitious time, not rest.
+        if workspace.history.last.is_none() && L::TIME.is_some() {
+            let start = self.system.untrivialize(state);
+            if let Some(dq) = self.system.adaptive_increment(&start.q, &start.p, h) {
+                let (dx, dg) = split::<S, K, N>(&dq);
+                let u = D::group_increment(dg - self.system.h_d0(&state.x, &(state.x + dx)));
+                guess = join::<S, K, N>(&(state.x + dx), &u);
+            }
+        }
         let (next, step) = self.solve_step(&mut workspace.solver, k, h, state, &guess, u)?;
         workspace
             .history

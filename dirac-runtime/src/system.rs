@@ -30,6 +30,32 @@ pub trait DiscreteLagrangian<const S: usize, const K: usize, const N: usize> {
     /// `p_{k+1} = D2 L_d + f_d^+`, and its energy is not conserved.
     const FORCED: bool = false;
 
+    /// Adaptive steps (`time(t), adapt = |q| g` in the attribute; see [`crate::adaptive`]): the
+    /// index among the group coordinates of the one that is physical time. `None` for a system
+    /// stepped in physical time.
+    const TIME: Option<usize> = None;
+
+    /// Adaptive steps: the step monitor `g(x) > 0` at the shape `x` (`dt = g dτ`); `None` for a
+    /// system stepped in physical time.
+    fn monitor(&self, x: &SVector<f64, S>) -> Option<f64> {
+        let _ = x;
+        None
+    }
+
+    /// Adaptive steps: Newton's guess for the increment `q_{k+1} − q_k` of a run's first step of
+    /// fictitious size `h` from `(q, p)` (`h` times the velocity in fictitious time, see
+    /// [`crate::adaptive::first_increment`]); `None` for a system stepped in physical time, whose
+    /// first guess is no motion.
+    fn adaptive_increment(
+        &self,
+        q: &SVector<f64, N>,
+        p: &SVector<f64, N>,
+        h: f64,
+    ) -> Option<SVector<f64, N>> {
+        let _ = (q, p, h);
+        None
+    }
+
     /// `L_d(q0, q1)`, evaluated by the user's own function body.
     fn lagrangian(&self, q0: &SVector<f64, N>, q1: &SVector<f64, N>) -> f64;
 

@@ -174,6 +174,7 @@ where
                 residual: solution.residual,
             });
         }
+        crate::adaptive::monitor_at(sys, k, &next.q.fixed_rows::<S>(0).into_owned())?;
         Ok((
             next,
             StepStats::from_solution(&solution, self.options.residual_tolerance(rho)),
@@ -199,7 +200,9 @@ where
             self.system.time_step(),
             &self.system.parameter_values(),
             initial.is_finite(),
-        )
+        )?;
+        let x = initial.q.fixed_rows::<S>(0).into_owned();
+        crate::adaptive::monitor_at(&self.system, 0, &x).map(|_| ())
     }
 
     fn workspace(&self) -> Self::Workspace {
@@ -223,7 +226,13 @@ where
         state: &UnreducedState<N>,
         u: &[f64],
     ) -> Result<(UnreducedState<N>, StepStats), StepError> {
-        let guess = canonical_guess(&state.q, &workspace.history, h);
+        let mut guess = canonical_guess(&state.q, &workspace.history, h);
+        // Adaptive steps: a run's first step starts from the motion in fictitious time, not rest.
+        if workspace.history.last.is_none() && L::TIME.is_some() {
+            if let Some(dq) = self.system.adaptive_increment(&state.q, &state.p, h) {
+                guess = state.q + dq;
+            }
+        }
         let (next, stats) = self.solve_step(&mut workspace.solver, k, h, state, &guess, u)?;
         workspace.history.push(next.q - state.q, h);
         Ok((next, stats))

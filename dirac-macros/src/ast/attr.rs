@@ -47,11 +47,11 @@ use crate::ast::ranges::{parse_ranges, Range, RangeArg, RANGES as RANGES_ACCEPTE
 use crate::ast::rule::{Rule, RULES};
 use crate::ctxt::Ctxt;
 use crate::symbol::{
-    self, KeyArg, Symbol, CONNECTION, CONSTRAINTS, CONTROLS, COORDINATES, FORCE, GROUP, NAME,
-    NONHOLONOMIC, RANGES, RULE, SHAPE, STEP, TRANSLATE,
+    self, KeyArg, Symbol, ADAPT, CONNECTION, CONSTRAINTS, CONTROLS, COORDINATES, FORCE, GROUP,
+    NAME, NONHOLONOMIC, RANGES, RULE, SHAPE, STEP, TIME, TRANSLATE,
 };
 
-const KEYS: &str = "`shape(...)`, `group(...)` (or `coordinates(...)` with `translate(...)`), `connection = [[...], ...]`, `step = <parameter>`, `name = <TypeName>`, `rule = midpoint | trapezoid | left | right`, `ranges(<name> = (lo, hi), ...)`, `controls(<parameter>, ...)`, `force = |dq| <virtual work>` (or `|dq0, dq1|` for a discrete Lagrangian) `constraints = |q| [<φ_1>, ...]` or `nonholonomic = |q, v| [<A_1(q) v>, ...]`";
+const KEYS: &str = "`shape(...)`, `group(...)` (or `coordinates(...)` with `translate(...)`), `connection = [[...], ...]`, `step = <parameter>`, `name = <TypeName>`, `rule = midpoint | trapezoid | left | right`, `ranges(<name> = (lo, hi), ...)`, `controls(<parameter>, ...)`, `force = |dq| <virtual work>` (or `|dq0, dq1|` for a discrete Lagrangian) `constraints = |q| [<φ_1>, ...]` or `nonholonomic = |q, v| [<A_1(q) v>, ...]`, `time(t), adapt = |q| <monitor>` (adaptive steps)";
 
 /// The parsed attribute.
 pub struct Spec {
@@ -79,6 +79,18 @@ pub struct Spec {
     pub constraints: Option<syn::ExprClosure>,
     /// Whether `constraints` are nonholonomic (`nonholonomic = |q, v| [..]`, `A(q) v = 0`).
     pub nonholonomic: bool,
+    /// `time(t), adapt = |q| g`: adaptive steps (see [`crate::ir::adapt`]).
+    pub adapt: Option<Adapt>,
+}
+
+/// `time(t), adapt = |q| g`: the group coordinate that is physical time and the step monitor.
+pub struct Adapt {
+    /// The time coordinate as written.
+    pub time: Ident,
+    /// Its index among the group coordinates.
+    pub index: usize,
+    /// `|q| g(q)`.
+    pub monitor: syn::ExprClosure,
 }
 
 /// One entry of `shape(...)`, `group(...)`, `coordinates(...)` or `translate(...)`: a name,
@@ -144,6 +156,8 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
     let mut force: Option<syn::ExprClosure> = None;
     let mut constraints: Option<syn::ExprClosure> = None;
     let mut nonholonomic = false;
+    let mut time: Option<(Ident, Ident)> = None;
+    let mut adapt: Option<(Ident, syn::ExprClosure)> = None;
     let mut seen: Vec<String> = Vec::new();
     // Which way the symmetry is declared: the first of `shape`/`group` or
     // `coordinates`/`translate` decides; a key of the other family is an error.
@@ -266,6 +280,29 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
                 }
             }
             (Some(FORCE), KeyArg::Value(_, Expr::Closure(closure))) => force = Some(closure),
+            (Some(TIME), KeyArg::List(k, List::Coords(list))) => {
+                let names: Vec<&CoordArg> = list.iter().collect();
+                match names.as_slice() {
+                    [c] if c.len.is_none() => time = Some((k, c.name.clone())),
+                    _ => cx.error_spanned_by(
+                        &k,
+                        "`time(...)` names one group coordinate, the physical time: e.g. `group(t), time(t)`",
+                    ),
+                }
+            }
+            (Some(ADAPT), KeyArg::Value(k, Expr::Closure(closure))) => adapt = Some((k, closure)),
+            (Some(ADAPT), KeyArg::Value(_, value)) => cx.error_spanned_by(
+                &value,
+                "expected `adapt = |q| <monitor>`: the step monitor `g(q) > 0`, a function of the shape coordinates (`dt = g(q) dτ`)",
+            ),
+            (Some(ADAPT), KeyArg::List(k, _)) => cx.error_spanned_by(
+                &k,
+                "expected `adapt = |q| <monitor>`, found `adapt(...)`",
+            ),
+            (Some(TIME), KeyArg::Value(k, _)) => cx.error_spanned_by(
+                &k,
+                "expected `time(t)`: the group coordinate that is physical time",
+            ),
             (Some(FORCE), KeyArg::Value(_, value)) => cx.error_spanned_by(
                 &value,
                 format!(
@@ -404,6 +441,55 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
         check_connection_shape(cx, &value, &rows, layout.s(), layout.k());
         rows
     });
+    let adapt = match (time, adapt) {
+        (None, None) => None,
+        (Some((k, _)), None) => {
+            cx.error_spanned_by(
+                &k,
+                "`time(t)` comes with `adapt = |q| <monitor>`: the monitor `g(q) > 0` sets the physical step `dt = g(q) dτ`",
+            );
+            None
+        }
+        (None, Some((k, _))) => {
+            cx.error_spanned_by(
+                &k,
+                "`adapt = |q| ..` needs `time(t)`: declare a group coordinate `t` for the physical time, e.g. `group(t), time(t)`",
+            );
+            None
+        }
+        (Some((_, t)), Some((k, monitor))) => {
+            let index = layout.group.iter().position(|g| t == g);
+            if layout.declared {
+                cx.error_spanned_by(
+                    &k,
+                    "adaptive steps are available with `shape(...), group(...)`, not yet with `coordinates(...)`/`translate(...)`",
+                );
+                None
+            } else if let Some(key) = force
+                .as_ref()
+                .map(|_| "force")
+                .or(constraints.as_ref().map(|_| "constraints"))
+            {
+                cx.error_spanned_by(
+                    &k,
+                    format!("adaptive steps are not available with `{key}` yet: the time-transformed system carries neither"),
+                );
+                None
+            } else if let Some(index) = index {
+                Some(Adapt {
+                    time: t,
+                    index,
+                    monitor,
+                })
+            } else {
+                cx.error_spanned_by(
+                    &t,
+                    format!("`{t}` is not a group coordinate: physical time is a coordinate the Lagrangian does not read, declared in `group(..)`, e.g. `group({t}), time({t})`"),
+                );
+                None
+            }
+        }
+    };
     Some(Spec {
         layout,
         connection,
@@ -416,6 +502,7 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
         force,
         constraints,
         nonholonomic,
+        adapt,
     })
 }
 

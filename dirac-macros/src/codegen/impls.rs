@@ -272,10 +272,11 @@ pub fn discrete_lagrangian(
     params: &[String],
     controls: &[String],
     forced: bool,
+    time: Option<usize>,
 ) -> ImplBlock {
     let (ty, s, k, n, rt, na) = (&t.ty, t.s, t.k, t.n, &t.rt, &t.na);
     let vn = t.vec(n);
-    ImplBlock {
+    let mut block = ImplBlock {
         attrs: generated_derived(),
         header: quote!(impl #rt::DiscreteLagrangian<#s, #k, #n> for #ty),
         items: vec![
@@ -323,7 +324,26 @@ pub fn discrete_lagrangian(
                 quote!(fn with_controls(&self, u: &[f64]) -> Self),
             ),
         ],
+    };
+    // Adaptive steps: the time coordinate and the monitor.
+    if let Some(j) = time {
+        let vs = t.vec(s);
+        block.items.push(fixed(
+            "TIME",
+            quote!(const TIME: ::core::option::Option<usize> = ::core::option::Option::Some(#j);),
+        ));
+        block.items.push(method(
+            "monitor",
+            quote!(#[allow(unused_variables)]), // a monitor need not read every coordinate
+            quote!(fn monitor(&self, x: #vs) -> ::core::option::Option<f64>),
+        ));
+        block.items.push(method(
+            "adaptive_increment",
+            quote!(),
+            quote!(fn adaptive_increment(&self, q: #vn, p: #vn, h: f64) -> ::core::option::Option<#na::SVector<f64, #n>>),
+        ));
     }
+    block
 }
 
 /// `impl Reduced<Side, S, K, N>`, one side, on `backend`.

@@ -235,7 +235,7 @@ fn discrete_impl(
             #na::SMatrix::<f64, #k, #s>::from_row_slice(&[ #( #b_rows, )* ])
         }
     };
-    let bodies = HashMap::from([
+    let mut bodies = HashMap::from([
         ("lagrangian", lagrangian_body),
         ("connection", connection_body),
         ("time_step", quote! { self.#step }),
@@ -268,6 +268,23 @@ fn discrete_impl(
             }
         }),
     ]);
+    if let Some((_, monitor)) = c.adapt {
+        let code = straight_line(&c.graph, &[monitor], &|sym| match sym {
+            Sym::Q0(i) => quote! { x[#i] },
+            Sym::Param(i) => t.param_leaf(i),
+            other => unreachable!("the monitor reads the shape and the parameters, not {other:?}"),
+        });
+        let (stmts, out) = (&code.stmts, &code.outputs[0]);
+        bodies.insert(
+            "monitor",
+            quote! { #stmts ::core::option::Option::Some(#out) },
+        );
+        let rt = &t.rt;
+        bodies.insert(
+            "adaptive_increment",
+            quote! { #rt::adaptive::first_increment(self, q, p, h) },
+        );
+    }
     discrete_table(t, spec, sig).render(&Bodies::Real(bodies))
 }
 
@@ -282,6 +299,7 @@ pub fn discrete_table(t: &Target, spec: &Spec, sig: &Signature) -> impls::ImplBl
         &params,
         &controls,
         spec.force.is_some(),
+        spec.adapt.as_ref().map(|a| a.index),
     )
 }
 

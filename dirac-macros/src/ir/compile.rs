@@ -33,6 +33,9 @@ pub struct Lowered {
     pub forces: Option<Forces>,
     /// The constraints, when declared.
     pub constraints: Option<constraint::Constraints>,
+    /// Adaptive steps: the time coordinate's index among the group coordinates and the
+    /// monitor `g` (over `Q0`, shape entries only).
+    pub adapt: Option<(usize, NodeId)>,
 }
 
 /// The graph and its roots.
@@ -60,6 +63,8 @@ pub struct Compiled {
     pub forces: Option<Forces>,
     /// The constrained steppers, when constraints are declared.
     pub constrained: Option<ConstrainedCode>,
+    /// Adaptive steps: the time coordinate's index among the group coordinates and the monitor.
+    pub adapt: Option<(usize, NodeId)>,
 }
 
 /// What one side of the reduced equations compiles to.
@@ -91,6 +96,32 @@ pub fn lower(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<L
     let (s, k) = (spec.layout.s(), spec.layout.k());
     let mut graph = Graph::default();
     let body = Lowering::new(&mut graph, cx, &names).body(&func.block);
+    // Adaptive steps: the time-transformed L₂ in place of L.
+    let (body, adapt) = match (&spec.adapt, body) {
+        (Some(adapt), Some(l)) => {
+            if !sig.continuous || spec.rule.is_none() {
+                cx.error_spanned_by(
+                    &adapt.monitor,
+                    "adaptive steps transform a continuous Lagrangian: write `fn l(q: Config, v: Velocity, ..)` with \
+                     `rule = midpoint` (or `trapezoid`, `left`, `right`)",
+                );
+                (None, None)
+            } else {
+                let names = Names {
+                    q0: &sig.q0,
+                    q1: &sig.q1,
+                    coords: spec.layout.lowering_coords(),
+                    params: sig.params.iter().map(Ident::to_string).collect(),
+                    dq: Vec::new(),
+                };
+                match crate::ir::adapt::transform(cx, &mut graph, l, adapt, names, s) {
+                    Some(a) => (Some(a.lagrangian), Some((adapt.index, a.monitor))),
+                    None => (None, None),
+                }
+            }
+        }
+        (_, body) => (body, None),
+    };
     // A continuous L(q, v): keep it for the Legendre map and energy, and form L_d by the rule.
     let (body, continuous) = match (body, spec.rule.as_ref().filter(|_| sig.continuous)) {
         (Some(l), Some(&(_, rule))) => {
@@ -164,6 +195,7 @@ pub fn lower(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<L
         continuous,
         forces,
         constraints,
+        adapt,
     })
 }
 
@@ -204,6 +236,7 @@ pub fn construct(
         continuous,
         forces,
         constraints,
+        adapt,
     } = lowered;
     let with_partials = forces.is_some() || !controls.is_empty();
     let mode = match mode_for(s + k) {
@@ -334,6 +367,7 @@ pub fn construct(
         continuous,
         forces,
         constrained,
+        adapt,
     }
 }
 

@@ -53,7 +53,7 @@ pub struct Constraints {
 }
 
 /// The closure's argument names, exactly `n` plain names (or `name: Type`).
-fn args(cx: &Ctxt, closure: &ExprClosure, n: usize, usage: &str) -> Option<Vec<syn::Ident>> {
+pub fn args(cx: &Ctxt, closure: &ExprClosure, n: usize, usage: &str) -> Option<Vec<syn::Ident>> {
     let names: Vec<Option<syn::Ident>> = closure
         .inputs
         .iter()

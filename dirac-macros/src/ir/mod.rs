@@ -5,6 +5,7 @@
 //! all of it driven for a system by [`compile`] and for a chart transition by [`transition`].
 //! Imports only the front end ([`crate::ast`]); emits no code.
 
+pub mod adapt;
 pub mod check;
 pub mod compile;
 pub mod constraint;

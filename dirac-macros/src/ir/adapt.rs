@@ -1,0 +1,116 @@
+//! Adaptive steps: the Poincaré time transformation of a continuous Lagrangian, made
+//! variational with physical time as a coordinate (`time(t), adapt = |q| g`).
+//!
+//! With the fictitious time `τ`, `dt = g(q) dτ` (Sundman, Poincaré; Hairer 1997), the
+//! Hamiltonian of an autonomous system becomes, in the extended phase space `(q, t, p, p_t)`,
+//! `K = g(q) (H(q, p) + p_t)`, whose flow on the level set `K = 0` is the physical flow
+//! reparametrized, with `t' = g(q)` and `p_t = −H`. `K` is degenerate in `p_t`, so it has no
+//! Lagrangian; its regularization
+//!
+//! ```text
+//! K₂ = g (H + p_t) + (c/2) g (H + p_t)²        (c = 1)
+//! ```
+//!
+//! has the same level set, invariant and with the same flow on it (the added term vanishes there
+//! with its gradient), `p_t` conserved (`K₂` does not read `t`), and is regular. Its Legendre
+//! transform, maximizing over `p_t` then over `p`, is
+//!
+//! ```text
+//! L₂(q, t, q', t') = t' L(q, q'/t') + (t' − g(q))² / (2 c g(q)),
+//! ```
+//!
+//! the physical Lagrangian made homogeneous in the extended velocity, plus a term that vanishes
+//! on the solutions (`t' = g`) and pins the step. Its momenta are the physical ones,
+//! `∂L₂/∂q' = ∂L/∂v (q, q'/t')`, and `∂L₂/∂t' = −E + (t'/g − 1)/c` (`= −E` on the level set).
+//! Discretized by the rule at the fictitious step `ε` (the attribute's step parameter), e.g. the
+//! midpoint rule, `L_d = Δt L(q̄, Δq/Δt) + (Δt − ε g(q̄))²/(2 ε g(q̄))`: a step of the physical
+//! discrete Lagrangian with its own size `Δt`, chosen by the dynamics so that `Δt ≈ ε g`. The
+//! result is an ordinary discrete Lagrangian on `(q, t)`: every integrator applies unchanged, and
+//! since `L₂` does not read `t` (a group coordinate), the reduced integrators keep `p_t = −E`
+//! (with every other momentum of a symmetry the monitor respects) bit for bit, and reconstruct
+//! physical time as that group coordinate.
+
+use crate::ast::attr::Adapt;
+use crate::ctxt::Ctxt;
+use crate::ir::graph::{Graph, NodeId, Sym};
+use crate::ir::lower::{Lowering, Names};
+
+/// The time-transformed Lagrangian `L₂` and the lowered monitor `g` (over `Q0`).
+pub struct Adapted {
+    pub lagrangian: NodeId,
+    pub monitor: NodeId,
+}
+
+/// Lowers the monitor of `adapt` and transforms the continuous Lagrangian `l` (over `q = Q0`,
+/// `v = Q1`) with `s` shape coordinates; the time coordinate is configuration entry
+/// `s + adapt.index`. `None` after errors, all recorded in `cx`: a monitor that reads a group
+/// coordinate (it would break that symmetry and make the step depend on the origin of time),
+/// and a Lagrangian that reads the time coordinate or its rate (the system must be autonomous).
+pub fn transform(
+    cx: &Ctxt,
+    g: &mut Graph,
+    l: NodeId,
+    adapt: &Adapt,
+    names: Names,
+    s: usize,
+) -> Option<Adapted> {
+    let time = s + adapt.index;
+    let closure = &adapt.monitor;
+    let arg = crate::ir::constraint::args(
+        cx,
+        closure,
+        1,
+        "the monitor takes the configuration alone: `adapt = |q| <g(q)>`",
+    )?;
+    let unused = syn::Ident::new("__dirac_no_velocity", proc_macro2::Span::call_site());
+    let names = Names {
+        q0: &arg[0],
+        q1: &unused,
+        ..names
+    };
+    let monitor = Lowering::new(g, cx, &names).scalar_expr(&closure.body, "the monitor")?;
+    if g.symbols(&[monitor])
+        .iter()
+        .any(|sym| matches!(sym, Sym::Q0(i) if *i >= s))
+    {
+        cx.error_spanned_by(
+            &closure.body,
+            "the monitor reads a group coordinate: it must be a function of the shape coordinates, so that the \
+             symmetry of each group coordinate (time included) is kept and its momentum with it",
+        );
+        return None;
+    }
+    if g.symbols(&[l])
+        .iter()
+        .any(|sym| matches!(sym, Sym::Q0(i) | Sym::Q1(i) if *i == time))
+    {
+        cx.error_spanned_by(
+            &adapt.time,
+            format!(
+                "the Lagrangian reads the time coordinate `{}` or its rate: adaptive steps transform an autonomous \
+                 Lagrangian, whose energy is conserved; leave `{0}` out of the body",
+                adapt.time
+            ),
+        );
+        return None;
+    }
+    // L₂ = t' L(q, v/t') + (t' − g)² / (2 g).
+    let rate = g.var(Sym::Q1(time));
+    let scaled = g.substitute(l, &mut |g, sym| match sym {
+        Sym::Q1(i) if i != time => {
+            let v = g.var(Sym::Q1(i));
+            g.div(v, rate)
+        }
+        other => g.var(other),
+    });
+    let homogeneous = g.mul(rate, scaled);
+    let gap = g.sub(rate, monitor);
+    let gap2 = g.mul(gap, gap);
+    let two = g.constant(2.0);
+    let den = g.mul(two, monitor);
+    let pin = g.div(gap2, den);
+    Some(Adapted {
+        lagrangian: g.add(homogeneous, pin),
+        monitor,
+    })
+}

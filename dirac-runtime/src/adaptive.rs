@@ -1,0 +1,160 @@
+//! Adaptive time steps that keep the structure: a system declared with
+//! `time(t), adapt = |q| g` is the Poincaré time transformation of its continuous Lagrangian,
+//! stepped at a fixed fictitious step `ε` (the attribute's step parameter), each step covering
+//! the physical time `Δt_k = t_{k+1} − t_k ≈ ε g(q)`.
+//!
+//! The compiler replaces `L(q, v)` by
+//!
+//! ```text
+//! L₂(q, t, q', t') = t' L(q, q'/t') + (t' − g(q))² / (2 g(q))
+//! ```
+//!
+//! (primes: derivatives in the fictitious time `τ`, `dt = g dτ`), the Legendre transform of the
+//! regularized Poincaré Hamiltonian `K₂ = g (H + p_t) + ½ g (H + p_t)²`, whose solutions on the
+//! level set `p_t = −H` are the physical ones reparametrized, with `t' = g` (the derivation is in
+//! the guide's chapter on adaptive steps). `L₂` is an ordinary Lagrangian on `(q, t)`, so every
+//! integrator steps it unchanged, and what they keep is kept here in extended phase space:
+//!
+//! * the discrete flow is symplectic in `(q, t, p, p_t)`, and symmetric for a symmetric rule
+//!   (midpoint, trapezoid: time-reversible), raised to order 4 and 6 in `ε` by the compositions;
+//! * `L₂` does not read `t` (the time is a group coordinate), so `p_t` is the momentum of a
+//!   symmetry: the reduced integrators copy it, bit for bit — `p_t = −E` at the level the run
+//!   started on — as they copy the momentum of every symmetry the monitor respects (the monitor
+//!   may read shape coordinates only, checked at compile time);
+//! * the momenta `p` conjugate to `q` are the physical ones, `∂L/∂v`, and the physical energy
+//!   oscillates about `−p_t` without drift.
+//!
+//! A run must start on the level set, `p_t = −E(q, p)`: build the initial state from the
+//! physical position and velocity with [`state`] (or [`reduced_state`]), which sets `t' = g` and
+//! so `p_t = −E` exactly. Each step's monitor must be positive and finite
+//! ([`crate::StepError::InvalidMonitor`] otherwise, with the step index); Newton's first guess
+//! for the time increment of a run is `ε g(x)`.
+
+use nalgebra::SVector;
+
+use crate::continuous::ContinuousLagrangian;
+use crate::error::StepError;
+use crate::state::{IntoVector, ReducedState, UnreducedState};
+use crate::system::DiscreteLagrangian;
+
+/// The velocity in fictitious time of a physical velocity `u` at `q`: `v = g(x) u`, with the
+/// time coordinate's rate set to `g(x)` (its physical rate is 1). `Err` for a monitor that is
+/// not positive and finite at `q`, or a system without adaptive steps.
+pub fn fictitious_velocity<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    q: &SVector<f64, N>,
+    u: &SVector<f64, N>,
+) -> Result<SVector<f64, N>, StepError>
+where
+    L: DiscreteLagrangian<S, K, N>,
+{
+    let (Some(j), Some(g)) = (L::TIME, sys.monitor(&q.fixed_rows::<S>(0).into_owned())) else {
+        return Err(StepError::Unsupported {
+            what: "a fictitious velocity: the system is not declared with `time(t), adapt = |q| g`",
+        });
+    };
+    check_monitor(0, g)?;
+    let mut v = u * g;
+    v[S + j] = g;
+    Ok(v)
+}
+
+/// The unreduced state at the physical position `q` (its time coordinate the physical time) and
+/// physical velocity `u` (the time coordinate's entry is ignored: its rate is 1), on the level
+/// set `p_t = −E(q, u)` where the transformed system's solutions are the physical ones.
+pub fn state<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    q: impl IntoVector<SVector<f64, N>>,
+    u: impl IntoVector<SVector<f64, N>>,
+) -> Result<UnreducedState<N>, StepError>
+where
+    L: DiscreteLagrangian<S, K, N> + ContinuousLagrangian<N>,
+{
+    let q = q.into_vector();
+    let v = fictitious_velocity(sys, &q, &u.into_vector())?;
+    Ok(sys.unreduced_state(q, v))
+}
+
+/// [`state`], trivialized (eq. (3.6)): the reduced state, with `−E` among its `mu`.
+pub fn reduced_state<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    q: impl IntoVector<SVector<f64, N>>,
+    u: impl IntoVector<SVector<f64, N>>,
+) -> Result<ReducedState<S, K>, StepError>
+where
+    L: DiscreteLagrangian<S, K, N> + ContinuousLagrangian<N>,
+{
+    Ok(sys.trivialize(&state(sys, q, u)?))
+}
+
+/// Newton's guess for the increment of a run's first step of fictitious size `h` from `(q, p)`:
+/// `h v`, with `v` the velocity in fictitious time on the level set — the time coordinate's rate
+/// `g(x)` and the others solving the Legendre map `∂L₂/∂v_q (q, v) = p_q` at that rate (by a few
+/// Newton iterations with a difference-quotient Jacobian: a guess, once per run). Starting from
+/// rest instead, Newton meets the strongly nonlinear dependence of `L₂` on the time increment
+/// (`Δt L(q, Δq/Δt)`) with the whole kinetic energy in its residual and can overshoot to a negative
+/// `Δt`. `None` for a system without adaptive steps or a monitor that is not positive.
+pub fn first_increment<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    q: &SVector<f64, N>,
+    p: &SVector<f64, N>,
+    h: f64,
+) -> Option<SVector<f64, N>>
+where
+    L: DiscreteLagrangian<S, K, N> + ContinuousLagrangian<N>,
+{
+    let time = S + L::TIME?;
+    let g = sys.monitor(&q.fixed_rows::<S>(0).into_owned())?;
+    check_monitor(0, g).ok()?;
+    let mut v = SVector::<f64, N>::zeros();
+    v[time] = g;
+    let rows: Vec<usize> = (0..N).filter(|&i| i != time).collect();
+    let scale = p.amax().max(1.0);
+    for _ in 0..8 {
+        let r0 = sys.legendre(q, &v) - p;
+        if rows.iter().all(|&i| r0[i].abs() <= 1e-13 * scale) {
+            break;
+        }
+        let mut jac = nalgebra::DMatrix::<f64>::zeros(rows.len(), rows.len());
+        for (c, &i) in rows.iter().enumerate() {
+            let step = 1e-7 * v[i].abs().max(g);
+            let mut w = v;
+            w[i] += step;
+            let r1 = sys.legendre(q, &w) - p;
+            for (r, &k) in rows.iter().enumerate() {
+                jac[(r, c)] = (r1[k] - r0[k]) / step;
+            }
+        }
+        let rhs = nalgebra::DVector::from_iterator(rows.len(), rows.iter().map(|&k| r0[k]));
+        let delta = jac.lu().solve(&rhs)?;
+        for (c, &i) in rows.iter().enumerate() {
+            v[i] -= delta[c];
+        }
+    }
+    v.iter().all(|x| x.is_finite()).then(|| v * h)
+}
+
+/// The typed error of a monitor value that is not positive and finite, after step `step`.
+pub(crate) fn check_monitor(step: usize, value: f64) -> Result<(), StepError> {
+    if value > 0.0 && value.is_finite() {
+        Ok(())
+    } else {
+        Err(StepError::InvalidMonitor { step, value })
+    }
+}
+
+/// The monitor at the shape `x` of a system with adaptive steps, checked (`Ok(None)` for a
+/// system stepped in physical time).
+pub(crate) fn monitor_at<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    step: usize,
+    x: &SVector<f64, S>,
+) -> Result<Option<f64>, StepError>
+where
+    L: DiscreteLagrangian<S, K, N>,
+{
+    match sys.monitor(x) {
+        Some(g) => check_monitor(step, g).map(|()| Some(g)),
+        None => Ok(None),
+    }
+}
