@@ -1,7 +1,9 @@
 //! Adaptive steps: `time(t), adapt = |q| g` — the Poincaré time transformation stepped at a
-//! fixed fictitious step, against Kepler's closed form.
+//! fixed fictitious step — against Kepler's closed form, with its conserved momenta, its
+//! reversibility and its typed errors.
 
 use dirac::prelude::*;
+use dirac::runtime::adaptive;
 
 /// Kepler's problem in the plane in polar coordinates, its step following `r^{3/2}`.
 #[reduced_lagrangian(shape(r), group(theta, t), time(t), adapt = |q| q.r.powf(1.5), rule = midpoint)]
@@ -9,10 +11,30 @@ fn kepler(q: Config, v: Velocity, k: f64) -> f64 {
     0.5 * (v.r * v.r + q.r * q.r * v.theta * v.theta) + k / q.r
 }
 
+/// The same Lagrangian stepped in physical time.
+#[reduced_lagrangian(shape(r), group(theta), rule = midpoint)]
+fn kepler_fixed(q: Config, v: Velocity, k: f64) -> f64 {
+    0.5 * (v.r * v.r + q.r * q.r * v.theta * v.theta) + k / q.r
+}
+
+/// A particle on a line in a uniform field whose monitor is `1 + c x`, `c` a control.
+#[reduced_lagrangian(shape(x), group(t), time(t), adapt = |q| 1.0 + c * q.x, controls(c), rule = midpoint)]
+fn drifting(q: Config, v: Velocity, m: f64, c: f64) -> f64 {
+    0.5 * m * v.x * v.x - 0.1 * q.x
+}
+
+/// A particle on a line whose monitor is the square root of its position.
+#[reduced_lagrangian(shape(x), group(t), time(t), adapt = |q| q.x.sqrt(), rule = midpoint)]
+fn rooted(q: Config, v: Velocity, m: f64) -> f64 {
+    0.5 * m * v.x * v.x - 0.1 * q.x
+}
+
+const TAU: f64 = 2.0 * std::f64::consts::PI;
+
 /// The orbit of eccentricity `e` (semi-major axis 1, `k = 1`, period 2π) at time `t` from
-/// periapsis at `t = 0`: `(r, θ)` by Kepler's equation `E − e sin E = t`, solved by Newton.
+/// periapsis at `t = 0`: `(r, θ)` by Kepler's equation `E − e sin E = t mod 2π`, solved by Newton.
 fn exact(e: f64, t: f64) -> (f64, f64) {
-    let m = t.rem_euclid(2.0 * std::f64::consts::PI);
+    let m = t.rem_euclid(TAU);
     let mut big_e = if e > 0.8 { std::f64::consts::PI } else { m };
     for _ in 0..100 {
         let d = (big_e - e * big_e.sin() - m) / (1.0 - e * big_e.cos());
@@ -22,17 +44,22 @@ fn exact(e: f64, t: f64) -> (f64, f64) {
         }
     }
     let r = 1.0 - e * big_e.cos();
-    let theta = 2.0
+    let anomaly = 2.0
         * ((1.0 + e).sqrt() * (big_e / 2.0).sin()).atan2((1.0 - e).sqrt() * (big_e / 2.0).cos());
-    let turns = (t / (2.0 * std::f64::consts::PI)).floor();
-    (r, theta + turns * 2.0 * std::f64::consts::PI)
+    (r, anomaly.rem_euclid(TAU) + (t / TAU).floor() * TAU)
 }
 
-/// The reduced initial state at periapsis.
+/// The reduced initial state at periapsis, on the energy level.
 fn periapsis(sys: &Kepler, e: f64) -> ReducedState<1, 2> {
     let r0 = 1.0 - e;
     let omega = (1.0 - e * e).sqrt() / (r0 * r0);
-    dirac::runtime::adaptive::reduced_state(sys, [r0, 0.0, 0.0], [0.0, omega, 1.0]).unwrap()
+    adaptive::reduced_state(sys, [r0, 0.0, 0.0], [0.0, omega, 1.0]).unwrap()
+}
+
+/// The physical energy `p_r²/2 + p_θ²/(2 r²) − k/r` of a reduced state.
+fn energy(s: &ReducedState<1, 2>) -> f64 {
+    let (r, pr, ptheta) = (s.x[0], s.w[0], s.mu[0]);
+    0.5 * pr * pr + 0.5 * ptheta * ptheta / (r * r) - 1.0 / r
 }
 
 fn tight() -> NewtonOptions {
@@ -43,41 +70,226 @@ fn tight() -> NewtonOptions {
     }
 }
 
+/// The largest of the errors in `r` and `θ` at the end of `orbits` fictitious-time units ×
+/// 2π/ε steps, against the closed form at the physical time the run reached.
+fn kepler_error(e: f64, eps: f64, span: f64, composed: bool) -> f64 {
+    let sys = Kepler { h: eps, k: 1.0 };
+    let integ = ReducedIntegrator::plus(sys, tight());
+    let s0 = periapsis(&sys, e);
+    let n = (span / eps).round() as usize;
+    let last = if composed {
+        *Composition::new(integ, CompositionMethod::TRIPLE_JUMP)
+            .run(s0)
+            .steps(n)
+            .collect()
+            .unwrap()
+            .last()
+    } else {
+        *integ.run(s0).steps(n).collect().unwrap().last()
+    };
+    let (r, theta) = exact(e, last.g[1]);
+    (last.x[0] - r).abs().max((last.g[0] - theta).abs())
+}
+
 #[test]
-fn kepler_dbg() {
-    let e = 0.9;
-    for eps in [0.04, 0.02, 0.01] {
-        let sys = Kepler { h: eps, k: 1.0 };
-        let integ = ReducedIntegrator::plus(sys, tight());
-        let s0 = periapsis(&sys, e);
-        let n = (20.0 / eps) as usize;
-        let traj = integ.run(s0).steps(n).collect().unwrap();
-        let last = traj.last();
-        let t = last.g[1];
-        let (r, th) = exact(e, t);
-        println!(
-            "eps {eps} t {t} err r {:e} th {:e} mu {:?} iters {}",
-            (last.x[0] - r).abs(),
-            (last.g[0] - th).abs(),
-            last.mu,
-            traj.mean_iterations()
-        );
+fn kepler_at_e_0_9_has_order_two_and_four_in_the_fictitious_step() {
+    for (composed, order, steps) in [
+        (false, 2.0, [0.04, 0.02, 0.01]),
+        (true, 4.0, [0.08, 0.04, 0.02]),
+    ] {
+        let e: Vec<f64> = steps
+            .iter()
+            .map(|&eps| kepler_error(0.9, eps, 8.0, composed))
+            .collect();
+        for w in e.windows(2) {
+            let observed = (w[0] / w[1]).log2();
+            assert!(
+                (observed - order).abs() < 0.25,
+                "order {observed} (expected {order}) from errors {e:?}"
+            );
+        }
     }
 }
 
 #[test]
-fn newton_dbg() {
-    let sys = Kepler { h: 0.04, k: 1.0 };
+fn the_angular_momentum_and_the_energy_level_are_kept_bit_for_bit() {
+    let sys = Kepler { h: 0.05, k: 1.0 };
+    let integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
     let s0 = periapsis(&sys, 0.9);
-    let g = (0.1f64).powf(1.5);
-    let mut z = SVector::<f64, 3>::new(0.1, 0.0, 0.04 * g);
-    for it in 0..8 {
-        let (r, j) = <Kepler as dirac::runtime::Reduced<Plus, 1, 2, 3>>::residual_jacobian(
-            &sys, &s0.x, &s0.w, &s0.mu, &z,
-        );
-        println!("{it} z {:?} r {:?}", z.as_slice(), r.as_slice());
-        let j: SMatrix<f64, 3, 3> = j.into();
-        let d = j.lu().solve(&r).unwrap();
-        z -= d;
+    // p_t = −E at the level the run starts on: E = −1/(2a) = −1/2.
+    assert!((s0.mu[1] - 0.5).abs() < 1e-15, "{}", s0.mu[1]);
+    let (e0, steps) = (energy(&s0), 20_000);
+    let (mut first, mut last_tenth): (Vec<f64>, Vec<f64>) = (Vec::new(), Vec::new());
+    let mut t_last = 0.0;
+    integ
+        .run(s0)
+        .steps(steps)
+        .observe(|k, _, s: &ReducedState<1, 2>, _| {
+            assert_eq!(s.mu, s0.mu, "step {k}");
+            let de = energy(s) - e0;
+            if k < steps / 10 {
+                first.push(de);
+            } else if k >= steps - steps / 10 {
+                last_tenth.push(de);
+            }
+            assert!(s.g[1] > t_last || k == 0, "time runs forward");
+            t_last = s.g[1];
+        })
+        .stream()
+        .unwrap();
+    // Over ≈ 40 orbits: the energy error oscillates with no drift.
+    let spread = |v: &[f64]| {
+        let (lo, hi) = v
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)));
+        (lo, hi)
+    };
+    let (lo, hi) = spread(&first);
+    let mean = last_tenth.iter().sum::<f64>() / last_tenth.len() as f64;
+    assert!(
+        lo <= mean && mean <= hi,
+        "mean of the last tenth {mean:e} outside the first tenth's [{lo:e}, {hi:e}]"
+    );
+    assert!(hi - lo < 1e-2, "energy error spread {:e}", hi - lo);
+    assert!(t_last > 40.0 * TAU, "physical time reached {t_last}");
+}
+
+#[test]
+fn reduced_unreduced_and_both_sides_agree() {
+    let sys = Kepler { h: 0.05, k: 1.0 };
+    let s0 = periapsis(&sys, 0.7);
+    let plus = ReducedIntegrator::plus(sys, tight());
+    let minus = ReducedIntegrator::minus(sys, tight());
+    let unreduced = UnreducedIntegrator::new(sys, tight());
+    let a = plus.run(s0).steps(400).collect().unwrap();
+    let b = minus.run(s0).steps(400).collect().unwrap();
+    let c = unreduced
+        .run(sys.untrivialize(&s0))
+        .steps(400)
+        .collect()
+        .unwrap();
+    for k in 0..=400 {
+        let (a, b, c) = (&a.states[k], &b.states[k], sys.trivialize(&c.states[k]));
+        let gap = (a.x - b.x)
+            .amax()
+            .max((a.g - b.g).amax())
+            .max((a.x - c.x).amax())
+            .max((a.g - c.g).amax());
+        assert!(gap < 1e-9, "step {k}: {gap:e}");
     }
+}
+
+#[test]
+fn forward_then_backward_returns_to_the_start() {
+    let sys = Kepler { h: 0.05, k: 1.0 };
+    let s0 = periapsis(&sys, 0.9);
+    let forward = ReducedIntegrator::plus(sys, tight());
+    let backward = ReducedIntegrator::plus(Kepler { h: -0.05, k: 1.0 }, tight());
+    let (mut ws_f, mut ws_b) = (forward.workspace(), backward.workspace());
+    let steps = 300;
+    let mut s = s0;
+    for k in 0..steps {
+        s = forward.step_in(&mut ws_f, k, &s).unwrap().0;
+    }
+    assert!(s.g[1] > 2.0, "the run covered physical time {}", s.g[1]);
+    for k in 0..steps {
+        s = backward.step_in(&mut ws_b, k, &s).unwrap().0;
+    }
+    let gap = (s.x - s0.x)
+        .amax()
+        .max((s.w - s0.w).amax())
+        .max((s.g - s0.g).amax());
+    assert!(gap < 1e-12 * steps as f64, "{gap:e}");
+}
+
+#[test]
+fn adaptive_steps_beat_the_fixed_step_at_high_eccentricity() {
+    // One orbit at e = 0.9: the adaptive run, stopped once its physical time passes the
+    // period, against fixed steps of the same Lagrangian with four times as many steps.
+    let e = 0.9;
+    let sys = Kepler { h: 0.05, k: 1.0 };
+    let traj = ReducedIntegrator::plus(sys, tight())
+        .run(periapsis(&sys, e))
+        .steps(1_000_000)
+        .stop(|_, _, s: &ReducedState<1, 2>| s.g[1] >= TAU)
+        .collect()
+        .unwrap();
+    let last = traj.last();
+    let (r, theta) = exact(e, last.g[1]);
+    let adaptive_error = (last.x[0] - r).abs().max((last.g[0] - theta).abs());
+    let n = 4 * traj.steps();
+    let fixed = KeplerFixed {
+        h: TAU / n as f64,
+        k: 1.0,
+    };
+    let r0 = 1.0 - e;
+    let omega = (1.0 - e * e).sqrt() / (r0 * r0);
+    let s0 = fixed.reduced_state([r0, 0.0], [0.0, omega]);
+    let end = *ReducedIntegrator::plus(fixed, tight())
+        .run(s0)
+        .steps(n)
+        .collect()
+        .unwrap()
+        .last();
+    let (r, theta) = exact(e, TAU);
+    let fixed_error = (end.x[0] - r).abs().max((end.g[0] - theta).abs());
+    assert!(
+        fixed_error > 3.0 * adaptive_error,
+        "{} adaptive steps: {adaptive_error:e}; {n} fixed steps: {fixed_error:e}",
+        traj.steps()
+    );
+}
+
+#[test]
+fn a_monitor_that_is_not_positive_is_a_typed_error_with_its_step() {
+    // At the initial state: 1 + c x = −0.5.
+    let sys = Drifting {
+        h: 0.1,
+        m: 1.0,
+        c: 3.0,
+    };
+    let err = adaptive::reduced_state(&sys, [-0.5, 0.0], [1.0, 1.0]).unwrap_err();
+    assert!(
+        matches!(err, StepError::InvalidMonitor { step: 0, .. }),
+        "{err}"
+    );
+    // In the middle of a run: a control law sets c so that the monitor turns negative.
+    let sys = Drifting {
+        h: 0.1,
+        m: 1.0,
+        c: 0.0,
+    };
+    let s0 = adaptive::reduced_state(&sys, [1.0, 0.0], [1.0, 1.0]).unwrap();
+    let err = ReducedIntegrator::plus(sys, NewtonOptions::default())
+        .run(s0)
+        .steps(10)
+        .feedback(|k, _, _: &ReducedState<1, 1>, u: &mut [f64]| {
+            u[0] = if k < 4 { 0.0 } else { -2.0 }
+        })
+        .collect()
+        .unwrap_err();
+    assert!(
+        matches!(err.source, StepError::InvalidMonitor { step: 4, value } if value < 0.0),
+        "{}",
+        err.source
+    );
+    assert_eq!(
+        err.trajectory.states.len(),
+        5,
+        "the states before the failed step are kept"
+    );
+    // A monitor that is not finite: √x for x < 0, as the run starts.
+    let sys = Rooted { h: 0.1, m: 1.0 };
+    let mut s0 = adaptive::reduced_state(&sys, [1.0, 0.0], [1.0, 1.0]).unwrap();
+    s0.x[0] = -1.0;
+    let err = ReducedIntegrator::plus(sys, NewtonOptions::default())
+        .run(s0)
+        .steps(5)
+        .collect()
+        .unwrap_err();
+    assert!(
+        matches!(err.source, StepError::InvalidMonitor { step: 0, value } if value.is_nan()),
+        "{}",
+        err.source
+    );
 }

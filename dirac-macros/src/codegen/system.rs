@@ -268,7 +268,7 @@ fn discrete_impl(
             }
         }),
     ]);
-    if let Some((_, monitor)) = c.adapt {
+    if let Some((_, monitor, _)) = c.adapt {
         let code = straight_line(&c.graph, &[monitor], &|sym| match sym {
             Sym::Q0(i) => quote! { x[#i] },
             Sym::Param(i) => t.param_leaf(i),
@@ -427,8 +427,16 @@ fn connection_only_params(spec: &Spec, sig: &Signature, c: &Compiled) -> Vec<Ide
     if let Some(code) = &c.constrained {
         roots.extend(&code.position.residual);
     }
+    // With adaptive steps the compiled body is the transformed one: the user's is its `L`.
+    let user_body = match c.adapt {
+        Some((_, monitor, l)) => {
+            roots.push(monitor);
+            l
+        }
+        None => c.body,
+    };
     let in_system = c.graph.symbols(&roots);
-    let in_body = c.graph.symbols(&[c.body]);
+    let in_body = c.graph.symbols(&[user_body]);
     sig.fn_params()
         .iter()
         .enumerate()

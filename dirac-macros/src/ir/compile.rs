@@ -33,9 +33,9 @@ pub struct Lowered {
     pub forces: Option<Forces>,
     /// The constraints, when declared.
     pub constraints: Option<constraint::Constraints>,
-    /// Adaptive steps: the time coordinate's index among the group coordinates and the
-    /// monitor `g` (over `Q0`, shape entries only).
-    pub adapt: Option<(usize, NodeId)>,
+    /// Adaptive steps: the time coordinate's index among the group coordinates, the monitor
+    /// `g` (over `Q0`, shape entries only) and the user's `L` before the transformation.
+    pub adapt: Option<(usize, NodeId, NodeId)>,
 }
 
 /// The graph and its roots.
@@ -63,8 +63,9 @@ pub struct Compiled {
     pub forces: Option<Forces>,
     /// The constrained steppers, when constraints are declared.
     pub constrained: Option<ConstrainedCode>,
-    /// Adaptive steps: the time coordinate's index among the group coordinates and the monitor.
-    pub adapt: Option<(usize, NodeId)>,
+    /// Adaptive steps: the time coordinate's index among the group coordinates, the monitor
+    /// and the user's `L` before the transformation.
+    pub adapt: Option<(usize, NodeId, NodeId)>,
 }
 
 /// What one side of the reduced equations compiles to.
@@ -115,7 +116,7 @@ pub fn lower(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<L
                     dq: Vec::new(),
                 };
                 match crate::ir::adapt::transform(cx, &mut graph, l, adapt, names, s) {
-                    Some(a) => (Some(a.lagrangian), Some((adapt.index, a.monitor))),
+                    Some(a) => (Some(a.lagrangian), Some((adapt.index, a.monitor, l))),
                     None => (None, None),
                 }
             }
