@@ -2,10 +2,13 @@
 //!
 //! What the integrators do not do, and where their guarantees end.
 //!
-//! **Step sizes are not chosen by the dynamics.** A run takes the system's step `h` or the sizes
-//! a schedule gives ([step sizes per step](super::integrators#step-sizes-per-step)); nothing
-//! estimates an error and adapts the step, and a schedule that depends on the state is not
-//! variational (the energy may drift). Near a singularity of the coordinates (spherical coordinates at
+//! **Step sizes follow the dynamics only through a monitor.** A run takes the system's step `h`
+//! or the sizes a schedule gives ([step sizes per step](super::integrators#step-sizes-per-step));
+//! a schedule that depends on the state is not variational (the energy may drift). The
+//! structure-preserving way is [adaptive steps](super::adaptive_steps) (`time(t), adapt = |q| g`):
+//! the step follows a monitor you choose, not an error estimate, and is not yet available with
+//! forces, constraints, rotations, run-time sizes or `coordinates(..)`, nor with an end time
+//! reached exactly in physical time or an `ε` chosen from a tolerance. Near a singularity of the coordinates (spherical coordinates at
 //! a pole, Remark 7.1) a step can solve the discrete equations and still be physically
 //! meaningless when `h` is too coarse there; the conditioning threshold catches degenerate
 //! Jacobians, not coarse steps. In the paper's chart alone, the double spherical pendulum

@@ -18,6 +18,9 @@
 //! 6. [Integrators and the driver](integrators): the reduced (+)/(−) and unreduced integrators,
 //!    symmetric compositions of order 4 and 6, an atlas of charts; one configured `run` (steps or an end time, step sizes per step), stop
 //!    conditions and ensembles, the same for all of them.
+//! 6b. [Adaptive steps](adaptive_steps): `time(t), adapt = |q| g` — the Poincaré time
+//!     transformation made variational: a fixed fictitious step, physical steps that follow the
+//!     motion, the energy level and every momentum of a symmetry kept bit for bit.
 //! 7. [Rotations and directions](rotations): configurations on `SO(3)` and `S²` (rigid bodies,
 //!    tops, satellites, pendula in 3-D) stepped on the group by Lie group variational
 //!    integrators, with no charts.
@@ -49,6 +52,7 @@
 
 // Each capability still to come adds its chapter as a module here and a line in the list above.
 
+pub mod adaptive_steps;
 pub mod benchmarks;
 pub mod constraints;
 pub mod diagnostics;

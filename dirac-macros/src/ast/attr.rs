@@ -472,7 +472,7 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
             {
                 cx.error_spanned_by(
                     &k,
-                    format!("adaptive steps are not available with `{key}` yet: the time-transformed system carries neither"),
+                    format!("adaptive steps are not available with `{key}` yet: the time transformation does not carry them"),
                 );
                 None
             } else if let Some(index) = index {

@@ -1,0 +1,104 @@
+//! # Adaptive steps
+//!
+//! On an eccentric orbit, a close encounter or a pendulum passing near a pole, the time scale of
+//! the motion changes by orders of magnitude along the run: a fixed step is too small for most
+//! of it or too large where it matters. Feeding a variational step to an error controller breaks
+//! what makes it worth using (the step map is no longer symplectic, the energy drifts). dirac
+//! adapts the step the structure-preserving way: by a change of the time variable, made part of
+//! the Lagrangian, so that a fixed step in a fictitious time `τ` is a variable step in physical
+//! time and every integrator steps the result unchanged.
+//!
+//! ## Declaring it
+//!
+//! Declare physical time as a group coordinate `t` the body does not read, name it with
+//! `time(t)`, and give the monitor `g(q) > 0` — the physical duration of a unit of fictitious
+//! time, `dt = g(q) dτ` — with `adapt = |q| ..`, a function of the shape coordinates (and
+//! parameters). The step parameter `h` is then the fictitious step `ε`:
+//!
+//! ```
+//! use dirac::prelude::*;
+//! use dirac::runtime::adaptive;
+//!
+//! /// Kepler's problem in polar coordinates, the step following the free-fall time `r^{3/2}`.
+//! #[reduced_lagrangian(shape(r), group(theta, t), time(t), adapt = |q| q.r.powf(1.5), rule = midpoint)]
+//! fn kepler(q: Config, v: Velocity, k: f64) -> f64 {
+//!     0.5 * (v.r * v.r + q.r * q.r * v.theta * v.theta) + k / q.r
+//! }
+//!
+//! let sys = Kepler { h: 0.05, k: 1.0 };
+//! // Periapsis of the orbit with e = 0.9 (semi-major axis 1): position (r, θ, t) and the
+//! // physical velocity (ṙ, θ̇, 1). The state is put on the energy level, p_t = −E.
+//! let (e, r0): (f64, f64) = (0.9, 0.1);
+//! let start = adaptive::reduced_state(&sys, [r0, 0.0, 0.0], [0.0, (1.0 - e * e).sqrt() / (r0 * r0), 1.0])?;
+//! let traj = ReducedIntegrator::plus(sys, NewtonOptions::default())
+//!     .run(start)
+//!     .steps(1_000_000)
+//!     .stop(|_, _, s: &ReducedState<1, 2>| s.g[1] >= 2.0 * std::f64::consts::PI) // one period
+//!     .collect()?;
+//! let last = traj.last();
+//! // The angular momentum and p_t = −E are momenta of symmetries: copied bit for bit.
+//! assert_eq!(last.mu, start.mu);
+//! assert!((start.mu[1] - 0.5).abs() < 1e-12); // E = −1/(2a)
+//! // Short steps at periapsis, long ones at apoapsis.
+//! let dt = |k: usize| traj.states[k + 1].g[1] - traj.states[k].g[1];
+//! assert!(dt(traj.steps() / 2) > 20.0 * dt(0));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! The state's `g[1]` is the physical time `t_k` (reconstructed like any group coordinate) and
+//! `t_{k+1} − t_k` the step `Δt_k` it took; the driver's own times are fictitious. A monitor that
+//! reads a group coordinate (it would break that symmetry and make steps depend on the origin of
+//! time), a body that reads `t` (not autonomous), a discrete Lagrangian, `force`, constraints and
+//! `coordinates(..)` are compile errors, each at its token.
+//!
+//! ## The time transformation
+//!
+//! With `dt = g(q) dτ`, the Poincaré Hamiltonian `K = g(q) (H(q, p) + p_t)` in the extended phase
+//! space `(q, t, p, p_t)` has, on its level set `K = 0`, the physical solutions reparametrized:
+//! `t' = g`, `p_t = −H` (Hairer 1997, "Variable time step integration with symplectic methods";
+//! Duruisseaux, Schmitt & Leok 2021 for the variational form). `K` is degenerate in `p_t` and has
+//! no Lagrangian; the regularization `K₂ = g (H + p_t) + ½ g (H + p_t)²` keeps the level set,
+//! invariant and with the same flow on it (the added term vanishes there to second order), and
+//! is regular. Its Legendre transform — the supremum over `p_t`, then over `p` — is
+//!
+//! ```text
+//! L₂(q, t, q', t') = t' L(q, q'/t') + (t' − g(q))² / (2 g(q)),
+//! ```
+//!
+//! which the compiler builds from your `L` and discretizes with your rule at the fictitious step
+//! `ε`; for the midpoint rule, `L_d = Δt L(q̄, Δq/Δt) + (Δt − ε g(q̄))² / (2 ε g(q̄))`: the physical
+//! discrete Lagrangian over a step of its own size `Δt`, and a term that holds `Δt` at `ε g`.
+//! What is preserved follows from `L₂` being an ordinary Lagrangian on `(q, t)`:
+//!
+//! * the step map is symplectic in the extended phase space;
+//! * a symmetric rule (midpoint, trapezoid) gives a symmetric, time-reversible step (forward
+//!   then backward returns to the start to round-off), of order 2 in `ε`, raised to 4 and 6 by
+//!   the compositions — against Kepler's closed form at `e = 0.9`, errors fall by 4.0 and 16 per
+//!   halving of `ε`;
+//! * `L₂` does not read `t`, so `p_t` is a conserved momentum, kept bit for bit by the reduced
+//!   integrators, and every symmetry of `L` that `g` respects keeps its momentum the same way
+//!   (the angular momentum above);
+//! * the momenta conjugate to `q` are the physical ones, `∂L/∂v`, and the physical energy
+//!   oscillates about `−p_t` without drift (its mean over the last tenth of a 40-orbit run lies
+//!   within the spread of the first tenth).
+//!
+//! A run must start on the level set `p_t = −E`: [`adaptive::state`](crate::runtime::adaptive::state)
+//! and [`adaptive::reduced_state`](crate::runtime::adaptive::reduced_state) build it from the
+//! physical position and velocity. Each new state's monitor must be positive and finite, or the
+//! run ends with [`StepError::InvalidMonitor`](crate::StepError::InvalidMonitor) carrying the step
+//! index (the states before it kept).
+//!
+//! ## Choosing the monitor and the step
+//!
+//! The monitor is the time scale of the motion where the system is: `r^{3/2}` (the free-fall
+//! time) or `r` for Kepler-like encounters, the distance to a pole for a pendulum in angles, a
+//! minimum pair distance for close encounters. Scale it to be about 1 where the motion is
+//! typical; then `ε` plays the role of a fixed step there, and halving it halves every physical
+//! step (the error falls by `2^p` for a method of order `p`). A floor (`r.powf(1.5) + 1e-6`)
+//! keeps the monitor positive through collisions.
+//!
+//! ## Limits
+//!
+//! Not yet: forces and constraints with adaptive steps, `coordinates(..)`/`translate(..)`
+//! layouts, rotations and run-time sizes; an end time reached exactly in physical time (stop on
+//! `t` as above: the last step ends past it); a helper that picks `ε` from a tolerance.
