@@ -18,25 +18,25 @@
 //! 6. [Integrators and the driver](integrators): the reduced (+)/(−) and unreduced integrators,
 //!    symmetric compositions of order 4 and 6, an atlas of charts; one configured `run` (steps or an end time, step sizes per step), stop
 //!    conditions and ensembles, the same for all of them.
-//! 6b. [Adaptive steps](adaptive_steps): `time(t), adapt = |q| g` — the Poincaré time
-//!     transformation made variational: a fixed fictitious step, physical steps that follow the
-//!     motion, the energy level and every momentum of a symmetry kept bit for bit.
-//! 7. [Rotations and directions](rotations): configurations on `SO(3)` and `S²` (rigid bodies,
+//! 7. [Adaptive steps](adaptive_steps): `time(t), adapt = |q| g` — the Poincaré time
+//!    transformation made variational: a fixed fictitious step, physical steps that follow the
+//!    motion, the energy level and every momentum of a symmetry kept bit for bit.
+//! 8. [Rotations and directions](rotations): configurations on `SO(3)` and `S²` (rigid bodies,
 //!    tops, satellites, pendula in 3-D) stepped on the group by Lie group variational
 //!    integrators, with no charts.
-//! 8. [Reduction by rotations](rotation_reduction): `symmetry(R)` and
+//! 9. [Reduction by rotations](rotation_reduction): `symmetry(R)` and
 //!    `symmetry(n1, n2, axis = z)`, the discrete Euler–Poincaré and Lagrange–Poincaré steps, the
 //!    spatial momentum or its axial component as a parameter of the run.
-//! 9. [Large systems](large_systems): the sparse backend, chord iterations, streaming runs in
-//!    constant memory, ensembles on all cores, building the attribute optimized.
-//! 10. [Systems sized at run time](run_time_sizes): element-wise bodies whose sizes are `usize`
+//! 10. [Large systems](large_systems): the sparse backend, chord iterations, streaming runs in
+//!     constant memory, ensembles on all cores, building the attribute optimized.
+//! 11. [Systems sized at run time](run_time_sizes): element-wise bodies whose sizes are `usize`
 //!     arguments — one build for every size, stencils checked at compile time, the element
 //!     kernels assembled in parallel, 10⁵ degrees of freedom.
-//! 11. [Diagnostics](diagnostics): Newton statistics and conditioning per step, energies, the
+//! 12. [Diagnostics](diagnostics): Newton statistics and conditioning per step, energies, the
 //!     Dirac structure and the discrete action along a trajectory, the step-map Jacobian.
-//! 12. [Errors](errors): the typed [`StepError`](crate::StepError) of a failed step, the
+//! 13. [Errors](errors): the typed [`StepError`](crate::StepError) of a failed step, the
 //!     trajectory kept up to it, and the compile errors of the attributes.
-//! 13. [Limits](limits): what the integrators do not do, and where their guarantees end.
+//! 14. [Limits](limits): what the integrators do not do, and where their guarantees end.
 //!
 //! Results that leave the process — runs and ensembles in Apache Parquet, sharded ensembles on a
 //! Slurm cluster, progress bars — are the separate crate `dirac-io`, described in

@@ -156,3 +156,10 @@ pub fn body_and_wheel(q0: Config, q1: Config, h: f64, j1: f64, j3: f64, jw: f64,
     let spin = 0.5 * vee(&(f - f.transpose())).z / h + (q1.phi - q0.phi) / h;
     ((Matrix3::identity() - f) * jd).trace() / h + 0.5 * h * jw * spin * spin
 }
+
+/// Kepler's problem with adaptive steps: the step follows the free-fall time `r^{3/2}`.
+#[reduced_lagrangian(shape(r), group(theta, t), time(t), adapt = |q| q.r * q.r.sqrt(), rule = midpoint)]
+#[must_use]
+pub fn kepler_adaptive(q: Config, v: Velocity, k: f64) -> f64 {
+    0.5 * (v.r * v.r + q.r * q.r * v.theta * v.theta) + k / q.r
+}
