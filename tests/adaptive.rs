@@ -291,3 +291,32 @@ fn a_monitor_that_is_not_positive_is_a_typed_error_with_its_step() {
         err.source
     );
 }
+
+#[test]
+fn a_step_chosen_from_a_tolerance_reaches_it() {
+    // Kepler at e = 0.9 over a fictitious span of 8 (a little more than one orbit): the step the
+    // pilot at ε0 = 0.1 and 0.05 picks, then the run at that step against the closed form.
+    let span = 8.0;
+    for (method, tolerance) in [
+        (CompositionMethod::BASE, 1e-4),
+        (CompositionMethod::TRIPLE_JUMP, 1e-6),
+    ] {
+        let eps = adaptive::step_for_tolerance(method.order, 0.1, tolerance, |eps| {
+            let sys = Kepler { h: eps, k: 1.0 };
+            let n = (span / eps).round() as usize;
+            let last = *Composition::new(ReducedIntegrator::plus(sys, tight()), method)
+                .run(periapsis(&sys, 0.9))
+                .steps(n)
+                .collect()?
+                .last();
+            Ok::<_, Box<IntegrationError<_>>>(DVector::from_vec(vec![last.x[0], last.g[0]]))
+        })
+        .unwrap();
+        let error = kepler_error(0.9, eps, span, method);
+        assert!(
+            error <= tolerance && error > tolerance / 30.0,
+            "{}: ε = {eps}, error {error:e} for the tolerance {tolerance:e}",
+            method.name
+        );
+    }
+}

@@ -158,3 +158,31 @@ where
         None => Ok(None),
     }
 }
+
+/// The fictitious step that reaches `tolerance`, from a pilot at two steps: `run(ε)` integrates
+/// whatever the caller cares about with the fictitious step `ε` (a short pilot run, or the run
+/// itself when it is cheap) and returns the quantities whose error should stay below
+/// `tolerance` (e.g. the final position and phase). The error at `ε0` is estimated by Richardson
+/// extrapolation, `e ≈ ‖x(ε0) − x(ε0/2)‖∞ · 2^p/(2^p − 1)` for a method of order `p`, and the
+/// step scaled as `ε = ε0 (tolerance/(2e))^{1/p}`, aiming at half the tolerance (a margin for
+/// the estimate). The
+/// estimate holds where the error behaves as `C ε^p`: start from an `ε0` at which the method
+/// resolves the motion (a few steps per encounter), and not so small that round-off dominates.
+/// `Err` passes on the pilot run's error; an estimate of zero (the two runs agree to the bit)
+/// returns `ε0`.
+pub fn step_for_tolerance<E>(
+    order: u32,
+    eps0: f64,
+    tolerance: f64,
+    mut run: impl FnMut(f64) -> Result<nalgebra::DVector<f64>, E>,
+) -> Result<f64, E> {
+    let coarse = run(eps0)?;
+    let fine = run(eps0 / 2.0)?;
+    let p = f64::from(order);
+    let gain = 2f64.powf(p);
+    let estimate = (coarse - fine).amax() * gain / (gain - 1.0);
+    if estimate.is_nan() || estimate <= 0.0 || estimate.is_infinite() {
+        return Ok(eps0);
+    }
+    Ok(eps0 * (0.5 * tolerance / estimate).powf(1.0 / p))
+}

@@ -97,8 +97,16 @@
 //! step (the error falls by `2^p` for a method of order `p`). A floor (`r.powf(1.5) + 1e-6`)
 //! keeps the monitor positive through collisions.
 //!
+//! To ask for an accuracy rather than a step,
+//! [`adaptive::step_for_tolerance`](crate::runtime::adaptive::step_for_tolerance) runs a pilot
+//! — your closure, at `ε0` and `ε0/2`, returning what should be accurate — estimates the error
+//! by Richardson extrapolation and scales the step for the method's order; on Kepler at
+//! `e = 0.9` over one orbit the step it picks for 1e-4 (order 2) and 1e-6 (order 4) meets both.
+//! Below a phase error of about 10⁻⁶ per hundred orbits of a very eccentric orbit (`e = 0.99`),
+//! round-off in the position differences of short steps, not the step, limits the accuracy.
+//!
 //! ## Limits
 //!
 //! Not yet: forces and constraints with adaptive steps, `coordinates(..)`/`translate(..)`
 //! layouts, rotations and run-time sizes; an end time reached exactly in physical time (stop on
-//! `t` as above: the last step ends past it); a helper that picks `ε` from a tolerance.
+//! `t` as above: the last step ends past it).
