@@ -35,6 +35,7 @@ use nalgebra::SVector;
 use crate::continuous::ContinuousLagrangian;
 use crate::error::StepError;
 use crate::state::{IntoVector, ReducedState, UnreducedState};
+use crate::stepper::check_monitor;
 use crate::system::DiscreteLagrangian;
 
 /// The velocity in fictitious time of a physical velocity `u` at `q`: `v = g(x) u`, with the
@@ -132,31 +133,6 @@ where
         }
     }
     v.iter().all(|x| x.is_finite()).then(|| v * h)
-}
-
-/// The typed error of a monitor value that is not positive and finite, after step `step`.
-pub(crate) fn check_monitor(step: usize, value: f64) -> Result<(), StepError> {
-    if value > 0.0 && value.is_finite() {
-        Ok(())
-    } else {
-        Err(StepError::InvalidMonitor { step, value })
-    }
-}
-
-/// The monitor at the shape `x` of a system with adaptive steps, checked (`Ok(None)` for a
-/// system stepped in physical time).
-pub(crate) fn monitor_at<L, const S: usize, const K: usize, const N: usize>(
-    sys: &L,
-    step: usize,
-    x: &SVector<f64, S>,
-) -> Result<Option<f64>, StepError>
-where
-    L: DiscreteLagrangian<S, K, N>,
-{
-    match sys.monitor(x) {
-        Some(g) => check_monitor(step, g).map(|()| Some(g)),
-        None => Ok(None),
-    }
 }
 
 /// The fictitious step that reaches `tolerance`, from a pilot at two steps: `run(ε)` integrates

@@ -421,7 +421,7 @@ where
                 residual: stats.residual,
             });
         }
-        crate::adaptive::monitor_at(sys, k, &next.x)?;
+        crate::stepper::monitor_at(sys, k, &next.x)?;
         Ok((
             next,
             ReducedStep {
@@ -453,7 +453,7 @@ where
             &self.system.parameter_values(),
             initial.is_finite(),
         )?;
-        crate::adaptive::monitor_at(&self.system, 0, &initial.x).map(|_| ())
+        crate::stepper::monitor_at(&self.system, 0, &initial.x).map(|_| ())
     }
 
     fn workspace(&self) -> Self::Workspace {

@@ -449,6 +449,32 @@ pub(crate) fn step_error(k: usize, failure: NewtonFailure) -> StepError {
     }
 }
 
+/// Adaptive steps ([`crate::adaptive`]): the typed error of a monitor value that is not
+/// positive and finite, after step `step`.
+pub(crate) fn check_monitor(step: usize, value: f64) -> Result<(), StepError> {
+    if value > 0.0 && value.is_finite() {
+        Ok(())
+    } else {
+        Err(StepError::InvalidMonitor { step, value })
+    }
+}
+
+/// The monitor at the shape `x` of a system with adaptive steps, checked (`Ok(None)` for a
+/// system stepped in physical time).
+pub(crate) fn monitor_at<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    step: usize,
+    x: &nalgebra::SVector<f64, S>,
+) -> Result<Option<f64>, StepError>
+where
+    L: crate::system::DiscreteLagrangian<S, K, N>,
+{
+    match sys.monitor(x) {
+        Some(g) => check_monitor(step, g).map(|()| Some(g)),
+        None => Ok(None),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use nalgebra::{Matrix2, Vector2};

@@ -174,7 +174,7 @@ where
                 residual: solution.residual,
             });
         }
-        crate::adaptive::monitor_at(sys, k, &next.q.fixed_rows::<S>(0).into_owned())?;
+        crate::stepper::monitor_at(sys, k, &next.q.fixed_rows::<S>(0).into_owned())?;
         Ok((
             next,
             StepStats::from_solution(&solution, self.options.residual_tolerance(rho)),
@@ -202,7 +202,7 @@ where
             initial.is_finite(),
         )?;
         let x = initial.q.fixed_rows::<S>(0).into_owned();
-        crate::adaptive::monitor_at(&self.system, 0, &x).map(|_| ())
+        crate::stepper::monitor_at(&self.system, 0, &x).map(|_| ())
     }
 
     fn workspace(&self) -> Self::Workspace {
