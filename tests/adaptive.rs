@@ -29,6 +29,12 @@ fn rooted(q: Config, v: Velocity, m: f64) -> f64 {
     0.5 * m * v.x * v.x - 0.1 * q.x
 }
 
+/// A damped oscillator, `ẍ = −x − c ẋ`, with a monitor that shortens steps away from rest.
+#[reduced_lagrangian(shape(x), group(t), time(t), adapt = |q| 1.0 / (1.0 + q.x * q.x), rule = midpoint, force = |dq| -c * v.x * dq.x)]
+fn damped(q: Config, v: Velocity, c: f64) -> f64 {
+    0.5 * v.x * v.x - 0.5 * q.x * q.x
+}
+
 const TAU: f64 = 2.0 * std::f64::consts::PI;
 
 /// The orbit of eccentricity `e` (semi-major axis 1, `k = 1`, period 2π) at time `t` from
@@ -317,6 +323,47 @@ fn a_step_chosen_from_a_tolerance_reaches_it() {
             error <= tolerance && error > tolerance / 30.0,
             "{}: ε = {eps}, error {error:e} for the tolerance {tolerance:e}",
             method.name
+        );
+    }
+}
+
+/// `x(t)` of the damped oscillator from `x(0) = 1`, `ẋ(0) = 0`.
+fn damped_exact(c: f64, t: f64) -> f64 {
+    let (gamma, omega) = (0.5 * c, (1.0 - 0.25 * c * c).sqrt());
+    (-gamma * t).exp() * ((omega * t).cos() + gamma / omega * (omega * t).sin())
+}
+
+#[test]
+fn a_damping_force_with_adaptive_steps_has_order_two_and_balances_the_energy() {
+    let c = 0.3;
+    let errors: Vec<f64> = [0.04, 0.02, 0.01]
+        .iter()
+        .map(|&eps| {
+            let sys = Damped { h: eps, c };
+            let s0 = adaptive::reduced_state(&sys, [1.0, 0.0], [0.0, 1.0]).unwrap();
+            let traj = ReducedIntegrator::plus(sys, tight())
+                .run(s0)
+                .steps((10.0 / eps) as usize)
+                .collect()
+                .unwrap();
+            // −p_t follows the physical energy ½ẋ² + ½x² as the force drains it.
+            for s in &traj.states {
+                let energy = 0.5 * s.w[0] * s.w[0] + 0.5 * s.x[0] * s.x[0];
+                assert!(
+                    (energy + s.mu[0]).abs() < 20.0 * eps * eps,
+                    "{energy} {}",
+                    s.mu[0]
+                );
+            }
+            let last = traj.last();
+            (last.x[0] - damped_exact(c, last.g[0])).abs()
+        })
+        .collect();
+    for w in errors.windows(2) {
+        let observed = (w[0] / w[1]).log2();
+        assert!(
+            (observed - 2.0).abs() < 0.25,
+            "order {observed} from {errors:?}"
         );
     }
 }

@@ -48,8 +48,16 @@
 //! The state's `g[1]` is the physical time `t_k` (reconstructed like any group coordinate) and
 //! `t_{k+1} − t_k` the step `Δt_k` it took; the driver's own times are fictitious. A monitor that
 //! reads a group coordinate (it would break that symmetry and make steps depend on the origin of
-//! time), a body that reads `t` (not autonomous), a discrete Lagrangian, `force`, constraints and
+//! time), a body that reads `t` (not autonomous), a discrete Lagrangian, constraints and
 //! `coordinates(..)` are compile errors, each at its token.
+//!
+//! A `force = |dq| ..` (and controls) is transformed with the Lagrangian: the physical virtual
+//! work `F·δq dt`, on a path whose time is varied too (`δq_phys = δq − q̇ δt`), is
+//! `(t' F·δq − (F·q') δt) dτ`, so the force in fictitious time is `t' F(q, q'/t')` on the
+//! coordinates and `−F·q'` — the power it delivers — on the time coordinate: `p_t = −E` then
+//! changes by the work done, step by step (a damped oscillator keeps `−p_t` within `O(ε²)` of
+//! its draining energy and has order 2 against its closed form). A force may not read `t` or act
+//! on it.
 //!
 //! ## The time transformation
 //!
@@ -107,6 +115,6 @@
 //!
 //! ## Limits
 //!
-//! Not yet: forces and constraints with adaptive steps, `coordinates(..)`/`translate(..)`
+//! Not yet: constraints with adaptive steps, `coordinates(..)`/`translate(..)`
 //! layouts, rotations and run-time sizes; an end time reached exactly in physical time (stop on
 //! `t` as above: the last step ends past it).

@@ -465,14 +465,10 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
                     "adaptive steps are available with `shape(...), group(...)`, not yet with `coordinates(...)`/`translate(...)`",
                 );
                 None
-            } else if let Some(key) = force
-                .as_ref()
-                .map(|_| "force")
-                .or(constraints.as_ref().map(|_| "constraints"))
-            {
+            } else if constraints.is_some() {
                 cx.error_spanned_by(
                     &k,
-                    format!("adaptive steps are not available with `{key}` yet: the time transformation does not carry them"),
+                    "adaptive steps are not available with constraints yet: the time transformation does not carry them",
                 );
                 None
             } else if let Some(index) = index {

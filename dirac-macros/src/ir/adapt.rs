@@ -114,3 +114,59 @@ pub fn transform(
         monitor,
     })
 }
+
+/// The force of a continuous `F(q, v)` (one node per component, over `q = Q0`, `v = Q1`) in the
+/// fictitious time of [`transform`]: the virtual work `F·δq dt` of a physical path whose time is
+/// varied too, `δq_phys = δq − q̇ δt`, is `(t' F·δq − (F·q') δt) dτ` with `q̇ = q'/t'`, so
+///
+/// ```text
+/// F_τ = (t' F(q, q'/t'),  −F(q, q'/t')·q')        (the last entry on the time coordinate)
+/// ```
+///
+/// — on the time coordinate the power the force delivers, so that `p_t = −E` changes by the
+/// work done (the forced Noether balance of the time translation). A force that reads the time
+/// or its rate, or acts on the time coordinate itself, is an error at the closure.
+pub fn transform_force(
+    cx: &Ctxt,
+    g: &mut Graph,
+    f: &[NodeId],
+    time: usize,
+    closure: &syn::ExprClosure,
+) -> Option<Vec<NodeId>> {
+    let reads_time = g
+        .symbols(f)
+        .iter()
+        .any(|sym| matches!(sym, Sym::Q0(i) | Sym::Q1(i) if *i == time));
+    if reads_time || g.as_const(f[time]) != Some(0.0) {
+        cx.error_spanned_by(
+            closure,
+            "with adaptive steps the force may not read the time coordinate or act on it: the time \
+             transformation gives it its own component, the power the force delivers",
+        );
+        return None;
+    }
+    let rate = g.var(Sym::Q1(time));
+    let scaled: Vec<NodeId> = f
+        .iter()
+        .map(|&fi| {
+            g.substitute(fi, &mut |g, sym| match sym {
+                Sym::Q1(i) if i != time => {
+                    let v = g.var(Sym::Q1(i));
+                    g.div(v, rate)
+                }
+                other => g.var(other),
+            })
+        })
+        .collect();
+    let mut out: Vec<NodeId> = scaled.iter().map(|&fi| g.mul(rate, fi)).collect();
+    let mut power = g.constant(0.0);
+    for (i, &fi) in scaled.iter().enumerate() {
+        if i != time {
+            let v = g.var(Sym::Q1(i));
+            let term = g.mul(fi, v);
+            power = g.add(power, term);
+        }
+    }
+    out[time] = g.neg(power);
+    Some(out)
+}

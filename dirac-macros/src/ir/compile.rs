@@ -159,7 +159,17 @@ pub fn lower(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<L
             }
             None => force::Form::Discrete,
         };
-        force::lower(cx, &mut graph, closure, names, s + k, form)
+        match (&spec.adapt, form) {
+            // Adaptive steps: the force transformed in time with the Lagrangian, then the rule.
+            (Some(adapt), force::Form::Continuous { rule, h }) => {
+                let parts = force::lower_parts(cx, &mut graph, closure, names, s + k, false)?;
+                let time = s + adapt.index;
+                let f =
+                    crate::ir::adapt::transform_force(cx, &mut graph, &parts[0], time, closure)?;
+                Some(force::discretize(&mut graph, &f, s + k, h, rule))
+            }
+            (_, form) => force::lower(cx, &mut graph, closure, names, s + k, form),
+        }
     });
     let constraints = spec.constraints.as_ref().map(|closure| {
         let names = Names {
