@@ -367,3 +367,51 @@ fn a_damping_force_with_adaptive_steps_has_order_two_and_balances_the_energy() {
         );
     }
 }
+
+#[test]
+fn a_run_lands_on_a_physical_end_time_exactly() {
+    let (e, end) = (0.9, 10.0);
+    let errors: Vec<f64> = [0.04, 0.02, 0.01]
+        .iter()
+        .map(|&eps| {
+            let sys = Kepler { h: eps, k: 1.0 };
+            let integ = ReducedIntegrator::plus(sys, tight());
+            let traj = integ
+                .run(periapsis(&sys, e))
+                .steps(1_000_000)
+                .stop(|_, _, s: &ReducedState<1, 2>| s.g[1] >= end)
+                .collect()
+                .unwrap();
+            // Take the step that crossed `end` again, landing on it.
+            let k = traj.steps() - 1;
+            let before = traj.states[k];
+            let last = adaptive::land_at(end, before.g[1], eps, |h| {
+                let (s, _) =
+                    ReducedIntegrator::plus(Kepler { h, k: 1.0 }, tight()).step(k, &before)?;
+                Ok((s.g[1], s))
+            })
+            .unwrap();
+            assert!(
+                (last.g[1] - end).abs() <= 4.0 * f64::EPSILON * end,
+                "{}",
+                last.g[1]
+            );
+            assert_eq!(
+                last.mu, before.mu,
+                "the landing step is a step of the same integrator"
+            );
+            let (r, theta) = exact(e, end);
+            (last.x[0] - r).abs().max((last.g[0] - theta).abs())
+        })
+        .collect();
+    for w in errors.windows(2) {
+        let observed = (w[0] / w[1]).log2();
+        assert!(
+            (observed - 2.0).abs() < 0.3,
+            "order {observed} from {errors:?}"
+        );
+    }
+    // An end time outside the step is a typed error.
+    let err = adaptive::land_at(5.0, 6.0, 0.1, |_| Ok::<_, StepError>((7.0, ()))).unwrap_err();
+    assert!(matches!(err, StepError::InvalidRun { .. }), "{err}");
+}

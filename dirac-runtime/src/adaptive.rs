@@ -162,3 +162,48 @@ pub fn step_for_tolerance<E>(
     }
     Ok(eps0 * (0.5 * tolerance / estimate).powf(1.0 / p))
 }
+
+/// Lands a run on the physical time `end` exactly: `step(ε)` takes one step of fictitious size
+/// `ε` from the last state before `end` (at physical time `t0 < end`, reached with the fictitious
+/// step `h`) and returns the physical time it reaches with the new state; the step size is found
+/// by the secant method on `ε ↦ t(ε) − end` in `(0, h]` (the time a step covers grows
+/// monotonically with `ε`, and `t(0) = t0`), to `4 ulp(end)`. The final step is a step of the same
+/// variational integrator at another fictitious step, so nothing it keeps is lost. A run stopped
+/// on `t ≥ end` (`.stop(|_, _, s| s.g[j] >= end)`) ends one step past `end`: take that step again
+/// from the state before it with this. `Err` passes on a failed step, or
+/// [`StepError::InvalidRun`] when `end` is not within that step (`t0 < end ≤ t(h)`) or the
+/// secant does not converge in 50 iterations.
+pub fn land_at<S>(
+    end: f64,
+    t0: f64,
+    h: f64,
+    mut step: impl FnMut(f64) -> Result<(f64, S), StepError>,
+) -> Result<S, StepError> {
+    let tolerance = 4.0 * f64::EPSILON * end.abs().max(1.0);
+    let (t_full, full) = step(h)?;
+    if !(t0 < end && end <= t_full) {
+        return Err(StepError::InvalidRun {
+            reason: format!(
+                "landing on t = {end}: it is not within the step from t = {t0} to t = {t_full}"
+            ),
+        });
+    }
+    if (t_full - end).abs() <= tolerance {
+        return Ok(full);
+    }
+    // Secant iterates (ε, t(ε) − end), from ε = 0 (where t = t0) and ε = h.
+    let (mut a, mut fa) = (0.0, t0 - end);
+    let (mut b, mut fb) = (h, t_full - end);
+    for _ in 0..50 {
+        let eps = (b - fb * (b - a) / (fb - fa)).clamp(f64::MIN_POSITIVE, h);
+        let (t, state) = step(eps)?;
+        let f = t - end;
+        if f.abs() <= tolerance {
+            return Ok(state);
+        }
+        (a, fa, b, fb) = (b, fb, eps, f);
+    }
+    Err(StepError::InvalidRun {
+        reason: format!("landing on t = {end}: the secant on the fictitious step did not converge"),
+    })
+}

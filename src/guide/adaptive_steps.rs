@@ -46,7 +46,11 @@
 //! ```
 //!
 //! The state's `g[1]` is the physical time `t_k` (reconstructed like any group coordinate) and
-//! `t_{k+1} − t_k` the step `Δt_k` it took; the driver's own times are fictitious. A monitor that
+//! `t_{k+1} − t_k` the step `Δt_k` it took; the driver's own times are fictitious. A run stopped
+//! on `t ≥ T` ends one step past `T`; to end on `T` exactly, take that step again from the state
+//! before it with [`adaptive::land_at`](crate::runtime::adaptive::land_at), which finds the
+//! fictitious step that lands on `T` (by the secant method, to a few ulp) — a step of the same
+//! integrator, so the momenta stay exact. A monitor that
 //! reads a group coordinate (it would break that symmetry and make steps depend on the origin of
 //! time), a body that reads `t` (not autonomous), a discrete Lagrangian, constraints and
 //! `coordinates(..)` are compile errors, each at its token.
@@ -116,5 +120,5 @@
 //! ## Limits
 //!
 //! Not yet: constraints with adaptive steps, `coordinates(..)`/`translate(..)`
-//! layouts, rotations and run-time sizes; an end time reached exactly in physical time (stop on
-//! `t` as above: the last step ends past it).
+//! layouts, rotations and run-time sizes; the end time is landed on by a helper, not by the run
+//! itself.
