@@ -415,3 +415,20 @@ fn a_run_lands_on_a_physical_end_time_exactly() {
     let err = adaptive::land_at(5.0, 6.0, 0.1, |_| Ok::<_, StepError>((7.0, ()))).unwrap_err();
     assert!(matches!(err, StepError::InvalidRun { .. }), "{err}");
 }
+
+#[test]
+fn a_step_that_goes_back_in_time_is_a_typed_error() {
+    // A fictitious step far too large for the periapsis of e = 0.99: the step equations' root
+    // that Newton finds has Δt < 0.
+    let sys = Kepler { h: 0.15, k: 1.0 };
+    let err = ReducedIntegrator::plus(sys, NewtonOptions::default())
+        .run(periapsis(&sys, 0.99))
+        .steps(2000)
+        .collect()
+        .unwrap_err();
+    assert!(
+        matches!(err.source, StepError::TimeReversed { dt, .. } if dt <= 0.0),
+        "{}",
+        err.source
+    );
+}

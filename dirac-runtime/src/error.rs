@@ -94,6 +94,20 @@ pub enum StepError {
         /// The monitor's value.
         value: f64,
     },
+    /// Adaptive steps: the physical time step `Δt` that step `step` solved for does not have the
+    /// sign of the fictitious step — the equations have a root that goes back in time, and Newton
+    /// found it (the fictitious step is too large where the monitor is small).
+    #[error(
+        "step {step}: the physical time step Δt = {dt:.3e} does not have the sign of the fictitious step: the \
+         step went back in time; take a smaller fictitious step (or a monitor that is smaller where the motion \
+         is fast)"
+    )]
+    TimeReversed {
+        /// The step.
+        step: usize,
+        /// The physical time step it solved for.
+        dt: f64,
+    },
     /// The time step is not a positive finite number.
     #[error("invalid time step h = {h}: it must be positive and finite")]
     InvalidTimeStep {
@@ -218,6 +232,7 @@ impl StepError {
             StepError::OffManifold { .. } => "configuration off its manifold",
             StepError::InvalidTimeStep { .. } => "invalid time step",
             StepError::InvalidMonitor { .. } => "invalid step monitor",
+            StepError::TimeReversed { .. } => "time went back",
             StepError::InvalidStepSize { .. } => "invalid step size",
             StepError::ScheduleEnded { .. } => "step-size schedule ended",
             StepError::InvalidRun { .. } => "invalid run",
@@ -241,7 +256,8 @@ impl StepError {
             | StepError::InvalidStepSize { step, .. }
             | StepError::ScheduleEnded { step }
             | StepError::InvalidControls { step, .. }
-            | StepError::InvalidMonitor { step, .. } => step,
+            | StepError::InvalidMonitor { step, .. }
+            | StepError::TimeReversed { step, .. } => step,
             StepError::InvalidTimeStep { .. }
             | StepError::InvalidRun { .. }
             | StepError::NotSymmetric { .. }
@@ -273,6 +289,7 @@ impl StepError {
             | StepError::OffManifold { .. }
             | StepError::InvalidControls { .. }
             | StepError::InvalidMonitor { .. }
+            | StepError::TimeReversed { .. }
             | StepError::OutOfMemory { .. }
             | StepError::Unsupported { .. } => f64::NAN,
             StepError::ConstraintViolated { residual, .. } => residual,

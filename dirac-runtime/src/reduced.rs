@@ -422,6 +422,9 @@ where
             });
         }
         crate::stepper::monitor_at(sys, k, &next.x)?;
+        if let Some(j) = L::TIME {
+            crate::stepper::check_time_increment(k, sys.time_step(), next.g[j] - state.g[j])?;
+        }
         Ok((
             next,
             ReducedStep {

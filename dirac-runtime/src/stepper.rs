@@ -449,6 +449,16 @@ pub(crate) fn step_error(k: usize, failure: NewtonFailure) -> StepError {
     }
 }
 
+/// Adaptive steps ([`crate::adaptive`]): the typed error of a step `step` of fictitious size `h`
+/// whose physical time step `dt` does not have the sign of `h` (zero included).
+pub(crate) fn check_time_increment(step: usize, h: f64, dt: f64) -> Result<(), StepError> {
+    if dt * h > 0.0 {
+        Ok(())
+    } else {
+        Err(StepError::TimeReversed { step, dt })
+    }
+}
+
 /// Adaptive steps ([`crate::adaptive`]): the typed error of a monitor value that is not
 /// positive and finite, after step `step`.
 pub(crate) fn check_monitor(step: usize, value: f64) -> Result<(), StepError> {

@@ -175,6 +175,9 @@ where
             });
         }
         crate::stepper::monitor_at(sys, k, &next.q.fixed_rows::<S>(0).into_owned())?;
+        if let Some(j) = L::TIME {
+            crate::stepper::check_time_increment(k, sys.time_step(), next.q[S + j] - q[S + j])?;
+        }
         Ok((
             next,
             StepStats::from_solution(&solution, self.options.residual_tolerance(rho)),

@@ -98,7 +98,16 @@
 //! and [`adaptive::reduced_state`](crate::runtime::adaptive::reduced_state) build it from the
 //! physical position and velocity. Each new state's monitor must be positive and finite, or the
 //! run ends with [`StepError::InvalidMonitor`](crate::StepError::InvalidMonitor) carrying the step
-//! index (the states before it kept).
+//! index (the states before it kept); and each step must move physical time forward: the step
+//! equations also have roots with `Δt < 0`, which Newton can find when the fictitious step is
+//! too large where the monitor is small, and such a step ends the run with
+//! [`StepError::TimeReversed`](crate::StepError::TimeReversed).
+//!
+//! `cargo run --release --example three_body` runs Burrau's Pythagorean problem (masses 3, 4, 5
+//! at rest on a 3-4-5 triangle): with `g = (Σ 1/r_ij³)^{−1/2}` and `ε = 0.0005` it passes the
+//! close encounters (down to `r = 4.1e-4`, physical steps from 2.7e-9 to 2.0e-3) to `t = 20` in
+//! 60,527 steps with the energy within 2.6e-2 and `p_t` exact, where the fixed step with as many
+//! steps fails at the first encounter (`t ≈ 1.88`).
 //!
 //! ## Choosing the monitor and the step
 //!
