@@ -162,6 +162,13 @@ pub trait Form<const S: usize, const K: usize, const N: usize>:
     /// step of size `h`: the configuration moved by the increment the last two steps (and their
     /// sizes) extrapolate.
     fn guess(state: &Self::State, history: &History<Self::Increment>, h: f64) -> SVector<f64, N>;
+    /// The position step's configuration unknowns of a step that moves the configuration by
+    /// `dq` (adaptive steps: a run's first guess, [`DiscreteLagrangian::adaptive_increment`]).
+    fn moved<L: DiscreteLagrangian<S, K, N>>(
+        sys: &L,
+        state: &Self::State,
+        dq: &SVector<f64, N>,
+    ) -> SVector<f64, N>;
     /// The state the position step leaves at its solution `z` — the new configuration with the
     /// unprojected momentum ([`Constrained::constrained_momentum`]; reduced: `μ` moved by
     /// [`Constrained::constrained_impulse`] and `g` reconstructed) — and the step's increment.
@@ -212,6 +219,14 @@ impl<const S: usize, const K: usize, const N: usize> Form<S, K, N> for Unreduced
     ) -> SVector<f64, N> {
         let dq = predicted_increment(history, h);
         dq.map_or(state.q, |d| state.q + d)
+    }
+
+    fn moved<L: DiscreteLagrangian<S, K, N>>(
+        _sys: &L,
+        state: &UnreducedState<N>,
+        dq: &SVector<f64, N>,
+    ) -> SVector<f64, N> {
+        state.q + dq
     }
 
     fn shake<L, const M: usize, const Z: usize>(
@@ -280,6 +295,17 @@ impl<D: Side, const S: usize, const K: usize, const N: usize> Form<S, K, N> for 
             &dx.map_or(state.x, |d| state.x + d),
             &du.unwrap_or_else(SVector::zeros),
         )
+    }
+
+    /// `x + Δx` and the group unknown `u` with `D::group_increment(u) = Δg − B Δx`.
+    fn moved<L: DiscreteLagrangian<S, K, N>>(
+        sys: &L,
+        state: &ReducedState<S, K>,
+        dq: &SVector<f64, N>,
+    ) -> SVector<f64, N> {
+        let (dx, dg) = split::<S, K, N>(dq);
+        let x1 = state.x + dx;
+        join::<S, K, N>(&x1, &D::group_increment(dg - sys.h_d0(&state.x, &x1)))
     }
 
     /// `g_{k+1} = g_k + D::group_increment(u) + B (x_{k+1} − x_k)` ([`Side::group_increment`]).
@@ -579,7 +605,15 @@ where
     let (lambda0, nu0) = ws
         .multipliers
         .unwrap_or((SVector::zeros(), SVector::zeros()));
-    let guess = joined::<N, M, Z>(&F::guess(state, &ws.history, h), &lambda0);
+    let mut configuration = F::guess(state, &ws.history, h);
+    // Adaptive steps: a run's first step starts from the motion in fictitious time, not rest.
+    if ws.history.last.is_none() && L::TIME.is_some() {
+        let start = F::unreduced(sys, state);
+        if let Some(dq) = sys.adaptive_increment(&start.q, &start.p, h) {
+            configuration = F::moved(sys, state, &dq);
+        }
+    }
+    let guess = joined::<N, M, Z>(&configuration, &lambda0);
     let rho = F::scale(state);
     let first = newton::solve_with(
         &mut ws.position,
@@ -616,6 +650,13 @@ where
             what: "the updated state",
             residual: stats.residual,
         });
+    }
+    if L::TIME.is_some() {
+        let (before, after) = (F::configuration(sys, state), F::configuration(sys, &next));
+        crate::stepper::monitor_at(sys, k, &after.fixed_rows::<S>(0).into_owned())?;
+        if let Some(j) = L::TIME {
+            crate::stepper::check_time_increment(k, h, after[S + j] - before[S + j])?;
+        }
     }
     ws.history.push(increment, h);
     ws.multipliers = Some((lambda, nu));

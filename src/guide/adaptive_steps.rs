@@ -52,8 +52,13 @@
 //! fictitious step that lands on `T` (by the secant method, to a few ulp) — a step of the same
 //! integrator, so the momenta stay exact. A monitor that
 //! reads a group coordinate (it would break that symmetry and make steps depend on the origin of
-//! time), a body that reads `t` (not autonomous), a discrete Lagrangian, constraints and
-//! `coordinates(..)` are compile errors, each at its token.
+//! time), a body that reads `t` (not autonomous), a discrete Lagrangian and `coordinates(..)` are
+//! compile errors, each at its token.
+//!
+//! Constraints carry over unchanged: `φ(q) = 0` does not involve time (and `A(q) q̇ = 0` is
+//! `A(q) q' = 0` in fictitious time, though only holonomic constraints are tested). A pendulum held by a rod in Cartesian coordinates
+//! (`constraints = |q| [q.x * q.x + q.y * q.y - 1.0]`, monitor `1.5 + y`) keeps its rod to
+//! 1e-12, `p_t` bit for bit, and has order 2 against a tight solve of `θ'' = −g sin θ`.
 //!
 //! A `force = |dq| ..` (and controls) is transformed with the Lagrangian: the physical virtual
 //! work `F·δq dt`, on a path whose time is varied too (`δq_phys = δq − q̇ δt`), is
@@ -128,6 +133,5 @@
 //!
 //! ## Limits
 //!
-//! Not yet: constraints with adaptive steps, `coordinates(..)`/`translate(..)`
-//! layouts, rotations and run-time sizes; the end time is landed on by a helper, not by the run
+//! Not yet: `coordinates(..)`/`translate(..)` layouts, rotations and run-time sizes; the end time is landed on by a helper, not by the run
 //! itself.

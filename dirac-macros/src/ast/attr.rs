@@ -465,12 +465,6 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
                     "adaptive steps are available with `shape(...), group(...)`, not yet with `coordinates(...)`/`translate(...)`",
                 );
                 None
-            } else if constraints.is_some() {
-                cx.error_spanned_by(
-                    &k,
-                    "adaptive steps are not available with constraints yet: the time transformation does not carry them",
-                );
-                None
             } else if let Some(index) = index {
                 Some(Adapt {
                     time: t,

@@ -18,12 +18,6 @@ fn discrete(q0: Config, q1: Config, h: f64) -> f64 {
     0.5 * (q1.x - q0.x) * (q1.x - q0.x) / h
 }
 
-// Constraints are not carried through the time transformation yet.
-#[reduced_lagrangian(shape(x, y), group(t), time(t), adapt = |q| 1.0 + q.x * q.x, rule = midpoint, constraints = |q| [q.x * q.x + q.y * q.y - 1.0])]
-fn constrained(q: Config, v: Velocity) -> f64 {
-    0.5 * (v.x * v.x + v.y * v.y) - q.y
-}
-
 // A force that acts on the time coordinate.
 #[reduced_lagrangian(shape(x), group(t), time(t), adapt = |q| 1.0 + q.x * q.x, rule = midpoint, force = |dq| -v.x * dq.x + dq.t)]
 fn pushed(q: Config, v: Velocity) -> f64 {
