@@ -1,6 +1,6 @@
 //! The paper's double spherical pendulum (§7.2) on an atlas of three charts (§6), from the
 //! paper's own initial state, extended to `T = 10⁴` (10⁶ steps at `h = 0.01`): the run the
-//! paper's chart alone cannot make (it stops at step 24,598, Remark 7.1). Prints a summary and
+//! paper's chart alone cannot make (it stops at step 725,521, Remark 7.1). Prints a summary and
 //! writes Figure 3/4-style plots with the chart in use beneath each, so every switch shows, and
 //! the switches as CSV.
 //!

@@ -3,7 +3,7 @@
 //! (debug) skips it; `.ci/run` runs it with
 //! `cargo test --release --test atlas_long_run -- --ignored --nocapture`, which prints a summary.
 //!
-//! With the paper's chart alone the run stops at step 24,598 (`tests/long_run.rs`,
+//! With the paper's chart alone the run stops at step 725,521 (`tests/long_run.rs`,
 //! `double_spherical_pendulum_from_the_paper_state`). On the atlas it asserts: no failed step; no
 //! meaningless step (every accepted step's physical energy within 1% of `E_0`, where the single
 //! chart accepted ≈ 140 steps with |T + V| up to 3e13 before failing); μ bit-for-bit constant
@@ -159,7 +159,7 @@ fn double_spherical_pendulum_atlas_from_the_paper_state() {
 
 /// The Cartesian bob positions of the atlas run against an independent reference: the paper's
 /// chart alone at a twentieth of the step (h = 5e-4), which stays accurate over this horizon
-/// (T = 50, far before the single chart's breakdown at t ≈ 246 with h = 0.01). The atlas runs at
+/// (T = 50, far before the single chart's breakdown at t ≈ 7255 with h = 0.01). The atlas runs at
 /// h = 0.01 and h = 0.005; its position error must be small against the link lengths and shrink
 /// like h² (the midpoint rule is second order in every chart, and switching does not lower the
 /// order): the ratio of the errors is asserted in [3, 5].
@@ -238,7 +238,7 @@ fn double_spherical_pendulum_atlas_against_a_fine_single_chart_reference() {
 /// The built-in fallback indicator, without the user's distance to the singular set: the atlas
 /// switches when a step Jacobian's reciprocal condition estimate falls below the threshold,
 /// choosing the chart whose trial step is best conditioned. From the paper's state it must run the
-/// 10⁶ steps (past the single chart's breakdown at step 24,598) with μ exact and `T + V` within
+/// 10⁶ steps (past the single chart's breakdown at step 725,521) with μ exact and `T + V` within
 /// 1% of `E_0` at every node (measured: 485 switches, 6.7e-3).
 #[test]
 #[ignore = "long run: release mode, run by .ci/run"]

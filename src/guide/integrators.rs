@@ -137,7 +137,7 @@
 //! ## An atlas of charts (§6)
 //!
 //! One chart of `S² × S²` cannot hold the double spherical pendulum: in the paper's coordinates
-//! it stops at step 24,598 (Remark 7.1). §6 of the paper says to change chart "whenever it is
+//! it stops at step 725,521 (Remark 7.1). §6 of the paper says to change chart "whenever it is
 //! necessary". Each chart is an annotated Lagrangian in its own coordinates with the same group
 //! acting by translation; a change of chart is a Rust function annotated with
 //! `#[chart_transition]`, compiled like a Lagrangian into straight-line code for `φ` and `Dφ`, and

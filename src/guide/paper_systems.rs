@@ -75,7 +75,8 @@
 //!
 //! In the paper's chart the pendulum cannot run for ever: from the paper's initial state it
 //! creeps towards the poles of its spherical coordinates, where the rotation is not free
-//! (Remark 7.1), and stops with a typed error after ≈ 24,600 steps. On an atlas of three charts
+//! (Remark 7.1), and stops with a typed error after 725,521 steps (`t ≈ 7255`; the step where it
+//! breaks depends on round-off, the motion being chaotic). On an atlas of three charts
 //! ([`crate::paper::atlas`], see [Integrators](super::integrators#an-atlas-of-charts-6)) it runs
 //! 10⁶ steps from the same state.
 //!
