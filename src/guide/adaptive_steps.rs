@@ -55,10 +55,13 @@
 //! time), a body that reads `t` (not autonomous), a discrete Lagrangian and `coordinates(..)` are
 //! compile errors, each at its token.
 //!
-//! Constraints carry over unchanged: `φ(q) = 0` does not involve time (and `A(q) q̇ = 0` is
-//! `A(q) q' = 0` in fictitious time, though only holonomic constraints are tested). A pendulum held by a rod in Cartesian coordinates
+//! Constraints carry over unchanged: `φ(q) = 0` does not involve time, and `A(q) q̇ = 0` is
+//! `A(q) q' = 0` in fictitious time. A pendulum held by a rod in Cartesian coordinates
 //! (`constraints = |q| [q.x * q.x + q.y * q.y - 1.0]`, monitor `1.5 + y`) keeps its rod to
-//! 1e-12, `p_t` bit for bit, and has order 2 against a tight solve of `θ'' = −g sin θ`.
+//! 1e-12, `p_t` bit for bit, and has order 2 against a tight solve of `θ'' = −g sin θ`; a skate
+//! (`nonholonomic = |q, v| [q.theta.sin() * v.x - q.theta.cos() * v.y]`) follows its circle with
+//! order 2, `p_t` kept to round-off (the constraint's impulse on the group momenta passes through
+//! the step's residual).
 //!
 //! A `force = |dq| ..` (and controls) is transformed with the Lagrangian: the physical virtual
 //! work `F·δq dt`, on a path whose time is varied too (`δq_phys = δq − q̇ δt`), is
