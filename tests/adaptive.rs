@@ -2,6 +2,8 @@
 //! fixed fictitious step — against Kepler's closed form, with its conserved momenta, its
 //! reversibility and its typed errors.
 
+mod common;
+
 use dirac::prelude::*;
 use dirac::runtime::adaptive;
 
@@ -40,15 +42,7 @@ const TAU: f64 = 2.0 * std::f64::consts::PI;
 /// The orbit of eccentricity `e` (semi-major axis 1, `k = 1`, period 2π) at time `t` from
 /// periapsis at `t = 0`: `(r, θ)` by Kepler's equation `E − e sin E = t mod 2π`, solved by Newton.
 fn exact(e: f64, t: f64) -> (f64, f64) {
-    let m = t.rem_euclid(TAU);
-    let mut big_e = if e > 0.8 { std::f64::consts::PI } else { m };
-    for _ in 0..100 {
-        let d = (big_e - e * big_e.sin() - m) / (1.0 - e * big_e.cos());
-        big_e -= d;
-        if d.abs() < 1e-16 {
-            break;
-        }
-    }
+    let big_e = common::eccentric_anomaly(e, t);
     let r = 1.0 - e * big_e.cos();
     let anomaly = 2.0
         * ((1.0 + e).sqrt() * (big_e / 2.0).sin()).atan2((1.0 - e).sqrt() * (big_e / 2.0).cos());

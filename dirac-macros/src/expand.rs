@@ -128,6 +128,16 @@ fn expand_lie(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> {
         crate::ir::lie::check_skew(&cx, &graph, &spec, &skew);
     }
     let body = cx.finish(body)?;
+    // Adaptive steps: the time-transformed L₂ in place of L, before the rule.
+    let adapt = match &spec.adapt {
+        None => None,
+        Some(adapt) => {
+            let cx = Ctxt::new();
+            let adapted = lie_adapt(&cx, &mut graph, &spec, &sig, body, adapt);
+            Some((cx.finish(adapted)?, body))
+        }
+    };
+    let body = adapt.as_ref().map_or(body, |(a, _)| a.lagrangian);
     // A continuous L(q, v): L_d by its rule.
     let body = match spec.rule.as_ref().filter(|_| sig.continuous) {
         Some(&(_, rule)) => {
@@ -163,7 +173,18 @@ fn expand_lie(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> {
                 spec.velocity_len(),
                 !sig.continuous,
             );
-            let parts = cx.finish(parts)?;
+            let mut parts = cx.finish(parts)?;
+            if let Some(a) = &spec.adapt {
+                let cx = Ctxt::new();
+                let f = crate::ir::adapt::transform_force(
+                    &cx,
+                    &mut graph,
+                    &parts[0],
+                    time_at(&spec, a),
+                    closure,
+                );
+                parts[0] = cx.finish(f)?;
+            }
             Some(match spec.rule.as_ref().filter(|_| sig.continuous) {
                 Some(&(_, rule)) => {
                     let step = sig.params.iter().position(|p| *p == sig.step);
@@ -178,7 +199,11 @@ fn expand_lie(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> {
     };
     // The declared rotations must be symmetries of L_d and of the forces.
     let cx = Ctxt::new();
-    crate::ir::lie::check_rotations(&cx, &graph, &spec, body, forces.as_ref());
+    let monitor = adapt
+        .as_ref()
+        .zip(spec.adapt.as_ref())
+        .map(|((a, _), spec)| (a.monitor, &spec.monitor));
+    crate::ir::lie::check_rotations(&cx, &graph, &spec, body, forces.as_ref(), monitor);
     cx.finish(Some(()))?;
     let mode = compile::mode_for(spec.n());
     let mut code = crate::ir::lie::compile(&mut graph, &spec, body, forces.as_ref(), mode, None);
@@ -217,9 +242,64 @@ fn expand_lie(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> {
             mode,
         ));
     }
+    code.adapt = adapt
+        .zip(spec.adapt.as_ref())
+        .map(|((a, l), at)| crate::ir::lie::adaptive(&mut graph, &spec, at.coord, a.monitor, l));
     Ok(crate::codegen::lie::generate(
         &spec, &sig, func, &graph, &code,
     ))
+}
+
+/// Where the time coordinate of `adapt` is, in the configuration and the velocity.
+fn time_at(
+    spec: &crate::ast::lie::LieSpec,
+    adapt: &crate::ast::lie::LieAdapt,
+) -> crate::ir::adapt::TimeAt {
+    let c = &spec.coords[adapt.coord];
+    crate::ir::adapt::TimeAt {
+        point: c.point,
+        velocity: c.velocity,
+    }
+}
+
+/// Adaptive steps on rotation groups: the monitor lowered over the configuration, `L` (over
+/// `q = Q0`, `v = Q1`) time-transformed ([`crate::ir::adapt`]), with the time coordinate's point
+/// and velocity entries.
+fn lie_adapt(
+    cx: &Ctxt,
+    graph: &mut crate::ir::graph::Graph,
+    spec: &crate::ast::lie::LieSpec,
+    sig: &Signature,
+    l: crate::ir::graph::NodeId,
+    adapt: &crate::ast::lie::LieAdapt,
+) -> Option<crate::ir::adapt::Adapted> {
+    if !sig.continuous {
+        cx.error_spanned_by(
+            &adapt.monitor,
+            "adaptive steps transform a continuous Lagrangian: write `fn l(q: Config, v: Velocity, ..)` with \
+             `rule = trapezoid | left | right`",
+        );
+        return None;
+    }
+    let names = crate::ir::lower::Names {
+        q0: &sig.q0,
+        q1: &sig.q1,
+        coords: spec.lowering_coords(),
+        params: sig.params.iter().map(ToString::to_string).collect(),
+        dq: Vec::new(),
+    };
+    let groups: Vec<usize> = spec
+        .coords
+        .iter()
+        .filter(|c| c.group)
+        .map(|c| c.point)
+        .collect();
+    let time = crate::ir::adapt::Declared {
+        name: &adapt.time,
+        monitor: &adapt.monitor,
+        at: time_at(spec, adapt),
+    };
+    crate::ir::adapt::transform(cx, graph, l, &time, names, &|i| groups.contains(&i))
 }
 
 /// The phases after the attribute and signature parsed cleanly.

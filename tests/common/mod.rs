@@ -51,3 +51,39 @@ impl Rng {
         SVector::from_fn(|_, _| self.uniform(lo, hi))
     }
 }
+
+/// The eccentric anomaly `E` of Kepler's equation `E − e sin E = t mod 2π` (mean motion 1), by
+/// Newton's method.
+pub fn eccentric_anomaly(e: f64, t: f64) -> f64 {
+    let m = t.rem_euclid(2.0 * std::f64::consts::PI);
+    let mut big_e = if e > 0.8 { std::f64::consts::PI } else { m };
+    for _ in 0..100 {
+        let d = (big_e - e * big_e.sin() - m) / (1.0 - e * big_e.cos());
+        big_e -= d;
+        if d.abs() < 1e-16 {
+            break;
+        }
+    }
+    big_e
+}
+
+/// `y(t)` of `y' = f(y)` from `y(0) = y0` by the classical Runge–Kutta method with
+/// `per_unit` steps per unit time: a tight independent reference.
+pub fn rk4<const M: usize>(
+    y0: SVector<f64, M>,
+    f: impl Fn(&SVector<f64, M>) -> SVector<f64, M>,
+    t: f64,
+    per_unit: f64,
+) -> SVector<f64, M> {
+    let n = (per_unit * t).ceil() as usize;
+    let dt = t / n as f64;
+    let mut y = y0;
+    for _ in 0..n {
+        let k1 = f(&y);
+        let k2 = f(&(y + k1 * (dt / 2.0)));
+        let k3 = f(&(y + k2 * (dt / 2.0)));
+        let k4 = f(&(y + k3 * dt));
+        y += (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (dt / 6.0);
+    }
+    y
+}

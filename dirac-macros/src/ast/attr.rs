@@ -441,45 +441,25 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
         check_connection_shape(cx, &value, &rows, layout.s(), layout.k());
         rows
     });
-    let adapt = match (time, adapt) {
-        (None, None) => None,
-        (Some((k, _)), None) => {
+    let adapt = pair_adapt(cx, time, adapt).and_then(|(t, k, monitor)| {
+        let index = layout.group.iter().position(|g| t == g);
+        if layout.declared {
             cx.error_spanned_by(
                 &k,
-                "`time(t)` comes with `adapt = |q| <monitor>`: the monitor `g(q) > 0` sets the physical step `dt = g(q) dτ`",
+                "adaptive steps are available with `shape(...), group(...)`, not yet with `coordinates(...)`/`translate(...)`",
             );
             None
-        }
-        (None, Some((k, _))) => {
-            cx.error_spanned_by(
-                &k,
-                "`adapt = |q| ..` needs `time(t)`: declare a group coordinate `t` for the physical time, e.g. `group(t), time(t)`",
-            );
+        } else if let Some(index) = index {
+            Some(Adapt {
+                time: t,
+                index,
+                monitor,
+            })
+        } else {
+            cx.error_spanned_by(&t, not_group_time(&t));
             None
         }
-        (Some((_, t)), Some((k, monitor))) => {
-            let index = layout.group.iter().position(|g| t == g);
-            if layout.declared {
-                cx.error_spanned_by(
-                    &k,
-                    "adaptive steps are available with `shape(...), group(...)`, not yet with `coordinates(...)`/`translate(...)`",
-                );
-                None
-            } else if let Some(index) = index {
-                Some(Adapt {
-                    time: t,
-                    index,
-                    monitor,
-                })
-            } else {
-                cx.error_spanned_by(
-                    &t,
-                    format!("`{t}` is not a group coordinate: physical time is a coordinate the Lagrangian does not read, declared in `group(..)`, e.g. `group({t}), time({t})`"),
-                );
-                None
-            }
-        }
-    };
+    });
     Some(Spec {
         layout,
         connection,
@@ -647,4 +627,38 @@ fn check_connection_shape(cx: &Ctxt, value: &Expr, rows: &[Vec<Expr>], s: usize,
             }
         }
     }
+}
+
+/// `time(t)` and `adapt = |q| g` come together: `(t, the adapt key, the monitor)` when both are
+/// written, `None` (with an error at the one written) otherwise.
+pub fn pair_adapt(
+    cx: &Ctxt,
+    time: Option<(Ident, Ident)>,
+    adapt: Option<(Ident, syn::ExprClosure)>,
+) -> Option<(Ident, Ident, syn::ExprClosure)> {
+    match (time, adapt) {
+        (None, None) => None,
+        (Some((k, _)), None) => {
+            cx.error_spanned_by(
+                &k,
+                "`time(t)` comes with `adapt = |q| <monitor>`: the monitor `g(q) > 0` sets the physical step `dt = g(q) dτ`",
+            );
+            None
+        }
+        (None, Some((k, _))) => {
+            cx.error_spanned_by(
+                &k,
+                "`adapt = |q| ..` needs `time(t)`: declare a group coordinate `t` for the physical time, e.g. `group(t), time(t)`",
+            );
+            None
+        }
+        (Some((_, t)), Some((k, monitor))) => Some((t, k, monitor)),
+    }
+}
+
+/// The message of a `time(t)` whose `t` is not a group coordinate.
+pub fn not_group_time(t: &Ident) -> String {
+    format!(
+        "`{t}` is not a group coordinate: physical time is a coordinate the Lagrangian does not read, declared in `group(..)`, e.g. `group({t}), time({t})`"
+    )
 }

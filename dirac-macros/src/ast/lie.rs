@@ -22,8 +22,8 @@ use crate::ast::layout::CoordName;
 use crate::ast::rule::Rule;
 use crate::ctxt::Ctxt;
 use crate::symbol::{
-    self, KeyArg, AXIS, CONTROLS, DIRECTION, FORCE, GROUP, NAME, ROTATION, RULE, SHAPE, STEP,
-    SYMMETRY,
+    self, KeyArg, ADAPT, AXIS, CONTROLS, DIRECTION, FORCE, GROUP, NAME, ROTATION, RULE, SHAPE,
+    STEP, SYMMETRY, TIME,
 };
 
 /// What the attribute of a system on rotation groups accepts, for messages.
@@ -32,8 +32,8 @@ vectors), `shape(x, ...)` (scalar coordinates), `group(x, ...)` (scalar coordina
 translations are a symmetry), `rule = trapezoid | left | right` (for \
 `L(q: Config, v: Velocity, ...)`), `force = |dq| ...` (or `|dq0, dq1|` for a discrete \
 Lagrangian), `controls(u, ...)`, `symmetry(R)` (every rotation `R ↦ g R`) or \
-`symmetry(R, n, ..., axis = z)` (rotations about a coordinate axis), `step = <parameter>`, \
-`name = <TypeName>`";
+`symmetry(R, n, ..., axis = z)` (rotations about a coordinate axis), `time(t), adapt = |q| \
+<monitor>` (adaptive steps), `step = <parameter>`, `name = <TypeName>`";
 
 /// What a coordinate is (the runtime's `CoordinateKind`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -119,6 +119,19 @@ pub struct LieSpec {
     pub controls: Vec<Ident>,
     /// `symmetry(..)`: the rotations under which `L_d` is invariant.
     pub symmetry: Option<Symmetry>,
+    /// `time(t), adapt = |q| g`: adaptive steps (see [`crate::ir::adapt`]).
+    pub adapt: Option<LieAdapt>,
+}
+
+/// `time(t), adapt = |q| g` on rotation groups: the scalar group coordinate that is physical
+/// time and the step monitor, a function of the configuration.
+pub struct LieAdapt {
+    /// The time coordinate as written.
+    pub time: Ident,
+    /// Its index in [`LieSpec::coords`].
+    pub coord: usize,
+    /// `|q| g(q)`.
+    pub monitor: syn::ExprClosure,
 }
 
 impl LieSpec {
@@ -208,6 +221,7 @@ pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
     let (mut coords, mut step, mut name, mut rule) = (Vec::<LieCoord>::new(), None, None, None);
     let (mut force, mut controls) = (None, Vec::new());
     let mut symmetry: Option<(&Ident, &Punctuated<Expr, Token![,]>)> = None;
+    let (mut time, mut adapt) = (None, None);
     let (mut point, mut chart, mut velocity) = (0, 0, 0);
     for LieItem(item) in &items {
         let key = item.key();
@@ -283,6 +297,23 @@ pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
                 }
             }
             (None, KeyArg::Value(_, Expr::Closure(c))) if key == FORCE => force = Some(c.clone()),
+            (None, KeyArg::List(_, list)) if key == TIME => match list.iter().collect::<Vec<_>>()[..] {
+                [Expr::Path(p)] if p.path.get_ident().is_some() => {
+                    time = Some((key.clone(), p.path.get_ident().expect("checked").clone()));
+                }
+                _ => cx.error_spanned_by(
+                    key,
+                    "`time(...)` names one group coordinate, the physical time: e.g. `group(t), time(t)`",
+                ),
+            },
+            (None, KeyArg::Value(_, Expr::Closure(c))) if key == ADAPT => {
+                adapt = Some((key.clone(), c.clone()));
+            }
+            (None, _) if key == TIME || key == ADAPT => cx.error_spanned_by(
+                key,
+                "expected `time(t), adapt = |q| <monitor>`: the group coordinate that is physical time and the \
+                 step monitor `g(q) > 0` (`dt = g(q) dτ`)",
+            ),
             (None, KeyArg::List(_, list)) if key == CONTROLS => {
                 for e in list {
                     match e {
@@ -344,6 +375,29 @@ pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
     }
     let rule_written = items.iter().any(|LieItem(i)| i.key() == RULE);
     let symmetry = symmetry.and_then(|(key, list)| parse_symmetry(cx, &coords, key, list));
+    let adapt = crate::ast::attr::pair_adapt(cx, time, adapt).and_then(|(t, k, monitor)| {
+        match coords.iter().position(|c| c.name == t) {
+            Some(coord) if coords[coord].group => {
+                if rule.is_none() {
+                    cx.error_spanned_by(
+                        &k,
+                        "adaptive steps transform a continuous Lagrangian: write `fn l(q: Config, v: Velocity, ..)` \
+                         with `rule = trapezoid | left | right`",
+                    );
+                    return None;
+                }
+                Some(LieAdapt {
+                    time: t,
+                    coord,
+                    monitor,
+                })
+            }
+            _ => {
+                cx.error_spanned_by(&t, crate::ast::attr::not_group_time(&t));
+                None
+            }
+        }
+    });
     Some(LieSpec {
         coords,
         step,
@@ -353,6 +407,7 @@ pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
         force,
         controls,
         symmetry,
+        adapt,
     })
 }
 

@@ -176,6 +176,7 @@ pub fn generate(
         quote! { #fn_name(#config::from_point(q0), #config::from_point(q1), #( self.#fn_params ),*) }
     };
     let symmetric = symmetry_impl(spec, g, code, &ty, &leaf);
+    let (adapt_trait, adapt_inherent) = adaptive_items(spec, g, code, params, &config, &velocity);
     let doc_p = format!("Length `P` of a stored point of [`{ty}`] (`LieState::q`).");
     let doc_n = format!("Dimension `N` of the configuration space of [`{ty}`] (`LieState::p`).");
     quote! {
@@ -207,6 +208,8 @@ pub fn generate(
             pub fn momenta(&self, state: &#rt::LieState<#p, #n>) -> #momentum {
                 #momentum::from_chart(&state.q, &state.p)
             }
+
+            #adapt_inherent
         }
 
         #allow
@@ -216,6 +219,8 @@ pub fn generate(
             const PARAMETERS: &'static [&'static str] = &[ #( #param_names ),* ];
             const CONTROLS: &'static [&'static str] = &[ #( #control_names ),* ];
             type Linear = #solver;
+
+            #adapt_trait
 
             fn linear_solver(&self) -> Self::Linear {
                 #solver_new
@@ -259,6 +264,89 @@ pub fn generate(
 
         #symmetric
     }
+}
+
+/// Adaptive steps: `TIME` and `monitor` of `LieLagrangian`, and the inherent `adaptive_state`
+/// (the state on the level set at a physical configuration and velocity,
+/// [`crate::ir::lie::LieAdaptive`]). Empty for a system stepped in physical time.
+fn adaptive_items(
+    spec: &LieSpec,
+    g: &Graph,
+    code: &LieCode,
+    params: &[Ident],
+    config: &Ident,
+    velocity: &Ident,
+) -> (TokenStream, TokenStream) {
+    let Some(adapt) = &code.adapt else {
+        return (TokenStream::new(), TokenStream::new());
+    };
+    let (p, n) = (spec.p(), spec.n());
+    let (na, rt) = (quote!(::dirac::nalgebra), quote!(::dirac::runtime));
+    let leaf = |sym: Sym| match sym {
+        Sym::Q0(i) => quote! { q[#i] },
+        Sym::Q1(i) => quote! { v[#i] },
+        Sym::Param(i) => {
+            let p = &params[i];
+            quote! { self.#p }
+        }
+        other => {
+            unreachable!("the monitor and the level set read q, v and parameters, not {other:?}")
+        }
+    };
+    let monitor = crate::codegen::emit::straight_line(g, &[adapt.monitor], &leaf);
+    let (monitor_stmts, monitor_out) = (&monitor.stmts, &monitor.outputs[0]);
+    let mut roots = vec![adapt.monitor];
+    roots.extend(&adapt.momentum);
+    let level = crate::codegen::emit::straight_line(g, &roots, &leaf);
+    let (level_stmts, level_monitor, level_p) =
+        (&level.stmts, &level.outputs[0], &level.outputs[1..]);
+    let entries = spec.coords.iter().flat_map(|c| {
+        let name = &c.name;
+        match c.kind {
+            Kind::Scalar => vec![quote! { v.#name }],
+            Kind::Rotation | Kind::Direction => {
+                (0..3_usize).map(|k| quote! { v.#name[#k] }).collect()
+            }
+        }
+    });
+    let time = adapt.coord;
+    let time_name = spec.coords[time].name.to_string();
+    let doc = format!(
+        "The state of adaptive steps at the configuration `q` (its `{time_name}` the physical time) and the \
+         physical velocity `v` (its `{time_name}` ignored: the rate of physical time is 1): the physical \
+         momenta `∂L/∂v` and `p_{time_name} = −E(q, v)`, on the level set where the time-transformed \
+         system's solutions are the physical ones (see `dirac::adaptive`). `Err` with \
+         `StepError::InvalidMonitor` where the monitor is not positive and finite."
+    );
+    let trait_items = quote! {
+        const TIME: ::core::option::Option<usize> = ::core::option::Option::Some(#time);
+
+        fn monitor(&self, q: &#na::SVector<f64, #p>) -> ::core::option::Option<f64> {
+            #monitor_stmts
+            ::core::option::Option::Some(#monitor_out)
+        }
+    };
+    let inherent = quote! {
+        #[doc = #doc]
+        pub fn adaptive_state(
+            &self,
+            q: &#config,
+            v: &#velocity,
+        ) -> ::core::result::Result<#rt::LieState<#p, #n>, #rt::StepError> {
+            let q = q.to_point();
+            let v = [ #( #entries ),* ];
+            #level_stmts
+            let value = #level_monitor;
+            if !(value > 0.0 && value.is_finite()) {
+                return ::core::result::Result::Err(#rt::StepError::InvalidMonitor { step: 0, value });
+            }
+            ::core::result::Result::Ok(#rt::LieState {
+                q,
+                p: #na::SVector::<f64, #n>::from([ #( #level_p ),* ]),
+            })
+        }
+    };
+    (trait_items, inherent)
 }
 
 /// `impl LieSymmetric<P, N>` for a system with `symmetry(..)`: the declared action, whether the

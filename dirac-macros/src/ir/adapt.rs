@@ -30,7 +30,6 @@
 //! (with every other momentum of a symmetry the monitor respects) bit for bit, and reconstruct
 //! physical time as that group coordinate.
 
-use crate::ast::attr::Adapt;
 use crate::ctxt::Ctxt;
 use crate::ir::graph::{Graph, NodeId, Sym};
 use crate::ir::lower::{Lowering, Names};
@@ -41,21 +40,37 @@ pub struct Adapted {
     pub monitor: NodeId,
 }
 
-/// Lowers the monitor of `adapt` and transforms the continuous Lagrangian `l` (over `q = Q0`,
-/// `v = Q1`) with `s` shape coordinates; the time coordinate is configuration entry
-/// `s + adapt.index`. `None` after errors, all recorded in `cx`: a monitor that reads a group
-/// coordinate (it would break that symmetry and make the step depend on the origin of time),
-/// and a Lagrangian that reads the time coordinate or its rate (the system must be autonomous).
+/// Where the time coordinate is: its configuration entry (`Q0`, `Q1` of a discrete Lagrangian)
+/// and its velocity entry (`Q1` of a continuous one). The same on flat coordinates; on rotation
+/// groups a rotation's 9 entries carry 3 velocities, so they differ.
+#[derive(Clone, Copy)]
+pub struct TimeAt {
+    pub point: usize,
+    pub velocity: usize,
+}
+
+/// The declared time coordinate: its name as written, the monitor `|q| g(q)` and where it is.
+pub struct Declared<'a> {
+    pub name: &'a syn::Ident,
+    pub monitor: &'a syn::ExprClosure,
+    pub at: TimeAt,
+}
+
+/// Lowers the monitor (`|q| g(q)`) and transforms the continuous Lagrangian `l` (over
+/// `q = Q0`, `v = Q1`) with the declared time coordinate `time`; `is_group(i)`
+/// tells whether configuration entry `i` belongs to a group coordinate. `None` after errors,
+/// all recorded in `cx`: a monitor that reads a group coordinate (it would break that symmetry
+/// and make the step depend on the origin of time), and a Lagrangian that reads the time
+/// coordinate or its rate (the system must be autonomous).
 pub fn transform(
     cx: &Ctxt,
     g: &mut Graph,
     l: NodeId,
-    adapt: &Adapt,
+    time: &Declared,
     names: Names,
-    s: usize,
+    is_group: &dyn Fn(usize) -> bool,
 ) -> Option<Adapted> {
-    let time = s + adapt.index;
-    let closure = &adapt.monitor;
+    let (closure, name) = (time.monitor, time.name);
     let arg = crate::ir::constraint::args(
         cx,
         closure,
@@ -71,7 +86,7 @@ pub fn transform(
     let monitor = Lowering::new(g, cx, &names).scalar_expr(&closure.body, "the monitor")?;
     if g.symbols(&[monitor])
         .iter()
-        .any(|sym| matches!(sym, Sym::Q0(i) if *i >= s))
+        .any(|sym| matches!(sym, Sym::Q0(i) if is_group(*i)))
     {
         cx.error_spanned_by(
             &closure.body,
@@ -80,20 +95,18 @@ pub fn transform(
         );
         return None;
     }
-    if g.symbols(&[l])
-        .iter()
-        .any(|sym| matches!(sym, Sym::Q0(i) | Sym::Q1(i) if *i == time))
-    {
+    if reads_time(g, &[l], time.at) {
         cx.error_spanned_by(
-            &adapt.time,
+            name,
             format!(
                 "the Lagrangian reads the time coordinate `{}` or its rate: adaptive steps transform an autonomous \
                  Lagrangian, whose energy is conserved; leave `{0}` out of the body",
-                adapt.time
+                name
             ),
         );
         return None;
     }
+    let time = time.at.velocity;
     // L₂ = t' L(q, v/t') + (t' − g)² / (2 g).
     let rate = g.var(Sym::Q1(time));
     let scaled = g.substitute(l, &mut |g, sym| match sym {
@@ -130,14 +143,10 @@ pub fn transform_force(
     cx: &Ctxt,
     g: &mut Graph,
     f: &[NodeId],
-    time: usize,
+    time: TimeAt,
     closure: &syn::ExprClosure,
 ) -> Option<Vec<NodeId>> {
-    let reads_time = g
-        .symbols(f)
-        .iter()
-        .any(|sym| matches!(sym, Sym::Q0(i) | Sym::Q1(i) if *i == time));
-    if reads_time || g.as_const(f[time]) != Some(0.0) {
+    if reads_time(g, f, time) || g.as_const(f[time.velocity]) != Some(0.0) {
         cx.error_spanned_by(
             closure,
             "with adaptive steps the force may not read the time coordinate or act on it: the time \
@@ -145,6 +154,7 @@ pub fn transform_force(
         );
         return None;
     }
+    let time = time.velocity;
     let rate = g.var(Sym::Q1(time));
     let scaled: Vec<NodeId> = f
         .iter()
@@ -169,4 +179,12 @@ pub fn transform_force(
     }
     out[time] = g.neg(power);
     Some(out)
+}
+
+/// Whether `nodes` read the time coordinate or its rate.
+fn reads_time(g: &Graph, nodes: &[NodeId], time: TimeAt) -> bool {
+    g.symbols(nodes).iter().any(|sym| {
+        matches!(sym, Sym::Q0(i) if *i == time.point)
+            || matches!(sym, Sym::Q1(i) if *i == time.velocity)
+    })
 }

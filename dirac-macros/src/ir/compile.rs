@@ -115,7 +115,18 @@ pub fn lower(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<L
                     params: sig.params.iter().map(Ident::to_string).collect(),
                     dq: Vec::new(),
                 };
-                match crate::ir::adapt::transform(cx, &mut graph, l, adapt, names, s) {
+                let time = crate::ir::adapt::Declared {
+                    name: &adapt.time,
+                    monitor: &adapt.monitor,
+                    at: crate::ir::adapt::TimeAt {
+                        point: s + adapt.index,
+                        velocity: s + adapt.index,
+                    },
+                };
+                let is_group = |i: usize| i >= s;
+                let transformed =
+                    crate::ir::adapt::transform(cx, &mut graph, l, &time, names, &is_group);
+                match transformed {
                     Some(a) => (Some(a.lagrangian), Some((adapt.index, a.monitor, l))),
                     None => (None, None),
                 }
@@ -163,7 +174,10 @@ pub fn lower(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<L
             // Adaptive steps: the force transformed in time with the Lagrangian, then the rule.
             (Some(adapt), force::Form::Continuous { rule, h }) => {
                 let parts = force::lower_parts(cx, &mut graph, closure, names, s + k, false)?;
-                let time = s + adapt.index;
+                let time = crate::ir::adapt::TimeAt {
+                    point: s + adapt.index,
+                    velocity: s + adapt.index,
+                };
                 let f =
                     crate::ir::adapt::transform_force(cx, &mut graph, &parts[0], time, closure)?;
                 Some(force::discretize(&mut graph, &f, s + k, h, rule))

@@ -288,7 +288,7 @@ where
         k: usize,
         h: f64,
         state: &LieState<P, N>,
-        guess: &SVector<f64, N>,
+        guess: Option<SVector<f64, N>>,
         u: &[f64],
     ) -> Result<(LieState<P, N>, SVector<f64, N>, StepStats), StepError> {
         self.chart_step::<Unreduced>(solver, k, h, state, guess, u)
@@ -299,8 +299,10 @@ where
     /// from `guess` — for the (−) equations on `w = −z`, the coordinate of the current point in
     /// the chart about the next, with the residual `−R(−w)` (whose Jacobian in `w` is `R`'s in
     /// `z`) — then the retraction, the momentum update and its compensation ([`compensate`]).
-    /// Returns the new state, the unknown Newton solved for (`z`, or `w`) and the step's
-    /// statistics.
+    /// Without a `guess` (a run's first step) Newton starts at no motion, or for adaptive steps
+    /// at [`super::adaptive::first_increment`]; after an adaptive step the monitor and the sign
+    /// of the physical time step are checked. Returns the new state, the unknown Newton solved
+    /// for (`z`, or `w`) and the step's statistics.
     #[inline]
     pub(super) fn chart_step<E: StepEquations<L, P, N>>(
         &self,
@@ -308,7 +310,7 @@ where
         k: usize,
         h: f64,
         state: &LieState<P, N>,
-        guess: &SVector<f64, N>,
+        guess: Option<SVector<f64, N>>,
         u: &[f64],
     ) -> Result<(LieState<P, N>, SVector<f64, N>, StepStats), StepError> {
         let owned = self.system_at(k, h, u)?;
@@ -320,7 +322,11 @@ where
             Variant::Plus => 1.0,
             Variant::Minus => -1.0,
         };
-        let (mut unknown, mut r, mut jacobian) = (*guess, SVector::<f64, N>::zeros(), None);
+        let guess = guess.unwrap_or_else(|| match L::TIME {
+            Some(_) => super::adaptive::first_increment::<L, E, P, N>(sys, q, p, h) * s,
+            None => SVector::zeros(),
+        });
+        let (mut unknown, mut r, mut jacobian) = (guess, SVector::<f64, N>::zeros(), None);
         let solution = newton::solve_in(
             solver,
             &mut unknown,
@@ -350,6 +356,9 @@ where
                 what: "the updated state",
                 residual: solution.residual,
             });
+        }
+        if let Some(time) = L::TIME {
+            super::adaptive::check_step::<L, P, N>(sys, k, h, time, q, &next.q)?;
         }
         Ok((
             next,
@@ -466,6 +475,9 @@ where
                 });
             }
         }
+        if let Some(g) = self.system.monitor(&initial.q) {
+            crate::stepper::check_monitor(0, g)?;
+        }
         Ok(())
     }
 
@@ -480,8 +492,9 @@ where
         }
     }
 
-    /// Newton starts from the chart coordinate of the last steps, extrapolated (zero on the
-    /// first step of a run).
+    /// Newton starts from the chart coordinate of the last steps, extrapolated (on the first
+    /// step of a run from no motion, or for adaptive steps from the motion at the step's
+    /// physical size).
     fn step_with(
         &self,
         workspace: &mut Self::Workspace,
@@ -490,8 +503,8 @@ where
         state: &LieState<P, N>,
         u: &[f64],
     ) -> Result<(LieState<P, N>, StepStats), StepError> {
-        let guess = predicted_increment(&workspace.history, h).unwrap_or_else(SVector::zeros);
-        let (next, z, stats) = self.solve_step(&mut workspace.solver, k, h, state, &guess, u)?;
+        let guess = predicted_increment(&workspace.history, h);
+        let (next, z, stats) = self.solve_step(&mut workspace.solver, k, h, state, guess, u)?;
         workspace.history.push(z, h);
         Ok((next, stats))
     }

@@ -86,6 +86,7 @@
 //! midpoint-type rule) gives a symmetric step of order 2, which the compositions of
 //! [`crate::compose`] raise to order 4 and 6.
 
+mod adaptive;
 pub mod diagnostics;
 mod integrator;
 pub mod reduced;
@@ -153,6 +154,17 @@ pub trait LieLagrangian<const P: usize, const N: usize>: Clone + Send + Sync + '
     /// Names of the controls (`controls(..)` in the attribute): parameters a control law sets
     /// before every step, in the order a control vector lists them.
     const CONTROLS: &'static [&'static str] = &[];
+    /// Adaptive steps (`time(t), adapt = |q| g` in the attribute; see [`crate::adaptive`]): the
+    /// index in [`Self::COORDINATES`] of the group scalar that is physical time. `None` for a
+    /// system stepped in physical time.
+    const TIME: Option<usize> = None;
+
+    /// Adaptive steps: the step monitor `g(q) > 0` at the point `q` (`dt = g dτ`); `None` for a
+    /// system stepped in physical time.
+    fn monitor(&self, q: &SVector<f64, P>) -> Option<f64> {
+        let _ = q;
+        None
+    }
 
     /// The linear algebra of the steps: dense LU on the stack for small `N`.
     type Linear: LinearSolver<Vector = SVector<f64, N>>;

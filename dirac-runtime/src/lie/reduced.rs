@@ -355,7 +355,7 @@ where
         state: &ReducedLieState<P, N>,
         u: &[f64],
     ) -> Result<(ReducedLieState<P, N>, StepStats), StepError> {
-        let guess = predicted_increment(&workspace.history, h).unwrap_or_else(SVector::zeros);
+        let guess = predicted_increment(&workspace.history, h);
         let mut start = state.unreduced();
         if let RotationSymmetry::Axis { axis, coordinates } = L::SYMMETRY {
             set_group_part::<L, P, N>(&mut start, axis, coordinates, state.mu[axis]);
@@ -365,7 +365,7 @@ where
             k,
             h,
             &start,
-            &guess,
+            guess,
             u,
         )?;
         workspace.history.push(z, h);
@@ -540,8 +540,9 @@ where
         }
     }
 
-    /// Newton starts from the chart coordinate of the last steps, extrapolated (zero on the
-    /// first step of a run).
+    /// Newton starts from the chart coordinate of the last steps, extrapolated (on the first
+    /// step of a run from no motion, or for adaptive steps from the motion at the step's
+    /// physical size).
     fn step_with(
         &self,
         workspace: &mut Self::Workspace,

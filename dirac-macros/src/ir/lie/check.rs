@@ -114,13 +114,15 @@ fn sample_rotation(kind: SymmetryKind) -> [[f64; 3]; 3] {
 /// — a rotation's torque `τ` (paired with the body-frame `η`) and a scalar's force the same, a
 /// direction's force rotated with it, `f(g q) = g f(q)` — at three sample configurations (to
 /// `1e-9` relative). A body or force that is not is a compile error at the symmetry's first
-/// coordinate.
+/// coordinate. The monitor of adaptive steps, `g(q)`, must be invariant too (or the momentum of
+/// the symmetry is not kept): an error at its closure otherwise.
 pub fn check_rotations(
     cx: &crate::ctxt::Ctxt,
     g: &Graph,
     spec: &LieSpec,
     l: NodeId,
     forces: Option<&(Vec<NodeId>, Vec<NodeId>)>,
+    monitor: Option<(NodeId, &syn::ExprClosure)>,
 ) {
     let Some(symmetry) = &spec.symmetry else {
         return;
@@ -158,12 +160,26 @@ pub fn check_rotations(
              listed one but the list leaves out, breaks it; list every rotation and direction the rotations move"
             .to_string(),
     };
-    let lagrangian_varies = (0..3).any(|sample| {
-        let t = sample as f64;
-        let at = g.eval(&[l], &sampler(spec, t, Move::None))[0];
-        let moved = g.eval(&[l], &sampler(spec, t, Move::Rotate(rotation, &points)))[0];
-        differ(at, moved)
-    });
+    let varies = |node: NodeId| {
+        (0..3).any(|sample| {
+            let t = sample as f64;
+            let at = g.eval(&[node], &sampler(spec, t, Move::None))[0];
+            let moved = g.eval(&[node], &sampler(spec, t, Move::Rotate(rotation, &points)))[0];
+            differ(at, moved)
+        })
+    };
+    if let Some((_, closure)) = monitor.filter(|&(m, _)| varies(m)) {
+        cx.error_spanned_by(
+            &closure.body,
+            format!(
+                "the monitor is not invariant under {what}: the step size would depend on the orientation the \
+                 symmetry moves, and its momentum would not be kept; read what the rotations leave unchanged \
+                 (for rotations about the z-axis, e.g. `q.{first}[(2, 2)]` or a direction's `z` component)"
+            ),
+        );
+        return;
+    }
+    let lagrangian_varies = varies(l);
     let at = &symmetry.coords[0].1;
     if lagrangian_varies {
         cx.error_spanned_by(

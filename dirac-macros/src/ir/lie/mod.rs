@@ -179,6 +179,72 @@ pub struct LieCode {
     /// Whether the forces act on a coordinate the declared symmetry rotates (then its momentum
     /// obeys a forced balance rather than being constant).
     pub symmetry_forced: bool,
+    /// Adaptive steps: the monitor and the state on the level set ([`adaptive`]).
+    pub adapt: Option<LieAdaptive>,
+}
+
+/// What adaptive steps add to a system on rotation groups, over the configuration `Q0` and the
+/// physical velocity `Q1` (the velocity symbols of the continuous Lagrangian).
+pub struct LieAdaptive {
+    /// The index of the time coordinate among the coordinates.
+    pub coord: usize,
+    /// The monitor `g(q)`.
+    pub monitor: NodeId,
+    /// The momentum of the state at `(q, v)` on the level set, in the chart (`N` entries): the
+    /// physical momenta `∂L/∂v` — a rotation's body momentum `∂L/∂Ω`, a direction's `∂L/∂ṅ`
+    /// in its frame's tangent basis `(e1, e2)`, a scalar's `∂L/∂ẋ` — and on the time
+    /// coordinate `p_t = −E = L − ⟨∂L/∂v, v⟩`.
+    pub momentum: Vec<NodeId>,
+}
+
+/// The monitor and the level-set momentum of adaptive steps ([`LieAdaptive`]) from the user's
+/// continuous `L` (before the time transformation): `L₂` has momenta `∂L/∂v (q, q'/t')` and
+/// `∂L₂/∂t' = −E + (t'/g − 1)`, so the state with the fictitious velocity `(g v, t' = g)` of a
+/// physical velocity `v` has the physical momenta and `p_t = −E(q, v)`, on the level set
+/// `K₂ = 0` where the transformed flow is the physical one.
+pub fn adaptive(
+    g: &mut Graph,
+    spec: &LieSpec,
+    coord: usize,
+    monitor: NodeId,
+    l: NodeId,
+) -> LieAdaptive {
+    let d: Vec<NodeId> = (0..spec.velocity_len())
+        .map(|v| derivatives(g, &[l], Sym::Q1(v))[0])
+        .collect();
+    let mut power = g.constant(0.0);
+    for (v, &dv) in d.iter().enumerate() {
+        let rate = g.var(Sym::Q1(v));
+        let term = g.mul(dv, rate);
+        power = g.add(power, term);
+    }
+    let minus_energy = g.sub(l, power);
+    let zero = g.constant(0.0);
+    let mut momentum = vec![zero; spec.n()];
+    for (i, c) in spec.coords.iter().enumerate() {
+        let (p, ch, v) = (c.point, c.chart, c.velocity);
+        match c.kind {
+            Kind::Scalar if i == coord => momentum[ch] = minus_energy,
+            Kind::Scalar => momentum[ch] = d[v],
+            Kind::Rotation => momentum[ch..ch + 3].copy_from_slice(&d[v..v + 3]),
+            Kind::Direction => {
+                for a in 0..2 {
+                    let mut sum = g.constant(0.0);
+                    for k in 0..3 {
+                        let e = g.var(Sym::Q0(p + 3 * k + a));
+                        let term = g.mul(e, d[v + k]);
+                        sum = g.add(sum, term);
+                    }
+                    momentum[ch + a] = sum;
+                }
+            }
+        }
+    }
+    LieAdaptive {
+        coord,
+        monitor,
+        momentum,
+    }
 }
 
 /// `cay(x) = I + α x̂ + (α/2)(x xᵀ − |x|² I)`, `α = 4/(4 + |x|²)`, row by row.
@@ -493,6 +559,7 @@ pub fn compile(
         partials: None,
         reduced: None,
         symmetry_forced: false,
+        adapt: None,
         lagrangian: l,
         retract,
         stepper: Stepper {

@@ -1,0 +1,96 @@
+//! Adaptive steps on rotation groups (`time(t), adapt = |q| g` with a continuous Lagrangian on
+//! rotations, directions and scalars; see [`crate::adaptive`]): the time transformation is the
+//! compiler's, so a step is an ordinary step of the transformed discrete Lagrangian; what the
+//! integrators add is a run's first guess and the checks after each step.
+
+use nalgebra::{DMatrix, DVector, SVector};
+
+use super::integrator::StepEquations;
+use super::{blocks, LieLagrangian};
+use crate::error::StepError;
+use crate::stepper::{check_monitor, check_time_increment};
+
+/// Newton's guess for the chart coordinate `z` of a run's first step of fictitious size `h`
+/// from `(q, p)`: the time coordinate's entry `h g(q)` (the step's physical size on the level
+/// set, where `t' = g`), the others solving the step's own equations with it held — the discrete
+/// Legendre transform at the physical step `Δt = h g` — by Newton iterations with a
+/// difference-quotient Jacobian (a guess, once per run). Starting from no motion instead, the
+/// transformed Lagrangian's `Δt L(q, ξ/Δt)` is singular at `Δt = 0`. No motion when the monitor is
+/// not positive and finite (the run's checks report it).
+pub(super) fn first_increment<L, E, const P: usize, const N: usize>(
+    sys: &L,
+    q: &SVector<f64, P>,
+    p: &SVector<f64, N>,
+    h: f64,
+) -> SVector<f64, N>
+where
+    L: LieLagrangian<P, N>,
+    E: StepEquations<L, P, N>,
+{
+    let mut z = SVector::<f64, N>::zeros();
+    let (Some(time), Some(g)) = (L::TIME, sys.monitor(q)) else {
+        return z;
+    };
+    if check_monitor(0, g).is_err() {
+        return z;
+    }
+    let Some(at) = blocks::<L, P, N>().nth(time).map(|b| b.chart) else {
+        return z;
+    };
+    z[at] = h * g;
+    let rows: Vec<usize> = (0..N).filter(|&i| i != at).collect();
+    let scale = p.amax().max(1.0);
+    for _ in 0..8 {
+        let r0 = E::residual(sys, q, p, &z);
+        if rows.iter().all(|&i| r0[i].abs() <= 1e-13 * scale) {
+            break;
+        }
+        let mut jacobian = DMatrix::<f64>::zeros(rows.len(), rows.len());
+        for (c, &i) in rows.iter().enumerate() {
+            let step = 1e-7 * z[i].abs().max(h.abs() * g).max(f64::MIN_POSITIVE);
+            let mut w = z;
+            w[i] += step;
+            let r1 = E::residual(sys, q, p, &w);
+            for (r, &k) in rows.iter().enumerate() {
+                jacobian[(r, c)] = (r1[k] - r0[k]) / step;
+            }
+        }
+        let rhs = DVector::from_iterator(rows.len(), rows.iter().map(|&k| r0[k]));
+        let Some(delta) = jacobian.lu().solve(&rhs) else {
+            break;
+        };
+        let mut next = z;
+        for (c, &i) in rows.iter().enumerate() {
+            next[i] -= delta[c];
+        }
+        if !next.iter().all(|x| x.is_finite()) {
+            break;
+        }
+        z = next;
+    }
+    z
+}
+
+/// The checks after step `k` of fictitious size `h` from the point `q` to `next`: the monitor
+/// positive and finite at `next` ([`StepError::InvalidMonitor`]), and the physical time step —
+/// the increment of coordinate `time`, a group scalar — of the sign of `h`
+/// ([`StepError::TimeReversed`]).
+pub(super) fn check_step<L, const P: usize, const N: usize>(
+    sys: &L,
+    k: usize,
+    h: f64,
+    time: usize,
+    q: &SVector<f64, P>,
+    next: &SVector<f64, P>,
+) -> Result<(), StepError>
+where
+    L: LieLagrangian<P, N>,
+{
+    if let Some(g) = sys.monitor(next) {
+        check_monitor(k, g)?;
+    }
+    if let Some(at) = blocks::<L, P, N>().nth(time).map(|b| b.point) {
+        check_time_increment(k, h, next[at] - q[at])?;
+    }
+    Ok(())
+}
