@@ -1,6 +1,7 @@
 //! Adaptive steps on Kepler's problem: work against precision for the fixed step and the adaptive
 //! step (`time(t), adapt = |q| q.r * q.r.sqrt()`) of the same Lagrangian and rule, at eccentricities
-//! 0.9 and 0.99, for the base step (order 2) and its triple-jump composition (order 4).
+//! 0.9 and 0.99, for the base step (order 2), its triple-jump composition (order 4) and Kahan
+//! and Li's composition of order 6.
 //!
 //! For each method the example finds, by halving the step, the coarsest step whose error in the
 //! orbit's phase after `--orbits` orbits is at most `--tolerance` (against the closed form from
@@ -75,7 +76,7 @@ fn counter<S, R: AsRef<StepStats>>(n: &mut usize) -> impl FnMut(usize, f64, &S, 
 }
 
 /// Phase error and force evaluations of `orbits` orbits by fixed steps, `n` per orbit.
-fn fixed_run(e: f64, n: usize, orbits: usize, composed: bool) -> (f64, usize) {
+fn fixed_run(e: f64, n: usize, orbits: usize, method: CompositionMethod) -> (f64, usize) {
     let sys = KeplerFixed {
         h: TAU / n as f64,
         k: 1.0,
@@ -84,8 +85,8 @@ fn fixed_run(e: f64, n: usize, orbits: usize, composed: bool) -> (f64, usize) {
     let s0 = sys.reduced_state([r0, 0.0], [0.0, omega]);
     let mut evaluations = 0;
     let integ = ReducedIntegrator::plus(sys, options());
-    let summary = if composed {
-        Composition::new(integ, CompositionMethod::TRIPLE_JUMP)
+    let summary = if method.order > 2 {
+        Composition::new(integ, method)
             .run(s0)
             .steps(n * orbits)
             .observe(counter(&mut evaluations))
@@ -106,7 +107,12 @@ fn fixed_run(e: f64, n: usize, orbits: usize, composed: bool) -> (f64, usize) {
 
 /// Phase error, force evaluations and steps of the adaptive step `eps` until the physical time
 /// passes `orbits` periods.
-fn adaptive_run(e: f64, eps: f64, orbits: usize, composed: bool) -> (f64, usize, usize) {
+fn adaptive_run(
+    e: f64,
+    eps: f64,
+    orbits: usize,
+    method: CompositionMethod,
+) -> (f64, usize, usize) {
     let sys = Kepler { h: eps, k: 1.0 };
     let (r0, omega) = periapsis(e);
     let s0 = adaptive::reduced_state(&sys, [r0, 0.0, 0.0], [0.0, omega, 1.0])
@@ -115,8 +121,8 @@ fn adaptive_run(e: f64, eps: f64, orbits: usize, composed: bool) -> (f64, usize,
     let mut evaluations = 0;
     let stop = |_: usize, _: f64, s: &ReducedState<1, 2>| s.g[1] >= end;
     let integ = ReducedIntegrator::plus(sys, options());
-    let summary = if composed {
-        Composition::new(integ, CompositionMethod::TRIPLE_JUMP)
+    let summary = if method.order > 2 {
+        Composition::new(integ, method)
             .run(s0)
             .steps(usize::MAX / 2)
             .stop(stop)
@@ -160,6 +166,13 @@ fn main() {
         1e-6,
         greater_than(0.0),
     );
+    let tolerance_6: f64 = cli.value(
+        "--tolerance-6",
+        "TOL",
+        "phase error the order-6 compositions must reach",
+        1e-6,
+        greater_than(0.0),
+    );
     let long: usize = cli.value(
         "--long",
         "N",
@@ -177,9 +190,10 @@ fn main() {
     cli.finish();
     let debug = std::env::var_os("DEBUG_ADAPTIVE").is_some();
 
-    for (composed, label, tolerance) in [
-        (false, "order 2", tolerance_2),
-        (true, "order 4", tolerance_4),
+    for (method, label, tolerance) in [
+        (CompositionMethod::BASE, "order 2", tolerance_2),
+        (CompositionMethod::TRIPLE_JUMP, "order 4", tolerance_4),
+        (CompositionMethod::KAHAN_LI_6, "order 6", tolerance_6),
     ] {
         println!(
             "{label}: phase error ≤ {tolerance:.0e} after {orbits} orbits — the coarsest step (halving) and its force evaluations"
@@ -187,7 +201,7 @@ fn main() {
         for e in [0.9, 0.99] {
             let mut n = 64;
             let fixed = loop {
-                let (err, evals) = fixed_run(e, n, orbits, composed);
+                let (err, evals) = fixed_run(e, n, orbits, method);
                 if debug {
                     eprintln!("    fixed n = {n}: error {err:.3e}, {evals} evaluations");
                 }
@@ -201,7 +215,7 @@ fn main() {
             };
             let mut eps = 0.4;
             let adaptive = loop {
-                let (err, evals, steps) = adaptive_run(e, eps, orbits, composed);
+                let (err, evals, steps) = adaptive_run(e, eps, orbits, method);
                 if debug {
                     eprintln!("    adaptive ε = {eps}: error {err:.3e}, {steps} steps, {evals} evaluations");
                 }

@@ -169,6 +169,16 @@ impl<const P: usize, const N: usize> StateColumns for ReducedLieState<P, N> {
     }
 }
 
+/// Adaptive steps: the metadata entry `dirac.physical_time` naming the column of the time
+/// coordinate `name` (`g_<name>` of a reduced state, `q_<name>` otherwise) — the physical time
+/// `t_k`, while the file's `t` column holds the run's fictitious time.
+fn physical_time(columns: &[String], name: &str) -> Option<(String, String)> {
+    columns
+        .iter()
+        .find(|c| **c == format!("g_{name}") || **c == format!("q_{name}"))
+        .map(|c| ("dirac.physical_time".to_owned(), c.clone()))
+}
+
 /// The names of a stored point's entries and of the momentum's components of a system on
 /// rotation groups (see [`LieState`]'s columns).
 pub fn lie_names(coordinates: &[(&str, CoordinateKind)]) -> (Vec<String>, Vec<String>) {
@@ -234,14 +244,17 @@ impl RunInfo {
             .map(|p| (*p).to_owned())
             .zip(system.parameter_values())
             .collect();
+        let columns = St::column_names(&L::SHAPE, &L::GROUP);
+        let mut metadata = vec![
+            ("dirac.shape".into(), L::SHAPE.join(",")),
+            ("dirac.group".into(), L::GROUP.join(",")),
+        ];
+        metadata.extend(L::TIME.and_then(|j| physical_time(&columns, L::GROUP[j])));
         RunInfo {
-            columns: St::column_names(&L::SHAPE, &L::GROUP),
+            columns,
             h: system.time_step(),
             parameters,
-            metadata: vec![
-                ("dirac.shape".into(), L::SHAPE.join(",")),
-                ("dirac.group".into(), L::GROUP.join(",")),
-            ],
+            metadata,
         }
     }
 
@@ -366,15 +379,18 @@ where
             .iter()
             .map(|(name, kind)| format!("{name}:{kind:?}"))
             .collect();
+        let columns = LieState::<P, N>::column_names(&point, &chart);
+        let mut metadata = vec![("dirac.coordinates".into(), kinds.join(","))];
+        metadata.extend(L::TIME.and_then(|i| physical_time(&columns, L::COORDINATES[i].0)));
         RunInfo {
-            columns: LieState::<P, N>::column_names(&point, &chart),
+            columns,
             h: system.time_step(),
             parameters: L::PARAMETERS
                 .iter()
                 .map(|p| (*p).to_owned())
                 .zip(system.parameter_values())
                 .collect(),
-            metadata: vec![("dirac.coordinates".into(), kinds.join(","))],
+            metadata,
         }
         .with_newton(self.options())
         .with(

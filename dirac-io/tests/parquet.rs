@@ -527,3 +527,95 @@ fn reduced_rotation_states_are_written_bit_for_bit_with_their_momentum() {
     );
     assert!(kv["dirac.integrator"].starts_with("reduced"));
 }
+
+/// Kepler's problem with adaptive steps (`dt = r^{3/2} dτ`).
+#[reduced_lagrangian(shape(r), group(theta, t), time(t), adapt = |q| q.r.powf(1.5), rule = midpoint)]
+fn kepler(q: Config, v: Velocity, k: f64) -> f64 {
+    0.5 * (v.r * v.r + q.r * q.r * v.theta * v.theta) + k / q.r
+}
+
+/// A spherical pendulum with adaptive steps, reduced about the vertical.
+#[reduced_lagrangian(direction(n), group(t), rule = trapezoid, symmetry(n, axis = z),
+    time(t), adapt = |q| 1.5 + q.n.z)]
+fn swinging(q: Config, v: Velocity, g: f64) -> f64 {
+    0.5 * v.n.dot(&v.n) - g * q.n.z
+}
+
+/// Adaptive runs: the file's `t` column is the fictitious time, and `dirac.physical_time` names
+/// the column of the physical time `t_k`, written bit for bit — for an ensemble of reduced runs
+/// on flat coordinates and a reduced run on a sphere.
+#[test]
+fn adaptive_runs_name_their_physical_time_column() {
+    let dir = scratch("adaptive");
+    let sys = Kepler { h: 0.05, k: 1.0 };
+    let integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
+    let starts: Vec<ReducedState<1, 2>> = [0.5, 0.9]
+        .iter()
+        .map(|&e: &f64| {
+            let r0 = 1.0 - e;
+            dirac::runtime::adaptive::reduced_state(
+                &sys,
+                [r0, 0.0, 0.0],
+                [0.0, (1.0 - e * e).sqrt() / (r0 * r0), 1.0],
+            )
+            .unwrap()
+        })
+        .collect();
+    let results = write_ensemble(
+        &integ,
+        &integ.describe(),
+        &starts,
+        200,
+        |_| Options::new(),
+        &EnsembleOutput::PerMember(dir.join("kepler")),
+    )
+    .unwrap();
+    for (i, start) in starts.iter().enumerate() {
+        assert!(results[i].is_ok());
+        let path = &dirac_io::ensemble::member_file(&dir.join("kepler"), i);
+        let traj = integ.run(*start).steps(200).collect().unwrap();
+        let kv = key_values(path).unwrap();
+        assert_eq!(kv["dirac.physical_time"], "g_t");
+        let physical = read_f64_column(path, "g_t").unwrap();
+        let fictitious = read_f64_column(path, "t").unwrap();
+        assert_eq!(physical.len(), 201);
+        for (k, s) in traj.states.iter().enumerate() {
+            assert_eq!(physical[k].to_bits(), s.g[1].to_bits(), "state {k}");
+            assert!((fictitious[k] - 0.05 * k as f64).abs() < 1e-12);
+        }
+        // The physical steps vary along the orbit.
+        let dt: Vec<f64> = physical.windows(2).map(|w| w[1] - w[0]).collect();
+        let (lo, hi) = dt
+            .iter()
+            .fold((f64::MAX, 0.0_f64), |(l, h), &d| (l.min(d), h.max(d)));
+        assert!(hi > 1.5 * lo, "{lo} {hi}");
+    }
+
+    let sys = Swinging { h: 0.02, g: 1.0 };
+    let (s, c) = 1.2_f64.sin_cos();
+    let start = sys
+        .adaptive_state(
+            &SwingingConfig {
+                n: Vector3::new(s, 0.0, -c),
+                t: 0.0,
+            },
+            &SwingingVelocity {
+                n: Vector3::new(0.0, 0.8, 0.0),
+                t: 1.0,
+            },
+        )
+        .unwrap();
+    let integ = ReducedLieIntegrator::new(sys, NewtonOptions::default());
+    let start = integ.reduce(&start);
+    let traj = integ.run(start).steps(100).collect().unwrap();
+    let path = dir.join("pendulum.parquet");
+    let mut out =
+        ParquetObserver::create(&path, integ.describe(), Options::new().single_file()).unwrap();
+    let result = integ.run(start).steps(100).observe(out.observer()).stream();
+    out.finish_with(&result).unwrap();
+    assert_eq!(key_values(&path).unwrap()["dirac.physical_time"], "q_t");
+    let physical = read_f64_column(&path, "q_t").unwrap();
+    for (k, s) in traj.states.iter().enumerate() {
+        assert_eq!(physical[k].to_bits(), s.q[9].to_bits(), "state {k}");
+    }
+}
