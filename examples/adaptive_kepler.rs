@@ -107,12 +107,7 @@ fn fixed_run(e: f64, n: usize, orbits: usize, method: CompositionMethod) -> (f64
 
 /// Phase error, force evaluations and steps of the adaptive step `eps` until the physical time
 /// passes `orbits` periods.
-fn adaptive_run(
-    e: f64,
-    eps: f64,
-    orbits: usize,
-    method: CompositionMethod,
-) -> (f64, usize, usize) {
+fn adaptive_run(e: f64, eps: f64, orbits: usize, method: CompositionMethod) -> (f64, usize, usize) {
     let sys = Kepler { h: eps, k: 1.0 };
     let (r0, omega) = periapsis(e);
     let s0 = adaptive::reduced_state(&sys, [r0, 0.0, 0.0], [0.0, omega, 1.0])
