@@ -550,3 +550,116 @@ fn a_nonholonomic_skate_with_adaptive_steps_follows_its_circle() {
         );
     }
 }
+
+#[test]
+fn the_run_api_keeps_physical_time_and_lands_on_an_end_time() {
+    let (e, end) = (0.9, 10.0);
+    let eps = 0.02;
+    let sys = Kepler { h: eps, k: 1.0 };
+    let integ = ReducedIntegrator::plus(sys, tight());
+    let traj = integ
+        .run(periapsis(&sys, e))
+        .end_time(end)
+        .collect()
+        .unwrap();
+    // The clock is physical time: each state's time coordinate, and the steps' sizes are Δt_k.
+    for (k, s) in traj.states.iter().enumerate() {
+        assert_eq!(traj.time(k), s.g[1], "time of state {k}");
+    }
+    let last = *traj.last();
+    assert!(
+        (last.g[1] - end).abs() <= 4.0 * f64::EPSILON * end,
+        "{}",
+        last.g[1]
+    );
+    let k = traj.steps() - 1;
+    let longest = (0..k).map(|j| traj.step_size(j)).fold(0.0, f64::max);
+    assert!(
+        traj.step_size(0) < 0.1 * longest,
+        "short steps at periapsis"
+    );
+    // The landing is `adaptive::land_at` on the step that passed the end.
+    let before = traj.states[k];
+    let landed = adaptive::land_at(end, before.g[1], eps, |h| {
+        let (s, _) = ReducedIntegrator::plus(Kepler { h, k: 1.0 }, tight()).step(k, &before)?;
+        Ok((s.g[1], s))
+    })
+    .unwrap();
+    assert_eq!(landed, last);
+    assert_eq!(last.mu, traj.states[0].mu, "momenta bit for bit");
+    let (r, theta) = exact(e, end);
+    assert!((last.x[0] - r).abs().max((last.g[0] - theta).abs()) < 1e-2);
+    // A composition, and a run that starts later: the clock starts at the state's time.
+    let mut later = periapsis(&sys, e);
+    later.g[1] = 5.0;
+    let mut seen = Vec::new();
+    let summary = Composition::new(integ.clone(), CompositionMethod::TRIPLE_JUMP)
+        .run(later)
+        .end_time(5.0 + TAU)
+        .observe(|_, t, s: &ReducedState<1, 2>, _| seen.push((t, s.g[1])))
+        .stream()
+        .unwrap();
+    assert_eq!(seen[0], (5.0, 5.0));
+    assert!(seen.iter().all(|(t, g)| t == g));
+    assert!((summary.t - (5.0 + TAU)).abs() <= 4.0 * f64::EPSILON * (5.0 + TAU));
+    assert_eq!(summary.t, summary.last.g[1]);
+    // An end time before the state's time is a typed error.
+    let err = integ.run(later).end_time(4.0).collect().unwrap_err();
+    assert!(
+        matches!(err.source, StepError::InvalidRun { .. }),
+        "{}",
+        err.source
+    );
+}
+
+/// Two bodies in the plane in their own coordinates, the symmetry declared on them: each
+/// `translate(..)` moves both bodies, and physical time is translated alone.
+#[reduced_lagrangian(coordinates(x[2], y[2], t), translate(x), translate(y), translate(t), time(t),
+    adapt = |q| ((q.x[1] - q.x[0]).powi(2) + (q.y[1] - q.y[0]).powi(2)).powf(0.75), rule = midpoint)]
+fn two_bodies(q: Config, v: Velocity, k: f64) -> f64 {
+    let r = ((q.x[1] - q.x[0]).powi(2) + (q.y[1] - q.y[0]).powi(2)).sqrt();
+    (v.x[0] * v.x[0] + v.x[1] * v.x[1] + v.y[0] * v.y[0] + v.y[1] * v.y[1]) + k / r
+}
+
+/// The two bodies (mass 2 each) at periapsis of their relative orbit of eccentricity `e` (the
+/// relative motion is Kepler's with `k = 1`), drifting together with velocity `(0.3, −0.2)`.
+fn two_bodies_start(sys: &TwoBodies, e: f64) -> ReducedState<2, 3> {
+    use dirac::runtime::AdaptedCoordinates;
+    let r0 = 1.0 - e;
+    let speed = ((1.0 + e) / r0).sqrt();
+    let q = SVector::<f64, 5>::from([-0.5 * r0, 0.5 * r0, 0.0, 0.0, 0.0]);
+    let u = SVector::<f64, 5>::from([0.3, 0.3, -0.2 - 0.5 * speed, -0.2 + 0.5 * speed, 1.0]);
+    adaptive::reduced_state(sys, TwoBodies::to_adapted(&q), TwoBodies::to_adapted(&u)).unwrap()
+}
+
+#[test]
+fn adaptive_steps_with_a_symmetry_declared_on_the_users_coordinates() {
+    let errors: Vec<f64> = [0.04, 0.02, 0.01]
+        .iter()
+        .map(|&eps| {
+            let sys = TwoBodies { h: eps, k: 1.0 };
+            let s0 = two_bodies_start(&sys, 0.9);
+            let traj = ReducedIntegrator::plus(sys, tight())
+                .run(s0)
+                .end_time(4.0)
+                .collect()
+                .unwrap();
+            for s in &traj.states {
+                assert_eq!(s.mu, s0.mu, "total momentum and p_t, bit for bit");
+            }
+            let last = traj.last();
+            assert!((last.g[2] - 4.0).abs() < 1e-14, "{}", last.g[2]);
+            // The relative position is the shape; the orbit is Kepler's.
+            let big_e = common::eccentric_anomaly(0.9, 4.0);
+            let (x, y) = (big_e.cos() - 0.9, (1.0 - 0.81_f64).sqrt() * big_e.sin());
+            (last.x[0] - x).abs().max((last.x[1] - y).abs())
+        })
+        .collect();
+    for w in errors.windows(2) {
+        let observed = (w[0] / w[1]).log2();
+        assert!(
+            (observed - 2.0).abs() < 0.3,
+            "order {observed} from {errors:?}"
+        );
+    }
+}

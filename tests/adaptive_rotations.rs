@@ -387,3 +387,30 @@ fn a_damped_pendulum_with_adaptive_steps_has_order_two_and_balances_its_energy()
         "the gap shrinks with the step: {runs:?}"
     );
 }
+
+#[test]
+fn a_run_on_rotation_groups_lands_on_a_physical_end_time() {
+    let sys = orbiting_system(0.04);
+    let s0 = periapsis(&sys, 0.9);
+    let integ = ReducedLieIntegrator::new(sys, tight());
+    let traj = integ
+        .run(integ.reduce(&s0))
+        .end_time(3.0)
+        .collect()
+        .unwrap();
+    for (k, s) in traj.states.iter().enumerate() {
+        assert_eq!(traj.time(k), s.q[11], "time of state {k}");
+    }
+    let last = traj.last().unreduced();
+    let q = sys.config(&last);
+    assert!((q.t - 3.0).abs() <= 4.0 * f64::EPSILON * 3.0, "{}", q.t);
+    let (x, y) = kepler(0.9, 3.0);
+    let (r, pi) = free_body(sys.config(&s0).r, sys.momenta(&s0).r, 3.0);
+    let error = (q.x - x)
+        .abs()
+        .max((q.y - y).abs())
+        .max((q.r - r).amax())
+        .max((sys.momenta(&last).r - pi).amax());
+    assert!(error < 1e-2, "{error:e}");
+    assert_eq!(traj.last().mu, traj.states[0].mu);
+}

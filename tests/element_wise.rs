@@ -569,3 +569,50 @@ fn a_lattice_too_large_for_memory_is_a_typed_error_before_any_allocation() {
     );
     println!("typed error: {message}");
 }
+
+/// `q` after 8 units of time from a strongly displaced lattice by `method` with `steps` macro
+/// steps at `n = 16`, run-time sized, and the same for the unrolled code (in the user's
+/// coordinates).
+fn composed_toda(method: CompositionMethod, steps: usize) -> (DVector<f64>, V16) {
+    use dirac::runtime::adapted::AdaptedCoordinates;
+    let (m, d, h) = (1.0, 0.9, 8.0 / steps as f64);
+    let el = TodaN { m, d, h, n: 16 };
+    let un = Toda16 { m, d, h };
+    let start = initial(&el, 0.6, 1.2, 0.1);
+    let options = NewtonOptions {
+        abs_tol: 1e-14,
+        rel_tol: 1e-14,
+        ..NewtonOptions::default()
+    };
+    let composed = Composition::new(ElementIntegrator::new(el, options), method);
+    let last = composed.run(start.clone()).steps(steps).collect().unwrap();
+    let reduced = Composition::new(ReducedIntegrator::plus(un, options), method);
+    let r0 = un.trivialize(&Toda16::adapted_state(&s16(&start.q), &s16(&start.p)));
+    let traj = reduced.run(r0).steps(steps).collect().unwrap();
+    let canonical = Toda16::from_adapted_state(&un.untrivialize(traj.last()));
+    (last.last().q.clone(), canonical.q)
+}
+
+#[test]
+fn compositions_of_order_four_and_six_at_run_time_sizes_equal_the_unrolled_code() {
+    for (method, order) in [
+        (CompositionMethod::TRIPLE_JUMP, 4.0),
+        (CompositionMethod::KAHAN_LI_6, 6.0),
+    ] {
+        // The same trajectory as the unrolled code's composition.
+        let (el, un) = composed_toda(method, 20);
+        let gap = (s16(&el) - un).amax();
+        assert!(gap < 1e-12, "{gap:e}");
+        // The order, against a run with four times as many steps.
+        let reference = composed_toda(method, 640).0;
+        let e: Vec<f64> = [20, 40, 80]
+            .iter()
+            .map(|&n| (composed_toda(method, n).0 - &reference).amax())
+            .collect();
+        let observed = (e[1] / e[2]).log2();
+        assert!(
+            (observed - order).abs() < 0.5,
+            "order {observed} from {e:?}"
+        );
+    }
+}

@@ -171,7 +171,7 @@ impl<const P: usize, const N: usize> StateColumns for ReducedLieState<P, N> {
 
 /// Adaptive steps: the metadata entry `dirac.physical_time` naming the column of the time
 /// coordinate `name` (`g_<name>` of a reduced state, `q_<name>` otherwise) — the physical time
-/// `t_k`, while the file's `t` column holds the run's fictitious time.
+/// `t_k` (the run's clock, so the file's `t` column holds the same values).
 fn physical_time(columns: &[String], name: &str) -> Option<(String, String)> {
     columns
         .iter()

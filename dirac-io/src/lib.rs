@@ -48,8 +48,9 @@
 //! `dirac.outcome` (`completed`, `stopped`, `failed`, or `aborted` for an observer dropped
 //! without `finish`), `dirac.steps` and for a failed run `dirac.error.{kind, step, residual,
 //! message}`, and the checksums `dirac.checksum*` ([`integrity`]). A system with adaptive steps
-//! (`time(t), adapt = ..`) adds `dirac.physical_time`, the name of the column that holds the
-//! physical time `t_k` (`g_t` or `q_t`): its `t` column is then the fictitious time. Floats are
+//! (`time(t), adapt = ..`) adds `dirac.physical_time`, the name of the coordinate column that holds
+//! the physical time `t_k` (`g_t` or `q_t`); the run's clock, the `t` column, is that time too.
+//! Floats are
 //! written in Rust's
 //! shortest round-trip form. Values are written with plain encoding and no compression by
 //! default ([`Options::snappy`]), so a reader gets the run's bits exactly.

@@ -179,8 +179,20 @@ pub fn land_at<S>(
     h: f64,
     mut step: impl FnMut(f64) -> Result<(f64, S), StepError>,
 ) -> Result<S, StepError> {
-    let tolerance = 4.0 * f64::EPSILON * end.abs().max(1.0);
     let (t_full, full) = step(h)?;
+    land_within(end, t0, h, (t_full, full), step)
+}
+
+/// [`land_at`] with the full step `(t(h), state)` already taken (the driver's landing on a
+/// run's end time).
+pub(crate) fn land_within<S>(
+    end: f64,
+    t0: f64,
+    h: f64,
+    (t_full, full): (f64, S),
+    mut step: impl FnMut(f64) -> Result<(f64, S), StepError>,
+) -> Result<S, StepError> {
+    let tolerance = landing_tolerance(end);
     if !(t0 < end && end <= t_full) {
         return Err(StepError::InvalidRun {
             reason: format!(
@@ -206,4 +218,10 @@ pub fn land_at<S>(
     Err(StepError::InvalidRun {
         reason: format!("landing on t = {end}: the secant on the fictitious step did not converge"),
     })
+}
+
+/// How close to a physical end time a step must come to have landed on it: 4 ulp of `end` (at
+/// least of 1).
+pub(crate) fn landing_tolerance(end: f64) -> f64 {
+    4.0 * f64::EPSILON * end.abs().max(1.0)
 }

@@ -347,6 +347,10 @@ where
         self.base.time_step()
     }
 
+    fn physical_time(&self, state: &I::State) -> Option<f64> {
+        self.base.physical_time(state)
+    }
+
     /// The base integrator's checks (the macro step must be positive and finite, the parameters
     /// and the initial state finite), and the discrete Lagrangian symmetric at sample points near
     /// `initial` ([`Self::symmetry_defect`] at most [`SYMMETRY_TOLERANCE`]).
@@ -458,25 +462,33 @@ where
     let delta = 0.05 * q.amax().max(1.0);
     let mut worst: f64 = 0.0;
     for j in 0..3 {
-        // Fixed directions, neither aligned with an axis nor with each other.
-        let d = SVector::<f64, N>::from_fn(|i, _| {
-            (1.0 + 0.37 * j as f64 + 0.61 * i as f64 + 0.13 * (i * j) as f64).sin()
-        });
+        let d = SVector::<f64, N>::from_fn(|i, _| sample_direction(j, i));
         let p = q + delta * d;
         for (q0, q1) in [(q, &p), (&p, q)] {
             let minus = backward.lagrangian(q0, q1);
             let plus = system.lagrangian(q1, q0);
-            let scale = minus.abs().max(plus.abs()).max(f64::MIN_POSITIVE);
-            let defect = (minus + plus).abs() / scale;
-            // A NaN stays NaN (f64::max would drop it), so the caller rejects it.
-            worst = if defect.is_nan() || worst.is_nan() {
-                f64::NAN
-            } else {
-                worst.max(defect)
-            };
+            worst = worse_defect(worst, minus, plus);
         }
     }
     worst
+}
+
+/// Entry `i` of the `j`-th sample direction of [`symmetry_defect`]: fixed directions, neither
+/// aligned with an axis nor with each other.
+pub(crate) fn sample_direction(j: usize, i: usize) -> f64 {
+    (1.0 + 0.37 * j as f64 + 0.61 * i as f64 + 0.13 * (i * j) as f64).sin()
+}
+
+/// `worst` updated with the relative defect of `L_d(q0, q1; −h) = minus` and
+/// `L_d(q1, q0; h) = plus`. A NaN stays NaN (`f64::max` would drop it), so the caller rejects it.
+pub(crate) fn worse_defect(worst: f64, minus: f64, plus: f64) -> f64 {
+    let scale = minus.abs().max(plus.abs()).max(f64::MIN_POSITIVE);
+    let defect = (minus + plus).abs() / scale;
+    if defect.is_nan() || worst.is_nan() {
+        f64::NAN
+    } else {
+        worst.max(defect)
+    }
 }
 
 #[cfg(test)]

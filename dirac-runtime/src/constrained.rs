@@ -691,6 +691,10 @@ where
         self.system.time_step()
     }
 
+    fn physical_time(&self, state: &F::State) -> Option<f64> {
+        L::TIME.map(|j| F::configuration(&self.system, state)[S + j])
+    }
+
     /// The inputs, and `‖φ(q_0)‖∞` within the Newton tolerances (×10³): a typed
     /// [`StepError::ConstraintViolated`] otherwise.
     fn check(&self, initial: &F::State) -> Result<(), StepError> {

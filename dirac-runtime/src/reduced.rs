@@ -459,6 +459,10 @@ where
         crate::stepper::monitor_at(&self.system, 0, &initial.x).map(|_| ())
     }
 
+    fn physical_time(&self, state: &ReducedState<S, K>) -> Option<f64> {
+        L::TIME.map(|j| state.g[j])
+    }
+
     fn workspace(&self) -> Self::Workspace {
         ReducedWorkspace {
             solver: self.system.linear_solver(),

@@ -49,6 +49,17 @@ pub trait Stepper {
         0
     }
 
+    /// Adaptive steps ([`crate::adaptive`]): the physical time of `state` — its time
+    /// coordinate — for a system declared with `time(t), adapt = |q| g`; `None` for a system
+    /// stepped in physical time. When it is `Some`, the driver's clock is this time: a run's
+    /// times, its stop conditions and observers see `t_k`, a collected trajectory's
+    /// `time(k)` and `step_size(k)` are `t_k` and `Δt_k`, and an end time is a physical time,
+    /// landed on exactly by a last step of the fictitious size that reaches it.
+    fn physical_time(&self, state: &Self::State) -> Option<f64> {
+        let _ = state;
+        None
+    }
+
     /// Takes step `k`, of size `h`, from `state` in `workspace` with the controls `u` (in the
     /// order of [`crate::DiscreteLagrangian::CONTROLS`]; empty: the values the system holds).
     ///

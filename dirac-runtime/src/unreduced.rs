@@ -208,6 +208,10 @@ where
         crate::stepper::monitor_at(&self.system, 0, &x).map(|_| ())
     }
 
+    fn physical_time(&self, state: &UnreducedState<N>) -> Option<f64> {
+        L::TIME.map(|j| state.q[S + j])
+    }
+
     fn workspace(&self) -> Self::Workspace {
         UnreducedWorkspace {
             solver: self.system.unreduced_linear_solver(),

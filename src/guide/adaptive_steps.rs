@@ -30,30 +30,41 @@
 //! // physical velocity (ṙ, θ̇, 1). The state is put on the energy level, p_t = −E.
 //! let (e, r0): (f64, f64) = (0.9, 0.1);
 //! let start = adaptive::reduced_state(&sys, [r0, 0.0, 0.0], [0.0, (1.0 - e * e).sqrt() / (r0 * r0), 1.0])?;
+//! let period = 2.0 * std::f64::consts::PI;
 //! let traj = ReducedIntegrator::plus(sys, NewtonOptions::default())
 //!     .run(start)
-//!     .steps(1_000_000)
-//!     .stop(|_, _, s: &ReducedState<1, 2>| s.g[1] >= 2.0 * std::f64::consts::PI) // one period
+//!     .end_time(period) // a physical time, landed on exactly
 //!     .collect()?;
 //! let last = traj.last();
+//! assert!((last.g[1] - period).abs() < 1e-14);
 //! // The angular momentum and p_t = −E are momenta of symmetries: copied bit for bit.
 //! assert_eq!(last.mu, start.mu);
 //! assert!((start.mu[1] - 0.5).abs() < 1e-12); // E = −1/(2a)
-//! // Short steps at periapsis, long ones at apoapsis.
-//! let dt = |k: usize| traj.states[k + 1].g[1] - traj.states[k].g[1];
-//! assert!(dt(traj.steps() / 2) > 20.0 * dt(0));
+//! // The run's clock is physical time: short steps at periapsis, long ones at apoapsis.
+//! assert_eq!(traj.time(3), traj.states[3].g[1]);
+//! assert!(traj.step_size(traj.steps() / 2) > 20.0 * traj.step_size(0));
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
-//! The state's `g[1]` is the physical time `t_k` (reconstructed like any group coordinate) and
-//! `t_{k+1} − t_k` the step `Δt_k` it took; the driver's own times are fictitious. A run stopped
-//! on `t ≥ T` ends one step past `T`; to end on `T` exactly, take that step again from the state
-//! before it with [`adaptive::land_at`](crate::runtime::adaptive::land_at), which finds the
-//! fictitious step that lands on `T` (by the secant method, to a few ulp) — a step of the same
-//! integrator, so the momenta stay exact. A monitor that
+//! The state's `g[1]` is the physical time `t_k` (reconstructed like any group coordinate), and
+//! it is the run's clock: observers, stop conditions and a collected trajectory's `time(k)` see
+//! `t_k`, `step_size(k)` is the step `Δt_k`, a run starts at the state's time (`start_time` does
+//! not apply), and `.end_time(T)` is a physical time. The step that passes `T` is taken again
+//! with the fictitious step that lands on it (found by the secant method, to a few ulp:
+//! [`adaptive::land_at`](crate::runtime::adaptive::land_at), which you can also call yourself) —
+//! a step of the same integrator, so the momenta stay exact. A monitor that
 //! reads a group coordinate (it would break that symmetry and make steps depend on the origin of
-//! time), a body that reads `t` (not autonomous), a discrete Lagrangian and `coordinates(..)` are
-//! compile errors, each at its token.
+//! time), a body that reads `t` (not autonomous) and a discrete Lagrangian are compile errors,
+//! each at its token.
+//!
+//! With the symmetry declared on your own coordinates (`coordinates(..)`, `translate(..)`),
+//! physical time is a coordinate translated alone, `coordinates(x[2], y[2], t), translate(x),
+//! translate(y), translate(t), time(t)`, and the monitor may read anything the translations
+//! leave unchanged (`q.x[1] - q.x[0]`), checked at sample points. States are built in the
+//! adapted coordinates: `adaptive::reduced_state(&sys, Sys::to_adapted(&q), Sys::to_adapted(&u))`
+//! (the map is linear, so it takes velocities too). Two bodies in the plane declared this way
+//! keep their total momentum and `p_t` bit for bit and have order 2 against Kepler's equation
+//! for their relative orbit.
 //!
 //! Constraints carry over unchanged: `φ(q) = 0` does not involve time, and `A(q) q̇ = 0` is
 //! `A(q) q' = 0` in fictitious time. A pendulum held by a rod in Cartesian coordinates
@@ -186,6 +197,6 @@
 //!
 //! ## Limits
 //!
-//! Not yet: `coordinates(..)`/`translate(..)` layouts and systems sized at run time; the end
-//! time is landed on by a helper, not by the run itself. On rotation groups the Lagrangian must
+//! Not yet: systems sized at run time. The step
+//! sizes a schedule gives (`.schedule(..)`) are fictitious steps. On rotation groups the Lagrangian must
 //! be continuous (the transformation needs `L(q, v)`), as on flat coordinates.

@@ -7,8 +7,7 @@
 //! a schedule that depends on the state is not variational (the energy may drift). The
 //! structure-preserving way is [adaptive steps](super::adaptive_steps) (`time(t), adapt = |q| g`):
 //! the step follows a monitor you choose, not an error estimate, and is not yet available with
-//! run-time sizes or `coordinates(..)`; a physical end time is landed on
-//! with a helper after the run. Near a singularity of the coordinates (spherical coordinates at
+//! run-time sizes. Near a singularity of the coordinates (spherical coordinates at
 //! a pole, Remark 7.1) a step can solve the discrete equations and still be physically
 //! meaningless when `h` is too coarse there; the conditioning threshold catches degenerate
 //! Jacobians, not coarse steps. In the paper's chart alone, the double spherical pendulum

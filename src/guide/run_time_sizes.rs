@@ -100,6 +100,12 @@
 //! reduced (+) equations (4.6) in another basis; see the
 //! [module documentation](crate::runtime::element)).
 //!
+//! **Compositions.** `Composition::new(ElementIntegrator::new(sys, options), method)` raises a
+//! symmetric rule (midpoint, trapezoid) to order 4 (`TRIPLE_JUMP`) or 6 (`YOSHIDA_6`,
+//! `KAHAN_LI_6`): each stage is the system at `γ_i h`, assembled and solved like the base step,
+//! in a workspace of its own. On the Toda lattice at `n = 16` the composed run-time-sized
+//! lattice follows the composed unrolled code to 1e-12 and shows orders 3.9 and 5.9 (tested).
+//!
 //! **Parallel assembly.** Above [`PARALLEL_MIN_ENTRIES`](crate::runtime::element::PARALLEL_MIN_ENTRIES)
 //! Jacobian block entries the elements are evaluated on rayon's pool, each row block evaluating
 //! the elements that touch its rows and writing only its rows: the result is the serial one,
@@ -118,8 +124,8 @@
 //!
 //! ## Limits
 //!
-//! Only the (+) position–momentum step: no reduced (−) step, no compositions or atlases of
-//! element-wise systems, no step-map Jacobian or sensitivities; integer `let`s are index
+//! Only the (+) position–momentum step and its compositions: no reduced (−) step, no atlases
+//! of element-wise systems, no step-map Jacobian or sensitivities; integer `let`s are index
 //! aliases (`let j = (i + 1) % n;`) and cannot be read as values; indices with a loop index under
 //! a constant-bound inner loop (`x[3 * i + d]` for `d` in `0..3`) are not accepted — declare one
 //! coordinate per component. At small sizes the chord iterations' linear convergence costs

@@ -42,7 +42,7 @@ use syn::parse::{Parse, ParseStream};
 use syn::punctuated::Punctuated;
 use syn::{Expr, Ident, Token};
 
-use crate::ast::layout::{Coord, Layout, MAX_COMPONENTS};
+use crate::ast::layout::{Coord, GroupDecl, Layout, MAX_COMPONENTS};
 use crate::ast::ranges::{parse_ranges, Range, RangeArg, RANGES as RANGES_ACCEPTED};
 use crate::ast::rule::{Rule, RULES};
 use crate::ctxt::Ctxt;
@@ -441,12 +441,21 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
         check_connection_shape(cx, &value, &rows, layout.s(), layout.k());
         rows
     });
-    let adapt = pair_adapt(cx, time, adapt).and_then(|(t, k, monitor)| {
+    let adapt = pair_adapt(cx, time, adapt).and_then(|(t, _, monitor)| {
         let index = layout.group.iter().position(|g| t == g);
-        if layout.declared {
+        // With `translate(..)` the time is a coordinate translated alone: its own group
+        // coordinate, which no other coordinate is measured from.
+        let alone = !layout.declared
+            || layout.group_decls.iter().any(
+                |d| matches!(d, GroupDecl::Translate { names, .. } if names.len() == 1 && names[0] == t),
+            );
+        if !alone {
             cx.error_spanned_by(
-                &k,
-                "adaptive steps are available with `shape(...), group(...)`, not yet with `coordinates(...)`/`translate(...)`",
+                &t,
+                format!(
+                    "`{t}` is not translated alone: physical time is a coordinate the Lagrangian does not read, \
+                     with a translation of its own, `translate({t})`"
+                ),
             );
             None
         } else if let Some(index) = index {

@@ -88,11 +88,7 @@ pub fn transform(
         .iter()
         .any(|sym| matches!(sym, Sym::Q0(i) if is_group(*i)))
     {
-        cx.error_spanned_by(
-            &closure.body,
-            "the monitor reads a group coordinate: it must be a function of the shape coordinates, so that the \
-             symmetry of each group coordinate (time included) is kept and its momentum with it",
-        );
+        monitor_reads_group(cx, closure);
         return None;
     }
     if reads_time(g, &[l], time.at) {
@@ -186,5 +182,42 @@ fn reads_time(g: &Graph, nodes: &[NodeId], time: TimeAt) -> bool {
     g.symbols(nodes).iter().any(|sym| {
         matches!(sym, Sym::Q0(i) if *i == time.point)
             || matches!(sym, Sym::Q1(i) if *i == time.velocity)
+    })
+}
+
+/// The error of a monitor that reads a group coordinate.
+pub fn monitor_reads_group(cx: &Ctxt, closure: &syn::ExprClosure) {
+    cx.error_spanned_by(
+        &closure.body,
+        "the monitor reads a group coordinate: it must be a function of the shape coordinates, so that the \
+         symmetry of each group coordinate (time included) is kept and its momentum with it",
+    );
+}
+
+/// Whether `monitor` (over `Q0` with `s` shape and `k` group coordinates, and parameters)
+/// changes when the group coordinates are translated: sampled at three configurations and two
+/// translations of each group coordinate (to `1e-9` relative), for layouts whose coordinates
+/// are sums of adapted ones.
+pub fn varies_with_group(g: &Graph, monitor: NodeId, s: usize, k: usize) -> bool {
+    (0..3).any(|sample| {
+        let t = f64::from(sample);
+        let value = |shift: Option<(usize, f64)>| {
+            g.eval(&[monitor], &|sym| match sym {
+                Sym::Q0(i) => {
+                    let by = shift.filter(|&(at, _)| at == i).map_or(0.0, |(_, a)| a);
+                    0.4 + 0.13 * i as f64 + 0.21 * t + by
+                }
+                Sym::Param(i) => 0.9 + 0.07 * i as f64 + 0.1 * t,
+                _ => 0.3 + 0.05 * t,
+            })[0]
+        };
+        let at = value(None);
+        (s..s + k).any(|j| {
+            [0.37, -1.3].iter().any(|&a| {
+                let moved = value(Some((j, a)));
+                (moved - at).abs() > 1e-9 * at.abs().max(moved.abs()).max(1.0)
+                    || moved.is_nan() != at.is_nan()
+            })
+        })
     })
 }

@@ -123,9 +123,30 @@ pub fn lower(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<L
                         velocity: s + adapt.index,
                     },
                 };
-                let is_group = |i: usize| i >= s;
+                // With `translate(..)` the user's coordinates are sums of adapted ones, and a
+                // monitor of differences reads group coordinates that cancel: sampled instead.
+                let declared = spec.layout.declared;
+                let is_group = |i: usize| !declared && i >= s;
                 let transformed =
-                    crate::ir::adapt::transform(cx, &mut graph, l, &time, names, &is_group);
+                    crate::ir::adapt::transform(cx, &mut graph, l, &time, names, &is_group)
+                        .filter(|a| {
+                            let varies = declared
+                                && crate::ir::adapt::varies_with_group(&graph, a.monitor, s, k);
+                            if varies {
+                                crate::ir::adapt::monitor_reads_group(cx, &adapt.monitor);
+                            }
+                            !varies
+                        })
+                        .map(|mut a| {
+                            // Invariant, so read at the group's origin: a function of the shape.
+                            if declared {
+                                a.monitor = graph.substitute(a.monitor, &mut |g, sym| match sym {
+                                    Sym::Q0(i) if i >= s => g.constant(0.0),
+                                    other => g.var(other),
+                                });
+                            }
+                            a
+                        });
                 match transformed {
                     Some(a) => (Some(a.lagrangian), Some((adapt.index, a.monitor, l))),
                     None => (None, None),

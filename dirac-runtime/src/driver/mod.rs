@@ -178,23 +178,24 @@ impl Span {
         }
     }
 
-    fn check(&self) -> Result<(), StepError> {
+    /// The run's checks, with the clock starting at `start` (the start time, or the initial
+    /// state's physical time with adaptive steps).
+    fn check(&self, start: f64) -> Result<(), StepError> {
         if self.steps.is_none() && self.end.is_none() {
             return Err(StepError::InvalidRun {
                 reason: "a run needs a length: `.steps(n)`, `.end_time(t)` or both".into(),
             });
         }
-        if !self.start.is_finite() {
+        if !start.is_finite() {
             return Err(StepError::InvalidRun {
-                reason: format!("the start time {} is not finite", self.start),
+                reason: format!("the start time {start} is not finite"),
             });
         }
         if let Some(end) = self.end {
-            if !end.is_finite() || end < self.start {
+            if !end.is_finite() || end < start {
                 return Err(StepError::InvalidRun {
                     reason: format!(
-                        "the end time {end} is not a finite time after the start time {}",
-                        self.start
+                        "the end time {end} is not a finite time after the start time {start}"
                     ),
                 });
             }
@@ -217,14 +218,17 @@ macro_rules! span_options {
             self
         }
 
-        /// Up to the time `t`, reached exactly: the last step is shortened to land on it.
+        /// Up to the time `t`, reached exactly: the last step is shortened to land on it. With
+        /// adaptive steps `t` is a physical time, and the last step is retaken with the
+        /// fictitious size that lands on it ([`crate::Stepper::physical_time`]).
         pub fn end_time(mut self, t: f64) -> Self {
             self.span.end = Some(t);
             self
         }
 
         /// The time of the initial state (default 0): a run continued from a saved state keeps
-        /// its clock.
+        /// its clock. With adaptive steps the clock is the state's own time coordinate, and this
+        /// does not apply.
         pub fn start_time(mut self, t0: f64) -> Self {
             self.span.start = t0;
             self
@@ -451,15 +455,35 @@ where
     X: StopCondition<I::State>,
 {
     let h0 = integrator.time_step();
-    let t0 = span.start;
+    // Adaptive steps: the clock is the state's physical time, and the steps' sizes are
+    // fictitious (see `Stepper::physical_time`).
+    let physical = integrator.physical_time(&initial);
+    let t0 = physical.unwrap_or(span.start);
+    let physical = physical.is_some();
     let requested = span.requested(h0);
     let mut summary = RunSummary::new(h0, initial, t0);
     let fail = |source, summary| Box::new(IntegrationError::new(source, summary, requested));
     // Every state is passed on; the last argument says whether the output stride shows it.
     observe(0, t0, &summary.last, None, true);
-    if let Err(e) = span.check().and_then(|()| integrator.check(&summary.last)) {
+    let checked = if physical {
+        integrator
+            .check(&summary.last)
+            .and_then(|()| span.check(t0))
+    } else {
+        span.check(t0)
+            .and_then(|()| integrator.check(&summary.last))
+    };
+    if let Err(e) = checked {
         return Err(fail(e, summary));
     }
+    // Whether the clock has reached the end time: a physical time is landed on to a few ulp.
+    let reached = |t: f64, end: f64| {
+        if physical {
+            t >= end - crate::adaptive::landing_tolerance(end)
+        } else {
+            t >= end
+        }
+    };
     let mut workspace = integrator.workspace();
     // The controls' buffer: allocated once per run, empty without a control law.
     let mut u = vec![
@@ -481,10 +505,8 @@ where
     let mut k = 0;
     while k < max_steps {
         let t = summary.t;
-        if let Some(end) = span.end {
-            if t >= end {
-                break;
-            }
+        if span.end.is_some_and(|end| reached(t, end)) {
+            break;
         }
         let Some(mut h) = step_size.step_size(k, t, &summary.last, h0) else {
             return Err(fail(StepError::ScheduleEnded { step: k }, summary));
@@ -497,7 +519,7 @@ where
         } else {
             t + h
         };
-        if let Some(end) = span.end {
+        if let Some(end) = span.end.filter(|_| !physical) {
             let tolerance = end_tolerance(end, h);
             if t_next >= end - tolerance {
                 let remaining = end - t;
@@ -516,13 +538,44 @@ where
             return Err(fail(e, summary));
         }
         match integrator.step_into(&mut workspace, k, h, &summary.last, &u, &mut next) {
-            Ok(record) => {
+            Ok(mut record) => {
+                if physical {
+                    t_next = integrator.physical_time(&next).unwrap_or(f64::NAN);
+                    if let Some(end) = span.end.filter(|&end| t_next > end) {
+                        // The step passed the end time: retake it, landing on the end.
+                        let landed = crate::adaptive::land_within(
+                            end,
+                            t,
+                            h,
+                            (t_next, (next.clone(), record)),
+                            |eps| {
+                                let step = integrator.step_with(
+                                    &mut integrator.workspace(),
+                                    k,
+                                    eps,
+                                    &summary.last,
+                                    &u,
+                                )?;
+                                Ok((integrator.physical_time(&step.0).unwrap_or(f64::NAN), step))
+                            },
+                        );
+                        match landed {
+                            Ok((state, landed_record)) => {
+                                t_next = integrator.physical_time(&state).unwrap_or(f64::NAN);
+                                next = state;
+                                record = landed_record;
+                            }
+                            Err(source) => return Err(fail(source, summary)),
+                        }
+                    }
+                }
                 std::mem::swap(&mut summary.last, &mut next);
                 summary.record(record.as_ref());
                 summary.t = t_next;
                 k += 1;
                 let stopped = stop.stop(k, t_next, &summary.last);
-                let last = stopped || k == max_steps || span.end.is_some_and(|end| t_next >= end);
+                let last =
+                    stopped || k == max_steps || span.end.is_some_and(|end| reached(t_next, end));
                 observe(
                     k,
                     t_next,

@@ -657,3 +657,38 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
 
 /// What a failed [`ElementIntegrator`] run keeps.
 pub type ElementError = IntegrationError<ElementTrajectory>;
+
+/// Compositions of order 4 and 6 ([`crate::Composition`]) of a run-time-sized system: each stage
+/// is the system at the stage's step `γ_i h` (negative for some stages), stepped by the same
+/// assembly and solver, in a workspace of its own.
+impl<L: ElementLagrangian> crate::compose::SelfAdjoint for ElementIntegrator<L> {
+    fn with_time_step(&self, h: f64) -> Self {
+        Self {
+            system: self.system.with_time_step(h),
+            ..self.clone()
+        }
+    }
+
+    /// The largest relative defect `|L_d(q0, q1; −h) + L_d(q1, q0; h)|` over the sample pairs
+    /// of [`crate::compose::symmetry_defect`] around the configuration of `at` (NaN where a
+    /// sample is outside the Lagrangian's domain or the state does not fit the sizes).
+    fn symmetry_defect(&self, at: &ElementState) -> f64 {
+        let backward = self.system.with_time_step(-self.system.time_step());
+        let q = &at.q;
+        let delta = 0.05 * q.amax().max(1.0);
+        let mut worst: f64 = 0.0;
+        for j in 0..3 {
+            let d = DVector::from_fn(q.len(), |i, _| crate::compose::sample_direction(j, i));
+            let p = q + d * delta;
+            for (q0, q1) in [(q, &p), (&p, q)] {
+                let minus = sums::value(&backward, q0.as_slice(), q1.as_slice());
+                let plus = sums::value(&self.system, q1.as_slice(), q0.as_slice());
+                let (Ok(minus), Ok(plus)) = (minus, plus) else {
+                    return f64::NAN;
+                };
+                worst = crate::compose::worse_defect(worst, minus, plus);
+            }
+        }
+        worst
+    }
+}

@@ -71,6 +71,15 @@ where
     z
 }
 
+/// The physical time stored in the point `q` of a system with adaptive steps.
+pub(super) fn time_of<L, const P: usize, const N: usize>(q: &SVector<f64, P>) -> Option<f64>
+where
+    L: LieLagrangian<P, N>,
+{
+    let time = L::TIME?;
+    blocks::<L, P, N>().nth(time).map(|b| q[b.point])
+}
+
 /// The checks after step `k` of fictitious size `h` from the point `q` to `next`: the monitor
 /// positive and finite at `next` ([`StepError::InvalidMonitor`]), and the physical time step —
 /// the increment of coordinate `time`, a group scalar — of the sign of `h`

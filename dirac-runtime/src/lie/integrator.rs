@@ -446,6 +446,10 @@ where
         self.system.time_step()
     }
 
+    fn physical_time(&self, state: &LieState<P, N>) -> Option<f64> {
+        super::adaptive::time_of::<L, P, N>(&state.q)
+    }
+
     /// The common checks (time step, finite parameters and state) and every rotation and frame
     /// orthogonal with determinant 1 to [`MANIFOLD_TOLERANCE`].
     fn check(&self, initial: &LieState<P, N>) -> Result<(), StepError> {

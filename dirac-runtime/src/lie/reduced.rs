@@ -507,6 +507,10 @@ where
         self.unreduced.time_step()
     }
 
+    fn physical_time(&self, state: &ReducedLieState<P, N>) -> Option<f64> {
+        super::adaptive::time_of::<L, P, N>(&state.q)
+    }
+
     /// The unreduced integrator's checks, and `mu` the momentum map of `(q, p)` (to `1e-9`
     /// relative; build reduced states with [`ReducedLieIntegrator::reduce`]).
     fn check(&self, initial: &ReducedLieState<P, N>) -> Result<(), StepError> {
