@@ -616,3 +616,167 @@ fn compositions_of_order_four_and_six_at_run_time_sizes_equal_the_unrolled_code(
         );
     }
 }
+
+/// The periodic Toda lattice with a damping force on every particle, sized at run time.
+#[reduced_lagrangian(coordinates(x[n]), translate(x), rule = midpoint,
+    force = |dq| {
+        let mut w = 0.0;
+        for i in 0..n {
+            w -= c * v.x[i] * dq.x[i];
+        }
+        w
+    })]
+fn damped_toda(q: Config, v: Velocity, m: f64, d: f64, c: f64, n: usize) -> f64 {
+    let mut l = 0.0;
+    for i in 0..n {
+        l += 0.5 * m * v.x[i] * v.x[i];
+    }
+    for i in 0..n - 1 {
+        l -= (-(q.x[i + 1] - q.x[i] - d)).exp();
+    }
+    l - (-(q.x[0] + n as f64 * d - q.x[n - 1] - d)).exp()
+}
+
+/// The same at n = 16, unrolled.
+#[reduced_lagrangian(coordinates(x[16]), translate(x), rule = midpoint,
+    force = |dq| {
+        let mut w = 0.0;
+        for i in 0..16 {
+            w -= c * v.x[i] * dq.x[i];
+        }
+        w
+    })]
+fn damped_toda16(q: Config, v: Velocity, m: f64, d: f64, c: f64) -> f64 {
+    let mut l = 0.0;
+    for i in 0..16 {
+        l += 0.5 * m * v.x[i] * v.x[i];
+    }
+    for i in 0..15 {
+        l -= (-(q.x[i + 1] - q.x[i] - d)).exp();
+    }
+    l - (-(q.x[0] + 16.0 * d - q.x[15] - d)).exp()
+}
+
+#[test]
+fn a_damping_force_at_run_time_sizes_is_the_unrolled_forced_step() {
+    use dirac::runtime::adapted::AdaptedCoordinates;
+    let (m, d, c, h) = (1.3, 0.9, 0.2, 0.05);
+    let el = DampedToda { m, d, c, h, n: 16 };
+    let un = DampedToda16 { m, d, c, h };
+    let toda = TodaN { m, d, h, n: 16 };
+    let start = initial(&toda, 0.2, 0.4, 0.1);
+    let integ = ElementIntegrator::new(el, NewtonOptions::default());
+    let steps = 300;
+    let traj = integ.run(start.clone()).steps(steps).collect().unwrap();
+    let reduced = ReducedIntegrator::plus(un, NewtonOptions::default());
+    let r0 = un.trivialize(&DampedToda16::adapted_state(&s16(&start.q), &s16(&start.p)));
+    let red = reduced.run(r0).steps(steps).collect().unwrap();
+    let mut worst = 0.0f64;
+    for k in 0..=steps {
+        let canonical = DampedToda16::from_adapted_state(&un.untrivialize(&red.states[k]));
+        worst = worst
+            .max((canonical.q - s16(&traj.states[k].q)).amax())
+            .max((canonical.p - s16(&traj.states[k].p)).amax());
+    }
+    assert!(
+        worst <= 1e-10,
+        "largest difference over {steps} steps: {worst:e}"
+    );
+    // The forced Noether balance of the translation, step by step: μ_{k+1} − μ_k is the
+    // impulse of the damping, −c h Σ_i v_i with v = (q_{k+1} − q_k)/h, exactly as the
+    // unrolled reduced step keeps μ.
+    let mu: Vec<f64> = traj
+        .states
+        .iter()
+        .map(|s| integ.momentum_map(s).unwrap()[0])
+        .collect();
+    for k in 0..steps {
+        let impulse = -c * (&traj.states[k + 1].q - &traj.states[k].q).sum();
+        let gap = (mu[k + 1] - mu[k] - impulse).abs();
+        assert!(gap <= 1e-14, "step {k}: {gap:e}");
+        assert!((mu[k] - red.states[k].mu[0]).abs() <= 1e-12, "step {k}");
+    }
+    assert!(
+        mu[steps] < 0.5 * mu[0],
+        "the damping takes the momentum: {} -> {}",
+        mu[0],
+        mu[steps]
+    );
+}
+
+/// A driven, damped chain as a discrete Lagrangian with discrete forces, sized at run time: the
+/// damping in loops, the drive on the first particle outside them.
+#[reduced_lagrangian(coordinates(x[n]),
+    force = |dq0, dq1| {
+        let mut w = 0.0;
+        for i in 0..n {
+            w -= 0.5 * c * (q1.x[i] - q0.x[i]) * (dq0.x[i] + dq1.x[i]);
+        }
+        w + 0.5 * h * a * (dq0.x[0] + dq1.x[0])
+    })]
+fn driven_chain(q0: Config, q1: Config, h: f64, c: f64, a: f64, n: usize) -> f64 {
+    let mut l = 0.0;
+    for i in 0..n {
+        l += 0.5 * (q1.x[i] - q0.x[i]) * (q1.x[i] - q0.x[i]) / h;
+    }
+    for i in 0..n - 1 {
+        l -= 0.25 * h * ((q0.x[i + 1] - q0.x[i]).powi(2) + (q1.x[i + 1] - q1.x[i]).powi(2));
+    }
+    l
+}
+
+/// The same at n = 5, unrolled.
+#[reduced_lagrangian(shape(x[5]), group(),
+    force = |dq0, dq1| {
+        let mut w = 0.0;
+        for i in 0..5 {
+            w -= 0.5 * c * (q1.x[i] - q0.x[i]) * (dq0.x[i] + dq1.x[i]);
+        }
+        w + 0.5 * h * a * (dq0.x[0] + dq1.x[0])
+    })]
+fn driven_chain5(q0: Config, q1: Config, h: f64, c: f64, a: f64) -> f64 {
+    let mut l = 0.0;
+    for i in 0..5 {
+        l += 0.5 * (q1.x[i] - q0.x[i]) * (q1.x[i] - q0.x[i]) / h;
+    }
+    for i in 0..4 {
+        l -= 0.25 * h * ((q0.x[i + 1] - q0.x[i]).powi(2) + (q1.x[i + 1] - q1.x[i]).powi(2));
+    }
+    l
+}
+
+#[test]
+fn discrete_forces_at_run_time_sizes_are_the_unrolled_forced_step() {
+    let (h, c, a) = (0.05, 0.3, 0.7);
+    let el = DrivenChain { h, c, a, n: 5 };
+    let un = DrivenChain5 { h, c, a };
+    let q0 = DVector::from_fn(5, |i, _| 0.1 * (i as f64).sin());
+    let p0 = DVector::from_fn(5, |i, _| 0.2 * (i as f64).cos());
+    let start = ElementState::new(q0.clone(), p0.clone());
+    let traj = ElementIntegrator::new(el, NewtonOptions::default())
+        .run(start)
+        .steps(200)
+        .collect()
+        .unwrap();
+    let fixed = UnreducedIntegrator::new(un, NewtonOptions::default())
+        .run(UnreducedState::new(
+            SVector::<f64, 5>::from_column_slice(q0.as_slice()),
+            SVector::<f64, 5>::from_column_slice(p0.as_slice()),
+        ))
+        .steps(200)
+        .collect()
+        .unwrap();
+    let worst = traj
+        .states
+        .iter()
+        .zip(&fixed.states)
+        .map(|(e, f)| {
+            (SVector::<f64, 5>::from_column_slice(e.q.as_slice()) - f.q)
+                .amax()
+                .max((SVector::<f64, 5>::from_column_slice(e.p.as_slice()) - f.p).amax())
+        })
+        .fold(0.0, f64::max);
+    assert!(worst <= 1e-12, "{worst:e}");
+    // The drive moves the chain.
+    assert!(traj.last().q[0] > q0[0] + 0.1, "{}", traj.last().q[0]);
+}

@@ -74,8 +74,33 @@ fn expand_element(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> 
     let spec = cx.finish(spec)?;
     let cx = Ctxt::new();
     let configs = [&spec.sig.q0, &spec.sig.q1];
-    let split = families::split(&cx, &func.block, &spec.sizes, &spec.coords, configs);
+    let split = families::split(&cx, &func.block, &spec.sizes, &spec.coords, &configs);
     let split = cx.finish(split)?;
+    // The forces: their virtual work split into families the same way, reading the
+    // displacements as a third configuration.
+    let force_split = match &spec.force {
+        None => Vec::new(),
+        Some(closure) => {
+            let cx = Ctxt::new();
+            let expected = if spec.sig.continuous { 1 } else { 2 };
+            let dq = crate::ir::force::closure_args(&cx, closure, expected);
+            let dq = cx.finish(dq)?;
+            let block: syn::Block = match &*closure.body {
+                syn::Expr::Block(b) => b.block.clone(),
+                other => syn::parse_quote!({ #other }),
+            };
+            let configs: Vec<&syn::Ident> = [&spec.sig.q0, &spec.sig.q1]
+                .into_iter()
+                .chain(&dq)
+                .collect();
+            let cx = Ctxt::new();
+            let split = families::split(&cx, &block, &spec.sizes, &spec.coords, &configs);
+            cx.finish(split)?
+        }
+    };
+    // Every family, the Lagrangian's first.
+    let lagrangian_families = split.len();
+    let split: Vec<families::FamilySpec> = split.into_iter().chain(force_split).collect();
     let cx = Ctxt::new();
     let min_size = families::min_size(&cx, &split, &spec.coords, spec.sizes.len());
     let min_size = cx.finish(min_size)?;
@@ -83,7 +108,13 @@ fn expand_element(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> 
     let depth = split.iter().map(|f| f.loops.len()).max().unwrap_or(0);
     let codes: Option<Vec<_>> = split
         .iter()
-        .map(|f| crate::ir::element::element(&cx, &spec, f, depth))
+        .enumerate()
+        .map(|(i, f)| match &spec.force {
+            Some(closure) if i >= lagrangian_families => {
+                crate::ir::element::force_element(&cx, &spec, f, depth, closure)
+            }
+            _ => crate::ir::element::element(&cx, &spec, f, depth),
+        })
         .collect();
     let codes = cx.finish(codes)?;
     Ok(crate::codegen::element::generate(

@@ -78,6 +78,7 @@ pub fn generate(
     for (f, (family, code)) in families.iter().zip(codes).enumerate() {
         let name = format_ident!("__{}Family{}", ty, f);
         let s = code.width;
+        let force = code.force;
         let depth = family.loops.len();
         let loop_vars: Vec<Ident> = (0..depth).map(|k| format_ident!("__i{}", k)).collect();
         let size_tok = |k: usize| {
@@ -195,9 +196,10 @@ pub fn generate(
             None => quote!(([f64::NAN; #s], [[f64::NAN; #s]; #s])),
         };
         described.push(format!(
-            "{}×{s} ({} operations for R + J + p)",
+            "{}×{s} ({} operations for R + J + p{})",
             depth_word(depth),
-            all.operations
+            all.operations,
+            if force { ", forces" } else { "" }
         ));
         let gen = lints::generated();
         family_items.extend(quote! {
@@ -209,6 +211,7 @@ pub fn generate(
             #[allow(unused_variables, unused_parens, clippy::identity_op, clippy::erasing_op, clippy::unnecessary_cast, clippy::double_parens, clippy::possible_missing_comma)]
             impl #rt::Family<#s> for #name<'_> {
                 const DEPTH: usize = #depth;
+                const FORCE: bool = #force;
                 fn elements(&self, visit: &mut dyn FnMut(&[i64], [i64; #s])) {
                     let sys = self.0;
                     let __o = sys.__offsets();
@@ -253,6 +256,7 @@ pub fn generate(
         quote!(vec![#(#ranges),*])
     });
     let continuous = spec.sig.continuous;
+    let forced = codes.iter().any(|c| c.force);
     let generated = format!(
         "element-wise, sizes chosen at run time: {} famil{} of elements: {}",
         codes.len(),
@@ -314,7 +318,13 @@ pub fn generate(
         clippy::needless_pass_by_value,
         reason = "the configurations hold `Vec`s whose lengths are the sizes; the attribute passes them by value as it does fixed-size ones"
     )]));
-    let user = user_function(&user_func, &config, false, &[], true);
+    // Parameters that only the forces read are still arguments of the function: mark them used.
+    let touch: Vec<Ident> = if spec.force.is_some() {
+        spec.sig.fn_params().to_vec()
+    } else {
+        Vec::new()
+    };
+    let user = user_function(&user_func, &config, false, &touch, true);
     let gen = lints::generated();
     let step_field = &spec.sig.step;
     quote! {
@@ -378,6 +388,7 @@ pub fn generate(
             const SIZES: &'static [&'static str] = &[#(#size_names),*];
             const MIN_SIZE: usize = #min_size;
             const CONTINUOUS: bool = #continuous;
+            const FORCED: bool = #forced;
             fn sizes(&self) -> ::std::vec::Vec<usize> {
                 ::std::vec![#(self.#sizes),*]
             }

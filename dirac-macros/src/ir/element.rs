@@ -35,6 +35,8 @@ pub struct ElementCode {
     /// `∂L^e/∂v` and `∂²L^e/∂v²` (row `a`), over `Q0 = q`, `Q1 = v`, of a continuous
     /// Lagrangian: the element's share of the Legendre map and its Jacobian.
     pub legendre: Option<(Vec<NodeId>, Vec<Vec<NodeId>>)>,
+    /// Whether this is an element of the forces ([`force_element`]).
+    pub force: bool,
 }
 
 /// The names of the parameters an element body reads: the function's, then the sizes and the
@@ -130,5 +132,71 @@ pub fn element(
         d2,
         energy,
         legendre,
+        force: false,
+    })
+}
+
+/// One family's element of the forces `force = |dq| W` (`W = Σ_e W^e`, each `W^e` linear in the
+/// displacements of its stencil), as an element the assembly sums like the Lagrangian's: its
+/// discrete forces in the places of `D_1 L_d^e` and `D_2 L_d^e` — the forced step is
+/// `R = p_k + Σ_e (D_1 L_d^e + f_d^{e−})`, `p_{k+1} = Σ_e (D_2 L_d^e + f_d^{e+})` — with
+/// `∂f_d^{e−}/∂q_{k+1}` in the place of `D_1 D_2 L_d^e`, no value, no energy and no share of
+/// the Legendre map. A continuous `F^e(q, v)` is formed into `f_d^{e±}` by the rule, as for
+/// fixed sizes ([`crate::ir::force`]). `None` after errors (recorded).
+pub fn force_element(
+    cx: &Ctxt,
+    spec: &ElementSpec,
+    family: &FamilySpec,
+    depth: usize,
+    closure: &syn::ExprClosure,
+) -> Option<ElementCode> {
+    let width = family.slots.len();
+    let expected = if spec.sig.continuous { 1 } else { 2 };
+    let dq = crate::ir::force::closure_args(cx, closure, expected)?;
+    let names = Names {
+        q0: &spec.sig.q0,
+        q1: &spec.sig.q1,
+        coords: CoordName::scalars((0..width).map(slot_name)),
+        params: param_names(spec, depth),
+        dq,
+    };
+    let mut graph = Graph::default();
+    let w = Lowering::new(&mut graph, cx, &names).body(&family.block)?;
+    let g = &mut graph;
+    let parts = crate::ir::force::parts_of(cx, g, w, width, expected, &closure.body)?;
+    let forces = if spec.sig.continuous {
+        let step = spec
+            .sig
+            .params
+            .iter()
+            .position(|p| *p == spec.sig.step)
+            .expect("the time step is a parameter");
+        let h = g.var(Sym::Param(step));
+        let rule = spec.rule.expect("a continuous Lagrangian has a rule");
+        crate::ir::force::discretize(g, &parts[0], width, h, rule)
+    } else {
+        crate::ir::force::Forces {
+            minus: parts[0].clone(),
+            plus: parts[1].clone(),
+        }
+    };
+    let columns: Vec<Vec<NodeId>> = (0..width)
+        .map(|b| derivatives(g, &forces.minus, Sym::Q1(b)))
+        .collect();
+    let d12 = (0..width)
+        .map(|a| (0..width).map(|b| columns[b][a]).collect())
+        .collect();
+    let zero = g.constant(0.0);
+    let continuous = spec.sig.continuous;
+    Some(ElementCode {
+        graph,
+        width,
+        value: zero,
+        d1: forces.minus,
+        d12,
+        d2: forces.plus,
+        energy: continuous.then_some(zero),
+        legendre: continuous.then(|| (vec![zero; width], vec![vec![zero; width]; width])),
+        force: true,
     })
 }

@@ -94,6 +94,19 @@ pub fn lower_parts(
     let dq = closure_args(cx, closure, expected)?;
     let names = Names { dq, ..names };
     let w = Lowering::new(g, cx, &names).scalar_expr(&closure.body, "the virtual work")?;
+    parts_of(cx, g, w, n, expected, &closure.body)
+}
+
+/// The forces of the lowered virtual work `w`: its derivatives in the `n` virtual displacements
+/// of each of its `expected` arguments, with `w` checked to be linear in them (errors at `at`).
+pub fn parts_of(
+    cx: &Ctxt,
+    g: &mut Graph,
+    w: NodeId,
+    n: usize,
+    expected: usize,
+    at: &dyn quote::ToTokens,
+) -> Option<Vec<Vec<NodeId>>> {
     let displacement: [fn(usize) -> Sym; 2] = [Sym::D0, Sym::D1];
     let parts: Vec<Vec<NodeId>> = displacement[..expected]
         .iter()
@@ -103,7 +116,7 @@ pub fn lower_parts(
     let is_displacement = |s: &Sym| matches!(s, Sym::D0(_) | Sym::D1(_));
     if g.symbols(&all).iter().any(is_displacement) {
         cx.error_spanned_by(
-            &closure.body,
+            at.to_token_stream(),
             "the virtual work must be linear in the virtual displacements: write it as `⟨F, dq⟩`, a sum of terms \
              `F_i * dq.x` whose factors `F_i` do not read `dq` (a force may depend on the configurations, the \
              velocities and the parameters, not on the virtual displacement)",
@@ -112,7 +125,7 @@ pub fn lower_parts(
     }
     if !vanishes_without_displacement(g, w) {
         cx.error_spanned_by(
-            &closure.body,
+            at.to_token_stream(),
             "every term of the virtual work must be multiplied by a virtual displacement: at `dq = 0` it is not \
              zero, so a term such as `c * v.x` lacks its `* dq.x`",
         );
@@ -122,7 +135,7 @@ pub fn lower_parts(
 }
 
 /// The closure's argument names, `expected` of them, each a plain name or `name: Config`.
-fn closure_args(cx: &Ctxt, closure: &ExprClosure, expected: usize) -> Option<Vec<syn::Ident>> {
+pub fn closure_args(cx: &Ctxt, closure: &ExprClosure, expected: usize) -> Option<Vec<syn::Ident>> {
     let accepted = "accepted: `force = |dq| <virtual work>` for a continuous Lagrangian, \
                     `force = |dq0, dq1| <virtual work>` for a discrete one";
     let mut ok = true;

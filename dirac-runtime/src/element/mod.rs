@@ -71,6 +71,10 @@ pub use solver::{ElementSolver, ITERATIVE_MIN_DIM, ITERATIVE_MIN_ENTRIES_PER_ROW
 pub trait Family<const S: usize>: Sync {
     /// Number of loop indices of an element (0 for a term outside loops).
     const DEPTH: usize;
+    /// Whether the family is one of the forces (`force = |dq| ..`): its `d1_d2` are the discrete
+    /// forces `f_d^{e−}`, `f_d^{e+}`, its `d1_d2_d12` adds `∂f_d^{e−}/∂q_{k+1}`, and it has no
+    /// value, energy or share of the Legendre map.
+    const FORCE: bool = false;
 
     /// Calls `visit(indices, stencil)` for every element, in loop order: the values of the loop
     /// indices (`DEPTH` of them) and the global indices of the coordinates the element reads,
@@ -128,6 +132,9 @@ pub trait ElementLagrangian: Clone + Debug + Send + Sync + 'static {
     /// Whether the system is a continuous Lagrangian with a quadrature rule (then it has an
     /// energy, [`ElementIntegrator::energy`]).
     const CONTINUOUS: bool;
+    /// Whether the system declares forces (`force = |dq| ..`): families with
+    /// [`Family::FORCE`], and the momentum map of each translation changes by their impulse.
+    const FORCED: bool = false;
 
     /// The sizes this system is built with, in the order of [`Self::SIZES`].
     fn sizes(&self) -> Vec<usize>;
@@ -628,8 +635,14 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
         .map_err(|failure| step_error(k, failure))?;
         // The last pass was at the solution: its `D_2 L_d` is the next momentum.
         assembler.take_momentum(&mut next.p);
-        // μ_{k+1} = μ_k exactly: the first component of each orbit takes the difference.
+        // μ_{k+1} = μ_k exactly (with forces μ_k plus their impulse on the orbit, the forced
+        // discrete Noether balance): the first component of each orbit takes the difference.
         for orbit in assembler.orbits() {
+            let impulse = if L::FORCED {
+                sums::impulse(sys, orbit, q0, next.q.as_slice())
+            } else {
+                0.0
+            };
             let mu0: f64 = orbit.iter().flat_map(|r| r.clone()).map(|i| p0[i]).sum();
             let mu1: f64 = orbit
                 .iter()
@@ -637,7 +650,7 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
                 .map(|i| next.p[i])
                 .sum();
             if let Some(first) = orbit.first().map(|r| r.start) {
-                next.p[first] += mu0 - mu1;
+                next.p[first] += mu0 + impulse - mu1;
             }
         }
         if !next.p.iter().all(|v| v.is_finite()) {

@@ -116,3 +116,54 @@ pub(super) fn energy_at<L: ElementLagrangian>(
 ) -> Result<f64, String> {
     scalar(system, EnergyAt { q, v })
 }
+
+/// The impulse of the forces on one translation's orbit over a step: `Σ_e Σ_a (f_d^{e−} +
+/// f_d^{e+})_a` over the force families' elements and their slots `a` whose coordinate lies in
+/// `orbit`, at `(q0, q1)` — what the forced discrete Noether balance adds to the momentum map,
+/// `μ_{k+1} = μ_k + impulse`. Elements reading outside the coordinates are skipped (the step's
+/// checks report them).
+pub(super) fn impulse<L: ElementLagrangian>(
+    system: &L,
+    orbit: &[std::ops::Range<usize>],
+    q0: &[f64],
+    q1: &[f64],
+) -> f64 {
+    struct Impulse<'a> {
+        orbit: &'a [std::ops::Range<usize>],
+        q0: &'a [f64],
+        q1: &'a [f64],
+        total: f64,
+    }
+    impl FamilyVisitor for Impulse<'_> {
+        fn family<const S: usize, F: Family<S>>(&mut self, family: &F) {
+            if !F::FORCE {
+                return;
+            }
+            let (orbit, q0, q1, n) = (self.orbit, self.q0, self.q1, self.q0.len());
+            let inside = |g: usize| orbit.iter().any(|r| r.contains(&g));
+            let mut total = self.total;
+            family.elements(&mut |indices, stencil| {
+                let valid = stencil.iter().all(|&g| g >= 0 && (g as usize) < n);
+                let st = stencil.map(|g| g.max(0) as usize);
+                if !valid || !st.iter().any(|&g| inside(g)) {
+                    return;
+                }
+                let (minus, plus) = family.d1_d2(indices, &gather(q0, &st), &gather(q1, &st));
+                for (a, &g) in st.iter().enumerate() {
+                    if inside(g) {
+                        total += minus[a] + plus[a];
+                    }
+                }
+            });
+            self.total = total;
+        }
+    }
+    let mut visit = Impulse {
+        orbit,
+        q0,
+        q1,
+        total: 0.0,
+    };
+    system.families(&mut visit);
+    visit.total
+}

@@ -121,6 +121,32 @@ pub fn grid_and_pairs(
     l
 }
 
+/// A damped, driven chain sized at run time: forces per element, written with loops like the
+/// body.
+#[reduced_lagrangian(
+    coordinates(x[n]),
+    translate(x),
+    rule = trapezoid,
+    force = |dq| {
+        let mut w = 0.0;
+        for i in 0..n {
+            w -= c * v.x[i] * dq.x[i];
+        }
+        w + a * (dq.x[0] - dq.x[n - 1])
+    }
+)]
+#[must_use]
+pub fn damped_chain(q: Config, v: Velocity, m: f64, c: f64, a: f64, n: usize) -> f64 {
+    let mut l = 0.0;
+    for i in 0..n {
+        l += 0.5 * m * v.x[i] * v.x[i];
+    }
+    for i in 0..n - 1 {
+        l -= 0.5 * (q.x[i + 1] - q.x[i]).powi(2);
+    }
+    l
+}
+
 /// A heavy top beside a wheel angle, and a pendulum direction: rotation, direction and scalar
 /// coordinates with the matrix and vector operations of the body language, and the rotations
 /// about the vertical as a symmetry.

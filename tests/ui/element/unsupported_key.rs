@@ -1,6 +1,6 @@
 use dirac::prelude::*;
 
-#[reduced_lagrangian(coordinates(x[n]), rule = midpoint, force = |dq| 0.0 * dq.x[0])]
+#[reduced_lagrangian(coordinates(x[n]), rule = midpoint, controls(m))]
 fn lattice(q: Config, v: Velocity, m: f64, n: usize) -> f64 {
     let mut l = 0.0;
     for i in 0..n {

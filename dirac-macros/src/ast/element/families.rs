@@ -80,8 +80,8 @@ struct Splitter<'a> {
     cx: &'a Ctxt,
     sizes: &'a [Ident],
     coords: &'a [ElementCoord],
-    /// The configuration names (`q`, `v` or `q0`, `q1`).
-    configs: [&'a Ident; 2],
+    /// The configuration names (`q`, `v` or `q0`, `q1`, and a force's displacements).
+    configs: &'a [&'a Ident],
     acc: Option<Ident>,
     families: Vec<FamilySpec>,
     /// Terms outside loops, as statements adding to the accumulator.
@@ -94,7 +94,7 @@ pub fn split(
     block: &Block,
     sizes: &[Ident],
     coords: &[ElementCoord],
-    configs: [&Ident; 2],
+    configs: &[&Ident],
 ) -> Option<Vec<FamilySpec>> {
     let mut s = Splitter {
         cx,
@@ -320,7 +320,7 @@ struct Rewriter<'a> {
     cx: &'a Ctxt,
     sizes: &'a [Ident],
     coords: &'a [ElementCoord],
-    configs: [&'a Ident; 2],
+    configs: &'a [&'a Ident],
     loops: &'a [Loop],
     slots: Vec<Slot>,
     keys: HashMap<String, usize>,

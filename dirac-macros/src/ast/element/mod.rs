@@ -35,7 +35,8 @@ use crate::symbol::{
 /// What the attribute of an element-wise system accepts, for messages.
 pub const ELEMENT_KEYS: &str = "`coordinates(x[n], u[nx][ny], c, ...)` (lengths are sizes — the \
 function's `usize` arguments — or integer literals), `translate(<coordinate>, ...)`, \
-`rule = midpoint | trapezoid | left | right`, `name = <TypeName>`, `step = <parameter>`";
+`rule = midpoint | trapezoid | left | right`, `force = |dq| <virtual work>` (or `|dq0, dq1|` for \
+a discrete Lagrangian; written with loops like the body), `name = <TypeName>`, `step = <parameter>`";
 
 /// One dimension of a coordinate: a size or a literal length.
 #[derive(Clone, Debug)]
@@ -61,6 +62,8 @@ pub struct ElementSpec {
     pub translates: Vec<Vec<usize>>,
     pub rule: Option<Rule>,
     pub name: Option<Ident>,
+    /// `force = |dq| W`: the virtual work, a sum over elements like the body.
+    pub force: Option<syn::ExprClosure>,
     /// The signature without the sizes (what the fixed-size front end checks).
     pub sig: Signature,
 }
@@ -116,6 +119,7 @@ pub fn parse(cx: &Ctxt, args: proc_macro2::TokenStream, func: &ItemFn) -> Option
     let (mut coords, mut translates, mut rule, mut name, mut step) =
         (Vec::new(), Vec::new(), None, None, None);
     let (mut rule_key, mut translate_names) = (None, Vec::new());
+    let mut force = None;
     for item in &items {
         let key = item.key().to_string();
         match (symbol::key(item.key()), item) {
@@ -143,10 +147,15 @@ pub fn parse(cx: &Ctxt, args: proc_macro2::TokenStream, func: &ItemFn) -> Option
             (Some(STEP), KeyArg::Value(_, Expr::Path(p))) if p.path.get_ident().is_some() => {
                 step = p.path.get_ident().cloned();
             }
+            (Some(FORCE), KeyArg::Value(_, Expr::Closure(c))) => force = Some(c.clone()),
+            (Some(FORCE), _) => cx.error_spanned_by(
+                item.key(),
+                "expected `force = |dq| <virtual work>`: a closure whose body sums `F * dq.x[i]` over the \
+                 elements, e.g. `force = |dq| { let mut w = 0.0; for i in 0..n { w -= c * v.x[i] * dq.x[i]; } w }`",
+            ),
             (
                 Some(
-                    SHAPE | GROUP | CONNECTION | RANGES | CONTROLS | FORCE | CONSTRAINTS
-                    | NONHOLONOMIC,
+                    SHAPE | GROUP | CONNECTION | RANGES | CONTROLS | CONSTRAINTS | NONHOLONOMIC,
                 ),
                 _,
             ) => cx.error_spanned_by(
@@ -216,6 +225,7 @@ pub fn parse(cx: &Ctxt, args: proc_macro2::TokenStream, func: &ItemFn) -> Option
         translates,
         rule,
         name,
+        force,
         sig,
     })
 }
