@@ -9,7 +9,8 @@
 //! `--seconds` each, interleaved with the same number of steps of the hand-written `O(n)`
 //! bordered-tridiagonal Newton step of `benches/common/toda_hand.rs` — the same discrete
 //! equations in adapted coordinates, the physical-limit baseline, up to n = 20,000: above, its
-//! residual test on the border equation does not converge in 50 corrections), their ratio, the Newton
+//! residual test on the border equation does not converge in 50 corrections), their ratio, the
+//! step of the same lattice with a damping force over the undamped step (`forced×`), the Newton
 //! corrections and Jacobian factorizations per step, the momentum map's largest deviation (exact: round-off), the spread of
 //! the energy at the step midpoints, one residual + Jacobian assembly serial and on all of
 //! rayon's threads (their ratio is the parallel speed-up; the results are the same bit for bit)
@@ -31,7 +32,7 @@ use cli::{at_least, greater_than, Cli};
 
 #[path = "common/toda_n.rs"]
 mod toda_n;
-use toda_n::{initial, TodaN};
+use toda_n::{initial, DampedTodaN, TodaN};
 
 #[path = "../benches/common/toda_hand.rs"]
 #[allow(dead_code)]
@@ -77,6 +78,8 @@ struct Row {
     step_us: f64,
     hand_us: f64,
     ratios: Vec<f64>,
+    /// The damped lattice's step over the undamped one's, per repeat.
+    forced: Vec<f64>,
     corrections: f64,
     factorizations: f64,
     mu_deviation: f64,
@@ -166,8 +169,19 @@ fn measure(n: usize, o: &Options) -> Result<Row, Box<dyn std::error::Error>> {
     let factorizations = summary.factorizations as f64 / summary.steps.max(1) as f64;
     // Timed: the steps alone (the workspace — pattern, ordering, symbolic factorization — is
     // built once per run, before), in the driver's way: two states swapped, nothing allocated.
-    let (mut dirac_s, mut hand_s) = (Vec::new(), Vec::new());
+    let (mut dirac_s, mut hand_s, mut forced) = (Vec::new(), Vec::new(), Vec::new());
     let mut hand_ok = n <= 20_000;
+    // The same lattice with a weak damping force (Newton's work per step stays the same).
+    let damped = ElementIntegrator::new(
+        DampedTodaN {
+            m: sys.m,
+            d: sys.d,
+            c: 1e-3,
+            h: sys.h,
+            n,
+        },
+        NewtonOptions::default(),
+    );
     for _ in 0..o.repeats {
         let mut ws = integ.workspace();
         let (mut state, mut next) = (start.clone(), start.clone());
@@ -176,7 +190,16 @@ fn measure(n: usize, o: &Options) -> Result<Row, Box<dyn std::error::Error>> {
             integ.step_into(&mut ws, k, integ.time_step(), &state, &[], &mut next)?;
             std::mem::swap(&mut state, &mut next);
         }
-        dirac_s.push(t0.elapsed().as_secs_f64() / steps as f64);
+        let unforced = t0.elapsed().as_secs_f64() / steps as f64;
+        dirac_s.push(unforced);
+        let mut ws = damped.workspace();
+        let (mut state, mut next) = (start.clone(), start.clone());
+        let t0 = Instant::now();
+        for k in 0..steps {
+            damped.step_into(&mut ws, k, damped.time_step(), &state, &[], &mut next)?;
+            std::mem::swap(&mut state, &mut next);
+        }
+        forced.push(t0.elapsed().as_secs_f64() / steps as f64 / unforced);
         if hand_ok {
             let mut s = hand_start.clone();
             hand.reset_history();
@@ -208,6 +231,7 @@ fn measure(n: usize, o: &Options) -> Result<Row, Box<dyn std::error::Error>> {
         step_us,
         hand_us,
         ratios,
+        forced,
         corrections,
         factorizations,
         mu_deviation,
@@ -230,11 +254,12 @@ fn main() {
         o.repeats
     );
     println!(
-        "{:>7} {:>11} {:>11} {:>20} {:>6} {:>7} {:>9} {:>10} {:>11} {:>11} {:>6} {:>8}",
+        "{:>7} {:>11} {:>11} {:>20} {:>18} {:>6} {:>7} {:>9} {:>10} {:>11} {:>11} {:>6} {:>8}",
         "n",
         "step µs",
         "hand µs",
         "ratio (range)",
+        "forced× (range)",
         "corr",
         "fact",
         "max|Δμ|",
@@ -254,12 +279,15 @@ fn main() {
                     let (lo, hi) = range(&r.ratios);
                     format!("{:.2} ({lo:.2}–{hi:.2})", median(r.ratios.clone()))
                 };
+                let (lo, hi) = range(&r.forced);
+                let forced = format!("{:.2} ({lo:.2}–{hi:.2})", median(r.forced.clone()));
                 println!(
-                    "{:>7} {:>11.2} {:>11.2} {:>20} {:>6.2} {:>7.4} {:>9.1e} {:>10.1e} {:>11.1} {:>11.1} {:>6.2} {:>8}",
+                    "{:>7} {:>11.2} {:>11.2} {:>20} {:>18} {:>6.2} {:>7.4} {:>9.1e} {:>10.1e} {:>11.1} {:>11.1} {:>6.2} {:>8}",
                     r.n,
                     r.step_us,
                     r.hand_us,
                     ratio,
+                    forced,
                     r.corrections,
                     r.factorizations,
                     r.mu_deviation,

@@ -20,6 +20,27 @@ pub fn toda_n(q: Config, v: Velocity, m: f64, d: f64, n: usize) -> f64 {
     l - (-(q.x[0] + n as f64 * d - q.x[n - 1] - d)).exp()
 }
 
+/// The same lattice with a damping force `−c ẋ_i` on every particle (the forced step of a
+/// run-time-sized system).
+#[reduced_lagrangian(coordinates(x[n]), translate(x), rule = midpoint,
+    force = |dq| {
+        let mut w = 0.0;
+        for i in 0..n {
+            w -= c * v.x[i] * dq.x[i];
+        }
+        w
+    })]
+pub fn damped_toda_n(q: Config, v: Velocity, m: f64, d: f64, c: f64, n: usize) -> f64 {
+    let mut l = 0.0;
+    for i in 0..n {
+        l += 0.5 * m * v.x[i] * v.x[i];
+    }
+    for i in 0..n - 1 {
+        l -= (-(q.x[i + 1] - q.x[i] - d)).exp();
+    }
+    l - (-(q.x[0] + n as f64 * d - q.x[n - 1] - d)).exp()
+}
+
 /// A displaced, moving lattice: `x_i = i d + a sin(2π i/n)`, `p_i = m (b cos(2π i/n) + c)`.
 pub fn initial(sys: &TodaN, a: f64, b: f64, c: f64) -> ElementState {
     let n = sys.n;
