@@ -705,8 +705,8 @@ fn a_damping_force_at_run_time_sizes_is_the_unrolled_forced_step() {
 }
 
 /// A driven, damped chain as a discrete Lagrangian with discrete forces, sized at run time: the
-/// damping in loops, the drive on the first particle outside them.
-#[reduced_lagrangian(coordinates(x[n]),
+/// damping in loops, the drive `a` on the first particle outside them, a control.
+#[reduced_lagrangian(coordinates(x[n]), controls(a),
     force = |dq0, dq1| {
         let mut w = 0.0;
         for i in 0..n {
@@ -726,7 +726,7 @@ fn driven_chain(q0: Config, q1: Config, h: f64, c: f64, a: f64, n: usize) -> f64
 }
 
 /// The same at n = 5, unrolled.
-#[reduced_lagrangian(shape(x[5]), group(),
+#[reduced_lagrangian(shape(x[5]), group(), controls(a),
     force = |dq0, dq1| {
         let mut w = 0.0;
         for i in 0..5 {
@@ -746,16 +746,21 @@ fn driven_chain5(q0: Config, q1: Config, h: f64, c: f64, a: f64) -> f64 {
 }
 
 #[test]
-fn discrete_forces_at_run_time_sizes_are_the_unrolled_forced_step() {
+fn discrete_forces_and_controls_at_run_time_sizes_are_the_unrolled_forced_step() {
     let (h, c, a) = (0.05, 0.3, 0.7);
     let el = DrivenChain { h, c, a, n: 5 };
     let un = DrivenChain5 { h, c, a };
     let q0 = DVector::from_fn(5, |i, _| 0.1 * (i as f64).sin());
     let p0 = DVector::from_fn(5, |i, _| 0.2 * (i as f64).cos());
     let start = ElementState::new(q0.clone(), p0.clone());
-    let traj = ElementIntegrator::new(el, NewtonOptions::default())
-        .run(start)
+    // The drive set before every step by a feedback law on the first particle's position.
+    let drive = |x0: f64, k: usize| a * (0.05 * k as f64).cos() - 0.5 * x0;
+    let integ = ElementIntegrator::new(el, NewtonOptions::default());
+    assert_eq!(integ.control_dim(), 1);
+    let traj = integ
+        .run(start.clone())
         .steps(200)
+        .feedback(|k: usize, _, s: &ElementState, u: &mut [f64]| u[0] = drive(s.q[0], k))
         .collect()
         .unwrap();
     let fixed = UnreducedIntegrator::new(un, NewtonOptions::default())
@@ -764,6 +769,7 @@ fn discrete_forces_at_run_time_sizes_are_the_unrolled_forced_step() {
             SVector::<f64, 5>::from_column_slice(p0.as_slice()),
         ))
         .steps(200)
+        .feedback(|k: usize, _, s: &UnreducedState<5>, u: &mut [f64]| u[0] = drive(s.q[0], k))
         .collect()
         .unwrap();
     let worst = traj
@@ -777,6 +783,27 @@ fn discrete_forces_at_run_time_sizes_are_the_unrolled_forced_step() {
         })
         .fold(0.0, f64::max);
     assert!(worst <= 1e-12, "{worst:e}");
-    // The drive moves the chain.
-    assert!(traj.last().q[0] > q0[0] + 0.1, "{}", traj.last().q[0]);
+    // The drive moves the chain, unlike the same run without controls (the system's own `a`).
+    let free = integ.run(start.clone()).steps(200).collect().unwrap();
+    assert!((free.last().q[0] - traj.last().q[0]).abs() > 0.01);
+    // Controls of the wrong number, or not finite, are typed errors with their step.
+    let mut ws = integ.workspace();
+    let err = integ
+        .step_with(&mut ws, 3, h, &start, &[1.0, 2.0])
+        .unwrap_err();
+    assert!(
+        matches!(
+            err,
+            StepError::InvalidControls {
+                step: 3,
+                expected: 1,
+                found: 2
+            }
+        ),
+        "{err}"
+    );
+    let err = integ
+        .step_with(&mut ws, 4, h, &start, &[f64::NAN])
+        .unwrap_err();
+    assert!(matches!(err, StepError::NonFinite { step: 4, .. }), "{err}");
 }

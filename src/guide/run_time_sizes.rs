@@ -67,9 +67,9 @@
 //! * The rest of the body language is that of [Writing a Lagrangian](super::lagrangians):
 //!   `let`, arithmetic, the f64 functions. A discrete Lagrangian `fn(q0: Config, q1: Config, h:
 //!   f64, ..)` works the same way, element by element.
-//! * Keys: `coordinates`, `translate`, `rule`, `force`, `name`, `step`. Controls, constraints,
-//!   connections and sampling ranges are not available for systems sized at run time (a compile
-//!   error says so).
+//! * Keys: `coordinates`, `translate`, `rule`, `force`, `controls`, `name`, `step`.
+//!   Constraints, connections and sampling ranges are not available for systems sized at run
+//!   time (a compile error says so).
 //!
 //! ## Forces
 //!
@@ -124,6 +124,11 @@
 //! checked like the body's. Tested against the unrolled code of the same lattice (a damped Toda
 //! lattice at `n = 16`, 300 steps, to 1e-10) and of a driven chain with discrete forces.
 //!
+//! `controls(a, ..)` names parameters that a run sets before every step, from a feedback law or
+//! a sequence (`run(..).feedback(..)`, `.controls(..)`), as for fixed sizes: the step then uses
+//! a copy of the system with the controls set (parameters only, no heap memory). The driven chain
+//! above under a feedback drive follows the unrolled code to 1e-12.
+//!
 //! ## What is emitted
 //!
 //! The system type has a field per parameter and per size, and `dim()`, `config(&q)` and
@@ -177,8 +182,8 @@
 //!
 //! ## Limits
 //!
-//! Only the (+) position–momentum step and its compositions, with forces: no reduced (−) step,
-//! no controls or constraints, no atlases of element-wise systems, no step-map Jacobian or
+//! Only the (+) position–momentum step and its compositions, with forces and controls: no
+//! reduced (−) step, no constraints, no atlases of element-wise systems, no step-map Jacobian or
 //! sensitivities; integer `let`s are index
 //! aliases (`let j = (i + 1) % n;`) and cannot be read as values; indices with a loop index under
 //! a constant-bound inner loop (`x[3 * i + d]` for `d` in `0..3`) are not accepted — declare one

@@ -257,6 +257,9 @@ pub fn generate(
     });
     let continuous = spec.sig.continuous;
     let forced = codes.iter().any(|c| c.force);
+    let controls = &spec.controls;
+    let control_names: Vec<String> = controls.iter().map(ToString::to_string).collect();
+    let control_index = 0..controls.len();
     let generated = format!(
         "element-wise, sizes chosen at run time: {} famil{} of elements: {}",
         codes.len(),
@@ -389,6 +392,14 @@ pub fn generate(
             const MIN_SIZE: usize = #min_size;
             const CONTINUOUS: bool = #continuous;
             const FORCED: bool = #forced;
+            const CONTROLS: &'static [&'static str] = &[#(#control_names),*];
+            #[allow(unused_variables, reason = "a system without controls ignores `u`")]
+            fn with_controls(&self, u: &[f64]) -> Self {
+                #[allow(unused_mut, reason = "a system without controls changes nothing")]
+                let mut system = ::std::clone::Clone::clone(self);
+                #(system.#controls = u[#control_index];)*
+                system
+            }
             fn sizes(&self) -> ::std::vec::Vec<usize> {
                 ::std::vec![#(self.#sizes),*]
             }

@@ -135,6 +135,15 @@ pub trait ElementLagrangian: Clone + Debug + Send + Sync + 'static {
     /// Whether the system declares forces (`force = |dq| ..`): families with
     /// [`Family::FORCE`], and the momentum map of each translation changes by their impulse.
     const FORCED: bool = false;
+    /// Names of the controls (`controls(..)` in the attribute): parameters a control law sets
+    /// before every step, in the order a control vector lists them.
+    const CONTROLS: &'static [&'static str] = &[];
+
+    /// The same system with the controls set to `u` (in the order of [`Self::CONTROLS`]).
+    fn with_controls(&self, u: &[f64]) -> Self {
+        let _ = u;
+        self.clone()
+    }
 
     /// The sizes this system is built with, in the order of [`Self::SIZES`].
     fn sizes(&self) -> Vec<usize>;
@@ -559,6 +568,10 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
         ElementWorkspace::new(&self.system, self.parallel, self.linear)
     }
 
+    fn control_dim(&self) -> usize {
+        L::CONTROLS.len()
+    }
+
     fn step_with(
         &self,
         workspace: &mut ElementWorkspace,
@@ -585,11 +598,20 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
         next: &mut ElementState,
     ) -> Result<StepStats, StepError> {
         if !u.is_empty() {
-            return Err(StepError::InvalidControls {
-                step: k,
-                expected: 0,
-                found: u.len(),
-            });
+            if u.len() != L::CONTROLS.len() {
+                return Err(StepError::InvalidControls {
+                    step: k,
+                    expected: L::CONTROLS.len(),
+                    found: u.len(),
+                });
+            }
+            if u.iter().any(|v| !v.is_finite()) {
+                return Err(StepError::NonFinite {
+                    step: k,
+                    what: "the controls",
+                    residual: f64::NAN,
+                });
+            }
         }
         self.check_workspace(workspace)?;
         let n = workspace.dim();
@@ -605,9 +627,21 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
         }
         workspace.guess(&state.q, h, &mut next.q);
         let rho = crate::newton::slice_inf_norm(state.p.as_slice());
-        // The system at the step's size: itself for a fixed step (bit for bit), a copy with the
-        // time step `h` otherwise (a copy of the parameters: no heap memory).
-        let owned = (!same_step(h, self.system.time_step())).then(|| self.system.with_time_step(h));
+        // The system at the step's size and controls: itself for a fixed step without controls
+        // (bit for bit), a copy with the time step `h` and the controls `u` otherwise (a copy of
+        // the parameters: no heap memory).
+        let owned = match (u.is_empty(), same_step(h, self.system.time_step())) {
+            (true, true) => None,
+            (true, false) => Some(self.system.with_time_step(h)),
+            (false, same) => {
+                let system = self.system.with_controls(u);
+                Some(if same {
+                    system
+                } else {
+                    system.with_time_step(h)
+                })
+            }
+        };
         let sys = owned.as_ref().unwrap_or(&self.system);
         let (q0, p0) = (state.q.as_slice(), state.p.as_slice());
         let (solver, r, jacobian, assembler) = workspace.parts();

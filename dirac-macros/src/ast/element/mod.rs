@@ -36,7 +36,8 @@ use crate::symbol::{
 pub const ELEMENT_KEYS: &str = "`coordinates(x[n], u[nx][ny], c, ...)` (lengths are sizes — the \
 function's `usize` arguments — or integer literals), `translate(<coordinate>, ...)`, \
 `rule = midpoint | trapezoid | left | right`, `force = |dq| <virtual work>` (or `|dq0, dq1|` for \
-a discrete Lagrangian; written with loops like the body), `name = <TypeName>`, `step = <parameter>`";
+a discrete Lagrangian; written with loops like the body), `controls(u, ...)` (parameters a control \
+law sets before every step), `name = <TypeName>`, `step = <parameter>`";
 
 /// One dimension of a coordinate: a size or a literal length.
 #[derive(Clone, Debug)]
@@ -64,6 +65,8 @@ pub struct ElementSpec {
     pub name: Option<Ident>,
     /// `force = |dq| W`: the virtual work, a sum over elements like the body.
     pub force: Option<syn::ExprClosure>,
+    /// `controls(u, ..)`: parameters a control law sets before every step.
+    pub controls: Vec<Ident>,
     /// The signature without the sizes (what the fixed-size front end checks).
     pub sig: Signature,
 }
@@ -119,7 +122,7 @@ pub fn parse(cx: &Ctxt, args: proc_macro2::TokenStream, func: &ItemFn) -> Option
     let (mut coords, mut translates, mut rule, mut name, mut step) =
         (Vec::new(), Vec::new(), None, None, None);
     let (mut rule_key, mut translate_names) = (None, Vec::new());
-    let mut force = None;
+    let (mut force, mut controls) = (None, Vec::new());
     for item in &items {
         let key = item.key().to_string();
         match (symbol::key(item.key()), item) {
@@ -148,15 +151,23 @@ pub fn parse(cx: &Ctxt, args: proc_macro2::TokenStream, func: &ItemFn) -> Option
                 step = p.path.get_ident().cloned();
             }
             (Some(FORCE), KeyArg::Value(_, Expr::Closure(c))) => force = Some(c.clone()),
+            (Some(CONTROLS), KeyArg::List(_, list)) => {
+                for e in list {
+                    match e {
+                        Expr::Path(p) if p.path.get_ident().is_some() => {
+                            controls.push(p.path.get_ident().expect("checked").clone());
+                        }
+                        other => cx.error_spanned_by(other, "expected a parameter name"),
+                    }
+                }
+            }
             (Some(FORCE), _) => cx.error_spanned_by(
                 item.key(),
                 "expected `force = |dq| <virtual work>`: a closure whose body sums `F * dq.x[i]` over the \
                  elements, e.g. `force = |dq| { let mut w = 0.0; for i in 0..n { w -= c * v.x[i] * dq.x[i]; } w }`",
             ),
             (
-                Some(
-                    SHAPE | GROUP | CONNECTION | RANGES | CONTROLS | CONSTRAINTS | NONHOLONOMIC,
-                ),
+                Some(SHAPE | GROUP | CONNECTION | RANGES | CONSTRAINTS | NONHOLONOMIC),
                 _,
             ) => cx.error_spanned_by(
                 item.key(),
@@ -219,6 +230,7 @@ pub fn parse(cx: &Ctxt, args: proc_macro2::TokenStream, func: &ItemFn) -> Option
         rule_key.as_ref(),
         rule_key.is_some(),
     )?;
+    crate::ast::signature::check_controls(cx, &controls, &sig);
     Some(ElementSpec {
         sizes,
         coords,
@@ -226,6 +238,7 @@ pub fn parse(cx: &Ctxt, args: proc_macro2::TokenStream, func: &ItemFn) -> Option
         rule,
         name,
         force,
+        controls,
         sig,
     })
 }

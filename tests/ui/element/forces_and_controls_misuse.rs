@@ -61,4 +61,15 @@ fn escaping(q: Config, v: Velocity, c: f64, n: usize) -> f64 {
     l
 }
 
+// A control that is not a parameter.
+#[reduced_lagrangian(coordinates(x[n]), rule = midpoint, controls(z),
+    force = |dq| c * dq.x[0])]
+fn uncontrolled(q: Config, v: Velocity, c: f64, n: usize) -> f64 {
+    let mut l = 0.0;
+    for i in 0..n {
+        l += 0.5 * v.x[i] * v.x[i] - 0.5 * q.x[i] * q.x[i];
+    }
+    l
+}
+
 fn main() {}
