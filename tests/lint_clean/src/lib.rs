@@ -127,6 +127,7 @@ pub fn grid_and_pairs(
     coordinates(x[n]),
     translate(x),
     rule = trapezoid,
+    controls(a),
     force = |dq| {
         let mut w = 0.0;
         for i in 0..n {
