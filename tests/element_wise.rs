@@ -807,3 +807,94 @@ fn discrete_forces_and_controls_at_run_time_sizes_are_the_unrolled_forced_step()
         .unwrap_err();
     assert!(matches!(err, StepError::NonFinite { step: 4, .. }), "{err}");
 }
+
+/// Particles in 3-D joined pairwise by springs of rest length 1, each point stored as three
+/// consecutive entries of one array and read with strided indices.
+#[reduced_lagrangian(coordinates(x[3 * n]), rule = midpoint)]
+fn strided_springs(q: Config, v: Velocity, k: f64, n: usize) -> f64 {
+    let mut l = 0.0;
+    for i in 0..n {
+        for d in 0..3 {
+            l += 0.5 * v.x[3 * i + d] * v.x[3 * i + d];
+        }
+        for j in i + 1..n {
+            let mut r2 = 0.0;
+            for d in 0..3 {
+                r2 += (q.x[3 * j + d] - q.x[3 * i + d]).powi(2);
+            }
+            l -= 0.5 * k * (r2.sqrt() - 1.0).powi(2);
+        }
+    }
+    l
+}
+
+/// The same particles with one array per component.
+#[reduced_lagrangian(coordinates(x[n], y[n], z[n]), rule = midpoint)]
+fn component_springs(q: Config, v: Velocity, k: f64, n: usize) -> f64 {
+    let mut l = 0.0;
+    for i in 0..n {
+        l += 0.5 * (v.x[i] * v.x[i] + v.y[i] * v.y[i] + v.z[i] * v.z[i]);
+        for j in i + 1..n {
+            let r2 =
+                (q.x[j] - q.x[i]).powi(2) + (q.y[j] - q.y[i]).powi(2) + (q.z[j] - q.z[i]).powi(2);
+            l -= 0.5 * k * (r2.sqrt() - 1.0).powi(2);
+        }
+    }
+    l
+}
+
+#[test]
+fn strided_indices_are_three_arrays() {
+    let n = 7;
+    let point = |i: usize| {
+        let t = i as f64;
+        [t.cos() * 1.3, (1.7 * t).sin(), 0.4 * t]
+    };
+    let velocity = |i: usize| {
+        let t = i as f64;
+        [0.2 * (2.0 * t).sin(), -0.1 * t.cos(), 0.05 * t]
+    };
+    // Strided: x[3 i + d]; by component: x[i], y[i], z[i] (offsets 0, n, 2n).
+    let strided = |f: &dyn Fn(usize) -> [f64; 3]| DVector::from_fn(3 * n, |a, _| f(a / 3)[a % 3]);
+    let by_component =
+        |f: &dyn Fn(usize) -> [f64; 3]| DVector::from_fn(3 * n, |a, _| f(a % n)[a / n]);
+    let s = ElementIntegrator::new(
+        StridedSprings { k: 2.0, h: 0.02, n },
+        NewtonOptions::default(),
+    );
+    let c = ElementIntegrator::new(
+        ComponentSprings { k: 2.0, h: 0.02, n },
+        NewtonOptions::default(),
+    );
+    assert!(
+        StridedSprings::GENERATED.contains("famil"),
+        "{}",
+        StridedSprings::GENERATED
+    );
+    let a = s
+        .run(ElementState::new(strided(&point), strided(&velocity)))
+        .steps(300)
+        .collect()
+        .unwrap();
+    let b = c
+        .run(ElementState::new(
+            by_component(&point),
+            by_component(&velocity),
+        ))
+        .steps(300)
+        .collect()
+        .unwrap();
+    let mut worst = 0.0f64;
+    for (x, y) in a.states.iter().zip(&b.states) {
+        for i in 0..n {
+            for d in 0..3 {
+                worst = worst
+                    .max((x.q[3 * i + d] - y.q[d * n + i]).abs())
+                    .max((x.p[3 * i + d] - y.p[d * n + i]).abs());
+            }
+        }
+    }
+    assert!(worst <= 1e-12, "{worst:e}");
+    // The particles moved: the run is not trivial.
+    assert!((&a.last().q - &a.states[0].q).amax() > 0.05);
+}

@@ -48,8 +48,14 @@
 //! element, those in a loop body to the elements of that loop and of the loops nested in it.
 //!
 //! * **Coordinates**: `coordinates(x[n], y[n], u[nx][ny], c)` — one- and two-dimensional arrays
-//!   whose lengths are sizes (or integer literals), and scalars. A two-dimensional coordinate is
-//!   read `q.u[i][j]` and stored row by row.
+//!   whose lengths are sizes (or integer literals, or a literal times a size, `x[3 * n]`), and
+//!   scalars. A two-dimensional coordinate is read `q.u[i][j]` and stored row by row.
+//! * **Points in 3-D as one array**: `coordinates(x[3 * n])` stores point `i` at `x[3 * i]`,
+//!   `x[3 * i + 1]`, `x[3 * i + 2]`; a loop over a constant range inside an element,
+//!   `for d in 0..3 { r2 += (q.x[3 * j + d] - q.x[3 * i + d]).powi(2); }`, is unrolled before
+//!   the element's reads become its stencil (so the element reads all of them). Particles joined
+//!   by springs written this way follow the same particles written as three arrays to 1e-12
+//!   (tested).
 //! * **Indices** are integer code in the sizes, the loop indices and literals, affine in the
 //!   loop indices: `x[i]`, `x[i + 1]`, `x[(i + 1) % n]`, `u[i][(j + 1) % ny]`, `x[n - 1]`. A
 //!   product of loop indices, a division, or anything else is a compile error pointing at the
@@ -185,8 +191,6 @@
 //! Only the (+) position–momentum step and its compositions, with forces and controls: no
 //! reduced (−) step, no constraints, no atlases of element-wise systems, no step-map Jacobian or
 //! sensitivities; integer `let`s are index
-//! aliases (`let j = (i + 1) % n;`) and cannot be read as values; indices with a loop index under
-//! a constant-bound inner loop (`x[3 * i + d]` for `d` in `0..3`) are not accepted — declare one
-//! coordinate per component. At small sizes the chord iterations' linear convergence costs
+//! aliases (`let j = (i + 1) % n;`) and cannot be read as values. At small sizes the chord iterations' linear convergence costs
 //! corrections that a hand-written Newton step on a tridiagonal system does not pay (see
 //! [Benchmarks](super::benchmarks#systems-sized-at-run-time)).

@@ -54,6 +54,10 @@ pub fn generate(
                         let v = *v as i64;
                         quote!(#v)
                     }
+                    Dim::Scaled(k, m) => {
+                        let (s, m) = (&sizes[*k], *m as i64);
+                        quote!((#m * self.#s as i64))
+                    }
                 })
                 .collect();
             quote!(1i64 #(* #factors)*)
@@ -109,6 +113,10 @@ pub fn generate(
                             Dim::Fixed(v) => {
                                 let v = *v as i64;
                                 quote!(#v)
+                            }
+                            Dim::Scaled(k, m) => {
+                                let (s, m) = (size_tok(*k), *m as i64);
+                                quote!((#m * #s))
                             }
                         };
                         quote!(__o[#c] + #i * #len1 + #j)
@@ -295,6 +303,10 @@ pub fn generate(
             quote!(self.#s)
         }
         Dim::Fixed(v) => quote!(#v),
+        Dim::Scaled(s, m) => {
+            let s = &sizes[*s];
+            quote!((#m * self.#s))
+        }
     };
     let to_config = spec.coords.iter().enumerate().map(|(c, coord)| {
         let name = &coord.name;

@@ -257,6 +257,15 @@ impl Splitter<'_> {
         let mut has_terms = false;
         for st in &f.body.stmts {
             match st {
+                // A loop over a constant range (`for d in 0..3`) is part of the element.
+                Stmt::Expr(Expr::ForLoop(inner), _)
+                    if super::unroll::constant_range(inner).is_some() =>
+                {
+                    if super::unroll::contains(&inner.body.stmts, &|e| self.adds_to_acc(e)) {
+                        has_terms = true;
+                    }
+                    own.extend(super::unroll::unroll(inner));
+                }
                 Stmt::Expr(Expr::ForLoop(inner), _) => {
                     self.family(inner, &nest, preamble, &visible);
                 }
@@ -565,6 +574,7 @@ fn check_family(f: &FamilySpec, coords: &[ElementCoord], sizes: &[i64]) -> Resul
                     let len = match coord.dims[d] {
                         Dim::Size(k) => sizes[k],
                         Dim::Fixed(v) => v as i64,
+                        Dim::Scaled(k, m) => m as i64 * sizes[k],
                     };
                     match ix.eval(sizes, indices) {
                         Ok(v) if v < len => {}

@@ -17,6 +17,7 @@
 
 pub mod families;
 pub mod index;
+pub mod unroll;
 
 use proc_macro2::Span;
 use quote::ToTokens;
@@ -44,6 +45,9 @@ law sets before every step), `name = <TypeName>`, `step = <parameter>`";
 pub enum Dim {
     Size(usize),
     Fixed(usize),
+    /// A literal multiple of a size, `x[3 * n]`: `n` points of 3 components, read with strided
+    /// indices (`x[3 * i + d]`).
+    Scaled(usize, usize),
 }
 
 /// A coordinate of an element-wise system.
@@ -243,7 +247,25 @@ pub fn parse(cx: &Ctxt, args: proc_macro2::TokenStream, func: &ItemFn) -> Option
     })
 }
 
-/// `x`, `x[n]`, `u[nx][ny]`, `x[3]`.
+/// `m * n` with `m` a positive integer literal and `n` a size: `Dim::Scaled`.
+fn scaled(m: &Expr, n: &Expr, sizes: &[Ident]) -> Option<Dim> {
+    let Expr::Lit(syn::ExprLit {
+        lit: syn::Lit::Int(m),
+        ..
+    }) = m
+    else {
+        return None;
+    };
+    let m = m.base10_parse::<usize>().ok().filter(|&m| m > 0)?;
+    let Expr::Path(p) = n else { return None };
+    let id = p.path.get_ident()?;
+    sizes
+        .iter()
+        .position(|s| s == id)
+        .map(|k| Dim::Scaled(k, m))
+}
+
+/// `x`, `x[n]`, `u[nx][ny]`, `x[3]`, `x[3 * n]`.
 fn coordinate(cx: &Ctxt, e: &Expr, sizes: &[Ident]) -> Option<ElementCoord> {
     let mut dims = Vec::new();
     let mut cur = e;
@@ -270,6 +292,20 @@ fn coordinate(cx: &Ctxt, e: &Expr, sizes: &[Ident]) -> Option<ElementCoord> {
                             return None;
                         }
                     },
+                    Expr::Binary(b) if matches!(b.op, syn::BinOp::Mul(_)) => {
+                        match scaled(&b.left, &b.right, sizes)
+                            .or_else(|| scaled(&b.right, &b.left, sizes))
+                        {
+                            Some(dim) => dim,
+                            None => {
+                                cx.error_spanned_by(
+                                    &ix.index,
+                                    "a length is a size, an integer literal or a literal times a size (`x[3 * n]`)",
+                                );
+                                return None;
+                            }
+                        }
+                    }
                     Expr::Lit(syn::ExprLit {
                         lit: syn::Lit::Int(i),
                         ..
