@@ -31,13 +31,16 @@
 //! relative spread, and drift (mean of the last tenth of the run minus mean of the first tenth,
 //! relative); the process's peak memory (`VmHWM`). Then the log–log slopes of the step time, the
 //! assembly time and the factorization time against `n` (pairs: about 2 for the assembly; up to
-//! 3 where the dense factorization dominates). A failed step ends the example with its typed
-//! error and exit code 1; bad arguments with the usage and exit code 2.
+//! 3 where the dense factorization dominates). Last, the same cluster written with strided
+//! indices (`cluster::StridedCluster`, `coordinates(x[3 * n])`, point `i` at `x[3 * i + d]`,
+//! the loops over `d` unrolled by the compiler) at the first `n`: its largest difference to the
+//! three-array form over the run and its step time against that form's. A failed step ends the
+//! example with its typed error and exit code 1; bad arguments with the usage and exit code 2.
 
 use std::time::Instant;
 
 use dirac::prelude::*;
-use dirac::runtime::element::ElementWorkspace;
+use dirac::runtime::element::{ElementIntegrator, ElementWorkspace};
 use dirac::runtime::linalg::{DynSparseLu, LinearSolver};
 
 // The code `#[reduced_lagrangian]` emits for this system's pair family trips clippy's
@@ -387,7 +390,92 @@ fn main() {
         yes(spread <= 1e-4),
         yes(seconds <= 60.0)
     );
+    if let Err(e) = strided(rows[0].n, &o) {
+        println!("strided form failed: {e}");
+        failed = true;
+    }
     if failed {
         std::process::exit(1);
     }
+}
+
+/// The same cluster written with strided indices (`coordinates(x[3 * n])`, point `i` at
+/// `x[3 i + d]`), run from the same state: its largest difference to the three-array form over
+/// the run, and its step time against that form's (interleaved, medians).
+fn strided(n: usize, o: &Options) -> Result<(), Box<dyn std::error::Error>> {
+    let (m, eps, sigma) = (1.0, 1.0, 1.0);
+    let arrays = ElementIntegrator::new(
+        Cluster {
+            m,
+            eps,
+            sigma,
+            h: o.h,
+            n,
+        },
+        NewtonOptions::default(),
+    );
+    let strided = ElementIntegrator::new(
+        cluster::StridedCluster {
+            m,
+            eps,
+            sigma,
+            h: o.h,
+            n,
+        },
+        NewtonOptions::default(),
+    );
+    let start = cluster::initial(
+        &Cluster {
+            m,
+            eps,
+            sigma,
+            h: o.h,
+            n,
+        },
+        SPACING,
+        SPEED,
+    );
+    // Three arrays x[k], y[k], z[k] at k, n + k, 2n + k; strided at 3k + d.
+    let permute = |v: &DVector<f64>| DVector::from_fn(3 * n, |a, _| v[(a % 3) * n + a / 3]);
+    let strided_start = ElementState::new(permute(&start.q), permute(&start.p));
+    let a = arrays.run(start.clone()).steps(o.steps).collect()?;
+    let b = strided
+        .run(strided_start.clone())
+        .steps(o.steps)
+        .collect()?;
+    let gap = a
+        .states
+        .iter()
+        .zip(&b.states)
+        .map(|(x, y)| {
+            (permute(&x.q) - &y.q)
+                .amax()
+                .max((permute(&x.p) - &y.p).amax())
+        })
+        .fold(0.0, f64::max);
+    let (mut ratios, steps) = (Vec::new(), o.steps.min(50));
+    for _ in 0..o.repeats.max(3) {
+        let t0 = Instant::now();
+        arrays
+            .run(start.clone())
+            .steps(steps)
+            .observe(|_, _, _, _| ())
+            .stream()?;
+        let t_arrays = t0.elapsed().as_secs_f64();
+        let t0 = Instant::now();
+        strided
+            .run(strided_start.clone())
+            .steps(steps)
+            .observe(|_, _, _, _| ())
+            .stream()?;
+        ratios.push(t0.elapsed().as_secs_f64() / t_arrays);
+    }
+    let (lo, hi) = range(&ratios);
+    println!(
+        "strided form (x[3 * n], {}): n = {n}, largest difference to the three arrays over {} steps {gap:.1e}; step time strided / arrays {:.2} ({lo:.2}–{hi:.2})",
+        cluster::StridedCluster::GENERATED,
+        o.steps,
+        median(ratios.clone())
+    );
+    Ok(())
 }
