@@ -182,7 +182,12 @@
 //!   time per step against the hand-written `O(n)` Newton step, parallel assembly, memory.
 //! * `cargo run --release --example wave2d`: a 2-D nonlinear wave equation on 316 × 316 nodes
 //!   (`--linear direct` for the sparse LU instead of conjugate gradients).
-//! * `cargo run --release --example cluster`: a Lennard-Jones cluster, pairs, n = 64 … 256.
+//! * `cargo run --release --example cluster`: a Lennard-Jones cluster, pairs, n = 64 … 256,
+//!   and the same cluster written with strided indices.
+//! * `cargo run --release --example driven_lattice`: a damped Toda lattice of 1000 particles
+//!   driven by a control; its energy changes by the injected minus the dissipated work up to a
+//!   residual of order 2 (1.1e-4 of the injected work at `h = 0.02`, falling by 4.00 at
+//!   `h = 0.01`), and its total momentum by the forces' impulse to 2e-16 per step.
 //!
 //! The measured figures are in [Benchmarks](super::benchmarks#systems-sized-at-run-time).
 //!
