@@ -180,10 +180,17 @@ where
     if u.is_empty() {
         return Ok(None);
     }
-    if u.len() != L::CONTROLS.len() {
+    check_controls(k, L::CONTROLS.len(), u)?;
+    Ok(Some(sys.with_controls(u)))
+}
+
+/// The typed error of step `k` when the controls `u` (not empty) are not `expected` in number
+/// or have a value that is not finite.
+pub(crate) fn check_controls(k: usize, expected: usize, u: &[f64]) -> Result<(), StepError> {
+    if u.len() != expected {
         return Err(StepError::InvalidControls {
             step: k,
-            expected: L::CONTROLS.len(),
+            expected,
             found: u.len(),
         });
     }
@@ -194,7 +201,7 @@ where
             residual: f64::NAN,
         });
     }
-    Ok(Some(sys.with_controls(u)))
+    Ok(())
 }
 
 /// The most states (or step records) a trajectory reserves room for before the first step

@@ -51,6 +51,18 @@ pub fn param_names(spec: &ElementSpec, depth: usize) -> Vec<String> {
         .collect()
 }
 
+/// The time step (a parameter) and the rule of a continuous Lagrangian.
+fn step_and_rule(g: &mut Graph, spec: &ElementSpec) -> (NodeId, crate::ast::rule::Rule) {
+    let step = spec
+        .sig
+        .params
+        .iter()
+        .position(|p| *p == spec.sig.step)
+        .expect("the time step is a parameter");
+    let h = g.var(Sym::Param(step));
+    (h, spec.rule.expect("a continuous Lagrangian has a rule"))
+}
+
 /// Lowers and differentiates one family's element; `None` after errors (recorded).
 pub fn element(
     cx: &Ctxt,
@@ -70,14 +82,7 @@ pub fn element(
     let body = Lowering::new(&mut graph, cx, &names).body(&family.block)?;
     let g = &mut graph;
     let (ld, energy, legendre) = if spec.sig.continuous {
-        let step = spec
-            .sig
-            .params
-            .iter()
-            .position(|p| *p == spec.sig.step)
-            .expect("the time step is a parameter");
-        let h = g.var(Sym::Param(step));
-        let rule = spec.rule.expect("a continuous Lagrangian has a rule");
+        let (h, rule) = step_and_rule(g, spec);
         let c = continuous(g, body, width, rule, Mode::Forward);
         (
             discretize(g, body, width, h, rule),
@@ -165,14 +170,7 @@ pub fn force_element(
     let g = &mut graph;
     let parts = crate::ir::force::parts_of(cx, g, w, width, expected, &closure.body)?;
     let forces = if spec.sig.continuous {
-        let step = spec
-            .sig
-            .params
-            .iter()
-            .position(|p| *p == spec.sig.step)
-            .expect("the time step is a parameter");
-        let h = g.var(Sym::Param(step));
-        let rule = spec.rule.expect("a continuous Lagrangian has a rule");
+        let (h, rule) = step_and_rule(g, spec);
         crate::ir::force::discretize(g, &parts[0], width, h, rule)
     } else {
         crate::ir::force::Forces {

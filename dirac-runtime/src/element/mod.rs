@@ -598,20 +598,7 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
         next: &mut ElementState,
     ) -> Result<StepStats, StepError> {
         if !u.is_empty() {
-            if u.len() != L::CONTROLS.len() {
-                return Err(StepError::InvalidControls {
-                    step: k,
-                    expected: L::CONTROLS.len(),
-                    found: u.len(),
-                });
-            }
-            if u.iter().any(|v| !v.is_finite()) {
-                return Err(StepError::NonFinite {
-                    step: k,
-                    what: "the controls",
-                    residual: f64::NAN,
-                });
-            }
+            crate::stepper::check_controls(k, L::CONTROLS.len(), u)?;
         }
         self.check_workspace(workspace)?;
         let n = workspace.dim();

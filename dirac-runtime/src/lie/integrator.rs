@@ -258,20 +258,7 @@ where
         let mut system = if u.is_empty() {
             self.system.clone()
         } else {
-            if u.len() != L::CONTROLS.len() {
-                return Err(StepError::InvalidControls {
-                    step: k,
-                    expected: L::CONTROLS.len(),
-                    found: u.len(),
-                });
-            }
-            if u.iter().any(|v| !v.is_finite()) {
-                return Err(StepError::NonFinite {
-                    step: k,
-                    what: "the controls",
-                    residual: f64::NAN,
-                });
-            }
+            crate::stepper::check_controls(k, L::CONTROLS.len(), u)?;
             self.system.with_controls(u)
         };
         if !same_step(h, system.time_step()) {
