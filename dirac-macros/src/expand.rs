@@ -128,7 +128,7 @@ fn expand_element(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> 
 /// [`crate::codegen::lie`]).
 fn expand_lie(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> {
     use crate::ir::graph::Graph;
-    use crate::ir::lower::{Lowering, Names};
+    use crate::ir::lower::Lowering;
     let cx = Ctxt::new();
     let spec = crate::ast::lie::parse(&cx, args);
     let rule = spec.as_ref().and_then(|s| s.rule.as_ref());
@@ -144,13 +144,7 @@ fn expand_lie(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> {
     }
     let (spec, sig) = cx.finish(spec.zip(sig))?;
     let cx = Ctxt::new();
-    let names = Names {
-        q0: &sig.q0,
-        q1: &sig.q1,
-        coords: spec.lowering_coords(),
-        params: sig.params.iter().map(ToString::to_string).collect(),
-        dq: Vec::new(),
-    };
+    let names = crate::ir::lower::Names::of(&sig, spec.lowering_coords());
     let mut graph = Graph::default();
     let mut lowering = Lowering::new(&mut graph, &cx, &names);
     let body = lowering.body(&func.block);
@@ -188,13 +182,7 @@ fn expand_lie(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> {
     let forces = match &spec.force {
         None => None,
         Some(closure) => {
-            let names = Names {
-                q0: &sig.q0,
-                q1: &sig.q1,
-                coords: spec.lowering_coords(),
-                params: sig.params.iter().map(ToString::to_string).collect(),
-                dq: Vec::new(),
-            };
+            let names = crate::ir::lower::Names::of(&sig, spec.lowering_coords());
             let cx = Ctxt::new();
             let parts = crate::ir::force::lower_parts(
                 &cx,
@@ -312,13 +300,7 @@ fn lie_adapt(
         );
         return None;
     }
-    let names = crate::ir::lower::Names {
-        q0: &sig.q0,
-        q1: &sig.q1,
-        coords: spec.lowering_coords(),
-        params: sig.params.iter().map(ToString::to_string).collect(),
-        dq: Vec::new(),
-    };
+    let names = crate::ir::lower::Names::of(sig, spec.lowering_coords());
     let groups: Vec<usize> = spec
         .coords
         .iter()

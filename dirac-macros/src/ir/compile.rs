@@ -3,7 +3,7 @@
 //! cheapest group origin), the unreduced stepper, the Hessian of `L_d` and the momentum-level
 //! elimination — on one hash-consed graph.
 
-use syn::{Ident, ItemFn};
+use syn::ItemFn;
 
 use crate::ast::signature::Signature;
 use crate::ast::Spec;
@@ -87,13 +87,7 @@ pub struct SideCode {
 /// Lowers the body (and a continuous `L` to `L_d` by its rule) and the connection matrix;
 /// `None` after errors, all recorded in `cx`.
 pub fn lower(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<Lowered> {
-    let names = Names {
-        q0: &sig.q0,
-        q1: &sig.q1,
-        coords: spec.layout.lowering_coords(),
-        params: sig.params.iter().map(Ident::to_string).collect(),
-        dq: Vec::new(),
-    };
+    let names = Names::of(sig, spec.layout.lowering_coords());
     let (s, k) = (spec.layout.s(), spec.layout.k());
     let mut graph = Graph::default();
     let body = Lowering::new(&mut graph, cx, &names).body(&func.block);
@@ -108,13 +102,7 @@ pub fn lower(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<L
                 );
                 (None, None)
             } else {
-                let names = Names {
-                    q0: &sig.q0,
-                    q1: &sig.q1,
-                    coords: spec.layout.lowering_coords(),
-                    params: sig.params.iter().map(Ident::to_string).collect(),
-                    dq: Vec::new(),
-                };
+                let names = Names::of(sig, spec.layout.lowering_coords());
                 let time = crate::ir::adapt::Declared {
                     name: &adapt.time,
                     monitor: &adapt.monitor,
@@ -207,13 +195,7 @@ pub fn lower(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<L
         }
     });
     let constraints = spec.constraints.as_ref().map(|closure| {
-        let names = Names {
-            q0: &sig.q0,
-            q1: &sig.q1,
-            coords: spec.layout.lowering_coords(),
-            params: sig.params.iter().map(Ident::to_string).collect(),
-            dq: Vec::new(),
-        };
+        let names = Names::of(sig, spec.layout.lowering_coords());
         let step = sig.params.iter().position(|p| *p == sig.step);
         let h = graph.var(Sym::Param(step.expect("the step is a parameter")));
         constraint::lower(

@@ -229,20 +229,13 @@ where
         let backward = self.system.with_time_step(-self.system.time_step());
         let mut worst: f64 = 0.0;
         for j in 0..3 {
-            let d = SVector::<f64, N>::from_fn(|i, _| {
-                0.05 * (1.0 + 0.37 * j as f64 + 0.61 * i as f64 + 0.13 * (i * j) as f64).sin()
-            });
+            let d =
+                SVector::<f64, N>::from_fn(|i, _| 0.05 * crate::compose::sample_direction(j, i));
             let near = self.system.retract(q, &d);
             for (q0, q1) in [(q, &near), (&near, q)] {
                 let minus = backward.lagrangian(q0, q1);
                 let plus = self.system.lagrangian(q1, q0);
-                let scale = minus.abs().max(plus.abs()).max(f64::MIN_POSITIVE);
-                let defect = (minus + plus).abs() / scale;
-                worst = if defect.is_nan() || worst.is_nan() {
-                    f64::NAN
-                } else {
-                    worst.max(defect)
-                };
+                worst = crate::compose::worse_defect(worst, minus, plus);
             }
         }
         worst

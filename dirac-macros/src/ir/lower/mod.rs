@@ -79,6 +79,20 @@ pub struct Names<'a> {
     pub dq: Vec<Ident>,
 }
 
+impl<'a> Names<'a> {
+    /// The names of a body with the signature `sig` reading `coords`: its configurations and
+    /// parameters, no virtual displacements.
+    pub fn of(sig: &'a crate::ast::signature::Signature, coords: Vec<CoordName>) -> Self {
+        Names {
+            q0: &sig.q0,
+            q1: &sig.q1,
+            coords,
+            params: sig.params.iter().map(ToString::to_string).collect(),
+            dq: Vec::new(),
+        }
+    }
+}
+
 pub struct Lowering<'a> {
     g: &'a mut Graph,
     cx: &'a Ctxt,
