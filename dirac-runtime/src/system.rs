@@ -163,9 +163,10 @@ mod sealed {
 }
 
 /// Which reduced equations a trajectory was computed with: the value-level name of a [`Side`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Variant {
     /// Eq. (4.6): unknowns `(x_{k+1}, g_k^+)` (see [`Plus`]).
+    #[default]
     Plus,
     /// Eq. (4.8) with the signs of Definition 2.8: unknowns `(x_{k+1}, g_{k+1}^−)` (see
     /// [`Minus`]).

@@ -112,6 +112,8 @@ pub struct ElementWorkspace {
     r: DVector<f64>,
     jacobian: Option<Vec<f64>>,
     assembler: Assembler,
+    /// The point `q_{k+1} = q_k − Δ` of a (−) step's unknown, formed for each residual pass.
+    scratch: RefCell<DVector<f64>>,
     /// `q_k − q_{k−1}` and `q_{k−1} − q_{k−2}`, and how many of them are known (0, 1, 2).
     last: DVector<f64>,
     before: DVector<f64>,
@@ -232,8 +234,8 @@ pub(super) fn check_stencils<L: ElementLagrangian>(system: &L) -> Result<Vec<Fam
 /// element its loop indices (`depth`), stencil (`width`) and Jacobian positions (`width²`);
 /// the pattern's `E = Σ count·width² + n` entries as `(column, row)` pairs while it is sorted
 /// (2E), its row indices and column pointers twice (the solver keeps a copy: 2E + 2(n + 1)),
-/// the Jacobian's values (E); the residual, next momentum and the two increments of the guess
-/// (4n) and the driver's second state (2n). The sparse factors' fill comes on top, so this is a
+/// the Jacobian's values (E); the residual, next momentum, the (−) step's point and the two
+/// increments of the guess (5n) and the driver's second state (2n). The sparse factors' fill comes on top, so this is a
 /// lower bound of the run's memory. In `u128`, so no count overflows.
 pub(super) fn workspace_bytes(n: usize, shapes: &[FamilyShape]) -> u128 {
     let n = n as u128;
@@ -245,7 +247,7 @@ pub(super) fn workspace_bytes(n: usize, shapes: &[FamilyShape]) -> u128 {
         entries += c * w * w;
     }
     words += 2 * entries + 2 * entries + 2 * (n + 1) + entries;
-    words += 4 * n + 2 * n;
+    words += 5 * n + 2 * n;
     8 * words
 }
 
@@ -375,6 +377,7 @@ impl ElementWorkspace {
             row_idx,
             r: DVector::zeros(n),
             jacobian: None,
+            scratch: RefCell::new(DVector::zeros(n)),
             assembler: Assembler {
                 families,
                 nnz,
@@ -449,12 +452,14 @@ impl ElementWorkspace {
         &mut DVector<f64>,
         &mut Option<Vec<f64>>,
         &Assembler,
+        &RefCell<DVector<f64>>,
     ) {
         (
             &mut self.solver,
             &mut self.r,
             &mut self.jacobian,
             &self.assembler,
+            &self.scratch,
         )
     }
 

@@ -24,6 +24,26 @@
 //! ([`crate::Stepper::step_into`]), and the residual, the Jacobian's values and the factors live
 //! in the run's [`ElementWorkspace`].
 //!
+//! # The (−) side
+//!
+//! [`ElementIntegrator::minus`] solves the (−) equations of Definition 2.8,
+//!
+//! ```text
+//! q_{k+1}^− = q_k,     p_k = −D_1 L_d(q_{k+1}^−, q_{k+1}),     p_{k+1} = D_2 L_d(q_{k+1}^−, q_{k+1}),
+//! ```
+//!
+//! with the unknown trivialized at the next point, as the rotation integrators' (−) side is: the
+//! backward increment `Δ = q_{k+1}^− − q_{k+1} = q_k − q_{k+1}`, so that
+//! `R(Δ) = p_k + D_1 L_d(q_k, q_k − Δ) = 0` with `∂R/∂Δ = −Σ_e D_1 D_2 L_d^e` (the same pattern,
+//! assembly and factorization), then `q_{k+1} = q_k − Δ`. With a declared translation, the
+//! component of `Δ` along its orbit is the group unknown `g_{k+1}^− = g_k − g_{k+1}` of the
+//! reduced (−) equations (4.8) (with the signs of [`crate::Minus`]) and the rest its shape
+//! increment; `μ_{k+1} = μ_k` is kept exact as on the (+) side. Forces enter both sides alike
+//! (`p_k = −D_1 L_d − f_d^−`, `p_{k+1} = D_2 L_d + f_d^+`). Newton's iterates in `Δ` are the
+//! affine images of those in `q_{k+1}`, so the two sides compute the same trajectory — the
+//! discrete Euler–Lagrange solution — up to round-off (`tests/element_wise.rs` checks it, with
+//! forces, controls and compositions).
+//!
 //! # Translations and the exact momentum
 //!
 //! With `translate(x)` declared, `L_d` is invariant under `x ↦ x + c·1`, and the momentum map
@@ -61,6 +81,7 @@ use crate::newton::{solve_in, NewtonOptions};
 use crate::stepper::{
     check_inputs, same_step, step_error, Collect, StepStats, StepStatsExt, Stepper,
 };
+use crate::system::Variant;
 
 pub use assembly::ElementWorkspace;
 pub use solver::{ElementSolver, ITERATIVE_MIN_DIM, ITERATIVE_MIN_ENTRIES_PER_ROW};
@@ -232,6 +253,7 @@ pub const PARALLEL_MIN_ENTRIES: usize = 1 << 16;
 pub struct ElementIntegrator<L> {
     system: L,
     options: NewtonOptions,
+    variant: Variant,
     parallel: Parallel,
     linear: StepSolver,
 }
@@ -241,6 +263,9 @@ pub struct ElementIntegrator<L> {
 pub struct ElementTrajectory {
     /// The integrator's time step (the default step of a run).
     pub h: f64,
+    /// The equations that produced it: [`Variant::Plus`] ([`ElementIntegrator::new`]) or
+    /// [`Variant::Minus`] ([`ElementIntegrator::minus`]).
+    pub variant: Variant,
     /// `(q_k, p_k)`, `k = 0..=steps`.
     pub states: Vec<ElementState>,
     /// `times[k] = t_k`, the time of `states[k]` (`k h` exactly for a fixed step).
@@ -263,6 +288,7 @@ impl<L: ElementLagrangian> Collect<ElementIntegrator<L>> for ElementTrajectory {
     fn start(integrator: &ElementIntegrator<L>, steps: usize) -> Self {
         Self {
             h: integrator.system.time_step(),
+            variant: integrator.variant,
             states: crate::stepper::reserved(steps.saturating_add(1)),
             times: crate::stepper::reserved(steps.saturating_add(1)),
             stats: crate::stepper::reserved(steps),
@@ -284,9 +310,26 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
         Self {
             system,
             options,
+            variant: Variant::Plus,
             parallel: Parallel::Auto,
             linear: StepSolver::Auto,
         }
+    }
+
+    /// The (−) integrator with `options`: the (−) equations of Definition 2.8, solved for the
+    /// backward increment `Δ = q_k − q_{k+1}` (see the [module documentation](self#the---side)).
+    /// Started from the same state it computes the (+) integrator's trajectory, to round-off.
+    pub fn minus(system: L, options: NewtonOptions) -> Self {
+        Self {
+            variant: Variant::Minus,
+            ..Self::new(system, options)
+        }
+    }
+
+    /// Which equations are solved: [`Variant::Plus`] ([`Self::new`]) or [`Variant::Minus`]
+    /// ([`Self::minus`]).
+    pub fn variant(&self) -> Variant {
+        self.variant
     }
 
     /// The same integrator with the step Jacobian's solver chosen by `solver`.
@@ -613,6 +656,14 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
             *next = state.clone();
         }
         workspace.guess(&state.q, h, &mut next.q);
+        let minus = self.variant == Variant::Minus;
+        if minus {
+            // The (−) unknown: the backward increment Δ = q_k − q_{k+1} of the same guess.
+            next.q
+                .iter_mut()
+                .zip(state.q.iter())
+                .for_each(|(z, q)| *z = q - *z);
+        }
         let rho = crate::newton::slice_inf_norm(state.p.as_slice());
         // The system at the step's size and controls: itself for a fixed step without controls
         // (bit for bit), a copy with the time step `h` and the controls `u` otherwise (a copy of
@@ -631,8 +682,21 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
         };
         let sys = owned.as_ref().unwrap_or(&self.system);
         let (q0, p0) = (state.q.as_slice(), state.p.as_slice());
-        let (solver, r, jacobian, assembler) = workspace.parts();
+        let (solver, r, jacobian, assembler, scratch) = workspace.parts();
         let nnz = assembler.nnz();
+        // The point `q_{k+1}` an unknown stands for: itself for (+), `q_k − Δ` for (−) (into
+        // the workspace's scratch vector).
+        let point = |unknown: &DVector<f64>, run: &mut dyn FnMut(&[f64])| {
+            if minus {
+                let mut z = scratch.borrow_mut();
+                z.iter_mut()
+                    .zip(q0.iter().zip(unknown.iter()))
+                    .for_each(|(z, (q, d))| *z = q - d);
+                run(z.as_slice());
+            } else {
+                run(unknown.as_slice());
+            }
+        };
         let solution = solve_in(
             solver,
             &mut next.q,
@@ -640,20 +704,37 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
             jacobian,
             rho,
             &self.options,
-            |z, r| assembler.residual_jacobian(sys, q0, p0, z.as_slice(), r.as_mut_slice(), None),
-            |z, r, j| {
+            |unknown, r| {
+                point(unknown, &mut |z| {
+                    assembler.residual_jacobian(sys, q0, p0, z, r.as_mut_slice(), None)
+                })
+            },
+            |unknown, r, j| {
                 let j = j.get_or_insert_with(|| vec![0.0; nnz]);
-                assembler.residual_jacobian(
-                    sys,
-                    q0,
-                    p0,
-                    z.as_slice(),
-                    r.as_mut_slice(),
-                    Some(j.as_mut_slice()),
-                );
+                point(unknown, &mut |z| {
+                    assembler.residual_jacobian(
+                        sys,
+                        q0,
+                        p0,
+                        z,
+                        r.as_mut_slice(),
+                        Some(j.as_mut_slice()),
+                    )
+                });
+                if minus {
+                    // ∂R/∂Δ = −∂R/∂q_{k+1}.
+                    j.iter_mut().for_each(|v| *v = -*v);
+                }
             },
         )
         .map_err(|failure| step_error(k, failure))?;
+        if minus {
+            // q_{k+1} = q_k − Δ, as the last residual pass formed it.
+            next.q
+                .iter_mut()
+                .zip(q0.iter())
+                .for_each(|(z, q)| *z = q - *z);
+        }
         // The last pass was at the solution: its `D_2 L_d` is the next momentum.
         assembler.take_momentum(&mut next.p);
         // μ_{k+1} = μ_k exactly (with forces μ_k plus their impulse on the orbit, the forced
