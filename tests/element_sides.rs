@@ -1,8 +1,9 @@
 //! Run-time-sized systems on both sides: the (−) equations against the (+) ones, with
 //! translations, forces, controls and compositions; and the step's sensitivities.
 
+use dirac::nalgebra::DMatrix;
 use dirac::prelude::*;
-use dirac::runtime::element::ElementIntegrator;
+use dirac::runtime::element::{ElementIntegrator, ElementLagrangian};
 
 #[path = "../examples/common/toda_n.rs"]
 mod toda_n;
@@ -138,4 +139,165 @@ fn compositions_of_the_minus_side_have_orders_four_and_six() {
             "order {observed} from {e:?}"
         );
     }
+}
+
+/// The step map `(q, p, u) ↦ (q', p')` of `integ`, flattened, for central differences.
+fn step_map<L: ElementLagrangian>(
+    integ: &ElementIntegrator<L>,
+    q: &DVector<f64>,
+    p: &DVector<f64>,
+    u: &[f64],
+) -> DVector<f64> {
+    let state = ElementState::new(q.clone(), p.clone());
+    let (next, _) = integ
+        .step_with(&mut integ.workspace(), 0, integ.time_step(), &state, u)
+        .unwrap();
+    let n = q.len();
+    DVector::from_fn(2 * n, |i, _| if i < n { next.q[i] } else { next.p[i - n] })
+}
+
+/// The largest entry of `a − b` relative to the largest of `b`.
+fn relative(a: &DMatrix<f64>, b: &DMatrix<f64>) -> f64 {
+    (a - b).amax() / b.amax().max(1e-300)
+}
+
+#[test]
+fn sensitivities_match_central_differences_with_forces_and_controls() {
+    let (h, c, a) = (0.05, 0.3, 0.7);
+    let n = 9;
+    let chain = DrivenChain { h, c, a, n };
+    let integ = ElementIntegrator::new(chain, tight());
+    let q = DVector::from_fn(n, |i, _| 0.1 * (i as f64).sin());
+    let p = DVector::from_fn(n, |i, _| 0.2 * (i as f64).cos());
+    let u = [0.4];
+    let (next, _, mut sens) = integ
+        .step_sensitivity(0, &ElementState::new(q.clone(), p.clone()), &u)
+        .unwrap();
+    assert_eq!((sens.dim(), sens.control_dim()), (n, 1));
+    let dense = sens.to_dense();
+    // Central differences in every state component and in the control.
+    let eps = 1e-6;
+    let mut fd_state = DMatrix::zeros(2 * n, 2 * n);
+    for j in 0..2 * n {
+        let (mut qp, mut pp, mut qm, mut pm) = (q.clone(), p.clone(), q.clone(), p.clone());
+        if j < n {
+            qp[j] += eps;
+            qm[j] -= eps;
+        } else {
+            pp[j - n] += eps;
+            pm[j - n] -= eps;
+        }
+        let d = (step_map(&integ, &qp, &pp, &u) - step_map(&integ, &qm, &pm, &u)) / (2.0 * eps);
+        fd_state.set_column(j, &d);
+    }
+    let fd_control = (step_map(&integ, &q, &p, &[u[0] + eps])
+        - step_map(&integ, &q, &p, &[u[0] - eps]))
+        / (2.0 * eps);
+    let e_state = relative(&dense.state, &fd_state);
+    let e_control = relative(
+        &dense.control,
+        &DMatrix::from_column_slice(2 * n, 1, fd_control.as_slice()),
+    );
+    assert!(e_state <= 1e-8, "state: {e_state:e}");
+    assert!(e_control <= 1e-8, "control: {e_control:e}");
+    // The drive acts: the control column is not zero.
+    assert!(dense.control.amax() > 1e-3);
+    // The step the sensitivity was taken at is the run's first step.
+    let traj = integ
+        .run(ElementState::new(q, p))
+        .steps(1)
+        .controls(ControlSequence::rows(&[u]))
+        .collect()
+        .unwrap();
+    assert_eq!(traj.last(), &next);
+}
+
+#[test]
+fn sensitivities_equal_the_unrolled_systems_and_are_symplectic_without_forces() {
+    use element_systems::DrivenChain5;
+    let (h, c, a) = (0.05, 0.3, 0.7);
+    let q = DVector::from_fn(5, |i, _| 0.1 * (i as f64).sin());
+    let p = DVector::from_fn(5, |i, _| 0.2 * (i as f64).cos());
+    let u = [0.4];
+    let integ = ElementIntegrator::new(DrivenChain { h, c, a, n: 5 }, tight());
+    let (next, _, mut sens) = integ
+        .step_sensitivity(3, &ElementState::new(q.clone(), p.clone()), &u)
+        .unwrap();
+    let dense = sens.to_dense();
+    let fixed = UnreducedIntegrator::new(DrivenChain5 { h, c, a }, tight());
+    let s5 = |v: &DVector<f64>| SVector::<f64, 5>::from_column_slice(v.as_slice());
+    let reference = fixed
+        .sensitivity(
+            3,
+            &UnreducedState::new(s5(&q), s5(&p)),
+            &UnreducedState::new(s5(&next.q), s5(&next.p)),
+            &u,
+        )
+        .unwrap();
+    let e =
+        relative(&dense.state, &reference.state).max(relative(&dense.control, &reference.control));
+    assert!(e <= 1e-12, "{e:e}");
+    // A conservative lattice: the step is symplectic, and its momentum map is conserved to
+    // first order too (Σ dp' = Σ dp for every perturbation that keeps the translation).
+    let toda = TodaN {
+        m: 1.3,
+        d: 0.9,
+        h: 0.05,
+        n: 16,
+    };
+    let start = initial(&toda, 0.3, 0.5, 0.1);
+    let integ = ElementIntegrator::minus(toda, tight());
+    let (_, _, mut sens) = integ.step_sensitivity(0, &start, &[]).unwrap();
+    let dense = sens.to_dense();
+    assert_eq!(dense.control.ncols(), 0);
+    let defect = dense.symplecticity_defect();
+    assert!(defect <= 1e-12, "symplecticity defect {defect:e}");
+    let dmu = DMatrix::from_fn(1, 32, |_, j| {
+        (16..32).map(|i| dense.state[(i, j)]).sum::<f64>()
+    });
+    for j in 0..16 {
+        assert!(dmu[(0, j)].abs() <= 1e-11, "∂μ'/∂q_{j} = {:e}", dmu[(0, j)]);
+        assert!((dmu[(0, 16 + j)] - 1.0).abs() <= 1e-11, "∂μ'/∂p_{j}");
+    }
+}
+
+#[test]
+fn the_adjoint_is_the_transpose_of_the_forward_derivative_on_a_large_lattice() {
+    let n = 2000;
+    let damped = DampedToda {
+        m: 1.0,
+        d: 0.9,
+        c: 0.1,
+        h: 0.05,
+        n,
+    };
+    let toda = TodaN {
+        m: 1.0,
+        d: 0.9,
+        h: 0.05,
+        n,
+    };
+    let start = initial(&toda, 0.3, 0.5, 0.1);
+    let integ = ElementIntegrator::new(damped, NewtonOptions::default());
+    let (_, _, mut sens) = integ.step_sensitivity(0, &start, &[]).unwrap();
+    let v = |s: f64| DVector::from_fn(n, |i, _| (s * i as f64 + 0.3).sin());
+    let (dq, dp, lq, lp) = (v(0.1), v(0.37), v(0.73), v(1.1));
+    let (dq1, dp1) = sens.apply(&dq, &dp, &[]).unwrap();
+    let (aq, ap, au) = sens.apply_transpose(&lq, &lp).unwrap();
+    assert_eq!(au.len(), 0);
+    let lhs = lq.dot(&dq1) + lp.dot(&dp1);
+    let rhs = aq.dot(&dq) + ap.dot(&dp);
+    assert!(
+        (lhs - rhs).abs() <= 1e-10 * lhs.abs().max(1.0),
+        "{lhs} vs {rhs}"
+    );
+    // Vectors of the wrong length are typed errors.
+    let err = sens
+        .apply(&v(0.1).rows(0, 10).into_owned(), &dp, &[])
+        .unwrap_err();
+    assert!(matches!(err, StepError::InvalidSize { .. }), "{err}");
+    let err = sens.apply(&dq, &dp, &[1.0]).unwrap_err();
+    assert!(matches!(err, StepError::InvalidSize { .. }), "{err}");
+    // The sparse blocks have the stencils' pattern: three entries per column for the chain.
+    assert_eq!(sens.jacobian().values.len(), 3 * n);
 }

@@ -179,6 +179,30 @@ pub fn generate(
             .chunks(s.max(1))
             .map(|row| quote!([#(#row),*]))
             .collect();
+        // The step partials of a sensitivity, one straight-line function.
+        let b = &code.blocks;
+        let m = b.u1.first().map_or(0, Vec::len);
+        let partial_nodes: Vec<NodeId> = [&b.d11, &b.d21, &b.d22, &b.u1, &b.u2]
+            .into_iter()
+            .flat_map(|rows| rows.iter().flatten().copied())
+            .collect();
+        let partials = kernel(&partial_nodes);
+        let partial_stmts = &partials.stmts;
+        let (square, controls_out) = partials.outputs.split_at(3 * s * s);
+        let block_rows: Vec<TokenStream> = square
+            .chunks(s.max(1) * s.max(1))
+            .map(|block| {
+                let rows = block.chunks(s.max(1)).map(|row| quote!([#(#row),*]));
+                quote!([#(#rows),*])
+            })
+            .collect();
+        let block_rows = if s == 0 {
+            vec![quote!([]), quote!([]), quote!([])]
+        } else {
+            block_rows
+        };
+        let (u1_out, u2_out) = controls_out.split_at(s * m);
+        let sm = s * m;
         let value = kernel(&[code.value]);
         let (value_stmts, value_out) = (&value.stmts, &value.outputs[0]);
         let energy = match code.energy {
@@ -237,6 +261,24 @@ pub fn generate(
                     let sys = self.0;
                     #all_stmts
                     ([#(#all_d1),*], [#(#all_d2),*], [#(#d12_rows),*])
+                }
+                fn step_partials(
+                    &self,
+                    indices: &[i64],
+                    q0: &[f64; #s],
+                    q1: &[f64; #s],
+                    blocks: &mut [[[f64; #s]; #s]; 3],
+                    u1: &mut [f64],
+                    u2: &mut [f64],
+                ) -> bool {
+                    let sys = self.0;
+                    #partial_stmts
+                    *blocks = [#(#block_rows),*];
+                    let __u1: [f64; #sm] = [#(#u1_out),*];
+                    let __u2: [f64; #sm] = [#(#u2_out),*];
+                    u1.copy_from_slice(&__u1);
+                    u2.copy_from_slice(&__u2);
+                    true
                 }
                 fn value(&self, indices: &[i64], q0: &[f64; #s], q1: &[f64; #s]) -> f64 {
                     let sys = self.0;

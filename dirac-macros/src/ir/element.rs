@@ -37,6 +37,64 @@ pub struct ElementCode {
     pub legendre: Option<(Vec<NodeId>, Vec<Vec<NodeId>>)>,
     /// Whether this is an element of the forces ([`force_element`]).
     pub force: bool,
+    /// The step partials a sensitivity needs ([`StepBlocks`]).
+    pub blocks: StepBlocks,
+}
+
+/// The partial derivatives of an element's share of the step that its sensitivity needs (the
+/// implicit-function theorem on `R = p_k + Σ_e d1^e`, `p_{k+1} = Σ_e d2^e`, with `d1^e`, `d2^e`
+/// the element's `D_1 L_d^e`, `D_2 L_d^e` or discrete forces), row `a`, column `b`.
+pub struct StepBlocks {
+    /// `∂d1^e_a / ∂q0_b`.
+    pub d11: Vec<Vec<NodeId>>,
+    /// `∂d2^e_a / ∂q0_b`.
+    pub d21: Vec<Vec<NodeId>>,
+    /// `∂d2^e_a / ∂q1_b`.
+    pub d22: Vec<Vec<NodeId>>,
+    /// `∂d1^e_a / ∂u_c`, one column per control.
+    pub u1: Vec<Vec<NodeId>>,
+    /// `∂d2^e_a / ∂u_c`.
+    pub u2: Vec<Vec<NodeId>>,
+}
+
+/// `∂rows_a / ∂vars_b`, row by row (one forward pass per variable).
+fn jacobian(g: &mut Graph, rows: &[NodeId], vars: &[Sym]) -> Vec<Vec<NodeId>> {
+    let columns: Vec<Vec<NodeId>> = vars.iter().map(|&v| derivatives(g, rows, v)).collect();
+    (0..rows.len())
+        .map(|a| columns.iter().map(|c| c[a]).collect())
+        .collect()
+}
+
+/// The [`StepBlocks`] of an element whose step shares are `d1`, `d2`.
+fn step_blocks(
+    g: &mut Graph,
+    spec: &ElementSpec,
+    width: usize,
+    d1: &[NodeId],
+    d2: &[NodeId],
+) -> StepBlocks {
+    let q0: Vec<Sym> = (0..width).map(Sym::Q0).collect();
+    let q1: Vec<Sym> = (0..width).map(Sym::Q1).collect();
+    let controls: Vec<Sym> = spec
+        .controls
+        .iter()
+        .map(|c| {
+            let i = spec
+                .sig
+                .params
+                .iter()
+                .position(|p| p == c)
+                .expect("a control is a parameter (checked when parsed)");
+            Sym::Param(i)
+        })
+        .collect();
+    StepBlocks {
+        d11: jacobian(g, d1, &q0),
+        d21: jacobian(g, d2, &q0),
+        d22: jacobian(g, d2, &q1),
+        u1: jacobian(g, d1, &controls),
+        u2: jacobian(g, d2, &controls),
+    }
 }
 
 /// The names of the parameters an element body reads: the function's, then the sizes and the
@@ -128,6 +186,7 @@ pub fn element(
     if let Some(at) = at {
         crate::ir::check::element_invariance(cx, g, ld, &translation_of, &names, &at);
     }
+    let blocks = step_blocks(g, spec, width, &d1, &d2);
     Some(ElementCode {
         graph,
         width,
@@ -138,6 +197,7 @@ pub fn element(
         energy,
         legendre,
         force: false,
+        blocks,
     })
 }
 
@@ -184,6 +244,7 @@ pub fn force_element(
     let d12 = (0..width)
         .map(|a| (0..width).map(|b| columns[b][a]).collect())
         .collect();
+    let blocks = step_blocks(g, spec, width, &forces.minus, &forces.plus);
     let zero = g.constant(0.0);
     let continuous = spec.sig.continuous;
     Some(ElementCode {
@@ -196,5 +257,6 @@ pub fn force_element(
         energy: continuous.then_some(zero),
         legendre: continuous.then(|| (vec![zero; width], vec![vec![zero; width]; width])),
         force: true,
+        blocks,
     })
 }

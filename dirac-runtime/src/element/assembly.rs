@@ -20,19 +20,20 @@ use super::{ElementLagrangian, Family, FamilyVisitor, Parallel, StepSolver, PARA
 use crate::error::StepError;
 
 /// The elements of one family as a run sees them.
-struct FamilyData {
+pub(super) struct FamilyData {
     /// Stencil width `S`.
-    width: usize,
+    pub(super) width: usize,
     /// Loop depth.
-    depth: usize,
+    pub(super) depth: usize,
     /// Number of elements.
-    count: usize,
+    pub(super) count: usize,
     /// The loop indices of every element, `depth` per element.
-    indices: Vec<i64>,
+    pub(super) indices: Vec<i64>,
     /// The global coordinate indices of every element's stencil, `width` per element.
-    stencils: Vec<usize>,
-    /// For every element, the positions of its `width²` block entries in the Jacobian's values.
-    positions: Vec<usize>,
+    pub(super) stencils: Vec<usize>,
+    /// For every element, the positions of its `width²` block entries in the Jacobian's values
+    /// (entry `a·width + b`: row `stencil[a]`, column `stencil[b]`).
+    pub(super) positions: Vec<usize>,
 }
 
 /// The row blocks of the parallel passes: block `b` owns rows `ranges[b]` and evaluates the
@@ -500,6 +501,10 @@ impl ElementWorkspace {
         self.known = (self.known + 1).min(2);
     }
 
+    pub(super) fn assembler(&self) -> &Assembler {
+        &self.assembler
+    }
+
     pub(super) fn residual_jacobian<L: ElementLagrangian>(
         &self,
         system: &L,
@@ -690,6 +695,11 @@ impl FamilyVisitor for BlockVisit<'_> {
 impl Assembler {
     pub(super) fn nnz(&self) -> usize {
         self.nnz
+    }
+
+    /// Every family's elements, in the order of the body.
+    pub(super) fn families(&self) -> &[FamilyData] {
+        &self.families
     }
 
     pub(super) fn orbits(&self) -> &[Vec<Range<usize>>] {

@@ -67,6 +67,7 @@
 
 mod assembly;
 mod legendre;
+pub mod sensitivity;
 mod solver;
 mod sums;
 
@@ -84,6 +85,7 @@ use crate::stepper::{
 use crate::system::Variant;
 
 pub use assembly::ElementWorkspace;
+pub use sensitivity::{CscMatrix, ElementSensitivity};
 pub use solver::{ElementSolver, ITERATIVE_MIN_DIM, ITERATIVE_MIN_ENTRIES_PER_ROW};
 
 /// One family of elements of an element-wise Lagrangian: a loop of its body (or a term outside
@@ -116,6 +118,25 @@ pub trait Family<const S: usize>: Sync {
         q0: &[f64; S],
         q1: &[f64; S],
     ) -> ([f64; S], [f64; S], [[f64; S]; S]);
+
+    /// The element's step partials, for a step's sensitivity: into `blocks` the `S × S`
+    /// blocks `∂d1/∂q0`, `∂d2/∂q0`, `∂d2/∂q1` (row `a`: component `a` of `d1` or `d2`, the
+    /// element's `D_1 L_d^e`, `D_2 L_d^e` or discrete forces), into `u1[a·m + c]` and
+    /// `u2[a·m + c]` the derivatives of `d1_a` and `d2_a` in control `c` (`m` controls, `S·m`
+    /// entries each). `false` when the family has none (the default, for a family written by
+    /// hand).
+    fn step_partials(
+        &self,
+        indices: &[i64],
+        q0: &[f64; S],
+        q1: &[f64; S],
+        blocks: &mut [[[f64; S]; S]; 3],
+        u1: &mut [f64],
+        u2: &mut [f64],
+    ) -> bool {
+        let _ = (indices, q0, q1, blocks, u1, u2);
+        false
+    }
 
     /// `L_d^e` itself.
     fn value(&self, indices: &[i64], q0: &[f64; S], q1: &[f64; S]) -> f64;

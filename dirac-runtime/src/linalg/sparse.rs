@@ -445,6 +445,12 @@ impl DynSparseLu {
         &self.row_idx
     }
 
+    /// Solves `Aᵀ x = b` with the current factors, overwriting `b` with `x` (adjoint
+    /// sensitivities).
+    pub fn solve_transpose_in_place(&mut self, b: &mut nalgebra::DVector<f64>) {
+        self.solve_slice(b.as_mut_slice(), true);
+    }
+
     /// Solves `A x = b` (or `Aᵀ x = b`) in place.
     fn solve_slice(&mut self, x: &mut [f64], transpose: bool) {
         debug_assert!(self.factored, "solve before factor");
