@@ -69,6 +69,7 @@ mod assembly;
 mod legendre;
 pub mod sensitivity;
 mod solver;
+mod step;
 mod sums;
 
 use std::fmt::Debug;
@@ -78,10 +79,8 @@ use nalgebra::DVector;
 
 use crate::continuous::ContinuousEnergies;
 use crate::error::{IntegrationError, StepError, Steps};
-use crate::newton::{solve_in, NewtonOptions};
-use crate::stepper::{
-    check_inputs, same_step, step_error, Collect, StepStats, StepStatsExt, Stepper,
-};
+use crate::newton::NewtonOptions;
+use crate::stepper::{Collect, StepStats, StepStatsExt};
 use crate::system::Variant;
 
 pub use assembly::ElementWorkspace;
@@ -498,7 +497,7 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
     /// The residual `R(z) = p0 + D_1 L_d(q0, z)` and the values of its Jacobian, in the order
     /// of the workspace's pattern ([`ElementWorkspace::pattern`]): what one Newton correction
     /// evaluates (public for benchmarks). `workspace` must be one of this integrator
-    /// ([`Stepper::workspace`]) and the vectors must have the system's number of coordinates:
+    /// ([`crate::Stepper::workspace`]) and the vectors must have the system's number of coordinates:
     /// otherwise [`StepError::InvalidSize`], with nothing evaluated.
     pub fn residual_jacobian(
         &self,
@@ -609,222 +608,5 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
     }
 }
 
-impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
-    type State = ElementState;
-    type Record = StepStats;
-    type Workspace = ElementWorkspace;
-    type Trajectory = ElementTrajectory;
-
-    fn time_step(&self) -> f64 {
-        self.system.time_step()
-    }
-
-    fn check(&self, initial: &ElementState) -> Result<(), StepError> {
-        check_inputs(
-            self.system.time_step(),
-            &self.system.parameter_values(),
-            initial.is_finite(),
-        )?;
-        self.check_sizes(initial)
-    }
-
-    fn workspace(&self) -> ElementWorkspace {
-        ElementWorkspace::new(&self.system, self.parallel, self.linear)
-    }
-
-    fn control_dim(&self) -> usize {
-        L::CONTROLS.len()
-    }
-
-    fn step_with(
-        &self,
-        workspace: &mut ElementWorkspace,
-        k: usize,
-        h: f64,
-        state: &ElementState,
-        u: &[f64],
-    ) -> Result<(ElementState, StepStats), StepError> {
-        let mut next = state.clone();
-        let record = self.step_into(workspace, k, h, state, u, &mut next)?;
-        Ok((next, record))
-    }
-
-    /// Step `k` into `next` (whose memory is reused): Newton on `R(q_{k+1}) = 0` from the
-    /// extrapolated guess, then `p_{k+1} = D_2 L_d` with the momentum map of each translation
-    /// kept exact (see the [module documentation](self)).
-    fn step_into(
-        &self,
-        workspace: &mut ElementWorkspace,
-        k: usize,
-        h: f64,
-        state: &ElementState,
-        u: &[f64],
-        next: &mut ElementState,
-    ) -> Result<StepStats, StepError> {
-        if !u.is_empty() {
-            crate::stepper::check_controls(k, L::CONTROLS.len(), u)?;
-        }
-        self.check_workspace(workspace)?;
-        let n = workspace.dim();
-        if state.q.len() != n || state.p.len() != n {
-            return Err(self.invalid(format!(
-                "the state has {} coordinates and {} momenta, the system {n}",
-                state.q.len(),
-                state.p.len()
-            )));
-        }
-        if next.q.len() != n || next.p.len() != n {
-            *next = state.clone();
-        }
-        workspace.guess(&state.q, h, &mut next.q);
-        let minus = self.variant == Variant::Minus;
-        if minus {
-            // The (−) unknown: the backward increment Δ = q_k − q_{k+1} of the same guess.
-            next.q
-                .iter_mut()
-                .zip(state.q.iter())
-                .for_each(|(z, q)| *z = q - *z);
-        }
-        let rho = crate::newton::slice_inf_norm(state.p.as_slice());
-        // The system at the step's size and controls: itself for a fixed step without controls
-        // (bit for bit), a copy with the time step `h` and the controls `u` otherwise (a copy of
-        // the parameters: no heap memory).
-        let owned = match (u.is_empty(), same_step(h, self.system.time_step())) {
-            (true, true) => None,
-            (true, false) => Some(self.system.with_time_step(h)),
-            (false, same) => {
-                let system = self.system.with_controls(u);
-                Some(if same {
-                    system
-                } else {
-                    system.with_time_step(h)
-                })
-            }
-        };
-        let sys = owned.as_ref().unwrap_or(&self.system);
-        let (q0, p0) = (state.q.as_slice(), state.p.as_slice());
-        let (solver, r, jacobian, assembler, scratch) = workspace.parts();
-        let nnz = assembler.nnz();
-        // The point `q_{k+1}` an unknown stands for: itself for (+), `q_k − Δ` for (−) (into
-        // the workspace's scratch vector).
-        let point = |unknown: &DVector<f64>, run: &mut dyn FnMut(&[f64])| {
-            if minus {
-                let mut z = scratch.borrow_mut();
-                z.iter_mut()
-                    .zip(q0.iter().zip(unknown.iter()))
-                    .for_each(|(z, (q, d))| *z = q - d);
-                run(z.as_slice());
-            } else {
-                run(unknown.as_slice());
-            }
-        };
-        let solution = solve_in(
-            solver,
-            &mut next.q,
-            r,
-            jacobian,
-            rho,
-            &self.options,
-            |unknown, r| {
-                point(unknown, &mut |z| {
-                    assembler.residual_jacobian(sys, q0, p0, z, r.as_mut_slice(), None)
-                })
-            },
-            |unknown, r, j| {
-                let j = j.get_or_insert_with(|| vec![0.0; nnz]);
-                point(unknown, &mut |z| {
-                    assembler.residual_jacobian(
-                        sys,
-                        q0,
-                        p0,
-                        z,
-                        r.as_mut_slice(),
-                        Some(j.as_mut_slice()),
-                    )
-                });
-                if minus {
-                    // ∂R/∂Δ = −∂R/∂q_{k+1}.
-                    j.iter_mut().for_each(|v| *v = -*v);
-                }
-            },
-        )
-        .map_err(|failure| step_error(k, failure))?;
-        if minus {
-            // q_{k+1} = q_k − Δ, as the last residual pass formed it.
-            next.q
-                .iter_mut()
-                .zip(q0.iter())
-                .for_each(|(z, q)| *z = q - *z);
-        }
-        // The last pass was at the solution: its `D_2 L_d` is the next momentum.
-        assembler.take_momentum(&mut next.p);
-        // μ_{k+1} = μ_k exactly (with forces μ_k plus their impulse on the orbit, the forced
-        // discrete Noether balance): the first component of each orbit takes the difference.
-        for orbit in assembler.orbits() {
-            let impulse = if L::FORCED {
-                sums::impulse(sys, orbit, q0, next.q.as_slice())
-            } else {
-                0.0
-            };
-            let mu0: f64 = orbit.iter().flat_map(|r| r.clone()).map(|i| p0[i]).sum();
-            let mu1: f64 = orbit
-                .iter()
-                .flat_map(|r| r.clone())
-                .map(|i| next.p[i])
-                .sum();
-            if let Some(first) = orbit.first().map(|r| r.start) {
-                next.p[first] += mu0 + impulse - mu1;
-            }
-        }
-        if !next.p.iter().all(|v| v.is_finite()) {
-            return Err(StepError::NonFinite {
-                step: k,
-                what: "the new momentum",
-                residual: solution.residual,
-            });
-        }
-        workspace.remember(&state.q, &next.q, h);
-        Ok(StepStats::from_solution(
-            &solution,
-            self.options.residual_tolerance(rho),
-        ))
-    }
-}
-
 /// What a failed [`ElementIntegrator`] run keeps.
 pub type ElementError = IntegrationError<ElementTrajectory>;
-
-/// Compositions of order 4 and 6 ([`crate::Composition`]) of a run-time-sized system: each stage
-/// is the system at the stage's step `γ_i h` (negative for some stages), stepped by the same
-/// assembly and solver, in a workspace of its own.
-impl<L: ElementLagrangian> crate::compose::SelfAdjoint for ElementIntegrator<L> {
-    fn with_time_step(&self, h: f64) -> Self {
-        Self {
-            system: self.system.with_time_step(h),
-            ..self.clone()
-        }
-    }
-
-    /// The largest relative defect `|L_d(q0, q1; −h) + L_d(q1, q0; h)|` over the sample pairs
-    /// of [`crate::compose::symmetry_defect`] around the configuration of `at` (NaN where a
-    /// sample is outside the Lagrangian's domain or the state does not fit the sizes).
-    fn symmetry_defect(&self, at: &ElementState) -> f64 {
-        let backward = self.system.with_time_step(-self.system.time_step());
-        let q = &at.q;
-        let delta = 0.05 * q.amax().max(1.0);
-        let mut worst: f64 = 0.0;
-        for j in 0..3 {
-            let d = DVector::from_fn(q.len(), |i, _| crate::compose::sample_direction(j, i));
-            let p = q + d * delta;
-            for (q0, q1) in [(q, &p), (&p, q)] {
-                let minus = sums::value(&backward, q0.as_slice(), q1.as_slice());
-                let plus = sums::value(&self.system, q1.as_slice(), q0.as_slice());
-                let (Ok(minus), Ok(plus)) = (minus, plus) else {
-                    return f64::NAN;
-                };
-                worst = crate::compose::worse_defect(worst, minus, plus);
-            }
-        }
-        worst
-    }
-}
