@@ -102,10 +102,37 @@ fn expand_element(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> 
     let lagrangian_families = split.len();
     let split: Vec<families::FamilySpec> = split.into_iter().chain(force_split).collect();
     let cx = Ctxt::new();
-    let min_size = families::min_size(&cx, &split, &spec.coords, spec.sizes.len());
+    let all: Vec<&families::FamilySpec> = split.iter().collect();
+    let min_size = families::min_size(&cx, &all, &spec.coords, spec.sizes.len());
     let min_size = cx.finish(min_size)?;
+    // The constraints: one family per row assignment.
+    let constraint_split = match &spec.constraints {
+        None => None,
+        Some(closure) => {
+            let cx = Ctxt::new();
+            let c =
+                crate::ast::element::constraints::split(&cx, closure, &spec.sizes, &spec.coords);
+            Some(cx.finish(c)?)
+        }
+    };
+    let constraint_families: Vec<&families::FamilySpec> = constraint_split
+        .iter()
+        .flat_map(|c| c.families.iter().map(|f| &f.family))
+        .collect();
+    let min_size = if constraint_families.is_empty() {
+        min_size
+    } else {
+        let cx = Ctxt::new();
+        let m = families::min_size(&cx, &constraint_families, &spec.coords, spec.sizes.len());
+        min_size.max(cx.finish(m)?)
+    };
     let cx = Ctxt::new();
-    let depth = split.iter().map(|f| f.loops.len()).max().unwrap_or(0);
+    let depth = split
+        .iter()
+        .chain(constraint_families.iter().copied())
+        .map(|f| f.loops.len())
+        .max()
+        .unwrap_or(0);
     let codes: Option<Vec<_>> = split
         .iter()
         .enumerate()
@@ -116,9 +143,26 @@ fn expand_element(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> 
             _ => crate::ir::element::element(&cx, &spec, f, depth),
         })
         .collect();
-    let codes = cx.finish(codes)?;
+    let constraint_codes: Option<Vec<_>> =
+        constraint_split.as_ref().map_or(Some(Vec::new()), |c| {
+            c.families
+                .iter()
+                .map(|f| {
+                    crate::ir::element::constraint_element(&cx, &spec, &f.family, depth, &c.config)
+                })
+                .collect()
+        });
+    let (codes, constraint_codes) = cx.finish(codes.zip(constraint_codes))?;
+    let constraints = constraint_split
+        .as_ref()
+        .map(|c| (c, constraint_codes.as_slice()));
     Ok(crate::codegen::element::generate(
-        &spec, func, &split, &codes, min_size,
+        &spec,
+        func,
+        &split,
+        &codes,
+        constraints,
+        min_size,
     ))
 }
 

@@ -9,12 +9,14 @@ use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 use syn::{Ident, ItemFn};
 
+use crate::ast::element::constraints::ConstraintSplit;
 use crate::ast::element::families::FamilySpec;
+use crate::ast::element::index::Index;
 use crate::ast::element::{Dim, ElementSpec};
 use crate::codegen::emit::straight_line;
 use crate::codegen::items::{camel_case, user_function};
 use crate::codegen::lints;
-use crate::ir::element::ElementCode;
+use crate::ir::element::{ConstraintCode, ElementCode};
 use crate::ir::graph::{NodeId, Sym};
 
 /// Every item of an element-wise system.
@@ -23,6 +25,7 @@ pub fn generate(
     func: &ItemFn,
     families: &[FamilySpec],
     codes: &[ElementCode],
+    constraints: Option<(&ConstraintSplit, &[ConstraintCode])>,
     min_size: usize,
 ) -> TokenStream {
     let ty = spec
@@ -84,82 +87,9 @@ pub fn generate(
         let s = code.width;
         let force = code.force;
         let depth = family.loops.len();
-        let loop_vars: Vec<Ident> = (0..depth).map(|k| format_ident!("__i{}", k)).collect();
-        let size_tok = |k: usize| {
-            let s = format_ident!("__n{}", k);
-            quote!(#s)
-        };
-        let loop_tok = |k: usize| {
-            let v = &loop_vars[k];
-            quote!(#v)
-        };
-        let stencil: Vec<TokenStream> = family
-            .slots
-            .iter()
-            .map(|slot| {
-                let c = slot.coord;
-                let coord = &spec.coords[c];
-                let ix: Vec<TokenStream> = slot
-                    .index
-                    .iter()
-                    .map(|i| i.tokens(&size_tok, &loop_tok))
-                    .collect();
-                match (coord.dims.as_slice(), ix.as_slice()) {
-                    ([], []) => quote!(__o[#c]),
-                    ([_], [i]) => quote!(__o[#c] + #i),
-                    ([_, d1], [i, j]) => {
-                        let len1 = match d1 {
-                            Dim::Size(k) => size_tok(*k),
-                            Dim::Fixed(v) => {
-                                let v = *v as i64;
-                                quote!(#v)
-                            }
-                            Dim::Scaled(k, m) => {
-                                let (s, m) = (size_tok(*k), *m as i64);
-                                quote!((#m * #s))
-                            }
-                        };
-                        quote!(__o[#c] + #i * #len1 + #j)
-                    }
-                    _ => unreachable!("the rewriter checks the number of indices"),
-                }
-            })
-            .collect();
-        let mut body = quote!(visit(&[#(#loop_vars),*], [#(#stencil),*]););
-        for k in (0..depth).rev() {
-            let v = &loop_vars[k];
-            let (lo, hi) = (
-                family.loops[k].lo.tokens(&size_tok, &loop_tok),
-                family.loops[k].hi.tokens(&size_tok, &loop_tok),
-            );
-            body = quote! { for #v in (#lo)..(#hi) { #body } };
-        }
-        let size_bindings = sizes.iter().enumerate().map(|(k, s)| {
-            let n = format_ident!("__n{}", k);
-            quote!(let #n = sys.#s as i64;)
-        });
-        let n_user = params.len();
-        let leaf = |q0: TokenStream, q1: TokenStream| {
-            move |sym: Sym| -> TokenStream {
-                match sym {
-                    Sym::Q0(a) => quote!(#q0[#a]),
-                    Sym::Q1(a) => quote!(#q1[#a]),
-                    Sym::Param(i) if i < n_user => {
-                        let p = &params[i];
-                        quote!(sys.#p)
-                    }
-                    Sym::Param(i) if i < n_user + sizes.len() => {
-                        let s = &sizes[i - n_user];
-                        quote!((sys.#s as f64))
-                    }
-                    Sym::Param(i) => {
-                        let k = i - n_user - sizes.len();
-                        quote!((indices[#k] as f64))
-                    }
-                    other => unreachable!("an element reads no {other:?}"),
-                }
-            }
-        };
+        let body = element_nest(spec, family, None);
+        let size_bindings = size_bindings(spec);
+        let leaf = |q0: TokenStream, q1: TokenStream| leaf_of(spec, q0, q1);
         let steps = leaf(quote!(q0), quote!(q1));
         let kernel = |outputs: &[NodeId]| straight_line(&code.graph, outputs, &steps);
         let d1_d2: Vec<NodeId> = code.d1.iter().chain(&code.d2).copied().collect();
@@ -296,6 +226,8 @@ pub fn generate(
         visits.push(quote!(visitor.family::<#s, _>(&#name(self));));
     }
 
+    let (constraint_family_items, constraint_lagrangian) =
+        constraint_items(spec, vis, &ty, constraints);
     let size_names: Vec<String> = sizes.iter().map(|s| s.to_string()).collect();
     let param_values = params.iter().map(|p| quote!(self.#p));
     let translations = spec.translates.iter().map(|members| {
@@ -375,12 +307,17 @@ pub fn generate(
         clippy::needless_pass_by_value,
         reason = "the configurations hold `Vec`s whose lengths are the sizes; the attribute passes them by value as it does fixed-size ones"
     )]));
-    // Parameters that only the forces read are still arguments of the function: mark them used.
-    let touch: Vec<Ident> = if spec.force.is_some() {
+    // Parameters that only the forces or the constraints read are still arguments of the
+    // function: mark them used.
+    let mut touch: Vec<Ident> = if spec.force.is_some() || spec.constraints.is_some() {
         spec.sig.fn_params().to_vec()
     } else {
         Vec::new()
     };
+    // The configuration the constraints read, whether or not the body reads it.
+    if spec.constraints.is_some() {
+        touch.push(spec.sig.q0.clone());
+    }
     let user = user_function(&user_func, &config, false, &touch, true);
     let gen = lints::generated();
     let step_field = &spec.sig.step;
@@ -440,6 +377,7 @@ pub fn generate(
         }
 
         #family_items
+        #constraint_family_items
 
         impl #rt::ElementLagrangian for #ty {
             const SIZES: &'static [&'static str] = &[#(#size_names),*];
@@ -478,6 +416,7 @@ pub fn generate(
             fn families<V: #rt::FamilyVisitor>(&self, visitor: &mut V) {
                 #(#visits)*
             }
+            #constraint_lagrangian
         }
     }
 }
@@ -489,4 +428,181 @@ fn depth_word(depth: usize) -> &'static str {
         2 => "pairs/grid",
         _ => "nested",
     }
+}
+
+/// The loop nest of `family` calling `visit(indices, [row,] stencil)` for every element, its
+/// stencil as integer code in the loop indices `__i<k>` and the sizes `__n<k>` (bound by
+/// [`size_bindings`]) over the offsets `__o`; a constraint family passes its row.
+fn element_nest(spec: &ElementSpec, family: &FamilySpec, row: Option<&Index>) -> TokenStream {
+    let depth = family.loops.len();
+    let loop_vars: Vec<Ident> = (0..depth).map(|k| format_ident!("__i{}", k)).collect();
+    let size_tok = |k: usize| {
+        let s = format_ident!("__n{}", k);
+        quote!(#s)
+    };
+    let loop_tok = |k: usize| {
+        let v = &loop_vars[k];
+        quote!(#v)
+    };
+    let stencil: Vec<TokenStream> = family
+        .slots
+        .iter()
+        .map(|slot| {
+            let c = slot.coord;
+            let coord = &spec.coords[c];
+            let ix: Vec<TokenStream> = slot
+                .index
+                .iter()
+                .map(|i| i.tokens(&size_tok, &loop_tok))
+                .collect();
+            match (coord.dims.as_slice(), ix.as_slice()) {
+                ([], []) => quote!(__o[#c]),
+                ([_], [i]) => quote!(__o[#c] + #i),
+                ([_, d1], [i, j]) => {
+                    let len1 = match d1 {
+                        Dim::Size(k) => size_tok(*k),
+                        Dim::Fixed(v) => {
+                            let v = *v as i64;
+                            quote!(#v)
+                        }
+                        Dim::Scaled(k, m) => {
+                            let (s, m) = (size_tok(*k), *m as i64);
+                            quote!((#m * #s))
+                        }
+                    };
+                    quote!(__o[#c] + #i * #len1 + #j)
+                }
+                _ => unreachable!("the rewriter checks the number of indices"),
+            }
+        })
+        .collect();
+    let row = row.map(|r| {
+        let r = r.tokens(&size_tok, &loop_tok);
+        quote!(#r,)
+    });
+    let mut body = quote!(visit(&[#(#loop_vars),*], #row [#(#stencil),*]););
+    for k in (0..depth).rev() {
+        let v = &loop_vars[k];
+        let (lo, hi) = (
+            family.loops[k].lo.tokens(&size_tok, &loop_tok),
+            family.loops[k].hi.tokens(&size_tok, &loop_tok),
+        );
+        body = quote! { for #v in (#lo)..(#hi) { #body } };
+    }
+    body
+}
+
+/// `let __n<k> = sys.<size> as i64;` for every size.
+fn size_bindings(spec: &ElementSpec) -> Vec<TokenStream> {
+    spec.sizes
+        .iter()
+        .enumerate()
+        .map(|(k, s)| {
+            let n = format_ident!("__n{}", k);
+            quote!(let #n = sys.#s as i64;)
+        })
+        .collect()
+}
+
+/// The leaves of an element's kernels: `Q0(a)`, `Q1(a)` as `q0[a]`, `q1[a]` (the names given),
+/// parameters as `sys.<p>`, sizes and loop indices as f64.
+fn leaf_of(
+    spec: &ElementSpec,
+    q0: TokenStream,
+    q1: TokenStream,
+) -> impl Fn(Sym) -> TokenStream + '_ {
+    let (params, sizes) = (&spec.sig.params, &spec.sizes);
+    let n_user = params.len();
+    move |sym: Sym| -> TokenStream {
+        match sym {
+            Sym::Q0(a) => quote!(#q0[#a]),
+            Sym::Q1(a) => quote!(#q1[#a]),
+            Sym::Param(i) if i < n_user => {
+                let p = &params[i];
+                quote!(sys.#p)
+            }
+            Sym::Param(i) if i < n_user + sizes.len() => {
+                let s = &sizes[i - n_user];
+                quote!((sys.#s as f64))
+            }
+            Sym::Param(i) => {
+                let k = i - n_user - sizes.len();
+                quote!((indices[#k] as f64))
+            }
+            other => unreachable!("an element reads no {other:?}"),
+        }
+    }
+}
+
+/// The constraint families' items (one `ConstraintFamily` impl each) and the
+/// `ElementLagrangian` items that expose them: `CONSTRAINED`, `constraint_count` and
+/// `constraint_families`.
+fn constraint_items(
+    spec: &ElementSpec,
+    vis: &syn::Visibility,
+    ty: &Ident,
+    constraints: Option<(&ConstraintSplit, &[ConstraintCode])>,
+) -> (TokenStream, TokenStream) {
+    let Some((split, codes)) = constraints else {
+        return (TokenStream::new(), TokenStream::new());
+    };
+    let rt = quote!(::dirac::runtime::element);
+    let mut items = TokenStream::new();
+    let mut visits = Vec::new();
+    for (f, (cf, code)) in split.families.iter().zip(codes).enumerate() {
+        let name = format_ident!("__{}Constraint{}", ty, f);
+        let (s, depth) = (code.width, cf.family.loops.len());
+        let body = element_nest(spec, &cf.family, Some(&cf.row));
+        let bindings = size_bindings(spec);
+        let leaf = leaf_of(spec, quote!(q), quote!(q));
+        let outputs: Vec<NodeId> = std::iter::once(code.value)
+            .chain(code.gradient.iter().copied())
+            .collect();
+        let line = straight_line(&code.graph, &outputs, &leaf);
+        let (stmts, value, gradient) = (&line.stmts, &line.outputs[0], &line.outputs[1..]);
+        let gen = lints::generated();
+        items.extend(quote! {
+            #[doc(hidden)]
+            #[allow(non_camel_case_types)]
+            #vis struct #name<'a>(&'a #ty);
+
+            #gen
+            #[allow(unused_variables, unused_parens, clippy::identity_op, clippy::erasing_op, clippy::unnecessary_cast, clippy::double_parens, clippy::possible_missing_comma)]
+            impl #rt::ConstraintFamily<#s> for #name<'_> {
+                const DEPTH: usize = #depth;
+                fn elements(&self, visit: &mut dyn FnMut(&[i64], i64, [i64; #s])) {
+                    let sys = self.0;
+                    let __o = sys.__offsets();
+                    #(#bindings)*
+                    #body
+                }
+                fn value_gradient(&self, indices: &[i64], q: &[f64; #s]) -> (f64, [f64; #s]) {
+                    let sys = self.0;
+                    #stmts
+                    (#value, [#(#gradient),*])
+                }
+            }
+        });
+        visits.push(quote!(visitor.constraint::<#s, _>(&#name(self));));
+    }
+    let size_tok = |k: usize| {
+        let s = format_ident!("__n{}", k);
+        quote!(#s)
+    };
+    let count = split
+        .count
+        .tokens(&size_tok, &|_| unreachable!("a count reads no loop index"));
+    let bindings = size_bindings(spec);
+    let lagrangian = quote! {
+        const CONSTRAINED: bool = true;
+        fn constraint_count(&self) -> usize {
+            let sys = self;
+            #(#bindings)*
+            usize::try_from(#count).unwrap_or(0)
+        }
+        fn constraint_families<V: #rt::ConstraintVisitor>(&self, visitor: &mut V) {
+            #(#visits)*
+        }
+    };
+    (items, lagrangian)
 }

@@ -534,6 +534,7 @@ pub fn element_invariance(
     translation_of: &[Option<usize>],
     names: &[String],
     at: &proc_macro2::TokenStream,
+    what: &str,
 ) {
     let width = translation_of.len();
     let mut rng = SplitMix64(SEED);
@@ -567,7 +568,7 @@ pub fn element_invariance(
                     cx.error_spanned_by(
                         at,
                         format!(
-                            "this element is not invariant under `translate({name})`: its L_d changes from {base:e} to {moved:e} when every component of the translation moves by {shift}; the momentum map could not be kept. Write the element in differences of the translated coordinates (e.g. `q.x[i + 1] - q.x[i]`), or do not declare the translation"
+                            "this element is not invariant under `translate({name})`: its {what} changes from {base:e} to {moved:e} when every component of the translation moves by {shift}; the momentum map could not be kept. Write the element in differences of the translated coordinates (e.g. `q.x[i + 1] - q.x[i]`), or do not declare the translation"
                         ),
                     );
                     return;

@@ -121,6 +121,82 @@ fn step_and_rule(g: &mut Graph, spec: &ElementSpec) -> (NodeId, crate::ast::rule
     (h, spec.rule.expect("a continuous Lagrangian has a rule"))
 }
 
+/// Checks that `value`, an element's function of its slots, is invariant under each declared
+/// translation (slots of one coordinate move together); errors at the family's loop.
+fn check_invariance(
+    cx: &Ctxt,
+    g: &Graph,
+    spec: &ElementSpec,
+    family: &FamilySpec,
+    value: NodeId,
+    what: &str,
+) {
+    let translation_of: Vec<Option<usize>> = family
+        .slots
+        .iter()
+        .map(|slot| spec.translates.iter().position(|t| t.contains(&slot.coord)))
+        .collect();
+    let names: Vec<String> = spec
+        .translates
+        .iter()
+        .map(|t| {
+            t.iter()
+                .map(|&c| spec.coords[c].name.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        })
+        .collect();
+    let at = family
+        .loops
+        .last()
+        .map(|l| l.tokens.clone())
+        .or_else(|| family.slots.first().map(|s| s.tokens.clone()));
+    if let Some(at) = at {
+        crate::ir::check::element_invariance(cx, g, value, &translation_of, &names, &at, what);
+    }
+}
+
+/// One family of constraint rows, differentiated: `φ^e` and `∂φ^e/∂q` over its stencil's slots
+/// (read as `Q0`).
+pub struct ConstraintCode {
+    pub graph: Graph,
+    pub width: usize,
+    pub value: NodeId,
+    pub gradient: Vec<NodeId>,
+}
+
+/// Lowers and differentiates one family of constraint rows, and checks its invariance under
+/// the declared translations (the momentum map is kept only for invariant constraints: their
+/// forces `Dφᵀ λ` have no component along a translation); `None` after errors (recorded).
+pub fn constraint_element(
+    cx: &Ctxt,
+    spec: &ElementSpec,
+    family: &FamilySpec,
+    depth: usize,
+    config: &syn::Ident,
+) -> Option<ConstraintCode> {
+    let width = family.slots.len();
+    let unused = syn::Ident::new("__no_velocity", proc_macro2::Span::call_site());
+    let names = Names {
+        q0: config,
+        q1: &unused,
+        coords: CoordName::scalars((0..width).map(slot_name)),
+        params: param_names(spec, depth),
+        dq: Vec::new(),
+    };
+    let mut graph = Graph::default();
+    let value = Lowering::new(&mut graph, cx, &names).body(&family.block)?;
+    let q: Vec<Sym> = (0..width).map(Sym::Q0).collect();
+    let gradient = firsts(&mut graph, mode_for(width), value, &q);
+    check_invariance(cx, &graph, spec, family, value, "constraint φ");
+    Some(ConstraintCode {
+        graph,
+        width,
+        value,
+        gradient,
+    })
+}
+
 /// Lowers and differentiates one family's element; `None` after errors (recorded).
 pub fn element(
     cx: &Ctxt,
@@ -161,31 +237,8 @@ pub fn element(
         .map(|a| (0..width).map(|b| columns[b][a]).collect())
         .collect();
     let d2 = firsts(g, mode, ld, &q1);
-    // The element must be invariant under each declared translation (slots of one coordinate
-    // move together).
-    let translation_of: Vec<Option<usize>> = family
-        .slots
-        .iter()
-        .map(|slot| spec.translates.iter().position(|t| t.contains(&slot.coord)))
-        .collect();
-    let names: Vec<String> = spec
-        .translates
-        .iter()
-        .map(|t| {
-            t.iter()
-                .map(|&c| spec.coords[c].name.to_string())
-                .collect::<Vec<_>>()
-                .join(", ")
-        })
-        .collect();
-    let at = family
-        .loops
-        .last()
-        .map(|l| l.tokens.clone())
-        .or_else(|| family.slots.first().map(|s| s.tokens.clone()));
-    if let Some(at) = at {
-        crate::ir::check::element_invariance(cx, g, ld, &translation_of, &names, &at);
-    }
+    // The element must be invariant under each declared translation.
+    check_invariance(cx, g, spec, family, ld, "L_d");
     let blocks = step_blocks(g, spec, width, &d1, &d2);
     Some(ElementCode {
         graph,

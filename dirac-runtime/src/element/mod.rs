@@ -66,6 +66,7 @@
 //! any number of threads (`tests/element_wise.rs` checks it).
 
 mod assembly;
+pub mod constrained;
 mod legendre;
 pub mod sensitivity;
 mod solver;
@@ -84,6 +85,10 @@ use crate::stepper::{Collect, StepStats, StepStatsExt};
 use crate::system::Variant;
 
 pub use assembly::ElementWorkspace;
+pub use constrained::{
+    ElementConstrainedError, ElementConstrainedIntegrator, ElementConstrainedStep,
+    ElementConstrainedTrajectory, ElementConstrainedWorkspace,
+};
 pub use sensitivity::{CscMatrix, ElementSensitivity};
 pub use solver::{ElementSolver, ITERATIVE_MIN_DIM, ITERATIVE_MIN_ENTRIES_PER_ROW};
 
@@ -154,6 +159,29 @@ pub trait Family<const S: usize>: Sync {
     }
 }
 
+/// One family of holonomic constraint rows of an element-wise system (`constraints = |q| ..`):
+/// an assignment `phi[<row>] = φ` of the closure, in loops or not. Emitted by
+/// `#[reduced_lagrangian]`.
+#[doc(hidden)]
+pub trait ConstraintFamily<const S: usize>: Sync {
+    /// Number of loop indices of an element.
+    const DEPTH: usize;
+    /// Calls `visit(indices, row, stencil)` for every element: its loop indices, the constraint
+    /// row it assigns and the global indices of the coordinates it reads (unchecked: the
+    /// runtime checks rows and stencils before any step).
+    #[allow(clippy::type_complexity)]
+    fn elements(&self, visit: &mut dyn FnMut(&[i64], i64, [i64; S]));
+    /// `φ^e(q)` and its gradient `∂φ^e/∂q` at the stencil values `q`.
+    fn value_gradient(&self, indices: &[i64], q: &[f64; S]) -> (f64, [f64; S]);
+}
+
+/// What visits the constraint families of an [`ElementLagrangian`].
+#[doc(hidden)]
+pub trait ConstraintVisitor {
+    /// Visits one family.
+    fn constraint<const S: usize, F: ConstraintFamily<S>>(&mut self, family: &F);
+}
+
 /// What visits the families of an [`ElementLagrangian`], one type per family.
 #[doc(hidden)]
 pub trait FamilyVisitor {
@@ -179,6 +207,20 @@ pub trait ElementLagrangian: Clone + Debug + Send + Sync + 'static {
     /// Names of the controls (`controls(..)` in the attribute): parameters a control law sets
     /// before every step, in the order a control vector lists them.
     const CONTROLS: &'static [&'static str] = &[];
+
+    /// Whether the system declares holonomic constraints (`constraints = |q| ..`): then it is
+    /// integrated by [`ElementConstrainedIntegrator`].
+    const CONSTRAINED: bool = false;
+
+    /// The number of constraint rows for these sizes.
+    fn constraint_count(&self) -> usize {
+        0
+    }
+
+    /// Visits every constraint family, in the order of the closure.
+    fn constraint_families<V: ConstraintVisitor>(&self, visitor: &mut V) {
+        let _ = visitor;
+    }
 
     /// The same system with the controls set to `u` (in the order of [`Self::CONTROLS`]).
     fn with_controls(&self, u: &[f64]) -> Self {

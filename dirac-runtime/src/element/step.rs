@@ -11,6 +11,26 @@ use crate::newton::solve_in;
 use crate::stepper::{check_inputs, same_step, step_error, StepStats, Stepper};
 use crate::system::Variant;
 
+impl<L: ElementLagrangian> ElementIntegrator<L> {
+    /// The system at a step's size `h` and controls `u`: `None` (the system itself, bit for
+    /// bit) for a fixed step without controls, a copy with the time step `h` and the controls
+    /// `u` otherwise (a copy of the parameters: no heap memory).
+    pub(super) fn system_for(&self, h: f64, u: &[f64]) -> Option<L> {
+        match (u.is_empty(), same_step(h, self.system.time_step())) {
+            (true, true) => None,
+            (true, false) => Some(self.system.with_time_step(h)),
+            (false, same) => {
+                let system = self.system.with_controls(u);
+                Some(if same {
+                    system
+                } else {
+                    system.with_time_step(h)
+                })
+            }
+        }
+    }
+}
+
 impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
     type State = ElementState;
     type Record = StepStats;
@@ -88,21 +108,7 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
                 .for_each(|(z, q)| *z = q - *z);
         }
         let rho = crate::newton::slice_inf_norm(state.p.as_slice());
-        // The system at the step's size and controls: itself for a fixed step without controls
-        // (bit for bit), a copy with the time step `h` and the controls `u` otherwise (a copy of
-        // the parameters: no heap memory).
-        let owned = match (u.is_empty(), same_step(h, self.system.time_step())) {
-            (true, true) => None,
-            (true, false) => Some(self.system.with_time_step(h)),
-            (false, same) => {
-                let system = self.system.with_controls(u);
-                Some(if same {
-                    system
-                } else {
-                    system.with_time_step(h)
-                })
-            }
-        };
+        let owned = self.system_for(h, u);
         let sys = owned.as_ref().unwrap_or(&self.system);
         let (q0, p0) = (state.q.as_slice(), state.p.as_slice());
         let (solver, r, jacobian, assembler, scratch) = workspace.parts();
@@ -160,24 +166,14 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
         }
         // The last pass was at the solution: its `D_2 L_d` is the next momentum.
         assembler.take_momentum(&mut next.p);
-        // μ_{k+1} = μ_k exactly (with forces μ_k plus their impulse on the orbit, the forced
-        // discrete Noether balance): the first component of each orbit takes the difference.
-        for orbit in assembler.orbits() {
-            let impulse = if L::FORCED {
-                sums::impulse(sys, orbit, q0, next.q.as_slice())
-            } else {
-                0.0
-            };
-            let mu0: f64 = orbit.iter().flat_map(|r| r.clone()).map(|i| p0[i]).sum();
-            let mu1: f64 = orbit
-                .iter()
-                .flat_map(|r| r.clone())
-                .map(|i| next.p[i])
-                .sum();
-            if let Some(first) = orbit.first().map(|r| r.start) {
-                next.p[first] += mu0 + impulse - mu1;
-            }
-        }
+        keep_momentum_maps(
+            sys,
+            assembler.orbits(),
+            q0,
+            p0,
+            next.q.as_slice(),
+            &mut next.p,
+        );
         if !next.p.iter().all(|v| v.is_finite()) {
             return Err(StepError::NonFinite {
                 step: k,
@@ -225,5 +221,30 @@ impl<L: ElementLagrangian> crate::compose::SelfAdjoint for ElementIntegrator<L> 
             }
         }
         worst
+    }
+}
+
+/// `μ_{k+1} = μ_k` exactly for each declared translation (with forces, `μ_k` plus their
+/// impulse on the orbit: the forced discrete Noether balance): the first component of each
+/// orbit of `p1` takes the difference (see the [module documentation](super)).
+pub(super) fn keep_momentum_maps<L: ElementLagrangian>(
+    sys: &L,
+    orbits: &[Vec<std::ops::Range<usize>>],
+    q0: &[f64],
+    p0: &[f64],
+    q1: &[f64],
+    p1: &mut DVector<f64>,
+) {
+    for orbit in orbits {
+        let impulse = if L::FORCED {
+            sums::impulse(sys, orbit, q0, q1)
+        } else {
+            0.0
+        };
+        let mu0: f64 = orbit.iter().flat_map(|r| r.clone()).map(|i| p0[i]).sum();
+        let mu1: f64 = orbit.iter().flat_map(|r| r.clone()).map(|i| p1[i]).sum();
+        if let Some(first) = orbit.first().map(|r| r.start) {
+            p1[first] += mu0 + impulse - mu1;
+        }
     }
 }

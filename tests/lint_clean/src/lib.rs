@@ -148,6 +148,27 @@ pub fn damped_chain(q: Config, v: Velocity, m: f64, c: f64, a: f64, n: usize) ->
     l
 }
 
+/// A cart carrying a chain of links in maximal coordinates, sized at run time: one length
+/// constraint per link, written row by row.
+#[reduced_lagrangian(coordinates(c, x[n], y[n]), rule = midpoint,
+    constraints = |q| {
+        let mut phi = vec![0.0; n];
+        phi[0] = (q.x[0] - q.c) * (q.x[0] - q.c) + q.y[0] * q.y[0] - l * l;
+        for i in 1..n {
+            let (dx, dy) = (q.x[i] - q.x[i - 1], q.y[i] - q.y[i - 1]);
+            phi[i] = dx * dx + dy * dy - l * l;
+        }
+        phi
+    })]
+#[must_use]
+pub fn link_chain(q: Config, v: Velocity, mc: f64, m: f64, l: f64, gr: f64, n: usize) -> f64 {
+    let mut t = 0.5 * mc * v.c * v.c;
+    for i in 0..n {
+        t += 0.5 * m * (v.x[i] * v.x[i] + v.y[i] * v.y[i]) - m * gr * q.y[i];
+    }
+    t
+}
+
 /// A heavy top beside a wheel angle, and a pendulum direction: rotation, direction and scalar
 /// coordinates with the matrix and vector operations of the body language, and the rotations
 /// about the vertical as a symmetry.

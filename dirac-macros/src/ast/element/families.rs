@@ -208,8 +208,8 @@ impl Splitter<'_> {
                 && matches!(&*b.left, Expr::Path(p) if p.path.is_ident(acc)))
     }
 
-    /// The family of loop `f` inside the nest `outer`, with the `let`s visible to it.
-    fn family(&mut self, f: &syn::ExprForLoop, outer: &[Loop], preamble: &[Stmt], locals: &[Stmt]) {
+    /// The nest `outer` with loop `f` inside it; `None` after errors (recorded).
+    fn nest_of(&self, f: &syn::ExprForLoop, outer: &[Loop]) -> Option<Vec<Loop>> {
         let var = match &*f.pat {
             syn::Pat::Ident(pi) => pi.ident.clone(),
             other => {
@@ -217,7 +217,7 @@ impl Splitter<'_> {
                     other,
                     "a loop over elements binds one index, e.g. `for i in 0..n`",
                 );
-                return;
+                return None;
             }
         };
         let Expr::Range(range) = &*f.expr else {
@@ -225,7 +225,7 @@ impl Splitter<'_> {
                 &f.expr,
                 "a loop over elements runs over a range such as `0..n` or `i + 1..n`",
             );
-            return;
+            return None;
         };
         let vars: Vec<Ident> = outer.iter().map(|l| l.var.clone()).collect();
         let bound = |e: &Option<Box<Expr>>| -> Option<Index> {
@@ -239,9 +239,7 @@ impl Splitter<'_> {
             }
         };
         let (lo, hi) = (bound(&range.start), bound(&range.end));
-        let (Some(lo), Some(mut hi)) = (lo, hi) else {
-            return;
-        };
+        let (lo, mut hi) = (lo?, hi?);
         if matches!(range.limits, syn::RangeLimits::Closed(_)) {
             hi = Index::Add(Box::new(hi), Box::new(Index::Lit(1)));
         }
@@ -252,6 +250,14 @@ impl Splitter<'_> {
             hi,
             tokens: range.to_token_stream(),
         });
+        Some(nest)
+    }
+
+    /// The family of loop `f` inside the nest `outer`, with the `let`s visible to it.
+    fn family(&mut self, f: &syn::ExprForLoop, outer: &[Loop], preamble: &[Stmt], locals: &[Stmt]) {
+        let Some(nest) = self.nest_of(f, outer) else {
+            return;
+        };
         let mut own: Vec<Stmt> = Vec::new();
         let mut visible = locals.to_vec();
         let mut has_terms = false;
@@ -494,7 +500,7 @@ impl VisitMut for Rewriter<'_> {
 /// [`LARGE_SAMPLE`]. `None` (with an error at the offending read) when there is none.
 pub fn min_size(
     cx: &Ctxt,
-    families: &[FamilySpec],
+    families: &[&FamilySpec],
     coords: &[ElementCoord],
     n_sizes: usize,
 ) -> Option<usize> {
@@ -626,4 +632,51 @@ fn check_family(f: &FamilySpec, coords: &[ElementCoord], sizes: &[i64]) -> Resul
         )
     };
     walk(f, coords, sizes, 0, &mut indices, &report)
+}
+
+/// What a constraint's walker needs of the splitter: loop nests and element bodies over slots,
+/// built exactly as the body's families are.
+pub struct Elements<'a> {
+    splitter: Splitter<'a>,
+}
+
+impl<'a> Elements<'a> {
+    pub fn new(
+        cx: &'a Ctxt,
+        sizes: &'a [Ident],
+        coords: &'a [ElementCoord],
+        configs: &'a [&'a Ident],
+    ) -> Self {
+        Self {
+            splitter: Splitter {
+                cx,
+                sizes,
+                coords,
+                configs,
+                acc: Some(format_ident!("__l")),
+                families: Vec::new(),
+                outside: Vec::new(),
+            },
+        }
+    }
+
+    /// The nest `outer` with loop `f` inside it; `None` after errors (recorded).
+    pub fn nest_of(&self, f: &syn::ExprForLoop, outer: &[Loop]) -> Option<Vec<Loop>> {
+        self.splitter.nest_of(f, outer)
+    }
+
+    /// The family of one scalar term `term` over the nest `loops`, with the `let`s visible to
+    /// it, rewritten over its stencil's slots.
+    pub fn term(
+        &mut self,
+        loops: Vec<Loop>,
+        preamble: &[Stmt],
+        locals: &[Stmt],
+        term: &Expr,
+    ) -> FamilySpec {
+        let stmt: Stmt = syn::parse_quote!(__l += #term;);
+        let block = self.splitter.element_block(preamble, locals, &[stmt]);
+        self.splitter.push_family(loops, block);
+        self.splitter.families.pop().expect("just pushed")
+    }
 }

@@ -15,6 +15,7 @@
 //! `u[nx][ny]`, a scalar `c`), `translate(..)`, `rule = ..`, `name = ..` and `step = ..`; the
 //! body is split into families of elements by [`families`].
 
+pub mod constraints;
 pub mod families;
 pub mod index;
 pub mod unroll;
@@ -38,7 +39,7 @@ pub const ELEMENT_KEYS: &str = "`coordinates(x[n], u[nx][ny], c, ...)` (lengths 
 function's `usize` arguments — or integer literals), `translate(<coordinate>, ...)`, \
 `rule = midpoint | trapezoid | left | right`, `force = |dq| <virtual work>` (or `|dq0, dq1|` for \
 a discrete Lagrangian; written with loops like the body), `controls(u, ...)` (parameters a control \
-law sets before every step), `name = <TypeName>`, `step = <parameter>`";
+law sets before every step), `constraints = |q| { let mut phi = vec![0.0; <count>]; for i in .. { phi[<row>] = <φ>; } phi }` (holonomic constraints of a continuous Lagrangian, one row per assignment), `name = <TypeName>`, `step = <parameter>`";
 
 /// One dimension of a coordinate: a size or a literal length.
 #[derive(Clone, Debug)]
@@ -71,6 +72,9 @@ pub struct ElementSpec {
     pub force: Option<syn::ExprClosure>,
     /// `controls(u, ..)`: parameters a control law sets before every step.
     pub controls: Vec<Ident>,
+    /// `constraints = |q| { let mut phi = vec![0.0; m]; .. phi }`: holonomic constraints,
+    /// one row per assignment `phi[<row>] = <φ>` (in loops over elements or outside them).
+    pub constraints: Option<syn::ExprClosure>,
     /// The signature without the sizes (what the fixed-size front end checks).
     pub sig: Signature,
 }
@@ -126,7 +130,7 @@ pub fn parse(cx: &Ctxt, args: proc_macro2::TokenStream, func: &ItemFn) -> Option
     let (mut coords, mut translates, mut rule, mut name, mut step) =
         (Vec::new(), Vec::new(), None, None, None);
     let (mut rule_key, mut translate_names) = (None, Vec::new());
-    let (mut force, mut controls) = (None, Vec::new());
+    let (mut force, mut controls, mut constraints) = (None, Vec::new(), None);
     for item in &items {
         let key = item.key().to_string();
         match (symbol::key(item.key()), item) {
@@ -155,6 +159,14 @@ pub fn parse(cx: &Ctxt, args: proc_macro2::TokenStream, func: &ItemFn) -> Option
                 step = p.path.get_ident().cloned();
             }
             (Some(FORCE), KeyArg::Value(_, Expr::Closure(c))) => force = Some(c.clone()),
+            (Some(CONSTRAINTS), KeyArg::Value(_, Expr::Closure(c))) => {
+                constraints = Some(c.clone())
+            }
+            (Some(CONSTRAINTS), _) => cx.error_spanned_by(
+                item.key(),
+                "expected `constraints = |q| { let mut phi = vec![0.0; <count>]; for i in 0..n { \
+                 phi[<row>] = <φ>; } phi }`: a closure assigning every constraint row once",
+            ),
             (Some(CONTROLS), KeyArg::List(_, list)) => {
                 for e in list {
                     match e {
@@ -171,7 +183,7 @@ pub fn parse(cx: &Ctxt, args: proc_macro2::TokenStream, func: &ItemFn) -> Option
                  elements, e.g. `force = |dq| { let mut w = 0.0; for i in 0..n { w -= c * v.x[i] * dq.x[i]; } w }`",
             ),
             (
-                Some(SHAPE | GROUP | CONNECTION | RANGES | CONSTRAINTS | NONHOLONOMIC),
+                Some(SHAPE | GROUP | CONNECTION | RANGES | NONHOLONOMIC),
                 _,
             ) => cx.error_spanned_by(
                 item.key(),
@@ -235,6 +247,13 @@ pub fn parse(cx: &Ctxt, args: proc_macro2::TokenStream, func: &ItemFn) -> Option
         rule_key.is_some(),
     )?;
     crate::ast::signature::check_controls(cx, &controls, &sig);
+    if let (Some(c), false) = (&constraints, sig.continuous) {
+        cx.error_spanned_by(
+            c.or1_token,
+            "constraints need a continuous Lagrangian `fn(q: Config, v: Velocity, ..)` with a \
+             `rule`: the projection of the momenta uses its Legendre map",
+        );
+    }
     Some(ElementSpec {
         sizes,
         coords,
@@ -243,6 +262,7 @@ pub fn parse(cx: &Ctxt, args: proc_macro2::TokenStream, func: &ItemFn) -> Option
         name,
         force,
         controls,
+        constraints,
         sig,
     })
 }

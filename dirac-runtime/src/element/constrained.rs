@@ -1,0 +1,790 @@
+//! Holonomic constraints of a run-time-sized system: `φ(q) = 0` with `φ` written row by row in
+//! the loops of `constraints = |q| ..`, each row reading a stencil like an element.
+//!
+//! A step is the constrained discrete Lagrange–Dirac step of the fixed-size systems (RATTLE
+//! form, Marsden & West §3.5; see `crate::constrained`), with every block assembled from the
+//! elements and the constraint rows:
+//!
+//! ```text
+//! position    p_k + D_1 L_d(q_k, q_{k+1}) + f_d^− − A(q_k)ᵀ λ_k = 0,     φ(q_{k+1}) = 0
+//! momentum    p̃ = D_2 L_d(q_k, q_{k+1}) + f_d^+
+//! projection  ∂L/∂v(q_{k+1}, v) − A(q_{k+1})ᵀ ν = p̃,   A(q_{k+1}) v = 0,   p_{k+1} = ∂L/∂v(q_{k+1}, v)
+//! ```
+//!
+//! with `A = Dφ` (`m × n`, one sparse row per constraint). Both solves are Newton iterations of
+//! the one driver on saddle-point (KKT) systems of `n + m` unknowns,
+//!
+//! ```text
+//! [ J     −A(q_k)ᵀ ] [δq]        [ H     −A(q_{k+1})ᵀ ] [δv]
+//! [ A(q)   0       ] [δλ]        [ A(q_{k+1})  0      ] [δν]
+//! ```
+//!
+//! (`J = Σ_e D_1 D_2 L_d^e`, `H = Σ_e ∂²L^e/∂v²`, both on the element stencils' pattern), whose
+//! common pattern is built once per run and factored by the sparse LU with partial pivoting
+//! (the zero block rules out a Cholesky or CG without a preconditioner built for saddle points);
+//! chord iterations reuse its factors as in the unconstrained step. The multipliers `λ_k`,
+//! `ν_{k+1}` are reported per step. A constraint invariant under a declared translation (the
+//! compiler checks it) has forces `Aᵀλ` with no component along the orbit, so the momentum map
+//! is kept exact as in the unconstrained step (or follows the forced Noether balance).
+
+use nalgebra::DVector;
+
+use super::assembly::{gather, FamilyData};
+use super::step::keep_momentum_maps;
+use super::{
+    ConstraintFamily, ConstraintVisitor, ElementIntegrator, ElementLagrangian, ElementState,
+    ElementWorkspace, Family, FamilyVisitor, Parallel, StepSolver,
+};
+use crate::error::{IntegrationError, StepError, Steps};
+use crate::linalg::DynSparseLu;
+use crate::newton::{slice_inf_norm, solve_in, NewtonOptions};
+use crate::stepper::{check_controls, step_error, Collect, StepStats, StepStatsExt, Stepper};
+
+/// The rows of one constraint family as a run sees them.
+struct RowData {
+    width: usize,
+    depth: usize,
+    count: usize,
+    indices: Vec<i64>,
+    /// The row of every element.
+    rows: Vec<usize>,
+    /// The stencil of every element, `width` per element.
+    stencils: Vec<usize>,
+    /// For every element slot, the KKT positions of `A`'s entry (row `n + row`, column
+    /// `stencil[a]`) and of `−Aᵀ`'s (row `stencil[a]`, column `n + row`).
+    a_pos: Vec<usize>,
+    at_pos: Vec<usize>,
+}
+
+/// Collects the constraint rows and checks them against `n` coordinates and `m` rows.
+struct RowCollector {
+    n: usize,
+    m: usize,
+    families: Vec<RowData>,
+    invalid: Option<String>,
+}
+
+impl ConstraintVisitor for RowCollector {
+    fn constraint<const S: usize, F: ConstraintFamily<S>>(&mut self, family: &F) {
+        let (n, m, index) = (self.n, self.m, self.families.len());
+        let mut data = RowData {
+            width: S,
+            depth: F::DEPTH,
+            count: 0,
+            indices: Vec::new(),
+            rows: Vec::new(),
+            stencils: Vec::new(),
+            a_pos: Vec::new(),
+            at_pos: Vec::new(),
+        };
+        let invalid = &mut self.invalid;
+        family.elements(&mut |indices, row, stencil| {
+            data.count += 1;
+            data.indices.extend_from_slice(indices);
+            match usize::try_from(row).ok().filter(|&r| r < m) {
+                Some(r) => data.rows.push(r),
+                None => {
+                    invalid.get_or_insert_with(|| {
+                        format!(
+                            "constraint element {indices:?} of family {index} assigns row {row}, \
+                             outside 0..{m} (the constraint vector's length)"
+                        )
+                    });
+                    data.rows.push(0);
+                }
+            }
+            for (slot, &g) in stencil.iter().enumerate() {
+                match usize::try_from(g).ok().filter(|&g| g < n) {
+                    Some(g) => data.stencils.push(g),
+                    None => {
+                        invalid.get_or_insert_with(|| {
+                            format!(
+                                "constraint element {indices:?} of family {index} reads \
+                                 coordinate {g} (slot {slot}), outside 0..{n}: the sizes are too \
+                                 small for its stencil"
+                            )
+                        });
+                        data.stencils.push(0);
+                    }
+                }
+            }
+        });
+        self.families.push(data);
+    }
+}
+
+/// The workspace of an [`ElementConstrainedIntegrator`] run: the unconstrained step's
+/// (assembly, pattern, guess), the constraint rows, the KKT pattern with the positions of each
+/// block in it, and the two sparse LUs. Built once per run.
+pub struct ElementConstrainedWorkspace {
+    base: ElementWorkspace,
+    m: usize,
+    rows: Vec<RowData>,
+    invalid: Option<String>,
+    /// The KKT position of each entry of the step Jacobian's pattern.
+    j_to_kkt: Vec<usize>,
+    position: DynSparseLu,
+    projection: DynSparseLu,
+    kkt: Option<Vec<f64>>,
+    j: Vec<f64>,
+    r: DVector<f64>,
+    /// `A(q_k)` and `A(q_{k+1})` by element slot, in the order of the rows' stencils.
+    a0: Vec<f64>,
+    a1: Vec<f64>,
+    /// The unknowns of the two solves, `(q_{k+1}, λ_k)` and `(v, ν_{k+1})`, the guess of
+    /// `q_{k+1}` and the momentum before projection `p̃`.
+    z: DVector<f64>,
+    y: DVector<f64>,
+    q1: DVector<f64>,
+    ptilde: DVector<f64>,
+    /// The last step's `(λ, ν)`, Newton's first guess.
+    lambda: DVector<f64>,
+    nu: DVector<f64>,
+}
+
+impl std::fmt::Debug for ElementConstrainedWorkspace {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ElementConstrainedWorkspace")
+            .field("n", &self.base.dim())
+            .field("m", &self.m)
+            .field("kkt_nnz", &self.position.nnz())
+            .finish_non_exhaustive()
+    }
+}
+
+impl ElementConstrainedWorkspace {
+    fn new<L: ElementLagrangian>(system: &L, parallel: Parallel) -> Self {
+        let base = ElementWorkspace::new(system, parallel, StepSolver::Direct);
+        let (n, m) = (base.dim(), system.constraint_count());
+        let mut collector = RowCollector {
+            n,
+            m,
+            families: Vec::new(),
+            invalid: base.invalid().map(str::to_string),
+        };
+        system.constraint_families(&mut collector);
+        let RowCollector {
+            families: mut rows,
+            mut invalid,
+            ..
+        } = collector;
+        // Every row assigned exactly once.
+        let mut assigned = vec![0u32; m];
+        for r in rows.iter().flat_map(|f| f.rows.iter()) {
+            assigned[*r] += 1;
+        }
+        if invalid.is_none() {
+            if let Some((row, &times)) = assigned.iter().enumerate().find(|(_, &t)| t != 1) {
+                invalid = Some(format!(
+                    "constraint row {row} of {m} is assigned {times} times for sizes {:?}: every \
+                     row of the constraint vector must be assigned exactly once",
+                    system.sizes()
+                ));
+            }
+        }
+        // The KKT pattern: J's entries, A's and Aᵀ's, as (column, row) pairs.
+        let (col_ptr, row_idx) = base.pattern();
+        let mut entries: Vec<(usize, usize)> = Vec::with_capacity(row_idx.len());
+        for c in 0..n {
+            entries.extend(row_idx[col_ptr[c]..col_ptr[c + 1]].iter().map(|&r| (c, r)));
+        }
+        for f in &rows {
+            for (e, st) in f.stencils.chunks_exact(f.width.max(1)).enumerate() {
+                let row = n + f.rows[e];
+                for &g in st {
+                    entries.push((g, row));
+                    entries.push((row, g));
+                }
+            }
+        }
+        // The diagonal of the multiplier block, structurally (a zero the LU pivots around).
+        entries.extend((n..n + m).map(|i| (i, i)));
+        entries.sort_unstable();
+        entries.dedup();
+        let mut kkt_col_ptr = vec![0usize; n + m + 1];
+        for &(c, _) in &entries {
+            kkt_col_ptr[c + 1] += 1;
+        }
+        for c in 0..n + m {
+            kkt_col_ptr[c + 1] += kkt_col_ptr[c];
+        }
+        let kkt_row_idx: Vec<usize> = entries.iter().map(|&(_, r)| r).collect();
+        drop(entries);
+        let position = |row: usize, col: usize| -> usize {
+            let start = kkt_col_ptr[col];
+            start
+                + kkt_row_idx[start..kkt_col_ptr[col + 1]]
+                    .binary_search(&row)
+                    .expect("every block entry is in the KKT pattern")
+        };
+        let mut j_to_kkt = Vec::with_capacity(row_idx.len());
+        for c in 0..n {
+            j_to_kkt.extend(
+                row_idx[col_ptr[c]..col_ptr[c + 1]]
+                    .iter()
+                    .map(|&r| position(r, c)),
+            );
+        }
+        for f in &mut rows {
+            for (e, st) in f.stencils.chunks_exact(f.width.max(1)).enumerate() {
+                let row = n + f.rows[e];
+                for &g in st {
+                    f.a_pos.push(position(row, g));
+                    f.at_pos.push(position(g, row));
+                }
+            }
+        }
+        let slots: usize = rows.iter().map(|f| f.count * f.width).sum();
+        let nnz = kkt_row_idx.len();
+        let lu = DynSparseLu::new(n + m, kkt_col_ptr, kkt_row_idx);
+        let (cp, ri) = (lu.col_ptr().to_vec(), lu.row_idx().to_vec());
+        Self {
+            j: vec![0.0; base.nnz()],
+            base,
+            m,
+            rows,
+            invalid,
+            j_to_kkt,
+            position: lu,
+            projection: DynSparseLu::new(n + m, cp, ri),
+            kkt: Some(vec![0.0; nnz]),
+            r: DVector::zeros(n + m),
+            a0: vec![0.0; slots],
+            a1: vec![0.0; slots],
+            z: DVector::zeros(n + m),
+            y: DVector::zeros(n + m),
+            q1: DVector::zeros(n),
+            ptilde: DVector::zeros(n),
+            lambda: DVector::zeros(m),
+            nu: DVector::zeros(m),
+        }
+    }
+
+    /// The number of coordinates.
+    pub fn dim(&self) -> usize {
+        self.base.dim()
+    }
+
+    /// The number of constraint rows.
+    pub fn constraints(&self) -> usize {
+        self.m
+    }
+
+    /// The number of structural nonzeros of the KKT systems.
+    pub fn nnz(&self) -> usize {
+        self.position.nnz()
+    }
+}
+
+/// Evaluates the constraint rows at `q`: `φ(q)` into `phi` (when given) and each element
+/// slot's gradient into `grad` (when given, in the rows' stencil order).
+struct Rows<'a> {
+    data: &'a [RowData],
+    next: usize,
+    q: &'a [f64],
+    phi: Option<&'a mut [f64]>,
+    grad: Option<&'a mut [f64]>,
+    /// Where the current family's slots start in `grad`.
+    offset: usize,
+}
+
+impl ConstraintVisitor for Rows<'_> {
+    fn constraint<const S: usize, F: ConstraintFamily<S>>(&mut self, family: &F) {
+        let data = &self.data[self.next];
+        self.next += 1;
+        for e in 0..data.count {
+            let st = &data.stencils[e * S..(e + 1) * S];
+            let (value, gradient) = family.value_gradient(
+                &data.indices[e * data.depth..(e + 1) * data.depth],
+                &gather::<S>(self.q, st),
+            );
+            if let Some(phi) = self.phi.as_deref_mut() {
+                phi[data.rows[e]] = value;
+            }
+            if let Some(grad) = self.grad.as_deref_mut() {
+                grad[self.offset + e * S..self.offset + (e + 1) * S].copy_from_slice(&gradient);
+            }
+        }
+        self.offset += data.count * S;
+    }
+}
+
+/// `φ(q)` and the gradients at `q`.
+fn rows_at<L: ElementLagrangian>(
+    sys: &L,
+    data: &[RowData],
+    q: &[f64],
+    phi: Option<&mut [f64]>,
+    grad: Option<&mut [f64]>,
+) {
+    let mut visit = Rows {
+        data,
+        next: 0,
+        q,
+        phi,
+        grad,
+        offset: 0,
+    };
+    sys.constraint_families(&mut visit);
+}
+
+/// `r_q −= A(q_k)ᵀ λ` from the gradients `a` (by slot), and the `−Aᵀ` block into `kkt`.
+fn constraint_forces(
+    data: &[RowData],
+    a: &[f64],
+    lambda: &[f64],
+    r: &mut [f64],
+    kkt: Option<&mut [f64]>,
+    with_a: Option<&[f64]>,
+) {
+    let mut kkt = kkt;
+    let mut offset = 0;
+    for f in data {
+        for (k, (&g, e)) in f
+            .stencils
+            .iter()
+            .zip((0..f.count).flat_map(|e| std::iter::repeat_n(e, f.width)))
+            .enumerate()
+        {
+            let slot = offset + k;
+            r[g] -= a[slot] * lambda[f.rows[e]];
+            if let Some(kkt) = kkt.as_deref_mut() {
+                kkt[f.at_pos[k]] -= a[slot];
+                if let Some(a1) = with_a {
+                    kkt[f.a_pos[k]] += a1[slot];
+                }
+            }
+        }
+        offset += f.count * f.width;
+    }
+}
+
+/// Adds every element's `∂L^e/∂v (q, v)` into `r` and, when given, `∂²L^e/∂v²` into the KKT
+/// values through the step Jacobian's positions.
+struct Legendre<'a> {
+    families: &'a [FamilyData],
+    next: usize,
+    q: &'a [f64],
+    v: &'a [f64],
+    r: &'a mut [f64],
+    kkt: Option<(&'a mut [f64], &'a [usize])>,
+}
+
+impl FamilyVisitor for Legendre<'_> {
+    fn family<const S: usize, F: Family<S>>(&mut self, family: &F) {
+        let data = &self.families[self.next];
+        self.next += 1;
+        if F::FORCE || S == 0 {
+            return;
+        }
+        for e in 0..data.count {
+            let st = &data.stencils[e * S..(e + 1) * S];
+            let (g, hessian) = family.legendre(
+                &data.indices[e * data.depth..(e + 1) * data.depth],
+                &gather::<S>(self.q, st),
+                &gather::<S>(self.v, st),
+            );
+            for a in 0..S {
+                self.r[st[a]] += g[a];
+            }
+            if let Some((kkt, j_to_kkt)) = self.kkt.as_mut() {
+                let pos = &data.positions[e * S * S..(e + 1) * S * S];
+                for a in 0..S {
+                    for b in 0..S {
+                        kkt[j_to_kkt[pos[a * S + b]]] += hessian[a][b];
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// What one constrained step reports besides the new state.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ElementConstrainedStep {
+    /// The position multipliers `λ_k` (the constraint impulse `A(q_k)ᵀ λ_k`).
+    pub lambda: DVector<f64>,
+    /// The projection multipliers `ν_{k+1}`.
+    pub nu: DVector<f64>,
+    /// `‖φ(q_{k+1})‖∞` at the accepted step.
+    pub constraint_residual: f64,
+    /// Newton statistics of both solves.
+    pub stats: StepStats,
+}
+
+impl AsRef<StepStats> for ElementConstrainedStep {
+    fn as_ref(&self) -> &StepStats {
+        &self.stats
+    }
+}
+
+/// Every state and step record of an [`ElementConstrainedIntegrator`] run.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ElementConstrainedTrajectory {
+    /// The integrator's time step (the default step of a run).
+    pub h: f64,
+    /// `(q_k, p_k)`, `k = 0..=steps`.
+    pub states: Vec<ElementState>,
+    /// `times[k] = t_k`, the time of `states[k]`.
+    pub times: Vec<f64>,
+    /// Each step's multipliers, constraint residual and statistics.
+    pub steps: Vec<ElementConstrainedStep>,
+    /// The Newton statistics of each step (as in `steps`).
+    pub stats: Vec<StepStats>,
+}
+
+impl ElementConstrainedTrajectory {
+    crate::reduced::trajectory_accessors!(ElementState);
+
+    /// The largest `‖φ(q_{k+1})‖∞` over the steps.
+    pub fn max_constraint_residual(&self) -> f64 {
+        self.steps
+            .iter()
+            .map(|s| s.constraint_residual)
+            .fold(0.0, f64::max)
+    }
+}
+
+impl Steps for ElementConstrainedTrajectory {
+    fn completed_steps(&self) -> usize {
+        self.steps.len()
+    }
+}
+
+impl<L: ElementLagrangian> Collect<ElementConstrainedIntegrator<L>>
+    for ElementConstrainedTrajectory
+{
+    fn start(integrator: &ElementConstrainedIntegrator<L>, steps: usize) -> Self {
+        Self {
+            h: integrator.time_step(),
+            states: crate::stepper::reserved(steps.saturating_add(1)),
+            times: crate::stepper::reserved(steps.saturating_add(1)),
+            steps: crate::stepper::reserved(steps),
+            stats: crate::stepper::reserved(steps),
+        }
+    }
+
+    fn push(&mut self, t: f64, state: &ElementState, record: Option<&ElementConstrainedStep>) {
+        self.states.push(state.clone());
+        self.times.push(t);
+        if let Some(step) = record {
+            self.stats.push(step.stats);
+            self.steps.push(step.clone());
+        }
+    }
+}
+
+/// What a failed [`ElementConstrainedIntegrator`] run keeps.
+pub type ElementConstrainedError = IntegrationError<ElementConstrainedTrajectory>;
+
+/// The integrator of a run-time-sized system with holonomic constraints (see the [module
+/// documentation](self)).
+#[derive(Clone, Debug)]
+pub struct ElementConstrainedIntegrator<L> {
+    base: ElementIntegrator<L>,
+}
+
+impl<L: ElementLagrangian> ElementConstrainedIntegrator<L> {
+    /// The constrained integrator with `options`, assembling the elements in parallel above the
+    /// threshold.
+    pub fn new(system: L, options: NewtonOptions) -> Self {
+        Self {
+            base: ElementIntegrator::new(system, options),
+        }
+    }
+
+    /// The same integrator with the assembly's parallelism set to `parallel`.
+    pub fn with_parallel(mut self, parallel: Parallel) -> Self {
+        self.base = self.base.with_parallel(parallel);
+        self
+    }
+
+    /// The system being integrated.
+    pub fn system(&self) -> &L {
+        self.base.system()
+    }
+
+    /// Newton's tolerances and caps.
+    pub fn options(&self) -> &NewtonOptions {
+        self.base.options()
+    }
+
+    /// The momentum map of each declared translation ([`ElementIntegrator::momentum_map`]).
+    pub fn momentum_map(&self, state: &ElementState) -> Result<Vec<f64>, StepError> {
+        self.base.momentum_map(state)
+    }
+
+    /// `φ(q)`, one entry per constraint row. A vector without the system's number of
+    /// coordinates, or sizes that do not fit the rows, are [`StepError::InvalidSize`].
+    pub fn constraint(&self, q: &DVector<f64>) -> Result<DVector<f64>, StepError> {
+        self.base.check_lengths(&[("q", q.len())])?;
+        let ws = self.workspace();
+        if let Some(reason) = &ws.invalid {
+            return Err(self.base.invalid(reason.clone()));
+        }
+        let mut phi = DVector::zeros(ws.m);
+        rows_at(
+            self.system(),
+            &ws.rows,
+            q.as_slice(),
+            Some(phi.as_mut_slice()),
+            None,
+        );
+        Ok(phi)
+    }
+
+    /// The energy at a step's midpoint ([`ElementIntegrator::energy`]).
+    pub fn energy(&self, q0: &DVector<f64>, q1: &DVector<f64>) -> Result<f64, StepError> {
+        self.base.energy(q0, q1)
+    }
+
+    /// The constrained step from `state` into `next` (see the [module documentation](self)).
+    #[allow(clippy::too_many_lines)]
+    fn constrained_step(
+        &self,
+        ws: &mut ElementConstrainedWorkspace,
+        sys: &L,
+        k: usize,
+        h: f64,
+        state: &ElementState,
+        next: &mut ElementState,
+    ) -> Result<ElementConstrainedStep, StepError> {
+        let (n, m) = (ws.base.dim(), ws.m);
+        let options = self.base.options();
+        let (q0, p0) = (state.q.as_slice(), state.p.as_slice());
+        // The position solve, from the extrapolated configuration and the last multipliers.
+        ws.base.guess(&state.q, h, &mut ws.q1);
+        ws.z.rows_mut(0, n).copy_from(&ws.q1);
+        ws.z.rows_mut(n, m).copy_from(&ws.lambda);
+        rows_at(sys, &ws.rows, q0, None, Some(&mut ws.a0));
+        let rho = slice_inf_norm(p0);
+        let nnz = ws.position.nnz();
+        let ElementConstrainedWorkspace {
+            base,
+            rows,
+            j_to_kkt,
+            position,
+            projection,
+            kkt,
+            j,
+            r,
+            a0,
+            a1,
+            z,
+            y,
+            ptilde,
+            nu: nu_last,
+            ..
+        } = ws;
+        let assembler = base.assembler();
+        let (rows, a0, j_to_kkt) = (&rows[..], &a0[..], &j_to_kkt[..]);
+        let first = solve_in(
+            position,
+            z,
+            r,
+            kkt,
+            rho,
+            options,
+            |z, r| {
+                let (q1, lambda) = z.as_slice().split_at(n);
+                let (r_q, r_phi) = r.as_mut_slice().split_at_mut(n);
+                assembler.residual_jacobian(sys, q0, p0, q1, r_q, None);
+                rows_at(sys, rows, q1, Some(r_phi), None);
+                constraint_forces(rows, a0, lambda, r_q, None, None);
+            },
+            |z, r, kkt| {
+                let kkt = kkt.get_or_insert_with(|| vec![0.0; nnz]);
+                let (q1, lambda) = z.as_slice().split_at(n);
+                let (r_q, r_phi) = r.as_mut_slice().split_at_mut(n);
+                assembler.residual_jacobian(sys, q0, p0, q1, r_q, Some(j.as_mut_slice()));
+                rows_at(sys, rows, q1, Some(r_phi), Some(a1.as_mut_slice()));
+                kkt.fill(0.0);
+                for (&p, v) in j_to_kkt.iter().zip(j.iter()) {
+                    kkt[p] += v;
+                }
+                constraint_forces(rows, a0, lambda, r_q, Some(kkt), Some(a1));
+            },
+        )
+        .map_err(|failure| step_error(k, failure))?;
+        let mut stats = StepStats::from_solution(&first, options.residual_tolerance(rho));
+        let constraint_residual = slice_inf_norm(&r.as_slice()[n..]);
+        next.q.copy_from(&z.rows(0, n));
+        let lambda = z.rows(n, m).into_owned();
+        // The last pass was at the solution: its `D_2 L_d` is the momentum before projection.
+        assembler.take_momentum(ptilde);
+        // The projection, from the secant velocity and the last multipliers.
+        let q1 = next.q.as_slice();
+        rows_at(sys, rows, q1, None, Some(a1.as_mut_slice()));
+        for i in 0..n {
+            y[i] = (q1[i] - q0[i]) / h;
+        }
+        y.rows_mut(n, m).copy_from(&*nu_last);
+        let rho2 = ptilde.amax();
+        let families = assembler.families();
+        let a1 = &a1[..];
+        let ptilde = &*ptilde;
+        let legendre = |v: &[f64], r_q: &mut [f64], kkt: Option<&mut [f64]>| {
+            r_q.fill(0.0);
+            let mut visit = Legendre {
+                families,
+                next: 0,
+                q: q1,
+                v,
+                r: r_q,
+                kkt: kkt.map(|k| (k, j_to_kkt)),
+            };
+            sys.families(&mut visit);
+        };
+        let second = solve_in(
+            projection,
+            y,
+            r,
+            kkt,
+            rho2,
+            options,
+            |y, r| {
+                let (v, nu) = y.as_slice().split_at(n);
+                let (r_q, r_nu) = r.as_mut_slice().split_at_mut(n);
+                legendre(v, r_q, None);
+                r_q.iter_mut().zip(ptilde.iter()).for_each(|(a, b)| *a -= b);
+                constraint_forces(rows, a1, nu, r_q, None, None);
+                constraint_velocities(rows, a1, v, r_nu);
+            },
+            |y, r, kkt| {
+                let kkt = kkt.get_or_insert_with(|| vec![0.0; nnz]);
+                let (v, nu) = y.as_slice().split_at(n);
+                let (r_q, r_nu) = r.as_mut_slice().split_at_mut(n);
+                kkt.fill(0.0);
+                legendre(v, r_q, Some(kkt.as_mut_slice()));
+                r_q.iter_mut().zip(ptilde.iter()).for_each(|(a, b)| *a -= b);
+                constraint_forces(rows, a1, nu, r_q, Some(kkt), Some(a1));
+                constraint_velocities(rows, a1, v, r_nu);
+            },
+        )
+        .map_err(|failure| step_error(k, failure))?;
+        stats.accumulate(&StepStats::from_solution(
+            &second,
+            options.residual_tolerance(rho2),
+        ));
+        let nu = y.rows(n, m).into_owned();
+        // p_{k+1} = ∂L/∂v(q_{k+1}, v).
+        legendre(&y.as_slice()[..n], next.p.as_mut_slice(), None);
+        keep_momentum_maps(sys, assembler.orbits(), q0, p0, q1, &mut next.p);
+        if !next.p.iter().all(|v| v.is_finite()) {
+            return Err(StepError::NonFinite {
+                step: k,
+                what: "the projected momentum",
+                residual: stats.residual,
+            });
+        }
+        ws.lambda.copy_from(&lambda);
+        ws.nu.copy_from(&nu);
+        ws.base.remember(&state.q, &next.q, h);
+        Ok(ElementConstrainedStep {
+            lambda,
+            nu,
+            constraint_residual,
+            stats,
+        })
+    }
+}
+
+/// `r_ν = A(q_{k+1}) v` from the gradients `a` (by slot).
+fn constraint_velocities(data: &[RowData], a: &[f64], v: &[f64], r_nu: &mut [f64]) {
+    r_nu.fill(0.0);
+    let mut offset = 0;
+    for f in data {
+        for (e, st) in f.stencils.chunks_exact(f.width.max(1)).enumerate() {
+            let row = f.rows[e];
+            for (b, &g) in st.iter().enumerate() {
+                r_nu[row] += a[offset + e * f.width + b] * v[g];
+            }
+        }
+        offset += f.count * f.width;
+    }
+}
+
+impl<L: ElementLagrangian> Stepper for ElementConstrainedIntegrator<L> {
+    type State = ElementState;
+    type Record = ElementConstrainedStep;
+    type Workspace = ElementConstrainedWorkspace;
+    type Trajectory = ElementConstrainedTrajectory;
+
+    fn time_step(&self) -> f64 {
+        self.base.system().time_step()
+    }
+
+    /// The inputs, the sizes against the stencils and rows, and `‖φ(q_0)‖∞` within the Newton
+    /// tolerances (×10³): a typed [`StepError::ConstraintViolated`] otherwise.
+    fn check(&self, initial: &ElementState) -> Result<(), StepError> {
+        self.base.check(initial)?;
+        let phi = self.constraint(&initial.q)?;
+        let options = self.options();
+        let residual = phi.amax();
+        let tolerance = options
+            .abs_tol
+            .max(options.rel_tol * initial.q.amax().max(1.0))
+            * 1e3;
+        if residual <= tolerance {
+            Ok(())
+        } else {
+            Err(StepError::ConstraintViolated {
+                residual,
+                tolerance,
+            })
+        }
+    }
+
+    fn workspace(&self) -> ElementConstrainedWorkspace {
+        ElementConstrainedWorkspace::new(self.base.system(), self.base.parallel())
+    }
+
+    fn control_dim(&self) -> usize {
+        L::CONTROLS.len()
+    }
+
+    fn step_with(
+        &self,
+        workspace: &mut ElementConstrainedWorkspace,
+        k: usize,
+        h: f64,
+        state: &ElementState,
+        u: &[f64],
+    ) -> Result<(ElementState, ElementConstrainedStep), StepError> {
+        let mut next = state.clone();
+        let record = self.step_into(workspace, k, h, state, u, &mut next)?;
+        Ok((next, record))
+    }
+
+    fn step_into(
+        &self,
+        workspace: &mut ElementConstrainedWorkspace,
+        k: usize,
+        h: f64,
+        state: &ElementState,
+        u: &[f64],
+        next: &mut ElementState,
+    ) -> Result<ElementConstrainedStep, StepError> {
+        if !u.is_empty() {
+            check_controls(k, L::CONTROLS.len(), u)?;
+        }
+        if let Some(reason) = &workspace.invalid {
+            return Err(self.base.invalid(reason.clone()));
+        }
+        self.base.check_workspace(&workspace.base)?;
+        let n = workspace.base.dim();
+        if state.q.len() != n || state.p.len() != n {
+            return Err(self.base.invalid(format!(
+                "the state has {} coordinates and {} momenta, the system {n}",
+                state.q.len(),
+                state.p.len()
+            )));
+        }
+        if next.q.len() != n || next.p.len() != n {
+            *next = state.clone();
+        }
+        let owned = self.base.system_for(h, u);
+        let sys = owned.as_ref().unwrap_or(self.base.system());
+        self.constrained_step(workspace, sys, k, h, state, next)
+    }
+}
