@@ -328,34 +328,33 @@ fn rows_at<L: ElementLagrangian>(
     sys.constraint_families(&mut visit);
 }
 
-/// `r_q −= A(q_k)ᵀ λ` from the gradients `a` (by slot), and the `−Aᵀ` block into `kkt`.
+/// `r_q −= A(q_k)ᵀ λ` from the gradients `a` (by slot) and, when `kkt` is given, the `−Aᵀ`
+/// block of those gradients and the `A` block of `with_a` into the KKT values.
 fn constraint_forces(
     data: &[RowData],
     a: &[f64],
     lambda: &[f64],
     r: &mut [f64],
-    kkt: Option<&mut [f64]>,
+    mut kkt: Option<&mut [f64]>,
     with_a: Option<&[f64]>,
 ) {
-    let mut kkt = kkt;
     let mut offset = 0;
     for f in data {
-        for (k, (&g, e)) in f
-            .stencils
-            .iter()
-            .zip((0..f.count).flat_map(|e| std::iter::repeat_n(e, f.width)))
-            .enumerate()
-        {
-            let slot = offset + k;
-            r[g] -= a[slot] * lambda[f.rows[e]];
-            if let Some(kkt) = kkt.as_deref_mut() {
-                kkt[f.at_pos[k]] -= a[slot];
-                if let Some(a1) = with_a {
-                    kkt[f.a_pos[k]] += a1[slot];
+        let w = f.width;
+        for e in 0..f.count {
+            let l = lambda[f.rows[e]];
+            for k in e * w..(e + 1) * w {
+                let slot = offset + k;
+                r[f.stencils[k]] -= a[slot] * l;
+                if let Some(kkt) = kkt.as_deref_mut() {
+                    kkt[f.at_pos[k]] -= a[slot];
+                    if let Some(a1) = with_a {
+                        kkt[f.a_pos[k]] += a1[slot];
+                    }
                 }
             }
         }
-        offset += f.count * f.width;
+        offset += f.count * w;
     }
 }
 
