@@ -39,6 +39,7 @@ use crate::error::{IntegrationError, StepError, Steps};
 use crate::linalg::DynSparseLu;
 use crate::newton::{slice_inf_norm, solve_in, NewtonOptions};
 use crate::stepper::{check_controls, step_error, Collect, StepStats, StepStatsExt, Stepper};
+use crate::system::Variant;
 
 /// The rows of one constraint family as a run sees them.
 struct RowData {
@@ -329,14 +330,14 @@ fn rows_at<L: ElementLagrangian>(
 }
 
 /// `r_q −= A(q_k)ᵀ λ` from the gradients `a` (by slot) and, when `kkt` is given, the `−Aᵀ`
-/// block of those gradients and the `A` block of `with_a` into the KKT values.
+/// block of those gradients and the `A` block of `with_a` (times its sign) into the KKT values.
 fn constraint_forces(
     data: &[RowData],
     a: &[f64],
     lambda: &[f64],
     r: &mut [f64],
     mut kkt: Option<&mut [f64]>,
-    with_a: Option<&[f64]>,
+    with_a: Option<(&[f64], f64)>,
 ) {
     let mut offset = 0;
     for f in data {
@@ -348,8 +349,8 @@ fn constraint_forces(
                 r[f.stencils[k]] -= a[slot] * l;
                 if let Some(kkt) = kkt.as_deref_mut() {
                     kkt[f.at_pos[k]] -= a[slot];
-                    if let Some(a1) = with_a {
-                        kkt[f.a_pos[k]] += a1[slot];
+                    if let Some((a1, sign)) = with_a {
+                        kkt[f.a_pos[k]] += sign * a1[slot];
                     }
                 }
             }
@@ -492,6 +493,22 @@ impl<L: ElementLagrangian> ElementConstrainedIntegrator<L> {
         }
     }
 
+    /// The (−) integrator with `options`: the (−) equations, solved for the backward increment
+    /// `q_k − q_{k+1}` and the multipliers, as [`ElementIntegrator::minus`] does without
+    /// constraints (the projection is the same on both sides). Started from the same state it
+    /// computes the (+) trajectory, to round-off.
+    pub fn minus(system: L, options: NewtonOptions) -> Self {
+        Self {
+            base: ElementIntegrator::minus(system, options),
+        }
+    }
+
+    /// Which equations are solved: [`Variant::Plus`] ([`Self::new`]) or [`Variant::Minus`]
+    /// ([`Self::minus`]).
+    pub fn variant(&self) -> Variant {
+        self.base.variant()
+    }
+
     /// The same integrator with the assembly's parallelism set to `parallel`.
     pub fn with_parallel(mut self, parallel: Parallel) -> Self {
         self.base = self.base.with_parallel(parallel);
@@ -552,7 +569,14 @@ impl<L: ElementLagrangian> ElementConstrainedIntegrator<L> {
         let options = self.base.options();
         let (q0, p0) = (state.q.as_slice(), state.p.as_slice());
         // The position solve, from the extrapolated configuration and the last multipliers.
+        // (−): the unknown is the backward increment Δ = q_k − q_{k+1} (see `ElementIntegrator`'s
+        // (−) side), so ∂/∂Δ = −∂/∂q_{k+1} in the `J` and `A(q_{k+1})` blocks.
+        let minus = self.base.variant() == Variant::Minus;
+        let sign = if minus { -1.0 } else { 1.0 };
         ws.base.guess(&state.q, h, &mut ws.q1);
+        if minus {
+            ws.q1.iter_mut().zip(q0).for_each(|(z, q)| *z = q - *z);
+        }
         ws.z.rows_mut(0, n).copy_from(&ws.q1);
         ws.z.rows_mut(n, m).copy_from(&ws.lambda);
         rows_at(sys, &ws.rows, q0, None, Some(&mut ws.a0));
@@ -573,10 +597,25 @@ impl<L: ElementLagrangian> ElementConstrainedIntegrator<L> {
             y,
             ptilde,
             nu: nu_last,
+            q1: point,
             ..
         } = ws;
         let assembler = base.assembler();
         let (rows, a0, j_to_kkt) = (&rows[..], &a0[..], &j_to_kkt[..]);
+        // The configuration `q_{k+1}` an unknown stands for, and the multipliers.
+        let point = std::cell::RefCell::new(point);
+        let at = |z: &DVector<f64>, run: &mut dyn FnMut(&[f64], &[f64])| {
+            let (u, lambda) = z.as_slice().split_at(n);
+            if minus {
+                let mut q1 = point.borrow_mut();
+                q1.iter_mut()
+                    .zip(q0.iter().zip(u))
+                    .for_each(|(q1, (q, d))| *q1 = q - d);
+                run(q1.as_slice(), lambda);
+            } else {
+                run(u, lambda);
+            }
+        };
         let first = solve_in(
             position,
             z,
@@ -585,29 +624,35 @@ impl<L: ElementLagrangian> ElementConstrainedIntegrator<L> {
             rho,
             options,
             |z, r| {
-                let (q1, lambda) = z.as_slice().split_at(n);
-                let (r_q, r_phi) = r.as_mut_slice().split_at_mut(n);
-                assembler.residual_jacobian(sys, q0, p0, q1, r_q, None);
-                rows_at(sys, rows, q1, Some(r_phi), None);
-                constraint_forces(rows, a0, lambda, r_q, None, None);
+                at(z, &mut |q1, lambda| {
+                    let (r_q, r_phi) = r.as_mut_slice().split_at_mut(n);
+                    assembler.residual_jacobian(sys, q0, p0, q1, r_q, None);
+                    rows_at(sys, rows, q1, Some(r_phi), None);
+                    constraint_forces(rows, a0, lambda, r_q, None, None);
+                })
             },
             |z, r, kkt| {
                 let kkt = kkt.get_or_insert_with(|| vec![0.0; nnz]);
-                let (q1, lambda) = z.as_slice().split_at(n);
-                let (r_q, r_phi) = r.as_mut_slice().split_at_mut(n);
-                assembler.residual_jacobian(sys, q0, p0, q1, r_q, Some(j.as_mut_slice()));
-                rows_at(sys, rows, q1, Some(r_phi), Some(a1.as_mut_slice()));
-                kkt.fill(0.0);
-                for (&p, v) in j_to_kkt.iter().zip(j.iter()) {
-                    kkt[p] += v;
-                }
-                constraint_forces(rows, a0, lambda, r_q, Some(kkt), Some(a1));
+                at(z, &mut |q1, lambda| {
+                    let (r_q, r_phi) = r.as_mut_slice().split_at_mut(n);
+                    assembler.residual_jacobian(sys, q0, p0, q1, r_q, Some(j.as_mut_slice()));
+                    rows_at(sys, rows, q1, Some(r_phi), Some(a1.as_mut_slice()));
+                    kkt.fill(0.0);
+                    for (&p, v) in j_to_kkt.iter().zip(j.iter()) {
+                        kkt[p] += sign * v;
+                    }
+                    constraint_forces(rows, a0, lambda, r_q, Some(kkt), Some((a1, sign)));
+                })
             },
         )
         .map_err(|failure| step_error(k, failure))?;
         let mut stats = StepStats::from_solution(&first, options.residual_tolerance(rho));
         let constraint_residual = slice_inf_norm(&r.as_slice()[n..]);
         next.q.copy_from(&z.rows(0, n));
+        if minus {
+            // q_{k+1} = q_k − Δ, as the last residual pass formed it.
+            next.q.iter_mut().zip(q0).for_each(|(z, q)| *z = q - *z);
+        }
         let lambda = z.rows(n, m).into_owned();
         // The last pass was at the solution: its `D_2 L_d` is the momentum before projection.
         assembler.take_momentum(ptilde);
@@ -656,7 +701,7 @@ impl<L: ElementLagrangian> ElementConstrainedIntegrator<L> {
                 kkt.fill(0.0);
                 legendre(v, r_q, Some(kkt.as_mut_slice()));
                 r_q.iter_mut().zip(ptilde.iter()).for_each(|(a, b)| *a -= b);
-                constraint_forces(rows, a1, nu, r_q, Some(kkt), Some(a1));
+                constraint_forces(rows, a1, nu, r_q, Some(kkt), Some((a1, 1.0)));
                 constraint_velocities(rows, a1, v, r_nu);
             },
         )
