@@ -43,6 +43,7 @@ struct Options {
     sizes: Vec<usize>,
     seconds: f64,
     repeats: usize,
+    solver: StepSolver,
 }
 
 /// The command line: `--help` lists it; a bad value stops the example with exit code 2.
@@ -67,6 +68,16 @@ fn parse_args() -> Options {
             greater_than(0.0),
         ),
         repeats: cli.value("--repeats", "R", "timed runs per size", 3, at_least(1)),
+        solver: cli.choice(
+            "--solver",
+            "the step Jacobian's solver",
+            "auto",
+            &[
+                ("auto", StepSolver::Auto),
+                ("banded", StepSolver::Banded),
+                ("direct", StepSolver::Direct),
+            ],
+        ),
     };
     cli.finish();
     o
@@ -123,7 +134,7 @@ fn measure(n: usize, o: &Options) -> Result<Row, Box<dyn std::error::Error>> {
         h: 0.05,
         n,
     };
-    let integ = ElementIntegrator::new(sys, NewtonOptions::default());
+    let integ = ElementIntegrator::new(sys, NewtonOptions::default()).with_solver(o.solver);
     let start = initial(&sys, 0.1, 0.3, 0.0);
     let _ = &start;
     let mu0 = integ.momentum_map(&start)?[0];
@@ -181,7 +192,8 @@ fn measure(n: usize, o: &Options) -> Result<Row, Box<dyn std::error::Error>> {
             n,
         },
         NewtonOptions::default(),
-    );
+    )
+    .with_solver(o.solver);
     for _ in 0..o.repeats {
         let mut ws = integ.workspace();
         let (mut state, mut next) = (start.clone(), start.clone());
@@ -249,9 +261,10 @@ fn main() {
         TodaN::GENERATED
     );
     println!(
-        "rayon threads: {}; each time the median of {} interleaved runs",
+        "rayon threads: {}; each time the median of {} interleaved runs; step solver {:?}",
         dirac::runtime::ensemble::rayon::current_num_threads(),
-        o.repeats
+        o.repeats,
+        o.solver
     );
     println!(
         "{:>7} {:>11} {:>11} {:>20} {:>18} {:>6} {:>7} {:>9} {:>10} {:>11} {:>11} {:>6} {:>8}",

@@ -30,13 +30,13 @@
 use nalgebra::DVector;
 
 use super::assembly::{gather, FamilyData};
+use super::solver::ElementSolver;
 use super::step::keep_momentum_maps;
 use super::{
     ConstraintFamily, ConstraintVisitor, ElementIntegrator, ElementLagrangian, ElementState,
     ElementWorkspace, Family, FamilyVisitor, Parallel, StepSolver,
 };
 use crate::error::{IntegrationError, StepError, Steps};
-use crate::linalg::DynSparseLu;
 use crate::newton::{slice_inf_norm, solve_in, NewtonOptions};
 use crate::stepper::{check_controls, step_error, Collect, StepStats, StepStatsExt, Stepper};
 use crate::system::Variant;
@@ -124,8 +124,10 @@ pub struct ElementConstrainedWorkspace {
     invalid: Option<String>,
     /// The KKT position of each entry of the step Jacobian's pattern.
     j_to_kkt: Vec<usize>,
-    position: DynSparseLu,
-    projection: DynSparseLu,
+    position: ElementSolver,
+    projection: ElementSolver,
+    /// Structural nonzeros of the KKT pattern.
+    kkt_nnz: usize,
     kkt: Option<Vec<f64>>,
     j: Vec<f64>,
     r: DVector<f64>,
@@ -148,7 +150,8 @@ impl std::fmt::Debug for ElementConstrainedWorkspace {
         f.debug_struct("ElementConstrainedWorkspace")
             .field("n", &self.base.dim())
             .field("m", &self.m)
-            .field("kkt_nnz", &self.position.nnz())
+            .field("kkt_nnz", &self.kkt_nnz)
+            .field("solver", &self.position.name())
             .finish_non_exhaustive()
     }
 }
@@ -237,8 +240,8 @@ impl ElementConstrainedWorkspace {
         }
         let slots: usize = rows.iter().map(|f| f.count * f.width).sum();
         let nnz = kkt_row_idx.len();
-        let lu = DynSparseLu::new(n + m, kkt_col_ptr, kkt_row_idx);
-        let (cp, ri) = (lu.col_ptr().to_vec(), lu.row_idx().to_vec());
+        let position = ElementSolver::saddle(n + m, &kkt_col_ptr, &kkt_row_idx);
+        let projection = ElementSolver::saddle(n + m, &kkt_col_ptr, &kkt_row_idx);
         Self {
             j: vec![0.0; base.nnz()],
             base,
@@ -246,8 +249,9 @@ impl ElementConstrainedWorkspace {
             rows,
             invalid,
             j_to_kkt,
-            position: lu,
-            projection: DynSparseLu::new(n + m, cp, ri),
+            position,
+            projection,
+            kkt_nnz: nnz,
             kkt: Some(vec![0.0; nnz]),
             r: DVector::zeros(n + m),
             a0: vec![0.0; slots],
@@ -273,7 +277,12 @@ impl ElementConstrainedWorkspace {
 
     /// The number of structural nonzeros of the KKT systems.
     pub fn nnz(&self) -> usize {
-        self.position.nnz()
+        self.kkt_nnz
+    }
+
+    /// The saddle-point systems' solver: `"banded LU"` or `"sparse LU"`.
+    pub fn linear_solver(&self) -> &'static str {
+        self.position.name()
     }
 }
 
@@ -581,7 +590,7 @@ impl<L: ElementLagrangian> ElementConstrainedIntegrator<L> {
         ws.z.rows_mut(n, m).copy_from(&ws.lambda);
         rows_at(sys, &ws.rows, q0, None, Some(&mut ws.a0));
         let rho = slice_inf_norm(p0);
-        let nnz = ws.position.nnz();
+        let nnz = ws.kkt_nnz;
         let ElementConstrainedWorkspace {
             base,
             rows,

@@ -90,7 +90,9 @@ pub use constrained::{
     ElementConstrainedTrajectory, ElementConstrainedWorkspace,
 };
 pub use sensitivity::{CscMatrix, ElementSensitivity};
-pub use solver::{ElementSolver, ITERATIVE_MIN_DIM, ITERATIVE_MIN_ENTRIES_PER_ROW};
+pub use solver::{
+    ElementSolver, BANDED_MAX_WIDTH, ITERATIVE_MIN_DIM, ITERATIVE_MIN_ENTRIES_PER_ROW,
+};
 
 /// One family of elements of an element-wise Lagrangian: a loop of its body (or a term outside
 /// loops), with a stencil of `S` coordinates. Emitted by `#[reduced_lagrangian]`.
@@ -294,10 +296,14 @@ pub enum StepSolver {
     /// Conjugate gradients for large multi-dimensional patterns (at least
     /// [`ITERATIVE_MIN_DIM`] unknowns and
     /// [`ITERATIVE_MIN_ENTRIES_PER_ROW`] entries per row: fields on grids), whose
-    /// sparse LU fills in; the sparse LU otherwise (chains, lattices, pairs). CG falls back to
-    /// the LU when the Jacobian is not symmetric.
+    /// sparse LU fills in; the banded LU ([`crate::linalg::BandedLu`]) when a reverse
+    /// Cuthill–McKee ordering makes the pattern a band of at most [`BANDED_MAX_WIDTH`]
+    /// (chains, lattices, rings); the sparse LU otherwise (pairs). CG falls back to the LU when
+    /// the Jacobian is not symmetric.
     #[default]
     Auto,
+    /// Always the banded LU on the reverse Cuthill–McKee ordering, however wide the band.
+    Banded,
     /// Always faer's sparse LU ([`crate::linalg::DynSparseLu`]).
     Direct,
     /// Jacobi-preconditioned conjugate gradients ([`crate::linalg::Pcg`]) whenever the pattern

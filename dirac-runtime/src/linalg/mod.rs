@@ -33,12 +33,14 @@ macro_rules! hager_conditioning {
     };
 }
 
+pub mod banded;
 pub mod dense;
 pub mod iterative;
 pub mod sparse;
 
 use nalgebra::SVector;
 
+pub use banded::BandedLu;
 pub use dense::Lu;
 pub use iterative::Pcg;
 pub use sparse::{CscPattern, CscValues, DynSparseLu, SparseLu};
