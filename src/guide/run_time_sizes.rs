@@ -191,7 +191,8 @@
 //! the projection of the momenta onto the constraints' cotangent space — as two Newton solves on
 //! saddle-point systems `[[J, −A(q_k)ᵀ], [A(q_{k+1}), 0]]` and `[[∂²L/∂v², −Aᵀ], [A, 0]]` of
 //! `n + m` unknowns, assembled element by element and row by row into one pattern built per run
-//! and factored by the sparse LU (chord iterations reuse the factors). Each step reports its
+//! and factored by the banded LU (a chain's saddle-point systems are a narrow band once
+//! reordered) or the sparse LU (chord iterations reuse the factors). Each step reports its
 //! multipliers `λ_k`, `ν_{k+1}` and `‖φ(q_{k+1})‖∞`; forces and controls enter as without
 //! constraints; `ElementConstrainedIntegrator::minus` solves the (−) equations. A constraint
 //! that is not invariant under a declared translation is a compile error (for an invariant one
@@ -218,7 +219,10 @@
 //! position–momentum form, `p_k + D_1 L_d(q_k, q_{k+1}) = 0`, `p_{k+1} = D_2 L_d(q_k, q_{k+1})`,
 //! with the residual and Jacobian assembled from the elements, on the one driver (`run`,
 //! the configured `run`, stop conditions, ensembles) and the one Newton iteration (chord iterations on a
-//! pattern built once per run). The step Jacobian is solved by faer's sparse LU — or, for large
+//! pattern built once per run). The step Jacobian is solved by a banded LU when a reverse
+//! Cuthill–McKee ordering makes its pattern a band at most
+//! [`BANDED_MAX_WIDTH`](crate::runtime::element::BANDED_MAX_WIDTH) wide (chains, lattices,
+//! rings, several arrays coupled site by site), by faer's sparse LU otherwise — or, for large
 //! fields on grids (at least [`ITERATIVE_MIN_DIM`](crate::runtime::element::ITERATIVE_MIN_DIM)
 //! unknowns and five entries per row), by conjugate gradients with a Jacobi preconditioner,
 //! which needs no factorization and no fill and falls back to the LU when the Jacobian is not
@@ -283,10 +287,8 @@
 //! sensitivities and holonomic constraints: no nonholonomic constraints, no sensitivities or
 //! compositions of a constrained step, no atlases of element-wise systems; the sensitivity's
 //! blocks are assembled serially and its Jacobian factored by the sparse LU whatever solver the
-//! run uses; a constrained step's saddle-point systems are factored whole by the sparse LU (no
-//! Schur complement on the multipliers: the time per step of the link chain grows somewhat
-//! faster than `n` at small sizes, see
-//! [Benchmarks](super::benchmarks#systems-sized-at-run-time)); a strided coordinate
+//! run uses; a constrained step's saddle-point systems are factored whole (no Schur complement
+//! on the multipliers), banded when narrow and by the sparse LU otherwise; a strided coordinate
 //! `x[3 * n]` declares one translation, moving all its components together; integer `let`s are index
 //! aliases (`let j = (i + 1) % n;`) and cannot be read as values. At small sizes the chord iterations' linear convergence costs
 //! corrections that a hand-written Newton step on a tridiagonal system does not pay (see
