@@ -232,7 +232,11 @@ fn constrained_over_springs(n: usize, repeats: usize) -> (f64, f64, f64) {
         ratios.push(constrained / spring_us);
     }
     ratios.sort_by(f64::total_cmp);
-    (ratios[ratios.len() / 2], ratios[0], ratios[ratios.len() - 1])
+    (
+        ratios[ratios.len() / 2],
+        ratios[0],
+        ratios[ratios.len() - 1],
+    )
 }
 
 fn main() {

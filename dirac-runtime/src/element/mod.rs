@@ -68,6 +68,7 @@
 mod assembly;
 pub mod constrained;
 mod legendre;
+mod rows;
 pub mod sensitivity;
 mod solver;
 mod step;
