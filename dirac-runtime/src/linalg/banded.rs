@@ -152,6 +152,9 @@ pub struct BandedLu {
     /// Row `i` holds columns `i − kl ..= i + ku + kl` at `i · width + (j + kl − i)`.
     band: Vec<f64>,
     pivots: Vec<usize>,
+    /// `1 / U_ii`: a solve multiplies (a division's latency would lengthen the substitution's
+    /// serial chain).
+    inverse_diagonal: Vec<f64>,
     work: Vec<f64>,
     hager: HagerCache,
     norm1: f64,
@@ -198,6 +201,7 @@ impl BandedLu {
             map,
             band: vec![0.0; n * width],
             pivots: vec![0; n],
+            inverse_diagonal: vec![0.0; n],
             work: vec![0.0; n],
             hager: HagerCache::new(n),
             norm1: 0.0,
@@ -227,24 +231,32 @@ impl BandedLu {
             y[self.inverse[old]] = v;
         }
         if !transpose {
-            // L: the interchange of column c, then its multipliers.
+            let (w, band) = (self.width, &self.band);
+            // L: the interchange of column c, then its multipliers (entry (r, c) of row r sits
+            // `w − 1` after entry (r − 1, c)).
             for c in 0..n {
                 let p = self.pivots[c];
                 if p != c {
                     y.swap(c, p);
                 }
                 let yc = y[c];
-                for r in c + 1..(c + kl + 1).min(n) {
-                    y[r] -= self.band[self.at(r, c)] * yc;
+                if yc != 0.0 {
+                    let end = (c + kl + 1).min(n);
+                    for (k, r) in (c + 1..end).enumerate() {
+                        y[r] -= band[(c + 1) * w + kl - 1 + k * (w - 1)] * yc;
+                    }
                 }
             }
-            // U.
+            // U: row i's entries right of the diagonal are contiguous.
             for i in (0..n).rev() {
-                let mut s = y[i];
-                for j in i + 1..(i + upper + 1).min(n) {
-                    s -= self.band[self.at(i, j)] * y[j];
-                }
-                y[i] = s / self.band[self.at(i, i)];
+                let m = (i + upper + 1).min(n) - (i + 1);
+                let start = i * w + kl;
+                let dot: f64 = band[start + 1..start + 1 + m]
+                    .iter()
+                    .zip(&y[i + 1..i + 1 + m])
+                    .map(|(a, b)| a * b)
+                    .sum();
+                y[i] = (y[i] - dot) * self.inverse_diagonal[i];
             }
         } else {
             // Uᵀ.
@@ -311,6 +323,7 @@ impl LinearSolver for BandedLu {
                 }
             }
             let pivot = self.band[self.at(c, c)];
+            self.inverse_diagonal[c] = 1.0 / pivot;
             for r in c + 1..=last {
                 let at_rc = self.at(r, c);
                 let l = self.band[at_rc] / pivot;
