@@ -303,7 +303,8 @@ pub enum StepSolver {
     /// the Jacobian is not symmetric.
     #[default]
     Auto,
-    /// Always the banded LU on the reverse Cuthill–McKee ordering, however wide the band.
+    /// The banded LU on the reverse Cuthill–McKee ordering however wide the band, as long as
+    /// its storage (`n` times the band's width) can be allocated; the sparse LU otherwise.
     Banded,
     /// Always faer's sparse LU ([`crate::linalg::DynSparseLu`]).
     Direct,

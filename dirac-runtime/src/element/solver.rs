@@ -52,12 +52,14 @@ impl ElementSolver {
         if let Some(cg) = iterative.then(|| Pcg::new(n, col_ptr, row_idx)).flatten() {
             return ElementSolver::Iterative(Box::new(cg), col_ptr.to_vec(), row_idx.to_vec());
         }
-        if matches!(linear, StepSolver::Auto | StepSolver::Banded) {
-            let banded = BandedLu::new(n, col_ptr, row_idx);
-            let (kl, ku) = banded.bandwidths();
-            if linear == StepSolver::Banded || kl + ku <= BANDED_MAX_WIDTH {
-                return ElementSolver::Banded(Box::new(banded));
-            }
+        let max_width = match linear {
+            StepSolver::Auto => Some(BANDED_MAX_WIDTH),
+            StepSolver::Banded => Some(usize::MAX),
+            StepSolver::Direct | StepSolver::Iterative => None,
+        };
+        // A band too wide to store falls back to the sparse LU.
+        if let Some(banded) = max_width.and_then(|w| BandedLu::within(n, col_ptr, row_idx, w)) {
+            return ElementSolver::Banded(Box::new(banded));
         }
         ElementSolver::Direct(Box::new(DynSparseLu::new(
             n,
@@ -70,9 +72,7 @@ impl ElementSolver {
     /// reordered band is narrow ([`BANDED_MAX_WIDTH`]), the sparse LU otherwise (conjugate
     /// gradients do not apply to an indefinite system).
     pub(super) fn saddle(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Self {
-        let banded = BandedLu::new(n, col_ptr, row_idx);
-        let (kl, ku) = banded.bandwidths();
-        if kl + ku <= BANDED_MAX_WIDTH {
+        if let Some(banded) = BandedLu::within(n, col_ptr, row_idx, BANDED_MAX_WIDTH) {
             ElementSolver::Banded(Box::new(banded))
         } else {
             ElementSolver::Direct(Box::new(DynSparseLu::new(

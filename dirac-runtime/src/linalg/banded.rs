@@ -175,14 +175,37 @@ impl std::fmt::Debug for BandedLu {
 impl BandedLu {
     /// The solver for `n × n` matrices of the pattern `(col_ptr, row_idx)` (sorted, distinct rows
     /// per column), reordered by reverse Cuthill–McKee.
+    ///
+    /// # Panics
+    /// If the band's storage (`n (2 k_l + k_u + 1)` entries) cannot be allocated; see
+    /// [`Self::within`] for a solver built only when its band is narrow and fits.
     pub fn new(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Self {
+        Self::within(n, col_ptr, row_idx, usize::MAX)
+            .expect("dirac: the banded LU's storage could not be allocated")
+    }
+
+    /// The solver when the reordered band is at most `max_width` wide (`k_l + k_u`) and its
+    /// storage can be allocated; `None` otherwise, before anything of the band's size is
+    /// allocated (the ordering and the bandwidths cost `O(nnz)`).
+    pub fn within(
+        n: usize,
+        col_ptr: &[usize],
+        row_idx: &[usize],
+        max_width: usize,
+    ) -> Option<Self> {
         let order = reverse_cuthill_mckee(n, col_ptr, row_idx);
         let mut inverse = vec![0; n];
         for (new, &old) in order.iter().enumerate() {
             inverse[old] = new;
         }
         let (kl, ku) = bandwidths(n, col_ptr, row_idx, &inverse);
+        if kl + ku > max_width {
+            return None;
+        }
         let width = 2 * kl + ku + 1;
+        let mut band = Vec::new();
+        band.try_reserve_exact(n.checked_mul(width)?).ok()?;
+        band.resize(n * width, 0.0);
         let mut map = Vec::with_capacity(row_idx.len());
         for c in 0..n {
             for &r in &row_idx[col_ptr[c]..col_ptr[c + 1]] {
@@ -190,7 +213,7 @@ impl BandedLu {
                 map.push(r * width + (c + kl - r));
             }
         }
-        Self {
+        Some(Self {
             n,
             kl,
             ku,
@@ -199,14 +222,14 @@ impl BandedLu {
             inverse,
             col_ptr: col_ptr.to_vec(),
             map,
-            band: vec![0.0; n * width],
+            band,
             pivots: vec![0; n],
             inverse_diagonal: vec![0.0; n],
             work: vec![0.0; n],
             hager: HagerCache::new(n),
             norm1: 0.0,
             factored: false,
-        }
+        })
     }
 
     /// The lower and upper bandwidths of the reordered pattern.
@@ -427,6 +450,18 @@ mod tests {
             let (rb, rs) = (banded.rcond(), sparse.rcond());
             assert!((rb / rs - 1.0).abs() < 0.5, "rcond {rb} vs {rs}");
         }
+    }
+
+    #[test]
+    fn a_wide_band_is_declined_before_its_storage_is_allocated() {
+        // Every pair coupled (a cluster's pattern): the band is the whole matrix.
+        let n = 3000;
+        let col_ptr: Vec<usize> = (0..=n).map(|c| c * n).collect();
+        let row_idx: Vec<usize> = (0..n).flat_map(|_| 0..n).collect();
+        assert!(BandedLu::within(n, &col_ptr, &row_idx, 16).is_none());
+        // A ring is kept.
+        let (dim, col_ptr, row_idx, _) = ring(3000, 1, 0.2);
+        assert!(BandedLu::within(dim, &col_ptr, &row_idx, 16).is_some());
     }
 
     #[test]
