@@ -112,6 +112,21 @@ fn a_run_time_sized_chain_is_the_unrolled_constrained_chain() {
     );
     assert!(traj.max_constraint_residual() <= 1e-11);
     assert!(traj.steps.iter().all(|s| s.lambda.amax() > 0.0));
+    // The energy at the nodes, from the projected momenta, and at the midpoints: near its
+    // initial value, as the unrolled chain's.
+    let energies = integ.energies(&traj).unwrap();
+    let reference_energies = fixed.energies(&reference).unwrap();
+    assert_eq!(energies.nodes.len(), steps + 1);
+    let e0 = energies.nodes[0];
+    for (k, (e, r)) in energies
+        .nodes
+        .iter()
+        .zip(&reference_energies.nodes)
+        .enumerate()
+    {
+        assert!((e - r).abs() <= 1e-8 * e0.abs(), "node {k}: {e} vs {r}");
+        assert!((e - e0).abs() <= 1e-2 * e0.abs(), "node {k}: {e} from {e0}");
+    }
     // The chain swings: the state moved.
     assert!((&traj.last().q - &start.q).amax() > 0.05);
 }

@@ -369,6 +369,26 @@ impl<L: ElementLagrangian> ElementConstrainedIntegrator<L> {
         self.base.energy(q0, q1)
     }
 
+    /// The continuous energy along a trajectory of this integrator, at its nodes and midpoints,
+    /// as [`ElementIntegrator::energies`] gives it: at node `k`, `E(q_k, v_k)` with `v_k` from
+    /// the Legendre map of the projected momentum `p_k` (whose velocity satisfies the
+    /// constraints), at the midpoints `E((q_k + q_{k+1})/2, (q_{k+1} − q_k)/h_k)`. For a
+    /// conservative system on its constraints the energy stays near its initial value, with no
+    /// drift.
+    pub fn energies(
+        &self,
+        trajectory: &ElementConstrainedTrajectory,
+    ) -> Result<crate::continuous::ContinuousEnergies, StepError> {
+        let view = super::ElementTrajectory {
+            h: trajectory.h,
+            variant: self.variant(),
+            states: trajectory.states.clone(),
+            times: trajectory.times.clone(),
+            stats: trajectory.stats.clone(),
+        };
+        self.base.energies(&view)
+    }
+
     /// The constrained step from `state` into `next` (see the [module documentation](self)).
     #[allow(clippy::too_many_lines)]
     fn constrained_step(
