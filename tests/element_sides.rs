@@ -298,6 +298,12 @@ fn the_adjoint_is_the_transpose_of_the_forward_derivative_on_a_large_lattice() {
     assert!(matches!(err, StepError::InvalidSize { .. }), "{err}");
     let err = sens.apply(&dq, &dp, &[1.0]).unwrap_err();
     assert!(matches!(err, StepError::InvalidSize { .. }), "{err}");
+    // A direction that is not finite is a typed error, not a NaN derivative.
+    let mut bad = dq.clone();
+    bad[7] = f64::NAN;
+    let err = sens.apply(&bad, &dp, &[]).unwrap_err();
+    assert!(matches!(err, StepError::NonFinite { step: 0, .. }), "{err}");
+    assert_eq!(sens.step(), 0);
     // The sparse blocks have the stencils' pattern: three entries per column for the chain.
     assert_eq!(sens.jacobian().values.len(), 3 * n);
 }

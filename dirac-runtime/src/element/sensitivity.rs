@@ -109,6 +109,8 @@ impl CscMatrix {
 /// documentation](self)).
 #[derive(Debug)]
 pub struct ElementSensitivity {
+    /// The step it is the derivative of (for errors).
+    step: usize,
     jacobian: CscMatrix,
     residual_q: CscMatrix,
     momentum_q: CscMatrix,
@@ -159,13 +161,27 @@ impl ElementSensitivity {
         &self.momentum_u
     }
 
-    fn check(&self, what: &[(&str, usize, usize)]) -> Result<(), StepError> {
-        match what.iter().find(|(_, len, want)| len != want) {
-            Some((name, len, want)) => Err(StepError::InvalidSize {
+    /// The step this is the derivative of.
+    pub fn step(&self) -> usize {
+        self.step
+    }
+
+    /// The lengths of the vectors in `what` (a name, a length, the length wanted), and whether
+    /// every component of `values` is finite (a NaN would spread through the solve silently).
+    fn check(&self, what: &[(&str, usize, usize)], values: &[&[f64]]) -> Result<(), StepError> {
+        if let Some((name, len, want)) = what.iter().find(|(_, len, want)| len != want) {
+            return Err(StepError::InvalidSize {
                 reason: format!("`{name}` has {len} components; the step's has {want}"),
-            }),
-            None => Ok(()),
+            });
         }
+        if values.iter().any(|v| v.iter().any(|x| !x.is_finite())) {
+            return Err(StepError::NonFinite {
+                step: self.step,
+                what: "a direction or covector given to the step's sensitivity",
+                residual: f64::NAN,
+            });
+        }
+        Ok(())
     }
 
     /// The forward derivative `(dq_{k+1}, dp_{k+1})` of the step in the direction
@@ -179,7 +195,10 @@ impl ElementSensitivity {
     ) -> Result<(DVector<f64>, DVector<f64>), StepError> {
         let (n, m) = (self.dim(), self.control_dim());
         let du_len = if du.is_empty() { m } else { du.len() };
-        self.check(&[("dq", dq.len(), n), ("dp", dp.len(), n), ("du", du_len, m)])?;
+        self.check(
+            &[("dq", dq.len(), n), ("dp", dp.len(), n), ("du", du_len, m)],
+            &[dq.as_slice(), dp.as_slice(), du],
+        )?;
         let mut b = self.residual_q.mul_vec(dq) + dp;
         let mut dp1 = self.momentum_q.mul_vec(dq);
         if !du.is_empty() {
@@ -204,7 +223,10 @@ impl ElementSensitivity {
         lp: &DVector<f64>,
     ) -> Result<(DVector<f64>, DVector<f64>, DVector<f64>), StepError> {
         let n = self.dim();
-        self.check(&[("lq", lq.len(), n), ("lp", lp.len(), n)])?;
+        self.check(
+            &[("lq", lq.len(), n), ("lp", lp.len(), n)],
+            &[lq.as_slice(), lp.as_slice()],
+        )?;
         let mut y = lq + self.momentum_z.tr_mul_vec(lp);
         self.lu.solve_transpose_in_place(&mut y);
         let l_q = self.momentum_q.tr_mul_vec(lp) - self.residual_q.tr_mul_vec(&y);
@@ -381,6 +403,7 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
         };
         let [r_q, p_q, p_z] = values;
         Ok(ElementSensitivity {
+            step: k,
             jacobian: csc(j),
             residual_q: csc(r_q),
             momentum_q: csc(p_q),
