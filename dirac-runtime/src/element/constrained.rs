@@ -88,32 +88,8 @@ impl ElementConstrainedWorkspace {
     fn new<L: ElementLagrangian>(system: &L, parallel: Parallel) -> Self {
         let base = ElementWorkspace::new(system, parallel, StepSolver::Direct);
         let (n, m) = (base.dim(), system.constraint_count());
-        let mut collector = RowCollector {
-            n,
-            m,
-            families: Vec::new(),
-            invalid: base.invalid().map(str::to_string),
-        };
-        system.constraint_families(&mut collector);
-        let RowCollector {
-            families: mut rows,
-            mut invalid,
-            ..
-        } = collector;
-        // Every row assigned exactly once.
-        let mut assigned = vec![0u32; m];
-        for r in rows.iter().flat_map(|f| f.rows.iter()) {
-            assigned[*r] += 1;
-        }
-        if invalid.is_none() {
-            if let Some((row, &times)) = assigned.iter().enumerate().find(|(_, &t)| t != 1) {
-                invalid = Some(format!(
-                    "constraint row {row} of {m} is assigned {times} times for sizes {:?}: every \
-                     row of the constraint vector must be assigned exactly once",
-                    system.sizes()
-                ));
-            }
-        }
+        let (mut rows, invalid) = collect_rows(system, n);
+        let invalid = base.invalid().map(str::to_string).or(invalid);
         // The KKT pattern: J's entries, A's and Aᵀ's, as (column, row) pairs.
         let (col_ptr, row_idx) = base.pattern();
         let mut entries: Vec<(usize, usize)> = Vec::with_capacity(row_idx.len());
@@ -212,6 +188,39 @@ impl ElementConstrainedWorkspace {
     pub fn linear_solver(&self) -> &'static str {
         self.position.name()
     }
+}
+
+/// The constraint rows of `system` against `n` coordinates, and the first reason they do not
+/// fit: a row outside the constraint vector, a stencil outside the coordinates, or a row not
+/// assigned exactly once. One pass over the rows, without the saddle-point pattern.
+fn collect_rows<L: ElementLagrangian>(system: &L, n: usize) -> (Vec<RowData>, Option<String>) {
+    let m = system.constraint_count();
+    let mut collector = RowCollector {
+        n,
+        m,
+        families: Vec::new(),
+        invalid: None,
+    };
+    system.constraint_families(&mut collector);
+    let RowCollector {
+        families: rows,
+        mut invalid,
+        ..
+    } = collector;
+    let mut assigned = vec![0u32; m];
+    for r in rows.iter().flat_map(|f| f.rows.iter()) {
+        assigned[*r] += 1;
+    }
+    if invalid.is_none() {
+        if let Some((row, &times)) = assigned.iter().enumerate().find(|(_, &t)| t != 1) {
+            invalid = Some(format!(
+                "constraint row {row} of {m} is assigned {times} times for sizes {:?}: every row \
+                 of the constraint vector must be assigned exactly once",
+                system.sizes()
+            ));
+        }
+    }
+    (rows, invalid)
 }
 
 /// What one constrained step reports besides the new state.
@@ -349,18 +358,13 @@ impl<L: ElementLagrangian> ElementConstrainedIntegrator<L> {
     /// coordinates, or sizes that do not fit the rows, are [`StepError::InvalidSize`].
     pub fn constraint(&self, q: &DVector<f64>) -> Result<DVector<f64>, StepError> {
         self.base.check_lengths(&[("q", q.len())])?;
-        let ws = self.workspace();
-        if let Some(reason) = &ws.invalid {
-            return Err(self.base.invalid(reason.clone()));
+        let system = self.system();
+        let (rows, invalid) = collect_rows(system, system.dim());
+        if let Some(reason) = invalid {
+            return Err(self.base.invalid(reason));
         }
-        let mut phi = DVector::zeros(ws.m);
-        rows_at(
-            self.system(),
-            &ws.rows,
-            q.as_slice(),
-            Some(phi.as_mut_slice()),
-            None,
-        );
+        let mut phi = DVector::zeros(system.constraint_count());
+        rows_at(system, &rows, q.as_slice(), Some(phi.as_mut_slice()), None);
         Ok(phi)
     }
 
