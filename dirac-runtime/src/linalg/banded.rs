@@ -363,22 +363,7 @@ impl LinearSolver for BandedLu {
         Ok(())
     }
 
-    fn solve(&mut self, b: &nalgebra::DVector<f64>) -> nalgebra::DVector<f64> {
-        let mut x = b.clone();
-        self.solve_slice(x.as_mut_slice(), false);
-        x
-    }
-
-    fn solve_in_place(&mut self, b: &mut nalgebra::DVector<f64>) {
-        self.solve_slice(b.as_mut_slice(), false);
-    }
-
-    hager_conditioning!(Self::solve_slice);
-
-    /// Yes once a factorization succeeded (chord iterations, as the sparse LU).
-    fn has_reusable_factors(&self) -> bool {
-        self.factored
-    }
+    dvector_solves!();
 }
 
 #[cfg(test)]

@@ -33,6 +33,32 @@ macro_rules! hager_conditioning {
     };
 }
 
+/// The [`LinearSolver`] items shared by the solvers of run-time-sized systems, on `DVector`s: a
+/// type with `solve_slice(x, transpose)` (overwriting `x` with `A⁻¹ x` or `A⁻ᵀ x`), the fields of
+/// [`hager_conditioning`] and `factored`, whose factors chord iterations reuse once a
+/// factorization succeeded (a factorization costs several residual evaluations).
+macro_rules! dvector_solves {
+    () => {
+        fn solve(&mut self, b: &nalgebra::DVector<f64>) -> nalgebra::DVector<f64> {
+            let mut x = b.clone();
+            self.solve_slice(x.as_mut_slice(), false);
+            x
+        }
+
+        fn solve_in_place(&mut self, b: &mut nalgebra::DVector<f64>) {
+            self.solve_slice(b.as_mut_slice(), false);
+        }
+
+        // No bound is readable from the factors: a step is checked with Hager's estimate,
+        // once per factorization.
+        hager_conditioning!(Self::solve_slice);
+
+        fn has_reusable_factors(&self) -> bool {
+            self.factored
+        }
+    };
+}
+
 pub mod banded;
 pub mod dense;
 pub mod iterative;

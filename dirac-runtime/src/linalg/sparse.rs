@@ -491,24 +491,7 @@ impl LinearSolver for DynSparseLu {
         Ok(())
     }
 
-    fn solve(&mut self, b: &nalgebra::DVector<f64>) -> nalgebra::DVector<f64> {
-        let mut x = b.clone();
-        self.solve_slice(x.as_mut_slice(), false);
-        x
-    }
-
-    fn solve_in_place(&mut self, b: &mut nalgebra::DVector<f64>) {
-        self.solve_slice(b.as_mut_slice(), false);
-    }
-
-    // No bound is readable from faer's general factors: the step is checked with Hager's
-    // estimate, once per factorization.
-    hager_conditioning!(Self::solve_slice);
-
-    /// Yes once a factorization succeeded (chord iterations, as [`SparseLu`]).
-    fn has_reusable_factors(&self) -> bool {
-        self.factored
-    }
+    dvector_solves!();
 }
 
 #[cfg(test)]
