@@ -20,9 +20,11 @@
 //! ```
 //!
 //! (`J = Σ_e D_1 D_2 L_d^e`, `H = Σ_e ∂²L^e/∂v²`, both on the element stencils' pattern), whose
-//! common pattern is built once per run and factored by the sparse LU with partial pivoting
-//! (the zero block rules out a Cholesky or CG without a preconditioner built for saddle points);
-//! chord iterations reuse its factors as in the unconstrained step. The multipliers `λ_k`,
+//! common pattern is built once per run and factored with partial pivoting — by the banded LU
+//! when a reverse Cuthill–McKee ordering makes it a narrow band (a chain of links: a band of a
+//! few entries), by faer's sparse LU otherwise (the zero block rules out a Cholesky, or CG
+//! without a preconditioner built for saddle points); chord iterations reuse its factors as in
+//! the unconstrained step. The multipliers `λ_k`,
 //! `ν_{k+1}` are reported per step. A constraint invariant under a declared translation (the
 //! compiler checks it) has forces `Aᵀλ` with no component along the orbit, so the momentum map
 //! is kept exact as in the unconstrained step (or follows the forced Noether balance).
@@ -44,7 +46,7 @@ use crate::system::Variant;
 
 /// The workspace of an [`ElementConstrainedIntegrator`] run: the unconstrained step's
 /// (assembly, pattern, guess), the constraint rows, the KKT pattern with the positions of each
-/// block in it, and the two sparse LUs. Built once per run.
+/// block in it, and the two saddle-point solvers (banded or sparse LU). Built once per run.
 pub struct ElementConstrainedWorkspace {
     base: ElementWorkspace,
     m: usize,

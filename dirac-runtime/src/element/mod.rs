@@ -17,9 +17,11 @@
 //! R(q_{k+1}) = p_k + D_1 L_d(q_k, q_{k+1}) = 0,        p_{k+1} = D_2 L_d(q_k, q_{k+1}),
 //! ```
 //!
-//! by the one Newton driver ([`crate::newton::solve_in`]) with chord iterations, on the sparse
-//! LU of a pattern built once per run from the stencils ([`crate::linalg::DynSparseLu`]):
-//! `∂R/∂q_{k+1} = Σ_e D_1 D_2 L_d^e` scattered block by block. Nothing is allocated per step:
+//! by the one Newton driver ([`crate::newton::solve_in`]) with chord iterations, on a pattern
+//! built once per run from the stencils, `∂R/∂q_{k+1} = Σ_e D_1 D_2 L_d^e` scattered block by
+//! block and solved as [`StepSolver`] chooses (the banded LU [`crate::linalg::BandedLu`] for a
+//! narrow band once reordered, the sparse LU [`crate::linalg::DynSparseLu`], or conjugate
+//! gradients for large grids). Nothing is allocated per step:
 //! the states are `DVector`s whose memory the driver's two states reuse
 //! ([`crate::Stepper::step_into`]), and the residual, the Jacobian's values and the factors live
 //! in the run's [`ElementWorkspace`].
