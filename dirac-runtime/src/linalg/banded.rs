@@ -270,13 +270,16 @@ impl BandedLu {
                     }
                 }
             }
-            // U: row i's entries right of the diagonal are contiguous.
+            // U: row i's entries right of the diagonal are contiguous. The sum runs from the far
+            // end, so `y[i + 1]`, the value just computed, enters last: the substitution's
+            // serial chain per row is one product, one sum and one scaling.
             for i in (0..n).rev() {
                 let m = (i + upper + 1).min(n) - (i + 1);
                 let start = i * w + kl;
                 let dot: f64 = band[start + 1..start + 1 + m]
                     .iter()
                     .zip(&y[i + 1..i + 1 + m])
+                    .rev()
                     .map(|(a, b)| a * b)
                     .sum();
                 y[i] = (y[i] - dot) * self.inverse_diagonal[i];
