@@ -1,5 +1,6 @@
 //! Run-time-sized systems on both sides: the (−) equations against the (+) ones, with
-//! translations, forces, controls and compositions; and the step's sensitivities.
+//! translations, forces, controls and compositions; the step's sensitivities; the solve chosen by
+//! the pattern.
 
 use dirac::nalgebra::DMatrix;
 use dirac::prelude::*;
@@ -306,4 +307,48 @@ fn the_adjoint_is_the_transpose_of_the_forward_derivative_on_a_large_lattice() {
     assert_eq!(sens.step(), 0);
     // The sparse blocks have the stencils' pattern: three entries per column for the chain.
     assert_eq!(sens.jacobian().values.len(), 3 * n);
+}
+
+#[path = "../examples/common/cluster.rs"]
+mod cluster;
+
+/// The step Jacobian's solve is chosen by the pattern's structure, and the choice does not change
+/// the trajectory beyond round-off.
+#[test]
+fn the_solve_is_chosen_by_structure_and_the_banded_lu_gives_the_sparse_lus_trajectory() {
+    // A periodic lattice: a ring, a narrow band once reordered.
+    let toda = TodaN {
+        m: 1.0,
+        d: 0.9,
+        h: 0.05,
+        n: 500,
+    };
+    let auto = ElementIntegrator::new(toda, tight());
+    assert_eq!(auto.workspace().linear_solver(), "banded LU");
+    let direct = ElementIntegrator::new(toda, tight()).with_solver(StepSolver::Direct);
+    assert_eq!(direct.workspace().linear_solver(), "sparse LU");
+    let start = initial(&toda, 0.3, 0.5, 0.1);
+    let a = auto.run(start.clone()).steps(300).collect().unwrap();
+    let b = direct.run(start).steps(300).collect().unwrap();
+    let g = gap(&a, &b);
+    assert!(g <= 1e-11, "{g:e}");
+    // Pairs: every particle coupled to every other, no narrow band; the sparse LU.
+    let c = cluster::Cluster {
+        m: 1.0,
+        eps: 1.0,
+        sigma: 1.0,
+        h: 0.002,
+        n: 27,
+    };
+    let pairs = ElementIntegrator::new(c, NewtonOptions::default());
+    assert_eq!(pairs.workspace().linear_solver(), "sparse LU");
+    // Forced, the banded LU takes the pairs' band however wide.
+    let forced =
+        ElementIntegrator::new(c, NewtonOptions::default()).with_solver(StepSolver::Banded);
+    assert_eq!(forced.workspace().linear_solver(), "banded LU");
+    let s = cluster::initial(&c, 1.15, 0.2);
+    let x = pairs.run(s.clone()).steps(20).collect().unwrap();
+    let y = forced.run(s).steps(20).collect().unwrap();
+    let g = gap(&x, &y);
+    assert!(g <= 1e-10, "{g:e}");
 }
