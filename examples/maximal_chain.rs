@@ -22,7 +22,7 @@
 use std::time::Instant;
 
 use dirac::prelude::*;
-use dirac::runtime::element::{ElementConstrainedIntegrator, ElementIntegrator, ElementState};
+use dirac::runtime::element::{ElementConstrainedIntegrator, ElementIntegrator};
 
 #[path = "common/cli.rs"]
 mod cli;
@@ -99,23 +99,9 @@ maximal_chain!(chain64, Chain64, 64);
 maximal_chain!(chain128, Chain128, 128);
 
 /// The same chain with its number of links chosen at run time.
-#[reduced_lagrangian(coordinates(c, x[n], y[n]), rule = midpoint,
-    constraints = |q| {
-        let mut phi = vec![0.0; n];
-        phi[0] = (q.x[0] - q.c) * (q.x[0] - q.c) + q.y[0] * q.y[0] - l * l;
-        for i in 1..n {
-            let (dx, dy) = (q.x[i] - q.x[i - 1], q.y[i] - q.y[i - 1]);
-            phi[i] = dx * dx + dy * dy - l * l;
-        }
-        phi
-    })]
-fn chain_n(q: Config, v: Velocity, mc: f64, m: f64, l: f64, gr: f64, n: usize) -> f64 {
-    let mut t = 0.5 * mc * v.c * v.c;
-    for i in 0..n {
-        t += 0.5 * m * (v.x[i] * v.x[i] + v.y[i] * v.y[i]) - m * gr * q.y[i];
-    }
-    t
-}
+#[path = "common/link_chain.rs"]
+mod link_chain;
+use link_chain::{hanging, LinkChain};
 
 /// The run-time-sized chain of `n` links over `steps` steps from the benchmark's state: µs per
 /// step, the largest constraint residual, Newton corrections per step, the last configuration.
@@ -125,7 +111,7 @@ fn measure_n(
     h: f64,
     options: NewtonOptions,
 ) -> (f64, f64, f64, DVector<f64>) {
-    let sys = ChainN {
+    let sys = LinkChain {
         h,
         mc: 1.0,
         m: 1.0,
@@ -133,25 +119,12 @@ fn measure_n(
         gr: 9.81,
         n,
     };
-    let mut q = DVector::zeros(2 * n + 1);
-    let (mut x, mut y) = (0.0, 0.0);
-    for i in 0..n {
-        let th = 0.3 * ((i + 1) as f64).sin();
-        x += th.sin();
-        y -= th.cos();
-        q[1 + i] = x;
-        q[1 + n + i] = y;
-    }
     let integ = ElementConstrainedIntegrator::new(sys, options);
     let start = Instant::now();
     // A falling chain is chaotic: two roundings of it part within a few hundred steps, and a
     // run may reach a configuration where `h` is too coarse for Newton's iteration (the tip's
     // whip). Such a run is reported, and timed over the steps it completed.
-    let traj = match integ
-        .run(ElementState::new(q, DVector::zeros(2 * n + 1)))
-        .steps(steps)
-        .collect()
-    {
+    let traj = match integ.run(hanging(n, 1.0)).steps(steps).collect() {
         Ok(traj) => traj,
         Err(e) => {
             println!(
@@ -195,16 +168,7 @@ fn spring_chain(q: Config, v: Velocity, mc: f64, m: f64, l: f64, gr: f64, k: f64
 /// both sized at run time, `n` links, from the same state, 200 steps each, interleaved
 /// `repeats` times: the median ratio and its range.
 fn constrained_over_springs(n: usize, repeats: usize) -> (f64, f64, f64) {
-    let mut q = DVector::zeros(2 * n + 1);
-    let (mut x, mut y) = (0.0, 0.0);
-    for i in 0..n {
-        let th = 0.3 * ((i + 1) as f64).sin();
-        x += th.sin();
-        y -= th.cos();
-        q[1 + i] = x;
-        q[1 + n + i] = y;
-    }
-    let start = ElementState::new(q, DVector::zeros(2 * n + 1));
+    let start = hanging(n, 1.0);
     let springs = ElementIntegrator::new(
         SpringChain {
             h: 0.01,

@@ -5,27 +5,11 @@
 use dirac::prelude::*;
 use dirac::runtime::element::{ElementConstrainedIntegrator, ElementState};
 
-/// A cart `c` on a rail with a chain of `n` links of length `l` hanging from it, every link's end
-/// point `(x_i, y_i)` a coordinate and one length constraint per link.
-#[reduced_lagrangian(coordinates(c, x[n], y[n]), rule = midpoint,
-    constraints = |q| {
-        let mut phi = vec![0.0; n];
-        phi[0] = (q.x[0] - q.c) * (q.x[0] - q.c) + q.y[0] * q.y[0] - l * l;
-        for i in 1..n {
-            let (dx, dy) = (q.x[i] - q.x[i - 1], q.y[i] - q.y[i - 1]);
-            phi[i] = dx * dx + dy * dy - l * l;
-        }
-        phi
-    })]
-fn chain(q: Config, v: Velocity, mc: f64, m: f64, l: f64, gr: f64, n: usize) -> f64 {
-    let mut t = 0.5 * mc * v.c * v.c;
-    for i in 0..n {
-        t += 0.5 * m * (v.x[i] * v.x[i] + v.y[i] * v.y[i]) - m * gr * q.y[i];
-    }
-    t
-}
+#[path = "../examples/common/link_chain.rs"]
+mod link_chain;
+use link_chain::{hanging, LinkChain as Chain};
 
-/// The same chain of four links, unrolled.
+/// The chain of `link_chain` at four links, unrolled.
 #[reduced_lagrangian(shape(c, x[4], y[4]), group(), rule = midpoint,
     constraints = |q| {
         let mut phi = [0.0; 4];
@@ -42,20 +26,6 @@ fn chain4(q: Config, v: Velocity, mc: f64, m: f64, l: f64, gr: f64) -> f64 {
         t += 0.5 * m * (v.x[i] * v.x[i] + v.y[i] * v.y[i]) - m * gr * q.y[i];
     }
     t
-}
-
-/// The chain of `n` links at the angles `θ_i = 0.3 sin(i + 1)`, at rest.
-fn hanging(n: usize, l: f64) -> ElementState {
-    let mut q = DVector::zeros(2 * n + 1);
-    let (mut x, mut y) = (0.0, 0.0);
-    for i in 0..n {
-        let th = 0.3 * ((i + 1) as f64).sin();
-        x += l * th.sin();
-        y -= l * th.cos();
-        q[1 + i] = x;
-        q[1 + n + i] = y;
-    }
-    ElementState::new(q, DVector::zeros(2 * n + 1))
 }
 
 fn tight() -> NewtonOptions {

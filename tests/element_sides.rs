@@ -8,10 +8,10 @@ use dirac::runtime::element::{ElementIntegrator, ElementLagrangian};
 
 #[path = "../examples/common/toda_n.rs"]
 mod toda_n;
-use toda_n::{initial, TodaN};
+use toda_n::{initial, DampedTodaN, TodaN};
 
 mod element_systems;
-use element_systems::{DampedToda, DrivenChain};
+use element_systems::DrivenChain;
 
 fn tight() -> NewtonOptions {
     NewtonOptions {
@@ -57,7 +57,7 @@ fn the_minus_side_computes_the_plus_trajectory_with_translations_and_forces() {
         );
     }
     // With a damping force: the same trajectory, and the forced Noether balance.
-    let damped = DampedToda {
+    let damped = DampedTodaN {
         m,
         d,
         c: 0.2,
@@ -265,7 +265,7 @@ fn sensitivities_equal_the_unrolled_systems_and_are_symplectic_without_forces() 
 #[test]
 fn the_adjoint_is_the_transpose_of_the_forward_derivative_on_a_large_lattice() {
     let n = 2000;
-    let damped = DampedToda {
+    let damped = DampedTodaN {
         m: 1.0,
         d: 0.9,
         c: 0.1,

@@ -5,10 +5,10 @@ use dirac::runtime::element::ElementIntegrator;
 
 #[path = "../examples/common/toda_n.rs"]
 mod toda_n;
-use toda_n::{initial, TodaN};
+use toda_n::{initial, DampedTodaN, TodaN};
 
 mod element_systems;
-use element_systems::{DampedToda, DampedToda16, DrivenChain, DrivenChain5};
+use element_systems::{DampedToda16, DrivenChain, DrivenChain5};
 
 #[test]
 fn one_build_runs_at_several_sizes() {
@@ -624,7 +624,7 @@ fn compositions_of_order_four_and_six_at_run_time_sizes_equal_the_unrolled_code(
 fn a_damping_force_at_run_time_sizes_is_the_unrolled_forced_step() {
     use dirac::runtime::adapted::AdaptedCoordinates;
     let (m, d, c, h) = (1.3, 0.9, 0.2, 0.05);
-    let el = DampedToda { m, d, c, h, n: 16 };
+    let el = DampedTodaN { m, d, c, h, n: 16 };
     let un = DampedToda16 { m, d, c, h };
     let toda = TodaN { m, d, h, n: 16 };
     let start = initial(&toda, 0.2, 0.4, 0.1);

@@ -1,30 +1,11 @@
-//! Run-time-sized systems with forces and controls, and the same systems unrolled at a fixed
-//! size, shared by the element-wise tests.
+//! Systems with forces and controls shared by the element-wise tests: run-time-sized ones and the
+//! same systems unrolled at a fixed size (the damped Toda lattice sized at run time is the
+//! examples' `DampedTodaN`).
 #![allow(dead_code)]
 
 use dirac::prelude::*;
 
-/// The periodic Toda lattice with a damping force on every particle, sized at run time.
-#[reduced_lagrangian(coordinates(x[n]), translate(x), rule = midpoint,
-    force = |dq| {
-        let mut w = 0.0;
-        for i in 0..n {
-            w -= c * v.x[i] * dq.x[i];
-        }
-        w
-    })]
-pub fn damped_toda(q: Config, v: Velocity, m: f64, d: f64, c: f64, n: usize) -> f64 {
-    let mut l = 0.0;
-    for i in 0..n {
-        l += 0.5 * m * v.x[i] * v.x[i];
-    }
-    for i in 0..n - 1 {
-        l -= (-(q.x[i + 1] - q.x[i] - d)).exp();
-    }
-    l - (-(q.x[0] + n as f64 * d - q.x[n - 1] - d)).exp()
-}
-
-/// The same at n = 16, unrolled.
+/// The damped Toda lattice of `examples/common/toda_n.rs` (`DampedTodaN`) at n = 16, unrolled.
 #[reduced_lagrangian(coordinates(x[16]), translate(x), rule = midpoint,
     force = |dq| {
         let mut w = 0.0;
