@@ -35,7 +35,7 @@ use super::rows::{
     constraint_forces, constraint_velocities, rows_at, Legendre, RowCollector, RowData,
 };
 use super::solver::ElementSolver;
-use super::step::keep_momentum_maps;
+use super::step::{backward_point, flip_backward, keep_momentum_maps};
 use super::{
     ElementIntegrator, ElementLagrangian, ElementState, ElementWorkspace, Parallel, StepSolver,
 };
@@ -416,7 +416,7 @@ impl<L: ElementLagrangian> ElementConstrainedIntegrator<L> {
         let sign = if minus { -1.0 } else { 1.0 };
         ws.base.guess(&state.q, h, &mut ws.q1);
         if minus {
-            ws.q1.iter_mut().zip(q0).for_each(|(z, q)| *z = q - *z);
+            flip_backward(q0, ws.q1.as_mut_slice());
         }
         ws.z.rows_mut(0, n).copy_from(&ws.q1);
         ws.z.rows_mut(n, m).copy_from(&ws.lambda);
@@ -449,9 +449,7 @@ impl<L: ElementLagrangian> ElementConstrainedIntegrator<L> {
             let (u, lambda) = z.as_slice().split_at(n);
             if minus {
                 let mut q1 = point.borrow_mut();
-                q1.iter_mut()
-                    .zip(q0.iter().zip(u))
-                    .for_each(|(q1, (q, d))| *q1 = q - d);
+                backward_point(q0, u, q1.as_mut_slice());
                 run(q1.as_slice(), lambda);
             } else {
                 run(u, lambda);
@@ -492,7 +490,7 @@ impl<L: ElementLagrangian> ElementConstrainedIntegrator<L> {
         next.q.copy_from(&z.rows(0, n));
         if minus {
             // q_{k+1} = q_k − Δ, as the last residual pass formed it.
-            next.q.iter_mut().zip(q0).for_each(|(z, q)| *z = q - *z);
+            flip_backward(q0, next.q.as_mut_slice());
         }
         let lambda = z.rows(n, m).into_owned();
         // The last pass was at the solution: its `D_2 L_d` is the momentum before projection.

@@ -102,10 +102,7 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
         let minus = self.variant == Variant::Minus;
         if minus {
             // The (−) unknown: the backward increment Δ = q_k − q_{k+1} of the same guess.
-            next.q
-                .iter_mut()
-                .zip(state.q.iter())
-                .for_each(|(z, q)| *z = q - *z);
+            flip_backward(state.q.as_slice(), next.q.as_mut_slice());
         }
         let rho = crate::newton::slice_inf_norm(state.p.as_slice());
         let owned = self.system_for(h, u);
@@ -118,9 +115,7 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
         let point = |unknown: &DVector<f64>, run: &mut dyn FnMut(&[f64])| {
             if minus {
                 let mut z = scratch.borrow_mut();
-                z.iter_mut()
-                    .zip(q0.iter().zip(unknown.iter()))
-                    .for_each(|(z, (q, d))| *z = q - d);
+                backward_point(q0, unknown.as_slice(), z.as_mut_slice());
                 run(z.as_slice());
             } else {
                 run(unknown.as_slice());
@@ -159,10 +154,7 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
         .map_err(|failure| step_error(k, failure))?;
         if minus {
             // q_{k+1} = q_k − Δ, as the last residual pass formed it.
-            next.q
-                .iter_mut()
-                .zip(q0.iter())
-                .for_each(|(z, q)| *z = q - *z);
+            flip_backward(q0, next.q.as_mut_slice());
         }
         // The last pass was at the solution: its `D_2 L_d` is the next momentum.
         assembler.take_momentum(&mut next.p);
@@ -222,6 +214,20 @@ impl<L: ElementLagrangian> crate::compose::SelfAdjoint for ElementIntegrator<L> 
         }
         worst
     }
+}
+
+/// `x ← q_k − x`: a configuration to the (−) side's backward increment `Δ = q_k − q_{k+1}`,
+/// and an increment back to its configuration (the map is its own inverse).
+pub(super) fn flip_backward(q0: &[f64], x: &mut [f64]) {
+    x.iter_mut().zip(q0).for_each(|(x, q)| *x = q - *x);
+}
+
+/// `point = q_k − Δ`: the configuration `q_{k+1}` a (−) unknown `Δ` stands for.
+pub(super) fn backward_point(q0: &[f64], delta: &[f64], point: &mut [f64]) {
+    point
+        .iter_mut()
+        .zip(q0.iter().zip(delta))
+        .for_each(|(p, (q, d))| *p = q - d);
 }
 
 /// `μ_{k+1} = μ_k` exactly for each declared translation (with forces, `μ_k` plus their
