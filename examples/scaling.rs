@@ -386,7 +386,7 @@ impl Scratch {
              [package]\nname = \"{}\"\nversion = \"0.0.0\"\nedition = \"2021\"\npublish = false\n\n\
              [dependencies]\ndirac = {{ path = \"{ROOT}\" }}\n\n[profile.release]\n\n\
              # As the README recommends for large systems: the attribute runs optimized.\n\
-             [profile.release.package.dirac-macros]\nopt-level = 3\n\n[workspace]\n",
+             [profile.release.package.dirac-compiler]\nopt-level = 3\n\n[workspace]\n",
             Self::package(system, n)
         );
         let lock = fs::read_to_string(Path::new(ROOT).join("Cargo.lock")).unwrap_or_default();

@@ -413,7 +413,7 @@ fn connected_two_group_coordinates_match_num_dual() {
 
 /// Six links on a cart (midpoint rule written out), with a connection: at seven coordinates the
 /// attribute takes the gradient of `L_d` by reverse accumulation and the Jacobian forward over
-/// it (`dirac-macros`' `REVERSE_FROM`), with the accumulated adjoints of the velocity sums
+/// it (`dirac-compiler`'s `REVERSE_FROM`), with the accumulated adjoints of the velocity sums
 /// expanded into each row. Every link's velocity feeds every later link's energy, so every
 /// Jacobian entry is nonzero.
 #[reduced_lagrangian(shape(th[6]), group(c), connection = [[0.1, 0.0, -0.2, 0.0, 0.3, b]])]

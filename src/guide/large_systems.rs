@@ -133,9 +133,9 @@
 //! these lines in its `Cargo.toml` (this workspace has them):
 //!
 //! ```toml
-//! [profile.dev.package.dirac-macros]
+//! [profile.dev.package.dirac-compiler]
 //! opt-level = 3
-//! [profile.release.package.dirac-macros]
+//! [profile.release.package.dirac-compiler]
 //! opt-level = 3
 //! ```
 //!

@@ -5,7 +5,7 @@
 //! every integrator runs on either backend (the separation of SUNDIALS/KINSOL and diffsol).
 //!
 //! The choice is made by the compiler from the size of the system, with the same constant:
-//! `dirac-macros` cannot depend on this crate (a proc-macro crate builds before it), so it keeps
+//! `dirac-compiler` does not depend on this crate (it runs inside rustc, before it), so it keeps
 //! its own copy of [`DENSE_MAX`], and `tests/large_systems.rs` fails if the two part (it checks
 //! the backend emitted at `N = DENSE_MAX` and `N = DENSE_MAX + 1` against this constant).
 

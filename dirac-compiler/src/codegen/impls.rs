@@ -158,7 +158,7 @@ impl ImplBlock {
                 }
                 (Kind::Method { provided: true, .. }, _) => {}
                 (Kind::Method { .. }, Some(None)) => {
-                    panic!("dirac-macros: no body generated for `{}`", item.name)
+                    panic!("dirac-compiler: no body generated for `{}`", item.name)
                 }
                 (Kind::Method { attrs, sig, .. }, None) => {
                     let Bodies::Stub(attribute) = bodies else {

@@ -9,7 +9,7 @@
 //!
 //! proptest generates the trees (and the sample point) and, on a failure, shrinks them to a
 //! minimal case, which it records in `proptest-regressions/fuzz.txt` and replays first on every
-//! later run. Run more cases with `PROPTEST_CASES=100000 cargo test -p dirac-macros fuzz`; never
+//! later run. Run more cases with `PROPTEST_CASES=100000 cargo test -p dirac-compiler fuzz`; never
 //! fewer than [`CASES`].
 //!
 //! **Well-conditioned by construction.** A raw tree ([`Expr`]) may compose anything, e.g.

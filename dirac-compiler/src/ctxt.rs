@@ -63,7 +63,7 @@ impl Ctxt {
             (None, Some(value)) => Ok(value),
             (None, None) => Err(syn::Error::new(
                 Span::call_site(),
-                "internal error in dirac-macros: a stage failed without reporting why; please report this",
+                "internal error in dirac-compiler: a stage failed without reporting why; please report this",
             )),
             (Some(mut combined), _) => {
                 for e in errors {
@@ -79,7 +79,7 @@ impl Drop for Ctxt {
     fn drop(&mut self) {
         if self.errors.borrow().is_some() && !std::thread::panicking() {
             panic!(
-                "dirac-macros: a Ctxt was dropped without `finish`, so its errors would be lost"
+                "dirac-compiler: a Ctxt was dropped without `finish`, so its errors would be lost"
             );
         }
     }
