@@ -14,6 +14,7 @@ use crate::codegen::backend::Backend;
 use crate::codegen::{system, transition as codegen_transition};
 use crate::ctxt::Ctxt;
 use crate::fallback;
+use crate::ir::compile::Compiled;
 use crate::ir::{check, compile, transition as ir_transition};
 
 /// `#[reduced_lagrangian]`: every emitted item, or the errors and the fallback items.
@@ -36,20 +37,13 @@ pub fn expand(args: TokenStream, item: TokenStream) -> TokenStream {
         return expand_element(args, &func).unwrap_or_else(|e| e.into_compile_error());
     }
     // The attribute and the signature: kept for the fallback even when they have errors.
-    let cx = Ctxt::new();
-    let spec = parse_spec(&cx, args);
-    let sig = parse_signature(
-        &cx,
-        &func.sig,
-        spec.as_ref().and_then(|s| s.step.as_ref()),
-        spec.as_ref().and_then(|s| s.rule.as_ref()),
-        spec.as_ref().is_some_and(|s| s.rule_written),
-    );
-    if let (Some(spec), Some(sig)) = (&spec, &sig) {
-        crate::ast::signature::check_controls(&cx, &spec.controls, sig);
-    }
-    let parsed = cx.finish(spec.as_ref().zip(sig.as_ref()));
-    match parsed.and_then(|(spec, sig)| try_expand(spec, sig, &func)) {
+    let Parsed { spec, sig, parsed } = parse(args, &func);
+    match parsed.and_then(|()| {
+        let (spec, sig) = (spec.as_ref(), sig.as_ref());
+        let (spec, sig) = spec.zip(sig).expect("a clean parse has both");
+        let compiled = compile_system(spec, sig, &func)?;
+        Ok(system::generate(spec, sig, &func, &compiled))
+    }) {
         Ok(out) => out,
         Err(errors) => {
             let mut out = errors.into_compile_error();
@@ -359,8 +353,38 @@ fn lie_adapt(
     crate::ir::adapt::transform(cx, graph, l, &time, names, &|i| groups.contains(&i))
 }
 
-/// The phases after the attribute and signature parsed cleanly.
-fn try_expand(spec: &Spec, sig: &Signature, func: &ItemFn) -> syn::Result<TokenStream> {
+/// The attribute and the signature of a system on vector spaces: both as far as they parsed
+/// (the fallback needs them even after errors), and whether every check passed.
+pub struct Parsed {
+    /// The attribute, if it parsed.
+    pub spec: Option<Spec>,
+    /// The signature, if it parsed.
+    pub sig: Option<Signature>,
+    /// `Ok` when both parsed and passed their checks; else every error of the phase.
+    pub parsed: syn::Result<()>,
+}
+
+/// The first phase of a system on vector spaces (not element-wise, not on rotation groups).
+pub fn parse(args: TokenStream, func: &ItemFn) -> Parsed {
+    let cx = Ctxt::new();
+    let spec = parse_spec(&cx, args);
+    let sig = parse_signature(
+        &cx,
+        &func.sig,
+        spec.as_ref().and_then(|s| s.step.as_ref()),
+        spec.as_ref().and_then(|s| s.rule.as_ref()),
+        spec.as_ref().is_some_and(|s| s.rule_written),
+    );
+    if let (Some(spec), Some(sig)) = (&spec, &sig) {
+        crate::ast::signature::check_controls(&cx, &spec.controls, sig);
+    }
+    let parsed = cx.finish(spec.as_ref().zip(sig.as_ref()).map(|_| ()));
+    Parsed { spec, sig, parsed }
+}
+
+/// The phases after the attribute and signature parsed cleanly: lowering, the invariance check
+/// and the paper's constructions, up to the graph both back ends read.
+pub fn compile_system(spec: &Spec, sig: &Signature, func: &ItemFn) -> syn::Result<Compiled> {
     let cx = Ctxt::new();
     let ranges = crate::ast::ranges::resolve_ranges(&cx, spec, sig);
     let lowered = compile::lower(&cx, spec, sig, func);
@@ -376,8 +400,7 @@ fn try_expand(spec: &Spec, sig: &Signature, func: &ItemFn) -> syn::Result<TokenS
         .iter()
         .filter_map(|c| sig.params.iter().position(|p| p == c))
         .collect();
-    let compiled = compile::construct(lowered, s, k, dense, &controls);
-    Ok(system::generate(spec, sig, func, &compiled))
+    Ok(compile::construct(lowered, s, k, dense, &controls))
 }
 
 /// `#[chart_transition]`: the transition's items, or the errors and the fallback items.

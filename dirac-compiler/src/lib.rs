@@ -9,10 +9,12 @@
 //!
 //! Stages, each a module that imports only the ones below it:
 //!
-//! * `expand` — the entry: one phase after another, each with its own error context;
-//!   `fallback` — the items emitted after an error;
+//! * `expand` — the attribute's entry: one phase after another, each with its own error context;
+//!   `fallback` — the items emitted after an error; [`text`] — the run-time entry: the same
+//!   phases on a system given as text, ending in programs;
 //! * `codegen` — graph → straight-line Rust, the backend choice, the one table of trait impls
-//!   (rendered with real or stub bodies), the items around them;
+//!   (rendered with real or stub bodies), the items around them; [`program`] — graph →
+//!   straight-line program as data, for a code generator at run time;
 //! * `ir` — lowering (body → hash-consed graph), the invariance check, forward- and
 //!   reverse-mode derivatives, the paper's constructions (reduction, discretization of a continuous `L`);
 //! * `ast` — the attribute grammar, the coordinate layout, the signature, the ranges;
@@ -29,8 +31,10 @@ mod fallback;
 #[cfg(test)]
 mod fuzz;
 mod ir;
+pub mod program;
 mod stack;
 mod symbol;
+pub mod text;
 
 use proc_macro2::TokenStream;
 

@@ -37,7 +37,6 @@
 //! parameters that a control law may set before every step (see [`crate::ir::force`]).
 
 use proc_macro2::Span;
-use quote::ToTokens;
 use syn::parse::{Parse, ParseStream};
 use syn::punctuated::Punctuated;
 use syn::{Expr, Ident, Token};
@@ -228,7 +227,7 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
                             format!(
                                 "`translate(...)` lists whole coordinates, found `{}[{}]`: write `translate({})` to translate every component of `{}`",
                                 c.name,
-                                len.to_token_stream(),
+                                crate::ctxt::show(&len),
                                 c.name,
                                 c.name
                             ),
@@ -263,7 +262,7 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
                             format!(
                                 "a control is one `f64` parameter, found `{}[{}]`: list each control parameter, e.g. `controls(u1, u2)`",
                                 c.name,
-                                len.to_token_stream()
+                                crate::ctxt::show(&len)
                             ),
                         );
                     } else if controls.contains(&c.name) {
@@ -308,7 +307,7 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
                 format!(
                     "expected the forces as their virtual work, a closure linear in the virtual displacement: \
                      `force = |dq| -c * v.x * dq.x` (continuous Lagrangian) or `force = |dq0, dq1| ...` (discrete), found `{}`",
-                    value.to_token_stream()
+                    crate::ctxt::show(&value)
                 ),
             ),
             (Some(CONSTRAINTS | NONHOLONOMIC), KeyArg::Value(k, Expr::Closure(closure))) => {
@@ -327,7 +326,7 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
                 format!(
                     "expected the nonholonomic constraints as a closure of the configuration and the velocity, linear in the \
                      velocity: `nonholonomic = |q, v| [q.theta.sin() * v.x - q.theta.cos() * v.y]`, found `{}`",
-                    value.to_token_stream()
+                    crate::ctxt::show(&value)
                 ),
             ),
             (Some(NONHOLONOMIC), KeyArg::List(k, _)) => cx.error_spanned_by(
@@ -339,7 +338,7 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
                 format!(
                     "expected the holonomic constraints as a closure of the configuration returning their values, \
                      `constraints = |q| [q.x * q.x + q.y * q.y - l * l]`, found `{}`",
-                    value.to_token_stream()
+                    crate::ctxt::show(&value)
                 ),
             ),
             (Some(CONSTRAINTS), KeyArg::List(k, _)) => cx.error_spanned_by(
@@ -361,7 +360,7 @@ pub fn parse_spec(cx: &Ctxt, args: proc_macro2::TokenStream) -> Option<Spec> {
                         &value,
                         format!(
                             "unknown quadrature rule `{}`; accepted: {RULES}",
-                            value.to_token_stream()
+                            crate::ctxt::show(&value)
                         ),
                     ),
                 }
@@ -523,7 +522,7 @@ fn coord_list(cx: &Ctxt, list: Punctuated<CoordArg, Token![,]>) -> Vec<Coord> {
                                 format!(
                                     "the length of array coordinate `{}` must be an integer literal, found `{}`; accepted: `{}[3]` (a constant length from 1 to {MAX_COMPONENTS})",
                                     c.name,
-                                    e.to_token_stream(),
+                                    crate::ctxt::show(&e),
                                     c.name
                                 ),
                             );
@@ -547,7 +546,7 @@ fn parse_ident(cx: &Ctxt, value: Expr, what: &str) -> Option<Ident> {
         Expr::Lit(l) if matches!(l.lit, syn::Lit::Str(_)) => {
             "a string literal: write the name without quotes".to_string()
         }
-        other => format!("`{}`", other.to_token_stream()),
+        other => format!("`{}`", crate::ctxt::show(&other)),
     };
     cx.error_spanned_by(&value, format!("expected {what}, found {found}"));
     None

@@ -1,7 +1,6 @@
 //! `ranges(name = (lo, hi), ...)`: where the compile-time invariance check samples a parameter
 //! or a coordinate.
 
-use quote::ToTokens;
 use syn::parse::{Parse, ParseStream};
 use syn::punctuated::Punctuated;
 use syn::{Expr, Ident, Token};
@@ -74,7 +73,7 @@ pub fn parse_ranges(cx: &Ctxt, list: Punctuated<RangeArg, Token![,]>) -> Vec<Ran
                     other,
                     format!(
                         "expected a pair `(lo, hi)` for `{name}`, found `{}`; accepted: {RANGES}",
-                        other.to_token_stream()
+                        crate::ctxt::show(&other)
                     ),
                 );
                 None
@@ -117,7 +116,7 @@ fn range_bound(cx: &Ctxt, e: &Expr) -> Option<f64> {
             e,
             format!(
                 "range bounds must be f64 literals, found `{}`; accepted: {RANGES}",
-                e.to_token_stream()
+                crate::ctxt::show(&e)
             ),
         );
         return None;
@@ -127,7 +126,7 @@ fn range_bound(cx: &Ctxt, e: &Expr) -> Option<f64> {
             e,
             format!(
                 "range bound `{}` is not a finite f64; accepted: {RANGES}",
-                e.to_token_stream()
+                crate::ctxt::show(&e)
             ),
         );
         return None;

@@ -2,7 +2,6 @@
 //! `fn l(q: Config, v: Velocity, ...) -> f64` (continuous, with `rule = ...`).
 
 use proc_macro2::Span;
-use quote::ToTokens;
 use syn::spanned::Spanned;
 use syn::Ident;
 
@@ -66,7 +65,7 @@ pub fn parse_signature(
                 ty,
                 format!(
                     "a discrete Lagrangian returns `f64`, found `{}`",
-                    ty.to_token_stream()
+                    crate::ctxt::show(&ty)
                 ),
             );
             ok = false;
@@ -105,7 +104,7 @@ pub fn parse_signature(
                     format!(
                         "the first two arguments are the configurations `q0: Config, q1: Config` (or, for a continuous Lagrangian, `q: Config, v: Velocity`), found `{}: {}`",
                         pi.ident,
-                        ty.to_token_stream()
+                        crate::ctxt::show(&ty)
                     ),
                 );
                 ok = false;
@@ -116,7 +115,7 @@ pub fn parse_signature(
                 format!(
                     "parameter `{}` is `{}`; parameters must be `f64` (only scalar parameters are accepted)",
                     pi.ident,
-                    ty.to_token_stream()
+                    crate::ctxt::show(&ty)
                 ),
             );
             ok = false;

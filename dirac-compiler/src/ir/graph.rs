@@ -55,25 +55,39 @@ pub enum Sym {
     Rel(usize),
 }
 
-/// Elementary functions of one argument.
+/// Elementary functions of one argument, each Rust's `f64` method of the same name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Fun {
+    /// `sin`.
     Sin,
+    /// `cos`.
     Cos,
+    /// `tan`.
     Tan,
+    /// `asin`.
     Asin,
+    /// `acos`.
     Acos,
+    /// `atan`.
     Atan,
+    /// `exp`.
     Exp,
+    /// `ln` (the natural logarithm).
     Ln,
+    /// `sqrt`.
     Sqrt,
+    /// `sinh`.
     Sinh,
+    /// `cosh`.
     Cosh,
+    /// `tanh`.
     Tanh,
+    /// `recip`, `1 / x`.
     Recip,
 }
 
 impl Fun {
+    /// The name of the `f64` method, as written in a body.
     pub fn name(self) -> &'static str {
         match self {
             Fun::Sin => "sin",
@@ -92,6 +106,7 @@ impl Fun {
         }
     }
 
+    /// The function a method name in a body calls, if it is one of these.
     pub fn from_name(name: &str) -> Option<Fun> {
         Some(match name {
             "sin" => Fun::Sin,
@@ -111,7 +126,8 @@ impl Fun {
         })
     }
 
-    fn eval(self, v: f64) -> f64 {
+    /// The value at `v`, by Rust's `f64` method.
+    pub fn eval(self, v: f64) -> f64 {
         match self {
             Fun::Sin => v.sin(),
             Fun::Cos => v.cos(),

@@ -6,7 +6,7 @@
 use std::collections::HashMap;
 
 use proc_macro2::TokenStream;
-use quote::{quote, ToTokens};
+use quote::quote;
 use syn::{BinOp, Expr, Ident, Lit};
 
 use crate::ctxt::Ctxt;
@@ -92,13 +92,13 @@ impl Index {
                     Ok(v) => Some(Index::Lit(v)),
                     Err(_) => fail(format!("`{}` is not an integer that fits i64", i)),
                 },
-                _ => fail(format!("`{}` is not an integer", l.to_token_stream())),
+                _ => fail(format!("`{}` is not an integer", crate::ctxt::show(&l))),
             },
             Expr::Path(p) => {
                 let Some(id) = p.path.get_ident() else {
                     return fail(format!(
                         "`{}` is not a size or a loop index",
-                        p.to_token_stream()
+                        crate::ctxt::show(&p)
                     ));
                 };
                 if let Some(k) = loops.iter().rposition(|l| l == id) {
@@ -124,7 +124,7 @@ impl Index {
                         if l.reads_loop() && r.reads_loop() {
                             fail(format!(
                                 "`{}` multiplies loop indices: the index would not be affine in the loop indices",
-                                e.to_token_stream()
+                                crate::ctxt::show(&e)
                             ))
                         } else {
                             Some(Index::Mul(l, r))
@@ -134,7 +134,7 @@ impl Index {
                         if r.reads_loop() {
                             fail(format!(
                                 "`{}`: the modulus must be a literal or a size, not a loop index",
-                                e.to_token_stream()
+                                crate::ctxt::show(&e)
                             ))
                         } else {
                             Some(Index::Rem(l, r))
@@ -142,13 +142,13 @@ impl Index {
                     }
                     _ => fail(format!(
                         "the operator `{}` is not accepted in an index",
-                        b.op.to_token_stream()
+                        crate::ctxt::show(&b.op)
                     )),
                 }
             }
             _ => fail(format!(
                 "`{}` is not an index expression",
-                e.to_token_stream()
+                crate::ctxt::show(&e)
             )),
         }
     }

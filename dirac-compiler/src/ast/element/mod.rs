@@ -21,7 +21,6 @@ pub mod index;
 pub mod unroll;
 
 use proc_macro2::Span;
-use quote::ToTokens;
 use syn::parse::{Parse, ParseStream};
 use syn::punctuated::Punctuated;
 use syn::{Expr, Ident, ItemFn, Token};
@@ -225,7 +224,7 @@ pub fn parse(cx: &Ctxt, args: proc_macro2::TokenStream, func: &ItemFn) -> Option
                     e,
                     format!(
                         "`{}` is not a declared coordinate; declared: {}",
-                        e.to_token_stream(),
+                        crate::ctxt::show(&e),
                         coords
                             .iter()
                             .map(|c| format!("`{}`", c.name))

@@ -157,7 +157,7 @@ impl Lowering<'_> {
                     at,
                     format!(
                         "`{}` is not defined between {} and {}",
-                        op.to_token_stream(),
+                        crate::ctxt::show(&op),
                         l.kind(),
                         r.kind()
                     ),
@@ -321,7 +321,7 @@ impl Lowering<'_> {
             _ => {
                 return Some(self.mat_error(
                     path,
-                    format!("unsupported function `{}`", path.to_token_stream()),
+                    format!("unsupported function `{}`", crate::ctxt::show(&path)),
                 ))
             }
         };
@@ -330,7 +330,7 @@ impl Lowering<'_> {
                 path,
                 format!(
                     "`{}` takes {wanted} argument(s), found {}",
-                    path.to_token_stream(),
+                    crate::ctxt::show(&path),
                     args.len()
                 ),
             ));
@@ -400,7 +400,7 @@ impl Lowering<'_> {
                         args[0],
                         format!(
                             "`{}` takes a 3-vector, found {}",
-                            path.to_token_stream(),
+                            crate::ctxt::show(&path),
                             other.kind()
                         ),
                     ),
@@ -479,7 +479,7 @@ impl Lowering<'_> {
         if a.c != 1 || i >= a.r {
             return self.mat_error(
                 member,
-                format!("no field `{}` on {}", member.to_token_stream(), a.kind()),
+                format!("no field `{}` on {}", crate::ctxt::show(&member), a.kind()),
             );
         }
         Some(Value::Scalar(a.e[i]))

@@ -1,7 +1,6 @@
 //! Lowering names: locals, parameters, `f64` constants and the coordinates of the
 //! configurations (`q0.x`, `q0.x[i]`, with the adapted coordinates of declared translations).
 
-use quote::ToTokens;
 use syn::{Expr, Member};
 
 use super::{f64_const, Lowering, Value, ACCEPTED};
@@ -116,7 +115,7 @@ impl Lowering<'_> {
                 f,
                 format!(
                     "the connection matrix must be constant: entries are f64 literals and parameters, found the coordinate `{}`",
-                    f.to_token_stream()
+                    crate::ctxt::show(&f)
                 ),
             );
             return None;
@@ -166,7 +165,7 @@ impl Lowering<'_> {
                 &ix.index,
                 format!(
                     "coordinate `{name}` is a scalar and cannot be indexed: write `{}`; only array coordinates, declared with a length such as `{name}[3]`, are indexed",
-                    f.to_token_stream()
+                    crate::ctxt::show(&f)
                 ),
             );
         };
@@ -179,8 +178,8 @@ impl Lowering<'_> {
                         "the index of coordinate `{name}` must be a constant integer known at compile time, found {} `{}`; accepted: \
                          an integer literal, a loop index of a `for` loop over a constant range, or `+ - * / %` on those, e.g. `{}[(i + 1) % {len}]`",
                         other.kind(),
-                        ix.index.to_token_stream(),
-                        f.to_token_stream()
+                        crate::ctxt::show(&ix.index),
+                        crate::ctxt::show(&f)
                     ),
                 )
             }
@@ -194,7 +193,7 @@ impl Lowering<'_> {
                 &ix.index,
                 format!(
                     "index {i} is out of range for coordinate `{name}` of length {len} (valid indices 0..{len}): `{}`",
-                    ix.index.to_token_stream()
+                    crate::ctxt::show(&ix.index)
                 ),
             ),
         }
@@ -259,7 +258,7 @@ impl Lowering<'_> {
                     format!(
                         "`{name}` is an array coordinate of length {len}: read one component at a time, `{}[i]`, with a constant index \
                          (a literal, a loop index, or integer arithmetic on those)",
-                        f.to_token_stream()
+                        crate::ctxt::show(&f)
                     ),
                 );
             }
@@ -282,7 +281,7 @@ impl Lowering<'_> {
             (m, Value::Mat(a)) => self.mat_field(a, m),
             (m, v) => self.error(
                 m,
-                format!("no field `{}` on {}", m.to_token_stream(), v.kind()),
+                format!("no field `{}` on {}", crate::ctxt::show(&m), v.kind()),
             ),
         }
     }

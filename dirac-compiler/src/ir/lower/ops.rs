@@ -3,7 +3,6 @@
 
 use std::collections::HashMap;
 
-use quote::ToTokens;
 use syn::{BinOp, Expr, Ident};
 
 use super::{Lowering, Value, ACCEPTED, MAX_UNROLL, METHODS};
@@ -243,7 +242,7 @@ impl Lowering<'_> {
                         format!(
                             "loop bounds must be constant integers (literals or enclosing loop indices) so the loop can be unrolled, found {} `{}`",
                             v.kind(),
-                            e.to_token_stream()
+                            crate::ctxt::show(&e)
                         ),
                     );
                     None

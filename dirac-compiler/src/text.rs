@@ -1,0 +1,349 @@
+//! The run-time front end: a system given as text — the same attribute and function a Rust
+//! program writes — through the same phases as `#[reduced_lagrangian]` (the attribute and
+//! signature, the lowering, the invariance check, the paper's constructions), ending in
+//! straight-line [`Program`]s instead of Rust tokens. A mistake gets the message the attribute
+//! gives, with its line and column in the text where the attribute has a span.
+//!
+//! ```
+//! let system = dirac_compiler::text::compile(
+//!     "#[reduced_lagrangian(shape(r), group(theta))]
+//!      fn kepler(q0: Config, q1: Config, h: f64) -> f64 {
+//!          let (dr, dth) = (q1.r - q0.r, q1.theta - q0.theta);
+//!          let r = 0.5 * (q0.r + q1.r);
+//!          0.5 / h * (dr * dr + r * r * dth * dth) + h / r
+//!      }",
+//! )?;
+//! assert_eq!((system.shape.len(), system.group.len()), (1, 1));
+//! assert_eq!(system.parameters, ["h"]);
+//! # Ok::<(), dirac_compiler::text::Error>(())
+//! ```
+
+use std::fmt;
+
+use proc_macro2::{Span, TokenStream};
+use syn::{Attribute, ItemFn};
+
+use crate::codegen::backend::DENSE_MAX;
+use crate::expand::{compile_system, parse, Parsed};
+use crate::ir::compile::{Compiled, SideCode};
+use crate::ir::reduce::Stepper as StepperCode;
+use crate::program::{program, Program};
+
+/// The attribute a system given as text carries.
+const ATTRIBUTE: &str = "reduced_lagrangian";
+
+/// A system compiled from text: its names, and a straight-line [`Program`] for each function
+/// the runtime's traits for systems on vector spaces need (`DiscreteLagrangian`, `Reduced` for
+/// both sides, `Unreduced`), dense (at most 16 coordinates).
+#[derive(Clone, Debug)]
+pub struct System {
+    /// The type name `#[reduced_lagrangian]` would emit (`name = ..`, or the function's name in
+    /// CamelCase).
+    pub name: String,
+    /// The shape coordinates `x`, in the order of the configuration vector (array components as
+    /// `x[i]`).
+    pub shape: Vec<String>,
+    /// The group coordinates `g`, which follow the shape coordinates.
+    pub group: Vec<String>,
+    /// The parameters, in declaration order (the time step included; last when a continuous
+    /// Lagrangian does not take it).
+    pub parameters: Vec<String>,
+    /// The index of the time step among [`Self::parameters`].
+    pub step: usize,
+    /// The controls (`controls(..)`), as indices into [`Self::parameters`].
+    pub controls: Vec<usize>,
+    /// Whether forces are declared (`force = ..`).
+    pub forced: bool,
+    /// `L_d(q0, q1)`: one output, reading `Q0`, `Q1` and parameters.
+    pub lagrangian: Program,
+    /// The connection matrix `B`, `K × S` row by row, reading parameters only.
+    pub connection: Program,
+    /// The reduced (+) equations, eq. (4.6).
+    pub plus: Side,
+    /// The reduced (−) equations, eq. (4.8) with the signs of Definition 2.8.
+    pub minus: Side,
+    /// The unreduced equations (Definitions 2.7/2.8): leaves `Q0` = `q_k`, `Q1` = the unknown
+    /// `z`, `P` = `p_k`.
+    pub unreduced: Stepper,
+    /// For a continuous Lagrangian `L(q, v)`: the Legendre map and the energy.
+    pub continuous: Option<Continuous>,
+}
+
+/// One side of the reduced equations.
+#[derive(Clone, Debug)]
+pub struct Side {
+    /// The reduced Lagrangian `l_{d±}(x0, x1, u)` (eqs. (4.5), (4.7)): leaves `X0`, `X1`, `U`.
+    pub lagrangian: Program,
+    /// The step: leaves `X0` = `x_k`, `X1` and `U` = the unknown `z = (x_{k+1}, u)`, `W` = `w_k`,
+    /// `Mu` = `μ_k`.
+    pub stepper: Stepper,
+    /// The group impulse `f_{d,g}^− + f_{d,g}^+` of the step (same leaves), when a force has a
+    /// group component.
+    pub impulse: Option<Program>,
+}
+
+/// The straight-line functions of a step with `n` unknowns and `m` momenta.
+#[derive(Clone, Debug)]
+pub struct Stepper {
+    /// The residual `R(z)`: `n` outputs.
+    pub residual: Program,
+    /// `R(z)` and `∂R/∂z` from one straight line: `n` outputs, then the `n × n` Jacobian row by
+    /// row.
+    pub residual_jacobian: Program,
+    /// The momentum update: `m` outputs.
+    pub momentum: Program,
+    /// The residual and the momentum update from one straight line: `n + m` outputs.
+    pub residual_momentum: Program,
+}
+
+/// The Legendre map and energy of a continuous Lagrangian, reading `Q0` = `q`, `Q1` = `v` and
+/// parameters.
+#[derive(Clone, Debug)]
+pub struct Continuous {
+    /// `∂L/∂v`: one output per coordinate.
+    pub legendre: Program,
+    /// `⟨∂L/∂v, v⟩ − L`: one output.
+    pub energy: Program,
+}
+
+/// One mistake in the text: the attribute's message and where it points.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Diagnostic {
+    /// What was found and what is accepted.
+    pub message: String,
+    /// The line of the offending token, from 1.
+    pub line: usize,
+    /// Its column, from 1, in characters.
+    pub column: usize,
+}
+
+/// Every mistake of a compilation, in the order the compiler found them.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Error {
+    /// The mistakes.
+    pub diagnostics: Vec<Diagnostic>,
+    /// The text, for the source lines in [`fmt::Display`].
+    source: String,
+}
+
+impl Error {
+    /// The errors of `error`; one without a position in the text (the attribute's own
+    /// call-site errors) points at the attribute, where rustc shows it.
+    fn from_syn(error: syn::Error, source: &str, attribute: Option<Span>) -> Error {
+        let at = |span: Span| {
+            let start = span.start();
+            (start.line, start.column + 1)
+        };
+        let fallback = attribute.map_or((1, 1), at);
+        let call_site = Span::call_site();
+        let nowhere =
+            |span: Span| span.start() == call_site.start() && span.end() == call_site.end();
+        let diagnostics = error
+            .into_iter()
+            .map(|e| {
+                let (line, column) = if nowhere(e.span()) {
+                    fallback
+                } else {
+                    at(e.span())
+                };
+                Diagnostic {
+                    message: e.to_string(),
+                    line,
+                    column,
+                }
+            })
+            .collect();
+        Error {
+            diagnostics,
+            source: source.to_owned(),
+        }
+    }
+}
+
+impl fmt::Display for Error {
+    /// As rustc shows them: the message, the line and column, the source line and a caret.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (i, d) in self.diagnostics.iter().enumerate() {
+            if i > 0 {
+                writeln!(f)?;
+            }
+            writeln!(f, "error: {}", d.message)?;
+            write!(f, " --> {}:{}", d.line, d.column)?;
+            if let Some(text) = self.source.lines().nth(d.line.wrapping_sub(1)) {
+                let pad: String = text
+                    .chars()
+                    .take(d.column - 1)
+                    .map(|c| if c == '\t' { '\t' } else { ' ' })
+                    .collect();
+                write!(f, "\n  | {text}\n  | {pad}^")?;
+            }
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for Error {}
+
+/// Compiles a system given as text: a function carrying `#[reduced_lagrangian(..)]`, alone or
+/// among other items (a whole Rust file is accepted, as long as one function carries the
+/// attribute). The attribute's keys, the signature and the body are those of the compiled-in
+/// attribute; systems on rotation groups, element-wise systems, constraints, adaptive steps and
+/// systems of more than 16 coordinates are compiled in only, and said so here.
+pub fn compile(source: &str) -> Result<System, Error> {
+    let (attribute, args, func) = find(source).map_err(|e| Error::from_syn(e, source, None))?;
+    crate::stack::run(&args, &TokenStream::new(), || {
+        crate::ctxt::as_text(|| compile_parts(args.clone(), &func))
+            .map_err(|e| Error::from_syn(e, source, Some(attribute)))
+    })
+}
+
+/// The attribute's span and arguments, and the function without the attribute.
+fn find(source: &str) -> syn::Result<(Span, TokenStream, ItemFn)> {
+    // A lone function is a file too.
+    let file = syn::parse_file(source)?;
+    let mut found: Option<(Span, TokenStream, ItemFn)> = None;
+    for item in file.items {
+        let syn::Item::Fn(mut func) = item else {
+            continue;
+        };
+        let Some(at) = func.attrs.iter().position(is_attribute) else {
+            continue;
+        };
+        let attr = func.attrs.remove(at);
+        let span = attr.pound_token.span;
+        if found.is_some() {
+            return Err(syn::Error::new_spanned(
+                &func.sig.ident,
+                "a second function with `#[reduced_lagrangian]`: the text describes one system",
+            ));
+        }
+        let args = match attr.meta {
+            syn::Meta::List(list) => list.tokens,
+            syn::Meta::Path(_) => TokenStream::new(),
+            syn::Meta::NameValue(nv) => {
+                return Err(syn::Error::new_spanned(
+                    nv,
+                    "write the attribute as `#[reduced_lagrangian(shape(..), group(..), ..)]`",
+                ))
+            }
+        };
+        found = Some((span, args, func));
+    }
+    found.ok_or_else(|| {
+        syn::Error::new(
+            Span::call_site(),
+            "no function carries `#[reduced_lagrangian(..)]`: write \
+             `#[reduced_lagrangian(shape(..), group(..))] fn name(q0: Config, q1: Config, h: f64, ..) -> f64 { .. }`",
+        )
+    })
+}
+
+fn is_attribute(attr: &Attribute) -> bool {
+    attr.path()
+        .segments
+        .last()
+        .is_some_and(|s| s.ident == ATTRIBUTE)
+}
+
+/// The phases of `#[reduced_lagrangian]` on a system on vector spaces, then the programs.
+fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<System> {
+    if crate::ast::lie::is_lie(&args) {
+        return Err(compiled_in_only(
+            &args,
+            "a system on rotation groups (`rotation(..)`, `direction(..)`)",
+        ));
+    }
+    if crate::ast::element::is_element_wise(func) {
+        return Err(compiled_in_only(
+            &func.sig.inputs,
+            "an element-wise system (sizes as `usize` arguments)",
+        ));
+    }
+    let Parsed { spec, sig, parsed } = parse(args, func);
+    parsed?;
+    let (spec, sig) = spec.zip(sig).expect("a clean parse has both");
+    if let Some(c) = &spec.constraints {
+        return Err(compiled_in_only(c, "a system with constraints"));
+    }
+    if let Some(a) = &spec.adapt {
+        return Err(compiled_in_only(&a.monitor, "adaptive steps"));
+    }
+    let c = compile_system(&spec, &sig, func)?;
+    let (s, k) = (spec.layout.s(), spec.layout.k());
+    if s + k > DENSE_MAX {
+        return Err(syn::Error::new(
+            Span::call_site(),
+            format!(
+                "{} coordinates: a system given at run time has at most {DENSE_MAX} (larger ones are compiled in, on the sparse backend)",
+                s + k
+            ),
+        ));
+    }
+    let step = sig
+        .params
+        .iter()
+        .position(|p| *p == sig.step)
+        .expect("the step is a parameter");
+    let controls = spec
+        .controls
+        .iter()
+        .filter_map(|u| sig.params.iter().position(|p| p == u))
+        .collect();
+    Ok(System {
+        name: crate::codegen::items::type_name(&spec, func).to_string(),
+        shape: spec.layout.shape.clone(),
+        group: spec.layout.group.clone(),
+        parameters: sig.params.iter().map(ToString::to_string).collect(),
+        step,
+        controls,
+        forced: spec.force.is_some(),
+        lagrangian: program(&c.graph, &[c.body]),
+        connection: program(&c.graph, &c.b.concat()),
+        plus: side(&c, &c.plus),
+        minus: side(&c, &c.minus),
+        unreduced: stepper(&c, &c.unreduced),
+        continuous: c.continuous.as_ref().map(|parts| Continuous {
+            legendre: program(&c.graph, &parts.legendre),
+            energy: program(&c.graph, &[parts.energy]),
+        }),
+    })
+}
+
+fn side(c: &Compiled, side: &SideCode) -> Side {
+    Side {
+        lagrangian: program(&c.graph, &[side.lagrangian]),
+        stepper: stepper(c, &side.stepper),
+        impulse: (!side.stepper.impulse.is_empty())
+            .then(|| program(&c.graph, &side.stepper.impulse)),
+    }
+}
+
+fn stepper(c: &Compiled, s: &StepperCode) -> Stepper {
+    let g = &c.graph;
+    let with_jacobian: Vec<_> = s
+        .residual
+        .iter()
+        .chain(s.jacobian.iter().flatten())
+        .copied()
+        .collect();
+    let with_momentum: Vec<_> = s.residual.iter().chain(&s.momentum).copied().collect();
+    Stepper {
+        residual: program(g, &s.residual),
+        residual_jacobian: program(g, &with_jacobian),
+        momentum: program(g, &s.momentum),
+        residual_momentum: program(g, &with_momentum),
+    }
+}
+
+/// What the run-time front end leaves to the compiled-in attribute, pointing at where the text
+/// asks for it.
+fn compiled_in_only<T: quote::ToTokens>(at: T, what: &str) -> syn::Error {
+    syn::Error::new_spanned(
+        at,
+        format!(
+            "{what} is compiled in with `#[reduced_lagrangian]` in Rust; a system given at run time \
+             is one on vector spaces (`shape(..)`, `group(..)` or `coordinates(..)` with `translate(..)`) \
+             with forces and controls, of at most {DENSE_MAX} coordinates"
+        ),
+    )
+}

@@ -1,0 +1,250 @@
+//! The run-time front end against the attribute: every compile-fail case of the attribute
+//! (`tests/ui/*/*.rs` of the workspace, with rustc's output in `.stderr`), given as text, gets the
+//! same messages at the same lines and columns; and the systems it accepts have the names and
+//! programs the attribute's systems have.
+
+use std::collections::HashSet;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use dirac_compiler::program::Leaf;
+use dirac_compiler::text::{compile, Diagnostic};
+
+/// Every `(first line of the message, line, column)` of rustc's errors in a `.stderr`.
+fn expected(stderr: &str, file: &str) -> HashSet<(String, usize, usize)> {
+    let lines: Vec<&str> = stderr.lines().collect();
+    let mut out = HashSet::new();
+    for (i, line) in lines.iter().enumerate() {
+        let Some(message) = line.strip_prefix("error: ") else {
+            continue;
+        };
+        // The location follows the message's lines.
+        let Some(at) = lines[i + 1..]
+            .iter()
+            .take_while(|l| !l.starts_with("error"))
+            .find_map(|l| l.trim_start().strip_prefix("--> "))
+        else {
+            continue;
+        };
+        let Some(rest) = at.strip_prefix(file) else {
+            continue;
+        };
+        let mut parts = rest.trim_start_matches(':').split(':');
+        let (Some(l), Some(c)) = (parts.next(), parts.next()) else {
+            continue;
+        };
+        out.insert((message.to_owned(), l.parse().unwrap(), c.parse().unwrap()));
+    }
+    out
+}
+
+/// The text once per function carrying the attribute, every other such function replaced by
+/// spaces (newlines kept).
+fn one_system_each(source: &str) -> Vec<String> {
+    let file = syn::parse_file(source).expect("a UI case parses");
+    let ranges: Vec<std::ops::Range<usize>> = file
+        .items
+        .iter()
+        .filter_map(|item| match item {
+            syn::Item::Fn(f)
+                if f.attrs
+                    .iter()
+                    .any(|a| a.path().is_ident("reduced_lagrangian")) =>
+            {
+                Some(syn::spanned::Spanned::span(f).byte_range())
+            }
+            _ => None,
+        })
+        .collect();
+    if ranges.len() <= 1 {
+        return vec![source.to_owned()];
+    }
+    (0..ranges.len())
+        .map(|keep| {
+            let mut text: Vec<u8> = source.as_bytes().to_vec();
+            for (i, r) in ranges.iter().enumerate() {
+                if i != keep {
+                    for b in &mut text[r.clone()] {
+                        if *b != b'\n' {
+                            *b = b' ';
+                        }
+                    }
+                }
+            }
+            // Blanking multi-byte characters byte by byte keeps the text valid UTF-8 (all
+            // spaces), but shifts no column on the kept lines.
+            String::from_utf8(text).expect("spaces and the kept text")
+        })
+        .collect()
+}
+
+fn cases() -> Vec<PathBuf> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/ui");
+    let mut cases = Vec::new();
+    for dir in fs::read_dir(&root).expect("the workspace's UI cases") {
+        let dir = dir.unwrap().path();
+        if !dir.is_dir() || dir.ends_with("transition") {
+            continue;
+        }
+        for f in fs::read_dir(&dir).unwrap() {
+            let f = f.unwrap().path();
+            if f.extension().is_some_and(|e| e == "rs") && f.with_extension("stderr").exists() {
+                cases.push(f);
+            }
+        }
+    }
+    cases.sort();
+    cases
+}
+
+/// Each mistake the attribute reports in a compile-fail case is reported by the run-time front
+/// end with the same message at the same line and column. Cases whose mistake is in how other
+/// code uses the emitted type (rustc's errors, not the attribute's), and the kinds of systems
+/// that are compiled in only, are counted apart; the rest must match exactly.
+#[test]
+fn misuse_gets_the_attributes_messages_at_the_same_places() {
+    let (mut same, mut compiled_in_only, mut accepted) = (0, 0, 0);
+    let mut mismatches = Vec::new();
+    for case in cases() {
+        let source = fs::read_to_string(&case).unwrap();
+        let stderr = fs::read_to_string(case.with_extension("stderr")).unwrap();
+        let rel = format!(
+            "tests/ui/{}/{}",
+            case.parent()
+                .unwrap()
+                .file_name()
+                .unwrap()
+                .to_str()
+                .unwrap(),
+            case.file_name().unwrap().to_str().unwrap()
+        );
+        if !source.contains("reduced_lagrangian") {
+            continue;
+        }
+        let want = expected(&stderr, &rel);
+        // A case with several systems: each one alone, the others blanked so that lines and
+        // columns stay where they are.
+        for source in one_system_each(&source) {
+            match compile(&source) {
+                Ok(_) => accepted += 1,
+                Err(e) => {
+                    let got: Vec<&Diagnostic> = e.diagnostics.iter().collect();
+                    if got.iter().any(|d| {
+                        d.message
+                            .contains("is compiled in with `#[reduced_lagrangian]`")
+                    }) {
+                        compiled_in_only += 1;
+                        continue;
+                    }
+                    let missing: Vec<String> = got
+                        .iter()
+                        .filter(|d| {
+                            let first = d.message.lines().next().unwrap_or_default().to_owned();
+                            !want.contains(&(first, d.line, d.column))
+                        })
+                        .map(|d| format!("{}:{}: {}", d.line, d.column, d.message))
+                        .collect();
+                    if missing.is_empty() {
+                        same += 1;
+                    } else {
+                        mismatches.push(format!("{rel}: {missing:?}\n  expected {want:?}"));
+                    }
+                }
+            }
+        }
+    }
+    println!(
+        "{same} cases with the same messages, {compiled_in_only} compiled in only, {accepted} accepted (rustc's errors)"
+    );
+    assert!(mismatches.is_empty(), "{}", mismatches.join("\n"));
+    assert!(same >= 80, "only {same} cases compared");
+}
+
+/// A rendered error shows the message, the position and a caret under the offending token.
+#[test]
+fn an_error_renders_with_its_line_and_a_caret() {
+    let text = "#[reduced_lagrangian(shape(x), group(theta), shape(y))]\n\
+                fn f(q0: Config, q1: Config, h: f64) -> f64 { q1.x - q0.x }";
+    let e = compile(text).unwrap_err();
+    assert_eq!(
+        e.diagnostics,
+        [Diagnostic {
+            message: "duplicate `shape` argument".into(),
+            line: 1,
+            column: 46,
+        }]
+    );
+    let shown = e.to_string();
+    assert!(shown.contains(" --> 1:46"), "{shown}");
+    assert!(
+        shown.ends_with(&format!("\n  | {}^", " ".repeat(45))),
+        "{shown}"
+    );
+}
+
+/// No function with the attribute, two of them, and text that is not Rust.
+#[test]
+fn text_without_one_system_is_an_error() {
+    let none = compile("fn f() {}").unwrap_err();
+    assert!(none.diagnostics[0].message.contains("no function carries"));
+    let two = compile(
+        "#[reduced_lagrangian(shape(x), group())] fn f(q0: Config, q1: Config, h: f64) -> f64 { q1.x }\n\
+         #[reduced_lagrangian(shape(x), group())] fn g(q0: Config, q1: Config, h: f64) -> f64 { q1.x }",
+    )
+    .unwrap_err();
+    assert_eq!(two.diagnostics[0].line, 2);
+    assert!(two.diagnostics[0].message.contains("a second function"));
+    let broken = compile("fn f( {").unwrap_err();
+    assert_eq!(broken.diagnostics.len(), 1);
+}
+
+/// The charged particle of the paper (§7.1): names, parameters, and programs that read what
+/// their function's arguments are and evaluate to the paper's equations at a point.
+#[test]
+fn the_charged_particle_compiles_to_programs() {
+    let system = compile(
+        "#[reduced_lagrangian(shape(x, y, z), group(theta))]
+         pub fn charged_particle(q0: Config, q1: Config, h: f64, m: f64, b0: f64) -> f64 {
+             let (dx, dy, dz) = (q1.x - q0.x, q1.y - q0.y, q1.z - q0.z);
+             let a_dot_dq = 0.5 * b0 * (-q0.y * dx + q0.x * dy);
+             let s = a_dot_dq + (q1.theta - q0.theta);
+             0.5 * m / h * (dx * dx + dy * dy + dz * dz) + 0.5 / h * s * s
+         }",
+    )
+    .unwrap();
+    assert_eq!(system.name, "ChargedParticle");
+    assert_eq!(system.shape, ["x", "y", "z"]);
+    assert_eq!(system.group, ["theta"]);
+    assert_eq!(system.parameters, ["h", "m", "b0"]);
+    assert_eq!((system.step, system.forced), (0, false));
+    let params = [0.1, 2.0, 0.5];
+    let (q0, q1) = ([0.3, -0.2, 0.1, 0.7], [0.35, -0.1, 0.05, 0.9]);
+    let l = system.lagrangian.eval(&|leaf| match leaf {
+        Leaf::Q0(i) => q0[i],
+        Leaf::Q1(i) => q1[i],
+        Leaf::Param(i) => params[i],
+        other => panic!("L_d read {other:?}"),
+    })[0];
+    let (h, m, b0) = (params[0], params[1], params[2]);
+    let (dx, dy, dz) = (q1[0] - q0[0], q1[1] - q0[1], q1[2] - q0[2]);
+    let s = 0.5 * b0 * (-q0[1] * dx + q0[0] * dy) + (q1[3] - q0[3]);
+    let expected = 0.5 * m / h * (dx * dx + dy * dy + dz * dz) + 0.5 / h * s * s;
+    assert_eq!(l, expected);
+    // The (+) residual reads x_k, z, w_k, μ_k and parameters, and has N = 4 entries; its
+    // Jacobian program has N + N² outputs.
+    let stepper = &system.plus.stepper;
+    assert_eq!(stepper.residual.outputs.len(), 4);
+    assert_eq!(stepper.residual_jacobian.outputs.len(), 4 + 16);
+    assert_eq!(stepper.momentum.outputs.len(), 3);
+    for leaf in stepper.residual_momentum.leaves() {
+        assert!(
+            matches!(
+                leaf,
+                Leaf::X0(_) | Leaf::X1(_) | Leaf::U(_) | Leaf::W(_) | Leaf::Mu(_) | Leaf::Param(_)
+            ),
+            "{leaf:?}"
+        );
+    }
+    assert_eq!(system.connection.outputs.len(), 3);
+    assert!(system.unreduced.residual.operations() > 0);
+}
