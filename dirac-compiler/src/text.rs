@@ -80,6 +80,26 @@ pub struct Side {
     /// The group impulse `f_{d,g}^− + f_{d,g}^+` of the step (same leaves), when a force has a
     /// group component.
     pub impulse: Option<Program>,
+    /// The step with its group unknowns solved in closed form, when they enter affinely.
+    pub eliminated: Option<Eliminated>,
+}
+
+/// Momentum-level elimination: Newton on the shape unknowns alone, the group unknowns in closed
+/// form. Leaves as for [`Side::stepper`], with `X1` = `x_{k+1}` and no `U`.
+#[derive(Clone, Debug)]
+pub struct Eliminated {
+    /// The shape residual `R_x(x_{k+1}, u(x_{k+1}))` and its `S × S` Jacobian (column by
+    /// column): `S + S²` outputs.
+    pub residual_jacobian: Program,
+    /// The shape residual alone: `S` outputs.
+    pub residual: Program,
+    /// The group unknowns `u(x_{k+1})`: `K` outputs.
+    pub group: Program,
+    /// The block `A = ∂R_g/∂u` the closed form inverts, `K × K` column by column.
+    pub block: Program,
+    /// The compiler's verdict: whether this path is the better default (no more code than the
+    /// general one).
+    pub pays: bool,
 }
 
 /// The straight-line functions of a step with `n` unknowns and `m` momenta.
@@ -87,8 +107,8 @@ pub struct Side {
 pub struct Stepper {
     /// The residual `R(z)`: `n` outputs.
     pub residual: Program,
-    /// `R(z)` and `∂R/∂z` from one straight line: `n` outputs, then the `n × n` Jacobian row by
-    /// row.
+    /// `R(z)` and `∂R/∂z` from one straight line: `n` outputs, then the `n × n` Jacobian column
+    /// by column (nalgebra's order).
     pub residual_jacobian: Program,
     /// The momentum update: `m` outputs.
     pub momentum: Program,
@@ -315,7 +335,28 @@ fn side(c: &Compiled, side: &SideCode) -> Side {
         stepper: stepper(c, &side.stepper),
         impulse: (!side.stepper.impulse.is_empty())
             .then(|| program(&c.graph, &side.stepper.impulse)),
+        eliminated: side.eliminated.as_ref().map(|e| Eliminated {
+            residual_jacobian: program(
+                &c.graph,
+                &e.residual
+                    .iter()
+                    .copied()
+                    .chain(column_major(&e.jacobian))
+                    .collect::<Vec<_>>(),
+            ),
+            residual: program(&c.graph, &e.residual),
+            group: program(&c.graph, &e.group),
+            block: program(&c.graph, &column_major(&e.block).collect::<Vec<_>>()),
+            pays: side.elimination_pays,
+        }),
     }
+}
+
+/// A square matrix's entries column by column, as nalgebra stores them.
+fn column_major(
+    m: &[Vec<crate::ir::graph::NodeId>],
+) -> impl Iterator<Item = crate::ir::graph::NodeId> + '_ {
+    (0..m.len()).flat_map(move |col| m.iter().map(move |row| row[col]))
 }
 
 fn stepper(c: &Compiled, s: &StepperCode) -> Stepper {
@@ -323,8 +364,8 @@ fn stepper(c: &Compiled, s: &StepperCode) -> Stepper {
     let with_jacobian: Vec<_> = s
         .residual
         .iter()
-        .chain(s.jacobian.iter().flatten())
         .copied()
+        .chain(column_major(&s.jacobian))
         .collect();
     let with_momentum: Vec<_> = s.residual.iter().chain(&s.momentum).copied().collect();
     Stepper {

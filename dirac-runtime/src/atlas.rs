@@ -173,7 +173,7 @@ where
     }
 
     fn chart_control_dim(&self) -> usize {
-        L::CONTROLS.len()
+        self.system().control_count()
     }
 
     fn chart_check(&self, initial: &ReducedState<S, K>) -> Result<(), StepError> {

@@ -720,7 +720,7 @@ where
     }
 
     fn control_dim(&self) -> usize {
-        L::CONTROLS.len()
+        self.system.control_count()
     }
 
     fn step_with(

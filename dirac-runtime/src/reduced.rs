@@ -235,7 +235,10 @@ where
     /// Whether steps run Newton on the shape unknowns alone, the group unknowns being solved in
     /// closed form.
     pub fn eliminates_group(&self) -> bool {
-        L::ELIMINATES_GROUP && self.eliminate.unwrap_or(L::ELIMINATION_PAYS)
+        self.system.eliminates_group()
+            && self
+                .eliminate
+                .unwrap_or_else(|| self.system.elimination_pays())
     }
 
     /// The system being integrated.
@@ -471,7 +474,7 @@ where
     }
 
     fn control_dim(&self) -> usize {
-        L::CONTROLS.len()
+        self.system.control_count()
     }
 
     /// Newton starts from [`reduced_guess`], a quadratic extrapolation of the last shape points

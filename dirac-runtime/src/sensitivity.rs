@@ -252,7 +252,7 @@ where
     ) -> Result<Sensitivity, StepError> {
         let owned = controlled(self.system(), k, u)?;
         let sys = owned.as_ref().unwrap_or(self.system());
-        let m = L::CONTROLS.len();
+        let m = sys.control_count();
         let (x, w, mu) = (&state.x, &state.w, &state.mu);
         let z = join::<S, K, N>(&next.x, &record.group_unknown);
         let mut p = StepPartials::zeros(N, S, S + K, m);
@@ -357,7 +357,7 @@ where
     ) -> Result<Sensitivity, StepError> {
         let owned = controlled(self.system(), k, u)?;
         let sys = owned.as_ref().unwrap_or(self.system());
-        let m = L::CONTROLS.len();
+        let m = sys.control_count();
         let (q, p_k, z) = (&state.q, &state.p, &next.q);
         let mut p = StepPartials::zeros(N, N, N, m);
         if !sys.unreduced_step_partials(q, p_k, z, &mut p) {

@@ -180,7 +180,7 @@ where
     if u.is_empty() {
         return Ok(None);
     }
-    check_controls(k, L::CONTROLS.len(), u)?;
+    check_controls(k, sys.control_count(), u)?;
     Ok(Some(sys.with_controls(u)))
 }
 

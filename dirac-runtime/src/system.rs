@@ -25,6 +25,14 @@ pub trait DiscreteLagrangian<const S: usize, const K: usize, const N: usize> {
     /// sets before every step ([`crate::Run::feedback`], [`crate::Run::controls`]), in the order a control vector
     /// `u_k` lists them. Empty for a system without controls.
     const CONTROLS: &'static [&'static str] = &[];
+
+    /// The number of controls, what the integrators check a control vector against:
+    /// `Self::CONTROLS.len()` for a system compiled in, whose names are known when the program
+    /// is compiled; a system given at run time (whose constants cannot know its names) says it
+    /// here.
+    fn control_count(&self) -> usize {
+        Self::CONTROLS.len()
+    }
     /// Whether the system declares forces (`force = ...` in the attribute): its steps solve the
     /// forced discrete Lagrange–Dirac equations `p_k = −D1 L_d − f_d^−`,
     /// `p_{k+1} = D2 L_d + f_d^+`, and its energy is not conserved.
@@ -356,6 +364,18 @@ pub trait Reduced<D: Side, const S: usize, const K: usize, const N: usize>:
     /// Whether the eliminated stepper is the better default: the compiler's verdict that its
     /// straight-line code is no larger (within 10%) than the general path's.
     const ELIMINATION_PAYS: bool = false;
+
+    /// Whether this system's steps may eliminate the group unknowns: [`Self::ELIMINATES_GROUP`]
+    /// for a system compiled in; a system given at run time says it here.
+    fn eliminates_group(&self) -> bool {
+        Self::ELIMINATES_GROUP
+    }
+
+    /// Whether elimination is the better default: [`Self::ELIMINATION_PAYS`] for a system
+    /// compiled in; a system given at run time says it here.
+    fn elimination_pays(&self) -> bool {
+        Self::ELIMINATION_PAYS
+    }
 
     /// The shape residual `R_x(x_{k+1}, u(x_{k+1}))` with the group unknown eliminated.
     fn eliminated_residual(

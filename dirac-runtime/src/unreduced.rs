@@ -220,7 +220,7 @@ where
     }
 
     fn control_dim(&self) -> usize {
-        L::CONTROLS.len()
+        self.system.control_count()
     }
 
     /// Newton starts from [`canonical_guess`], a quadratic extrapolation of the last

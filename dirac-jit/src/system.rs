@@ -1,0 +1,722 @@
+//! The compiled code of a system given as text ([`Code`]) and the system itself at fixed
+//! dimensions ([`JitSystem`]), which implements the runtime's traits for systems on vector spaces
+//! — `DiscreteLagrangian`, `Reduced` for both sides (eqs. (4.6), (4.8)) and `Unreduced`
+//! (Definitions 2.7/2.8) — by calling the kernels: every integrator that runs a compiled-in
+//! system runs it, on the dense fixed-size backend.
+
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use cranelift_jit::JITModule;
+use dirac_compiler::program::Leaf;
+use dirac_compiler::text::{self, System};
+use dirac_runtime::nalgebra::{SMatrix, SVector};
+use dirac_runtime::{DiscreteLagrangian, Lu, Minus, Plus, Reduced, Unreduced};
+
+use crate::codegen::{Jit, Kernel, Layout};
+use crate::error::Error;
+
+/// The most parameters a system given at run time declares: the values travel inline with the
+/// system, so a control law that sets them before every step allocates nothing.
+pub const MAX_PARAMETERS: usize = 32;
+
+/// The kernels of one stepper.
+#[derive(Clone, Copy)]
+struct StepperKernels {
+    residual: Kernel,
+    residual_jacobian: Kernel,
+    momentum: Kernel,
+    residual_momentum: Kernel,
+}
+
+/// The kernels of the eliminated step (momentum-level elimination).
+#[derive(Clone, Copy)]
+struct EliminatedKernels {
+    residual: Kernel,
+    residual_jacobian: Kernel,
+    group: Kernel,
+    block: Kernel,
+    pays: bool,
+}
+
+/// The kernels of one side of the reduced equations.
+#[derive(Clone, Copy)]
+struct SideKernels {
+    lagrangian: Kernel,
+    stepper: StepperKernels,
+    impulse: Option<Kernel>,
+    eliminated: Option<EliminatedKernels>,
+}
+
+#[derive(Clone, Copy)]
+struct Kernels {
+    lagrangian: Kernel,
+    connection: Kernel,
+    plus: SideKernels,
+    minus: SideKernels,
+    unreduced: StepperKernels,
+    legendre: Option<Kernel>,
+    energy: Option<Kernel>,
+}
+
+/// The module that owns the kernels' memory, freed with the last [`Code`] that uses it.
+struct Module(Option<JITModule>);
+
+// SAFETY: after `finish` the module is never used again except to free its memory on drop,
+// which happens once, when the last `Arc<Code>` goes; the kernels themselves are plain functions
+// over their arguments.
+unsafe impl Send for Module {}
+// SAFETY: as above: no method of the module is called through a shared reference.
+unsafe impl Sync for Module {}
+
+impl Drop for Module {
+    fn drop(&mut self) {
+        if let Some(module) = self.0.take() {
+            // SAFETY: the kernels are reached only through the `Code` that owns this module, and
+            // it is being dropped: no kernel runs or will run.
+            unsafe { module.free_memory() };
+        }
+    }
+}
+
+/// A system given as text, compiled to machine code: its names, its kernels, and how long the
+/// compilation took. Shared ([`Arc`]) by every [`JitSystem`] made from it.
+pub struct Code {
+    system: System,
+    kernels: Kernels,
+    compile_time: Duration,
+    _module: Module,
+}
+
+impl std::fmt::Debug for Code {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Code")
+            .field("name", &self.system.name)
+            .field("shape", &self.system.shape)
+            .field("group", &self.system.group)
+            .field("parameters", &self.system.parameters)
+            .field("compile_time", &self.compile_time)
+            .finish_non_exhaustive()
+    }
+}
+
+/// Compiles a system given as text (see [`dirac_compiler::text::compile`] for what the text is)
+/// to machine code.
+pub fn compile(source: &str) -> Result<Arc<Code>, Error> {
+    let start = Instant::now();
+    let system = text::compile(source)?;
+    let s = system.shape.len();
+    let mut jit = Jit::new()?;
+    let stepper = |jit: &mut Jit, st: &text::Stepper, layout: Layout| -> Result<_, Error> {
+        Ok([
+            jit.define(&st.residual, layout)?,
+            jit.define(&st.residual_jacobian, layout)?,
+            jit.define(&st.momentum, layout)?,
+            jit.define(&st.residual_momentum, layout)?,
+        ])
+    };
+    let ld = jit.define(&system.lagrangian, &ld_layout)?;
+    let b = jit.define(&system.connection, &ld_layout)?;
+    let reduced = |leaf| reduced_layout(leaf, s);
+    let side = |jit: &mut Jit, side: &text::Side| -> Result<_, Error> {
+        let l = jit.define(&side.lagrangian, &reduced_lagrangian_layout)?;
+        let st = stepper(jit, &side.stepper, &reduced)?;
+        let impulse = side
+            .impulse
+            .as_ref()
+            .map(|p| jit.define(p, &reduced))
+            .transpose()?;
+        let eliminated = side
+            .eliminated
+            .as_ref()
+            .map(|e| {
+                Ok::<_, Error>((
+                    [
+                        jit.define(&e.residual, &reduced)?,
+                        jit.define(&e.residual_jacobian, &reduced)?,
+                        jit.define(&e.group, &reduced)?,
+                        jit.define(&e.block, &reduced)?,
+                    ],
+                    e.pays,
+                ))
+            })
+            .transpose()?;
+        Ok((l, st, impulse, eliminated))
+    };
+    let plus = side(&mut jit, &system.plus)?;
+    let minus = side(&mut jit, &system.minus)?;
+    let unreduced = stepper(&mut jit, &system.unreduced, &unreduced_layout)?;
+    let continuous = system
+        .continuous
+        .as_ref()
+        .map(|c| {
+            Ok::<_, Error>((
+                jit.define(&c.legendre, &ld_layout)?,
+                jit.define(&c.energy, &ld_layout)?,
+            ))
+        })
+        .transpose()?;
+    let (k, module) = jit.finish()?;
+    let stepper_kernels = |[r, rj, m, rm]: [usize; 4]| StepperKernels {
+        residual: k[r],
+        residual_jacobian: k[rj],
+        momentum: k[m],
+        residual_momentum: k[rm],
+    };
+    type Defined = (usize, [usize; 4], Option<usize>, Option<([usize; 4], bool)>);
+    let side_kernels = |(l, st, imp, el): Defined| SideKernels {
+        lagrangian: k[l],
+        stepper: stepper_kernels(st),
+        impulse: imp.map(|i| k[i]),
+        eliminated: el.map(|([r, rj, g, a], pays)| EliminatedKernels {
+            residual: k[r],
+            residual_jacobian: k[rj],
+            group: k[g],
+            block: k[a],
+            pays,
+        }),
+    };
+    let kernels = Kernels {
+        lagrangian: k[ld],
+        connection: k[b],
+        plus: side_kernels(plus),
+        minus: side_kernels(minus),
+        unreduced: stepper_kernels(unreduced),
+        legendre: continuous.map(|(l, _)| k[l]),
+        energy: continuous.map(|(_, e)| k[e]),
+    };
+    Ok(Arc::new(Code {
+        system,
+        kernels,
+        compile_time: start.elapsed(),
+        _module: Module(Some(module)),
+    }))
+}
+
+/// `L_d`, the connection, the Legendre map and the energy: `q0` (or `q`) in `a`, `q1` (or `v`)
+/// in `b`.
+fn ld_layout(leaf: Leaf) -> (usize, usize) {
+    match leaf {
+        Leaf::Param(i) => (0, i),
+        Leaf::Q0(i) => (1, i),
+        Leaf::Q1(i) => (2, i),
+        other => unreachable!("L_d does not read {other:?}"),
+    }
+}
+
+/// `l_{d±}(x0, x1, u)`: `x0`, `x1`, `u` in `a`, `b`, `c`.
+fn reduced_lagrangian_layout(leaf: Leaf) -> (usize, usize) {
+    match leaf {
+        Leaf::Param(i) => (0, i),
+        Leaf::X0(i) => (1, i),
+        Leaf::X1(i) => (2, i),
+        Leaf::U(j) => (3, j),
+        other => unreachable!("a reduced Lagrangian does not read {other:?}"),
+    }
+}
+
+/// A reduced step: `x_k`, `w_k`, `μ_k` in `a`, `b`, `c`, the unknowns `z = (x_{k+1}, u)` in `d`.
+fn reduced_layout(leaf: Leaf, s: usize) -> (usize, usize) {
+    match leaf {
+        Leaf::Param(i) => (0, i),
+        Leaf::X0(i) => (1, i),
+        Leaf::W(i) => (2, i),
+        Leaf::Mu(j) => (3, j),
+        Leaf::X1(i) => (4, i),
+        Leaf::U(j) => (4, s + j),
+        other => unreachable!("a reduced step does not read {other:?}"),
+    }
+}
+
+/// An unreduced step: `q_k`, `p_k`, the unknown `z` in `a`, `b`, `c`.
+fn unreduced_layout(leaf: Leaf) -> (usize, usize) {
+    match leaf {
+        Leaf::Param(i) => (0, i),
+        Leaf::Q0(i) => (1, i),
+        Leaf::P(i) => (2, i),
+        Leaf::Q1(i) => (3, i),
+        other => unreachable!("an unreduced step does not read {other:?}"),
+    }
+}
+
+impl Code {
+    /// The compiled system's names and programs.
+    pub fn system(&self) -> &System {
+        &self.system
+    }
+
+    /// How long the text took to become machine code (parsing, the checks, differentiation and
+    /// code generation).
+    pub fn compile_time(&self) -> Duration {
+        self.compile_time
+    }
+
+    /// The system at dimensions `S`, `K`, `N = S + K` with `parameters` in declaration order
+    /// ([`System::parameters`]); an error if the dimensions are not the system's or the values
+    /// are not one finite number per parameter.
+    pub fn instantiate<const S: usize, const K: usize, const N: usize>(
+        self: &Arc<Self>,
+        parameters: &[f64],
+    ) -> Result<JitSystem<S, K, N>, Error> {
+        let sys = &self.system;
+        let (s, k) = (sys.shape.len(), sys.group.len());
+        if (s, k, s + k) != (S, K, N) {
+            return Err(Error::Dimensions {
+                name: sys.name.clone(),
+                s,
+                k,
+                n: s + k,
+                want_s: S,
+                want_k: K,
+                want_n: N,
+            });
+        }
+        let fail = |reason: String| Error::Parameters {
+            name: sys.name.clone(),
+            reason,
+            declared: sys.parameters.join(", "),
+        };
+        if parameters.len() != sys.parameters.len() {
+            return Err(fail(format!(
+                "{} values for {} parameters",
+                parameters.len(),
+                sys.parameters.len()
+            )));
+        }
+        if parameters.len() > MAX_PARAMETERS {
+            return Err(fail(format!(
+                "a system given at run time has at most {MAX_PARAMETERS} parameters"
+            )));
+        }
+        if let Some(i) = parameters.iter().position(|p| !p.is_finite()) {
+            return Err(fail(format!(
+                "`{}` = {} is not finite",
+                sys.parameters[i], parameters[i]
+            )));
+        }
+        let mut values = [0.0; MAX_PARAMETERS];
+        values[..parameters.len()].copy_from_slice(parameters);
+        Ok(JitSystem {
+            code: Arc::clone(self),
+            values,
+        })
+    }
+
+    /// [`Self::instantiate`] with the parameters by name, in any order; every parameter once.
+    pub fn instantiate_named<const S: usize, const K: usize, const N: usize>(
+        self: &Arc<Self>,
+        parameters: &[(&str, f64)],
+    ) -> Result<JitSystem<S, K, N>, Error> {
+        let sys = &self.system;
+        let fail = |reason: String| Error::Parameters {
+            name: sys.name.clone(),
+            reason,
+            declared: sys.parameters.join(", "),
+        };
+        let mut values = vec![f64::NAN; sys.parameters.len()];
+        let mut given = vec![false; sys.parameters.len()];
+        for &(name, value) in parameters {
+            let Some(i) = sys.parameters.iter().position(|p| p == name) else {
+                return Err(fail(format!("no parameter `{name}`")));
+            };
+            if std::mem::replace(&mut given[i], true) {
+                return Err(fail(format!("`{name}` given twice")));
+            }
+            values[i] = value;
+        }
+        if let Some(i) = given.iter().position(|g| !g) {
+            return Err(fail(format!("`{}` not given", sys.parameters[i])));
+        }
+        self.instantiate(&values)
+    }
+}
+
+/// A system given as text, at dimensions `S`, `K`, `N = S + K` and with its parameter values:
+/// what the integrators take. Cloning it shares the code.
+#[derive(Clone)]
+pub struct JitSystem<const S: usize, const K: usize, const N: usize> {
+    code: Arc<Code>,
+    values: [f64; MAX_PARAMETERS],
+}
+
+impl<const S: usize, const K: usize, const N: usize> std::fmt::Debug for JitSystem<S, K, N> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let sys = &self.code.system;
+        f.debug_struct(&sys.name)
+            .field("parameters", &&self.values[..sys.parameters.len()])
+            .finish()
+    }
+}
+
+/// A pointer for an argument a kernel does not read.
+const UNUSED: *const f64 = std::ptr::NonNull::<f64>::dangling().as_ptr();
+
+/// The residual and the Jacobian, as one kernel writes them.
+#[repr(C)]
+struct ResidualJacobian<const N: usize> {
+    r: SVector<f64, N>,
+    j: SMatrix<f64, N, N>,
+}
+
+/// The residual and the momentum update, as one kernel writes them.
+#[repr(C)]
+struct ResidualMomentum<const N: usize, const M: usize> {
+    r: SVector<f64, N>,
+    m: SVector<f64, M>,
+}
+
+impl<const S: usize, const K: usize, const N: usize> JitSystem<S, K, N> {
+    /// The compiled code this system runs.
+    pub fn code(&self) -> &Arc<Code> {
+        &self.code
+    }
+
+    /// Calls `kernel` on the parameters and `args`, writing into `out` (a value whose memory is
+    /// the kernel's outputs, in order: a vector, a matrix, or a `repr(C)` pair of them).
+    fn call<T>(&self, kernel: Kernel, args: [*const f64; 4], mut out: T) -> T {
+        // SAFETY: every kernel reads only the entries its layout names, which the compiler
+        // bounds by the system's dimensions (checked equal to `S`, `K`, `N` on instantiation),
+        // and writes exactly as many `f64` as its program has outputs, which is the size of `T`
+        // at the call sites below.
+        unsafe {
+            kernel(
+                self.values.as_ptr(),
+                args[0],
+                args[1],
+                args[2],
+                args[3],
+                (&mut out as *mut T).cast::<f64>(),
+            );
+        }
+        out
+    }
+
+    /// The Legendre map `p = ∂L/∂v (q, v)` of a continuous Lagrangian; `None` for a discrete
+    /// one.
+    pub fn legendre(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> Option<SVector<f64, N>> {
+        let kernel = self.code.kernels.legendre?;
+        Some(self.call(
+            kernel,
+            [q.as_ptr(), v.as_ptr(), UNUSED, UNUSED],
+            SVector::zeros(),
+        ))
+    }
+
+    /// The energy `⟨∂L/∂v, v⟩ − L` of a continuous Lagrangian at `(q, v)`; `None` for a
+    /// discrete one.
+    pub fn energy(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> Option<f64> {
+        let kernel = self.code.kernels.energy?;
+        let e: SVector<f64, 1> = self.call(
+            kernel,
+            [q.as_ptr(), v.as_ptr(), UNUSED, UNUSED],
+            SVector::zeros(),
+        );
+        Some(e[0])
+    }
+
+    fn side(&self, plus: bool) -> &SideKernels {
+        if plus {
+            &self.code.kernels.plus
+        } else {
+            &self.code.kernels.minus
+        }
+    }
+
+    fn reduced_lagrangian_of(
+        &self,
+        plus: bool,
+        x0: &SVector<f64, S>,
+        x1: &SVector<f64, S>,
+        u: &SVector<f64, K>,
+    ) -> f64 {
+        let l: SVector<f64, 1> = self.call(
+            self.side(plus).lagrangian,
+            [x0.as_ptr(), x1.as_ptr(), u.as_ptr(), UNUSED],
+            SVector::zeros(),
+        );
+        l[0]
+    }
+
+    fn reduced_args(
+        x_k: &SVector<f64, S>,
+        w_k: &SVector<f64, S>,
+        mu_k: &SVector<f64, K>,
+        z: &SVector<f64, N>,
+    ) -> [*const f64; 4] {
+        [x_k.as_ptr(), w_k.as_ptr(), mu_k.as_ptr(), z.as_ptr()]
+    }
+}
+
+impl<const S: usize, const K: usize, const N: usize> DiscreteLagrangian<S, K, N>
+    for JitSystem<S, K, N>
+{
+    /// Placeholders: a system given at run time has its names in
+    /// [`Code::system`] (`shape`, `group`, `parameters`), not in constants.
+    const SHAPE: [&'static str; S] = [""; S];
+    /// Placeholders, as [`Self::SHAPE`].
+    const GROUP: [&'static str; K] = [""; K];
+    /// Empty, as [`Self::SHAPE`]: the names are in [`Code::system`].
+    const PARAMETERS: &'static [&'static str] = &[];
+
+    fn control_count(&self) -> usize {
+        self.code.system.controls.len()
+    }
+
+    fn lagrangian(&self, q0: &SVector<f64, N>, q1: &SVector<f64, N>) -> f64 {
+        let l: SVector<f64, 1> = self.call(
+            self.code.kernels.lagrangian,
+            [q0.as_ptr(), q1.as_ptr(), UNUSED, UNUSED],
+            SVector::zeros(),
+        );
+        l[0]
+    }
+
+    fn connection(&self) -> SMatrix<f64, K, S> {
+        // The program lists B row by row: the memory of its transpose.
+        let bt: SMatrix<f64, S, K> =
+            self.call(self.code.kernels.connection, [UNUSED; 4], SMatrix::zeros());
+        bt.transpose()
+    }
+
+    fn time_step(&self) -> f64 {
+        self.values[self.code.system.step]
+    }
+
+    fn with_time_step(&self, h: f64) -> Self {
+        let mut system = self.clone();
+        system.values[self.code.system.step] = h;
+        system
+    }
+
+    fn parameter_values(&self) -> Vec<f64> {
+        self.values[..self.code.system.parameters.len()].to_vec()
+    }
+
+    fn with_controls(&self, u: &[f64]) -> Self {
+        let mut system = self.clone();
+        for (&i, &v) in self.code.system.controls.iter().zip(u) {
+            system.values[i] = v;
+        }
+        system
+    }
+}
+
+/// `Reduced<Plus>` and `Reduced<Minus>`: the same calls on each side's kernels.
+macro_rules! reduced_impl {
+    ($side:ty, $plus:expr) => {
+        impl<const S: usize, const K: usize, const N: usize> Reduced<$side, S, K, N>
+            for JitSystem<S, K, N>
+        {
+            type Linear = Lu<N>;
+
+            fn linear_solver(&self) -> Lu<N> {
+                Lu::empty()
+            }
+
+            fn reduced_lagrangian(
+                &self,
+                x0: &SVector<f64, S>,
+                x1: &SVector<f64, S>,
+                u: &SVector<f64, K>,
+            ) -> f64 {
+                self.reduced_lagrangian_of($plus, x0, x1, u)
+            }
+
+            fn residual(
+                &self,
+                x_k: &SVector<f64, S>,
+                w_k: &SVector<f64, S>,
+                mu_k: &SVector<f64, K>,
+                z: &SVector<f64, N>,
+            ) -> SVector<f64, N> {
+                self.call(
+                    self.side($plus).stepper.residual,
+                    Self::reduced_args(x_k, w_k, mu_k, z),
+                    SVector::zeros(),
+                )
+            }
+
+            fn residual_jacobian(
+                &self,
+                x_k: &SVector<f64, S>,
+                w_k: &SVector<f64, S>,
+                mu_k: &SVector<f64, K>,
+                z: &SVector<f64, N>,
+            ) -> (SVector<f64, N>, SMatrix<f64, N, N>) {
+                let rj = self.call(
+                    self.side($plus).stepper.residual_jacobian,
+                    Self::reduced_args(x_k, w_k, mu_k, z),
+                    ResidualJacobian {
+                        r: SVector::zeros(),
+                        j: SMatrix::zeros(),
+                    },
+                );
+                (rj.r, rj.j)
+            }
+
+            fn momentum(&self, x_k: &SVector<f64, S>, z: &SVector<f64, N>) -> SVector<f64, S> {
+                self.call(
+                    self.side($plus).stepper.momentum,
+                    [x_k.as_ptr(), UNUSED, UNUSED, z.as_ptr()],
+                    SVector::zeros(),
+                )
+            }
+
+            fn residual_momentum(
+                &self,
+                x_k: &SVector<f64, S>,
+                w_k: &SVector<f64, S>,
+                mu_k: &SVector<f64, K>,
+                z: &SVector<f64, N>,
+            ) -> (SVector<f64, N>, SVector<f64, S>) {
+                let rm = self.call(
+                    self.side($plus).stepper.residual_momentum,
+                    Self::reduced_args(x_k, w_k, mu_k, z),
+                    ResidualMomentum {
+                        r: SVector::zeros(),
+                        m: SVector::zeros(),
+                    },
+                );
+                (rm.r, rm.m)
+            }
+
+            /// Whether a force has a group component is known only at run time: `μ` is always
+            /// updated by the impulse, which is exactly zero without one (`μ + 0 = μ`).
+            const GROUP_FORCED: bool = true;
+
+            const ELIMINATES_GROUP: bool = true;
+
+            fn eliminates_group(&self) -> bool {
+                self.side($plus).eliminated.is_some()
+            }
+
+            fn elimination_pays(&self) -> bool {
+                self.side($plus).eliminated.is_some_and(|e| e.pays)
+            }
+
+            fn eliminated_residual(
+                &self,
+                x_k: &SVector<f64, S>,
+                w_k: &SVector<f64, S>,
+                mu_k: &SVector<f64, K>,
+                x1: &SVector<f64, S>,
+            ) -> Option<SVector<f64, S>> {
+                let e = self.side($plus).eliminated?;
+                Some(self.call(
+                    e.residual,
+                    [x_k.as_ptr(), w_k.as_ptr(), mu_k.as_ptr(), x1.as_ptr()],
+                    SVector::zeros(),
+                ))
+            }
+
+            fn eliminated_residual_jacobian(
+                &self,
+                x_k: &SVector<f64, S>,
+                w_k: &SVector<f64, S>,
+                mu_k: &SVector<f64, K>,
+                x1: &SVector<f64, S>,
+            ) -> Option<(SVector<f64, S>, SMatrix<f64, S, S>)> {
+                let e = self.side($plus).eliminated?;
+                let rj = self.call(
+                    e.residual_jacobian,
+                    [x_k.as_ptr(), w_k.as_ptr(), mu_k.as_ptr(), x1.as_ptr()],
+                    ResidualJacobian {
+                        r: SVector::zeros(),
+                        j: SMatrix::zeros(),
+                    },
+                );
+                Some((rj.r, rj.j))
+            }
+
+            fn eliminated_group(
+                &self,
+                x_k: &SVector<f64, S>,
+                w_k: &SVector<f64, S>,
+                mu_k: &SVector<f64, K>,
+                x1: &SVector<f64, S>,
+            ) -> Option<SVector<f64, K>> {
+                let e = self.side($plus).eliminated?;
+                Some(self.call(
+                    e.group,
+                    [x_k.as_ptr(), w_k.as_ptr(), mu_k.as_ptr(), x1.as_ptr()],
+                    SVector::zeros(),
+                ))
+            }
+
+            fn eliminated_group_block(
+                &self,
+                x_k: &SVector<f64, S>,
+                w_k: &SVector<f64, S>,
+                mu_k: &SVector<f64, K>,
+                x1: &SVector<f64, S>,
+            ) -> Option<SMatrix<f64, K, K>> {
+                let e = self.side($plus).eliminated?;
+                Some(self.call(
+                    e.block,
+                    [x_k.as_ptr(), w_k.as_ptr(), mu_k.as_ptr(), x1.as_ptr()],
+                    SMatrix::zeros(),
+                ))
+            }
+
+            fn group_impulse(&self, x_k: &SVector<f64, S>, z: &SVector<f64, N>) -> SVector<f64, K> {
+                match self.side($plus).impulse {
+                    Some(kernel) => self.call(
+                        kernel,
+                        [x_k.as_ptr(), UNUSED, UNUSED, z.as_ptr()],
+                        SVector::zeros(),
+                    ),
+                    None => SVector::zeros(),
+                }
+            }
+        }
+    };
+}
+
+reduced_impl!(Plus, true);
+reduced_impl!(Minus, false);
+
+impl<const S: usize, const K: usize, const N: usize> Unreduced<S, K, N> for JitSystem<S, K, N> {
+    type UnreducedLinear = Lu<N>;
+
+    fn unreduced_linear_solver(&self) -> Lu<N> {
+        Lu::empty()
+    }
+
+    fn unreduced_residual(
+        &self,
+        q_k: &SVector<f64, N>,
+        p_k: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> SVector<f64, N> {
+        self.call(
+            self.code.kernels.unreduced.residual,
+            [q_k.as_ptr(), p_k.as_ptr(), z.as_ptr(), UNUSED],
+            SVector::zeros(),
+        )
+    }
+
+    fn unreduced_residual_jacobian(
+        &self,
+        q_k: &SVector<f64, N>,
+        p_k: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> (SVector<f64, N>, SMatrix<f64, N, N>) {
+        let rj = self.call(
+            self.code.kernels.unreduced.residual_jacobian,
+            [q_k.as_ptr(), p_k.as_ptr(), z.as_ptr(), UNUSED],
+            ResidualJacobian {
+                r: SVector::zeros(),
+                j: SMatrix::zeros(),
+            },
+        );
+        (rj.r, rj.j)
+    }
+
+    fn unreduced_momentum(&self, q_k: &SVector<f64, N>, z: &SVector<f64, N>) -> SVector<f64, N> {
+        self.call(
+            self.code.kernels.unreduced.momentum,
+            [q_k.as_ptr(), UNUSED, z.as_ptr(), UNUSED],
+            SVector::zeros(),
+        )
+    }
+}
