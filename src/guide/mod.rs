@@ -32,11 +32,14 @@
 //! 11. [Systems sized at run time](run_time_sizes): element-wise bodies whose sizes are `usize`
 //!     arguments — one build for every size, stencils checked at compile time, the element
 //!     kernels assembled in parallel, 10⁵ degrees of freedom.
-//! 12. [Diagnostics](diagnostics): Newton statistics and conditioning per step, energies, the
+//! 12. [Systems given at run time](run_time_text): the attribute and function as text, compiled
+//!     by the same compiler and Cranelift to machine code while the program runs, behind the
+//!     same traits: the same integrators, the same messages, the same trajectories bit for bit.
+//! 13. [Diagnostics](diagnostics): Newton statistics and conditioning per step, energies, the
 //!     Dirac structure and the discrete action along a trajectory, the step-map Jacobian.
-//! 13. [Errors](errors): the typed [`StepError`](crate::StepError) of a failed step, the
+//! 14. [Errors](errors): the typed [`StepError`](crate::StepError) of a failed step, the
 //!     trajectory kept up to it, and the compile errors of the attributes.
-//! 14. [Limits](limits): what the integrators do not do, and where their guarantees end.
+//! 15. [Limits](limits): what the integrators do not do, and where their guarantees end.
 //!
 //! Results that leave the process — runs and ensembles in Apache Parquet, sharded ensembles on a
 //! Slurm cluster, progress bars — are the separate crate `dirac-io`, described in
@@ -66,4 +69,5 @@ pub mod paper_systems;
 pub mod rotation_reduction;
 pub mod rotations;
 pub mod run_time_sizes;
+pub mod run_time_text;
 pub mod symmetries;
