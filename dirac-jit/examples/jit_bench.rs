@@ -101,6 +101,34 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         median(&mut aot_t) * 1e6,
         median(&mut ratio),
     );
+    // A collected run of 10⁴ steps of the text's system, what a Python `run` wraps
+    // (dirac-py/examples/overhead.py times that).
+    let code = dirac_jit::compile(&text)?;
+    let aot = DoubleSphericalPendulum::paper();
+    let jit = code.instantiate::<3, 1, 4>(&aot.parameter_values())?;
+    let start = DoubleSphericalPendulum::paper_initial_state();
+    let mut collected: Vec<f64> = (0..rounds.max(15))
+        .map(|_| {
+            let t = Instant::now();
+            let traj = ReducedIntegrator::plus(jit.clone(), opts)
+                .run(start)
+                .steps(10_000)
+                .collect()
+                .expect("the run completes");
+            std::hint::black_box(traj);
+            t.elapsed().as_secs_f64()
+        })
+        .collect();
+    let (lo, hi) = (
+        collected.iter().copied().fold(f64::INFINITY, f64::min),
+        collected.iter().copied().fold(0.0, f64::max),
+    );
+    println!(
+        "double spherical pendulum given at run time, 10⁴ steps collected: median {:.2} ms (min {:.2}, max {:.2})",
+        median(&mut collected) * 1e3,
+        lo * 1e3,
+        hi * 1e3
+    );
     // The charged particle: compile time only (its step is a few hundred nanoseconds).
     let text = function(PAPER, "charged_particle");
     let mut compile: Vec<f64> = (0..rounds)

@@ -1,0 +1,736 @@
+//! The Python module `dirac._dirac`, re-exported by the package `dirac`: a system given as text
+//! (`compile`), its names, and runs of the reduced (+)/(−) and unreduced integrators (order 2, or
+//! the compositions of order 4 and 6) with NumPy arrays in and out; ensembles on all cores; the
+//! runtime's typed errors as Python exceptions carrying the step and the trajectory so far.
+//!
+//! The integrators take the dimensions as type parameters; the module dispatches a system's
+//! `(S, K)` at run time to one instance per pair with `S + K ≤ 8` ([`MAX_N`]).
+
+use std::sync::Arc;
+
+use dirac_jit::Code;
+use dirac_runtime::nalgebra::SVector;
+use dirac_runtime::{
+    Composition, CompositionMethod, Drive, IntegrationError, NewtonOptions, ReducedIntegrator,
+    ReducedState, StepError as RuntimeStepError, StepStats, Steps, UnreducedIntegrator,
+    UnreducedState,
+};
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::exceptions::{PyException, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+/// The largest `N = S + K` the module has integrators for.
+const MAX_N: usize = 8;
+
+pyo3::create_exception!(
+    _dirac,
+    CompileError,
+    PyException,
+    "The text of a system has mistakes: `diagnostics` lists (message, line, column)."
+);
+pyo3::create_exception!(
+    _dirac,
+    StepError,
+    PyException,
+    "A step failed: `step` is its index, `residual` the residual norm, `trajectory` the states computed before it."
+);
+
+/// Which equations a run solves.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Method {
+    Plus,
+    Minus,
+    Unreduced,
+}
+
+/// What a run is asked for, apart from the system and the start.
+#[derive(Clone, Copy)]
+struct Request {
+    method: Method,
+    order: u32,
+    steps: usize,
+    options: NewtonOptions,
+}
+
+/// A trajectory flattened for NumPy: the times and, per state, the vectors of the state in a
+/// fixed order (`x, w, mu, g` reduced; `q, p` unreduced), with their lengths.
+struct Flat {
+    t: Vec<f64>,
+    parts: Vec<(&'static str, usize, Vec<f64>)>,
+    iterations: Vec<usize>,
+    residuals: Vec<f64>,
+}
+
+/// A failed run: the runtime's error and what was computed before it.
+struct Failed {
+    error: RuntimeStepError,
+    partial: Flat,
+}
+
+fn composition(order: u32) -> CompositionMethod {
+    match order {
+        4 => CompositionMethod::TRIPLE_JUMP,
+        _ => CompositionMethod::KAHAN_LI_6,
+    }
+}
+
+/// A run's states, times and statistics, the parts every trajectory type has.
+macro_rules! parts {
+    ($t:expr) => {
+        (&$t.states[..], &$t.times[..], &$t.stats[..])
+    };
+}
+
+fn reduced_flat<const S: usize, const K: usize>(
+    (states, times, stats): (&[ReducedState<S, K>], &[f64], &[StepStats]),
+) -> Flat {
+    let rows = states.len();
+    let (mut x, mut w) = (Vec::with_capacity(rows * S), Vec::with_capacity(rows * S));
+    let (mut mu, mut g) = (Vec::with_capacity(rows * K), Vec::with_capacity(rows * K));
+    for s in states {
+        x.extend_from_slice(s.x.as_slice());
+        w.extend_from_slice(s.w.as_slice());
+        mu.extend_from_slice(s.mu.as_slice());
+        g.extend_from_slice(s.g.as_slice());
+    }
+    Flat {
+        t: times.to_vec(),
+        parts: vec![("x", S, x), ("w", S, w), ("mu", K, mu), ("g", K, g)],
+        iterations: stats.iter().map(|s| s.iterations).collect(),
+        residuals: stats.iter().map(|s| s.residual).collect(),
+    }
+}
+
+fn unreduced_flat<const N: usize>(
+    (states, times, stats): (&[UnreducedState<N>], &[f64], &[StepStats]),
+) -> Flat {
+    Flat {
+        t: times.to_vec(),
+        parts: vec![
+            (
+                "q",
+                N,
+                states.iter().flat_map(|s| s.q.iter().copied()).collect(),
+            ),
+            (
+                "p",
+                N,
+                states.iter().flat_map(|s| s.p.iter().copied()).collect(),
+            ),
+        ],
+        iterations: stats.iter().map(|s| s.iterations).collect(),
+        residuals: stats.iter().map(|s| s.residual).collect(),
+    }
+}
+
+fn finish<T: Steps + std::fmt::Debug>(
+    result: Result<T, Box<IntegrationError<T>>>,
+    flat: impl Fn(&T) -> Flat,
+) -> Result<Flat, Box<Failed>> {
+    match result {
+        Ok(traj) => Ok(flat(&traj)),
+        Err(e) => Err(Box::new(Failed {
+            partial: flat(&e.trajectory),
+            error: e.source,
+        })),
+    }
+}
+
+/// One run of a system of `S` shape and `K` group coordinates from `start` (`x, w, mu, g` or
+/// `q, p`, by the method).
+fn run_one<const S: usize, const K: usize, const N: usize>(
+    code: &Arc<Code>,
+    params: &[f64],
+    start: &[Vec<f64>],
+    r: Request,
+) -> Result<Result<Flat, Box<Failed>>, String> {
+    let sys = code
+        .instantiate::<S, K, N>(params)
+        .map_err(|e| e.to_string())?;
+    let (n, o) = (r.steps, r.options);
+    Ok(match r.method {
+        Method::Unreduced => {
+            let s0 = UnreducedState {
+                q: SVector::from_column_slice(&start[0]),
+                p: SVector::from_column_slice(&start[1]),
+            };
+            let integ = UnreducedIntegrator::new(sys, o);
+            if r.order == 2 {
+                finish(integ.run(s0).steps(n).collect(), |t| {
+                    unreduced_flat(parts!(t))
+                })
+            } else {
+                let c = Composition::new(integ, composition(r.order));
+                finish(c.run(s0).steps(n).collect(), |t| unreduced_flat(parts!(t)))
+            }
+        }
+        side => {
+            let s0 = ReducedState {
+                x: SVector::from_column_slice(&start[0]),
+                w: SVector::from_column_slice(&start[1]),
+                mu: SVector::from_column_slice(&start[2]),
+                g: SVector::from_column_slice(&start[3]),
+            };
+            macro_rules! go {
+                ($integ:expr) => {{
+                    let integ = $integ;
+                    if r.order == 2 {
+                        finish(integ.run(s0).steps(n).collect(), |t| {
+                            reduced_flat(parts!(t))
+                        })
+                    } else {
+                        let c = Composition::new(integ, composition(r.order));
+                        finish(c.run(s0).steps(n).collect(), |t| reduced_flat(parts!(t)))
+                    }
+                }};
+            }
+            if side == Method::Plus {
+                go!(ReducedIntegrator::plus(sys, o))
+            } else {
+                go!(ReducedIntegrator::minus(sys, o))
+            }
+        }
+    })
+}
+
+/// Seconds of the reduced (+) run alone (collected, no arrays): the baseline of the Python
+/// overhead benchmark (`dirac-py/examples/overhead.py`).
+fn time_one<const S: usize, const K: usize, const N: usize>(
+    code: &Arc<Code>,
+    params: &[f64],
+    start: &[Vec<f64>],
+    r: Request,
+) -> Result<f64, String> {
+    let sys = code
+        .instantiate::<S, K, N>(params)
+        .map_err(|e| e.to_string())?;
+    let s0 = ReducedState {
+        x: SVector::from_column_slice(&start[0]),
+        w: SVector::from_column_slice(&start[1]),
+        mu: SVector::from_column_slice(&start[2]),
+        g: SVector::from_column_slice(&start[3]),
+    };
+    let t = std::time::Instant::now();
+    let traj = ReducedIntegrator::plus(sys, r.options)
+        .run(s0)
+        .steps(r.steps)
+        .collect()
+        .map_err(|e| e.to_string())?;
+    let elapsed = t.elapsed().as_secs_f64();
+    drop(traj);
+    Ok(elapsed)
+}
+
+/// An ensemble: one run per start, on all cores.
+fn run_many<const S: usize, const K: usize, const N: usize>(
+    code: &Arc<Code>,
+    params: &[f64],
+    starts: &[Vec<Vec<f64>>],
+    r: Request,
+) -> Result<Vec<Result<Flat, Box<Failed>>>, String> {
+    let sys = code
+        .instantiate::<S, K, N>(params)
+        .map_err(|e| e.to_string())?;
+    let (n, o) = (r.steps, r.options);
+    Ok(match r.method {
+        Method::Unreduced => {
+            let s0: Vec<_> = starts
+                .iter()
+                .map(|s| UnreducedState {
+                    q: SVector::from_column_slice(&s[0]),
+                    p: SVector::from_column_slice(&s[1]),
+                })
+                .collect();
+            let integ = UnreducedIntegrator::new(sys, o);
+            integ
+                .ensemble(&s0)
+                .steps(n)
+                .collect()
+                .into_iter()
+                .map(|m| finish(m, |t| unreduced_flat(parts!(t))))
+                .collect()
+        }
+        side => {
+            let s0: Vec<_> = starts
+                .iter()
+                .map(|s| ReducedState {
+                    x: SVector::from_column_slice(&s[0]),
+                    w: SVector::from_column_slice(&s[1]),
+                    mu: SVector::from_column_slice(&s[2]),
+                    g: SVector::from_column_slice(&s[3]),
+                })
+                .collect();
+            let members = if side == Method::Plus {
+                ReducedIntegrator::plus(sys, o)
+                    .ensemble(&s0)
+                    .steps(n)
+                    .collect()
+            } else {
+                ReducedIntegrator::minus(sys, o)
+                    .ensemble(&s0)
+                    .steps(n)
+                    .collect()
+            };
+            members
+                .into_iter()
+                .map(|m| finish(m, |t| reduced_flat(parts!(t))))
+                .collect()
+        }
+    })
+}
+
+/// Calls `$f::<S, K, N>($args)` for the system's `(S, K)`, for every pair with `S + K ≤ 8`.
+macro_rules! dispatch {
+    ($s:expr, $k:expr, $f:ident $args:tt) => {
+        dispatch!(@arms ($s, $k), $f $args;
+            (0,1) (1,0)
+            (0,2) (1,1) (2,0)
+            (0,3) (1,2) (2,1) (3,0)
+            (0,4) (1,3) (2,2) (3,1) (4,0)
+            (0,5) (1,4) (2,3) (3,2) (4,1) (5,0)
+            (0,6) (1,5) (2,4) (3,3) (4,2) (5,1) (6,0)
+            (0,7) (1,6) (2,5) (3,4) (4,3) (5,2) (6,1) (7,0)
+            (0,8) (1,7) (2,6) (3,5) (4,4) (5,3) (6,2) (7,1) (8,0))
+    };
+    (@arms $sk:expr, $f:ident $args:tt; $(($s:literal, $k:literal))*) => {
+        match $sk {
+            $(($s, $k) => $f::<$s, $k, { $s + $k }> $args,)*
+            (s, k) => Err(format!(
+                "{s} shape and {k} group coordinates: the Python module runs systems of at most {MAX_N} coordinates"
+            )),
+        }
+    };
+}
+
+/// A system given as text, compiled to machine code.
+#[pyclass(frozen, module = "dirac._dirac")]
+struct System {
+    code: Arc<Code>,
+}
+
+/// The parameter values in declaration order, from a mapping (by name) or a sequence.
+fn parameter_values(code: &Code, params: &Bound<'_, PyAny>) -> PyResult<Vec<f64>> {
+    let names = &code.system().parameters;
+    if let Ok(d) = params.downcast::<PyDict>() {
+        let mut values = Vec::with_capacity(names.len());
+        for name in names {
+            let v = d.get_item(name)?.ok_or_else(|| {
+                PyValueError::new_err(format!(
+                    "parameter `{name}` not given; declared: {}",
+                    names.join(", ")
+                ))
+            })?;
+            values.push(v.extract::<f64>()?);
+        }
+        for key in d.keys() {
+            let key: String = key.extract()?;
+            if !names.contains(&key) {
+                return Err(PyValueError::new_err(format!(
+                    "no parameter `{key}`; declared: {}",
+                    names.join(", ")
+                )));
+            }
+        }
+        Ok(values)
+    } else {
+        params.extract::<Vec<f64>>()
+    }
+}
+
+fn method_of(method: &str) -> PyResult<Method> {
+    match method {
+        "plus" => Ok(Method::Plus),
+        "minus" => Ok(Method::Minus),
+        "unreduced" => Ok(Method::Unreduced),
+        other => Err(PyValueError::new_err(format!(
+            "unknown method `{other}`; accepted: \"plus\", \"minus\", \"unreduced\""
+        ))),
+    }
+}
+
+impl System {
+    fn dims(&self) -> (usize, usize) {
+        let s = self.code.system();
+        (s.shape.len(), s.group.len())
+    }
+
+    /// The names and lengths of a start's vectors for `method`.
+    fn start_parts(&self, method: Method) -> Vec<(&'static str, usize)> {
+        let (s, k) = self.dims();
+        match method {
+            Method::Unreduced => vec![("q", s + k), ("p", s + k)],
+            _ => vec![("x", s), ("w", s), ("mu", k), ("g", k)],
+        }
+    }
+
+    fn request(
+        &self,
+        method: &str,
+        order: u32,
+        steps: usize,
+        tol: Option<f64>,
+    ) -> PyResult<Request> {
+        if ![2, 4, 6].contains(&order) {
+            return Err(PyValueError::new_err(format!(
+                "order {order}: accepted 2 (the integrator itself), 4 (triple jump), 6 (Kahan–Li)"
+            )));
+        }
+        let mut options = NewtonOptions::default();
+        if let Some(t) = tol {
+            options.abs_tol = t;
+        }
+        Ok(Request {
+            method: method_of(method)?,
+            order,
+            steps,
+            options,
+        })
+    }
+}
+
+fn to_dict<'py>(py: Python<'py>, flat: Flat) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let rows = flat.t.len();
+    d.set_item("t", PyArray1::from_vec(py, flat.t))?;
+    for (name, len, data) in flat.parts {
+        let a = PyArray1::from_vec(py, data).reshape([rows, len])?;
+        d.set_item(name, a)?;
+    }
+    d.set_item("iterations", PyArray1::from_vec(py, flat.iterations))?;
+    d.set_item("residuals", PyArray1::from_vec(py, flat.residuals))?;
+    Ok(d)
+}
+
+fn step_error(py: Python<'_>, failed: Failed, member: Option<usize>) -> PyResult<PyErr> {
+    let message = match member {
+        Some(m) => format!("member {m}: {}", failed.error),
+        None => failed.error.to_string(),
+    };
+    let err = StepError::new_err(message);
+    let value = err.value(py);
+    value.setattr("step", failed.error.step())?;
+    value.setattr("residual", failed.error.residual())?;
+    value.setattr("member", member)?;
+    value.setattr("trajectory", to_dict(py, failed.partial)?)?;
+    Ok(err)
+}
+
+/// One start's vectors, each of its length, from keyword arrays.
+fn vectors(parts: &[(&'static str, usize)], given: &Bound<'_, PyDict>) -> PyResult<Vec<Vec<f64>>> {
+    parts
+        .iter()
+        .map(|&(name, len)| {
+            let v: Vec<f64> = match given.get_item(name)? {
+                Some(v) => v.extract()?,
+                None if len == 0 => Vec::new(),
+                None => {
+                    return Err(PyValueError::new_err(format!(
+                        "the start needs `{name}` ({len} values)"
+                    )))
+                }
+            };
+            if v.len() != len {
+                return Err(PyValueError::new_err(format!(
+                    "`{name}` has {} values; the system has {len}",
+                    v.len()
+                )));
+            }
+            if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+                return Err(PyValueError::new_err(format!(
+                    "`{name}[{i}]` = {} is not finite",
+                    v[i]
+                )));
+            }
+            Ok(v)
+        })
+        .collect()
+}
+
+#[pymethods]
+impl System {
+    /// The type name the attribute would emit.
+    #[getter]
+    fn name(&self) -> String {
+        self.code.system().name.clone()
+    }
+
+    /// The shape coordinates, in the order of `x`.
+    #[getter]
+    fn shape(&self) -> Vec<String> {
+        self.code.system().shape.clone()
+    }
+
+    /// The group coordinates, in the order of `g`.
+    #[getter]
+    fn group(&self) -> Vec<String> {
+        self.code.system().group.clone()
+    }
+
+    /// The parameters, in declaration order.
+    #[getter]
+    fn parameters(&self) -> Vec<String> {
+        self.code.system().parameters.clone()
+    }
+
+    /// The controls' names.
+    #[getter]
+    fn controls(&self) -> Vec<String> {
+        let s = self.code.system();
+        s.controls
+            .iter()
+            .map(|&i| s.parameters[i].clone())
+            .collect()
+    }
+
+    /// Whether forces are declared.
+    #[getter]
+    fn forced(&self) -> bool {
+        self.code.system().forced
+    }
+
+    /// Seconds from text to machine code.
+    #[getter]
+    fn compile_time(&self) -> f64 {
+        self.code.compile_time().as_secs_f64()
+    }
+
+    /// Integrates `steps` steps from one start and returns a dict of NumPy arrays: `t` (steps+1),
+    /// the state's vectors (`x, w, mu, g` for "plus" and "minus", `q, p` for "unreduced"), each
+    /// (steps+1, length), and per step `iterations` and `residuals`. Raises `StepError` with the
+    /// trajectory so far when a step fails.
+    #[pyo3(signature = (parameters, steps, method = "plus", order = 2, tol = None, **start))]
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "the Python keyword arguments, one each"
+    )]
+    fn run<'py>(
+        &self,
+        py: Python<'py>,
+        parameters: &Bound<'py, PyAny>,
+        steps: usize,
+        method: &str,
+        order: u32,
+        tol: Option<f64>,
+        start: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let params = parameter_values(&self.code, parameters)?;
+        let r = self.request(method, order, steps, tol)?;
+        let empty = PyDict::new(py);
+        let start = vectors(&self.start_parts(r.method), start.unwrap_or(&empty))?;
+        let (s, k) = self.dims();
+        let code = Arc::clone(&self.code);
+        let result = py
+            .allow_threads(|| dispatch!(s, k, run_one(&code, &params, &start, r)))
+            .map_err(PyValueError::new_err)?;
+        match result {
+            Ok(flat) => to_dict(py, flat),
+            Err(failed) => Err(step_error(py, *failed, None)?),
+        }
+    }
+
+    /// An ensemble: one run per row of the start arrays (each `(members, length)`), in
+    /// parallel on all cores. Returns the same dict as `run` with one more leading axis; the
+    /// first failed member raises `StepError` (with `member` set) after all have run.
+    #[pyo3(signature = (parameters, steps, method = "plus", order = 2, tol = None, **starts))]
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "the Python keyword arguments, one each"
+    )]
+    fn ensemble<'py>(
+        &self,
+        py: Python<'py>,
+        parameters: &Bound<'py, PyAny>,
+        steps: usize,
+        method: &str,
+        order: u32,
+        tol: Option<f64>,
+        starts: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let params = parameter_values(&self.code, parameters)?;
+        let r = self.request(method, order, steps, tol)?;
+        if r.order != 2 {
+            return Err(PyValueError::new_err(
+                "ensembles run the integrators themselves (order 2)",
+            ));
+        }
+        let parts = self.start_parts(r.method);
+        let empty = PyDict::new(py);
+        let starts = starts.unwrap_or(&empty);
+        let mut columns: Vec<Vec<Vec<f64>>> = Vec::new();
+        let mut members: Option<usize> = None;
+        for &(name, len) in &parts {
+            let rows: Vec<Vec<f64>> = match starts.get_item(name)? {
+                Some(a) => {
+                    let a: PyReadonlyArray2<f64> = a.extract()?;
+                    let shape = a.shape();
+                    if shape[1] != len {
+                        return Err(PyValueError::new_err(format!(
+                            "`{name}` has {} columns; the system has {len}",
+                            shape[1]
+                        )));
+                    }
+                    let a = a.as_array();
+                    a.rows().into_iter().map(|r| r.to_vec()).collect()
+                }
+                None if len == 0 => Vec::new(),
+                None => {
+                    return Err(PyValueError::new_err(format!(
+                        "the starts need `{name}` ({len} columns)"
+                    )))
+                }
+            };
+            if len > 0 {
+                match members {
+                    None => members = Some(rows.len()),
+                    Some(m) if m != rows.len() => {
+                        return Err(PyValueError::new_err(format!(
+                            "`{name}` has {} rows, an earlier array {m}",
+                            rows.len()
+                        )))
+                    }
+                    Some(_) => {}
+                }
+            }
+            columns.push(rows);
+        }
+        let m = members.unwrap_or(0);
+        let per_member: Vec<Vec<Vec<f64>>> = (0..m)
+            .map(|i| {
+                columns
+                    .iter()
+                    .map(|c| c.get(i).cloned().unwrap_or_default())
+                    .collect()
+            })
+            .collect();
+        for (i, member) in per_member.iter().enumerate() {
+            for (v, &(name, _)) in member.iter().zip(&parts) {
+                if let Some(j) = v.iter().position(|x| !x.is_finite()) {
+                    return Err(PyValueError::new_err(format!(
+                        "`{name}[{i}, {j}]` = {} is not finite",
+                        v[j]
+                    )));
+                }
+            }
+        }
+        let (s, k) = self.dims();
+        let code = Arc::clone(&self.code);
+        let results = py
+            .allow_threads(|| dispatch!(s, k, run_many(&code, &params, &per_member, r)))
+            .map_err(PyValueError::new_err)?;
+        // Stack the members; a failed member's rows after its failure stay NaN.
+        let rows = steps + 1;
+        let d = PyDict::new(py);
+        let mut t = vec![f64::NAN; m * rows];
+        let mut stacked: Vec<(&'static str, usize, Vec<f64>)> = parts
+            .iter()
+            .map(|&(name, len)| (name, len, vec![f64::NAN; m * rows * len]))
+            .collect();
+        let mut first_failure = None;
+        let failures = PyList::empty(py);
+        for (i, result) in results.into_iter().enumerate() {
+            let flat = match result {
+                Ok(flat) => flat,
+                Err(failed) => {
+                    failures.append((i, failed.error.step(), failed.error.to_string()))?;
+                    let partial = Flat {
+                        t: failed.partial.t.clone(),
+                        parts: failed.partial.parts.clone(),
+                        iterations: Vec::new(),
+                        residuals: Vec::new(),
+                    };
+                    if first_failure.is_none() {
+                        first_failure = Some((i, failed));
+                    }
+                    partial
+                }
+            };
+            let n = flat.t.len();
+            t[i * rows..i * rows + n].copy_from_slice(&flat.t);
+            for ((_, len, out), (_, _, data)) in stacked.iter_mut().zip(&flat.parts) {
+                out[i * rows * *len..i * rows * *len + n * *len].copy_from_slice(data);
+            }
+        }
+        d.set_item("t", PyArray1::from_vec(py, t).reshape([m, rows])?)?;
+        for (name, len, data) in stacked {
+            d.set_item(name, PyArray1::from_vec(py, data).reshape([m, rows, len])?)?;
+        }
+        d.set_item("failed", failures)?;
+        if let Some((i, failed)) = first_failure {
+            let err = step_error(py, *failed, Some(i))?;
+            err.value(py).setattr("ensemble", d)?;
+            return Err(err);
+        }
+        Ok(d)
+    }
+
+    /// Benchmarks only: the seconds of the same reduced (+) run as `run`, timed inside Rust
+    /// around the integrator alone (no arrays).
+    #[pyo3(signature = (parameters, steps, **start))]
+    fn _core_seconds<'py>(
+        &self,
+        py: Python<'py>,
+        parameters: &Bound<'py, PyAny>,
+        steps: usize,
+        start: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<f64> {
+        let params = parameter_values(&self.code, parameters)?;
+        let r = self.request("plus", 2, steps, None)?;
+        let empty = PyDict::new(py);
+        let start = vectors(&self.start_parts(r.method), start.unwrap_or(&empty))?;
+        let (s, k) = self.dims();
+        let code = Arc::clone(&self.code);
+        py.allow_threads(|| dispatch!(s, k, time_one(&code, &params, &start, r)))
+            .map_err(PyValueError::new_err)
+    }
+
+    fn __repr__(&self) -> String {
+        let s = self.code.system();
+        format!(
+            "<dirac.System {}: shape ({}), group ({}), parameters ({})>",
+            s.name,
+            s.shape.join(", "),
+            s.group.join(", "),
+            s.parameters.join(", ")
+        )
+    }
+}
+
+/// Compiles a system given as text (a function carrying `#[reduced_lagrangian(..)]`). Raises
+/// `CompileError` with the attribute's messages, lines and columns.
+#[pyfunction]
+fn compile(py: Python<'_>, text: &str) -> PyResult<System> {
+    match py.allow_threads(|| dirac_jit::compile(text)) {
+        Ok(code) => {
+            let (s, k) = (code.system().shape.len(), code.system().group.len());
+            if s + k > MAX_N {
+                return Err(CompileError::new_err(format!(
+                    "{} coordinates: the Python module runs systems of at most {MAX_N}",
+                    s + k
+                )));
+            }
+            Ok(System { code })
+        }
+        Err(dirac_jit::Error::Text(e)) => {
+            let err = CompileError::new_err(e.to_string());
+            let diagnostics: Vec<(String, usize, usize)> = e
+                .diagnostics
+                .iter()
+                .map(|d| (d.message.clone(), d.line, d.column))
+                .collect();
+            err.value(py).setattr("diagnostics", diagnostics)?;
+            Err(err)
+        }
+        Err(other) => Err(CompileError::new_err(other.to_string())),
+    }
+}
+
+#[pymodule]
+fn _dirac(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(compile, m)?)?;
+    m.add_class::<System>()?;
+    m.add("CompileError", m.py().get_type::<CompileError>())?;
+    m.add("StepError", m.py().get_type::<StepError>())?;
+    m.add("MAX_COORDINATES", MAX_N)?;
+    Ok(())
+}

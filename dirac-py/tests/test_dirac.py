@@ -1,0 +1,156 @@
+"""The Python package against the paper and against itself: Table 1 of the paper from Python,
+the arrays' shapes, ensembles equal to single runs, the typed errors as exceptions, and systems
+built from keyword arguments and from SymPy."""
+
+import math
+import pathlib
+
+import numpy as np
+import pytest
+
+import dirac
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+
+def function(path, name):
+    """The text of `pub fn name` in a source file of the repository, from its attribute on."""
+    source = (ROOT / path).read_text()
+    start = source.index(f"pub fn {name}(")
+    attr = source.rindex("#[reduced_lagrangian", 0, start)
+    end = source.index("\n}\n", start) + 2
+    return source[attr:end]
+
+
+CHARGED = function("src/paper.rs", "charged_particle")
+DSP = function("src/paper.rs", "double_spherical_pendulum")
+KEPLER = function("src/systems/kepler.rs", "kepler")
+
+# The paper's Table 1: |q(T) − q_N| for the charged particle, T = 20 (as printed, 4–5 digits).
+TABLE_1 = [(10, 1.6781), (50, 0.25971), (100, 0.06626), (200, 0.01664)]
+
+
+def test_table_1_of_the_paper():
+    particle = dirac.compile(CHARGED)
+    assert particle.shape == ["x", "y", "z"]
+    assert particle.group == ["theta"]
+    assert particle.parameters == ["h", "m", "b0"]
+    T = 20.0
+    exact = np.array([math.sin(T), math.cos(T) - 1.0, T])
+    for n, printed in TABLE_1:
+        run = particle.run({"h": T / n, "m": 1.0, "b0": 1.0}, steps=n,
+                           x=[0, 0, 0], w=[1, 0, 1], mu=[1], g=[0])
+        error = np.linalg.norm(run["x"][-1] - exact)
+        # The printed digits, rounded.
+        assert abs(error - printed) <= 0.6 * 10 ** (math.floor(math.log10(printed)) - 3), (n, error)
+        # μ is conserved exactly.
+        assert np.all(run["mu"] == 1.0)
+
+
+def test_arrays_have_the_documented_shapes():
+    dsp = dirac.compile(DSP)
+    params = dict(zip(dsp.parameters, [0.01, 1.0, 1.0, 1.0, 1.0, 9.81]))
+    run = dsp.run(params, steps=50, x=[0.5, 0.1, 0.9], w=[0.0, 0.2, 0.0], mu=[0.3], g=[0.0])
+    assert run["t"].shape == (51,)
+    assert run["x"].shape == (51, 3) and run["w"].shape == (51, 3)
+    assert run["mu"].shape == (51, 1) and run["g"].shape == (51, 1)
+    assert run["iterations"].shape == (50,) and run["residuals"].shape == (50,)
+    assert run["t"][-1] == pytest.approx(0.5)
+    # The (−) equations and the unreduced ones integrate the same motion.
+    minus = dsp.run(params, steps=50, method="minus",
+                    x=[0.5, 0.1, 0.9], w=[0.0, 0.2, 0.0], mu=[0.3], g=[0.0])
+    assert np.max(np.abs(minus["x"] - run["x"])) < 1e-9
+    q0 = np.concatenate([run["x"][0], run["g"][0]])
+    p0 = np.concatenate([run["w"][0], run["mu"][0]])  # B = 0: p = (w, μ)
+    unreduced = dsp.run(params, steps=50, method="unreduced", q=q0, p=p0)
+    assert unreduced["q"].shape == (51, 4) and unreduced["p"].shape == (51, 4)
+    assert np.max(np.abs(unreduced["q"][:, :3] - run["x"])) < 1e-9
+
+
+def test_compositions_of_order_4_and_6_are_more_accurate():
+    kepler = dirac.compile(KEPLER)
+    # One period of the e = 0.5 orbit (a = 1, k = 1): back at periapsis r = 0.5.
+    n = 200
+    h = 2 * math.pi / n
+    start = dict(x=[0.5], w=[0.0], mu=[math.sqrt(0.75)], g=[0.0])
+    errors = []
+    for order in (2, 4, 6):
+        run = kepler.run({"h": h, "k": 1.0}, steps=n, order=order, **start)
+        errors.append(abs(run["x"][-1, 0] - 0.5))
+    assert errors[1] < errors[0] / 10 and errors[2] < errors[1]
+
+
+def test_an_ensemble_is_its_members_runs():
+    kepler = dirac.compile(KEPLER)
+    params = {"h": 0.01, "k": 1.0}
+    rng = np.random.default_rng(7)
+    m = 8
+    x = 0.5 + 0.5 * rng.random((m, 1))
+    w = 0.1 * rng.standard_normal((m, 1))
+    mu = 0.8 + 0.2 * rng.random((m, 1))
+    g = np.zeros((m, 1))
+    ens = kepler.ensemble(params, steps=300, x=x, w=w, mu=mu, g=g)
+    assert ens["x"].shape == (m, 301, 1) and ens["t"].shape == (m, 301)
+    assert ens["failed"] == []
+    for i in range(m):
+        one = kepler.run(params, steps=300, x=x[i], w=w[i], mu=mu[i], g=g[i])
+        assert np.array_equal(one["x"], ens["x"][i])
+        assert np.array_equal(one["mu"], ens["mu"][i])
+
+
+def test_a_failed_step_raises_with_the_trajectory_so_far():
+    # A particle moving left in a potential c √x: its force c / (2 √x) is NaN once x < 0.
+    sys = dirac.system("0.5 / h * (q1.x - q0.x) * (q1.x - q0.x) - h * c * q0.x.sqrt()",
+                       shape=["x"], parameters=["c"])
+    with pytest.raises(dirac.StepError) as info:
+        sys.run({"h": 0.1, "c": 1e-6}, steps=100, x=[1.0], w=[-1.0], mu=[], g=[])
+    e = info.value
+    assert 0 < e.step < 100
+    assert e.trajectory["x"].shape == (e.step + 1, 1)
+    # Every state before the failure, the last one past the wall x = 0.
+    assert np.all(np.isfinite(e.trajectory["x"]))
+    assert np.all(e.trajectory["x"][:-1, 0] > 0) and e.trajectory["x"][-1, 0] <= 0
+    assert "step" in str(e)
+
+
+def test_mistakes_in_the_text_raise_with_lines_and_columns():
+    with pytest.raises(dirac.CompileError) as info:
+        dirac.compile("#[reduced_lagrangian(shape(r), group(phi))]\n"
+                      "fn f(q0: Config, q1: Config, h: f64) -> f64 { q0.s }")
+    (message, line, column), = info.value.diagnostics
+    assert "unknown coordinate `s`" in message
+    assert (line, column) == (2, 50)
+    assert " --> 2:50" in str(info.value)
+
+
+def test_bad_input_raises_value_errors():
+    kepler = dirac.compile(KEPLER)
+    start = dict(x=[0.5], w=[0.0], mu=[1.0], g=[0.0])
+    with pytest.raises(ValueError, match="parameter `k` not given"):
+        kepler.run({"h": 0.01}, steps=1, **start)
+    with pytest.raises(ValueError, match="no parameter `kk`"):
+        kepler.run({"h": 0.01, "k": 1.0, "kk": 2.0}, steps=1, **start)
+    with pytest.raises(ValueError, match="`x` has 2 values"):
+        kepler.run({"h": 0.01, "k": 1.0}, steps=1, x=[0.5, 1.0], w=[0.0], mu=[1.0], g=[0.0])
+    with pytest.raises(ValueError, match="not finite"):
+        kepler.run({"h": 0.01, "k": 1.0}, steps=1, x=[float("nan")], w=[0.0], mu=[1.0], g=[0.0])
+    with pytest.raises(ValueError, match="unknown method"):
+        kepler.run({"h": 0.01, "k": 1.0}, steps=1, method="sideways", **start)
+
+
+def test_keyword_and_sympy_systems_match_the_text():
+    sympy = pytest.importorskip("sympy")
+    x, y, z, th, vx, vy, vz, vth, m, b0 = sympy.symbols("x y z theta vx vy vz vtheta m b0")
+    s = sympy.Rational(1, 2) * b0 * (-y * vx + x * vy) + vth
+    lagrangian = sympy.Rational(1, 2) * m * (vx**2 + vy**2 + vz**2) + sympy.Rational(1, 2) * s**2
+    from_sympy = dirac.from_sympy(lagrangian, q=[x, y, z, th], v=[vx, vy, vz, vth],
+                                  shape=["x", "y", "z"], group=["theta"], parameters=[m, b0],
+                                  rule="left")
+    assert from_sympy.parameters == ["m", "b0", "h"]
+    text = dirac.compile(function("src/paper.rs", "charged_particle_continuous"))
+    params = {"h": 0.1, "m": 1.0, "b0": 1.0}
+    start = dict(x=[0, 0, 0], w=[1, 0, 1], mu=[1], g=[0])
+    a = from_sympy.run(params, steps=200, **start)
+    b = text.run(params, steps=200, **start)
+    # SymPy orders the operations its own way: the same motion to round-off.
+    assert np.max(np.abs(a["x"] - b["x"])) < 1e-10
