@@ -231,25 +231,28 @@ pub(crate) fn float_text(v: f64) -> String {
 
 impl RunInfo {
     /// The description of `system` integrated with states `St`: column names from
-    /// [`DiscreteLagrangian::SHAPE`] and [`DiscreteLagrangian::GROUP`], the parameters from
-    /// [`DiscreteLagrangian::PARAMETERS`] and [`DiscreteLagrangian::parameter_values`], the time
-    /// step from the system.
+    /// [`DiscreteLagrangian::shape_names`] and [`DiscreteLagrangian::group_names`] (the
+    /// constants `SHAPE` and `GROUP` of a compiled-in system), the parameters from
+    /// [`DiscreteLagrangian::parameter_names`] and [`DiscreteLagrangian::parameter_values`], the
+    /// time step from the system.
     pub fn of_system<St, L, const S: usize, const K: usize, const N: usize>(system: &L) -> Self
     where
         St: StateColumns,
         L: DiscreteLagrangian<S, K, N>,
     {
-        let parameters = L::PARAMETERS
+        let parameters = system
+            .parameter_names()
             .iter()
             .map(|p| (*p).to_owned())
             .zip(system.parameter_values())
             .collect();
-        let columns = St::column_names(&L::SHAPE, &L::GROUP);
+        let (shape, group) = (system.shape_names(), system.group_names());
+        let columns = St::column_names(&shape, &group);
         let mut metadata = vec![
-            ("dirac.shape".into(), L::SHAPE.join(",")),
-            ("dirac.group".into(), L::GROUP.join(",")),
+            ("dirac.shape".into(), shape.join(",")),
+            ("dirac.group".into(), group.join(",")),
         ];
-        metadata.extend(L::TIME.and_then(|j| physical_time(&columns, L::GROUP[j])));
+        metadata.extend(L::TIME.and_then(|j| physical_time(&columns, group[j])));
         RunInfo {
             columns,
             h: system.time_step(),

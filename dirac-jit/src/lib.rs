@@ -43,3 +43,43 @@ mod system;
 
 pub use error::Error;
 pub use system::{compile, Code, JitSystem, MAX_PARAMETERS};
+
+/// The largest `N = S + K` that [`with_dimensions!`] has an instance for.
+pub const MAX_DISPATCHED: usize = 8;
+
+/// Calls a function generic over the dimensions, `f::<S, K, N>(args)`, for dimensions known
+/// only at run time: one instance per split `(S, K)` with `1 ≤ S + K ≤` [`MAX_DISPATCHED`]
+/// (44 instances). The function returns `Result<_, String>`; other dimensions are an `Err`
+/// saying so. What a program that takes systems at run time (a Python module, a command line)
+/// uses to reach the integrators, which take the dimensions as type parameters.
+///
+/// ```
+/// fn dims<const S: usize, const K: usize, const N: usize>(scale: usize) -> Result<usize, String> {
+///     Ok(scale * (10 * S + K) + N)
+/// }
+/// assert_eq!(dirac_jit::with_dimensions!(3, 1, dims(2)), Ok(66));
+/// assert!(dirac_jit::with_dimensions!(9, 1, dims(2)).is_err());
+/// ```
+#[macro_export]
+macro_rules! with_dimensions {
+    ($s:expr, $k:expr, $f:ident $args:tt) => {
+        $crate::with_dimensions!(@arms ($s, $k), $f $args;
+            (0,1) (1,0)
+            (0,2) (1,1) (2,0)
+            (0,3) (1,2) (2,1) (3,0)
+            (0,4) (1,3) (2,2) (3,1) (4,0)
+            (0,5) (1,4) (2,3) (3,2) (4,1) (5,0)
+            (0,6) (1,5) (2,4) (3,3) (4,2) (5,1) (6,0)
+            (0,7) (1,6) (2,5) (3,4) (4,3) (5,2) (6,1) (7,0)
+            (0,8) (1,7) (2,6) (3,5) (4,4) (5,3) (6,2) (7,1) (8,0))
+    };
+    (@arms $sk:expr, $f:ident $args:tt; $(($s:literal, $k:literal))*) => {
+        match $sk {
+            $(($s, $k) => $f::<$s, $k, { $s + $k }> $args,)*
+            (s, k) => ::core::result::Result::Err(::std::format!(
+                "{s} shape and {k} group coordinates: systems given at run time are integrated with at most {} coordinates here",
+                $crate::MAX_DISPATCHED
+            )),
+        }
+    };
+}

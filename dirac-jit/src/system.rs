@@ -450,13 +450,31 @@ impl<const S: usize, const K: usize, const N: usize> JitSystem<S, K, N> {
 impl<const S: usize, const K: usize, const N: usize> DiscreteLagrangian<S, K, N>
     for JitSystem<S, K, N>
 {
-    /// Placeholders: a system given at run time has its names in
-    /// [`Code::system`] (`shape`, `group`, `parameters`), not in constants.
+    /// Placeholders: a system given at run time has its names in [`Code::system`] and says
+    /// them through `shape_names`, `group_names` and `parameter_names`, which is what output
+    /// reads; the constants cannot know them.
     const SHAPE: [&'static str; S] = [""; S];
     /// Placeholders, as [`Self::SHAPE`].
     const GROUP: [&'static str; K] = [""; K];
     /// Empty, as [`Self::SHAPE`]: the names are in [`Code::system`].
     const PARAMETERS: &'static [&'static str] = &[];
+
+    fn shape_names(&self) -> Vec<&str> {
+        self.code.system.shape.iter().map(String::as_str).collect()
+    }
+
+    fn group_names(&self) -> Vec<&str> {
+        self.code.system.group.iter().map(String::as_str).collect()
+    }
+
+    fn parameter_names(&self) -> Vec<&str> {
+        self.code
+            .system
+            .parameters
+            .iter()
+            .map(String::as_str)
+            .collect()
+    }
 
     fn control_count(&self) -> usize {
         self.code.system.controls.len()

@@ -4,7 +4,7 @@
 //! runtime's typed errors as Python exceptions carrying the step and the trajectory so far.
 //!
 //! The integrators take the dimensions as type parameters; the module dispatches a system's
-//! `(S, K)` at run time to one instance per pair with `S + K ≤ 8` ([`MAX_N`]).
+//! `(S, K)` at run time to one instance per pair with `S + K ≤ 8` (`dirac_jit::with_dimensions`).
 
 use std::sync::Arc;
 
@@ -21,7 +21,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
 /// The largest `N = S + K` the module has integrators for.
-const MAX_N: usize = 8;
+const MAX_N: usize = dirac_jit::MAX_DISPATCHED;
 
 pyo3::create_exception!(
     _dirac,
@@ -280,29 +280,6 @@ fn run_many<const S: usize, const K: usize, const N: usize>(
     })
 }
 
-/// Calls `$f::<S, K, N>($args)` for the system's `(S, K)`, for every pair with `S + K ≤ 8`.
-macro_rules! dispatch {
-    ($s:expr, $k:expr, $f:ident $args:tt) => {
-        dispatch!(@arms ($s, $k), $f $args;
-            (0,1) (1,0)
-            (0,2) (1,1) (2,0)
-            (0,3) (1,2) (2,1) (3,0)
-            (0,4) (1,3) (2,2) (3,1) (4,0)
-            (0,5) (1,4) (2,3) (3,2) (4,1) (5,0)
-            (0,6) (1,5) (2,4) (3,3) (4,2) (5,1) (6,0)
-            (0,7) (1,6) (2,5) (3,4) (4,3) (5,2) (6,1) (7,0)
-            (0,8) (1,7) (2,6) (3,5) (4,4) (5,3) (6,2) (7,1) (8,0))
-    };
-    (@arms $sk:expr, $f:ident $args:tt; $(($s:literal, $k:literal))*) => {
-        match $sk {
-            $(($s, $k) => $f::<$s, $k, { $s + $k }> $args,)*
-            (s, k) => Err(format!(
-                "{s} shape and {k} group coordinates: the Python module runs systems of at most {MAX_N} coordinates"
-            )),
-        }
-    };
-}
-
 /// A system given as text, compiled to machine code.
 #[pyclass(frozen, module = "dirac._dirac")]
 struct System {
@@ -521,7 +498,7 @@ impl System {
         let (s, k) = self.dims();
         let code = Arc::clone(&self.code);
         let result = py
-            .allow_threads(|| dispatch!(s, k, run_one(&code, &params, &start, r)))
+            .allow_threads(|| dirac_jit::with_dimensions!(s, k, run_one(&code, &params, &start, r)))
             .map_err(PyValueError::new_err)?;
         match result {
             Ok(flat) => to_dict(py, flat),
@@ -616,7 +593,7 @@ impl System {
         let (s, k) = self.dims();
         let code = Arc::clone(&self.code);
         let results = py
-            .allow_threads(|| dispatch!(s, k, run_many(&code, &params, &per_member, r)))
+            .allow_threads(|| dirac_jit::with_dimensions!(s, k, run_many(&code, &params, &per_member, r)))
             .map_err(PyValueError::new_err)?;
         // Stack the members; a failed member's rows after its failure stay NaN.
         let rows = steps + 1;
@@ -680,7 +657,7 @@ impl System {
         let start = vectors(&self.start_parts(r.method), start.unwrap_or(&empty))?;
         let (s, k) = self.dims();
         let code = Arc::clone(&self.code);
-        py.allow_threads(|| dispatch!(s, k, time_one(&code, &params, &start, r)))
+        py.allow_threads(|| dirac_jit::with_dimensions!(s, k, time_one(&code, &params, &start, r)))
             .map_err(PyValueError::new_err)
     }
 

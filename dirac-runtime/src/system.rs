@@ -26,6 +26,23 @@ pub trait DiscreteLagrangian<const S: usize, const K: usize, const N: usize> {
     /// `u_k` lists them. Empty for a system without controls.
     const CONTROLS: &'static [&'static str] = &[];
 
+    /// The names of the shape coordinates: [`Self::SHAPE`] for a system compiled in; a system
+    /// given at run time (whose constants cannot know its names) says them here. What output
+    /// (column names, metadata) reads.
+    fn shape_names(&self) -> Vec<&str> {
+        Self::SHAPE.to_vec()
+    }
+
+    /// The names of the group coordinates: [`Self::GROUP`], or a run-time system's own.
+    fn group_names(&self) -> Vec<&str> {
+        Self::GROUP.to_vec()
+    }
+
+    /// The names of the parameters: [`Self::PARAMETERS`], or a run-time system's own.
+    fn parameter_names(&self) -> Vec<&str> {
+        Self::PARAMETERS.to_vec()
+    }
+
     /// The number of controls, what the integrators check a control vector against:
     /// `Self::CONTROLS.len()` for a system compiled in, whose names are known when the program
     /// is compiled; a system given at run time (whose constants cannot know its names) says it

@@ -1,0 +1,157 @@
+//! The command line `dirac`: a system file (the attribute and function as text, parameters, a
+//! start) run into Parquet — the same states, bit for bit, as the compiled-in system; columns
+//! named after the text's coordinates; mistakes in the file and in the text, and a failed step,
+//! reported with their exit statuses.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use dirac::prelude::*;
+use dirac::systems::kepler::Kepler;
+use dirac_io::read::last_state;
+use dirac_io::StateColumns;
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch directory");
+    dir
+}
+
+/// The text of Kepler's system as the facade compiles it in.
+fn kepler_text() -> String {
+    let src = include_str!("../../src/systems/kepler.rs");
+    let start = src.find("#[reduced_lagrangian").expect("the attribute");
+    let end = start + src[start..].find("\n}\n").expect("the body's end") + 2;
+    src[start..end].to_owned()
+}
+
+fn dirac(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_dirac"))
+        .args(args)
+        .output()
+        .expect("the binary runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+const KEPLER_TOML: &str = r#"system = "kepler.rs"
+steps = 1000
+method = "METHOD"
+out = "kepler.parquet"
+
+[parameters]
+h = 0.01
+k = 1.0
+
+[start]
+x = [0.5]
+w = [0.0]
+mu = [0.8660254037844386]
+g = [0.0]
+"#;
+
+#[test]
+fn a_system_file_runs_into_parquet_as_the_compiled_in_system() {
+    let dir = scratch("cli_kepler");
+    std::fs::write(dir.join("kepler.rs"), kepler_text()).unwrap();
+    let kepler = Kepler::unit(0.01);
+    let start = kepler.periapsis_state(1.0, 0.5);
+    assert_eq!(start.mu[0], 0.8660254037844386);
+    let columns = ReducedState::<1, 1>::column_names(&["r"], &["phi"]);
+    let opts = NewtonOptions::default();
+    let plus = ReducedIntegrator::plus(kepler, opts)
+        .run(start)
+        .steps(1000)
+        .collect();
+    let minus = ReducedIntegrator::minus(kepler, opts)
+        .run(start)
+        .steps(1000)
+        .collect();
+    for (method, compiled) in [("plus", plus.unwrap()), ("minus", minus.unwrap())] {
+        let file = dir.join(format!("{method}.toml"));
+        std::fs::write(&file, KEPLER_TOML.replace("METHOD", method)).unwrap();
+        let (code, stdout, stderr) = dirac(&["run", file.to_str().unwrap()]);
+        assert_eq!(code, 0, "{stderr}");
+        assert!(stdout.contains("1000 steps"), "{stdout}");
+        let (step, t, last) =
+            last_state::<ReducedState<1, 1>>(&dir.join("kepler.parquet"), &columns).unwrap();
+        assert_eq!((step, t), (1000, compiled.times[1000]));
+        assert_eq!(last, compiled.states[1000], "{method}");
+    }
+    // The unreduced equations, from (q, p).
+    let file = dir.join("unreduced.toml");
+    let text = KEPLER_TOML.replace("METHOD", "unreduced").replace(
+        "x = [0.5]\nw = [0.0]\nmu = [0.8660254037844386]\ng = [0.0]",
+        "q = [0.5, 0.0]\np = [0.0, 0.8660254037844386]",
+    );
+    std::fs::write(&file, text).unwrap();
+    let (code, _, stderr) = dirac(&[
+        "run",
+        file.to_str().unwrap(),
+        "--out",
+        dir.join("u.parquet").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let columns = UnreducedState::<2>::column_names(&["r"], &["phi"]);
+    let (_, _, last) = last_state::<UnreducedState<2>>(&dir.join("u.parquet"), &columns).unwrap();
+    let compiled = UnreducedIntegrator::new(kepler, NewtonOptions::default())
+        .run(kepler.untrivialize(&start))
+        .steps(1000)
+        .collect()
+        .unwrap();
+    assert_eq!(last, compiled.states[1000]);
+}
+
+#[test]
+fn mistakes_and_failures_have_their_exit_statuses() {
+    let dir = scratch("cli_mistakes");
+    std::fs::write(dir.join("kepler.rs"), kepler_text()).unwrap();
+    // A malformed file: status 2, the key named.
+    let file = dir.join("bad.toml");
+    std::fs::write(&file, KEPLER_TOML.replace("METHOD", "sideways")).unwrap();
+    let (code, _, stderr) = dirac(&["run", file.to_str().unwrap()]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("`method` is"), "{stderr}");
+    // A mistake in the text: status 1, the attribute's message at its line and column.
+    std::fs::write(
+        dir.join("kepler.rs"),
+        kepler_text().replace("q1.phi - q0.phi", "q1.psi - q0.phi"),
+    )
+    .unwrap();
+    let file = dir.join("ok.toml");
+    std::fs::write(&file, KEPLER_TOML.replace("METHOD", "plus")).unwrap();
+    let (code, _, stderr) = dirac(&["check", file.to_str().unwrap()]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(
+        stderr.contains("unknown coordinate `psi`") && stderr.contains(" --> 4:"),
+        "{stderr}"
+    );
+    // A failed step: status 1, and the states before it are on disk.
+    std::fs::write(
+        dir.join("wall.rs"),
+        "#[reduced_lagrangian(shape(x), group())]\n\
+         fn wall(q0: Config, q1: Config, h: f64, c: f64) -> f64 {\n\
+         0.5 / h * (q1.x - q0.x) * (q1.x - q0.x) - h * c * q0.x.sqrt()\n}\n",
+    )
+    .unwrap();
+    let file = dir.join("wall.toml");
+    std::fs::write(
+        &file,
+        "system = \"wall.rs\"\nsteps = 100\n[parameters]\nh = 0.1\nc = 1e-6\n[start]\nx = [1.0]\nw = [-1.0]\n",
+    )
+    .unwrap();
+    let (code, _, stderr) = dirac(&["run", file.to_str().unwrap()]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(
+        stderr.contains("the states before it are written"),
+        "{stderr}"
+    );
+    let columns = ReducedState::<1, 0>::column_names(&["x"], &[]);
+    let (step, _, _) =
+        last_state::<ReducedState<1, 0>>(&dir.join("wall.parquet"), &columns).unwrap();
+    assert!(0 < step && step < 100, "{step}");
+}
