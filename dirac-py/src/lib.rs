@@ -593,7 +593,9 @@ impl System {
         let (s, k) = self.dims();
         let code = Arc::clone(&self.code);
         let results = py
-            .allow_threads(|| dirac_jit::with_dimensions!(s, k, run_many(&code, &params, &per_member, r)))
+            .allow_threads(|| {
+                dirac_jit::with_dimensions!(s, k, run_many(&code, &params, &per_member, r))
+            })
             .map_err(PyValueError::new_err)?;
         // Stack the members; a failed member's rows after its failure stay NaN.
         let rows = steps + 1;
