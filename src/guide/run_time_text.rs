@@ -77,6 +77,14 @@
 //! steps, interleaved in one run: Cranelift's code is not LLVM's, and each elementary function is
 //! a call.
 //!
+//! ## From Python and from the command line
+//!
+//! The Python package `dirac` (`docs/python.md`) wraps the same compiler and kernels:
+//! `dirac.compile(text).run(params, steps, x=.., w=.., mu=.., g=..)` returns NumPy arrays, and a
+//! failed step raises `dirac.StepError` with the trajectory so far. The binary `dirac` of the
+//! crate `dirac-io` runs a system file (the text, its parameters, a start) into Parquet:
+//! `dirac run kepler.toml` (`docs/output-and-clusters.md`).
+//!
 //! ## Limits
 //!
 //! Systems on vector spaces of at most 16 coordinates and 32 parameters. Systems on rotation
