@@ -94,4 +94,4 @@ pub mod table;
 pub use columns::{lie_names, Describe, RunInfo, StateColumns};
 pub use ensemble::{write_ensemble, EnsembleOutput};
 pub use error::{Error, Result};
-pub use observer::{Options, ParquetObserver, Resumed};
+pub use observer::{run_to_parquet, Options, ParquetObserver, Resumed};

@@ -873,3 +873,31 @@ impl Sink {
         }
     }
 }
+
+/// One run of `integ` from `start` for `steps` steps, every state written to `path` (a directory
+/// of parts) with the run's description and the Newton options `newton` the integrator was
+/// built with: the whole of a run to Parquet in one call, what the command line `dirac` and
+/// the Python package do. Returns the run's result — a failed step is the `Err` inside, with
+/// the states before it on disk — and the path written; the outer error is the writer's.
+pub fn run_to_parquet<I>(
+    integ: &I,
+    start: I::State,
+    steps: usize,
+    path: &Path,
+    newton: &NewtonOptions,
+) -> Result<(RunResult<I::State>, PathBuf)>
+where
+    I: crate::Describe + Drive,
+    I::State: StateColumns,
+    I::Record: AsRef<StepStats>,
+{
+    let info = integ.describe().with_newton(newton);
+    let mut writer = ParquetObserver::create(path, info, Options::new())?;
+    let result = integ
+        .run(start)
+        .steps(steps)
+        .observe(writer.observer())
+        .stream();
+    let written = writer.finish_with(&result)?;
+    Ok((result, written))
+}

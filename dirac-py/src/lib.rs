@@ -194,6 +194,73 @@ fn run_one<const S: usize, const K: usize, const N: usize>(
     })
 }
 
+/// What a run written to Parquet ended with: its steps, its final time and the path; or the
+/// failed step's error, the states before it on disk.
+type Written = Result<(usize, f64, std::path::PathBuf), (RuntimeStepError, std::path::PathBuf)>;
+
+/// One run written to Parquet at `path` by the workspace's writer.
+fn write_one<const S: usize, const K: usize, const N: usize>(
+    code: &Arc<Code>,
+    params: &[f64],
+    start: &[Vec<f64>],
+    r: Request,
+    path: &std::path::Path,
+) -> Result<Written, String> {
+    let sys = code
+        .instantiate::<S, K, N>(params)
+        .map_err(|e| e.to_string())?;
+    let (n, o) = (r.steps, r.options);
+    macro_rules! written {
+        ($call:expr) => {{
+            let (result, path) = $call.map_err(|e| e.to_string())?;
+            match result {
+                Ok(summary) => Ok((summary.steps, summary.t, path)),
+                Err(e) => Err((e.source, path)),
+            }
+        }};
+    }
+    Ok(match r.method {
+        Method::Unreduced => {
+            let s0 = UnreducedState {
+                q: SVector::from_column_slice(&start[0]),
+                p: SVector::from_column_slice(&start[1]),
+            };
+            written!(dirac_io::run_to_parquet(
+                &UnreducedIntegrator::new(sys, o),
+                s0,
+                n,
+                path,
+                &o
+            ))
+        }
+        side => {
+            let s0 = ReducedState {
+                x: SVector::from_column_slice(&start[0]),
+                w: SVector::from_column_slice(&start[1]),
+                mu: SVector::from_column_slice(&start[2]),
+                g: SVector::from_column_slice(&start[3]),
+            };
+            if side == Method::Plus {
+                written!(dirac_io::run_to_parquet(
+                    &ReducedIntegrator::plus(sys, o),
+                    s0,
+                    n,
+                    path,
+                    &o
+                ))
+            } else {
+                written!(dirac_io::run_to_parquet(
+                    &ReducedIntegrator::minus(sys, o),
+                    s0,
+                    n,
+                    path,
+                    &o
+                ))
+            }
+        }
+    })
+}
+
 /// Seconds of the reduced (+) run alone (collected, no arrays): the baseline of the Python
 /// overhead benchmark (`dirac-py/examples/overhead.py`).
 fn time_one<const S: usize, const K: usize, const N: usize>(
@@ -641,6 +708,56 @@ impl System {
             return Err(err);
         }
         Ok(d)
+    }
+
+    /// Integrates `steps` steps from one start and writes every state to Apache Parquet at
+    /// `path` (a directory of parts; the columns named after the coordinates, the parameters and
+    /// the Newton options in the metadata), streaming, in constant memory. Returns a dict with
+    /// `steps`, `t` (the final time) and `path`. A failed step raises `StepError` with `step`,
+    /// `residual` and `path`, the states before it written.
+    #[pyo3(signature = (parameters, steps, path, method = "plus", tol = None, **start))]
+    #[allow(clippy::too_many_arguments, reason = "the Python keyword arguments, one each")]
+    fn write<'py>(
+        &self,
+        py: Python<'py>,
+        parameters: &Bound<'py, PyAny>,
+        steps: usize,
+        path: std::path::PathBuf,
+        method: &str,
+        tol: Option<f64>,
+        start: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let params = parameter_values(&self.code, parameters)?;
+        let r = self.request(method, 2, steps, tol)?;
+        let empty = PyDict::new(py);
+        let start = vectors(&self.start_parts(r.method), start.unwrap_or(&empty))?;
+        let (s, k) = self.dims();
+        let code = Arc::clone(&self.code);
+        let written = py
+            .allow_threads(|| {
+                dirac_jit::with_dimensions!(s, k, write_one(&code, &params, &start, r, &path))
+            })
+            .map_err(PyValueError::new_err)?;
+        match written {
+            Ok((steps, t, path)) => {
+                let d = PyDict::new(py);
+                d.set_item("steps", steps)?;
+                d.set_item("t", t)?;
+                d.set_item("path", path)?;
+                Ok(d)
+            }
+            Err((error, path)) => {
+                let err = StepError::new_err(format!(
+                    "{error}; the states before it are written to {}",
+                    path.display()
+                ));
+                let value = err.value(py);
+                value.setattr("step", error.step())?;
+                value.setattr("residual", error.residual())?;
+                value.setattr("path", path)?;
+                Err(err)
+            }
+        }
     }
 
     /// Benchmarks only: the seconds of the same reduced (+) run as `run`, timed inside Rust

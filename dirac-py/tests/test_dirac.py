@@ -154,3 +154,39 @@ def test_keyword_and_sympy_systems_match_the_text():
     b = text.run(params, steps=200, **start)
     # SymPy orders the operations its own way: the same motion to round-off.
     assert np.max(np.abs(a["x"] - b["x"])) < 1e-10
+
+
+def test_a_run_written_to_parquet_reads_back_bit_for_bit(tmp_path):
+    pq = pytest.importorskip("pyarrow.parquet")
+    kepler = dirac.compile(KEPLER)
+    params = {"h": 0.01, "k": 1.0}
+    start = dict(x=[0.5], w=[0.0], mu=[math.sqrt(0.75)], g=[0.0])
+    out = tmp_path / "kepler.parquet"
+    summary = kepler.write(params, steps=500, path=str(out), **start)
+    assert summary["steps"] == 500 and summary["t"] == pytest.approx(5.0)
+    table = pq.read_table(out)
+    # The columns are named after the text's coordinates.
+    for name in ["t", "x_r", "w_r", "mu_phi", "g_phi"]:
+        assert name in table.column_names, table.column_names
+    run = kepler.run(params, steps=500, **start)
+    assert np.array_equal(table.column("t").to_numpy(), run["t"])
+    assert np.array_equal(table.column("x_r").to_numpy(), run["x"][:, 0])
+    assert np.array_equal(table.column("mu_phi").to_numpy(), run["mu"][:, 0])
+    assert np.array_equal(table.column("g_phi").to_numpy(), run["g"][:, 0])
+    # The parameters travel with the file.
+    part = next(out.glob("part-*.parquet"))
+    metadata = pq.read_metadata(part).metadata
+    assert metadata[b"dirac.shape"] == b"r" and metadata[b"dirac.group"] == b"phi"
+    assert metadata[b"dirac.parameters"] == b"h,k"
+    assert float(metadata[b"dirac.parameter.k"]) == 1.0
+
+
+def test_a_failed_write_keeps_the_states_before_it(tmp_path):
+    pq = pytest.importorskip("pyarrow.parquet")
+    wall = dirac.system("0.5 / h * (q1.x - q0.x) * (q1.x - q0.x) - h * c * q0.x.sqrt()",
+                        shape=["x"], parameters=["c"])
+    out = tmp_path / "wall.parquet"
+    with pytest.raises(dirac.StepError) as info:
+        wall.write({"h": 0.1, "c": 1e-6}, steps=100, path=str(out), x=[1.0], w=[-1.0])
+    assert pathlib.Path(info.value.path) == out
+    assert pq.read_table(out).num_rows == info.value.step + 1

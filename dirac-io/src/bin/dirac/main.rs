@@ -34,7 +34,7 @@ use std::process::ExitCode;
 use std::sync::Arc;
 
 use dirac::prelude::*;
-use dirac_io::{Describe, Options, ParquetObserver, StateColumns};
+use dirac_io::{run_to_parquet, Describe, StateColumns};
 use dirac_jit::Code;
 
 /// Which equations a run solves.
@@ -270,15 +270,8 @@ where
     I::Record: AsRef<StepStats>,
 {
     let options = NewtonOptions::default();
-    let info = integ.describe().with_newton(&options);
-    let mut writer =
-        ParquetObserver::create(&config.out, info, Options::new()).map_err(|e| e.to_string())?;
-    let result = integ
-        .run(start)
-        .steps(config.steps)
-        .observe(writer.observer())
-        .stream();
-    let path = writer.finish_with(&result).map_err(|e| e.to_string())?;
+    let (result, path) = run_to_parquet(&integ, start, config.steps, &config.out, &options)
+        .map_err(|e| e.to_string())?;
     match result {
         Ok(summary) => Ok(format!(
             "{} steps to t = {} written to {}",
