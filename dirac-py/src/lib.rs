@@ -433,6 +433,41 @@ impl System {
     }
 }
 
+/// A run's inputs read from Python: the parameter values, the request, the start's vectors.
+struct Inputs {
+    params: Vec<f64>,
+    request: Request,
+    start: Vec<Vec<f64>>,
+}
+
+impl System {
+    /// Reads and checks one run's inputs (the parameters, the method and order, the start).
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "the Python keyword arguments, one each"
+    )]
+    fn inputs(
+        &self,
+        py: Python<'_>,
+        parameters: &Bound<'_, PyAny>,
+        method: &str,
+        order: u32,
+        steps: usize,
+        tol: Option<f64>,
+        start: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Inputs> {
+        let params = parameter_values(&self.code, parameters)?;
+        let request = self.request(method, order, steps, tol)?;
+        let empty = PyDict::new(py);
+        let start = vectors(&self.start_parts(request.method), start.unwrap_or(&empty))?;
+        Ok(Inputs {
+            params,
+            request,
+            start,
+        })
+    }
+}
+
 fn to_dict<'py>(py: Python<'py>, flat: Flat) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     let rows = flat.t.len();
@@ -558,10 +593,11 @@ impl System {
         tol: Option<f64>,
         start: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let params = parameter_values(&self.code, parameters)?;
-        let r = self.request(method, order, steps, tol)?;
-        let empty = PyDict::new(py);
-        let start = vectors(&self.start_parts(r.method), start.unwrap_or(&empty))?;
+        let Inputs {
+            params,
+            request: r,
+            start,
+        } = self.inputs(py, parameters, method, order, steps, tol, start)?;
         let (s, k) = self.dims();
         let code = Arc::clone(&self.code);
         let result = py
@@ -716,7 +752,10 @@ impl System {
     /// `steps`, `t` (the final time) and `path`. A failed step raises `StepError` with `step`,
     /// `residual` and `path`, the states before it written.
     #[pyo3(signature = (parameters, steps, path, method = "plus", tol = None, **start))]
-    #[allow(clippy::too_many_arguments, reason = "the Python keyword arguments, one each")]
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "the Python keyword arguments, one each"
+    )]
     fn write<'py>(
         &self,
         py: Python<'py>,
@@ -727,10 +766,11 @@ impl System {
         tol: Option<f64>,
         start: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let params = parameter_values(&self.code, parameters)?;
-        let r = self.request(method, 2, steps, tol)?;
-        let empty = PyDict::new(py);
-        let start = vectors(&self.start_parts(r.method), start.unwrap_or(&empty))?;
+        let Inputs {
+            params,
+            request: r,
+            start,
+        } = self.inputs(py, parameters, method, 2, steps, tol, start)?;
         let (s, k) = self.dims();
         let code = Arc::clone(&self.code);
         let written = py
@@ -770,10 +810,11 @@ impl System {
         steps: usize,
         start: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<f64> {
-        let params = parameter_values(&self.code, parameters)?;
-        let r = self.request("plus", 2, steps, None)?;
-        let empty = PyDict::new(py);
-        let start = vectors(&self.start_parts(r.method), start.unwrap_or(&empty))?;
+        let Inputs {
+            params,
+            request: r,
+            start,
+        } = self.inputs(py, parameters, "plus", 2, steps, None, start)?;
         let (s, k) = self.dims();
         let code = Arc::clone(&self.code);
         py.allow_threads(|| dirac_jit::with_dimensions!(s, k, time_one(&code, &params, &start, r)))
