@@ -1,5 +1,5 @@
 //! Graph → straight-line program as data: the second back end of the compiler, beside
-//! [`crate::codegen`]'s Rust tokens. A [`Program`] is the same straight line the Rust back end
+//! the Rust tokens of the attribute's code generator. A [`Program`] is the same straight line the Rust back end
 //! emits (each live operation once, in the graph's topological order, leaves read where they are
 //! used, constants inlined), so a run-time code generator that translates it operation by
 //! operation rounds exactly as the compiled-in system does.
