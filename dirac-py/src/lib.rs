@@ -137,6 +137,24 @@ fn finish<T: Steps + std::fmt::Debug>(
     }
 }
 
+/// A reduced start `(x, w, μ, g)` from its vectors, checked for length by `vectors`.
+fn reduced_start<const S: usize, const K: usize>(v: &[Vec<f64>]) -> ReducedState<S, K> {
+    ReducedState {
+        x: SVector::from_column_slice(&v[0]),
+        w: SVector::from_column_slice(&v[1]),
+        mu: SVector::from_column_slice(&v[2]),
+        g: SVector::from_column_slice(&v[3]),
+    }
+}
+
+/// An unreduced start `(q, p)` from its vectors.
+fn unreduced_start<const N: usize>(v: &[Vec<f64>]) -> UnreducedState<N> {
+    UnreducedState {
+        q: SVector::from_column_slice(&v[0]),
+        p: SVector::from_column_slice(&v[1]),
+    }
+}
+
 /// One run of a system of `S` shape and `K` group coordinates from `start` (`x, w, mu, g` or
 /// `q, p`, by the method).
 fn run_one<const S: usize, const K: usize, const N: usize>(
@@ -151,10 +169,7 @@ fn run_one<const S: usize, const K: usize, const N: usize>(
     let (n, o) = (r.steps, r.options);
     Ok(match r.method {
         Method::Unreduced => {
-            let s0 = UnreducedState {
-                q: SVector::from_column_slice(&start[0]),
-                p: SVector::from_column_slice(&start[1]),
-            };
+            let s0 = unreduced_start(start);
             let integ = UnreducedIntegrator::new(sys, o);
             if r.order == 2 {
                 finish(integ.run(s0).steps(n).collect(), |t| {
@@ -166,12 +181,7 @@ fn run_one<const S: usize, const K: usize, const N: usize>(
             }
         }
         side => {
-            let s0 = ReducedState {
-                x: SVector::from_column_slice(&start[0]),
-                w: SVector::from_column_slice(&start[1]),
-                mu: SVector::from_column_slice(&start[2]),
-                g: SVector::from_column_slice(&start[3]),
-            };
+            let s0 = reduced_start(start);
             macro_rules! go {
                 ($integ:expr) => {{
                     let integ = $integ;
@@ -221,10 +231,7 @@ fn write_one<const S: usize, const K: usize, const N: usize>(
     }
     Ok(match r.method {
         Method::Unreduced => {
-            let s0 = UnreducedState {
-                q: SVector::from_column_slice(&start[0]),
-                p: SVector::from_column_slice(&start[1]),
-            };
+            let s0 = unreduced_start(start);
             written!(dirac_io::run_to_parquet(
                 &UnreducedIntegrator::new(sys, o),
                 s0,
@@ -234,12 +241,7 @@ fn write_one<const S: usize, const K: usize, const N: usize>(
             ))
         }
         side => {
-            let s0 = ReducedState {
-                x: SVector::from_column_slice(&start[0]),
-                w: SVector::from_column_slice(&start[1]),
-                mu: SVector::from_column_slice(&start[2]),
-                g: SVector::from_column_slice(&start[3]),
-            };
+            let s0 = reduced_start(start);
             if side == Method::Plus {
                 written!(dirac_io::run_to_parquet(
                     &ReducedIntegrator::plus(sys, o),
@@ -272,12 +274,7 @@ fn time_one<const S: usize, const K: usize, const N: usize>(
     let sys = code
         .instantiate::<S, K, N>(params)
         .map_err(|e| e.to_string())?;
-    let s0 = ReducedState {
-        x: SVector::from_column_slice(&start[0]),
-        w: SVector::from_column_slice(&start[1]),
-        mu: SVector::from_column_slice(&start[2]),
-        g: SVector::from_column_slice(&start[3]),
-    };
+    let s0 = reduced_start(start);
     let t = std::time::Instant::now();
     let traj = ReducedIntegrator::plus(sys, r.options)
         .run(s0)
@@ -302,13 +299,7 @@ fn run_many<const S: usize, const K: usize, const N: usize>(
     let (n, o) = (r.steps, r.options);
     Ok(match r.method {
         Method::Unreduced => {
-            let s0: Vec<_> = starts
-                .iter()
-                .map(|s| UnreducedState {
-                    q: SVector::from_column_slice(&s[0]),
-                    p: SVector::from_column_slice(&s[1]),
-                })
-                .collect();
+            let s0: Vec<_> = starts.iter().map(|s| unreduced_start(s)).collect();
             let integ = UnreducedIntegrator::new(sys, o);
             integ
                 .ensemble(&s0)
@@ -319,15 +310,7 @@ fn run_many<const S: usize, const K: usize, const N: usize>(
                 .collect()
         }
         side => {
-            let s0: Vec<_> = starts
-                .iter()
-                .map(|s| ReducedState {
-                    x: SVector::from_column_slice(&s[0]),
-                    w: SVector::from_column_slice(&s[1]),
-                    mu: SVector::from_column_slice(&s[2]),
-                    g: SVector::from_column_slice(&s[3]),
-                })
-                .collect();
+            let s0: Vec<_> = starts.iter().map(|s| reduced_start(s)).collect();
             let members = if side == Method::Plus {
                 ReducedIntegrator::plus(sys, o)
                     .ensemble(&s0)
