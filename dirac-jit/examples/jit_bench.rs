@@ -2,7 +2,7 @@
 //! become machine code, and a step's time against the attribute's, interleaved in one run.
 //!
 //! ```text
-//! cargo run --release -p dirac-jit --example jit_bench -- [--rounds 7] [--steps 20000]
+//! cargo run --release --manifest-path dirac-jit/Cargo.toml --example jit_bench -- [--rounds 7] [--steps 20000]
 //! ```
 //!
 //! The double spherical pendulum and the charged particle of the paper (§7), from the text of

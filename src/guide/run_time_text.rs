@@ -7,31 +7,22 @@
 //! then turns the compiler's straight-line code into machine code with Cranelift. The result
 //! implements the same traits as a compiled-in system, so the same integrators run it:
 //!
+//! ```text
+//! #[reduced_lagrangian(shape(r), group(phi))]
+//! fn kepler(q0: Config, q1: Config, h: f64, k: f64) -> f64 {
+//!     let r = 0.5 * (q0.r + q1.r);
+//!     let (dr, dphi) = ((q1.r - q0.r) / h, (q1.phi - q0.phi) / h);
+//!     h * (0.5 * (dr * dr + r * r * dphi * dphi) + k / r)
+//! }
 //! ```
-//! use dirac::prelude::*;
-//! use dirac::systems::kepler::Kepler;
 //!
-//! let text = "
-//!     #[reduced_lagrangian(shape(r), group(phi))]
-//!     fn kepler(q0: Config, q1: Config, h: f64, k: f64) -> f64 {
-//!         let r = 0.5 * (q0.r + q1.r);
-//!         let (dr, dphi) = ((q1.r - q0.r) / h, (q1.phi - q0.phi) / h);
-//!         h * (0.5 * (dr * dr + r * r * dphi * dphi) + k / r)
-//!     }";
-//! let code = dirac_jit::compile(text)?;
-//! assert_eq!(code.system().parameters, ["h", "k"]);
-//!
-//! // The dimensions are type parameters, checked against the text's: S = 1, K = 1, N = 2.
-//! let given = code.instantiate_named::<1, 1, 2>(&[("h", 0.01), ("k", 1.0)])?;
-//! let compiled = Kepler::unit(0.01);
-//! let start = compiled.periapsis_state(1.0, 0.5);
-//!
-//! let a = ReducedIntegrator::plus(given, NewtonOptions::default()).run(start).steps(1000).collect()?;
-//! let b = ReducedIntegrator::plus(compiled, NewtonOptions::default()).run(start).steps(1000).collect()?;
-//! // The same operations in the same order: the same trajectory, bit for bit.
-//! assert_eq!(a.states, b.states);
-//! # Ok::<(), Box<dyn std::error::Error>>(())
-//! ```
+//! `dirac_jit::compile(text)?` returns the compiled code; `code.system().parameters` is
+//! `["h", "k"]`, and `code.instantiate_named::<1, 1, 2>(&[("h", 0.01), ("k", 1.0)])?` is a system
+//! that `ReducedIntegrator::plus` runs like any other — the dimensions are type parameters,
+//! checked against the text's (`S = 1`, `K = 1`, `N = 2`). From the same start it steps bit for
+//! bit as [`Kepler`](crate::systems::kepler::Kepler), the compiled-in version. The crate's own
+//! documentation runs this comparison and the examples below as doctests (`dirac-jit` is a
+//! workspace of its own, so the main test command does not build Cranelift; `.ci/run` tests it).
 //!
 //! `compile` accepts one function carrying `#[reduced_lagrangian(..)]`, alone or in a whole Rust
 //! file (other items are ignored). [`Code::system`](https://docs.rs/dirac-jit) holds what the
@@ -48,14 +39,13 @@
 //! suite is run through the text front end as well, and gets the same messages at the same
 //! places.
 //!
+//! ```text
+//! #[reduced_lagrangian(shape(r), group(phi))]
+//! fn f(q0: Config, q1: Config, h: f64) -> f64 { q0.r.floor() }
 //! ```
-//! let text = "#[reduced_lagrangian(shape(r), group(phi))]\n\
-//!             fn f(q0: Config, q1: Config, h: f64) -> f64 { q0.r.floor() }";
-//! let e = dirac_jit::compile(text).unwrap_err();
-//! let shown = e.to_string();
-//! assert!(shown.contains("unsupported method `floor`"), "{shown}");
-//! assert!(shown.contains(" --> 2:52"), "{shown}");
-//! ```
+//!
+//! fails with the attribute's "unsupported method `floor`" at ` --> 2:52`, with the source line
+//! and a caret under `floor` when the error is printed.
 //!
 //! ## What runs, and what it costs
 //!
@@ -71,7 +61,7 @@
 //! problem and a forced turntable under a feedback control step bit for bit as their compiled-in
 //! versions (`dirac-jit/tests/same_as_compiled.rs`).
 //!
-//! The example `jit_bench` (`cargo run --release -p dirac-jit --example jit_bench`) compiles the
+//! The example `jit_bench` (`cargo run --release --manifest-path dirac-jit/Cargo.toml --example jit_bench`) compiles the
 //! paper's double spherical pendulum from text in 61–95 ms (medians over 7 compilations, three
 //! runs on a 2-core machine) and its steps take 1.07–1.45 times as long as the compiled-in
 //! steps, interleaved in one run: Cranelift's code is not LLVM's, and each elementary function is
