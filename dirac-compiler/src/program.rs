@@ -4,7 +4,7 @@
 //! used, constants inlined), so a run-time code generator that translates it operation by
 //! operation rounds exactly as the compiled-in system does.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 pub use crate::ir::graph::Fun;
 use crate::ir::graph::{Graph, Node, NodeId, Sym};
@@ -117,7 +117,7 @@ impl Program {
 /// The program computing `outputs` of `g`, every symbol read as [`leaf`] maps it. A symbol the
 /// map does not know is a bug of the compiler (a function reading what its kind cannot read).
 pub(crate) fn program(g: &Graph, outputs: &[NodeId]) -> Program {
-    let mut index: HashMap<NodeId, u32> = HashMap::new();
+    let mut index: HashMap<NodeId, u32> = HashMap::default();
     let mut ops = Vec::new();
     for id in g.cone(outputs) {
         let i = |n: NodeId| index[&n];

@@ -23,7 +23,7 @@ use std::fmt;
 use proc_macro2::{Span, TokenStream};
 use syn::{Attribute, ItemFn};
 
-use crate::codegen::backend::DENSE_MAX;
+use crate::codegen::backend::{Csc, DENSE_MAX};
 use crate::expand::{compile_system, parse, Parsed};
 use crate::ir::compile::{Compiled, SideCode};
 use crate::ir::reduce::Stepper as StepperCode;
@@ -34,7 +34,8 @@ const ATTRIBUTE: &str = "reduced_lagrangian";
 
 /// A system compiled from text: its names, and a straight-line [`Program`] for each function
 /// the runtime's traits for systems on vector spaces need (`DiscreteLagrangian`, `Reduced` for
-/// both sides, `Unreduced`), dense (at most 16 coordinates).
+/// both sides, `Unreduced`). Step Jacobians are dense up to 16 coordinates and sparse above
+/// ([`Stepper::pattern`]), as the attribute emits them.
 #[derive(Clone, Debug)]
 pub struct System {
     /// The type name `#[reduced_lagrangian]` would emit (`name = ..`, or the function's name in
@@ -108,12 +109,27 @@ pub struct Stepper {
     /// The residual `R(z)`: `n` outputs.
     pub residual: Program,
     /// `R(z)` and `∂R/∂z` from one straight line: `n` outputs, then the `n × n` Jacobian column
-    /// by column (nalgebra's order).
+    /// by column (nalgebra's order) — or, for a system of more than 16 coordinates, the values of
+    /// its structural nonzeros in the order of [`Self::pattern`].
     pub residual_jacobian: Program,
     /// The momentum update: `m` outputs.
     pub momentum: Program,
     /// The residual and the momentum update from one straight line: `n + m` outputs.
     pub residual_momentum: Program,
+    /// For a system of more than 16 coordinates (the attribute's sparse backend), the
+    /// structurally nonzero entries of `∂R/∂z` in compressed sparse columns; `None` for a dense
+    /// Jacobian.
+    pub pattern: Option<Pattern>,
+}
+
+/// The structurally nonzero entries of an `n × n` Jacobian, in compressed sparse columns:
+/// column `j` holds rows `row_idx[col_ptr[j]..col_ptr[j + 1]]`, increasing.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Pattern {
+    /// Column starts, `n + 1` of them.
+    pub col_ptr: Vec<usize>,
+    /// The row of each entry.
+    pub row_idx: Vec<usize>,
 }
 
 /// The Legendre map and energy of a continuous Lagrangian, reading `Q0` = `q`, `Q1` = `v` and
@@ -207,8 +223,8 @@ impl std::error::Error for Error {}
 /// Compiles a system given as text: a function carrying `#[reduced_lagrangian(..)]`, alone or
 /// among other items (a whole Rust file is accepted, as long as one function carries the
 /// attribute). The attribute's keys, the signature and the body are those of the compiled-in
-/// attribute; systems on rotation groups, element-wise systems, constraints, adaptive steps and
-/// systems of more than 16 coordinates are compiled in only, and said so here.
+/// attribute; systems on rotation groups, element-wise systems, constraints and adaptive steps
+/// are compiled in only, and said so here.
 pub fn compile(source: &str) -> Result<System, Error> {
     let (attribute, args, func) = find(source).map_err(|e| Error::from_syn(e, source, None))?;
     crate::stack::run(&args, &TokenStream::new(), || {
@@ -289,16 +305,6 @@ fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<System> {
         return Err(compiled_in_only(&a.monitor, "adaptive steps"));
     }
     let c = compile_system(&spec, &sig, func)?;
-    let (s, k) = (spec.layout.s(), spec.layout.k());
-    if s + k > DENSE_MAX {
-        return Err(syn::Error::new(
-            Span::call_site(),
-            format!(
-                "{} coordinates: a system given at run time has at most {DENSE_MAX} (larger ones are compiled in, on the sparse backend)",
-                s + k
-            ),
-        ));
-    }
     let step = sig
         .params
         .iter()
@@ -359,20 +365,29 @@ fn column_major(
     (0..m.len()).flat_map(move |col| m.iter().map(move |row| row[col]))
 }
 
+/// A stepper's programs, with the Jacobian dense or sparse by size as the attribute's backend
+/// (`DENSE_MAX`).
 fn stepper(c: &Compiled, s: &StepperCode) -> Stepper {
     let g = &c.graph;
-    let with_jacobian: Vec<_> = s
-        .residual
-        .iter()
-        .copied()
-        .chain(column_major(&s.jacobian))
-        .collect();
+    let mut with_jacobian = s.residual.clone();
+    let pattern = if s.residual.len() > DENSE_MAX {
+        let csc = Csc::of(g, &s.jacobian);
+        with_jacobian.extend(csc.values);
+        Some(Pattern {
+            col_ptr: csc.col_ptr,
+            row_idx: csc.row_idx,
+        })
+    } else {
+        with_jacobian.extend(column_major(&s.jacobian));
+        None
+    };
     let with_momentum: Vec<_> = s.residual.iter().chain(&s.momentum).copied().collect();
     Stepper {
         residual: program(g, &s.residual),
         residual_jacobian: program(g, &with_jacobian),
         momentum: program(g, &s.momentum),
         residual_momentum: program(g, &with_momentum),
+        pattern,
     }
 }
 
@@ -384,7 +399,7 @@ fn compiled_in_only<T: quote::ToTokens>(at: T, what: &str) -> syn::Error {
         format!(
             "{what} is compiled in with `#[reduced_lagrangian]` in Rust; a system given at run time \
              is one on vector spaces (`shape(..)`, `group(..)` or `coordinates(..)` with `translate(..)`) \
-             with forces and controls, of at most {DENSE_MAX} coordinates"
+             with forces and controls"
         ),
     )
 }

@@ -30,6 +30,20 @@ pub enum Error {
         /// The `N` asked for.
         want_n: usize,
     },
+    /// The backend asked for is not the one of the system's size (dense up to `dense_max`
+    /// coordinates, sparse above).
+    #[error(
+        "the system `{name}` has {n} coordinates: instantiate it with `{}` (the dense backend takes at most {dense_max} coordinates, the sparse one more)",
+        if *n > *dense_max { "instantiate_sparse" } else { "instantiate" }
+    )]
+    Backend {
+        /// The system's type name.
+        name: String,
+        /// Its coordinates.
+        n: usize,
+        /// The most coordinates of the dense backend.
+        dense_max: usize,
+    },
     /// The parameter values do not match the declared parameters.
     #[error("parameters of `{name}`: {reason}; declared: {declared}")]
     Parameters {

@@ -66,14 +66,19 @@
 //! assert!(shown.contains(" --> 2:52"), "{shown}");
 //! ```
 //!
-//! What the text may declare is what the attribute accepts for a system on vector spaces of at
-//! most 16 coordinates: `shape(..)`, `group(..)` (or `coordinates(..)` with `translate(..)`), a
-//! connection, `step = ..`, a continuous Lagrangian with its `rule`, forces and controls. Systems
-//! on rotation groups, element-wise systems, constraints and adaptive steps are compiled in.
+//! What the text may declare is what the attribute accepts for a system on vector spaces:
+//! `shape(..)`, `group(..)` (or `coordinates(..)` with `translate(..)`, array coordinates such
+//! as `x[200]`), a connection, `step = ..`, a continuous Lagrangian with its `rule`, forces and
+//! controls. Systems on rotation groups, element-wise systems, constraints and adaptive steps are
+//! compiled in.
 //!
 //! The dimensions are type parameters, as for a compiled-in system ([`Code::instantiate`] checks
 //! them against the text's), so a step runs the same fixed-size code with no allocation: the
-//! kernels read and write the integrators' stack vectors directly.
+//! kernels read and write the integrators' stack vectors directly. The backend is the one the
+//! attribute would choose: up to 16 coordinates the dense fixed-size LU
+//! ([`Code::instantiate`]); above, the sparse LU on the step Jacobian's structural nonzeros
+//! ([`Code::instantiate_sparse`]), whose kernels write only those entries, into a buffer that a
+//! run reuses. A 200-particle lattice given as text steps bit for bit as the compiled-in one.
 
 #![warn(missing_docs)]
 
@@ -82,7 +87,7 @@ mod error;
 mod system;
 
 pub use error::Error;
-pub use system::{compile, Code, JitSystem, MAX_PARAMETERS};
+pub use system::{compile, Backend, Code, Dense, JitSystem, Sparse, MAX_PARAMETERS};
 
 /// The largest `N = S + K` that [`with_dimensions!`] has an instance for.
 pub const MAX_DISPATCHED: usize = 8;

@@ -2,16 +2,22 @@
 //! dimensions ([`JitSystem`]), which implements the runtime's traits for systems on vector spaces
 //! — `DiscreteLagrangian`, `Reduced` for both sides (eqs. (4.6), (4.8)) and `Unreduced`
 //! (Definitions 2.7/2.8) — by calling the kernels: every integrator that runs a compiled-in
-//! system runs it, on the dense fixed-size backend.
+//! system runs it, on the backend the attribute would choose: the dense fixed-size LU up to 16
+//! coordinates ([`Dense`]), the sparse LU on the Jacobian's structural nonzeros above
+//! ([`Sparse`]).
 
+use std::marker::PhantomData;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use cranelift_jit::JITModule;
 use dirac_compiler::program::Leaf;
 use dirac_compiler::text::{self, System};
+use dirac_runtime::linalg::LinearSolver;
 use dirac_runtime::nalgebra::{SMatrix, SVector};
-use dirac_runtime::{DiscreteLagrangian, Lu, Minus, Plus, Reduced, Unreduced};
+use dirac_runtime::{
+    CscBuffer, DiscreteLagrangian, Lu, Minus, PatternLu, Plus, Reduced, Unreduced, DENSE_MAX,
+};
 
 use crate::codegen::{Jit, Kernel, Layout};
 use crate::error::Error;
@@ -252,12 +258,46 @@ impl Code {
     }
 
     /// The system at dimensions `S`, `K`, `N = S + K` with `parameters` in declaration order
-    /// ([`System::parameters`]); an error if the dimensions are not the system's or the values
-    /// are not one finite number per parameter.
+    /// ([`System::parameters`]), on the dense backend (`N ≤ 16`); an error if the dimensions are
+    /// not the system's or the values are not one finite number per parameter.
     pub fn instantiate<const S: usize, const K: usize, const N: usize>(
         self: &Arc<Self>,
         parameters: &[f64],
     ) -> Result<JitSystem<S, K, N>, Error> {
+        self.instantiate_on(parameters)
+    }
+
+    /// [`Self::instantiate`] for a system of more than 16 coordinates, on the sparse backend
+    /// (the LU on the Jacobian's structural nonzeros, as the attribute emits for it).
+    pub fn instantiate_sparse<const S: usize, const K: usize, const N: usize>(
+        self: &Arc<Self>,
+        parameters: &[f64],
+    ) -> Result<JitSystem<S, K, N, Sparse>, Error> {
+        self.instantiate_on(parameters)
+    }
+
+    /// [`Self::instantiate`] with the parameters by name, in any order; every parameter once.
+    pub fn instantiate_named<const S: usize, const K: usize, const N: usize>(
+        self: &Arc<Self>,
+        parameters: &[(&str, f64)],
+    ) -> Result<JitSystem<S, K, N>, Error> {
+        self.instantiate_on(&self.by_name(parameters)?)
+    }
+
+    /// [`Self::instantiate_sparse`] with the parameters by name, in any order.
+    pub fn instantiate_sparse_named<const S: usize, const K: usize, const N: usize>(
+        self: &Arc<Self>,
+        parameters: &[(&str, f64)],
+    ) -> Result<JitSystem<S, K, N, Sparse>, Error> {
+        self.instantiate_on(&self.by_name(parameters)?)
+    }
+
+    /// The system on backend `B`, after the checks [`Self::instantiate`] names and that of the
+    /// backend against the system's size.
+    fn instantiate_on<const S: usize, const K: usize, const N: usize, B: Backend<N>>(
+        self: &Arc<Self>,
+        parameters: &[f64],
+    ) -> Result<JitSystem<S, K, N, B>, Error> {
         let sys = &self.system;
         let (s, k) = (sys.shape.len(), sys.group.len());
         if (s, k, s + k) != (S, K, N) {
@@ -269,6 +309,13 @@ impl Code {
                 want_s: S,
                 want_k: K,
                 want_n: N,
+            });
+        }
+        if B::SPARSE != (N > DENSE_MAX) {
+            return Err(Error::Backend {
+                name: sys.name.clone(),
+                n: N,
+                dense_max: DENSE_MAX,
             });
         }
         let fail = |reason: String| Error::Parameters {
@@ -299,14 +346,13 @@ impl Code {
         Ok(JitSystem {
             code: Arc::clone(self),
             values,
+            backend: PhantomData,
         })
     }
 
-    /// [`Self::instantiate`] with the parameters by name, in any order; every parameter once.
-    pub fn instantiate_named<const S: usize, const K: usize, const N: usize>(
-        self: &Arc<Self>,
-        parameters: &[(&str, f64)],
-    ) -> Result<JitSystem<S, K, N>, Error> {
+    /// The parameter values in declaration order from `(name, value)` pairs: every parameter
+    /// once, no other name.
+    fn by_name(&self, parameters: &[(&str, f64)]) -> Result<Vec<f64>, Error> {
         let sys = &self.system;
         let fail = |reason: String| Error::Parameters {
             name: sys.name.clone(),
@@ -327,19 +373,105 @@ impl Code {
         if let Some(i) = given.iter().position(|g| !g) {
             return Err(fail(format!("`{}` not given", sys.parameters[i])));
         }
-        self.instantiate(&values)
+        Ok(values)
+    }
+}
+
+/// The linear algebra a [`JitSystem`]'s steps run on: [`Dense`] or [`Sparse`], fixed by the
+/// system's size as for a compiled-in system (dense up to 16 coordinates).
+pub trait Backend<const N: usize>: sealed::Sealed + Send + Sync + 'static {
+    /// Whether this is the sparse backend.
+    const SPARSE: bool;
+    /// The runtime's solver.
+    type Linear: LinearSolver<Vector = SVector<f64, N>>;
+    /// A solver's workspace for the Jacobians of `stepper`.
+    fn solver(stepper: &text::Stepper) -> Self::Linear;
+    /// Runs a residual-with-Jacobian kernel through `kernel(out)`, which writes the residual and
+    /// then the Jacobian (column by column, or the values of `stepper`'s pattern) at `out`.
+    fn residual_jacobian(
+        stepper: &text::Stepper,
+        kernel: impl FnOnce(*mut f64),
+    ) -> (SVector<f64, N>, <Self::Linear as LinearSolver>::Matrix);
+}
+
+mod sealed {
+    pub trait Sealed {}
+    impl Sealed for super::Dense {}
+    impl Sealed for super::Sparse {}
+}
+
+/// The dense fixed-size backend ([`Lu`]): systems of at most 16 coordinates.
+#[derive(Clone, Copy, Debug)]
+pub struct Dense;
+
+/// The sparse backend ([`PatternLu`] on the structural nonzeros of the step Jacobian, the
+/// factorization of the attribute's sparse backend): systems of more than 16 coordinates.
+#[derive(Clone, Copy, Debug)]
+pub struct Sparse;
+
+impl<const N: usize> Backend<N> for Dense {
+    const SPARSE: bool = false;
+    type Linear = Lu<N>;
+
+    fn solver(_: &text::Stepper) -> Lu<N> {
+        Lu::empty()
+    }
+
+    fn residual_jacobian(
+        _: &text::Stepper,
+        kernel: impl FnOnce(*mut f64),
+    ) -> (SVector<f64, N>, SMatrix<f64, N, N>) {
+        let mut rj = ResidualJacobian {
+            r: SVector::<f64, N>::zeros(),
+            j: SMatrix::<f64, N, N>::zeros(),
+        };
+        kernel((&mut rj as *mut ResidualJacobian<N>).cast::<f64>());
+        (rj.r, rj.j)
+    }
+}
+
+impl<const N: usize> Backend<N> for Sparse {
+    const SPARSE: bool = true;
+    type Linear = PatternLu<N>;
+
+    fn solver(stepper: &text::Stepper) -> PatternLu<N> {
+        let pattern = stepper.pattern.as_ref().expect(
+            "a system on the sparse backend has sparse steppers (checked on instantiation)",
+        );
+        PatternLu::new(&pattern.col_ptr, &pattern.row_idx)
+            .expect("the compiler emits a valid pattern of the stepper's size")
+    }
+
+    fn residual_jacobian(
+        stepper: &text::Stepper,
+        kernel: impl FnOnce(*mut f64),
+    ) -> (SVector<f64, N>, CscBuffer) {
+        let nnz = stepper.pattern.as_ref().map_or(0, |p| p.row_idx.len());
+        let mut out = CscBuffer::zeroed(N + nnz, N);
+        kernel(out.as_mut_slice().as_mut_ptr());
+        (SVector::from_column_slice(out.leading()), out)
     }
 }
 
 /// A system given as text, at dimensions `S`, `K`, `N = S + K` and with its parameter values:
 /// what the integrators take. Cloning it shares the code.
-#[derive(Clone)]
-pub struct JitSystem<const S: usize, const K: usize, const N: usize> {
+pub struct JitSystem<const S: usize, const K: usize, const N: usize, B = Dense> {
     code: Arc<Code>,
     values: [f64; MAX_PARAMETERS],
+    backend: PhantomData<B>,
 }
 
-impl<const S: usize, const K: usize, const N: usize> std::fmt::Debug for JitSystem<S, K, N> {
+impl<const S: usize, const K: usize, const N: usize, B> Clone for JitSystem<S, K, N, B> {
+    fn clone(&self) -> Self {
+        Self {
+            code: Arc::clone(&self.code),
+            values: self.values,
+            backend: PhantomData,
+        }
+    }
+}
+
+impl<const S: usize, const K: usize, const N: usize, B> std::fmt::Debug for JitSystem<S, K, N, B> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let sys = &self.code.system;
         f.debug_struct(&sys.name)
@@ -365,7 +497,7 @@ struct ResidualMomentum<const N: usize, const M: usize> {
     m: SVector<f64, M>,
 }
 
-impl<const S: usize, const K: usize, const N: usize> JitSystem<S, K, N> {
+impl<const S: usize, const K: usize, const N: usize, B: Backend<N>> JitSystem<S, K, N, B> {
     /// The compiled code this system runs.
     pub fn code(&self) -> &Arc<Code> {
         &self.code
@@ -374,10 +506,17 @@ impl<const S: usize, const K: usize, const N: usize> JitSystem<S, K, N> {
     /// Calls `kernel` on the parameters and `args`, writing into `out` (a value whose memory is
     /// the kernel's outputs, in order: a vector, a matrix, or a `repr(C)` pair of them).
     fn call<T>(&self, kernel: Kernel, args: [*const f64; 4], mut out: T) -> T {
+        self.call_into(kernel, args, (&mut out as *mut T).cast::<f64>());
+        out
+    }
+
+    /// Calls `kernel` on the parameters and `args`, writing its outputs at `out`.
+    fn call_into(&self, kernel: Kernel, args: [*const f64; 4], out: *mut f64) {
         // SAFETY: every kernel reads only the entries its layout names, which the compiler
         // bounds by the system's dimensions (checked equal to `S`, `K`, `N` on instantiation),
-        // and writes exactly as many `f64` as its program has outputs, which is the size of `T`
-        // at the call sites below.
+        // and writes exactly as many `f64` as its program has outputs, which is the size of the
+        // memory at `out` at every call site: the value `call` writes into, or the buffer of
+        // `Backend::residual_jacobian`, sized by the backend checked on instantiation.
         unsafe {
             kernel(
                 self.values.as_ptr(),
@@ -385,10 +524,9 @@ impl<const S: usize, const K: usize, const N: usize> JitSystem<S, K, N> {
                 args[1],
                 args[2],
                 args[3],
-                (&mut out as *mut T).cast::<f64>(),
+                out,
             );
         }
-        out
     }
 
     /// The Legendre map `p = ∂L/∂v (q, v)` of a continuous Lagrangian; `None` for a discrete
@@ -412,6 +550,14 @@ impl<const S: usize, const K: usize, const N: usize> JitSystem<S, K, N> {
             SVector::zeros(),
         );
         Some(e[0])
+    }
+
+    fn side_code(&self, plus: bool) -> &text::Side {
+        if plus {
+            &self.code.system.plus
+        } else {
+            &self.code.system.minus
+        }
     }
 
     fn side(&self, plus: bool) -> &SideKernels {
@@ -447,8 +593,8 @@ impl<const S: usize, const K: usize, const N: usize> JitSystem<S, K, N> {
     }
 }
 
-impl<const S: usize, const K: usize, const N: usize> DiscreteLagrangian<S, K, N>
-    for JitSystem<S, K, N>
+impl<const S: usize, const K: usize, const N: usize, B: Backend<N>> DiscreteLagrangian<S, K, N>
+    for JitSystem<S, K, N, B>
 {
     /// Placeholders: a system given at run time has its names in [`Code::system`] and says
     /// them through `shape_names`, `group_names` and `parameter_names`, which is what output
@@ -522,13 +668,13 @@ impl<const S: usize, const K: usize, const N: usize> DiscreteLagrangian<S, K, N>
 /// `Reduced<Plus>` and `Reduced<Minus>`: the same calls on each side's kernels.
 macro_rules! reduced_impl {
     ($side:ty, $plus:expr) => {
-        impl<const S: usize, const K: usize, const N: usize> Reduced<$side, S, K, N>
-            for JitSystem<S, K, N>
+        impl<const S: usize, const K: usize, const N: usize, B: Backend<N>> Reduced<$side, S, K, N>
+            for JitSystem<S, K, N, B>
         {
-            type Linear = Lu<N>;
+            type Linear = B::Linear;
 
-            fn linear_solver(&self) -> Lu<N> {
-                Lu::empty()
+            fn linear_solver(&self) -> B::Linear {
+                B::solver(&self.side_code($plus).stepper)
             }
 
             fn reduced_lagrangian(
@@ -560,16 +706,14 @@ macro_rules! reduced_impl {
                 w_k: &SVector<f64, S>,
                 mu_k: &SVector<f64, K>,
                 z: &SVector<f64, N>,
-            ) -> (SVector<f64, N>, SMatrix<f64, N, N>) {
-                let rj = self.call(
-                    self.side($plus).stepper.residual_jacobian,
-                    Self::reduced_args(x_k, w_k, mu_k, z),
-                    ResidualJacobian {
-                        r: SVector::zeros(),
-                        j: SMatrix::zeros(),
-                    },
-                );
-                (rj.r, rj.j)
+            ) -> (SVector<f64, N>, <B::Linear as LinearSolver>::Matrix) {
+                B::residual_jacobian(&self.side_code($plus).stepper, |out| {
+                    self.call_into(
+                        self.side($plus).stepper.residual_jacobian,
+                        Self::reduced_args(x_k, w_k, mu_k, z),
+                        out,
+                    )
+                })
             }
 
             fn momentum(&self, x_k: &SVector<f64, S>, z: &SVector<f64, N>) -> SVector<f64, S> {
@@ -693,11 +837,13 @@ macro_rules! reduced_impl {
 reduced_impl!(Plus, true);
 reduced_impl!(Minus, false);
 
-impl<const S: usize, const K: usize, const N: usize> Unreduced<S, K, N> for JitSystem<S, K, N> {
-    type UnreducedLinear = Lu<N>;
+impl<const S: usize, const K: usize, const N: usize, B: Backend<N>> Unreduced<S, K, N>
+    for JitSystem<S, K, N, B>
+{
+    type UnreducedLinear = B::Linear;
 
-    fn unreduced_linear_solver(&self) -> Lu<N> {
-        Lu::empty()
+    fn unreduced_linear_solver(&self) -> B::Linear {
+        B::solver(&self.code.system.unreduced)
     }
 
     fn unreduced_residual(
@@ -718,16 +864,14 @@ impl<const S: usize, const K: usize, const N: usize> Unreduced<S, K, N> for JitS
         q_k: &SVector<f64, N>,
         p_k: &SVector<f64, N>,
         z: &SVector<f64, N>,
-    ) -> (SVector<f64, N>, SMatrix<f64, N, N>) {
-        let rj = self.call(
-            self.code.kernels.unreduced.residual_jacobian,
-            [q_k.as_ptr(), p_k.as_ptr(), z.as_ptr(), UNUSED],
-            ResidualJacobian {
-                r: SVector::zeros(),
-                j: SMatrix::zeros(),
-            },
-        );
-        (rj.r, rj.j)
+    ) -> (SVector<f64, N>, <B::Linear as LinearSolver>::Matrix) {
+        B::residual_jacobian(&self.code.system.unreduced, |out| {
+            self.call_into(
+                self.code.kernels.unreduced.residual_jacobian,
+                [q_k.as_ptr(), p_k.as_ptr(), z.as_ptr(), UNUSED],
+                out,
+            )
+        })
     }
 
     fn unreduced_momentum(&self, q_k: &SVector<f64, N>, z: &SVector<f64, N>) -> SVector<f64, N> {

@@ -26,6 +26,11 @@ fn function(source: &str, name: &str) -> String {
 
 const PAPER: &str = include_str!("../../src/paper.rs");
 const KEPLER: &str = include_str!("../../src/systems/kepler.rs");
+const TODA: &str = include_str!("../../examples/common/toda.rs");
+
+/// The compiled-in 200-particle Toda lattice of the examples (sparse backend).
+#[path = "../../examples/common/toda.rs"]
+mod toda;
 
 fn code(source: &str, name: &str) -> Arc<Code> {
     compile(&function(source, name)).unwrap_or_else(|e| panic!("{name}:\n{e}"))
@@ -196,6 +201,36 @@ fn forces_and_a_feedback_control_step_bit_for_bit() {
         .unwrap();
     same(&a.states, &b.states, "forced (+)");
     assert_ne!(a.last().mu, start.mu, "the torque changes μ");
+}
+
+/// A system of 200 coordinates: the text gets the attribute's sparse backend — the Jacobian's
+/// structural nonzeros, factored by the same sparse LU (same ordering, same pivots) — and steps
+/// bit for bit as the compiled-in lattice, reduced on both sides and unreduced.
+#[test]
+fn the_200_particle_lattice_steps_bit_for_bit_on_the_sparse_backend() {
+    let code = code(TODA, "toda");
+    let pattern = code.system().plus.stepper.pattern.as_ref().expect("sparse");
+    assert_eq!(pattern.col_ptr.len(), toda::N + 1);
+    let compiled = toda::Toda {
+        m: 1.0,
+        d: 1.0,
+        h: 0.05,
+    };
+    let jit = code
+        .instantiate_sparse_named::<199, 1, 200>(&[("m", 1.0), ("d", 1.0), ("h", 0.05)])
+        .unwrap();
+    let start = toda::initial(&compiled, 0.1, 0.3, 0.05);
+    same_runs(compiled, jit, start, 100);
+    // The dense backend is refused at this size, and the sparse one below it.
+    let e = code
+        .instantiate::<199, 1, 200>(&[1.0, 1.0, 0.05])
+        .unwrap_err();
+    assert!(e.to_string().contains("instantiate_sparse"), "{e}");
+    let kepler = self::code(KEPLER, "kepler");
+    let e = kepler
+        .instantiate_sparse::<1, 1, 2>(&[0.01, 1.0])
+        .unwrap_err();
+    assert!(e.to_string().contains("with `instantiate`"), "{e}");
 }
 
 /// Instantiation checks the dimensions and the parameters against the text's.

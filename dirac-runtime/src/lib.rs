@@ -94,7 +94,7 @@ pub use prelude::*;
 
 // The paths the emitted code names (`::dirac::runtime::Lu`, ...): the backends live in `linalg`.
 #[doc(hidden)]
-pub use linalg::{CscPattern, CscValues, Lu, SparseLu, DENSE_MAX};
+pub use linalg::{CscBuffer, CscPattern, CscValues, Lu, PatternLu, SparseLu, DENSE_MAX};
 
 /// Re-exported so that emitted code and users name the same nalgebra.
 pub use nalgebra;

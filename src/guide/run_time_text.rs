@@ -77,7 +77,9 @@
 //!
 //! ## Limits
 //!
-//! Systems on vector spaces of at most 16 coordinates and 32 parameters. Systems on rotation
+//! Systems on vector spaces (of more than 16 coordinates on the sparse backend, as compiled in:
+//! `instantiate_sparse::<S, K, N>`, and the 200-particle lattice steps bit for bit as its
+//! compiled-in version) with at most 32 parameters. Systems on rotation
 //! groups, element-wise systems sized at run time, constraints, adaptive steps and step
 //! sensitivities are compiled in with the attribute: the text front end says so at the token
 //! that asks for them.

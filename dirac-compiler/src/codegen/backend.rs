@@ -140,6 +140,43 @@ pub fn stepper_fns(
     }
 }
 
+/// The structurally nonzero entries of a square Jacobian (those the graph does not fold to the
+/// constant 0) in compressed sparse columns: column `j` holds rows
+/// `row_idx[col_ptr[j]..col_ptr[j + 1]]`, increasing, with the nodes `values` in the same order.
+/// The sparse backend's pattern and values, for the attribute and for the run-time front end.
+pub struct Csc {
+    /// Column starts, `n + 1` of them.
+    pub col_ptr: Vec<usize>,
+    /// The row of each entry.
+    pub row_idx: Vec<usize>,
+    /// The node of each entry.
+    pub values: Vec<NodeId>,
+}
+
+impl Csc {
+    /// The pattern and values of `jacobian` (row by row: `jacobian[row][col]`).
+    pub fn of(g: &Graph, jacobian: &[Vec<NodeId>]) -> Csc {
+        let n = jacobian.len();
+        let mut col_ptr = vec![0usize; n + 1];
+        let (mut row_idx, mut values) = (Vec::new(), Vec::new());
+        for col in 0..n {
+            for (row, cols) in jacobian.iter().enumerate() {
+                let node = cols[col];
+                if g.as_const(node) != Some(0.0) {
+                    row_idx.push(row);
+                    values.push(node);
+                }
+            }
+            col_ptr[col + 1] = row_idx.len();
+        }
+        Csc {
+            col_ptr,
+            row_idx,
+            values,
+        }
+    }
+}
+
 /// The straight-line code of a residual `R` (`n` entries) and its Jacobian in the backend the
 /// size calls for (see [`DENSE_MAX`]), with the backend's types.
 pub struct ResidualJacobian {
@@ -166,40 +203,31 @@ pub fn residual_jacobian(
 ) -> ResidualJacobian {
     let na = quote!(::dirac::nalgebra);
     let mut roots = residual.to_vec();
-    let mut entries: Vec<(usize, usize)> = Vec::new();
-    for (row, cols) in jacobian.iter().enumerate() {
-        for (col, &node) in cols.iter().enumerate() {
-            if g.as_const(node) != Some(0.0) {
-                entries.push((row, col));
-                roots.push(node);
-            }
-        }
-    }
     // The sparse backend stores the entries column by column (compressed sparse columns).
     let sparse = n > DENSE_MAX;
+    let mut entries: Vec<(usize, usize)> = Vec::new();
+    let mut csc_pattern = None;
     if sparse {
-        let mut order: Vec<usize> = (0..entries.len()).collect();
-        order.sort_by_key(|&i| (entries[i].1, entries[i].0));
-        let jac_roots: Vec<NodeId> = order.iter().map(|&i| roots[n + i]).collect();
-        roots.truncate(n);
-        roots.extend(jac_roots);
-        entries = order.iter().map(|&i| entries[i]).collect();
+        let csc = Csc::of(g, jacobian);
+        roots.extend(&csc.values);
+        csc_pattern = Some((csc.col_ptr, csc.row_idx));
+    } else {
+        for (row, cols) in jacobian.iter().enumerate() {
+            for (col, &node) in cols.iter().enumerate() {
+                if g.as_const(node) != Some(0.0) {
+                    entries.push((row, col));
+                    roots.push(node);
+                }
+            }
+        }
     }
     let rj = straight_line(g, &roots, leaf);
     let rj_stmts = &rj.stmts;
     let rj_r = &rj.outputs[..n];
     let rt = quote!(::dirac::runtime);
-    let nnz = entries.len();
-    let (jacobian_value, backend, solver_new) = if sparse {
+    let nnz = roots.len() - n;
+    let (jacobian_value, backend, solver_new) = if let Some((col_ptr, row_idx)) = csc_pattern {
         let values = &rj.outputs[n..];
-        let mut col_ptr = vec![0usize; n + 1];
-        for &(_, col) in &entries {
-            col_ptr[col + 1] += 1;
-        }
-        for c in 0..n {
-            col_ptr[c + 1] += col_ptr[c];
-        }
-        let row_idx = entries.iter().map(|&(row, _)| row);
         (
             quote! { #rt::CscValues([ #( #values ),* ]) },
             Backend::Sparse { nnz },

@@ -8,7 +8,7 @@
 //! `a = ..; b = ..;`), and its nesting depth is the number of chunks; smaller functions (the
 //! paper's systems) keep one readable `let` per operation.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
@@ -29,10 +29,10 @@ pub fn straight_line(
     outputs: &[NodeId],
     leaf: &dyn Fn(Sym) -> TokenStream,
 ) -> StraightLine {
-    let mut expr: HashMap<NodeId, TokenStream> = HashMap::new();
+    let mut expr: HashMap<NodeId, TokenStream> = HashMap::default();
     let mut bindings: Vec<(Ident, TokenStream)> = Vec::new();
     let mut operations = 0;
-    let mut bound_leaves: HashMap<Sym, Ident> = HashMap::new();
+    let mut bound_leaves: HashMap<Sym, Ident> = HashMap::default();
     for id in g.cone(outputs) {
         let e = |n: NodeId| expr[&n].clone();
         let node = g.node(id);

@@ -10,7 +10,7 @@
 //! give second derivatives (forward over reverse), symmetric ones one triangle at a time
 //! ([`symmetric_jacobian`]).
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 use crate::ir::graph::{Fun, Graph, Node, NodeId, Sym};
 
@@ -18,7 +18,7 @@ use crate::ir::graph::{Fun, Graph, Node, NodeId, Sym};
 pub fn derivatives(g: &mut Graph, roots: &[NodeId], seed: Sym) -> Vec<NodeId> {
     let zero = g.constant(0.0);
     let one = g.constant(1.0);
-    let mut tangent: HashMap<NodeId, NodeId> = HashMap::new();
+    let mut tangent: HashMap<NodeId, NodeId> = HashMap::default();
     for id in g.cone(roots) {
         let t = |n: NodeId| tangent[&n];
         let dt = match g.node(id) {
@@ -139,8 +139,9 @@ pub fn gradient(g: &mut Graph, root: NodeId, wrt: &[Sym]) -> Vec<NodeId> {
     let one = g.constant(1.0);
     let cone = g.cone(&[root]);
     // Nodes that depend on a symbol of `wrt`: only they carry (nonzero) adjoints.
-    let mut active: HashMap<NodeId, bool> = HashMap::with_capacity(cone.len());
-    let mut leaf: HashMap<Sym, NodeId> = HashMap::new();
+    let mut active: HashMap<NodeId, bool> =
+        HashMap::with_capacity_and_hasher(cone.len(), Default::default());
+    let mut leaf: HashMap<Sym, NodeId> = HashMap::default();
     for &id in &cone {
         let node = g.node(id);
         let a = match node {
@@ -154,15 +155,15 @@ pub fn gradient(g: &mut Graph, root: NodeId, wrt: &[Sym]) -> Vec<NodeId> {
         active.insert(id, a);
     }
     // Contributions `(b, f)`, each worth `b · f`.
-    let mut parts: HashMap<NodeId, Vec<(NodeId, NodeId)>> = HashMap::new();
+    let mut parts: HashMap<NodeId, Vec<(NodeId, NodeId)>> = HashMap::default();
     if active[&root] {
         parts.insert(root, vec![(one, one)]);
     }
     // The contributions reaching each leaf; the contributions a sum of adjoints was formed from,
     // by the sum's node; and how many lists (those, and the leaves') each adjoint appears in.
-    let mut leaf_terms: HashMap<NodeId, Vec<(NodeId, NodeId)>> = HashMap::new();
-    let mut terms: HashMap<NodeId, Vec<(NodeId, NodeId)>> = HashMap::new();
-    let mut uses: HashMap<NodeId, usize> = HashMap::new();
+    let mut leaf_terms: HashMap<NodeId, Vec<(NodeId, NodeId)>> = HashMap::default();
+    let mut terms: HashMap<NodeId, Vec<(NodeId, NodeId)>> = HashMap::default();
+    let mut uses: HashMap<NodeId, usize> = HashMap::default();
     for &id in cone.iter().rev() {
         let Some(contributions) = parts.remove(&id) else {
             continue;

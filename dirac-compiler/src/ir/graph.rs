@@ -3,7 +3,7 @@
 //! (`x + 0`, `x · 1`, `x · 0`, `−(−x)`, `x − x`, …); they never reassociate, so the emitted code
 //! rounds exactly as the expression the user wrote (up to these identities).
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 /// Index of a node; children always have smaller indices than their parents, so index order is
 /// a topological order.
@@ -364,7 +364,7 @@ impl Graph {
         root: NodeId,
         map: &mut dyn FnMut(&mut Graph, Sym) -> NodeId,
     ) -> NodeId {
-        let mut memo: HashMap<NodeId, NodeId> = HashMap::new();
+        let mut memo: HashMap<NodeId, NodeId> = HashMap::default();
         for id in self.cone(&[root]) {
             let new = match self.node(id) {
                 Node::Const(_) => id,
@@ -423,7 +423,7 @@ impl Graph {
     /// Evaluates nodes numerically (compile-time checks and the compiler's own tests).
     #[allow(dead_code)]
     pub fn eval(&self, roots: &[NodeId], sym: &dyn Fn(Sym) -> f64) -> Vec<f64> {
-        let mut value: HashMap<NodeId, f64> = HashMap::new();
+        let mut value: HashMap<NodeId, f64> = HashMap::default();
         for id in self.cone(roots) {
             let v = |n: NodeId| value[&n];
             let x = match self.node(id) {

@@ -362,6 +362,131 @@ impl<const N: usize, const NNZ: usize> LinearSolver for SparseLu<N, NNZ> {
     delegate_to_factors!();
 }
 
+/// The values of a sparse Jacobian whose pattern is known only at run time, after `start`
+/// leading entries (the residual, which a system's kernel writes into the same buffer): the
+/// [`LinearSolver::Matrix`] of [`PatternLu`]. The memory comes from a small per-thread pool and
+/// returns to it when the value is dropped, so after a run's first Jacobian no evaluation
+/// allocates.
+pub struct CscBuffer {
+    data: Vec<f64>,
+    start: usize,
+}
+
+thread_local! {
+    /// Buffers of dropped [`CscBuffer`]s, reused by the next ones on this thread.
+    static CSC_POOL: std::cell::RefCell<Vec<Vec<f64>>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// The most buffers a thread keeps for reuse (a Newton step holds one or two at a time).
+const CSC_POOL_MAX: usize = 4;
+
+impl CscBuffer {
+    /// A zeroed buffer of `len` entries whose values start at `start`, from this thread's pool
+    /// when it has one.
+    pub fn zeroed(len: usize, start: usize) -> Self {
+        assert!(start <= len, "dirac: a CSC buffer's values start inside it");
+        let mut data = CSC_POOL
+            .with(|pool| pool.borrow_mut().pop())
+            .unwrap_or_default();
+        data.clear();
+        data.resize(len, 0.0);
+        Self { data, start }
+    }
+
+    /// The whole buffer, the leading entries included: what a kernel writes.
+    pub fn as_mut_slice(&mut self) -> &mut [f64] {
+        &mut self.data
+    }
+
+    /// The leading entries (before the values).
+    pub fn leading(&self) -> &[f64] {
+        &self.data[..self.start]
+    }
+
+    /// The Jacobian's values, in the pattern's order.
+    pub fn values(&self) -> &[f64] {
+        &self.data[self.start..]
+    }
+}
+
+impl Drop for CscBuffer {
+    fn drop(&mut self) {
+        let data = std::mem::take(&mut self.data);
+        // A thread being torn down has no pool left: the memory is then simply freed.
+        let _ = CSC_POOL.try_with(|pool| {
+            let mut pool = pool.borrow_mut();
+            if pool.len() < CSC_POOL_MAX {
+                pool.push(data);
+            }
+        });
+    }
+}
+
+impl std::fmt::Debug for CscBuffer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("CscBuffer")
+            .field("values", &self.values())
+            .finish()
+    }
+}
+
+/// [`SparseLu`]'s factorization — the same ordering, pivoting and conditioning bound, so the
+/// same results — on a pattern known only at run time, with fixed-size vectors: the backend of
+/// a large system given as text, whose pattern arrives with its compiled code. The Jacobian is a
+/// [`CscBuffer`].
+pub struct PatternLu<const N: usize> {
+    factors: Factors,
+}
+
+impl<const N: usize> std::fmt::Debug for PatternLu<N> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("PatternLu")
+            .field("n", &N)
+            .field("nnz", &self.factors.pattern.row_idx().len())
+            .field("factored", &self.factors.factored)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<const N: usize> PatternLu<N> {
+    /// The workspace for `N × N` Jacobians whose column `j` has the sorted, distinct rows
+    /// `row_idx[col_ptr[j]..col_ptr[j + 1]]`, or `None` if the arrays do not describe one.
+    pub fn new(col_ptr: &[usize], row_idx: &[usize]) -> Option<Self> {
+        let valid = col_ptr.len() == N + 1
+            && col_ptr[0] == 0
+            && col_ptr[N] == row_idx.len()
+            && col_ptr.windows(2).all(|w| w[0] <= w[1])
+            && (0..N).all(|j| {
+                let rows = &row_idx[col_ptr[j]..col_ptr[j + 1]];
+                rows.iter().all(|&r| r < N) && rows.windows(2).all(|w| w[0] < w[1])
+            });
+        valid.then(|| Self {
+            factors: Factors::new(N, col_ptr, row_idx),
+        })
+    }
+}
+
+impl<const N: usize> LinearSolver for PatternLu<N> {
+    type Vector = SVector<f64, N>;
+    type Matrix = CscBuffer;
+
+    fn factor(&mut self, j: &CscBuffer) -> Result<(), FactorError> {
+        self.factors.factor(j.values())
+    }
+
+    fn solve(&mut self, b: &SVector<f64, N>) -> SVector<f64, N> {
+        let mut x = *b;
+        self.factors.solve_in_place(x.as_mut_slice(), false);
+        x
+    }
+
+    fn solve_in_place(&mut self, b: &mut SVector<f64, N>) {
+        self.factors.solve_in_place(b.as_mut_slice(), false);
+    }
+
+    delegate_to_factors!();
+}
+
 /// The sparse LU on a pattern built at run time: the backend of systems whose size is chosen at
 /// run time (element-wise systems, [`crate::element`]), whose step Jacobian's pattern is
 /// assembled once per run from the element stencils. Vectors are `DVector`s and the Jacobian is
@@ -569,6 +694,35 @@ mod tests {
                 "bound {bound:e} vs exact {exact:e}"
             );
         }
+    }
+
+    /// The pattern given at run time factors and solves exactly as the compile-time one (the
+    /// same ordering, pivots and bound), and its buffers come back to the thread's pool.
+    #[test]
+    fn a_pattern_given_at_run_time_factors_as_the_static_one() {
+        assert!(PatternLu::<6>::new(&[0, 1], &[0]).is_none(), "wrong size");
+        assert!(
+            PatternLu::<2>::new(&[0, 2, 3], &[1, 0, 1]).is_none(),
+            "unsorted rows"
+        );
+        let mut fixed = SparseLu::<6, 26>::new(&PATTERN);
+        let mut given = PatternLu::<6>::new(PATTERN.col_ptr, PATTERN.row_idx).unwrap();
+        let v = values();
+        let mut buffer = CscBuffer::zeroed(6 + 26, 6);
+        buffer.as_mut_slice()[6..].copy_from_slice(&v.0);
+        assert_eq!(buffer.leading(), &[0.0; 6]);
+        fixed.factor(&v).unwrap();
+        given.factor(&buffer).unwrap();
+        let b = SVector::<f64, 6>::from_fn(|i, _| (i as f64 + 1.0).cos());
+        assert_eq!(fixed.solve(&b), given.solve(&b));
+        assert_eq!(fixed.rcond_lower_bound(), given.rcond_lower_bound());
+        assert_eq!(fixed.rcond(), given.rcond());
+        // The memory of a dropped buffer is the next one's.
+        let address = buffer.values().as_ptr();
+        drop(buffer);
+        let again = CscBuffer::zeroed(6 + 26, 6);
+        assert_eq!(again.values().as_ptr(), address);
+        assert!(again.values().iter().all(|&x| x == 0.0));
     }
 
     #[test]
