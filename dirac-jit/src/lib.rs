@@ -27,7 +27,7 @@
 //!
 //! A system given as text steps as its compiled-in version does, bit for bit when the operations
 //! are the same and in the same order — here Kepler's problem against the facade's
-//! [`Kepler`](dirac::systems::kepler::Kepler):
+//! `Kepler` (`dirac::systems::kepler::Kepler`):
 //!
 //! ```
 //! use dirac::prelude::*;
