@@ -22,7 +22,8 @@
 //! checked against the text's (`S = 1`, `K = 1`, `N = 2`). From the same start it steps bit for
 //! bit as [`Kepler`](crate::systems::kepler::Kepler), the compiled-in version. The crate's own
 //! documentation runs this comparison and the examples below as doctests (`dirac-jit` is a
-//! workspace of its own, so the main test command does not build Cranelift; `.ci/run` tests it).
+//! member of `dirac-io`'s workspace, not the root one, so the main test command does not build
+//! Cranelift; `.ci/run` tests it).
 //!
 //! `compile` accepts one function carrying `#[reduced_lagrangian(..)]`, alone or in a whole Rust
 //! file (other items are ignored). [`Code::system`](https://docs.rs/dirac-jit) holds what the
