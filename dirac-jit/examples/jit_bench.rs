@@ -49,11 +49,104 @@ fn arg(name: &str, default: usize) -> usize {
         .map_or(default, |v| v.parse().expect("a number"))
 }
 
-/// Seconds per step of `run`, over `steps` steps.
-fn time(steps: usize, run: impl FnOnce()) -> f64 {
+/// Seconds per step of a streamed reduced (+) run of `sys` from `start`, over `steps` steps.
+fn stream_time<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    start: ReducedState<S, K>,
+    steps: usize,
+) -> f64
+where
+    L: Reduced<Plus, S, K, N> + Clone,
+{
     let t = Instant::now();
-    run();
+    let s = ReducedIntegrator::plus(sys.clone(), NewtonOptions::default())
+        .run(start)
+        .steps(steps)
+        .stream();
+    std::hint::black_box(s.expect("the run completes"));
     t.elapsed().as_secs_f64() / steps as f64
+}
+
+/// Per round: the compile time, the seconds per step given at run time and compiled in, and
+/// their ratio.
+struct Rounds {
+    compile: Vec<f64>,
+    jit_t: Vec<f64>,
+    aot_t: Vec<f64>,
+    ratio: Vec<f64>,
+}
+
+/// `rounds` rounds, each compiling `text`, instantiating it with `instantiate` and timing its
+/// steps from `start` and those of the compiled-in `aot`, the one given at run time first in
+/// even rounds.
+fn against_compiled_in<J, L, const S: usize, const K: usize, const N: usize>(
+    text: &str,
+    rounds: usize,
+    instantiate: impl Fn(&std::sync::Arc<dirac_jit::Code>) -> Result<J, dirac_jit::Error>,
+    aot: &L,
+    start: ReducedState<S, K>,
+    steps: usize,
+) -> Result<Rounds, dirac_jit::Error>
+where
+    J: Reduced<Plus, S, K, N> + Clone,
+    L: Reduced<Plus, S, K, N> + Clone,
+{
+    let mut r = Rounds {
+        compile: vec![],
+        jit_t: vec![],
+        aot_t: vec![],
+        ratio: vec![],
+    };
+    for round in 0..rounds {
+        let code = dirac_jit::compile(text)?;
+        r.compile.push(code.compile_time().as_secs_f64());
+        let jit = instantiate(&code)?;
+        let (j, a) = if round.is_multiple_of(2) {
+            let j = stream_time(&jit, start, steps);
+            (j, stream_time(aot, start, steps))
+        } else {
+            let a = stream_time(aot, start, steps);
+            (stream_time(&jit, start, steps), a)
+        };
+        r.jit_t.push(j);
+        r.aot_t.push(a);
+        r.ratio.push(j / a);
+    }
+    Ok(r)
+}
+
+/// The medians of [`Rounds`], with the fastest compilation and the spread of the ratios.
+struct Summary {
+    compile: f64,
+    compile_min: f64,
+    jit: f64,
+    aot: f64,
+    ratio: f64,
+    ratio_min: f64,
+    ratio_max: f64,
+}
+
+impl Rounds {
+    fn summary(mut self) -> Summary {
+        let (ratio_min, ratio_max) = range(&self.ratio);
+        Summary {
+            compile_min: range(&self.compile).0,
+            compile: median(&mut self.compile),
+            jit: median(&mut self.jit_t),
+            aot: median(&mut self.aot_t),
+            ratio: median(&mut self.ratio),
+            ratio_min,
+            ratio_max,
+        }
+    }
+}
+
+/// The smallest and largest of `v`.
+fn range(v: &[f64]) -> (f64, f64) {
+    (
+        v.iter().copied().fold(f64::INFINITY, f64::min),
+        v.iter().copied().fold(0.0, f64::max),
+    )
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -63,49 +156,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("{rounds} rounds of {steps} steps; medians, with the min–max of per-round ratios");
     // The double spherical pendulum.
     let text = function(PAPER, "double_spherical_pendulum");
-    let (mut compile, mut jit_t, mut aot_t, mut ratio) = (vec![], vec![], vec![], vec![]);
-    for round in 0..rounds {
-        let code = dirac_jit::compile(&text)?;
-        compile.push(code.compile_time().as_secs_f64());
-        let aot = DoubleSphericalPendulum::paper();
-        let jit = code.instantiate::<3, 1, 4>(&aot.parameter_values())?;
-        let start = DoubleSphericalPendulum::paper_initial_state();
-        let run_jit = || {
-            let s = ReducedIntegrator::plus(jit.clone(), opts)
-                .run(start)
-                .steps(steps)
-                .stream();
-            std::hint::black_box(s.expect("the run completes"));
-        };
-        let run_aot = || {
-            let s = ReducedIntegrator::plus(aot, opts)
-                .run(start)
-                .steps(steps)
-                .stream();
-            std::hint::black_box(s.expect("the run completes"));
-        };
-        let (j, a) = if round % 2 == 0 {
-            let j = time(steps, run_jit);
-            (j, time(steps, run_aot))
-        } else {
-            let a = time(steps, run_aot);
-            (time(steps, run_jit), a)
-        };
-        jit_t.push(j);
-        aot_t.push(a);
-        ratio.push(j / a);
-    }
-    let (lo, hi) = (
-        ratio.iter().copied().fold(f64::INFINITY, f64::min),
-        ratio.iter().copied().fold(0.0, f64::max),
-    );
+    let aot = DoubleSphericalPendulum::paper();
+    let r = against_compiled_in(
+        &text,
+        rounds,
+        |code| code.instantiate::<3, 1, 4>(&aot.parameter_values()),
+        &aot,
+        DoubleSphericalPendulum::paper_initial_state(),
+        steps,
+    )?
+    .summary();
     println!(
-        "double spherical pendulum: text → machine code {:.1} ms (min {:.1}); step {:.2} µs given at run time, {:.2} µs compiled in: ratio {:.2} ({lo:.2}–{hi:.2})",
-        median(&mut compile.clone()) * 1e3,
-        compile.iter().copied().fold(f64::INFINITY, f64::min) * 1e3,
-        median(&mut jit_t) * 1e6,
-        median(&mut aot_t) * 1e6,
-        median(&mut ratio),
+        "double spherical pendulum: text → machine code {:.1} ms (min {:.1}); step {:.2} µs given at run time, {:.2} µs compiled in: ratio {:.2} ({:.2}–{:.2})",
+        r.compile * 1e3,
+        r.compile_min * 1e3,
+        r.jit * 1e6,
+        r.aot * 1e6,
+        r.ratio,
+        r.ratio_min,
+        r.ratio_max,
     );
     // A collected run of 10⁴ steps of the text's system, what a Python `run` wraps
     // (dirac-py/examples/overhead.py times that).
@@ -148,20 +217,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let code = dirac_jit::compile(&text)?;
     let jit = code.instantiate::<3, 1, 4>(&aot.parameter_values())?;
     let start = ChargedParticle::paper_initial_state();
-    let j = time(steps, || {
-        let s = ReducedIntegrator::plus(jit, opts)
-            .run(start)
-            .steps(steps)
-            .stream();
-        std::hint::black_box(s.expect("the run completes"));
-    });
-    let a = time(steps, || {
-        let s = ReducedIntegrator::plus(aot, opts)
-            .run(start)
-            .steps(steps)
-            .stream();
-        std::hint::black_box(s.expect("the run completes"));
-    });
+    let j = stream_time(&jit, start, steps);
+    let a = stream_time(&aot, start, steps);
     println!(
         "charged particle: text → machine code {:.1} ms; step {:.3} µs given at run time, {:.3} µs compiled in (one round: ratio {:.2})",
         median(&mut compile) * 1e3,
@@ -183,52 +240,23 @@ fn lattice(rounds: usize, steps: usize) -> Result<(), Box<dyn std::error::Error>
         d: 1.0,
         h: 0.05,
     };
-    let start = toda::initial(&aot, 0.1, 0.3, 0.05);
-    let opts = NewtonOptions::default();
-    let (mut compile, mut jit_t, mut aot_t, mut ratio) = (vec![], vec![], vec![], vec![]);
-    for round in 0..rounds {
-        let code = dirac_jit::compile(&text)?;
-        compile.push(code.compile_time().as_secs_f64());
-        let jit = code.instantiate_sparse::<199, 1, 200>(&[1.0, 1.0, 0.05])?;
-        let run_jit = || {
-            time(steps, || {
-                let s = ReducedIntegrator::plus(jit.clone(), opts)
-                    .run(start)
-                    .steps(steps)
-                    .stream();
-                std::hint::black_box(s.expect("the run completes"));
-            })
-        };
-        let run_aot = || {
-            time(steps, || {
-                let s = ReducedIntegrator::plus(aot, opts)
-                    .run(start)
-                    .steps(steps)
-                    .stream();
-                std::hint::black_box(s.expect("the run completes"));
-            })
-        };
-        let (j, a) = if round % 2 == 0 {
-            let j = run_jit();
-            (j, run_aot())
-        } else {
-            let a = run_aot();
-            (run_jit(), a)
-        };
-        jit_t.push(j);
-        aot_t.push(a);
-        ratio.push(j / a);
-    }
-    let (lo, hi) = (
-        ratio.iter().copied().fold(f64::INFINITY, f64::min),
-        ratio.iter().copied().fold(0.0, f64::max),
-    );
+    let r = against_compiled_in(
+        &text,
+        rounds,
+        |code| code.instantiate_sparse::<199, 1, 200>(&[1.0, 1.0, 0.05]),
+        &aot,
+        toda::initial(&aot, 0.1, 0.3, 0.05),
+        steps,
+    )?
+    .summary();
     println!(
-        "200-particle Toda lattice (sparse backend): text → machine code {:.0} ms; step {:.1} µs given at run time, {:.1} µs compiled in: ratio {:.2} ({lo:.2}–{hi:.2})",
-        median(&mut compile) * 1e3,
-        median(&mut jit_t) * 1e6,
-        median(&mut aot_t) * 1e6,
-        median(&mut ratio),
+        "200-particle Toda lattice (sparse backend): text → machine code {:.0} ms; step {:.1} µs given at run time, {:.1} µs compiled in: ratio {:.2} ({:.2}–{:.2})",
+        r.compile * 1e3,
+        r.jit * 1e6,
+        r.aot * 1e6,
+        r.ratio,
+        r.ratio_min,
+        r.ratio_max,
     );
     Ok(())
 }

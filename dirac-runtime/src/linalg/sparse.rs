@@ -316,9 +316,20 @@ impl<const N: usize, const NNZ: usize> SparseLu<N, NNZ> {
     }
 }
 
-/// The [`LinearSolver`] methods of a backend that delegates to [`Factors`] in `self.factors`.
+/// The [`LinearSolver`] methods of a backend on `SVector<f64, N>` that delegates to [`Factors`]
+/// in `self.factors`.
 macro_rules! delegate_to_factors {
     () => {
+        fn solve(&mut self, b: &SVector<f64, N>) -> SVector<f64, N> {
+            let mut x = *b;
+            self.factors.solve_in_place(x.as_mut_slice(), false);
+            x
+        }
+
+        fn solve_in_place(&mut self, b: &mut SVector<f64, N>) {
+            self.factors.solve_in_place(b.as_mut_slice(), false);
+        }
+
         fn norm1(&self) -> f64 {
             self.factors.norm1
         }
@@ -347,16 +358,6 @@ impl<const N: usize, const NNZ: usize> LinearSolver for SparseLu<N, NNZ> {
 
     fn factor(&mut self, j: &CscValues<NNZ>) -> Result<(), FactorError> {
         self.factors.factor(&j.0)
-    }
-
-    fn solve(&mut self, b: &SVector<f64, N>) -> SVector<f64, N> {
-        let mut x = *b;
-        self.factors.solve_in_place(x.as_mut_slice(), false);
-        x
-    }
-
-    fn solve_in_place(&mut self, b: &mut SVector<f64, N>) {
-        self.factors.solve_in_place(b.as_mut_slice(), false);
     }
 
     delegate_to_factors!();
@@ -472,16 +473,6 @@ impl<const N: usize> LinearSolver for PatternLu<N> {
 
     fn factor(&mut self, j: &CscBuffer) -> Result<(), FactorError> {
         self.factors.factor(j.values())
-    }
-
-    fn solve(&mut self, b: &SVector<f64, N>) -> SVector<f64, N> {
-        let mut x = *b;
-        self.factors.solve_in_place(x.as_mut_slice(), false);
-        x
-    }
-
-    fn solve_in_place(&mut self, b: &mut SVector<f64, N>) {
-        self.factors.solve_in_place(b.as_mut_slice(), false);
     }
 
     delegate_to_factors!();
