@@ -311,7 +311,14 @@ impl Code {
                 want_n: N,
             });
         }
-        if B::SPARSE != (N > DENSE_MAX) {
+        // The kernels write the Jacobian densely or as the pattern's values: the backend must
+        // be the one the programs were compiled for (memory safety of `call_into` rests on it).
+        let sparse = [&sys.plus, &sys.minus]
+            .iter()
+            .map(|side| &side.stepper)
+            .chain([&sys.unreduced])
+            .any(|stepper| stepper.pattern.is_some());
+        if B::SPARSE != sparse {
             return Err(Error::Backend {
                 name: sys.name.clone(),
                 n: N,
@@ -446,7 +453,12 @@ impl<const N: usize> Backend<N> for Sparse {
         stepper: &text::Stepper,
         kernel: impl FnOnce(*mut f64),
     ) -> (SVector<f64, N>, CscBuffer) {
-        let nnz = stepper.pattern.as_ref().map_or(0, |p| p.row_idx.len());
+        let nnz = stepper
+            .pattern
+            .as_ref()
+            .expect("a system on the sparse backend has sparse steppers (checked on instantiation)")
+            .row_idx
+            .len();
         let mut out = CscBuffer::zeroed(N + nnz, N);
         kernel(out.as_mut_slice().as_mut_ptr());
         (SVector::from_column_slice(out.leading()), out)
