@@ -2,13 +2,15 @@
 //! that the macro reports it with a message saying what was found and what is accepted, and a span
 //! pointing at the offending token.
 //!
-//! Run with `cargo test --workspace --test ui -- --ignored` (`.ci/run` does; the README's test
-//! command leaves it out for time; `--workspace` resolves features as the test command does, so
-//! nothing it built is built again); regenerate the expected output with
-//! `TRYBUILD=overwrite cargo test --workspace --test ui -- --ignored`.
+//! Run with `cargo test --workspace -- --ignored --exact ui` (`.ci/run` does; the README's test
+//! command leaves it out for time). The command selects the same targets as the test command, so
+//! cargo resolves the same features and builds nothing again (`--test ui` alone leaves out the
+//! dev-dependencies of the other members, whose features would rebuild every crate).
+//! Regenerate the expected output with
+//! `TRYBUILD=overwrite cargo test --workspace -- --ignored --exact ui`.
 
 #[test]
-#[ignore = "compiles every case with rustc (about 5 minutes on 2 cores): cargo test --workspace --test ui -- --ignored"]
+#[ignore = "compiles every case with rustc (about 5 minutes on 2 cores): cargo test --workspace -- --ignored --exact ui"]
 fn ui() {
     let t = trybuild::TestCases::new();
     t.compile_fail("tests/ui/*/*.rs");

@@ -33,7 +33,7 @@ pub fn member_file(dir: &Path, i: usize) -> PathBuf {
     dir.join(format!("member-{i:06}.parquet"))
 }
 
-/// Runs `steps` steps from each of `initials` in parallel (as [`Drive::run_ensemble`]) and
+/// Runs `steps` steps from each of `initials` in parallel (as [`Drive::ensemble`]) and
 /// writes every member's states to Parquet as `output` says, with the writer options
 /// `options(member)` (e.g. `|_| Options::new().every(10)`). Returns each member's run result, in
 /// input order: a failed member keeps its typed error here (and in its file's metadata), the

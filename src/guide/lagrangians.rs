@@ -216,8 +216,8 @@
 //! such as `2.0 * PI` are printed as `6.283185307179586`, which `clippy::approx_constant` flags
 //! even inside macro output. A crate under `#![deny(warnings, clippy::all, clippy::pedantic)]`
 //! that uses π, long literals and many parameters builds clean; the workspace checks one
-//! (`tests/lint_clean/`):
+//! (`tests/lint_clean/`, a workspace member):
 //!
 //! ```sh
-//! cargo clippy --manifest-path tests/lint_clean/Cargo.toml --target-dir target -- -D warnings
+//! cargo clippy --workspace -- -D warnings
 //! ```
