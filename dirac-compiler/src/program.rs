@@ -32,6 +32,9 @@ pub enum Leaf {
     Mu(usize),
     /// Parameter `i`, in declaration order.
     Param(usize),
+    /// The Lagrange multiplier `λ_k[j]` of a constrained position step, or `ν_{k+1}[j]` of its
+    /// projection (the unknowns after the configuration or velocity: `z[N + j]`).
+    Lambda(usize),
 }
 
 /// One operation of a [`Program`]; operands are indices of earlier operations.
@@ -155,6 +158,7 @@ fn leaf(sym: Sym) -> Leaf {
         Sym::W(i) => Leaf::W(i),
         Sym::Mu(j) => Leaf::Mu(j),
         Sym::Param(i) => Leaf::Param(i),
+        Sym::Lambda(j) => Leaf::Lambda(j),
         other => unreachable!("the steps of a system on vector spaces do not read {other:?}"),
     }
 }

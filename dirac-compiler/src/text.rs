@@ -26,6 +26,7 @@ use syn::{Attribute, ItemFn};
 use crate::codegen::backend::{Csc, DENSE_MAX};
 use crate::expand::{compile_system, parse, Parsed};
 use crate::ir::compile::{Compiled, SideCode};
+use crate::ir::constraint::ConstrainedCode;
 use crate::ir::reduce::Stepper as StepperCode;
 use crate::program::{program, Program};
 
@@ -68,6 +69,49 @@ pub struct System {
     pub unreduced: Stepper,
     /// For a continuous Lagrangian `L(q, v)`: the Legendre map and the energy.
     pub continuous: Option<Continuous>,
+    /// For a system with constraints (`constraints = |q| [..]` or `nonholonomic = |q, v| [..]`):
+    /// the constrained steps of each form.
+    pub constrained: Option<Constrained>,
+}
+
+/// The constraints of a system and its constrained steps (RATTLE form: a position step on
+/// `z = (q_{k+1}, λ_k)`, then a projection on `y = (v_{k+1}, ν_{k+1})`; the runtime's
+/// `Constrained` trait), for each form of the step: unreduced on `(q, p)`, reduced on each side
+/// on `(x, w, μ, g)`. Both solves of a form have `Z = N + M` unknowns; their Jacobians are dense
+/// up to 16 unknowns and sparse above ([`Stepper::pattern`]).
+#[derive(Clone, Debug)]
+pub struct Constrained {
+    /// The number of constraints `M`.
+    pub m: usize,
+    /// Whether they are holonomic, `φ(q) = 0`, or nonholonomic, `A(q) v = 0`.
+    pub holonomic: bool,
+    /// `φ(q)`: `M` outputs reading `Q0` and parameters (none for nonholonomic constraints).
+    pub constraint: Program,
+    /// The unreduced steps. Position step: leaves `Q0` = `q_k`, `P` = `p_k`, `Q1` and `Lambda`
+    /// = the unknowns `z = (q_{k+1}, λ_k)`; its momentum update is `p̃ = D2 L_d + f_d^+` (`N`
+    /// outputs). Projection: `Q0` = `q_{k+1}`, `P` = `p̃`, `Q1` and `Lambda` = `y = (v, ν)`;
+    /// its update is the projected `p_{k+1}`.
+    pub unreduced: ConstrainedSteps,
+    /// The reduced (+) steps. Position step: leaves `X0` = `x_k`, `W` = `w_k`, `Mu` = `μ_k`,
+    /// `X1`, `U` and `Lambda` = `z = (x_{k+1}, u, λ_k)`; its update is `w̃_{k+1}` (`S` outputs).
+    /// Projection: `Q0` (shape entries only) = `x_{k+1}`, `W` = `w̃_{k+1}`, `Mu` = `μ_{k+1}`,
+    /// `Q1` and `Lambda` = `y`; its update is `(w_{k+1}, μ_{k+1})`.
+    pub plus: ConstrainedSteps,
+    /// The reduced (−) steps, leaves as for [`Self::plus`].
+    pub minus: ConstrainedSteps,
+}
+
+/// The two solves of one form of a constrained step.
+#[derive(Clone, Debug)]
+pub struct ConstrainedSteps {
+    /// The position step.
+    pub position: Stepper,
+    /// `μ_{k+1} − μ_k` of a reduced position step (leaves as the step's): the forces' group
+    /// impulse minus the group component of the constraint impulse; `None` when both vanish
+    /// (then `μ` is copied) and for the unreduced step.
+    pub impulse: Option<Program>,
+    /// The projection.
+    pub projection: Stepper,
 }
 
 /// One side of the reduced equations.
@@ -223,8 +267,8 @@ impl std::error::Error for Error {}
 /// Compiles a system given as text: a function carrying `#[reduced_lagrangian(..)]`, alone or
 /// among other items (a whole Rust file is accepted, as long as one function carries the
 /// attribute). The attribute's keys, the signature and the body are those of the compiled-in
-/// attribute; systems on rotation groups, element-wise systems, constraints and adaptive steps
-/// are compiled in only, and said so here.
+/// attribute, holonomic and nonholonomic constraints included; systems on rotation groups,
+/// element-wise systems and adaptive steps are compiled in only, and said so here.
 pub fn compile(source: &str) -> Result<System, Error> {
     let (attribute, args, func) = find(source).map_err(|e| Error::from_syn(e, source, None))?;
     crate::stack::run(&args, &TokenStream::new(), || {
@@ -298,9 +342,6 @@ fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<System> {
     let Parsed { spec, sig, parsed } = parse(args, func);
     parsed?;
     let (spec, sig) = spec.zip(sig).expect("a clean parse has both");
-    if let Some(c) = &spec.constraints {
-        return Err(compiled_in_only(c, "a system with constraints"));
-    }
     if let Some(a) = &spec.adapt {
         return Err(compiled_in_only(&a.monitor, "adaptive steps"));
     }
@@ -332,7 +373,26 @@ fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<System> {
             legendre: program(&c.graph, &parts.legendre),
             energy: program(&c.graph, &[parts.energy]),
         }),
+        constrained: c.constrained.as_ref().map(|code| constrained(&c, code)),
     })
+}
+
+/// The constrained steps' programs (the attribute's `Constraints` and `Constrained` impls).
+fn constrained(c: &Compiled, code: &ConstrainedCode) -> Constrained {
+    let g = &c.graph;
+    let steps = |(position, projection): (&StepperCode, &StepperCode)| ConstrainedSteps {
+        position: stepper(c, position),
+        impulse: (!position.impulse.is_empty()).then(|| program(g, &position.impulse)),
+        projection: stepper(c, projection),
+    };
+    Constrained {
+        m: code.m,
+        holonomic: code.holonomic,
+        constraint: program(g, &code.phi),
+        unreduced: steps((&code.position, &code.projection)),
+        plus: steps((&code.plus.0, &code.plus.1)),
+        minus: steps((&code.minus.0, &code.minus.1)),
+    }
 }
 
 fn side(c: &Compiled, side: &SideCode) -> Side {
@@ -399,7 +459,7 @@ fn compiled_in_only<T: quote::ToTokens>(at: T, what: &str) -> syn::Error {
         format!(
             "{what} is compiled in with `#[reduced_lagrangian]` in Rust; a system given at run time \
              is one on vector spaces (`shape(..)`, `group(..)` or `coordinates(..)` with `translate(..)`) \
-             with forces and controls"
+             with forces, controls and constraints"
         ),
     )
 }

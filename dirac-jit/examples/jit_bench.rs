@@ -7,7 +7,8 @@
 //!
 //! The double spherical pendulum and the charged particle of the paper (§7), from the text of
 //! the facade's own sources; the 200-particle Toda lattice of the examples (sparse backend); and
-//! a 32-link chain on a cart (compile time). Each round compiles the text once and runs both integrators for
+//! the scaling benchmark's 32-link chain on a cart, in its angles and in maximal coordinates with
+//! one constraint per link (compile times). Each round compiles the text once and runs both integrators for
 //! `--steps` steps, alternating which goes first; the medians over rounds are printed with the
 //! spread (min–max) of the per-round ratios.
 
@@ -261,40 +262,78 @@ fn lattice(rounds: usize, steps: usize) -> Result<(), Box<dyn std::error::Error>
     Ok(())
 }
 
-/// A planar chain of 32 pendulum links hanging from a cart on a rail, in the links' angles
-/// (the cart's position the symmetry), midpoint rule: a dense 33 × 33 step Jacobian. Compile
-/// time, and a short run.
+/// The scaling benchmark's chain (`benches/scaling/chain.rs.in`) at 32 links: pendulum links
+/// hanging from a cart on a rail, in the links' angles (the cart's position the symmetry),
+/// midpoint rule, a dense 33 × 33 step Jacobian. Then the same 32 links in maximal coordinates
+/// (the example `maximal_chain`: every link's end point a coordinate, one length constraint per
+/// link), whose constrained solves have 97 unknowns on the sparse backend. Compile times over
+/// `rounds` compilations, and a short run of each.
 fn chain(rounds: usize) -> Result<(), Box<dyn std::error::Error>> {
     let links = 32;
-    let text = format!(
-        "#[reduced_lagrangian(shape(th[{links}]), group(x), rule = midpoint)]
+    let angles = include_str!("../../benches/scaling/chain.rs.in")
+        .replace("@NU@", &(links + 1).to_string())
+        .replace("@N@", &links.to_string());
+    let maximal = format!(
+        "#[reduced_lagrangian(shape(c, x[{links}], y[{links}]), group(), rule = midpoint,
+             constraints = |q| {{
+                 let mut phi = [0.0; {links}];
+                 phi[0] = (q.x[0] - q.c) * (q.x[0] - q.c) + q.y[0] * q.y[0] - l * l;
+                 for i in 1..{links} {{
+                     let (dx, dy) = (q.x[i] - q.x[i - 1], q.y[i] - q.y[i - 1]);
+                     phi[i] = dx * dx + dy * dy - l * l;
+                 }}
+                 phi
+             }})]
          fn chain(q: Config, v: Velocity, mc: f64, m: f64, l: f64, gr: f64) -> f64 {{
-             let mut lag = 0.5 * mc * v.x * v.x;
-             let (mut vx, mut vy, mut y) = (v.x, 0.0, 0.0);
+             let mut t = 0.5 * mc * v.c * v.c;
+             let mut u = 0.0;
              for i in 0..{links} {{
-                 vx += l * q.th[i].cos() * v.th[i];
-                 vy += l * q.th[i].sin() * v.th[i];
-                 y -= l * q.th[i].cos();
-                 lag += 0.5 * m * (vx * vx + vy * vy) - m * gr * y;
+                 t += 0.5 * m * (v.x[i] * v.x[i] + v.y[i] * v.y[i]);
+                 u += m * gr * q.y[i];
              }}
-             lag
+             t - u
          }}"
     );
-    let mut compile = vec![];
-    let mut last = None;
-    for _ in 0..rounds {
-        let code = dirac_jit::compile(&text)?;
-        compile.push(code.compile_time().as_secs_f64());
-        last = Some(code);
-    }
-    let code = last.expect("at least one round");
-    let pattern = code.system().plus.stepper.pattern.as_ref();
-    let nnz = pattern.map_or(0, |p| p.row_idx.len());
-    let sys = code.instantiate_sparse::<32, 1, 33>(&[1.0, 0.1, 0.1, 9.81, 0.002])?;
-    let mut x = [0.0; 32];
-    x[0] = 0.2;
-    let start = ReducedState::new(x, [0.0; 32], [0.0], [0.0]);
+    let compile_times = |text: &str| -> Result<_, dirac_jit::Error> {
+        let mut times = vec![];
+        let mut last = None;
+        for _ in 0..rounds {
+            let code = dirac_jit::compile(text)?;
+            times.push(code.compile_time().as_secs_f64() * 1e3);
+            last = Some(code);
+        }
+        let spread = (
+            median(&mut times.clone()),
+            times.iter().copied().fold(f64::INFINITY, f64::min),
+            times.iter().copied().fold(0.0, f64::max),
+        );
+        Ok((last.expect("at least one round"), spread))
+    };
+    // θ_i = 0.3 sin(i + 1) from the vertical, the cart at 0, at rest (the benchmark's state).
+    let theta = |i: usize| 0.3 * ((i + 1) as f64).sin();
     let steps = 200;
+
+    let (code, (median_ms, min_ms, max_ms)) = compile_times(&angles)?;
+    let nnz = code
+        .system()
+        .plus
+        .stepper
+        .pattern
+        .as_ref()
+        .map_or(0, |p| p.row_idx.len());
+    let sys = code.instantiate_sparse_named::<32, 1, 33>(&[
+        ("mc", 1.0),
+        ("m", 1.0),
+        ("l", 1.0),
+        ("gr", 9.81),
+        ("h", 0.01),
+    ])?;
+    let start = ReducedState::new(
+        std::array::from_fn::<f64, 32, _>(theta),
+        [0.0; 32],
+        [0.0],
+        [0.0],
+    );
     let t = Instant::now();
     let traj = ReducedIntegrator::plus(sys, NewtonOptions::default())
         .run(start)
@@ -303,12 +342,43 @@ fn chain(rounds: usize) -> Result<(), Box<dyn std::error::Error>> {
         .map_err(|e| e.to_string())?;
     let step = t.elapsed().as_secs_f64() / steps as f64;
     println!(
-        "{links}-link chain on a cart (33 coordinates, {nnz} Jacobian nonzeros): text → machine code {:.0} ms (min {:.0}, max {:.0}); step {:.1} µs, μ kept: {}",
-        median(&mut compile.clone()) * 1e3,
-        compile.iter().copied().fold(f64::INFINITY, f64::min) * 1e3,
-        compile.iter().copied().fold(0.0, f64::max) * 1e3,
+        "{links}-link chain on a cart, angles (33 coordinates, {nnz} Jacobian nonzeros): text → machine code {median_ms:.0} ms (min {min_ms:.0}, max {max_ms:.0}); step {:.1} µs, μ kept: {}",
         step * 1e6,
         traj.last().mu == start.mu
+    );
+
+    let (code, (median_ms, min_ms, max_ms)) = compile_times(&maximal)?;
+    let constrained = code.system().constrained.as_ref().expect("constraints");
+    let nnz = constrained
+        .unreduced
+        .position
+        .pattern
+        .as_ref()
+        .map_or(0, |p| p.row_idx.len());
+    let sys =
+        code.instantiate_constrained_sparse::<65, 0, 65, 32, 97>(&[1.0, 1.0, 1.0, 9.81, 0.01])?;
+    let mut q = SVector::<f64, 65>::zeros();
+    let (mut x, mut y) = (0.0, 0.0);
+    for i in 0..links {
+        x += theta(i).sin();
+        y -= theta(i).cos();
+        q[1 + i] = x;
+        q[1 + links + i] = y;
+    }
+    let t = Instant::now();
+    let traj = ConstrainedIntegrator::new(sys, NewtonOptions::default())
+        .run(UnreducedState {
+            q,
+            p: SVector::zeros(),
+        })
+        .steps(steps)
+        .collect()
+        .map_err(|e| e.to_string())?;
+    let step = t.elapsed().as_secs_f64() / steps as f64;
+    println!(
+        "{links}-link chain, maximal coordinates (65 coordinates, 32 constraints, 97 unknowns, {nnz} nonzeros): text → machine code {median_ms:.0} ms (min {min_ms:.0}, max {max_ms:.0}); step {:.1} µs, largest |φ| {:.1e}",
+        step * 1e6,
+        traj.max_constraint_residual()
     );
     Ok(())
 }

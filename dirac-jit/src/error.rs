@@ -31,18 +31,40 @@ pub enum Error {
         want_n: usize,
     },
     /// The backend asked for is not the one of the system's size (dense up to `dense_max`
-    /// coordinates, sparse above).
+    /// unknowns in a solve, sparse above).
     #[error(
-        "the system `{name}` has {n} coordinates: instantiate it with `{}` (the dense backend takes at most {dense_max} coordinates, the sparse one more)",
-        if *n > *dense_max { "instantiate_sparse" } else { "instantiate" }
+        "the system `{name}` has {n} unknowns in each {} solve: instantiate it with `{}{}` (the dense backend takes at most {dense_max}, the sparse one more)",
+        if *constrained { "constrained" } else { "step" },
+        if *constrained { "instantiate_constrained" } else { "instantiate" },
+        if *n > *dense_max { "_sparse" } else { "" }
     )]
     Backend {
         /// The system's type name.
         name: String,
+        /// The unknowns of each solve: the coordinates `N`, or `Z = N + M` for the constrained
+        /// solves.
+        n: usize,
+        /// The most unknowns of the dense backend.
+        dense_max: usize,
+        /// Whether the solves are the constrained ones.
+        constrained: bool,
+    },
+    /// The constraints asked for are not the system's: another number of them, none declared,
+    /// or `Z` not `N + M`.
+    #[error(
+        "the system `{name}` has {m} constraints; it was asked for with M = {want_m}, Z = {want_z} (Z is N + M = {n} + M)"
+    )]
+    Constraints {
+        /// The system's type name.
+        name: String,
+        /// Its constraints (0 when it declares none).
+        m: usize,
         /// Its coordinates.
         n: usize,
-        /// The most coordinates of the dense backend.
-        dense_max: usize,
+        /// The `M` asked for.
+        want_m: usize,
+        /// The `Z` asked for.
+        want_z: usize,
     },
     /// The parameter values do not match the declared parameters.
     #[error("parameters of `{name}`: {reason}; declared: {declared}")]

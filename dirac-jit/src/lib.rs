@@ -68,9 +68,34 @@
 //!
 //! What the text may declare is what the attribute accepts for a system on vector spaces:
 //! `shape(..)`, `group(..)` (or `coordinates(..)` with `translate(..)`, array coordinates such
-//! as `x[200]`), a connection, `step = ..`, a continuous Lagrangian with its `rule`, forces and
-//! controls. Systems on rotation groups, element-wise systems, constraints and adaptive steps are
-//! compiled in.
+//! as `x[200]`), a connection, `step = ..`, a continuous Lagrangian with its `rule`, forces,
+//! controls, and holonomic or nonholonomic constraints ([`Code::instantiate_constrained`]: the
+//! constrained integrators, unreduced and reduced). Systems on rotation groups, element-wise
+//! systems and adaptive steps are compiled in.
+//!
+//! A pendulum in Cartesian coordinates, its rod a holonomic constraint (`M = 1`, so each solve
+//! has `Z = N + M = 3` unknowns):
+//!
+//! ```
+//! use dirac_runtime::prelude::*;
+//!
+//! let code = dirac_jit::compile(
+//!     "#[reduced_lagrangian(shape(x, y), group(), rule = midpoint,
+//!          constraints = |q| [q.x * q.x + q.y * q.y - l * l])]
+//!      fn pendulum(q: Config, v: Velocity, m: f64, l: f64) -> f64 {
+//!          0.5 * m * (v.x * v.x + v.y * v.y) - 9.81 * m * q.y
+//!      }",
+//! )?;
+//! assert_eq!(code.system().parameters, ["m", "l", "h"]);
+//! let pendulum = code.instantiate_constrained::<2, 0, 2, 1, 3>(&[1.0, 1.5, 0.01])?;
+//! let start = UnreducedState::new([1.5, 0.0], [0.0, 0.0]); // horizontal, at rest
+//! let traj = ConstrainedIntegrator::new(pendulum, NewtonOptions::default())
+//!     .run(start)
+//!     .steps(500)
+//!     .collect()?;
+//! assert!(traj.max_constraint_residual() < 1e-9); // on its circle at every step
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 //!
 //! The dimensions are type parameters, as for a compiled-in system ([`Code::instantiate`] checks
 //! them against the text's), so a step runs the same fixed-size code with no allocation: the
@@ -87,7 +112,10 @@ mod error;
 mod system;
 
 pub use error::Error;
-pub use system::{compile, Backend, Code, Dense, JitSystem, Sparse, MAX_PARAMETERS};
+pub use system::{
+    compile, Backend, Code, Dense, JitConstrained, JitSystem, Sparse, Variant, WithConstraints,
+    MAX_PARAMETERS,
+};
 
 /// The largest `N = S + K` that [`with_dimensions!`] has an instance for.
 pub const MAX_DISPATCHED: usize = 8;

@@ -251,3 +251,272 @@ fn wrong_dimensions_and_parameters_are_errors() {
         .unwrap_err();
     assert!(e.to_string().contains("unknown coordinate `s`"), "{e}");
 }
+
+/// Compiles `$item` in with the attribute and keeps its text as `$text`: both come from the same
+/// tokens.
+macro_rules! compiled_and_text {
+    ($text:ident: $($item:tt)*) => {
+        $($item)*
+        const $text: &str = stringify!($($item)*);
+    };
+}
+
+compiled_and_text!(BEAD:
+    /// A bead on a vertical cylinder, free along its axis `z` (the symmetry, which the
+    /// constraint does not read), with a spring in the plane.
+    #[reduced_lagrangian(shape(x, y), group(z), rule = midpoint,
+        constraints = |q| [q.x * q.x + q.y * q.y - r * r])]
+    fn bead(q: Config, v: Velocity, m: f64, r: f64) -> f64 {
+        0.5 * m * (v.x * v.x + v.y * v.y + v.z * v.z) - 0.5 * (q.x - 0.3) * (q.x - 0.3)
+    }
+);
+
+compiled_and_text!(SLEIGH:
+    /// The Chaplygin sleigh: its knife edge, at distance `a` behind the centre of mass, cannot
+    /// slip sideways (a nonholonomic constraint whose force has a group component: `μ` moves).
+    #[reduced_lagrangian(shape(theta), group(x, y), rule = midpoint,
+        nonholonomic = |q, v| [-q.theta.sin() * v.x + q.theta.cos() * v.y - a * v.theta])]
+    fn sleigh(_q: Config, v: Velocity, m: f64, i: f64, a: f64) -> f64 {
+        0.5 * m * (v.x * v.x + v.y * v.y) + 0.5 * i * v.theta * v.theta
+    }
+);
+
+#[path = "../../examples/common/cartesian_dsp.rs"]
+#[allow(dead_code)]
+mod cartesian_dsp;
+
+use dirac::runtime::constrained::Form;
+
+/// Constrained runs of form `F` of `compiled` and `jit` from `start`: every state and every
+/// step's multipliers `(λ, ν)` equal.
+fn same_constrained<
+    F,
+    L,
+    J,
+    const S: usize,
+    const K: usize,
+    const N: usize,
+    const M: usize,
+    const Z: usize,
+>(
+    compiled: L,
+    jit: J,
+    start: F::State,
+    steps: usize,
+    what: &str,
+) where
+    F: Form<S, K, N>,
+    L: Constrained<F, S, K, N, M, Z>,
+    J: Constrained<F, S, K, N, M, Z>,
+{
+    let opts = NewtonOptions {
+        abs_tol: 1e-14,
+        rel_tol: 1e-14,
+        ..NewtonOptions::default()
+    };
+    let a = ConstrainedStepper::<L, F, S, K, N, M, Z>::new(compiled, opts)
+        .run(start)
+        .steps(steps)
+        .collect()
+        .unwrap();
+    let b = ConstrainedStepper::<J, F, S, K, N, M, Z>::new(jit, opts)
+        .run(start)
+        .steps(steps)
+        .collect()
+        .unwrap();
+    same(&a.states, &b.states, what);
+    let multipliers = |t: &ConstrainedTrajectory<F::State, M>| {
+        t.steps.iter().map(|s| (s.lambda, s.nu)).collect::<Vec<_>>()
+    };
+    same(&multipliers(&a), &multipliers(&b), what);
+}
+
+/// The paper's double spherical pendulum in Cartesian positions with its two rods as holonomic
+/// constraints (`M = 2`): `φ` and every unreduced constrained step bit for bit.
+#[test]
+fn holonomic_constraints_step_bit_for_bit() {
+    let code = code(
+        include_str!("../../examples/common/cartesian_dsp.rs"),
+        "cartesian_dsp",
+    );
+    let (compiled, start) = cartesian_dsp::cartesian_initial(0.01);
+    let jit = code
+        .instantiate_constrained::<6, 0, 6, 2, 8>(&compiled.parameter_values())
+        .unwrap();
+    assert!(jit.holonomic());
+    let q = SVector::<f64, 6>::new(0.3, -0.2, -0.9, 0.1, 0.4, -1.7);
+    assert_eq!(jit.constraint(&q), compiled.constraint(&q));
+    same_constrained::<UnreducedForm, _, _, 6, 0, 6, 2, 8>(compiled, jit, start, 500, "rods");
+}
+
+/// A holonomic constraint invariant under the symmetry: the reduced constrained steps of both
+/// sides keep `μ` exact, and all three forms step bit for bit.
+#[test]
+fn reduced_constrained_steps_bit_for_bit() {
+    let code = compile(BEAD).unwrap();
+    let compiled = Bead {
+        h: 0.01,
+        m: 1.2,
+        r: 0.8,
+    };
+    let jit = code
+        .instantiate_constrained::<2, 1, 3, 1, 4>(&compiled.parameter_values())
+        .unwrap();
+    let c0 = UnreducedState::new([0.8, 0.0, 0.0], [0.0, 0.5, 0.7]);
+    let s0 = compiled.trivialize(&c0);
+    same_constrained::<UnreducedForm, _, _, 2, 1, 3, 1, 4>(
+        compiled,
+        jit.clone(),
+        c0,
+        300,
+        "bead, unreduced",
+    );
+    same_constrained::<Plus, _, _, 2, 1, 3, 1, 4>(compiled, jit.clone(), s0, 300, "bead, (+)");
+    same_constrained::<Minus, _, _, 2, 1, 3, 1, 4>(compiled, jit.clone(), s0, 300, "bead, (−)");
+    let run = ReducedConstrainedIntegrator::plus(jit, NewtonOptions::default())
+        .run(s0)
+        .steps(300)
+        .collect()
+        .unwrap();
+    assert!(run.states.iter().all(|s| s.mu == s0.mu), "μ exact");
+}
+
+/// Nonholonomic constraints (`A(q) v = 0` at the step's midpoint) with a group component:
+/// `μ` moves by the constraint impulse, through the same kernels as the compiled-in system.
+#[test]
+fn nonholonomic_constraints_step_bit_for_bit() {
+    let code = compile(SLEIGH).unwrap();
+    let compiled = Sleigh {
+        h: 0.01,
+        m: 1.0,
+        i: 0.3,
+        a: 0.4,
+    };
+    let jit = code
+        .instantiate_constrained::<1, 2, 3, 1, 4>(&compiled.parameter_values())
+        .unwrap();
+    assert!(!jit.holonomic());
+    // A start whose velocity satisfies the constraint.
+    let (theta, vx, vtheta) = (0.3_f64, 1.0, 0.5);
+    let vy = (compiled.a * vtheta + theta.sin() * vx) / theta.cos();
+    let c0 = UnreducedState::new(
+        [theta, 0.0, 0.0],
+        [compiled.i * vtheta, compiled.m * vx, compiled.m * vy],
+    );
+    let s0 = compiled.trivialize(&c0);
+    same_constrained::<UnreducedForm, _, _, 1, 2, 3, 1, 4>(
+        compiled,
+        jit.clone(),
+        c0,
+        300,
+        "sleigh, unreduced",
+    );
+    same_constrained::<Plus, _, _, 1, 2, 3, 1, 4>(compiled, jit.clone(), s0, 300, "sleigh, (+)");
+    same_constrained::<Minus, _, _, 1, 2, 3, 1, 4>(compiled, jit.clone(), s0, 300, "sleigh, (−)");
+    let run = ReducedConstrainedIntegrator::plus(jit, NewtonOptions::default())
+        .run(s0)
+        .steps(100)
+        .collect()
+        .unwrap();
+    assert_ne!(
+        run.last().mu,
+        s0.mu,
+        "the knife edge's force turns the momentum"
+    );
+}
+
+/// Constraints asked for where the text has none, or another number of them, or a backend
+/// that is not the one of the solves' size: typed errors.
+#[test]
+fn wrong_constraints_are_errors() {
+    let bead = compile(BEAD).unwrap();
+    let e = bead
+        .instantiate_constrained::<2, 1, 3, 2, 5>(&[0.01, 1.2, 0.8])
+        .unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("has 1 constraints; it was asked for with M = 2"),
+        "{e}"
+    );
+    let e = bead
+        .instantiate_constrained::<2, 1, 3, 1, 5>(&[0.01, 1.2, 0.8])
+        .unwrap_err();
+    assert!(e.to_string().contains("Z = 5"), "{e}");
+    let e = bead
+        .instantiate_constrained_sparse::<2, 1, 3, 1, 4>(&[0.01, 1.2, 0.8])
+        .unwrap_err();
+    assert!(e.to_string().contains("`instantiate_constrained`"), "{e}");
+    let kepler = code(KEPLER, "kepler");
+    let e = kepler
+        .instantiate_constrained::<1, 1, 2, 1, 3>(&[0.01, 1.0])
+        .unwrap_err();
+    assert!(e.to_string().contains("has 0 constraints"), "{e}");
+    // The unconstrained steps of a constrained system are there too, as for a compiled-in one.
+    assert!(bead.instantiate::<2, 1, 3>(&[0.01, 1.2, 0.8]).is_ok());
+}
+
+compiled_and_text!(CHAIN:
+    /// A cart carrying a chain of 6 links in maximal coordinates, one length constraint per
+    /// link: 13 coordinates (the dense backend for the unconstrained steps), 19 unknowns in each
+    /// constrained solve (the sparse backend).
+    #[reduced_lagrangian(shape(c, x[6], y[6]), group(), rule = midpoint,
+        constraints = |q| {
+            let mut phi = [0.0; 6];
+            phi[0] = (q.x[0] - q.c) * (q.x[0] - q.c) + q.y[0] * q.y[0] - l * l;
+            for i in 1..6 {
+                let (dx, dy) = (q.x[i] - q.x[i - 1], q.y[i] - q.y[i - 1]);
+                phi[i] = dx * dx + dy * dy - l * l;
+            }
+            phi
+        })]
+    fn chain(q: Config, v: Velocity, mc: f64, m: f64, l: f64, gr: f64) -> f64 {
+        let mut t = 0.5 * mc * v.c * v.c;
+        for i in 0..6 {
+            t += 0.5 * m * (v.x[i] * v.x[i] + v.y[i] * v.y[i]) - m * gr * q.y[i];
+        }
+        t
+    }
+);
+
+/// Constrained solves of more than 16 unknowns: the sparse backend on the saddle-point
+/// Jacobians' structural nonzeros, bit for bit as the compiled-in chain's.
+#[test]
+fn constrained_solves_on_the_sparse_backend_step_bit_for_bit() {
+    let code = compile(CHAIN).unwrap();
+    let c = code.system().constrained.as_ref().unwrap();
+    assert!(c.unreduced.position.pattern.is_some() && c.unreduced.projection.pattern.is_some());
+    let compiled = Chain {
+        h: 0.01,
+        mc: 1.0,
+        m: 1.0,
+        l: 1.0,
+        gr: 9.81,
+    };
+    let values = compiled.parameter_values();
+    let jit = code
+        .instantiate_constrained_sparse::<13, 0, 13, 6, 19>(&values)
+        .unwrap();
+    // The links at θ_i = 0.3 sin(i + 1) from the vertical, at rest.
+    let mut q = SVector::<f64, 13>::zeros();
+    let (mut x, mut y) = (0.0, 0.0);
+    for i in 0..6 {
+        let th = 0.3 * ((i + 1) as f64).sin();
+        x += th.sin();
+        y -= th.cos();
+        q[1 + i] = x;
+        q[7 + i] = y;
+    }
+    let start = UnreducedState {
+        q,
+        p: SVector::zeros(),
+    };
+    same_constrained::<UnreducedForm, _, _, 13, 0, 13, 6, 19>(compiled, jit, start, 200, "chain");
+    let e = code
+        .instantiate_constrained::<13, 0, 13, 6, 19>(&values)
+        .unwrap_err();
+    assert!(
+        e.to_string().contains("`instantiate_constrained_sparse`"),
+        "{e}"
+    );
+    assert!(code.instantiate::<13, 0, 13>(&values).is_ok());
+}

@@ -45,6 +45,11 @@ pub trait Constraints<const S: usize, const K: usize, const N: usize, const M: u
     /// Whether the constraints are holonomic, `φ(q) = 0` (`constraints = ..`), or
     /// nonholonomic, `A(q) v = 0` (`nonholonomic = ..`, imposed at the step's midpoint).
     const HOLONOMIC: bool = true;
+    /// Whether the constraints are holonomic: [`Self::HOLONOMIC`], or what only the value knows
+    /// (a system given at run time), which is what the steps read.
+    fn holonomic(&self) -> bool {
+        Self::HOLONOMIC
+    }
     /// `φ(q)` (zero for nonholonomic constraints, which restrict velocities only).
     fn constraint(&self, q: &SVector<f64, N>) -> SVector<f64, M>;
 }
@@ -660,7 +665,7 @@ where
     }
     ws.history.push(increment, h);
     ws.multipliers = Some((lambda, nu));
-    let constraint_residual = if L::HOLONOMIC {
+    let constraint_residual = if sys.holonomic() {
         inf_norm(&sys.constraint(&F::configuration(sys, &next)))
     } else {
         first.residual
@@ -703,7 +708,7 @@ where
             &self.system.parameter_values(),
             F::is_finite(initial),
         )?;
-        if !L::HOLONOMIC {
+        if !self.system.holonomic() {
             return Ok(());
         }
         let q = F::configuration(&self.system, initial);

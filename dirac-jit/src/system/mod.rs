@@ -4,7 +4,9 @@
 //! (Definitions 2.7/2.8) — by calling the kernels: every integrator that runs a compiled-in
 //! system runs it, on the backend the attribute would choose: the dense fixed-size LU up to 16
 //! coordinates ([`Dense`]), the sparse LU on the Jacobian's structural nonzeros above
-//! ([`Sparse`]).
+//! ([`Sparse`]). A system with constraints is also `Constraints` and `Constrained` for the
+//! unreduced and both reduced forms ([`JitConstrained`]), which the constrained integrators
+//! take.
 
 use std::marker::PhantomData;
 use std::sync::Arc;
@@ -13,14 +15,19 @@ use std::time::{Duration, Instant};
 use cranelift_jit::JITModule;
 use dirac_compiler::program::Leaf;
 use dirac_compiler::text::{self, System};
-use dirac_runtime::linalg::LinearSolver;
 use dirac_runtime::nalgebra::{SMatrix, SVector};
-use dirac_runtime::{
-    CscBuffer, DiscreteLagrangian, Lu, Minus, PatternLu, Plus, Reduced, Unreduced, DENSE_MAX,
-};
+use dirac_runtime::DiscreteLagrangian;
 
 use crate::codegen::{Jit, Kernel, Layout};
 use crate::error::Error;
+
+mod backend;
+mod constrained;
+mod steps;
+
+pub use backend::{Backend, Dense, Sparse, Variant, WithConstraints};
+use constrained::ConstrainedKernels;
+pub use constrained::JitConstrained;
 
 /// The most parameters a system given at run time declares: the values travel inline with the
 /// system, so a control law that sets them before every step allocates nothing.
@@ -33,6 +40,17 @@ struct StepperKernels {
     residual_jacobian: Kernel,
     momentum: Kernel,
     residual_momentum: Kernel,
+}
+
+/// The kernels of a stepper from their indices among the defined ones (`jit.define`'s order:
+/// residual, with its Jacobian, momentum, residual with momentum).
+fn stepper_kernels(k: &[Kernel], [r, rj, m, rm]: [usize; 4]) -> StepperKernels {
+    StepperKernels {
+        residual: k[r],
+        residual_jacobian: k[rj],
+        momentum: k[m],
+        residual_momentum: k[rm],
+    }
 }
 
 /// The kernels of the eliminated step (momentum-level elimination).
@@ -54,7 +72,6 @@ struct SideKernels {
     eliminated: Option<EliminatedKernels>,
 }
 
-#[derive(Clone, Copy)]
 struct Kernels {
     lagrangian: Kernel,
     connection: Kernel,
@@ -63,6 +80,7 @@ struct Kernels {
     unreduced: StepperKernels,
     legendre: Option<Kernel>,
     energy: Option<Kernel>,
+    constrained: Option<ConstrainedKernels>,
 }
 
 /// The module that owns the kernels' memory, freed with the last [`Code`] that uses it.
@@ -162,13 +180,13 @@ pub fn compile(source: &str) -> Result<Arc<Code>, Error> {
             ))
         })
         .transpose()?;
+    let constrained = system
+        .constrained
+        .as_ref()
+        .map(|c| constrained::define(&mut jit, c, s, s + system.group.len()))
+        .transpose()?;
     let (k, module) = jit.finish()?;
-    let stepper_kernels = |[r, rj, m, rm]: [usize; 4]| StepperKernels {
-        residual: k[r],
-        residual_jacobian: k[rj],
-        momentum: k[m],
-        residual_momentum: k[rm],
-    };
+    let stepper_kernels = |defined| stepper_kernels(&k, defined);
     type Defined = (usize, [usize; 4], Option<usize>, Option<([usize; 4], bool)>);
     let side_kernels = |(l, st, imp, el): Defined| SideKernels {
         lagrangian: k[l],
@@ -190,6 +208,7 @@ pub fn compile(source: &str) -> Result<Arc<Code>, Error> {
         unreduced: stepper_kernels(unreduced),
         legendre: continuous.map(|(l, _)| k[l]),
         energy: continuous.map(|(_, e)| k[e]),
+        constrained: constrained.map(|defined| constrained::kernels(defined, &k)),
     };
     Ok(Arc::new(Code {
         system,
@@ -292,12 +311,45 @@ impl Code {
         self.instantiate_on(&self.by_name(parameters)?)
     }
 
-    /// The system on backend `B`, after the checks [`Self::instantiate`] names and that of the
-    /// backend against the system's size.
-    fn instantiate_on<const S: usize, const K: usize, const N: usize, B: Backend<N>>(
+    /// The system with `M` constraints at dimensions `S`, `K`, `N = S + K`, `Z = N + M`, on the
+    /// dense backend (`Z ≤ 16` unknowns in each solve): what the constrained integrators take
+    /// (`ConstrainedIntegrator`, `ReducedConstrainedIntegrator`). The checks of
+    /// [`Self::instantiate`], and an error if the text declares no constraints or another number
+    /// of them.
+    pub fn instantiate_constrained<
+        const S: usize,
+        const K: usize,
+        const N: usize,
+        const M: usize,
+        const Z: usize,
+    >(
         self: &Arc<Self>,
         parameters: &[f64],
-    ) -> Result<JitSystem<S, K, N, B>, Error> {
+    ) -> Result<JitConstrained<S, K, N, M, Z>, Error> {
+        self.instantiate_on(parameters)
+    }
+
+    /// [`Self::instantiate_constrained`] for more than 16 unknowns in each solve, on the sparse
+    /// backend.
+    pub fn instantiate_constrained_sparse<
+        const S: usize,
+        const K: usize,
+        const N: usize,
+        const M: usize,
+        const Z: usize,
+    >(
+        self: &Arc<Self>,
+        parameters: &[f64],
+    ) -> Result<JitConstrained<S, K, N, M, Z, Sparse>, Error> {
+        self.instantiate_on(parameters)
+    }
+
+    /// The system of kind `V` (a backend, or constraints on one), after the checks
+    /// [`Self::instantiate`] names and those of `V` against the system.
+    fn instantiate_on<const S: usize, const K: usize, const N: usize, V: Variant<N>>(
+        self: &Arc<Self>,
+        parameters: &[f64],
+    ) -> Result<JitSystem<S, K, N, V>, Error> {
         let sys = &self.system;
         let (s, k) = (sys.shape.len(), sys.group.len());
         if (s, k, s + k) != (S, K, N) {
@@ -311,20 +363,7 @@ impl Code {
                 want_n: N,
             });
         }
-        // The kernels write the Jacobian densely or as the pattern's values: the backend must
-        // be the one the programs were compiled for (memory safety of `call_into` rests on it).
-        let sparse = [&sys.plus, &sys.minus]
-            .iter()
-            .map(|side| &side.stepper)
-            .chain([&sys.unreduced])
-            .any(|stepper| stepper.pattern.is_some());
-        if B::SPARSE != sparse {
-            return Err(Error::Backend {
-                name: sys.name.clone(),
-                n: N,
-                dense_max: DENSE_MAX,
-            });
-        }
+        V::check(sys)?;
         let fail = |reason: String| Error::Parameters {
             name: sys.name.clone(),
             reason,
@@ -384,93 +423,13 @@ impl Code {
     }
 }
 
-/// The linear algebra a [`JitSystem`]'s steps run on: [`Dense`] or [`Sparse`], fixed by the
-/// system's size as for a compiled-in system (dense up to 16 coordinates).
-pub trait Backend<const N: usize>: sealed::Sealed + Send + Sync + 'static {
-    /// Whether this is the sparse backend.
-    const SPARSE: bool;
-    /// The runtime's solver.
-    type Linear: LinearSolver<Vector = SVector<f64, N>>;
-    /// A solver's workspace for the Jacobians of `stepper`.
-    fn solver(stepper: &text::Stepper) -> Self::Linear;
-    /// Runs a residual-with-Jacobian kernel through `kernel(out)`, which writes the residual and
-    /// then the Jacobian (column by column, or the values of `stepper`'s pattern) at `out`.
-    fn residual_jacobian(
-        stepper: &text::Stepper,
-        kernel: impl FnOnce(*mut f64),
-    ) -> (SVector<f64, N>, <Self::Linear as LinearSolver>::Matrix);
-}
-
-mod sealed {
-    pub trait Sealed {}
-    impl Sealed for super::Dense {}
-    impl Sealed for super::Sparse {}
-}
-
-/// The dense fixed-size backend ([`Lu`]): systems of at most 16 coordinates.
-#[derive(Clone, Copy, Debug)]
-pub struct Dense;
-
-/// The sparse backend ([`PatternLu`] on the structural nonzeros of the step Jacobian, the
-/// factorization of the attribute's sparse backend): systems of more than 16 coordinates.
-#[derive(Clone, Copy, Debug)]
-pub struct Sparse;
-
-impl<const N: usize> Backend<N> for Dense {
-    const SPARSE: bool = false;
-    type Linear = Lu<N>;
-
-    fn solver(_: &text::Stepper) -> Lu<N> {
-        Lu::empty()
-    }
-
-    fn residual_jacobian(
-        _: &text::Stepper,
-        kernel: impl FnOnce(*mut f64),
-    ) -> (SVector<f64, N>, SMatrix<f64, N, N>) {
-        let mut rj = ResidualJacobian {
-            r: SVector::<f64, N>::zeros(),
-            j: SMatrix::<f64, N, N>::zeros(),
-        };
-        kernel((&mut rj as *mut ResidualJacobian<N>).cast::<f64>());
-        (rj.r, rj.j)
-    }
-}
-
-impl<const N: usize> Backend<N> for Sparse {
-    const SPARSE: bool = true;
-    type Linear = PatternLu<N>;
-
-    fn solver(stepper: &text::Stepper) -> PatternLu<N> {
-        let pattern = stepper.pattern.as_ref().expect(
-            "a system on the sparse backend has sparse steppers (checked on instantiation)",
-        );
-        PatternLu::new(&pattern.col_ptr, &pattern.row_idx)
-            .expect("the compiler emits a valid pattern of the stepper's size")
-    }
-
-    fn residual_jacobian(
-        stepper: &text::Stepper,
-        kernel: impl FnOnce(*mut f64),
-    ) -> (SVector<f64, N>, CscBuffer) {
-        let nnz = stepper
-            .pattern
-            .as_ref()
-            .expect("a system on the sparse backend has sparse steppers (checked on instantiation)")
-            .row_idx
-            .len();
-        let mut out = CscBuffer::zeroed(N + nnz, N);
-        kernel(out.as_mut_slice().as_mut_ptr());
-        (SVector::from_column_slice(out.leading()), out)
-    }
-}
-
 /// A system given as text, at dimensions `S`, `K`, `N = S + K` and with its parameter values:
-/// what the integrators take. Cloning it shares the code.
-pub struct JitSystem<const S: usize, const K: usize, const N: usize, B = Dense> {
+/// what the integrators take. Cloning it shares the code. `V` is its kind: the backend of its
+/// steps ([`Dense`], [`Sparse`]), or its constraints ([`WithConstraints`], [`JitConstrained`]).
+pub struct JitSystem<const S: usize, const K: usize, const N: usize, V = Dense> {
     code: Arc<Code>,
     values: [f64; MAX_PARAMETERS],
-    backend: PhantomData<B>,
+    backend: PhantomData<V>,
 }
 
 impl<const S: usize, const K: usize, const N: usize, B> Clone for JitSystem<S, K, N, B> {
@@ -495,13 +454,6 @@ impl<const S: usize, const K: usize, const N: usize, B> std::fmt::Debug for JitS
 /// A pointer for an argument a kernel does not read.
 const UNUSED: *const f64 = std::ptr::NonNull::<f64>::dangling().as_ptr();
 
-/// The residual and the Jacobian, as one kernel writes them.
-#[repr(C)]
-struct ResidualJacobian<const N: usize> {
-    r: SVector<f64, N>,
-    j: SMatrix<f64, N, N>,
-}
-
 /// The residual and the momentum update, as one kernel writes them.
 #[repr(C)]
 struct ResidualMomentum<const N: usize, const M: usize> {
@@ -509,7 +461,7 @@ struct ResidualMomentum<const N: usize, const M: usize> {
     m: SVector<f64, M>,
 }
 
-impl<const S: usize, const K: usize, const N: usize, B: Backend<N>> JitSystem<S, K, N, B> {
+impl<const S: usize, const K: usize, const N: usize, V> JitSystem<S, K, N, V> {
     /// The compiled code this system runs.
     pub fn code(&self) -> &Arc<Code> {
         &self.code
@@ -605,8 +557,8 @@ impl<const S: usize, const K: usize, const N: usize, B: Backend<N>> JitSystem<S,
     }
 }
 
-impl<const S: usize, const K: usize, const N: usize, B: Backend<N>> DiscreteLagrangian<S, K, N>
-    for JitSystem<S, K, N, B>
+impl<const S: usize, const K: usize, const N: usize, V: Variant<N>> DiscreteLagrangian<S, K, N>
+    for JitSystem<S, K, N, V>
 {
     /// Placeholders: a system given at run time has its names in [`Code::system`] and says
     /// them through `shape_names`, `group_names` and `parameter_names`, which is what output
@@ -674,223 +626,5 @@ impl<const S: usize, const K: usize, const N: usize, B: Backend<N>> DiscreteLagr
             system.values[i] = v;
         }
         system
-    }
-}
-
-/// `Reduced<Plus>` and `Reduced<Minus>`: the same calls on each side's kernels.
-macro_rules! reduced_impl {
-    ($side:ty, $plus:expr) => {
-        impl<const S: usize, const K: usize, const N: usize, B: Backend<N>> Reduced<$side, S, K, N>
-            for JitSystem<S, K, N, B>
-        {
-            type Linear = B::Linear;
-
-            fn linear_solver(&self) -> B::Linear {
-                B::solver(&self.side_code($plus).stepper)
-            }
-
-            fn reduced_lagrangian(
-                &self,
-                x0: &SVector<f64, S>,
-                x1: &SVector<f64, S>,
-                u: &SVector<f64, K>,
-            ) -> f64 {
-                self.reduced_lagrangian_of($plus, x0, x1, u)
-            }
-
-            fn residual(
-                &self,
-                x_k: &SVector<f64, S>,
-                w_k: &SVector<f64, S>,
-                mu_k: &SVector<f64, K>,
-                z: &SVector<f64, N>,
-            ) -> SVector<f64, N> {
-                self.call(
-                    self.side($plus).stepper.residual,
-                    Self::reduced_args(x_k, w_k, mu_k, z),
-                    SVector::zeros(),
-                )
-            }
-
-            fn residual_jacobian(
-                &self,
-                x_k: &SVector<f64, S>,
-                w_k: &SVector<f64, S>,
-                mu_k: &SVector<f64, K>,
-                z: &SVector<f64, N>,
-            ) -> (SVector<f64, N>, <B::Linear as LinearSolver>::Matrix) {
-                B::residual_jacobian(&self.side_code($plus).stepper, |out| {
-                    self.call_into(
-                        self.side($plus).stepper.residual_jacobian,
-                        Self::reduced_args(x_k, w_k, mu_k, z),
-                        out,
-                    )
-                })
-            }
-
-            fn momentum(&self, x_k: &SVector<f64, S>, z: &SVector<f64, N>) -> SVector<f64, S> {
-                self.call(
-                    self.side($plus).stepper.momentum,
-                    [x_k.as_ptr(), UNUSED, UNUSED, z.as_ptr()],
-                    SVector::zeros(),
-                )
-            }
-
-            fn residual_momentum(
-                &self,
-                x_k: &SVector<f64, S>,
-                w_k: &SVector<f64, S>,
-                mu_k: &SVector<f64, K>,
-                z: &SVector<f64, N>,
-            ) -> (SVector<f64, N>, SVector<f64, S>) {
-                let rm = self.call(
-                    self.side($plus).stepper.residual_momentum,
-                    Self::reduced_args(x_k, w_k, mu_k, z),
-                    ResidualMomentum {
-                        r: SVector::zeros(),
-                        m: SVector::zeros(),
-                    },
-                );
-                (rm.r, rm.m)
-            }
-
-            /// Whether a force has a group component is known only at run time: `μ` is always
-            /// updated by the impulse, which is exactly zero without one (`μ + 0 = μ`).
-            const GROUP_FORCED: bool = true;
-
-            const ELIMINATES_GROUP: bool = true;
-
-            fn eliminates_group(&self) -> bool {
-                self.side($plus).eliminated.is_some()
-            }
-
-            fn elimination_pays(&self) -> bool {
-                self.side($plus).eliminated.is_some_and(|e| e.pays)
-            }
-
-            fn eliminated_residual(
-                &self,
-                x_k: &SVector<f64, S>,
-                w_k: &SVector<f64, S>,
-                mu_k: &SVector<f64, K>,
-                x1: &SVector<f64, S>,
-            ) -> Option<SVector<f64, S>> {
-                let e = self.side($plus).eliminated?;
-                Some(self.call(
-                    e.residual,
-                    [x_k.as_ptr(), w_k.as_ptr(), mu_k.as_ptr(), x1.as_ptr()],
-                    SVector::zeros(),
-                ))
-            }
-
-            fn eliminated_residual_jacobian(
-                &self,
-                x_k: &SVector<f64, S>,
-                w_k: &SVector<f64, S>,
-                mu_k: &SVector<f64, K>,
-                x1: &SVector<f64, S>,
-            ) -> Option<(SVector<f64, S>, SMatrix<f64, S, S>)> {
-                let e = self.side($plus).eliminated?;
-                let rj = self.call(
-                    e.residual_jacobian,
-                    [x_k.as_ptr(), w_k.as_ptr(), mu_k.as_ptr(), x1.as_ptr()],
-                    ResidualJacobian {
-                        r: SVector::zeros(),
-                        j: SMatrix::zeros(),
-                    },
-                );
-                Some((rj.r, rj.j))
-            }
-
-            fn eliminated_group(
-                &self,
-                x_k: &SVector<f64, S>,
-                w_k: &SVector<f64, S>,
-                mu_k: &SVector<f64, K>,
-                x1: &SVector<f64, S>,
-            ) -> Option<SVector<f64, K>> {
-                let e = self.side($plus).eliminated?;
-                Some(self.call(
-                    e.group,
-                    [x_k.as_ptr(), w_k.as_ptr(), mu_k.as_ptr(), x1.as_ptr()],
-                    SVector::zeros(),
-                ))
-            }
-
-            fn eliminated_group_block(
-                &self,
-                x_k: &SVector<f64, S>,
-                w_k: &SVector<f64, S>,
-                mu_k: &SVector<f64, K>,
-                x1: &SVector<f64, S>,
-            ) -> Option<SMatrix<f64, K, K>> {
-                let e = self.side($plus).eliminated?;
-                Some(self.call(
-                    e.block,
-                    [x_k.as_ptr(), w_k.as_ptr(), mu_k.as_ptr(), x1.as_ptr()],
-                    SMatrix::zeros(),
-                ))
-            }
-
-            fn group_impulse(&self, x_k: &SVector<f64, S>, z: &SVector<f64, N>) -> SVector<f64, K> {
-                match self.side($plus).impulse {
-                    Some(kernel) => self.call(
-                        kernel,
-                        [x_k.as_ptr(), UNUSED, UNUSED, z.as_ptr()],
-                        SVector::zeros(),
-                    ),
-                    None => SVector::zeros(),
-                }
-            }
-        }
-    };
-}
-
-reduced_impl!(Plus, true);
-reduced_impl!(Minus, false);
-
-impl<const S: usize, const K: usize, const N: usize, B: Backend<N>> Unreduced<S, K, N>
-    for JitSystem<S, K, N, B>
-{
-    type UnreducedLinear = B::Linear;
-
-    fn unreduced_linear_solver(&self) -> B::Linear {
-        B::solver(&self.code.system.unreduced)
-    }
-
-    fn unreduced_residual(
-        &self,
-        q_k: &SVector<f64, N>,
-        p_k: &SVector<f64, N>,
-        z: &SVector<f64, N>,
-    ) -> SVector<f64, N> {
-        self.call(
-            self.code.kernels.unreduced.residual,
-            [q_k.as_ptr(), p_k.as_ptr(), z.as_ptr(), UNUSED],
-            SVector::zeros(),
-        )
-    }
-
-    fn unreduced_residual_jacobian(
-        &self,
-        q_k: &SVector<f64, N>,
-        p_k: &SVector<f64, N>,
-        z: &SVector<f64, N>,
-    ) -> (SVector<f64, N>, <B::Linear as LinearSolver>::Matrix) {
-        B::residual_jacobian(&self.code.system.unreduced, |out| {
-            self.call_into(
-                self.code.kernels.unreduced.residual_jacobian,
-                [q_k.as_ptr(), p_k.as_ptr(), z.as_ptr(), UNUSED],
-                out,
-            )
-        })
-    }
-
-    fn unreduced_momentum(&self, q_k: &SVector<f64, N>, z: &SVector<f64, N>) -> SVector<f64, N> {
-        self.call(
-            self.code.kernels.unreduced.momentum,
-            [q_k.as_ptr(), UNUSED, z.as_ptr(), UNUSED],
-            SVector::zeros(),
-        )
     }
 }
