@@ -72,6 +72,21 @@ pub struct System {
     /// For a system with constraints (`constraints = |q| [..]` or `nonholonomic = |q, v| [..]`):
     /// the constrained steps of each form.
     pub constrained: Option<Constrained>,
+    /// For adaptive steps (`time(t), adapt = |q| g`): the time coordinate and the monitor. The
+    /// other programs are those of the time-transformed Lagrangian `L₂`, in fictitious time.
+    pub adaptive: Option<Adaptive>,
+}
+
+/// Adaptive steps: the Lagrangian is replaced by its regularized Poincaré time transformation
+/// `L₂ = t' L(q, q'/t') + (t' − g)²/(2g)`, whose step parameter is a fictitious step `ε` and
+/// whose steps cover `Δt ≈ ε g(x)` of physical time (the runtime's `adaptive` module).
+#[derive(Clone, Debug)]
+pub struct Adaptive {
+    /// The index of the time coordinate `t` among the group coordinates.
+    pub time: usize,
+    /// The monitor `g(x) > 0`: one output, reading the shape as `Q0` (`S` entries) and
+    /// parameters.
+    pub monitor: Program,
 }
 
 /// The constraints of a system and its constrained steps (RATTLE form: a position step on
@@ -267,8 +282,8 @@ impl std::error::Error for Error {}
 /// Compiles a system given as text: a function carrying `#[reduced_lagrangian(..)]`, alone or
 /// among other items (a whole Rust file is accepted, as long as one function carries the
 /// attribute). The attribute's keys, the signature and the body are those of the compiled-in
-/// attribute, holonomic and nonholonomic constraints included; systems on rotation groups,
-/// element-wise systems and adaptive steps are compiled in only, and said so here.
+/// attribute, holonomic and nonholonomic constraints and adaptive steps included; systems on
+/// rotation groups and element-wise systems are compiled in only, and said so here.
 pub fn compile(source: &str) -> Result<System, Error> {
     let (attribute, args, func) = find(source).map_err(|e| Error::from_syn(e, source, None))?;
     crate::stack::run(&args, &TokenStream::new(), || {
@@ -342,9 +357,6 @@ fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<System> {
     let Parsed { spec, sig, parsed } = parse(args, func);
     parsed?;
     let (spec, sig) = spec.zip(sig).expect("a clean parse has both");
-    if let Some(a) = &spec.adapt {
-        return Err(compiled_in_only(&a.monitor, "adaptive steps"));
-    }
     let c = compile_system(&spec, &sig, func)?;
     let step = sig
         .params
@@ -374,6 +386,10 @@ fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<System> {
             energy: program(&c.graph, &[parts.energy]),
         }),
         constrained: c.constrained.as_ref().map(|code| constrained(&c, code)),
+        adaptive: c.adapt.map(|(time, monitor, _)| Adaptive {
+            time,
+            monitor: program(&c.graph, &[monitor]),
+        }),
     })
 }
 
@@ -459,7 +475,7 @@ fn compiled_in_only<T: quote::ToTokens>(at: T, what: &str) -> syn::Error {
         format!(
             "{what} is compiled in with `#[reduced_lagrangian]` in Rust; a system given at run time \
              is one on vector spaces (`shape(..)`, `group(..)` or `coordinates(..)` with `translate(..)`) \
-             with forces, controls and constraints"
+             with forces, controls, constraints and adaptive steps"
         ),
     )
 }

@@ -69,9 +69,9 @@
 //! What the text may declare is what the attribute accepts for a system on vector spaces:
 //! `shape(..)`, `group(..)` (or `coordinates(..)` with `translate(..)`, array coordinates such
 //! as `x[200]`), a connection, `step = ..`, a continuous Lagrangian with its `rule`, forces,
-//! controls, and holonomic or nonholonomic constraints ([`Code::instantiate_constrained`]: the
-//! constrained integrators, unreduced and reduced). Systems on rotation groups, element-wise
-//! systems and adaptive steps are compiled in.
+//! controls, holonomic or nonholonomic constraints ([`Code::instantiate_constrained`]: the
+//! constrained integrators, unreduced and reduced), and adaptive steps (`time(t), adapt = |q| g`).
+//! Systems on rotation groups and element-wise systems are compiled in.
 //!
 //! A pendulum in Cartesian coordinates, its rod a holonomic constraint (`M = 1`, so each solve
 //! has `Z = N + M = 3` unknowns):

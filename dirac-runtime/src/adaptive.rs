@@ -49,7 +49,10 @@ pub fn fictitious_velocity<L, const S: usize, const K: usize, const N: usize>(
 where
     L: DiscreteLagrangian<S, K, N>,
 {
-    let (Some(j), Some(g)) = (L::TIME, sys.monitor(&q.fixed_rows::<S>(0).into_owned())) else {
+    let (Some(j), Some(g)) = (
+        sys.time_index(),
+        sys.monitor(&q.fixed_rows::<S>(0).into_owned()),
+    ) else {
         return Err(StepError::Unsupported {
             what: "a fictitious velocity: the system is not declared with `time(t), adapt = |q| g`",
         });
@@ -104,15 +107,30 @@ pub fn first_increment<L, const S: usize, const K: usize, const N: usize>(
 where
     L: DiscreteLagrangian<S, K, N> + ContinuousLagrangian<N>,
 {
-    let time = S + L::TIME?;
+    let time = S + sys.time_index()?;
     let g = sys.monitor(&q.fixed_rows::<S>(0).into_owned())?;
+    first_increment_of(time, g, q, p, h, |q, v| sys.legendre(q, v))
+}
+
+/// [`first_increment`] for a system whose Legendre map is `legendre(q, v)`, whose time
+/// coordinate is entry `time` of `q` and whose monitor is `g` at `q`: what a system that is not a
+/// [`ContinuousLagrangian`] (one given at run time) computes it with. `None` for a monitor that is
+/// not positive or an increment that is not finite.
+pub fn first_increment_of<const N: usize>(
+    time: usize,
+    g: f64,
+    q: &SVector<f64, N>,
+    p: &SVector<f64, N>,
+    h: f64,
+    legendre: impl Fn(&SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
+) -> Option<SVector<f64, N>> {
     check_monitor(0, g).ok()?;
     let mut v = SVector::<f64, N>::zeros();
     v[time] = g;
     let rows: Vec<usize> = (0..N).filter(|&i| i != time).collect();
     let scale = p.amax().max(1.0);
     for _ in 0..8 {
-        let r0 = sys.legendre(q, &v) - p;
+        let r0 = legendre(q, &v) - p;
         if rows.iter().all(|&i| r0[i].abs() <= 1e-13 * scale) {
             break;
         }
@@ -121,7 +139,7 @@ where
             let step = 1e-7 * v[i].abs().max(g);
             let mut w = v;
             w[i] += step;
-            let r1 = sys.legendre(q, &w) - p;
+            let r1 = legendre(q, &w) - p;
             for (r, &k) in rows.iter().enumerate() {
                 jac[(r, c)] = (r1[k] - r0[k]) / step;
             }

@@ -612,7 +612,7 @@ where
         .unwrap_or((SVector::zeros(), SVector::zeros()));
     let mut configuration = F::guess(state, &ws.history, h);
     // Adaptive steps: a run's first step starts from the motion in fictitious time, not rest.
-    if ws.history.last.is_none() && L::TIME.is_some() {
+    if ws.history.last.is_none() && sys.time_index().is_some() {
         let start = F::unreduced(sys, state);
         if let Some(dq) = sys.adaptive_increment(&start.q, &start.p, h) {
             configuration = F::moved(sys, state, &dq);
@@ -656,12 +656,10 @@ where
             residual: stats.residual,
         });
     }
-    if L::TIME.is_some() {
+    if let Some(j) = sys.time_index() {
         let (before, after) = (F::configuration(sys, state), F::configuration(sys, &next));
         crate::stepper::monitor_at(sys, k, &after.fixed_rows::<S>(0).into_owned())?;
-        if let Some(j) = L::TIME {
-            crate::stepper::check_time_increment(k, h, after[S + j] - before[S + j])?;
-        }
+        crate::stepper::check_time_increment(k, h, after[S + j] - before[S + j])?;
     }
     ws.history.push(increment, h);
     ws.multipliers = Some((lambda, nu));
@@ -697,7 +695,9 @@ where
     }
 
     fn physical_time(&self, state: &F::State) -> Option<f64> {
-        L::TIME.map(|j| F::configuration(&self.system, state)[S + j])
+        self.system
+            .time_index()
+            .map(|j| F::configuration(&self.system, state)[S + j])
     }
 
     /// The inputs, and `‖φ(q_0)‖∞` within the Newton tolerances (×10³): a typed

@@ -425,7 +425,7 @@ where
             });
         }
         crate::stepper::monitor_at(sys, k, &next.x)?;
-        if let Some(j) = L::TIME {
+        if let Some(j) = sys.time_index() {
             crate::stepper::check_time_increment(k, sys.time_step(), next.g[j] - state.g[j])?;
         }
         Ok((
@@ -463,7 +463,7 @@ where
     }
 
     fn physical_time(&self, state: &ReducedState<S, K>) -> Option<f64> {
-        L::TIME.map(|j| state.g[j])
+        self.system.time_index().map(|j| state.g[j])
     }
 
     fn workspace(&self) -> Self::Workspace {
@@ -489,7 +489,7 @@ where
     ) -> Result<(ReducedState<S, K>, ReducedStep<K>), StepError> {
         let mut guess = reduced_guess::<S, K, N>(&state.x, &workspace.history, h);
         // Adaptive steps: a run's first step starts from the motion in fictitious time, not rest.
-        if workspace.history.last.is_none() && L::TIME.is_some() {
+        if workspace.history.last.is_none() && self.system.time_index().is_some() {
             let start = self.system.untrivialize(state);
             if let Some(dq) = self.system.adaptive_increment(&start.q, &start.p, h) {
                 let (dx, dg) = split::<S, K, N>(&dq);

@@ -60,6 +60,12 @@ pub trait DiscreteLagrangian<const S: usize, const K: usize, const N: usize> {
     /// stepped in physical time.
     const TIME: Option<usize> = None;
 
+    /// Adaptive steps: the time coordinate's index among the group coordinates, [`Self::TIME`],
+    /// or what only the value knows (a system given at run time). What the integrators read.
+    fn time_index(&self) -> Option<usize> {
+        Self::TIME
+    }
+
     /// Adaptive steps: the step monitor `g(x) > 0` at the shape `x` (`dt = g dτ`); `None` for a
     /// system stepped in physical time.
     fn monitor(&self, x: &SVector<f64, S>) -> Option<f64> {

@@ -175,7 +175,7 @@ where
             });
         }
         crate::stepper::monitor_at(sys, k, &next.q.fixed_rows::<S>(0).into_owned())?;
-        if let Some(j) = L::TIME {
+        if let Some(j) = sys.time_index() {
             crate::stepper::check_time_increment(k, sys.time_step(), next.q[S + j] - q[S + j])?;
         }
         Ok((
@@ -209,7 +209,7 @@ where
     }
 
     fn physical_time(&self, state: &UnreducedState<N>) -> Option<f64> {
-        L::TIME.map(|j| state.q[S + j])
+        self.system.time_index().map(|j| state.q[S + j])
     }
 
     fn workspace(&self) -> Self::Workspace {
@@ -235,7 +235,7 @@ where
     ) -> Result<(UnreducedState<N>, StepStats), StepError> {
         let mut guess = canonical_guess(&state.q, &workspace.history, h);
         // Adaptive steps: a run's first step starts from the motion in fictitious time, not rest.
-        if workspace.history.last.is_none() && L::TIME.is_some() {
+        if workspace.history.last.is_none() && self.system.time_index().is_some() {
             if let Some(dq) = self.system.adaptive_increment(&state.q, &state.p, h) {
                 guess = state.q + dq;
             }

@@ -66,6 +66,12 @@
 //! likewise a reduced step always adds the constraint impulse to `μ`, which is exactly zero when
 //! the constraints have no group component.
 //!
+//! Adaptive steps (`time(t), adapt = |q| g` on a continuous Lagrangian) compile to the
+//! time-transformed Lagrangian, as in Rust ([guide](crate::guide::adaptive_steps)); the system
+//! says which group coordinate is physical time and evaluates the monitor from the text
+//! (`DiscreteLagrangian::time_index`, `monitor`), so every integrator steps in fictitious time
+//! and reports physical time. Adaptive Kepler (`e = 0.9`) steps bit for bit as compiled in.
+//!
 //! A kernel does what the attribute's emitted Rust does, operation by operation: `+ − · /`,
 //! negation and square roots are IEEE operations in both, neither fuses multiply-adds, and the
 //! other elementary functions call Rust's own `f64` methods. The paper's two systems, Kepler's
@@ -96,7 +102,7 @@
 //!
 //! Systems on vector spaces (of more than 16 coordinates on the sparse backend, as compiled in:
 //! `instantiate_sparse::<S, K, N>`, and the 200-particle lattice steps bit for bit as its
-//! compiled-in version), with or without constraints, with at most 32 parameters. Systems on
-//! rotation groups, element-wise systems sized at run time, adaptive steps and step
+//! compiled-in version), with or without constraints, with fixed or adaptive steps, with at most
+//! 32 parameters. Systems on rotation groups, element-wise systems sized at run time and step
 //! sensitivities are compiled in with the attribute: the text front end says so at the token
 //! that asks for them. The Python package and the command line run systems without constraints.

@@ -80,6 +80,7 @@ struct Kernels {
     unreduced: StepperKernels,
     legendre: Option<Kernel>,
     energy: Option<Kernel>,
+    monitor: Option<Kernel>,
     constrained: Option<ConstrainedKernels>,
 }
 
@@ -170,6 +171,11 @@ pub fn compile(source: &str) -> Result<Arc<Code>, Error> {
     let plus = side(&mut jit, &system.plus)?;
     let minus = side(&mut jit, &system.minus)?;
     let unreduced = stepper(&mut jit, &system.unreduced, &unreduced_layout)?;
+    let monitor = system
+        .adaptive
+        .as_ref()
+        .map(|a| jit.define(&a.monitor, &|leaf| monitor_layout(leaf, s)))
+        .transpose()?;
     let continuous = system
         .continuous
         .as_ref()
@@ -208,6 +214,7 @@ pub fn compile(source: &str) -> Result<Arc<Code>, Error> {
         unreduced: stepper_kernels(unreduced),
         legendre: continuous.map(|(l, _)| k[l]),
         energy: continuous.map(|(_, e)| k[e]),
+        monitor: monitor.map(|m| k[m]),
         constrained: constrained.map(|defined| constrained::kernels(defined, &k)),
     };
     Ok(Arc::new(Code {
@@ -226,6 +233,15 @@ fn ld_layout(leaf: Leaf) -> (usize, usize) {
         Leaf::Q0(i) => (1, i),
         Leaf::Q1(i) => (2, i),
         other => unreachable!("L_d does not read {other:?}"),
+    }
+}
+
+/// The monitor `g(x)` of adaptive steps: the shape `x` (`S` entries) in `a`.
+fn monitor_layout(leaf: Leaf, s: usize) -> (usize, usize) {
+    match leaf {
+        Leaf::Param(i) => (0, i),
+        Leaf::Q0(i) if i < s => (1, i),
+        other => unreachable!("the monitor reads the shape and the parameters, not {other:?}"),
     }
 }
 
@@ -584,6 +600,41 @@ impl<const S: usize, const K: usize, const N: usize, V: Variant<N>> DiscreteLagr
             .iter()
             .map(String::as_str)
             .collect()
+    }
+
+    /// Known from the text only: the integrators read it here, not from [`Self::TIME`].
+    fn time_index(&self) -> Option<usize> {
+        self.code.system.adaptive.as_ref().map(|a| a.time)
+    }
+
+    fn monitor(&self, x: &SVector<f64, S>) -> Option<f64> {
+        let kernel = self.code.kernels.monitor?;
+        let g: SVector<f64, 1> = self.call(
+            kernel,
+            [x.as_ptr(), UNUSED, UNUSED, UNUSED],
+            SVector::zeros(),
+        );
+        Some(g[0])
+    }
+
+    /// As the attribute's ([`dirac_runtime::adaptive::first_increment`]), on this system's
+    /// Legendre map.
+    fn adaptive_increment(
+        &self,
+        q: &SVector<f64, N>,
+        p: &SVector<f64, N>,
+        h: f64,
+    ) -> Option<SVector<f64, N>> {
+        let time = S + self.time_index()?;
+        let g = self.monitor(&q.fixed_rows::<S>(0).into_owned())?;
+        let legendre = self.code.kernels.legendre?;
+        dirac_runtime::adaptive::first_increment_of(time, g, q, p, h, |q, v| {
+            self.call(
+                legendre,
+                [q.as_ptr(), v.as_ptr(), UNUSED, UNUSED],
+                SVector::zeros(),
+            )
+        })
     }
 
     fn control_count(&self) -> usize {
