@@ -130,6 +130,17 @@ fn mistakes_and_failures_have_their_exit_statuses() {
         stderr.contains("unknown coordinate `psi`") && stderr.contains(" --> 4:"),
         "{stderr}"
     );
+    // A system with constraints: status 1, refused rather than integrated without them.
+    std::fs::write(
+        dir.join("kepler.rs"),
+        "#[reduced_lagrangian(shape(x, y), group(), rule = midpoint,\n\
+         constraints = |q| [q.x * q.x + q.y * q.y - 1.0])]\n\
+         fn ring(q: Config, v: Velocity, m: f64) -> f64 { 0.5 * m * (v.x * v.x + v.y * v.y) }\n",
+    )
+    .unwrap();
+    let (code, _, stderr) = dirac(&["check", file.to_str().unwrap()]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(stderr.contains("a system with constraints"), "{stderr}");
     // A failed step: status 1, and the states before it are on disk.
     std::fs::write(
         dir.join("wall.rs"),

@@ -823,6 +823,13 @@ fn compile(py: Python<'_>, text: &str) -> PyResult<System> {
     match py.allow_threads(|| dirac_jit::compile(text)) {
         Ok(code) => {
             let (s, k) = (code.system().shape.len(), code.system().group.len());
+            if code.system().constrained.is_some() {
+                return Err(CompileError::new_err(
+                    "a system with constraints: the Python module runs systems without them; \
+                     the constrained integrators take it from Rust \
+                     (`dirac_jit::Code::instantiate_constrained`)",
+                ));
+            }
             if s + k > MAX_N {
                 return Err(CompileError::new_err(format!(
                     "{} coordinates: the Python module runs systems of at most {MAX_N}",

@@ -123,6 +123,14 @@ def test_mistakes_in_the_text_raise_with_lines_and_columns():
     assert " --> 2:50" in str(info.value)
 
 
+def test_a_system_with_constraints_is_refused_not_run_without_them():
+    with pytest.raises(dirac.CompileError) as info:
+        dirac.compile("#[reduced_lagrangian(shape(x, y), group(), rule = midpoint,\n"
+                      "    constraints = |q| [q.x * q.x + q.y * q.y - 1.0])]\n"
+                      "fn f(q: Config, v: Velocity, m: f64) -> f64 { 0.5 * m * (v.x * v.x + v.y * v.y) }")
+    assert "constraints" in str(info.value)
+
+
 def test_bad_input_raises_value_errors():
     kepler = dirac.compile(KEPLER)
     start = dict(x=[0.5], w=[0.0], mu=[1.0], g=[0.0])

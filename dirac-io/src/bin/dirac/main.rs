@@ -98,6 +98,13 @@ fn cli(args: Vec<String>) -> Result<(), Failure> {
     }
     let code = dirac_jit::compile(&config.text).map_err(|e| Failure::Run(e.to_string()))?;
     let sys = code.system();
+    if sys.constrained.is_some() {
+        return Err(Failure::Run(format!(
+            "{}: a system with constraints; `dirac run` integrates systems without them \
+             (the constrained integrators take it from Rust: `dirac_jit::Code::instantiate_constrained`)",
+            sys.name
+        )));
+    }
     match command {
         "check" => {
             println!(
