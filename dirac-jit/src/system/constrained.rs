@@ -12,7 +12,7 @@ use dirac_runtime::{
 };
 
 use super::backend::{Backend, Dense, WithConstraints};
-use super::{ld_layout, stepper_kernels, JitSystem, StepperKernels, UNUSED};
+use super::{ld_layout, reduced_layout, stepper_kernels, JitSystem, StepperKernels, UNUSED};
 use crate::codegen::{Jit, Kernel, Layout};
 use crate::error::Error;
 
@@ -58,7 +58,7 @@ pub(super) fn define(
     n: usize,
 ) -> Result<Defined, Error> {
     let unreduced = |leaf| constrained_unreduced_layout(leaf, n);
-    let reduced = |leaf| constrained_reduced_layout(leaf, s, n);
+    let reduced = |leaf| reduced_layout(leaf, s, n);
     let steps = |jit: &mut Jit, steps: &text::ConstrainedSteps, layout: Layout| {
         Ok::<_, Error>((
             constrained_stepper(jit, &steps.position, layout)?,
@@ -118,22 +118,6 @@ fn constrained_unreduced_layout(leaf: Leaf, n: usize) -> (usize, usize) {
         Leaf::Q1(i) => (4, i),
         Leaf::Lambda(j) => (4, n + j),
         other => unreachable!("a constrained unreduced step does not read {other:?}"),
-    }
-}
-
-/// A constrained reduced step: the state's `x`, `w`, `μ` in `a`, `b`, `c` (the projection reads
-/// the shape of `q_{k+1}` as `Q0`), the unknowns `(x_{k+1}, u, λ)` or `(v, ν)` in `d`.
-fn constrained_reduced_layout(leaf: Leaf, s: usize, n: usize) -> (usize, usize) {
-    match leaf {
-        Leaf::Param(i) => (0, i),
-        Leaf::X0(i) => (1, i),
-        Leaf::Q0(i) if i < s => (1, i),
-        Leaf::W(i) => (2, i),
-        Leaf::Mu(j) => (3, j),
-        Leaf::X1(i) | Leaf::Q1(i) => (4, i),
-        Leaf::U(j) => (4, s + j),
-        Leaf::Lambda(j) => (4, n + j),
-        other => unreachable!("a constrained reduced step does not read {other:?}"),
     }
 }
 

@@ -142,7 +142,8 @@ pub fn compile(source: &str) -> Result<Arc<Code>, Error> {
     };
     let ld = jit.define(&system.lagrangian, &ld_layout)?;
     let b = jit.define(&system.connection, &ld_layout)?;
-    let reduced = |leaf| reduced_layout(leaf, s);
+    let n = s + system.group.len();
+    let reduced = |leaf| reduced_layout(leaf, s, n);
     let side = |jit: &mut Jit, side: &text::Side| -> Result<_, Error> {
         let l = jit.define(&side.lagrangian, &reduced_lagrangian_layout)?;
         let st = stepper(jit, &side.stepper, &reduced)?;
@@ -189,7 +190,7 @@ pub fn compile(source: &str) -> Result<Arc<Code>, Error> {
     let constrained = system
         .constrained
         .as_ref()
-        .map(|c| constrained::define(&mut jit, c, s, s + system.group.len()))
+        .map(|c| constrained::define(&mut jit, c, s, n))
         .transpose()?;
     let (k, module) = jit.finish()?;
     let stepper_kernels = |defined| stepper_kernels(&k, defined);
@@ -256,15 +257,20 @@ fn reduced_lagrangian_layout(leaf: Leaf) -> (usize, usize) {
     }
 }
 
-/// A reduced step: `x_k`, `w_k`, `μ_k` in `a`, `b`, `c`, the unknowns `z = (x_{k+1}, u)` in `d`.
-fn reduced_layout(leaf: Leaf, s: usize) -> (usize, usize) {
+/// A reduced step of a system of `s` shape and `n` coordinates: `x_k`, `w_k`, `μ_k` in `a`,
+/// `b`, `c`, the unknowns `z = (x_{k+1}, u)` in `d`. A constrained step reads its state the same
+/// way (the projection reads the shape of `q_{k+1}` as `Q0`) and its unknowns `(x_{k+1}, u, λ)`
+/// or `(v, ν)` in `d`.
+fn reduced_layout(leaf: Leaf, s: usize, n: usize) -> (usize, usize) {
     match leaf {
         Leaf::Param(i) => (0, i),
         Leaf::X0(i) => (1, i),
+        Leaf::Q0(i) if i < s => (1, i),
         Leaf::W(i) => (2, i),
         Leaf::Mu(j) => (3, j),
-        Leaf::X1(i) => (4, i),
+        Leaf::X1(i) | Leaf::Q1(i) => (4, i),
         Leaf::U(j) => (4, s + j),
+        Leaf::Lambda(j) => (4, n + j),
         other => unreachable!("a reduced step does not read {other:?}"),
     }
 }
