@@ -95,6 +95,16 @@ impl Jit {
         set(&mut flags, "use_colocated_libcalls", "false")?;
         set(&mut flags, "is_pic", "false")?;
         set(&mut flags, "opt_level", "speed")?;
+        // Cranelift's IR verifier re-checks every function it is given (a fifth of a small
+        // system's compile time): on in a build with debug assertions (`cargo test` without
+        // `--release`), off in an optimized one, where the tests' bit-for-bit comparisons with
+        // the compiled-in systems check the translation.
+        let verify = if cfg!(debug_assertions) {
+            "true"
+        } else {
+            "false"
+        };
+        set(&mut flags, "enable_verifier", verify)?;
         let isa = cranelift_native::builder()
             .map_err(|e| Error::Codegen(format!("this machine's instruction set: {e}")))?
             .finish(settings::Flags::new(flags))

@@ -83,12 +83,14 @@
 //! multiplier.
 //!
 //! The example `jit_bench` (`cargo run --release --manifest-path dirac-jit/Cargo.toml --example jit_bench`) compiles the
-//! paper's double spherical pendulum from text in 61–95 ms (medians over 7 compilations, three
-//! runs on a 2-core machine) and its steps take 1.07–1.45 times as long as the compiled-in
-//! steps, interleaved in one run: Cranelift's code is not LLVM's, and each elementary function is
-//! a call. The examples' 200-particle Toda lattice compiles in 2.5–2.8 s and steps 1.10–1.12
-//! times as long as compiled in; a 32-link chain on a cart (33 coordinates, a dense Jacobian)
-//! compiles in 0.5–0.7 s (`BENCHMARKS.md`).
+//! paper's double spherical pendulum from text in 42–45 ms (medians over 7 compilations, four
+//! of five runs on an idle 2-core machine; 63 ms in the fifth, on a busy one) and its steps take
+//! 1.29–1.31 times as long as the compiled-in steps (medians), interleaved in one run: Cranelift's
+//! code is not LLVM's, and each elementary function is a call. The examples' 200-particle Toda
+//! lattice compiles in 1.8–1.9 s and steps 1.06–1.07 times as long as compiled in; the scaling
+//! benchmark's 32-link chain on a cart (33 coordinates, a dense Jacobian) compiles in about
+//! 0.4 s, and the same 32 links in maximal coordinates with a constraint per link (97 unknowns
+//! per constrained solve) in about 0.32 s (`BENCHMARKS.md`).
 //!
 //! ## From Python and from the command line
 //!
