@@ -165,6 +165,33 @@ fn expand_element(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> 
 /// step on the graph, and the emitted items ([`crate::ast::lie`], [`crate::ir::lie`],
 /// [`crate::codegen::lie`]).
 fn expand_lie(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> {
+    let LieCompiled {
+        spec,
+        sig,
+        graph,
+        code,
+    } = compile_lie(args, func)?;
+    Ok(crate::codegen::lie::generate(
+        &spec, &sig, func, &graph, &code,
+    ))
+}
+
+/// A system on rotation groups up to the graph both back ends read.
+pub struct LieCompiled {
+    /// The attribute.
+    pub spec: crate::ast::lie::LieSpec,
+    /// The signature.
+    pub sig: Signature,
+    /// The graph of every function.
+    pub graph: crate::ir::graph::Graph,
+    /// The step's roots in the graph.
+    pub code: crate::ir::lie::LieCode,
+}
+
+/// The phases of a system on rotation groups: the attribute and signature, the body lowered with
+/// matrix and vector values, the symmetry checks, and the Lie group variational step (with its
+/// reduced step, partial derivatives and adaptive steps where declared) on the graph.
+pub fn compile_lie(args: TokenStream, func: &ItemFn) -> syn::Result<LieCompiled> {
     use crate::ir::graph::Graph;
     use crate::ir::lower::Lowering;
     let cx = Ctxt::new();
@@ -302,9 +329,12 @@ fn expand_lie(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> {
     code.adapt = adapt
         .zip(spec.adapt.as_ref())
         .map(|((a, l), at)| crate::ir::lie::adaptive(&mut graph, &spec, at.coord, a.monitor, l));
-    Ok(crate::codegen::lie::generate(
-        &spec, &sig, func, &graph, &code,
-    ))
+    Ok(LieCompiled {
+        spec,
+        sig,
+        graph,
+        code,
+    })
 }
 
 /// Where the time coordinate of `adapt` is, in the configuration and the velocity.

@@ -35,6 +35,12 @@ pub enum Leaf {
     /// The Lagrange multiplier `λ_k[j]` of a constrained position step, or `ν_{k+1}[j]` of its
     /// projection (the unknowns after the configuration or velocity: `z[N + j]`).
     Lambda(usize),
+    /// Entry `i` of the stored point `q_k` at the centre of the chart of a step on rotation
+    /// groups (rotations and directions 9 entries each, row by row).
+    Base(usize),
+    /// Chart coordinate `j` of the next point of a step on rotation groups: the step's unknown
+    /// `z`, `q_{k+1} = φ_{q_k}(z)`.
+    Chart(usize),
 }
 
 /// One operation of a [`Program`]; operands are indices of earlier operations.
@@ -146,7 +152,7 @@ pub(crate) fn program(g: &Graph, outputs: &[NodeId]) -> Program {
     }
 }
 
-/// The leaf a symbol of the abelian systems' graphs is: both reduced group unknowns are `U`.
+/// The leaf a symbol of the compiled functions is: both reduced group unknowns are `U`.
 fn leaf(sym: Sym) -> Leaf {
     match sym {
         Sym::Q0(i) => Leaf::Q0(i),
@@ -159,6 +165,8 @@ fn leaf(sym: Sym) -> Leaf {
         Sym::Mu(j) => Leaf::Mu(j),
         Sym::Param(i) => Leaf::Param(i),
         Sym::Lambda(j) => Leaf::Lambda(j),
-        other => unreachable!("the steps of a system on vector spaces do not read {other:?}"),
+        Sym::Base(i) => Leaf::Base(i),
+        Sym::Chart1(j) => Leaf::Chart(j),
+        other => unreachable!("the compiled functions do not read {other:?}"),
     }
 }

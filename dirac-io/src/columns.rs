@@ -207,6 +207,15 @@ pub fn lie_names(coordinates: &[(&str, CoordinateKind)]) -> (Vec<String>, Vec<St
     (point, chart)
 }
 
+/// The coordinates of a system on rotation groups, in the order of the point and the chart
+/// ([`LieLagrangian::coordinate`]: the constant `COORDINATES` of a compiled-in system).
+fn lie_coordinates<L, const P: usize, const N: usize>(system: &L) -> Vec<(&str, CoordinateKind)>
+where
+    L: LieLagrangian<P, N>,
+{
+    (0..).map_while(|i| system.coordinate(i)).collect()
+}
+
 /// A run as a file describes it: the state's column names, the time step, the parameters by
 /// name and whatever else identifies the run (integrator, Newton options), written as the
 /// Parquet file's key-value metadata (keys `dirac.*`, see the [crate documentation](crate)).
@@ -252,7 +261,12 @@ impl RunInfo {
             ("dirac.shape".into(), shape.join(",")),
             ("dirac.group".into(), group.join(",")),
         ];
-        metadata.extend(L::TIME.and_then(|j| physical_time(&columns, group[j])));
+        metadata.extend(
+            system
+                .time_index()
+                .and_then(|j| group.get(j))
+                .and_then(|name| physical_time(&columns, name)),
+        );
         RunInfo {
             columns,
             h: system.time_step(),
@@ -375,20 +389,27 @@ where
 {
     fn describe(&self) -> RunInfo {
         let system = self.system();
-        let (point, chart) = lie_names(L::COORDINATES);
+        let coordinates = lie_coordinates(system);
+        let (point, chart) = lie_names(&coordinates);
         let point: Vec<&str> = point.iter().map(String::as_str).collect();
         let chart: Vec<&str> = chart.iter().map(String::as_str).collect();
-        let kinds: Vec<String> = L::COORDINATES
+        let kinds: Vec<String> = coordinates
             .iter()
             .map(|(name, kind)| format!("{name}:{kind:?}"))
             .collect();
         let columns = LieState::<P, N>::column_names(&point, &chart);
         let mut metadata = vec![("dirac.coordinates".into(), kinds.join(","))];
-        metadata.extend(L::TIME.and_then(|i| physical_time(&columns, L::COORDINATES[i].0)));
+        metadata.extend(
+            system
+                .time_index()
+                .and_then(|i| coordinates.get(i))
+                .and_then(|&(name, _)| physical_time(&columns, name)),
+        );
         RunInfo {
             columns,
             h: system.time_step(),
-            parameters: L::PARAMETERS
+            parameters: system
+                .parameter_names()
                 .iter()
                 .map(|p| (*p).to_owned())
                 .zip(system.parameter_values())
@@ -410,7 +431,7 @@ where
 {
     fn describe(&self) -> RunInfo {
         let mut info = self.unreduced().describe();
-        let (point, chart) = lie_names(L::COORDINATES);
+        let (point, chart) = lie_names(&lie_coordinates(self.system()));
         let point: Vec<&str> = point.iter().map(String::as_str).collect();
         let chart: Vec<&str> = chart.iter().map(String::as_str).collect();
         info.columns = ReducedLieState::<P, N>::column_names(&point, &chart);
@@ -419,7 +440,7 @@ where
             "dirac.integrator",
             "reduced Lie group variational (Cayley retraction)",
         )
-        .with("dirac.symmetry", format!("{:?}", L::SYMMETRY))
+        .with("dirac.symmetry", format!("{:?}", self.system().symmetry()))
     }
 }
 

@@ -66,6 +66,51 @@ pub enum Error {
         /// The `Z` asked for.
         want_z: usize,
     },
+    /// The dimensions a program asked for a system on rotation groups are not the system's.
+    #[error(
+        "the system `{name}` has points of {p} entries and {n} chart coordinates; it was asked for as P = {want_p}, N = {want_n}"
+    )]
+    LieDimensions {
+        /// The system's type name.
+        name: String,
+        /// The entries of its stored point.
+        p: usize,
+        /// Its chart coordinates, the dimension of its configuration space.
+        n: usize,
+        /// The `P` asked for.
+        want_p: usize,
+        /// The `N` asked for.
+        want_n: usize,
+    },
+    /// A reduced system was asked for where the text declares no symmetry to reduce by, or
+    /// where its reduced step cannot run on the backend asked for.
+    #[error("the system `{name}` cannot be reduced: {reason}")]
+    Symmetry {
+        /// The system's type name.
+        name: String,
+        /// Why.
+        reason: String,
+    },
+    /// A state the system cannot take: a wrong number of entries, a matrix that is not a
+    /// rotation, a vector that is not a unit vector, a value that is not finite.
+    #[error("a state of `{name}`: {reason}")]
+    State {
+        /// The system's type name.
+        name: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// A program asked for one kind of system and the text is the other (on vector spaces, or
+    /// on rotation groups).
+    #[error("the system `{name}` is {is}: {hint}")]
+    Kind {
+        /// The system's type name.
+        name: String,
+        /// What it is.
+        is: &'static str,
+        /// What to call instead.
+        hint: &'static str,
+    },
     /// The parameter values do not match the declared parameters.
     #[error("parameters of `{name}`: {reason}; declared: {declared}")]
     Parameters {

@@ -109,13 +109,40 @@
 
 mod codegen;
 mod error;
+mod lie;
 mod system;
 
 pub use error::Error;
+pub use lie::{compile_lie, JitLie, LieCode, Reduced, Reduction, Unreduced};
 pub use system::{
     compile, Backend, Code, Dense, JitConstrained, JitSystem, Sparse, Variant, WithConstraints,
     MAX_PARAMETERS,
 };
+
+/// A system given as text and compiled to machine code, of either kind.
+#[derive(Clone, Debug)]
+pub enum Compiled {
+    /// A system on vector spaces ([`compile`]).
+    Flat(std::sync::Arc<Code>),
+    /// A system on rotation groups ([`compile_lie`]).
+    Lie(std::sync::Arc<LieCode>),
+}
+
+/// Compiles a system given as text, whichever its kind (see
+/// [`dirac_compiler::text::compile_any`]): on rotation groups when it declares a `rotation(..)`
+/// or `direction(..)` coordinate, on vector spaces otherwise. What a program that takes any
+/// system (a Python module, a command line) calls.
+pub fn compile_any(source: &str) -> Result<Compiled, Error> {
+    let start = std::time::Instant::now();
+    match dirac_compiler::text::compile_any(source)? {
+        dirac_compiler::text::AnySystem::Flat(system) => {
+            system::Code::from_system(*system, start).map(Compiled::Flat)
+        }
+        dirac_compiler::text::AnySystem::Lie(system) => {
+            LieCode::from_system(*system, start).map(Compiled::Lie)
+        }
+    }
+}
 
 /// The largest `N = S + K` that [`with_dimensions!`] has an instance for.
 pub const MAX_DISPATCHED: usize = 8;
@@ -151,6 +178,41 @@ macro_rules! with_dimensions {
             $(($s, $k) => $f::<$s, $k, { $s + $k }> $args,)*
             (s, k) => ::core::result::Result::Err(::std::format!(
                 "{s} shape and {k} group coordinates: systems given at run time are integrated with at most {} coordinates here",
+                $crate::MAX_DISPATCHED
+            )),
+        }
+    };
+}
+
+/// The most rotation and direction coordinates together that [`with_lie_dimensions!`] has
+/// instances for.
+pub const MAX_DISPATCHED_ROTATIONS: usize = 2;
+
+/// Calls a function generic over the dimensions of a system on rotation groups, `f::<P, N>(args)`,
+/// for dimensions known only at run time: one instance per `(P, N)` of a system with at most
+/// [`MAX_DISPATCHED_ROTATIONS`] rotation and direction coordinates and `N ≤`
+/// [`MAX_DISPATCHED`] (25 instances). The function returns `Result<_, String>`; other
+/// dimensions are an `Err` saying so.
+///
+/// ```
+/// fn dims<const P: usize, const N: usize>() -> Result<usize, String> {
+///     Ok(100 * P + N)
+/// }
+/// assert_eq!(dirac_jit::with_lie_dimensions!(18, 4, dims()), Ok(1804));
+/// assert!(dirac_jit::with_lie_dimensions!(54, 18, dims()).is_err());
+/// ```
+#[macro_export]
+macro_rules! with_lie_dimensions {
+    ($p:expr, $n:expr, $f:ident $args:tt) => {
+        $crate::with_lie_dimensions!(@arms ($p, $n), $f $args;
+            (9,2) (9,3) (10,3) (10,4) (11,4) (11,5) (12,5) (12,6) (13,6) (13,7) (14,7) (14,8) (15,8) (18,4) (18,5) (18,6) (19,5) (19,6) (19,7) (20,6) (20,7) (20,8) (21,7) (21,8) (22,8))
+    };
+    (@arms $pn:expr, $f:ident $args:tt; $(($p:literal, $n:literal))*) => {
+        match $pn {
+            $(($p, $n) => $f::<$p, $n> $args,)*
+            (p, n) => ::core::result::Result::Err(::std::format!(
+                "a point of {p} entries and {n} chart coordinates: systems on rotation groups given at run time are integrated here with at most {} rotation and direction coordinates and {} chart coordinates",
+                $crate::MAX_DISPATCHED_ROTATIONS,
                 $crate::MAX_DISPATCHED
             )),
         }

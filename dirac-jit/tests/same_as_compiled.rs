@@ -569,3 +569,7 @@ fn adaptive_steps_step_bit_for_bit() {
         "the steps lengthen away from periapsis"
     );
 }
+
+/// Systems on rotation groups.
+#[path = "same_as_compiled/lie.rs"]
+mod lie;

@@ -8,6 +8,8 @@
 
 use std::sync::Arc;
 
+mod lie;
+
 use dirac_jit::Code;
 use dirac_runtime::nalgebra::SVector;
 use dirac_runtime::{
@@ -338,7 +340,12 @@ struct System {
 
 /// The parameter values in declaration order, from a mapping (by name) or a sequence.
 fn parameter_values(code: &Code, params: &Bound<'_, PyAny>) -> PyResult<Vec<f64>> {
-    let names = &code.system().parameters;
+    values_of(&code.system().parameters, params)
+}
+
+/// The values of the parameters `names`, in declaration order, from a mapping (by name) or a
+/// sequence.
+fn values_of(names: &[String], params: &Bound<'_, PyAny>) -> PyResult<Vec<f64>> {
     if let Ok(d) = params.downcast::<PyDict>() {
         let mut values = Vec::with_capacity(names.len());
         for name in names {
@@ -761,26 +768,7 @@ impl System {
                 dirac_jit::with_dimensions!(s, k, write_one(&code, &params, &start, r, &path))
             })
             .map_err(PyValueError::new_err)?;
-        match written {
-            Ok((steps, t, path)) => {
-                let d = PyDict::new(py);
-                d.set_item("steps", steps)?;
-                d.set_item("t", t)?;
-                d.set_item("path", path)?;
-                Ok(d)
-            }
-            Err((error, path)) => {
-                let err = StepError::new_err(format!(
-                    "{error}; the states before it are written to {}",
-                    path.display()
-                ));
-                let value = err.value(py);
-                value.setattr("step", error.step())?;
-                value.setattr("residual", error.residual())?;
-                value.setattr("path", path)?;
-                Err(err)
-            }
-        }
+        written_dict(py, written)
     }
 
     /// Benchmarks only: the seconds of the same reduced (+) run as `run`, timed inside Rust
@@ -816,12 +804,40 @@ impl System {
     }
 }
 
+/// What `write` returns: `steps`, `t` and `path`; or the `StepError` of the failed step with
+/// `step`, `residual` and `path`.
+fn written_dict(py: Python<'_>, written: Written) -> PyResult<Bound<'_, PyDict>> {
+    match written {
+        Ok((steps, t, path)) => {
+            let d = PyDict::new(py);
+            d.set_item("steps", steps)?;
+            d.set_item("t", t)?;
+            d.set_item("path", path)?;
+            Ok(d)
+        }
+        Err((error, path)) => {
+            let err = StepError::new_err(format!(
+                "{error}; the states before it are written to {}",
+                path.display()
+            ));
+            let value = err.value(py);
+            value.setattr("step", error.step())?;
+            value.setattr("residual", error.residual())?;
+            value.setattr("path", path)?;
+            Err(err)
+        }
+    }
+}
+
 /// Compiles a system given as text (a function carrying `#[reduced_lagrangian(..)]`). Raises
 /// `CompileError` with the attribute's messages, lines and columns.
 #[pyfunction]
-fn compile(py: Python<'_>, text: &str) -> PyResult<System> {
-    match py.allow_threads(|| dirac_jit::compile(text)) {
-        Ok(code) => {
+fn compile(py: Python<'_>, text: &str) -> PyResult<PyObject> {
+    match py.allow_threads(|| dirac_jit::compile_any(text)) {
+        Ok(dirac_jit::Compiled::Lie(code)) => {
+            Ok(Py::new(py, lie::LieSystem::new(code)?)?.into_any())
+        }
+        Ok(dirac_jit::Compiled::Flat(code)) => {
             let (s, k) = (code.system().shape.len(), code.system().group.len());
             if code.system().constrained.is_some() {
                 return Err(CompileError::new_err(
@@ -836,7 +852,7 @@ fn compile(py: Python<'_>, text: &str) -> PyResult<System> {
                     s + k
                 )));
             }
-            Ok(System { code })
+            Ok(Py::new(py, System { code })?.into_any())
         }
         Err(dirac_jit::Error::Text(e)) => {
             let err = CompileError::new_err(e.to_string());
@@ -856,6 +872,7 @@ fn compile(py: Python<'_>, text: &str) -> PyResult<System> {
 fn _dirac(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(compile, m)?)?;
     m.add_class::<System>()?;
+    m.add_class::<lie::LieSystem>()?;
     m.add("CompileError", m.py().get_type::<CompileError>())?;
     m.add("StepError", m.py().get_type::<StepError>())?;
     m.add("MAX_COORDINATES", MAX_N)?;

@@ -384,7 +384,7 @@ fn symmetry_impl(
         #allow
         #[automatically_derived]
         impl #rt::lie::LieSymmetric<#p, #n> for #ty {
-            const SYMMETRY: #rt::lie::RotationSymmetry = #kind;
+            const SYMMETRY: #rt::lie::RotationSymmetry<'static> = #kind;
             const SYMMETRY_FORCED: bool = #forced;
             #reduced
         }

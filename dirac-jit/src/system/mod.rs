@@ -85,7 +85,7 @@ struct Kernels {
 }
 
 /// The module that owns the kernels' memory, freed with the last [`Code`] that uses it.
-struct Module(Option<JITModule>);
+pub(crate) struct Module(pub(crate) Option<JITModule>);
 
 // SAFETY: after `finish` the module is never used again except to free its memory on drop,
 // which happens once, when the last `Arc<Code>` goes; the kernels themselves are plain functions
@@ -129,106 +129,112 @@ impl std::fmt::Debug for Code {
 /// to machine code.
 pub fn compile(source: &str) -> Result<Arc<Code>, Error> {
     let start = Instant::now();
-    let system = text::compile(source)?;
-    let s = system.shape.len();
-    let mut jit = Jit::new()?;
-    let stepper = |jit: &mut Jit, st: &text::Stepper, layout: Layout| -> Result<_, Error> {
-        Ok([
-            jit.define(&st.residual, layout)?,
-            jit.define(&st.residual_jacobian, layout)?,
-            jit.define(&st.momentum, layout)?,
-            jit.define(&st.residual_momentum, layout)?,
-        ])
-    };
-    let ld = jit.define(&system.lagrangian, &ld_layout)?;
-    let b = jit.define(&system.connection, &ld_layout)?;
-    let n = s + system.group.len();
-    let reduced = |leaf| reduced_layout(leaf, s, n);
-    let side = |jit: &mut Jit, side: &text::Side| -> Result<_, Error> {
-        let l = jit.define(&side.lagrangian, &reduced_lagrangian_layout)?;
-        let st = stepper(jit, &side.stepper, &reduced)?;
-        let impulse = side
-            .impulse
+    Code::from_system(text::compile(source)?, start)
+}
+
+impl Code {
+    /// The machine code of a compiled system; `start` is when its compilation began.
+    pub(crate) fn from_system(system: System, start: Instant) -> Result<Arc<Code>, Error> {
+        let s = system.shape.len();
+        let mut jit = Jit::new()?;
+        let stepper = |jit: &mut Jit, st: &text::Stepper, layout: Layout| -> Result<_, Error> {
+            Ok([
+                jit.define(&st.residual, layout)?,
+                jit.define(&st.residual_jacobian, layout)?,
+                jit.define(&st.momentum, layout)?,
+                jit.define(&st.residual_momentum, layout)?,
+            ])
+        };
+        let ld = jit.define(&system.lagrangian, &ld_layout)?;
+        let b = jit.define(&system.connection, &ld_layout)?;
+        let n = s + system.group.len();
+        let reduced = |leaf| reduced_layout(leaf, s, n);
+        let side = |jit: &mut Jit, side: &text::Side| -> Result<_, Error> {
+            let l = jit.define(&side.lagrangian, &reduced_lagrangian_layout)?;
+            let st = stepper(jit, &side.stepper, &reduced)?;
+            let impulse = side
+                .impulse
+                .as_ref()
+                .map(|p| jit.define(p, &reduced))
+                .transpose()?;
+            let eliminated = side
+                .eliminated
+                .as_ref()
+                .map(|e| {
+                    Ok::<_, Error>((
+                        [
+                            jit.define(&e.residual, &reduced)?,
+                            jit.define(&e.residual_jacobian, &reduced)?,
+                            jit.define(&e.group, &reduced)?,
+                            jit.define(&e.block, &reduced)?,
+                        ],
+                        e.pays,
+                    ))
+                })
+                .transpose()?;
+            Ok((l, st, impulse, eliminated))
+        };
+        let plus = side(&mut jit, &system.plus)?;
+        let minus = side(&mut jit, &system.minus)?;
+        let unreduced = stepper(&mut jit, &system.unreduced, &unreduced_layout)?;
+        let monitor = system
+            .adaptive
             .as_ref()
-            .map(|p| jit.define(p, &reduced))
+            .map(|a| jit.define(&a.monitor, &|leaf| monitor_layout(leaf, s)))
             .transpose()?;
-        let eliminated = side
-            .eliminated
+        let continuous = system
+            .continuous
             .as_ref()
-            .map(|e| {
+            .map(|c| {
                 Ok::<_, Error>((
-                    [
-                        jit.define(&e.residual, &reduced)?,
-                        jit.define(&e.residual_jacobian, &reduced)?,
-                        jit.define(&e.group, &reduced)?,
-                        jit.define(&e.block, &reduced)?,
-                    ],
-                    e.pays,
+                    jit.define(&c.legendre, &ld_layout)?,
+                    jit.define(&c.energy, &ld_layout)?,
                 ))
             })
             .transpose()?;
-        Ok((l, st, impulse, eliminated))
-    };
-    let plus = side(&mut jit, &system.plus)?;
-    let minus = side(&mut jit, &system.minus)?;
-    let unreduced = stepper(&mut jit, &system.unreduced, &unreduced_layout)?;
-    let monitor = system
-        .adaptive
-        .as_ref()
-        .map(|a| jit.define(&a.monitor, &|leaf| monitor_layout(leaf, s)))
-        .transpose()?;
-    let continuous = system
-        .continuous
-        .as_ref()
-        .map(|c| {
-            Ok::<_, Error>((
-                jit.define(&c.legendre, &ld_layout)?,
-                jit.define(&c.energy, &ld_layout)?,
-            ))
-        })
-        .transpose()?;
-    let constrained = system
-        .constrained
-        .as_ref()
-        .map(|c| constrained::define(&mut jit, c, s, n))
-        .transpose()?;
-    let (k, module) = jit.finish()?;
-    let stepper_kernels = |defined| stepper_kernels(&k, defined);
-    type Defined = (usize, [usize; 4], Option<usize>, Option<([usize; 4], bool)>);
-    let side_kernels = |(l, st, imp, el): Defined| SideKernels {
-        lagrangian: k[l],
-        stepper: stepper_kernels(st),
-        impulse: imp.map(|i| k[i]),
-        eliminated: el.map(|([r, rj, g, a], pays)| EliminatedKernels {
-            residual: k[r],
-            residual_jacobian: k[rj],
-            group: k[g],
-            block: k[a],
-            pays,
-        }),
-    };
-    let kernels = Kernels {
-        lagrangian: k[ld],
-        connection: k[b],
-        plus: side_kernels(plus),
-        minus: side_kernels(minus),
-        unreduced: stepper_kernels(unreduced),
-        legendre: continuous.map(|(l, _)| k[l]),
-        energy: continuous.map(|(_, e)| k[e]),
-        monitor: monitor.map(|m| k[m]),
-        constrained: constrained.map(|defined| constrained::kernels(defined, &k)),
-    };
-    Ok(Arc::new(Code {
-        system,
-        kernels,
-        compile_time: start.elapsed(),
-        _module: Module(Some(module)),
-    }))
+        let constrained = system
+            .constrained
+            .as_ref()
+            .map(|c| constrained::define(&mut jit, c, s, n))
+            .transpose()?;
+        let (k, module) = jit.finish()?;
+        let stepper_kernels = |defined| stepper_kernels(&k, defined);
+        type Defined = (usize, [usize; 4], Option<usize>, Option<([usize; 4], bool)>);
+        let side_kernels = |(l, st, imp, el): Defined| SideKernels {
+            lagrangian: k[l],
+            stepper: stepper_kernels(st),
+            impulse: imp.map(|i| k[i]),
+            eliminated: el.map(|([r, rj, g, a], pays)| EliminatedKernels {
+                residual: k[r],
+                residual_jacobian: k[rj],
+                group: k[g],
+                block: k[a],
+                pays,
+            }),
+        };
+        let kernels = Kernels {
+            lagrangian: k[ld],
+            connection: k[b],
+            plus: side_kernels(plus),
+            minus: side_kernels(minus),
+            unreduced: stepper_kernels(unreduced),
+            legendre: continuous.map(|(l, _)| k[l]),
+            energy: continuous.map(|(_, e)| k[e]),
+            monitor: monitor.map(|m| k[m]),
+            constrained: constrained.map(|defined| constrained::kernels(defined, &k)),
+        };
+        Ok(Arc::new(Code {
+            system,
+            kernels,
+            compile_time: start.elapsed(),
+            _module: Module(Some(module)),
+        }))
+    }
 }
 
 /// `L_d`, the connection, the Legendre map and the energy: `q0` (or `q`) in `a`, `q1` (or `v`)
 /// in `b`.
-fn ld_layout(leaf: Leaf) -> (usize, usize) {
+pub(crate) fn ld_layout(leaf: Leaf) -> (usize, usize) {
     match leaf {
         Leaf::Param(i) => (0, i),
         Leaf::Q0(i) => (1, i),
@@ -386,63 +392,81 @@ impl Code {
             });
         }
         V::check(sys)?;
-        let fail = |reason: String| Error::Parameters {
-            name: sys.name.clone(),
-            reason,
-            declared: sys.parameters.join(", "),
-        };
-        if parameters.len() != sys.parameters.len() {
-            return Err(fail(format!(
-                "{} values for {} parameters",
-                parameters.len(),
-                sys.parameters.len()
-            )));
-        }
-        if parameters.len() > MAX_PARAMETERS {
-            return Err(fail(format!(
-                "a system given at run time has at most {MAX_PARAMETERS} parameters"
-            )));
-        }
-        if let Some(i) = parameters.iter().position(|p| !p.is_finite()) {
-            return Err(fail(format!(
-                "`{}` = {} is not finite",
-                sys.parameters[i], parameters[i]
-            )));
-        }
-        let mut values = [0.0; MAX_PARAMETERS];
-        values[..parameters.len()].copy_from_slice(parameters);
         Ok(JitSystem {
             code: Arc::clone(self),
-            values,
+            values: parameter_values(&sys.name, &sys.parameters, parameters)?,
             backend: PhantomData,
         })
     }
 
-    /// The parameter values in declaration order from `(name, value)` pairs: every parameter
-    /// once, no other name.
+    /// The parameter values in declaration order from `(name, value)` pairs.
     fn by_name(&self, parameters: &[(&str, f64)]) -> Result<Vec<f64>, Error> {
-        let sys = &self.system;
-        let fail = |reason: String| Error::Parameters {
-            name: sys.name.clone(),
-            reason,
-            declared: sys.parameters.join(", "),
-        };
-        let mut values = vec![f64::NAN; sys.parameters.len()];
-        let mut given = vec![false; sys.parameters.len()];
-        for &(name, value) in parameters {
-            let Some(i) = sys.parameters.iter().position(|p| p == name) else {
-                return Err(fail(format!("no parameter `{name}`")));
-            };
-            if std::mem::replace(&mut given[i], true) {
-                return Err(fail(format!("`{name}` given twice")));
-            }
-            values[i] = value;
-        }
-        if let Some(i) = given.iter().position(|g| !g) {
-            return Err(fail(format!("`{}` not given", sys.parameters[i])));
-        }
-        Ok(values)
+        by_name(&self.system.name, &self.system.parameters, parameters)
     }
+}
+
+/// The inline parameter values of a system `name` declaring `declared`: an error unless
+/// `parameters` holds one finite number for each, at most [`MAX_PARAMETERS`].
+pub(crate) fn parameter_values(
+    name: &str,
+    declared: &[String],
+    parameters: &[f64],
+) -> Result<[f64; MAX_PARAMETERS], Error> {
+    let fail = |reason: String| Error::Parameters {
+        name: name.to_owned(),
+        reason,
+        declared: declared.join(", "),
+    };
+    if parameters.len() != declared.len() {
+        return Err(fail(format!(
+            "{} values for {} parameters",
+            parameters.len(),
+            declared.len()
+        )));
+    }
+    if parameters.len() > MAX_PARAMETERS {
+        return Err(fail(format!(
+            "a system given at run time has at most {MAX_PARAMETERS} parameters"
+        )));
+    }
+    if let Some(i) = parameters.iter().position(|p| !p.is_finite()) {
+        return Err(fail(format!(
+            "`{}` = {} is not finite",
+            declared[i], parameters[i]
+        )));
+    }
+    let mut values = [0.0; MAX_PARAMETERS];
+    values[..parameters.len()].copy_from_slice(parameters);
+    Ok(values)
+}
+
+/// The parameter values of a system `name` declaring `declared`, in declaration order, from
+/// `(name, value)` pairs: every parameter once, no other name.
+pub(crate) fn by_name(
+    name: &str,
+    declared: &[String],
+    parameters: &[(&str, f64)],
+) -> Result<Vec<f64>, Error> {
+    let fail = |reason: String| Error::Parameters {
+        name: name.to_owned(),
+        reason,
+        declared: declared.join(", "),
+    };
+    let mut values = vec![f64::NAN; declared.len()];
+    let mut given = vec![false; declared.len()];
+    for &(name, value) in parameters {
+        let Some(i) = declared.iter().position(|p| p == name) else {
+            return Err(fail(format!("no parameter `{name}`")));
+        };
+        if std::mem::replace(&mut given[i], true) {
+            return Err(fail(format!("`{name}` given twice")));
+        }
+        values[i] = value;
+    }
+    if let Some(i) = given.iter().position(|g| !g) {
+        return Err(fail(format!("`{}` not given", declared[i])));
+    }
+    Ok(values)
 }
 
 /// A system given as text, at dimensions `S`, `K`, `N = S + K` and with its parameter values:
@@ -474,7 +498,7 @@ impl<const S: usize, const K: usize, const N: usize, B> std::fmt::Debug for JitS
 }
 
 /// A pointer for an argument a kernel does not read.
-const UNUSED: *const f64 = std::ptr::NonNull::<f64>::dangling().as_ptr();
+pub(crate) const UNUSED: *const f64 = std::ptr::NonNull::<f64>::dangling().as_ptr();
 
 /// The residual and the momentum update, as one kernel writes them.
 #[repr(C)]

@@ -16,12 +16,22 @@ arrays in and out::
         }''')
     run = kepler.run({"h": 0.01, "k": 1.0}, steps=1000, x=[0.5], w=[0.0], mu=[1.2], g=[0.0])
     run["x"].shape  # (1001, 1)
+
+A system on rotation groups (``rotation(R)``, ``direction(n)`` coordinates) compiles to a
+:class:`LieSystem`, started from its coordinates by name (a rotation's matrix, a direction's
+unit vector) and their momenta, its trajectory per coordinate::
+
+    top = dirac.compile(HEAVY_TOP)
+    run = top.run(params, steps=1000, q={"R": np.eye(3)}, p={"R": [0.1, 0.0, 3.0]},
+                  method="reduced")
+    run["q"]["R"].shape  # (1001, 3, 3)
 """
 
-from ._dirac import CompileError, MAX_COORDINATES, StepError, System, compile
+from ._dirac import CompileError, LieSystem, MAX_COORDINATES, StepError, System, compile
 
 __all__ = [
     "CompileError",
+    "LieSystem",
     "MAX_COORDINATES",
     "StepError",
     "System",

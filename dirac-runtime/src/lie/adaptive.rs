@@ -28,13 +28,13 @@ where
     E: StepEquations<L, P, N>,
 {
     let mut z = SVector::<f64, N>::zeros();
-    let (Some(time), Some(g)) = (L::TIME, sys.monitor(q)) else {
+    let (Some(time), Some(g)) = (sys.time_index(), sys.monitor(q)) else {
         return z;
     };
     if check_monitor(0, g).is_err() {
         return z;
     }
-    let Some(at) = blocks::<L, P, N>().nth(time).map(|b| b.chart) else {
+    let Some(at) = blocks(sys).nth(time).map(|b| b.chart) else {
         return z;
     };
     z[at] = h * g;
@@ -72,12 +72,15 @@ where
 }
 
 /// The physical time stored in the point `q` of a system with adaptive steps.
-pub(super) fn time_of<L, const P: usize, const N: usize>(q: &SVector<f64, P>) -> Option<f64>
+pub(super) fn time_of<L, const P: usize, const N: usize>(
+    sys: &L,
+    q: &SVector<f64, P>,
+) -> Option<f64>
 where
     L: LieLagrangian<P, N>,
 {
-    let time = L::TIME?;
-    blocks::<L, P, N>().nth(time).map(|b| q[b.point])
+    let time = sys.time_index()?;
+    blocks(sys).nth(time).map(|b| q[b.point])
 }
 
 /// The checks after step `k` of fictitious size `h` from the point `q` to `next`: the monitor
@@ -98,7 +101,7 @@ where
     if let Some(g) = sys.monitor(next) {
         check_monitor(k, g)?;
     }
-    if let Some(at) = blocks::<L, P, N>().nth(time).map(|b| b.point) {
+    if let Some(at) = blocks(sys).nth(time).map(|b| b.point) {
         check_time_increment(k, h, next[at] - q[at])?;
     }
     Ok(())

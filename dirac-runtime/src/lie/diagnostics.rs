@@ -106,8 +106,8 @@ where
             .map(|(s, t)| {
                 let sys = self.system().with_time_step(t[1] - t[0]);
                 let mut from = s[0].unreduced();
-                if let RotationSymmetry::Axis { axis, coordinates } = L::SYMMETRY {
-                    set_group_part::<L, P, N>(&mut from, axis, coordinates, s[0].mu[axis]);
+                if let RotationSymmetry::Axis { axis, coordinates } = self.system().symmetry() {
+                    set_group_part(self.system(), &mut from, axis, coordinates, s[0].mu[axis]);
                 }
                 step_residual(
                     self.unreduced(),

@@ -89,7 +89,7 @@ where
     /// invariant under that rotation (see the [module documentation](crate::lie)).
     pub fn spatial_momentum(&self, state: &LieState<P, N>) -> Vector3<f64> {
         let mut pi = Vector3::zeros();
-        for block in blocks::<L, P, N>() {
+        for block in blocks(&self.system) {
             match block.kind {
                 CoordinateKind::Scalar | CoordinateKind::Group => {}
                 CoordinateKind::Rotation => {
@@ -123,7 +123,7 @@ where
         point: &SVector<f64, P>,
     ) -> SVector<f64, N> {
         let mut z = SVector::<f64, N>::zeros();
-        for block in blocks::<L, P, N>() {
+        for block in blocks(&self.system) {
             let (at, c) = (block.point, block.chart);
             match block.kind {
                 CoordinateKind::Scalar | CoordinateKind::Group => z[c] = point[at] - base[at],
@@ -150,7 +150,7 @@ where
     /// system's own), in the charts at the two points: the state near `(q, p)` is
     /// `(φ_q(δ), p)` — `δ` the chart coordinate, `p` the momentum in the chart at the perturbed
     /// point — so [`Sensitivity::state`](crate::Sensitivity::state) is `∂(w, p_{k+1})/∂(δ, p_k)` (each `N × N` block in the
-    /// order of [`LieLagrangian::COORDINATES`]) and [`Sensitivity::control`](crate::Sensitivity::control) is
+    /// order of [`LieLagrangian::coordinate`]) and [`Sensitivity::control`](crate::Sensitivity::control) is
     /// `∂(w, p_{k+1})/∂u`, where `q'_{k+1} = φ_{q_{k+1}}(w)`. By the implicit-function theorem
     /// on the step residual in these charts ([`LiePartials`](super::LiePartials)): `dw = −R̃_w⁻¹ (R̃_δ dδ + dp + R̃_u
     /// du)`, `dp_{k+1} = O_w dw + O_δ dδ + O_u du`.
@@ -173,7 +173,7 @@ where
                 what: "step sensitivities: the compiler emits the step's partial derivatives for \
                        systems on rotation groups of at most 16 dimensions",
             })?;
-        let m = L::CONTROLS.len();
+        let m = self.system.control_count();
         let cols = 2 * N + m;
         let mut rhs = nalgebra::DMatrix::<f64>::zeros(N, cols);
         rhs.view_mut((0, 0), (N, N)).copy_from(&parts.r_y);
@@ -216,7 +216,7 @@ where
     /// The largest departure from the manifold over the rotation and direction coordinates of
     /// `q`: `‖RᵀR − I‖∞` of each rotation and frame (for a direction this bounds `||n| − 1|`).
     pub fn manifold_defect(&self, q: &SVector<f64, P>) -> f64 {
-        blocks::<L, P, N>()
+        blocks(&self.system)
             .filter(|b| matches!(b.kind, CoordinateKind::Rotation | CoordinateKind::Direction))
             .map(|b| orthogonality_defect(&matrix_at(q, b.point)))
             .fold(0.0, f64::max)
@@ -251,7 +251,7 @@ where
         let mut system = if u.is_empty() {
             self.system.clone()
         } else {
-            crate::stepper::check_controls(k, L::CONTROLS.len(), u)?;
+            crate::stepper::check_controls(k, self.system.control_count(), u)?;
             self.system.with_controls(u)
         };
         if !same_step(h, system.time_step()) {
@@ -302,7 +302,7 @@ where
             Variant::Plus => 1.0,
             Variant::Minus => -1.0,
         };
-        let guess = guess.unwrap_or_else(|| match L::TIME {
+        let guess = guess.unwrap_or_else(|| match sys.time_index() {
             Some(_) => super::adaptive::first_increment::<L, E, P, N>(sys, q, p, h) * s,
             None => SVector::zeros(),
         });
@@ -325,7 +325,7 @@ where
         let (z, r) = (unknown * s, r * s);
         let q_next = sys.retract(q, &z);
         let mut p_next = E::momentum(sys, q, p, &z);
-        compensate::<L, P, N>(q, &q_next, &r, &mut p_next);
+        compensate(sys, q, &q_next, &r, &mut p_next);
         let next = LieState {
             q: q_next,
             p: p_next,
@@ -337,7 +337,7 @@ where
                 residual: solution.residual,
             });
         }
-        if let Some(time) = L::TIME {
+        if let Some(time) = sys.time_index() {
             super::adaptive::check_step::<L, P, N>(sys, k, h, time, q, &next.q)?;
         }
         Ok((
@@ -427,7 +427,7 @@ where
     }
 
     fn physical_time(&self, state: &LieState<P, N>) -> Option<f64> {
-        super::adaptive::time_of::<L, P, N>(&state.q)
+        super::adaptive::time_of(&self.system, &state.q)
     }
 
     /// The common checks (time step, finite parameters and state) and every rotation and frame
@@ -438,7 +438,7 @@ where
             &self.system.parameter_values(),
             initial.is_finite(),
         )?;
-        for block in blocks::<L, P, N>() {
+        for block in blocks(&self.system) {
             if matches!(block.kind, CoordinateKind::Scalar | CoordinateKind::Group) {
                 continue;
             }
@@ -466,7 +466,7 @@ where
     }
 
     fn control_dim(&self) -> usize {
-        L::CONTROLS.len()
+        self.system.control_count()
     }
 
     fn workspace(&self) -> Self::Workspace {
@@ -521,12 +521,13 @@ where
 /// of `r_1 e_1^k + r_2 e_2^k`), which keeps its momentum map to the size of `r`. The change is of
 /// the size of the accepted residual, within the step's own tolerance.
 fn compensate<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
+    sys: &L,
     q: &SVector<f64, P>,
     q_next: &SVector<f64, P>,
     r: &SVector<f64, N>,
     p_next: &mut SVector<f64, N>,
 ) {
-    for block in blocks::<L, P, N>() {
+    for block in blocks(sys) {
         let c = block.chart;
         match block.kind {
             CoordinateKind::Scalar => p_next[c] += r[c],

@@ -91,6 +91,8 @@ pub mod diagnostics;
 mod integrator;
 pub mod reduced;
 mod so3;
+#[cfg(test)]
+mod tests;
 
 pub use integrator::{LieIntegrator, LieWorkspace, MANIFOLD_TOLERANCE};
 pub use reduced::{
@@ -159,6 +161,34 @@ pub trait LieLagrangian<const P: usize, const N: usize>: Clone + Send + Sync + '
     /// system stepped in physical time.
     const TIME: Option<usize> = None;
 
+    /// The coordinate `i` (its name and kind, in the order of the point and the chart), `None`
+    /// past the last: [`Self::COORDINATES`] for a system compiled in; a system given at run time
+    /// (whose constants cannot know its coordinates) says them here. What the integrators (the
+    /// layout of the point and the chart) and output (column names, metadata) read.
+    fn coordinate(&self, i: usize) -> Option<(&str, CoordinateKind)> {
+        Self::COORDINATES.get(i).copied()
+    }
+
+    /// The names of the parameters: [`Self::PARAMETERS`] for a system compiled in; a system
+    /// given at run time says them here. What output (metadata) reads.
+    fn parameter_names(&self) -> Vec<&str> {
+        Self::PARAMETERS.to_vec()
+    }
+
+    /// The number of controls, what the integrators check a control vector against:
+    /// `Self::CONTROLS.len()` for a system compiled in; a system given at run time (whose
+    /// constants cannot know its names) says it here.
+    fn control_count(&self) -> usize {
+        Self::CONTROLS.len()
+    }
+
+    /// Adaptive steps: the index of the time coordinate among the coordinates, [`Self::TIME`]
+    /// for a system compiled in; a system given at run time says it here. What the integrators
+    /// and output read.
+    fn time_index(&self) -> Option<usize> {
+        Self::TIME
+    }
+
     /// Adaptive steps: the step monitor `g(q) > 0` at the point `q` (`dt = g dτ`); `None` for a
     /// system stepped in physical time.
     fn monitor(&self, q: &SVector<f64, P>) -> Option<f64> {
@@ -182,11 +212,11 @@ pub trait LieLagrangian<const P: usize, const N: usize>: Clone + Send + Sync + '
     /// composition).
     fn with_time_step(&self, h: f64) -> Self;
 
-    /// The parameter values, in the order of [`Self::PARAMETERS`].
+    /// The parameter values, in the order of [`Self::parameter_names`].
     fn parameter_values(&self) -> Vec<f64>;
 
-    /// The same system with its controls set to `u` (in the order of [`Self::CONTROLS`]; the
-    /// caller checks the length).
+    /// The same system with its controls set to `u` (in the order of [`Self::CONTROLS`], of
+    /// length [`Self::control_count`]; the caller checks the length).
     fn with_controls(&self, u: &[f64]) -> Self {
         let _ = u;
         self.clone()
@@ -328,16 +358,21 @@ where
 }
 
 /// One coordinate's place in the point and the chart.
-struct Block {
-    name: &'static str,
+struct Block<'a> {
+    name: &'a str,
     kind: CoordinateKind,
     point: usize,
     chart: usize,
 }
 
-fn blocks<L: LieLagrangian<P, N>, const P: usize, const N: usize>() -> impl Iterator<Item = Block> {
+/// The coordinates of `system` ([`LieLagrangian::coordinate`]) with their places in the point
+/// and the chart; allocates nothing (read inside steps).
+fn blocks<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
+    system: &L,
+) -> impl Iterator<Item = Block<'_>> + '_ {
     let (mut point, mut chart) = (0, 0);
-    L::COORDINATES.iter().map(move |&(name, kind)| {
+    (0..).map_while(move |i| {
+        let (name, kind) = system.coordinate(i)?;
         let block = Block {
             name,
             kind,
@@ -346,7 +381,7 @@ fn blocks<L: LieLagrangian<P, N>, const P: usize, const N: usize>() -> impl Iter
         };
         point += kind.point_len();
         chart += kind.chart_len();
-        block
+        Some(block)
     })
 }
 

@@ -93,12 +93,16 @@ use crate::reduced::trajectory_accessors;
 use crate::stepper::{predicted_increment, Collect, History, StepStats, StepStatsExt, Stepper};
 
 /// A rotation symmetry of a system on rotation groups (`symmetry(..)` in the attribute).
+///
+/// `'a` is the lifetime of the list of coordinates of [`RotationSymmetry::Axis`]: `'static` for
+/// a system compiled in ([`LieSymmetric::SYMMETRY`]), the system value's own for a system given
+/// at run time ([`LieSymmetric::symmetry`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum RotationSymmetry {
-    /// Every rotation `R ↦ g R` of the rotation coordinate `COORDINATES[coordinate]`:
+pub enum RotationSymmetry<'a> {
+    /// Every rotation `R ↦ g R` of the rotation coordinate `coordinate`:
     /// `SO(3)`, with the spatial momentum `π = R Π` (`symmetry(R)`).
     Rotations {
-        /// Its index in [`LieLagrangian::COORDINATES`].
+        /// Its index among the coordinates ([`LieLagrangian::coordinate`]).
         coordinate: usize,
     },
     /// The rotations about the coordinate axis `axis` (0, 1, 2 for x, y, z) of the listed
@@ -107,8 +111,8 @@ pub enum RotationSymmetry {
     Axis {
         /// 0, 1 or 2.
         axis: usize,
-        /// Their indices in [`LieLagrangian::COORDINATES`].
-        coordinates: &'static [usize],
+        /// Their indices among the coordinates ([`LieLagrangian::coordinate`]).
+        coordinates: &'a [usize],
     },
 }
 
@@ -117,10 +121,23 @@ pub enum RotationSymmetry {
 /// `#[reduced_lagrangian]` implements it for a function with `symmetry(..)` in its attribute.
 pub trait LieSymmetric<const P: usize, const N: usize>: LieLagrangian<P, N> {
     /// The declared symmetry.
-    const SYMMETRY: RotationSymmetry;
+    const SYMMETRY: RotationSymmetry<'static>;
     /// Whether the forces act on a coordinate the symmetry moves (then its momentum obeys the
     /// forced balance instead of being constant).
     const SYMMETRY_FORCED: bool;
+
+    /// The declared symmetry: [`Self::SYMMETRY`] for a system compiled in; a system given at run
+    /// time (whose constants cannot know its coordinates) says it here. What the integrators and
+    /// output read.
+    fn symmetry(&self) -> RotationSymmetry<'_> {
+        Self::SYMMETRY
+    }
+
+    /// Whether the forces act on a coordinate the symmetry moves: [`Self::SYMMETRY_FORCED`] for
+    /// a system compiled in; a system given at run time says it here. What the integrators read.
+    fn symmetry_forced(&self) -> bool {
+        Self::SYMMETRY_FORCED
+    }
 
     /// The reduced step residual (`R_k` replaced by the identity for [`RotationSymmetry::Rotations`];
     /// the unreduced residual for [`RotationSymmetry::Axis`]).
@@ -323,13 +340,14 @@ where
     /// The momentum map of the symmetry at `(q, p)`: `π = R Π` of the rotation coordinate for
     /// [`RotationSymmetry::Rotations`], `(e · π) e` for the rotations about the axis `e`.
     pub fn momentum_map(&self, state: &LieState<P, N>) -> Vector3<f64> {
-        match L::SYMMETRY {
+        let system = self.system();
+        match system.symmetry() {
             RotationSymmetry::Rotations { coordinate } => {
-                let (r, c) = rotation_block::<L, P, N>(coordinate);
+                let (r, c) = rotation_block(system, coordinate);
                 matrix_at(&state.q, r) * Vector3::new(state.p[c], state.p[c + 1], state.p[c + 2])
             }
             RotationSymmetry::Axis { axis, coordinates } => {
-                let zeta = generator::<L, P, N>(&state.q, axis, coordinates);
+                let zeta = generator(system, &state.q, axis, coordinates);
                 let mut mu = Vector3::zeros();
                 mu[axis] = zeta.dot(&state.p);
                 mu
@@ -356,9 +374,11 @@ where
         u: &[f64],
     ) -> Result<(ReducedLieState<P, N>, StepStats), StepError> {
         let guess = predicted_increment(&workspace.history, h);
+        let system = self.system();
+        let (symmetry, forced) = (system.symmetry(), system.symmetry_forced());
         let mut start = state.unreduced();
-        if let RotationSymmetry::Axis { axis, coordinates } = L::SYMMETRY {
-            set_group_part::<L, P, N>(&mut start, axis, coordinates, state.mu[axis]);
+        if let RotationSymmetry::Axis { axis, coordinates } = symmetry {
+            set_group_part(system, &mut start, axis, coordinates, state.mu[axis]);
         }
         let (mut next, z, stats) = self.unreduced.chart_step::<ReducedEquations>(
             &mut workspace.solver,
@@ -369,18 +389,18 @@ where
             u,
         )?;
         workspace.history.push(z, h);
-        let mu = if L::SYMMETRY_FORCED {
+        let mu = if forced {
             self.momentum_map(&next)
         } else {
             state.mu
         };
-        match L::SYMMETRY {
-            RotationSymmetry::Rotations { coordinate } if !L::SYMMETRY_FORCED => {
-                onto_level::<L, P, N>(&mut next, coordinate, &mu);
+        match symmetry {
+            RotationSymmetry::Rotations { coordinate } if !forced => {
+                onto_level(system, &mut next, coordinate, &mu);
             }
             RotationSymmetry::Rotations { .. } => {}
             RotationSymmetry::Axis { axis, coordinates } => {
-                set_group_part::<L, P, N>(&mut next, axis, coordinates, mu[axis]);
+                set_group_part(system, &mut next, axis, coordinates, mu[axis]);
             }
         }
         let next = ReducedLieState {
@@ -400,27 +420,29 @@ where
     }
 }
 
-/// The point and chart offsets of coordinate `index`.
+/// The point and chart offsets of coordinate `index` of `sys`.
 fn rotation_block<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
+    sys: &L,
     index: usize,
 ) -> (usize, usize) {
-    let block = blocks::<L, P, N>()
+    let block = blocks(sys)
         .nth(index)
         .expect("the symmetry names a declared coordinate");
     (block.point, block.chart)
 }
 
 /// The generator `ζ(q)` of the rotations about coordinate axis `axis` of the listed
-/// coordinates, in the chart at `q`: a rotation's body components `Rᵀ e`, a direction's frame
-/// components `((e × n)·e_1, (e × n)·e_2)`.
+/// coordinates of `sys`, in the chart at `q`: a rotation's body components `Rᵀ e`, a
+/// direction's frame components `((e × n)·e_1, (e × n)·e_2)`.
 fn generator<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
+    sys: &L,
     q: &SVector<f64, P>,
     axis: usize,
     coordinates: &[usize],
 ) -> SVector<f64, N> {
     let e = Vector3::ith(axis, 1.0);
     let mut zeta = SVector::<f64, N>::zeros();
-    for (index, block) in blocks::<L, P, N>().enumerate() {
+    for (index, block) in blocks(sys).enumerate() {
         if !coordinates.contains(&index) {
             continue;
         }
@@ -446,12 +468,13 @@ fn generator<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
 /// Sets the group part of `state.p` to `mu`: `p + (μ − ⟨p, ζ⟩) ζ / |ζ|²` (nothing on the axis,
 /// where `ζ = 0`).
 pub(super) fn set_group_part<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
+    sys: &L,
     state: &mut LieState<P, N>,
     axis: usize,
     coordinates: &[usize],
     mu: f64,
 ) {
-    let zeta = generator::<L, P, N>(&state.q, axis, coordinates);
+    let zeta = generator(sys, &state.q, axis, coordinates);
     let norm2 = zeta.norm_squared();
     if norm2 > 0.0 {
         let missing = mu - zeta.dot(&state.p);
@@ -464,11 +487,12 @@ pub(super) fn set_group_part<L: LieLagrangian<P, N>, const P: usize, const N: us
 /// made orthogonal to round-off (all three of the size of the step's round-off). Nothing where
 /// `π` or `Π` vanishes.
 fn onto_level<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
+    sys: &L,
     state: &mut LieState<P, N>,
     index: usize,
     pi: &Vector3<f64>,
 ) {
-    let (at, c) = rotation_block::<L, P, N>(index);
+    let (at, c) = rotation_block(sys, index);
     let body = Vector3::new(state.p[c], state.p[c + 1], state.p[c + 2]);
     let (size, own) = (pi.norm(), body.norm());
     if size == 0.0 || own == 0.0 {
@@ -508,7 +532,7 @@ where
     }
 
     fn physical_time(&self, state: &ReducedLieState<P, N>) -> Option<f64> {
-        super::adaptive::time_of::<L, P, N>(&state.q)
+        super::adaptive::time_of(self.system(), &state.q)
     }
 
     /// The unreduced integrator's checks, and `mu` the momentum map of `(q, p)` (to `1e-9`
@@ -534,7 +558,7 @@ where
     }
 
     fn control_dim(&self) -> usize {
-        L::CONTROLS.len()
+        self.system().control_count()
     }
 
     fn workspace(&self) -> Self::Workspace {

@@ -27,8 +27,13 @@ use crate::codegen::backend::{Csc, DENSE_MAX};
 use crate::expand::{compile_system, parse, Parsed};
 use crate::ir::compile::{Compiled, SideCode};
 use crate::ir::constraint::ConstrainedCode;
+use crate::ir::graph::Graph;
 use crate::ir::reduce::Stepper as StepperCode;
 use crate::program::{program, Program};
+
+mod lie;
+
+pub use lie::{LieAdaptive, LieCoordinate, LieKind, LieSymmetry, LieSymmetryKind, LieSystem};
 
 /// The attribute a system given as text carries.
 const ATTRIBUTE: &str = "reduced_lagrangian";
@@ -282,12 +287,87 @@ impl std::error::Error for Error {}
 /// Compiles a system given as text: a function carrying `#[reduced_lagrangian(..)]`, alone or
 /// among other items (a whole Rust file is accepted, as long as one function carries the
 /// attribute). The attribute's keys, the signature and the body are those of the compiled-in
-/// attribute, holonomic and nonholonomic constraints and adaptive steps included; systems on
-/// rotation groups and element-wise systems are compiled in only, and said so here.
+/// attribute for a system on vector spaces, holonomic and nonholonomic constraints and adaptive
+/// steps included. A system on rotation groups compiles with [`compile_lie`] (or
+/// [`compile_any`]); element-wise systems are compiled in only, and said so here.
 pub fn compile(source: &str) -> Result<System, Error> {
+    compile_with(source, |args, func| {
+        if crate::ast::lie::is_lie(&args) {
+            return Err(syn::Error::new_spanned(
+                &args,
+                "a system on rotation groups (`rotation(..)`, `direction(..)`) compiles with \
+                 `compile_lie` (or `compile_any`), into its own kind of system",
+            ));
+        }
+        compile_parts(args, func)
+    })
+}
+
+/// Compiles a system on rotation groups given as text: a function carrying
+/// `#[reduced_lagrangian(..)]` with `rotation(..)` or `direction(..)` coordinates (see
+/// [`compile`] for the rest of the text). Its attribute, signature and body are those of the
+/// compiled-in attribute: `shape(..)`, `group(..)`, `symmetry(..)`, a continuous Lagrangian with
+/// its `rule`, forces, controls and adaptive steps.
+///
+/// ```
+/// let system = dirac_compiler::text::compile_lie(
+///     "#[reduced_lagrangian(rotation(R), symmetry(R))]
+///      fn rigid_body(q0: Config, q1: Config, h: f64, j1: f64, j2: f64, j3: f64) -> f64 {
+///          let f = q0.R.transpose() * q1.R;
+///          let jd = Matrix3::from_diagonal(&Vector3::new(j1, j2, j3));
+///          let jd = 0.5 * jd.trace() * Matrix3::identity() - jd;
+///          ((Matrix3::identity() - f) * jd).trace() / h
+///      }",
+/// )?;
+/// assert_eq!((system.point_len(), system.chart_len()), (9, 3));
+/// assert!(system.symmetry.as_ref().is_some_and(|s| s.reduced.is_some()));
+/// # Ok::<(), dirac_compiler::text::Error>(())
+/// ```
+pub fn compile_lie(source: &str) -> Result<LieSystem, Error> {
+    compile_with(source, |args, func| {
+        if !crate::ast::lie::is_lie(&args) {
+            return Err(syn::Error::new_spanned(
+                &args,
+                "a system on vector spaces (no `rotation(..)` or `direction(..)` coordinate) \
+                 compiles with `compile` (or `compile_any`)",
+            ));
+        }
+        lie::compile_parts(args, func)
+    })
+}
+
+/// A system given as text, of either kind.
+#[derive(Clone, Debug)]
+pub enum AnySystem {
+    /// A system on vector spaces ([`compile`]).
+    Flat(Box<System>),
+    /// A system on rotation groups ([`compile_lie`]).
+    Lie(Box<LieSystem>),
+}
+
+/// Compiles a system given as text, whichever its kind: on rotation groups when the attribute
+/// declares a `rotation(..)` or `direction(..)` coordinate ([`compile_lie`]), on vector spaces
+/// otherwise ([`compile`]). What a program that takes any system (a Python module, a command
+/// line) calls.
+pub fn compile_any(source: &str) -> Result<AnySystem, Error> {
+    compile_with(source, |args, func| {
+        if crate::ast::lie::is_lie(&args) {
+            lie::compile_parts(args, func).map(|s| AnySystem::Lie(Box::new(s)))
+        } else {
+            compile_parts(args, func).map(|s| AnySystem::Flat(Box::new(s)))
+        }
+    })
+}
+
+/// Finds the function with the attribute and runs `phases` on its arguments, as the attribute
+/// runs (on a stack deep enough for large bodies), with the errors placed in the text.
+fn compile_with<T>(
+    source: &str,
+    phases: impl FnOnce(TokenStream, &ItemFn) -> syn::Result<T>,
+) -> Result<T, Error> {
     let (attribute, args, func) = find(source).map_err(|e| Error::from_syn(e, source, None))?;
     crate::stack::run(&args, &TokenStream::new(), || {
-        crate::ctxt::as_text(|| compile_parts(args.clone(), &func))
+        crate::ctxt::as_text(|| phases(args.clone(), &func))
             .map_err(|e| Error::from_syn(e, source, Some(attribute)))
     })
 }
@@ -342,12 +422,6 @@ fn is_attribute(attr: &Attribute) -> bool {
 
 /// The phases of `#[reduced_lagrangian]` on a system on vector spaces, then the programs.
 fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<System> {
-    if crate::ast::lie::is_lie(&args) {
-        return Err(compiled_in_only(
-            &args,
-            "a system on rotation groups (`rotation(..)`, `direction(..)`)",
-        ));
-    }
     if crate::ast::element::is_element_wise(func) {
         return Err(compiled_in_only(
             &func.sig.inputs,
@@ -380,7 +454,7 @@ fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<System> {
         connection: program(&c.graph, &c.b.concat()),
         plus: side(&c, &c.plus),
         minus: side(&c, &c.minus),
-        unreduced: stepper(&c, &c.unreduced),
+        unreduced: stepper(&c.graph, &c.unreduced),
         continuous: c.continuous.as_ref().map(|parts| Continuous {
             legendre: program(&c.graph, &parts.legendre),
             energy: program(&c.graph, &[parts.energy]),
@@ -397,9 +471,9 @@ fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<System> {
 fn constrained(c: &Compiled, code: &ConstrainedCode) -> Constrained {
     let g = &c.graph;
     let steps = |(position, projection): (&StepperCode, &StepperCode)| ConstrainedSteps {
-        position: stepper(c, position),
+        position: stepper(g, position),
         impulse: (!position.impulse.is_empty()).then(|| program(g, &position.impulse)),
-        projection: stepper(c, projection),
+        projection: stepper(g, projection),
     };
     Constrained {
         m: code.m,
@@ -414,7 +488,7 @@ fn constrained(c: &Compiled, code: &ConstrainedCode) -> Constrained {
 fn side(c: &Compiled, side: &SideCode) -> Side {
     Side {
         lagrangian: program(&c.graph, &[side.lagrangian]),
-        stepper: stepper(c, &side.stepper),
+        stepper: stepper(&c.graph, &side.stepper),
         impulse: (!side.stepper.impulse.is_empty())
             .then(|| program(&c.graph, &side.stepper.impulse)),
         eliminated: side.eliminated.as_ref().map(|e| Eliminated {
@@ -443,8 +517,7 @@ fn column_major(
 
 /// A stepper's programs, with the Jacobian dense or sparse by size as the attribute's backend
 /// (`DENSE_MAX`).
-fn stepper(c: &Compiled, s: &StepperCode) -> Stepper {
-    let g = &c.graph;
+fn stepper(g: &Graph, s: &StepperCode) -> Stepper {
     let mut with_jacobian = s.residual.clone();
     let pattern = if s.residual.len() > DENSE_MAX {
         let csc = Csc::of(g, &s.jacobian);
@@ -475,7 +548,8 @@ fn compiled_in_only<T: quote::ToTokens>(at: T, what: &str) -> syn::Error {
         format!(
             "{what} is compiled in with `#[reduced_lagrangian]` in Rust; a system given at run time \
              is one on vector spaces (`shape(..)`, `group(..)` or `coordinates(..)` with `translate(..)`) \
-             with forces, controls, constraints and adaptive steps"
+             or on rotation groups (`rotation(..)`, `direction(..)`), with forces, controls, constraints \
+             and adaptive steps"
         ),
     )
 }

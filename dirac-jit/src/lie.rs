@@ -1,0 +1,745 @@
+//! Systems on rotation groups given as text: the compiled code ([`LieCode`]) and the system at
+//! fixed dimensions ([`JitLie`]), which implements the runtime's `LieLagrangian` — and
+//! `LieSymmetric` when the text declares a symmetry and the system is instantiated reduced
+//! ([`Reduced`]) — by calling the kernels. The Lie group variational integrator (both sides),
+//! its compositions, forces, controls and sensitivities, adaptive steps and reduction by
+//! rotations then run it as they run a compiled-in system.
+//!
+//! A configuration is the runtime's stored point (`P` entries: scalars, then each rotation and
+//! each direction's frame row by row), the momentum the chart covector (`N` entries);
+//! [`JitLie::state`] builds a state from the coordinates as the text names them (rotation
+//! matrices, unit vectors, scalars) and their momenta, and [`JitLie::configuration`] and
+//! [`JitLie::momenta`] read them back.
+
+use std::marker::PhantomData;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use dirac_compiler::program::Leaf;
+use dirac_compiler::text::{self, LieKind, LieSymmetryKind, LieSystem};
+use dirac_runtime::lie::{
+    frame, rows, CoordinateKind, LieLagrangian, LiePartials, LieSymmetric, RotationSymmetry,
+};
+use dirac_runtime::linalg::LinearSolver;
+use dirac_runtime::nalgebra::{DMatrix, Matrix3, SVector, Vector3};
+use dirac_runtime::LieState;
+
+use crate::codegen::{Jit, Kernel};
+use crate::error::Error;
+use crate::system::{by_name, ld_layout, parameter_values, Module, UNUSED};
+use crate::{Backend, Dense, Sparse, MAX_PARAMETERS};
+
+/// The kernels of a system on rotation groups.
+struct Kernels {
+    lagrangian: Kernel,
+    retract: Kernel,
+    step: [Kernel; 3],
+    reduced: Option<[Kernel; 3]>,
+    partials: Option<Kernel>,
+    monitor: Option<Kernel>,
+    level: Option<Kernel>,
+}
+
+/// A system on rotation groups given as text, compiled to machine code: its names, its kernels,
+/// and how long the compilation took. Shared ([`Arc`]) by every [`JitLie`] made from it.
+pub struct LieCode {
+    system: LieSystem,
+    kinds: Vec<CoordinateKind>,
+    symmetric: Vec<usize>,
+    kernels: Kernels,
+    compile_time: Duration,
+    _module: Module,
+}
+
+impl std::fmt::Debug for LieCode {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LieCode")
+            .field("name", &self.system.name)
+            .field("coordinates", &self.system.coordinates)
+            .field("parameters", &self.system.parameters)
+            .field("compile_time", &self.compile_time)
+            .finish_non_exhaustive()
+    }
+}
+
+/// Compiles a system on rotation groups given as text (see
+/// [`dirac_compiler::text::compile_lie`] for what the text is) to machine code.
+///
+/// ```
+/// use dirac_runtime::prelude::*;
+/// use dirac_runtime::nalgebra::{Matrix3, Vector3};
+///
+/// let code = dirac_jit::compile_lie(
+///     "#[reduced_lagrangian(rotation(R), symmetry(R))]
+///      fn body(q0: Config, q1: Config, h: f64, j1: f64, j2: f64, j3: f64) -> f64 {
+///          let f = q0.R.transpose() * q1.R;
+///          let jd = Matrix3::from_diagonal(&Vector3::new(j1, j2, j3));
+///          let jd = 0.5 * jd.trace() * Matrix3::identity() - jd;
+///          ((Matrix3::identity() - f) * jd).trace() / h
+///      }",
+/// )?;
+/// // P = 9 entries of a point (the matrix), N = 3 of the chart (the body frame).
+/// let body = code.instantiate::<9, 3>(&[0.01, 1.0, 2.0, 3.0])?;
+/// let start = body.state(&[&Matrix3::identity().transpose().as_slice()[..]], &[&[0.3, 1.0, 0.2]])?;
+/// let integ = LieIntegrator::new(body, NewtonOptions::default());
+/// let traj = integ.run(start).steps(100).collect()?;
+/// let pi0 = integ.spatial_momentum(&traj.states[0]);
+/// let pi1 = integ.spatial_momentum(traj.last());
+/// assert!((pi1 - pi0).norm() < 1e-12);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn compile_lie(source: &str) -> Result<Arc<LieCode>, Error> {
+    let start = Instant::now();
+    let system = text::compile_lie(source)?;
+    LieCode::from_system(system, start)
+}
+
+/// The arguments of a step's kernels: `q_k`, `p_k`, `z` in `a`, `b`, `c`.
+fn step_layout(leaf: Leaf) -> (usize, usize) {
+    match leaf {
+        Leaf::Param(i) => (0, i),
+        Leaf::Base(i) => (1, i),
+        Leaf::P(j) => (2, j),
+        Leaf::Chart(j) => (3, j),
+        other => unreachable!("a step on rotation groups does not read {other:?}"),
+    }
+}
+
+/// The monitor `g(q)`: the point in `a`.
+fn monitor_layout(leaf: Leaf) -> (usize, usize) {
+    match leaf {
+        Leaf::Param(i) => (0, i),
+        Leaf::Q0(i) => (1, i),
+        other => unreachable!("the monitor reads the point and the parameters, not {other:?}"),
+    }
+}
+
+impl LieCode {
+    /// The machine code of a compiled system; `start` is when its compilation began.
+    pub(crate) fn from_system(system: LieSystem, start: Instant) -> Result<Arc<LieCode>, Error> {
+        let mut jit = Jit::new()?;
+        let stepper = |jit: &mut Jit, st: &text::Stepper| -> Result<[usize; 3], Error> {
+            Ok([
+                jit.define(&st.residual, &step_layout)?,
+                jit.define(&st.residual_jacobian, &step_layout)?,
+                jit.define(&st.momentum, &step_layout)?,
+            ])
+        };
+        let lagrangian = jit.define(&system.lagrangian, &ld_layout)?;
+        let retract = jit.define(&system.retract, &step_layout)?;
+        let step = stepper(&mut jit, &system.stepper)?;
+        let reduced = system
+            .symmetry
+            .as_ref()
+            .and_then(|s| s.reduced.as_ref())
+            .map(|st| stepper(&mut jit, st))
+            .transpose()?;
+        let partials = system
+            .partials
+            .as_ref()
+            .map(|p| jit.define(p, &step_layout))
+            .transpose()?;
+        let adaptive = system
+            .adaptive
+            .as_ref()
+            .map(|a| {
+                Ok::<_, Error>((
+                    jit.define(&a.monitor, &monitor_layout)?,
+                    jit.define(&a.level, &ld_layout)?,
+                ))
+            })
+            .transpose()?;
+        let (k, module) = jit.finish()?;
+        let kernels = Kernels {
+            lagrangian: k[lagrangian],
+            retract: k[retract],
+            step: step.map(|i| k[i]),
+            reduced: reduced.map(|r| r.map(|i| k[i])),
+            partials: partials.map(|i| k[i]),
+            monitor: adaptive.map(|(m, _)| k[m]),
+            level: adaptive.map(|(_, l)| k[l]),
+        };
+        let kinds = system
+            .coordinates
+            .iter()
+            .map(|c| match c.kind {
+                LieKind::Scalar => CoordinateKind::Scalar,
+                LieKind::Group => CoordinateKind::Group,
+                LieKind::Rotation => CoordinateKind::Rotation,
+                LieKind::Direction => CoordinateKind::Direction,
+            })
+            .collect();
+        let symmetric = match system.symmetry.as_ref().map(|s| &s.kind) {
+            Some(LieSymmetryKind::Axis { coordinates, .. }) => coordinates.clone(),
+            Some(LieSymmetryKind::Rotations { coordinate }) => vec![*coordinate],
+            None => Vec::new(),
+        };
+        Ok(Arc::new(LieCode {
+            system,
+            kinds,
+            symmetric,
+            kernels,
+            compile_time: start.elapsed(),
+            _module: Module(Some(module)),
+        }))
+    }
+
+    /// The compiled system's names and programs.
+    pub fn system(&self) -> &LieSystem {
+        &self.system
+    }
+
+    /// How long the text took to become machine code.
+    pub fn compile_time(&self) -> Duration {
+        self.compile_time
+    }
+
+    /// The system at dimensions `P` (a stored point) and `N` (the chart) with `parameters` in
+    /// declaration order, on the dense backend (`N ≤ 16`): what `LieIntegrator` takes. An error
+    /// if the dimensions are not the system's or the values are not one finite number per
+    /// parameter.
+    pub fn instantiate<const P: usize, const N: usize>(
+        self: &Arc<Self>,
+        parameters: &[f64],
+    ) -> Result<JitLie<P, N>, Error> {
+        self.instantiate_on(parameters)
+    }
+
+    /// [`Self::instantiate`] with the parameters by name, in any order; every parameter once.
+    pub fn instantiate_named<const P: usize, const N: usize>(
+        self: &Arc<Self>,
+        parameters: &[(&str, f64)],
+    ) -> Result<JitLie<P, N>, Error> {
+        let values = by_name(&self.system.name, &self.system.parameters, parameters)?;
+        self.instantiate_on(&values)
+    }
+
+    /// [`Self::instantiate`] for a system of more than 16 chart coordinates, on the sparse
+    /// backend.
+    pub fn instantiate_sparse<const P: usize, const N: usize>(
+        self: &Arc<Self>,
+        parameters: &[f64],
+    ) -> Result<JitLie<P, N, Sparse>, Error> {
+        self.instantiate_on(parameters)
+    }
+
+    /// The system reduced by its declared rotation symmetry (`symmetry(..)` in the text), on
+    /// the dense backend: what `ReducedLieIntegrator` takes. The checks of
+    /// [`Self::instantiate`], and an error if the text declares no symmetry.
+    pub fn instantiate_reduced<const P: usize, const N: usize>(
+        self: &Arc<Self>,
+        parameters: &[f64],
+    ) -> Result<JitLie<P, N, Dense, Reduced>, Error> {
+        self.instantiate_on(parameters)
+    }
+
+    /// [`Self::instantiate_reduced`] on the sparse backend.
+    pub fn instantiate_reduced_sparse<const P: usize, const N: usize>(
+        self: &Arc<Self>,
+        parameters: &[f64],
+    ) -> Result<JitLie<P, N, Sparse, Reduced>, Error> {
+        self.instantiate_on(parameters)
+    }
+
+    fn instantiate_on<const P: usize, const N: usize, B: Backend<N>, R: Reduction>(
+        self: &Arc<Self>,
+        parameters: &[f64],
+    ) -> Result<JitLie<P, N, B, R>, Error> {
+        let sys = &self.system;
+        let (p, n) = (sys.point_len(), sys.chart_len());
+        if (p, n) != (P, N) {
+            return Err(Error::LieDimensions {
+                name: sys.name.clone(),
+                p,
+                n,
+                want_p: P,
+                want_n: N,
+            });
+        }
+        if sys.stepper.pattern.is_some() != B::SPARSE {
+            return Err(Error::Backend {
+                name: sys.name.clone(),
+                n,
+                dense_max: dirac_runtime::DENSE_MAX,
+                constrained: false,
+            });
+        }
+        if R::REDUCED {
+            let symmetry = sys.symmetry.as_ref().ok_or_else(|| Error::Symmetry {
+                name: sys.name.clone(),
+                reason: "the text declares no symmetry (`symmetry(..)` in the attribute)".into(),
+            })?;
+            // One solver serves both steps: the reduced Jacobian must have the same structure.
+            let differs = |r: &text::Stepper| r.pattern != sys.stepper.pattern;
+            if symmetry.reduced.as_ref().is_some_and(differs) {
+                return Err(Error::Symmetry {
+                    name: sys.name.clone(),
+                    reason: "its reduced step's Jacobian has another sparsity pattern than the unreduced one".into(),
+                });
+            }
+        }
+        Ok(JitLie {
+            code: Arc::clone(self),
+            values: parameter_values(&sys.name, &sys.parameters, parameters)?,
+            kind: PhantomData,
+        })
+    }
+}
+
+/// Whether a [`JitLie`] is the reduced system ([`Reduced`]: `LieSymmetric`, for
+/// `ReducedLieIntegrator`) or not ([`Unreduced`]). Sealed.
+pub trait Reduction: sealed::Sealed + Send + Sync + 'static {
+    /// Whether the system is reduced by its symmetry.
+    const REDUCED: bool;
+}
+
+/// A [`JitLie`] stepped on the whole configuration space.
+#[derive(Clone, Copy, Debug)]
+pub struct Unreduced;
+
+/// A [`JitLie`] reduced by its declared rotation symmetry: `LieSymmetric`.
+#[derive(Clone, Copy, Debug)]
+pub struct Reduced;
+
+impl Reduction for Unreduced {
+    const REDUCED: bool = false;
+}
+
+impl Reduction for Reduced {
+    const REDUCED: bool = true;
+}
+
+mod sealed {
+    pub trait Sealed {}
+    impl Sealed for super::Unreduced {}
+    impl Sealed for super::Reduced {}
+}
+
+/// A system on rotation groups given as text, at dimensions `P` (a stored point) and `N` (the
+/// chart) and with its parameter values: what the integrators take. Cloning it shares the code.
+/// `B` is the backend of its steps ([`Dense`], [`Sparse`]), `R` whether it is reduced by its
+/// symmetry ([`Unreduced`], [`Reduced`]).
+pub struct JitLie<const P: usize, const N: usize, B = Dense, R = Unreduced> {
+    code: Arc<LieCode>,
+    values: [f64; MAX_PARAMETERS],
+    kind: PhantomData<(B, R)>,
+}
+
+impl<const P: usize, const N: usize, B, R> Clone for JitLie<P, N, B, R> {
+    fn clone(&self) -> Self {
+        Self {
+            code: Arc::clone(&self.code),
+            values: self.values,
+            kind: PhantomData,
+        }
+    }
+}
+
+impl<const P: usize, const N: usize, B, R> std::fmt::Debug for JitLie<P, N, B, R> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let sys = &self.code.system;
+        f.debug_struct(&sys.name)
+            .field("parameters", &&self.values[..sys.parameters.len()])
+            .finish()
+    }
+}
+
+impl<const P: usize, const N: usize, B, R> JitLie<P, N, B, R> {
+    /// The compiled code this system runs.
+    pub fn code(&self) -> &Arc<LieCode> {
+        &self.code
+    }
+
+    /// Calls `kernel` on the parameters and `args`, writing its outputs at `out`.
+    fn call_into(&self, kernel: Kernel, args: [*const f64; 3], out: *mut f64) {
+        // SAFETY: every kernel reads only the entries its layout names, which the compiler
+        // bounds by the system's dimensions (checked equal to `P` and `N` on instantiation),
+        // and writes exactly as many `f64` as its program has outputs, which is the size of the
+        // memory at `out` at every call site (a vector of the program's outputs, or the buffer
+        // of `Backend::residual_jacobian`, sized by the backend checked on instantiation).
+        unsafe {
+            kernel(self.values.as_ptr(), args[0], args[1], args[2], UNUSED, out);
+        }
+    }
+
+    /// Calls `kernel`, its `M` outputs as a vector.
+    fn call<const M: usize>(&self, kernel: Kernel, args: [*const f64; 3]) -> SVector<f64, M> {
+        let mut out = SVector::<f64, M>::zeros();
+        self.call_into(kernel, args, out.as_mut_ptr());
+        out
+    }
+
+    fn step_args(
+        q_k: &SVector<f64, P>,
+        p_k: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> [*const f64; 3] {
+        [q_k.as_ptr(), p_k.as_ptr(), z.as_ptr()]
+    }
+
+    /// The state at the configuration `q` with the momenta `p`, each coordinate as the text
+    /// names it, in the order of the text's coordinates: a scalar one number, a rotation its
+    /// matrix row by row (9 numbers), a direction the unit vector (3 numbers); a scalar's
+    /// momentum one number, a rotation's body momentum `Π` (3), a direction's momentum as a
+    /// vector in space (3; its component along the direction is dropped). An error for a
+    /// wrong count, a matrix that is not a rotation or a vector that is not a unit vector (to
+    /// `1e-9`), or a value that is not finite.
+    pub fn state(&self, q: &[&[f64]], p: &[&[f64]]) -> Result<LieState<P, N>, Error> {
+        let sys = &self.code.system;
+        let fail = |reason: String| Error::State {
+            name: sys.name.clone(),
+            reason,
+        };
+        if q.len() != sys.coordinates.len() || p.len() != sys.coordinates.len() {
+            return Err(fail(format!(
+                "{} configurations and {} momenta for {} coordinates",
+                q.len(),
+                p.len(),
+                sys.coordinates.len()
+            )));
+        }
+        let (mut point, mut chart) = (SVector::<f64, P>::zeros(), SVector::<f64, N>::zeros());
+        let (mut at, mut ch) = (0, 0);
+        for ((c, &qi), &pi) in sys.coordinates.iter().zip(q).zip(p) {
+            let name = &c.name;
+            let (want_q, want_p) = match c.kind {
+                LieKind::Scalar | LieKind::Group => (1, 1),
+                LieKind::Rotation => (9, 3),
+                LieKind::Direction => (3, 3),
+            };
+            if qi.len() != want_q || pi.len() != want_p {
+                return Err(fail(format!(
+                    "`{name}` takes {want_q} numbers and a momentum of {want_p}, not {} and {}",
+                    qi.len(),
+                    pi.len()
+                )));
+            }
+            if !qi.iter().chain(pi).all(|v| v.is_finite()) {
+                return Err(fail(format!("`{name}` is not finite")));
+            }
+            match c.kind {
+                LieKind::Scalar | LieKind::Group => {
+                    point[at] = qi[0];
+                    chart[ch] = pi[0];
+                }
+                LieKind::Rotation => {
+                    let r = Matrix3::from_row_slice(qi);
+                    let defect = dirac_runtime::lie::orthogonality_defect(&r);
+                    if defect > 1e-9 || r.determinant() < 0.0 {
+                        return Err(fail(format!(
+                            "`{name}` is not a rotation (|RᵀR − I| = {defect:.1e}, det R = {:.3})",
+                            r.determinant()
+                        )));
+                    }
+                    for (i, v) in qi.iter().enumerate() {
+                        point[at + i] = *v;
+                    }
+                    for i in 0..3 {
+                        chart[ch + i] = pi[i];
+                    }
+                }
+                LieKind::Direction => {
+                    let n = Vector3::new(qi[0], qi[1], qi[2]);
+                    if (n.norm() - 1.0).abs() > 1e-9 {
+                        return Err(fail(format!(
+                            "`{name}` is not a unit vector (|{name}| = {})",
+                            n.norm()
+                        )));
+                    }
+                    let f = frame(&n);
+                    for (i, v) in rows(&f).into_iter().enumerate() {
+                        point[at + i] = v;
+                    }
+                    let m = Vector3::new(pi[0], pi[1], pi[2]);
+                    chart[ch] = f.column(0).dot(&m);
+                    chart[ch + 1] = f.column(1).dot(&m);
+                }
+            }
+            at += c.kind.point_len();
+            ch += c.kind.chart_len();
+        }
+        Ok(LieState { q: point, p: chart })
+    }
+
+    /// The configuration of a stored point, coordinate by coordinate as [`Self::state`] takes
+    /// it (a rotation's matrix row by row, a direction's unit vector).
+    pub fn configuration(&self, q: &SVector<f64, P>) -> Vec<Vec<f64>> {
+        let mut at = 0;
+        let mut out = Vec::with_capacity(self.code.system.coordinates.len());
+        for c in &self.code.system.coordinates {
+            out.push(match c.kind {
+                LieKind::Scalar | LieKind::Group => vec![q[at]],
+                LieKind::Rotation => q.as_slice()[at..at + 9].to_vec(),
+                LieKind::Direction => vec![q[at + 2], q[at + 5], q[at + 8]],
+            });
+            at += c.kind.point_len();
+        }
+        out
+    }
+
+    /// The momenta of a state, coordinate by coordinate as [`Self::state`] takes them (a
+    /// rotation's body momentum, a direction's momentum as a vector in space, tangent to the
+    /// sphere).
+    pub fn momenta(&self, state: &LieState<P, N>) -> Vec<Vec<f64>> {
+        let (mut at, mut ch) = (0, 0);
+        let mut out = Vec::with_capacity(self.code.system.coordinates.len());
+        for c in &self.code.system.coordinates {
+            out.push(match c.kind {
+                LieKind::Scalar | LieKind::Group => vec![state.p[ch]],
+                LieKind::Rotation => state.p.as_slice()[ch..ch + 3].to_vec(),
+                LieKind::Direction => {
+                    let f = Matrix3::from_fn(|i, j| state.q[at + 3 * i + j]);
+                    let m = f.column(0) * state.p[ch] + f.column(1) * state.p[ch + 1];
+                    m.as_slice().to_vec()
+                }
+            });
+            at += c.kind.point_len();
+            ch += c.kind.chart_len();
+        }
+        out
+    }
+
+    /// Adaptive steps: the state at the configuration `q` (its time coordinate the physical
+    /// time) and the physical velocity `v` ([`LieKind::velocity_len`] entries per coordinate:
+    /// a rotation's body angular velocity, a direction's velocity in space; the time
+    /// coordinate's ignored), on the level set where the time-transformed system's solutions
+    /// are the physical ones: the physical momenta `∂L/∂v` and `p_t = −E(q, v)`. An error for a
+    /// system stepped in physical time, a velocity of the wrong length, or a monitor that is not
+    /// positive and finite at `q`.
+    pub fn adaptive_state(&self, q: &SVector<f64, P>, v: &[f64]) -> Result<LieState<P, N>, Error> {
+        let sys = &self.code.system;
+        let fail = |reason: String| Error::State {
+            name: sys.name.clone(),
+            reason,
+        };
+        let Some(level) = self.code.kernels.level else {
+            return Err(fail(
+                "its steps are in physical time (no `time(..), adapt = ..`)".into(),
+            ));
+        };
+        if v.len() != sys.velocity_len() {
+            return Err(fail(format!(
+                "a velocity has {} entries, not {}",
+                sys.velocity_len(),
+                v.len()
+            )));
+        }
+        let mut out = vec![0.0; 1 + N];
+        self.call_into(level, [q.as_ptr(), v.as_ptr(), UNUSED], out.as_mut_ptr());
+        if !(out[0] > 0.0 && out[0].is_finite()) {
+            return Err(fail(format!(
+                "the monitor is {} at this configuration; it must be positive and finite",
+                out[0]
+            )));
+        }
+        Ok(LieState {
+            q: *q,
+            p: SVector::from_column_slice(&out[1..]),
+        })
+    }
+}
+
+impl<const P: usize, const N: usize, B: Backend<N>, R: Reduction> LieLagrangian<P, N>
+    for JitLie<P, N, B, R>
+{
+    /// Empty: a system given at run time names its coordinates through `coordinate`, which is
+    /// what the integrators and output read; the constant cannot know them.
+    const COORDINATES: &'static [(&'static str, CoordinateKind)] = &[];
+    /// Empty, as [`Self::COORDINATES`]: the names are in [`LieCode::system`].
+    const PARAMETERS: &'static [&'static str] = &[];
+    type Linear = B::Linear;
+
+    fn coordinate(&self, i: usize) -> Option<(&str, CoordinateKind)> {
+        let c = self.code.system.coordinates.get(i)?;
+        Some((c.name.as_str(), self.code.kinds[i]))
+    }
+
+    fn parameter_names(&self) -> Vec<&str> {
+        self.code
+            .system
+            .parameters
+            .iter()
+            .map(String::as_str)
+            .collect()
+    }
+
+    fn control_count(&self) -> usize {
+        self.code.system.controls.len()
+    }
+
+    fn time_index(&self) -> Option<usize> {
+        self.code.system.adaptive.as_ref().map(|a| a.time)
+    }
+
+    fn monitor(&self, q: &SVector<f64, P>) -> Option<f64> {
+        let kernel = self.code.kernels.monitor?;
+        Some(self.call::<1>(kernel, [q.as_ptr(), UNUSED, UNUSED])[0])
+    }
+
+    fn linear_solver(&self) -> Self::Linear {
+        B::solver(&self.code.system.stepper)
+    }
+
+    fn lagrangian(&self, q0: &SVector<f64, P>, q1: &SVector<f64, P>) -> f64 {
+        self.call::<1>(
+            self.code.kernels.lagrangian,
+            [q0.as_ptr(), q1.as_ptr(), UNUSED],
+        )[0]
+    }
+
+    fn time_step(&self) -> f64 {
+        self.values[self.code.system.step]
+    }
+
+    fn with_time_step(&self, h: f64) -> Self {
+        let mut system = self.clone();
+        system.values[self.code.system.step] = h;
+        system
+    }
+
+    fn parameter_values(&self) -> Vec<f64> {
+        self.values[..self.code.system.parameters.len()].to_vec()
+    }
+
+    fn with_controls(&self, u: &[f64]) -> Self {
+        let mut system = self.clone();
+        for (&i, &v) in self.code.system.controls.iter().zip(u) {
+            system.values[i] = v;
+        }
+        system
+    }
+
+    fn retract(&self, q: &SVector<f64, P>, z: &SVector<f64, N>) -> SVector<f64, P> {
+        self.call(self.code.kernels.retract, [q.as_ptr(), UNUSED, z.as_ptr()])
+    }
+
+    fn residual(
+        &self,
+        q_k: &SVector<f64, P>,
+        p_k: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> SVector<f64, N> {
+        self.call(self.code.kernels.step[0], Self::step_args(q_k, p_k, z))
+    }
+
+    fn residual_jacobian(
+        &self,
+        q_k: &SVector<f64, P>,
+        p_k: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> (SVector<f64, N>, <Self::Linear as LinearSolver>::Matrix) {
+        B::residual_jacobian(&self.code.system.stepper, |out| {
+            self.call_into(self.code.kernels.step[1], Self::step_args(q_k, p_k, z), out)
+        })
+    }
+
+    fn momentum(
+        &self,
+        q_k: &SVector<f64, P>,
+        p_k: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> SVector<f64, N> {
+        self.call(self.code.kernels.step[2], Self::step_args(q_k, p_k, z))
+    }
+
+    fn step_partials(
+        &self,
+        q_k: &SVector<f64, P>,
+        p_k: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> Option<LiePartials> {
+        let kernel = self.code.kernels.partials?;
+        let u = self.code.system.controls.len();
+        let mut out = vec![0.0; 4 * N * N + 2 * N * u];
+        self.call_into(kernel, Self::step_args(q_k, p_k, z), out.as_mut_ptr());
+        let mut blocks = [N, N, u, N, N, u].into_iter().scan(0, |at, cols| {
+            let block = DMatrix::from_row_slice(N, cols, &out[*at..*at + N * cols]);
+            *at += N * cols;
+            Some(block)
+        });
+        let mut next = || blocks.next().expect("six blocks");
+        Some(LiePartials {
+            r_w: next(),
+            r_y: next(),
+            r_u: next(),
+            o_w: next(),
+            o_y: next(),
+            o_u: next(),
+        })
+    }
+}
+
+impl<const P: usize, const N: usize, B: Backend<N>> LieSymmetric<P, N>
+    for JitLie<P, N, B, Reduced>
+{
+    /// A placeholder: a system given at run time says its symmetry through `symmetry`, which is
+    /// what the reduced integrator reads; the constant cannot know it.
+    const SYMMETRY: RotationSymmetry<'static> = RotationSymmetry::Axis {
+        axis: 2,
+        coordinates: &[],
+    };
+    /// A placeholder, as [`Self::SYMMETRY`]: read through `symmetry_forced`.
+    const SYMMETRY_FORCED: bool = false;
+
+    fn symmetry(&self) -> RotationSymmetry<'_> {
+        match self.code.system.symmetry.as_ref().map(|s| &s.kind) {
+            Some(LieSymmetryKind::Rotations { coordinate }) => RotationSymmetry::Rotations {
+                coordinate: *coordinate,
+            },
+            Some(LieSymmetryKind::Axis { axis, .. }) => RotationSymmetry::Axis {
+                axis: *axis,
+                coordinates: &self.code.symmetric,
+            },
+            None => unreachable!("a reduced system declares a symmetry (checked on instantiation)"),
+        }
+    }
+
+    fn symmetry_forced(&self) -> bool {
+        self.code.system.symmetry.as_ref().is_some_and(|s| s.forced)
+    }
+
+    fn reduced_residual(
+        &self,
+        q_k: &SVector<f64, P>,
+        p_k: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> SVector<f64, N> {
+        match self.code.kernels.reduced {
+            Some(k) => self.call(k[0], Self::step_args(q_k, p_k, z)),
+            None => self.residual(q_k, p_k, z),
+        }
+    }
+
+    fn reduced_residual_jacobian(
+        &self,
+        q_k: &SVector<f64, P>,
+        p_k: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> (SVector<f64, N>, <Self::Linear as LinearSolver>::Matrix) {
+        let (Some(k), Some(stepper)) = (
+            self.code.kernels.reduced,
+            self.code
+                .system
+                .symmetry
+                .as_ref()
+                .and_then(|s| s.reduced.as_ref()),
+        ) else {
+            return self.residual_jacobian(q_k, p_k, z);
+        };
+        B::residual_jacobian(stepper, |out| {
+            self.call_into(k[1], Self::step_args(q_k, p_k, z), out)
+        })
+    }
+
+    fn reduced_momentum(
+        &self,
+        q_k: &SVector<f64, P>,
+        p_k: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+    ) -> SVector<f64, N> {
+        match self.code.kernels.reduced {
+            Some(k) => self.call(k[2], Self::step_args(q_k, p_k, z)),
+            None => self.momentum(q_k, p_k, z),
+        }
+    }
+}

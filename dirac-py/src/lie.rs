@@ -1,0 +1,647 @@
+//! Systems on rotation groups from Python (`dirac.LieSystem`): a start given coordinate by
+//! coordinate (rotation matrices, unit vectors, scalars, and their momenta), runs of the Lie
+//! group variational integrator (both sides, its compositions) and of the reduced integrator
+//! of the declared symmetry, trajectories as NumPy arrays per coordinate, Parquet output.
+//!
+//! The integrators take the dimensions `P` (a stored point) and `N` (the chart) as type
+//! parameters; the module dispatches a system's `(P, N)` at run time
+//! (`dirac_jit::with_lie_dimensions`).
+
+use std::sync::Arc;
+
+use dirac_compiler::text::{LieKind, LieSymmetryKind};
+use dirac_jit::{JitLie, LieCode};
+use dirac_runtime::{
+    Composition, Drive, IntegrationError, LieIntegrator, LieState, ReducedLieIntegrator,
+    StepError as RuntimeStepError, StepStats, Steps,
+};
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::{composition, CompileError, StepError};
+
+/// A run's trajectory flattened for NumPy: the times, per coordinate its configurations and
+/// momenta (each with the shape of one row), and the spatial momentum (and the symmetry's
+/// momentum of a reduced run) per state.
+struct Flat {
+    t: Vec<f64>,
+    q: Vec<Vec<f64>>,
+    p: Vec<Vec<f64>>,
+    spatial: Vec<f64>,
+    mu: Option<Vec<f64>>,
+    iterations: Vec<usize>,
+    residuals: Vec<f64>,
+}
+
+struct Failed {
+    error: RuntimeStepError,
+    partial: Flat,
+}
+
+/// Which equations a run solves.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Method {
+    Plus,
+    Minus,
+    Reduced,
+}
+
+#[derive(Clone, Copy)]
+struct Request {
+    method: Method,
+    order: u32,
+    steps: usize,
+    options: dirac_runtime::NewtonOptions,
+}
+
+/// The start as given: per coordinate its configuration and its momentum or, for adaptive
+/// steps, its velocity.
+struct Start {
+    q: Vec<Vec<f64>>,
+    p: Option<Vec<Vec<f64>>>,
+    v: Option<Vec<f64>>,
+}
+
+fn flat<const P: usize, const N: usize>(
+    sys: &JitLie<P, N>,
+    states: impl Iterator<Item = (LieState<P, N>, Option<[f64; 3]>)>,
+    times: &[f64],
+    stats: &[StepStats],
+) -> Flat {
+    let integ = LieIntegrator::new(sys.clone(), Default::default());
+    let coordinates = sys.code().system().coordinates.len();
+    let mut out = Flat {
+        t: times.to_vec(),
+        q: vec![Vec::new(); coordinates],
+        p: vec![Vec::new(); coordinates],
+        spatial: Vec::with_capacity(3 * times.len()),
+        mu: None,
+        iterations: stats.iter().map(|s| s.iterations).collect(),
+        residuals: stats.iter().map(|s| s.residual).collect(),
+    };
+    for (state, mu) in states {
+        for (all, one) in out.q.iter_mut().zip(sys.configuration(&state.q)) {
+            all.extend(one);
+        }
+        for (all, one) in out.p.iter_mut().zip(sys.momenta(&state)) {
+            all.extend(one);
+        }
+        out.spatial
+            .extend(integ.spatial_momentum(&state).iter().copied());
+        if let Some(mu) = mu {
+            out.mu.get_or_insert_with(Vec::new).extend(mu);
+        }
+    }
+    out
+}
+
+fn finish<T: Steps + std::fmt::Debug>(
+    result: Result<T, Box<IntegrationError<T>>>,
+    flat: impl Fn(&T) -> Flat,
+) -> Result<Flat, Box<Failed>> {
+    match result {
+        Ok(traj) => Ok(flat(&traj)),
+        Err(e) => Err(Box::new(Failed {
+            partial: flat(&e.trajectory),
+            error: e.source,
+        })),
+    }
+}
+
+/// The start state of `sys`.
+fn start_state<const P: usize, const N: usize>(
+    sys: &JitLie<P, N>,
+    start: &Start,
+) -> Result<LieState<P, N>, String> {
+    let q: Vec<&[f64]> = start.q.iter().map(Vec::as_slice).collect();
+    match (&start.p, &start.v) {
+        (Some(p), _) => {
+            let p: Vec<&[f64]> = p.iter().map(Vec::as_slice).collect();
+            sys.state(&q, &p).map_err(|e| e.to_string())
+        }
+        (None, Some(v)) => {
+            // The point of the configuration, then the state on the level set at `v`.
+            let zeros: Vec<Vec<f64>> = sys
+                .code()
+                .system()
+                .coordinates
+                .iter()
+                .map(|c| vec![0.0; momentum_len(c.kind)])
+                .collect();
+            let zeros: Vec<&[f64]> = zeros.iter().map(Vec::as_slice).collect();
+            let point = sys.state(&q, &zeros).map_err(|e| e.to_string())?.q;
+            sys.adaptive_state(&point, v).map_err(|e| e.to_string())
+        }
+        (None, None) => Err("the start needs the momenta `p` (or the velocities `v`)".into()),
+    }
+}
+
+/// One run of a system of point length `P` and chart dimension `N`.
+fn run_one<const P: usize, const N: usize>(
+    code: &Arc<LieCode>,
+    params: &[f64],
+    start: &Start,
+    r: Request,
+) -> Result<Result<Flat, Box<Failed>>, String> {
+    let sys = code
+        .instantiate::<P, N>(params)
+        .map_err(|e| e.to_string())?;
+    let s0 = start_state(&sys, start)?;
+    let (n, o) = (r.steps, r.options);
+    let unreduced = |t: &dirac_runtime::LieTrajectory<P, N>| {
+        flat(
+            &sys,
+            t.states.iter().map(|s| (*s, None)),
+            &t.times,
+            &t.stats,
+        )
+    };
+    Ok(match r.method {
+        Method::Reduced => {
+            let reduced = code
+                .instantiate_reduced::<P, N>(params)
+                .map_err(|e| e.to_string())?;
+            let integ = ReducedLieIntegrator::new(reduced, o);
+            let s0 = integ.reduce(&s0);
+            let to_flat = |t: &dirac_runtime::ReducedLieTrajectory<P, N>| {
+                flat(
+                    &sys,
+                    t.states.iter().map(|s| (s.unreduced(), Some(s.mu.into()))),
+                    &t.times,
+                    &t.stats,
+                )
+            };
+            if r.order == 2 {
+                finish(integ.run(s0).steps(n).collect(), to_flat)
+            } else {
+                let c = Composition::new(integ, composition(r.order));
+                finish(c.run(s0).steps(n).collect(), |t| {
+                    flat(
+                        &sys,
+                        t.states.iter().map(|s| (s.unreduced(), Some(s.mu.into()))),
+                        &t.times,
+                        &t.stats,
+                    )
+                })
+            }
+        }
+        side => {
+            let integ = if side == Method::Plus {
+                LieIntegrator::new(sys.clone(), o)
+            } else {
+                LieIntegrator::minus(sys.clone(), o)
+            };
+            if r.order == 2 {
+                finish(integ.run(s0).steps(n).collect(), unreduced)
+            } else {
+                let c = Composition::new(integ, composition(r.order));
+                finish(c.run(s0).steps(n).collect(), |t| {
+                    flat(
+                        &sys,
+                        t.states.iter().map(|s| (*s, None)),
+                        &t.times,
+                        &t.stats,
+                    )
+                })
+            }
+        }
+    })
+}
+
+/// What a run written to Parquet ended with (see the module of systems on vector spaces).
+type Written = crate::Written;
+
+/// One run written to Parquet at `path`.
+fn write_one<const P: usize, const N: usize>(
+    code: &Arc<LieCode>,
+    params: &[f64],
+    start: &Start,
+    r: Request,
+    path: &std::path::Path,
+) -> Result<Written, String> {
+    let sys = code
+        .instantiate::<P, N>(params)
+        .map_err(|e| e.to_string())?;
+    let s0 = start_state(&sys, start)?;
+    let (n, o) = (r.steps, r.options);
+    macro_rules! written {
+        ($call:expr) => {{
+            let (result, path) = $call.map_err(|e| e.to_string())?;
+            match result {
+                Ok(summary) => Ok((summary.steps, summary.t, path)),
+                Err(e) => Err((e.source, path)),
+            }
+        }};
+    }
+    Ok(match r.method {
+        Method::Reduced => {
+            let reduced = code
+                .instantiate_reduced::<P, N>(params)
+                .map_err(|e| e.to_string())?;
+            let integ = ReducedLieIntegrator::new(reduced, o);
+            let s0 = integ.reduce(&s0);
+            written!(dirac_io::run_to_parquet(&integ, s0, n, path, &o))
+        }
+        Method::Plus => written!(dirac_io::run_to_parquet(
+            &LieIntegrator::new(sys, o),
+            s0,
+            n,
+            path,
+            &o
+        )),
+        Method::Minus => written!(dirac_io::run_to_parquet(
+            &LieIntegrator::minus(sys, o),
+            s0,
+            n,
+            path,
+            &o
+        )),
+    })
+}
+
+fn momentum_len(kind: LieKind) -> usize {
+    match kind {
+        LieKind::Scalar | LieKind::Group => 1,
+        LieKind::Rotation | LieKind::Direction => 3,
+    }
+}
+
+fn configuration_len(kind: LieKind) -> usize {
+    match kind {
+        LieKind::Scalar | LieKind::Group => 1,
+        LieKind::Rotation => 9,
+        LieKind::Direction => 3,
+    }
+}
+
+/// The shape of one row of a coordinate's configuration (`None`: a scalar) and momentum.
+fn row_shape(kind: LieKind, momentum: bool) -> Option<Vec<usize>> {
+    match (kind, momentum) {
+        (LieKind::Scalar | LieKind::Group, _) => None,
+        (LieKind::Rotation, false) => Some(vec![3, 3]),
+        _ => Some(vec![3]),
+    }
+}
+
+fn kind_name(kind: LieKind) -> &'static str {
+    match kind {
+        LieKind::Scalar => "scalar",
+        LieKind::Group => "group",
+        LieKind::Rotation => "rotation",
+        LieKind::Direction => "direction",
+    }
+}
+
+/// A system on rotation groups given as text, compiled to machine code.
+#[pyclass(frozen, module = "dirac._dirac")]
+pub(crate) struct LieSystem {
+    code: Arc<LieCode>,
+}
+
+impl LieSystem {
+    pub(crate) fn new(code: Arc<LieCode>) -> PyResult<LieSystem> {
+        let s = code.system();
+        let rotations = s
+            .coordinates
+            .iter()
+            .filter(|c| matches!(c.kind, LieKind::Rotation | LieKind::Direction))
+            .count();
+        if rotations > dirac_jit::MAX_DISPATCHED_ROTATIONS
+            || s.chart_len() > dirac_jit::MAX_DISPATCHED
+        {
+            return Err(CompileError::new_err(format!(
+                "{rotations} rotation and direction coordinates, {} chart coordinates: the Python \
+                 module runs systems on rotation groups of at most {} and {}",
+                s.chart_len(),
+                dirac_jit::MAX_DISPATCHED_ROTATIONS,
+                dirac_jit::MAX_DISPATCHED
+            )));
+        }
+        Ok(LieSystem { code })
+    }
+
+    fn dims(&self) -> (usize, usize) {
+        let s = self.code.system();
+        (s.point_len(), s.chart_len())
+    }
+
+    fn request(
+        &self,
+        method: &str,
+        order: u32,
+        steps: usize,
+        tol: Option<f64>,
+    ) -> PyResult<Request> {
+        let method = match method {
+            "plus" => Method::Plus,
+            "minus" => Method::Minus,
+            "reduced" if self.code.system().symmetry.is_some() => Method::Reduced,
+            "reduced" => {
+                return Err(PyValueError::new_err(
+                    "method \"reduced\": the system declares no symmetry (`symmetry(..)`)",
+                ))
+            }
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "unknown method `{other}`; accepted: \"plus\", \"minus\", \"reduced\""
+                )))
+            }
+        };
+        if ![2, 4, 6].contains(&order) {
+            return Err(PyValueError::new_err(format!(
+                "order {order}: accepted 2 (the integrator itself), 4 (triple jump), 6 (Kahan–Li)"
+            )));
+        }
+        let mut options = dirac_runtime::NewtonOptions::default();
+        if let Some(t) = tol {
+            options.abs_tol = t;
+        }
+        Ok(Request {
+            method,
+            order,
+            steps,
+            options,
+        })
+    }
+
+    /// Reads the start: `q` and `p` (or `v`) mappings by coordinate name.
+    fn start(
+        &self,
+        q: &Bound<'_, PyDict>,
+        p: Option<&Bound<'_, PyDict>>,
+        v: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Start> {
+        let coords = &self.code.system().coordinates;
+        let read = |d: &Bound<'_, PyDict>, what: &str, len: &dyn Fn(LieKind) -> usize| {
+            for key in d.keys() {
+                let key: String = key.extract()?;
+                if !coords.iter().any(|c| c.name == key) {
+                    return Err(PyValueError::new_err(format!(
+                        "`{what}` names `{key}`, not a coordinate; the coordinates: {}",
+                        names(coords)
+                    )));
+                }
+            }
+            coords
+                .iter()
+                .map(|c| {
+                    let value = d.get_item(&c.name)?.ok_or_else(|| {
+                        PyValueError::new_err(format!("`{what}` needs `{}`", c.name))
+                    })?;
+                    let flat: Vec<f64> = if let Ok(x) = value.extract::<f64>() {
+                        vec![x]
+                    } else {
+                        let np = value.py().import("numpy")?;
+                        np.call_method1(
+                            "ravel",
+                            (np.call_method1("asarray", (value, "float64"))?,),
+                        )?
+                        .extract()?
+                    };
+                    let want = len(c.kind);
+                    if flat.len() != want {
+                        return Err(PyValueError::new_err(format!(
+                            "`{what}[\"{}\"]` has {} values; a {} takes {want}",
+                            c.name,
+                            flat.len(),
+                            kind_name(c.kind)
+                        )));
+                    }
+                    Ok(flat)
+                })
+                .collect::<PyResult<Vec<Vec<f64>>>>()
+        };
+        let q = read(q, "q", &configuration_len)?;
+        match (p, v) {
+            (Some(_), Some(_)) => Err(PyValueError::new_err(
+                "give the momenta `p` or the velocities `v`, not both",
+            )),
+            (Some(p), None) => Ok(Start {
+                q,
+                p: Some(read(p, "p", &momentum_len)?),
+                v: None,
+            }),
+            (None, Some(v)) => {
+                if self.code.system().adaptive.is_none() {
+                    return Err(PyValueError::new_err(
+                        "velocities `v` start a system with adaptive steps; give the momenta `p`",
+                    ));
+                }
+                let v = read(v, "v", &|k| match k {
+                    LieKind::Scalar | LieKind::Group => 1,
+                    LieKind::Rotation | LieKind::Direction => 3,
+                })?;
+                Ok(Start {
+                    q,
+                    p: None,
+                    v: Some(v.concat()),
+                })
+            }
+            (None, None) => Err(PyValueError::new_err(
+                "the start needs the momenta `p` (or, with adaptive steps, the velocities `v`)",
+            )),
+        }
+    }
+
+    fn to_dict<'py>(&self, py: Python<'py>, flat: Flat) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        let rows = flat.t.len();
+        d.set_item("t", PyArray1::from_vec(py, flat.t))?;
+        for (key, data, momentum) in [("q", flat.q, false), ("p", flat.p, true)] {
+            let by_name = PyDict::new(py);
+            for (c, values) in self.code.system().coordinates.iter().zip(data) {
+                let a = PyArray1::from_vec(py, values);
+                let shaped = match row_shape(c.kind, momentum) {
+                    None => a.into_any(),
+                    Some(shape) => {
+                        let mut full = vec![rows];
+                        full.extend(shape);
+                        a.reshape(full)?.into_any()
+                    }
+                };
+                by_name.set_item(&c.name, shaped)?;
+            }
+            d.set_item(key, by_name)?;
+        }
+        d.set_item(
+            "spatial_momentum",
+            PyArray1::from_vec(py, flat.spatial).reshape([rows, 3])?,
+        )?;
+        if let Some(mu) = flat.mu {
+            d.set_item("mu", PyArray1::from_vec(py, mu).reshape([rows, 3])?)?;
+        }
+        d.set_item("iterations", PyArray1::from_vec(py, flat.iterations))?;
+        d.set_item("residuals", PyArray1::from_vec(py, flat.residuals))?;
+        Ok(d)
+    }
+}
+
+fn names(coords: &[dirac_compiler::text::LieCoordinate]) -> String {
+    coords
+        .iter()
+        .map(|c| c.name.as_str())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+#[pymethods]
+impl LieSystem {
+    /// The type name the attribute would emit.
+    #[getter]
+    fn name(&self) -> String {
+        self.code.system().name.clone()
+    }
+
+    /// The coordinates as `(name, kind)`, kind one of "scalar", "group", "rotation",
+    /// "direction".
+    #[getter]
+    fn coordinates(&self) -> Vec<(String, &'static str)> {
+        self.code
+            .system()
+            .coordinates
+            .iter()
+            .map(|c| (c.name.clone(), kind_name(c.kind)))
+            .collect()
+    }
+
+    /// The parameters, in declaration order.
+    #[getter]
+    fn parameters(&self) -> Vec<String> {
+        self.code.system().parameters.clone()
+    }
+
+    /// The controls' names.
+    #[getter]
+    fn controls(&self) -> Vec<String> {
+        let s = self.code.system();
+        s.controls
+            .iter()
+            .map(|&i| s.parameters[i].clone())
+            .collect()
+    }
+
+    /// The declared symmetry: `None`, `("rotations", [R])` for every rotation of `R`, or
+    /// `("axis x|y|z", [names])` for the rotations about a coordinate axis.
+    #[getter]
+    fn symmetry(&self) -> Option<(String, Vec<String>)> {
+        let s = self.code.system();
+        let name = |i: usize| s.coordinates[i].name.clone();
+        s.symmetry.as_ref().map(|sym| match &sym.kind {
+            LieSymmetryKind::Rotations { coordinate } => {
+                ("rotations".to_owned(), vec![name(*coordinate)])
+            }
+            LieSymmetryKind::Axis { axis, coordinates } => (
+                format!("axis {}", ["x", "y", "z"][*axis]),
+                coordinates.iter().map(|&i| name(i)).collect(),
+            ),
+        })
+    }
+
+    /// Seconds from text to machine code.
+    #[getter]
+    fn compile_time(&self) -> f64 {
+        self.code.compile_time().as_secs_f64()
+    }
+
+    /// Integrates `steps` steps from the start `q` (a dict by coordinate: a rotation's 3×3
+    /// matrix, a direction's unit vector, a scalar) with the momenta `p` (a rotation's body
+    /// momentum, a direction's momentum as a vector in space, a scalar's), or with adaptive
+    /// steps the velocities `v` (a rotation's body angular velocity). `method` is "plus",
+    /// "minus" or "reduced" (by the declared symmetry); `order` 2, 4 or 6. Returns a dict of
+    /// NumPy arrays: `t`, `q` and `p` (dicts by coordinate, one row per state), the spatial
+    /// angular momentum `spatial_momentum` (steps+1, 3), `mu` for a reduced run, and per step
+    /// `iterations` and `residuals`. Raises `StepError` with the trajectory so far.
+    #[pyo3(signature = (parameters, steps, q, p = None, v = None, method = "plus", order = 2, tol = None))]
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "the Python keyword arguments, one each"
+    )]
+    fn run<'py>(
+        &self,
+        py: Python<'py>,
+        parameters: &Bound<'py, PyAny>,
+        steps: usize,
+        q: &Bound<'py, PyDict>,
+        p: Option<&Bound<'py, PyDict>>,
+        v: Option<&Bound<'py, PyDict>>,
+        method: &str,
+        order: u32,
+        tol: Option<f64>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let params = crate::values_of(&self.code.system().parameters, parameters)?;
+        let r = self.request(method, order, steps, tol)?;
+        let start = self.start(q, p, v)?;
+        let (pp, n) = self.dims();
+        let code = Arc::clone(&self.code);
+        let result = py
+            .allow_threads(|| {
+                dirac_jit::with_lie_dimensions!(pp, n, run_one(&code, &params, &start, r))
+            })
+            .map_err(PyValueError::new_err)?;
+        match result {
+            Ok(flat) => self.to_dict(py, flat),
+            Err(failed) => {
+                let Failed { error, partial } = *failed;
+                let err = StepError::new_err(error.to_string());
+                let value = err.value(py);
+                value.setattr("step", error.step())?;
+                value.setattr("residual", error.residual())?;
+                value.setattr("member", py.None())?;
+                value.setattr("trajectory", self.to_dict(py, partial)?)?;
+                Err(err)
+            }
+        }
+    }
+
+    /// Integrates `steps` steps (order 2) from the start of `run` and writes every state to
+    /// Apache Parquet at `path` (a directory of parts: the stored point and the chart momentum,
+    /// columns named after the coordinates, the description in the metadata). Returns a dict
+    /// with `steps`, `t` and `path`; a failed step raises `StepError` with `step`, `residual`
+    /// and `path`, the states before it written.
+    #[pyo3(signature = (parameters, steps, path, q, p = None, v = None, method = "plus", tol = None))]
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "the Python keyword arguments, one each"
+    )]
+    fn write<'py>(
+        &self,
+        py: Python<'py>,
+        parameters: &Bound<'py, PyAny>,
+        steps: usize,
+        path: std::path::PathBuf,
+        q: &Bound<'py, PyDict>,
+        p: Option<&Bound<'py, PyDict>>,
+        v: Option<&Bound<'py, PyDict>>,
+        method: &str,
+        tol: Option<f64>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let params = crate::values_of(&self.code.system().parameters, parameters)?;
+        let r = self.request(method, 2, steps, tol)?;
+        let start = self.start(q, p, v)?;
+        let (pp, n) = self.dims();
+        let code = Arc::clone(&self.code);
+        let written = py
+            .allow_threads(|| {
+                dirac_jit::with_lie_dimensions!(pp, n, write_one(&code, &params, &start, r, &path))
+            })
+            .map_err(PyValueError::new_err)?;
+        crate::written_dict(py, written)
+    }
+
+    fn __repr__(&self) -> String {
+        let s = self.code.system();
+        let coords: Vec<String> = s
+            .coordinates
+            .iter()
+            .map(|c| format!("{} ({})", c.name, kind_name(c.kind)))
+            .collect();
+        format!(
+            "<dirac.LieSystem {}: {}; parameters ({})>",
+            s.name,
+            coords.join(", "),
+            s.parameters.join(", ")
+        )
+    }
+}

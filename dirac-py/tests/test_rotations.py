@@ -1,0 +1,186 @@
+"""Systems on rotation groups from Python: a rigid body against a Lie group variational
+integrator written here in NumPy, the reduced runs of both kinds of symmetry against the
+unreduced ones, adaptive steps started from a velocity, Parquet, and the errors."""
+
+import pathlib
+
+import numpy as np
+import pytest
+
+import dirac
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+
+def function(path, name):
+    """The text of `pub fn name` in a source file of the repository, from its attribute on."""
+    source = (ROOT / path).read_text()
+    start = source.index(f"pub fn {name}(")
+    attr = source.rindex("#[reduced_lagrangian", 0, start)
+    end = source.index("\n}\n", start) + 2
+    return source[attr:end]
+
+
+RIGID_BODY = function("src/systems/rotations.rs", "rigid_body")
+HEAVY_TOP = function("src/systems/rotations.rs", "heavy_top")
+DSP_ON_SPHERES = function("src/systems/rotations.rs", "dsp_on_spheres")
+
+
+def cayley(x):
+    """cay(x) = I + 4/(4 + |x|²) (x̂ + x̂²/2)."""
+    hat = np.array([[0.0, -x[2], x[1]], [x[2], 0.0, -x[0]], [-x[1], x[0], 0.0]])
+    return np.eye(3) + 4.0 / (4.0 + x @ x) * (hat + hat @ hat / 2.0)
+
+
+def vee(a):
+    return np.array([a[2, 1], a[0, 2], a[1, 0]])
+
+
+def lgvi(r, pi, j, h, steps):
+    """The free rigid body's Lie group variational integrator (Lee, Leok & McClamroch):
+    h Π_k = vee(F J_d − J_d Fᵀ) solved for F = cay(z) by Newton with a central-difference
+    Jacobian, Π_{k+1} = Fᵀ Π_k, R_{k+1} = R_k F; J_d = tr(J)/2 I − J."""
+    jd = np.trace(j) / 2.0 * np.eye(3) - j
+    rs, pis = [r], [pi]
+    z = np.zeros(3)
+    for _ in range(steps):
+        def g(z):
+            f = cayley(z)
+            return vee(f @ jd - jd @ f.T) - h * pi
+        for _ in range(50):
+            jac = np.column_stack([(g(z + e) - g(z - e)) / 2e-7 for e in 1e-7 * np.eye(3)])
+            dz = np.linalg.solve(jac, -g(z))
+            z = z + dz
+            if np.linalg.norm(dz) < 1e-16:
+                break
+        f = cayley(z)
+        r, pi = r @ f, f.T @ pi
+        rs.append(r)
+        pis.append(pi)
+    return np.array(rs), np.array(pis)
+
+
+def test_a_rigid_body_from_text_is_the_lie_group_variational_integrator():
+    body = dirac.compile(RIGID_BODY)
+    assert isinstance(body, dirac.LieSystem)
+    assert body.coordinates == [("r", "rotation")]
+    assert body.symmetry == ("rotations", ["r"])
+    assert body.parameters == ["h", "j1", "j2", "j3"]
+    params = {"h": 0.05, "j1": 1.0, "j2": 2.0, "j3": 3.0}
+    r0, pi0 = cayley(np.array([0.1, 0.2, -0.3])), np.array([0.3, 1.0, 0.2])
+    run = body.run(params, steps=200, q={"r": r0}, p={"r": pi0})
+    assert run["t"].shape == (201,)
+    assert run["q"]["r"].shape == (201, 3, 3) and run["p"]["r"].shape == (201, 3)
+    assert run["spatial_momentum"].shape == (201, 3)
+    assert run["iterations"].shape == (200,)
+    rs, pis = lgvi(r0, pi0, np.diag([1.0, 2.0, 3.0]), 0.05, 200)
+    assert np.max(np.abs(run["q"]["r"] - rs)) < 1e-11
+    assert np.max(np.abs(run["p"]["r"] - pis)) < 1e-11
+    # The spatial angular momentum R Π is kept.
+    assert np.max(np.abs(run["spatial_momentum"] - r0 @ pi0)) < 1e-12
+    # The reduced run (every rotation) takes the same steps, π carried as a parameter.
+    reduced = body.run(params, steps=200, q={"r": r0}, p={"r": pi0}, method="reduced")
+    assert np.max(np.abs(reduced["q"]["r"] - run["q"]["r"])) < 1e-12
+    assert np.all(reduced["mu"] == reduced["mu"][0])
+    # The composition of order 4 from the same start.
+    four = body.run(params, steps=20, q={"r": r0}, p={"r": pi0}, order=4)
+    assert four["q"]["r"].shape == (21, 3, 3)
+
+
+def test_the_double_spherical_pendulum_on_two_spheres_reduced_about_the_vertical():
+    dsp = dirac.compile(DSP_ON_SPHERES)
+    assert dsp.coordinates == [("n1", "direction"), ("n2", "direction")]
+    assert dsp.symmetry == ("axis z", ["n1", "n2"])
+    params = dict(h=0.01, m1=1.0, m2=1.0, l1=1.0, l2=1.0, g=9.81)
+    n1 = np.array([0.6, 0.0, -0.8])
+    n2 = np.array([0.0, 0.6, -0.8])
+    q = {"n1": n1, "n2": n2}
+    p = {"n1": [0.0, 0.5, 0.0], "n2": [0.3, 0.0, 0.0]}
+    run = dsp.run(params, steps=500, q=q, p=p)
+    assert run["q"]["n1"].shape == (501, 3) and run["p"]["n2"].shape == (501, 3)
+    assert np.max(np.abs(np.linalg.norm(run["q"]["n1"], axis=1) - 1.0)) < 1e-14
+    # Momenta are tangent to their spheres.
+    assert np.max(np.abs(np.sum(run["q"]["n2"] * run["p"]["n2"], axis=1))) < 1e-12
+    reduced = dsp.run(params, steps=500, q=q, p=p, method="reduced")
+    # μ e₃, the vertical angular momentum, exactly constant; the same motion.
+    assert np.all(reduced["mu"] == reduced["mu"][0]) and reduced["mu"][0, 2] != 0.0
+    assert np.max(np.abs(reduced["q"]["n2"] - run["q"]["n2"])) < 1e-9
+    minus = dsp.run(params, steps=500, q=q, p=p, method="minus")
+    assert np.max(np.abs(minus["q"]["n1"] - run["q"]["n1"])) < 1e-9
+
+
+def test_adaptive_steps_start_from_a_velocity():
+    swing = dirac.compile(
+        "#[reduced_lagrangian(direction(n), group(t), rule = trapezoid, symmetry(n, axis = z),\n"
+        "    time(t), adapt = |q| 1.5 + q.n.z)]\n"
+        "fn swinging(q: Config, v: Velocity, g: f64) -> f64 { 0.5 * v.n.dot(&v.n) - g * q.n.z }")
+    assert swing.parameters == ["g", "h"]
+    # Released from rest at 53° from the vertical, slightly off its plane.
+    run = swing.run({"g": 1.0, "h": 0.05}, steps=400, q={"n": [0.8, 0.0, -0.6], "t": 0.0},
+                    v={"n": [0.0, 0.05, 0.0], "t": 1.0})
+    steps = np.diff(run["q"]["t"])
+    # Physical time advances by ε g(n): shorter steps near the bottom (n_z = −1).
+    assert np.all(steps > 0) and steps.max() / steps.min() > 1.5
+    # The energy −p_t is kept to the order of the method.
+    energy = -run["p"]["t"]
+    assert np.max(np.abs(energy - energy[0])) < 1e-12
+    with pytest.raises(ValueError, match="adaptive"):
+        dirac.compile(RIGID_BODY).run({"h": 0.1, "j1": 1, "j2": 2, "j3": 3}, steps=1,
+                                      q={"r": np.eye(3)}, v={"r": [1.0, 0.0, 0.0]})
+
+
+def test_a_failed_step_raises_with_the_trajectory_so_far():
+    # A body spinning about x under a potential √(R₂₂ − 1/2), NaN once it has turned by 60°.
+    wall = dirac.compile(
+        "#[reduced_lagrangian(rotation(r))]\n"
+        "fn wall(q0: Config, q1: Config, h: f64, c: f64) -> f64 {\n"
+        "    let f = q0.r.transpose() * q1.r;\n"
+        "    ((Matrix3::identity() - f) * Matrix3::from_diagonal(&Vector3::new(2.0, 1.0, 1.0))).trace() / h\n"
+        "        - h * c * (q0.r[(2, 2)] - 0.5).sqrt()\n"
+        "}")
+    with pytest.raises(dirac.StepError) as info:
+        wall.run({"h": 0.1, "c": 1e-6}, steps=100, q={"r": np.eye(3)}, p={"r": [1.0, 0.0, 0.0]})
+    e = info.value
+    assert 0 < e.step < 100
+    traj = e.trajectory["q"]["r"]
+    assert traj.shape == (e.step + 1, 3, 3)
+    assert np.all(np.isfinite(traj)) and traj[-2, 2, 2] > 0.5
+
+
+def test_bad_input_raises_value_errors():
+    top = dirac.compile(HEAVY_TOP)
+    assert top.symmetry == ("axis z", ["r"])
+    params = {"h": 0.01, "j1": 1.0, "j2": 1.0, "j3": 0.5, "mgl": 2.0}
+    with pytest.raises(ValueError, match="is not a rotation"):
+        top.run(params, steps=1, q={"r": np.ones((3, 3))}, p={"r": [0, 0, 1]})
+    with pytest.raises(ValueError, match="needs `r`"):
+        top.run(params, steps=1, q={}, p={"r": [0, 0, 1]})
+    with pytest.raises(ValueError, match="not a coordinate"):
+        top.run(params, steps=1, q={"r": np.eye(3), "s": 1.0}, p={"r": [0, 0, 1]})
+    with pytest.raises(ValueError, match="has 2 values"):
+        top.run(params, steps=1, q={"r": np.eye(3)}, p={"r": [0, 1]})
+    with pytest.raises(ValueError, match="unknown method"):
+        top.run(params, steps=1, q={"r": np.eye(3)}, p={"r": [0, 0, 1]}, method="unreduced")
+    with pytest.raises(ValueError, match="declares no symmetry"):
+        dirac.compile(RIGID_BODY.replace(", symmetry(r)", "")).run(
+            {"h": 0.1, "j1": 1, "j2": 2, "j3": 3}, steps=1, q={"r": np.eye(3)},
+            p={"r": [0, 0, 1]}, method="reduced")
+
+
+def test_a_run_on_rotation_groups_written_to_parquet_reads_back_bit_for_bit(tmp_path):
+    pq = pytest.importorskip("pyarrow.parquet")
+    top = dirac.compile(HEAVY_TOP)
+    params = {"h": 0.01, "j1": 1.0, "j2": 1.0, "j3": 0.5, "mgl": 2.0}
+    start = dict(q={"r": cayley(np.array([0.4, -0.1, 0.2]))}, p={"r": [0.2, -0.1, 3.0]})
+    out = tmp_path / "top.parquet"
+    summary = top.write(params, steps=300, path=str(out), method="reduced", **start)
+    assert summary["steps"] == 300
+    table = pq.read_table(out)
+    run = top.run(params, steps=300, method="reduced", **start)
+    for i in range(3):
+        for j in range(3):
+            column = table.column(f"q_r_{i}{j}").to_numpy()
+            assert np.array_equal(column, run["q"]["r"][:, i, j])
+    for k, axis in enumerate("xyz"):
+        assert np.array_equal(table.column(f"p_r_{axis}").to_numpy(), run["p"]["r"][:, k])
+        assert np.array_equal(table.column(f"mu_{axis}").to_numpy(), run["mu"][:, k])
