@@ -166,3 +166,98 @@ fn mistakes_and_failures_have_their_exit_statuses() {
         last_state::<ReducedState<1, 0>>(&dir.join("wall.parquet"), &columns).unwrap();
     assert!(0 < step && step < 100, "{step}");
 }
+
+/// The heavy top of the facade, as it compiles it in, and its system file.
+fn heavy_top_text() -> String {
+    let src = include_str!("../../src/systems/rotations.rs");
+    let at = src.find("pub fn heavy_top(").expect("the heavy top");
+    let start = src[..at]
+        .rfind("#[reduced_lagrangian")
+        .expect("its attribute");
+    let end = at + src[at..].find("\n}\n").expect("the body's end") + 2;
+    src[start..end].to_owned()
+}
+
+const TOP_TOML: &str = r#"system = "top.rs"
+steps = 500
+method = "METHOD"
+out = "top.parquet"
+
+[parameters]
+h = 0.01
+j1 = 1.0
+j2 = 1.0
+j3 = 0.5
+mgl = 2.0
+
+[start.q]
+r = [[1.0, 0.0, 0.0], [0.0, 0.8, -0.6], [0.0, 0.6, 0.8]]
+
+[start.p]
+r = [0.2, -0.1, 3.0]
+"#;
+
+#[test]
+fn a_system_on_rotation_groups_runs_into_parquet_as_the_compiled_in_one() {
+    use dirac::runtime::nalgebra::Matrix3;
+    use dirac::systems::rotations::{HeavyTop, HeavyTopConfig, HeavyTopMomentum};
+    let dir = scratch("cli_top");
+    std::fs::write(dir.join("top.rs"), heavy_top_text()).unwrap();
+    let top = HeavyTop {
+        h: 0.01,
+        j1: 1.0,
+        j2: 1.0,
+        j3: 0.5,
+        mgl: 2.0,
+    };
+    let start = top.state(
+        &HeavyTopConfig {
+            r: Matrix3::new(1.0, 0.0, 0.0, 0.0, 0.8, -0.6, 0.0, 0.6, 0.8),
+        },
+        &HeavyTopMomentum {
+            r: Vector3::new(0.2, -0.1, 3.0),
+        },
+    );
+    let (point, chart) = dirac_io::lie_names(&[("r", CoordinateKind::Rotation)]);
+    let point: Vec<&str> = point.iter().map(String::as_str).collect();
+    let chart: Vec<&str> = chart.iter().map(String::as_str).collect();
+    let opts = NewtonOptions::default();
+    let file = dir.join("plus.toml");
+    std::fs::write(&file, TOP_TOML.replace("METHOD", "plus")).unwrap();
+    let (code, stdout, stderr) = dirac(&["run", file.to_str().unwrap()]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("500 steps"), "{stdout}");
+    let compiled = LieIntegrator::new(top, opts)
+        .run(start)
+        .steps(500)
+        .collect()
+        .unwrap();
+    let columns = LieState::<9, 3>::column_names(&point, &chart);
+    let (step, _, last) = last_state::<LieState<9, 3>>(&dir.join("top.parquet"), &columns).unwrap();
+    assert_eq!((step, last), (500, compiled.states[500]));
+    // Reduced by the rotations about the vertical: μ is in the file.
+    std::fs::write(&file, TOP_TOML.replace("METHOD", "reduced")).unwrap();
+    let (code, _, stderr) = dirac(&["run", file.to_str().unwrap()]);
+    assert_eq!(code, 0, "{stderr}");
+    let integ = ReducedLieIntegrator::new(top, opts);
+    let compiled = integ
+        .run(integ.reduce(&start))
+        .steps(500)
+        .collect()
+        .unwrap();
+    let columns = ReducedLieState::<9, 3>::column_names(&point, &chart);
+    let (_, _, last) =
+        last_state::<ReducedLieState<9, 3>>(&dir.join("top.parquet"), &columns).unwrap();
+    assert_eq!(last, compiled.states[500]);
+    // `check` names the coordinates; a matrix that is not a rotation is refused.
+    let (code, stdout, _) = dirac(&["check", file.to_str().unwrap()]);
+    assert_eq!(code, 0);
+    assert!(stdout.contains("coordinates: r (rotation)"), "{stdout}");
+    let skewed = TOP_TOML
+        .replace("METHOD", "plus")
+        .replace("0.8, -0.6", "0.9, -0.6");
+    std::fs::write(&file, skewed).unwrap();
+    let (code, _, stderr) = dirac(&["run", file.to_str().unwrap()]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(stderr.contains("is not a rotation"), "{stderr}");
+}

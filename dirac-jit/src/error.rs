@@ -100,17 +100,6 @@ pub enum Error {
         /// What is wrong.
         reason: String,
     },
-    /// A program asked for one kind of system and the text is the other (on vector spaces, or
-    /// on rotation groups).
-    #[error("the system `{name}` is {is}: {hint}")]
-    Kind {
-        /// The system's type name.
-        name: String,
-        /// What it is.
-        is: &'static str,
-        /// What to call instead.
-        hint: &'static str,
-    },
     /// The parameter values do not match the declared parameters.
     #[error("parameters of `{name}`: {reason}; declared: {declared}")]
     Parameters {

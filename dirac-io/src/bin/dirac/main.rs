@@ -26,6 +26,31 @@
 //! g = [0.0]
 //! ```
 //!
+//! A system on rotation groups (`rotation(R)`, `direction(n)` coordinates) starts from its
+//! coordinates by name — a rotation's matrix (rows, or 9 numbers row by row), a direction's
+//! unit vector, a scalar — and their momenta (a rotation's body momentum, a direction's momentum
+//! as a vector in space), or with adaptive steps their velocities (`[start.v]`); its `method` is
+//! "plus", "minus" or "reduced" (by its declared symmetry):
+//!
+//! ```toml
+//! system = "heavy_top.rs"
+//! steps = 1000
+//! method = "reduced"
+//!
+//! [parameters]
+//! h = 0.01
+//! j1 = 1.0
+//! j2 = 1.0
+//! j3 = 0.5
+//! mgl = 2.0
+//!
+//! [start.q]
+//! r = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+//!
+//! [start.p]
+//! r = [0.2, -0.1, 3.0]
+//! ```
+//!
 //! Exit status 0 on success, 1 when the system or a step fails (the states computed before a
 //! failed step are written and named), 2 for a malformed command line or file.
 
@@ -35,7 +60,7 @@ use std::sync::Arc;
 
 use dirac::prelude::*;
 use dirac_io::{run_to_parquet, Describe, StateColumns};
-use dirac_jit::Code;
+use dirac_jit::{Code, Compiled, LieCode};
 
 /// Which equations a run solves.
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -43,6 +68,7 @@ enum Method {
     Plus,
     Minus,
     Unreduced,
+    Reduced,
 }
 
 /// A parsed system file.
@@ -52,7 +78,7 @@ struct Config {
     method: Method,
     out: PathBuf,
     parameters: Vec<(String, f64)>,
-    start: Vec<(String, Vec<f64>)>,
+    start: toml::Table,
 }
 
 /// A mistake in the command line or the file (exit status 2), or a failed system or run (1).
@@ -96,7 +122,11 @@ fn cli(args: Vec<String>) -> Result<(), Failure> {
     if let Some(out) = out {
         config.out = out;
     }
-    let code = dirac_jit::compile(&config.text).map_err(|e| Failure::Run(e.to_string()))?;
+    let code = match dirac_jit::compile_any(&config.text) {
+        Ok(Compiled::Flat(code)) => code,
+        Ok(Compiled::Lie(code)) => return cli_lie(command, &code, &config),
+        Err(e) => return Err(Failure::Run(e.to_string())),
+    };
     let sys = code.system();
     if sys.constrained.is_some() {
         return Err(Failure::Run(format!(
@@ -118,6 +148,13 @@ fn cli(args: Vec<String>) -> Result<(), Failure> {
             Ok(())
         }
         "run" => {
+            if config.method == Method::Reduced {
+                return Err(Failure::Run(format!(
+                    "{}: method \"reduced\" runs a system on rotation groups by its symmetry; \
+                     a system on vector spaces runs \"plus\" or \"minus\" (both reduced) or \"unreduced\"",
+                    sys.name
+                )));
+            }
             let (s, k) = (sys.shape.len(), sys.group.len());
             let report =
                 dirac_jit::with_dimensions!(s, k, run(&code, &config)).map_err(Failure::Run)?;
@@ -169,11 +206,11 @@ fn parse(path: &Path) -> Result<Config, Failure> {
         None | Some(Some("plus")) => Method::Plus,
         Some(Some("minus")) => Method::Minus,
         Some(Some("unreduced")) => Method::Unreduced,
-        _ => {
-            return Err(usage(
-                "`method` is \"plus\", \"minus\" or \"unreduced\"".into(),
-            ))
-        }
+        Some(Some("reduced")) => Method::Reduced,
+        _ => return Err(usage(
+            "`method` is \"plus\", \"minus\", \"unreduced\" or (on rotation groups) \"reduced\""
+                .into(),
+        )),
     };
     let out = match table.get("out") {
         Some(toml::Value::String(o)) => dir.join(o),
@@ -194,15 +231,7 @@ fn parse(path: &Path) -> Result<Config, Failure> {
         let v = number(&v).ok_or_else(|| usage(format!("parameter `{k}` must be a number")))?;
         parameters.push((k, v));
     }
-    let mut start = Vec::new();
-    for (k, v) in section("start")? {
-        let values = match &v {
-            toml::Value::Array(a) => a.iter().map(number).collect::<Option<Vec<f64>>>(),
-            _ => None,
-        }
-        .ok_or_else(|| usage(format!("`start.{k}` must be an array of numbers")))?;
-        start.push((k, values));
-    }
+    let start = section("start")?;
     Ok(Config {
         text,
         steps,
@@ -213,22 +242,42 @@ fn parse(path: &Path) -> Result<Config, Failure> {
     })
 }
 
+/// The numbers of a value: a number, an array of numbers, or an array of arrays (a matrix's
+/// rows), flattened in order; `None` for anything else.
+fn numbers(v: &toml::Value) -> Option<Vec<f64>> {
+    match v {
+        toml::Value::Float(f) => Some(vec![*f]),
+        toml::Value::Integer(i) => Some(vec![*i as f64]),
+        toml::Value::Array(a) => a
+            .iter()
+            .map(|e| match e {
+                toml::Value::Array(_) => numbers(e),
+                toml::Value::Float(_) | toml::Value::Integer(_) => numbers(e),
+                _ => None,
+            })
+            .collect::<Option<Vec<Vec<f64>>>>()
+            .map(|rows| rows.concat()),
+        _ => None,
+    }
+}
+
 /// The start's vector `name` of length `len`.
 fn vector<const D: usize>(config: &Config, name: &str) -> Result<SVector<f64, D>, String> {
-    let values = config
-        .start
-        .iter()
-        .find(|(k, _)| k == name)
-        .map(|(_, v)| v.as_slice())
-        .or((D == 0).then_some(&[][..]))
-        .ok_or_else(|| format!("`start.{name}` is missing ({D} values)"))?;
+    let values = match config.start.get(name) {
+        Some(v @ toml::Value::Array(_)) => {
+            numbers(v).ok_or_else(|| format!("`start.{name}` must be an array of numbers"))?
+        }
+        Some(_) => return Err(format!("`start.{name}` must be an array of numbers")),
+        None if D == 0 => Vec::new(),
+        None => return Err(format!("`start.{name}` is missing ({D} values)")),
+    };
     if values.len() != D {
         return Err(format!(
             "`start.{name}` has {} values; the system has {D}",
             values.len()
         ));
     }
-    Ok(SVector::from_column_slice(values))
+    Ok(SVector::from_column_slice(&values))
 }
 
 /// Integrates the system at dimensions `S`, `K`, `N` and writes the run.
@@ -266,6 +315,139 @@ fn run<const S: usize, const K: usize, const N: usize>(
                 write(ReducedIntegrator::minus(sys, options), start, config)
             }
         }
+    }
+}
+
+/// `check` and `run` of a system on rotation groups.
+fn cli_lie(command: &str, code: &Arc<LieCode>, config: &Config) -> Result<(), Failure> {
+    let sys = code.system();
+    match command {
+        "check" => {
+            println!(
+                "{}: compiled in {:.1} ms",
+                sys.name,
+                code.compile_time().as_secs_f64() * 1e3
+            );
+            let coordinates: Vec<String> = sys
+                .coordinates
+                .iter()
+                .map(|c| format!("{} ({:?})", c.name, c.kind).to_lowercase())
+                .collect();
+            println!("coordinates: {}", coordinates.join(", "));
+            println!("parameters: {}", sys.parameters.join(", "));
+            Ok(())
+        }
+        "run" => {
+            if config.method == Method::Unreduced {
+                return Err(Failure::Run(format!(
+                    "{}: a system on rotation groups runs \"plus\", \"minus\" or \"reduced\" (by its symmetry)",
+                    sys.name
+                )));
+            }
+            let (p, n) = (sys.point_len(), sys.chart_len());
+            let report = dirac_jit::with_lie_dimensions!(p, n, run_lie(code, config))
+                .map_err(Failure::Run)?;
+            println!("{report}");
+            Ok(())
+        }
+        other => Err(Failure::Usage(format!("unknown command `{other}`"))),
+    }
+}
+
+/// The start's values of each coordinate from the table `start.{part}`, in the order of the
+/// coordinates (`None` when the table is absent).
+fn per_coordinate(
+    config: &Config,
+    code: &LieCode,
+    part: &str,
+) -> Result<Option<Vec<Vec<f64>>>, String> {
+    let table = match config.start.get(part) {
+        None => return Ok(None),
+        Some(toml::Value::Table(t)) => t,
+        Some(_) => return Err(format!("`start.{part}` must be a table of the coordinates")),
+    };
+    let coordinates = &code.system().coordinates;
+    if let Some(k) = table
+        .keys()
+        .find(|k| !coordinates.iter().any(|c| &c.name == *k))
+    {
+        let names: Vec<&str> = coordinates.iter().map(|c| c.name.as_str()).collect();
+        return Err(format!(
+            "`start.{part}.{k}` is not a coordinate; the coordinates: {}",
+            names.join(", ")
+        ));
+    }
+    coordinates
+        .iter()
+        .map(|c| {
+            let v = table
+                .get(&c.name)
+                .ok_or_else(|| format!("`start.{part}.{}` is missing", c.name))?;
+            numbers(v).ok_or_else(|| format!("`start.{part}.{}` must be numbers", c.name))
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .map(Some)
+}
+
+/// Integrates a system on rotation groups at dimensions `P`, `N` and writes the run.
+fn run_lie<const P: usize, const N: usize>(
+    code: &Arc<LieCode>,
+    config: &Config,
+) -> Result<String, String> {
+    let named: Vec<(&str, f64)> = config
+        .parameters
+        .iter()
+        .map(|(k, v)| (k.as_str(), *v))
+        .collect();
+    let sys = code
+        .instantiate_named::<P, N>(&named)
+        .map_err(|e| e.to_string())?;
+    if let Some(k) = config
+        .start
+        .keys()
+        .find(|k| !["q", "p", "v"].contains(&k.as_str()))
+    {
+        return Err(format!(
+            "`start.{k}`: a system on rotation groups starts from the tables `[start.q]` and \
+             `[start.p]` (or `[start.v]` with adaptive steps)"
+        ));
+    }
+    let q = per_coordinate(config, code, "q")?.ok_or("the table `[start.q]` is missing")?;
+    let q: Vec<&[f64]> = q.iter().map(Vec::as_slice).collect();
+    let start = match (
+        per_coordinate(config, code, "p")?,
+        per_coordinate(config, code, "v")?,
+    ) {
+        (Some(p), None) => {
+            let p: Vec<&[f64]> = p.iter().map(Vec::as_slice).collect();
+            sys.state(&q, &p).map_err(|e| e.to_string())?
+        }
+        (None, Some(v)) => {
+            let zeros: Vec<Vec<f64>> = v.iter().map(|v| vec![0.0; v.len()]).collect();
+            let zeros: Vec<&[f64]> = zeros.iter().map(Vec::as_slice).collect();
+            let point = sys.state(&q, &zeros).map_err(|e| e.to_string())?.q;
+            sys.adaptive_state(&point, &v.concat())
+                .map_err(|e| e.to_string())?
+        }
+        _ => {
+            return Err(
+                "give the momenta `[start.p]` or (with adaptive steps) the velocities `[start.v]`, one of them"
+                    .into(),
+            )
+        }
+    };
+    let options = NewtonOptions::default();
+    match config.method {
+        Method::Reduced => {
+            let reduced = code
+                .instantiate_reduced::<P, N>(&sys.parameter_values())
+                .map_err(|e| e.to_string())?;
+            let integ = ReducedLieIntegrator::new(reduced, options);
+            let start = integ.reduce(&start);
+            write(integ, start, config)
+        }
+        Method::Minus => write(LieIntegrator::minus(sys, options), start, config),
+        _ => write(LieIntegrator::new(sys, options), start, config),
     }
 }
 
