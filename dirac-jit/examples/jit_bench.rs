@@ -8,7 +8,8 @@
 //! The double spherical pendulum and the charged particle of the paper (§7), from the text of
 //! the facade's own sources; the 200-particle Toda lattice of the examples (sparse backend); and
 //! the scaling benchmark's 32-link chain on a cart, in its angles and in maximal coordinates with
-//! one constraint per link (compile times). Each round compiles the text once and runs both integrators for
+//! one constraint per link (compile times); the heavy top on `SO(3)` and the pendulum on
+//! `S² × S²` (systems on rotation groups). Each round compiles the text once and runs both integrators for
 //! `--steps` steps, alternating which goes first; the medians over rounds are printed with the
 //! spread (min–max) of the per-round ratios.
 
@@ -229,7 +230,100 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     lattice(rounds, steps / 20)?;
     chain(rounds)?;
+    rotations(rounds, steps)?;
     Ok(())
+}
+
+const ROTATIONS: &str = include_str!("../../src/systems/rotations.rs");
+
+/// Seconds per step of a streamed run of the Lie group variational integrator.
+fn lie_time<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
+    sys: &L,
+    start: LieState<P, N>,
+    steps: usize,
+) -> f64 {
+    let t = Instant::now();
+    let s = LieIntegrator::new(sys.clone(), NewtonOptions::default())
+        .run(start)
+        .steps(steps)
+        .stream();
+    std::hint::black_box(s.expect("the run completes"));
+    t.elapsed().as_secs_f64() / steps as f64
+}
+
+/// A system on rotation groups: `rounds` compilations of its text, and its steps against the
+/// compiled-in system's, interleaved.
+fn lie_rounds<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
+    name: &str,
+    rounds: usize,
+    steps: usize,
+    aot: &L,
+    start: LieState<P, N>,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let text = function(ROTATIONS, name);
+    let mut r = Rounds {
+        compile: vec![],
+        jit_t: vec![],
+        aot_t: vec![],
+        ratio: vec![],
+    };
+    for round in 0..rounds {
+        let code = dirac_jit::compile_lie(&text)?;
+        r.compile.push(code.compile_time().as_secs_f64());
+        let jit = code.instantiate::<P, N>(&aot.parameter_values())?;
+        let (j, a) = if round.is_multiple_of(2) {
+            let j = lie_time(&jit, start, steps);
+            (j, lie_time(aot, start, steps))
+        } else {
+            let a = lie_time(aot, start, steps);
+            (lie_time(&jit, start, steps), a)
+        };
+        r.jit_t.push(j);
+        r.aot_t.push(a);
+        r.ratio.push(j / a);
+    }
+    let r = r.summary();
+    println!(
+        "{name} (rotation groups): text → machine code {:.1} ms (min {:.1}); step {:.2} µs given at run time, {:.2} µs compiled in: ratio {:.2} ({:.2}–{:.2})",
+        r.compile * 1e3,
+        r.compile_min * 1e3,
+        r.jit * 1e6,
+        r.aot * 1e6,
+        r.ratio,
+        r.ratio_min,
+        r.ratio_max,
+    );
+    Ok(())
+}
+
+/// The heavy top on `SO(3)` and the paper's pendulum on `S² × S²`, from the facade's sources.
+fn rotations(rounds: usize, steps: usize) -> Result<(), Box<dyn std::error::Error>> {
+    use dirac::runtime::lie::cayley;
+    use dirac::systems::rotations::{DspOnSpheres, HeavyTop, HeavyTopConfig, HeavyTopMomentum};
+    let top = HeavyTop {
+        h: 0.01,
+        j1: 1.0,
+        j2: 1.0,
+        j3: 0.5,
+        mgl: 2.0,
+    };
+    let start = top.state(
+        &HeavyTopConfig {
+            r: cayley(&Vector3::new(0.4, -0.1, 0.2)),
+        },
+        &HeavyTopMomentum {
+            r: Vector3::new(0.2, -0.1, 3.0),
+        },
+    );
+    lie_rounds("heavy_top", rounds, steps, &top, start)?;
+    let dsp = DspOnSpheres::paper(0.01);
+    lie_rounds(
+        "dsp_on_spheres",
+        rounds,
+        steps,
+        &dsp,
+        dsp.paper_initial_state(),
+    )
 }
 
 /// The 200-particle Toda lattice of the examples, on the sparse backend: compile time, and the

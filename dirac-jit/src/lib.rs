@@ -2,8 +2,9 @@
 //! attribute and function a Rust program compiles in with `#[reduced_lagrangian]` — compiled by
 //! the same compiler (`dirac-compiler`: parsing, the invariance check, differentiation, the
 //! paper's reduction) and by Cranelift to straight-line machine code, behind the runtime's traits.
-//! Every integrator for systems on vector spaces then runs it: the reduced (+) and (−) steps of
-//! eqs. (4.6) and (4.8), the unreduced step, compositions, and forces and controls.
+//! Every integrator then runs it: the reduced (+) and (−) steps of eqs. (4.6) and (4.8), the
+//! unreduced step, compositions, forces and controls, constraints, adaptive steps, and on rotation
+//! groups the Lie group variational step and its reduction by rotations.
 //!
 //! ```
 //! use dirac_jit::compile;
@@ -71,7 +72,10 @@
 //! as `x[200]`), a connection, `step = ..`, a continuous Lagrangian with its `rule`, forces,
 //! controls, holonomic or nonholonomic constraints ([`Code::instantiate_constrained`]: the
 //! constrained integrators, unreduced and reduced), and adaptive steps (`time(t), adapt = |q| g`).
-//! Systems on rotation groups and element-wise systems are compiled in.
+//! Systems on rotation groups (`rotation(..)`, `direction(..)`) compile with [`compile_lie`] into
+//! a [`LieCode`], whose [`JitLie`] systems the Lie group variational integrator and, reduced by
+//! their declared symmetry, `ReducedLieIntegrator` run; [`compile_any`] takes either kind.
+//! Element-wise systems are compiled in.
 //!
 //! A pendulum in Cartesian coordinates, its rod a holonomic constraint (`M = 1`, so each solve
 //! has `Z = N + M = 3` unknowns):
