@@ -193,7 +193,7 @@ fn forces_and_a_feedback_control_step_bit_for_bit() {
         .feedback(law)
         .collect()
         .unwrap();
-    let b = ReducedIntegrator::plus(jit, opts)
+    let b = ReducedIntegrator::plus(jit.clone(), opts)
         .run(start)
         .steps(500)
         .feedback(law)
@@ -201,6 +201,61 @@ fn forces_and_a_feedback_control_step_bit_for_bit() {
         .unwrap();
     same(&a.states, &b.states, "forced (+)");
     assert_ne!(a.last().mu, start.mu, "the torque changes μ");
+    // The steps' sensitivities to the state and the control, both sides and unreduced: the
+    // same partial derivatives, the same solves.
+    let a = ReducedIntegrator::plus(compiled, opts).step_sensitivity(0, &start, &[0.3]);
+    let b = ReducedIntegrator::plus(jit.clone(), opts).step_sensitivity(0, &start, &[0.3]);
+    assert_eq!(a.unwrap(), b.unwrap(), "(+) sensitivity");
+    let a = ReducedIntegrator::minus(compiled, opts).step_sensitivity(0, &start, &[0.3]);
+    let b = ReducedIntegrator::minus(jit.clone(), opts).step_sensitivity(0, &start, &[0.3]);
+    assert_eq!(a.unwrap(), b.unwrap(), "(−) sensitivity");
+    let unreduced = compiled.untrivialize(&start);
+    let a = UnreducedIntegrator::new(compiled, opts)
+        .step_sensitivity(0, &unreduced, &[0.3])
+        .unwrap();
+    let b = UnreducedIntegrator::new(jit.clone(), opts)
+        .step_sensitivity(0, &unreduced, &[0.3])
+        .unwrap();
+    assert_eq!(a, b, "unreduced sensitivity");
+    assert!(
+        a.2.control.iter().any(|&v| v != 0.0),
+        "the control moves the step"
+    );
+    // A forced system has no Hessian form of its step map: an error, not NaN.
+    let e = UnreducedIntegrator::new(jit, opts)
+        .step_jacobian(0, &unreduced, &a.0)
+        .unwrap_err();
+    assert!(matches!(e, StepError::NonFinite { .. }), "{e}");
+}
+
+/// The step-map Jacobian from the second derivatives of `L_d` (a system without forces), and
+/// the composed one of the triple jump: the same as compiled in.
+#[test]
+fn step_map_jacobians_are_the_compiled_in_ones() {
+    let code = code(PAPER, "double_spherical_pendulum");
+    let compiled = DoubleSphericalPendulum::paper();
+    let jit = code
+        .instantiate::<3, 1, 4>(&compiled.parameter_values())
+        .unwrap();
+    let start = compiled.untrivialize(&DoubleSphericalPendulum::paper_initial_state());
+    let opts = NewtonOptions::default();
+    let (a, b) = (
+        UnreducedIntegrator::new(compiled, opts),
+        UnreducedIntegrator::new(jit, opts),
+    );
+    let next = a.run(start).steps(1).collect().unwrap().states[1];
+    assert_eq!(
+        a.step_jacobian(0, &start, &next).unwrap(),
+        b.step_jacobian(0, &start, &next).unwrap()
+    );
+    let (a, b) = (
+        Composition::new(a, CompositionMethod::TRIPLE_JUMP),
+        Composition::new(b, CompositionMethod::TRIPLE_JUMP),
+    );
+    let (sa, ma) = a.step_with_jacobian(0, &start).unwrap();
+    let (sb, mb) = b.step_with_jacobian(0, &start).unwrap();
+    assert_eq!((sa, &ma), (sb, &mb));
+    assert!(ma.symplecticity_defect() < 1e-10);
 }
 
 /// A system of 200 coordinates: the text gets the attribute's sparse backend — the Jacobian's

@@ -282,7 +282,9 @@ where
     /// sensitivities and covariances along a trajectory.
     ///
     /// `k` is the index of the step `from → to`, for the error: a singular `D12 L_d`
-    /// (`StepError::SingularJacobian`, with no residual to report: NaN).
+    /// (`StepError::SingularJacobian`, with no residual to report: NaN), or second derivatives
+    /// that are not finite (`StepError::NonFinite`: outside the Lagrangian's domain, or a system
+    /// given at run time whose Hessian was not compiled, one with forces).
     pub fn step_jacobian(
         &self,
         k: usize,
@@ -290,6 +292,16 @@ where
         to: &UnreducedState<N>,
     ) -> Result<Sensitivity, StepError> {
         let (d11, d12, d22) = self.system.lagrangian_hessian(&from.q, &to.q);
+        if ![&d11, &d12, &d22]
+            .iter()
+            .all(|m| m.iter().all(|v| v.is_finite()))
+        {
+            return Err(StepError::NonFinite {
+                step: k,
+                what: "the second derivatives of L_d",
+                residual: f64::NAN,
+            });
+        }
         let lu = Lu::new(d12).ok_or(StepError::SingularJacobian {
             step: k,
             residual: f64::NAN,

@@ -53,8 +53,12 @@
 //! The reduced (+) and (−) integrators (with the group unknowns eliminated in closed form where
 //! the compiler finds them affine, as for a compiled-in system), the unreduced integrator, the
 //! compositions of order 4 and 6, forces (a group force's impulse included) and controls set by
-//! a feedback law or a sequence. A continuous Lagrangian with its `rule` gets its Legendre map and
-//! energy as methods of the system (`legendre`, `energy`).
+//! a feedback law or a sequence, and the steps' sensitivities: to the state and the controls
+//! (`step_sensitivity`, from the partial derivatives the compiler emits for a system with forces
+//! or controls) and the step-map Jacobian of a system without forces (`step_jacobian`, and
+//! `step_with_jacobian` of a composition, from the second derivatives of `L_d`). A continuous
+//! Lagrangian with its `rule` gets its Legendre map and energy as methods of the system
+//! (`legendre`, `energy`).
 //!
 //! Holonomic and nonholonomic constraints (`constraints = |q| [..]`, `nonholonomic = |q, v| [..]`)
 //! are compiled as the attribute compiles them, into the position step and the projection of
@@ -143,7 +147,6 @@
 //! compiled-in version), with or without constraints, with fixed or adaptive steps, and systems
 //! on rotation groups, reduced or not, with at most 32 parameters. Element-wise systems sized at
 //! run time are compiled in with the attribute: the text front end says so at the token that
-//! asks for them; so are the step sensitivities of systems on vector spaces (those of systems on
-//! rotation groups are compiled from the text). The Python package and the command line run
+//! asks for them. The Python package and the command line run
 //! systems without constraints, on rotation groups with at most two rotation and direction
 //! coordinates.

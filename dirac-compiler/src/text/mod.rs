@@ -72,6 +72,14 @@ pub struct System {
     /// The unreduced equations (Definitions 2.7/2.8): leaves `Q0` = `q_k`, `Q1` = the unknown
     /// `z`, `P` = `p_k`.
     pub unreduced: Stepper,
+    /// The unreduced step's partial derivatives for its sensitivities, when forces or controls
+    /// are declared ([`Side::partials`]' blocks, with `y = q_k`, `z = q_{k+1}`, `o = p_{k+1}`;
+    /// leaves as [`Self::unreduced`]'s).
+    pub unreduced_partials: Option<Program>,
+    /// `(D11, D12, D22)` of `L_d`, each `N × N` row by row, one after the other, reading `Q0`,
+    /// `Q1` and parameters: the step-map Jacobian of a system of at most 16 coordinates without
+    /// forces (the runtime's `LagrangianHessian`).
+    pub hessian: Option<Program>,
     /// For a continuous Lagrangian `L(q, v)`: the Legendre map and the energy.
     pub continuous: Option<Continuous>,
     /// For a system with constraints (`constraints = |q| [..]` or `nonholonomic = |q, v| [..]`):
@@ -147,6 +155,11 @@ pub struct Side {
     pub impulse: Option<Program>,
     /// The step with its group unknowns solved in closed form, when they enter affinely.
     pub eliminated: Option<Eliminated>,
+    /// The step's partial derivatives for its sensitivities, when forces or controls are
+    /// declared (leaves as [`Self::stepper`]'s): the blocks `∂R/∂y`, `∂R/∂u`, `∂o/∂y`, `∂o/∂z`,
+    /// `∂o/∂u` of the runtime's `StepPartials` (`y = x_k`, `z` the unknowns, `o` the updates
+    /// `(w_{k+1}, Δμ)`, `u` the controls), each row by row, one after the other.
+    pub partials: Option<Program>,
 }
 
 /// Momentum-level elimination: Newton on the shape unknowns alone, the group unknowns in closed
@@ -455,6 +468,11 @@ fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<System> {
         plus: side(&c, &c.plus),
         minus: side(&c, &c.minus),
         unreduced: stepper(&c.graph, &c.unreduced),
+        unreduced_partials: c.unreduced_partials.as_ref().map(|p| partials(&c.graph, p)),
+        hessian: c.hessian.as_ref().map(|blocks| {
+            let roots: Vec<_> = blocks.iter().flatten().flatten().copied().collect();
+            program(&c.graph, &roots)
+        }),
         continuous: c.continuous.as_ref().map(|parts| Continuous {
             legendre: program(&c.graph, &parts.legendre),
             energy: program(&c.graph, &[parts.energy]),
@@ -505,7 +523,19 @@ fn side(c: &Compiled, side: &SideCode) -> Side {
             block: program(&c.graph, &column_major(&e.block).collect::<Vec<_>>()),
             pays: side.elimination_pays,
         }),
+        partials: side.partials.as_ref().map(|p| partials(&c.graph, p)),
     }
+}
+
+/// The blocks of a step's partial derivatives, each row by row, one after the other.
+fn partials(g: &Graph, p: &crate::ir::reduce::Partials) -> Program {
+    let roots: Vec<_> = [&p.r_y, &p.r_u, &p.o_y, &p.o_z, &p.o_u]
+        .into_iter()
+        .flatten()
+        .flatten()
+        .copied()
+        .collect();
+    program(g, &roots)
 }
 
 /// A square matrix's entries column by column, as nalgebra stores them.

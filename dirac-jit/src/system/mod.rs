@@ -70,6 +70,7 @@ struct SideKernels {
     stepper: StepperKernels,
     impulse: Option<Kernel>,
     eliminated: Option<EliminatedKernels>,
+    partials: Option<Kernel>,
 }
 
 struct Kernels {
@@ -78,6 +79,8 @@ struct Kernels {
     plus: SideKernels,
     minus: SideKernels,
     unreduced: StepperKernels,
+    unreduced_partials: Option<Kernel>,
+    hessian: Option<Kernel>,
     legendre: Option<Kernel>,
     energy: Option<Kernel>,
     monitor: Option<Kernel>,
@@ -172,11 +175,26 @@ impl Code {
                     ))
                 })
                 .transpose()?;
-            Ok((l, st, impulse, eliminated))
+            let partials = side
+                .partials
+                .as_ref()
+                .map(|p| jit.define(p, &reduced))
+                .transpose()?;
+            Ok((l, st, impulse, eliminated, partials))
         };
         let plus = side(&mut jit, &system.plus)?;
         let minus = side(&mut jit, &system.minus)?;
         let unreduced = stepper(&mut jit, &system.unreduced, &unreduced_layout)?;
+        let unreduced_partials = system
+            .unreduced_partials
+            .as_ref()
+            .map(|p| jit.define(p, &unreduced_layout))
+            .transpose()?;
+        let hessian = system
+            .hessian
+            .as_ref()
+            .map(|p| jit.define(p, &ld_layout))
+            .transpose()?;
         let monitor = system
             .adaptive
             .as_ref()
@@ -199,8 +217,14 @@ impl Code {
             .transpose()?;
         let (k, module) = jit.finish()?;
         let stepper_kernels = |defined| stepper_kernels(&k, defined);
-        type Defined = (usize, [usize; 4], Option<usize>, Option<([usize; 4], bool)>);
-        let side_kernels = |(l, st, imp, el): Defined| SideKernels {
+        type Defined = (
+            usize,
+            [usize; 4],
+            Option<usize>,
+            Option<([usize; 4], bool)>,
+            Option<usize>,
+        );
+        let side_kernels = |(l, st, imp, el, partials): Defined| SideKernels {
             lagrangian: k[l],
             stepper: stepper_kernels(st),
             impulse: imp.map(|i| k[i]),
@@ -211,6 +235,7 @@ impl Code {
                 block: k[a],
                 pays,
             }),
+            partials: partials.map(|i| k[i]),
         };
         let kernels = Kernels {
             lagrangian: k[ld],
@@ -218,6 +243,8 @@ impl Code {
             plus: side_kernels(plus),
             minus: side_kernels(minus),
             unreduced: stepper_kernels(unreduced),
+            unreduced_partials: unreduced_partials.map(|i| k[i]),
+            hessian: hessian.map(|i| k[i]),
             legendre: continuous.map(|(l, _)| k[l]),
             energy: continuous.map(|(_, e)| k[e]),
             monitor: monitor.map(|m| k[m]),

@@ -1,12 +1,14 @@
 //! `Reduced<Plus>`, `Reduced<Minus>` (eqs. (4.6), (4.8)) and `Unreduced` (Definitions 2.7/2.8)
 //! for a system given as text: each function one kernel call.
 
+use dirac_compiler::program::Program;
 use dirac_runtime::linalg::LinearSolver;
 use dirac_runtime::nalgebra::{SMatrix, SVector};
-use dirac_runtime::{Minus, Plus, Reduced, Unreduced};
+use dirac_runtime::{LagrangianHessian, Minus, Plus, Reduced, StepPartials, Unreduced};
 
-use super::backend::{Backend, ResidualJacobian};
+use super::backend::{Backend, Dense, ResidualJacobian};
 use super::{JitSystem, ResidualMomentum, UNUSED};
+use crate::codegen::Kernel;
 
 /// `Reduced<Plus>` and `Reduced<Minus>`: the same calls on each side's kernels.
 macro_rules! reduced_impl {
@@ -163,6 +165,21 @@ macro_rules! reduced_impl {
                 ))
             }
 
+            fn step_partials(
+                &self,
+                x_k: &SVector<f64, S>,
+                w_k: &SVector<f64, S>,
+                mu_k: &SVector<f64, K>,
+                z: &SVector<f64, N>,
+                out: &mut StepPartials,
+            ) -> bool {
+                let Some(kernel) = self.side($plus).partials else {
+                    return false;
+                };
+                let program = self.side_code($plus).partials.as_ref();
+                self.partials_into(kernel, program, Self::reduced_args(x_k, w_k, mu_k, z), out)
+            }
+
             fn group_impulse(&self, x_k: &SVector<f64, S>, z: &SVector<f64, N>) -> SVector<f64, K> {
                 match self.side($plus).impulse {
                     Some(kernel) => self.call(
@@ -223,5 +240,95 @@ impl<const S: usize, const K: usize, const N: usize, B: Backend<N>> Unreduced<S,
             [q_k.as_ptr(), UNUSED, z.as_ptr(), UNUSED],
             SVector::zeros(),
         )
+    }
+
+    fn unreduced_step_partials(
+        &self,
+        q_k: &SVector<f64, N>,
+        p_k: &SVector<f64, N>,
+        z: &SVector<f64, N>,
+        out: &mut StepPartials,
+    ) -> bool {
+        let Some(kernel) = self.code.kernels.unreduced_partials else {
+            return false;
+        };
+        let program = self.code.system.unreduced_partials.as_ref();
+        self.partials_into(
+            kernel,
+            program,
+            [q_k.as_ptr(), p_k.as_ptr(), z.as_ptr(), UNUSED],
+            out,
+        )
+    }
+}
+
+/// The second derivatives of `L_d` for the step-map Jacobian, compiled for systems of at most 16
+/// coordinates without forces. A system given at run time of another kind has none: its
+/// `lagrangian_hessian` is NaN, which `UnreducedIntegrator::step_jacobian` reports as
+/// `StepError::NonFinite` rather than use.
+impl<const S: usize, const K: usize, const N: usize> LagrangianHessian<S, K, N>
+    for JitSystem<S, K, N, Dense>
+{
+    fn lagrangian_hessian(
+        &self,
+        q0: &SVector<f64, N>,
+        q1: &SVector<f64, N>,
+    ) -> (SMatrix<f64, N, N>, SMatrix<f64, N, N>, SMatrix<f64, N, N>) {
+        let Some(kernel) = self.code.kernels.hessian else {
+            let nan = SMatrix::repeat(f64::NAN);
+            return (nan, nan, nan);
+        };
+        // The program lists each block row by row: the memory of its transpose.
+        let blocks = self.call(
+            kernel,
+            [q0.as_ptr(), q1.as_ptr(), UNUSED, UNUSED],
+            [SMatrix::<f64, N, N>::zeros(); 3],
+        );
+        (
+            blocks[0].transpose(),
+            blocks[1].transpose(),
+            blocks[2].transpose(),
+        )
+    }
+}
+
+impl<const S: usize, const K: usize, const N: usize, B> JitSystem<S, K, N, B> {
+    /// Runs a partial-derivatives kernel and spreads its outputs, block by block and row by
+    /// row, over `out`, whose blocks the caller sized; `false` (no sensitivity) if their sizes
+    /// are not the program's.
+    fn partials_into(
+        &self,
+        kernel: Kernel,
+        program: Option<&Program>,
+        args: [*const f64; 4],
+        out: &mut StepPartials,
+    ) -> bool {
+        let Some(program) = program else {
+            return false;
+        };
+        let blocks = [
+            &mut out.r_y,
+            &mut out.r_u,
+            &mut out.o_y,
+            &mut out.o_z,
+            &mut out.o_u,
+        ];
+        let len: usize = blocks.iter().map(|m| m.len()).sum();
+        if len != program.outputs.len() {
+            return false;
+        }
+        let mut values = vec![0.0; len];
+        self.call_into(kernel, args, values.as_mut_ptr());
+        let mut at = 0;
+        for m in blocks {
+            let (rows, cols) = m.shape();
+            for i in 0..rows {
+                for j in 0..cols {
+                    m[(i, j)] = values[at];
+                    at += 1;
+                }
+            }
+        }
+        true
     }
 }
