@@ -62,6 +62,42 @@ pub fn expand(args: TokenStream, item: TokenStream) -> TokenStream {
 /// lowered and differentiated, and the emitted kernels and assembly types
 /// ([`crate::ast::element`], [`crate::ir::element`], [`crate::codegen::element`]).
 fn expand_element(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> {
+    let c = compile_element(args, func)?;
+    let constraints = c
+        .constraints
+        .as_ref()
+        .map(|(split, codes)| (split, codes.as_slice()));
+    Ok(crate::codegen::element::generate(
+        &c.spec,
+        func,
+        &c.families,
+        &c.codes,
+        constraints,
+        c.min_size,
+    ))
+}
+
+/// An element-wise system up to the graphs both back ends read.
+pub struct ElementCompiled {
+    /// The attribute and signature.
+    pub spec: crate::ast::element::ElementSpec,
+    /// Every family of elements, the Lagrangian's first, then the forces'.
+    pub families: Vec<crate::ast::element::families::FamilySpec>,
+    /// Each family's element, differentiated.
+    pub codes: Vec<crate::ir::element::ElementCode>,
+    /// The constraint rows' families and their elements, when declared.
+    pub constraints: Option<(
+        crate::ast::element::constraints::ConstraintSplit,
+        Vec<crate::ir::element::ConstraintCode>,
+    )>,
+    /// The smallest size every stencil fits in.
+    pub min_size: usize,
+}
+
+/// The phases of an element-wise system: the attribute and signature, the body split into
+/// families of elements with the stencils' range check, and each family's element lowered and
+/// differentiated.
+pub fn compile_element(args: TokenStream, func: &ItemFn) -> syn::Result<ElementCompiled> {
     use crate::ast::element::{families, parse as parse_element};
     let cx = Ctxt::new();
     let spec = parse_element(&cx, args, func);
@@ -147,17 +183,13 @@ fn expand_element(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> 
                 .collect()
         });
     let (codes, constraint_codes) = cx.finish(codes.zip(constraint_codes))?;
-    let constraints = constraint_split
-        .as_ref()
-        .map(|c| (c, constraint_codes.as_slice()));
-    Ok(crate::codegen::element::generate(
-        &spec,
-        func,
-        &split,
-        &codes,
-        constraints,
+    Ok(ElementCompiled {
+        spec,
+        families: split,
+        codes,
+        constraints: constraint_split.map(|c| (c, constraint_codes)),
         min_size,
-    ))
+    })
 }
 
 /// A system on rotation groups (`rotation(..)` or `direction(..)` coordinates): the attribute

@@ -100,6 +100,16 @@ pub enum Error {
         /// What is wrong.
         reason: String,
     },
+    /// An element-wise system that cannot be compiled or instantiated as asked: more sizes,
+    /// stencil slots or nested loops than a system given at run time may have, a wrong number of
+    /// sizes, or sizes at which a stencil's index arithmetic overflows.
+    #[error("the element-wise system `{name}`: {reason}")]
+    Element {
+        /// The system's type name.
+        name: String,
+        /// What is wrong.
+        reason: String,
+    },
     /// The parameter values do not match the declared parameters.
     #[error("parameters of `{name}`: {reason}; declared: {declared}")]
     Parameters {

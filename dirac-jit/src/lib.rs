@@ -112,10 +112,12 @@
 #![warn(missing_docs)]
 
 mod codegen;
+mod element;
 mod error;
 mod lie;
 mod system;
 
+pub use element::{compile_element, ElementCode, JitElement, MAX_DEPTH, MAX_SIZES, MAX_WIDTH};
 pub use error::Error;
 pub use lie::{compile_lie, JitLie, LieCode, Reduced, Reduction, Unreduced};
 pub use system::{
@@ -123,13 +125,15 @@ pub use system::{
     MAX_PARAMETERS,
 };
 
-/// A system given as text and compiled to machine code, of either kind.
+/// A system given as text and compiled to machine code, of any kind.
 #[derive(Clone, Debug)]
 pub enum Compiled {
     /// A system on vector spaces ([`compile`]).
     Flat(std::sync::Arc<Code>),
     /// A system on rotation groups ([`compile_lie`]).
     Lie(std::sync::Arc<LieCode>),
+    /// An element-wise system sized at run time ([`compile_element`]).
+    Element(std::sync::Arc<ElementCode>),
 }
 
 /// Compiles a system given as text, whichever its kind (see
@@ -144,6 +148,9 @@ pub fn compile_any(source: &str) -> Result<Compiled, Error> {
         }
         dirac_compiler::text::AnySystem::Lie(system) => {
             LieCode::from_system(*system, start).map(Compiled::Lie)
+        }
+        dirac_compiler::text::AnySystem::Element(system) => {
+            ElementCode::from_system(*system, start).map(Compiled::Element)
         }
     }
 }

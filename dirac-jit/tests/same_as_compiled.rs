@@ -628,3 +628,7 @@ fn adaptive_steps_step_bit_for_bit() {
 /// Systems on rotation groups.
 #[path = "same_as_compiled/lie.rs"]
 mod lie;
+
+/// Element-wise systems sized at run time.
+#[path = "same_as_compiled/element.rs"]
+mod element;

@@ -8,6 +8,7 @@
 
 use std::sync::Arc;
 
+mod element;
 mod lie;
 
 use dirac_jit::Code;
@@ -837,6 +838,9 @@ fn compile(py: Python<'_>, text: &str) -> PyResult<PyObject> {
         Ok(dirac_jit::Compiled::Lie(code)) => {
             Ok(Py::new(py, lie::LieSystem::new(code)?)?.into_any())
         }
+        Ok(dirac_jit::Compiled::Element(code)) => {
+            Ok(Py::new(py, element::ElementSystem::new(code))?.into_any())
+        }
         Ok(dirac_jit::Compiled::Flat(code)) => {
             let (s, k) = (code.system().shape.len(), code.system().group.len());
             if code.system().constrained.is_some() {
@@ -873,6 +877,7 @@ fn _dirac(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(compile, m)?)?;
     m.add_class::<System>()?;
     m.add_class::<lie::LieSystem>()?;
+    m.add_class::<element::ElementSystem>()?;
     m.add("CompileError", m.py().get_type::<CompileError>())?;
     m.add("StepError", m.py().get_type::<StepError>())?;
     m.add("MAX_COORDINATES", MAX_N)?;

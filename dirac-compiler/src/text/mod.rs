@@ -31,8 +31,13 @@ use crate::ir::graph::Graph;
 use crate::ir::reduce::Stepper as StepperCode;
 use crate::program::{program, Program};
 
+mod element;
 mod lie;
 
+pub use element::{
+    ConstraintFamily, ElementConstraints, ElementCoordinate, ElementFamily, ElementSystem,
+    IndexExpr, Length, Stencil,
+};
 pub use lie::{LieAdaptive, LieCoordinate, LieKind, LieSymmetry, LieSymmetryKind, LieSystem};
 
 /// The attribute a system given as text carries.
@@ -301,8 +306,8 @@ impl std::error::Error for Error {}
 /// among other items (a whole Rust file is accepted, as long as one function carries the
 /// attribute). The attribute's keys, the signature and the body are those of the compiled-in
 /// attribute for a system on vector spaces, holonomic and nonholonomic constraints and adaptive
-/// steps included. A system on rotation groups compiles with [`compile_lie`] (or
-/// [`compile_any`]); element-wise systems are compiled in only, and said so here.
+/// steps included. A system on rotation groups compiles with [`compile_lie`], an element-wise
+/// system with [`compile_element`] (or either with [`compile_any`]).
 pub fn compile(source: &str) -> Result<System, Error> {
     compile_with(source, |args, func| {
         if crate::ast::lie::is_lie(&args) {
@@ -349,23 +354,63 @@ pub fn compile_lie(source: &str) -> Result<LieSystem, Error> {
     })
 }
 
-/// A system given as text, of either kind.
+/// A system given as text, of any kind.
 #[derive(Clone, Debug)]
 pub enum AnySystem {
     /// A system on vector spaces ([`compile`]).
     Flat(Box<System>),
     /// A system on rotation groups ([`compile_lie`]).
     Lie(Box<LieSystem>),
+    /// An element-wise system sized at run time ([`compile_element`]).
+    Element(Box<ElementSystem>),
+}
+
+/// Compiles an element-wise system given as text: a function carrying
+/// `#[reduced_lagrangian(..)]` that takes `usize` sizes, its body a sum over elements (see
+/// [`compile`] for the rest of the text). Its attribute, signature and body are those of the
+/// compiled-in attribute: `coordinates(..)` sized by the sizes, `translate(..)`, a continuous
+/// Lagrangian with its `rule`, forces, controls and holonomic constraints.
+///
+/// ```
+/// let system = dirac_compiler::text::compile_element(
+///     "#[reduced_lagrangian(coordinates(x[n]), translate(x), rule = midpoint)]
+///      fn chain(q: Config, v: Velocity, k: f64, n: usize) -> f64 {
+///          let mut l = 0.0;
+///          for i in 0..n { l += 0.5 * v.x[i] * v.x[i]; }
+///          for i in 0..n - 1 { l -= 0.5 * k * (q.x[i + 1] - q.x[i]) * (q.x[i + 1] - q.x[i]); }
+///          l
+///      }",
+/// )?;
+/// assert_eq!(system.sizes, ["n"]);
+/// assert_eq!(system.families.len(), 2);
+/// // The spring between x[i] and x[i + 1]: two slots, one loop.
+/// assert_eq!(system.families[1].stencil.slots.len(), 2);
+/// # Ok::<(), dirac_compiler::text::Error>(())
+/// ```
+pub fn compile_element(source: &str) -> Result<ElementSystem, Error> {
+    compile_with(source, |args, func| {
+        if crate::ast::lie::is_lie(&args) || !crate::ast::element::is_element_wise(func) {
+            return Err(syn::Error::new_spanned(
+                &func.sig.inputs,
+                "not an element-wise system (no `usize` size among the arguments): it compiles \
+                 with `compile` or `compile_lie` (or `compile_any`)",
+            ));
+        }
+        element::compile_parts(args, func)
+    })
 }
 
 /// Compiles a system given as text, whichever its kind: on rotation groups when the attribute
-/// declares a `rotation(..)` or `direction(..)` coordinate ([`compile_lie`]), on vector spaces
-/// otherwise ([`compile`]). What a program that takes any system (a Python module, a command
+/// declares a `rotation(..)` or `direction(..)` coordinate ([`compile_lie`]), element-wise when
+/// the function takes `usize` sizes ([`compile_element`]), on vector spaces otherwise
+/// ([`compile`]). What a program that takes any system (a Python module, a command
 /// line) calls.
 pub fn compile_any(source: &str) -> Result<AnySystem, Error> {
     compile_with(source, |args, func| {
         if crate::ast::lie::is_lie(&args) {
             lie::compile_parts(args, func).map(|s| AnySystem::Lie(Box::new(s)))
+        } else if crate::ast::element::is_element_wise(func) {
+            element::compile_parts(args, func).map(|s| AnySystem::Element(Box::new(s)))
         } else {
             compile_parts(args, func).map(|s| AnySystem::Flat(Box::new(s)))
         }
@@ -436,9 +481,10 @@ fn is_attribute(attr: &Attribute) -> bool {
 /// The phases of `#[reduced_lagrangian]` on a system on vector spaces, then the programs.
 fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<System> {
     if crate::ast::element::is_element_wise(func) {
-        return Err(compiled_in_only(
+        return Err(syn::Error::new_spanned(
             &func.sig.inputs,
-            "an element-wise system (sizes as `usize` arguments)",
+            "an element-wise system (sizes as `usize` arguments) compiles with `compile_element` \
+             (or `compile_any`), into its own kind of system",
         ));
     }
     let Parsed { spec, sig, parsed } = parse(args, func);
@@ -568,18 +614,4 @@ fn stepper(g: &Graph, s: &StepperCode) -> Stepper {
         residual_momentum: program(g, &with_momentum),
         pattern,
     }
-}
-
-/// What the run-time front end leaves to the compiled-in attribute, pointing at where the text
-/// asks for it.
-fn compiled_in_only<T: quote::ToTokens>(at: T, what: &str) -> syn::Error {
-    syn::Error::new_spanned(
-        at,
-        format!(
-            "{what} is compiled in with `#[reduced_lagrangian]` in Rust; a system given at run time \
-             is one on vector spaces (`shape(..)`, `group(..)` or `coordinates(..)` with `translate(..)`) \
-             or on rotation groups (`rotation(..)`, `direction(..)`), with forces, controls, constraints \
-             and adaptive steps"
-        ),
-    )
 }

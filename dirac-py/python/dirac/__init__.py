@@ -25,12 +25,21 @@ unit vector) and their momenta, its trajectory per coordinate::
     run = top.run(params, steps=1000, q={"R": np.eye(3)}, p={"R": [0.1, 0.0, 3.0]},
                   method="reduced")
     run["q"]["R"].shape  # (1001, 3, 3)
+
+An element-wise system (a function that takes ``usize`` sizes, its body a sum over elements)
+compiles to an :class:`ElementSystem`, whose sizes are chosen per run::
+
+    toda = dirac.compile(TODA_N)             # coordinates(x[n]), translate(x)
+    run = toda.run({"m": 1.0, "d": 1.0, "h": 0.05}, {"n": 1000}, steps=100, q=q0, p=p0)
+    run["q"]["x"].shape  # (101, 1000)
 """
 
-from ._dirac import CompileError, LieSystem, MAX_COORDINATES, StepError, System, compile
+from ._dirac import (CompileError, ElementSystem, LieSystem, MAX_COORDINATES, StepError, System,
+                     compile)
 
 __all__ = [
     "CompileError",
+    "ElementSystem",
     "LieSystem",
     "MAX_COORDINATES",
     "StepError",

@@ -146,7 +146,7 @@ impl FamilyVisitor for Collector {
         let (n, index) = (self.n, self.families.len());
         let mut data = FamilyData {
             width: S,
-            depth: F::DEPTH,
+            depth: family.depth(),
             count: 0,
             indices: Vec::new(),
             stencils: Vec::new(),
@@ -211,7 +211,7 @@ impl FamilyVisitor for Counter {
         });
         self.shapes.push(FamilyShape {
             width: S,
-            depth: F::DEPTH,
+            depth: family.depth(),
             count,
         });
     }
@@ -286,9 +286,9 @@ struct Fits<'a> {
 }
 
 impl FamilyVisitor for Fits<'_> {
-    fn family<const S: usize, F: Family<S>>(&mut self, _family: &F) {
+    fn family<const S: usize, F: Family<S>>(&mut self, family: &F) {
         let f = self.families.get(self.next);
-        self.fits &= f.is_some_and(|f| f.width == S && f.depth == F::DEPTH);
+        self.fits &= f.is_some_and(|f| f.width == S && f.depth == family.depth());
         self.next += 1;
     }
 }

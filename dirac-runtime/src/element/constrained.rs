@@ -608,7 +608,7 @@ impl<L: ElementLagrangian> Stepper for ElementConstrainedIntegrator<L> {
     }
 
     fn control_dim(&self) -> usize {
-        L::CONTROLS.len()
+        self.base.system().control_count()
     }
 
     fn step_with(
@@ -634,7 +634,7 @@ impl<L: ElementLagrangian> Stepper for ElementConstrainedIntegrator<L> {
         next: &mut ElementState,
     ) -> Result<ElementConstrainedStep, StepError> {
         if !u.is_empty() {
-            check_controls(k, L::CONTROLS.len(), u)?;
+            check_controls(k, self.base.system().control_count(), u)?;
         }
         if let Some(reason) = &workspace.invalid {
             return Err(self.base.invalid(reason.clone()));

@@ -75,6 +75,8 @@ pub mod sensitivity;
 mod solver;
 mod step;
 mod sums;
+#[cfg(test)]
+mod tests;
 
 use std::fmt::Debug;
 use std::ops::Range;
@@ -113,6 +115,19 @@ pub trait Family<const S: usize>: Sync {
     /// slot by slot (negative or too large when the sizes are too small for the stencil; the
     /// runtime checks them before any step).
     fn elements(&self, visit: &mut dyn FnMut(&[i64], [i64; S]));
+
+    /// The number of loop indices of an element: [`Self::DEPTH`] for a family compiled in; a
+    /// family given at run time says it here. What the runtime reads (how many indices
+    /// [`Self::elements`] passes per element).
+    fn depth(&self) -> usize {
+        Self::DEPTH
+    }
+
+    /// Whether the family is one of the forces: [`Self::FORCE`] for a family compiled in; a
+    /// family given at run time says it here. What the runtime reads.
+    fn force(&self) -> bool {
+        Self::FORCE
+    }
 
     /// `D_1 L_d^e` and `D_2 L_d^e` at the stencil values `q0`, `q1` of element `indices`, from
     /// one straight-line function (they share the element's subexpressions: a residual pass
@@ -176,6 +191,11 @@ pub trait ConstraintFamily<const S: usize>: Sync {
     /// runtime checks rows and stencils before any step).
     #[allow(clippy::type_complexity)]
     fn elements(&self, visit: &mut dyn FnMut(&[i64], i64, [i64; S]));
+    /// The number of loop indices of an element: [`Self::DEPTH`] for a family compiled in; a
+    /// family given at run time says it here. What the runtime reads.
+    fn depth(&self) -> usize {
+        Self::DEPTH
+    }
     /// `φ^e(q)` and its gradient `∂φ^e/∂q` at the stencil values `q`.
     fn value_gradient(&self, indices: &[i64], q: &[f64; S]) -> (f64, [f64; S]);
 }
@@ -217,6 +237,46 @@ pub trait ElementLagrangian: Clone + Debug + Send + Sync + 'static {
     /// integrated by [`ElementConstrainedIntegrator`].
     const CONSTRAINED: bool = false;
 
+    /// The names of the sizes, in the order of [`Self::sizes`]: [`Self::SIZES`] for a system
+    /// compiled in; a system given at run time (whose constants cannot know its names) says
+    /// them here. What the integrators' messages and output read.
+    fn size_names(&self) -> Vec<&str> {
+        Self::SIZES.to_vec()
+    }
+
+    /// The smallest value of every size: [`Self::MIN_SIZE`] for a system compiled in; a system
+    /// given at run time says it here. What the integrators check the sizes against.
+    fn min_size(&self) -> usize {
+        Self::MIN_SIZE
+    }
+
+    /// Whether the system is a continuous Lagrangian with a quadrature rule:
+    /// [`Self::CONTINUOUS`] for a system compiled in; a system given at run time says it here.
+    /// What the integrators read (a discrete Lagrangian has no energy).
+    fn continuous(&self) -> bool {
+        Self::CONTINUOUS
+    }
+
+    /// Whether the system declares forces: [`Self::FORCED`] for a system compiled in; a system
+    /// given at run time says it here. What the integrators read (the impulse of the forces on
+    /// each translation's momentum map).
+    fn forced(&self) -> bool {
+        Self::FORCED
+    }
+
+    /// The number of controls, what the integrators check a control vector against:
+    /// `Self::CONTROLS.len()` for a system compiled in; a system given at run time (whose
+    /// constants cannot know its names) says it here.
+    fn control_count(&self) -> usize {
+        Self::CONTROLS.len()
+    }
+
+    /// Whether the system declares holonomic constraints: [`Self::CONSTRAINED`] for a system
+    /// compiled in; a system given at run time says it here.
+    fn constrained(&self) -> bool {
+        Self::CONSTRAINED
+    }
+
     /// The number of constraint rows for these sizes.
     fn constraint_count(&self) -> usize {
         0
@@ -227,13 +287,14 @@ pub trait ElementLagrangian: Clone + Debug + Send + Sync + 'static {
         let _ = visitor;
     }
 
-    /// The same system with the controls set to `u` (in the order of [`Self::CONTROLS`]).
+    /// The same system with the controls set to `u` (in the order of [`Self::CONTROLS`], of
+    /// length [`Self::control_count`]; the caller checks the length).
     fn with_controls(&self, u: &[f64]) -> Self {
         let _ = u;
         self.clone()
     }
 
-    /// The sizes this system is built with, in the order of [`Self::SIZES`].
+    /// The sizes this system is built with, in the order of [`Self::size_names`].
     fn sizes(&self) -> Vec<usize>;
     /// The number of coordinates for these sizes.
     fn dim(&self) -> usize;
@@ -624,7 +685,7 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
 
     /// `Ok` for a continuous Lagrangian; a discrete one has no energy.
     fn require_continuous(&self) -> Result<(), StepError> {
-        if L::CONTINUOUS {
+        if self.system.continuous() {
             Ok(())
         } else {
             Err(StepError::Unsupported {
@@ -637,13 +698,15 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
     /// The sizes, the state's dimensions and the stencils against each other.
     fn check_sizes(&self, state: &ElementState) -> Result<(), StepError> {
         let sizes = self.system.sizes();
-        for (name, &n) in L::SIZES.iter().zip(&sizes) {
-            if n < L::MIN_SIZE {
-                return Err(self.invalid(format!(
-                    "size `{name}` = {n} is below the smallest size the stencils allow ({})",
-                    L::MIN_SIZE
-                )));
-            }
+        let min = self.system.min_size();
+        if let Some((i, &n)) = sizes.iter().enumerate().find(|&(_, &n)| n < min) {
+            let names = self.system.size_names();
+            let name = names
+                .get(i)
+                .map_or_else(|| format!("#{i}"), |s| s.to_string());
+            return Err(self.invalid(format!(
+                "size `{name}` = {n} is below the smallest size the stencils allow ({min})"
+            )));
         }
         let n = self.system.dim();
         if state.q.len() != n || state.p.len() != n {

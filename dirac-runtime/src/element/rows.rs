@@ -34,7 +34,7 @@ impl ConstraintVisitor for RowCollector {
         let (n, m, index) = (self.n, self.m, self.families.len());
         let mut data = RowData {
             width: S,
-            depth: F::DEPTH,
+            depth: family.depth(),
             count: 0,
             indices: Vec::new(),
             rows: Vec::new(),
@@ -175,7 +175,7 @@ impl FamilyVisitor for Legendre<'_> {
     fn family<const S: usize, F: Family<S>>(&mut self, family: &F) {
         let data = &self.families[self.next];
         self.next += 1;
-        if F::FORCE || S == 0 {
+        if family.force() || S == 0 {
             return;
         }
         for e in 0..data.count {

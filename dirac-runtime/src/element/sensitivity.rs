@@ -338,7 +338,7 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
     ) -> Result<ElementSensitivity, StepError> {
         self.check_sizes(state)?;
         self.check_lengths(&[("next.q", next.q.len()), ("next.p", next.p.len())])?;
-        let m = L::CONTROLS.len();
+        let m = self.system.control_count();
         let owned = if u.is_empty() {
             None
         } else {

@@ -55,7 +55,7 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
     }
 
     fn control_dim(&self) -> usize {
-        L::CONTROLS.len()
+        self.system.control_count()
     }
 
     fn step_with(
@@ -84,7 +84,7 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
         next: &mut ElementState,
     ) -> Result<StepStats, StepError> {
         if !u.is_empty() {
-            crate::stepper::check_controls(k, L::CONTROLS.len(), u)?;
+            crate::stepper::check_controls(k, self.system.control_count(), u)?;
         }
         self.check_workspace(workspace)?;
         let n = workspace.dim();
@@ -241,8 +241,9 @@ pub(super) fn keep_momentum_maps<L: ElementLagrangian>(
     q1: &[f64],
     p1: &mut DVector<f64>,
 ) {
+    let forced = sys.forced();
     for orbit in orbits {
-        let impulse = if L::FORCED {
+        let impulse = if forced {
             sums::impulse(sys, orbit, q0, q1)
         } else {
             0.0

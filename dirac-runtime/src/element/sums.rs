@@ -136,7 +136,7 @@ pub(super) fn impulse<L: ElementLagrangian>(
     }
     impl FamilyVisitor for Impulse<'_> {
         fn family<const S: usize, F: Family<S>>(&mut self, family: &F) {
-            if !F::FORCE {
+            if !family.force() {
                 return;
             }
             let (orbit, q0, q1, n) = (self.orbit, self.q0, self.q1, self.q0.len());

@@ -125,6 +125,14 @@ fn cli(args: Vec<String>) -> Result<(), Failure> {
     let code = match dirac_jit::compile_any(&config.text) {
         Ok(Compiled::Flat(code)) => code,
         Ok(Compiled::Lie(code)) => return cli_lie(command, &code, &config),
+        Ok(Compiled::Element(code)) => {
+            return Err(Failure::Run(format!(
+                "{}: an element-wise system (sizes chosen at run time); `dirac run` writes runs of \
+                 systems of fixed dimension to Parquet: run it from Rust \
+                 (`dirac_jit::compile_element`) or Python (`dirac.compile`, an `ElementSystem`)",
+                code.system().name
+            )))
+        }
         Err(e) => return Err(Failure::Run(e.to_string())),
     };
     let sys = code.system();

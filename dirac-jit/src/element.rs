@@ -1,0 +1,817 @@
+//! Element-wise systems given as text: the compiled kernels of each family of elements
+//! ([`ElementCode`]) and the system at its sizes ([`JitElement`]), which implements the
+//! runtime's `ElementLagrangian` and `Family` by calling the kernels: `ElementIntegrator` (both
+//! sides, compositions, forces, controls, step sensitivities) and, with constraints,
+//! `ElementConstrainedIntegrator` run it as they run a compiled-in element-wise system.
+//!
+//! The attribute emits each family's stencil as integer code in the loop indices and the sizes;
+//! here the stencils are evaluated once, when the system is instantiated at its sizes, into a
+//! table of the elements' loop indices and coordinate indices, which every assembly walks. The
+//! kernels are the same straight-line code for every size.
+
+use std::ops::Range;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use dirac_compiler::program::Leaf;
+use dirac_compiler::text::{self, ElementSystem, Stencil};
+use dirac_runtime::element::{
+    ConstraintFamily, ConstraintVisitor, ElementLagrangian, Family, FamilyVisitor,
+};
+
+use crate::codegen::{Jit, Kernel};
+use crate::error::Error;
+use crate::system::{by_name, parameter_values, Module, UNUSED};
+use crate::MAX_PARAMETERS;
+
+/// The most coordinates one element reads (a family's stencil width) that a system given at
+/// run time may have: each width is an instance of the runtime's assembly.
+pub const MAX_WIDTH: usize = 12;
+
+/// The most nested element loops a family may have.
+pub const MAX_DEPTH: usize = 4;
+
+/// The most sizes a system may declare.
+pub const MAX_SIZES: usize = 8;
+
+/// The kernels of one family.
+#[derive(Clone, Copy)]
+struct FamilyKernels {
+    d1_d2: Kernel,
+    d1_d2_d12: Kernel,
+    partials: Kernel,
+    value: Kernel,
+    energy: Option<Kernel>,
+    legendre: Option<Kernel>,
+}
+
+/// An element-wise system given as text, compiled to machine code. Shared ([`Arc`]) by every
+/// [`JitElement`] made from it, at any sizes.
+pub struct ElementCode {
+    system: ElementSystem,
+    families: Vec<FamilyKernels>,
+    constraints: Vec<Kernel>,
+    compile_time: Duration,
+    _module: Module,
+}
+
+impl std::fmt::Debug for ElementCode {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ElementCode")
+            .field("name", &self.system.name)
+            .field("sizes", &self.system.sizes)
+            .field("parameters", &self.system.parameters)
+            .field("families", &self.system.families.len())
+            .field("compile_time", &self.compile_time)
+            .finish_non_exhaustive()
+    }
+}
+
+/// Compiles an element-wise system given as text (see
+/// [`dirac_compiler::text::compile_element`] for what the text is) to machine code.
+///
+/// ```
+/// use dirac_runtime::element::{ElementIntegrator, ElementState};
+/// use dirac_runtime::nalgebra::DVector;
+/// use dirac_runtime::prelude::*;
+///
+/// let code = dirac_jit::compile_element(
+///     "#[reduced_lagrangian(coordinates(x[n]), translate(x), rule = midpoint)]
+///      fn chain(q: Config, v: Velocity, k: f64, n: usize) -> f64 {
+///          let mut l = 0.0;
+///          for i in 0..n { l += 0.5 * v.x[i] * v.x[i]; }
+///          for i in 0..n - 1 { l -= 0.5 * k * (q.x[i + 1] - q.x[i]) * (q.x[i + 1] - q.x[i]); }
+///          l
+///      }",
+/// )?;
+/// // Parameters k, h; the size n chosen here, at run time.
+/// let chain = code.instantiate(&[1.0, 0.05], &[1000])?;
+/// let q = DVector::from_fn(1000, |i, _| 0.01 * (i as f64).sin());
+/// let start = ElementState::new(q, DVector::from_element(1000, 0.1));
+/// let integ = ElementIntegrator::new(chain, NewtonOptions::default());
+/// let traj = integ.run(start.clone()).steps(100).collect()?;
+/// // The translation's momentum Σ p, kept to round-off.
+/// let mu = |s: &ElementState| s.p.sum();
+/// assert!((mu(traj.last()) - mu(&start)).abs() < 1e-10);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn compile_element(source: &str) -> Result<Arc<ElementCode>, Error> {
+    let start = Instant::now();
+    let system = text::compile_element(source)?;
+    ElementCode::from_system(system, start)
+}
+
+/// An element's kernels: the parameters and sizes first, then `q0` (or `q`), `q1` (or `v`) and
+/// the loop indices.
+fn element_layout(p: usize, z: usize) -> impl Fn(Leaf) -> (usize, usize) {
+    move |leaf| match leaf {
+        Leaf::Param(i) if i < p + z => (0, i),
+        Leaf::Param(i) => (3, i - p - z),
+        Leaf::Q0(a) => (1, a),
+        Leaf::Q1(a) => (2, a),
+        other => unreachable!("an element does not read {other:?}"),
+    }
+}
+
+/// A constraint row's kernel: `q` second whichever name the program gives it.
+fn constraint_layout(p: usize, z: usize) -> impl Fn(Leaf) -> (usize, usize) {
+    move |leaf| match leaf {
+        Leaf::Param(i) if i < p + z => (0, i),
+        Leaf::Param(i) => (3, i - p - z),
+        Leaf::Q0(a) | Leaf::Q1(a) => (1, a),
+        other => unreachable!("a constraint row does not read {other:?}"),
+    }
+}
+
+impl ElementCode {
+    /// The machine code of a compiled system; `start` is when its compilation began.
+    pub(crate) fn from_system(
+        system: ElementSystem,
+        start: Instant,
+    ) -> Result<Arc<ElementCode>, Error> {
+        let fail = |reason: String| Error::Element {
+            name: system.name.clone(),
+            reason,
+        };
+        let (p, z) = (system.parameters.len(), system.sizes.len());
+        if z > MAX_SIZES || p > MAX_PARAMETERS {
+            return Err(fail(format!(
+                "{p} parameters and {z} sizes: a system given at run time has at most {MAX_PARAMETERS} and {MAX_SIZES}"
+            )));
+        }
+        let stencils = system.families.iter().map(|f| &f.stencil).chain(
+            system
+                .constraints
+                .iter()
+                .flat_map(|c| c.families.iter().map(|f| &f.stencil)),
+        );
+        for stencil in stencils {
+            if stencil.slots.len() > MAX_WIDTH || stencil.loops.len() > MAX_DEPTH {
+                return Err(fail(format!(
+                    "an element reads {} coordinates in {} nested loops: a system given at run time reads at most {MAX_WIDTH} in at most {MAX_DEPTH}",
+                    stencil.slots.len(),
+                    stencil.loops.len()
+                )));
+            }
+        }
+        let mut jit = Jit::new()?;
+        let layout = element_layout(p, z);
+        let mut defined = Vec::with_capacity(system.families.len());
+        for f in &system.families {
+            defined.push((
+                jit.define(&f.d1_d2, &layout)?,
+                jit.define(&f.d1_d2_d12, &layout)?,
+                jit.define(&f.partials, &layout)?,
+                jit.define(&f.value, &layout)?,
+                f.energy
+                    .as_ref()
+                    .map(|e| jit.define(e, &layout))
+                    .transpose()?,
+                f.legendre
+                    .as_ref()
+                    .map(|l| jit.define(l, &layout))
+                    .transpose()?,
+            ));
+        }
+        let constraint_layout = constraint_layout(p, z);
+        let constraints: Vec<usize> = system
+            .constraints
+            .iter()
+            .flat_map(|c| &c.families)
+            .map(|f| jit.define(&f.value_gradient, &constraint_layout))
+            .collect::<Result<_, _>>()?;
+        let (k, module) = jit.finish()?;
+        let families = defined
+            .into_iter()
+            .map(|(d, dd, pa, v, e, l)| FamilyKernels {
+                d1_d2: k[d],
+                d1_d2_d12: k[dd],
+                partials: k[pa],
+                value: k[v],
+                energy: e.map(|i| k[i]),
+                legendre: l.map(|i| k[i]),
+            })
+            .collect();
+        Ok(Arc::new(ElementCode {
+            constraints: constraints.into_iter().map(|i| k[i]).collect(),
+            system,
+            families,
+            compile_time: start.elapsed(),
+            _module: Module(Some(module)),
+        }))
+    }
+
+    /// The compiled system's names, stencils and programs.
+    pub fn system(&self) -> &ElementSystem {
+        &self.system
+    }
+
+    /// How long the text took to become machine code.
+    pub fn compile_time(&self) -> Duration {
+        self.compile_time
+    }
+
+    /// The system at `sizes` (in the order of [`ElementSystem::sizes`]) with `parameters` in
+    /// declaration order: what `ElementIntegrator` takes. Every element's stencil is evaluated
+    /// here, once; an error for a wrong number of sizes or parameters, a value that is not
+    /// finite, or a stencil whose index arithmetic overflows (the runtime checks before the
+    /// first step that every stencil stays inside its coordinate).
+    pub fn instantiate(
+        self: &Arc<Self>,
+        parameters: &[f64],
+        sizes: &[usize],
+    ) -> Result<JitElement, Error> {
+        let sys = &self.system;
+        let fail = |reason: String| Error::Element {
+            name: sys.name.clone(),
+            reason,
+        };
+        let params = parameter_values(&sys.name, &sys.parameters, parameters)?;
+        if sizes.len() != sys.sizes.len() {
+            return Err(fail(format!(
+                "{} sizes for {} ({})",
+                sizes.len(),
+                sys.sizes.len(),
+                sys.sizes.join(", ")
+            )));
+        }
+        let z: Vec<i64> = sizes
+            .iter()
+            .map(|&n| i64::try_from(n).map_err(|_| fail(format!("the size {n} is too large"))))
+            .collect::<Result<_, _>>()?;
+        // The offsets of the coordinates in the flat vector.
+        let mut offsets = vec![0i64];
+        for c in &sys.coordinates {
+            let len = c
+                .dims
+                .iter()
+                .try_fold(1i64, |acc, d| acc.checked_mul(d.eval(&z)))
+                .ok_or_else(|| fail(format!("the length of `{}` overflows", c.name)))?;
+            let last = *offsets.last().expect("starts with 0");
+            offsets.push(last + len.max(0));
+        }
+        let tables = |stencil: &Stencil, row: Option<&text::IndexExpr>| {
+            Table::of(stencil, row, &z, &offsets, sys)
+                .ok_or_else(|| fail("a stencil's index arithmetic overflows at these sizes".into()))
+        };
+        let families = sys
+            .families
+            .iter()
+            .map(|f| tables(&f.stencil, None))
+            .collect::<Result<Vec<_>, _>>()?;
+        let (constraints, rows) = match &sys.constraints {
+            None => (Vec::new(), 0),
+            Some(c) => (
+                c.families
+                    .iter()
+                    .map(|f| tables(&f.stencil, Some(&f.row)))
+                    .collect::<Result<Vec<_>, _>>()?,
+                c.count
+                    .eval(&z, &[])
+                    .and_then(|m| usize::try_from(m).ok())
+                    .unwrap_or(0),
+            ),
+        };
+        // The parameters, then the sizes as numbers: what the kernels read in `a`.
+        let mut values = [0.0; MAX_PARAMETERS + MAX_SIZES];
+        let np = sys.parameters.len();
+        values[..np].copy_from_slice(&params[..np]);
+        for (k, &n) in sizes.iter().enumerate() {
+            values[np + k] = n as f64;
+        }
+        Ok(JitElement {
+            code: Arc::clone(self),
+            values,
+            at: Arc::new(AtSizes {
+                sizes: sizes.to_vec(),
+                offsets,
+                families,
+                constraints,
+                rows,
+            }),
+        })
+    }
+
+    /// [`Self::instantiate`] with the parameters and the sizes by name, in any order; each
+    /// once.
+    pub fn instantiate_named(
+        self: &Arc<Self>,
+        parameters: &[(&str, f64)],
+        sizes: &[(&str, usize)],
+    ) -> Result<JitElement, Error> {
+        let sys = &self.system;
+        let values = by_name(&sys.name, &sys.parameters, parameters)?;
+        let as_f64: Vec<(&str, f64)> = sizes.iter().map(|&(n, v)| (n, v as f64)).collect();
+        let sizes: Vec<usize> = by_name(&sys.name, &sys.sizes, &as_f64)?
+            .into_iter()
+            .map(|v| v as usize)
+            .collect();
+        self.instantiate(&values, &sizes)
+    }
+}
+
+/// The elements of one family at given sizes: per element its loop indices (`depth` of them,
+/// as integers and as the numbers the kernels read) and the coordinate indices of its slots, and
+/// for a constraint family the row it assigns.
+struct Table {
+    width: usize,
+    depth: usize,
+    count: usize,
+    indices: Vec<i64>,
+    numbers: Vec<f64>,
+    stencils: Vec<i64>,
+    rows: Vec<i64>,
+}
+
+impl Table {
+    /// Every element of `stencil` at sizes `z`, in loop order (the emitted code's), with the
+    /// coordinate offsets `offsets`; `None` when the index arithmetic overflows.
+    fn of(
+        stencil: &Stencil,
+        row: Option<&text::IndexExpr>,
+        z: &[i64],
+        offsets: &[i64],
+        sys: &ElementSystem,
+    ) -> Option<Table> {
+        let mut table = Table {
+            width: stencil.slots.len(),
+            depth: stencil.loops.len(),
+            count: 0,
+            indices: Vec::new(),
+            numbers: Vec::new(),
+            stencils: Vec::new(),
+            rows: Vec::new(),
+        };
+        let mut loops = vec![0i64; stencil.loops.len()];
+        table.walk(stencil, row, z, offsets, sys, &mut loops, 0)?;
+        Some(table)
+    }
+
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "the recursion's state, one argument each"
+    )]
+    fn walk(
+        &mut self,
+        stencil: &Stencil,
+        row: Option<&text::IndexExpr>,
+        z: &[i64],
+        offsets: &[i64],
+        sys: &ElementSystem,
+        loops: &mut Vec<i64>,
+        level: usize,
+    ) -> Option<()> {
+        if level == stencil.loops.len() {
+            self.count += 1;
+            self.indices.extend_from_slice(loops);
+            self.numbers.extend(loops.iter().map(|&i| i as f64));
+            for (c, ix) in &stencil.slots {
+                let base = offsets[*c];
+                let at = match (sys.coordinates[*c].dims.as_slice(), ix.as_slice()) {
+                    ([], []) => base,
+                    ([_], [i]) => base.checked_add(i.eval(z, loops)?)?,
+                    ([_, d1], [i, j]) => base
+                        .checked_add(i.eval(z, loops)?.checked_mul(d1.eval(z))?)?
+                        .checked_add(j.eval(z, loops)?)?,
+                    _ => return None,
+                };
+                self.stencils.push(at);
+            }
+            if let Some(row) = row {
+                self.rows.push(row.eval(z, loops)?);
+            }
+            return Some(());
+        }
+        let (lo, hi) = &stencil.loops[level];
+        let (lo, hi) = (lo.eval(z, loops)?, hi.eval(z, loops)?);
+        for i in lo..hi {
+            loops[level] = i;
+            self.walk(stencil, row, z, offsets, sys, loops, level + 1)?;
+        }
+        Some(())
+    }
+
+    fn len(&self) -> usize {
+        self.count
+    }
+}
+
+/// What a system's sizes fix: the sizes, the coordinates' offsets and the elements' tables.
+struct AtSizes {
+    sizes: Vec<usize>,
+    offsets: Vec<i64>,
+    families: Vec<Table>,
+    constraints: Vec<Table>,
+    rows: usize,
+}
+
+/// An element-wise system given as text, at its sizes and with its parameter values: what the
+/// integrators take. Cloning it (as a control law or a time-step schedule does before every
+/// step) copies the parameter values and shares the code and the tables of elements.
+#[derive(Clone)]
+pub struct JitElement {
+    code: Arc<ElementCode>,
+    values: [f64; MAX_PARAMETERS + MAX_SIZES],
+    at: Arc<AtSizes>,
+}
+
+impl std::fmt::Debug for JitElement {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let sys = &self.code.system;
+        f.debug_struct(&sys.name)
+            .field("parameters", &&self.values[..sys.parameters.len()])
+            .field("sizes", &self.at.sizes)
+            .finish()
+    }
+}
+
+impl JitElement {
+    /// The compiled code this system runs.
+    pub fn code(&self) -> &Arc<ElementCode> {
+        &self.code
+    }
+
+    /// Each coordinate's name and its range in the flat configuration vector (a grid row by
+    /// row).
+    pub fn coordinate_ranges(&self) -> Vec<(&str, Range<usize>)> {
+        let o = &self.at.offsets;
+        self.code
+            .system
+            .coordinates
+            .iter()
+            .enumerate()
+            .map(|(c, coord)| (coord.name.as_str(), o[c] as usize..o[c + 1] as usize))
+            .collect()
+    }
+
+    /// Calls `kernel` on the parameters and sizes, `a`, `b` and the loop indices of element
+    /// `indices`, writing its outputs at `out`.
+    fn call(&self, kernel: Kernel, a: *const f64, b: *const f64, indices: &[i64], out: *mut f64) {
+        let mut numbers = [0.0; MAX_DEPTH];
+        for (n, &i) in numbers.iter_mut().zip(indices) {
+            *n = i as f64;
+        }
+        // SAFETY: a kernel reads the parameters and sizes (inline, `MAX_PARAMETERS +
+        // MAX_SIZES` of them, at most as many as the system declares: checked on compilation),
+        // `S` entries of `a` and `b` (the family's width, which every caller's arrays have) and
+        // at most `MAX_DEPTH` loop indices (the family's depth, checked on compilation), and
+        // writes exactly as many values as its program has outputs, which is the size of the
+        // memory at `out` at every call site.
+        unsafe {
+            kernel(self.values.as_ptr(), a, b, numbers.as_ptr(), UNUSED, out);
+        }
+    }
+}
+
+/// One family of a [`JitElement`] at stencil width `S`.
+struct JitFamily<'a, const S: usize> {
+    system: &'a JitElement,
+    table: &'a Table,
+    kernels: FamilyKernels,
+    force: bool,
+}
+
+/// Two `S`-vectors, as a kernel writes them.
+#[repr(C)]
+struct Two<const S: usize> {
+    a: [f64; S],
+    b: [f64; S],
+}
+
+/// Two `S`-vectors and an `S × S` matrix (row by row), as a kernel writes them.
+#[repr(C)]
+struct Three<const S: usize> {
+    a: [f64; S],
+    b: [f64; S],
+    m: [[f64; S]; S],
+}
+
+/// An `S`-vector and an `S × S` matrix (row by row).
+#[repr(C)]
+struct VectorMatrix<const S: usize> {
+    v: [f64; S],
+    m: [[f64; S]; S],
+}
+
+/// A number and an `S`-vector.
+#[repr(C)]
+struct ValueGradient<const S: usize> {
+    value: f64,
+    gradient: [f64; S],
+}
+
+impl<const S: usize> Family<S> for JitFamily<'_, S> {
+    /// A placeholder: the depth is the family's own ([`Family::depth`]).
+    const DEPTH: usize = 0;
+
+    fn depth(&self) -> usize {
+        self.table.depth
+    }
+
+    fn force(&self) -> bool {
+        self.force
+    }
+
+    fn elements(&self, visit: &mut dyn FnMut(&[i64], [i64; S])) {
+        let t = self.table;
+        for e in 0..t.len() {
+            let mut stencil = [0i64; S];
+            stencil.copy_from_slice(&t.stencils[e * S..(e + 1) * S]);
+            visit(&t.indices[e * t.depth..(e + 1) * t.depth], stencil);
+        }
+    }
+
+    fn d1_d2(&self, indices: &[i64], q0: &[f64; S], q1: &[f64; S]) -> ([f64; S], [f64; S]) {
+        let mut out = Two {
+            a: [0.0; S],
+            b: [0.0; S],
+        };
+        self.system.call(
+            self.kernels.d1_d2,
+            q0.as_ptr(),
+            q1.as_ptr(),
+            indices,
+            (&mut out as *mut Two<S>).cast(),
+        );
+        (out.a, out.b)
+    }
+
+    fn d1_d2_d12(
+        &self,
+        indices: &[i64],
+        q0: &[f64; S],
+        q1: &[f64; S],
+    ) -> ([f64; S], [f64; S], [[f64; S]; S]) {
+        let mut out = Three {
+            a: [0.0; S],
+            b: [0.0; S],
+            m: [[0.0; S]; S],
+        };
+        self.system.call(
+            self.kernels.d1_d2_d12,
+            q0.as_ptr(),
+            q1.as_ptr(),
+            indices,
+            (&mut out as *mut Three<S>).cast(),
+        );
+        (out.a, out.b, out.m)
+    }
+
+    fn step_partials(
+        &self,
+        indices: &[i64],
+        q0: &[f64; S],
+        q1: &[f64; S],
+        blocks: &mut [[[f64; S]; S]; 3],
+        u1: &mut [f64],
+        u2: &mut [f64],
+    ) -> bool {
+        let m = self.system.code.system.controls.len();
+        if u1.len() != S * m || u2.len() != S * m {
+            return false;
+        }
+        let mut out = vec![0.0; 3 * S * S + 2 * S * m];
+        self.system.call(
+            self.kernels.partials,
+            q0.as_ptr(),
+            q1.as_ptr(),
+            indices,
+            out.as_mut_ptr(),
+        );
+        let (square, controls) = out.split_at(3 * S * S);
+        for (k, block) in blocks.iter_mut().enumerate() {
+            for (a, row) in block.iter_mut().enumerate() {
+                row.copy_from_slice(&square[k * S * S + a * S..k * S * S + (a + 1) * S]);
+            }
+        }
+        u1.copy_from_slice(&controls[..S * m]);
+        u2.copy_from_slice(&controls[S * m..]);
+        true
+    }
+
+    fn value(&self, indices: &[i64], q0: &[f64; S], q1: &[f64; S]) -> f64 {
+        let mut out = 0.0;
+        self.system.call(
+            self.kernels.value,
+            q0.as_ptr(),
+            q1.as_ptr(),
+            indices,
+            &mut out,
+        );
+        out
+    }
+
+    fn energy(&self, indices: &[i64], q: &[f64; S], v: &[f64; S]) -> f64 {
+        let Some(kernel) = self.kernels.energy else {
+            return f64::NAN;
+        };
+        let mut out = 0.0;
+        self.system
+            .call(kernel, q.as_ptr(), v.as_ptr(), indices, &mut out);
+        out
+    }
+
+    fn legendre(&self, indices: &[i64], q: &[f64; S], v: &[f64; S]) -> ([f64; S], [[f64; S]; S]) {
+        let Some(kernel) = self.kernels.legendre else {
+            return ([f64::NAN; S], [[f64::NAN; S]; S]);
+        };
+        let mut out = VectorMatrix {
+            v: [0.0; S],
+            m: [[0.0; S]; S],
+        };
+        self.system.call(
+            kernel,
+            q.as_ptr(),
+            v.as_ptr(),
+            indices,
+            (&mut out as *mut VectorMatrix<S>).cast(),
+        );
+        (out.v, out.m)
+    }
+}
+
+/// One family of constraint rows of a [`JitElement`] at stencil width `S`.
+struct JitConstraints<'a, const S: usize> {
+    system: &'a JitElement,
+    table: &'a Table,
+    kernel: Kernel,
+}
+
+impl<const S: usize> ConstraintFamily<S> for JitConstraints<'_, S> {
+    /// A placeholder: the depth is the family's own ([`ConstraintFamily::depth`]).
+    const DEPTH: usize = 0;
+
+    fn depth(&self) -> usize {
+        self.table.depth
+    }
+
+    fn elements(&self, visit: &mut dyn FnMut(&[i64], i64, [i64; S])) {
+        let t = self.table;
+        for e in 0..t.len() {
+            let mut stencil = [0i64; S];
+            stencil.copy_from_slice(&t.stencils[e * S..(e + 1) * S]);
+            visit(
+                &t.indices[e * t.depth..(e + 1) * t.depth],
+                t.rows[e],
+                stencil,
+            );
+        }
+    }
+
+    fn value_gradient(&self, indices: &[i64], q: &[f64; S]) -> (f64, [f64; S]) {
+        let mut out = ValueGradient {
+            value: 0.0,
+            gradient: [0.0; S],
+        };
+        self.system.call(
+            self.kernel,
+            q.as_ptr(),
+            UNUSED,
+            indices,
+            (&mut out as *mut ValueGradient<S>).cast(),
+        );
+        (out.value, out.gradient)
+    }
+}
+
+/// Calls `$visit::<S>` with the literal width `S` of `$width` (1 to [`MAX_WIDTH`]; 0 for a
+/// term that reads no coordinate).
+macro_rules! by_width {
+    ($width:expr, $visit:ident) => {
+        match $width {
+            0 => $visit!(0),
+            1 => $visit!(1),
+            2 => $visit!(2),
+            3 => $visit!(3),
+            4 => $visit!(4),
+            5 => $visit!(5),
+            6 => $visit!(6),
+            7 => $visit!(7),
+            8 => $visit!(8),
+            9 => $visit!(9),
+            10 => $visit!(10),
+            11 => $visit!(11),
+            12 => $visit!(12),
+            _ => unreachable!("widths above MAX_WIDTH are refused on compilation"),
+        }
+    };
+}
+
+impl ElementLagrangian for JitElement {
+    /// Empty: a system given at run time names its sizes through `size_names`.
+    const SIZES: &'static [&'static str] = &[];
+    /// A placeholder, read through `min_size`.
+    const MIN_SIZE: usize = 0;
+    /// A placeholder, read through `continuous`.
+    const CONTINUOUS: bool = false;
+
+    fn size_names(&self) -> Vec<&str> {
+        self.code.system.sizes.iter().map(String::as_str).collect()
+    }
+
+    fn min_size(&self) -> usize {
+        self.code.system.min_size
+    }
+
+    fn continuous(&self) -> bool {
+        self.code.system.continuous
+    }
+
+    fn forced(&self) -> bool {
+        self.code.system.families.iter().any(|f| f.force)
+    }
+
+    fn control_count(&self) -> usize {
+        self.code.system.controls.len()
+    }
+
+    fn constrained(&self) -> bool {
+        self.code.system.constraints.is_some()
+    }
+
+    fn constraint_count(&self) -> usize {
+        self.at.rows
+    }
+
+    fn constraint_families<V: ConstraintVisitor>(&self, visitor: &mut V) {
+        for (table, &kernel) in self.at.constraints.iter().zip(&self.code.constraints) {
+            macro_rules! visit {
+                ($s:literal) => {
+                    visitor.constraint::<$s, _>(&JitConstraints::<$s> {
+                        system: self,
+                        table,
+                        kernel,
+                    })
+                };
+            }
+            by_width!(table.width, visit);
+        }
+    }
+
+    fn with_controls(&self, u: &[f64]) -> Self {
+        let mut system = self.clone();
+        for (&i, &v) in self.code.system.controls.iter().zip(u) {
+            system.values[i] = v;
+        }
+        system
+    }
+
+    fn sizes(&self) -> Vec<usize> {
+        self.at.sizes.clone()
+    }
+
+    fn dim(&self) -> usize {
+        *self.at.offsets.last().expect("starts with 0") as usize
+    }
+
+    fn time_step(&self) -> f64 {
+        self.values[self.code.system.step]
+    }
+
+    fn with_time_step(&self, h: f64) -> Self {
+        let mut system = self.clone();
+        system.values[self.code.system.step] = h;
+        system
+    }
+
+    fn parameter_values(&self) -> Vec<f64> {
+        self.values[..self.code.system.parameters.len()].to_vec()
+    }
+
+    fn translations(&self) -> Vec<Vec<Range<usize>>> {
+        let o = &self.at.offsets;
+        self.code
+            .system
+            .translations
+            .iter()
+            .map(|members| {
+                members
+                    .iter()
+                    .map(|&c| o[c] as usize..o[c + 1] as usize)
+                    .collect()
+            })
+            .collect()
+    }
+
+    fn families<V: FamilyVisitor>(&self, visitor: &mut V) {
+        for ((table, &kernels), text) in self
+            .at
+            .families
+            .iter()
+            .zip(&self.code.families)
+            .zip(&self.code.system.families)
+        {
+            macro_rules! visit {
+                ($s:literal) => {
+                    visitor.family::<$s, _>(&JitFamily::<$s> {
+                        system: self,
+                        table,
+                        kernels,
+                        force: text.force,
+                    })
+                };
+            }
+            by_width!(table.width, visit);
+        }
+    }
+}
