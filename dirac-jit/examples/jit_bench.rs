@@ -9,7 +9,8 @@
 //! the facade's own sources; the 200-particle Toda lattice of the examples (sparse backend); and
 //! the scaling benchmark's 32-link chain on a cart, in its angles and in maximal coordinates with
 //! one constraint per link (compile times); the heavy top on `SO(3)` and the pendulum on
-//! `S² × S²` (systems on rotation groups). Each round compiles the text once and runs both integrators for
+//! `S² × S²` (systems on rotation groups); the Toda lattice sized at run time, at n = 1000
+//! (an element-wise system). Each round compiles the text once and runs both integrators for
 //! `--steps` steps, alternating which goes first; the medians over rounds are printed with the
 //! spread (min–max) of the per-round ratios.
 
@@ -231,6 +232,74 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     lattice(rounds, steps / 20)?;
     chain(rounds)?;
     rotations(rounds, steps)?;
+    elements(rounds, steps / 100)?;
+    Ok(())
+}
+
+/// The examples' Toda lattice sized at run time.
+#[path = "../../examples/common/toda_n.rs"]
+mod toda_n;
+
+const TODA_N: &str = include_str!("../../examples/common/toda_n.rs");
+
+/// Seconds per step of a streamed element-wise run.
+fn element_time<L: dirac::runtime::element::ElementLagrangian>(
+    sys: &L,
+    start: &dirac::runtime::element::ElementState,
+    steps: usize,
+) -> f64 {
+    let t = Instant::now();
+    let s = dirac::runtime::element::ElementIntegrator::new(sys.clone(), NewtonOptions::default())
+        .run(start.clone())
+        .steps(steps)
+        .stream();
+    std::hint::black_box(s.expect("the run completes"));
+    t.elapsed().as_secs_f64() / steps as f64
+}
+
+/// The Toda lattice sized at run time: compile time, and its steps at n = 1000 against the
+/// compiled-in lattice's, interleaved.
+fn elements(rounds: usize, steps: usize) -> Result<(), Box<dyn std::error::Error>> {
+    let text = function(TODA_N, "toda_n");
+    let aot = toda_n::TodaN {
+        m: 1.0,
+        d: 1.0,
+        h: 0.05,
+        n: 1000,
+    };
+    let start = toda_n::initial(&aot, 0.1, 0.2, 0.05);
+    let mut r = Rounds {
+        compile: vec![],
+        jit_t: vec![],
+        aot_t: vec![],
+        ratio: vec![],
+    };
+    for round in 0..rounds {
+        let code = dirac_jit::compile_element(&text)?;
+        r.compile.push(code.compile_time().as_secs_f64());
+        let jit = code.instantiate(&[1.0, 1.0, 0.05], &[1000])?;
+        let (j, a) = if round.is_multiple_of(2) {
+            let j = element_time(&jit, &start, steps);
+            (j, element_time(&aot, &start, steps))
+        } else {
+            let a = element_time(&aot, &start, steps);
+            (element_time(&jit, &start, steps), a)
+        };
+        r.jit_t.push(j);
+        r.aot_t.push(a);
+        r.ratio.push(j / a);
+    }
+    let r = r.summary();
+    println!(
+        "Toda lattice sized at run time (n = 1000): text → machine code {:.1} ms (min {:.1}); step {:.1} µs given at run time, {:.1} µs compiled in: ratio {:.2} ({:.2}–{:.2})",
+        r.compile * 1e3,
+        r.compile_min * 1e3,
+        r.jit * 1e6,
+        r.aot * 1e6,
+        r.ratio,
+        r.ratio_min,
+        r.ratio_max,
+    );
     Ok(())
 }
 

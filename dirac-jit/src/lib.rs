@@ -75,7 +75,9 @@
 //! Systems on rotation groups (`rotation(..)`, `direction(..)`) compile with [`compile_lie`] into
 //! a [`LieCode`], whose [`JitLie`] systems the Lie group variational integrator and, reduced by
 //! their declared symmetry, `ReducedLieIntegrator` run; [`compile_any`] takes either kind.
-//! Element-wise systems are compiled in.
+//! Element-wise systems sized at run time (a function with `usize` sizes) compile with
+//! [`compile_element`] into an [`ElementCode`], instantiated at any sizes as a [`JitElement`]
+//! that `ElementIntegrator` (and, with constraints, `ElementConstrainedIntegrator`) runs.
 //!
 //! A pendulum in Cartesian coordinates, its rod a holonomic constraint (`M = 1`, so each solve
 //! has `Z = N + M = 3` unknowns):
