@@ -123,8 +123,8 @@ pub use element::{compile_element, ElementCode, JitElement, MAX_DEPTH, MAX_SIZES
 pub use error::Error;
 pub use lie::{compile_lie, JitLie, LieCode, Reduced, Reduction, Unreduced};
 pub use system::{
-    compile, Backend, Code, Dense, JitConstrained, JitSystem, Sparse, Variant, WithConstraints,
-    MAX_PARAMETERS,
+    compile, Backend, Code, Dense, JitConstrained, JitSystem, LegendreLu, LegendreMatrix, Sparse,
+    Variant, WithConstraints, MAX_PARAMETERS,
 };
 
 /// A system given as text and compiled to machine code, of any kind.

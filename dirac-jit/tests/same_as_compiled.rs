@@ -148,7 +148,64 @@ fn a_continuous_lagrangian_steps_bit_for_bit() {
     assert_eq!(jit.legendre(&q, &v), Some(compiled.legendre(&q, &v)));
     assert_eq!(jit.energy(&q, &v), Some(compiled.energy(&q, &v)));
     let start = DoubleSphericalPendulum::paper_initial_state();
-    same_runs(compiled, jit, start, 300);
+    same_runs(compiled, jit.clone(), start, 300);
+    // `ContinuousLagrangian`: the Legendre map's Jacobian, the state from a velocity, and the
+    // energies of a trajectory at its nodes (the inverse Legendre map) and midpoints.
+    same_continuous(&compiled, &jit, &q, &v);
+    let opts = NewtonOptions::default();
+    let (a, b) = (
+        ReducedIntegrator::plus(compiled, opts),
+        ReducedIntegrator::plus(jit.clone(), opts),
+    );
+    let (ta, tb) = (
+        a.run(start).steps(200).collect().unwrap(),
+        b.run(start).steps(200).collect().unwrap(),
+    );
+    assert_eq!(a.energies(&ta).unwrap(), b.energies(&tb).unwrap());
+    // A discrete Lagrangian has no L(q, v): an error, not a number.
+    let discrete = self::code(PAPER, "double_spherical_pendulum");
+    let discrete = discrete
+        .instantiate::<3, 1, 4>(&DoubleSphericalPendulum::paper().parameter_values())
+        .unwrap();
+    let integ = ReducedIntegrator::plus(discrete, opts);
+    let traj = integ.run(start).steps(3).collect().unwrap();
+    assert!(integ.energies(&traj).is_err());
+}
+
+/// `ContinuousLagrangian` of both systems at `(q, v)`: `L` to round-off (the text's `L` is the
+/// compiler's straight line, the compiled-in one the user's function), the rest bit for bit.
+fn same_continuous<L, J, const N: usize>(
+    compiled: &L,
+    jit: &J,
+    q: &SVector<f64, N>,
+    v: &SVector<f64, N>,
+) where
+    L: ContinuousLagrangian<N>,
+    J: ContinuousLagrangian<N>,
+{
+    let (a, b) = (
+        compiled.continuous_lagrangian(q, v),
+        jit.continuous_lagrangian(q, v),
+    );
+    assert!((a - b).abs() <= 1e-14 * a.abs().max(1.0), "L: {a} vs {b}");
+    assert_eq!(
+        ContinuousLagrangian::legendre(compiled, q, v),
+        ContinuousLagrangian::legendre(jit, q, v)
+    );
+    assert_eq!(
+        ContinuousLagrangian::energy(compiled, q, v),
+        ContinuousLagrangian::energy(jit, q, v)
+    );
+    assert_eq!(
+        compiled.unreduced_state(*q, *v),
+        jit.unreduced_state(*q, *v)
+    );
+    let p = ContinuousLagrangian::legendre(compiled, q, v);
+    let guess = v.map(|x| 1.1 * x);
+    assert_eq!(
+        compiled.velocity(0, q, &p, guess).unwrap(),
+        jit.velocity(0, q, &p, guess).unwrap()
+    );
 }
 
 #[path = "../../examples/common/forced.rs"]
@@ -275,7 +332,11 @@ fn the_200_particle_lattice_steps_bit_for_bit_on_the_sparse_backend() {
         .instantiate_sparse_named::<199, 1, 200>(&[("m", 1.0), ("d", 1.0), ("h", 0.05)])
         .unwrap();
     let start = toda::initial(&compiled, 0.1, 0.3, 0.05);
-    same_runs(compiled, jit, start, 100);
+    same_runs(compiled, jit.clone(), start, 100);
+    // The inverse Legendre map on the sparse pattern of ∂²L/∂v².
+    let unreduced = compiled.untrivialize(&start);
+    let v = unreduced.p.map(|p| 0.9 * p);
+    same_continuous(&compiled, &jit, &unreduced.q, &v);
     // The dense backend is refused at this size, and the sparse one below it.
     let e = code
         .instantiate::<199, 1, 200>(&[1.0, 1.0, 0.05])
@@ -401,7 +462,24 @@ fn holonomic_constraints_step_bit_for_bit() {
     assert!(jit.holonomic());
     let q = SVector::<f64, 6>::new(0.3, -0.2, -0.9, 0.1, 0.4, -1.7);
     assert_eq!(jit.constraint(&q), compiled.constraint(&q));
-    same_constrained::<UnreducedForm, _, _, 6, 0, 6, 2, 8>(compiled, jit, start, 500, "rods");
+    same_constrained::<UnreducedForm, _, _, 6, 0, 6, 2, 8>(
+        compiled,
+        jit.clone(),
+        start,
+        500,
+        "rods",
+    );
+    // The energies of a constrained trajectory, through the inverse Legendre map.
+    let opts = NewtonOptions::default();
+    let (a, b) = (
+        ConstrainedIntegrator::new(compiled, opts),
+        ConstrainedIntegrator::new(jit, opts),
+    );
+    let (ta, tb) = (
+        a.run(start).steps(100).collect().unwrap(),
+        b.run(start).steps(100).collect().unwrap(),
+    );
+    assert_eq!(a.energies(&ta).unwrap(), b.energies(&tb).unwrap());
 }
 
 /// A holonomic constraint invariant under the symmetry: the reduced constrained steps of both

@@ -57,8 +57,10 @@
 //! (`step_sensitivity`, from the partial derivatives the compiler emits for a system with forces
 //! or controls) and the step-map Jacobian of a system without forces (`step_jacobian`, and
 //! `step_with_jacobian` of a composition, from the second derivatives of `L_d`). A continuous
-//! Lagrangian with its `rule` gets its Legendre map and energy as methods of the system
-//! (`legendre`, `energy`).
+//! Lagrangian with its `rule` is a `ContinuousLagrangian`: `L(q, v)`, the Legendre map and its
+//! Jacobian (dense or on the sparse pattern of `∂²L/∂v²`), the energy, the state from a position
+//! and a velocity (`unreduced_state`, `reduced_state`), and the energies of a trajectory at its
+//! nodes through the inverse Legendre map (`energies` of every integrator), as compiled in.
 //!
 //! Holonomic and nonholonomic constraints (`constraints = |q| [..]`, `nonholonomic = |q, v| [..]`)
 //! are compiled as the attribute compiles them, into the position step and the projection of

@@ -63,6 +63,8 @@ pub fn discretize(g: &mut Graph, l: NodeId, n: usize, h: NodeId, rule: Rule) -> 
 /// The Legendre map, its Jacobian and the energy of `l` (over `q = Q0`, `v = Q1`).
 pub struct Continuous {
     pub rule: Rule,
+    /// `L(q, v)` itself.
+    pub lagrangian: NodeId,
     /// `∂L/∂v_i`.
     pub legendre: Vec<NodeId>,
     /// `∂²L/∂v_i∂v_j`, row `i`.
@@ -96,6 +98,7 @@ pub fn continuous(g: &mut Graph, l: NodeId, n: usize, rule: Rule, mode: Mode) ->
     let energy = g.sub(pv, l);
     Continuous {
         rule,
+        lagrangian: l,
         legendre,
         hessian,
         energy,

@@ -218,8 +218,17 @@ pub struct Pattern {
 /// parameters.
 #[derive(Clone, Debug)]
 pub struct Continuous {
+    /// The quadrature rule that forms `L_d` from `L` ("midpoint", "trapezoid", "left" or
+    /// "right").
+    pub rule: String,
+    /// `L(q, v)`: one output.
+    pub lagrangian: Program,
     /// `∂L/∂v`: one output per coordinate.
     pub legendre: Program,
+    /// `∂L/∂v` and its Jacobian `∂²L/∂v²`, as a step's residual and Jacobian
+    /// ([`Stepper::residual_jacobian`], dense up to 16 coordinates and sparse above, with its
+    /// [`Stepper::pattern`]); its other programs are the Legendre map alone.
+    pub legendre_jacobian: Stepper,
     /// `⟨∂L/∂v, v⟩ − L`: one output.
     pub energy: Program,
 }
@@ -520,7 +529,18 @@ fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<System> {
             program(&c.graph, &roots)
         }),
         continuous: c.continuous.as_ref().map(|parts| Continuous {
+            rule: format!("{:?}", parts.rule).to_lowercase(),
+            lagrangian: program(&c.graph, &[parts.lagrangian]),
             legendre: program(&c.graph, &parts.legendre),
+            legendre_jacobian: stepper(
+                &c.graph,
+                &StepperCode {
+                    residual: parts.legendre.clone(),
+                    jacobian: parts.hessian.clone(),
+                    momentum: parts.legendre.clone(),
+                    impulse: Vec::new(),
+                },
+            ),
             energy: program(&c.graph, &[parts.energy]),
         }),
         constrained: c.constrained.as_ref().map(|code| constrained(&c, code)),

@@ -23,11 +23,13 @@ use crate::error::Error;
 
 mod backend;
 mod constrained;
+mod continuous;
 mod steps;
 
 pub use backend::{Backend, Dense, Sparse, Variant, WithConstraints};
 use constrained::ConstrainedKernels;
 pub use constrained::JitConstrained;
+pub use continuous::{LegendreLu, LegendreMatrix};
 
 /// The most parameters a system given at run time declares: the values travel inline with the
 /// system, so a control law that sets them before every step allocates nothing.
@@ -83,6 +85,8 @@ struct Kernels {
     hessian: Option<Kernel>,
     legendre: Option<Kernel>,
     energy: Option<Kernel>,
+    continuous_lagrangian: Option<Kernel>,
+    legendre_jacobian: Option<Kernel>,
     monitor: Option<Kernel>,
     constrained: Option<ConstrainedKernels>,
 }
@@ -207,6 +211,8 @@ impl Code {
                 Ok::<_, Error>((
                     jit.define(&c.legendre, &ld_layout)?,
                     jit.define(&c.energy, &ld_layout)?,
+                    jit.define(&c.lagrangian, &ld_layout)?,
+                    jit.define(&c.legendre_jacobian.residual_jacobian, &ld_layout)?,
                 ))
             })
             .transpose()?;
@@ -245,8 +251,10 @@ impl Code {
             unreduced: stepper_kernels(unreduced),
             unreduced_partials: unreduced_partials.map(|i| k[i]),
             hessian: hessian.map(|i| k[i]),
-            legendre: continuous.map(|(l, _)| k[l]),
-            energy: continuous.map(|(_, e)| k[e]),
+            legendre: continuous.map(|(l, _, _, _)| k[l]),
+            energy: continuous.map(|(_, e, _, _)| k[e]),
+            continuous_lagrangian: continuous.map(|(_, _, l, _)| k[l]),
+            legendre_jacobian: continuous.map(|(_, _, _, j)| k[j]),
             monitor: monitor.map(|m| k[m]),
             constrained: constrained.map(|defined| constrained::kernels(defined, &k)),
         };

@@ -1,0 +1,153 @@
+//! `ContinuousLagrangian` for a system given as text: `L(q, v)`, the Legendre map, its Jacobian
+//! `∂²L/∂v²` and the energy, each one kernel call — what the energies of a trajectory at its
+//! nodes (the inverse Legendre map), the states from positions and velocities and the constrained
+//! integrators' energies read. The Legendre map's Jacobian is dense up to 16 coordinates and
+//! sparse above, as the attribute emits it; [`LegendreLu`] factors either, chosen by the text.
+
+use dirac_runtime::linalg::{FactorError, LinearSolver};
+use dirac_runtime::nalgebra::{SMatrix, SVector};
+use dirac_runtime::{ContinuousLagrangian, CscBuffer, Lu, PatternLu};
+
+use super::backend::{Backend, Dense, Sparse, Variant};
+use super::{JitSystem, UNUSED};
+
+/// The linear algebra of the inverse Legendre map of a system given as text: the dense
+/// fixed-size LU or the sparse LU on the pattern of `∂²L/∂v²`, as the text's size chose.
+pub enum LegendreLu<const N: usize> {
+    /// Up to 16 coordinates.
+    Dense(Lu<N>),
+    /// Above.
+    Sparse(PatternLu<N>),
+}
+
+/// `∂²L/∂v²` as [`LegendreLu`] factors it.
+pub enum LegendreMatrix<const N: usize> {
+    /// Column by column.
+    Dense(SMatrix<f64, N, N>),
+    /// The values of the pattern's structural nonzeros.
+    Sparse(CscBuffer),
+}
+
+impl<const N: usize> LinearSolver for LegendreLu<N> {
+    type Vector = SVector<f64, N>;
+    type Matrix = LegendreMatrix<N>;
+
+    fn factor(&mut self, j: &LegendreMatrix<N>) -> Result<(), FactorError> {
+        match (self, j) {
+            (LegendreLu::Dense(lu), LegendreMatrix::Dense(m)) => lu.factor(m),
+            (LegendreLu::Sparse(lu), LegendreMatrix::Sparse(m)) => lu.factor(m),
+            // The solver and the kernel are chosen by the same compiled pattern.
+            _ => Err(FactorError::Singular),
+        }
+    }
+
+    fn solve(&mut self, b: &SVector<f64, N>) -> SVector<f64, N> {
+        match self {
+            LegendreLu::Dense(lu) => lu.solve(b),
+            LegendreLu::Sparse(lu) => lu.solve(b),
+        }
+    }
+
+    fn solve_in_place(&mut self, b: &mut SVector<f64, N>) {
+        match self {
+            LegendreLu::Dense(lu) => lu.solve_in_place(b),
+            LegendreLu::Sparse(lu) => lu.solve_in_place(b),
+        }
+    }
+
+    fn norm1(&self) -> f64 {
+        match self {
+            LegendreLu::Dense(lu) => lu.norm1(),
+            LegendreLu::Sparse(lu) => lu.norm1(),
+        }
+    }
+
+    fn rcond_lower_bound(&mut self) -> f64 {
+        match self {
+            LegendreLu::Dense(lu) => lu.rcond_lower_bound(),
+            LegendreLu::Sparse(lu) => lu.rcond_lower_bound(),
+        }
+    }
+
+    fn rcond(&mut self) -> f64 {
+        match self {
+            LegendreLu::Dense(lu) => lu.rcond(),
+            LegendreLu::Sparse(lu) => lu.rcond(),
+        }
+    }
+
+    fn has_reusable_factors(&self) -> bool {
+        match self {
+            LegendreLu::Dense(lu) => lu.has_reusable_factors(),
+            LegendreLu::Sparse(lu) => lu.has_reusable_factors(),
+        }
+    }
+}
+
+/// A system whose text is a discrete Lagrangian has no `L(q, v)`: its functions here are NaN,
+/// which the inverse Legendre map reports as `LegendreError` and the integrators refuse in a
+/// start state (`StepError`), never as a number.
+impl<const S: usize, const K: usize, const N: usize, V: Variant<N>> ContinuousLagrangian<N>
+    for JitSystem<S, K, N, V>
+{
+    /// Said by the text: `Code::system().continuous`'s `rule`.
+    const RULE: &'static str = "the rule the text declares (`rule = ..`)";
+
+    fn continuous_lagrangian(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> f64 {
+        let Some(kernel) = self.code.kernels.continuous_lagrangian else {
+            return f64::NAN;
+        };
+        let l: SVector<f64, 1> = self.call(
+            kernel,
+            [q.as_ptr(), v.as_ptr(), UNUSED, UNUSED],
+            SVector::zeros(),
+        );
+        l[0]
+    }
+
+    fn legendre(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> SVector<f64, N> {
+        JitSystem::legendre(self, q, v).unwrap_or_else(|| SVector::repeat(f64::NAN))
+    }
+
+    type LegendreLinear = LegendreLu<N>;
+
+    fn legendre_solver(&self) -> LegendreLu<N> {
+        match self.code.system.continuous.as_ref() {
+            Some(c) if c.legendre_jacobian.pattern.is_some() => {
+                LegendreLu::Sparse(<Sparse as Backend<N>>::solver(&c.legendre_jacobian))
+            }
+            _ => LegendreLu::Dense(Lu::empty()),
+        }
+    }
+
+    fn legendre_jacobian(
+        &self,
+        q: &SVector<f64, N>,
+        v: &SVector<f64, N>,
+    ) -> (SVector<f64, N>, LegendreMatrix<N>) {
+        let (Some(kernel), Some(c)) = (
+            self.code.kernels.legendre_jacobian,
+            self.code.system.continuous.as_ref(),
+        ) else {
+            let nan = SVector::repeat(f64::NAN);
+            return (nan, LegendreMatrix::Dense(SMatrix::repeat(f64::NAN)));
+        };
+        let args = [q.as_ptr(), v.as_ptr(), UNUSED, UNUSED];
+        let stepper = &c.legendre_jacobian;
+        if stepper.pattern.is_some() {
+            let (p, j) = <Sparse as Backend<N>>::residual_jacobian(stepper, |out| {
+                self.call_into(kernel, args, out)
+            });
+            (p, LegendreMatrix::Sparse(j))
+        } else {
+            let (p, j) = <Dense as Backend<N>>::residual_jacobian(stepper, |out| {
+                self.call_into(kernel, args, out)
+            });
+            (p, LegendreMatrix::Dense(j))
+        }
+    }
+
+    fn energy(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> f64 {
+        JitSystem::energy(self, q, v).unwrap_or(f64::NAN)
+    }
+}
