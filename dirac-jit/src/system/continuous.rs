@@ -13,6 +13,10 @@ use super::{JitSystem, UNUSED};
 
 /// The linear algebra of the inverse Legendre map of a system given as text: the dense
 /// fixed-size LU or the sparse LU on the pattern of `∂²L/∂v²`, as the text's size chose.
+#[allow(
+    clippy::large_enum_variant,
+    reason = "the dense factors live inline, as the dense backend's do: boxing them would allocate for every inverse Legendre map of the common small system"
+)]
 pub enum LegendreLu<const N: usize> {
     /// Up to 16 coordinates.
     Dense(Lu<N>),
@@ -21,6 +25,10 @@ pub enum LegendreLu<const N: usize> {
 }
 
 /// `∂²L/∂v²` as [`LegendreLu`] factors it.
+#[allow(
+    clippy::large_enum_variant,
+    reason = "the dense Jacobian is returned by value, as the dense backend's is, with no allocation per Newton iteration"
+)]
 pub enum LegendreMatrix<const N: usize> {
     /// Column by column.
     Dense(SMatrix<f64, N, N>),
