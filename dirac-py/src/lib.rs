@@ -1,15 +1,20 @@
 //! The Python module `dirac._dirac`, re-exported by the package `dirac`: a system given as text
 //! (`compile`), its names, and runs of the reduced (+)/(−) and unreduced integrators (order 2, or
-//! the compositions of order 4 and 6) with NumPy arrays in and out; ensembles on all cores; the
-//! runtime's typed errors as Python exceptions carrying the step and the trajectory so far.
+//! the compositions of order 4 and 6; with constraints, the constrained integrators) with NumPy
+//! arrays in and out; ensembles on all cores; the runtime's typed errors as Python exceptions
+//! carrying the step and the trajectory so far. Systems on rotation groups (`lie`) and
+//! element-wise systems (`element`) are classes of their own.
 //!
 //! The integrators take the dimensions as type parameters; the module dispatches a system's
 //! `(S, K)` at run time to one instance per pair with `S + K ≤ 8` (`dirac_jit::with_dimensions`).
 
 use std::sync::Arc;
 
+mod constrained;
 mod element;
 mod lie;
+
+use constrained::run_constrained;
 
 use dirac_jit::Code;
 use dirac_runtime::nalgebra::SVector;
@@ -63,6 +68,9 @@ struct Flat {
     parts: Vec<(&'static str, usize, Vec<f64>)>,
     iterations: Vec<usize>,
     residuals: Vec<f64>,
+    /// For a constrained run: the number of constraints, each step's multipliers `λ_k` and its
+    /// constraint residual.
+    multipliers: Option<(usize, Vec<f64>, Vec<f64>)>,
 }
 
 /// A failed run: the runtime's error and what was computed before it.
@@ -85,6 +93,8 @@ macro_rules! parts {
     };
 }
 
+pub(crate) use parts;
+
 fn reduced_flat<const S: usize, const K: usize>(
     (states, times, stats): (&[ReducedState<S, K>], &[f64], &[StepStats]),
 ) -> Flat {
@@ -102,6 +112,7 @@ fn reduced_flat<const S: usize, const K: usize>(
         parts: vec![("x", S, x), ("w", S, w), ("mu", K, mu), ("g", K, g)],
         iterations: stats.iter().map(|s| s.iterations).collect(),
         residuals: stats.iter().map(|s| s.residual).collect(),
+        multipliers: None,
     }
 }
 
@@ -124,6 +135,7 @@ fn unreduced_flat<const N: usize>(
         ],
         iterations: stats.iter().map(|s| s.iterations).collect(),
         residuals: stats.iter().map(|s| s.residual).collect(),
+        multipliers: None,
     }
 }
 
@@ -385,6 +397,21 @@ fn method_of(method: &str) -> PyResult<Method> {
 }
 
 impl System {
+    /// The number of constraints (0 without).
+    fn constraint_count(&self) -> usize {
+        self.code.system().constrained.as_ref().map_or(0, |c| c.m)
+    }
+
+    /// A `ValueError` for what runs systems without constraints only.
+    fn unconstrained(&self, what: &str) -> PyResult<()> {
+        if self.constraint_count() > 0 {
+            return Err(PyValueError::new_err(format!(
+                "{what} runs systems without constraints; `run` integrates this one"
+            )));
+        }
+        Ok(())
+    }
+
     fn dims(&self) -> (usize, usize) {
         let s = self.code.system();
         (s.shape.len(), s.group.len())
@@ -469,6 +496,14 @@ fn to_dict<'py>(py: Python<'py>, flat: Flat) -> PyResult<Bound<'py, PyDict>> {
     }
     d.set_item("iterations", PyArray1::from_vec(py, flat.iterations))?;
     d.set_item("residuals", PyArray1::from_vec(py, flat.residuals))?;
+    if let Some((m, lambda, residual)) = flat.multipliers {
+        let steps = residual.len();
+        d.set_item(
+            "multipliers",
+            PyArray1::from_vec(py, lambda).reshape([steps, m])?,
+        )?;
+        d.set_item("constraint_residuals", PyArray1::from_vec(py, residual))?;
+    }
     Ok(d)
 }
 
@@ -553,6 +588,18 @@ impl System {
             .collect()
     }
 
+    /// The number of constraints (`constraints = ..` or `nonholonomic = ..`), 0 without.
+    #[getter]
+    fn constraints(&self) -> usize {
+        self.constraint_count()
+    }
+
+    /// Whether the constraints are holonomic (`None` without constraints).
+    #[getter]
+    fn holonomic(&self) -> Option<bool> {
+        self.code.system().constrained.as_ref().map(|c| c.holonomic)
+    }
+
     /// Whether forces are declared.
     #[getter]
     fn forced(&self) -> bool {
@@ -591,9 +638,18 @@ impl System {
         } = self.inputs(py, parameters, method, order, steps, tol, start)?;
         let (s, k) = self.dims();
         let code = Arc::clone(&self.code);
-        let result = py
-            .allow_threads(|| dirac_jit::with_dimensions!(s, k, run_one(&code, &params, &start, r)))
-            .map_err(PyValueError::new_err)?;
+        let result = match self.constraint_count() {
+            0 => py.allow_threads(|| {
+                dirac_jit::with_dimensions!(s, k, run_one(&code, &params, &start, r))
+            }),
+            m if r.order == 2 => py.allow_threads(|| {
+                constrained::with_constrained!(s, k, m, run_constrained(&code, &params, &start, r))
+            }),
+            _ => return Err(PyValueError::new_err(
+                "a system with constraints runs the constrained integrators themselves (order 2)",
+            )),
+        }
+        .map_err(PyValueError::new_err)?;
         match result {
             Ok(flat) => to_dict(py, flat),
             Err(failed) => Err(step_error(py, *failed, None)?),
@@ -618,6 +674,7 @@ impl System {
         tol: Option<f64>,
         starts: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        self.unconstrained("`ensemble`")?;
         let params = parameter_values(&self.code, parameters)?;
         let r = self.request(method, order, steps, tol)?;
         if r.order != 2 {
@@ -711,6 +768,7 @@ impl System {
                         parts: failed.partial.parts.clone(),
                         iterations: Vec::new(),
                         residuals: Vec::new(),
+                        multipliers: None,
                     };
                     if first_failure.is_none() {
                         first_failure = Some((i, failed));
@@ -757,6 +815,7 @@ impl System {
         tol: Option<f64>,
         start: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        self.unconstrained("`write`")?;
         let Inputs {
             params,
             request: r,
@@ -843,12 +902,18 @@ fn compile(py: Python<'_>, text: &str) -> PyResult<PyObject> {
         }
         Ok(dirac_jit::Compiled::Flat(code)) => {
             let (s, k) = (code.system().shape.len(), code.system().group.len());
-            if code.system().constrained.is_some() {
-                return Err(CompileError::new_err(
-                    "a system with constraints: the Python module runs systems without them; \
-                     the constrained integrators take it from Rust \
-                     (`dirac_jit::Code::instantiate_constrained`)",
-                ));
+            if let Some(c) = &code.system().constrained {
+                let (m_max, n_max, k_max) = constrained::MAX;
+                if c.m > m_max || s + k > n_max || k > k_max {
+                    return Err(CompileError::new_err(format!(
+                        "{s} shape and {k} group coordinates with {} constraints: the Python \
+                         module integrates constrained systems of at most {n_max} coordinates, \
+                         {k_max} of them group coordinates, and {m_max} constraints (the \
+                         constrained integrators take larger ones from Rust: \
+                         `dirac_jit::Code::instantiate_constrained`)",
+                        c.m
+                    )));
+                }
             }
             if s + k > MAX_N {
                 return Err(CompileError::new_err(format!(
