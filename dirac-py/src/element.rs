@@ -13,15 +13,13 @@ use dirac_runtime::element::{
     ElementLagrangian, ElementState, ElementTrajectory,
 };
 use dirac_runtime::nalgebra::DVector;
-use dirac_runtime::{
-    Composition, Drive, IntegrationError, NewtonOptions, StepError as RuntimeStepError, Steps,
-};
+use dirac_runtime::{Composition, Drive, NewtonOptions};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::{composition, StepError};
+use crate::{composition, finish, Failed};
 
 /// A run's trajectory flattened for NumPy.
 struct Flat {
@@ -33,11 +31,6 @@ struct Flat {
     residuals: Vec<f64>,
     /// For a constrained run: `λ_k` per step, and `‖φ(q_{k+1})‖∞`.
     multipliers: Option<(Vec<f64>, Vec<f64>)>,
-}
-
-struct Failed {
-    error: RuntimeStepError,
-    partial: Flat,
 }
 
 fn flat(
@@ -65,19 +58,6 @@ fn flat(
     out
 }
 
-fn finish<T: Steps + std::fmt::Debug>(
-    result: Result<T, Box<IntegrationError<T>>>,
-    flat: impl Fn(&T) -> Flat,
-) -> Result<Flat, Box<Failed>> {
-    match result {
-        Ok(traj) => Ok(flat(&traj)),
-        Err(e) => Err(Box::new(Failed {
-            partial: flat(&e.trajectory),
-            error: e.source,
-        })),
-    }
-}
-
 /// One run: the unconstrained integrator (order 2, 4 or 6), or the constrained one.
 fn run_one(
     sys: JitElement,
@@ -86,7 +66,7 @@ fn run_one(
     order: u32,
     steps: usize,
     options: NewtonOptions,
-) -> Result<Flat, Box<Failed>> {
+) -> Result<Flat, Box<Failed<Flat>>> {
     let translations = sys.translations().len();
     if sys.constrained() {
         let integ = if plus {
@@ -415,13 +395,12 @@ impl ElementSystem {
             Ok(flat) => self.to_dict(py, &sys, flat),
             Err(failed) => {
                 let Failed { error, partial } = *failed;
-                let err = StepError::new_err(error.to_string());
-                let value = err.value(py);
-                value.setattr("step", error.step())?;
-                value.setattr("residual", error.residual())?;
-                value.setattr("member", py.None())?;
-                value.setattr("trajectory", self.to_dict(py, &sys, partial)?)?;
-                Err(err)
+                Err(crate::raise(
+                    py,
+                    &error,
+                    self.to_dict(py, &sys, partial)?,
+                    None,
+                )?)
             }
         }
     }

@@ -13,15 +13,16 @@ use std::sync::Arc;
 mod constrained;
 mod element;
 mod lie;
+mod runs;
 
 use constrained::run_constrained;
+use runs::{run_many, run_one, time_one, write_one};
 
 use dirac_jit::Code;
 use dirac_runtime::nalgebra::SVector;
 use dirac_runtime::{
-    Composition, CompositionMethod, Drive, IntegrationError, NewtonOptions, ReducedIntegrator,
-    ReducedState, StepError as RuntimeStepError, StepStats, Steps, UnreducedIntegrator,
-    UnreducedState,
+    CompositionMethod, IntegrationError, NewtonOptions, ReducedState,
+    StepError as RuntimeStepError, StepStats, Steps, UnreducedState,
 };
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyException, PyValueError};
@@ -73,10 +74,11 @@ struct Flat {
     multipliers: Option<(usize, Vec<f64>, Vec<f64>)>,
 }
 
-/// A failed run: the runtime's error and what was computed before it.
-struct Failed {
+/// A failed run: the runtime's error and what was computed before it (a [`Flat`] trajectory,
+/// or another kind's).
+struct Failed<F = Flat> {
     error: RuntimeStepError,
-    partial: Flat,
+    partial: F,
 }
 
 fn composition(order: u32) -> CompositionMethod {
@@ -139,10 +141,11 @@ fn unreduced_flat<const N: usize>(
     }
 }
 
-fn finish<T: Steps + std::fmt::Debug>(
+/// A run's result flattened by `flat`: the trajectory, or the error with the states before it.
+fn finish<T: Steps + std::fmt::Debug, F>(
     result: Result<T, Box<IntegrationError<T>>>,
-    flat: impl Fn(&T) -> Flat,
-) -> Result<Flat, Box<Failed>> {
+    flat: impl Fn(&T) -> F,
+) -> Result<F, Box<Failed<F>>> {
     match result {
         Ok(traj) => Ok(flat(&traj)),
         Err(e) => Err(Box::new(Failed {
@@ -170,180 +173,9 @@ fn unreduced_start<const N: usize>(v: &[Vec<f64>]) -> UnreducedState<N> {
     }
 }
 
-/// One run of a system of `S` shape and `K` group coordinates from `start` (`x, w, mu, g` or
-/// `q, p`, by the method).
-fn run_one<const S: usize, const K: usize, const N: usize>(
-    code: &Arc<Code>,
-    params: &[f64],
-    start: &[Vec<f64>],
-    r: Request,
-) -> Result<Result<Flat, Box<Failed>>, String> {
-    let sys = code
-        .instantiate::<S, K, N>(params)
-        .map_err(|e| e.to_string())?;
-    let (n, o) = (r.steps, r.options);
-    Ok(match r.method {
-        Method::Unreduced => {
-            let s0 = unreduced_start(start);
-            let integ = UnreducedIntegrator::new(sys, o);
-            if r.order == 2 {
-                finish(integ.run(s0).steps(n).collect(), |t| {
-                    unreduced_flat(parts!(t))
-                })
-            } else {
-                let c = Composition::new(integ, composition(r.order));
-                finish(c.run(s0).steps(n).collect(), |t| unreduced_flat(parts!(t)))
-            }
-        }
-        side => {
-            let s0 = reduced_start(start);
-            macro_rules! go {
-                ($integ:expr) => {{
-                    let integ = $integ;
-                    if r.order == 2 {
-                        finish(integ.run(s0).steps(n).collect(), |t| {
-                            reduced_flat(parts!(t))
-                        })
-                    } else {
-                        let c = Composition::new(integ, composition(r.order));
-                        finish(c.run(s0).steps(n).collect(), |t| reduced_flat(parts!(t)))
-                    }
-                }};
-            }
-            if side == Method::Plus {
-                go!(ReducedIntegrator::plus(sys, o))
-            } else {
-                go!(ReducedIntegrator::minus(sys, o))
-            }
-        }
-    })
-}
-
 /// What a run written to Parquet ended with: its steps, its final time and the path; or the
 /// failed step's error, the states before it on disk.
 type Written = Result<(usize, f64, std::path::PathBuf), (RuntimeStepError, std::path::PathBuf)>;
-
-/// One run written to Parquet at `path` by the workspace's writer.
-fn write_one<const S: usize, const K: usize, const N: usize>(
-    code: &Arc<Code>,
-    params: &[f64],
-    start: &[Vec<f64>],
-    r: Request,
-    path: &std::path::Path,
-) -> Result<Written, String> {
-    let sys = code
-        .instantiate::<S, K, N>(params)
-        .map_err(|e| e.to_string())?;
-    let (n, o) = (r.steps, r.options);
-    macro_rules! written {
-        ($call:expr) => {{
-            let (result, path) = $call.map_err(|e| e.to_string())?;
-            match result {
-                Ok(summary) => Ok((summary.steps, summary.t, path)),
-                Err(e) => Err((e.source, path)),
-            }
-        }};
-    }
-    Ok(match r.method {
-        Method::Unreduced => {
-            let s0 = unreduced_start(start);
-            written!(dirac_io::run_to_parquet(
-                &UnreducedIntegrator::new(sys, o),
-                s0,
-                n,
-                path,
-                &o
-            ))
-        }
-        side => {
-            let s0 = reduced_start(start);
-            if side == Method::Plus {
-                written!(dirac_io::run_to_parquet(
-                    &ReducedIntegrator::plus(sys, o),
-                    s0,
-                    n,
-                    path,
-                    &o
-                ))
-            } else {
-                written!(dirac_io::run_to_parquet(
-                    &ReducedIntegrator::minus(sys, o),
-                    s0,
-                    n,
-                    path,
-                    &o
-                ))
-            }
-        }
-    })
-}
-
-/// Seconds of the reduced (+) run alone (collected, no arrays): the baseline of the Python
-/// overhead benchmark (`dirac-py/examples/overhead.py`).
-fn time_one<const S: usize, const K: usize, const N: usize>(
-    code: &Arc<Code>,
-    params: &[f64],
-    start: &[Vec<f64>],
-    r: Request,
-) -> Result<f64, String> {
-    let sys = code
-        .instantiate::<S, K, N>(params)
-        .map_err(|e| e.to_string())?;
-    let s0 = reduced_start(start);
-    let t = std::time::Instant::now();
-    let traj = ReducedIntegrator::plus(sys, r.options)
-        .run(s0)
-        .steps(r.steps)
-        .collect()
-        .map_err(|e| e.to_string())?;
-    let elapsed = t.elapsed().as_secs_f64();
-    drop(traj);
-    Ok(elapsed)
-}
-
-/// An ensemble: one run per start, on all cores.
-fn run_many<const S: usize, const K: usize, const N: usize>(
-    code: &Arc<Code>,
-    params: &[f64],
-    starts: &[Vec<Vec<f64>>],
-    r: Request,
-) -> Result<Vec<Result<Flat, Box<Failed>>>, String> {
-    let sys = code
-        .instantiate::<S, K, N>(params)
-        .map_err(|e| e.to_string())?;
-    let (n, o) = (r.steps, r.options);
-    Ok(match r.method {
-        Method::Unreduced => {
-            let s0: Vec<_> = starts.iter().map(|s| unreduced_start(s)).collect();
-            let integ = UnreducedIntegrator::new(sys, o);
-            integ
-                .ensemble(&s0)
-                .steps(n)
-                .collect()
-                .into_iter()
-                .map(|m| finish(m, |t| unreduced_flat(parts!(t))))
-                .collect()
-        }
-        side => {
-            let s0: Vec<_> = starts.iter().map(|s| reduced_start(s)).collect();
-            let members = if side == Method::Plus {
-                ReducedIntegrator::plus(sys, o)
-                    .ensemble(&s0)
-                    .steps(n)
-                    .collect()
-            } else {
-                ReducedIntegrator::minus(sys, o)
-                    .ensemble(&s0)
-                    .steps(n)
-                    .collect()
-            };
-            members
-                .into_iter()
-                .map(|m| finish(m, |t| reduced_flat(parts!(t))))
-                .collect()
-        }
-    })
-}
 
 /// A system given as text, compiled to machine code.
 #[pyclass(frozen, module = "dirac._dirac")]
@@ -508,16 +340,27 @@ fn to_dict<'py>(py: Python<'py>, flat: Flat) -> PyResult<Bound<'py, PyDict>> {
 }
 
 fn step_error(py: Python<'_>, failed: Failed, member: Option<usize>) -> PyResult<PyErr> {
+    raise(py, &failed.error, to_dict(py, failed.partial)?, member)
+}
+
+/// The `StepError` of a failed step: its message (prefixed by the member of an ensemble),
+/// `step`, `residual`, `member` and `trajectory`, the dict of the states before it.
+fn raise(
+    py: Python<'_>,
+    error: &RuntimeStepError,
+    trajectory: Bound<'_, PyDict>,
+    member: Option<usize>,
+) -> PyResult<PyErr> {
     let message = match member {
-        Some(m) => format!("member {m}: {}", failed.error),
-        None => failed.error.to_string(),
+        Some(m) => format!("member {m}: {error}"),
+        None => error.to_string(),
     };
     let err = StepError::new_err(message);
     let value = err.value(py);
-    value.setattr("step", failed.error.step())?;
-    value.setattr("residual", failed.error.residual())?;
+    value.setattr("step", error.step())?;
+    value.setattr("residual", error.residual())?;
     value.setattr("member", member)?;
-    value.setattr("trajectory", to_dict(py, failed.partial)?)?;
+    value.setattr("trajectory", trajectory)?;
     Ok(err)
 }
 

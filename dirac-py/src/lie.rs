@@ -11,16 +11,13 @@ use std::sync::Arc;
 
 use dirac_compiler::text::{LieKind, LieSymmetryKind};
 use dirac_jit::{JitLie, LieCode};
-use dirac_runtime::{
-    Composition, Drive, IntegrationError, LieIntegrator, LieState, ReducedLieIntegrator,
-    StepError as RuntimeStepError, StepStats, Steps,
-};
+use dirac_runtime::{Composition, Drive, LieIntegrator, LieState, ReducedLieIntegrator, StepStats};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::{composition, CompileError, StepError};
+use crate::{composition, finish, CompileError, Failed};
 
 /// A run's trajectory flattened for NumPy: the times, per coordinate its configurations and
 /// momenta (each with the shape of one row), and the spatial momentum (and the symmetry's
@@ -33,11 +30,6 @@ struct Flat {
     mu: Option<Vec<f64>>,
     iterations: Vec<usize>,
     residuals: Vec<f64>,
-}
-
-struct Failed {
-    error: RuntimeStepError,
-    partial: Flat,
 }
 
 /// Which equations a run solves.
@@ -97,19 +89,6 @@ fn flat<const P: usize, const N: usize>(
     out
 }
 
-fn finish<T: Steps + std::fmt::Debug>(
-    result: Result<T, Box<IntegrationError<T>>>,
-    flat: impl Fn(&T) -> Flat,
-) -> Result<Flat, Box<Failed>> {
-    match result {
-        Ok(traj) => Ok(flat(&traj)),
-        Err(e) => Err(Box::new(Failed {
-            partial: flat(&e.trajectory),
-            error: e.source,
-        })),
-    }
-}
-
 /// The start state of `sys`.
 fn start_state<const P: usize, const N: usize>(
     sys: &JitLie<P, N>,
@@ -144,7 +123,7 @@ fn run_one<const P: usize, const N: usize>(
     params: &[f64],
     start: &Start,
     r: Request,
-) -> Result<Result<Flat, Box<Failed>>, String> {
+) -> Result<Result<Flat, Box<Failed<Flat>>>, String> {
     let sys = code
         .instantiate::<P, N>(params)
         .map_err(|e| e.to_string())?;
@@ -584,13 +563,7 @@ impl LieSystem {
             Ok(flat) => self.to_dict(py, flat),
             Err(failed) => {
                 let Failed { error, partial } = *failed;
-                let err = StepError::new_err(error.to_string());
-                let value = err.value(py);
-                value.setattr("step", error.step())?;
-                value.setattr("residual", error.residual())?;
-                value.setattr("member", py.None())?;
-                value.setattr("trajectory", self.to_dict(py, partial)?)?;
-                Err(err)
+                Err(crate::raise(py, &error, self.to_dict(py, partial)?, None)?)
             }
         }
     }

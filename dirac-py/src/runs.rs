@@ -1,0 +1,184 @@
+//! The runs of systems on vector spaces without constraints, at dimensions `S`, `K`,
+//! `N = S + K` (what `dirac_jit::with_dimensions` dispatches to): one run, one written to
+//! Parquet, an ensemble, and the benchmark's bare run.
+
+use std::sync::Arc;
+
+use dirac_jit::Code;
+use dirac_runtime::{Composition, Drive, ReducedIntegrator, UnreducedIntegrator};
+
+use crate::{
+    composition, finish, parts, reduced_flat, reduced_start, unreduced_flat, unreduced_start,
+    Failed, Flat, Method, Request, Written,
+};
+
+/// One run of a system of `S` shape and `K` group coordinates from `start` (`x, w, mu, g` or
+/// `q, p`, by the method).
+pub(crate) fn run_one<const S: usize, const K: usize, const N: usize>(
+    code: &Arc<Code>,
+    params: &[f64],
+    start: &[Vec<f64>],
+    r: Request,
+) -> Result<Result<Flat, Box<Failed>>, String> {
+    let sys = code
+        .instantiate::<S, K, N>(params)
+        .map_err(|e| e.to_string())?;
+    let (n, o) = (r.steps, r.options);
+    Ok(match r.method {
+        Method::Unreduced => {
+            let s0 = unreduced_start(start);
+            let integ = UnreducedIntegrator::new(sys, o);
+            if r.order == 2 {
+                finish(integ.run(s0).steps(n).collect(), |t| {
+                    unreduced_flat(parts!(t))
+                })
+            } else {
+                let c = Composition::new(integ, composition(r.order));
+                finish(c.run(s0).steps(n).collect(), |t| unreduced_flat(parts!(t)))
+            }
+        }
+        side => {
+            let s0 = reduced_start(start);
+            macro_rules! go {
+                ($integ:expr) => {{
+                    let integ = $integ;
+                    if r.order == 2 {
+                        finish(integ.run(s0).steps(n).collect(), |t| {
+                            reduced_flat(parts!(t))
+                        })
+                    } else {
+                        let c = Composition::new(integ, composition(r.order));
+                        finish(c.run(s0).steps(n).collect(), |t| reduced_flat(parts!(t)))
+                    }
+                }};
+            }
+            if side == Method::Plus {
+                go!(ReducedIntegrator::plus(sys, o))
+            } else {
+                go!(ReducedIntegrator::minus(sys, o))
+            }
+        }
+    })
+}
+
+/// One run written to Parquet at `path` by the workspace's writer.
+pub(crate) fn write_one<const S: usize, const K: usize, const N: usize>(
+    code: &Arc<Code>,
+    params: &[f64],
+    start: &[Vec<f64>],
+    r: Request,
+    path: &std::path::Path,
+) -> Result<Written, String> {
+    let sys = code
+        .instantiate::<S, K, N>(params)
+        .map_err(|e| e.to_string())?;
+    let (n, o) = (r.steps, r.options);
+    macro_rules! written {
+        ($call:expr) => {{
+            let (result, path) = $call.map_err(|e| e.to_string())?;
+            match result {
+                Ok(summary) => Ok((summary.steps, summary.t, path)),
+                Err(e) => Err((e.source, path)),
+            }
+        }};
+    }
+    Ok(match r.method {
+        Method::Unreduced => {
+            let s0 = unreduced_start(start);
+            written!(dirac_io::run_to_parquet(
+                &UnreducedIntegrator::new(sys, o),
+                s0,
+                n,
+                path,
+                &o
+            ))
+        }
+        side => {
+            let s0 = reduced_start(start);
+            if side == Method::Plus {
+                written!(dirac_io::run_to_parquet(
+                    &ReducedIntegrator::plus(sys, o),
+                    s0,
+                    n,
+                    path,
+                    &o
+                ))
+            } else {
+                written!(dirac_io::run_to_parquet(
+                    &ReducedIntegrator::minus(sys, o),
+                    s0,
+                    n,
+                    path,
+                    &o
+                ))
+            }
+        }
+    })
+}
+
+/// Seconds of the reduced (+) run alone (collected, no arrays): the baseline of the Python
+/// overhead benchmark (`dirac-py/examples/overhead.py`).
+pub(crate) fn time_one<const S: usize, const K: usize, const N: usize>(
+    code: &Arc<Code>,
+    params: &[f64],
+    start: &[Vec<f64>],
+    r: Request,
+) -> Result<f64, String> {
+    let sys = code
+        .instantiate::<S, K, N>(params)
+        .map_err(|e| e.to_string())?;
+    let s0 = reduced_start(start);
+    let t = std::time::Instant::now();
+    let traj = ReducedIntegrator::plus(sys, r.options)
+        .run(s0)
+        .steps(r.steps)
+        .collect()
+        .map_err(|e| e.to_string())?;
+    let elapsed = t.elapsed().as_secs_f64();
+    drop(traj);
+    Ok(elapsed)
+}
+
+/// An ensemble: one run per start, on all cores.
+pub(crate) fn run_many<const S: usize, const K: usize, const N: usize>(
+    code: &Arc<Code>,
+    params: &[f64],
+    starts: &[Vec<Vec<f64>>],
+    r: Request,
+) -> Result<Vec<Result<Flat, Box<Failed>>>, String> {
+    let sys = code
+        .instantiate::<S, K, N>(params)
+        .map_err(|e| e.to_string())?;
+    let (n, o) = (r.steps, r.options);
+    Ok(match r.method {
+        Method::Unreduced => {
+            let s0: Vec<_> = starts.iter().map(|s| unreduced_start(s)).collect();
+            let integ = UnreducedIntegrator::new(sys, o);
+            integ
+                .ensemble(&s0)
+                .steps(n)
+                .collect()
+                .into_iter()
+                .map(|m| finish(m, |t| unreduced_flat(parts!(t))))
+                .collect()
+        }
+        side => {
+            let s0: Vec<_> = starts.iter().map(|s| reduced_start(s)).collect();
+            let members = if side == Method::Plus {
+                ReducedIntegrator::plus(sys, o)
+                    .ensemble(&s0)
+                    .steps(n)
+                    .collect()
+            } else {
+                ReducedIntegrator::minus(sys, o)
+                    .ensemble(&s0)
+                    .steps(n)
+                    .collect()
+            };
+            members
+                .into_iter()
+                .map(|m| finish(m, |t| reduced_flat(parts!(t))))
+                .collect()
+        }
+    })
+}
