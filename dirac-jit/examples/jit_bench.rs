@@ -94,28 +94,49 @@ where
     J: Reduced<Plus, S, K, N> + Clone,
     L: Reduced<Plus, S, K, N> + Clone,
 {
-    let mut r = Rounds {
-        compile: vec![],
-        jit_t: vec![],
-        aot_t: vec![],
-        ratio: vec![],
-    };
-    for round in 0..rounds {
-        let code = dirac_jit::compile(text)?;
-        r.compile.push(code.compile_time().as_secs_f64());
-        let jit = instantiate(&code)?;
-        let (j, a) = if round.is_multiple_of(2) {
-            let j = stream_time(&jit, start, steps);
-            (j, stream_time(aot, start, steps))
-        } else {
-            let a = stream_time(aot, start, steps);
-            (stream_time(&jit, start, steps), a)
+    Rounds::interleaved(
+        rounds,
+        || {
+            let code = dirac_jit::compile(text)?;
+            Ok((code.compile_time().as_secs_f64(), instantiate(&code)?))
+        },
+        |jit| stream_time(jit, start, steps),
+        || stream_time(aot, start, steps),
+    )
+}
+
+impl Rounds {
+    /// `rounds` rounds, each compiling a text (`compile` returns the compile time and the
+    /// system given at run time) and timing its steps (`jit`) and the compiled-in system's
+    /// (`aot`), the one given at run time first in even rounds.
+    fn interleaved<T, E>(
+        rounds: usize,
+        mut compile: impl FnMut() -> Result<(f64, T), E>,
+        jit: impl Fn(&T) -> f64,
+        aot: impl Fn() -> f64,
+    ) -> Result<Rounds, E> {
+        let mut r = Rounds {
+            compile: vec![],
+            jit_t: vec![],
+            aot_t: vec![],
+            ratio: vec![],
         };
-        r.jit_t.push(j);
-        r.aot_t.push(a);
-        r.ratio.push(j / a);
+        for round in 0..rounds {
+            let (seconds, system) = compile()?;
+            r.compile.push(seconds);
+            let (j, a) = if round.is_multiple_of(2) {
+                let j = jit(&system);
+                (j, aot())
+            } else {
+                let a = aot();
+                (jit(&system), a)
+            };
+            r.jit_t.push(j);
+            r.aot_t.push(a);
+            r.ratio.push(j / a);
+        }
+        Ok(r)
     }
-    Ok(r)
 }
 
 /// The medians of [`Rounds`], with the fastest compilation and the spread of the ratios.
@@ -268,28 +289,17 @@ fn elements(rounds: usize, steps: usize) -> Result<(), Box<dyn std::error::Error
         n: 1000,
     };
     let start = toda_n::initial(&aot, 0.1, 0.2, 0.05);
-    let mut r = Rounds {
-        compile: vec![],
-        jit_t: vec![],
-        aot_t: vec![],
-        ratio: vec![],
-    };
-    for round in 0..rounds {
-        let code = dirac_jit::compile_element(&text)?;
-        r.compile.push(code.compile_time().as_secs_f64());
-        let jit = code.instantiate(&[1.0, 1.0, 0.05], &[1000])?;
-        let (j, a) = if round.is_multiple_of(2) {
-            let j = element_time(&jit, &start, steps);
-            (j, element_time(&aot, &start, steps))
-        } else {
-            let a = element_time(&aot, &start, steps);
-            (element_time(&jit, &start, steps), a)
-        };
-        r.jit_t.push(j);
-        r.aot_t.push(a);
-        r.ratio.push(j / a);
-    }
-    let r = r.summary();
+    let r = Rounds::interleaved(
+        rounds,
+        || {
+            let code = dirac_jit::compile_element(&text)?;
+            let jit = code.instantiate(&[1.0, 1.0, 0.05], &[1000])?;
+            Ok::<_, dirac_jit::Error>((code.compile_time().as_secs_f64(), jit))
+        },
+        |jit| element_time(jit, &start, steps),
+        || element_time(&aot, &start, steps),
+    )?
+    .summary();
     println!(
         "Toda lattice sized at run time (n = 1000): text → machine code {:.1} ms (min {:.1}); step {:.1} µs given at run time, {:.1} µs compiled in: ratio {:.2} ({:.2}–{:.2})",
         r.compile * 1e3,
@@ -330,28 +340,17 @@ fn lie_rounds<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
     start: LieState<P, N>,
 ) -> Result<(), Box<dyn std::error::Error>> {
     let text = function(ROTATIONS, name);
-    let mut r = Rounds {
-        compile: vec![],
-        jit_t: vec![],
-        aot_t: vec![],
-        ratio: vec![],
-    };
-    for round in 0..rounds {
-        let code = dirac_jit::compile_lie(&text)?;
-        r.compile.push(code.compile_time().as_secs_f64());
-        let jit = code.instantiate::<P, N>(&aot.parameter_values())?;
-        let (j, a) = if round.is_multiple_of(2) {
-            let j = lie_time(&jit, start, steps);
-            (j, lie_time(aot, start, steps))
-        } else {
-            let a = lie_time(aot, start, steps);
-            (lie_time(&jit, start, steps), a)
-        };
-        r.jit_t.push(j);
-        r.aot_t.push(a);
-        r.ratio.push(j / a);
-    }
-    let r = r.summary();
+    let r = Rounds::interleaved(
+        rounds,
+        || {
+            let code = dirac_jit::compile_lie(&text)?;
+            let jit = code.instantiate::<P, N>(&aot.parameter_values())?;
+            Ok::<_, dirac_jit::Error>((code.compile_time().as_secs_f64(), jit))
+        },
+        |jit| lie_time(jit, start, steps),
+        || lie_time(aot, start, steps),
+    )?
+    .summary();
     println!(
         "{name} (rotation groups): text → machine code {:.1} ms (min {:.1}); step {:.2} µs given at run time, {:.2} µs compiled in: ratio {:.2} ({:.2}–{:.2})",
         r.compile * 1e3,

@@ -320,10 +320,7 @@ impl ElementSystem {
     #[getter]
     fn controls(&self) -> Vec<String> {
         let s = self.text();
-        s.controls
-            .iter()
-            .map(|&i| s.parameters[i].clone())
-            .collect()
+        crate::control_names(&s.parameters, &s.controls)
     }
 
     /// Whether the system has holonomic constraints (then it runs the constrained integrator).

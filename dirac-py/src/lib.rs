@@ -188,6 +188,11 @@ fn parameter_values(code: &Code, params: &Bound<'_, PyAny>) -> PyResult<Vec<f64>
     values_of(&code.system().parameters, params)
 }
 
+/// The names of the controls, given as indices into the parameters.
+fn control_names(parameters: &[String], controls: &[usize]) -> Vec<String> {
+    controls.iter().map(|&i| parameters[i].clone()).collect()
+}
+
 /// The values of the parameters `names`, in declaration order, from a mapping (by name) or a
 /// sequence.
 fn values_of(names: &[String], params: &Bound<'_, PyAny>) -> PyResult<Vec<f64>> {
@@ -425,10 +430,7 @@ impl System {
     #[getter]
     fn controls(&self) -> Vec<String> {
         let s = self.code.system();
-        s.controls
-            .iter()
-            .map(|&i| s.parameters[i].clone())
-            .collect()
+        control_names(&s.parameters, &s.controls)
     }
 
     /// The number of constraints (`constraints = ..` or `nonholonomic = ..`), 0 without.

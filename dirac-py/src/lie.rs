@@ -495,10 +495,7 @@ impl LieSystem {
     #[getter]
     fn controls(&self) -> Vec<String> {
         let s = self.code.system();
-        s.controls
-            .iter()
-            .map(|&i| s.parameters[i].clone())
-            .collect()
+        crate::control_names(&s.parameters, &s.controls)
     }
 
     /// The declared symmetry: `None`, `("rotations", [R])` for every rotation of `R`, or
