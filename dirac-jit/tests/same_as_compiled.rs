@@ -333,6 +333,24 @@ fn the_200_particle_lattice_steps_bit_for_bit_on_the_sparse_backend() {
         .unwrap();
     let start = toda::initial(&compiled, 0.1, 0.3, 0.05);
     same_runs(compiled, jit.clone(), start, 100);
+    // The lattice's translation is declared on the user's coordinates: the adapted coordinates
+    // of a user state are the compiled-in system's, and back.
+    let q_user = SVector::<f64, 200>::from_fn(|i, _| i as f64 + 0.1 * (i as f64).sin());
+    let p_user = SVector::<f64, 200>::from_fn(|i, _| 0.2 * (i as f64).cos());
+    type T = toda::Toda;
+    assert_eq!(
+        jit.to_adapted(&q_user),
+        <T as AdaptedCoordinates<200>>::to_adapted(&q_user)
+    );
+    assert_eq!(
+        jit.momentum_to_adapted(&p_user),
+        <T as AdaptedCoordinates<200>>::momentum_to_adapted(&p_user)
+    );
+    let state = jit.adapted_state(&q_user, &p_user);
+    assert_eq!(
+        jit.from_adapted_state(&state),
+        <T as AdaptedCoordinates<200>>::from_adapted_state(&state)
+    );
     // The inverse Legendre map on the sparse pattern of ∂²L/∂v².
     let unreduced = compiled.untrivialize(&start);
     let v = unreduced.p.map(|p| 0.9 * p);

@@ -249,6 +249,26 @@ impl System {
         Ok(())
     }
 
+    /// One of the maps of the adapted coordinates on a vector of the system's length.
+    fn adapted_map<'py>(
+        &self,
+        py: Python<'py>,
+        v: Vec<f64>,
+        map: fn(&Code, &[f64], &mut [f64]),
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let (s, k) = self.dims();
+        if v.len() != s + k {
+            return Err(PyValueError::new_err(format!(
+                "a vector of {} values; the system has {}",
+                v.len(),
+                s + k
+            )));
+        }
+        let mut out = vec![0.0; s + k];
+        map(&self.code, &v, &mut out);
+        Ok(PyArray1::from_vec(py, out))
+    }
+
     fn dims(&self) -> (usize, usize) {
         let s = self.code.system();
         (s.shape.len(), s.group.len())
@@ -443,6 +463,53 @@ impl System {
     #[getter]
     fn holonomic(&self) -> Option<bool> {
         self.code.system().constrained.as_ref().map(|c| c.holonomic)
+    }
+
+    /// Whether the symmetry is declared on the user's coordinates (`coordinates(..),
+    /// translate(..)`): then the system's vectors (`x`, `g` of `run`) are adapted coordinates,
+    /// which `to_adapted` and `from_adapted` convert from and to the user's.
+    #[getter]
+    fn adapted(&self) -> bool {
+        self.code.system().adapted.is_some()
+    }
+
+    /// `q = T⁻¹ q_user`: a configuration in the user's coordinates (the function's, in the
+    /// order of its `coordinates(..)`) in the system's adapted ones, the `q` of
+    /// `run(method="unreduced")` (shape first, then group).
+    fn to_adapted<'py>(
+        &self,
+        py: Python<'py>,
+        q_user: Vec<f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        self.adapted_map(py, q_user, Code::to_adapted)
+    }
+
+    /// `q_user = T q`, the inverse of `to_adapted`.
+    fn from_adapted<'py>(
+        &self,
+        py: Python<'py>,
+        q: Vec<f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        self.adapted_map(py, q, Code::from_adapted)
+    }
+
+    /// `p = Tᵀ p_user`: momenta (and forces) transform as covectors; a group coordinate's is the
+    /// total momentum of the components its translation moves.
+    fn momentum_to_adapted<'py>(
+        &self,
+        py: Python<'py>,
+        p_user: Vec<f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        self.adapted_map(py, p_user, Code::momentum_to_adapted)
+    }
+
+    /// `p_user = T⁻ᵀ p`, the inverse of `momentum_to_adapted`.
+    fn momentum_from_adapted<'py>(
+        &self,
+        py: Python<'py>,
+        p: Vec<f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        self.adapted_map(py, p, Code::momentum_from_adapted)
     }
 
     /// Whether forces are declared.

@@ -245,3 +245,35 @@ def test_a_failed_write_keeps_the_states_before_it(tmp_path):
         wall.write({"h": 0.1, "c": 1e-6}, steps=100, path=str(out), x=[1.0], w=[-1.0])
     assert pathlib.Path(info.value.path) == out
     assert pq.read_table(out).num_rows == info.value.step + 1
+
+
+def test_a_translation_declared_on_the_users_coordinates_converts_both_ways():
+    chain = dirac.compile(
+        "#[reduced_lagrangian(coordinates(x[4]), translate(x), rule = midpoint)]\n"
+        "fn chain(q: Config, v: Velocity, k: f64) -> f64 {\n"
+        "    let mut l = 0.0;\n"
+        "    for i in 0..4 { l += 0.5 * v.x[i] * v.x[i]; }\n"
+        "    for i in 0..3 { l -= 0.5 * k * (q.x[i + 1] - q.x[i] - 1.0).powi(2); }\n"
+        "    l\n"
+        "}")
+    assert chain.adapted
+    assert (len(chain.shape), len(chain.group)) == (3, 1)
+    q_user = np.array([0.1, 1.3, 1.9, 3.2])
+    p_user = np.array([0.5, -0.2, 0.1, 0.3])
+    q, p = chain.to_adapted(q_user), chain.momentum_to_adapted(p_user)
+    # The group coordinate is x[0], the shape the other components relative to it; the group
+    # momentum is the total momentum.
+    assert q[3] == q_user[0] and np.allclose(q[:3], q_user[1:] - q_user[0])
+    assert p[3] == pytest.approx(p_user.sum())
+    assert np.allclose(chain.from_adapted(q), q_user)
+    assert np.allclose(chain.momentum_from_adapted(p), p_user)
+    run = chain.run({"k": 2.0, "h": 0.05}, steps=200, method="unreduced", q=q, p=p)
+    # The total momentum: to round-off unreduced, exactly reduced (μ = p_g).
+    assert np.max(np.abs(run["p"][:, 3] - p[3])) < 1e-12
+    reduced = chain.run({"k": 2.0, "h": 0.05}, steps=200, x=q[:3], w=p[:3], mu=[p[3]], g=[q[3]])
+    assert np.all(reduced["mu"] == p[3])
+    user = np.array([chain.from_adapted(row) for row in run["q"]])
+    assert user.shape == (201, 4)
+    assert np.max(np.abs(user[:, 0] - reduced["g"][:, 0])) < 1e-10
+    with pytest.raises(ValueError, match="3 values"):
+        chain.to_adapted([0.0, 1.0, 2.0])

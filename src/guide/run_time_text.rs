@@ -25,6 +25,12 @@
 //! member of `dirac-io`'s workspace, not the root one, so the main test command does not build
 //! Cranelift; `.ci/run` tests it).
 //!
+//! A symmetry declared on the user's coordinates (`coordinates(x[n]), translate(x)`) puts the
+//! system's vectors in adapted coordinates, as compiled in; `code.to_adapted(..)`,
+//! `from_adapted`, `momentum_to_adapted` and `momentum_from_adapted` (and `adapted_state` of the
+//! system) convert a state from and to the user's coordinates, with the compiled-in
+//! `AdaptedCoordinates`'s arithmetic.
+//!
 //! `compile` accepts one function carrying `#[reduced_lagrangian(..)]`, alone or in a whole Rust
 //! file (other items are ignored). [`Code::system`](https://docs.rs/dirac-jit) holds what the
 //! attribute would have put in constants: the coordinate names, the parameters in declaration

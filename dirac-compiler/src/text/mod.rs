@@ -70,6 +70,11 @@ pub struct System {
     pub lagrangian: Program,
     /// The connection matrix `B`, `K × S` row by row, reading parameters only.
     pub connection: Program,
+    /// For a symmetry declared on the user's coordinates (`coordinates(..), translate(..)`): each
+    /// component of the user's configuration vector in the adapted coordinates `q` the system's
+    /// vectors are in (§2.2.1, the runtime's `AdaptedCoordinates`); `None` when the system's
+    /// coordinates are the user's (`shape(..), group(..)`).
+    pub adapted: Option<Vec<UserComponent>>,
     /// The reduced (+) equations, eq. (4.6).
     pub plus: Side,
     /// The reduced (−) equations, eq. (4.8) with the signs of Definition 2.8.
@@ -212,6 +217,17 @@ pub struct Pattern {
     pub col_ptr: Vec<usize>,
     /// The row of each entry.
     pub row_idx: Vec<usize>,
+}
+
+/// A component of the user's configuration vector in the adapted coordinates `q`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum UserComponent {
+    /// `q[i]`: a coordinate no declared translation moves, or a translation's group
+    /// coordinate `g = a[0]`.
+    Var(usize),
+    /// `q[g] + q[r]`: a component `c = g + r_c` moved by the translation whose group coordinate
+    /// is `q[g]`, its shape coordinate `r_c = c − a[0]` at `q[r]`.
+    Sum(usize, usize),
 }
 
 /// The Legendre map and energy of a continuous Lagrangian, reading `Q0` = `q`, `Q1` = `v` and
@@ -520,6 +536,16 @@ fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<System> {
         forced: spec.force.is_some(),
         lagrangian: program(&c.graph, &[c.body]),
         connection: program(&c.graph, &c.b.concat()),
+        adapted: spec.layout.declared.then(|| {
+            spec.layout
+                .components
+                .iter()
+                .map(|c| match *c {
+                    crate::ast::layout::Component::Var(a) => UserComponent::Var(a),
+                    crate::ast::layout::Component::Sum(g, r) => UserComponent::Sum(g, r),
+                })
+                .collect()
+        }),
         plus: side(&c, &c.plus),
         minus: side(&c, &c.minus),
         unreduced: stepper(&c.graph, &c.unreduced),

@@ -21,6 +21,7 @@ use dirac_runtime::DiscreteLagrangian;
 use crate::codegen::{Jit, Kernel, Layout};
 use crate::error::Error;
 
+mod adapted;
 mod backend;
 mod constrained;
 mod continuous;
