@@ -485,6 +485,10 @@ impl System {
     }
 
     /// `q_user = T q`, the inverse of `to_adapted`.
+    #[allow(
+        clippy::wrong_self_convention,
+        reason = "the Python name of AdaptedCoordinates::from_adapted, answered by the system"
+    )]
     fn from_adapted<'py>(
         &self,
         py: Python<'py>,
