@@ -60,6 +60,8 @@ struct Request {
     order: u32,
     steps: usize,
     options: NewtonOptions,
+    /// Whether the run's continuous energies are asked for.
+    energies: bool,
 }
 
 /// A trajectory flattened for NumPy: the times and, per state, the vectors of the state in a
@@ -72,6 +74,9 @@ struct Flat {
     /// For a constrained run: the number of constraints, each step's multipliers `λ_k` and its
     /// constraint residual.
     multipliers: Option<(usize, Vec<f64>, Vec<f64>)>,
+    /// When asked for: the continuous energy at each state (through the inverse Legendre map)
+    /// and at each step's midpoint, or why there is none.
+    energies: Option<Result<(Vec<f64>, Vec<f64>), String>>,
 }
 
 /// A failed run: the runtime's error and what was computed before it (a [`Flat`] trajectory,
@@ -115,6 +120,7 @@ fn reduced_flat<const S: usize, const K: usize>(
         iterations: stats.iter().map(|s| s.iterations).collect(),
         residuals: stats.iter().map(|s| s.residual).collect(),
         multipliers: None,
+        energies: None,
     }
 }
 
@@ -138,6 +144,7 @@ fn unreduced_flat<const N: usize>(
         iterations: stats.iter().map(|s| s.iterations).collect(),
         residuals: stats.iter().map(|s| s.residual).collect(),
         multipliers: None,
+        energies: None,
     }
 }
 
@@ -300,6 +307,7 @@ impl System {
             options.abs_tol = t;
         }
         Ok(Request {
+            energies: false,
             method: method_of(method)?,
             order,
             steps,
@@ -360,6 +368,14 @@ fn to_dict<'py>(py: Python<'py>, flat: Flat) -> PyResult<Bound<'py, PyDict>> {
             PyArray1::from_vec(py, lambda).reshape([steps, m])?,
         )?;
         d.set_item("constraint_residuals", PyArray1::from_vec(py, residual))?;
+    }
+    match flat.energies {
+        None => {}
+        Some(Ok((nodes, midpoints))) => {
+            d.set_item("energy", PyArray1::from_vec(py, nodes))?;
+            d.set_item("energy_midpoints", PyArray1::from_vec(py, midpoints))?;
+        }
+        Some(Err(why)) => return Err(PyValueError::new_err(format!("energies: {why}"))),
     }
     Ok(d)
 }
@@ -530,9 +546,10 @@ impl System {
 
     /// Integrates `steps` steps from one start and returns a dict of NumPy arrays: `t` (steps+1),
     /// the state's vectors (`x, w, mu, g` for "plus" and "minus", `q, p` for "unreduced"), each
-    /// (steps+1, length), and per step `iterations` and `residuals`. Raises `StepError` with the
-    /// trajectory so far when a step fails.
-    #[pyo3(signature = (parameters, steps, method = "plus", order = 2, tol = None, **start))]
+    /// (steps+1, length), and per step `iterations` and `residuals`; with `energies=True` (a
+    /// continuous Lagrangian) `energy` at each state and `energy_midpoints`. Raises `StepError`
+    /// with the trajectory so far when a step fails.
+    #[pyo3(signature = (parameters, steps, method = "plus", order = 2, tol = None, energies = false, **start))]
     #[allow(
         clippy::too_many_arguments,
         reason = "the Python keyword arguments, one each"
@@ -545,13 +562,26 @@ impl System {
         method: &str,
         order: u32,
         tol: Option<f64>,
+        energies: bool,
         start: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let Inputs {
             params,
-            request: r,
+            request: mut r,
             start,
         } = self.inputs(py, parameters, method, order, steps, tol, start)?;
+        if energies && self.code.system().continuous.is_none() {
+            return Err(PyValueError::new_err(
+                "energies: a discrete Lagrangian has no continuous energy; write \
+                 `fn l(q: Config, v: Velocity, ..)` with a `rule`",
+            ));
+        }
+        if energies && self.constraint_count() > 0 {
+            return Err(PyValueError::new_err(
+                "energies: for a system without constraints (from Rust, the constrained integrators' `energies`)",
+            ));
+        }
+        r.energies = energies;
         let (s, k) = self.dims();
         let code = Arc::clone(&self.code);
         let result = match self.constraint_count() {
@@ -685,6 +715,7 @@ impl System {
                         iterations: Vec::new(),
                         residuals: Vec::new(),
                         multipliers: None,
+                        energies: None,
                     };
                     if first_failure.is_none() {
                         first_failure = Some((i, failed));

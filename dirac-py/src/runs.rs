@@ -4,8 +4,12 @@
 
 use std::sync::Arc;
 
-use dirac_jit::Code;
-use dirac_runtime::{Composition, Drive, ReducedIntegrator, UnreducedIntegrator};
+use dirac_jit::{Code, JitSystem};
+use dirac_runtime::nalgebra::SVector;
+use dirac_runtime::{
+    continuous_energies, Composition, DiscreteLagrangian, Drive, ReducedIntegrator, ReducedState,
+    UnreducedIntegrator, UnreducedState, UnreducedTrajectory,
+};
 
 use crate::{
     composition, finish, parts, reduced_flat, reduced_start, unreduced_flat, unreduced_start,
@@ -24,7 +28,8 @@ pub(crate) fn run_one<const S: usize, const K: usize, const N: usize>(
         .instantiate::<S, K, N>(params)
         .map_err(|e| e.to_string())?;
     let (n, o) = (r.steps, r.options);
-    Ok(match r.method {
+    let energies = r.energies.then(|| sys.clone());
+    let result = match r.method {
         Method::Unreduced => {
             let s0 = unreduced_start(start);
             let integ = UnreducedIntegrator::new(sys, o);
@@ -58,7 +63,54 @@ pub(crate) fn run_one<const S: usize, const K: usize, const N: usize>(
                 go!(ReducedIntegrator::minus(sys, o))
             }
         }
+    };
+    Ok(match (energies, result) {
+        (Some(sys), Ok(flat)) => Ok(with_energies(&sys, flat, r.method)),
+        (_, result) => result,
     })
+}
+
+/// `flat` with the continuous energies of its states (`ContinuousLagrangian`: the inverse
+/// Legendre map at each node, the midpoint rule between), reduced states mapped back to
+/// `(q, p)` by eq. (3.7).
+fn with_energies<const S: usize, const K: usize, const N: usize>(
+    sys: &JitSystem<S, K, N>,
+    mut flat: Flat,
+    method: Method,
+) -> Flat {
+    let column = |name: &str| {
+        flat.parts
+            .iter()
+            .find(|(n, _, _)| *n == name)
+            .map_or(&[][..], |(_, _, data)| data.as_slice())
+    };
+    let rows = flat.t.len();
+    let states: Vec<UnreducedState<N>> = (0..rows)
+        .map(|k| match method {
+            Method::Unreduced => UnreducedState {
+                q: SVector::from_column_slice(&column("q")[k * N..(k + 1) * N]),
+                p: SVector::from_column_slice(&column("p")[k * N..(k + 1) * N]),
+            },
+            _ => sys.untrivialize(&ReducedState {
+                x: SVector::from_column_slice(&column("x")[k * S..(k + 1) * S]),
+                w: SVector::from_column_slice(&column("w")[k * S..(k + 1) * S]),
+                mu: SVector::from_column_slice(&column("mu")[k * K..(k + 1) * K]),
+                g: SVector::from_column_slice(&column("g")[k * K..(k + 1) * K]),
+            }),
+        })
+        .collect();
+    let trajectory = UnreducedTrajectory {
+        h: sys.time_step(),
+        states,
+        times: flat.t.clone(),
+        stats: Vec::new(),
+    };
+    flat.energies = Some(
+        continuous_energies(sys, &trajectory)
+            .map(|e| (e.nodes, e.midpoints))
+            .map_err(|e| e.to_string()),
+    );
+    flat
 }
 
 /// One run written to Parquet at `path` by the workspace's writer.
