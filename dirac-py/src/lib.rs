@@ -76,8 +76,11 @@ struct Flat {
     multipliers: Option<(usize, Vec<f64>, Vec<f64>)>,
     /// When asked for: the continuous energy at each state (through the inverse Legendre map)
     /// and at each step's midpoint, or why there is none.
-    energies: Option<Result<(Vec<f64>, Vec<f64>), String>>,
+    energies: Option<Energies>,
 }
+
+/// The continuous energies of a run at its states and midpoints, or why there are none.
+type Energies = Result<(Vec<f64>, Vec<f64>), String>;
 
 /// A failed run: the runtime's error and what was computed before it (a [`Flat`] trajectory,
 /// or another kind's).
