@@ -5,6 +5,7 @@
 
 use dirac::prelude::*;
 use dirac::runtime::compose::Composition;
+use dirac::runtime::constrained::Form;
 
 /// A state whose components are written as `f64` columns, one per coordinate and momentum.
 ///
@@ -368,6 +369,22 @@ where
         RunInfo::of_system::<ReducedState<S, K>, L, S, K, N>(self.system())
             .with_newton(self.options())
             .with("dirac.integrator", side)
+    }
+}
+
+impl<L, F, const S: usize, const K: usize, const N: usize, const M: usize, const Z: usize> Describe
+    for ConstrainedStepper<L, F, S, K, N, M, Z>
+where
+    Self: Stepper<State = F::State>,
+    F: Form<S, K, N>,
+    F::State: StateColumns,
+    L: Constrained<F, S, K, N, M, Z>,
+{
+    fn describe(&self) -> RunInfo {
+        RunInfo::of_system::<F::State, L, S, K, N>(self.system())
+            .with_newton(self.options())
+            .with("dirac.integrator", F::EQUATIONS)
+            .with("dirac.constraints", M.to_string())
     }
 }
 

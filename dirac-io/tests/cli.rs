@@ -130,17 +130,24 @@ fn mistakes_and_failures_have_their_exit_statuses() {
         stderr.contains("unknown coordinate `psi`") && stderr.contains(" --> 4:"),
         "{stderr}"
     );
-    // A system with constraints: status 1, refused rather than integrated without them.
+    // A system with more constraints than the command line has integrators for: status 1,
+    // naming the limits.
     std::fs::write(
         dir.join("kepler.rs"),
         "#[reduced_lagrangian(shape(x, y), group(), rule = midpoint,\n\
-         constraints = |q| [q.x * q.x + q.y * q.y - 1.0])]\n\
+         constraints = |q| [q.x, q.y, q.x + q.y, q.x - q.y])]\n\
          fn ring(q: Config, v: Velocity, m: f64) -> f64 { 0.5 * m * (v.x * v.x + v.y * v.y) }\n",
     )
     .unwrap();
-    let (code, _, stderr) = dirac(&["check", file.to_str().unwrap()]);
+    std::fs::write(
+        &file,
+        "system = \"kepler.rs\"\nsteps = 10\nmethod = \"unreduced\"\n[parameters]\nm = 1.0\nh = 0.1\n\
+         [start]\nq = [1.0, 0.0]\np = [0.0, 1.0]\n",
+    )
+    .unwrap();
+    let (code, _, stderr) = dirac(&["run", file.to_str().unwrap()]);
     assert_eq!(code, 1, "{stderr}");
-    assert!(stderr.contains("a system with constraints"), "{stderr}");
+    assert!(stderr.contains("4 constraints"), "{stderr}");
     // A failed step: status 1, and the states before it are on disk.
     std::fs::write(
         dir.join("wall.rs"),
@@ -260,4 +267,53 @@ fn a_system_on_rotation_groups_runs_into_parquet_as_the_compiled_in_one() {
     let (code, _, stderr) = dirac(&["run", file.to_str().unwrap()]);
     assert_eq!(code, 1, "{stderr}");
     assert!(stderr.contains("is not a rotation"), "{stderr}");
+}
+
+/// A pendulum whose rod is a holonomic constraint, compiled in here and given to the command
+/// line as text: the constrained integrator's states are the same, bit for bit.
+#[reduced_lagrangian(shape(x, y), group(), rule = midpoint,
+    constraints = |q| [q.x * q.x + q.y * q.y - l * l])]
+fn rod(q: Config, v: Velocity, m: f64, l: f64, g: f64) -> f64 {
+    0.5 * m * (v.x * v.x + v.y * v.y) - m * g * q.y
+}
+
+#[test]
+fn a_system_with_constraints_runs_into_parquet_as_the_compiled_in_one() {
+    let dir = scratch("cli_rod");
+    std::fs::write(
+        dir.join("rod.rs"),
+        "#[reduced_lagrangian(shape(x, y), group(), rule = midpoint,\n\
+             constraints = |q| [q.x * q.x + q.y * q.y - l * l])]\n\
+         fn rod(q: Config, v: Velocity, m: f64, l: f64, g: f64) -> f64 {\n\
+             0.5 * m * (v.x * v.x + v.y * v.y) - m * g * q.y\n\
+         }\n",
+    )
+    .unwrap();
+    let file = dir.join("rod.toml");
+    std::fs::write(
+        &file,
+        "system = \"rod.rs\"\nsteps = 400\nmethod = \"unreduced\"\n\
+         [parameters]\nm = 1.0\nl = 1.5\ng = 9.81\nh = 0.01\n\
+         [start]\nq = [1.2, -0.9]\np = [0.0, 0.0]\n",
+    )
+    .unwrap();
+    let (code, stdout, stderr) = dirac(&["run", file.to_str().unwrap()]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("400 steps"), "{stdout}");
+    let sys = Rod {
+        m: 1.0,
+        l: 1.5,
+        g: 9.81,
+        h: 0.01,
+    };
+    let compiled = ConstrainedIntegrator::new(sys, NewtonOptions::default())
+        .run(UnreducedState::new([1.2, -0.9], [0.0, 0.0]))
+        .steps(400)
+        .collect()
+        .unwrap();
+    let columns = UnreducedState::<2>::column_names(&["x", "y"], &[]);
+    let (step, t, last) =
+        last_state::<UnreducedState<2>>(&dir.join("rod.parquet"), &columns).unwrap();
+    assert_eq!((step, t), (400, compiled.times[400]));
+    assert_eq!(last, compiled.states[400]);
 }

@@ -231,3 +231,45 @@ macro_rules! with_lie_dimensions {
         }
     };
 }
+
+/// The most constraints `M`, coordinates `N` and group coordinates `K` of a constrained system
+/// that [`with_constrained_dimensions!`] has an instance for.
+pub const MAX_DISPATCHED_CONSTRAINED: (usize, usize, usize) = (3, 6, 1);
+
+/// Calls a function generic over the dimensions of a system with constraints,
+/// `f::<S, K, N, M, Z>(args)` with `N = S + K` and `Z = N + M`, for dimensions known only at run
+/// time: one instance per `(S, K, M)` with `S + K ≤ 6`, `K ≤ 1` and `M ≤ 3`
+/// ([`MAX_DISPATCHED_CONSTRAINED`], 36 instances). The function returns `Result<_, String>`;
+/// other dimensions are an `Err` saying so.
+///
+/// ```
+/// fn dims<const S: usize, const K: usize, const N: usize, const M: usize, const Z: usize>(
+/// ) -> Result<[usize; 5], String> {
+///     Ok([S, K, N, M, Z])
+/// }
+/// assert_eq!(dirac_jit::with_constrained_dimensions!(2, 0, 1, dims()), Ok([2, 0, 2, 1, 3]));
+/// assert!(dirac_jit::with_constrained_dimensions!(2, 0, 4, dims()).is_err());
+/// ```
+#[macro_export]
+macro_rules! with_constrained_dimensions {
+    ($s:expr, $k:expr, $m:expr, $f:ident $args:tt) => {
+        $crate::with_constrained_dimensions!(@arms ($s, $k, $m), $f $args;
+            (1,0,1) (2,0,1) (3,0,1) (4,0,1) (5,0,1) (6,0,1)
+            (0,1,1) (1,1,1) (2,1,1) (3,1,1) (4,1,1) (5,1,1)
+            (1,0,2) (2,0,2) (3,0,2) (4,0,2) (5,0,2) (6,0,2)
+            (0,1,2) (1,1,2) (2,1,2) (3,1,2) (4,1,2) (5,1,2)
+            (1,0,3) (2,0,3) (3,0,3) (4,0,3) (5,0,3) (6,0,3)
+            (0,1,3) (1,1,3) (2,1,3) (3,1,3) (4,1,3) (5,1,3))
+    };
+    (@arms $skm:expr, $f:ident $args:tt; $(($s:literal, $k:literal, $m:literal))*) => {
+        match $skm {
+            $(($s, $k, $m) => $f::<$s, $k, { $s + $k }, $m, { $s + $k + $m }> $args,)*
+            (s, k, m) => ::core::result::Result::Err(::std::format!(
+                "{s} shape and {k} group coordinates with {m} constraints: constrained systems given at run time are integrated here with at most {} coordinates, {} of them group coordinates, and {} constraints",
+                $crate::MAX_DISPATCHED_CONSTRAINED.1,
+                $crate::MAX_DISPATCHED_CONSTRAINED.2,
+                $crate::MAX_DISPATCHED_CONSTRAINED.0
+            )),
+        }
+    };
+}

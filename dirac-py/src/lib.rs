@@ -15,7 +15,7 @@ mod element;
 mod lie;
 mod runs;
 
-use constrained::run_constrained;
+use constrained::{run_constrained, write_constrained};
 use runs::{run_many, run_one, time_one, write_one};
 
 use dirac_jit::Code;
@@ -765,7 +765,6 @@ impl System {
         tol: Option<f64>,
         start: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        self.unconstrained("`write`")?;
         let Inputs {
             params,
             request: r,
@@ -773,11 +772,20 @@ impl System {
         } = self.inputs(py, parameters, method, 2, steps, tol, start)?;
         let (s, k) = self.dims();
         let code = Arc::clone(&self.code);
-        let written = py
-            .allow_threads(|| {
+        let written = match self.constraint_count() {
+            0 => py.allow_threads(|| {
                 dirac_jit::with_dimensions!(s, k, write_one(&code, &params, &start, r, &path))
-            })
-            .map_err(PyValueError::new_err)?;
+            }),
+            m => py.allow_threads(|| {
+                constrained::with_constrained!(
+                    s,
+                    k,
+                    m,
+                    write_constrained(&code, &params, &start, r, &path)
+                )
+            }),
+        }
+        .map_err(PyValueError::new_err)?;
         written_dict(py, written)
     }
 
@@ -853,7 +861,7 @@ fn compile(py: Python<'_>, text: &str) -> PyResult<PyObject> {
         Ok(dirac_jit::Compiled::Flat(code)) => {
             let (s, k) = (code.system().shape.len(), code.system().group.len());
             if let Some(c) = &code.system().constrained {
-                let (m_max, n_max, k_max) = constrained::MAX;
+                let (m_max, n_max, k_max) = dirac_jit::MAX_DISPATCHED_CONSTRAINED;
                 if c.m > m_max || s + k > n_max || k > k_max {
                     return Err(CompileError::new_err(format!(
                         "{s} shape and {k} group coordinates with {} constraints: the Python \

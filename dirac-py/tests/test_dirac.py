@@ -153,6 +153,13 @@ def test_a_pendulum_with_its_rod_as_a_constraint_swings_as_the_pendulum_equation
             y = y + k / 6 * (a + 2 * b + 2 * c + d)
         reference.append(y[0])
     assert np.max(np.abs(theta - np.array(reference))) < 1e-4
+    pq = pytest.importorskip("pyarrow.parquet")
+    out = pathlib.Path(__import__("tempfile").mkdtemp()) / "rod.parquet"
+    pendulum.write({"m": 1.0, "l": l, "g": g, "h": h}, steps=50, path=str(out),
+                   method="unreduced", q=q0, p=[0.0, 0.0])
+    table = pq.read_table(out)
+    assert np.array_equal(table.column("q_x").to_numpy(), run["q"][:51, 0])
+    assert pq.read_metadata(next(out.glob("part-*.parquet"))).metadata[b"dirac.constraints"] == b"1"
     with pytest.raises(ValueError, match="without constraints"):
         pendulum.ensemble({"m": 1.0, "l": l, "g": g, "h": h}, steps=2, method="unreduced",
                           q=np.array([q0]), p=np.zeros((1, 2)))

@@ -150,6 +150,8 @@ pub trait Form<const S: usize, const K: usize, const N: usize>:
     type Increment: Copy + std::fmt::Debug;
     /// The momentum the position step leaves: `p̃ ∈ R^N`, or `w̃ ∈ R^S`.
     type Momentum;
+    /// Which equations, in words (what output's descriptions say).
+    const EQUATIONS: &'static str;
 
     /// True when every component of `state` is finite.
     fn is_finite(state: &Self::State) -> bool;
@@ -194,6 +196,7 @@ impl<const S: usize, const K: usize, const N: usize> Form<S, K, N> for Unreduced
     type State = UnreducedState<N>;
     type Increment = SVector<f64, N>;
     type Momentum = SVector<f64, N>;
+    const EQUATIONS: &'static str = "constrained, unreduced (position step, projection)";
 
     fn is_finite(state: &UnreducedState<N>) -> bool {
         state.is_finite()
@@ -266,6 +269,10 @@ impl<D: Side, const S: usize, const K: usize, const N: usize> Form<S, K, N> for 
     type State = ReducedState<S, K>;
     type Increment = (SVector<f64, S>, SVector<f64, K>);
     type Momentum = SVector<f64, S>;
+    const EQUATIONS: &'static str = match D::VARIANT {
+        crate::system::Variant::Plus => "constrained, reduced (+) (position step, projection)",
+        crate::system::Variant::Minus => "constrained, reduced (-) (position step, projection)",
+    };
 
     fn is_finite(state: &ReducedState<S, K>) -> bool {
         state.is_finite()
@@ -542,6 +549,11 @@ where
     /// The system being integrated.
     pub fn system(&self) -> &L {
         &self.system
+    }
+
+    /// The Newton options of both solves.
+    pub fn options(&self) -> &NewtonOptions {
+        &self.options
     }
 
     /// The momentum map `J(q, p) = p_g` of the declared translations at `state` (a reduced

@@ -175,6 +175,6 @@
 //! 12 coordinates in at most 4 nested loops, at most 8 sizes), with at most 32 parameters. The
 //! Python package runs systems on vector spaces (with constraints: at most 6 coordinates and 3
 //! constraints), on rotation groups with at most two rotation and direction coordinates, and
-//! element-wise systems; the command line runs systems on vector spaces without constraints and
-//! on rotation groups (it writes Parquet of a fixed width, which an element-wise run does not
-//! have).
+//! element-wise systems; the command line runs systems on vector spaces (with constraints: as
+//! many as Python) and on rotation groups (it writes Parquet of a fixed width, which an
+//! element-wise run does not have).

@@ -136,13 +136,6 @@ fn cli(args: Vec<String>) -> Result<(), Failure> {
         Err(e) => return Err(Failure::Run(e.to_string())),
     };
     let sys = code.system();
-    if sys.constrained.is_some() {
-        return Err(Failure::Run(format!(
-            "{}: a system with constraints; `dirac run` integrates systems without them \
-             (the constrained integrators take it from Rust: `dirac_jit::Code::instantiate_constrained`)",
-            sys.name
-        )));
-    }
     match command {
         "check" => {
             println!(
@@ -164,8 +157,18 @@ fn cli(args: Vec<String>) -> Result<(), Failure> {
                 )));
             }
             let (s, k) = (sys.shape.len(), sys.group.len());
-            let report =
-                dirac_jit::with_dimensions!(s, k, run(&code, &config)).map_err(Failure::Run)?;
+            let report = match &sys.constrained {
+                None => dirac_jit::with_dimensions!(s, k, run(&code, &config)),
+                Some(c) => {
+                    dirac_jit::with_constrained_dimensions!(
+                        s,
+                        k,
+                        c.m,
+                        run_constrained(&code, &config)
+                    )
+                }
+            }
+            .map_err(Failure::Run)?;
             println!("{report}");
             Ok(())
         }
@@ -456,6 +459,63 @@ fn run_lie<const P: usize, const N: usize>(
         }
         Method::Minus => write(LieIntegrator::minus(sys, options), start, config),
         _ => write(LieIntegrator::new(sys, options), start, config),
+    }
+}
+
+/// Integrates the system with `M` constraints at dimensions `S`, `K`, `N`, `Z = N + M` by the
+/// constrained integrators and writes the run (the states; the multipliers are not columns).
+fn run_constrained<
+    const S: usize,
+    const K: usize,
+    const N: usize,
+    const M: usize,
+    const Z: usize,
+>(
+    code: &Arc<Code>,
+    config: &Config,
+) -> Result<String, String> {
+    let named: Vec<(&str, f64)> = config
+        .parameters
+        .iter()
+        .map(|(k, v)| (k.as_str(), *v))
+        .collect();
+    let values = code
+        .instantiate_named::<S, K, N>(&named)
+        .map_err(|e| e.to_string())?
+        .parameter_values();
+    let sys = code
+        .instantiate_constrained::<S, K, N, M, Z>(&values)
+        .map_err(|e| e.to_string())?;
+    let options = NewtonOptions::default();
+    match config.method {
+        Method::Unreduced => {
+            let start = UnreducedState {
+                q: vector::<N>(config, "q")?,
+                p: vector::<N>(config, "p")?,
+            };
+            write(ConstrainedIntegrator::new(sys, options), start, config)
+        }
+        side => {
+            let start = ReducedState {
+                x: vector::<S>(config, "x")?,
+                w: vector::<S>(config, "w")?,
+                mu: vector::<K>(config, "mu")?,
+                g: vector::<K>(config, "g")?,
+            };
+            if side == Method::Plus {
+                write(
+                    ReducedConstrainedIntegrator::plus(sys, options),
+                    start,
+                    config,
+                )
+            } else {
+                write(
+                    ReducedConstrainedIntegrator::minus(sys, options),
+                    start,
+                    config,
+                )
+            }
+        }
     }
 }
 
