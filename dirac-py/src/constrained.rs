@@ -99,45 +99,36 @@ pub(crate) fn write_constrained<
         .instantiate_constrained::<S, K, N, M, Z>(params)
         .map_err(|e| e.to_string())?;
     let (n, o) = (r.steps, r.options);
-    macro_rules! written {
-        ($call:expr) => {{
-            let (result, path) = $call.map_err(|e| e.to_string())?;
-            match result {
-                Ok(summary) => Ok((summary.steps, summary.t, path)),
-                Err(e) => Err((e.source, path)),
-            }
-        }};
-    }
     Ok(match r.method {
         Method::Unreduced => {
             let s0: UnreducedState<N> = unreduced_start(start);
-            written!(dirac_io::run_to_parquet(
+            crate::written(dirac_io::run_to_parquet(
                 &ConstrainedIntegrator::new(sys, o),
                 s0,
                 n,
                 path,
-                &o
-            ))
+                &o,
+            ))?
         }
         Method::Plus => {
             let s0: ReducedState<S, K> = reduced_start(start);
-            written!(dirac_io::run_to_parquet(
+            crate::written(dirac_io::run_to_parquet(
                 &ReducedConstrainedIntegrator::plus(sys, o),
                 s0,
                 n,
                 path,
-                &o
-            ))
+                &o,
+            ))?
         }
         Method::Minus => {
             let s0: ReducedState<S, K> = reduced_start(start);
-            written!(dirac_io::run_to_parquet(
+            crate::written(dirac_io::run_to_parquet(
                 &ReducedConstrainedIntegrator::minus(sys, o),
                 s0,
                 n,
                 path,
-                &o
-            ))
+                &o,
+            ))?
         }
     })
 }

@@ -822,6 +822,18 @@ impl System {
     }
 }
 
+/// What a run written by [`dirac_io::run_to_parquet`] ended with, as [`Written`]: the writer's
+/// own failure is the outer `Err`.
+fn written<St: std::fmt::Debug>(
+    run: dirac_io::error::Result<(dirac_runtime::driver::RunResult<St>, std::path::PathBuf)>,
+) -> Result<Written, String> {
+    let (result, path) = run.map_err(|e| e.to_string())?;
+    Ok(match result {
+        Ok(summary) => Ok((summary.steps, summary.t, path)),
+        Err(e) => Err((e.source, path)),
+    })
+}
+
 /// What `write` returns: `steps`, `t` and `path`; or the `StepError` of the failed step with
 /// `step`, `residual` and `path`.
 fn written_dict(py: Python<'_>, written: Written) -> PyResult<Bound<'_, PyDict>> {

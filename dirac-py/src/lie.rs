@@ -205,15 +205,6 @@ fn write_one<const P: usize, const N: usize>(
         .map_err(|e| e.to_string())?;
     let s0 = start_state(&sys, start)?;
     let (n, o) = (r.steps, r.options);
-    macro_rules! written {
-        ($call:expr) => {{
-            let (result, path) = $call.map_err(|e| e.to_string())?;
-            match result {
-                Ok(summary) => Ok((summary.steps, summary.t, path)),
-                Err(e) => Err((e.source, path)),
-            }
-        }};
-    }
     Ok(match r.method {
         Method::Reduced => {
             let reduced = code
@@ -221,22 +212,22 @@ fn write_one<const P: usize, const N: usize>(
                 .map_err(|e| e.to_string())?;
             let integ = ReducedLieIntegrator::new(reduced, o);
             let s0 = integ.reduce(&s0);
-            written!(dirac_io::run_to_parquet(&integ, s0, n, path, &o))
+            crate::written(dirac_io::run_to_parquet(&integ, s0, n, path, &o))?
         }
-        Method::Plus => written!(dirac_io::run_to_parquet(
+        Method::Plus => crate::written(dirac_io::run_to_parquet(
             &LieIntegrator::new(sys, o),
             s0,
             n,
             path,
-            &o
-        )),
-        Method::Minus => written!(dirac_io::run_to_parquet(
+            &o,
+        ))?,
+        Method::Minus => crate::written(dirac_io::run_to_parquet(
             &LieIntegrator::minus(sys, o),
             s0,
             n,
             path,
-            &o
-        )),
+            &o,
+        ))?,
     })
 }
 

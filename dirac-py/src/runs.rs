@@ -125,44 +125,35 @@ pub(crate) fn write_one<const S: usize, const K: usize, const N: usize>(
         .instantiate::<S, K, N>(params)
         .map_err(|e| e.to_string())?;
     let (n, o) = (r.steps, r.options);
-    macro_rules! written {
-        ($call:expr) => {{
-            let (result, path) = $call.map_err(|e| e.to_string())?;
-            match result {
-                Ok(summary) => Ok((summary.steps, summary.t, path)),
-                Err(e) => Err((e.source, path)),
-            }
-        }};
-    }
     Ok(match r.method {
         Method::Unreduced => {
             let s0 = unreduced_start(start);
-            written!(dirac_io::run_to_parquet(
+            crate::written(dirac_io::run_to_parquet(
                 &UnreducedIntegrator::new(sys, o),
                 s0,
                 n,
                 path,
-                &o
-            ))
+                &o,
+            ))?
         }
         side => {
             let s0 = reduced_start(start);
             if side == Method::Plus {
-                written!(dirac_io::run_to_parquet(
+                crate::written(dirac_io::run_to_parquet(
                     &ReducedIntegrator::plus(sys, o),
                     s0,
                     n,
                     path,
-                    &o
-                ))
+                    &o,
+                ))?
             } else {
-                written!(dirac_io::run_to_parquet(
+                crate::written(dirac_io::run_to_parquet(
                     &ReducedIntegrator::minus(sys, o),
                     s0,
                     n,
                     path,
-                    &o
-                ))
+                    &o,
+                ))?
             }
         }
     })

@@ -291,6 +291,26 @@ fn vector<const D: usize>(config: &Config, name: &str) -> Result<SVector<f64, D>
     Ok(SVector::from_column_slice(&values))
 }
 
+/// The unreduced start `(q, p)` of the file.
+fn unreduced_start<const N: usize>(config: &Config) -> Result<UnreducedState<N>, String> {
+    Ok(UnreducedState {
+        q: vector::<N>(config, "q")?,
+        p: vector::<N>(config, "p")?,
+    })
+}
+
+/// The reduced start `(x, w, μ, g)` of the file.
+fn reduced_start<const S: usize, const K: usize>(
+    config: &Config,
+) -> Result<ReducedState<S, K>, String> {
+    Ok(ReducedState {
+        x: vector::<S>(config, "x")?,
+        w: vector::<S>(config, "w")?,
+        mu: vector::<K>(config, "mu")?,
+        g: vector::<K>(config, "g")?,
+    })
+}
+
 /// Integrates the system at dimensions `S`, `K`, `N` and writes the run.
 fn run<const S: usize, const K: usize, const N: usize>(
     code: &Arc<Code>,
@@ -307,19 +327,11 @@ fn run<const S: usize, const K: usize, const N: usize>(
     let options = NewtonOptions::default();
     match config.method {
         Method::Unreduced => {
-            let start = UnreducedState {
-                q: vector::<N>(config, "q")?,
-                p: vector::<N>(config, "p")?,
-            };
+            let start = unreduced_start::<N>(config)?;
             write(UnreducedIntegrator::new(sys, options), start, config)
         }
         side => {
-            let start = ReducedState {
-                x: vector::<S>(config, "x")?,
-                w: vector::<S>(config, "w")?,
-                mu: vector::<K>(config, "mu")?,
-                g: vector::<K>(config, "g")?,
-            };
+            let start = reduced_start::<S, K>(config)?;
             if side == Method::Plus {
                 write(ReducedIntegrator::plus(sys, options), start, config)
             } else {
@@ -489,19 +501,11 @@ fn run_constrained<
     let options = NewtonOptions::default();
     match config.method {
         Method::Unreduced => {
-            let start = UnreducedState {
-                q: vector::<N>(config, "q")?,
-                p: vector::<N>(config, "p")?,
-            };
+            let start = unreduced_start::<N>(config)?;
             write(ConstrainedIntegrator::new(sys, options), start, config)
         }
         side => {
-            let start = ReducedState {
-                x: vector::<S>(config, "x")?,
-                w: vector::<S>(config, "w")?,
-                mu: vector::<K>(config, "mu")?,
-                g: vector::<K>(config, "g")?,
-            };
+            let start = reduced_start::<S, K>(config)?;
             if side == Method::Plus {
                 write(
                     ReducedConstrainedIntegrator::plus(sys, options),
