@@ -55,8 +55,14 @@ fn every_step_error_variant_has_a_row_in_the_errors_chapter() {
     let rows = chapter_rows(&read("src/guide/errors.rs"));
     // The parser itself: the enum has its long-standing variants, and the table its rows.
     for known in ["NotConverged", "InvalidRun", "StageFailed"] {
-        assert!(variants.contains(known), "{known} not read from error.rs: {variants:?}");
-        assert!(rows.contains(known), "{known} not read from the chapter: {rows:?}");
+        assert!(
+            variants.contains(known),
+            "{known} not read from error.rs: {variants:?}"
+        );
+        assert!(
+            rows.contains(known),
+            "{known} not read from the chapter: {rows:?}"
+        );
     }
     let missing: Vec<_> = variants.difference(&rows).collect();
     let stale: Vec<_> = rows.difference(&variants).collect();
