@@ -317,3 +317,56 @@ fn a_system_with_constraints_runs_into_parquet_as_the_compiled_in_one() {
     assert_eq!((step, t), (400, compiled.times[400]));
     assert_eq!(last, compiled.states[400]);
 }
+
+/// A key of `[start]` that the system does not start from is refused as an unknown top-level
+/// key is (status 2, the key and the accepted ones named), not ignored; so is a coordinate of
+/// `[start.q]`/`[start.p]` that the system does not have.
+#[test]
+fn unknown_start_keys_are_refused_naming_them() {
+    let dir = scratch("cli_start_keys");
+    std::fs::write(dir.join("kepler.rs"), kepler_text()).unwrap();
+    std::fs::write(dir.join("top.rs"), heavy_top_text()).unwrap();
+    let file = dir.join("kepler.toml");
+    let refused = |text: String, key: &str, accepted: &str| {
+        std::fs::write(&file, text).unwrap();
+        for command in ["run", "check"] {
+            let (code, _, stderr) = dirac(&[command, file.to_str().unwrap()]);
+            assert_eq!(code, 2, "{command}: {stderr}");
+            assert!(
+                stderr.contains(&format!("unknown key `start.{key}`; accepted: {accepted}")),
+                "{command}: {stderr}"
+            );
+            assert!(stderr.contains("kepler.toml"), "{stderr}");
+        }
+    };
+    // A misspelled momentum beside the right ones: it was ignored and the run completed.
+    let reduced = KEPLER_TOML.replace("METHOD", "plus");
+    refused(format!("{reduced}mu_0 = [1.0]\n"), "mu_0", "x, w, mu, g");
+    // An unreduced run's keys in a reduced run's start, and the other way round.
+    refused(format!("{reduced}q = [1.0, 0.0]\n"), "q", "x, w, mu, g");
+    let unreduced = "system = \"kepler.rs\"\nsteps = 10\nmethod = \"unreduced\"\n\
+                     [parameters]\nh = 0.01\nk = 1.0\n[start]\nq = [0.5, 0.0]\np = [0.0, 1.0]\n";
+    refused(format!("{unreduced}w = [0.0]\n"), "w", "q, p");
+    // The right keys still run.
+    std::fs::write(&file, &reduced).unwrap();
+    let (code, _, stderr) = dirac(&["run", file.to_str().unwrap()]);
+    assert_eq!(code, 0, "{stderr}");
+    // On rotation groups: tables of the coordinates under `q`, `p` or `v` only, and only the
+    // system's coordinates in them.
+    let top = dir.join("top.toml");
+    let text = TOP_TOML.replace("METHOD", "plus");
+    std::fs::write(&top, format!("{text}\n[start.w]\nr = [0.0, 0.0, 0.0]\n")).unwrap();
+    let (code, _, stderr) = dirac(&["run", top.to_str().unwrap()]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains("unknown key `start.w`; accepted: q, p, v"),
+        "{stderr}"
+    );
+    std::fs::write(&top, text.replace("[start.p]\nr =", "[start.p]\nr2 =")).unwrap();
+    let (code, _, stderr) = dirac(&["run", top.to_str().unwrap()]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(
+        stderr.contains("`start.p.r2` is not a coordinate; the coordinates: r"),
+        "{stderr}"
+    );
+}

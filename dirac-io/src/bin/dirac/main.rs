@@ -79,6 +79,8 @@ struct Config {
     out: PathBuf,
     parameters: Vec<(String, f64)>,
     start: toml::Table,
+    /// The file read, named in the messages of its mistakes.
+    file: PathBuf,
 }
 
 /// A mistake in the command line or the file (exit status 2), or a failed system or run (1).
@@ -136,6 +138,14 @@ fn cli(args: Vec<String>) -> Result<(), Failure> {
         Err(e) => return Err(Failure::Run(e.to_string())),
     };
     let sys = code.system();
+    match config.method {
+        Method::Unreduced => check_start(&config, &["q", "p"], "the state of an unreduced run")?,
+        _ => check_start(
+            &config,
+            &["x", "w", "mu", "g"],
+            "the state of a reduced run",
+        )?,
+    }
     match command {
         "check" => {
             println!(
@@ -250,7 +260,27 @@ fn parse(path: &Path) -> Result<Config, Failure> {
         out,
         parameters,
         start,
+        file: path.to_owned(),
     })
+}
+
+/// Refuses a key of the table `[start]` that a system of this kind does not start from, as
+/// [`parse`] refuses an unknown top-level key (a usage error, exit status 2): a misspelled key
+/// would otherwise be ignored, and its system started from zeros or refused for a missing one.
+/// `kind` says what these keys are the start of.
+fn check_start(config: &Config, accepted: &[&str], kind: &str) -> Result<(), Failure> {
+    match config
+        .start
+        .keys()
+        .find(|k| !accepted.contains(&k.as_str()))
+    {
+        Some(key) => Err(Failure::Usage(format!(
+            "{}: unknown key `start.{key}`; accepted: {} ({kind})",
+            config.file.display(),
+            accepted.join(", ")
+        ))),
+        None => Ok(()),
+    }
 }
 
 /// The numbers of a value: a number, an array of numbers, or an array of arrays (a matrix's
@@ -344,6 +374,12 @@ fn run<const S: usize, const K: usize, const N: usize>(
 /// `check` and `run` of a system on rotation groups.
 fn cli_lie(command: &str, code: &Arc<LieCode>, config: &Config) -> Result<(), Failure> {
     let sys = code.system();
+    check_start(
+        config,
+        &["q", "p", "v"],
+        "a system on rotation groups starts from the tables `[start.q]` and `[start.p]`, or \
+         `[start.v]` with adaptive steps",
+    )?;
     match command {
         "check" => {
             println!(
@@ -425,16 +461,6 @@ fn run_lie<const P: usize, const N: usize>(
     let sys = code
         .instantiate_named::<P, N>(&named)
         .map_err(|e| e.to_string())?;
-    if let Some(k) = config
-        .start
-        .keys()
-        .find(|k| !["q", "p", "v"].contains(&k.as_str()))
-    {
-        return Err(format!(
-            "`start.{k}`: a system on rotation groups starts from the tables `[start.q]` and \
-             `[start.p]` (or `[start.v]` with adaptive steps)"
-        ));
-    }
     let q = per_coordinate(config, code, "q")?.ok_or("the table `[start.q]` is missing")?;
     let q: Vec<&[f64]> = q.iter().map(Vec::as_slice).collect();
     let start = match (
