@@ -7,6 +7,7 @@
 //! module has an instance per `(S, K, M)` with at most one group coordinate, `S + K ≤ 6` and
 //! `M ≤ 3` (`dirac_jit::with_constrained_dimensions`).
 
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 use dirac_jit::Code;
@@ -15,8 +16,9 @@ use dirac_runtime::{
     ReducedState, UnreducedState,
 };
 
+use crate::calls::until;
 use crate::{finish, parts, reduced_flat, reduced_start, unreduced_flat, unreduced_start};
-use crate::{Failed, Flat, Method, Request, Written};
+use crate::{to_parquet, Failed, Flat, Method, Request, Written};
 
 pub(crate) use dirac_jit::with_constrained_dimensions as with_constrained;
 
@@ -50,6 +52,7 @@ pub(crate) fn run_constrained<
     params: &[f64],
     start: &[Vec<f64>],
     r: Request,
+    cancel: &AtomicBool,
 ) -> Result<Result<Flat, Box<Failed>>, String> {
     let sys = code
         .instantiate_constrained::<S, K, N, M, Z>(params)
@@ -59,7 +62,7 @@ pub(crate) fn run_constrained<
         Method::Unreduced => {
             let s0: UnreducedState<N> = unreduced_start(start);
             let integ = ConstrainedIntegrator::new(sys, o);
-            finish(integ.run(s0).steps(n).collect(), |t| {
+            finish(integ.run(s0).steps(n).stop(until(cancel)).collect(), |t| {
                 with_multipliers(t, |t| unreduced_flat(parts!(t)))
             })
         }
@@ -67,12 +70,12 @@ pub(crate) fn run_constrained<
             let s0: ReducedState<S, K> = reduced_start(start);
             if side == Method::Plus {
                 let integ = ReducedConstrainedIntegrator::plus(sys, o);
-                finish(integ.run(s0).steps(n).collect(), |t| {
+                finish(integ.run(s0).steps(n).stop(until(cancel)).collect(), |t| {
                     with_multipliers(t, |t| reduced_flat(parts!(t)))
                 })
             } else {
                 let integ = ReducedConstrainedIntegrator::minus(sys, o);
-                finish(integ.run(s0).steps(n).collect(), |t| {
+                finish(integ.run(s0).steps(n).stop(until(cancel)).collect(), |t| {
                     with_multipliers(t, |t| reduced_flat(parts!(t)))
                 })
             }
@@ -94,6 +97,7 @@ pub(crate) fn write_constrained<
     start: &[Vec<f64>],
     r: Request,
     path: &std::path::Path,
+    cancel: &AtomicBool,
 ) -> Result<Written, String> {
     let sys = code
         .instantiate_constrained::<S, K, N, M, Z>(params)
@@ -102,33 +106,29 @@ pub(crate) fn write_constrained<
     Ok(match r.method {
         Method::Unreduced => {
             let s0: UnreducedState<N> = unreduced_start(start);
-            crate::written(dirac_io::run_to_parquet(
-                &ConstrainedIntegrator::new(sys, o),
-                s0,
-                n,
-                path,
-                &o,
-            ))?
+            to_parquet(&ConstrainedIntegrator::new(sys, o), s0, n, path, &o, cancel)?
         }
         Method::Plus => {
             let s0: ReducedState<S, K> = reduced_start(start);
-            crate::written(dirac_io::run_to_parquet(
+            to_parquet(
                 &ReducedConstrainedIntegrator::plus(sys, o),
                 s0,
                 n,
                 path,
                 &o,
-            ))?
+                cancel,
+            )?
         }
         Method::Minus => {
             let s0: ReducedState<S, K> = reduced_start(start);
-            crate::written(dirac_io::run_to_parquet(
+            to_parquet(
                 &ReducedConstrainedIntegrator::minus(sys, o),
                 s0,
                 n,
                 path,
                 &o,
-            ))?
+                cancel,
+            )?
         }
     })
 }

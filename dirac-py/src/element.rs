@@ -4,6 +4,7 @@
 //! arrays per coordinate. The integrators take their sizes at run time: no dispatch on
 //! dimensions is needed.
 
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 use dirac_compiler::text::ElementSystem as Text;
@@ -19,7 +20,20 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::calls::{self, until};
 use crate::{composition, finish, Failed};
+
+/// The keywords of `ElementSystem.run`.
+const RUN_KEYWORDS: &[&str] = &[
+    "parameters",
+    "sizes",
+    "steps",
+    "q",
+    "p",
+    "method",
+    "order",
+    "tol",
+];
 
 /// A run's trajectory flattened for NumPy.
 struct Flat {
@@ -66,6 +80,7 @@ fn run_one(
     order: u32,
     steps: usize,
     options: NewtonOptions,
+    cancel: &AtomicBool,
 ) -> Result<Flat, Box<Failed<Flat>>> {
     let translations = sys.translations().len();
     if sys.constrained() {
@@ -91,7 +106,10 @@ fn run_one(
             ));
             f
         };
-        return finish(integ.run(start).steps(steps).collect(), to_flat);
+        return finish(
+            integ.run(start).steps(steps).stop(until(cancel)).collect(),
+            to_flat,
+        );
     }
     let integ = if plus {
         ElementIntegrator::new(sys, options)
@@ -108,18 +126,24 @@ fn run_one(
         )
     };
     if order == 2 {
-        finish(integ.run(start).steps(steps).collect(), to_flat)
+        finish(
+            integ.run(start).steps(steps).stop(until(cancel)).collect(),
+            to_flat,
+        )
     } else {
         let c = Composition::new(integ.clone(), composition(order));
-        finish(c.run(start).steps(steps).collect(), |t| {
-            flat(
-                translations,
-                &t.states,
-                &t.times,
-                t.stats.iter().map(|s| (s.iterations, s.residual)),
-                |s| integ.momentum_map(s).unwrap_or_default(),
-            )
-        })
+        finish(
+            c.run(start).steps(steps).stop(until(cancel)).collect(),
+            |t| {
+                flat(
+                    translations,
+                    &t.states,
+                    &t.times,
+                    t.stats.iter().map(|s| (s.iterations, s.residual)),
+                    |s| integ.momentum_map(s).unwrap_or_default(),
+                )
+            },
+        )
     }
 }
 
@@ -342,8 +366,10 @@ impl ElementSystem {
     /// coordinate, one leading row per state), `momentum_map` (one column per declared
     /// translation), per step `iterations` and `residuals`, and for a constrained system
     /// `multipliers` (steps, rows) and `constraint_residuals`. Raises `StepError` with the
-    /// trajectory so far.
-    #[pyo3(signature = (parameters, sizes, steps, q, p, method = "plus", order = 2, tol = None))]
+    /// trajectory so far, `KeyboardInterrupt` with the trajectory so far at Ctrl-C,
+    /// `OutOfMemoryError` (before running) when the trajectory cannot be allocated, and
+    /// `TypeError` for a keyword it does not take.
+    #[pyo3(signature = (parameters, sizes, steps, q, p, method = "plus", order = 2, tol = None, **other))]
     #[allow(
         clippy::too_many_arguments,
         reason = "the Python keyword arguments, one each"
@@ -359,7 +385,9 @@ impl ElementSystem {
         method: &str,
         order: u32,
         tol: Option<f64>,
+        other: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        calls::no_other_keywords("ElementSystem.run", other, &[], RUN_KEYWORDS, |_| None)?;
         let params = crate::values_of(&self.text().parameters, parameters)?;
         let sizes = self.size_values(sizes)?;
         let plus = match method {
@@ -382,24 +410,30 @@ impl ElementSystem {
             .instantiate(&params, &sizes)
             .map_err(|e| PyValueError::new_err(e.to_string()))?;
         let start = ElementState::new(self.vector(&sys, "q", q)?, self.vector(&sys, "p", p)?);
+        // Per state: `q` and `p` kept by the integrator (two vectors on the heap) and in the
+        // flattened copy, the momentum map, the time, the step's statistics.
+        let n = start.q.len() as u128;
+        let translations = sys.translations().len() as u128;
+        calls::check_memory(
+            || {
+                format!(
+                    "a run of {steps} steps of {n} coordinates (every state kept, and its copy)"
+                )
+            },
+            steps as u128 + 1,
+            2 * 16 * n + 64 + 8 * translations + 16 + 64,
+        )?;
         let mut options = NewtonOptions::default();
         if let Some(t) = tol {
             options.abs_tol = t;
         }
         let runner = sys.clone();
-        let result = py.allow_threads(move || run_one(runner, start, plus, order, steps, options));
-        match result {
-            Ok(flat) => self.to_dict(py, &sys, flat),
-            Err(failed) => {
-                let Failed { error, partial } = *failed;
-                Err(crate::raise(
-                    py,
-                    &error,
-                    self.to_dict(py, &sys, partial)?,
-                    None,
-                )?)
-            }
-        }
+        let (result, interrupt) = calls::interruptible(py, move |cancel| {
+            run_one(runner, start, plus, order, steps, options, cancel)
+        })?;
+        crate::finish_run(py, Ok(result), interrupt, |flat| {
+            self.to_dict(py, &sys, flat)
+        })
     }
 
     fn __repr__(&self) -> String {

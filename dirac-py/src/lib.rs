@@ -3,13 +3,17 @@
 //! the compositions of order 4 and 6; with constraints, the constrained integrators) with NumPy
 //! arrays in and out; ensembles on all cores; the runtime's typed errors as Python exceptions
 //! carrying the step and the trajectory so far. Systems on rotation groups (`lie`) and
-//! element-wise systems (`element`) are classes of their own.
+//! element-wise systems (`element`) are classes of their own. Every run method refuses a
+//! keyword it does not take, a trajectory that cannot be allocated, and ends at Ctrl-C with
+//! what it computed (`calls`).
 //!
 //! The integrators take the dimensions as type parameters; the module dispatches a system's
 //! `(S, K)` at run time to one instance per pair with `S + K ≤ 8` (`dirac_jit::with_dimensions`).
 
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
+mod calls;
 mod constrained;
 mod element;
 mod lie;
@@ -25,7 +29,7 @@ use dirac_runtime::{
     StepError as RuntimeStepError, StepStats, Steps, UnreducedState,
 };
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
-use pyo3::exceptions::{PyException, PyValueError};
+use pyo3::exceptions::{PyException, PyMemoryError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
@@ -43,6 +47,12 @@ pyo3::create_exception!(
     StepError,
     PyException,
     "A step failed: `step` is its index, `residual` the residual norm, `trajectory` the states computed before it."
+);
+pyo3::create_exception!(
+    _dirac,
+    OutOfMemoryError,
+    PyMemoryError,
+    "A run needs more memory than can be allocated, refused before it is allocated: `what` needs `bytes` bytes."
 );
 
 /// Which equations a run solves.
@@ -319,6 +329,64 @@ impl System {
     }
 }
 
+/// The keywords of `System.run`, `System.write`, `System.ensemble` and the benchmark's run
+/// besides the start's vectors.
+const RUN_KEYWORDS: &[&str] = &["parameters", "steps", "method", "order", "tol", "energies"];
+const WRITE_KEYWORDS: &[&str] = &["parameters", "steps", "path", "method", "tol"];
+const ENSEMBLE_KEYWORDS: &[&str] = &["parameters", "steps", "method", "order", "tol"];
+const CORE_KEYWORDS: &[&str] = &["parameters", "steps"];
+
+impl System {
+    /// A `TypeError` for a keyword of `given` (the start's vectors) that is none of the start's
+    /// vectors of `method`; `fixed` are the function's other keywords. A vector of the other
+    /// kind of start (`q` for a reduced run) is named as such.
+    fn check_start_keywords(
+        &self,
+        function: &str,
+        fixed: &[&str],
+        method: Method,
+        given: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<()> {
+        let parts = self.start_parts(method);
+        let names: Vec<&str> = parts.iter().map(|&(name, _)| name).collect();
+        let accepted: Vec<&str> = fixed.iter().copied().chain(names.iter().copied()).collect();
+        let (this, other, other_names) = match method {
+            Method::Unreduced => ("\"unreduced\"", "\"plus\" and \"minus\"", "x, w, mu, g"),
+            Method::Plus => ("\"plus\"", "\"unreduced\"", "q, p"),
+            Method::Minus => ("\"minus\"", "\"unreduced\"", "q, p"),
+        };
+        calls::no_other_keywords(function, given, &names, &accepted, |key| {
+            let elsewhere = match method {
+                Method::Unreduced => ["x", "w", "mu", "g"].contains(&key),
+                _ => ["q", "p"].contains(&key),
+            };
+            elsewhere.then(|| {
+                format!(
+                    "`{key}` starts a run of method {other} ({other_names}); method {this} \
+                     starts from {}",
+                    names.join(", ")
+                )
+            })
+        })
+    }
+
+    /// The bytes one state of a collected run costs until its arrays are returned: the
+    /// trajectory the integrator keeps (the state, its time, the step's statistics) and its
+    /// flattened copy (the state, its time, the iterations and residual); with `energies` the
+    /// unreduced state and two energies; with constraints each step's multipliers and residual,
+    /// twice.
+    fn row_bytes(&self, energies: bool) -> u128 {
+        let (s, k) = self.dims();
+        // `x, w, μ, g` or `q, p`: 2 (S + K) numbers either way.
+        let words = 2 * (s + k) as u128;
+        let mut bytes = 2 * (8 * words + 8) + std::mem::size_of::<StepStats>() as u128 + 16;
+        if energies {
+            bytes += 16 * (s + k) as u128 + 16;
+        }
+        bytes + 2 * 8 * (self.constraint_count() as u128 + 1)
+    }
+}
+
 /// A run's inputs read from Python: the parameter values, the request, the start's vectors.
 struct Inputs {
     params: Vec<f64>,
@@ -327,7 +395,8 @@ struct Inputs {
 }
 
 impl System {
-    /// Reads and checks one run's inputs (the parameters, the method and order, the start).
+    /// Reads and checks one run's inputs (the parameters, the method and order, the start, no
+    /// keyword that `function`, taking `keywords` and the start, does not take).
     #[allow(
         clippy::too_many_arguments,
         reason = "the Python keyword arguments, one each"
@@ -335,6 +404,7 @@ impl System {
     fn inputs(
         &self,
         py: Python<'_>,
+        (function, keywords): (&str, &[&str]),
         parameters: &Bound<'_, PyAny>,
         method: &str,
         order: u32,
@@ -342,8 +412,9 @@ impl System {
         tol: Option<f64>,
         start: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Inputs> {
-        let params = parameter_values(&self.code, parameters)?;
         let request = self.request(method, order, steps, tol)?;
+        self.check_start_keywords(function, keywords, request.method, start)?;
+        let params = parameter_values(&self.code, parameters)?;
         let empty = PyDict::new(py);
         let start = vectors(&self.start_parts(request.method), start.unwrap_or(&empty))?;
         Ok(Inputs {
@@ -388,7 +459,9 @@ fn step_error(py: Python<'_>, failed: Failed, member: Option<usize>) -> PyResult
 }
 
 /// The `StepError` of a failed step: its message (prefixed by the member of an ensemble),
-/// `step`, `residual`, `member` and `trajectory`, the dict of the states before it.
+/// `step`, `residual`, `member` and `trajectory`, the dict of the states before it. A run
+/// refused for its memory (the runtime's `OutOfMemory`) is a `dirac.OutOfMemoryError` with the
+/// same attributes and `what` and `bytes`.
 fn raise(
     py: Python<'_>,
     error: &RuntimeStepError,
@@ -399,13 +472,62 @@ fn raise(
         Some(m) => format!("member {m}: {error}"),
         None => error.to_string(),
     };
-    let err = StepError::new_err(message);
+    let err = exception_of(py, error, message)?;
     let value = err.value(py);
     value.setattr("step", error.step())?;
     value.setattr("residual", error.residual())?;
     value.setattr("member", member)?;
     value.setattr("trajectory", trajectory)?;
     Ok(err)
+}
+
+/// The Python exception of the runtime's `error` with `message`: `dirac.OutOfMemoryError` (with
+/// `what` and `bytes`) for a run refused for its memory, `dirac.StepError` for the others.
+fn exception_of(py: Python<'_>, error: &RuntimeStepError, message: String) -> PyResult<PyErr> {
+    Ok(match error {
+        RuntimeStepError::OutOfMemory { what, bytes } => {
+            let err = OutOfMemoryError::new_err(message);
+            err.value(py).setattr("what", what)?;
+            err.value(py).setattr("bytes", *bytes)?;
+            err
+        }
+        _ => StepError::new_err(message),
+    })
+}
+
+/// What a run returns to Python: the dict of its trajectory (`dict`); `StepError` with the
+/// trajectory so far when a step failed; or, when Ctrl-C (or another signal handler) ended it
+/// ([`calls::interruptible`]), that exception with the trajectory so far as `trajectory`.
+fn finish_run<'py, F>(
+    py: Python<'py>,
+    result: Result<Result<F, Box<Failed<F>>>, String>,
+    interrupt: Option<PyErr>,
+    dict: impl Fn(F) -> PyResult<Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let result = match (result, interrupt) {
+        (Err(why), None) => return Err(PyValueError::new_err(why)),
+        (Err(_), Some(interrupt)) => return Err(interrupt),
+        (Ok(run), Some(interrupt)) => {
+            let partial = match run {
+                Ok(flat) => flat,
+                Err(failed) => failed.partial,
+            };
+            return Err(calls::interrupted(
+                py,
+                interrupt,
+                "trajectory",
+                dict(partial)?,
+            ));
+        }
+        (Ok(run), None) => run,
+    };
+    match result {
+        Ok(flat) => dict(flat),
+        Err(failed) => {
+            let Failed { error, partial } = *failed;
+            Err(raise(py, &error, dict(partial)?, None)?)
+        }
+    }
 }
 
 /// One start's vectors, each of its length, from keyword arrays.
@@ -551,7 +673,9 @@ impl System {
     /// the state's vectors (`x, w, mu, g` for "plus" and "minus", `q, p` for "unreduced"), each
     /// (steps+1, length), and per step `iterations` and `residuals`; with `energies=True` (a
     /// continuous Lagrangian) `energy` at each state and `energy_midpoints`. Raises `StepError`
-    /// with the trajectory so far when a step fails.
+    /// with the trajectory so far when a step fails, `KeyboardInterrupt` with the trajectory
+    /// so far at Ctrl-C, `OutOfMemoryError` (before running) when the trajectory cannot be
+    /// allocated, and `TypeError` for a keyword it does not take.
     #[pyo3(signature = (parameters, steps, method = "plus", order = 2, tol = None, energies = false, **start))]
     #[allow(
         clippy::too_many_arguments,
@@ -572,7 +696,16 @@ impl System {
             params,
             request: mut r,
             start,
-        } = self.inputs(py, parameters, method, order, steps, tol, start)?;
+        } = self.inputs(
+            py,
+            ("System.run", RUN_KEYWORDS),
+            parameters,
+            method,
+            order,
+            steps,
+            tol,
+            start,
+        )?;
         if energies && self.code.system().continuous.is_none() {
             return Err(PyValueError::new_err(
                 "energies: a discrete Lagrangian has no continuous energy; write \
@@ -585,29 +718,36 @@ impl System {
             ));
         }
         r.energies = energies;
+        let m = self.constraint_count();
+        if m > 0 && r.order != 2 {
+            return Err(PyValueError::new_err(
+                "a system with constraints runs the constrained integrators themselves (order 2)",
+            ));
+        }
+        calls::check_memory(
+            || format!("a run of {steps} steps (every state kept)"),
+            steps as u128 + 1,
+            self.row_bytes(energies),
+        )?;
         let (s, k) = self.dims();
         let code = Arc::clone(&self.code);
-        let result = match self.constraint_count() {
-            0 => py.allow_threads(|| {
-                dirac_jit::with_dimensions!(s, k, run_one(&code, &params, &start, r))
-            }),
-            m if r.order == 2 => py.allow_threads(|| {
-                constrained::with_constrained!(s, k, m, run_constrained(&code, &params, &start, r))
-            }),
-            _ => return Err(PyValueError::new_err(
-                "a system with constraints runs the constrained integrators themselves (order 2)",
-            )),
-        }
-        .map_err(PyValueError::new_err)?;
-        match result {
-            Ok(flat) => to_dict(py, flat),
-            Err(failed) => Err(step_error(py, *failed, None)?),
-        }
+        let (result, interrupt) = calls::interruptible(py, |cancel| match m {
+            0 => dirac_jit::with_dimensions!(s, k, run_one(&code, &params, &start, r, cancel)),
+            m => constrained::with_constrained!(
+                s,
+                k,
+                m,
+                run_constrained(&code, &params, &start, r, cancel)
+            ),
+        })?;
+        finish_run(py, result, interrupt, |flat| to_dict(py, flat))
     }
 
     /// An ensemble: one run per row of the start arrays (each `(members, length)`), in
     /// parallel on all cores. Returns the same dict as `run` with one more leading axis; the
-    /// first failed member raises `StepError` (with `member` set) after all have run.
+    /// first failed member raises `StepError` (with `member` set) after all have run. Ctrl-C
+    /// ends every member after its current step and raises `KeyboardInterrupt` with `ensemble`,
+    /// the dict of the states so far (NaN after each member's last).
     #[pyo3(signature = (parameters, steps, method = "plus", order = 2, tol = None, **starts))]
     #[allow(
         clippy::too_many_arguments,
@@ -624,8 +764,9 @@ impl System {
         starts: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         self.unconstrained("`ensemble`")?;
-        let params = parameter_values(&self.code, parameters)?;
         let r = self.request(method, order, steps, tol)?;
+        self.check_start_keywords("System.ensemble", ENSEMBLE_KEYWORDS, r.method, starts)?;
+        let params = parameter_values(&self.code, parameters)?;
         if r.order != 2 {
             return Err(PyValueError::new_err(
                 "ensembles run the integrators themselves (order 2)",
@@ -690,15 +831,33 @@ impl System {
                 }
             }
         }
+        // Each member's trajectory and its flattened copy, and its rows of the stacked arrays.
+        let words = 2 * (self.dims().0 + self.dims().1) as u128;
+        calls::check_memory(
+            || format!("an ensemble of {m} members of {steps} steps (every state kept)"),
+            (m as u128).saturating_mul(steps as u128 + 1),
+            self.row_bytes(false) + 8 * words + 8,
+        )?;
         let (s, k) = self.dims();
         let code = Arc::clone(&self.code);
-        let results = py
-            .allow_threads(|| {
-                dirac_jit::with_dimensions!(s, k, run_many(&code, &params, &per_member, r))
-            })
-            .map_err(PyValueError::new_err)?;
-        // Stack the members; a failed member's rows after its failure stay NaN.
-        let rows = steps + 1;
+        let (results, interrupt) = calls::interruptible(py, |cancel| {
+            dirac_jit::with_dimensions!(s, k, run_many(&code, &params, &per_member, r, cancel))
+        })?;
+        let (results, interrupt) = match (results, interrupt) {
+            (Err(why), None) => return Err(PyValueError::new_err(why)),
+            (Err(_), Some(interrupt)) => return Err(interrupt),
+            (Ok(results), interrupt) => (results, interrupt),
+        };
+        // Stack the members; a failed member's rows after its failure stay NaN. An interrupted
+        // ensemble has as many rows as its longest member reached.
+        let reached = |r: &Result<Flat, Box<Failed>>| match r {
+            Ok(flat) => flat.t.len(),
+            Err(failed) => failed.partial.t.len(),
+        };
+        let rows = match interrupt {
+            Some(_) => results.iter().map(reached).max().unwrap_or(0),
+            None => steps + 1,
+        };
         let d = PyDict::new(py);
         let mut t = vec![f64::NAN; m * rows];
         let mut stacked: Vec<(&'static str, usize, Vec<f64>)> = parts
@@ -737,6 +896,9 @@ impl System {
             d.set_item(name, PyArray1::from_vec(py, data).reshape([m, rows, len])?)?;
         }
         d.set_item("failed", failures)?;
+        if let Some(interrupt) = interrupt {
+            return Err(calls::interrupted(py, interrupt, "ensemble", d));
+        }
         if let Some((i, failed)) = first_failure {
             let err = step_error(py, *failed, Some(i))?;
             err.value(py).setattr("ensemble", d)?;
@@ -749,7 +911,9 @@ impl System {
     /// `path` (a directory of parts; the columns named after the coordinates, the parameters and
     /// the Newton options in the metadata), streaming, in constant memory. Returns a dict with
     /// `steps`, `t` (the final time) and `path`. A failed step raises `StepError` with `step`,
-    /// `residual` and `path`, the states before it written.
+    /// `residual` and `path`, the states before it written; Ctrl-C ends the run after the
+    /// step in progress and raises `KeyboardInterrupt` with `steps`, `t` and `path`, the states
+    /// so far written.
     #[pyo3(signature = (parameters, steps, path, method = "plus", tol = None, **start))]
     #[allow(
         clippy::too_many_arguments,
@@ -769,24 +933,33 @@ impl System {
             params,
             request: r,
             start,
-        } = self.inputs(py, parameters, method, 2, steps, tol, start)?;
+        } = self.inputs(
+            py,
+            ("System.write", WRITE_KEYWORDS),
+            parameters,
+            method,
+            2,
+            steps,
+            tol,
+            start,
+        )?;
+        let m = self.constraint_count();
         let (s, k) = self.dims();
         let code = Arc::clone(&self.code);
-        let written = match self.constraint_count() {
-            0 => py.allow_threads(|| {
-                dirac_jit::with_dimensions!(s, k, write_one(&code, &params, &start, r, &path))
-            }),
-            m => py.allow_threads(|| {
-                constrained::with_constrained!(
-                    s,
-                    k,
-                    m,
-                    write_constrained(&code, &params, &start, r, &path)
-                )
-            }),
-        }
-        .map_err(PyValueError::new_err)?;
-        written_dict(py, written)
+        let (written, interrupt) = calls::interruptible(py, |cancel| match m {
+            0 => dirac_jit::with_dimensions!(
+                s,
+                k,
+                write_one(&code, &params, &start, r, &path, cancel)
+            ),
+            m => constrained::with_constrained!(
+                s,
+                k,
+                m,
+                write_constrained(&code, &params, &start, r, &path, cancel)
+            ),
+        })?;
+        written_dict(py, written, interrupt)
     }
 
     /// Benchmarks only: the seconds of the same reduced (+) run as `run`, timed inside Rust
@@ -803,7 +976,16 @@ impl System {
             params,
             request: r,
             start,
-        } = self.inputs(py, parameters, "plus", 2, steps, None, start)?;
+        } = self.inputs(
+            py,
+            ("System._core_seconds", CORE_KEYWORDS),
+            parameters,
+            "plus",
+            2,
+            steps,
+            None,
+            start,
+        )?;
         let (s, k) = self.dims();
         let code = Arc::clone(&self.code);
         py.allow_threads(|| dirac_jit::with_dimensions!(s, k, time_one(&code, &params, &start, r)))
@@ -822,12 +1004,33 @@ impl System {
     }
 }
 
-/// What a run written by [`dirac_io::run_to_parquet`] ended with, as [`Written`]: the writer's
-/// own failure is the outer `Err`.
-fn written<St: std::fmt::Debug>(
-    run: dirac_io::error::Result<(dirac_runtime::driver::RunResult<St>, std::path::PathBuf)>,
-) -> Result<Written, String> {
-    let (result, path) = run.map_err(|e| e.to_string())?;
+/// A run of `steps` steps streamed into Parquet at `path` by the workspace's writer, as
+/// [`dirac_io::run_to_parquet`] runs it, that ends after the step in progress once `cancel` is
+/// set (the file then holds the states so far, its outcome "stopped"): what it ended with, as
+/// [`Written`]; the writer's own failure is the outer `Err`.
+pub(crate) fn to_parquet<I>(
+    integ: &I,
+    start: I::State,
+    steps: usize,
+    path: &std::path::Path,
+    newton: &NewtonOptions,
+    cancel: &AtomicBool,
+) -> Result<Written, String>
+where
+    I: dirac_io::Describe + dirac_runtime::Drive,
+    I::State: dirac_io::StateColumns,
+    I::Record: AsRef<StepStats>,
+{
+    let info = integ.describe().with_newton(newton);
+    let mut writer = dirac_io::ParquetObserver::create(path, info, dirac_io::Options::new())
+        .map_err(|e| e.to_string())?;
+    let result = integ
+        .run(start)
+        .steps(steps)
+        .stop(calls::until(cancel))
+        .observe(writer.observer())
+        .stream();
+    let path = writer.finish_with(&result).map_err(|e| e.to_string())?;
     Ok(match result {
         Ok(summary) => Ok((summary.steps, summary.t, path)),
         Err(e) => Err((e.source, path)),
@@ -835,8 +1038,29 @@ fn written<St: std::fmt::Debug>(
 }
 
 /// What `write` returns: `steps`, `t` and `path`; or the `StepError` of the failed step with
-/// `step`, `residual` and `path`.
-fn written_dict(py: Python<'_>, written: Written) -> PyResult<Bound<'_, PyDict>> {
+/// `step`, `residual` and `path`; or the interrupt that ended the run (Ctrl-C) with `steps`,
+/// `t` and `path` of what was written.
+fn written_dict(
+    py: Python<'_>,
+    written: Result<Written, String>,
+    interrupt: Option<PyErr>,
+) -> PyResult<Bound<'_, PyDict>> {
+    let written = match (written, interrupt) {
+        (Err(why), None) => return Err(PyValueError::new_err(why)),
+        (Err(_), Some(interrupt)) => return Err(interrupt),
+        (Ok(Ok((steps, t, path))), Some(interrupt)) => {
+            let value = interrupt.value(py);
+            value.setattr("steps", steps)?;
+            value.setattr("t", t)?;
+            value.setattr("path", path)?;
+            return Err(interrupt);
+        }
+        (Ok(Err((_, path))), Some(interrupt)) => {
+            interrupt.value(py).setattr("path", path)?;
+            return Err(interrupt);
+        }
+        (Ok(written), None) => written,
+    };
     match written {
         Ok((steps, t, path)) => {
             let d = PyDict::new(py);
@@ -846,10 +1070,14 @@ fn written_dict(py: Python<'_>, written: Written) -> PyResult<Bound<'_, PyDict>>
             Ok(d)
         }
         Err((error, path)) => {
-            let err = StepError::new_err(format!(
-                "{error}; the states before it are written to {}",
-                path.display()
-            ));
+            let err = exception_of(
+                py,
+                &error,
+                format!(
+                    "{error}; the states before it are written to {}",
+                    path.display()
+                ),
+            )?;
             let value = err.value(py);
             value.setattr("step", error.step())?;
             value.setattr("residual", error.residual())?;
@@ -915,6 +1143,7 @@ fn _dirac(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<element::ElementSystem>()?;
     m.add("CompileError", m.py().get_type::<CompileError>())?;
     m.add("StepError", m.py().get_type::<StepError>())?;
+    m.add("OutOfMemoryError", m.py().get_type::<OutOfMemoryError>())?;
     m.add("MAX_COORDINATES", MAX_N)?;
     Ok(())
 }

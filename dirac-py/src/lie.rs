@@ -7,6 +7,7 @@
 //! parameters; the module dispatches a system's `(P, N)` at run time
 //! (`dirac_jit::with_lie_dimensions`).
 
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 use dirac_compiler::text::{LieKind, LieSymmetryKind};
@@ -17,7 +18,8 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::{composition, finish, CompileError, Failed};
+use crate::calls::{self, until};
+use crate::{composition, finish, to_parquet, CompileError, Failed};
 
 /// A run's trajectory flattened for NumPy: the times, per coordinate its configurations and
 /// momenta (each with the shape of one row), and the spatial momentum (and the symmetry's
@@ -123,6 +125,7 @@ fn run_one<const P: usize, const N: usize>(
     params: &[f64],
     start: &Start,
     r: Request,
+    cancel: &AtomicBool,
 ) -> Result<Result<Flat, Box<Failed<Flat>>>, String> {
     let sys = code
         .instantiate::<P, N>(params)
@@ -153,10 +156,13 @@ fn run_one<const P: usize, const N: usize>(
                 )
             };
             if r.order == 2 {
-                finish(integ.run(s0).steps(n).collect(), to_flat)
+                finish(
+                    integ.run(s0).steps(n).stop(until(cancel)).collect(),
+                    to_flat,
+                )
             } else {
                 let c = Composition::new(integ, composition(r.order));
-                finish(c.run(s0).steps(n).collect(), |t| {
+                finish(c.run(s0).steps(n).stop(until(cancel)).collect(), |t| {
                     flat(
                         &sys,
                         t.states.iter().map(|s| (s.unreduced(), Some(s.mu.into()))),
@@ -173,10 +179,13 @@ fn run_one<const P: usize, const N: usize>(
                 LieIntegrator::minus(sys.clone(), o)
             };
             if r.order == 2 {
-                finish(integ.run(s0).steps(n).collect(), unreduced)
+                finish(
+                    integ.run(s0).steps(n).stop(until(cancel)).collect(),
+                    unreduced,
+                )
             } else {
                 let c = Composition::new(integ, composition(r.order));
-                finish(c.run(s0).steps(n).collect(), |t| {
+                finish(c.run(s0).steps(n).stop(until(cancel)).collect(), |t| {
                     flat(
                         &sys,
                         t.states.iter().map(|s| (*s, None)),
@@ -199,6 +208,7 @@ fn write_one<const P: usize, const N: usize>(
     start: &Start,
     r: Request,
     path: &std::path::Path,
+    cancel: &AtomicBool,
 ) -> Result<Written, String> {
     let sys = code
         .instantiate::<P, N>(params)
@@ -212,22 +222,10 @@ fn write_one<const P: usize, const N: usize>(
                 .map_err(|e| e.to_string())?;
             let integ = ReducedLieIntegrator::new(reduced, o);
             let s0 = integ.reduce(&s0);
-            crate::written(dirac_io::run_to_parquet(&integ, s0, n, path, &o))?
+            to_parquet(&integ, s0, n, path, &o, cancel)?
         }
-        Method::Plus => crate::written(dirac_io::run_to_parquet(
-            &LieIntegrator::new(sys, o),
-            s0,
-            n,
-            path,
-            &o,
-        ))?,
-        Method::Minus => crate::written(dirac_io::run_to_parquet(
-            &LieIntegrator::minus(sys, o),
-            s0,
-            n,
-            path,
-            &o,
-        ))?,
+        Method::Plus => to_parquet(&LieIntegrator::new(sys, o), s0, n, path, &o, cancel)?,
+        Method::Minus => to_parquet(&LieIntegrator::minus(sys, o), s0, n, path, &o, cancel)?,
     })
 }
 
@@ -448,6 +446,47 @@ impl LieSystem {
     }
 }
 
+/// The keywords of `LieSystem.run` and `LieSystem.write`.
+const RUN_KEYWORDS: &[&str] = &[
+    "parameters",
+    "steps",
+    "q",
+    "p",
+    "v",
+    "method",
+    "order",
+    "tol",
+];
+const WRITE_KEYWORDS: &[&str] = &[
+    "parameters",
+    "steps",
+    "path",
+    "q",
+    "p",
+    "v",
+    "method",
+    "tol",
+];
+
+impl LieSystem {
+    /// The bytes one state of a collected run costs until its arrays are returned: the state
+    /// the integrator keeps (the stored point, the chart momentum, a reduced run's `μ`), its
+    /// time and statistics, and its flattened copy (each coordinate's configuration and
+    /// momentum, the spatial momentum and `μ`, the time, the iterations and residual).
+    fn row_bytes(&self) -> u128 {
+        let (point, chart) = self.dims();
+        let kept = 8 * (point + chart + 3 + 1) + std::mem::size_of::<StepStats>();
+        let coordinates: usize = self
+            .code
+            .system()
+            .coordinates
+            .iter()
+            .map(|c| configuration_len(c.kind) + momentum_len(c.kind))
+            .sum();
+        (kept + 8 * (coordinates + 6 + 1) + 16) as u128
+    }
+}
+
 fn names(coords: &[dirac_compiler::text::LieCoordinate]) -> String {
     coords
         .iter()
@@ -519,8 +558,11 @@ impl LieSystem {
     /// "minus" or "reduced" (by the declared symmetry); `order` 2, 4 or 6. Returns a dict of
     /// NumPy arrays: `t`, `q` and `p` (dicts by coordinate, one row per state), the spatial
     /// angular momentum `spatial_momentum` (steps+1, 3), `mu` for a reduced run, and per step
-    /// `iterations` and `residuals`. Raises `StepError` with the trajectory so far.
-    #[pyo3(signature = (parameters, steps, q, p = None, v = None, method = "plus", order = 2, tol = None))]
+    /// `iterations` and `residuals`. Raises `StepError` with the trajectory so far,
+    /// `KeyboardInterrupt` with the trajectory so far at Ctrl-C, `OutOfMemoryError` (before
+    /// running) when the trajectory cannot be allocated, and `TypeError` for a keyword it does
+    /// not take.
+    #[pyo3(signature = (parameters, steps, q, p = None, v = None, method = "plus", order = 2, tol = None, **other))]
     #[allow(
         clippy::too_many_arguments,
         reason = "the Python keyword arguments, one each"
@@ -536,32 +578,32 @@ impl LieSystem {
         method: &str,
         order: u32,
         tol: Option<f64>,
+        other: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        calls::no_other_keywords("LieSystem.run", other, &[], RUN_KEYWORDS, |_| None)?;
         let params = crate::values_of(&self.code.system().parameters, parameters)?;
         let r = self.request(method, order, steps, tol)?;
         let start = self.start(q, p, v)?;
+        calls::check_memory(
+            || format!("a run of {steps} steps (every state kept)"),
+            steps as u128 + 1,
+            self.row_bytes(),
+        )?;
         let (pp, n) = self.dims();
         let code = Arc::clone(&self.code);
-        let result = py
-            .allow_threads(|| {
-                dirac_jit::with_lie_dimensions!(pp, n, run_one(&code, &params, &start, r))
-            })
-            .map_err(PyValueError::new_err)?;
-        match result {
-            Ok(flat) => self.to_dict(py, flat),
-            Err(failed) => {
-                let Failed { error, partial } = *failed;
-                Err(crate::raise(py, &error, self.to_dict(py, partial)?, None)?)
-            }
-        }
+        let (result, interrupt) = calls::interruptible(py, |cancel| {
+            dirac_jit::with_lie_dimensions!(pp, n, run_one(&code, &params, &start, r, cancel))
+        })?;
+        crate::finish_run(py, result, interrupt, |flat| self.to_dict(py, flat))
     }
 
     /// Integrates `steps` steps (order 2) from the start of `run` and writes every state to
     /// Apache Parquet at `path` (a directory of parts: the stored point and the chart momentum,
     /// columns named after the coordinates, the description in the metadata). Returns a dict
     /// with `steps`, `t` and `path`; a failed step raises `StepError` with `step`, `residual`
-    /// and `path`, the states before it written.
-    #[pyo3(signature = (parameters, steps, path, q, p = None, v = None, method = "plus", tol = None))]
+    /// and `path`, the states before it written; Ctrl-C raises `KeyboardInterrupt` with
+    /// `steps`, `t` and `path`, the states so far written.
+    #[pyo3(signature = (parameters, steps, path, q, p = None, v = None, method = "plus", tol = None, **other))]
     #[allow(
         clippy::too_many_arguments,
         reason = "the Python keyword arguments, one each"
@@ -577,18 +619,22 @@ impl LieSystem {
         v: Option<&Bound<'py, PyDict>>,
         method: &str,
         tol: Option<f64>,
+        other: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        calls::no_other_keywords("LieSystem.write", other, &[], WRITE_KEYWORDS, |_| None)?;
         let params = crate::values_of(&self.code.system().parameters, parameters)?;
         let r = self.request(method, 2, steps, tol)?;
         let start = self.start(q, p, v)?;
         let (pp, n) = self.dims();
         let code = Arc::clone(&self.code);
-        let written = py
-            .allow_threads(|| {
-                dirac_jit::with_lie_dimensions!(pp, n, write_one(&code, &params, &start, r, &path))
-            })
-            .map_err(PyValueError::new_err)?;
-        crate::written_dict(py, written)
+        let (written, interrupt) = calls::interruptible(py, |cancel| {
+            dirac_jit::with_lie_dimensions!(
+                pp,
+                n,
+                write_one(&code, &params, &start, r, &path, cancel)
+            )
+        })?;
+        crate::written_dict(py, written, interrupt)
     }
 
     fn __repr__(&self) -> String {

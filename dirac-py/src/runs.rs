@@ -2,6 +2,7 @@
 //! `N = S + K` (what `dirac_jit::with_dimensions` dispatches to): one run, one written to
 //! Parquet, an ensemble, and the benchmark's bare run.
 
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 use dirac_jit::{Code, JitSystem};
@@ -11,9 +12,10 @@ use dirac_runtime::{
     UnreducedIntegrator, UnreducedState, UnreducedTrajectory,
 };
 
+use crate::calls::until;
 use crate::{
-    composition, finish, parts, reduced_flat, reduced_start, unreduced_flat, unreduced_start,
-    Failed, Flat, Method, Request, Written,
+    composition, finish, parts, reduced_flat, reduced_start, to_parquet, unreduced_flat,
+    unreduced_start, Failed, Flat, Method, Request, Written,
 };
 
 /// One run of a system of `S` shape and `K` group coordinates from `start` (`x, w, mu, g` or
@@ -23,6 +25,7 @@ pub(crate) fn run_one<const S: usize, const K: usize, const N: usize>(
     params: &[f64],
     start: &[Vec<f64>],
     r: Request,
+    cancel: &AtomicBool,
 ) -> Result<Result<Flat, Box<Failed>>, String> {
     let sys = code
         .instantiate::<S, K, N>(params)
@@ -34,12 +37,14 @@ pub(crate) fn run_one<const S: usize, const K: usize, const N: usize>(
             let s0 = unreduced_start(start);
             let integ = UnreducedIntegrator::new(sys, o);
             if r.order == 2 {
-                finish(integ.run(s0).steps(n).collect(), |t| {
+                finish(integ.run(s0).steps(n).stop(until(cancel)).collect(), |t| {
                     unreduced_flat(parts!(t))
                 })
             } else {
                 let c = Composition::new(integ, composition(r.order));
-                finish(c.run(s0).steps(n).collect(), |t| unreduced_flat(parts!(t)))
+                finish(c.run(s0).steps(n).stop(until(cancel)).collect(), |t| {
+                    unreduced_flat(parts!(t))
+                })
             }
         }
         side => {
@@ -48,12 +53,14 @@ pub(crate) fn run_one<const S: usize, const K: usize, const N: usize>(
                 ($integ:expr) => {{
                     let integ = $integ;
                     if r.order == 2 {
-                        finish(integ.run(s0).steps(n).collect(), |t| {
+                        finish(integ.run(s0).steps(n).stop(until(cancel)).collect(), |t| {
                             reduced_flat(parts!(t))
                         })
                     } else {
                         let c = Composition::new(integ, composition(r.order));
-                        finish(c.run(s0).steps(n).collect(), |t| reduced_flat(parts!(t)))
+                        finish(c.run(s0).steps(n).stop(until(cancel)).collect(), |t| {
+                            reduced_flat(parts!(t))
+                        })
                     }
                 }};
             }
@@ -120,6 +127,7 @@ pub(crate) fn write_one<const S: usize, const K: usize, const N: usize>(
     start: &[Vec<f64>],
     r: Request,
     path: &std::path::Path,
+    cancel: &AtomicBool,
 ) -> Result<Written, String> {
     let sys = code
         .instantiate::<S, K, N>(params)
@@ -128,32 +136,14 @@ pub(crate) fn write_one<const S: usize, const K: usize, const N: usize>(
     Ok(match r.method {
         Method::Unreduced => {
             let s0 = unreduced_start(start);
-            crate::written(dirac_io::run_to_parquet(
-                &UnreducedIntegrator::new(sys, o),
-                s0,
-                n,
-                path,
-                &o,
-            ))?
+            to_parquet(&UnreducedIntegrator::new(sys, o), s0, n, path, &o, cancel)?
         }
         side => {
             let s0 = reduced_start(start);
             if side == Method::Plus {
-                crate::written(dirac_io::run_to_parquet(
-                    &ReducedIntegrator::plus(sys, o),
-                    s0,
-                    n,
-                    path,
-                    &o,
-                ))?
+                to_parquet(&ReducedIntegrator::plus(sys, o), s0, n, path, &o, cancel)?
             } else {
-                crate::written(dirac_io::run_to_parquet(
-                    &ReducedIntegrator::minus(sys, o),
-                    s0,
-                    n,
-                    path,
-                    &o,
-                ))?
+                to_parquet(&ReducedIntegrator::minus(sys, o), s0, n, path, &o, cancel)?
             }
         }
     })
@@ -188,6 +178,7 @@ pub(crate) fn run_many<const S: usize, const K: usize, const N: usize>(
     params: &[f64],
     starts: &[Vec<Vec<f64>>],
     r: Request,
+    cancel: &AtomicBool,
 ) -> Result<Vec<Result<Flat, Box<Failed>>>, String> {
     let sys = code
         .instantiate::<S, K, N>(params)
@@ -200,6 +191,7 @@ pub(crate) fn run_many<const S: usize, const K: usize, const N: usize>(
             integ
                 .ensemble(&s0)
                 .steps(n)
+                .stop(until(cancel))
                 .collect()
                 .into_iter()
                 .map(|m| finish(m, |t| unreduced_flat(parts!(t))))
@@ -211,11 +203,13 @@ pub(crate) fn run_many<const S: usize, const K: usize, const N: usize>(
                 ReducedIntegrator::plus(sys, o)
                     .ensemble(&s0)
                     .steps(n)
+                    .stop(until(cancel))
                     .collect()
             } else {
                 ReducedIntegrator::minus(sys, o)
                     .ensemble(&s0)
                     .steps(n)
+                    .stop(until(cancel))
                     .collect()
             };
             members

@@ -78,3 +78,11 @@
 //! chart is the cotangent lift of one force); the step-map Jacobian from the Hessian of `L_d`
 //! ([`UnreducedIntegrator::step_jacobian`](crate::UnreducedIntegrator::step_jacobian)) is only
 //! for systems without forces — a forced system uses the sensitivities.
+//!
+//! The examples:
+//!
+//! ```sh
+//! cargo run --release --example forced        # damped, driven oscillator (order 2); a torque on a rotor: μ moves by h τ_k exactly
+//! cargo run --release --example cartpole_lqr  # LQR designed on the step sensitivities stabilises the upright cart-pole
+//! cargo run --release --example dmoc_cartpole -- --casadi  # DMOC swing-up against CasADi + IPOPT, same discrete problem
+//! ```

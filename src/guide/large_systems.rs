@@ -139,6 +139,9 @@
 //! opt-level = 3
 //! ```
 //!
+//! A crate with the 200-particle lattice of `examples/lattice.rs` then rebuilds in 10–11 s
+//! instead of 32–41 s (2 cores).
+//!
 //! Compile time grows with the couplings of the system: the step Jacobian of a chain of `n`
 //! links hanging from a cart is dense, and a 64-link chain (a 65 × 65 Jacobian, 157 k
 //! operations) builds in ≈ 3 minutes in release; the Toda lattice's Jacobian is cyclic

@@ -13,6 +13,14 @@
 //! `cargo run --release --example charged_particle` and `... --example double_spherical_pendulum`
 //! run one system each.
 //!
+//! What of the paper dirac implements: the reduced (+) and (−) discrete
+//! Lagrange–Poincaré–Dirac equations (eqs. (4.6), (4.8)), the unreduced discrete Lagrange–Dirac
+//! equations (Definitions 2.7, 2.8), the reduced Dirac structures, energies and action of §§3–5 as
+//! [diagnostics](super::diagnostics), and the change of charts of §6; the example reproduces §7:
+//! Table 1 to the printed digits and Figures 1, 3 and 4. Where the paper's (−) equations carry a
+//! sign that reverses the momenta, dirac follows its Definition 2.8
+//! ([Integrators](super::integrators) says why).
+//!
 //! ## The charged particle (§7.1, Table 1)
 //!
 //! A particle of mass `m` in the constant magnetic field `B = b0 ∂_z`, in Kaluza–Klein form: the

@@ -32,16 +32,21 @@ compiles to an :class:`ElementSystem`, whose sizes are chosen per run::
     toda = dirac.compile(TODA_N)             # coordinates(x[n]), translate(x)
     run = toda.run({"m": 1.0, "d": 1.0, "h": 0.05}, {"n": 1000}, steps=100, q=q0, p=p0)
     run["q"]["x"].shape  # (101, 1000)
+
+Every run method raises ``TypeError`` for a keyword it does not take, ``OutOfMemoryError`` (a
+``MemoryError``) before running when the trajectory cannot be allocated, and at Ctrl-C
+``KeyboardInterrupt`` with the trajectory so far (``trajectory``), as ``StepError`` carries it.
 """
 
-from ._dirac import (CompileError, ElementSystem, LieSystem, MAX_COORDINATES, StepError, System,
-                     compile)
+from ._dirac import (CompileError, ElementSystem, LieSystem, MAX_COORDINATES, OutOfMemoryError,
+                     StepError, System, compile)
 
 __all__ = [
     "CompileError",
     "ElementSystem",
     "LieSystem",
     "MAX_COORDINATES",
+    "OutOfMemoryError",
     "StepError",
     "System",
     "compile",
