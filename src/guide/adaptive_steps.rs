@@ -41,21 +41,16 @@
 //! assert_eq!(last.mu, start.mu);
 //! assert!((start.mu[1] - 0.5).abs() < 1e-12); // E = −1/(2a)
 //! // The run's clock is physical time: short steps at periapsis, long ones at apoapsis.
-//! assert_eq!(traj.times[3], traj.states[3].g[1]);
-//! let dt = |k: usize| traj.times[k + 1] - traj.times[k]; // the physical steps Δt_k
-//! assert!(dt(traj.steps() / 2) > 20.0 * dt(0));
-//! assert_eq!(traj.step_sizes[0], sys.h); // the fictitious step ε
+//! assert_eq!(traj.time(3), traj.states[3].g[1]);
+//! assert!(traj.step_size(traj.steps() / 2) > 20.0 * traj.step_size(0));
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
 //! The state's `g[1]` is the physical time `t_k` (reconstructed like any group coordinate), and
-//! it is the run's clock: observers, stop conditions and a collected trajectory's `times[k]` see
-//! the physical `t_k` (so `times[k + 1] − times[k]` is the physical step `Δt_k`), while its
-//! `step_sizes[k]` are the fictitious steps `ε_k` the steps were taken with, as are the sizes a
-//! `.schedule` gives; a run starts at the state's time (a `.start_time` other than it is
-//! refused, with [`StepError::InvalidRun`](crate::StepError::InvalidRun): the state sets the
-//! clock), and `.end_time(T)` is a physical time. The step that passes `T` is taken again with
-//! the fictitious step that lands on it (found by the secant method, to a few ulp:
+//! it is the run's clock: observers, stop conditions and a collected trajectory's `time(k)` see
+//! `t_k`, `step_size(k)` is the step `Δt_k`, a run starts at the state's time (`start_time` does
+//! not apply), and `.end_time(T)` is a physical time. The step that passes `T` is taken again
+//! with the fictitious step that lands on it (found by the secant method, to a few ulp:
 //! [`adaptive::land_at`](crate::runtime::adaptive::land_at), which you can also call yourself) —
 //! a step of the same integrator, so the momenta stay exact. A monitor that
 //! reads a group coordinate (it would break that symmetry and make steps depend on the origin of
