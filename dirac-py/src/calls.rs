@@ -67,11 +67,11 @@ pub(crate) fn unexpected_keyword(
 ) -> PyErr {
     let mut message = format!("{function}() got an unexpected keyword argument '{given}'");
     match (hint, closest(given, accepted)) {
-        (Some(hint), _) => message.push_str(&format!(" ({hint})")),
+        (Some(hint), _) => message.push_str(&format!(": {hint}.")),
         (None, Some(near)) => message.push_str(&format!("; did you mean '{near}'?")),
-        (None, None) => {}
+        (None, None) => message.push('.'),
     }
-    message.push_str(&format!("; it takes: {}", accepted.join(", ")));
+    message.push_str(&format!(" It takes: {}.", accepted.join(", ")));
     PyTypeError::new_err(message)
 }
 

@@ -351,7 +351,7 @@ impl System {
         let names: Vec<&str> = parts.iter().map(|&(name, _)| name).collect();
         let accepted: Vec<&str> = fixed.iter().copied().chain(names.iter().copied()).collect();
         let (this, other, other_names) = match method {
-            Method::Unreduced => ("\"unreduced\"", "\"plus\" and \"minus\"", "x, w, mu, g"),
+            Method::Unreduced => ("\"unreduced\"", "\"plus\" or \"minus\"", "x, w, mu, g"),
             Method::Plus => ("\"plus\"", "\"unreduced\"", "q, p"),
             Method::Minus => ("\"minus\"", "\"unreduced\"", "q, p"),
         };
@@ -362,8 +362,8 @@ impl System {
             };
             elsewhere.then(|| {
                 format!(
-                    "`{key}` starts a run of method {other} ({other_names}); method {this} \
-                     starts from {}",
+                    "`{key}` starts a run of method {other} ({other_names}), and method \
+                     {this} starts from {}",
                     names.join(", ")
                 )
             })
