@@ -40,6 +40,8 @@ pub const FORCE: Symbol = Symbol("force");
 pub const CONSTRAINTS: Symbol = Symbol("constraints");
 /// `nonholonomic = |q, v| [A_1(q) v, ..]`: nonholonomic constraints `A(q) v = 0`.
 pub const NONHOLONOMIC: Symbol = Symbol("nonholonomic");
+/// `domain(r > 0.0, ..)`: bounds on coordinates, checked after every step.
+pub const DOMAIN: Symbol = Symbol("domain");
 /// `rule = midpoint`.
 pub const MIDPOINT: Symbol = Symbol("midpoint");
 /// `rule = trapezoid`.
@@ -78,7 +80,7 @@ impl PartialEq<Symbol> for &Ident {
 }
 
 /// The keys of `#[reduced_lagrangian(...)]`.
-pub const KEYS: [Symbol; 15] = [
+pub const KEYS: [Symbol; 16] = [
     SHAPE,
     GROUP,
     COORDINATES,
@@ -94,6 +96,7 @@ pub const KEYS: [Symbol; 15] = [
     NONHOLONOMIC,
     TIME,
     ADAPT,
+    DOMAIN,
 ];
 
 /// The key `ident` spells, if it is one of [`KEYS`].

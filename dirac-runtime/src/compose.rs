@@ -377,6 +377,11 @@ where
 
     /// Every stage takes the macro step's controls `u`: the forces of a composition are its
     /// stages' forces, each at its stage's time step `γ_i h`. A macro step of size `h_k` runs
+    /// The base integrator's domain check, on the macro step's end state.
+    fn check_domain(&self, k: usize, state: &I::State) -> Result<(), StepError> {
+        self.base.check_domain(k, state)
+    }
+
     /// stage `i` with `γ_i h_k` (for `h_k = h` the stage's own step, bit for bit).
     fn step_with(
         &self,

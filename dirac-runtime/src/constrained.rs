@@ -723,8 +723,9 @@ where
         if !self.system.holonomic() {
             return Ok(());
         }
-        let q = F::configuration(&self.system, initial);
         check_constraint(self.system.constraint(&q), inf_norm(&q), &self.options)
+        let q = F::configuration(&self.system, initial);
+        crate::domain::check_system(&self.system, 0, true, |i| q.get(i).copied())?;
     }
 
     fn workspace(&self) -> Self::Workspace {
@@ -732,6 +733,14 @@ where
             position: self.system.position_solver(),
             projection: self.system.projection_solver(),
             history: History::default(),
+    fn check_domain(&self, k: usize, state: &F::State) -> Result<(), StepError> {
+        if self.system.domain().is_empty() {
+            return Ok(());
+        }
+        let q = F::configuration(&self.system, state);
+        crate::domain::check_system(&self.system, k, false, |i| q.get(i).copied())
+    }
+
             multipliers: None,
         }
     }

@@ -108,6 +108,25 @@ pub enum StepError {
         /// The physical time step it solved for.
         dt: f64,
     },
+    /// A state outside the domain the system declares (`domain(r > 0.0)` in its attribute, see
+    /// [`crate::domain`]): after step `step` (`initial`: the initial state, before any step)
+    /// coordinate `coordinate` has the value `value`, which violates the bound `coordinate
+    /// bound`. After a step this is a step too coarse for the motion there (a solution of the
+    /// step equations that has left the region where the Lagrangian means anything); the
+    /// states before it are kept.
+    #[error("{}", out_of_domain_message(*.step, *.initial, .coordinate, *.value, .bound))]
+    OutOfDomain {
+        /// The step that reached the state (0 with `initial`).
+        step: usize,
+        /// Whether the state is the initial one.
+        initial: bool,
+        /// The coordinate's name.
+        coordinate: String,
+        /// Its value.
+        value: f64,
+        /// The bound it violates, e.g. `> 0`.
+        bound: String,
+    },
     /// The time step is not a positive finite number.
     #[error("invalid time step h = {h}: it must be positive and finite")]
     InvalidTimeStep {
@@ -230,6 +249,7 @@ impl StepError {
             StepError::InvalidAtlas { .. } => "invalid atlas",
             StepError::InvalidSize { .. } => "invalid size",
             StepError::OffManifold { .. } => "configuration off its manifold",
+            StepError::OutOfDomain { .. } => "state outside the declared domain",
             StepError::InvalidTimeStep { .. } => "invalid time step",
             StepError::InvalidMonitor { .. } => "invalid step monitor",
             StepError::TimeReversed { .. } => "time went back",
@@ -257,6 +277,7 @@ impl StepError {
             | StepError::ScheduleEnded { step }
             | StepError::InvalidControls { step, .. }
             | StepError::InvalidMonitor { step, .. }
+            | StepError::OutOfDomain { step, .. }
             | StepError::TimeReversed { step, .. } => step,
             StepError::InvalidTimeStep { .. }
             | StepError::InvalidRun { .. }
@@ -289,6 +310,7 @@ impl StepError {
             | StepError::OffManifold { .. }
             | StepError::InvalidControls { .. }
             | StepError::InvalidMonitor { .. }
+            | StepError::OutOfDomain { .. }
             | StepError::TimeReversed { .. }
             | StepError::OutOfMemory { .. }
             | StepError::Unsupported { .. } => f64::NAN,
@@ -313,6 +335,30 @@ fn ill_conditioned_message(step: usize, rcond: f64, residual: f64, tolerance: f6
             "step {step}: Newton iteration did not converge (residual {residual:.3e} above the \
              tolerance {tolerance:.3e}) on an ill-conditioned step Jacobian (reciprocal condition \
              estimate {rcond:.3e}): {cause}"
+        )
+    }
+}
+
+/// The message of [`StepError::OutOfDomain`]: the state a step reached, or the initial state,
+/// outside the declared domain.
+fn out_of_domain_message(
+    step: usize,
+    initial: bool,
+    coordinate: &str,
+    value: f64,
+    bound: &str,
+) -> String {
+    if initial {
+        format!(
+            "the initial state has {coordinate} = {value}, outside the declared domain \
+             ({coordinate} {bound}); start inside it"
+        )
+    } else {
+        format!(
+            "step {step}: the state it reached has {coordinate} = {value}, outside the declared \
+             domain ({coordinate} {bound}): the step equations have a solution there that means \
+             nothing, and Newton found it; the time step is too coarse for the motion here \
+             (take a smaller one, or adaptive steps)"
         )
     }
 }

@@ -18,6 +18,7 @@
 //!   for every stepper; [`ensemble`]: parallel members;
 //! * [`state`], [`error`] (a failed step is a value carrying its index and residual),
 //!   [`diagnostics`] (the paper's Dirac structures, energies and action along a trajectory),
+//!   [`domain`] (the bounds a system declares, checked after every step),
 //!   [`continuous`] (a continuous Lagrangian's Legendre map and energy), [`adapted`] (declared
 //!   translations), [`adaptive`] (adaptive steps by the Poincaré time transformation).
 //!
@@ -37,6 +38,7 @@ pub mod compose;
 pub mod constrained;
 pub mod continuous;
 pub mod diagnostics;
+pub mod domain;
 pub mod driver;
 pub mod element;
 pub mod ensemble;

@@ -463,7 +463,13 @@ where
     }
 
     fn physical_time(&self, state: &ReducedState<S, K>) -> Option<f64> {
+        // The domain first: outside it the monitor need not be defined.
+        reduced_domain(&self.system, 0, true, initial)?;
         self.system.time_index().map(|j| state.g[j])
+    }
+
+    fn check_domain(&self, k: usize, state: &ReducedState<S, K>) -> Result<(), StepError> {
+        reduced_domain(&self.system, k, false, state)
     }
 
     fn workspace(&self) -> Self::Workspace {
@@ -509,6 +515,25 @@ where
 /// two steps, each given as its shape increment `x_{j+1} − x_j` and its group unknown with the
 /// step's size (newest first; none before the start): the shape advances by the extrapolated
 /// increment (`x` at the first step, `x + Δ_{k−1}` at the second, then the quadratic through the
+/// The declared domain ([`crate::domain`]) at the configuration `(x, g)` of a reduced state.
+fn reduced_domain<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    k: usize,
+    initial: bool,
+    state: &ReducedState<S, K>,
+) -> Result<(), StepError>
+where
+    L: crate::DiscreteLagrangian<S, K, N>,
+{
+    crate::domain::check_system(sys, k, initial, |i| {
+        if i < S {
+            state.x.get(i).copied()
+        } else {
+            state.g.get(i - S).copied()
+        }
+    })
+}
+
 /// last three points, `x + 2 Δ_{k−1} − Δ_{k−2}` on a uniform grid, whose error is `O(h³)` against
 /// the linear one's `O(h²)`), and the group unknown by the same rule (it is itself an increment);
 /// see [`crate::stepper`]'s `predicted_increment` for unequal steps.

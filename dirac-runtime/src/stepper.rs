@@ -61,6 +61,16 @@ pub trait Stepper {
     }
 
     /// Takes step `k`, of size `h`, from `state` in `workspace` with the controls `u` (in the
+    /// The domain check of the state step `k` reached ([`crate::domain`]): the typed
+    /// [`StepError::OutOfDomain`] when it lies outside the domain the system declares
+    /// (`domain(...)` in its attribute). Every run calls it after every step (the initial state
+    /// is checked by [`Self::check`]), and so does [`Self::step_in`]; [`Self::step_with`] and
+    /// [`Self::step_into`] are the bare step. The default: no domain.
+    fn check_domain(&self, k: usize, state: &Self::State) -> Result<(), StepError> {
+        let _ = (k, state);
+        Ok(())
+    }
+
     /// order of [`crate::DiscreteLagrangian::CONTROLS`]; empty: the values the system holds).
     ///
     /// `h` is the step's own size: [`Self::time_step`] for a fixed-step run (then the step is the
@@ -99,14 +109,17 @@ pub trait Stepper {
         Ok(record)
     }
 
-    /// [`Self::step_with`] of size [`Self::time_step`] with the controls the system holds.
+    /// [`Self::step_with`] of size [`Self::time_step`] with the controls the system holds, the
+    /// new state checked against the declared domain ([`Self::check_domain`]).
     fn step_in(
         &self,
         workspace: &mut Self::Workspace,
         k: usize,
         state: &Self::State,
     ) -> Result<(Self::State, Self::Record), StepError> {
-        self.step_with(workspace, k, self.time_step(), state, &[])
+        let (next, record) = self.step_with(workspace, k, self.time_step(), state, &[])?;
+        self.check_domain(k, &next)?;
+        Ok((next, record))
     }
 
     /// One step `k` from `state` in a fresh workspace (Newton starts without history). A loop

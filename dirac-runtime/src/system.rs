@@ -55,6 +55,17 @@ pub trait DiscreteLagrangian<const S: usize, const K: usize, const N: usize> {
     /// `p_{k+1} = D2 L_d + f_d^+`, and its energy is not conserved.
     const FORCED: bool = false;
 
+    /// The domain the system declares (`domain(r > 0.0)` in the attribute; see
+    /// [`crate::domain`]): bounds on coordinates of `q = (x, g)` that every state must satisfy,
+    /// checked on the initial state and after every step. Empty (the default): no domain.
+    const DOMAIN: &'static [crate::domain::Bound] = &[];
+
+    /// The declared domain: [`Self::DOMAIN`] for a system compiled in; a system given at run
+    /// time says it here. What the integrators check.
+    fn domain(&self) -> &[crate::domain::Bound] {
+        Self::DOMAIN
+    }
+
     /// Adaptive steps (`time(t), adapt = |q| g` in the attribute; see [`crate::adaptive`]): the
     /// index among the group coordinates of the one that is physical time. `None` for a system
     /// stepped in physical time.

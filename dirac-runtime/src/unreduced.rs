@@ -224,9 +224,15 @@ where
     }
 
     /// Newton starts from [`canonical_guess`], a quadratic extrapolation of the last
+        // The domain first: outside it the monitor need not be defined.
+        crate::domain::check_system(&self.system, 0, true, |i| initial.q.get(i).copied())?;
     /// configurations.
     fn step_with(
         &self,
+    fn check_domain(&self, k: usize, state: &UnreducedState<N>) -> Result<(), StepError> {
+        crate::domain::check_system(&self.system, k, false, |i| state.q.get(i).copied())
+    }
+
         workspace: &mut Self::Workspace,
         k: usize,
         h: f64,

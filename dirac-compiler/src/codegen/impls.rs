@@ -346,6 +346,28 @@ pub fn discrete_lagrangian(
     block
 }
 
+/// Adds the declared domain (`domain(...)`) to the `DiscreteLagrangian` block: the constant
+/// `DOMAIN`, or nothing (the trait's default, no domain) when none is declared.
+pub fn add_domain(block: &mut ImplBlock, t: &Target, domain: &[crate::ast::attr::DomainBound]) {
+    let rt = &t.rt;
+    if !domain.is_empty() {
+        let bounds = domain.iter().map(|b| {
+            let (i, relation) = (b.coordinate, quote::format_ident!("{}", b.relation.name()));
+            let magnitude = proc_macro2::Literal::f64_unsuffixed(b.value.abs());
+            let value = if b.value.is_sign_negative() {
+                quote!(-#magnitude)
+            } else {
+                quote!(#magnitude)
+            };
+            quote!(#rt::domain::Bound::new(#i, #rt::domain::Relation::#relation, #value))
+        });
+        block.items.push(fixed(
+            "DOMAIN",
+            quote!(const DOMAIN: &'static [#rt::domain::Bound] = &[ #( #bounds ),* ];),
+        ));
+    }
+}
+
 /// `impl Reduced<Side, S, K, N>`, one side, on `backend`.
 pub fn reduced(t: &Target, side: Side, backend: &Backend) -> ImplBlock {
     let (ty, s, k, n, rt, na) = (&t.ty, t.s, t.k, t.n, &t.rt, &t.na);

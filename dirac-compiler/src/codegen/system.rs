@@ -292,7 +292,7 @@ fn discrete_impl(
 pub fn discrete_table(t: &Target, spec: &Spec, sig: &Signature) -> impls::ImplBlock {
     let params: Vec<String> = sig.params.iter().map(Ident::to_string).collect();
     let controls: Vec<String> = spec.controls.iter().map(Ident::to_string).collect();
-    impls::discrete_lagrangian(
+    let mut block = impls::discrete_lagrangian(
         t,
         &spec.layout.shape,
         &spec.layout.group,
@@ -300,7 +300,9 @@ pub fn discrete_table(t: &Target, spec: &Spec, sig: &Signature) -> impls::ImplBl
         &controls,
         spec.force.is_some(),
         spec.adapt.as_ref().map(|a| a.index),
-    )
+    );
+    impls::add_domain(&mut block, t, &spec.domain);
+    block
 }
 
 /// Every item `#[reduced_lagrangian]` emits for a compiled system.

@@ -39,6 +39,7 @@ pub use element::{
     IndexExpr, Length, Stencil,
 };
 pub use lie::{LieAdaptive, LieCoordinate, LieKind, LieSymmetry, LieSymmetryKind, LieSystem};
+pub use crate::ast::attr::{DomainBound, DomainRelation};
 
 /// The attribute a system given as text carries.
 const ATTRIBUTE: &str = "reduced_lagrangian";
@@ -98,6 +99,10 @@ pub struct System {
     /// For adaptive steps (`time(t), adapt = |q| g`): the time coordinate and the monitor. The
     /// other programs are those of the time-transformed Lagrangian `L₂`, in fictitious time.
     pub adaptive: Option<Adaptive>,
+    /// The declared domain (`domain(r > 0.0, ..)`): bounds on coordinates of `q = (x, g)` that
+    /// the integrators check after every step, as the attribute's `DiscreteLagrangian::DOMAIN`.
+    /// Empty: no domain.
+    pub domain: Vec<DomainBound>,
 }
 
 /// Adaptive steps: the Lagrangian is replaced by its regularized Poincaré time transformation
@@ -570,6 +575,7 @@ fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<System> {
             energy: program(&c.graph, &[parts.energy]),
         }),
         constrained: c.constrained.as_ref().map(|code| constrained(&c, code)),
+        domain: spec.domain.clone(),
         adaptive: c.adapt.map(|(time, monitor, _)| Adaptive {
             time,
             monitor: program(&c.graph, &[monitor]),

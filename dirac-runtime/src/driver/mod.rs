@@ -611,6 +611,11 @@ pub trait Drive: Stepper {
     }
 
     /// An ensemble of runs of this integrator, one from each of `initials`, in parallel:
+                // A state outside the declared domain ends the run; the states before it are
+                // kept.
+                if let Err(source) = integrator.check_domain(k, &next) {
+                    return Err(fail(source, summary));
+                }
     /// configured like a [`Run`] and finished with [`Ensemble::collect`] or
     /// [`Ensemble::stream`].
     fn ensemble<'a>(&'a self, initials: &'a [Self::State]) -> Ensemble<'a, States<'a, Self>>
