@@ -153,22 +153,26 @@ pub(crate) fn interruptible<R: Send>(
     work: impl FnOnce(&AtomicBool) -> R + Send,
 ) -> PyResult<(R, Option<PyErr>)> {
     let cancel = AtomicBool::new(false);
+    // Set by the worker when `work` has returned, before it wakes the caller (a thread counts as
+    // finished only once its closure's result is stored, a moment later).
+    let done = AtomicBool::new(false);
     let outcome = py.allow_threads(|| {
         std::thread::scope(|scope| {
             let caller = std::thread::current();
-            let cancel = &cancel;
+            let (cancel, done) = (&cancel, &done);
             let worker = std::thread::Builder::new()
                 .name("dirac run".into())
                 .stack_size(RUN_STACK)
                 .spawn_scoped(scope, move || {
                     let result = work(cancel);
+                    done.store(true, Ordering::Release);
                     caller.unpark();
                     result
                 })?;
             let mut interrupt = None;
-            while !worker.is_finished() {
+            while !done.load(Ordering::Acquire) {
                 std::thread::park_timeout(POLL);
-                if interrupt.is_none() && !worker.is_finished() {
+                if interrupt.is_none() && !done.load(Ordering::Acquire) {
                     if let Err(e) = Python::with_gil(|py| py.check_signals()) {
                         interrupt = Some(e);
                         cancel.store(true, Ordering::Relaxed);

@@ -160,6 +160,16 @@ def test_ctrl_c_ends_a_run_promptly_with_the_trajectory_so_far():
     assert run["t"][-1] == pytest.approx(0.01 * (rows - 1))
 
 
+def test_a_short_run_returns_at_once():
+    """The run's thread wakes the caller when it is done: a run of one step does not wait for
+    the caller's next look at the signals (20 ms)."""
+    kepler = dirac.compile(KEPLER)
+    start = time.monotonic()
+    for _ in range(100):
+        kepler.run(KEPLER_PARAMS, steps=1, **KEPLER_START)
+    assert time.monotonic() - start < 1.0
+
+
 def test_ctrl_c_ends_an_ensemble_and_a_run_of_each_kind_of_system():
     kepler = dirac.compile(KEPLER)
     starts = {k: np.array([v] * 2) for k, v in KEPLER_START.items()}
