@@ -440,7 +440,7 @@ impl<const P: usize, const N: usize, B, R> JitLie<P, N, B, R> {
                 }
                 LieKind::Direction => {
                     let n = Vector3::new(qi[0], qi[1], qi[2]);
-                    if (n.norm() - 1.0).abs() > 1e-9 {
+                    if (n.norm() - 1.0).abs() > dirac_runtime::lie::UNIT_TOLERANCE {
                         return Err(fail(format!(
                             "`{name}` is not a unit vector (|{name}| = {})",
                             n.norm()

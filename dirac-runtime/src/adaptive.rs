@@ -26,7 +26,9 @@
 //!
 //! A run must start on the level set, `p_t = −E(q, p)`: build the initial state from the
 //! physical position and velocity with [`state`] (or [`reduced_state`]), which sets `t' = g` and
-//! so `p_t = −E` exactly. Each step's monitor must be positive and finite
+//! so `p_t = −E` exactly. Every integrator checks it before the first step: a start farther
+//! from the level set than [`LEVEL_SET_TOLERANCE`] (relative) is refused with
+//! [`crate::StepError::OffManifold`]. Each step's monitor must be positive and finite
 //! ([`crate::StepError::InvalidMonitor`] otherwise, with the step index); Newton's first guess
 //! for the time increment of a run is `ε g(x)`.
 
@@ -151,6 +153,91 @@ pub fn first_increment_of<const N: usize>(
         }
     }
     v.iter().all(|x| x.is_finite()).then(|| v * h)
+}
+
+/// The largest accepted relative distance of a run's initial state from its energy level set:
+/// `|p_t + E(q, p)| ≤ LEVEL_SET_TOLERANCE · max(|E|, |⟨p_q, u⟩|)`, `u` the physical velocity
+/// (see [`level_set_defect`]). A state built from a position and a physical velocity by
+/// [`ContinuousLagrangian::unreduced_state`] or [`ContinuousLagrangian::reduced_state`] is on the
+/// level set to round-off (`~1e-15`); one whose `p_t` was set by hand to another energy is refused
+/// ([`StepError::OffManifold`]): it would integrate another orbit than the physical one.
+pub const LEVEL_SET_TOLERANCE: f64 = 1e-8;
+
+/// How far `(q, p)` is from the level set `p_t = −E(q, p)` of a system with adaptive steps:
+/// `(p_t + E, scale)` with `scale = max(|E|, |⟨p_q, u⟩|)` the size of the terms the energy is
+/// formed from. On the level set the time coordinate's rate is `t' = g(x)`, and there
+/// `∂L₂/∂t' = L(q, u) − ⟨u, ∂L/∂u⟩ = −E` (`L₂` of the [module documentation](self), `u = v/g`
+/// the physical velocity): so `E` is read from the Legendre map of `L₂` at the velocity
+/// [`first_increment`] solves for (`t' = g`, the other rows `∂L₂/∂v_q = p_q`). `None` for a
+/// system without adaptive steps, a monitor that is not positive, or a velocity that cannot be
+/// solved for.
+pub fn level_set_defect<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    q: &SVector<f64, N>,
+    p: &SVector<f64, N>,
+) -> Option<(f64, f64)>
+where
+    L: DiscreteLagrangian<S, K, N> + ContinuousLagrangian<N>,
+{
+    let time = S + sys.time_index()?;
+    let g = sys.monitor(&q.fixed_rows::<S>(0).into_owned())?;
+    level_set_defect_of(time, g, q, p, |q, v| sys.legendre(q, v))
+}
+
+/// [`level_set_defect`] for a system whose Legendre map is `legendre(q, v)`, whose time
+/// coordinate is entry `time` of `q` and whose monitor is `g` at `q` (a system given at run
+/// time).
+pub fn level_set_defect_of<const N: usize>(
+    time: usize,
+    g: f64,
+    q: &SVector<f64, N>,
+    p: &SVector<f64, N>,
+    legendre: impl Fn(&SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
+) -> Option<(f64, f64)> {
+    let v = first_increment_of(time, g, q, p, 1.0, &legendre)?;
+    let energy = -legendre(q, &v)[time];
+    let work: f64 = (0..N)
+        .filter(|&i| i != time)
+        .map(|i| p[i] * v[i] / g)
+        .sum();
+    let defect = p[time] + energy;
+    defect
+        .is_finite()
+        .then(|| (defect, energy.abs().max(work.abs())))
+}
+
+/// The input check of an adaptive run's initial state `(q, p)` ([`LEVEL_SET_TOLERANCE`]): the
+/// typed error of a state off its energy level set.
+pub(crate) fn check_level_set<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    q: &SVector<f64, N>,
+    p: &SVector<f64, N>,
+) -> Result<(), StepError>
+where
+    L: DiscreteLagrangian<S, K, N>,
+{
+    let Some(j) = sys.time_index() else {
+        return Ok(());
+    };
+    let Some((defect, scale)) = sys.level_set_defect(q, p) else {
+        return Ok(());
+    };
+    if defect.abs() <= LEVEL_SET_TOLERANCE * scale {
+        return Ok(());
+    }
+    let p_t = p[S + j];
+    Err(StepError::OffManifold {
+        reason: format!(
+            "an adaptive run starts off its energy level set: the time coordinate's momentum is \
+             p_t = {p_t}, but the energy of (q, p) is E = {:.12e} (|p_t + E| = {:.3e}, relative \
+             {:.3e} > {LEVEL_SET_TOLERANCE:.0e}); off the level set the run integrates another \
+             orbit; build the state from the position and the physical velocity with \
+             `sys.unreduced_state(q, v)` or `sys.reduced_state(q, v)`, which set p_t = −E",
+            defect - p_t,
+            defect.abs(),
+            defect.abs() / scale.max(f64::MIN_POSITIVE)
+        ),
+    })
 }
 
 /// The fictitious step that reaches `tolerance`, from a pilot at two steps: `run(ε)` integrates

@@ -459,7 +459,11 @@ where
             &self.system.parameter_values(),
             initial.is_finite(),
         )?;
-        crate::stepper::monitor_at(&self.system, 0, &initial.x).map(|_| ())
+        if crate::stepper::monitor_at(&self.system, 0, &initial.x)?.is_some() {
+            let start = self.system.untrivialize(initial);
+            crate::adaptive::check_level_set(&self.system, &start.q, &start.p)?;
+        }
+        Ok(())
     }
 
     fn physical_time(&self, state: &ReducedState<S, K>) -> Option<f64> {

@@ -98,6 +98,16 @@ pub trait DiscreteLagrangian<const S: usize, const K: usize, const N: usize> {
         None
     }
 
+    /// Adaptive steps: how far the state `(q, p)` is from the energy level set `p_t = −E(q, p)`
+    /// on which the transformed system's solutions are the physical ones (see
+    /// [`crate::adaptive::level_set_defect`]): `(p_t + E, scale)`, the defect and the size of the
+    /// terms `E` is formed from, which the integrators' input checks compare at
+    /// [`crate::adaptive::LEVEL_SET_TOLERANCE`]. `None` for a system stepped in physical time.
+    fn level_set_defect(&self, q: &SVector<f64, N>, p: &SVector<f64, N>) -> Option<(f64, f64)> {
+        let _ = (q, p);
+        None
+    }
+
     /// `L_d(q0, q1)`, evaluated by the user's own function body.
     fn lagrangian(&self, q0: &SVector<f64, N>, q1: &SVector<f64, N>) -> f64;
 

@@ -205,7 +205,10 @@ where
             initial.is_finite(),
         )?;
         let x = initial.q.fixed_rows::<S>(0).into_owned();
-        crate::stepper::monitor_at(&self.system, 0, &x).map(|_| ())
+        if crate::stepper::monitor_at(&self.system, 0, &x)?.is_some() {
+            crate::adaptive::check_level_set(&self.system, &initial.q, &initial.p)?;
+        }
+        Ok(())
     }
 
     fn physical_time(&self, state: &UnreducedState<N>) -> Option<f64> {

@@ -342,6 +342,11 @@ pub fn discrete_lagrangian(
             quote!(),
             quote!(fn adaptive_increment(&self, q: #vn, p: #vn, h: f64) -> ::core::option::Option<#na::SVector<f64, #n>>),
         ));
+        block.items.push(method(
+            "level_set_defect",
+            quote!(),
+            quote!(fn level_set_defect(&self, q: #vn, p: #vn) -> ::core::option::Option<(f64, f64)>),
+        ));
     }
     block
 }

@@ -451,7 +451,7 @@ fn config_and_momentum(
                 let (n0, n1, n2) = (at + 2, at + 5, at + 8);
                 from_point.push(quote!(#name: #na::Vector3::new(q[#n0], q[#n1], q[#n2])));
                 to_point.push(quote! {
-                    for (i, v) in #rt::lie::rows(&#rt::lie::frame(&self.#name)).into_iter().enumerate() {
+                    for (i, v) in #rt::lie::rows(&#rt::lie::direction_frame(&self.#name)).into_iter().enumerate() {
                         q[#at + i] = v;
                     }
                 });
@@ -498,7 +498,8 @@ fn config_and_momentum(
             }
 
             /// The stored point: each rotation row by row, each direction with the frame
-            /// `dirac::lie::frame` completes it to.
+            /// `dirac::lie::direction_frame` completes it to (a direction that is not a unit
+            /// vector to `dirac::lie::UNIT_TOLERANCE` is stored as given, and a run refuses it).
             pub fn to_point(&self) -> #na::SVector<f64, #p> {
                 let mut q = #na::SVector::<f64, #p>::zeros();
                 #( #to_point )*

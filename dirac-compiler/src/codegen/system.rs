@@ -284,6 +284,10 @@ fn discrete_impl(
             "adaptive_increment",
             quote! { #rt::adaptive::first_increment(self, q, p, h) },
         );
+        bodies.insert(
+            "level_set_defect",
+            quote! { #rt::adaptive::level_set_defect(self, q, p) },
+        );
     }
     discrete_table(t, spec, sig).render(&Bodies::Real(bodies))
 }

@@ -443,6 +443,22 @@ where
                 continue;
             }
             let m = matrix_at(&initial.q, block.point);
+            if matches!(block.kind, CoordinateKind::Direction) {
+                // The rule a system given as text applies to the direction it is given.
+                let length = m.column(2).norm();
+                if (length - 1.0).abs() > super::UNIT_TOLERANCE {
+                    return Err(StepError::OffManifold {
+                        reason: format!(
+                            "the direction `{}` is not a unit vector: |{}| = {length}, tolerance \
+                             {:.0e}; give a unit vector (a direction is not normalized for you: \
+                             that would integrate another state than the one given)",
+                            block.name,
+                            block.name,
+                            super::UNIT_TOLERANCE
+                        ),
+                    });
+                }
+            }
             let (defect, det) = (orthogonality_defect(&m), m.determinant());
             if defect > MANIFOLD_TOLERANCE || (det - 1.0).abs() > MANIFOLD_TOLERANCE {
                 let what = match block.kind {

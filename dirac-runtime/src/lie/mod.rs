@@ -98,7 +98,9 @@ pub use integrator::{LieIntegrator, LieWorkspace, MANIFOLD_TOLERANCE};
 pub use reduced::{
     LieSymmetric, ReducedLieIntegrator, ReducedLieState, ReducedLieTrajectory, RotationSymmetry,
 };
-pub use so3::{cayley, frame, hat, orthogonality_defect, rows, vee};
+pub use so3::{
+    cayley, direction_frame, frame, hat, orthogonality_defect, rows, vee, UNIT_TOLERANCE,
+};
 
 use nalgebra::{Matrix3, SVector};
 

@@ -46,6 +46,35 @@ pub fn frame(n: &Vector3<f64>) -> Matrix3<f64> {
     Matrix3::from_columns(&[e1, e2, n])
 }
 
+/// Largest accepted `| |n| − 1 |` of a direction given to a state: within it the direction is
+/// normalized (a rounding-level correction), beyond it the state is refused
+/// ([`crate::StepError::OffManifold`]), for a system compiled in ([`direction_frame`], checked by
+/// every integrator's input checks) and for one given as text alike.
+pub const UNIT_TOLERANCE: f64 = 1e-9;
+
+/// The frame a state stores for the direction `n` (what a compiled-in system's
+/// `Config::to_point` stores): [`frame`] of `n` when `n` is a unit vector to
+/// [`UNIT_TOLERANCE`]; otherwise the same frame with `n` itself, unnormalized, as its third
+/// column — a point off the manifold, which every integrator's input checks refuse with
+/// [`crate::StepError::OffManifold`], naming the direction and its length. A direction that is
+/// not a unit vector is a mistake in the input, not something to normalize silently: the run
+/// would integrate another initial state than the one given.
+pub fn direction_frame(n: &Vector3<f64>) -> Matrix3<f64> {
+    let length = n.norm();
+    if (length - 1.0).abs() <= UNIT_TOLERANCE {
+        return frame(n);
+    }
+    // Finite columns around any `n` (a zero or non-finite `n` borrows the z axis's frame), so
+    // that the checks report the length rather than a non-finite state.
+    let mut f = if length > 0.0 && length.is_finite() {
+        frame(n)
+    } else {
+        Matrix3::identity()
+    };
+    f.set_column(2, n);
+    f
+}
+
 /// A rotation stored row by row, as in a point.
 pub fn rows(m: &Matrix3<f64>) -> [f64; 9] {
     [
