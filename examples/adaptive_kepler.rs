@@ -17,7 +17,6 @@ use std::f64::consts::PI;
 use std::time::Instant;
 
 use dirac::prelude::*;
-use dirac::runtime::adaptive;
 
 #[path = "common/cli.rs"]
 mod cli;
@@ -82,7 +81,9 @@ fn fixed_run(e: f64, n: usize, orbits: usize, method: CompositionMethod) -> (f64
         k: 1.0,
     };
     let (r0, omega) = periapsis(e);
-    let s0 = sys.reduced_state([r0, 0.0], [0.0, omega]);
+    let s0 = sys
+        .reduced_state([r0, 0.0], [0.0, omega])
+        .expect("a finite state");
     let mut evaluations = 0;
     let integ = ReducedIntegrator::plus(sys, options());
     let summary = if method.order > 2 {
@@ -110,7 +111,8 @@ fn fixed_run(e: f64, n: usize, orbits: usize, method: CompositionMethod) -> (f64
 fn adaptive_run(e: f64, eps: f64, orbits: usize, method: CompositionMethod) -> (f64, usize, usize) {
     let sys = Kepler { h: eps, k: 1.0 };
     let (r0, omega) = periapsis(e);
-    let s0 = adaptive::reduced_state(&sys, [r0, 0.0, 0.0], [0.0, omega, 1.0])
+    let s0 = sys
+        .reduced_state([r0, 0.0, 0.0], [0.0, omega, 1.0])
         .expect("the monitor is positive at periapsis");
     let end = TAU * orbits as f64;
     let mut evaluations = 0;
@@ -240,7 +242,8 @@ fn main() {
     let e = 0.9;
     let sys = Kepler { h: 0.05, k: 1.0 };
     let (r0, omega) = periapsis(e);
-    let s0 = adaptive::reduced_state(&sys, [r0, 0.0, 0.0], [0.0, omega, 1.0])
+    let s0 = sys
+        .reduced_state([r0, 0.0, 0.0], [0.0, omega, 1.0])
         .expect("the monitor is positive at periapsis");
     let energy = |s: &ReducedState<1, 2>| {
         let (r, pr, pt) = (s.x[0], s.w[0], s.mu[0]);
@@ -287,13 +290,16 @@ fn main() {
     // iterations: the cost per iteration compares the steps themselves.
     let timed = 200_000;
     let adaptive_sys = Kepler { h: 0.05, k: 1.0 };
-    let adaptive0 = adaptive::reduced_state(&adaptive_sys, [r0, 0.0, 0.0], [0.0, omega, 1.0])
+    let adaptive0 = adaptive_sys
+        .reduced_state([r0, 0.0, 0.0], [0.0, omega, 1.0])
         .expect("positive");
     let fixed_sys = KeplerFixed {
         h: TAU / 2000.0,
         k: 1.0,
     };
-    let fixed0 = fixed_sys.reduced_state([r0, 0.0], [0.0, omega]);
+    let fixed0 = fixed_sys
+        .reduced_state([r0, 0.0], [0.0, omega])
+        .expect("a finite state");
     let adaptive_integ = ReducedIntegrator::plus(adaptive_sys, NewtonOptions::default());
     let general =
         ReducedIntegrator::plus(fixed_sys, NewtonOptions::default()).with_elimination(false);

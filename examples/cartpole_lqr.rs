@@ -87,10 +87,7 @@ fn main() {
         let force = -(k * state)[0];
         println!(
             "{:>8.2} {:>12.3e} {:>12.3e} {:>12.3e}",
-            traj.time(i),
-            s.x[0],
-            s.g[0],
-            force
+            traj.times[i], s.x[0], s.g[0], force
         );
     }
     let last = traj.last();
@@ -99,7 +96,7 @@ fn main() {
         .fold(0.0_f64, |m, v| m.max(v.abs()));
     println!(
         "After {} s the state is within {norm:.2e} of upright at rest: the pole is stabilised.",
-        traj.time(steps)
+        traj.times[steps]
     );
     assert!(
         radius < 1.0 && norm < 1e-3,

@@ -101,7 +101,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let drift = mean(e_last, counted) - mean(e_first, tenth.min(steps));
     println!(
         "  {steps} steps (T = {:.0}): {:.1} µs per step, {:.3} corrections per step (max {}), {} Jacobians factored, worst rcond {:.2e}",
-        summary.time(),
+        summary.t,
         1e6 * seconds / steps as f64,
         summary.mean_iterations(),
         summary.max_iterations,

@@ -64,7 +64,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             h: t / f64::from(steps),
         };
         // Momenta from positions alone: p = ∂L/∂v does not depend on v (degenerate L).
-        let initial: ReducedState<3, 1> = sys.reduced_state(q, SVector::zeros());
+        let initial: ReducedState<3, 1> = sys.reduced_state(q, SVector::zeros())?;
         let traj = ReducedIntegrator::plus(sys, NewtonOptions::default())
             .run(initial)
             .steps(steps as usize)

@@ -8,7 +8,6 @@
 //! Run: `cargo run --release --example three_body [-- --time 20 --eps 0.0005]`.
 
 use dirac::prelude::*;
-use dirac::runtime::adaptive;
 
 #[path = "common/cli.rs"]
 mod cli;
@@ -81,7 +80,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     q0[..6].copy_from_slice(&start);
     let mut u0 = [0.0; 7];
     u0[6] = 1.0;
-    let s0 = adaptive::reduced_state(&sys, q0, u0)?;
+    let s0 = sys.reduced_state(q0, u0)?;
     let (mut worst, mut closest, mut dt_min, mut dt_max, mut t_prev) =
         (0.0_f64, f64::INFINITY, f64::INFINITY, 0.0_f64, 0.0);
     let run = ReducedIntegrator::plus(sys, NewtonOptions::default())
@@ -125,7 +124,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         m2,
         m3,
     };
-    let s0 = fixed.reduced_state(start, [0.0; 6]);
+    let s0 = fixed.reduced_state(start, [0.0; 6])?;
     let (mut worst, mut closest, mut t_reached) = (0.0_f64, f64::INFINITY, 0.0);
     let run = ReducedIntegrator::plus(fixed, NewtonOptions::default())
         .run(s0)

@@ -53,7 +53,8 @@ fn exact(e: f64, t: f64) -> (f64, f64) {
 fn periapsis(sys: &Kepler, e: f64) -> ReducedState<1, 2> {
     let r0 = 1.0 - e;
     let omega = (1.0 - e * e).sqrt() / (r0 * r0);
-    adaptive::reduced_state(sys, [r0, 0.0, 0.0], [0.0, omega, 1.0]).unwrap()
+    sys.reduced_state([r0, 0.0, 0.0], [0.0, omega, 1.0])
+        .unwrap()
 }
 
 /// The physical energy `p_r²/2 + p_θ²/(2 r²) − k/r` of a reduced state.
@@ -222,7 +223,7 @@ fn adaptive_steps_beat_the_fixed_step_at_high_eccentricity() {
     };
     let r0 = 1.0 - e;
     let omega = (1.0 - e * e).sqrt() / (r0 * r0);
-    let s0 = fixed.reduced_state([r0, 0.0], [0.0, omega]);
+    let s0 = fixed.reduced_state([r0, 0.0], [0.0, omega]).unwrap();
     let end = *ReducedIntegrator::plus(fixed, tight())
         .run(s0)
         .steps(n)
@@ -246,7 +247,7 @@ fn a_monitor_that_is_not_positive_is_a_typed_error_with_its_step() {
         m: 1.0,
         c: 3.0,
     };
-    let err = adaptive::reduced_state(&sys, [-0.5, 0.0], [1.0, 1.0]).unwrap_err();
+    let err = sys.reduced_state([-0.5, 0.0], [1.0, 1.0]).unwrap_err();
     assert!(
         matches!(err, StepError::InvalidMonitor { step: 0, .. }),
         "{err}"
@@ -257,7 +258,7 @@ fn a_monitor_that_is_not_positive_is_a_typed_error_with_its_step() {
         m: 1.0,
         c: 0.0,
     };
-    let s0 = adaptive::reduced_state(&sys, [1.0, 0.0], [1.0, 1.0]).unwrap();
+    let s0 = sys.reduced_state([1.0, 0.0], [1.0, 1.0]).unwrap();
     let err = ReducedIntegrator::plus(sys, NewtonOptions::default())
         .run(s0)
         .steps(10)
@@ -278,7 +279,7 @@ fn a_monitor_that_is_not_positive_is_a_typed_error_with_its_step() {
     );
     // A monitor that is not finite: √x for x < 0, as the run starts.
     let sys = Rooted { h: 0.1, m: 1.0 };
-    let mut s0 = adaptive::reduced_state(&sys, [1.0, 0.0], [1.0, 1.0]).unwrap();
+    let mut s0 = sys.reduced_state([1.0, 0.0], [1.0, 1.0]).unwrap();
     s0.x[0] = -1.0;
     let err = ReducedIntegrator::plus(sys, NewtonOptions::default())
         .run(s0)
@@ -334,7 +335,7 @@ fn a_damping_force_with_adaptive_steps_has_order_two_and_balances_the_energy() {
         .iter()
         .map(|&eps| {
             let sys = Damped { h: eps, c };
-            let s0 = adaptive::reduced_state(&sys, [1.0, 0.0], [0.0, 1.0]).unwrap();
+            let s0 = sys.reduced_state([1.0, 0.0], [0.0, 1.0]).unwrap();
             let traj = ReducedIntegrator::plus(sys, tight())
                 .run(s0)
                 .steps((10.0 / eps) as usize)
@@ -461,7 +462,7 @@ fn a_constrained_pendulum_with_adaptive_steps_keeps_its_rod_and_its_energy_level
         .map(|&eps| {
             let sys = Rod { h: eps, g };
             let q0 = [theta0.sin(), -theta0.cos(), 0.0];
-            let s0 = adaptive::reduced_state(&sys, q0, [0.0, 0.0, 1.0]).unwrap();
+            let s0 = sys.reduced_state(q0, [0.0, 0.0, 1.0]).unwrap();
             let traj = ReducedConstrainedIntegrator::plus(sys, tight())
                 .run(s0)
                 .steps((3.0 / eps) as usize)
@@ -518,7 +519,8 @@ fn a_nonholonomic_skate_with_adaptive_steps_follows_its_circle() {
                 m: 1.0,
                 j: 0.5,
             };
-            let s0 = adaptive::reduced_state(&sys, [0.0, 0.0, 0.0, 0.0], [omega, 1.0, 0.0, 1.0])
+            let s0 = sys
+                .reduced_state([0.0, 0.0, 0.0, 0.0], [omega, 1.0, 0.0, 1.0])
                 .unwrap();
             let traj = ReducedConstrainedIntegrator::plus(sys, tight())
                 .run(s0)
@@ -562,9 +564,10 @@ fn the_run_api_keeps_physical_time_and_lands_on_an_end_time() {
         .end_time(end)
         .collect()
         .unwrap();
-    // The clock is physical time: each state's time coordinate, and the steps' sizes are Δt_k.
+    // The clock is physical time: each state's time coordinate; the steps are Δt_k in it, and
+    // every step but the landing one has the fictitious size ε.
     for (k, s) in traj.states.iter().enumerate() {
-        assert_eq!(traj.time(k), s.g[1], "time of state {k}");
+        assert_eq!(traj.times[k], s.g[1], "time of state {k}");
     }
     let last = *traj.last();
     assert!(
@@ -573,11 +576,11 @@ fn the_run_api_keeps_physical_time_and_lands_on_an_end_time() {
         last.g[1]
     );
     let k = traj.steps() - 1;
-    let longest = (0..k).map(|j| traj.step_size(j)).fold(0.0, f64::max);
-    assert!(
-        traj.step_size(0) < 0.1 * longest,
-        "short steps at periapsis"
-    );
+    let dt = |j: usize| traj.times[j + 1] - traj.times[j];
+    let longest = (0..k).map(dt).fold(0.0, f64::max);
+    assert!(dt(0) < 0.1 * longest, "short steps at periapsis");
+    assert!(traj.step_sizes[..k].iter().all(|&s| s == eps));
+    assert!(traj.step_sizes[k] > 0.0 && traj.step_sizes[k] <= eps);
     // The landing is `adaptive::land_at` on the step that passed the end.
     let before = traj.states[k];
     let landed = adaptive::land_at(end, before.g[1], eps, |h| {
@@ -610,6 +613,22 @@ fn the_run_api_keeps_physical_time_and_lands_on_an_end_time() {
         "{}",
         err.source
     );
+    // A start time: the state sets the clock, so another one is refused before any step, and
+    // the state's own (as a resumed run passes it) is accepted.
+    let err = integ
+        .run(later)
+        .start_time(1.0)
+        .steps(3)
+        .collect()
+        .unwrap_err();
+    match &err.source {
+        StepError::InvalidRun { reason } => assert!(reason.contains("start_time"), "{reason}"),
+        other => panic!("expected InvalidRun, got {other}"),
+    }
+    assert_eq!(err.trajectory.steps(), 0);
+    let resumed = integ.run(later).start_time(5.0).steps(3).collect().unwrap();
+    assert_eq!(resumed.times[0], 5.0);
+    assert_eq!(resumed.step_sizes, vec![eps; 3]);
 }
 
 /// Two bodies in the plane in their own coordinates, the symmetry declared on them: each
@@ -629,7 +648,8 @@ fn two_bodies_start(sys: &TwoBodies, e: f64) -> ReducedState<2, 3> {
     let speed = ((1.0 + e) / r0).sqrt();
     let q = SVector::<f64, 5>::from([-0.5 * r0, 0.5 * r0, 0.0, 0.0, 0.0]);
     let u = SVector::<f64, 5>::from([0.3, 0.3, -0.2 - 0.5 * speed, -0.2 + 0.5 * speed, 1.0]);
-    adaptive::reduced_state(sys, TwoBodies::to_adapted(&q), TwoBodies::to_adapted(&u)).unwrap()
+    sys.reduced_state(TwoBodies::to_adapted(&q), TwoBodies::to_adapted(&u))
+        .unwrap()
 }
 
 #[test]

@@ -60,7 +60,7 @@ fn orbiting_system(h: f64) -> Orbiting {
 fn periapsis(sys: &Orbiting, e: f64) -> LieState<12, 6> {
     let r0 = 1.0 - e;
     let speed = ((1.0 + e) / r0).sqrt();
-    sys.adaptive_state(
+    sys.unreduced_state(
         &OrbitingConfig {
             x: r0,
             y: 0.0,
@@ -232,7 +232,7 @@ fn a_monitor_that_is_not_positive_is_a_typed_error() {
         t: 0.0,
     };
     let err = sys
-        .adaptive_state(&at_origin, &OrbitingVelocity::default())
+        .unreduced_state(&at_origin, &OrbitingVelocity::default())
         .unwrap_err();
     assert!(
         matches!(err, StepError::InvalidMonitor { step: 0, value } if value == 0.0),
@@ -293,7 +293,7 @@ fn pendulum_error(eps: f64) -> f64 {
     let sys = Swinging { h: eps, g: 1.0 };
     let (n0, v0) = pendulum_start();
     let s0 = sys
-        .adaptive_state(
+        .unreduced_state(
             &SwingingConfig { n: n0, t: 0.0 },
             &SwingingVelocity { n: v0, t: 1.0 },
         )
@@ -339,7 +339,7 @@ fn damped_error(eps: f64) -> (f64, f64, f64) {
     };
     let (n0, v0) = pendulum_start();
     let s0 = sys
-        .adaptive_state(
+        .unreduced_state(
             &DampedSwingConfig { n: n0, t: 0.0 },
             &DampedSwingVelocity { n: v0, t: 1.0 },
         )
@@ -399,7 +399,7 @@ fn a_run_on_rotation_groups_lands_on_a_physical_end_time() {
         .collect()
         .unwrap();
     for (k, s) in traj.states.iter().enumerate() {
-        assert_eq!(traj.time(k), s.q[11], "time of state {k}");
+        assert_eq!(traj.times[k], s.q[11], "time of state {k}");
     }
     let last = traj.last().unreduced();
     let q = sys.config(&last);

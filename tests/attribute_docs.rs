@@ -55,7 +55,7 @@ fn the_continuous_example_runs() -> Result<(), Box<dyn std::error::Error>> {
     let (q, v) = (SVector::from([1.0, 0.0]), SVector::from([0.0, 1.0]));
     // E = ½ m |v|² + ½ k x² = 0.5 + 1.0, exactly in floating point.
     assert_eq!(sys.energy(&q, &v), 1.5);
-    let initial = sys.reduced_state::<1, 1>(q, v);
+    let initial = sys.reduced_state::<1, 1>(q, v)?;
     let traj = ReducedIntegrator::plus(sys, NewtonOptions::default())
         .run(initial)
         .steps(10)

@@ -14,7 +14,7 @@ fn run(n: usize) -> Trajectory<3, 1> {
 }
 
 fn error_at(traj: &Trajectory<3, 1>, k: usize) -> f64 {
-    let exact = ChargedParticle::exact_position(traj.time(k));
+    let exact = ChargedParticle::exact_position(traj.times[k]);
     let x = traj.states[k].x;
     (0..3)
         .map(|i| (x[i] - exact[i]).powi(2))

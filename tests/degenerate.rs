@@ -72,7 +72,7 @@ fn run(steps: usize, t: f64) -> (Trajectory<3, 1>, f64) {
         h: t / steps as f64,
     };
     let q = SVector::from([1.0, 0.8, 2.0, 0.3]);
-    let initial: ReducedState<3, 1> = sys.reduced_state(q, SVector::zeros());
+    let initial: ReducedState<3, 1> = sys.reduced_state(q, SVector::zeros()).unwrap();
     let traj = ReducedIntegrator::plus(sys, NewtonOptions::default())
         .run(initial)
         .steps(steps)
@@ -144,7 +144,7 @@ fn singular_discrete_legendre_map_is_a_typed_error() {
         h: 0.01,
     };
     let q = SVector::from([0.5, 0.2]);
-    let initial = sys.unreduced_state(q, SVector::zeros());
+    let initial = sys.unreduced_state(q, SVector::zeros()).unwrap();
     let err = UnreducedIntegrator::new(sys, NewtonOptions::default())
         .run(initial)
         .steps(10)
@@ -171,7 +171,7 @@ fn massless_particle_midpoint_rule_is_regular() {
     };
     let q = SVector::from([0.5, 0.2]);
     let traj = UnreducedIntegrator::new(sys, NewtonOptions::default())
-        .run(sys.unreduced_state(q, SVector::zeros()))
+        .run(sys.unreduced_state(q, SVector::zeros()).unwrap())
         .steps(628)
         .collect()
         .unwrap();

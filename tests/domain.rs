@@ -4,7 +4,6 @@
 //! coordinate and its value, the states before it kept; at a fine step the same runs go on.
 
 use dirac::prelude::*;
-use dirac::runtime::adaptive;
 
 /// Kepler's problem in polar coordinates with the midpoint rule, as `dirac::systems::Kepler`,
 /// its domain declared.
@@ -262,8 +261,9 @@ fn an_initial_state_outside_the_domain_is_refused() {
     assert_eq!(e.trajectory.states.len(), 1);
 
     let adaptive_sys = KeplerAdaptive { h: 0.05, k: 1.0 };
-    let mut start =
-        adaptive::reduced_state(&adaptive_sys, [0.1, 0.0, 0.0], [0.0, 40.0, 1.0]).unwrap();
+    let mut start = adaptive_sys
+        .reduced_state([0.1, 0.0, 0.0], [0.0, 40.0, 1.0])
+        .unwrap();
     let run = |s: ReducedState<1, 2>| {
         ReducedIntegrator::plus(adaptive_sys, NewtonOptions::default())
             .run(s)

@@ -261,7 +261,7 @@ fn double_spherical_pendulum_million_steps() {
             "  h = {:<6} {steps} steps, T = {:.0}: no failed step, {:.2} s ({:.2} us/step), \
              Newton it. mean {:.3}, worst rcond {:.2e}, min |sin phi1| {sin1:.3}, |sin phi2| {sin2:.3}",
             sys.h,
-            traj.time(steps),
+            traj.times[steps],
             wall.as_secs_f64(),
             1e6 * wall.as_secs_f64() / steps as f64,
             traj.mean_iterations(),
@@ -364,7 +364,7 @@ fn double_spherical_pendulum_from_the_paper_state() {
         out,
         "  {} of {STEPS} steps (t = {:.2}), {outcome}",
         traj.steps(),
-        traj.time(traj.steps())
+        traj.times[traj.steps()]
     );
     if energy.len() >= DSP_STEPS {
         Summary::of(&energy[..DSP_STEPS]).print(&mut out, "T + V, paper's 10^4 steps");
@@ -379,7 +379,7 @@ fn double_spherical_pendulum_from_the_paper_state() {
                 "  T + V left 10% of E_0 = {e0:.6e} at step {k} (t = {:.2}): |sin phi1| = {:.2e}, \
                  |sin phi2| = {:.2e} there (closest so far: {sin1:.2e}, {sin2:.2e}), \
                  d(vt2) = {:.2} rad in that step",
-                traj.time(k),
+                traj.times[k],
                 s.x[0].sin().abs(),
                 s.x[2].sin().abs(),
                 traj.states[k + 1].x[1] - s.x[1]
@@ -457,7 +457,7 @@ fn charged_particle_million_steps() {
             "  h = {:<6} {steps} steps, T = {:.0}: no failed step, {:.2} s ({:.3} us/step), \
              Newton it. mean {:.3}, max residual {:.2e}",
             h,
-            traj.time(steps),
+            traj.times[steps],
             wall.as_secs_f64(),
             1e6 * wall.as_secs_f64() / steps as f64,
             traj.mean_iterations(),

@@ -33,7 +33,7 @@ fn a_smooth_schedule_keeps_order_two_and_mu_on_kepler() {
         assert_eq!(traj.times.len(), traj.states.len());
         assert!(traj.times.windows(2).all(|w| w[1] > w[0]));
         // The sizes vary: between h/2 and 3h/2 (the last one shortened to land on T).
-        let sizes: Vec<f64> = (0..traj.steps()).map(|k| traj.step_size(k)).collect();
+        let sizes = &traj.step_sizes;
         let (lo, hi) = sizes[..sizes.len() - 1]
             .iter()
             .fold((f64::MAX, 0.0_f64), |(l, u), &s| (l.min(s), u.max(s)));
@@ -182,6 +182,65 @@ fn an_end_time_that_is_not_a_multiple_of_h_is_reached_exactly() {
     assert_eq!(later.times[10], 2.0 + 10.0 * 0.1);
 }
 
+/// A trajectory keeps the size each step was taken with, bit for bit: irregular sizes (whose
+/// differences of accumulated times are not the sizes themselves), given as a list or computed
+/// as the run goes, on the reduced, unreduced and composed integrators; the fixed step's `h`;
+/// and the last step shortened to land on an end time.
+#[test]
+fn a_trajectory_keeps_each_step_size_bit_for_bit() {
+    let sys = Kepler::unit(0.05);
+    let start = sys.periapsis_state(1.0, 0.3);
+    // Irregular sizes in [0.015, 0.085): a golden-ratio sequence, no two alike.
+    let sizes: Vec<f64> = (0..40)
+        .map(|k| 0.05 * (0.3 + 1.4 * (k as f64 * 0.618_033_988_749_895).fract()))
+        .collect();
+    let reduced = ReducedIntegrator::plus(sys, NewtonOptions::default());
+    let listed = reduced
+        .run(start)
+        .steps(40)
+        .step_size(StepSizes(&sizes))
+        .collect()
+        .unwrap();
+    assert_eq!(listed.step_sizes, sizes);
+    // What recomputing them from the times would give is not the sizes: the record is needed.
+    assert!((0..40).any(|k| listed.times[k + 1] - listed.times[k] != sizes[k]));
+    let computed = reduced
+        .run(start)
+        .steps(40)
+        .schedule(|k, _, _| sizes[k])
+        .collect()
+        .unwrap();
+    assert_eq!(computed.step_sizes, sizes);
+    let unreduced = UnreducedIntegrator::new(sys, NewtonOptions::default())
+        .run(sys.untrivialize(&start))
+        .steps(40)
+        .step_size(StepSizes(&sizes))
+        .collect()
+        .unwrap();
+    assert_eq!(unreduced.step_sizes, sizes);
+    let composed = Composition::new(reduced.clone(), CompositionMethod::TRIPLE_JUMP)
+        .run(start)
+        .steps(40)
+        .step_size(StepSizes(&sizes))
+        .collect()
+        .unwrap();
+    assert_eq!(composed.step_sizes, sizes);
+    // The fixed step: h at every step.
+    let fixed = reduced.run(start).steps(10).collect().unwrap();
+    assert_eq!(fixed.step_sizes, vec![0.05; 10]);
+    // An end time within the list: the sizes up to it, the last one shortened to land on it.
+    let end = listed.times[20] + 0.5 * sizes[20];
+    let landed = reduced
+        .run(start)
+        .end_time(end)
+        .step_size(StepSizes(&sizes))
+        .collect()
+        .unwrap();
+    assert_eq!(landed.step_sizes[..20], sizes[..20]);
+    assert_eq!(landed.step_sizes[20], end - listed.times[20]);
+    assert_eq!(landed.step_sizes.len(), 21);
+}
+
 /// A schedule that gives the integrator's own step at every step is the fixed-step run, bit for
 /// bit (the system is the system itself and Newton's guess is the uniform-grid one), on every
 /// integrator kind that takes a time step.
@@ -219,7 +278,7 @@ fn a_constant_schedule_is_the_fixed_step_run_bit_for_bit() {
         .collect()
         .unwrap();
     assert_eq!(a.states, b.states);
-    let composed = Composition::new(reduced, CompositionMethod::TRIPLE_JUMP);
+    let composed = Composition::new(reduced.clone(), CompositionMethod::TRIPLE_JUMP);
     let a = composed.run(start).steps(20).collect().unwrap();
     let b = composed
         .run(start)

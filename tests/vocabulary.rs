@@ -95,8 +95,18 @@ fn states_from_arrays_vectors_and_slices_are_the_same_state() {
     );
     // The order of q and v is the system's SHAPE followed by its GROUP.
     assert_eq!((Slider::SHAPE, Slider::GROUP), (["x"], ["z"]));
-    let c = sys.unreduced_state([0.5, 0.0], [1.0, 2.0]);
+    let c = sys.unreduced_state([0.5, 0.0], [1.0, 2.0]).unwrap();
     assert_eq!((c.p[0], c.p[1]), (2.0, 4.0));
+    // A state from a position and velocity is a `Result`: what is not finite is a typed error,
+    // never a state that carries a NaN into a run.
+    assert!(matches!(
+        sys.unreduced_state([f64::NAN, 0.0], [1.0, 2.0]),
+        Err(StepError::NonFinite { step: 0, .. })
+    ));
+    assert!(matches!(
+        sys.reduced_state::<1, 1>([0.5, 0.0], [f64::INFINITY, 2.0]),
+        Err(StepError::NonFinite { step: 0, .. })
+    ));
 }
 
 #[test]
@@ -105,7 +115,7 @@ fn reduced_and_unreduced_integrators_give_momentum_maps_and_energies() {
     let sys = Slider { h, m };
     let energy =
         |q: &SVector<f64, 2>, p: &SVector<f64, 2>| p.norm_squared() / (2.0 * m) + 0.5 * q[0] * q[0];
-    let s0 = sys.reduced_state::<1, 1>([0.5, 0.0], [0.3, 0.7]);
+    let s0 = sys.reduced_state::<1, 1>([0.5, 0.0], [0.3, 0.7]).unwrap();
     let reduced = ReducedIntegrator::plus(sys, NewtonOptions::default());
     let unreduced = UnreducedIntegrator::new(sys, NewtonOptions::default());
     let traj = reduced
@@ -151,7 +161,7 @@ fn reduced_and_unreduced_integrators_give_momentum_maps_and_energies() {
         );
     }
     assert!(
-        traj.step_size(0) != traj.step_size(5),
+        traj.step_sizes[0] != traj.step_sizes[5],
         "the schedule varies the step"
     );
 }
@@ -251,7 +261,7 @@ fn element_integrators_give_momentum_maps_and_midpoint_energies() {
 fn the_derivative_of_a_step_is_one_type() {
     let sys = Slider { h: 0.1, m: 2.0 };
     let integ = UnreducedIntegrator::new(sys, NewtonOptions::default());
-    let a = sys.unreduced_state([0.5, 0.0], [0.3, 0.7]);
+    let a = sys.unreduced_state([0.5, 0.0], [0.3, 0.7]).unwrap();
     let (b, _) = integ.step_from(0, &a, &a.q).unwrap();
     let (c, _) = integ.step_from(1, &b, &b.q).unwrap();
     let m1: Sensitivity = integ.step_jacobian(0, &a, &b).unwrap();

@@ -565,7 +565,7 @@ where
         Ok(MemberRow {
             member: i as u64,
             steps: summary.steps as u64,
-            t: summary.time(),
+            t: summary.t,
             last,
             summary: [
                 summary.iterations as u64,

@@ -553,12 +553,8 @@ fn adaptive_runs_name_their_physical_time_column() {
         .iter()
         .map(|&e: &f64| {
             let r0 = 1.0 - e;
-            dirac::runtime::adaptive::reduced_state(
-                &sys,
-                [r0, 0.0, 0.0],
-                [0.0, (1.0 - e * e).sqrt() / (r0 * r0), 1.0],
-            )
-            .unwrap()
+            sys.reduced_state([r0, 0.0, 0.0], [0.0, (1.0 - e * e).sqrt() / (r0 * r0), 1.0])
+                .unwrap()
         })
         .collect();
     let results = write_ensemble(
@@ -594,7 +590,7 @@ fn adaptive_runs_name_their_physical_time_column() {
     let sys = Swinging { h: 0.02, g: 1.0 };
     let (s, c) = 1.2_f64.sin_cos();
     let start = sys
-        .adaptive_state(
+        .unreduced_state(
             &SwingingConfig {
                 n: Vector3::new(s, 0.0, -c),
                 t: 0.0,

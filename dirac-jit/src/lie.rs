@@ -500,13 +500,14 @@ impl<const P: usize, const N: usize, B, R> JitLie<P, N, B, R> {
     }
 
     /// Adaptive steps: the state at the configuration `q` (its time coordinate the physical
-    /// time) and the physical velocity `v` ([`LieKind::velocity_len`] entries per coordinate:
+    /// time) and the physical velocity `v` (the one spelling of a state from a position and a
+    /// velocity, as the runtime's `ContinuousLagrangian::unreduced_state`) ([`LieKind::velocity_len`] entries per coordinate:
     /// a rotation's body angular velocity, a direction's velocity in space; the time
     /// coordinate's ignored), on the level set where the time-transformed system's solutions
     /// are the physical ones: the physical momenta `∂L/∂v` and `p_t = −E(q, v)`. An error for a
     /// system stepped in physical time, a velocity of the wrong length, or a monitor that is not
     /// positive and finite at `q`.
-    pub fn adaptive_state(&self, q: &SVector<f64, P>, v: &[f64]) -> Result<LieState<P, N>, Error> {
+    pub fn unreduced_state(&self, q: &SVector<f64, P>, v: &[f64]) -> Result<LieState<P, N>, Error> {
         let sys = &self.code.system;
         let fail = |reason: String| Error::State {
             name: sys.name.clone(),

@@ -113,7 +113,7 @@ fn start_state<const P: usize, const N: usize>(
                 .collect();
             let zeros: Vec<&[f64]> = zeros.iter().map(Vec::as_slice).collect();
             let point = sys.state(&q, &zeros).map_err(|e| e.to_string())?.q;
-            sys.adaptive_state(&point, v).map_err(|e| e.to_string())
+            sys.unreduced_state(&point, v).map_err(|e| e.to_string())
         }
         (None, None) => Err("the start needs the momenta `p` (or the velocities `v`)".into()),
     }

@@ -25,18 +25,18 @@
 //!   oscillates about `−p_t` without drift.
 //!
 //! A run must start on the level set, `p_t = −E(q, p)`: build the initial state from the
-//! physical position and velocity with [`state`] (or [`reduced_state`]), which sets `t' = g` and
-//! so `p_t = −E` exactly. Every integrator checks it before the first step: a start farther
-//! from the level set than [`LEVEL_SET_TOLERANCE`] (relative) is refused with
-//! [`crate::StepError::OffManifold`]. Each step's monitor must be positive and finite
-//! ([`crate::StepError::InvalidMonitor`] otherwise, with the step index); Newton's first guess
-//! for the time increment of a run is `ε g(x)`.
+//! physical position and velocity with
+//! [`sys.unreduced_state(q, v)`](crate::ContinuousLagrangian::unreduced_state) (or
+//! `reduced_state`), which for such a system sets `t' = g` and so `p_t = −E` exactly. Every
+//! integrator checks it before the first step: a start farther from the level set than
+//! [`LEVEL_SET_TOLERANCE`] (relative) is refused with [`crate::StepError::OffManifold`]. Each
+//! step's monitor must be positive and finite ([`crate::StepError::InvalidMonitor`] otherwise,
+//! with the step index); Newton's first guess for the time increment of a run is `ε g(x)`.
 
 use nalgebra::SVector;
 
 use crate::continuous::ContinuousLagrangian;
 use crate::error::StepError;
-use crate::state::{IntoVector, ReducedState, UnreducedState};
 use crate::stepper::check_monitor;
 use crate::system::DiscreteLagrangian;
 
@@ -63,34 +63,6 @@ where
     let mut v = u * g;
     v[S + j] = g;
     Ok(v)
-}
-
-/// The unreduced state at the physical position `q` (its time coordinate the physical time) and
-/// physical velocity `u` (the time coordinate's entry is ignored: its rate is 1), on the level
-/// set `p_t = −E(q, u)` where the transformed system's solutions are the physical ones.
-pub fn state<L, const S: usize, const K: usize, const N: usize>(
-    sys: &L,
-    q: impl IntoVector<SVector<f64, N>>,
-    u: impl IntoVector<SVector<f64, N>>,
-) -> Result<UnreducedState<N>, StepError>
-where
-    L: DiscreteLagrangian<S, K, N> + ContinuousLagrangian<N>,
-{
-    let q = q.into_vector();
-    let v = fictitious_velocity(sys, &q, &u.into_vector())?;
-    Ok(sys.unreduced_state(q, v))
-}
-
-/// [`state`], trivialized (eq. (3.6)): the reduced state, with `−E` among its `mu`.
-pub fn reduced_state<L, const S: usize, const K: usize, const N: usize>(
-    sys: &L,
-    q: impl IntoVector<SVector<f64, N>>,
-    u: impl IntoVector<SVector<f64, N>>,
-) -> Result<ReducedState<S, K>, StepError>
-where
-    L: DiscreteLagrangian<S, K, N> + ContinuousLagrangian<N>,
-{
-    Ok(sys.trivialize(&state(sys, q, u)?))
 }
 
 /// Newton's guess for the increment of a run's first step of fictitious size `h` from `(q, p)`:
@@ -196,10 +168,7 @@ pub fn level_set_defect_of<const N: usize>(
 ) -> Option<(f64, f64)> {
     let v = first_increment_of(time, g, q, p, 1.0, &legendre)?;
     let energy = -legendre(q, &v)[time];
-    let work: f64 = (0..N)
-        .filter(|&i| i != time)
-        .map(|i| p[i] * v[i] / g)
-        .sum();
+    let work: f64 = (0..N).filter(|&i| i != time).map(|i| p[i] * v[i] / g).sum();
     let defect = p[time] + energy;
     defect
         .is_finite()
@@ -285,18 +254,18 @@ pub fn land_at<S>(
     mut step: impl FnMut(f64) -> Result<(f64, S), StepError>,
 ) -> Result<S, StepError> {
     let (t_full, full) = step(h)?;
-    land_within(end, t0, h, (t_full, full), step)
+    land_within(end, t0, h, (t_full, full), step).map(|(_, landed)| landed)
 }
 
 /// [`land_at`] with the full step `(t(h), state)` already taken (the driver's landing on a
-/// run's end time).
+/// run's end time); with the landed state, the fictitious step that reached it.
 pub(crate) fn land_within<S>(
     end: f64,
     t0: f64,
     h: f64,
     (t_full, full): (f64, S),
     mut step: impl FnMut(f64) -> Result<(f64, S), StepError>,
-) -> Result<S, StepError> {
+) -> Result<(f64, S), StepError> {
     let tolerance = landing_tolerance(end);
     if !(t0 < end && end <= t_full) {
         return Err(StepError::InvalidRun {
@@ -306,7 +275,7 @@ pub(crate) fn land_within<S>(
         });
     }
     if (t_full - end).abs() <= tolerance {
-        return Ok(full);
+        return Ok((h, full));
     }
     // Secant iterates (ε, t(ε) − end), from ε = 0 (where t = t0) and ε = h.
     let (mut a, mut fa) = (0.0, t0 - end);
@@ -316,7 +285,7 @@ pub(crate) fn land_within<S>(
         let (t, state) = step(eps)?;
         let f = t - end;
         if f.abs() <= tolerance {
-            return Ok(state);
+            return Ok((eps, state));
         }
         (a, fa, b, fb) = (b, fb, eps, f);
     }

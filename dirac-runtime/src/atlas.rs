@@ -226,6 +226,11 @@ pub struct AtlasTrajectory<const S: usize, const K: usize> {
     pub states: Vec<ReducedState<S, K>>,
     /// `times[j] = t_j`, the time of `states[j]`.
     pub times: Vec<f64>,
+    /// `step_sizes[k]` is the size step `k` was taken with, bit for bit as the run passed it to
+    /// the step: `h` itself for a fixed step, `h_k` with a schedule (the last step shortened to
+    /// land on an end time); with adaptive steps the fictitious step `ε_k` (the physical step is
+    /// `times[k + 1] − times[k]`).
+    pub step_sizes: Vec<f64>,
     /// `charts[j]` is the chart of `states[j]`.
     pub charts: Vec<usize>,
     /// Newton statistics of each step.
@@ -469,6 +474,7 @@ impl<'a, const S: usize, const K: usize, const N: usize> Collect<AtlasIntegrator
             h: atlas.time_step(),
             states: crate::stepper::reserved(steps.saturating_add(1)),
             times: crate::stepper::reserved(steps.saturating_add(1)),
+            step_sizes: crate::stepper::reserved(steps),
             charts: crate::stepper::reserved(steps.saturating_add(1)),
             stats: crate::stepper::reserved(steps),
             switches: Vec::new(),
@@ -479,8 +485,9 @@ impl<'a, const S: usize, const K: usize, const N: usize> Collect<AtlasIntegrator
         &mut self,
         t: f64,
         state: &(usize, ReducedState<S, K>),
-        record: Option<&AtlasStep<S, K>>,
+        step: Option<(f64, &AtlasStep<S, K>)>,
     ) {
+        let record = step.map(|(_, record)| record);
         if let Some(rescue) = record.and_then(|r| r.rescue) {
             // The state the step started from is kept in the chart it was taken in.
             if let (Some(s), Some(c)) = (self.states.last_mut(), self.charts.last_mut()) {
@@ -491,10 +498,24 @@ impl<'a, const S: usize, const K: usize, const N: usize> Collect<AtlasIntegrator
         self.charts.push(state.0);
         self.states.push(state.1);
         self.times.push(t);
-        if let Some(record) = record {
+        if let Some((h, record)) = step {
+            self.step_sizes.push(h);
             self.stats.push(record.stats);
             self.switches.extend(record.switch);
         }
+    }
+
+    fn try_reserve(
+        &mut self,
+        _state: &(usize, ReducedState<S, K>),
+        additional: usize,
+    ) -> Result<(), StepError> {
+        crate::stepper::try_grow(&mut self.states, additional, "states")?;
+        crate::stepper::try_grow(&mut self.times, additional, "times")?;
+        crate::stepper::try_grow(&mut self.step_sizes, additional, "step sizes")?;
+        crate::stepper::try_grow(&mut self.charts, additional, "charts")?;
+        crate::stepper::try_grow(&mut self.stats, additional, "step statistics")?;
+        Ok(())
     }
 }
 

@@ -200,6 +200,11 @@ pub struct ComposedTrajectory<St> {
     pub states: Vec<St>,
     /// `times[k] = t_k`, the time of `states[k]` (`k h` exactly for a fixed step).
     pub times: Vec<f64>,
+    /// `step_sizes[k]` is the size step `k` was taken with, bit for bit as the run passed it to
+    /// the step: `h` itself for a fixed step, `h_k` with a schedule (the last step shortened to
+    /// land on an end time); with adaptive steps the fictitious step `ε_k` (the physical step is
+    /// `times[k + 1] − times[k]`).
+    pub step_sizes: Vec<f64>,
     /// Per macro step: Newton corrections summed over the stages, the largest accepted residual
     /// and the smallest reciprocal condition estimate of the stages.
     pub stats: Vec<StepStats>,
@@ -209,11 +214,6 @@ impl<St> ComposedTrajectory<St> {
     /// Number of completed macro steps.
     pub fn steps(&self) -> usize {
         self.states.len() - 1
-    }
-
-    /// The time `t_k` of state `k`.
-    pub fn time(&self, k: usize) -> f64 {
-        self.times[k]
     }
 
     /// The last state.
@@ -312,16 +312,26 @@ where
             method: composition.method,
             states: crate::stepper::reserved(steps.saturating_add(1)),
             times: crate::stepper::reserved(steps.saturating_add(1)),
+            step_sizes: crate::stepper::reserved(steps),
             stats: crate::stepper::reserved(steps),
         }
     }
 
-    fn push(&mut self, t: f64, state: &St::State, record: Option<&StepStats>) {
+    fn push(&mut self, t: f64, state: &St::State, step: Option<(f64, &StepStats)>) {
         self.states.push(state.clone());
         self.times.push(t);
-        if let Some(stats) = record {
+        if let Some((h, stats)) = step {
+            self.step_sizes.push(h);
             self.stats.push(*stats);
         }
+    }
+
+    fn try_reserve(&mut self, _state: &St::State, additional: usize) -> Result<(), StepError> {
+        crate::stepper::try_grow(&mut self.states, additional, "states")?;
+        crate::stepper::try_grow(&mut self.times, additional, "times")?;
+        crate::stepper::try_grow(&mut self.step_sizes, additional, "step sizes")?;
+        crate::stepper::try_grow(&mut self.stats, additional, "step statistics")?;
+        Ok(())
     }
 }
 
@@ -367,6 +377,11 @@ where
         Ok(())
     }
 
+    /// The base integrator's domain check, on the macro step's end state.
+    fn check_domain(&self, k: usize, state: &I::State) -> Result<(), StepError> {
+        self.base.check_domain(k, state)
+    }
+
     fn workspace(&self) -> Vec<I::Workspace> {
         self.stages.iter().map(Stepper::workspace).collect()
     }
@@ -377,11 +392,6 @@ where
 
     /// Every stage takes the macro step's controls `u`: the forces of a composition are its
     /// stages' forces, each at its stage's time step `γ_i h`. A macro step of size `h_k` runs
-    /// The base integrator's domain check, on the macro step's end state.
-    fn check_domain(&self, k: usize, state: &I::State) -> Result<(), StepError> {
-        self.base.check_domain(k, state)
-    }
-
     /// stage `i` with `γ_i h_k` (for `h_k = h` the stage's own step, bit for bit).
     fn step_with(
         &self,

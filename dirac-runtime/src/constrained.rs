@@ -389,6 +389,11 @@ pub struct ConstrainedTrajectory<St, const M: usize> {
     pub states: Vec<St>,
     /// `times[k] = t_k`, the time of `states[k]` (`k h` exactly for a fixed step).
     pub times: Vec<f64>,
+    /// `step_sizes[k]` is the size step `k` was taken with, bit for bit as the run passed it to
+    /// the step: `h` itself for a fixed step, `h_k` with a schedule (the last step shortened to
+    /// land on an end time); with adaptive steps the fictitious step `ε_k` (the physical step is
+    /// `times[k + 1] − times[k]`).
+    pub step_sizes: Vec<f64>,
     /// What step `k` reported.
     pub steps: Vec<ConstrainedStep<M>>,
     /// Newton statistics of each step.
@@ -720,19 +725,14 @@ where
             &self.system.parameter_values(),
             F::is_finite(initial),
         )?;
+        let q = F::configuration(&self.system, initial);
+        crate::domain::check_system(&self.system, 0, true, |i| q.get(i).copied())?;
         if !self.system.holonomic() {
             return Ok(());
         }
         check_constraint(self.system.constraint(&q), inf_norm(&q), &self.options)
-        let q = F::configuration(&self.system, initial);
-        crate::domain::check_system(&self.system, 0, true, |i| q.get(i).copied())?;
     }
 
-    fn workspace(&self) -> Self::Workspace {
-        ConstrainedWorkspace {
-            position: self.system.position_solver(),
-            projection: self.system.projection_solver(),
-            history: History::default(),
     fn check_domain(&self, k: usize, state: &F::State) -> Result<(), StepError> {
         if self.system.domain().is_empty() {
             return Ok(());
@@ -741,6 +741,11 @@ where
         crate::domain::check_system(&self.system, k, false, |i| q.get(i).copied())
     }
 
+    fn workspace(&self) -> Self::Workspace {
+        ConstrainedWorkspace {
+            position: self.system.position_solver(),
+            projection: self.system.projection_solver(),
+            history: History::default(),
             multipliers: None,
         }
     }
@@ -781,17 +786,28 @@ where
             h: integrator.system.time_step(),
             states: crate::stepper::reserved(steps.saturating_add(1)),
             times: crate::stepper::reserved(steps.saturating_add(1)),
+            step_sizes: crate::stepper::reserved(steps),
             steps: crate::stepper::reserved(steps),
             stats: crate::stepper::reserved(steps),
         }
     }
 
-    fn push(&mut self, t: f64, state: &St, record: Option<&ConstrainedStep<M>>) {
+    fn push(&mut self, t: f64, state: &St, step: Option<(f64, &ConstrainedStep<M>)>) {
         self.states.push(*state);
         self.times.push(t);
-        if let Some(step) = record {
+        if let Some((h, step)) = step {
+            self.step_sizes.push(h);
             self.steps.push(*step);
             self.stats.push(step.stats);
         }
+    }
+
+    fn try_reserve(&mut self, _state: &St, additional: usize) -> Result<(), StepError> {
+        crate::stepper::try_grow(&mut self.states, additional, "states")?;
+        crate::stepper::try_grow(&mut self.times, additional, "times")?;
+        crate::stepper::try_grow(&mut self.step_sizes, additional, "step sizes")?;
+        crate::stepper::try_grow(&mut self.steps, additional, "step records")?;
+        crate::stepper::try_grow(&mut self.stats, additional, "step statistics")?;
+        Ok(())
     }
 }

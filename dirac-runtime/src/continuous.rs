@@ -6,6 +6,7 @@
 
 use nalgebra::SVector;
 
+use crate::error::StepError;
 use crate::linalg::{checked_rcond, LinearSolver};
 use crate::newton::{self, inf_norm, NewtonFailure, NewtonOptions};
 use crate::reduced::Trajectory;
@@ -72,7 +73,8 @@ pub trait ContinuousLagrangian<const N: usize> {
     fn energy(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> f64;
 
     /// The unreduced state `(q, ∂L/∂v (q, v))` from a position and a velocity (arrays or
-    /// nalgebra vectors). For a degenerate Lagrangian this is the point of the primary
+    /// nalgebra vectors): the one way to start a run from them, for every system with a
+    /// continuous Lagrangian. For a degenerate Lagrangian this is the point of the primary
     /// constraint `p = ∂L/∂v` over `q`.
     ///
     /// `q` and `v` list the system's own coordinates in the order of
@@ -80,31 +82,52 @@ pub trait ContinuousLagrangian<const N: usize> {
     /// translation (`coordinates(..), translate(..)`) these are the *adapted* coordinates
     /// `(x, g)` of [`crate::adapted`], not the user's; convert user coordinates first with
     /// [`crate::AdaptedCoordinates::to_adapted`] (velocities transform like positions).
-    fn unreduced_state(
+    ///
+    /// With adaptive steps (`time(t), adapt = |q| g`, [`crate::adaptive`]) `q` is the physical
+    /// position (its time coordinate the physical time) and `v` the *physical* velocity (the
+    /// time coordinate's entry is ignored: its rate is 1); the state is put on the level set
+    /// `p_t = −E(q, v)` where the transformed system's solutions are the physical ones: the
+    /// momenta of `L₂` at the velocity in fictitious time `g(x) v`, with `t' = g(x)`
+    /// ([`crate::adaptive::fictitious_velocity`]).
+    ///
+    /// `Err` with [`StepError::InvalidMonitor`] where the monitor of a system with adaptive
+    /// steps is not positive and finite at `q`, and [`StepError::NonFinite`] for a position or
+    /// a momentum that is not finite.
+    fn unreduced_state<const S: usize, const K: usize>(
         &self,
         q: impl IntoVector<SVector<f64, N>>,
         v: impl IntoVector<SVector<f64, N>>,
-    ) -> UnreducedState<N> {
-        let (q, v) = (q.into_vector(), v.into_vector());
-        UnreducedState {
-            p: self.legendre(&q, &v),
-            q,
+    ) -> Result<UnreducedState<N>, StepError>
+    where
+        Self: Sized + DiscreteLagrangian<S, K, N>,
+    {
+        let (q, mut v) = (q.into_vector(), v.into_vector());
+        if self.time_index().is_some() {
+            v = crate::adaptive::fictitious_velocity(self, &q, &v)?;
         }
+        let p = self.legendre(&q, &v);
+        if !q.iter().chain(p.iter()).all(|x| x.is_finite()) {
+            return Err(StepError::NonFinite {
+                step: 0,
+                what: "the state from a position and velocity (the position or ∂L/∂v)",
+                residual: f64::NAN,
+            });
+        }
+        Ok(UnreducedState { q, p })
     }
 
-    /// The reduced state `(x, w, μ, g)` from a position and a velocity: the unreduced state
-    /// trivialized by eq. (3.6). As for [`Self::unreduced_state`], `q` and `v` list the system's
-    /// own (for a declared translation: adapted) coordinates in the order of
-    /// [`DiscreteLagrangian::SHAPE`] followed by [`DiscreteLagrangian::GROUP`].
+    /// The reduced state `(x, w, μ, g)` from a position and a velocity: the unreduced state of
+    /// [`Self::unreduced_state`] (the same coordinates, the same adaptive level set, the same
+    /// errors) trivialized by eq. (3.6).
     fn reduced_state<const S: usize, const K: usize>(
         &self,
         q: impl IntoVector<SVector<f64, N>>,
         v: impl IntoVector<SVector<f64, N>>,
-    ) -> ReducedState<S, K>
+    ) -> Result<ReducedState<S, K>, StepError>
     where
-        Self: DiscreteLagrangian<S, K, N>,
+        Self: Sized + DiscreteLagrangian<S, K, N>,
     {
-        self.trivialize(&self.unreduced_state(q, v))
+        Ok(self.trivialize(&self.unreduced_state(q, v)?))
     }
 
     /// Solves the Legendre map `∂L/∂v (q, v) = p` for `v` (the inverse Legendre map) by the

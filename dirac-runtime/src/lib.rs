@@ -73,7 +73,8 @@ pub mod prelude {
         StepSizes, StopCondition,
     };
     pub use crate::element::{
-        ElementIntegrator, ElementLagrangian, ElementState, ElementTrajectory, Parallel, StepSolver,
+        ElementConstrainedIntegrator, ElementConstrainedTrajectory, ElementIntegrator,
+        ElementLagrangian, ElementState, ElementTrajectory, Parallel, StepSolver,
     };
     pub use crate::error::{IntegrationError, StepError, Steps};
     pub use crate::lie::{

@@ -45,6 +45,11 @@ pub struct Trajectory<const S: usize, const K: usize> {
     pub states: Vec<ReducedState<S, K>>,
     /// `times[k] = t_k`, the time of `states[k]` (`k h` exactly for a fixed step).
     pub times: Vec<f64>,
+    /// `step_sizes[k]` is the size step `k` was taken with, bit for bit as the run passed it to
+    /// the step: `h` itself for a fixed step, `h_k` with a schedule (the last step shortened to
+    /// land on an end time); with adaptive steps the fictitious step `ε_k` (the physical step is
+    /// `times[k + 1] − times[k]`).
+    pub step_sizes: Vec<f64>,
     /// The group unknown of step `k` ([`ReducedStep::group_unknown`]).
     pub group_unknowns: Vec<SVector<f64, K>>,
     /// Newton statistics of each step.
@@ -57,22 +62,6 @@ macro_rules! trajectory_accessors {
         /// Number of completed steps.
         pub fn steps(&self) -> usize {
             self.states.len().saturating_sub(1)
-        }
-
-        /// The time `t_k` of state `k`.
-        pub fn time(&self, k: usize) -> f64 {
-            self.times[k]
-        }
-
-        /// The size `t_{k+1} − t_k` of step `k` (`h` itself for a fixed step).
-        pub fn step_size(&self, k: usize) -> f64 {
-            if crate::stepper::same_step(self.times[k + 1], (k + 1) as f64 * self.h)
-                && crate::stepper::same_step(self.times[k], k as f64 * self.h)
-            {
-                self.h
-            } else {
-                self.times[k + 1] - self.times[k]
-            }
         }
 
         /// The last state.
@@ -122,18 +111,33 @@ where
             variant: D::VARIANT,
             states: crate::stepper::reserved(steps.saturating_add(1)),
             times: crate::stepper::reserved(steps.saturating_add(1)),
+            step_sizes: crate::stepper::reserved(steps),
             group_unknowns: crate::stepper::reserved(steps),
             stats: crate::stepper::reserved(steps),
         }
     }
 
-    fn push(&mut self, t: f64, state: &ReducedState<S, K>, record: Option<&ReducedStep<K>>) {
+    fn push(&mut self, t: f64, state: &ReducedState<S, K>, step: Option<(f64, &ReducedStep<K>)>) {
         self.states.push(*state);
         self.times.push(t);
-        if let Some(step) = record {
+        if let Some((h, step)) = step {
+            self.step_sizes.push(h);
             self.group_unknowns.push(step.group_unknown);
             self.stats.push(step.stats);
         }
+    }
+
+    fn try_reserve(
+        &mut self,
+        _state: &ReducedState<S, K>,
+        additional: usize,
+    ) -> Result<(), StepError> {
+        crate::stepper::try_grow(&mut self.states, additional, "states")?;
+        crate::stepper::try_grow(&mut self.times, additional, "times")?;
+        crate::stepper::try_grow(&mut self.step_sizes, additional, "step sizes")?;
+        crate::stepper::try_grow(&mut self.group_unknowns, additional, "group unknowns")?;
+        crate::stepper::try_grow(&mut self.stats, additional, "step statistics")?;
+        Ok(())
     }
 }
 
@@ -459,6 +463,8 @@ where
             &self.system.parameter_values(),
             initial.is_finite(),
         )?;
+        // The domain first: outside it the monitor need not be defined.
+        reduced_domain(&self.system, 0, true, initial)?;
         if crate::stepper::monitor_at(&self.system, 0, &initial.x)?.is_some() {
             let start = self.system.untrivialize(initial);
             crate::adaptive::check_level_set(&self.system, &start.q, &start.p)?;
@@ -466,14 +472,12 @@ where
         Ok(())
     }
 
-    fn physical_time(&self, state: &ReducedState<S, K>) -> Option<f64> {
-        // The domain first: outside it the monitor need not be defined.
-        reduced_domain(&self.system, 0, true, initial)?;
-        self.system.time_index().map(|j| state.g[j])
-    }
-
     fn check_domain(&self, k: usize, state: &ReducedState<S, K>) -> Result<(), StepError> {
         reduced_domain(&self.system, k, false, state)
+    }
+
+    fn physical_time(&self, state: &ReducedState<S, K>) -> Option<f64> {
+        self.system.time_index().map(|j| state.g[j])
     }
 
     fn workspace(&self) -> Self::Workspace {
@@ -515,10 +519,6 @@ where
     }
 }
 
-/// Newton's initial guess for the step of size `h` from `x`, `z = (x_{k+1}, u)`, from the last
-/// two steps, each given as its shape increment `x_{j+1} − x_j` and its group unknown with the
-/// step's size (newest first; none before the start): the shape advances by the extrapolated
-/// increment (`x` at the first step, `x + Δ_{k−1}` at the second, then the quadratic through the
 /// The declared domain ([`crate::domain`]) at the configuration `(x, g)` of a reduced state.
 fn reduced_domain<L, const S: usize, const K: usize, const N: usize>(
     sys: &L,
@@ -538,6 +538,10 @@ where
     })
 }
 
+/// Newton's initial guess for the step of size `h` from `x`, `z = (x_{k+1}, u)`, from the last
+/// two steps, each given as its shape increment `x_{j+1} − x_j` and its group unknown with the
+/// step's size (newest first; none before the start): the shape advances by the extrapolated
+/// increment (`x` at the first step, `x + Δ_{k−1}` at the second, then the quadratic through the
 /// last three points, `x + 2 Δ_{k−1} − Δ_{k−2}` on a uniform grid, whose error is `O(h³)` against
 /// the linear one's `O(h²)`), and the group unknown by the same rule (it is itself an increment);
 /// see [`crate::stepper`]'s `predicted_increment` for unequal steps.

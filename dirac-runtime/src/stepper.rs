@@ -52,15 +52,15 @@ pub trait Stepper {
     /// Adaptive steps ([`crate::adaptive`]): the physical time of `state` — its time
     /// coordinate — for a system declared with `time(t), adapt = |q| g`; `None` for a system
     /// stepped in physical time. When it is `Some`, the driver's clock is this time: a run's
-    /// times, its stop conditions and observers see `t_k`, a collected trajectory's
-    /// `time(k)` and `step_size(k)` are `t_k` and `Δt_k`, and an end time is a physical time,
-    /// landed on exactly by a last step of the fictitious size that reaches it.
+    /// times, its stop conditions and observers see `t_k`, a collected trajectory's `times[k]`
+    /// are the physical `t_k` (its `step_sizes[k]` the fictitious steps `ε_k`), and an end time
+    /// is a physical time, landed on exactly by a last step of the fictitious size that reaches
+    /// it.
     fn physical_time(&self, state: &Self::State) -> Option<f64> {
         let _ = state;
         None
     }
 
-    /// Takes step `k`, of size `h`, from `state` in `workspace` with the controls `u` (in the
     /// The domain check of the state step `k` reached ([`crate::domain`]): the typed
     /// [`StepError::OutOfDomain`] when it lies outside the domain the system declares
     /// (`domain(...)` in its attribute). Every run calls it after every step (the initial state
@@ -71,6 +71,7 @@ pub trait Stepper {
         Ok(())
     }
 
+    /// Takes step `k`, of size `h`, from `state` in `workspace` with the controls `u` (in the
     /// order of [`crate::DiscreteLagrangian::CONTROLS`]; empty: the values the system holds).
     ///
     /// `h` is the step's own size: [`Self::time_step`] for a fixed-step run (then the step is the
@@ -246,9 +247,41 @@ pub trait Collect<St: Stepper + ?Sized>: Sized {
     /// An empty trajectory of `stepper` for a run of at most `steps` steps (with room reserved
     /// up front for at most a few thousand: a long run grows as it goes).
     fn start(stepper: &St, steps: usize) -> Self;
-    /// Appends the state at time `t`; `record` is the step that produced it (`None` for the
-    /// initial state).
-    fn push(&mut self, t: f64, state: &St::State, record: Option<&St::Record>);
+    /// Appends the state at time `t`; `step` is the step that produced it (`None` for the
+    /// initial state): the size it was taken with, exactly as the run passed it to
+    /// [`Stepper::step_into`] (the step parameter `h_k`: with adaptive steps the fictitious step
+    /// `ε_k`), and its record.
+    fn push(&mut self, t: f64, state: &St::State, step: Option<(f64, &St::Record)>);
+
+    /// Makes room for `additional` more states like `state` (with their times and records), or
+    /// says that memory cannot hold them: [`StepError::OutOfMemory`], where a push would abort
+    /// the process in the allocator. A collected run calls it before every push, and once before
+    /// the first step for every state of a run whose length is known (a number of steps without
+    /// a stop condition or an end time), so that a run longer than memory holds is refused
+    /// before it starts. The default makes no room (a trajectory kept elsewhere).
+    fn try_reserve(&mut self, state: &St::State, additional: usize) -> Result<(), StepError> {
+        let _ = (state, additional);
+        Ok(())
+    }
+}
+
+/// Room for `additional` more items in `v`, growing as a push would (doubling); the typed
+/// [`StepError::OutOfMemory`] naming `what` when it cannot be allocated: what a trajectory's
+/// [`Collect::try_reserve`] does for each of its vectors.
+pub(crate) fn try_grow<T>(v: &mut Vec<T>, additional: usize, what: &str) -> Result<(), StepError> {
+    if v.capacity() - v.len() >= additional {
+        return Ok(());
+    }
+    v.try_reserve(additional).map_err(|_| {
+        let items = (v.len() as u128 + additional as u128).max(2 * v.capacity() as u128);
+        StepError::OutOfMemory {
+            what: format!(
+                "the trajectory's {what} ({} kept, room for {additional} more asked for)",
+                v.len()
+            ),
+            bytes: items * std::mem::size_of::<T>() as u128,
+        }
+    })
 }
 
 /// What one step cost (the default: nothing yet, as a sum over stages starts).
@@ -520,8 +553,27 @@ where
 mod tests {
     use nalgebra::{Matrix2, Vector2};
 
-    use super::step_error;
+    use super::{step_error, try_grow};
+    use crate::error::StepError;
     use crate::newton::NewtonOptions;
+
+    /// Room for more items than any allocation holds is the typed `OutOfMemory` with the bytes
+    /// asked for (room that exists is given, and the vector is left as it was otherwise).
+    #[test]
+    fn room_memory_cannot_hold_is_a_typed_error_not_an_abort() {
+        let mut v: Vec<[f64; 4]> = vec![[0.0; 4]; 3];
+        try_grow(&mut v, 10, "states").expect("room for 13 states");
+        assert!(v.capacity() >= 13);
+        let huge = usize::MAX / 64;
+        match try_grow(&mut v, huge, "states") {
+            Err(StepError::OutOfMemory { what, bytes }) => {
+                assert!(what.contains("states") && what.contains("3 kept"), "{what}");
+                assert_eq!(bytes, 32 * (3 + huge as u128));
+            }
+            other => panic!("{other:?}"),
+        }
+        assert_eq!(v.len(), 3);
+    }
 
     /// A solve that stops far from a root on an ill-conditioned Jacobian is reported as
     /// ill-conditioned, and its message says that the step did not converge, with the residual

@@ -25,6 +25,11 @@ pub struct UnreducedTrajectory<const N: usize> {
     pub states: Vec<UnreducedState<N>>,
     /// `times[k] = t_k`, the time of `states[k]` (`k h` exactly for a fixed step).
     pub times: Vec<f64>,
+    /// `step_sizes[k]` is the size step `k` was taken with, bit for bit as the run passed it to
+    /// the step: `h` itself for a fixed step, `h_k` with a schedule (the last step shortened to
+    /// land on an end time); with adaptive steps the fictitious step `ε_k` (the physical step is
+    /// `times[k + 1] − times[k]`).
+    pub step_sizes: Vec<f64>,
     /// Newton statistics of each step.
     pub stats: Vec<StepStats>,
 }
@@ -49,16 +54,30 @@ where
             h: integrator.system.time_step(),
             states: crate::stepper::reserved(steps.saturating_add(1)),
             times: crate::stepper::reserved(steps.saturating_add(1)),
+            step_sizes: crate::stepper::reserved(steps),
             stats: crate::stepper::reserved(steps),
         }
     }
 
-    fn push(&mut self, t: f64, state: &UnreducedState<N>, record: Option<&StepStats>) {
+    fn push(&mut self, t: f64, state: &UnreducedState<N>, step: Option<(f64, &StepStats)>) {
         self.states.push(*state);
         self.times.push(t);
-        if let Some(stats) = record {
+        if let Some((h, stats)) = step {
+            self.step_sizes.push(h);
             self.stats.push(*stats);
         }
+    }
+
+    fn try_reserve(
+        &mut self,
+        _state: &UnreducedState<N>,
+        additional: usize,
+    ) -> Result<(), StepError> {
+        crate::stepper::try_grow(&mut self.states, additional, "states")?;
+        crate::stepper::try_grow(&mut self.times, additional, "times")?;
+        crate::stepper::try_grow(&mut self.step_sizes, additional, "step sizes")?;
+        crate::stepper::try_grow(&mut self.stats, additional, "step statistics")?;
+        Ok(())
     }
 }
 
@@ -205,10 +224,16 @@ where
             initial.is_finite(),
         )?;
         let x = initial.q.fixed_rows::<S>(0).into_owned();
+        // The domain first: outside it the monitor need not be defined.
+        crate::domain::check_system(&self.system, 0, true, |i| initial.q.get(i).copied())?;
         if crate::stepper::monitor_at(&self.system, 0, &x)?.is_some() {
             crate::adaptive::check_level_set(&self.system, &initial.q, &initial.p)?;
         }
         Ok(())
+    }
+
+    fn check_domain(&self, k: usize, state: &UnreducedState<N>) -> Result<(), StepError> {
+        crate::domain::check_system(&self.system, k, false, |i| state.q.get(i).copied())
     }
 
     fn physical_time(&self, state: &UnreducedState<N>) -> Option<f64> {
@@ -227,15 +252,9 @@ where
     }
 
     /// Newton starts from [`canonical_guess`], a quadratic extrapolation of the last
-        // The domain first: outside it the monitor need not be defined.
-        crate::domain::check_system(&self.system, 0, true, |i| initial.q.get(i).copied())?;
     /// configurations.
     fn step_with(
         &self,
-    fn check_domain(&self, k: usize, state: &UnreducedState<N>) -> Result<(), StepError> {
-        crate::domain::check_system(&self.system, k, false, |i| state.q.get(i).copied())
-    }
-
         workspace: &mut Self::Workspace,
         k: usize,
         h: f64,

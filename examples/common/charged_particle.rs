@@ -43,7 +43,7 @@ pub fn print_table_1() -> Result<(), Box<dyn Error>> {
     let n = 200;
     let sys = ChargedParticleContinuous::paper(n);
     let initial: ReducedState<3, 1> =
-        sys.reduced_state(SVector::zeros(), SVector::from([1.0, 0.0, 1.0, 1.0]));
+        sys.reduced_state(SVector::zeros(), SVector::from([1.0, 0.0, 1.0, 1.0]))?;
     let traj = ReducedIntegrator::plus(sys, NewtonOptions::default())
         .run(initial)
         .steps(n)
@@ -81,7 +81,7 @@ pub fn write_figure_1(out: &Path) -> Result<(), Box<dyn Error>> {
     let mut csv = String::from("t,x,y,z,x_exact,y_exact,z_exact\n");
     let mut approx = Vec::new();
     for (k, s) in traj.states.iter().enumerate() {
-        let t = traj.time(k);
+        let t = traj.times[k];
         let e = ChargedParticle::exact_position(t);
         csv.push_str(&format!(
             "{t},{},{},{},{},{},{}\n",

@@ -185,7 +185,7 @@ pub fn report(run: &Run) {
         "min rcond of the step Jacobian",
         format!(
             "{rcond:.3e} (step {k_worst}, t = {:.2})",
-            traj.time(k_worst)
+            traj.times[k_worst]
         ),
     );
     // Remark 7.1: the coordinates (and the reduction) are singular where a bob is on the
@@ -352,7 +352,7 @@ fn write_csv(run: &Run, path: &Path) -> Result<(), Box<dyn Error>> {
         let energy = |v: &[f64]| v.get(k).map_or(String::new(), f64::to_string);
         csv.push_str(&format!(
             "{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
-            traj.time(k),
+            traj.times[k],
             s.x[0],
             s.x[1],
             s.x[2],
@@ -377,7 +377,7 @@ fn write_csv(run: &Run, path: &Path) -> Result<(), Box<dyn Error>> {
 pub fn figure_3_panels(run: &Run) -> Vec<LineChart> {
     let traj = &run.trajectory;
     let phi1 = (0..=traj.steps())
-        .map(|k| (traj.time(k), traj.states[k].x[0]))
+        .map(|k| (traj.times[k], traj.states[k].x[0]))
         .collect();
     let xy = (0..=traj.steps())
         .map(|k| {
@@ -420,20 +420,20 @@ pub fn figure_4_panels(run: &Run) -> Vec<LineChart> {
         .discrete_energy
         .iter()
         .enumerate()
-        .map(|(k, &e)| (traj.time(k), e))
+        .map(|(k, &e)| (traj.times[k], e))
         .collect();
     let physical = run
         .physical_energy
         .iter()
         .enumerate()
-        .map(|(k, &e)| (traj.time(k) + 0.5 * h, e))
+        .map(|(k, &e)| (traj.times[k] + 0.5 * h, e))
         .collect();
     let difference = run
         .discrete_energy
         .iter()
         .zip(&run.unreduced_discrete_energy)
         .enumerate()
-        .map(|(k, (a, b))| (traj.time(k), a - b))
+        .map(|(k, (a, b))| (traj.times[k], a - b))
         .collect();
     vec![
         LineChart {

@@ -17,7 +17,6 @@
 //!
 //! ```
 //! use dirac::prelude::*;
-//! use dirac::runtime::adaptive;
 //!
 //! /// Kepler's problem in polar coordinates, the step following the free-fall time `r^{3/2}`.
 //! #[reduced_lagrangian(shape(r), group(theta, t), time(t), adapt = |q| q.r.powf(1.5), rule = midpoint)]
@@ -29,7 +28,7 @@
 //! // Periapsis of the orbit with e = 0.9 (semi-major axis 1): position (r, θ, t) and the
 //! // physical velocity (ṙ, θ̇, 1). The state is put on the energy level, p_t = −E.
 //! let (e, r0): (f64, f64) = (0.9, 0.1);
-//! let start = adaptive::reduced_state(&sys, [r0, 0.0, 0.0], [0.0, (1.0 - e * e).sqrt() / (r0 * r0), 1.0])?;
+//! let start = sys.reduced_state([r0, 0.0, 0.0], [0.0, (1.0 - e * e).sqrt() / (r0 * r0), 1.0])?;
 //! let period = 2.0 * std::f64::consts::PI;
 //! let traj = ReducedIntegrator::plus(sys, NewtonOptions::default())
 //!     .run(start)
@@ -41,16 +40,21 @@
 //! assert_eq!(last.mu, start.mu);
 //! assert!((start.mu[1] - 0.5).abs() < 1e-12); // E = −1/(2a)
 //! // The run's clock is physical time: short steps at periapsis, long ones at apoapsis.
-//! assert_eq!(traj.time(3), traj.states[3].g[1]);
-//! assert!(traj.step_size(traj.steps() / 2) > 20.0 * traj.step_size(0));
+//! assert_eq!(traj.times[3], traj.states[3].g[1]);
+//! let dt = |k: usize| traj.times[k + 1] - traj.times[k]; // the physical steps Δt_k
+//! assert!(dt(traj.steps() / 2) > 20.0 * dt(0));
+//! assert_eq!(traj.step_sizes[0], sys.h); // the fictitious step ε
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
 //! The state's `g[1]` is the physical time `t_k` (reconstructed like any group coordinate), and
-//! it is the run's clock: observers, stop conditions and a collected trajectory's `time(k)` see
-//! `t_k`, `step_size(k)` is the step `Δt_k`, a run starts at the state's time (`start_time` does
-//! not apply), and `.end_time(T)` is a physical time. The step that passes `T` is taken again
-//! with the fictitious step that lands on it (found by the secant method, to a few ulp:
+//! it is the run's clock: observers, stop conditions and a collected trajectory's `times[k]` see
+//! the physical `t_k` (so `times[k + 1] − times[k]` is the physical step `Δt_k`), while its
+//! `step_sizes[k]` are the fictitious steps `ε_k` the steps were taken with, as are the sizes a
+//! `.schedule` gives; a run starts at the state's time (a `.start_time` other than it is
+//! refused, with [`StepError::InvalidRun`](crate::StepError::InvalidRun): the state sets the
+//! clock), and `.end_time(T)` is a physical time. The step that passes `T` is taken again with
+//! the fictitious step that lands on it (found by the secant method, to a few ulp:
 //! [`adaptive::land_at`](crate::runtime::adaptive::land_at), which you can also call yourself) —
 //! a step of the same integrator, so the momenta stay exact. A monitor that
 //! reads a group coordinate (it would break that symmetry and make steps depend on the origin of
@@ -61,7 +65,7 @@
 //! physical time is a coordinate translated alone, `coordinates(x[2], y[2], t), translate(x),
 //! translate(y), translate(t), time(t)`, and the monitor may read anything the translations
 //! leave unchanged (`q.x[1] - q.x[0]`), checked at sample points. States are built in the
-//! adapted coordinates: `adaptive::reduced_state(&sys, Sys::to_adapted(&q), Sys::to_adapted(&u))`
+//! adapted coordinates: `sys.reduced_state(Sys::to_adapted(&q), Sys::to_adapted(&u))`
 //! (the map is linear, so it takes velocities too). Two bodies in the plane declared this way
 //! keep their total momentum and `p_t` bit for bit and have order 2 against Kepler's equation
 //! for their relative orbit.
@@ -105,7 +109,7 @@
 //! let sys = Swinging { h: 0.02, g: 1.0 };
 //! let (s, c) = 1.2_f64.sin_cos();
 //! // The state at a physical position and velocity, on the energy level (p_t = −E).
-//! let start = sys.adaptive_state(
+//! let start = sys.unreduced_state(
 //!     &SwingingConfig { n: Vector3::new(s, 0.0, -c), t: 0.0 },
 //!     &SwingingVelocity { n: Vector3::new(0.0, 0.8, 0.0), t: 1.0 },
 //! )?;
@@ -119,7 +123,8 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
-//! `adaptive_state(q, v)`, emitted for such a system, puts the physical configuration and
+//! `unreduced_state(q, v)`, emitted for such a system (the name and the `Result` of every
+//! system's state from a position and a velocity), puts the physical configuration and
 //! velocity on the level set: the momenta `∂L/∂v` (a rotation's body momentum, a direction's in
 //! its tangent frame) and `p_t = −E(q, v)`. A run's first step starts Newton from the motion at
 //! the physical step `ε g(q)` (the step's own equations solved with the time increment held),
@@ -163,9 +168,14 @@
 //!   oscillates about `−p_t` without drift (its mean over the last tenth of a 40-orbit run lies
 //!   within the spread of the first tenth).
 //!
-//! A run must start on the level set `p_t = −E`: [`adaptive::state`](crate::runtime::adaptive::state)
-//! and [`adaptive::reduced_state`](crate::runtime::adaptive::reduced_state) build it from the
-//! physical position and velocity. Each new state's monitor must be positive and finite, or the
+//! A run must start on the level set `p_t = −E`:
+//! [`sys.unreduced_state(q, v)`](crate::runtime::ContinuousLagrangian::unreduced_state) and
+//! `sys.reduced_state(q, v)` build it from the physical position and velocity (for a system
+//! with adaptive steps; the same calls start any system with a continuous Lagrangian). A start
+//! off the level set would integrate another orbit, so every integrator checks it before the
+//! first step and refuses one farther from it than
+//! [`LEVEL_SET_TOLERANCE`](crate::runtime::adaptive::LEVEL_SET_TOLERANCE) (`1e-8` relative to
+//! the energy's terms) with [`StepError::OffManifold`](crate::StepError::OffManifold). Each new state's monitor must be positive and finite, or the
 //! run ends with [`StepError::InvalidMonitor`](crate::StepError::InvalidMonitor) carrying the step
 //! index (the states before it kept); and each step must move physical time forward: the step
 //! equations also have roots with `Δt < 0`, which Newton can find when the fictitious step is

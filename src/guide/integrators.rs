@@ -260,7 +260,7 @@
 //!
 //! // Stop at the first state past apoapsis (p_r = w turns negative).
 //! let half = integ.run(start).steps(1000).stop(|_, _, s| s.w[0] < 0.0).collect()?;
-//! assert!((half.time(half.steps()) - std::f64::consts::PI).abs() < 0.02);
+//! assert!((half.times[half.steps()] - std::f64::consts::PI).abs() < 0.02);
 //!
 //! // Up to t = 1.005 exactly: 100 steps of h and a last one of 0.005.
 //! let to_end = integ.run(start).end_time(1.005).collect()?;
@@ -339,7 +339,7 @@
 //!     .collect()?;
 //! assert_eq!(*traj.times.last().unwrap(), period); // the end time, exactly
 //! assert!(traj.states.iter().all(|s| s.mu == start.mu)); // μ, bit for bit
-//! println!("{} steps of sizes {} .. {}", traj.steps(), traj.step_size(0), traj.step_size(300));
+//! println!("{} steps of sizes {} .. {}", traj.steps(), traj.step_sizes[0], traj.step_sizes[300]);
 //! # Ok(())
 //! # }
 //! ```

@@ -141,7 +141,7 @@
 //! // Degenerate: the momenta come from the positions alone, so the velocity passed is unused.
 //! let vortices = VortexPair { gamma1: 1.0, gamma2: 2.0, h: 0.05 };
 //! let q = SVector::from([1.0, 0.8, 2.0, 0.3]);
-//! let initial: ReducedState<3, 1> = vortices.reduced_state(q, SVector::zeros());
+//! let initial: ReducedState<3, 1> = vortices.reduced_state(q, SVector::zeros())?;
 //! let traj = ReducedIntegrator::plus(vortices, NewtonOptions::default()).run(initial).steps(100).collect()?;
 //! assert_eq!(traj.last().mu, initial.mu); // the angular impulse, exactly
 //!
@@ -149,7 +149,7 @@
 //! // q̇ = (1, 0, 1), θ̇ = 1, the paper's (w0, μ0) = ((1, 0, 1), 1).
 //! let sys = ChargedParticleContinuous { m: 1.0, b0: 1.0, h: 0.1 };
 //! let initial: ReducedState<3, 1> =
-//!     sys.reduced_state(SVector::zeros(), SVector::from([1.0, 0.0, 1.0, 1.0]));
+//!     sys.reduced_state(SVector::zeros(), SVector::from([1.0, 0.0, 1.0, 1.0]))?;
 //! assert_eq!(initial, dirac::paper::ChargedParticle::paper_initial_state());
 //! let traj = ReducedIntegrator::plus(sys, NewtonOptions::default()).run(initial).steps(200).collect()?;
 //! let e = reduced_continuous_energies(&sys, &traj)?;

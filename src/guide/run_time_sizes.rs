@@ -144,7 +144,6 @@
 //!
 //! ```
 //! use dirac::prelude::*;
-//! use dirac::runtime::element::ElementConstrainedIntegrator;
 //!
 //! /// A cart on a rail carrying a chain of `n` rigid links in maximal coordinates.
 //! #[reduced_lagrangian(coordinates(c, x[n], y[n]), rule = midpoint,

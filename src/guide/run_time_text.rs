@@ -123,7 +123,7 @@
 //! `state` takes each coordinate as the text names it (a rotation's matrix row by row, a
 //! direction's unit vector, a scalar) with its momentum (a rotation's body momentum, a direction's
 //! momentum as a vector in space), and refuses a matrix that is not a rotation or a vector that
-//! is not a unit vector; `adaptive_state` takes a velocity instead. The coordinates, parameters,
+//! is not a unit vector; `unreduced_state` takes a velocity instead. The coordinates, parameters,
 //! controls, time coordinate and symmetry are values of the system, which the integrators and the
 //! Parquet writer read through `LieLagrangian::coordinate`, `parameter_names`, `control_count`,
 //! `time_index` and `LieSymmetric::symmetry`. The rigid body, the heavy top, the satellite with

@@ -266,7 +266,7 @@ pub fn generate(
     }
 }
 
-/// Adaptive steps: `TIME` and `monitor` of `LieLagrangian`, and the inherent `adaptive_state`
+/// Adaptive steps: `TIME` and `monitor` of `LieLagrangian`, and the inherent `unreduced_state`
 /// (the state on the level set at a physical configuration and velocity,
 /// [`crate::ir::lie::LieAdaptive`]). Empty for a system stepped in physical time.
 fn adaptive_items(
@@ -328,7 +328,7 @@ fn adaptive_items(
     };
     let inherent = quote! {
         #[doc = #doc]
-        pub fn adaptive_state(
+        pub fn unreduced_state(
             &self,
             q: &#config,
             v: &#velocity,

@@ -357,7 +357,7 @@ fn adaptive_steps_on_a_sphere_are_bit_for_bit() {
     let jit: JitLie<10, 3> = code.instantiate(&compiled.parameter_values()).unwrap();
     let n = Vector3::new(0.6, 0.0, -0.8);
     let start = compiled
-        .adaptive_state(
+        .unreduced_state(
             &SwingingConfig { n, t: 0.0 },
             &SwingingVelocity {
                 n: Vector3::new(0.0, 0.7, 0.0),
@@ -368,10 +368,10 @@ fn adaptive_steps_on_a_sphere_are_bit_for_bit() {
     let q = jit.configuration(&start.q);
     let point = jit.state(&[&q[0], &q[1]], &[&[0.0; 3], &[0.0]]).unwrap().q;
     assert_eq!(
-        jit.adaptive_state(&point, &[0.0, 0.7, 0.0, 1.0]).unwrap(),
+        jit.unreduced_state(&point, &[0.0, 0.7, 0.0, 1.0]).unwrap(),
         start
     );
-    assert!(jit.adaptive_state(&point, &[0.0, 0.7]).is_err());
+    assert!(jit.unreduced_state(&point, &[0.0, 0.7]).is_err());
     same_description(&compiled, &jit);
     same_lie_runs(compiled, jit, start, 400);
     let reduced = code

@@ -52,7 +52,16 @@
 //!
 //! An end time `T` ([`Run::end_time`]) is reached exactly: the step that would pass `T` is
 //! shortened to `T − t_k` (or kept, if it lands on `T` to round-off, so that a fixed step whose
-//! multiple is `T` is not disturbed).
+//! multiple is `T` is not disturbed). A collected trajectory keeps each step's size as it was
+//! taken, bit for bit, in its `step_sizes` (the shortened last one included), beside the
+//! times `times`.
+//!
+//! With adaptive steps ([`crate::adaptive`]) the units differ and the names say which: the
+//! system's step parameter `h`, the sizes a schedule gives and a trajectory's `step_sizes` are
+//! fictitious steps `ε` (of the time `τ`, `dt = g(q) dτ`); the clock (`t` of observers, stop
+//! conditions, [`RunSummary::t`], a trajectory's `times`) and an end time are physical, and the
+//! physical step is `times[k + 1] − times[k]`. The clock starts at the initial state's time
+//! coordinate, so a [`Run::start_time`] other than it is refused.
 
 use crate::error::{IntegrationError, StepError, Steps};
 use crate::stepper::{Collect, StepStats, Stepper};
@@ -61,13 +70,14 @@ use crate::stepper::{Collect, StepStats, Stepper};
 /// over the steps, in memory independent of the number of steps.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RunSummary<St> {
-    /// The integrator's time step `h` (the default step size).
+    /// The integrator's time step `h` (the default step size; with adaptive steps the
+    /// fictitious step `ε`).
     pub h: f64,
     /// Completed steps.
     pub steps: usize,
     /// The state after the last completed step (the initial state if none).
     pub last: St,
-    /// The time of [`Self::last`].
+    /// The time of [`Self::last`] (physical, with adaptive steps).
     pub t: f64,
     /// Whether the run ended early because its stop condition held ([`Run::stop`]).
     pub stopped: bool,
@@ -120,11 +130,6 @@ impl<St> RunSummary<St> {
             self.iterations as f64 / self.steps as f64
         }
     }
-
-    /// The time reached, [`Self::t`].
-    pub fn time(&self) -> f64 {
-        self.t
-    }
 }
 
 impl<St> Steps for RunSummary<St> {
@@ -146,7 +151,9 @@ pub type MemberResult<T> = Result<T, Box<IntegrationError<T>>>;
 struct Span {
     steps: Option<usize>,
     end: Option<f64>,
-    start: f64,
+    /// The start time given with [`Run::start_time`] (`None`: 0, or the state's own time with
+    /// adaptive steps).
+    start: Option<f64>,
     every: usize,
 }
 
@@ -155,7 +162,7 @@ impl Default for Span {
         Self {
             steps: None,
             end: None,
-            start: 0.0,
+            start: None,
             every: 1,
         }
     }
@@ -167,7 +174,7 @@ impl Span {
         match (self.steps, self.end) {
             (Some(n), _) => n,
             (None, Some(end)) => {
-                let n = ((end - self.start) / h).ceil();
+                let n = ((end - self.start.unwrap_or(0.0)) / h).ceil();
                 if n.is_finite() && n >= 0.0 && n < usize::MAX as f64 {
                     n as usize
                 } else {
@@ -179,8 +186,17 @@ impl Span {
     }
 
     /// The run's checks, with the clock starting at `start` (the start time, or the initial
-    /// state's physical time with adaptive steps).
-    fn check(&self, start: f64) -> Result<(), StepError> {
+    /// state's physical time with adaptive steps: `physical`, where a start time other than
+    /// that one is refused).
+    fn check(&self, start: f64, physical: bool) -> Result<(), StepError> {
+        if let Some(t0) = self.start.filter(|&t0| physical && t0 != start) {
+            return Err(StepError::InvalidRun {
+                reason: format!(
+                    "`.start_time({t0})` on a run with adaptive steps, whose clock is the initial \
+                     state's time coordinate ({start}): set the time in the state instead"
+                ),
+            });
+        }
         if self.steps.is_none() && self.end.is_none() {
             return Err(StepError::InvalidRun {
                 reason: "a run needs a length: `.steps(n)`, `.end_time(t)` or both".into(),
@@ -227,10 +243,12 @@ macro_rules! span_options {
         }
 
         /// The time of the initial state (default 0): a run continued from a saved state keeps
-        /// its clock. With adaptive steps the clock is the state's own time coordinate, and this
-        /// does not apply.
+        /// its clock. With adaptive steps the clock is the state's own time coordinate: a start
+        /// time other than that one contradicts it, and the run is refused with
+        /// [`crate::StepError::InvalidRun`] (set the time in the state; the state's own time,
+        /// as a resumed run passes it, is accepted).
         pub fn start_time(mut self, t0: f64) -> Self {
-            self.span.start = t0;
+            self.span.start = Some(t0);
             self
         }
 
@@ -390,10 +408,11 @@ where
             &mut step_size,
             &mut controls,
             &mut stop,
-            |k, t, state: &I::State, record: Option<&I::Record>, shown| {
+            |k, t, state: &I::State, step: Option<(f64, &I::Record)>, shown| {
                 if shown {
-                    observer.observe(k, t, state, record);
+                    observer.observe(k, t, state, step.map(|(_, record)| record));
                 }
+                Ok(())
             },
         )
     }
@@ -401,6 +420,12 @@ where
     /// Runs and keeps every state and every step's record: the trajectory, or on failure the
     /// typed error with the trajectory computed so far. Newton starts each step from an
     /// extrapolation of the last steps.
+    ///
+    /// A trajectory that memory cannot hold ends the run with [`StepError::OutOfMemory`]
+    /// rather than aborting the process: a run of a number of steps without a stop condition
+    /// or an end time knows how many states it keeps and reserves room for all of them before
+    /// the first step (refusing a run of 10¹¹ steps at once); any other run asks for room
+    /// before each state it keeps ([`Collect::try_reserve`]).
     pub fn collect(self) -> MemberResult<I::Trajectory> {
         let Run {
             integrator,
@@ -413,6 +438,11 @@ where
         } = self;
         let h = integrator.time_step();
         let mut trajectory = I::Trajectory::start(integrator, span.requested(h));
+        // The states a run keeps when it is known before the first step.
+        let known = match (span.steps, span.end) {
+            (Some(steps), None) if !X::MAY_STOP => steps.saturating_add(1),
+            _ => 1,
+        };
         let outcome = drive(
             integrator,
             initial,
@@ -420,11 +450,13 @@ where
             &mut step_size,
             &mut controls,
             &mut stop,
-            |k, t, state: &I::State, record: Option<&I::Record>, shown| {
-                trajectory.push(t, state, record);
+            |k, t, state: &I::State, step: Option<(f64, &I::Record)>, shown| {
+                trajectory.try_reserve(state, if k == 0 { known } else { 1 })?;
+                trajectory.push(t, state, step);
                 if shown {
-                    observer.observe(k, t, state, record);
+                    observer.observe(k, t, state, step.map(|(_, record)| record));
                 }
+                Ok(())
             },
         );
         match outcome {
@@ -446,7 +478,13 @@ fn drive<I, P, C, X>(
     step_size: &mut P,
     controls: &mut C,
     stop: &mut X,
-    mut observe: impl FnMut(usize, f64, &I::State, Option<&I::Record>, bool),
+    mut observe: impl FnMut(
+        usize,
+        f64,
+        &I::State,
+        Option<(f64, &I::Record)>,
+        bool,
+    ) -> Result<(), StepError>,
 ) -> RunResult<I::State>
 where
     I: Stepper + ?Sized,
@@ -458,19 +496,22 @@ where
     // Adaptive steps: the clock is the state's physical time, and the steps' sizes are
     // fictitious (see `Stepper::physical_time`).
     let physical = integrator.physical_time(&initial);
-    let t0 = physical.unwrap_or(span.start);
+    let t0 = physical.unwrap_or(span.start.unwrap_or(0.0));
     let physical = physical.is_some();
     let requested = span.requested(h0);
     let mut summary = RunSummary::new(h0, initial, t0);
     let fail = |source, summary| Box::new(IntegrationError::new(source, summary, requested));
     // Every state is passed on; the last argument says whether the output stride shows it.
-    observe(0, t0, &summary.last, None, true);
+    // Passing one on fails when a trajectory that keeps it cannot (`Run::collect`).
+    if let Err(e) = observe(0, t0, &summary.last, None, true) {
+        return Err(fail(e, summary));
+    }
     let checked = if physical {
         integrator
             .check(&summary.last)
-            .and_then(|()| span.check(t0))
+            .and_then(|()| span.check(t0, true))
     } else {
-        span.check(t0)
+        span.check(t0, false)
             .and_then(|()| integrator.check(&summary.last))
     };
     if let Err(e) = checked {
@@ -560,7 +601,8 @@ where
                             },
                         );
                         match landed {
-                            Ok((state, landed_record)) => {
+                            Ok((eps, (state, landed_record))) => {
+                                h = eps;
                                 t_next = integrator.physical_time(&state).unwrap_or(f64::NAN);
                                 next = state;
                                 record = landed_record;
@@ -569,6 +611,11 @@ where
                         }
                     }
                 }
+                // A state outside the declared domain ends the run; the states before it are
+                // kept.
+                if let Err(source) = integrator.check_domain(k, &next) {
+                    return Err(fail(source, summary));
+                }
                 std::mem::swap(&mut summary.last, &mut next);
                 summary.record(record.as_ref());
                 summary.t = t_next;
@@ -576,13 +623,15 @@ where
                 let stopped = stop.stop(k, t_next, &summary.last);
                 let last =
                     stopped || k == max_steps || span.end.is_some_and(|end| reached(t_next, end));
-                observe(
+                if let Err(e) = observe(
                     k,
                     t_next,
                     &summary.last,
-                    Some(&record),
+                    Some((h, &record)),
                     k % every == 0 || last,
-                );
+                ) {
+                    return Err(fail(e, summary));
+                }
                 if stopped {
                     summary.stopped = true;
                     break;
@@ -611,11 +660,6 @@ pub trait Drive: Stepper {
     }
 
     /// An ensemble of runs of this integrator, one from each of `initials`, in parallel:
-                // A state outside the declared domain ends the run; the states before it are
-                // kept.
-                if let Err(source) = integrator.check_domain(k, &next) {
-                    return Err(fail(source, summary));
-                }
     /// configured like a [`Run`] and finished with [`Ensemble::collect`] or
     /// [`Ensemble::stream`].
     fn ensemble<'a>(&'a self, initials: &'a [Self::State]) -> Ensemble<'a, States<'a, Self>>

@@ -140,6 +140,11 @@ impl<St, F: FnMut(usize, f64, &St) -> f64> StepSize<St> for F {
 
 /// When a run ends early ([`Run::stop`](super::Run::stop)): implemented by every closure `|k, t, state| -> bool`.
 pub trait StopCondition<St> {
+    /// Whether the condition can end a run early: `false` only for [`Never`], so that a run
+    /// asked for a number of steps knows how many states it keeps (and refuses, before the
+    /// first step, a trajectory that memory cannot hold).
+    const MAY_STOP: bool = true;
+
     /// Whether the run ends at state `k` (from 1), at time `t`.
     fn stop(&mut self, k: usize, t: f64, state: &St) -> bool;
 }
@@ -155,6 +160,8 @@ impl<St, F: FnMut(usize, f64, &St) -> bool> StopCondition<St> for F {
 pub struct Never;
 
 impl<St> StopCondition<St> for Never {
+    const MAY_STOP: bool = false;
+
     #[inline]
     fn stop(&mut self, _: usize, _: f64, _: &St) -> bool {
         false

@@ -253,6 +253,11 @@ pub struct ElementConstrainedTrajectory {
     pub states: Vec<ElementState>,
     /// `times[k] = t_k`, the time of `states[k]`.
     pub times: Vec<f64>,
+    /// `step_sizes[k]` is the size step `k` was taken with, bit for bit as the run passed it to
+    /// the step: `h` itself for a fixed step, `h_k` with a schedule (the last step shortened to
+    /// land on an end time); with adaptive steps the fictitious step `ε_k` (the physical step is
+    /// `times[k + 1] − times[k]`).
+    pub step_sizes: Vec<f64>,
     /// Each step's multipliers, constraint residual and statistics.
     pub steps: Vec<ElementConstrainedStep>,
     /// The Newton statistics of each step (as in `steps`).
@@ -285,18 +290,32 @@ impl<L: ElementLagrangian> Collect<ElementConstrainedIntegrator<L>>
             h: integrator.time_step(),
             states: crate::stepper::reserved(steps.saturating_add(1)),
             times: crate::stepper::reserved(steps.saturating_add(1)),
+            step_sizes: crate::stepper::reserved(steps),
             steps: crate::stepper::reserved(steps),
             stats: crate::stepper::reserved(steps),
         }
     }
 
-    fn push(&mut self, t: f64, state: &ElementState, record: Option<&ElementConstrainedStep>) {
+    fn push(&mut self, t: f64, state: &ElementState, step: Option<(f64, &ElementConstrainedStep)>) {
         self.states.push(state.clone());
         self.times.push(t);
-        if let Some(step) = record {
+        if let Some((h, step)) = step {
+            self.step_sizes.push(h);
             self.stats.push(step.stats);
             self.steps.push(step.clone());
         }
+    }
+
+    fn try_reserve(&mut self, state: &ElementState, additional: usize) -> Result<(), StepError> {
+        crate::stepper::try_grow(&mut self.states, additional, "states")?;
+        crate::stepper::try_grow(&mut self.times, additional, "times")?;
+        crate::stepper::try_grow(&mut self.step_sizes, additional, "step sizes")?;
+        crate::stepper::try_grow(&mut self.stats, additional, "step statistics")?;
+        crate::stepper::try_grow(&mut self.steps, additional, "step records")?;
+        // Each state kept is a copy of `state`'s vectors: room for them is asked for (and given
+        // back) here, where a failed allocation is an error rather than an abort.
+        crate::element::reserve_states(state, additional)?;
+        Ok(())
     }
 }
 
@@ -390,6 +409,7 @@ impl<L: ElementLagrangian> ElementConstrainedIntegrator<L> {
             variant: self.variant(),
             states: trajectory.states.clone(),
             times: trajectory.times.clone(),
+            step_sizes: trajectory.step_sizes.clone(),
             stats: trajectory.stats.clone(),
         };
         self.base.energies(&view)

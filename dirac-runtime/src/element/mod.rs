@@ -403,6 +403,11 @@ pub struct ElementTrajectory {
     pub states: Vec<ElementState>,
     /// `times[k] = t_k`, the time of `states[k]` (`k h` exactly for a fixed step).
     pub times: Vec<f64>,
+    /// `step_sizes[k]` is the size step `k` was taken with, bit for bit as the run passed it to
+    /// the step: `h` itself for a fixed step, `h_k` with a schedule (the last step shortened to
+    /// land on an end time); with adaptive steps the fictitious step `ε_k` (the physical step is
+    /// `times[k + 1] − times[k]`).
+    pub step_sizes: Vec<f64>,
     /// The Newton statistics of each step.
     pub stats: Vec<StepStats>,
 }
@@ -424,16 +429,29 @@ impl<L: ElementLagrangian> Collect<ElementIntegrator<L>> for ElementTrajectory {
             variant: integrator.variant,
             states: crate::stepper::reserved(steps.saturating_add(1)),
             times: crate::stepper::reserved(steps.saturating_add(1)),
+            step_sizes: crate::stepper::reserved(steps),
             stats: crate::stepper::reserved(steps),
         }
     }
 
-    fn push(&mut self, t: f64, state: &ElementState, record: Option<&StepStats>) {
+    fn push(&mut self, t: f64, state: &ElementState, step: Option<(f64, &StepStats)>) {
         self.states.push(state.clone());
         self.times.push(t);
-        if let Some(stats) = record {
+        if let Some((h, stats)) = step {
+            self.step_sizes.push(h);
             self.stats.push(*stats);
         }
+    }
+
+    fn try_reserve(&mut self, state: &ElementState, additional: usize) -> Result<(), StepError> {
+        crate::stepper::try_grow(&mut self.states, additional, "states")?;
+        crate::stepper::try_grow(&mut self.times, additional, "times")?;
+        crate::stepper::try_grow(&mut self.step_sizes, additional, "step sizes")?;
+        crate::stepper::try_grow(&mut self.stats, additional, "step statistics")?;
+        // Each state kept is a copy of `state`'s vectors: room for them is asked for (and given
+        // back) here, where a failed allocation is an error rather than an abort.
+        crate::element::reserve_states(state, additional)?;
+        Ok(())
     }
 }
 
@@ -720,6 +738,30 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
         let elements =
             assembly::check_stencils(&self.system).map_err(|reason| self.invalid(reason))?;
         assembly::check_memory(n, &elements)
+    }
+}
+
+/// Whether `additional` more copies of `state`'s vectors can be allocated, as a trajectory
+/// keeps them: asked for and given back at once (as [`assembly::check_memory`] asks for a run's
+/// workspace), so that a trajectory longer than memory holds is the typed
+/// [`StepError::OutOfMemory`] rather than an abort in the allocator. The arithmetic is in
+/// `u128`, so no count overflows it.
+pub(crate) fn reserve_states(state: &ElementState, additional: usize) -> Result<(), StepError> {
+    let words = (state.q.len() as u128 + state.p.len() as u128) * additional as u128;
+    let fits = usize::try_from(words)
+        .ok()
+        .filter(|&w| w <= isize::MAX as usize / 8)
+        .is_some_and(|w| Vec::<f64>::new().try_reserve_exact(w).is_ok());
+    if fits {
+        Ok(())
+    } else {
+        Err(StepError::OutOfMemory {
+            what: format!(
+                "{additional} more states of {} coordinates kept by the trajectory",
+                state.q.len()
+            ),
+            bytes: 8 * words,
+        })
     }
 }
 

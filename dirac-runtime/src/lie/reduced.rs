@@ -250,6 +250,11 @@ pub struct ReducedLieTrajectory<const P: usize, const N: usize> {
     pub states: Vec<ReducedLieState<P, N>>,
     /// `times[k] = t_k`.
     pub times: Vec<f64>,
+    /// `step_sizes[k]` is the size step `k` was taken with, bit for bit as the run passed it to
+    /// the step: `h` itself for a fixed step, `h_k` with a schedule (the last step shortened to
+    /// land on an end time); with adaptive steps the fictitious step `ε_k` (the physical step is
+    /// `times[k + 1] − times[k]`).
+    pub step_sizes: Vec<f64>,
     /// Newton statistics of each step.
     pub stats: Vec<StepStats>,
 }
@@ -274,16 +279,30 @@ where
             h: integrator.system().time_step(),
             states: crate::stepper::reserved(steps.saturating_add(1)),
             times: crate::stepper::reserved(steps.saturating_add(1)),
+            step_sizes: crate::stepper::reserved(steps),
             stats: crate::stepper::reserved(steps),
         }
     }
 
-    fn push(&mut self, t: f64, state: &ReducedLieState<P, N>, record: Option<&StepStats>) {
+    fn push(&mut self, t: f64, state: &ReducedLieState<P, N>, step: Option<(f64, &StepStats)>) {
         self.states.push(*state);
         self.times.push(t);
-        if let Some(stats) = record {
+        if let Some((h, stats)) = step {
+            self.step_sizes.push(h);
             self.stats.push(*stats);
         }
+    }
+
+    fn try_reserve(
+        &mut self,
+        _state: &ReducedLieState<P, N>,
+        additional: usize,
+    ) -> Result<(), StepError> {
+        crate::stepper::try_grow(&mut self.states, additional, "states")?;
+        crate::stepper::try_grow(&mut self.times, additional, "times")?;
+        crate::stepper::try_grow(&mut self.step_sizes, additional, "step sizes")?;
+        crate::stepper::try_grow(&mut self.stats, additional, "step statistics")?;
+        Ok(())
     }
 }
 

@@ -331,6 +331,7 @@ fn a_symmetry_given_at_run_time_reduces_as_the_one_compiled_in() {
     let trajectory = ReducedLieTrajectory {
         h: 0.05,
         times: (0..states.len()).map(|k| 0.05 * k as f64).collect(),
+        step_sizes: vec![0.05; states.len() - 1],
         states,
         stats: Vec::new(),
     };

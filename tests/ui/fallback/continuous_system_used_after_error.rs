@@ -15,7 +15,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let p = sys.legendre(&q, &v);
     let (_, jacobian) = sys.legendre_jacobian(&q, &v);
     let e = sys.energy(&q, &v);
-    let initial = sys.reduced_state::<1, 1>(q, v);
+    let initial = sys.reduced_state::<1, 1>(q, v)?;
     let traj = ReducedIntegrator::plus(sys, NewtonOptions::default()).run(initial).steps(10).collect()?;
     let energies = reduced_continuous_energies(&sys, &traj)?;
     println!("{p} {jacobian} {e} {} {}", energies.nodes[0], Rotor::RULE);

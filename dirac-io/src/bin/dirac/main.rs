@@ -475,7 +475,7 @@ fn run_lie<const P: usize, const N: usize>(
             let zeros: Vec<Vec<f64>> = v.iter().map(|v| vec![0.0; v.len()]).collect();
             let zeros: Vec<&[f64]> = zeros.iter().map(Vec::as_slice).collect();
             let point = sys.state(&q, &zeros).map_err(|e| e.to_string())?.q;
-            sys.adaptive_state(&point, &v.concat())
+            sys.unreduced_state(&point, &v.concat())
                 .map_err(|e| e.to_string())?
         }
         _ => {
