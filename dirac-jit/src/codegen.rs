@@ -128,6 +128,11 @@ impl Jit {
     /// Translates `program` into a kernel reading its leaves as `layout` says; its address is
     /// known after [`Self::finish`], at the returned index.
     pub fn define(&mut self, program: &Program, layout: Layout) -> Result<usize, Error> {
+        // Every operation is at least one value of the function, and Cranelift's register
+        // allocator numbers at most 2²¹ of them: a larger program is refused before any work.
+        if program.ops.len() >= MAX_VALUES {
+            return Err(too_large(program));
+        }
         let ptr = self.module.target_config().pointer_type();
         let mut sig = self.module.make_signature();
         for _ in 0..6 {
@@ -220,7 +225,12 @@ impl Jit {
             .map_err(|e| Error::Codegen(e.to_string()))?;
         self.module
             .define_function(id, &mut self.context)
-            .map_err(|e| Error::Codegen(format!("{e:?}")))?;
+            .map_err(|e| match e {
+                cranelift_module::ModuleError::Compilation(
+                    cranelift_codegen::CodegenError::CodeTooLarge,
+                ) => too_large(program),
+                e => Error::Codegen(format!("{e:?}")),
+            })?;
         self.module.clear_context(&mut self.context);
         self.defined.push(id);
         Ok(self.defined.len() - 1)
@@ -243,6 +253,21 @@ impl Jit {
             .collect();
         Ok((kernels, self.module))
     }
+}
+
+/// The values one function may have: Cranelift's register allocator numbers its virtual
+/// registers in 21 bits.
+const MAX_VALUES: usize = 1 << 21;
+
+/// The error for a program too large to become one function of machine code.
+fn too_large(program: &Program) -> Error {
+    Error::Codegen(format!(
+        "a kernel of {} operations is too large for one function of machine code (Cranelift \
+         numbers at most 2^21 values in a function, and an operation may take two): \
+         shorten the Lagrangian (a sum of fewer terms, common factors taken out) or compile it \
+         in with `#[reduced_lagrangian]`",
+        program.ops.len()
+    ))
 }
 
 /// The byte offset of entry `i` of an `f64` array, as a load's immediate.

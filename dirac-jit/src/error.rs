@@ -110,6 +110,12 @@ pub enum Error {
         /// What is wrong.
         reason: String,
     },
+    /// The runtime's typed error for what it refuses before any step: here
+    /// [`StepError::OutOfMemory`](dirac_runtime::StepError::OutOfMemory) when the sizes of an
+    /// element-wise system imply tables of elements that cannot be allocated (checked before
+    /// allocating, as a run checks its workspace).
+    #[error(transparent)]
+    Step(#[from] dirac_runtime::StepError),
     /// The parameter values do not match the declared parameters.
     #[error("parameters of `{name}`: {reason}; declared: {declared}")]
     Parameters {

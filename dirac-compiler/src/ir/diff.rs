@@ -321,18 +321,36 @@ pub fn gradient(g: &mut Graph, root: NodeId, wrt: &[Sym]) -> Vec<NodeId> {
 }
 
 /// Whether `n` depends on a symbol the gradient is taken in; `active` holds the answer for the
-/// cone and is extended, memoised, to the nodes the sweep builds.
+/// cone and is extended, memoised, to the nodes the sweep builds. With an explicit stack: a
+/// graph is as deep as the longest chain of the text (a sum of 10⁵ terms, a chain of `let`s).
 fn varies(g: &Graph, n: NodeId, active: &mut HashMap<NodeId, bool>) -> bool {
     if let Some(&a) = active.get(&n) {
         return a;
     }
-    let node = g.node(n);
-    let a = match node {
-        Node::Const(_) | Node::Var(_) => false,
-        _ => node.children().any(|c| varies(g, c, active)),
-    };
-    active.insert(n, a);
-    a
+    // A node is answered once its children are: pushed again behind them on first sight.
+    let mut pending = vec![(n, false)];
+    while let Some((id, expanded)) = pending.pop() {
+        if active.contains_key(&id) {
+            continue;
+        }
+        let node = g.node(id);
+        if matches!(node, Node::Const(_) | Node::Var(_)) {
+            active.insert(id, false);
+        } else if expanded {
+            let a = node
+                .children()
+                .any(|c| active.get(&c).copied().unwrap_or(false));
+            active.insert(id, a);
+        } else {
+            pending.push((id, true));
+            pending.extend(
+                node.children()
+                    .filter(|c| !active.contains_key(c))
+                    .map(|c| (c, false)),
+            );
+        }
+    }
+    active[&n]
 }
 
 /// Contributions with the same adjoint `b` as one, `b · (f₁ + f₂ + ..)`, in order of first

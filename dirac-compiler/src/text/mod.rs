@@ -31,15 +31,17 @@ use crate::ir::graph::Graph;
 use crate::ir::reduce::Stepper as StepperCode;
 use crate::program::{program, Program};
 
+mod depth;
 mod element;
 mod lie;
 
+pub use crate::ast::attr::{DomainBound, DomainRelation};
+pub use depth::{MAX_LEVELS, MAX_NESTING};
 pub use element::{
     ConstraintFamily, ElementConstraints, ElementCoordinate, ElementFamily, ElementSystem,
     IndexExpr, Length, Stencil,
 };
 pub use lie::{LieAdaptive, LieCoordinate, LieKind, LieSymmetry, LieSymmetryKind, LieSystem};
-pub use crate::ast::attr::{DomainBound, DomainRelation};
 
 /// The attribute a system given as text carries.
 const ATTRIBUTE: &str = "reduced_lagrangian";
@@ -448,16 +450,57 @@ pub fn compile_any(source: &str) -> Result<AnySystem, Error> {
 }
 
 /// Finds the function with the attribute and runs `phases` on its arguments, as the attribute
-/// runs (on a stack deep enough for large bodies), with the errors placed in the text.
+/// runs, with the errors placed in the text. Everything from parsing to dropping the syntax tree
+/// runs on a stack as deep as the text's nesting needs ([`depth`]): a text nested too deep for
+/// that is refused with an error naming the limit, before it is parsed.
 fn compile_with<T>(
     source: &str,
     phases: impl FnOnce(TokenStream, &ItemFn) -> syn::Result<T>,
 ) -> Result<T, Error> {
-    let (attribute, args, func) = find(source).map_err(|e| Error::from_syn(e, source, None))?;
-    crate::stack::run(&args, &TokenStream::new(), || {
-        crate::ctxt::as_text(|| phases(args.clone(), &func))
+    let refused = |span: Span, message: String| {
+        let start = span.start();
+        Error {
+            diagnostics: vec![Diagnostic {
+                message,
+                line: start.line.max(1),
+                column: start.column + 1,
+            }],
+            source: source.to_owned(),
+        }
+    };
+    // A text `proc_macro2` cannot tokenize gets `syn`'s message below, which parses it again.
+    let stack = match without_shebang(source).parse::<TokenStream>() {
+        Ok(tokens) => depth::stack_for(tokens).map_err(|e| refused(e.span, e.message))?,
+        Err(_) => depth::MIN_STACK,
+    };
+    // The stack is mapped as the compilation starts; whether that much address space can be
+    // had is asked first, so that a machine without it gives an error rather than an abort.
+    if Vec::<u8>::new().try_reserve_exact(stack).is_err() {
+        return Err(refused(
+            Span::call_site(),
+            format!(
+                "not enough memory for the compiler's stack: the text's nesting needs {stack} \
+                 bytes, which cannot be allocated"
+            ),
+        ));
+    }
+    stacker::maybe_grow(stack, stack, || {
+        let (attribute, args, func) = find(source).map_err(|e| Error::from_syn(e, source, None))?;
+        crate::ctxt::as_text(|| phases(args, &func))
             .map_err(|e| Error::from_syn(e, source, Some(attribute)))
     })
+}
+
+/// `source` without a first line `#!..` (not `#![..]`), which `syn::parse_file` skips too; the
+/// line break stays, so lines and columns are those of `source`. A byte-order mark is skipped.
+fn without_shebang(source: &str) -> &str {
+    let source = source.strip_prefix('\u{feff}').unwrap_or(source);
+    match source.strip_prefix("#!") {
+        Some(rest) if !rest.trim_start().starts_with('[') => {
+            source.find('\n').map_or("", |at| &source[at..])
+        }
+        _ => source,
+    }
 }
 
 /// The attribute's span and arguments, and the function without the attribute.

@@ -20,6 +20,7 @@ use crate::codegen::{Jit, Kernel};
 use crate::error::Error;
 use crate::system::{by_name, parameter_values, Module, UNUSED};
 use crate::MAX_PARAMETERS;
+use dirac_runtime::StepError;
 
 mod family;
 
@@ -247,24 +248,51 @@ impl ElementCode {
                 .try_fold(1i64, |acc, d| acc.checked_mul(d.eval(&z)))
                 .ok_or_else(|| fail(format!("the length of `{}` overflows", c.name)))?;
             let last = *offsets.last().expect("starts with 0");
-            offsets.push(last + len.max(0));
+            let end = last
+                .checked_add(len.max(0))
+                .ok_or_else(|| fail("the number of coordinates overflows".into()))?;
+            offsets.push(end);
         }
-        let tables = |stencil: &Stencil, row: Option<&text::IndexExpr>| {
-            Table::of(stencil, row, &z, &offsets, sys)
-                .ok_or_else(|| fail("a stencil's index arithmetic overflows at these sizes".into()))
-        };
-        let families = sys
+        let overflow = || fail("a stencil's index arithmetic overflows at these sizes".into());
+        // Every family's elements are counted, and the tables' memory reserved, before any
+        // element is stored: sizes whose tables cannot be allocated are refused here.
+        let stencils: Vec<(&Stencil, Option<&text::IndexExpr>)> = sys
             .families
             .iter()
-            .map(|f| tables(&f.stencil, None))
-            .collect::<Result<Vec<_>, _>>()?;
-        let (constraints, rows) = match &sys.constraints {
-            None => (Vec::new(), 0),
-            Some(c) => (
-                c.families
+            .map(|f| (&f.stencil, None))
+            .chain(
+                sys.constraints
                     .iter()
-                    .map(|f| tables(&f.stencil, Some(&f.row)))
-                    .collect::<Result<Vec<_>, _>>()?,
+                    .flat_map(|c| c.families.iter().map(|f| (&f.stencil, Some(&f.row)))),
+            )
+            .collect();
+        let mut counts = Vec::with_capacity(stencils.len());
+        for &(stencil, _) in &stencils {
+            counts.push(Table::count(stencil, &z).ok_or_else(overflow)?);
+        }
+        let mut tables = reserve_tables(&stencils, &counts).map_err(|bytes| {
+            Error::Step(StepError::OutOfMemory {
+                what: format!(
+                    "the tables of the elements of `{}` at sizes {sizes:?} ({} elements: loop \
+                     indices and stencils)",
+                    sys.name,
+                    counts.iter().map(|&c| u128::from(c)).sum::<u128>()
+                ),
+                bytes,
+            })
+        })?;
+        for (table, &(stencil, row)) in tables.iter_mut().zip(&stencils) {
+            let mut loops = vec![0i64; stencil.loops.len()];
+            table
+                .walk(stencil, row, &z, &offsets, sys, &mut loops, 0)
+                .ok_or_else(overflow)?;
+        }
+        let constraints = tables.split_off(sys.families.len());
+        let families = tables;
+        let (constraints, rows) = match &sys.constraints {
+            None => (constraints, 0),
+            Some(c) => (
+                constraints,
                 c.count
                     .eval(&z, &[])
                     .and_then(|m| usize::try_from(m).ok())
@@ -323,27 +351,47 @@ struct Table {
 }
 
 impl Table {
-    /// Every element of `stencil` at sizes `z`, in loop order (the emitted code's), with the
-    /// coordinate offsets `offsets`; `None` when the index arithmetic overflows.
-    fn of(
-        stencil: &Stencil,
-        row: Option<&text::IndexExpr>,
-        z: &[i64],
-        offsets: &[i64],
-        sys: &ElementSystem,
-    ) -> Option<Table> {
-        let mut table = Table {
-            width: stencil.slots.len(),
-            depth: stencil.loops.len(),
-            count: 0,
-            indices: Vec::new(),
-            numbers: Vec::new(),
-            stencils: Vec::new(),
-            rows: Vec::new(),
-        };
+    /// The number of elements of `stencil` at sizes `z`, counted without visiting the innermost
+    /// loop's iterations (so sizes far beyond memory are counted at once); `None` when the
+    /// loop bounds' arithmetic overflows. A count beyond [`MAX_ELEMENTS`] stops counting there:
+    /// no table that large can be allocated.
+    fn count(stencil: &Stencil, z: &[i64]) -> Option<u64> {
+        /// The elements of the loops from `at` inward, the outer loops at `loops`.
+        fn level(stencil: &Stencil, z: &[i64], loops: &mut [i64], at: usize) -> Option<u64> {
+            let Some((lo, hi)) = stencil.loops.get(at) else {
+                return Some(1);
+            };
+            let (lo, hi) = (lo.eval(z, loops)?, hi.eval(z, loops)?);
+            let len = u64::try_from(hi.saturating_sub(lo)).unwrap_or(0);
+            let inner = &stencil.loops[at + 1..];
+            if len == 0 || inner.is_empty() {
+                return Some(len);
+            }
+            // Inner loops whose bounds do not read this loop's index (a grid) have as many
+            // elements in every iteration: counted once.
+            if !inner.iter().any(|(a, b)| reads(a, at) || reads(b, at)) {
+                loops[at] = lo;
+                return Some(len.saturating_mul(level(stencil, z, loops, at + 1)?));
+            }
+            let mut count = 0u64;
+            let mut check = 1u64 << 20;
+            for i in lo..hi {
+                loops[at] = i;
+                count = count.saturating_add(level(stencil, z, loops, at + 1)?);
+                // A count that memory cannot hold (8 bytes an element at least) ends the
+                // counting: the tables' reservation fails on it all the same.
+                if count >= check {
+                    let words = usize::try_from(count).unwrap_or(usize::MAX);
+                    if count > MAX_ELEMENTS || Vec::<u64>::new().try_reserve_exact(words).is_err() {
+                        return Some(u64::MAX);
+                    }
+                    check = check.saturating_mul(2);
+                }
+            }
+            Some(count)
+        }
         let mut loops = vec![0i64; stencil.loops.len()];
-        table.walk(stencil, row, z, offsets, sys, &mut loops, 0)?;
-        Some(table)
+        level(stencil, z, &mut loops, 0)
     }
 
     #[allow(
@@ -393,6 +441,70 @@ impl Table {
     fn len(&self) -> usize {
         self.count
     }
+}
+
+/// Whether `index` reads the index of loop `k`.
+fn reads(index: &text::IndexExpr, k: usize) -> bool {
+    use text::IndexExpr as I;
+    match index {
+        I::Lit(_) | I::Size(_) => false,
+        I::Loop(j) => *j == k,
+        I::Add(a, b) | I::Sub(a, b) | I::Mul(a, b) | I::Rem(a, b) => reads(a, k) || reads(b, k),
+    }
+}
+
+/// More elements than any table can hold (a table stores at least 8 bytes per element, and no
+/// allocation exceeds `isize::MAX` bytes): where [`Table::count`] stops counting.
+const MAX_ELEMENTS: u64 = (isize::MAX as u64) / 8;
+
+/// Empty tables for the families `stencils` with `counts` elements, their memory reserved (per
+/// element: its loop indices as integers and as numbers, its stencil's coordinate indices, and
+/// the row a constraint family assigns, 8 bytes each); `Err` with the bytes they need when
+/// that much cannot be allocated. The arithmetic is in `u128`, so no count overflows it.
+fn reserve_tables(
+    stencils: &[(&Stencil, Option<&text::IndexExpr>)],
+    counts: &[u64],
+) -> Result<Vec<Table>, u128> {
+    let words = |(stencil, row): &(&Stencil, Option<&text::IndexExpr>)| {
+        2 * stencil.loops.len() as u128 + stencil.slots.len() as u128 + u128::from(row.is_some())
+    };
+    let bytes: u128 = stencils
+        .iter()
+        .zip(counts)
+        .map(|(s, &c)| 8 * words(s) * u128::from(c))
+        .sum();
+    let mut tables = Vec::with_capacity(stencils.len());
+    for (&(stencil, row), &count) in stencils.iter().zip(counts) {
+        let (width, depth) = (stencil.slots.len(), stencil.loops.len());
+        let c = u128::from(count);
+        let mut table = Table {
+            width,
+            depth,
+            count: 0,
+            indices: Vec::new(),
+            numbers: Vec::new(),
+            stencils: Vec::new(),
+            rows: Vec::new(),
+        };
+        let reserved = reserve(&mut table.indices, c * depth as u128)
+            && reserve(&mut table.numbers, c * depth as u128)
+            && reserve(&mut table.stencils, c * width as u128)
+            && reserve(&mut table.rows, if row.is_some() { c } else { 0 });
+        if !reserved {
+            return Err(bytes);
+        }
+        tables.push(table);
+    }
+    Ok(tables)
+}
+
+/// Reserves room for exactly `n` more items of 8 bytes in `v`; `false` when that much cannot be
+/// allocated.
+fn reserve<T>(v: &mut Vec<T>, n: u128) -> bool {
+    usize::try_from(n)
+        .ok()
+        .filter(|&n| n <= isize::MAX as usize / 8)
+        .is_some_and(|n| v.try_reserve_exact(n).is_ok())
 }
 
 /// What a system's sizes fix: the sizes, the coordinates' offsets and the elements' tables.
