@@ -110,6 +110,8 @@ fn with_energies<const S: usize, const K: usize, const N: usize>(
         h: sys.time_step(),
         states,
         times: flat.t.clone(),
+        // Python's runs take the system's own step.
+        step_sizes: vec![sys.time_step(); rows.saturating_sub(1)],
         stats: Vec::new(),
     };
     flat.energies = Some(
