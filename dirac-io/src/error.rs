@@ -95,11 +95,23 @@ impl Error {
         move |source| Error::Io { path, source }
     }
 
+    /// The Parquet encoder's or decoder's error; one the operating system caused (a full disk,
+    /// a file size limit, a read error), which the encoder passes on as `External`, is
+    /// [`Error::Io`], with its [`std::io::ErrorKind`] (`StorageFull`, `FileTooLarge`, …).
     pub(crate) fn parquet(
         path: impl Into<PathBuf>,
     ) -> impl FnOnce(parquet::errors::ParquetError) -> Self {
         let path = path.into();
-        move |source| Error::Parquet { path, source }
+        move |source| match source {
+            parquet::errors::ParquetError::External(e) => match e.downcast::<std::io::Error>() {
+                Ok(io) => Error::Io { path, source: *io },
+                Err(e) => Error::Parquet {
+                    path,
+                    source: parquet::errors::ParquetError::External(e),
+                },
+            },
+            source => Error::Parquet { path, source },
+        }
     }
 
     pub(crate) fn arrow(path: impl Into<PathBuf>) -> impl FnOnce(arrow_schema::ArrowError) -> Self {

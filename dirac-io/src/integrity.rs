@@ -129,13 +129,25 @@ impl FileWriter {
         compression: Compression,
         kv: Vec<(String, String)>,
     ) -> Result<Self> {
+        Self::create_with_groups(path, schema, compression, kv, usize::MAX)
+    }
+
+    /// [`Self::create`] with row groups of at most `rows` rows (a part's row groups, which
+    /// never exceed the part).
+    pub(crate) fn create_with_groups(
+        path: &Path,
+        schema: SchemaRef,
+        compression: Compression,
+        kv: Vec<(String, String)>,
+        rows: usize,
+    ) -> Result<Self> {
         let file = File::create(path).map_err(Error::io(path))?;
         let sink = Hashing {
             inner: BufWriter::with_capacity(1 << 20, file),
             hasher: XxHash3_64::default(),
             bytes: 0,
         };
-        let properties = writer_properties(compression, kv.clone());
+        let properties = writer_properties(compression, kv.clone(), rows);
         let writer = ArrowWriter::try_new(sink, schema.clone(), Some(properties))
             .map_err(Error::parquet(path))?;
         Ok(FileWriter {

@@ -18,8 +18,12 @@
 //!
 //! * **A killed process** (SIGKILL, a node lost, a time limit): every part published before it
 //!   is complete and readable; the part being written is a hidden partial file
-//!   (`.part-00007.parquet.partial`) that no reader sees. [`ParquetObserver::resume`] continues
-//!   the run from the last state published. A shard killed leaves no shard file.
+//!   (`.part-00007.parquet.partial`) that no reader sees. What is lost is at most that part's
+//!   rows ([`Options::rows_per_file`], or about 64 MiB of values): the run waits at each part's
+//!   end until it is published. [`ParquetObserver::resume`] continues the run from the last
+//!   state published. A shard killed leaves no shard file.
+//! * **A full disk** (any write error): `finish` returns the operating system's error
+//!   ([`Error::Io`]), the hidden partial file is removed, and the parts published before stay.
 //! * **An early return or a panic** (the observer dropped without `finish`): the rows held and
 //!   the last state are written and the part published, with `dirac.outcome = aborted`.
 //! * **Damage on disk** (a flipped bit, a truncation): the checksums disagree; the readers and

@@ -3,7 +3,7 @@
 
 use std::marker::PhantomData;
 use std::path::{Path, PathBuf};
-use std::sync::mpsc::{sync_channel, SyncSender};
+use std::sync::mpsc::{sync_channel, Receiver, SyncSender};
 use std::sync::Arc;
 use std::thread::JoinHandle;
 
@@ -28,9 +28,10 @@ use crate::integrity::FileWriter;
 pub const ROW_GROUP_BYTES: usize = 8 << 20;
 
 /// The default size of a part ([`Options::rows_per_file`]): about 64 MiB of values, eight row
-/// groups. What a killed run loses is at most the part being written, so this bounds the loss
-/// (a few seconds of writing); it also bounds the footer the writer holds (about 2.5 MiB for
-/// the 200-particle lattice), and a run of 10^6 steps of that lattice is 50 files.
+/// groups. What a killed run loses is at most the part being written (the run waits at each
+/// part's end until the part is published), so this bounds the loss (a few seconds of writing);
+/// it also bounds the footer the writer holds (about 2.5 MiB for the 200-particle lattice), and
+/// a run of 10^6 steps of that lattice is 50 files.
 pub const PART_BYTES: u64 = 64 << 20;
 
 /// How the output is laid out on disk.
@@ -125,17 +126,26 @@ impl<St: StateColumns> Options<St> {
         self
     }
 
-    /// Parts of at most about `rows` rows (whole row groups) instead of the default
-    /// [`PART_BYTES`] of values each. The path given to [`ParquetObserver::create`] is a
-    /// directory of `part-00000.parquet`, `part-00001.parquet`, …, one dataset for pyarrow
+    /// Parts of `rows` rows each (the last one fewer) instead of the default [`PART_BYTES`] of
+    /// values each. The path given to [`ParquetObserver::create`] is a directory of
+    /// `part-00000.parquet`, `part-00001.parquet`, …, one dataset for pyarrow
     /// (`pq.read_table(dir)`), Polars (`pl.read_parquet(f"{dir}/*.parquet")`), DuckDB
     /// (`'dir/*.parquet'`) and this crate's readers ([`crate::read`]). A part is written under a
     /// hidden name (`.part-00003.parquet.partial`, which none of them reads) and published by a
-    /// rename when full (synced first with [`Options::sync`]): a killed run loses at most the
-    /// part being written, and every part published is complete. Each part carries the run's metadata; the last one also its
-    /// outcome. Smaller parts lose less to a kill (a slow run may want parts of a minute's
-    /// steps); the footer a writer holds grows with a part (about 120 bytes per row of the
-    /// 200-particle lattice), not with the run.
+    /// rename as soon as its `rows`-th row is written (synced first with [`Options::sync`]);
+    /// the run waits for that at each part's end. So a killed run loses at most `rows` rows —
+    /// those written since the last part was published, never more than one part — and every
+    /// part published is complete.
+    ///
+    /// Row groups are no larger than a part: a row group ends at a part's end or at
+    /// [`Options::row_group_bytes`] of values, whichever comes first, so parts smaller than a
+    /// row group (1000 rows of a 4-coordinate system is 104 KB, a group 8 MiB) are one row
+    /// group each, and the run then waits for each part, not only for the last group of a larger
+    /// one. Each part carries the run's metadata; the last one also its outcome (a run whose last
+    /// part is full ends with a part of no rows that carries its outcome). Smaller parts lose
+    /// less to a kill (a slow run may want parts of a minute's steps) and cost a file, a footer
+    /// and a wait each; the footer a writer holds grows with a part (about 120 bytes per row of
+    /// the 200-particle lattice), not with the run.
     #[must_use]
     pub fn rows_per_file(mut self, rows: u64) -> Self {
         self.layout = Layout::Parts(Some(rows.max(1)));
@@ -193,6 +203,8 @@ struct Buffer {
     residual: Vec<Option<f64>>,
     rcond: Vec<Option<f64>>,
     extra: Vec<Vec<f64>>,
+    /// Whether its last row is the last of a part: the part is published once it is written.
+    ends_part: bool,
 }
 
 impl Buffer {
@@ -205,6 +217,7 @@ impl Buffer {
             residual: Vec::with_capacity(rows),
             rcond: Vec::with_capacity(rows),
             extra: (0..extra).map(|_| Vec::with_capacity(rows)).collect(),
+            ends_part: false,
         }
     }
 
@@ -226,15 +239,18 @@ pub struct Resumed<St> {
 }
 
 /// Streams the states of a run into Apache Parquet, in memory independent of the run's length:
-/// rows are buffered column by column and written as one row group every [`ROW_GROUP_BYTES`],
-/// into a directory of parts, each published complete when full (see [`Options::rows_per_file`];
+/// rows are buffered column by column and written as one row group every [`ROW_GROUP_BYTES`]
+/// (or at a part's end), into a directory of parts, each published complete when full (see
+/// [`Options::rows_per_file`];
 /// [`Options::single_file`] for one file). See the [crate documentation](crate) for the schema and
 /// metadata.
 ///
 /// Pass [`Self::observer`] to [`Drive::run`], then call [`Self::finish_with`] with the run's
 /// result (or [`Self::finish`]), which writes the last part's footer and the run's outcome and
 /// returns the path. A write error inside the observer (a full disk) is kept and returned by
-/// `finish`: an observer cannot fail, and the run goes on.
+/// `finish` ([`Error::Io`] with the operating system's error): an observer cannot fail, and the
+/// run goes on, writing nothing more. The hidden partial file of the part (or file) being
+/// written is then removed; the parts published before stay, complete.
 ///
 /// Dropped without `finish` (an early return through `?`, a panic unwinding), it writes what it
 /// holds, the last state observed and the footer, with `dirac.outcome = aborted` and
@@ -273,6 +289,10 @@ pub struct ParquetObserver<St: StateColumns> {
     last: Option<(usize, f64, St, Option<StepStats>)>,
     last_written: Option<usize>,
     rows: u64,
+    /// The rows of a part ([`Options::rows_per_file`]; `None` for one file), and those pushed
+    /// into the part being written so far.
+    rows_per_file: Option<u64>,
+    part_rows: u64,
     /// The step of a resumed run's first state ([`Self::resume`]): observed step `k` is written
     /// as step `offset + k`, and its state `0`, written already, is skipped.
     offset: usize,
@@ -303,10 +323,12 @@ pub fn trajectory_schema(columns: &[String], member: bool, extra: &[String]) -> 
 /// Writer properties for `f64` columns: plain encoding (a dictionary of distinct floats is as
 /// large as the data and costs a hash per value), no statistics and no offset index: the
 /// footer, which the writer holds until the file is closed, then grows by one column chunk's
-/// metadata per column and row group and nothing else.
+/// metadata per column and row group and nothing else. Row groups are cut at [`ROW_GROUP_BYTES`]
+/// or `max_rows` rows, whichever comes first.
 pub(crate) fn writer_properties(
     compression: Compression,
     kv: Vec<(String, String)>,
+    max_rows: usize,
 ) -> WriterProperties {
     WriterProperties::builder()
         .set_compression(compression)
@@ -315,7 +337,7 @@ pub(crate) fn writer_properties(
         // A column chunk of a row group is one or a few pages: an index of their offsets
         // would only grow the footer.
         .set_offset_index_disabled(true)
-        .set_max_row_group_row_count(None)
+        .set_max_row_group_row_count((max_rows < usize::MAX).then_some(max_rows))
         .set_max_row_group_bytes(Some(ROW_GROUP_BYTES))
         .set_key_value_metadata(Some(
             kv.into_iter().map(|(k, v)| KeyValue::new(k, v)).collect(),
@@ -503,21 +525,32 @@ impl<St: StateColumns> ParquetObserver<St> {
             kv.push(("dirac.member".into(), m.to_string()));
         }
         let row_bytes = 8 * schema.fields().len();
-        let rows_per_group = (options.row_group_bytes / row_bytes).max(1);
-        let target = match options.layout {
-            Layout::File => Target::File { path: path.clone() },
-            Layout::Parts(rows) => Target::Parts(Parts {
-                dir: path.clone(),
-                rows_per_file: rows.unwrap_or((PART_BYTES / row_bytes as u64).max(1)),
-                index: first_part,
-                rows: 0,
-            }),
+        let (target, rows_per_file) = match options.layout {
+            Layout::File => (Target::File { path: path.clone() }, None),
+            Layout::Parts(rows) => (
+                Target::Parts {
+                    dir: path.clone(),
+                    index: first_part,
+                },
+                Some(rows.unwrap_or((PART_BYTES / row_bytes as u64).max(1))),
+            ),
         };
+        // A row group never spans two parts: no larger than a part, cut at each part's end.
+        let by_bytes = (options.row_group_bytes / row_bytes).max(1);
+        let rows_per_group = rows_per_file.map_or(by_bytes, |r| {
+            by_bytes.min(usize::try_from(r).unwrap_or(usize::MAX))
+        });
         let first = match &target {
             Target::File { path, .. } => partial_file(path),
-            Target::Parts(parts) => partial_file(&part_file(&parts.dir, parts.index)),
+            Target::Parts { dir, index } => partial_file(&part_file(dir, *index)),
         };
-        let writer = FileWriter::create(&first, schema.clone(), options.compression, kv.clone())?;
+        let writer = FileWriter::create_with_groups(
+            &first,
+            schema.clone(),
+            options.compression,
+            kv.clone(),
+            rows_per_group,
+        )?;
         let extra = extra_names.len();
         Ok(ParquetObserver {
             path,
@@ -530,6 +563,7 @@ impl<St: StateColumns> ParquetObserver<St> {
                     kv,
                     target,
                     sync: options.sync,
+                    rows_per_group,
                 },
                 options.background,
             )),
@@ -541,6 +575,8 @@ impl<St: StateColumns> ParquetObserver<St> {
             last: None,
             last_written: None,
             rows: 0,
+            rows_per_file,
+            part_rows: 0,
             offset,
             _state: PhantomData,
         })
@@ -596,15 +632,23 @@ impl<St: StateColumns> ParquetObserver<St> {
         }
         self.rows += 1;
         self.last_written = Some(k);
-        if b.len() >= self.rows_per_group {
-            self.write_group();
+        self.part_rows += 1;
+        let ends_part = Some(self.part_rows) == self.rows_per_file;
+        if ends_part || b.len() >= self.rows_per_group {
+            self.write_group(ends_part);
+        }
+        if ends_part {
+            self.part_rows = 0;
         }
     }
 
-    /// Hands the buffered rows to the sink as one row group.
-    fn write_group(&mut self) {
+    /// Hands the buffered rows to the sink as one row group; `ends_part`: the last of its part,
+    /// which is then published before this returns (so that no more than one part's rows are
+    /// ever unpublished).
+    fn write_group(&mut self, ends_part: bool) {
         let fresh = Buffer::new(St::WIDTH, self.extra_scratch.len(), self.rows_per_group);
-        let full = std::mem::replace(&mut self.buffer, fresh);
+        let mut full = std::mem::replace(&mut self.buffer, fresh);
+        full.ends_part = ends_part;
         if full.len() > 0 {
             if let Some(sink) = &mut self.sink {
                 sink.write(full);
@@ -659,7 +703,7 @@ impl<St: StateColumns> ParquetObserver<St> {
     }
 
     fn close_with(&mut self, kv: Vec<(String, String)>) -> Result<PathBuf> {
-        self.write_group();
+        self.write_group(false);
         let Some(sink) = self.sink.take() else {
             return Err(Error::Usage("the observer was closed already".into()));
         };
@@ -687,22 +731,13 @@ impl<St: StateColumns> Drop for ParquetObserver<St> {
     }
 }
 
-/// Where [`Options::rows_per_file`] splits a run into parts.
-struct Parts {
-    dir: PathBuf,
-    rows_per_file: u64,
-    /// The part being written.
-    index: usize,
-    /// Rows written to it.
-    rows: u64,
-}
-
 /// Where an [`Encoder`] writes.
 enum Target {
     /// One file, published at the end.
     File { path: PathBuf },
-    /// A directory of parts, each published when full.
-    Parts(Parts),
+    /// A directory of parts, each published when full (the observer marks the row group that
+    /// fills one: [`Buffer::ends_part`]); `index` is the part being written.
+    Parts { dir: PathBuf, index: usize },
 }
 
 /// Writes buffers as row groups of the file's schema, into the current file or part.
@@ -716,6 +751,8 @@ struct Encoder {
     target: Target,
     /// Whether a file is synced before it is published ([`Options::sync`]).
     sync: bool,
+    /// The most rows of a row group, the writer's limit too.
+    rows_per_group: usize,
 }
 
 impl Encoder {
@@ -725,7 +762,9 @@ impl Encoder {
             .ok_or_else(|| Error::Usage("the output was closed already".into()))
     }
 
-    /// Closes the file being written (appending `kv` to its metadata) and publishes it.
+    /// Closes the file being written (appending `kv` to its metadata) and publishes it. On an
+    /// error (a full disk) its hidden partial file is removed: nothing is left that no reader
+    /// reads and no run resumes from; the parts published before stay.
     fn close(&mut self, kv: Vec<(String, String)>) -> Result<()> {
         let Some(mut writer) = self.writer.take() else {
             return Ok(());
@@ -736,33 +775,34 @@ impl Encoder {
         let partial = writer.path().to_owned();
         let path = match &self.target {
             Target::File { path } => path.clone(),
-            Target::Parts(parts) => part_file(&parts.dir, parts.index),
+            Target::Parts { dir, index } => part_file(dir, *index),
         };
-        writer.close(self.sync)?;
-        publish_file(&partial, &path, self.sync)
+        let published = writer
+            .close(self.sync)
+            .and_then(|()| publish_file(&partial, &path, self.sync));
+        if published.is_err() {
+            remove_partial(&partial);
+        }
+        published
     }
 
+    /// Writes `b` as one row group, and publishes the part it ends ([`Buffer::ends_part`]). On
+    /// an error (a full disk) the hidden partial file is removed and nothing more is written.
     fn write(&mut self, b: Buffer) -> Result<()> {
-        let rows = b.len();
-        // A full part is published when the next row group arrives, so the last part is never
-        // empty and always open for the run's outcome.
-        if matches!(&self.target, Target::Parts(p) if p.rows >= p.rows_per_file) {
-            self.close(Vec::new())?;
-            if let Target::Parts(parts) = &mut self.target {
-                parts.index += 1;
-                parts.rows = 0;
-                let next = partial_file(&part_file(&parts.dir, parts.index));
-                self.writer = Some(FileWriter::create(
-                    &next,
-                    self.schema.clone(),
-                    self.compression,
-                    self.kv.clone(),
-                )?);
+        let written = self.write_group(b);
+        if written.is_err() {
+            if let Some(writer) = self.writer.take() {
+                let partial = writer.path().to_owned();
+                drop(writer);
+                remove_partial(&partial);
             }
         }
-        if let Target::Parts(parts) = &mut self.target {
-            parts.rows += rows as u64;
-        }
+        written
+    }
+
+    fn write_group(&mut self, b: Buffer) -> Result<()> {
+        let rows = b.len();
+        let ends_part = b.ends_part;
         let mut columns: Vec<ArrayRef> = Vec::with_capacity(self.schema.fields().len());
         if let Some(m) = self.member {
             columns.push(Arc::new(UInt64Array::from(vec![m; rows])));
@@ -787,12 +827,37 @@ impl Encoder {
         let batch = RecordBatch::try_new(schema, columns).map_err(Error::arrow(writer.path()))?;
         writer.write(&batch)?;
         // One batch is one row group: what is held in memory is bounded by it.
-        writer.flush()
+        writer.flush()?;
+        if let (true, Target::Parts { dir, index }) = (ends_part, &self.target) {
+            // The part is full: published now, and the next one opened (for more rows, or for
+            // the run's outcome alone when the run ends here).
+            let next = partial_file(&part_file(dir, index + 1));
+            self.close(Vec::new())?;
+            if let Target::Parts { index, .. } = &mut self.target {
+                *index += 1;
+            }
+            self.writer = Some(FileWriter::create_with_groups(
+                &next,
+                self.schema.clone(),
+                self.compression,
+                self.kv.clone(),
+                self.rows_per_group,
+            )?);
+        }
+        Ok(())
     }
+}
+
+/// Removes the hidden partial file of a write that failed (a file already gone is fine: a
+/// publishing rename may have moved it before the error).
+fn remove_partial(partial: &Path) {
+    let _ = std::fs::remove_file(partial);
 }
 
 /// Where full buffers go: written on the run's thread, or sent to a writer thread through a
 /// channel of capacity 1 (so the run waits rather than queue more than one row group ahead).
+/// Either way a buffer that ends a part returns only once the part is published: the thread
+/// says so on `published`.
 enum Sink {
     Inline {
         encoder: Box<Encoder>,
@@ -800,6 +865,7 @@ enum Sink {
     },
     Thread {
         sender: Option<SyncSender<Buffer>>,
+        published: Receiver<()>,
         worker: JoinHandle<Result<Encoder>>,
         path: PathBuf,
     },
@@ -818,16 +884,23 @@ impl Sink {
             .as_ref()
             .map_or_else(PathBuf::new, |w| w.path().to_owned());
         let (sender, receiver) = sync_channel::<Buffer>(1);
+        // The run waits for each part it ends, so at most one is ever announced and unread.
+        let (announce, published) = sync_channel::<()>(1);
         let worker = std::thread::spawn(move || {
             let mut encoder = encoder;
             for buffer in receiver {
-                // On an error the thread ends, the channel closes, and the run stops sending.
+                let ends_part = buffer.ends_part;
+                // On an error the thread ends, the channels close, and the run stops sending.
                 encoder.write(buffer)?;
+                if ends_part {
+                    let _ = announce.send(());
+                }
             }
             Ok(encoder)
         });
         Sink::Thread {
             sender: Some(sender),
+            published,
             worker,
             path,
         }
@@ -842,10 +915,14 @@ impl Sink {
                     }
                 }
             }
-            Sink::Thread { sender, .. } => {
+            Sink::Thread {
+                sender, published, ..
+            } => {
                 if let Some(s) = sender {
-                    if s.send(buffer).is_err() {
-                        // The writer failed; its error is returned by `finish`.
+                    let ends_part = buffer.ends_part;
+                    // An error sending or waiting: the writer failed, and its error is returned
+                    // by `finish`.
+                    if s.send(buffer).is_err() || (ends_part && published.recv().is_err()) {
                         *sender = None;
                     }
                 }
@@ -861,6 +938,7 @@ impl Sink {
                 sender,
                 worker,
                 path,
+                ..
             } => {
                 drop(sender);
                 worker.join().unwrap_or_else(|_| {

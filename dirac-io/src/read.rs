@@ -186,9 +186,17 @@ fn last_state_unguarded<St: StateColumns>(
     path: &Path,
     columns: &[String],
 ) -> Result<(usize, f64, St)> {
-    let files = files(path)?;
-    let last = files.last().unwrap_or(&path.to_owned()).clone();
-    let batches = read_batches(&last)?;
+    // The last part of a run that ended with a full part holds only its outcome: the state is
+    // in the last part with rows.
+    let mut last = path.to_owned();
+    let mut batches = Vec::new();
+    for file in files(path)?.into_iter().rev() {
+        batches = read_batches(&file)?;
+        last = file;
+        if batches.iter().any(|b| b.num_rows() > 0) {
+            break;
+        }
+    }
     let Some(batch) = batches.iter().rev().find(|b| b.num_rows() > 0) else {
         return Err(Error::content(&last, "no rows"));
     };

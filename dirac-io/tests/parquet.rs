@@ -366,7 +366,8 @@ fn a_run_split_into_parts_is_the_run_in_one_file() {
             .stream();
         out.finish_with(&result).unwrap()
     };
-    // Row groups of 64 rows (13 columns of 8 bytes), parts of at least 300 rows: 5 groups each.
+    // Row groups of 64 rows (13 columns of 8 bytes), parts of 300 rows: 5 groups each (four of
+    // 64 rows, and one of 44 cut at the part's end).
     let small = || Options::new().row_group_bytes(64 * 13 * 8);
     let one = write(&dir.join("one.parquet"), small());
     let parts = write(&dir.join("parts"), small().rows_per_file(300));
@@ -404,6 +405,44 @@ fn a_run_split_into_parts_is_the_run_in_one_file() {
         dirac_io::read::first_difference(&merged, &one).unwrap(),
         None
     );
+}
+
+/// Parts of the rows asked for, whatever the row groups: with the default groups (80,000 rows of
+/// these 13 columns) parts of 1000 rows are one group of 1000 rows each, published as each
+/// fills; a run that ends with a full part ends with a part of no rows carrying its outcome, and
+/// the readers take the last state from the part before.
+#[test]
+fn parts_hold_the_rows_asked_for_and_a_full_last_part_is_followed_by_the_outcome() {
+    let dir = scratch("parts_rows");
+    let integ = dsp();
+    let start = DoubleSphericalPendulum::paper_initial_state();
+    let path = dir.join("dsp");
+    let mut out =
+        ParquetObserver::create(&path, integ.describe(), Options::new().rows_per_file(1000))
+            .unwrap();
+    // 2999 steps: 3000 states, three full parts.
+    let result = integ
+        .run(start)
+        .steps(2999)
+        .observe(out.observer())
+        .stream();
+    out.finish_with(&result).unwrap();
+    let files = dirac_io::read::files(&path).unwrap();
+    assert_eq!(files.len(), 4);
+    for f in &files[..3] {
+        assert_eq!(row_groups(f).unwrap(), (1, 1000));
+        assert!(!key_values(f).unwrap().contains_key("dirac.outcome"));
+    }
+    assert_eq!(dirac_io::read::row_count(&files[3]).unwrap(), 0);
+    assert_eq!(key_values(&path).unwrap()["dirac.outcome"], "completed");
+    assert_eq!(key_values(&path).unwrap()["dirac.steps"], "2999");
+    assert_eq!(dirac_io::read::row_count(&path).unwrap(), 3000);
+    let traj = integ.run(start).steps(2999).collect().unwrap();
+    let columns = integ.describe().columns;
+    let (step, t, last) =
+        dirac_io::read::last_state::<ReducedState<3, 1>>(&path, &columns).unwrap();
+    let times = read_f64_column(&path, "t").unwrap();
+    assert_eq!((step, t, last), (2999, times[2999], traj.states[2999]));
 }
 
 /// A rigid body on `SO(3)`: every state written bit for bit, the rotation's entries and body
