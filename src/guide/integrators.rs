@@ -206,8 +206,10 @@
 //! * a length: `.steps(n)`, `.end_time(t)` (reached exactly: the last step is shortened to land
 //!   on it) or both (whichever comes first); `.start_time(t0)` sets the clock of the initial
 //!   state (default 0);
-//! * `.step_size(policy)` / `.schedule(|k, t, state| h_k)`: the size of each step (see below;
-//!   default [`Fixed`](crate::Fixed), the system's own `h`);
+//! * the size of each step, one way for each kind of input: a list with
+//!   `.step_size(StepSizes(&hs))`, a closure computed as the run goes with
+//!   `.schedule(|k, t, state| h_k)` (see below; default [`Fixed`](crate::Fixed), the system's
+//!   own `h`);
 //! * `.feedback(|k, t, state, u| ..)` or `.controls(ControlSequence::rows(&us))`: the controls of
 //!   each step, for a system that declares them (see [Forces and controls](super::forces));
 //! * `.stop(|k, t, state| ..)`: end after the first state `k` where it holds (the result then

@@ -148,6 +148,15 @@ where
         }
     }
 
+    /// The step sizes of every member computed as each run goes ([`Run::schedule`]; each member
+    /// gets a clone of the closure).
+    pub fn schedule<F>(self, schedule: F) -> Ensemble<'a, M, Schedule<F>, X>
+    where
+        F: FnMut(usize, f64, &StateOf<M>) -> f64 + Clone + Sync,
+    {
+        self.step_size(Schedule(schedule))
+    }
+
     /// The stop condition of every member ([`Run::stop`]; each member gets a clone).
     pub fn stop<X2>(self, stop: X2) -> Ensemble<'a, M, P, X2>
     where

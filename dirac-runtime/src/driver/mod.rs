@@ -267,8 +267,8 @@ mod policies;
 
 pub use members::{parameters, Ensemble, Members, Parameters, States};
 pub use policies::{
-    ControlLaw, ControlSequence, Fixed, Never, NoControls, Observer, StepSize, StepSizes,
-    StopCondition, Unobserved,
+    ControlLaw, ControlSequence, Fixed, Never, NoControls, Observer, Schedule, StepSize,
+    StepSizes, StopCondition, Unobserved,
 };
 
 /// One run of an integrator, configured by options and finished by [`Self::collect`] (every
@@ -302,9 +302,10 @@ where
 {
     span_options!();
 
-    /// The size of each step: [`StepSizes`] (a precomputed sequence), [`Fixed`] (the default)
-    /// or any [`StepSize`] policy; a closure is given with [`Self::schedule`]. Each size must be
-    /// positive and finite, or the run stops with a typed error.
+    /// The size of each step from a policy: [`StepSizes`] (a precomputed sequence), [`Fixed`]
+    /// (the default) or a [`StepSize`] of your own; a closure is given with [`Self::schedule`]
+    /// (the one way for each). Each size must be positive and finite, or the run stops with a
+    /// typed error. With adaptive steps the sizes are fictitious steps `ε_k`.
     pub fn step_size<P2: StepSize<I::State>>(self, policy: P2) -> Run<'a, I, P2, C, X, O> {
         Run {
             integrator: self.integrator,
@@ -319,11 +320,11 @@ where
 
     /// The size of step `k` computed as the run goes: `schedule(k, t, state)` from the step
     /// index, the time and the state the step starts from (see [`Self::step_size`]).
-    pub fn schedule<F>(self, schedule: F) -> Run<'a, I, F, C, X, O>
+    pub fn schedule<F>(self, schedule: F) -> Run<'a, I, Schedule<F>, C, X, O>
     where
         F: FnMut(usize, f64, &I::State) -> f64,
     {
-        self.step_size(schedule)
+        self.step_size(Schedule(schedule))
     }
 
     /// The controls of every step from a feedback law `law(k, t, state, u)`, which writes `u_k`

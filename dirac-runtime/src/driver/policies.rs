@@ -93,11 +93,14 @@ impl<St> ControlLaw<St> for ControlSequence<'_> {
     }
 }
 
-/// How large each step of a run is ([`Run::step_size`](super::Run::step_size)).
+/// How large each step of a run is.
 ///
 /// Implemented by [`Fixed`] (the default: the integrator's own `h`), by [`StepSizes`] (a
-/// precomputed sequence `h_0, h_1, …`) and by every closure `|k, t, state| h_k` (a schedule
-/// computed as the run goes, from the step index, the time and the state the step starts from).
+/// precomputed sequence `h_0, h_1, …`), both given with
+/// [`Run::step_size`](super::Run::step_size), and by [`Schedule`], a closure `|k, t, state| h_k`
+/// computed as the run goes (from the step index, the time and the state the step starts
+/// from), given with [`Run::schedule`](super::Run::schedule): one way for each kind of input.
+/// With adaptive steps every size is a fictitious step `ε_k`.
 pub trait StepSize<St> {
     /// Whether every step has the integrator's own size (then `t_k = t_0 + k h`, bit for bit
     /// the fixed-step run).
@@ -132,9 +135,15 @@ impl<St> StepSize<St> for StepSizes<'_> {
     }
 }
 
-impl<St, F: FnMut(usize, f64, &St) -> f64> StepSize<St> for F {
+/// Step sizes computed as the run goes: the closure `|k, t, state| h_k` of
+/// [`Run::schedule`](super::Run::schedule), from the step index, the time and the state the step
+/// starts from.
+#[derive(Clone, Copy, Debug)]
+pub struct Schedule<F>(pub F);
+
+impl<St, F: FnMut(usize, f64, &St) -> f64> StepSize<St> for Schedule<F> {
     fn step_size(&mut self, k: usize, t: f64, state: &St, _: f64) -> Option<f64> {
-        Some(self(k, t, state))
+        Some((self.0)(k, t, state))
     }
 }
 
