@@ -267,8 +267,8 @@ mod policies;
 
 pub use members::{parameters, Ensemble, Members, Parameters, States};
 pub use policies::{
-    ControlLaw, ControlSequence, Fixed, Never, NoControls, Observer, Schedule, StepSize,
-    StepSizes, StopCondition, Unobserved,
+    ControlLaw, ControlSequence, Fixed, Never, NoControls, Observer, Schedule, StepSize, StepSizes,
+    StopCondition, Unobserved,
 };
 
 /// One run of an integrator, configured by options and finished by [`Self::collect`] (every
