@@ -1,6 +1,6 @@
 //! Ensembles written to Parquet: one file per member, or one file with a `member` column.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use dirac::prelude::*;
 use dirac::runtime::driver::RunResult;
@@ -8,6 +8,8 @@ use dirac::runtime::ensemble::map;
 
 use crate::columns::{RunInfo, StateColumns};
 use crate::error::{Error, Result};
+pub use crate::files::member_file;
+use crate::files::publish;
 use crate::observer::{Options, ParquetObserver};
 use crate::progress;
 use crate::read::concatenate;
@@ -26,11 +28,6 @@ pub enum EnsembleOutput {
     /// into its own part next to `path` (`<path>.parts/`), and the parts are concatenated in
     /// order and removed: memory stays bounded by a row group per running member.
     OneFile(PathBuf),
-}
-
-/// The file of member `i` in a directory of per-member files.
-pub fn member_file(dir: &Path, i: usize) -> PathBuf {
-    dir.join(format!("member-{i:06}.parquet"))
 }
 
 /// Runs `steps` steps from each of `initials` in parallel (as [`Drive::ensemble`]) and
@@ -85,7 +82,7 @@ where
         let parts: Vec<PathBuf> = (0..initials.len()).map(|i| member_file(&dir, i)).collect();
         let mut kv = info.key_values();
         kv.push(("dirac.members".into(), initials.len().to_string()));
-        crate::shard::publish(path, |partial| concatenate(&parts, partial, kv).map(drop))?;
+        publish(path, |partial| concatenate(&parts, partial, kv).map(drop))?;
         std::fs::remove_dir_all(&dir).map_err(Error::io(&dir))?;
     }
     Ok(results)

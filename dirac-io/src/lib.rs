@@ -88,6 +88,7 @@
 pub mod columns;
 pub mod ensemble;
 pub mod error;
+mod files;
 pub mod integrity;
 pub mod observer;
 pub mod progress;

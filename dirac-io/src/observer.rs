@@ -3,29 +3,21 @@
 
 use std::marker::PhantomData;
 use std::path::{Path, PathBuf};
-use std::sync::mpsc::{sync_channel, Receiver, SyncSender};
 use std::sync::Arc;
-use std::thread::JoinHandle;
 
-use arrow_array::{ArrayRef, Float64Array, RecordBatch, UInt32Array, UInt64Array};
-use arrow_schema::{DataType, Field, Schema, SchemaRef};
+use arrow_schema::{DataType, Field, Schema};
 use dirac::prelude::*;
 use dirac::runtime::driver::RunResult;
 use parquet::basic::Compression;
-use parquet::file::metadata::KeyValue;
-use parquet::file::properties::{EnabledStatistics, WriterProperties};
 
 use crate::columns::{float_text, RunInfo, StateColumns};
 use crate::error::{Error, Result};
+use crate::files::{part_file, partial_file, published_parts};
 use crate::integrity::FileWriter;
+pub use crate::integrity::ROW_GROUP_BYTES;
 
-/// Row groups are cut at about this many bytes of values, so that what a writer holds before
-/// it writes is bounded whatever the run's length and the state's size: 8 MiB is 2,600 rows of
-/// the 200-particle lattice (406 columns) or 80,000 rows of a 4-coordinate system. Measured on
-/// the lattice: 2 MiB groups cost more per row (per-column-chunk allocations and metadata) and
-/// grew the footer 4× faster; the writer holds at most three groups (one filling, one queued,
-/// one being written), 24 MiB.
-pub const ROW_GROUP_BYTES: usize = 8 << 20;
+mod sink;
+use sink::{Buffer, Encoder, Sink, Target};
 
 /// The default size of a part ([`Options::rows_per_file`]): about 64 MiB of values, eight row
 /// groups. What a killed run loses is at most the part being written (the run waits at each
@@ -193,39 +185,6 @@ impl<St: StateColumns> Options<St> {
     }
 }
 
-/// The columns of one row group, before they are written.
-struct Buffer {
-    step: Vec<u64>,
-    t: Vec<f64>,
-    /// Column-major: `state[c]` is column `c`.
-    state: Vec<Vec<f64>>,
-    iterations: Vec<Option<u32>>,
-    residual: Vec<Option<f64>>,
-    rcond: Vec<Option<f64>>,
-    extra: Vec<Vec<f64>>,
-    /// Whether its last row is the last of a part: the part is published once it is written.
-    ends_part: bool,
-}
-
-impl Buffer {
-    fn new(width: usize, extra: usize, rows: usize) -> Self {
-        Buffer {
-            step: Vec::with_capacity(rows),
-            t: Vec::with_capacity(rows),
-            state: (0..width).map(|_| Vec::with_capacity(rows)).collect(),
-            iterations: Vec::with_capacity(rows),
-            residual: Vec::with_capacity(rows),
-            rcond: Vec::with_capacity(rows),
-            extra: (0..extra).map(|_| Vec::with_capacity(rows)).collect(),
-            ends_part: false,
-        }
-    }
-
-    fn len(&self) -> usize {
-        self.step.len()
-    }
-}
-
 /// Where a resumed run continues ([`ParquetObserver::resume`]): the last state published, its
 /// step `k` and its time `t_k`. Continue with `integ.run(state).start_time(t).steps(n − step)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -318,90 +277,6 @@ pub fn trajectory_schema(columns: &[String], member: bool, extra: &[String]) -> 
         fields.push(Field::new(name, DataType::Float64, false));
     }
     Schema::new(fields)
-}
-
-/// Writer properties for `f64` columns: plain encoding (a dictionary of distinct floats is as
-/// large as the data and costs a hash per value), no statistics and no offset index: the
-/// footer, which the writer holds until the file is closed, then grows by one column chunk's
-/// metadata per column and row group and nothing else. Row groups are cut at [`ROW_GROUP_BYTES`]
-/// or `max_rows` rows, whichever comes first.
-pub(crate) fn writer_properties(
-    compression: Compression,
-    kv: Vec<(String, String)>,
-    max_rows: usize,
-) -> WriterProperties {
-    WriterProperties::builder()
-        .set_compression(compression)
-        .set_dictionary_enabled(false)
-        .set_statistics_enabled(EnabledStatistics::None)
-        // A column chunk of a row group is one or a few pages: an index of their offsets
-        // would only grow the footer.
-        .set_offset_index_disabled(true)
-        .set_max_row_group_row_count((max_rows < usize::MAX).then_some(max_rows))
-        .set_max_row_group_bytes(Some(ROW_GROUP_BYTES))
-        .set_key_value_metadata(Some(
-            kv.into_iter().map(|(k, v)| KeyValue::new(k, v)).collect(),
-        ))
-        .build()
-}
-
-/// The published part `index` of a directory of parts.
-pub(crate) fn part_file(dir: &Path, index: usize) -> PathBuf {
-    dir.join(format!("part-{index:05}.parquet"))
-}
-
-/// Whether `name` is a published part's (`part-NNNNN.parquet`), and its index.
-pub(crate) fn part_index(name: &str) -> Option<usize> {
-    let digits = name.strip_prefix("part-")?.strip_suffix(".parquet")?;
-    (!digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()))
-        .then(|| digits.parse().ok())
-        .flatten()
-}
-
-/// The hidden name a file is written under until it is published: `.<name>.partial` beside it.
-/// Readers skip it: pyarrow skips names starting with `.` or `_`, and it matches no `*.parquet`.
-fn partial_file(path: &Path) -> PathBuf {
-    let name = path.file_name().unwrap_or_default().to_string_lossy();
-    path.with_file_name(format!(".{name}.partial"))
-}
-
-/// Publishes the closed file `partial` as `path`: a rename (atomic: a reader sees the whole
-/// file or none), and with `sync` the directory synced so that the rename survives a crash of
-/// the machine (the file itself was synced before its rename by [`FileWriter::close`]).
-fn publish_file(partial: &Path, path: &Path, sync: bool) -> Result<()> {
-    std::fs::rename(partial, path).map_err(Error::io(path))?;
-    if sync {
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            if let Ok(d) = std::fs::File::open(dir) {
-                d.sync_all().map_err(Error::io(dir))?;
-            }
-        }
-    }
-    Ok(())
-}
-
-/// The published parts of the directory `dir`, in order, and whether it holds hidden partial
-/// files of parts.
-pub(crate) fn published_parts(dir: &Path) -> Result<(Vec<PathBuf>, Vec<PathBuf>)> {
-    let mut parts = Vec::new();
-    let mut partials = Vec::new();
-    for entry in std::fs::read_dir(dir).map_err(Error::io(dir))? {
-        let entry = entry.map_err(Error::io(dir))?;
-        let name = entry.file_name().to_string_lossy().into_owned();
-        if let Some(i) = part_index(&name) {
-            parts.push((i, entry.path()));
-        } else if name.starts_with(".part-") && name.ends_with(".parquet.partial") {
-            partials.push(entry.path());
-        }
-    }
-    parts.sort();
-    if let Some((k, (i, _))) = parts.iter().enumerate().find(|(k, (i, _))| k != i) {
-        return Err(Error::content(
-            dir,
-            format!("part {k} is missing (the parts jump to {i}): not one run's parts"),
-        ));
-    }
-    Ok((parts.into_iter().map(|(_, p)| p).collect(), partials))
 }
 
 impl<St: StateColumns> ParquetObserver<St> {
@@ -728,227 +603,6 @@ impl<St: StateColumns> Drop for ParquetObserver<St> {
             ("dirac.outcome".to_owned(), "aborted".to_owned()),
             ("dirac.steps".to_owned(), steps.to_string()),
         ]);
-    }
-}
-
-/// Where an [`Encoder`] writes.
-enum Target {
-    /// One file, published at the end.
-    File { path: PathBuf },
-    /// A directory of parts, each published when full (the observer marks the row group that
-    /// fills one: [`Buffer::ends_part`]); `index` is the part being written.
-    Parts { dir: PathBuf, index: usize },
-}
-
-/// Writes buffers as row groups of the file's schema, into the current file or part.
-struct Encoder {
-    /// The file being written (under its hidden name); `None` once closed.
-    writer: Option<FileWriter>,
-    schema: SchemaRef,
-    member: Option<u64>,
-    compression: Compression,
-    kv: Vec<(String, String)>,
-    target: Target,
-    /// Whether a file is synced before it is published ([`Options::sync`]).
-    sync: bool,
-    /// The most rows of a row group, the writer's limit too.
-    rows_per_group: usize,
-}
-
-impl Encoder {
-    fn writer(&mut self) -> Result<&mut FileWriter> {
-        self.writer
-            .as_mut()
-            .ok_or_else(|| Error::Usage("the output was closed already".into()))
-    }
-
-    /// Closes the file being written (appending `kv` to its metadata) and publishes it. On an
-    /// error (a full disk) its hidden partial file is removed: nothing is left that no reader
-    /// reads and no run resumes from; the parts published before stay.
-    fn close(&mut self, kv: Vec<(String, String)>) -> Result<()> {
-        let Some(mut writer) = self.writer.take() else {
-            return Ok(());
-        };
-        for (k, v) in kv {
-            writer.append(k, v);
-        }
-        let partial = writer.path().to_owned();
-        let path = match &self.target {
-            Target::File { path } => path.clone(),
-            Target::Parts { dir, index } => part_file(dir, *index),
-        };
-        let published = writer
-            .close(self.sync)
-            .and_then(|()| publish_file(&partial, &path, self.sync));
-        if published.is_err() {
-            remove_partial(&partial);
-        }
-        published
-    }
-
-    /// Writes `b` as one row group, and publishes the part it ends ([`Buffer::ends_part`]). On
-    /// an error (a full disk) the hidden partial file is removed and nothing more is written.
-    fn write(&mut self, b: Buffer) -> Result<()> {
-        let written = self.write_group(b);
-        if written.is_err() {
-            if let Some(writer) = self.writer.take() {
-                let partial = writer.path().to_owned();
-                drop(writer);
-                remove_partial(&partial);
-            }
-        }
-        written
-    }
-
-    fn write_group(&mut self, b: Buffer) -> Result<()> {
-        let rows = b.len();
-        let ends_part = b.ends_part;
-        let mut columns: Vec<ArrayRef> = Vec::with_capacity(self.schema.fields().len());
-        if let Some(m) = self.member {
-            columns.push(Arc::new(UInt64Array::from(vec![m; rows])));
-        }
-        columns.push(Arc::new(UInt64Array::from(b.step)));
-        columns.push(Arc::new(Float64Array::from(b.t)));
-        columns.extend(
-            b.state
-                .into_iter()
-                .map(|c| Arc::new(Float64Array::from(c)) as ArrayRef),
-        );
-        columns.push(Arc::new(UInt32Array::from(b.iterations)));
-        columns.push(Arc::new(Float64Array::from(b.residual)));
-        columns.push(Arc::new(Float64Array::from(b.rcond)));
-        columns.extend(
-            b.extra
-                .into_iter()
-                .map(|c| Arc::new(Float64Array::from(c)) as ArrayRef),
-        );
-        let schema = self.schema.clone();
-        let writer = self.writer()?;
-        let batch = RecordBatch::try_new(schema, columns).map_err(Error::arrow(writer.path()))?;
-        writer.write(&batch)?;
-        // One batch is one row group: what is held in memory is bounded by it.
-        writer.flush()?;
-        if let (true, Target::Parts { dir, index }) = (ends_part, &self.target) {
-            // The part is full: published now, and the next one opened (for more rows, or for
-            // the run's outcome alone when the run ends here).
-            let next = partial_file(&part_file(dir, index + 1));
-            self.close(Vec::new())?;
-            if let Target::Parts { index, .. } = &mut self.target {
-                *index += 1;
-            }
-            self.writer = Some(FileWriter::create_with_groups(
-                &next,
-                self.schema.clone(),
-                self.compression,
-                self.kv.clone(),
-                self.rows_per_group,
-            )?);
-        }
-        Ok(())
-    }
-}
-
-/// Removes the hidden partial file of a write that failed (a file already gone is fine: a
-/// publishing rename may have moved it before the error).
-fn remove_partial(partial: &Path) {
-    let _ = std::fs::remove_file(partial);
-}
-
-/// Where full buffers go: written on the run's thread, or sent to a writer thread through a
-/// channel of capacity 1 (so the run waits rather than queue more than one row group ahead).
-/// Either way a buffer that ends a part returns only once the part is published: the thread
-/// says so on `published`.
-enum Sink {
-    Inline {
-        encoder: Box<Encoder>,
-        error: Option<Error>,
-    },
-    Thread {
-        sender: Option<SyncSender<Buffer>>,
-        published: Receiver<()>,
-        worker: JoinHandle<Result<Encoder>>,
-        path: PathBuf,
-    },
-}
-
-impl Sink {
-    fn start(encoder: Encoder, background: bool) -> Self {
-        if !background {
-            return Sink::Inline {
-                encoder: Box::new(encoder),
-                error: None,
-            };
-        }
-        let path = encoder
-            .writer
-            .as_ref()
-            .map_or_else(PathBuf::new, |w| w.path().to_owned());
-        let (sender, receiver) = sync_channel::<Buffer>(1);
-        // The run waits for each part it ends, so at most one is ever announced and unread.
-        let (announce, published) = sync_channel::<()>(1);
-        let worker = std::thread::spawn(move || {
-            let mut encoder = encoder;
-            for buffer in receiver {
-                let ends_part = buffer.ends_part;
-                // On an error the thread ends, the channels close, and the run stops sending.
-                encoder.write(buffer)?;
-                if ends_part {
-                    let _ = announce.send(());
-                }
-            }
-            Ok(encoder)
-        });
-        Sink::Thread {
-            sender: Some(sender),
-            published,
-            worker,
-            path,
-        }
-    }
-
-    fn write(&mut self, buffer: Buffer) {
-        match self {
-            Sink::Inline { encoder, error } => {
-                if error.is_none() {
-                    if let Err(e) = encoder.write(buffer) {
-                        *error = Some(e);
-                    }
-                }
-            }
-            Sink::Thread {
-                sender, published, ..
-            } => {
-                if let Some(s) = sender {
-                    let ends_part = buffer.ends_part;
-                    // An error sending or waiting: the writer failed, and its error is returned
-                    // by `finish`.
-                    if s.send(buffer).is_err() || (ends_part && published.recv().is_err()) {
-                        *sender = None;
-                    }
-                }
-            }
-        }
-    }
-
-    /// Waits for every row group to be written; returns the encoder, or the first error.
-    fn finish(self) -> Result<Encoder> {
-        match self {
-            Sink::Inline { encoder, error } => error.map_or(Ok(*encoder), Err),
-            Sink::Thread {
-                sender,
-                worker,
-                path,
-                ..
-            } => {
-                drop(sender);
-                worker.join().unwrap_or_else(|_| {
-                    Err(Error::content(
-                        path,
-                        "the writer thread panicked: the rows it held are lost",
-                    ))
-                })
-            }
-        }
     }
 }
 

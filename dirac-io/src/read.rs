@@ -12,8 +12,8 @@ use parquet::basic::Compression;
 
 use crate::columns::StateColumns;
 use crate::error::{Error, Result};
+use crate::files::published_parts;
 use crate::integrity::{verify, FileWriter};
-use crate::observer::published_parts;
 
 /// `read()` with a panic of the Parquet reader caught: a corrupt file (a flipped byte in the
 /// footer's offsets) can trip an assertion inside the `parquet` crate, which is then an

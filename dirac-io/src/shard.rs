@@ -84,8 +84,9 @@ use dirac::runtime::ensemble::map;
 use parquet::basic::Compression;
 
 use crate::columns::{Describe, RunInfo, StateColumns};
-use crate::ensemble::member_file;
 use crate::error::{Error, Result};
+pub use crate::files::publish;
+use crate::files::{member_file, remove_partials};
 use crate::integrity::{verify_required, FileWriter};
 use crate::observer::{Options, ParquetObserver};
 use crate::progress;
@@ -203,50 +204,6 @@ pub struct ShardReport {
     /// A shard file found in place but damaged (its checksums disagree, or it cannot be read),
     /// and why: it was run again and replaced.
     pub corrupt: Option<String>,
-}
-
-/// Writes a complete file at `path` atomically: `write` fills a partial file beside it (hidden,
-/// named after this process), which is then renamed over `path`; the directory is synced so the
-/// rename survives a crash.
-pub fn publish(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
-    let dir = path
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let name = path
-        .file_name()
-        .ok_or_else(|| Error::content(path, "not a file name"))?;
-    let partial = dir.join(format!(
-        ".{}.partial-{}",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
-    let result = write(&partial);
-    if result.is_err() {
-        let _ = std::fs::remove_file(&partial);
-        return result;
-    }
-    std::fs::rename(&partial, path).map_err(Error::io(path))?;
-    if let Ok(d) = std::fs::File::open(dir) {
-        let _ = d.sync_all();
-    }
-    Ok(())
-}
-
-/// Removes the partial files that killed attempts at `path` left (see [`publish`]).
-fn remove_partials(path: &Path) -> Result<()> {
-    let dir = path.parent().unwrap_or(Path::new("."));
-    let prefix = format!(
-        ".{}.partial-",
-        path.file_name().unwrap_or_default().to_string_lossy()
-    );
-    for entry in std::fs::read_dir(dir).map_err(Error::io(dir))? {
-        let entry = entry.map_err(Error::io(dir))?;
-        if entry.file_name().to_string_lossy().starts_with(&prefix) {
-            std::fs::remove_file(entry.path()).map_err(Error::io(entry.path()))?;
-        }
-    }
-    Ok(())
 }
 
 /// One member's row of a shard file.
