@@ -264,8 +264,7 @@ fn too_large(program: &Program) -> Error {
     Error::Codegen(format!(
         "a kernel of {} operations is too large for one function of machine code (Cranelift \
          numbers at most 2^21 values in a function, and an operation may take two): \
-         shorten the Lagrangian (a sum of fewer terms, common factors taken out) or compile it \
-         in with `#[reduced_lagrangian]`",
+         shorten the Lagrangian (a sum of fewer terms, common factors taken out)",
         program.ops.len()
     ))
 }

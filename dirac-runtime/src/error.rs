@@ -222,11 +222,14 @@ pub enum StepError {
         error: Box<StepError>,
     },
     /// A run needs more memory than can be allocated: checked before the memory is allocated
-    /// (for a run-time-sized system, [`crate::element`], the workspace its sizes imply), so that
-    /// a system too large for the machine is an error rather than an aborted process.
+    /// (for a run-time-sized system, [`crate::element`], the workspace its sizes imply; for a
+    /// collected run, [`crate::Run::collect`], the trajectory: every state of a run of known
+    /// length before the first step, else each state before it is kept), so that a system or a
+    /// run too large for the machine is an error rather than an aborted process.
     #[error(
         "not enough memory: {what} needs {bytes} bytes ({:.2} GiB), which cannot be allocated; \
-         choose smaller sizes or a machine with more memory",
+         choose smaller sizes, fewer states kept (`.stream()` keeps none) or a machine with more \
+         memory",
         *bytes as f64 / (1u64 << 30) as f64
     )]
     OutOfMemory {

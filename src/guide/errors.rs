@@ -28,7 +28,7 @@
 //! | `NotSymmetric { defect, tolerance }` | a composition was asked of a rule that is not symmetric, so it would not reach its order | the midpoint or trapezoidal rule |
 //! | `InvalidAtlas { reason }` | the charts or transitions of an atlas do not fit together | the atlas's construction |
 //! | `StageFailed { stage, stages, substep, error }` | stage `stage` (from 0) of a composition, stepping with `substep`, failed with `error` (which has the macro step's index and the stage's residual) | what `error` suggests; a smaller macro step |
-//! | `OutOfMemory { what, bytes }` | a run-time-sized system's workspace needs `bytes` bytes, which cannot be allocated (checked before allocating) | smaller sizes, or a machine with more memory |
+//! | `OutOfMemory { what, bytes }` | a run-time-sized system's workspace, or a collected run's trajectory, needs `bytes` bytes, which cannot be allocated (checked before allocating: a run of `.steps(n)` without a stop condition or an end time before its first step) | smaller sizes, fewer states kept (`.stream()` keeps none), or a machine with more memory |
 //!
 //! [`StepError::step`](crate::StepError::step), [`residual`](crate::StepError::residual) and
 //! [`kind`](crate::StepError::kind) read the common fields; the enum is `#[non_exhaustive]`.

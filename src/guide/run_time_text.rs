@@ -178,3 +178,13 @@
 //! element-wise systems; the command line runs systems on vector spaces (with constraints: as
 //! many as Python) and on rotation groups (it writes Parquet of a fixed width, which an
 //! element-wise run does not have).
+//!
+//! A text is never a crash: groups (`(..)`, `[..]`, `{..}`) nested deeper than
+//! `text::MAX_NESTING` = 256, longer runs of prefixes (`- - x`, closures) and generic arguments
+//! nested deeper are refused before parsing with the limit, line and column; any other nesting
+//! compiles on a stack sized by the text (a flat sum of 10⁵ terms included). A body whose step
+//! is a straight line of more than about 10⁶ operations (a sum of some 2 × 10⁵ terms) is refused
+//! by the code generator, which names the limit of one function of machine code (2²¹ values).
+//! Sizes of an element-wise system whose tables of elements cannot be allocated, and a collected
+//! run that keeps more states than memory holds, are refused before allocating, with
+//! `StepError::OutOfMemory` (the bytes they need).
