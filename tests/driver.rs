@@ -72,7 +72,7 @@ fn a_composed_sparse_run_allocates_nothing_after_its_first_step() {
         .observe(|k, _, _, _| at_state[k] = allocations())
         .stream()
         .expect("the lattice steps");
-    assert_eq!(summary.steps, steps);
+    assert_eq!(summary.step_count, steps);
     let per_step: Vec<usize> = at_state.windows(2).map(|w| w[1] - w[0]).collect();
     // The counter counts: the first step builds the workspaces (sparse symbolic analyses).
     assert!(
@@ -118,7 +118,7 @@ where
         })
         .stream()
         .expect("runs");
-    assert_eq!(summary.steps, steps);
+    assert_eq!(summary.step_count, steps);
     assert!(!summary.stopped);
     assert_eq!(observed.len(), steps + 1);
     assert_eq!(summary.last, observed[steps]);
@@ -132,7 +132,7 @@ where
         .stream()
         .expect("runs");
     assert!(stopped.stopped);
-    assert_eq!(stopped.steps, 3);
+    assert_eq!(stopped.step_count, 3);
     assert_eq!(stopped.last, observed[3]);
     let short = integrator
         .run(first.clone())
@@ -165,7 +165,7 @@ where
         .observe(|k, t, _, _| times.push((k, t)))
         .stream()
         .expect("runs");
-    assert_eq!((to_end.steps, to_end.t), (3, 2.5 * h));
+    assert_eq!((to_end.step_count, to_end.t), (3, 2.5 * h));
     assert_eq!(times[..3], [(0, 0.0), (1, h), (2, 2.0 * h)]);
     assert_eq!(times[3], (3, 2.5 * h));
     assert!(to_end.last != observed[3], "the last step is a half step");
@@ -202,7 +202,7 @@ where
         .schedule(move |_, _, _| 0.5 * h)
         .stream()
         .expect("runs");
-    assert_eq!((halved.steps, halved.t), (4, 2.0 * h));
+    assert_eq!((halved.step_count, halved.t), (4, 2.0 * h));
 
     // Ensembles: members in input order, each the sequential run bit for bit.
     let members = integrator.ensemble(starts).steps(steps).collect();
@@ -581,5 +581,5 @@ fn integrators_on_rotation_groups_get_the_one_driver() {
     // An end time that is not a multiple of h is reached exactly, by a shortened last step.
     let traj = integ.run(starts[0]).end_time(0.55).collect().unwrap();
     assert_eq!(*traj.times.last().unwrap(), 0.55);
-    assert_eq!(traj.steps(), 28);
+    assert_eq!(traj.step_count(), 28);
 }

@@ -460,7 +460,7 @@ fn same_constrained<
         .unwrap();
     same(&a.states, &b.states, what);
     let multipliers = |t: &ConstrainedTrajectory<F::State, M>| {
-        t.steps.iter().map(|s| (s.lambda, s.nu)).collect::<Vec<_>>()
+        t.records.iter().map(|s| (s.lambda, s.nu)).collect::<Vec<_>>()
     };
     same(&multipliers(&a), &multipliers(&b), what);
 }

@@ -42,7 +42,7 @@
 //! // The run's clock is physical time: short steps at periapsis, long ones at apoapsis.
 //! assert_eq!(traj.times[3], traj.states[3].g[1]);
 //! let dt = |k: usize| traj.times[k + 1] - traj.times[k]; // the physical steps Δt_k
-//! assert!(dt(traj.steps() / 2) > 20.0 * dt(0));
+//! assert!(dt(traj.step_count() / 2) > 20.0 * dt(0));
 //! assert_eq!(traj.step_sizes[0], sys.h); // the fictitious step ε
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```

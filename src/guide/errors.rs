@@ -64,7 +64,7 @@
 //!     panic!("expected NotConverged, got {}", e.source);
 //! };
 //! assert_eq!(iterations, 2);
-//! assert_eq!(e.trajectory.steps(), step); // every step before the failed one, kept
+//! assert_eq!(e.trajectory.step_count(), step); // every step before the failed one, kept
 //! assert!(residual > 0.0 && e.requested == 100);
 //! println!("{e}\ncaused by: {}", e.source().expect("the StepError"));
 //!
@@ -73,7 +73,7 @@
 //! at_pole.x[0] = std::f64::consts::PI - 1e-7;
 //! let integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
 //! let e = integ.run(at_pole).steps(100).observe(|_, _, _, _| {}).stream().unwrap_err();
-//! assert_eq!((e.source.step(), e.trajectory.steps), (0, 0)); // refused, nothing taken
+//! assert_eq!((e.source.step(), e.trajectory.step_count), (0, 0)); // refused, nothing taken
 //! println!("{}", e.source);
 //!
 //! // Inputs are checked before the first step.
