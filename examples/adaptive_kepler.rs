@@ -137,7 +137,7 @@ fn adaptive_run(e: f64, eps: f64, orbits: usize, method: CompositionMethod) -> (
         Ok(s) => (
             (s.last.g[0] - exact_phase(e, s.last.g[1])).abs(),
             evaluations,
-            s.steps,
+            s.step_count,
         ),
         Err(_) => (f64::INFINITY, evaluations, 0),
     }
@@ -280,7 +280,7 @@ fn main() {
     let (m2, lo2, hi2) = tenth(0.9, 1.01);
     println!(
         "Long run, e = 0.9, ε = 0.05, {long} orbits ({} steps, {seconds:.1} s): momenta changed at {changed} steps; energy error first tenth mean {m1:.3e} in [{lo1:.3e}, {hi1:.3e}], last tenth mean {m2:.3e} in [{lo2:.3e}, {hi2:.3e}]: {}",
-        summary.steps,
+        summary.step_count,
         if (lo1..=hi1).contains(&m2) { "no drift (the last mean lies in the first spread)" } else { "DRIFT" }
     );
 

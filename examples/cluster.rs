@@ -270,7 +270,7 @@ fn measure(n: usize, o: &Options) -> Result<Row, Failure> {
         step_ms,
         corrections: summary.mean_iterations(),
         factorizations: summary.factorizations,
-        steps: summary.steps,
+        steps: summary.step_count,
         assembly_ms,
         serial_assembly_ms,
         factor_ms,

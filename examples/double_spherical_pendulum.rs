@@ -37,7 +37,7 @@ fn continuous_form(hand: &Trajectory<3, 1>) -> Result<(), Box<dyn Error>> {
     let sys = DoubleSphericalPendulumContinuous::paper();
     let traj = ReducedIntegrator::plus(sys, NewtonOptions::default())
         .run(DoubleSphericalPendulum::paper_initial_state())
-        .steps(hand.steps())
+        .steps(hand.step_count())
         .collect()?;
     let e = reduced_continuous_energies(&sys, &traj)?;
     let e0 = e.nodes[0];

@@ -92,8 +92,8 @@ fn main() -> Result<(), Box<dyn Error>> {
     );
     println!(
         "  {} steps (t = {:.0}) in {elapsed:.2?}; {} switches, the first at step {}",
-        run.steps,
-        run.steps as f64 * sys.h,
+        run.step_count,
+        run.step_count as f64 * sys.h,
         switches.len(),
         switches.first().map_or(0, |s| s.step)
     );

@@ -82,7 +82,7 @@ fn main() {
                 .observe(|_, _, _, _| {})
                 .stream()
                 .expect("free run");
-            s.steps
+            s.step_count
         });
         let b = time_run(&|| {
             let s = damped_integ
@@ -91,7 +91,7 @@ fn main() {
                 .observe(|_, _, _, _| {})
                 .stream()
                 .expect("damped run");
-            s.steps
+            s.step_count
         });
         ratios.push(b / a);
         t_free.push(a);
@@ -149,7 +149,7 @@ fn main() {
                 .observe(|_, _, _, _| {})
                 .stream()
                 .expect("run")
-                .steps
+                .step_count
         });
         let sens = time_run(&|| {
             let mut checksum = 0.0;

@@ -137,7 +137,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         (began.elapsed().as_secs_f64() / n as f64, factorizations)
     };
     let summary_of = |r: Result<RunSummary<ReducedState<199, 1>>, _>| {
-        r.ok().map(|s: RunSummary<_>| (s.steps, s.factorizations))
+        r.ok()
+            .map(|s: RunSummary<_>| (s.step_count, s.factorizations))
     };
     let mut ratios = Vec::new();
     let (mut base_us, mut composed_us, mut composed_factorizations) = (0.0, 0.0, 0);

@@ -129,13 +129,13 @@ fn measure_n(
         Err(e) => {
             println!(
                 "    (n = {n}: stopped after {} of {steps} steps: {})",
-                e.trajectory.steps(),
+                e.trajectory.step_count(),
                 e.source
             );
             e.trajectory
         }
     };
-    let done = traj.steps().max(1);
+    let done = traj.step_count().max(1);
     let us = start.elapsed().as_secs_f64() * 1e6 / done as f64;
     let iterations = traj.stats.iter().map(|s| s.iterations as f64).sum::<f64>() / done as f64;
     (

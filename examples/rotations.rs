@@ -240,7 +240,7 @@ fn main() {
         .expect("the double spherical pendulum integrates on S² × S²");
     println!(
         "   {} steps in {:.2} s, no failed step; max | |n_i| − 1 | = {unit:.2e}; max |E_k − E_0| / |E_0| = {:.2e}",
-        summary.steps,
+        summary.step_count,
         began.elapsed().as_secs_f64(),
         energy / e0.abs()
     );

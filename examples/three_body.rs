@@ -103,10 +103,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             println!(
                 "adaptive ε = {eps}: t = {:.3} in {} steps; max |E − E0|/|E0| = {worst:.2e}; physical steps from {dt_min:.2e} to {dt_max:.2e}; closest approach {closest:.2e}; p_t = −E0 kept bit for bit: {}",
                 summary.last.g[0],
-                summary.steps,
+                summary.step_count,
                 summary.last.mu == s0.mu
             );
-            summary.steps
+            summary.step_count
         }
         Err(e) => {
             println!(

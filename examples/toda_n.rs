@@ -177,7 +177,7 @@ fn measure(n: usize, o: &Options) -> Result<Row, Box<dyn std::error::Error>> {
         })
         .stream()?;
     let corrections = summary.mean_iterations();
-    let factorizations = summary.factorizations as f64 / summary.steps.max(1) as f64;
+    let factorizations = summary.factorizations as f64 / summary.step_count.max(1) as f64;
     // Timed: the steps alone (the workspace — pattern, ordering, symbolic factorization — is
     // built once per run, before), in the driver's way: two states swapped, nothing allocated.
     let (mut dirac_s, mut hand_s, mut forced) = (Vec::new(), Vec::new(), Vec::new());

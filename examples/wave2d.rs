@@ -318,13 +318,13 @@ fn main() {
         "the final states of the {} timed runs against the observed run's: {repeat_differences} differing values",
         all.len() + one.len()
     );
-    let steps = summary.steps as f64;
+    let steps = summary.step_count as f64;
     println!(
         "Newton: {:.2} corrections per step (at most {}), {} factorizations in {} steps ({:.3} per step; in steps {:?}), largest accepted residual {:.1e}{}",
         summary.mean_iterations(),
         summary.max_iterations,
         summary.factorizations,
-        summary.steps,
+        summary.step_count,
         summary.factorizations as f64 / steps,
         factored_at,
         summary.max_residual,

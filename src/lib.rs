@@ -25,7 +25,7 @@
 //! let initial = ReducedState::new([0.0; 3], [1.0, 0.0, 1.0], [1.0], [0.0]);
 //! let integ = ReducedIntegrator::plus(sys, NewtonOptions::default());
 //! let traj = integ.run(initial).steps(100).collect()?;
-//! assert_eq!(traj.steps(), 100);
+//! assert_eq!(traj.step_count(), 100);
 //! assert_eq!(traj.last().mu, initial.mu); // μ_{k+1} = μ_k, exactly
 //! # Ok(())
 //! # }

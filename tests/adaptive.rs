@@ -216,7 +216,7 @@ fn adaptive_steps_beat_the_fixed_step_at_high_eccentricity() {
     let last = traj.last();
     let (r, theta) = exact(e, last.g[1]);
     let adaptive_error = (last.x[0] - r).abs().max((last.g[0] - theta).abs());
-    let n = 4 * traj.steps();
+    let n = 4 * traj.step_count();
     let fixed = KeplerFixed {
         h: TAU / n as f64,
         k: 1.0,
@@ -235,7 +235,7 @@ fn adaptive_steps_beat_the_fixed_step_at_high_eccentricity() {
     assert!(
         fixed_error > 3.0 * adaptive_error,
         "{} adaptive steps: {adaptive_error:e}; {n} fixed steps: {fixed_error:e}",
-        traj.steps()
+        traj.step_count()
     );
 }
 
@@ -378,7 +378,7 @@ fn a_run_lands_on_a_physical_end_time_exactly() {
                 .collect()
                 .unwrap();
             // Take the step that crossed `end` again, landing on it.
-            let k = traj.steps() - 1;
+            let k = traj.step_count() - 1;
             let before = traj.states[k];
             let last = adaptive::land_at(end, before.g[1], eps, |h| {
                 let (s, _) =
@@ -575,7 +575,7 @@ fn the_run_api_keeps_physical_time_and_lands_on_an_end_time() {
         "{}",
         last.g[1]
     );
-    let k = traj.steps() - 1;
+    let k = traj.step_count() - 1;
     let dt = |j: usize| traj.times[j + 1] - traj.times[j];
     let longest = (0..k).map(dt).fold(0.0, f64::max);
     assert!(dt(0) < 0.1 * longest, "short steps at periapsis");
@@ -625,7 +625,7 @@ fn the_run_api_keeps_physical_time_and_lands_on_an_end_time() {
         StepError::InvalidRun { reason } => assert!(reason.contains("start_time"), "{reason}"),
         other => panic!("expected InvalidRun, got {other}"),
     }
-    assert_eq!(err.trajectory.steps(), 0);
+    assert_eq!(err.trajectory.step_count(), 0);
     let resumed = integ.run(later).start_time(5.0).steps(3).collect().unwrap();
     assert_eq!(resumed.times[0], 5.0);
     assert_eq!(resumed.step_sizes, vec![eps; 3]);

@@ -309,7 +309,7 @@ fn both_links_vertical_is_a_typed_error() {
         .collect()
         .expect_err("no chart is regular here");
     assert_eq!(err.source.step(), 0);
-    assert_eq!(err.trajectory.steps(), 0);
+    assert_eq!(err.trajectory.step_count(), 0);
     assert_eq!(err.trajectory.states[0], initial);
     assert!(err.trajectory.switches.is_empty());
 }

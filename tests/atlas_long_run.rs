@@ -92,7 +92,7 @@ fn double_spherical_pendulum_atlas_from_the_paper_state() {
         Ok(run) => run,
         Err(e) => panic!(
             "failed after {} of {STEPS} steps: {}",
-            e.trajectory.steps, e.source
+            e.trajectory.step_count, e.source
         ),
     };
     let drift = last_sum / last_n as f64 - first_sum / first_n as f64;
@@ -108,8 +108,8 @@ fn double_spherical_pendulum_atlas_from_the_paper_state() {
          ({:.2e} relative), drift {drift:+.3e} ({:+.4} x spread)\n  worst relative jump of \
          T + V across a switch: {worst_jump:.2e}\n  mu: {}",
         sys.h,
-        run.steps,
-        run.steps as f64 * sys.h,
+        run.step_count,
+        run.step_count as f64 * sys.h,
         elapsed,
         switches.len(),
         switches.iter().filter(|s| s.rescue).count(),
@@ -122,7 +122,7 @@ fn double_spherical_pendulum_atlas_from_the_paper_state() {
             Some(k) => format!("changed at state {k}"),
         },
     );
-    assert_eq!(run.steps, STEPS);
+    assert_eq!(run.step_count, STEPS);
     assert_eq!(mu_bad, None, "mu changed");
     assert!(
         drift.abs() <= 0.1 * spread,
@@ -270,13 +270,18 @@ fn double_spherical_pendulum_atlas_with_the_conditioning_fallback() {
             switches.extend(switch);
         })
         .stream()
-        .unwrap_or_else(|e| panic!("failed after {} steps: {}", e.trajectory.steps, e.source));
+        .unwrap_or_else(|e| {
+            panic!(
+                "failed after {} steps: {}",
+                e.trajectory.step_count, e.source
+            )
+        });
     println!(
         "\nConditioning fallback (rcond < 1e-4), {steps} steps from the paper's state: {} switches \
          (first at step {:?}), max |T + V - E_0| / |E_0| = {worst:.2e}",
         switches.len(),
         switches.first().map(|s| s.step)
     );
-    assert_eq!(run.steps, steps);
+    assert_eq!(run.step_count, steps);
     assert!(worst <= 0.01, "T + V left 1% of E_0: {worst:e}");
 }

@@ -37,7 +37,7 @@ fn the_discrete_example_runs() -> Result<(), Box<dyn std::error::Error>> {
         .run(initial)
         .steps(100)
         .collect()?;
-    assert_eq!(traj.steps(), 100);
+    assert_eq!(traj.step_count(), 100);
     // The emitted dimensions name the state's sizes.
     let _: ReducedState<{ ChargedParticle::SHAPE_DIM }, { ChargedParticle::GROUP_DIM }> =
         *traj.last();

@@ -57,7 +57,7 @@ fn mu_is_conserved_exactly_over_1e5_steps() {
         .states
         .iter()
         .all(|s| s.mu[0].to_bits() == mu0.to_bits()));
-    assert_eq!(traj.steps(), n);
+    assert_eq!(traj.step_count(), n);
 }
 
 /// The scheme is second order (Table 1: error ≈ 1.66 h² at T = 20). Over 10^5 steps

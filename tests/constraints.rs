@@ -107,7 +107,7 @@ fn the_initial_state_must_satisfy_the_constraints() {
         matches!(e.source, StepError::ConstraintViolated { .. }),
         "{e}"
     );
-    assert_eq!(e.trajectory.steps(), 0);
+    assert_eq!(e.trajectory.step_count(), 0);
 }
 
 /// The largest step cap with a stop condition: the constrained trajectories grow as the run

@@ -175,7 +175,7 @@ fn the_coarse_step_stops_at_the_domain_on_every_integrator_kind() {
         .stream()
         .unwrap_err();
     assert_eq!(out_of_domain(&streamed.source).0, FIRST_NEGATIVE);
-    assert_eq!(streamed.trajectory.steps, FIRST_NEGATIVE);
+    assert_eq!(streamed.trajectory.step_count, FIRST_NEGATIVE);
     assert_eq!(streamed.trajectory.last, reference.states[FIRST_NEGATIVE]);
 }
 

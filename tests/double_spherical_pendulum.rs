@@ -103,7 +103,7 @@ fn paper_parameters_and_initial_state() {
 fn paper_run_conserves_mu_and_energy() {
     let sys = DoubleSphericalPendulum::paper();
     let traj = paper_run();
-    assert_eq!(traj.steps(), DSP_STEPS);
+    assert_eq!(traj.step_count(), DSP_STEPS);
 
     // μ_{k+1} = μ_k is one of the equations (4.6): it holds bit for bit.
     let mu0 = traj.states[0].mu[0];

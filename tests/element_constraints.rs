@@ -68,7 +68,7 @@ fn a_run_time_sized_chain_is_the_unrolled_constrained_chain() {
     assert!(worst <= 1e-10, "states: {worst:e}");
     // The multipliers of every step, and the constraint on every step.
     let mut worst_multiplier: f64 = 0.0;
-    for (a, b) in traj.steps.iter().zip(&reference.steps) {
+    for (a, b) in traj.records.iter().zip(&reference.records) {
         let lambda = SVector::<f64, 4>::from_column_slice(a.lambda.as_slice());
         let nu = SVector::<f64, 4>::from_column_slice(a.nu.as_slice());
         let scale = b.lambda.amax().max(b.nu.amax()).max(1.0);
@@ -81,7 +81,7 @@ fn a_run_time_sized_chain_is_the_unrolled_constrained_chain() {
         "multipliers: {worst_multiplier:e}"
     );
     assert!(traj.max_constraint_residual() <= 1e-11);
-    assert!(traj.steps.iter().all(|s| s.lambda.amax() > 0.0));
+    assert!(traj.records.iter().all(|s| s.lambda.amax() > 0.0));
     // The energy at the nodes, from the projected momenta, and at the midpoints: near its
     // initial value, as the unrolled chain's.
     let energies = integ.energies(&traj).unwrap();
@@ -371,7 +371,7 @@ fn the_minus_side_with_constraints_computes_the_plus_trajectory() {
     for (x, y) in a.states.iter().zip(&b.states) {
         worst = worst.max((&x.q - &y.q).amax()).max((&x.p - &y.p).amax());
     }
-    for (x, y) in a.steps.iter().zip(&b.steps) {
+    for (x, y) in a.records.iter().zip(&b.records) {
         worst = worst.max((&x.lambda - &y.lambda).amax() / x.lambda.amax().max(1.0));
     }
     assert!(worst <= 1e-9, "{worst:e}");

@@ -565,7 +565,7 @@ fn a_lattice_too_large_for_memory_is_a_typed_error_before_any_allocation() {
         .stream()
         .unwrap_err();
     let message = err.source.to_string();
-    assert_eq!(err.trajectory.steps, 0);
+    assert_eq!(err.trajectory.step_count, 0);
     assert!(
         message.contains("bytes") && message.contains("memory"),
         "{message}"

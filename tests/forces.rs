@@ -273,7 +273,7 @@ fn a_control_sequence_equals_the_same_feedback_law() {
     );
     let message = e.source.to_string();
     assert!(message.contains("ended after 100 row(s)"), "{message}");
-    assert_eq!(e.trajectory.steps(), 100);
+    assert_eq!(e.trajectory.step_count(), 100);
     // A sequence whose rows have the wrong length: the error gives that length.
     let wide: Vec<f64> = rows.iter().flat_map(|r| [r[0], 0.0]).collect();
     let e = integ

@@ -222,7 +222,7 @@ fn the_printed_minus_energy_is_stationary_with_negated_momenta() {
         .steps(6)
         .collect()
         .unwrap();
-    let n = traj.steps();
+    let n = traj.step_count();
     // Variables: per step k, (x_{k+1}^−, g_{k+1}^−, w_k, μ_k); configurations (x_k, g_k).
     // Flattened: [x (n+1)*3 | g (n+1) | x⁻ n*3 | g⁻ n | w n*3 | μ n].
     let sign_action = |v: &[f64], sign: f64| -> f64 {

@@ -160,7 +160,7 @@ fn a_failed_step_keeps_the_trajectory_computed_so_far() {
     let failed_at = err.source.step();
     assert!(failed_at > 3, "{err}");
     assert!(matches!(err.source, StepError::NonFinite { .. }), "{err}");
-    assert_eq!(err.trajectory.steps(), failed_at);
+    assert_eq!(err.trajectory.step_count(), failed_at);
     assert_eq!(err.requested, 100);
     assert!(
         err.trajectory.last().x[0] > 1.0,
@@ -201,7 +201,7 @@ fn newton_non_convergence_is_a_typed_error_with_the_residual() {
         "{err}"
     );
     assert!(err.source.residual() > 1e-6);
-    assert_eq!(err.trajectory.steps(), 0);
+    assert_eq!(err.trajectory.step_count(), 0);
 }
 
 #[test]
@@ -216,7 +216,7 @@ fn a_singular_jacobian_is_a_typed_error() {
         matches!(err.source, StepError::SingularJacobian { step: 0, residual } if residual > 0.0),
         "{err}"
     );
-    assert_eq!(err.trajectory.steps(), 0);
+    assert_eq!(err.trajectory.step_count(), 0);
 }
 
 #[test]

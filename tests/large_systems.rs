@@ -275,7 +275,7 @@ fn a_streaming_run_sees_what_integrate_keeps_and_keeps_nothing() {
         .stream()
         .unwrap();
     assert_eq!(seen, (0..=300).collect::<Vec<_>>());
-    assert_eq!(summary.steps, 300);
+    assert_eq!(summary.step_count, 300);
     assert_eq!(summary.last, *traj.last());
     assert_eq!(summary.mean_iterations(), traj.mean_iterations());
     assert_eq!(summary.max_residual, traj.max_residual());
@@ -294,7 +294,7 @@ fn a_streaming_run_sees_what_integrate_keeps_and_keeps_nothing() {
         .stream()
         .unwrap_err();
     assert!(matches!(err.source, StepError::InvalidTimeStep { .. }));
-    assert_eq!(err.trajectory.steps, 0);
+    assert_eq!(err.trajectory.step_count, 0);
     assert_eq!(err.trajectory.last, initial(1));
 }
 

@@ -106,7 +106,7 @@ where
         Err(e) => panic!(
             "h = {}: failed after {} of {steps} steps: {}",
             e.trajectory.h,
-            e.trajectory.steps(),
+            e.trajectory.step_count(),
             e.source
         ),
     }
@@ -247,7 +247,7 @@ fn double_spherical_pendulum_million_steps() {
     let mut reduced = None;
     for (sys, steps) in [(sys, STEPS), (half, 2 * STEPS)] {
         let (traj, wall) = reduced_run(sys, initial, steps);
-        assert_eq!(traj.steps(), steps);
+        assert_eq!(traj.step_count(), steps);
         assert_mu_exact(&traj);
         let (sin1, sin2) = dsp_closest_to_poles(&traj.states);
         assert!(
@@ -301,7 +301,7 @@ fn double_spherical_pendulum_million_steps() {
         .unwrap_or_else(|e| {
             panic!(
                 "unreduced: failed after {} steps: {}",
-                e.trajectory.steps(),
+                e.trajectory.step_count(),
                 e.source
             )
         });
@@ -363,8 +363,8 @@ fn double_spherical_pendulum_from_the_paper_state() {
     say!(
         out,
         "  {} of {STEPS} steps (t = {:.2}), {outcome}",
-        traj.steps(),
-        traj.times[traj.steps()]
+        traj.step_count(),
+        traj.times[traj.step_count()]
     );
     if energy.len() >= DSP_STEPS {
         Summary::of(&energy[..DSP_STEPS]).print(&mut out, "T + V, paper's 10^4 steps");
@@ -387,13 +387,13 @@ fn double_spherical_pendulum_from_the_paper_state() {
             say!(
                 out,
                 "  steps accepted after it: {}, max |T + V| among them {worst_after:.3e}",
-                traj.steps() - k - 1
+                traj.step_count() - k - 1
             );
         }
         None => say!(out, "  T + V stayed within 10% of E_0 = {e0:.6e}"),
     }
     assert!(
-        traj.steps() >= DSP_STEPS,
+        traj.step_count() >= DSP_STEPS,
         "the paper's run itself failed: {outcome}"
     );
     assert_mu_exact(traj);
@@ -435,7 +435,7 @@ fn charged_particle_million_steps() {
     for (h, steps) in [(0.2, STEPS), (0.1, 2 * STEPS)] {
         let sys = ChargedParticle { h, m, b0 };
         let (traj, wall) = reduced_run(sys, initial, steps);
-        assert_eq!(traj.steps(), steps);
+        assert_eq!(traj.step_count(), steps);
         assert_mu_exact(&traj);
         let step_velocity: Vec<f64> = traj
             .states

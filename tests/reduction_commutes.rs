@@ -414,5 +414,5 @@ fn eliminated_and_general_paths_agree() {
         .steps(100)
         .collect()
         .unwrap();
-    assert_eq!(traj.steps(), 100);
+    assert_eq!(traj.step_count(), 100);
 }

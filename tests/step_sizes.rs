@@ -145,7 +145,7 @@ fn an_end_time_that_is_not_a_multiple_of_h_is_reached_exactly() {
     let start = sys.periapsis_state(1.0, 0.3);
     let end = 1.05;
     let traj = integ.run(start).end_time(end).collect().unwrap();
-    assert_eq!(traj.steps(), 11);
+    assert_eq!(traj.step_count(), 11);
     assert_eq!(traj.times[10], 10.0 * 0.1);
     assert_eq!(traj.times[11], end);
     let fixed = integ.run(start).steps(10).collect().unwrap();
@@ -167,10 +167,10 @@ fn an_end_time_that_is_not_a_multiple_of_h_is_reached_exactly() {
     assert_eq!(*whole.times.last().unwrap(), 1.0);
     // With a cap, whichever comes first ends the run.
     let capped = integ.run(start).end_time(end).steps(4).collect().unwrap();
-    assert_eq!(capped.steps(), 4);
+    assert_eq!(capped.step_count(), 4);
     // A streamed run reports the time reached.
     let summary = integ.run(start).end_time(end).stream().unwrap();
-    assert_eq!((summary.steps, summary.t), (11, end));
+    assert_eq!((summary.step_count, summary.t), (11, end));
     // A later start time shifts the clock and nothing else.
     let later = integ
         .run(start)
@@ -346,7 +346,7 @@ fn bad_runs_and_step_sizes_are_typed_errors() {
         .collect()
         .unwrap_err();
     assert_eq!(e.source, StepError::ScheduleEnded { step: 3 });
-    assert_eq!(e.trajectory.steps(), 3);
+    assert_eq!(e.trajectory.step_count(), 3);
     assert_eq!(e.trajectory.times[2], 0.1 + 0.05);
     // A size that is not positive and finite, at step 2.
     for bad in [0.0, -0.1, f64::NAN, f64::INFINITY] {
@@ -361,7 +361,7 @@ fn bad_runs_and_step_sizes_are_typed_errors() {
             "{}",
             e.source
         );
-        assert_eq!(e.trajectory.steps(), 2);
+        assert_eq!(e.trajectory.step_count(), 2);
     }
 }
 

@@ -136,7 +136,7 @@ fn reduced_and_unreduced_integrators_give_momentum_maps_and_energies() {
     );
     assert_eq!(
         (re.nodes.len(), re.midpoints.len()),
-        (traj.states.len(), traj.steps())
+        (traj.states.len(), traj.step_count())
     );
     for (k, s) in traj.states.iter().enumerate() {
         let c = sys.untrivialize(s);
@@ -147,7 +147,7 @@ fn reduced_and_unreduced_integrators_give_momentum_maps_and_energies() {
         close(ue.nodes[k], energy(&u.q, &u.p), "unreduced node energy");
     }
     // Midpoint energies use each step's own size t_{k+1} − t_k (the schedule varies it).
-    for k in 0..traj.steps() {
+    for k in 0..traj.step_count() {
         let (a, b) = (
             sys.untrivialize(&traj.states[k]),
             sys.untrivialize(&traj.states[k + 1]),
@@ -230,7 +230,7 @@ fn element_integrators_give_momentum_maps_and_midpoint_energies() {
         close(integ.momentum_map(s).unwrap()[0], mu0, "Σ p");
     }
     let mids = integ.midpoint_energies(&traj).unwrap();
-    assert_eq!(mids.len(), traj.steps());
+    assert_eq!(mids.len(), traj.step_count());
     for (k, e) in mids.iter().enumerate() {
         let (a, b) = (&traj.states[k].q, &traj.states[k + 1].q);
         let hk = traj.times[k + 1] - traj.times[k];

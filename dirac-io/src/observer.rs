@@ -562,11 +562,14 @@ impl<St: StateColumns> ParquetObserver<St> {
                     "completed"
                 };
                 kv.push(("dirac.outcome", outcome.to_owned()));
-                kv.push(("dirac.steps", (offset + summary.steps).to_string()));
+                kv.push(("dirac.steps", (offset + summary.step_count).to_string()));
             }
             Err(e) => {
                 kv.push(("dirac.outcome", "failed".to_owned()));
-                kv.push(("dirac.steps", (offset + e.trajectory.steps).to_string()));
+                kv.push((
+                    "dirac.steps",
+                    (offset + e.trajectory.step_count).to_string(),
+                ));
                 kv.push(("dirac.error.kind", e.source.kind().to_owned()));
                 kv.push(("dirac.error.step", (offset + e.source.step()).to_string()));
                 kv.push(("dirac.error.residual", float_text(e.source.residual())));

@@ -521,7 +521,7 @@ where
         bar.inc(1);
         Ok(MemberRow {
             member: i as u64,
-            steps: summary.steps as u64,
+            steps: summary.step_count as u64,
             t: summary.t,
             last,
             summary: [

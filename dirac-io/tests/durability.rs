@@ -53,7 +53,7 @@ fn a_run_that_returns_early_through_question_mark_keeps_its_rows_and_says_so() {
     let err = run_and_return_early(&path).expect_err("the capped run fails");
     type Failure = Box<IntegrationError<RunSummary<ReducedState<3, 1>>>>;
     let failed_at = match err.downcast_ref::<Failure>() {
-        Some(e) => e.trajectory.steps,
+        Some(e) => e.trajectory.step_count,
         None => panic!("not a run error: {err}"),
     };
     assert!(failed_at > 100, "the run fails after {failed_at} steps");

@@ -203,7 +203,7 @@ fn a_failed_run_records_its_error() {
     assert_eq!(kv["dirac.error.message"], error.source.to_string());
     assert_eq!(
         read_f64_column(&path, "x_phi1").unwrap().len(),
-        error.trajectory.steps + 1
+        error.trajectory.step_count + 1
     );
 }
 

@@ -31,11 +31,11 @@ fn with_multipliers<St, const M: usize>(
     let mut flat = states(t);
     flat.multipliers = Some((
         M,
-        t.steps
+        t.records
             .iter()
             .flat_map(|s| s.lambda.iter().copied())
             .collect(),
-        t.steps.iter().map(|s| s.constraint_residual).collect(),
+        t.records.iter().map(|s| s.constraint_residual).collect(),
     ));
     flat
 }

@@ -98,11 +98,11 @@ fn run_one(
                 |s| integ.momentum_map(s).unwrap_or_default(),
             );
             f.multipliers = Some((
-                t.steps
+                t.records
                     .iter()
                     .flat_map(|s| s.lambda.iter().copied())
                     .collect(),
-                t.steps.iter().map(|s| s.constraint_residual).collect(),
+                t.records.iter().map(|s| s.constraint_residual).collect(),
             ));
             f
         };

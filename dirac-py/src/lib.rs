@@ -1032,7 +1032,7 @@ where
         .stream();
     let path = writer.finish_with(&result).map_err(|e| e.to_string())?;
     Ok(match result {
-        Ok(summary) => Ok((summary.steps, summary.t, path)),
+        Ok(summary) => Ok((summary.step_count, summary.t, path)),
         Err(e) => Err((e.source, path)),
     })
 }

@@ -241,13 +241,13 @@ pub struct AtlasTrajectory<const S: usize, const K: usize> {
 
 impl<const S: usize, const K: usize> AtlasTrajectory<S, K> {
     /// Number of completed steps.
-    pub fn steps(&self) -> usize {
+    pub fn step_count(&self) -> usize {
         self.states.len() - 1
     }
 
     /// The last state and its chart.
     pub fn last(&self) -> (usize, &ReducedState<S, K>) {
-        let j = self.steps();
+        let j = self.step_count();
         (self.charts[j], &self.states[j])
     }
 
@@ -263,7 +263,7 @@ impl<const S: usize, const K: usize> AtlasTrajectory<S, K> {
 
 impl<const S: usize, const K: usize> Steps for AtlasTrajectory<S, K> {
     fn completed_steps(&self) -> usize {
-        self.steps()
+        self.step_count()
     }
 }
 

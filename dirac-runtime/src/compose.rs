@@ -212,7 +212,7 @@ pub struct ComposedTrajectory<St> {
 
 impl<St> ComposedTrajectory<St> {
     /// Number of completed macro steps.
-    pub fn steps(&self) -> usize {
+    pub fn step_count(&self) -> usize {
         self.states.len() - 1
     }
 
@@ -231,7 +231,7 @@ impl<St> ComposedTrajectory<St> {
 
 impl<St: std::fmt::Debug> Steps for ComposedTrajectory<St> {
     fn completed_steps(&self) -> usize {
-        self.steps()
+        self.step_count()
     }
 }
 

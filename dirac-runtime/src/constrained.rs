@@ -395,7 +395,7 @@ pub struct ConstrainedTrajectory<St, const M: usize> {
     /// `times[k + 1] − times[k]`).
     pub step_sizes: Vec<f64>,
     /// What step `k` reported.
-    pub steps: Vec<ConstrainedStep<M>>,
+    pub records: Vec<ConstrainedStep<M>>,
     /// Newton statistics of each step.
     pub stats: Vec<StepStats>,
 }
@@ -405,7 +405,7 @@ impl<St, const M: usize> ConstrainedTrajectory<St, M> {
 
     /// The largest `‖φ(q_{k+1})‖∞` over the steps.
     pub fn max_constraint_residual(&self) -> f64 {
-        self.steps
+        self.records
             .iter()
             .fold(0.0, |m, s| m.max(s.constraint_residual))
     }
@@ -413,7 +413,7 @@ impl<St, const M: usize> ConstrainedTrajectory<St, M> {
 
 impl<St: std::fmt::Debug, const M: usize> Steps for ConstrainedTrajectory<St, M> {
     fn completed_steps(&self) -> usize {
-        self.steps()
+        self.step_count()
     }
 }
 
@@ -787,7 +787,7 @@ where
             states: crate::stepper::reserved(steps.saturating_add(1)),
             times: crate::stepper::reserved(steps.saturating_add(1)),
             step_sizes: crate::stepper::reserved(steps),
-            steps: crate::stepper::reserved(steps),
+            records: crate::stepper::reserved(steps),
             stats: crate::stepper::reserved(steps),
         }
     }
@@ -797,7 +797,7 @@ where
         self.times.push(t);
         if let Some((h, step)) = step {
             self.step_sizes.push(h);
-            self.steps.push(*step);
+            self.records.push(*step);
             self.stats.push(step.stats);
         }
     }
@@ -806,7 +806,7 @@ where
         crate::stepper::try_grow(&mut self.states, additional, "states")?;
         crate::stepper::try_grow(&mut self.times, additional, "times")?;
         crate::stepper::try_grow(&mut self.step_sizes, additional, "step sizes")?;
-        crate::stepper::try_grow(&mut self.steps, additional, "step records")?;
+        crate::stepper::try_grow(&mut self.records, additional, "step records")?;
         crate::stepper::try_grow(&mut self.stats, additional, "step statistics")?;
         Ok(())
     }

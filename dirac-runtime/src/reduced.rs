@@ -32,7 +32,7 @@ impl<const K: usize> AsRef<StepStats> for ReducedStep<K> {
     }
 }
 
-/// A reduced trajectory: states `0..=steps()` at their times `t_k` (`k h` for a fixed step), and
+/// A reduced trajectory: states `0..=step_count()` at their times `t_k` (`k h` for a fixed step), and
 /// for each step the solved group unknown and the Newton statistics.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Trajectory<const S: usize, const K: usize> {
@@ -60,7 +60,7 @@ pub struct Trajectory<const S: usize, const K: usize> {
 macro_rules! trajectory_accessors {
     ($state:ty) => {
         /// Number of completed steps.
-        pub fn steps(&self) -> usize {
+        pub fn step_count(&self) -> usize {
             self.states.len().saturating_sub(1)
         }
 
@@ -95,7 +95,7 @@ impl<const S: usize, const K: usize> Trajectory<S, K> {
 
 impl<const S: usize, const K: usize> Steps for Trajectory<S, K> {
     fn completed_steps(&self) -> usize {
-        self.steps()
+        self.step_count()
     }
 }
 

@@ -15,7 +15,7 @@ use crate::stepper::{
 };
 use crate::system::{LagrangianHessian, Unreduced};
 
-/// An unreduced trajectory `(q_k, p_k)`, `k = 0..=steps()`.
+/// An unreduced trajectory `(q_k, p_k)`, `k = 0..=step_count()`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct UnreducedTrajectory<const N: usize> {
     /// The integrator's time step `h` (the default step of a run; see [`Self::times`] for the
@@ -40,7 +40,7 @@ impl<const N: usize> UnreducedTrajectory<N> {
 
 impl<const N: usize> Steps for UnreducedTrajectory<N> {
     fn completed_steps(&self) -> usize {
-        self.steps()
+        self.step_count()
     }
 }
 

@@ -136,7 +136,7 @@ pub fn report(run: &Run) {
     println!("reduced (+) equations (4.6), midpoint discrete Lagrangian");
     println!("q0 = (ϑ1, φ1, ϑ2, φ2) = (0, 9/4, 2, 3), (μ0, w0) = (0, 0, 1, 1)\n");
     let row = |what: &str, value: String| println!("  {what:<46} {value}");
-    row("steps N", traj.steps().to_string());
+    row("steps N", traj.step_count().to_string());
     row("time step h", sys.h.to_string());
     for (name, values) in [
         (
@@ -206,7 +206,7 @@ pub fn report(run: &Run) {
         format!(
             "{:.2} ms ({:.2} us per step)",
             1e3 * seconds,
-            1e6 * seconds / traj.steps() as f64
+            1e6 * seconds / traj.step_count() as f64
         ),
     );
 
@@ -318,7 +318,7 @@ pub fn pole_error_path() {
             }
             Err(e) => println!(
                 "  {label}: error after {} kept steps: {}",
-                e.trajectory.steps(),
+                e.trajectory.step_count(),
                 e.source
             ),
         }
@@ -376,10 +376,10 @@ fn write_csv(run: &Run, path: &Path) -> Result<(), Box<dyn Error>> {
 /// (bottom).
 pub fn figure_3_panels(run: &Run) -> Vec<LineChart> {
     let traj = &run.trajectory;
-    let phi1 = (0..=traj.steps())
+    let phi1 = (0..=traj.step_count())
         .map(|k| (traj.times[k], traj.states[k].x[0]))
         .collect();
-    let xy = (0..=traj.steps())
+    let xy = (0..=traj.step_count())
         .map(|k| {
             let (_, r2) = run.system.bob_positions(&run.config(k));
             (r2[0], r2[1])

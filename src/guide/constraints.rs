@@ -53,7 +53,7 @@
 //!     .run(start).steps(1000).collect()
 //!     .unwrap();
 //! assert!(traj.max_constraint_residual() < 1e-10); // on the circle at every step, to the Newton tolerance
-//! let tension = traj.steps[500].lambda[0]; // the rod's multiplier at step 500
+//! let tension = traj.records[500].lambda[0]; // the rod's multiplier at step 500
 //! assert!(tension.is_finite());
 //!
 //! /// The Chaplygin sleigh: no sideways slip at a knife edge `a` behind the centre of mass.

@@ -257,16 +257,16 @@
 //!     .observe(|_, _, state, _| r_max = r_max.max(state.x[0]))
 //!     .stream()?;
 //! assert!((r_max - 1.5).abs() < 1e-3); // apoapsis a (1 + e)
-//! assert_eq!((summary.steps, summary.t), (1000, 1000.0 * 0.01));
+//! assert_eq!((summary.step_count, summary.t), (1000, 1000.0 * 0.01));
 //! println!("{:.2} Newton corrections per step", summary.mean_iterations());
 //!
 //! // Stop at the first state past apoapsis (p_r = w turns negative).
 //! let half = integ.run(start).steps(1000).stop(|_, _, s| s.w[0] < 0.0).collect()?;
-//! assert!((half.times[half.steps()] - std::f64::consts::PI).abs() < 0.02);
+//! assert!((half.times[half.step_count()] - std::f64::consts::PI).abs() < 0.02);
 //!
 //! // Up to t = 1.005 exactly: 100 steps of h and a last one of 0.005.
 //! let to_end = integ.run(start).end_time(1.005).collect()?;
-//! assert_eq!((to_end.steps(), *to_end.times.last().unwrap()), (101, 1.005));
+//! assert_eq!((to_end.step_count(), *to_end.times.last().unwrap()), (101, 1.005));
 //!
 //! // Ensembles: three eccentricities in parallel, each its own result, in input order.
 //! let starts: Vec<_> = [0.1, 0.3, 0.5].iter().map(|&e| sys.periapsis_state(1.0, e)).collect();
@@ -341,7 +341,7 @@
 //!     .collect()?;
 //! assert_eq!(*traj.times.last().unwrap(), period); // the end time, exactly
 //! assert!(traj.states.iter().all(|s| s.mu == start.mu)); // μ, bit for bit
-//! println!("{} steps of sizes {} .. {}", traj.steps(), traj.step_sizes[0], traj.step_sizes[300]);
+//! println!("{} steps of sizes {} .. {}", traj.step_count(), traj.step_sizes[0], traj.step_sizes[300]);
 //! # Ok(())
 //! # }
 //! ```

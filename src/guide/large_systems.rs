@@ -91,10 +91,10 @@
 //!     previous = *state;
 //! }).stream()?;
 //! assert_eq!(summary.last.mu, start.mu); // the total momentum, exactly
-//! assert!(summary.factorizations < summary.steps / 4); // chord steps reuse factors
+//! assert!(summary.factorizations < summary.step_count / 4); // chord steps reuse factors
 //! println!(
 //!     "{} steps, {:.2} corrections and {} factorizations in all, energy spread {:.1e}",
-//!     summary.steps, summary.mean_iterations(), summary.factorizations, e_max - e_min
+//!     summary.step_count, summary.mean_iterations(), summary.factorizations, e_max - e_min
 //! );
 //!
 //! // Four members in parallel, each bit for bit its sequential run.

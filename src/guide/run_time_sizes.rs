@@ -177,7 +177,7 @@
 //! let integ = ElementConstrainedIntegrator::new(sys, NewtonOptions::default());
 //! let traj = integ.run(ElementState::new(q, DVector::zeros(2 * n + 1))).steps(100).collect()?;
 //! assert!(traj.max_constraint_residual() < 1e-10); // every link at its length, every step
-//! let tension = &traj.steps[99].lambda; // the multipliers λ_k, one per link
+//! let tension = &traj.records[99].lambda; // the multipliers λ_k, one per link
 //! assert_eq!(tension.len(), n);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```

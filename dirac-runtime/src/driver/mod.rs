@@ -18,6 +18,11 @@
 //!     // .stream()?                      // nothing kept: the summary, in constant memory
 //! ```
 //!
+//! One word per idea: `.steps(n)` asks for `n` steps (a cap, with `.end_time` whichever ends
+//! first); what a run completed is a count, a trajectory's `step_count()` and
+//! [`RunSummary::step_count`]; what each step reported is a record, a trajectory's `stats` (and
+//! a constrained one's `records`); the size each step was taken with is in `step_sizes`.
+//!
 //! [`Drive::ensemble`] runs many initial states the same way in parallel, and [`parameters`]
 //! many parameter sets (one integrator per member); both are configured by the same options.
 //!
@@ -73,8 +78,8 @@ pub struct RunSummary<St> {
     /// The integrator's time step `h` (the default step size; with adaptive steps the
     /// fictitious step `ε`).
     pub h: f64,
-    /// Completed steps.
-    pub steps: usize,
+    /// The number of completed steps.
+    pub step_count: usize,
     /// The state after the last completed step (the initial state if none).
     pub last: St,
     /// The time of [`Self::last`] (physical, with adaptive steps).
@@ -97,7 +102,7 @@ impl<St> RunSummary<St> {
     fn new(h: f64, initial: St, t: f64) -> Self {
         Self {
             h,
-            steps: 0,
+            step_count: 0,
             last: initial,
             t,
             stopped: false,
@@ -112,10 +117,10 @@ impl<St> RunSummary<St> {
     fn record(&mut self, stats: &StepStats) {
         if let Some(r) = stats.rcond {
             if self.worst_rcond.is_none_or(|(_, w)| r < w) {
-                self.worst_rcond = Some((self.steps, r));
+                self.worst_rcond = Some((self.step_count, r));
             }
         }
-        self.steps += 1;
+        self.step_count += 1;
         self.iterations += stats.iterations;
         self.factorizations += stats.factorizations;
         self.max_iterations = self.max_iterations.max(stats.iterations);
@@ -124,17 +129,17 @@ impl<St> RunSummary<St> {
 
     /// Mean Newton corrections per step (0 for no steps).
     pub fn mean_iterations(&self) -> f64 {
-        if self.steps == 0 {
+        if self.step_count == 0 {
             0.0
         } else {
-            self.iterations as f64 / self.steps as f64
+            self.iterations as f64 / self.step_count as f64
         }
     }
 }
 
 impl<St> Steps for RunSummary<St> {
     fn completed_steps(&self) -> usize {
-        self.steps
+        self.step_count
     }
 }
 

@@ -259,8 +259,8 @@ pub struct ElementConstrainedTrajectory {
     /// `times[k + 1] − times[k]`).
     pub step_sizes: Vec<f64>,
     /// Each step's multipliers, constraint residual and statistics.
-    pub steps: Vec<ElementConstrainedStep>,
-    /// The Newton statistics of each step (as in `steps`).
+    pub records: Vec<ElementConstrainedStep>,
+    /// The Newton statistics of each step (as in `records`).
     pub stats: Vec<StepStats>,
 }
 
@@ -269,7 +269,7 @@ impl ElementConstrainedTrajectory {
 
     /// The largest `‖φ(q_{k+1})‖∞` over the steps.
     pub fn max_constraint_residual(&self) -> f64 {
-        self.steps
+        self.records
             .iter()
             .map(|s| s.constraint_residual)
             .fold(0.0, f64::max)
@@ -278,7 +278,7 @@ impl ElementConstrainedTrajectory {
 
 impl Steps for ElementConstrainedTrajectory {
     fn completed_steps(&self) -> usize {
-        self.steps.len()
+        self.records.len()
     }
 }
 
@@ -291,7 +291,7 @@ impl<L: ElementLagrangian> Collect<ElementConstrainedIntegrator<L>>
             states: crate::stepper::reserved(steps.saturating_add(1)),
             times: crate::stepper::reserved(steps.saturating_add(1)),
             step_sizes: crate::stepper::reserved(steps),
-            steps: crate::stepper::reserved(steps),
+            records: crate::stepper::reserved(steps),
             stats: crate::stepper::reserved(steps),
         }
     }
@@ -302,7 +302,7 @@ impl<L: ElementLagrangian> Collect<ElementConstrainedIntegrator<L>>
         if let Some((h, step)) = step {
             self.step_sizes.push(h);
             self.stats.push(step.stats);
-            self.steps.push(step.clone());
+            self.records.push(step.clone());
         }
     }
 
@@ -311,7 +311,7 @@ impl<L: ElementLagrangian> Collect<ElementConstrainedIntegrator<L>>
         crate::stepper::try_grow(&mut self.times, additional, "times")?;
         crate::stepper::try_grow(&mut self.step_sizes, additional, "step sizes")?;
         crate::stepper::try_grow(&mut self.stats, additional, "step statistics")?;
-        crate::stepper::try_grow(&mut self.steps, additional, "step records")?;
+        crate::stepper::try_grow(&mut self.records, additional, "step records")?;
         // Each state kept is a copy of `state`'s vectors: room for them is asked for (and given
         // back) here, where a failed allocation is an error rather than an abort.
         crate::element::reserve_states(state, additional)?;

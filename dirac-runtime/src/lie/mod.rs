@@ -314,7 +314,7 @@ impl<const P: usize, const N: usize> LieState<P, N> {
     }
 }
 
-/// A trajectory `(q_k, p_k)`, `k = 0..=steps()`, of a system on rotation groups.
+/// A trajectory `(q_k, p_k)`, `k = 0..=step_count()`, of a system on rotation groups.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LieTrajectory<const P: usize, const N: usize> {
     /// The integrator's time step `h` (the default step of a run).
@@ -338,7 +338,7 @@ impl<const P: usize, const N: usize> LieTrajectory<P, N> {
 
 impl<const P: usize, const N: usize> Steps for LieTrajectory<P, N> {
     fn completed_steps(&self) -> usize {
-        self.steps()
+        self.step_count()
     }
 }
 

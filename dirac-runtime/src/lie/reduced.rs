@@ -265,7 +265,7 @@ impl<const P: usize, const N: usize> ReducedLieTrajectory<P, N> {
 
 impl<const P: usize, const N: usize> Steps for ReducedLieTrajectory<P, N> {
     fn completed_steps(&self) -> usize {
-        self.steps()
+        self.step_count()
     }
 }
 

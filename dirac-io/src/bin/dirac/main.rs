@@ -562,7 +562,7 @@ where
     match result {
         Ok(summary) => Ok(format!(
             "{} steps to t = {} written to {}",
-            summary.steps,
+            summary.step_count,
             summary.t,
             path.display()
         )),
