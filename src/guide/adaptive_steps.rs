@@ -166,7 +166,15 @@
 //!   (the angular momentum above);
 //! * the momenta conjugate to `q` are the physical ones, `∂L/∂v`, and the physical energy
 //!   oscillates about `−p_t` without drift (its mean over the last tenth of a 40-orbit run lies
-//!   within the spread of the first tenth).
+//!   within the spread of the first tenth). With the default Newton tolerance
+//!   (`abs_tol = rel_tol = 1e-12`) this holds for the step itself over 1000 orbits of Kepler's
+//!   problem at `e = 0.9` and `e = 0.99`, at `ε = 0.05` and down to `ε = 0.002` (the largest
+//!   energy error of the last tenth within 1% of the first tenth's). A composition at a small
+//!   `ε`, whose own energy error is far smaller, shows what each step leaves of Newton's
+//!   tolerance: at `e = 0.99`, `ε = 0.01`, order 4, the largest error of the last tenth is 5.7
+//!   times the first tenth's at `1e-12`, 1.3 times at `1e-14`. For long runs of a composition
+//!   take `NewtonOptions { abs_tol: 1e-14, rel_tol: 1e-14, ..NewtonOptions::default() }`, as
+//!   `examples/adaptive_kepler.rs` does (`tests/adaptive_drift.rs` measures all of these).
 //!
 //! A run must start on the level set `p_t = −E`:
 //! [`sys.unreduced_state(q, v)`](crate::runtime::ContinuousLagrangian::unreduced_state) and

@@ -15,7 +15,8 @@
 //! | `IllConditioned { step, rcond, residual, tolerance }` | the step Jacobian's reciprocal condition estimate is below [`NewtonOptions::min_rcond`](crate::NewtonOptions::min_rcond): with `residual ≤ tolerance` the step converged but the result has few or no correct digits; with `residual > tolerance` it did not converge, the ill-conditioning the likely cause (the message says which) | another chart ([atlas](super::integrators#an-atlas-of-charts-6)); near a pole of spherical coordinates the action is not free (Remark 7.1) |
 //! | `NonFinite { step, what, residual }` | a residual, Jacobian, correction or state component is NaN or infinite; `what` says which | the parameters, the initial state, and whether the motion left the domain of `L` (a square root or logarithm of a negative number) |
 //! | `InvalidSize { reason }` | sizes that do not fit (nothing taken): a state or vector without the system's number of coordinates, a run-time-sized system's sizes against its stencils, or a workspace or trajectory of another integrator; `reason` has the figures | build the state from the system's own sizes, and pass each integrator its own workspace and trajectory |
-//! | `OffManifold { reason }` | the initial configuration is not on its manifold: a rotation coordinate that is not a rotation matrix, or a direction that is not a unit vector with an orthonormal frame ([rotations](super::rotations)); `reason` names the coordinate and by how much | an orthonormal start: a rotation built as a [`Rotation3`](crate::nalgebra::Rotation3), a unit direction |
+//! | `OffManifold { reason }` | the initial state is not on its manifold: a rotation coordinate that is not a rotation matrix, a direction that is not a unit vector to `1e-9` ([`lie::UNIT_TOLERANCE`](crate::lie::UNIT_TOLERANCE): not normalized for you, compiled in or given as text) or without an orthonormal frame ([rotations](super::rotations)), or an [adaptive](super::adaptive_steps) start off its energy level set `p_t = −E` (relative [`LEVEL_SET_TOLERANCE`](crate::runtime::adaptive::LEVEL_SET_TOLERANCE)); `reason` names the coordinate and by how much | an orthonormal start: a rotation built as a [`Rotation3`](crate::nalgebra::Rotation3), a unit direction; an adaptive start from `sys.reduced_state(q, v)` |
+//! | `OutOfDomain { step, initial, coordinate, value, bound }` | the state step `step` reached (or, with `initial`, the initial state) lies outside the domain the system declares, `domain(r > 0.0)`: `coordinate = value` violates `bound` (the states before it kept; see [below](#a-step-too-coarse-a-declared-domain)) | a smaller time step, or adaptive steps; a start inside the domain |
 //! | `InvalidMonitor { step, value }` | the step monitor `g(q)` of a system with [adaptive steps](super::adaptive_steps) is not positive and finite at the state step `step` reached (0: the initial state), so `Δt ≈ ε g` would vanish or turn back | a floor in the monitor, e.g. `r.powf(1.5) + 1e-6` for a distance that vanishes at a collision |
 //! | `TimeReversed { step, dt }` | an adaptive step solved for a physical time step `dt` without the sign of the fictitious step: Newton found the root that goes back in time | a smaller fictitious step `ε`, or a monitor that is smaller where the motion is fast |
 //! | `InvalidTimeStep { h }` | the time step is not positive and finite (step 0, nothing taken) | a positive `h` |
@@ -82,6 +83,54 @@
 //!     .run(start).steps(10).collect()
 //!     .unwrap_err();
 //! assert_eq!(e.source, StepError::InvalidTimeStep { h: -0.01 });
+//! ```
+//!
+//! ## A step too coarse: a declared domain
+//!
+//! A variational step solves its equations `D2 L_d(q_{k−1}, q_k) + D1 L_d(q_k, q_{k+1}) = 0`
+//! (Definition 2.7; eqs. (4.6)/(4.8) reduced) wherever they have a solution, and they know
+//! nothing of where the Lagrangian means anything. Kepler's problem in polar coordinates,
+//! `L = ½ (ṙ² + r² φ̇²) + k/r`, at `e = 0.9` and `h = 0.2` (about five steps for the periapsis
+//! passage): the sixth step converges, residual at round-off, to `r = −0.63`, and the run goes
+//! on outward through negative radii (`r = −55` after fifty steps) — every step converged, every
+//! momentum conserved, nothing wrong that the step can see. What is wrong is the time step: it
+//! is too coarse for the motion at periapsis. A coarse step shows as states that leave the
+//! region where the coordinates mean something, an energy error that jumps at one passage, or
+//! Newton needing many more iterations there (`stats[k].iterations`).
+//!
+//! Declare the domain and every integrator checks it: `domain(r > 0.0)` in the attribute (bounds
+//! `<coordinate> <op> <number>` with `>`, `>=`, `<`, `<=`, several separated by commas, on shape
+//! or group coordinates; a whole array coordinate bounds each component). The initial state is
+//! checked before the first step and every new state after its step, by the plain steps, both
+//! reduced sides, the unreduced and constrained steps and the compositions alike (and a system
+//! given as text with the same key); the first state outside ends the run with
+//! `StepError::OutOfDomain`, the states before it kept. Then take a smaller step, or adaptive
+//! steps (`time(t), adapt = |q| q.r.powf(1.5)`, [adaptive steps](super::adaptive_steps)), which
+//! shorten the step where the motion is fast. [`Kepler`](crate::systems::kepler::Kepler)
+//! declares its domain:
+//!
+//! ```
+//! use dirac::prelude::*;
+//! use dirac::systems::kepler::Kepler;
+//!
+//! let coarse = Kepler::unit(0.2);
+//! let start = coarse.periapsis_state(1.0, 0.9);
+//! let e = ReducedIntegrator::plus(coarse, NewtonOptions::default())
+//!     .run(start).steps(50).collect()
+//!     .unwrap_err();
+//! let StepError::OutOfDomain { step, ref coordinate, value, .. } = e.source else {
+//!     panic!("expected OutOfDomain, got {}", e.source);
+//! };
+//! assert_eq!((step, coordinate.as_str()), (5, "r"));
+//! assert!(value < 0.0);
+//! assert_eq!(e.trajectory.states.len(), 6); // the start and five steps, all with r > 0
+//!
+//! // A step that resolves the passage runs on.
+//! let fine = Kepler::unit(0.01);
+//! let traj = ReducedIntegrator::plus(fine, NewtonOptions::default())
+//!     .run(fine.periapsis_state(1.0, 0.9)).steps(700).collect()?;
+//! assert!(traj.states.iter().all(|s| s.x[0] > 0.09));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
 //! ## Compile errors

@@ -9,8 +9,10 @@ use crate::prelude::*;
 
 /// The Kepler problem with the midpoint rule `L_d(q0, q1) = h L((q0 + q1)/2, (q1 − q0)/h)`, a
 /// symmetric rule (`L_d(q0, q1; −h) = −L_d(q1, q0; h)`), so its step is self-adjoint and of
-/// order 2.
-#[reduced_lagrangian(shape(r), group(phi))]
+/// order 2. The radius is positive (`domain(r > 0.0)`): a step too coarse for the periapsis
+/// passage, which the step equations solve with `r < 0`, stops a run with
+/// [`crate::StepError::OutOfDomain`] instead of returning an orbit through the origin.
+#[reduced_lagrangian(shape(r), group(phi), domain(r > 0.0))]
 pub fn kepler(q0: Config, q1: Config, h: f64, k: f64) -> f64 {
     let r = 0.5 * (q0.r + q1.r);
     let (dr, dphi) = ((q1.r - q0.r) / h, (q1.phi - q0.phi) / h);
