@@ -106,12 +106,12 @@ impl<const N: usize> StateColumns for UnreducedState<N> {
     }
 }
 
-/// States on rotation groups ([`LieState`]): the stored point then the momentum, named
-/// `q_<entry>` and `p_<component>`. The names come from [`lie_names`]: a rotation `R` stores
-/// `q_R_00` … `q_R_22` (row by row) and its body momentum `p_R_x`, `p_R_y`, `p_R_z`; a direction
-/// `n` stores its frame `[e1 e2 n]` row by row (`q_n_00` … `q_n_22`, so `n = (q_n_02, q_n_12,
-/// q_n_22)`) and its momentum's components in the frame, `p_n_1`, `p_n_2`; a scalar `x` stores
-/// `q_x` and `p_x`. Every entry is written, so a state reads back bit for bit.
+/// States on rotation groups ([`LieState`]): the stored point then the momentum, named `q_<entry>`
+/// and `p_<component>`. The names come from [`lie_names`]: a rotation `R` stores `q_R_00` …
+/// `q_R_22` (row by row) and its discrete body momentum `p_R_x`, `p_R_y`, `p_R_z`; a direction `n`
+/// stores its frame `[e1 e2 n]` row by row (`q_n_00` … `q_n_22`, so `n = (q_n_02, q_n_12, q_n_22)`)
+/// and its momentum's components in the frame, `p_n_1`, `p_n_2`; a scalar `x` stores `q_x` and
+/// `p_x`. Every entry is written, so a state reads back bit for bit.
 impl<const P: usize, const N: usize> StateColumns for LieState<P, N> {
     const WIDTH: usize = P + N;
 

@@ -380,8 +380,9 @@ impl<const P: usize, const N: usize, B, R> JitLie<P, N, B, R> {
     /// The state at the configuration `q` with the momenta `p`, each coordinate as the text
     /// names it, in the order of the text's coordinates: a scalar one number, a rotation its
     /// matrix row by row (9 numbers), a direction the unit vector (3 numbers); a scalar's
-    /// momentum one number, a rotation's body momentum `Π` (3), a direction's momentum as a
-    /// vector in space (3; its component along the direction is dropped). An error for a
+    /// momentum one number, a rotation's discrete body momentum `Π` (3: the discrete Legendre
+    /// momentum a step reads, not `JΩ`), a direction's momentum as a vector in space (3; its
+    /// component along the direction is dropped). An error for a
     /// wrong count, a matrix that is not a rotation or a vector that is not a unit vector (to
     /// `1e-9`), or a value that is not finite.
     pub fn state(&self, q: &[&[f64]], p: &[&[f64]]) -> Result<LieState<P, N>, Error> {

@@ -44,7 +44,8 @@
 //! ```
 //!
 //! The attribute emits `<Name>Config` (the coordinates as `Matrix3`, `Vector3` and `f64`),
-//! `<Name>Momentum` (for a rotation its body momentum `Π`, left-trivialized: `⟨P, R η̂⟩ = Π·η`;
+//! `<Name>Momentum` (for a rotation its discrete body momentum `Π`, left-trivialized:
+//! `⟨P, R η̂⟩ = Π·η` — the discrete Legendre momentum of the step, see *Momenta* below;
 //! for a direction its momentum, a vector tangent to the sphere; for a scalar its momentum),
 //! `state`, `config` and `momenta` to go between them and a [`LieState`](crate::LieState), and
 //! implements [`LieLagrangian`](crate::LieLagrangian). [`LieIntegrator`](crate::LieIntegrator)
@@ -115,14 +116,48 @@
 //!   assert!((vertical(traj.last()) - vertical(&start)).abs() < 1e-12);
 //!   assert!((traj.last().p[2] - start.p[2]).abs() < 1e-12);
 //!   ```
+//!
+//!   This top and [`systems::rotations::heavy_top`](crate::systems::rotations::heavy_top) are
+//!   different discrete maps of the same motion. Here the rule forms
+//!   `L_d = (h/2)(L(R0, Ω) + L(R1, Ω))` with the Cayley velocity `Ω = cay⁻¹(R0ᵀ R1)/h`, so the
+//!   kinetic term is `(h/2) ΩᵀJΩ`; `heavy_top` writes the Lie group variational integrator's
+//!   `tr((I − F) J_d)/h`, which for `F = cay(hΩ)` is `(h/2) ΩᵀJΩ / (1 + h²|Ω|²/4)`. The
+//!   potential is the same trapezoid in both. So the two steps, and the momenta their states
+//!   store, agree to `O(h²)` and not bit for bit: both are symmetric and of order 2, each keeps
+//!   its own discrete momenta exactly, and a state of one is not a state of the other.
 //! * **The rule.** Or you write `L_d` directly. Rules of order 2 that are symmetric
 //!   (`L_d(q0, q1; −h) = −L_d(q1, q0; h)`) — the kinetic term `tr((I − F) J_d)/h` with a potential
 //!   averaged over both ends (trapezoid), or chord velocities `|n1 − n0|²/h` — give a symmetric
 //!   step of order 2 that the triple jump raises to 4 (`tests/rotations.rs` measures both
 //!   against Euler's equations solved in the test). A potential at one end only gives order 1.
-//! * **Momenta.** Body momenta for rotations (what Euler's equations use); for the spatial
-//!   angular momentum use [`LieIntegrator::spatial_momentum`](crate::LieIntegrator::spatial_momentum),
+//! * **Momenta.** A state stores, for a rotation, the *discrete* Legendre momentum
+//!   `Π_k = −T*L(D1 L_d)` of the step, left-trivialized — not the continuous body momentum
+//!   `∂L/∂Ω = JΩ` of an angular velocity. For the free rigid body
+//!   `Π_k = vee(F_k J_d − J_d F_kᵀ)/h`, which for `F_k = cay(hΩ)` is `JΩ − (h/2) JΩ × Ω` to
+//!   `O(h²)` (the momentum at the step's start of a motion whose velocity mid-step is `Ω`); a
+//!   potential moves it by `−(h/2) M` with its torque `M` (the trapezoid rule; for the heavy
+//!   top `M = m g l Rᵀe3 × e3`), so `Π_k` and `JΩ` differ at first order in `h`. To start from an attitude `R` and an angular velocity
+//!   `Ω`, take the momentum of the first step that moves with `Ω`:
+//!   [`sys.discrete_legendre_state(&q, &Ω)`](crate::LieLagrangian::discrete_legendre_state)
+//!   (`q` the stored point, `<Name>Config::to_point`), whose run then steps by
+//!   `R_{k+1} = R_k cay(hΩ)` first. For the spatial angular momentum use
+//!   [`LieIntegrator::spatial_momentum`](crate::LieIntegrator::spatial_momentum),
 //!   `π = Σ R Π + Σ n × P`.
+//!
+//!   ```
+//!   use dirac::prelude::*;
+//!   use dirac::systems::rotations::{HeavyTop, HeavyTopConfig};
+//!
+//!   let top = HeavyTop { h: 0.01, j1: 1.0, j2: 1.0, j3: 0.4, mgl: 2.0 };
+//!   let r = dirac::lie::cayley(&Vector3::new(0.6, 0.0, 0.0));
+//!   let omega = Vector3::new(0.1, 0.3, 10.0);
+//!   let start = top.discrete_legendre_state(&HeavyTopConfig { r }.to_point(), &omega)?;
+//!   let integ = LieIntegrator::new(top, NewtonOptions::default());
+//!   let traj = integ.run(start).steps(1).collect()?;
+//!   let first = top.config(&traj.states[1]).r;
+//!   assert!((first - r * dirac::lie::cayley(&(0.01 * omega))).amax() < 1e-12);
+//!   # Ok::<(), Box<dyn std::error::Error>>(())
+//!   ```
 //!
 //! ## Translations beside rotations
 //!

@@ -25,7 +25,8 @@ pub fn rigid_body(q0: Config, q1: Config, h: f64, j1: f64, j2: f64, j3: f64) -> 
 }
 
 impl RigidBody {
-    /// The body's energy `½ Πᵀ J⁻¹ Π` at `state`.
+    /// The body's energy `½ Πᵀ J⁻¹ Π` at `state`, with the stored discrete momentum `Π` (the
+    /// discrete Legendre momentum, not `JΩ`: see [`crate::lie`]).
     pub fn energy(&self, state: &LieState<9, 3>) -> f64 {
         let pi = self.momenta(state).r;
         0.5 * pi.dot(&pi.component_div(&Vector3::new(self.j1, self.j2, self.j3)))
@@ -47,7 +48,9 @@ pub fn heavy_top(q0: Config, q1: Config, h: f64, j1: f64, j2: f64, j3: f64, mgl:
 }
 
 impl HeavyTop {
-    /// The energy `½ Πᵀ J⁻¹ Π + m g l e3ᵀ R e3` at `state`.
+    /// The energy `½ Πᵀ J⁻¹ Π + m g l e3ᵀ R e3` at `state`, with the stored discrete momentum
+    /// `Π` (the discrete Legendre momentum, which differs from `JΩ` at first order in `h`, by
+    /// the gravity torque among others: see [`crate::lie`]).
     pub fn energy(&self, state: &LieState<9, 3>) -> f64 {
         let (q, p) = (self.config(state), self.momenta(state));
         let omega = p.r.component_div(&Vector3::new(self.j1, self.j2, self.j3));

@@ -426,7 +426,9 @@ fn config_and_momentum(
                 let doc = format!("The rotation `{name}` (a rotation matrix).");
                 config_fields.push(quote!(#[doc = #doc] pub #name: #na::Matrix3<f64>));
                 let doc = format!(
-                    "The body momentum `Π` of `{name}` (left-trivialized: `⟨P, {name} η̂⟩ = Π·η`)."
+                    "The discrete body momentum `Π` of `{name}` (left-trivialized: `⟨P, {name} η̂⟩ = Π·η`): \
+                     the discrete Legendre momentum a step reads, not `JΩ` (see `dirac::lie`; from an \
+                     angular velocity: `LieLagrangian::discrete_legendre_state`)."
                 );
                 momentum_fields.push(quote!(#[doc = #doc] pub #name: #na::Vector3<f64>));
                 from_point.push(quote!(#name: #na::Matrix3::new( #( q[#rows] ),* )));

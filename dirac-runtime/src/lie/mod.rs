@@ -28,8 +28,17 @@
 //! # The equations
 //!
 //! The momentum `p ∈ R^N` is the covector in the chart at its centre, `p·η = ⟨P, dφ_q(0) η⟩`:
-//! for a rotation the body momentum `Π ∈ so(3)*` (`⟨P, R η̂⟩ = Π·η`), for a direction the
-//! components `e_a·P` of its momentum in the frame, for a scalar its momentum. With the
+//! for a rotation the left-trivialized momentum `Π ∈ so(3)*` (`⟨P, R η̂⟩ = Π·η`), for a
+//! direction the components `e_a·P` of its momentum in the frame, for a scalar its momentum.
+//! What a state stores is the *discrete* Legendre momentum of the two lines below, not the
+//! continuous `∂L/∂Ω = JΩ` of some angular velocity. For the free rigid body it is
+//! `Π_k = vee(F_k J_d − J_d F_kᵀ)/h`; for `F_k = cay(hΩ)` that is
+//! `JΩ − (h/2) JΩ × Ω + O(h²)`, the momentum at the start of a step whose velocity mid-step is
+//! `Ω` (Euler's `Π̇ = Π × Ω + M` run back half a step). A potential adds its torque by the
+//! trapezoid rule: `Π_k` moves by `−(h/2) M(R_k)` (for the heavy top's `m g l e3ᵀ R e3`,
+//! `M = m g l Rᵀe3 × e3`). So `Π_k` and `JΩ` differ at first order in `h`. To start a run from
+//! an attitude and an angular velocity, take the momentum of the first discrete step with that
+//! velocity: [`LieLagrangian::discrete_legendre_state`]. With the
 //! variations `δq_k = dφ_{q_k}(0) η_k` — on a rotation `δR = R η̂`, the variations of the Lie
 //! group variational integrators (Lee, Leok & McClamroch 2005, 2007; Bou-Rabee & Marsden 2009
 //! for the Hamilton–Pontryagin form; Lee, Leok & McClamroch 2009 on two-spheres) — the discrete
@@ -253,6 +262,38 @@ pub trait LieLagrangian<const P: usize, const N: usize>: Clone + Send + Sync + '
         z: &SVector<f64, N>,
     ) -> SVector<f64, N>;
 
+    /// The state at the stored point `q` whose momentum is the discrete Legendre momentum of the
+    /// step that leaves `q` with the chart velocity `v`: `p_k = −D1 L_d(q_k, q_{k+1})·dφ_{q_k}(0)`
+    /// (the first line of the step equations, with its forces) at `q_{k+1} = φ_{q_k}(h v)`,
+    /// computed as `−R(h v)` with `p_k = 0` ([`Self::residual`]). On a rotation `v` is the body
+    /// angular velocity `Ω` in the Cayley chart (`R_{k+1} = R_k cay(hΩ)`, so that
+    /// `cay⁻¹(R_kᵀ R_{k+1})/h = Ω` exactly), on a direction the frame components of its velocity,
+    /// on a scalar its rate. This is how to start a discrete `L_d` from `(R, Ω)`: the run's first
+    /// step then moves by `h v` (its Newton solve returns `z = h v` to round-off), and for the
+    /// free rigid body `p_k = vee(F J_d − J_d Fᵀ)/h` with `F = cay(hΩ)` (Lee, Leok & McClamroch
+    /// 2005), which is `JΩ − (h/2) JΩ × Ω + O(h²)`; a potential moves it by `−(h/2)` times its
+    /// torque (see the [module documentation](self)).
+    ///
+    /// `q` is a stored point (each rotation row by row: build it with the emitted
+    /// `<Name>Config::to_point`). `Err` with [`StepError::NonFinite`] when a momentum is not
+    /// finite.
+    fn discrete_legendre_state(
+        &self,
+        q: &SVector<f64, P>,
+        v: &SVector<f64, N>,
+    ) -> Result<LieState<P, N>, StepError> {
+        let z = v * self.time_step();
+        let p = -self.residual(q, &SVector::zeros(), &z);
+        if !q.iter().chain(p.iter()).all(|x| x.is_finite()) {
+            return Err(StepError::NonFinite {
+                step: 0,
+                what: "the discrete Legendre momentum of the first step",
+                residual: f64::NAN,
+            });
+        }
+        Ok(LieState { q: *q, p })
+    }
+
     /// The partial derivatives of the step from `(q_k, p_k)` to `q_{k+1} = φ_{q_k}(z)` that its
     /// sensitivity needs ([`LiePartials`]); `None` where the compiler emitted none (systems on
     /// the sparse backend).
@@ -298,10 +339,17 @@ pub struct LieState<const P: usize, const N: usize> {
 }
 
 impl<const P: usize, const N: usize> LieState<P, N> {
-    /// The state from a stored point and a momentum (arrays or nalgebra vectors). The emitted
-    /// `<Name>Config::to_point` and `<Name>Momentum::to_chart` build them from matrices and
-    /// vectors.
-    pub fn new(q: impl IntoVector<SVector<f64, P>>, p: impl IntoVector<SVector<f64, N>>) -> Self {
+    /// The state from a stored point and a momentum (arrays or nalgebra vectors), the layout in
+    /// the name: each rotation's 9 entries **row by row** (`R[(0, 0)], R[(0, 1)], R[(0, 2)],
+    /// R[(1, 0)], …`, as [`rows`] gives them), each direction's frame the same way. A matrix's
+    /// nalgebra slice (`R.as_slice()`, `Matrix3::from_slice`) is column by column: passed here it
+    /// would be read as `Rᵀ`, itself a rotation that no check can tell apart. From matrices, the
+    /// emitted `sys.state(&<Name>Config { r: R, .. }, &momenta)` (or `<Name>Config::to_point`)
+    /// takes a `Matrix3` and has no layout to get wrong.
+    pub fn from_row_major(
+        q: impl IntoVector<SVector<f64, P>>,
+        p: impl IntoVector<SVector<f64, N>>,
+    ) -> Self {
         Self {
             q: q.into_vector(),
             p: p.into_vector(),

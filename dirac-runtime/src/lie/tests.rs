@@ -223,7 +223,7 @@ fn body() -> Body {
 
 fn initial() -> LieState<9, 3> {
     let r = cayley(&Vector3::new(0.2, -0.1, 0.4));
-    LieState::new(rows(&r), [0.3, 1.1, -0.4])
+    LieState::from_row_major(rows(&r), [0.3, 1.1, -0.4])
 }
 
 fn run<I: Stepper>(integrator: &I, state: I::State, steps: usize) -> Vec<I::State>
