@@ -132,6 +132,54 @@ fn keplers_problem_steps_bit_for_bit() {
     same_runs(compiled, jit, start, 1000);
 }
 
+/// The declared domain (`domain(r > 0.0)` in Kepler's text) is checked after every step as the
+/// compiled-in one is: at a step too coarse for the periapsis passage (e = 0.9, h = 0.2) both
+/// stop with the same typed error at the same step, the same states kept.
+#[test]
+fn a_domain_given_as_text_is_checked_as_the_one_compiled_in() {
+    let code = code(KEPLER, "kepler");
+    let compiled = Kepler::unit(0.2);
+    let start = compiled.periapsis_state(1.0, 0.9);
+    let jit = code
+        .instantiate::<1, 1, 2>(&compiled.parameter_values())
+        .unwrap();
+    assert_eq!(jit.domain(), compiled.domain());
+    let opts = NewtonOptions::default();
+    let a = ReducedIntegrator::plus(compiled, opts)
+        .run(start)
+        .steps(50)
+        .collect()
+        .unwrap_err();
+    let b = ReducedIntegrator::plus(jit.clone(), opts)
+        .run(start)
+        .steps(50)
+        .collect()
+        .unwrap_err();
+    assert!(
+        matches!(&b.source, StepError::OutOfDomain { step: 5, coordinate, value, .. }
+            if coordinate == "r" && *value < 0.0),
+        "{:?}",
+        b.source
+    );
+    assert_eq!(a.source, b.source);
+    same(
+        &a.trajectory.states,
+        &b.trajectory.states,
+        "(+) up to the domain",
+    );
+    let unreduced = jit.untrivialize(&start);
+    let e = UnreducedIntegrator::new(jit, opts)
+        .run(unreduced)
+        .steps(50)
+        .collect()
+        .unwrap_err();
+    assert!(
+        matches!(e.source, StepError::OutOfDomain { step: 5, .. }),
+        "{:?}",
+        e.source
+    );
+}
+
 /// A continuous Lagrangian with its quadrature rule: `L_d` formed by the compiler, and the
 /// Legendre map and energy from the same graph.
 #[test]
@@ -460,7 +508,10 @@ fn same_constrained<
         .unwrap();
     same(&a.states, &b.states, what);
     let multipliers = |t: &ConstrainedTrajectory<F::State, M>| {
-        t.records.iter().map(|s| (s.lambda, s.nu)).collect::<Vec<_>>()
+        t.records
+            .iter()
+            .map(|s| (s.lambda, s.nu))
+            .collect::<Vec<_>>()
     };
     same(&multipliers(&a), &multipliers(&b), what);
 }
@@ -705,6 +756,23 @@ fn adaptive_steps_step_bit_for_bit() {
     assert_eq!(
         jit.adaptive_increment(&unreduced.q, &unreduced.p, 0.05),
         compiled.adaptive_increment(&unreduced.q, &unreduced.p, 0.05)
+    );
+    // The level set p_t = −E: the same defect, and a start off it refused as compiled in.
+    assert_eq!(
+        jit.level_set_defect(&unreduced.q, &unreduced.p),
+        compiled.level_set_defect(&unreduced.q, &unreduced.p)
+    );
+    let mut off = start;
+    off.mu[1] *= 0.9;
+    let refused = ReducedIntegrator::plus(jit.clone(), NewtonOptions::default())
+        .run(off)
+        .steps(10)
+        .collect()
+        .unwrap_err();
+    assert!(
+        matches!(&refused.source, StepError::OffManifold { reason } if reason.contains("level set")),
+        "{:?}",
+        refused.source
     );
     same_runs(compiled, jit.clone(), start, 400);
     let run = ReducedIntegrator::plus(jit, NewtonOptions::default())

@@ -116,6 +116,8 @@ impl Drop for Module {
 /// compilation took. Shared ([`Arc`]) by every [`JitSystem`] made from it.
 pub struct Code {
     system: System,
+    /// The declared domain, as the runtime reads it.
+    domain: Vec<dirac_runtime::domain::Bound>,
     kernels: Kernels,
     compile_time: Duration,
     _module: Module,
@@ -259,8 +261,23 @@ impl Code {
             monitor: monitor.map(|m| k[m]),
             constrained: constrained.map(|defined| constrained::kernels(defined, &k)),
         };
+        let domain = system
+            .domain
+            .iter()
+            .map(|b| {
+                use dirac_runtime::domain::{Bound, Relation};
+                let relation = match b.relation {
+                    text::DomainRelation::Above => Relation::Above,
+                    text::DomainRelation::AtLeast => Relation::AtLeast,
+                    text::DomainRelation::Below => Relation::Below,
+                    text::DomainRelation::AtMost => Relation::AtMost,
+                };
+                Bound::new(b.coordinate, relation, b.value)
+            })
+            .collect();
         Ok(Arc::new(Code {
             system,
+            domain,
             kernels,
             compile_time: start.elapsed(),
             _module: Module(Some(module)),
@@ -668,6 +685,11 @@ impl<const S: usize, const K: usize, const N: usize, V: Variant<N>> DiscreteLagr
             .collect()
     }
 
+    /// Known from the text only: the integrators read it here, not from [`Self::DOMAIN`].
+    fn domain(&self) -> &[dirac_runtime::domain::Bound] {
+        &self.code.domain
+    }
+
     /// Known from the text only: the integrators read it here, not from [`Self::TIME`].
     fn time_index(&self) -> Option<usize> {
         self.code.system.adaptive.as_ref().map(|a| a.time)
@@ -695,6 +717,21 @@ impl<const S: usize, const K: usize, const N: usize, V: Variant<N>> DiscreteLagr
         let g = self.monitor(&q.fixed_rows::<S>(0).into_owned())?;
         let legendre = self.code.kernels.legendre?;
         dirac_runtime::adaptive::first_increment_of(time, g, q, p, h, |q, v| {
+            self.call(
+                legendre,
+                [q.as_ptr(), v.as_ptr(), UNUSED, UNUSED],
+                SVector::zeros(),
+            )
+        })
+    }
+
+    /// As the attribute's ([`dirac_runtime::adaptive::level_set_defect`]), on this system's
+    /// Legendre map.
+    fn level_set_defect(&self, q: &SVector<f64, N>, p: &SVector<f64, N>) -> Option<(f64, f64)> {
+        let time = S + self.time_index()?;
+        let g = self.monitor(&q.fixed_rows::<S>(0).into_owned())?;
+        let legendre = self.code.kernels.legendre?;
+        dirac_runtime::adaptive::level_set_defect_of(time, g, q, p, |q, v| {
             self.call(
                 legendre,
                 [q.as_ptr(), v.as_ptr(), UNUSED, UNUSED],
