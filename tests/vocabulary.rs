@@ -107,6 +107,20 @@ fn states_from_arrays_vectors_and_slices_are_the_same_state() {
         sys.reduced_state::<1, 1>([0.5, 0.0], [f64::INFINITY, 2.0]),
         Err(StepError::NonFinite { step: 0, .. })
     ));
+    // Every integrator's momentum map is a `Result`, as the run-time-sized ones' are.
+    let mut off = sys.reduced_state::<1, 1>([0.5, 0.0], [1.0, 2.0]).unwrap();
+    let reduced = ReducedIntegrator::plus(sys, NewtonOptions::default());
+    assert_eq!(reduced.momentum_map(&off), Ok(off.mu));
+    off.mu[0] = f64::NAN;
+    assert!(matches!(
+        reduced.momentum_map(&off),
+        Err(StepError::NonFinite { .. })
+    ));
+    let unreduced = UnreducedIntegrator::new(sys, NewtonOptions::default());
+    assert!(matches!(
+        unreduced.momentum_map(&sys.untrivialize(&off)),
+        Err(StepError::NonFinite { .. })
+    ));
 }
 
 #[test]
@@ -140,8 +154,15 @@ fn reduced_and_unreduced_integrators_give_momentum_maps_and_energies() {
     );
     for (k, s) in traj.states.iter().enumerate() {
         let c = sys.untrivialize(s);
-        assert_eq!(reduced.momentum_map(s)[0].to_bits(), s0.mu[0].to_bits());
-        close(unreduced.momentum_map(&c)[0], c.p[1], "unreduced μ");
+        assert_eq!(
+            reduced.momentum_map(s).unwrap()[0].to_bits(),
+            s0.mu[0].to_bits()
+        );
+        close(
+            unreduced.momentum_map(&c).unwrap()[0],
+            c.p[1],
+            "unreduced μ",
+        );
         close(re.nodes[k], energy(&c.q, &c.p), "reduced node energy");
         let u = &utraj.states[k];
         close(ue.nodes[k], energy(&u.q, &u.p), "unreduced node energy");
@@ -201,9 +222,9 @@ fn constrained_integrators_give_momentum_maps_and_energies_on_both_forms() {
             energy(&r.q, &r.p),
             "reduced constrained node energy",
         );
-        close(unreduced.momentum_map(u)[0], 0.7, "unreduced p_z");
+        close(unreduced.momentum_map(u).unwrap()[0], 0.7, "unreduced p_z");
         assert_eq!(
-            reduced.momentum_map(&rt.states[k])[0].to_bits(),
+            reduced.momentum_map(&rt.states[k]).unwrap()[0].to_bits(),
             0.7f64.to_bits()
         );
     }

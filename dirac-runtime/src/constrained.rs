@@ -562,9 +562,12 @@ where
     }
 
     /// The momentum map `J(q, p) = p_g` of the declared translations at `state` (a reduced
-    /// state's `μ`). Constraint forces that are not invariant change it along a run.
-    pub fn momentum_map(&self, state: &F::State) -> SVector<f64, K> {
-        self.system.momentum_map(&F::unreduced(&self.system, state))
+    /// state's `μ`). Constraint forces that are not invariant change it along a run. A `Result`
+    /// as on every integrator: [`StepError::NonFinite`] for a state that is not finite.
+    pub fn momentum_map(&self, state: &F::State) -> Result<SVector<f64, K>, StepError> {
+        crate::stepper::finite_momentum_map(
+            self.system.momentum_map(&F::unreduced(&self.system, state)),
+        )
     }
 
     /// The continuous energy of a trajectory of this integrator at its nodes and midpoints

@@ -210,9 +210,10 @@ where
     }
 
     /// The momentum map `μ = J(q, p)` of the declared translations at `state`: its `mu`,
-    /// constant along a run of a system without forces (exactly, bit for bit).
-    pub fn momentum_map(&self, state: &ReducedState<S, K>) -> SVector<f64, K> {
-        state.mu
+    /// constant along a run of a system without forces (exactly, bit for bit). A `Result` as on
+    /// every integrator: [`StepError::NonFinite`] for a `μ` that is not finite.
+    pub fn momentum_map(&self, state: &ReducedState<S, K>) -> Result<SVector<f64, K>, StepError> {
+        crate::stepper::finite_momentum_map(state.mu)
     }
 
     /// The continuous energy of a trajectory of this integrator at its nodes and midpoints

@@ -218,6 +218,23 @@ pub(crate) fn check_controls(k: usize, expected: usize, u: &[f64]) -> Result<(),
     Ok(())
 }
 
+/// A momentum map's value, or [`StepError::NonFinite`] when it is not finite (a state that is
+/// not): what every integrator's `momentum_map` returns, the run-time-sized ones included (which
+/// can also fail on sizes).
+pub(crate) fn finite_momentum_map<const K: usize>(
+    value: nalgebra::SVector<f64, K>,
+) -> Result<nalgebra::SVector<f64, K>, StepError> {
+    if value.iter().all(|v| v.is_finite()) {
+        Ok(value)
+    } else {
+        Err(StepError::NonFinite {
+            step: 0,
+            what: "the momentum map (the state is not finite)",
+            residual: f64::NAN,
+        })
+    }
+}
+
 /// The most states (or step records) a trajectory reserves room for before the first step
 /// ([`reserved`]).
 pub(crate) const RESERVED_STATES: usize = 1 << 12;

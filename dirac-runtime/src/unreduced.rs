@@ -117,9 +117,10 @@ where
         &self.system
     }
 
-    /// The momentum map `J(q, p) = p_g` of the declared translations at `state`.
-    pub fn momentum_map(&self, state: &UnreducedState<N>) -> SVector<f64, K> {
-        self.system.momentum_map(state)
+    /// The momentum map `J(q, p) = p_g` of the declared translations at `state`. A `Result` as
+    /// on every integrator: [`StepError::NonFinite`] for a state that is not finite.
+    pub fn momentum_map(&self, state: &UnreducedState<N>) -> Result<SVector<f64, K>, StepError> {
+        crate::stepper::finite_momentum_map(self.system.momentum_map(state))
     }
 
     /// The continuous energy of a trajectory of this integrator at its nodes and midpoints

@@ -27,7 +27,7 @@
 //!   ([`IntoVector`](crate::IntoVector)). Coordinates are listed in the order of the system's
 //!   [`SHAPE`](crate::DiscreteLagrangian::SHAPE) followed by its
 //!   [`GROUP`](crate::DiscreteLagrangian::GROUP).
-//! * **Quantities.** `integ.momentum_map(&state)` and `integ.energies(&traj)` (node and
+//! * **Quantities.** `integ.momentum_map(&state)?` and `integ.energies(&traj)` (node and
 //!   midpoint energies of a continuous Lagrangian, the nodes through the inverse Legendre map)
 //!   on every integrator, constrained ones and those sized at run time included.
 //! * **Derivatives of a step.** One type, [`Sensitivity`](crate::Sensitivity) (`∂s_{k+1}/∂s_k`

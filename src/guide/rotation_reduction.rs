@@ -42,7 +42,7 @@
 //! // is the unreduced run's.
 //! let last = a.last();
 //! assert_eq!(last.mu, a.states[0].mu);
-//! assert!((reduced.momentum_map(&last.unreduced()) - last.mu).norm() < 1e-15);
+//! assert!((reduced.momentum_map(&last.unreduced()).unwrap() - last.mu).norm() < 1e-15);
 //! assert!((last.q - b.last().q).amax() < 1e-12);
 //! ```
 //!

@@ -357,8 +357,15 @@ where
     }
 
     /// The momentum map of the symmetry at `(q, p)`: `π = R Π` of the rotation coordinate for
-    /// [`RotationSymmetry::Rotations`], `(e · π) e` for the rotations about the axis `e`.
-    pub fn momentum_map(&self, state: &LieState<P, N>) -> Vector3<f64> {
+    /// [`RotationSymmetry::Rotations`], `(e · π) e` for the rotations about the axis `e`. A
+    /// `Result` as on every integrator: [`StepError::NonFinite`] for a state that is not
+    /// finite.
+    pub fn momentum_map(&self, state: &LieState<P, N>) -> Result<Vector3<f64>, StepError> {
+        crate::stepper::finite_momentum_map(self.spatial_momentum_map(state))
+    }
+
+    /// [`Self::momentum_map`]'s value, unchecked (what the reduction reads).
+    fn spatial_momentum_map(&self, state: &LieState<P, N>) -> Vector3<f64> {
         let system = self.system();
         match system.symmetry() {
             RotationSymmetry::Rotations { coordinate } => {
@@ -379,7 +386,7 @@ where
         ReducedLieState {
             q: state.q,
             p: state.p,
-            mu: self.momentum_map(state),
+            mu: self.spatial_momentum_map(state),
         }
     }
 
@@ -409,7 +416,7 @@ where
         )?;
         workspace.history.push(z, h);
         let mu = if forced {
-            self.momentum_map(&next)
+            self.spatial_momentum_map(&next)
         } else {
             state.mu
         };
@@ -559,7 +566,7 @@ where
     fn check(&self, initial: &ReducedLieState<P, N>) -> Result<(), StepError> {
         let state = initial.unreduced();
         self.unreduced.check(&state)?;
-        let expected = self.momentum_map(&state);
+        let expected = self.spatial_momentum_map(&state);
         let scale = expected.norm().max(initial.mu.norm()).max(1.0);
         let off = (expected - initial.mu).norm();
         if off.is_nan() || off > MOMENTUM_TOLERANCE * scale {
