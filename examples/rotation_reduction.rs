@@ -225,7 +225,13 @@ fn main() {
     let spatial = b
         .states
         .iter()
-        .map(|s| (reduced.momentum_map(&s.unreduced()).expect("a finite state") - pi0).norm())
+        .map(|s| {
+            (reduced
+                .momentum_map(&s.unreduced())
+                .expect("a finite state")
+                - pi0)
+                .norm()
+        })
         .fold(0.0, f64::max);
     let wheel = b.states.iter().map(|s| s.p[3]).fold(f64::NAN, f64::max);
     println!(
@@ -245,7 +251,14 @@ fn main() {
         .steps(steps)
         .observe(|_, _, s: &ReducedLieState<9, 3>, _| {
             changed += usize::from(s.mu != t0.mu);
-            off = off.max((reduced.momentum_map(&s.unreduced()).expect("a finite state").z - t0.mu.z).abs());
+            off = off.max(
+                (reduced
+                    .momentum_map(&s.unreduced())
+                    .expect("a finite state")
+                    .z
+                    - t0.mu.z)
+                    .abs(),
+            );
             energy = energy.max((top.energy(&s.unreduced()) - e0).abs());
         })
         .stream()
