@@ -70,9 +70,7 @@ pub fn run() -> Result<f64, Box<dyn std::error::Error>> {
         .steps(10)
         .collect()?;
     let osc = ContinuousOscillator { freq: 1.0, h: 0.01 };
-    let start = osc
-        .unreduced_state(SVector::from([1.0]), SVector::from([0.0]))
-        .expect("a finite state");
+    let start = osc.unreduced_state(SVector::from([1.0]), SVector::from([0.0]))?;
     let o = UnreducedIntegrator::new(osc, NewtonOptions::default())
         .run(start)
         .steps(10)
