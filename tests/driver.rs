@@ -522,6 +522,77 @@ fn a_huge_step_cap_reserves_no_memory_up_front() {
     println!("every trajectory grew");
 }
 
+/// A run of 10¹¹ steps that keeps every state (no stop condition, no end time) under a 4 GB
+/// address-space limit (`ulimit -v`, in a child process so that an abort ends the child, not the
+/// harness): no trajectory can hold 10¹¹ states, and every kind says so before the first step
+/// with the typed `StepError::OutOfMemory`, where the run used to grow its vectors until the
+/// allocator aborted the process.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_run_keeping_more_states_than_memory_holds_is_refused_before_the_first_step() {
+    const NAME: &str = "a_run_keeping_more_states_than_memory_holds_is_refused_before_the_first_step";
+    const STEPS: usize = 100_000_000_000;
+    if !is_child() {
+        let out = std::process::Command::new("sh")
+            .arg("-c")
+            .arg("ulimit -v 4000000 && exec \"$0\" --exact \"$1\" --nocapture --test-threads=1")
+            .arg(std::env::current_exe().expect("the test binary"))
+            .arg(NAME)
+            .env("DIRAC_TEST_CHILD", "1")
+            .output()
+            .expect("the child runs");
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success() && stdout.contains("refused: 5 kinds"),
+            "the child ended with {:?}\n{stdout}\n{}",
+            out.status,
+            String::from_utf8_lossy(&out.stderr)
+        );
+        return;
+    }
+    fn refused<I: Drive>(integrator: &I, start: I::State) {
+        let err = integrator
+            .run(start)
+            .steps(STEPS)
+            .collect()
+            .expect_err("10^11 states do not fit in 4 GB");
+        assert!(
+            matches!(err.source, StepError::OutOfMemory { bytes, .. } if bytes >= STEPS as u128),
+            "{:?}",
+            err.source
+        );
+        println!("typed error: {}", err.source);
+    }
+    let kepler = Kepler::unit(0.05);
+    let start = kepler.periapsis_state(1.0, 0.5);
+    let plus = ReducedIntegrator::plus(kepler, NewtonOptions::default());
+    refused(&plus, start);
+    refused(
+        &UnreducedIntegrator::new(kepler, NewtonOptions::default()),
+        kepler.untrivialize(&start),
+    );
+    refused(
+        &Composition::new(plus, CompositionMethod::TRIPLE_JUMP),
+        start,
+    );
+    let pendulum = DoubleSphericalPendulum::paper();
+    refused(
+        &pendulum.atlas(NewtonOptions::default()),
+        (PAPER, DoubleSphericalPendulum::paper_initial_state()),
+    );
+    let lattice = toda_n::TodaN {
+        m: 1.0,
+        d: 1.0,
+        h: 0.05,
+        n: 50,
+    };
+    refused(
+        &dirac::runtime::element::ElementIntegrator::new(lattice, NewtonOptions::default()),
+        toda_n::initial(&lattice, 0.1, 0.3, 0.05),
+    );
+    println!("refused: 5 kinds");
+}
+
 /// `Stepper::step_with` is public: a workspace of another composition, or a state in a chart the
 /// atlas does not have, is a typed error, not an index out of bounds.
 #[test]
