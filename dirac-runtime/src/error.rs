@@ -150,7 +150,8 @@ pub enum StepError {
         step: usize,
     },
     /// A run was configured inconsistently (no length, an end time before the start, a zero
-    /// output stride; see [`crate::driver::Run`]). Nothing was computed.
+    /// output stride, a start time on a run with adaptive steps other than the initial state's
+    /// own; see [`crate::driver::Run`]). Nothing was computed.
     #[error("invalid run: {reason}")]
     InvalidRun {
         /// What is wrong, with the figures.
