@@ -120,9 +120,21 @@ fn nesting_within_the_limit_compiles() {
     steps(&code);
 }
 
+/// The chain the scan gives the least stack a level of the syntax tree: a flat sum of 3 × 10⁵
+/// single names (one operator each). It compiles, or is refused with a typed error.
+#[test]
+fn a_flat_sum_of_single_names_is_never_a_crash() {
+    let text = format!("{HEAD}        - h * q0.x{}\n}}\n", " + h".repeat(300_000));
+    match dirac_jit::compile(&text) {
+        Ok(code) => steps(&code),
+        Err(e) => println!("{}", e.to_string().chars().take(300).collect::<String>()),
+    }
+}
+
 /// Every other way to nest 10⁵ deep — brackets, blocks, unary minus, closures, `else if`,
-/// generic arguments — gives a typed error (the limit, or what the body language does not
-/// accept), never an abort.
+/// generic arguments, method calls and fields (which the lowering walks down, recursively, to
+/// the innermost before it refuses the method or field) — gives a typed error (the limit, or
+/// what the body language does not accept), never an abort.
 #[test]
 fn every_kind_of_deep_nesting_is_a_typed_error() {
     const DEEP: usize = 100_000;
@@ -142,6 +154,14 @@ fn every_kind_of_deep_nesting_is_a_typed_error() {
         ("negations", nested(DEEP, "!", "q0.x", "")),
         ("closures", nested(DEEP, "|a: f64| ", "q0.x", "")),
         ("else if", else_ifs),
+        (
+            "method calls",
+            nested(1, "", &format!("q0.x{}", ".floor()".repeat(DEEP)), ""),
+        ),
+        (
+            "fields",
+            nested(1, "", &format!("q0{}", ".x".repeat(DEEP)), ""),
+        ),
         ("generic arguments", generics),
     ];
     for (what, text) in cases {

@@ -11,12 +11,17 @@
 //!
 //! * groups nested deeper than [`MAX_NESTING`] and runs of prefixes longer than [`MAX_NESTING`]
 //!   are refused at the token that passes the limit;
-//! * every other token that can add a level (an operator, a keyword, a group) counts as one
-//!   level of the statement it is in, summed over the enclosing groups' statements: an upper
-//!   bound `D` on the depth of every recursion. The compilation then runs on a stack of
-//!   [`MIN_STACK`] + `D` × [`BYTES_PER_LEVEL`] bytes (a fresh segment when the current one is
-//!   smaller, as `crate::stack` does for the attribute), and a text with `D` above
-//!   [`MAX_LEVELS`] is refused.
+//! * every other token that can add a level counts, summed over the enclosing groups: a binary
+//!   operator one level for the rest of its statement (`syn` parses a chain in a loop, and the
+//!   lowering folds it in a loop, so a level of a chain costs only the syntax tree's drop); a
+//!   keyword, a closure's `|` or a generic argument's `<` [`PREFIX_LEVELS`] for the rest of the
+//!   statement; a unary operator, a `.` (a field or a method call) or a call's or an index's
+//!   arguments [`PREFIX_LEVELS`] for the rest of its operand (the lowering recurses into them);
+//!   the contents of a group [`GROUP_LEVELS`] more than the group. The deepest token's levels `D`
+//!   bound every recursion. The compilation then runs on a stack of [`MIN_STACK`] + `D` ×
+//!   [`BYTES_PER_LEVEL`] bytes (a fresh segment when the current one is smaller, as
+//!   `crate::stack` does for the attribute), and a text with `D` above [`MAX_LEVELS`] is
+//!   refused.
 //!
 //! The graph stages after the lowering (differentiation, simplification, the programs) walk the
 //! expression graph with explicit stacks, so a long chain of `let` statements (a graph as deep as
@@ -32,10 +37,14 @@ pub const MAX_NESTING: usize = 256;
 /// The most levels a text may have (see [`stack_for`]): a flat sum of about 10⁶ terms.
 pub const MAX_LEVELS: usize = 8_000_000;
 
-/// The stack one level needs at most, for `syn`'s parser, its trees' derived code and the
-/// lowering; measured on flat sums and on groups nested [`MAX_NESTING`] deep, with a margin (the
-/// reservation is address space only: pages are committed when touched).
-const BYTES_PER_LEVEL: usize = 512;
+/// The stack a level may use, for `syn`'s parser, its trees' derived code and the lowering: 512
+/// bytes in an optimized build (a frame of the lowering's recursion is 1.6 KiB there, and gets
+/// [`PREFIX_LEVELS`] levels), 4 KiB with debug assertions (unoptimized frames are several times
+/// larger). Checked in release builds (dirac-jit's `tests/large_texts.rs`) on 10⁵-deep chains of
+/// each kind the scan lets through (flat sums of 2.2 × 10⁵ terms and of 3 × 10⁵ single names,
+/// method calls, closures, `else if`) and on groups nested 250 deep. The reservation is address
+/// space only: pages are committed when touched.
+const BYTES_PER_LEVEL: usize = if cfg!(debug_assertions) { 4096 } else { 512 };
 
 /// The levels of a group's contents above its own: parsing a nested group goes through the
 /// whole chain of `syn`'s expression parsers.
@@ -64,16 +73,16 @@ pub struct TooDeep {
 }
 
 /// The stack the compilation of `tokens` needs, or why it is refused (see the module
-/// documentation). The levels of a token are those of its statement up to it (an operator or a
-/// group 1, a prefix [`PREFIX_LEVELS`]; a statement ends at `;` or `,`), plus those of the
-/// enclosing groups' statements up to each group, plus [`GROUP_LEVELS`] per group.
+/// documentation for how a token's levels are counted; a statement ends at `;`, or at `,`
+/// outside generic arguments).
 pub fn stack_for(tokens: TokenStream) -> Result<usize, TooDeep> {
     // One frame per open group: its tokens, the levels up to it, and the state of its current
     // statement.
     struct Frame {
         tokens: proc_macro2::token_stream::IntoIter,
         base: usize,
-        levels: usize,
+        spine: usize,
+        operand: usize,
         run: usize,
         angles: usize,
         after_operand: bool,
@@ -82,7 +91,8 @@ pub fn stack_for(tokens: TokenStream) -> Result<usize, TooDeep> {
     let frame = |tokens: TokenStream, base: usize| Frame {
         tokens: tokens.into_iter(),
         base,
-        levels: 0,
+        spine: 0,
+        operand: 0,
         run: 0,
         angles: 0,
         after_operand: false,
@@ -110,11 +120,18 @@ pub fn stack_for(tokens: TokenStream) -> Result<usize, TooDeep> {
                 continue;
             }
         }
-        let (levels, operand, prefix) = match &tree {
+        // How a token deepens the statement: `Spine(l)` for the whole rest of it (a binary
+        // operator, a keyword, a closure, a generic argument), `Operand(l)` for the rest of the
+        // operand it is in (a unary operator, `.`, a call's or an index's group).
+        enum Deepens {
+            Spine(usize),
+            Operand(usize),
+        }
+        let (deepens, operand, prefix) = match &tree {
             TokenTree::Punct(p) if matches!(p.as_char(), ';' | ',') => {
                 // `,` between generic arguments stays within the angle brackets.
                 if p.as_char() == ';' || top.angles == 0 {
-                    (top.levels, top.run, top.angles) = (0, 0, 0);
+                    (top.spine, top.operand, top.run, top.angles) = (0, 0, 0, 0);
                 }
                 top.after_operand = false;
                 continue;
@@ -136,16 +153,27 @@ pub fn stack_for(tokens: TokenStream) -> Result<usize, TooDeep> {
                     top.angles = top.angles.saturating_sub(1);
                 }
                 // An operator after an operand is binary (a level of a chain, which `syn`
-                // parses in a loop); one at the start of a statement or after another operator
-                // is a prefix, as are a closure's `|` and a generic argument's `<`.
-                let prefix = !top.after_operand || matches!(c, '|' | '<');
-                (if prefix { PREFIX_LEVELS } else { 1 }, false, prefix)
+                // parses and the lowering walks in a loop), except `.` (a field or a method
+                // call: the lowering recurses); one at the start of a statement or after another
+                // operator is a prefix, as are a closure's `|` and a generic argument's `<`.
+                let deepens = if matches!(c, '|' | '<') {
+                    Deepens::Spine(PREFIX_LEVELS)
+                } else if !top.after_operand || c == '.' {
+                    Deepens::Operand(PREFIX_LEVELS)
+                } else {
+                    Deepens::Spine(1)
+                };
+                (deepens, false, !top.after_operand || matches!(c, '|' | '<'))
             }
             TokenTree::Ident(i) if PREFIX_KEYWORDS.iter().any(|k| i == k) => {
-                (PREFIX_LEVELS, false, true)
+                (Deepens::Spine(PREFIX_LEVELS), false, true)
             }
-            TokenTree::Ident(_) | TokenTree::Literal(_) => (0, true, false),
-            TokenTree::Group(_) => (1, true, false),
+            TokenTree::Ident(_) | TokenTree::Literal(_) => (Deepens::Operand(0), true, false),
+            // A call's or an index's arguments after an operand; an operand itself otherwise.
+            TokenTree::Group(_) if top.after_operand => {
+                (Deepens::Operand(PREFIX_LEVELS), true, false)
+            }
+            TokenTree::Group(_) => (Deepens::Operand(1), true, false),
         };
         if prefix {
             top.run += 1;
@@ -163,8 +191,17 @@ pub fn stack_for(tokens: TokenStream) -> Result<usize, TooDeep> {
             top.run = 0;
         }
         top.after_operand = operand;
-        top.levels = top.levels.saturating_add(levels);
-        let at = top.base.saturating_add(top.levels);
+        match deepens {
+            Deepens::Spine(l) => {
+                top.spine = top.spine.saturating_add(l);
+                top.operand = 0;
+            }
+            Deepens::Operand(l) => top.operand = top.operand.saturating_add(l),
+        }
+        let at = top
+            .base
+            .saturating_add(top.spine)
+            .saturating_add(top.operand);
         if at > deepest {
             (deepest, deepest_at) = (at, tree.span());
         }

@@ -23,14 +23,38 @@ impl Lowering<'_> {
             let v = self.arith(op, l?, &b.left, r?, &b.right)?;
             return self.assign(&b.left, v);
         }
-        match b.op {
-            BinOp::Add(_) | BinOp::Sub(_) | BinOp::Mul(_) | BinOp::Div(_) | BinOp::Rem(_) => {
-                let l = self.expr(&b.left);
-                let r = self.expr(&b.right);
-                self.arith(b.op, l?, &b.left, r?, &b.right)
-            }
-            op => self.error(op, format!("unsupported operator; {ACCEPTED}")),
+        let arithmetic = |op: &BinOp| {
+            matches!(
+                op,
+                BinOp::Add(_) | BinOp::Sub(_) | BinOp::Mul(_) | BinOp::Div(_) | BinOp::Rem(_)
+            )
+        };
+        if !arithmetic(&b.op) {
+            return self.error(b.op, format!("unsupported operator; {ACCEPTED}"));
         }
+        // A chain `a + b + c + ..` is a tree as deep as it is long, nested in its left operands:
+        // it is walked down its left spine with a loop, and folded from the innermost operation
+        // outwards, so a sum of 10⁵ terms needs no stack per term. Every operand is lowered, and
+        // every operation applied, in the order of the recursion `l = expr(left); r =
+        // expr(right); arith(l, r)` (the graph, and so the code, is the same).
+        let mut spine = vec![b];
+        let mut leftmost = &*b.left;
+        while let Expr::Binary(inner) = leftmost {
+            if !arithmetic(&inner.op) {
+                break;
+            }
+            spine.push(inner);
+            leftmost = &inner.left;
+        }
+        let mut value = self.expr(leftmost);
+        for node in spine.into_iter().rev() {
+            let r = self.expr(&node.right);
+            value = match (value, r) {
+                (Some(l), Some(r)) => self.arith(node.op, l, &node.left, r, &node.right),
+                _ => None,
+            };
+        }
+        value
     }
 
     pub(super) fn arith(
