@@ -530,7 +530,8 @@ fn a_huge_step_cap_reserves_no_memory_up_front() {
 #[cfg(target_os = "linux")]
 #[test]
 fn a_run_keeping_more_states_than_memory_holds_is_refused_before_the_first_step() {
-    const NAME: &str = "a_run_keeping_more_states_than_memory_holds_is_refused_before_the_first_step";
+    const NAME: &str =
+        "a_run_keeping_more_states_than_memory_holds_is_refused_before_the_first_step";
     const STEPS: usize = 100_000_000_000;
     if !is_child() {
         let out = std::process::Command::new("sh")

@@ -34,7 +34,8 @@ use proc_macro2::{Delimiter, Spacing, Span, TokenStream, TokenTree};
 /// Lagrangian, hand-written or generated, needs.
 pub const MAX_NESTING: usize = 256;
 
-/// The most levels a text may have (see [`stack_for`]): a flat sum of about 10⁶ terms.
+/// The most levels a text may have (operators and groups along a statement, summed over the
+/// enclosing groups): a flat sum of several 10⁶ terms.
 pub const MAX_LEVELS: usize = 8_000_000;
 
 /// The stack a level may use, for `syn`'s parser, its trees' derived code and the lowering: 512
