@@ -72,7 +72,9 @@ fn an_adaptive_start_off_its_level_set_is_refused() {
     let sys = Kepler { h: 0.05, k: 1.0 };
     let (e, r0) = (0.9, 0.1);
     let omega = (1.0 - e * e as f64).sqrt() / (r0 * r0);
-    let on = sys.reduced_state([r0, 0.0, 0.0], [0.0, omega, 1.0]).unwrap();
+    let on = sys
+        .reduced_state([r0, 0.0, 0.0], [0.0, omega, 1.0])
+        .unwrap();
     let energy = -on.mu[1];
     assert!((energy + 0.5).abs() < 1e-12, "{energy}");
     let options = NewtonOptions::default();
