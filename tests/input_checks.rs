@@ -126,3 +126,33 @@ fn an_adaptive_start_off_its_level_set_is_refused() {
     slightly.mu[1] *= 1.0 + 1e-6;
     assert!(plus.run(slightly).steps(5).collect().is_err());
 }
+
+/// A pendulum of unit length in Cartesian coordinates held by a rod, with adaptive steps.
+#[reduced_lagrangian(shape(x, y), group(t), time(t), adapt = |q| 1.5 + q.y, rule = midpoint,
+    constraints = |q| [q.x * q.x + q.y * q.y - 1.0])]
+fn rod(q: Config, v: Velocity, g: f64) -> f64 {
+    0.5 * (v.x * v.x + v.y * v.y) - g * q.y
+}
+
+/// The constrained integrators check the level set as the others do.
+#[test]
+fn a_constrained_adaptive_start_off_its_level_set_is_refused() {
+    let sys = Rod { h: 0.01, g: 9.81 };
+    let theta0: f64 = 1.2;
+    let on = sys
+        .reduced_state([theta0.sin(), -theta0.cos(), 0.0], [0.0, 0.0, 1.0])
+        .unwrap();
+    let integ = ReducedConstrainedIntegrator::plus(sys, NewtonOptions::default());
+    assert!(integ.run(on).steps(5).collect().is_ok());
+    let mut off = on;
+    off.mu[0] += 0.5;
+    let e = integ.run(off).steps(5).collect().unwrap_err();
+    assert!(off_manifold(&e.source).contains("off its energy level set"));
+    let unreduced = ConstrainedIntegrator::new(sys, NewtonOptions::default());
+    let e = unreduced
+        .run(sys.untrivialize(&off))
+        .steps(5)
+        .collect()
+        .unwrap_err();
+    assert!(off_manifold(&e.source).contains("off its energy level set"));
+}

@@ -730,6 +730,11 @@ where
         )?;
         let q = F::configuration(&self.system, initial);
         crate::domain::check_system(&self.system, 0, true, |i| q.get(i).copied())?;
+        // Adaptive steps: a start on the energy level set `p_t = −E` (see `crate::adaptive`).
+        if self.system.time_index().is_some() {
+            let start = F::unreduced(&self.system, initial);
+            crate::adaptive::check_level_set(&self.system, &start.q, &start.p)?;
+        }
         if !self.system.holonomic() {
             return Ok(());
         }
