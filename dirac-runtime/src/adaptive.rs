@@ -40,31 +40,6 @@ use crate::error::StepError;
 use crate::stepper::check_monitor;
 use crate::system::DiscreteLagrangian;
 
-/// The velocity in fictitious time of a physical velocity `u` at `q`: `v = g(x) u`, with the
-/// time coordinate's rate set to `g(x)` (its physical rate is 1). `Err` for a monitor that is
-/// not positive and finite at `q`, or a system without adaptive steps.
-pub fn fictitious_velocity<L, const S: usize, const K: usize, const N: usize>(
-    sys: &L,
-    q: &SVector<f64, N>,
-    u: &SVector<f64, N>,
-) -> Result<SVector<f64, N>, StepError>
-where
-    L: DiscreteLagrangian<S, K, N>,
-{
-    let (Some(j), Some(g)) = (
-        sys.time_index(),
-        sys.monitor(&q.fixed_rows::<S>(0).into_owned()),
-    ) else {
-        return Err(StepError::Unsupported {
-            what: "a fictitious velocity: the system is not declared with `time(t), adapt = |q| g`",
-        });
-    };
-    check_monitor(0, g)?;
-    let mut v = u * g;
-    v[S + j] = g;
-    Ok(v)
-}
-
 /// Newton's guess for the increment of a run's first step of fictitious size `h` from `(q, p)`:
 /// `h v`, with `v` the velocity in fictitious time on the level set — the time coordinate's rate
 /// `g(x)` and the others solving the Legendre map `∂L₂/∂v_q (q, v) = p_q` at that rate (by a few
@@ -127,13 +102,8 @@ pub fn first_increment_of<const N: usize>(
     v.iter().all(|x| x.is_finite()).then(|| v * h)
 }
 
-/// The largest accepted relative distance of a run's initial state from its energy level set:
-/// `|p_t + E(q, p)| ≤ LEVEL_SET_TOLERANCE · max(|E|, |⟨p_q, u⟩|)`, `u` the physical velocity
-/// (see [`level_set_defect`]). A state built from a position and a physical velocity by
-/// [`ContinuousLagrangian::unreduced_state`] or [`ContinuousLagrangian::reduced_state`] is on the
-/// level set to round-off (`~1e-15`); one whose `p_t` was set by hand to another energy is refused
-/// ([`StepError::OffManifold`]): it would integrate another orbit than the physical one.
-pub const LEVEL_SET_TOLERANCE: f64 = 1e-8;
+pub use crate::continuous::fictitious_velocity;
+pub use crate::stepper::LEVEL_SET_TOLERANCE;
 
 /// How far `(q, p)` is from the level set `p_t = −E(q, p)` of a system with adaptive steps:
 /// `(p_t + E, scale)` with `scale = max(|E|, |⟨p_q, u⟩|)` the size of the terms the energy is
@@ -173,40 +143,6 @@ pub fn level_set_defect_of<const N: usize>(
     defect
         .is_finite()
         .then(|| (defect, energy.abs().max(work.abs())))
-}
-
-/// The input check of an adaptive run's initial state `(q, p)` ([`LEVEL_SET_TOLERANCE`]): the
-/// typed error of a state off its energy level set.
-pub(crate) fn check_level_set<L, const S: usize, const K: usize, const N: usize>(
-    sys: &L,
-    q: &SVector<f64, N>,
-    p: &SVector<f64, N>,
-) -> Result<(), StepError>
-where
-    L: DiscreteLagrangian<S, K, N>,
-{
-    let Some(j) = sys.time_index() else {
-        return Ok(());
-    };
-    let Some((defect, scale)) = sys.level_set_defect(q, p) else {
-        return Ok(());
-    };
-    if defect.abs() <= LEVEL_SET_TOLERANCE * scale {
-        return Ok(());
-    }
-    let p_t = p[S + j];
-    Err(StepError::OffManifold {
-        reason: format!(
-            "an adaptive run starts off its energy level set: the time coordinate's momentum is \
-             p_t = {p_t}, but the energy of (q, p) is E = {:.12e} (|p_t + E| = {:.3e}, relative \
-             {:.3e} > {LEVEL_SET_TOLERANCE:.0e}); off the level set the run integrates another \
-             orbit; build the state from the position and the physical velocity with \
-             `sys.unreduced_state(q, v)` or `sys.reduced_state(q, v)`, which set p_t = −E",
-            defect - p_t,
-            defect.abs(),
-            defect.abs() / scale.max(f64::MIN_POSITIVE)
-        ),
-    })
 }
 
 /// The fictitious step that reaches `tolerance`, from a pilot at two steps: `run(ε)` integrates

@@ -88,7 +88,7 @@ pub trait ContinuousLagrangian<const N: usize> {
     /// time coordinate's entry is ignored: its rate is 1); the state is put on the level set
     /// `p_t = −E(q, v)` where the transformed system's solutions are the physical ones: the
     /// momenta of `L₂` at the velocity in fictitious time `g(x) v`, with `t' = g(x)`
-    /// ([`crate::adaptive::fictitious_velocity`]).
+    /// ([`fictitious_velocity`]).
     ///
     /// `Err` with [`StepError::InvalidMonitor`] where the monitor of a system with adaptive
     /// steps is not positive and finite at `q`, and [`StepError::NonFinite`] for a position or
@@ -103,7 +103,7 @@ pub trait ContinuousLagrangian<const N: usize> {
     {
         let (q, mut v) = (q.into_vector(), v.into_vector());
         if self.time_index().is_some() {
-            v = crate::adaptive::fictitious_velocity(self, &q, &v)?;
+            v = fictitious_velocity(self, &q, &v)?;
         }
         let p = self.legendre(&q, &v);
         if !q.iter().chain(p.iter()).all(|x| x.is_finite()) {
@@ -294,4 +294,29 @@ where
         .enumerate()
         .map(|(k, w)| sys.energy(&(0.5 * (w[0] + w[1])), &((w[1] - w[0]) / step(times, k, h))))
         .collect()
+}
+
+/// The velocity in fictitious time of a physical velocity `u` at `q`: `v = g(x) u`, with the
+/// time coordinate's rate set to `g(x)` (its physical rate is 1). `Err` for a monitor that is
+/// not positive and finite at `q`, or a system without adaptive steps.
+pub fn fictitious_velocity<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    q: &SVector<f64, N>,
+    u: &SVector<f64, N>,
+) -> Result<SVector<f64, N>, StepError>
+where
+    L: DiscreteLagrangian<S, K, N>,
+{
+    let (Some(j), Some(g)) = (
+        sys.time_index(),
+        sys.monitor(&q.fixed_rows::<S>(0).into_owned()),
+    ) else {
+        return Err(StepError::Unsupported {
+            what: "a fictitious velocity: the system is not declared with `time(t), adapt = |q| g`",
+        });
+    };
+    crate::stepper::check_monitor(0, g)?;
+    let mut v = u * g;
+    v[S + j] = g;
+    Ok(v)
 }

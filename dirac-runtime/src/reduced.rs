@@ -468,7 +468,7 @@ where
         reduced_domain(&self.system, 0, true, initial)?;
         if crate::stepper::monitor_at(&self.system, 0, &initial.x)?.is_some() {
             let start = self.system.untrivialize(initial);
-            crate::adaptive::check_level_set(&self.system, &start.q, &start.p)?;
+            crate::stepper::check_level_set(&self.system, &start.q, &start.p)?;
         }
         Ok(())
     }

@@ -566,6 +566,48 @@ where
     }
 }
 
+/// The largest accepted relative distance of a run's initial state from its energy level set:
+/// `|p_t + E(q, p)| ≤ LEVEL_SET_TOLERANCE · max(|E|, |⟨p_q, u⟩|)`, `u` the physical velocity
+/// (see [`crate::adaptive::level_set_defect`]). A state built from a position and a physical velocity by
+/// [`crate::ContinuousLagrangian::unreduced_state`] or [`crate::ContinuousLagrangian::reduced_state`] is on the
+/// level set to round-off (`~1e-15`); one whose `p_t` was set by hand to another energy is refused
+/// ([`StepError::OffManifold`]): it would integrate another orbit than the physical one.
+pub const LEVEL_SET_TOLERANCE: f64 = 1e-8;
+
+/// The input check of an adaptive run's initial state `(q, p)` ([`LEVEL_SET_TOLERANCE`]): the
+/// typed error of a state off its energy level set.
+pub(crate) fn check_level_set<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    q: &SVector<f64, N>,
+    p: &SVector<f64, N>,
+) -> Result<(), StepError>
+where
+    L: crate::DiscreteLagrangian<S, K, N>,
+{
+    let Some(j) = sys.time_index() else {
+        return Ok(());
+    };
+    let Some((defect, scale)) = sys.level_set_defect(q, p) else {
+        return Ok(());
+    };
+    if defect.abs() <= LEVEL_SET_TOLERANCE * scale {
+        return Ok(());
+    }
+    let p_t = p[S + j];
+    Err(StepError::OffManifold {
+        reason: format!(
+            "an adaptive run starts off its energy level set: the time coordinate's momentum is \
+             p_t = {p_t}, but the energy of (q, p) is E = {:.12e} (|p_t + E| = {:.3e}, relative \
+             {:.3e} > {LEVEL_SET_TOLERANCE:.0e}); off the level set the run integrates another \
+             orbit; build the state from the position and the physical velocity with \
+             `sys.unreduced_state(q, v)` or `sys.reduced_state(q, v)`, which set p_t = −E",
+            defect - p_t,
+            defect.abs(),
+            defect.abs() / scale.max(f64::MIN_POSITIVE)
+        ),
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use nalgebra::{Matrix2, Vector2};

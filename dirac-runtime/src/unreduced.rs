@@ -228,7 +228,7 @@ where
         // The domain first: outside it the monitor need not be defined.
         crate::domain::check_system(&self.system, 0, true, |i| initial.q.get(i).copied())?;
         if crate::stepper::monitor_at(&self.system, 0, &x)?.is_some() {
-            crate::adaptive::check_level_set(&self.system, &initial.q, &initial.p)?;
+            crate::stepper::check_level_set(&self.system, &initial.q, &initial.p)?;
         }
         Ok(())
     }
