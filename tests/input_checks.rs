@@ -70,8 +70,8 @@ fn a_direction_that_is_not_a_unit_vector_is_refused() {
 #[test]
 fn an_adaptive_start_off_its_level_set_is_refused() {
     let sys = Kepler { h: 0.05, k: 1.0 };
-    let (e, r0) = (0.9, 0.1);
-    let omega = (1.0 - e * e as f64).sqrt() / (r0 * r0);
+    let (e, r0): (f64, f64) = (0.9, 0.1);
+    let omega = (1.0 - e * e).sqrt() / (r0 * r0);
     let on = sys
         .reduced_state([r0, 0.0, 0.0], [0.0, omega, 1.0])
         .unwrap();
