@@ -17,8 +17,10 @@ use dirac_runtime::{
 };
 
 use crate::calls::until;
-use crate::{finish, parts, reduced_flat, reduced_start, unreduced_flat, unreduced_start};
-use crate::{to_parquet, Failed, Flat, Method, Request, Written};
+use crate::inputs::{reduced_start, unreduced_start};
+use crate::parquet::{to_parquet, Written};
+use crate::results::{finish, parts, reduced_flat, unreduced_flat, Failed, Flat};
+use crate::{Method, Request};
 
 pub(crate) use dirac_jit::with_constrained_dimensions as with_constrained;
 

@@ -21,7 +21,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::calls::{self, until};
-use crate::{composition, finish, Failed};
+use crate::composition;
+use crate::results::{finish, Failed};
 
 /// The keywords of `ElementSystem.run`.
 const RUN_KEYWORDS: &[&str] = &[
@@ -344,7 +345,7 @@ impl ElementSystem {
     #[getter]
     fn controls(&self) -> Vec<String> {
         let s = self.text();
-        crate::control_names(&s.parameters, &s.controls)
+        crate::inputs::control_names(&s.parameters, &s.controls)
     }
 
     /// Whether the system has holonomic constraints (then it runs the constrained integrator).
@@ -388,7 +389,7 @@ impl ElementSystem {
         other: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         calls::no_other_keywords("ElementSystem.run", other, &[], RUN_KEYWORDS, |_| None)?;
-        let params = crate::values_of(&self.text().parameters, parameters)?;
+        let params = crate::inputs::values_of(&self.text().parameters, parameters)?;
         let sizes = self.size_values(sizes)?;
         let plus = match method {
             "plus" => true,
@@ -431,7 +432,7 @@ impl ElementSystem {
         let (result, interrupt) = calls::interruptible(py, move |cancel| {
             run_one(runner, start, plus, order, steps, options, cancel)
         })?;
-        crate::finish_run(py, Ok(result), interrupt, |flat| {
+        crate::results::finish_run(py, Ok(result), interrupt, |flat| {
             self.to_dict(py, &sys, flat)
         })
     }

@@ -5,29 +5,34 @@
 //! carrying the step and the trajectory so far. Systems on rotation groups (`lie`) and
 //! element-wise systems (`element`) are classes of their own. Every run method refuses a
 //! keyword it does not take, a trajectory that cannot be allocated, and ends at Ctrl-C with
-//! what it computed (`calls`).
+//! what it computed (`calls`). A run's inputs are read and checked in `inputs`, its trajectory
+//! or error made Python's in `results`, and runs streamed to Parquet in `parquet`.
 //!
 //! The integrators take the dimensions as type parameters; the module dispatches a system's
 //! `(S, K)` at run time to one instance per pair with `S + K ≤ 8` (`dirac_jit::with_dimensions`).
 
-use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 mod calls;
 mod constrained;
 mod element;
+mod inputs;
 mod lie;
+mod parquet;
+mod results;
 mod runs;
 
 use constrained::{run_constrained, write_constrained};
+use inputs::{
+    control_names, parameter_values, Inputs, CORE_KEYWORDS, ENSEMBLE_KEYWORDS, RUN_KEYWORDS,
+    WRITE_KEYWORDS,
+};
+use parquet::written_dict;
+use results::{finish_run, step_error, to_dict, Failed, Flat};
 use runs::{run_many, run_one, time_one, write_one};
 
 use dirac_jit::Code;
-use dirac_runtime::nalgebra::SVector;
-use dirac_runtime::{
-    CompositionMethod, IntegrationError, NewtonOptions, ReducedState,
-    StepError as RuntimeStepError, StepStats, Steps, UnreducedState,
-};
+use dirac_runtime::{CompositionMethod, NewtonOptions, StepStats};
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyException, PyMemoryError, PyValueError};
 use pyo3::prelude::*;
@@ -74,31 +79,6 @@ struct Request {
     energies: bool,
 }
 
-/// A trajectory flattened for NumPy: the times and, per state, the vectors of the state in a
-/// fixed order (`x, w, mu, g` reduced; `q, p` unreduced), with their lengths.
-struct Flat {
-    t: Vec<f64>,
-    parts: Vec<(&'static str, usize, Vec<f64>)>,
-    iterations: Vec<usize>,
-    residuals: Vec<f64>,
-    /// For a constrained run: the number of constraints, each step's multipliers `λ_k` and its
-    /// constraint residual.
-    multipliers: Option<(usize, Vec<f64>, Vec<f64>)>,
-    /// When asked for: the continuous energy at each state (through the inverse Legendre map)
-    /// and at each step's midpoint, or why there is none.
-    energies: Option<Energies>,
-}
-
-/// The continuous energies of a run at its states and midpoints, or why there are none.
-type Energies = Result<(Vec<f64>, Vec<f64>), String>;
-
-/// A failed run: the runtime's error and what was computed before it (a [`Flat`] trajectory,
-/// or another kind's).
-struct Failed<F = Flat> {
-    error: RuntimeStepError,
-    partial: F,
-}
-
 fn composition(order: u32) -> CompositionMethod {
     match order {
         4 => CompositionMethod::TRIPLE_JUMP,
@@ -106,151 +86,10 @@ fn composition(order: u32) -> CompositionMethod {
     }
 }
 
-/// A run's states, times and statistics, the parts every trajectory type has.
-macro_rules! parts {
-    ($t:expr) => {
-        (&$t.states[..], &$t.times[..], &$t.stats[..])
-    };
-}
-
-pub(crate) use parts;
-
-fn reduced_flat<const S: usize, const K: usize>(
-    (states, times, stats): (&[ReducedState<S, K>], &[f64], &[StepStats]),
-) -> Flat {
-    let rows = states.len();
-    let (mut x, mut w) = (Vec::with_capacity(rows * S), Vec::with_capacity(rows * S));
-    let (mut mu, mut g) = (Vec::with_capacity(rows * K), Vec::with_capacity(rows * K));
-    for s in states {
-        x.extend_from_slice(s.x.as_slice());
-        w.extend_from_slice(s.w.as_slice());
-        mu.extend_from_slice(s.mu.as_slice());
-        g.extend_from_slice(s.g.as_slice());
-    }
-    Flat {
-        t: times.to_vec(),
-        parts: vec![("x", S, x), ("w", S, w), ("mu", K, mu), ("g", K, g)],
-        iterations: stats.iter().map(|s| s.iterations).collect(),
-        residuals: stats.iter().map(|s| s.residual).collect(),
-        multipliers: None,
-        energies: None,
-    }
-}
-
-fn unreduced_flat<const N: usize>(
-    (states, times, stats): (&[UnreducedState<N>], &[f64], &[StepStats]),
-) -> Flat {
-    Flat {
-        t: times.to_vec(),
-        parts: vec![
-            (
-                "q",
-                N,
-                states.iter().flat_map(|s| s.q.iter().copied()).collect(),
-            ),
-            (
-                "p",
-                N,
-                states.iter().flat_map(|s| s.p.iter().copied()).collect(),
-            ),
-        ],
-        iterations: stats.iter().map(|s| s.iterations).collect(),
-        residuals: stats.iter().map(|s| s.residual).collect(),
-        multipliers: None,
-        energies: None,
-    }
-}
-
-/// A run's result flattened by `flat`: the trajectory, or the error with the states before it.
-fn finish<T: Steps + std::fmt::Debug, F>(
-    result: Result<T, Box<IntegrationError<T>>>,
-    flat: impl Fn(&T) -> F,
-) -> Result<F, Box<Failed<F>>> {
-    match result {
-        Ok(traj) => Ok(flat(&traj)),
-        Err(e) => Err(Box::new(Failed {
-            partial: flat(&e.trajectory),
-            error: e.source,
-        })),
-    }
-}
-
-/// A reduced start `(x, w, μ, g)` from its vectors, checked for length by `vectors`.
-fn reduced_start<const S: usize, const K: usize>(v: &[Vec<f64>]) -> ReducedState<S, K> {
-    ReducedState {
-        x: SVector::from_column_slice(&v[0]),
-        w: SVector::from_column_slice(&v[1]),
-        mu: SVector::from_column_slice(&v[2]),
-        g: SVector::from_column_slice(&v[3]),
-    }
-}
-
-/// An unreduced start `(q, p)` from its vectors.
-fn unreduced_start<const N: usize>(v: &[Vec<f64>]) -> UnreducedState<N> {
-    UnreducedState {
-        q: SVector::from_column_slice(&v[0]),
-        p: SVector::from_column_slice(&v[1]),
-    }
-}
-
-/// What a run written to Parquet ended with: its steps, its final time and the path; or the
-/// failed step's error, the states before it on disk.
-type Written = Result<(usize, f64, std::path::PathBuf), (RuntimeStepError, std::path::PathBuf)>;
-
 /// A system given as text, compiled to machine code.
 #[pyclass(frozen, module = "dirac._dirac")]
 struct System {
     code: Arc<Code>,
-}
-
-/// The parameter values in declaration order, from a mapping (by name) or a sequence.
-fn parameter_values(code: &Code, params: &Bound<'_, PyAny>) -> PyResult<Vec<f64>> {
-    values_of(&code.system().parameters, params)
-}
-
-/// The names of the controls, given as indices into the parameters.
-fn control_names(parameters: &[String], controls: &[usize]) -> Vec<String> {
-    controls.iter().map(|&i| parameters[i].clone()).collect()
-}
-
-/// The values of the parameters `names`, in declaration order, from a mapping (by name) or a
-/// sequence.
-fn values_of(names: &[String], params: &Bound<'_, PyAny>) -> PyResult<Vec<f64>> {
-    if let Ok(d) = params.downcast::<PyDict>() {
-        let mut values = Vec::with_capacity(names.len());
-        for name in names {
-            let v = d.get_item(name)?.ok_or_else(|| {
-                PyValueError::new_err(format!(
-                    "parameter `{name}` not given; declared: {}",
-                    names.join(", ")
-                ))
-            })?;
-            values.push(v.extract::<f64>()?);
-        }
-        for key in d.keys() {
-            let key: String = key.extract()?;
-            if !names.contains(&key) {
-                return Err(PyValueError::new_err(format!(
-                    "no parameter `{key}`; declared: {}",
-                    names.join(", ")
-                )));
-            }
-        }
-        Ok(values)
-    } else {
-        params.extract::<Vec<f64>>()
-    }
-}
-
-fn method_of(method: &str) -> PyResult<Method> {
-    match method {
-        "plus" => Ok(Method::Plus),
-        "minus" => Ok(Method::Minus),
-        "unreduced" => Ok(Method::Unreduced),
-        other => Err(PyValueError::new_err(format!(
-            "unknown method `{other}`; accepted: \"plus\", \"minus\", \"unreduced\""
-        ))),
-    }
 }
 
 impl System {
@@ -303,73 +142,6 @@ impl System {
         }
     }
 
-    fn request(
-        &self,
-        method: &str,
-        order: u32,
-        steps: usize,
-        tol: Option<f64>,
-    ) -> PyResult<Request> {
-        if ![2, 4, 6].contains(&order) {
-            return Err(PyValueError::new_err(format!(
-                "order {order}: accepted 2 (the integrator itself), 4 (triple jump), 6 (Kahan–Li)"
-            )));
-        }
-        let mut options = NewtonOptions::default();
-        if let Some(t) = tol {
-            options.abs_tol = t;
-        }
-        Ok(Request {
-            energies: false,
-            method: method_of(method)?,
-            order,
-            steps,
-            options,
-        })
-    }
-}
-
-/// The keywords of `System.run`, `System.write`, `System.ensemble` and the benchmark's run
-/// besides the start's vectors.
-const RUN_KEYWORDS: &[&str] = &["parameters", "steps", "method", "order", "tol", "energies"];
-const WRITE_KEYWORDS: &[&str] = &["parameters", "steps", "path", "method", "tol"];
-const ENSEMBLE_KEYWORDS: &[&str] = &["parameters", "steps", "method", "order", "tol"];
-const CORE_KEYWORDS: &[&str] = &["parameters", "steps"];
-
-impl System {
-    /// A `TypeError` for a keyword of `given` (the start's vectors) that is none of the start's
-    /// vectors of `method`; `fixed` are the function's other keywords. A vector of the other
-    /// kind of start (`q` for a reduced run) is named as such.
-    fn check_start_keywords(
-        &self,
-        function: &str,
-        fixed: &[&str],
-        method: Method,
-        given: Option<&Bound<'_, PyDict>>,
-    ) -> PyResult<()> {
-        let parts = self.start_parts(method);
-        let names: Vec<&str> = parts.iter().map(|&(name, _)| name).collect();
-        let accepted: Vec<&str> = fixed.iter().copied().chain(names.iter().copied()).collect();
-        let (this, other, other_names) = match method {
-            Method::Unreduced => ("\"unreduced\"", "\"plus\" or \"minus\"", "x, w, mu, g"),
-            Method::Plus => ("\"plus\"", "\"unreduced\"", "q, p"),
-            Method::Minus => ("\"minus\"", "\"unreduced\"", "q, p"),
-        };
-        calls::no_other_keywords(function, given, &names, &accepted, |key| {
-            let elsewhere = match method {
-                Method::Unreduced => ["x", "w", "mu", "g"].contains(&key),
-                _ => ["q", "p"].contains(&key),
-            };
-            elsewhere.then(|| {
-                format!(
-                    "`{key}` starts a run of method {other} ({other_names}), and method \
-                     {this} starts from {}",
-                    names.join(", ")
-                )
-            })
-        })
-    }
-
     /// The bytes one state of a collected run costs until its arrays are returned: the
     /// trajectory the integrator keeps (the state, its time, the step's statistics) and its
     /// flattened copy (the state, its time, the iterations and residual); with `energies` the
@@ -385,180 +157,6 @@ impl System {
         }
         bytes + 2 * 8 * (self.constraint_count() as u128 + 1)
     }
-}
-
-/// A run's inputs read from Python: the parameter values, the request, the start's vectors.
-struct Inputs {
-    params: Vec<f64>,
-    request: Request,
-    start: Vec<Vec<f64>>,
-}
-
-impl System {
-    /// Reads and checks one run's inputs (the parameters, the method and order, the start, no
-    /// keyword that `function`, taking `keywords` and the start, does not take).
-    #[allow(
-        clippy::too_many_arguments,
-        reason = "the Python keyword arguments, one each"
-    )]
-    fn inputs(
-        &self,
-        py: Python<'_>,
-        (function, keywords): (&str, &[&str]),
-        parameters: &Bound<'_, PyAny>,
-        method: &str,
-        order: u32,
-        steps: usize,
-        tol: Option<f64>,
-        start: Option<&Bound<'_, PyDict>>,
-    ) -> PyResult<Inputs> {
-        let request = self.request(method, order, steps, tol)?;
-        self.check_start_keywords(function, keywords, request.method, start)?;
-        let params = parameter_values(&self.code, parameters)?;
-        let empty = PyDict::new(py);
-        let start = vectors(&self.start_parts(request.method), start.unwrap_or(&empty))?;
-        Ok(Inputs {
-            params,
-            request,
-            start,
-        })
-    }
-}
-
-fn to_dict<'py>(py: Python<'py>, flat: Flat) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    let rows = flat.t.len();
-    d.set_item("t", PyArray1::from_vec(py, flat.t))?;
-    for (name, len, data) in flat.parts {
-        let a = PyArray1::from_vec(py, data).reshape([rows, len])?;
-        d.set_item(name, a)?;
-    }
-    d.set_item("iterations", PyArray1::from_vec(py, flat.iterations))?;
-    d.set_item("residuals", PyArray1::from_vec(py, flat.residuals))?;
-    if let Some((m, lambda, residual)) = flat.multipliers {
-        let steps = residual.len();
-        d.set_item(
-            "multipliers",
-            PyArray1::from_vec(py, lambda).reshape([steps, m])?,
-        )?;
-        d.set_item("constraint_residuals", PyArray1::from_vec(py, residual))?;
-    }
-    match flat.energies {
-        None => {}
-        Some(Ok((nodes, midpoints))) => {
-            d.set_item("energy", PyArray1::from_vec(py, nodes))?;
-            d.set_item("energy_midpoints", PyArray1::from_vec(py, midpoints))?;
-        }
-        Some(Err(why)) => return Err(PyValueError::new_err(format!("energies: {why}"))),
-    }
-    Ok(d)
-}
-
-fn step_error(py: Python<'_>, failed: Failed, member: Option<usize>) -> PyResult<PyErr> {
-    raise(py, &failed.error, to_dict(py, failed.partial)?, member)
-}
-
-/// The `StepError` of a failed step: its message (prefixed by the member of an ensemble),
-/// `step`, `residual`, `member` and `trajectory`, the dict of the states before it. A run
-/// refused for its memory (the runtime's `OutOfMemory`) is a `dirac.OutOfMemoryError` with the
-/// same attributes and `what` and `bytes`.
-fn raise(
-    py: Python<'_>,
-    error: &RuntimeStepError,
-    trajectory: Bound<'_, PyDict>,
-    member: Option<usize>,
-) -> PyResult<PyErr> {
-    let message = match member {
-        Some(m) => format!("member {m}: {error}"),
-        None => error.to_string(),
-    };
-    let err = exception_of(py, error, message)?;
-    let value = err.value(py);
-    value.setattr("step", error.step())?;
-    value.setattr("residual", error.residual())?;
-    value.setattr("member", member)?;
-    value.setattr("trajectory", trajectory)?;
-    Ok(err)
-}
-
-/// The Python exception of the runtime's `error` with `message`: `dirac.OutOfMemoryError` (with
-/// `what` and `bytes`) for a run refused for its memory, `dirac.StepError` for the others.
-fn exception_of(py: Python<'_>, error: &RuntimeStepError, message: String) -> PyResult<PyErr> {
-    Ok(match error {
-        RuntimeStepError::OutOfMemory { what, bytes } => {
-            let err = OutOfMemoryError::new_err(message);
-            err.value(py).setattr("what", what)?;
-            err.value(py).setattr("bytes", *bytes)?;
-            err
-        }
-        _ => StepError::new_err(message),
-    })
-}
-
-/// What a run returns to Python: the dict of its trajectory (`dict`); `StepError` with the
-/// trajectory so far when a step failed; or, when Ctrl-C (or another signal handler) ended it
-/// ([`calls::interruptible`]), that exception with the trajectory so far as `trajectory`.
-fn finish_run<'py, F>(
-    py: Python<'py>,
-    result: Result<Result<F, Box<Failed<F>>>, String>,
-    interrupt: Option<PyErr>,
-    dict: impl Fn(F) -> PyResult<Bound<'py, PyDict>>,
-) -> PyResult<Bound<'py, PyDict>> {
-    let result = match (result, interrupt) {
-        (Err(why), None) => return Err(PyValueError::new_err(why)),
-        (Err(_), Some(interrupt)) => return Err(interrupt),
-        (Ok(run), Some(interrupt)) => {
-            let partial = match run {
-                Ok(flat) => flat,
-                Err(failed) => failed.partial,
-            };
-            return Err(calls::interrupted(
-                py,
-                interrupt,
-                "trajectory",
-                dict(partial)?,
-            ));
-        }
-        (Ok(run), None) => run,
-    };
-    match result {
-        Ok(flat) => dict(flat),
-        Err(failed) => {
-            let Failed { error, partial } = *failed;
-            Err(raise(py, &error, dict(partial)?, None)?)
-        }
-    }
-}
-
-/// One start's vectors, each of its length, from keyword arrays.
-fn vectors(parts: &[(&'static str, usize)], given: &Bound<'_, PyDict>) -> PyResult<Vec<Vec<f64>>> {
-    parts
-        .iter()
-        .map(|&(name, len)| {
-            let v: Vec<f64> = match given.get_item(name)? {
-                Some(v) => v.extract()?,
-                None if len == 0 => Vec::new(),
-                None => {
-                    return Err(PyValueError::new_err(format!(
-                        "the start needs `{name}` ({len} values)"
-                    )))
-                }
-            };
-            if v.len() != len {
-                return Err(PyValueError::new_err(format!(
-                    "`{name}` has {} values; the system has {len}",
-                    v.len()
-                )));
-            }
-            if let Some(i) = v.iter().position(|x| !x.is_finite()) {
-                return Err(PyValueError::new_err(format!(
-                    "`{name}[{i}]` = {} is not finite",
-                    v[i]
-                )));
-            }
-            Ok(v)
-        })
-        .collect()
 }
 
 #[pymethods]
@@ -1001,89 +599,6 @@ impl System {
             s.group.join(", "),
             s.parameters.join(", ")
         )
-    }
-}
-
-/// A run of `steps` steps streamed into Parquet at `path` by the workspace's writer, as
-/// [`dirac_io::run_to_parquet`] runs it, that ends after the step in progress once `cancel` is
-/// set (the file then holds the states so far, its outcome "stopped"): what it ended with, as
-/// [`Written`]; the writer's own failure is the outer `Err`.
-pub(crate) fn to_parquet<I>(
-    integ: &I,
-    start: I::State,
-    steps: usize,
-    path: &std::path::Path,
-    newton: &NewtonOptions,
-    cancel: &AtomicBool,
-) -> Result<Written, String>
-where
-    I: dirac_io::Describe + dirac_runtime::Drive,
-    I::State: dirac_io::StateColumns,
-    I::Record: AsRef<StepStats>,
-{
-    let info = integ.describe().with_newton(newton);
-    let mut writer = dirac_io::ParquetObserver::create(path, info, dirac_io::Options::new())
-        .map_err(|e| e.to_string())?;
-    let result = integ
-        .run(start)
-        .steps(steps)
-        .stop(calls::until(cancel))
-        .observe(writer.observer())
-        .stream();
-    let path = writer.finish_with(&result).map_err(|e| e.to_string())?;
-    Ok(match result {
-        Ok(summary) => Ok((summary.step_count, summary.t, path)),
-        Err(e) => Err((e.source, path)),
-    })
-}
-
-/// What `write` returns: `steps`, `t` and `path`; or the `StepError` of the failed step with
-/// `step`, `residual` and `path`; or the interrupt that ended the run (Ctrl-C) with `steps`,
-/// `t` and `path` of what was written.
-fn written_dict(
-    py: Python<'_>,
-    written: Result<Written, String>,
-    interrupt: Option<PyErr>,
-) -> PyResult<Bound<'_, PyDict>> {
-    let written = match (written, interrupt) {
-        (Err(why), None) => return Err(PyValueError::new_err(why)),
-        (Err(_), Some(interrupt)) => return Err(interrupt),
-        (Ok(Ok((steps, t, path))), Some(interrupt)) => {
-            let value = interrupt.value(py);
-            value.setattr("steps", steps)?;
-            value.setattr("t", t)?;
-            value.setattr("path", path)?;
-            return Err(interrupt);
-        }
-        (Ok(Err((_, path))), Some(interrupt)) => {
-            interrupt.value(py).setattr("path", path)?;
-            return Err(interrupt);
-        }
-        (Ok(written), None) => written,
-    };
-    match written {
-        Ok((steps, t, path)) => {
-            let d = PyDict::new(py);
-            d.set_item("steps", steps)?;
-            d.set_item("t", t)?;
-            d.set_item("path", path)?;
-            Ok(d)
-        }
-        Err((error, path)) => {
-            let err = exception_of(
-                py,
-                &error,
-                format!(
-                    "{error}; the states before it are written to {}",
-                    path.display()
-                ),
-            )?;
-            let value = err.value(py);
-            value.setattr("step", error.step())?;
-            value.setattr("residual", error.residual())?;
-            value.setattr("path", path)?;
-            Err(err)
-        }
     }
 }
 

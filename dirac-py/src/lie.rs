@@ -19,7 +19,9 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::calls::{self, until};
-use crate::{composition, finish, to_parquet, CompileError, Failed};
+use crate::parquet::to_parquet;
+use crate::results::{finish, Failed};
+use crate::{composition, CompileError};
 
 /// A run's trajectory flattened for NumPy: the times, per coordinate its configurations and
 /// momenta (each with the shape of one row), and the spatial momentum (and the symmetry's
@@ -199,7 +201,7 @@ fn run_one<const P: usize, const N: usize>(
 }
 
 /// What a run written to Parquet ended with (see the module of systems on vector spaces).
-type Written = crate::Written;
+type Written = crate::parquet::Written;
 
 /// One run written to Parquet at `path`.
 fn write_one<const P: usize, const N: usize>(
@@ -525,7 +527,7 @@ impl LieSystem {
     #[getter]
     fn controls(&self) -> Vec<String> {
         let s = self.code.system();
-        crate::control_names(&s.parameters, &s.controls)
+        crate::inputs::control_names(&s.parameters, &s.controls)
     }
 
     /// The declared symmetry: `None`, `("rotations", [R])` for every rotation of `R`, or
@@ -581,7 +583,7 @@ impl LieSystem {
         other: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         calls::no_other_keywords("LieSystem.run", other, &[], RUN_KEYWORDS, |_| None)?;
-        let params = crate::values_of(&self.code.system().parameters, parameters)?;
+        let params = crate::inputs::values_of(&self.code.system().parameters, parameters)?;
         let r = self.request(method, order, steps, tol)?;
         let start = self.start(q, p, v)?;
         calls::check_memory(
@@ -594,7 +596,7 @@ impl LieSystem {
         let (result, interrupt) = calls::interruptible(py, |cancel| {
             dirac_jit::with_lie_dimensions!(pp, n, run_one(&code, &params, &start, r, cancel))
         })?;
-        crate::finish_run(py, result, interrupt, |flat| self.to_dict(py, flat))
+        crate::results::finish_run(py, result, interrupt, |flat| self.to_dict(py, flat))
     }
 
     /// Integrates `steps` steps (order 2) from the start of `run` and writes every state to
@@ -622,7 +624,7 @@ impl LieSystem {
         other: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         calls::no_other_keywords("LieSystem.write", other, &[], WRITE_KEYWORDS, |_| None)?;
-        let params = crate::values_of(&self.code.system().parameters, parameters)?;
+        let params = crate::inputs::values_of(&self.code.system().parameters, parameters)?;
         let r = self.request(method, 2, steps, tol)?;
         let start = self.start(q, p, v)?;
         let (pp, n) = self.dims();
@@ -634,7 +636,7 @@ impl LieSystem {
                 write_one(&code, &params, &start, r, &path, cancel)
             )
         })?;
-        crate::written_dict(py, written, interrupt)
+        crate::parquet::written_dict(py, written, interrupt)
     }
 
     fn __repr__(&self) -> String {

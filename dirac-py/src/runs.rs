@@ -13,10 +13,10 @@ use dirac_runtime::{
 };
 
 use crate::calls::until;
-use crate::{
-    composition, finish, parts, reduced_flat, reduced_start, to_parquet, unreduced_flat,
-    unreduced_start, Failed, Flat, Method, Request, Written,
-};
+use crate::inputs::{reduced_start, unreduced_start};
+use crate::parquet::{to_parquet, Written};
+use crate::results::{finish, parts, reduced_flat, unreduced_flat, Failed, Flat};
+use crate::{composition, Method, Request};
 
 /// One run of a system of `S` shape and `K` group coordinates from `start` (`x, w, mu, g` or
 /// `q, p`, by the method).

@@ -1,0 +1,218 @@
+//! A run's inputs read from Python and checked: the parameter values (by name or in order), the
+//! method and order, the start's vectors (their lengths, finite), and no keyword the run
+//! method does not take.
+
+use dirac_jit::Code;
+use dirac_runtime::nalgebra::SVector;
+use dirac_runtime::{NewtonOptions, ReducedState, UnreducedState};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::calls;
+use crate::{Method, Request, System};
+
+/// The parameter values in declaration order, from a mapping (by name) or a sequence.
+pub(crate) fn parameter_values(code: &Code, params: &Bound<'_, PyAny>) -> PyResult<Vec<f64>> {
+    values_of(&code.system().parameters, params)
+}
+
+/// The names of the controls, given as indices into the parameters.
+pub(crate) fn control_names(parameters: &[String], controls: &[usize]) -> Vec<String> {
+    controls.iter().map(|&i| parameters[i].clone()).collect()
+}
+
+/// The values of the parameters `names`, in declaration order, from a mapping (by name) or a
+/// sequence.
+pub(crate) fn values_of(names: &[String], params: &Bound<'_, PyAny>) -> PyResult<Vec<f64>> {
+    if let Ok(d) = params.downcast::<PyDict>() {
+        let mut values = Vec::with_capacity(names.len());
+        for name in names {
+            let v = d.get_item(name)?.ok_or_else(|| {
+                PyValueError::new_err(format!(
+                    "parameter `{name}` not given; declared: {}",
+                    names.join(", ")
+                ))
+            })?;
+            values.push(v.extract::<f64>()?);
+        }
+        for key in d.keys() {
+            let key: String = key.extract()?;
+            if !names.contains(&key) {
+                return Err(PyValueError::new_err(format!(
+                    "no parameter `{key}`; declared: {}",
+                    names.join(", ")
+                )));
+            }
+        }
+        Ok(values)
+    } else {
+        params.extract::<Vec<f64>>()
+    }
+}
+
+fn method_of(method: &str) -> PyResult<Method> {
+    match method {
+        "plus" => Ok(Method::Plus),
+        "minus" => Ok(Method::Minus),
+        "unreduced" => Ok(Method::Unreduced),
+        other => Err(PyValueError::new_err(format!(
+            "unknown method `{other}`; accepted: \"plus\", \"minus\", \"unreduced\""
+        ))),
+    }
+}
+
+/// One start's vectors, each of its length, from keyword arrays.
+fn vectors(parts: &[(&'static str, usize)], given: &Bound<'_, PyDict>) -> PyResult<Vec<Vec<f64>>> {
+    parts
+        .iter()
+        .map(|&(name, len)| {
+            let v: Vec<f64> = match given.get_item(name)? {
+                Some(v) => v.extract()?,
+                None if len == 0 => Vec::new(),
+                None => {
+                    return Err(PyValueError::new_err(format!(
+                        "the start needs `{name}` ({len} values)"
+                    )))
+                }
+            };
+            if v.len() != len {
+                return Err(PyValueError::new_err(format!(
+                    "`{name}` has {} values; the system has {len}",
+                    v.len()
+                )));
+            }
+            if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+                return Err(PyValueError::new_err(format!(
+                    "`{name}[{i}]` = {} is not finite",
+                    v[i]
+                )));
+            }
+            Ok(v)
+        })
+        .collect()
+}
+
+/// A reduced start `(x, w, μ, g)` from its vectors, checked for length by `vectors`.
+pub(crate) fn reduced_start<const S: usize, const K: usize>(v: &[Vec<f64>]) -> ReducedState<S, K> {
+    ReducedState {
+        x: SVector::from_column_slice(&v[0]),
+        w: SVector::from_column_slice(&v[1]),
+        mu: SVector::from_column_slice(&v[2]),
+        g: SVector::from_column_slice(&v[3]),
+    }
+}
+
+/// An unreduced start `(q, p)` from its vectors.
+pub(crate) fn unreduced_start<const N: usize>(v: &[Vec<f64>]) -> UnreducedState<N> {
+    UnreducedState {
+        q: SVector::from_column_slice(&v[0]),
+        p: SVector::from_column_slice(&v[1]),
+    }
+}
+
+/// The keywords of `System.run`, `System.write`, `System.ensemble` and the benchmark's run
+/// besides the start's vectors.
+pub(crate) const RUN_KEYWORDS: &[&str] =
+    &["parameters", "steps", "method", "order", "tol", "energies"];
+pub(crate) const WRITE_KEYWORDS: &[&str] = &["parameters", "steps", "path", "method", "tol"];
+pub(crate) const ENSEMBLE_KEYWORDS: &[&str] = &["parameters", "steps", "method", "order", "tol"];
+pub(crate) const CORE_KEYWORDS: &[&str] = &["parameters", "steps"];
+
+impl System {
+    pub(crate) fn request(
+        &self,
+        method: &str,
+        order: u32,
+        steps: usize,
+        tol: Option<f64>,
+    ) -> PyResult<Request> {
+        if ![2, 4, 6].contains(&order) {
+            return Err(PyValueError::new_err(format!(
+                "order {order}: accepted 2 (the integrator itself), 4 (triple jump), 6 (Kahan–Li)"
+            )));
+        }
+        let mut options = NewtonOptions::default();
+        if let Some(t) = tol {
+            options.abs_tol = t;
+        }
+        Ok(Request {
+            energies: false,
+            method: method_of(method)?,
+            order,
+            steps,
+            options,
+        })
+    }
+
+    /// A `TypeError` for a keyword of `given` (the start's vectors) that is none of the start's
+    /// vectors of `method`; `fixed` are the function's other keywords. A vector of the other
+    /// kind of start (`q` for a reduced run) is named as such.
+    pub(crate) fn check_start_keywords(
+        &self,
+        function: &str,
+        fixed: &[&str],
+        method: Method,
+        given: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<()> {
+        let parts = self.start_parts(method);
+        let names: Vec<&str> = parts.iter().map(|&(name, _)| name).collect();
+        let accepted: Vec<&str> = fixed.iter().copied().chain(names.iter().copied()).collect();
+        let (this, other, other_names) = match method {
+            Method::Unreduced => ("\"unreduced\"", "\"plus\" or \"minus\"", "x, w, mu, g"),
+            Method::Plus => ("\"plus\"", "\"unreduced\"", "q, p"),
+            Method::Minus => ("\"minus\"", "\"unreduced\"", "q, p"),
+        };
+        calls::no_other_keywords(function, given, &names, &accepted, |key| {
+            let elsewhere = match method {
+                Method::Unreduced => ["x", "w", "mu", "g"].contains(&key),
+                _ => ["q", "p"].contains(&key),
+            };
+            elsewhere.then(|| {
+                format!(
+                    "`{key}` starts a run of method {other} ({other_names}), and method \
+                     {this} starts from {}",
+                    names.join(", ")
+                )
+            })
+        })
+    }
+}
+
+/// A run's inputs read from Python: the parameter values, the request, the start's vectors.
+pub(crate) struct Inputs {
+    pub(crate) params: Vec<f64>,
+    pub(crate) request: Request,
+    pub(crate) start: Vec<Vec<f64>>,
+}
+
+impl System {
+    /// Reads and checks one run's inputs (the parameters, the method and order, the start, no
+    /// keyword that `function`, taking `keywords` and the start, does not take).
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "the Python keyword arguments, one each"
+    )]
+    pub(crate) fn inputs(
+        &self,
+        py: Python<'_>,
+        (function, keywords): (&str, &[&str]),
+        parameters: &Bound<'_, PyAny>,
+        method: &str,
+        order: u32,
+        steps: usize,
+        tol: Option<f64>,
+        start: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Inputs> {
+        let request = self.request(method, order, steps, tol)?;
+        self.check_start_keywords(function, keywords, request.method, start)?;
+        let params = parameter_values(&self.code, parameters)?;
+        let empty = PyDict::new(py);
+        let start = vectors(&self.start_parts(request.method), start.unwrap_or(&empty))?;
+        Ok(Inputs {
+            params,
+            request,
+            start,
+        })
+    }
+}
