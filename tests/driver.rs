@@ -3,6 +3,9 @@
 //! through every stage of a composition, so that after the first factorization no step
 //! allocates.
 
+#[path = "common/child.rs"]
+mod child;
+
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -445,21 +448,6 @@ fn constrained_bead(q: Config, v: Velocity, m: f64, r: f64) -> f64 {
     0.5 * m * (v.x * v.x + v.y * v.y + v.z * v.z) - 0.5 * (q.x - 0.3) * (q.x - 0.3)
 }
 
-/// Whether this process is the child that [`in_child`] started.
-fn is_child() -> bool {
-    std::env::var_os("DIRAC_TEST_CHILD").is_some()
-}
-
-/// Runs the test `name` of this test binary again in a child process (so that an abort, e.g. a
-/// failed allocation, ends the child and not the harness), and returns its output.
-fn in_child(name: &str) -> std::process::Output {
-    std::process::Command::new(std::env::current_exe().expect("the test binary"))
-        .args(["--exact", name, "--nocapture", "--test-threads=1"])
-        .env("DIRAC_TEST_CHILD", "1")
-        .output()
-        .expect("the child runs")
-}
-
 /// `integrate_until` with a cap of 10¹¹ steps (far more states than memory holds) and a stop
 /// condition after three: every integrator's trajectory grows as the run proceeds rather than
 /// reserving room for every step before the first one (an allocation that fails and aborts
@@ -467,15 +455,11 @@ fn in_child(name: &str) -> std::process::Output {
 #[test]
 fn a_huge_step_cap_reserves_no_memory_up_front() {
     const CAP: usize = 100_000_000_000;
-    if !is_child() {
-        let out = in_child("a_huge_step_cap_reserves_no_memory_up_front");
-        let stdout = String::from_utf8_lossy(&out.stdout);
-        assert!(
-            out.status.success() && stdout.contains("every trajectory grew"),
-            "the child ended with {:?}\n{stdout}\n{}",
-            out.status,
-            String::from_utf8_lossy(&out.stderr)
-        );
+    if !child::in_child(
+        "a_huge_step_cap_reserves_no_memory_up_front",
+        None,
+        "every trajectory grew",
+    ) {
         return;
     }
     fn three<I: Drive>(integrator: &I, start: I::State) {
@@ -533,22 +517,7 @@ fn a_run_keeping_more_states_than_memory_holds_is_refused_before_the_first_step(
     const NAME: &str =
         "a_run_keeping_more_states_than_memory_holds_is_refused_before_the_first_step";
     const STEPS: usize = 100_000_000_000;
-    if !is_child() {
-        let out = std::process::Command::new("sh")
-            .arg("-c")
-            .arg("ulimit -v 4000000 && exec \"$0\" --exact \"$1\" --nocapture --test-threads=1")
-            .arg(std::env::current_exe().expect("the test binary"))
-            .arg(NAME)
-            .env("DIRAC_TEST_CHILD", "1")
-            .output()
-            .expect("the child runs");
-        let stdout = String::from_utf8_lossy(&out.stdout);
-        assert!(
-            out.status.success() && stdout.contains("refused: 5 kinds"),
-            "the child ended with {:?}\n{stdout}\n{}",
-            out.status,
-            String::from_utf8_lossy(&out.stderr)
-        );
+    if !child::in_child(NAME, Some(4000000), "refused: 5 kinds") {
         return;
     }
     fn refused<I: Drive>(integrator: &I, start: I::State) {

@@ -1,5 +1,8 @@
 //! Element-wise systems with run-time sizes (`dirac::runtime::element`).
 
+#[path = "common/child.rs"]
+mod child;
+
 use dirac::prelude::*;
 use dirac::runtime::element::ElementIntegrator;
 
@@ -517,11 +520,6 @@ fn methods_on_vectors_of_the_wrong_length_are_typed_errors() {
     });
 }
 
-/// Whether this process is the child a test started (see the memory test below).
-fn is_child() -> bool {
-    std::env::var_os("DIRAC_TEST_CHILD").is_some()
-}
-
 /// The periodic Toda lattice with n = 10⁸ under a 4 GB address-space limit (`ulimit -v`, in a
 /// child process so that an abort ends the child, not the harness): the input check sees that
 /// the run's workspace does not fit before allocating it, and returns a typed error with the
@@ -530,22 +528,7 @@ fn is_child() -> bool {
 #[test]
 fn a_lattice_too_large_for_memory_is_a_typed_error_before_any_allocation() {
     const NAME: &str = "a_lattice_too_large_for_memory_is_a_typed_error_before_any_allocation";
-    if !is_child() {
-        let out = std::process::Command::new("sh")
-            .arg("-c")
-            .arg("ulimit -v 4000000 && exec \"$0\" --exact \"$1\" --nocapture --test-threads=1")
-            .arg(std::env::current_exe().expect("the test binary"))
-            .arg(NAME)
-            .env("DIRAC_TEST_CHILD", "1")
-            .output()
-            .expect("the child runs");
-        let stdout = String::from_utf8_lossy(&out.stdout);
-        assert!(
-            out.status.success() && stdout.contains("typed error:"),
-            "the child ended with {:?}\n{stdout}\n{}",
-            out.status,
-            String::from_utf8_lossy(&out.stderr)
-        );
+    if !child::in_child(NAME, Some(4000000), "typed error:") {
         return;
     }
     let sys = TodaN {

@@ -17,16 +17,7 @@ import pytest
 
 import dirac
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-
-
-def function(path, name):
-    """The text of `pub fn name` in a source file of the repository, from its attribute on."""
-    source = (ROOT / path).read_text()
-    start = source.index(f"pub fn {name}(")
-    attr = source.rindex("#[reduced_lagrangian", 0, start)
-    end = source.index("\n}\n", start) + 2
-    return source[attr:end]
+from sources import ROOT, function
 
 
 KEPLER = function("src/systems/kepler.rs", "kepler")

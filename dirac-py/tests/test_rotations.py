@@ -2,23 +2,13 @@
 integrator written here in NumPy, the reduced runs of both kinds of symmetry against the
 unreduced ones, adaptive steps started from a velocity, Parquet, and the errors."""
 
-import pathlib
 
 import numpy as np
 import pytest
 
 import dirac
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-
-
-def function(path, name):
-    """The text of `pub fn name` in a source file of the repository, from its attribute on."""
-    source = (ROOT / path).read_text()
-    start = source.index(f"pub fn {name}(")
-    attr = source.rindex("#[reduced_lagrangian", 0, start)
-    end = source.index("\n}\n", start) + 2
-    return source[attr:end]
+from sources import function
 
 
 RIGID_BODY = function("src/systems/rotations.rs", "rigid_body")
