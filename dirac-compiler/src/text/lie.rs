@@ -76,6 +76,17 @@ pub enum LieKind {
 }
 
 impl LieKind {
+    /// The attribute keyword that declares it (`shape`, `group`, `rotation`, `direction`): the
+    /// name the runtime's `CoordinateKind::by_name` resolves.
+    pub const fn name(self) -> &'static str {
+        match self {
+            LieKind::Scalar => "shape",
+            LieKind::Group => "group",
+            LieKind::Rotation => "rotation",
+            LieKind::Direction => "direction",
+        }
+    }
+
     /// Entries of the stored point.
     pub const fn point_len(self) -> usize {
         match self {
