@@ -12,7 +12,8 @@
 //! * [`stepper`]: the one stepping abstraction ([`Stepper`]), implemented by the integrators
 //!   [`reduced`] (eqs. (4.6)/(4.8)), [`unreduced`] (Definitions 2.7/2.8), [`compose`] (symmetric
 //!   compositions of order 4 and 6), [`atlas`] (§6: charts and transitions) and [`lie`]
-//!   (rotations and directions: Lie group variational integrators);
+//!   (rotations, directions and poses: Lie group variational integrators), whose kinds of
+//!   coordinate are implementations of one trait in [`groups`];
 //! * [`driver`]: the one run, configured ([`Drive::run`]: steps or an end time, step sizes per
 //!   step, controls, stop conditions, observers; collected or streamed; ensembles), written once
 //!   for every stepper; [`ensemble`]: parallel members;
@@ -43,6 +44,7 @@ pub mod driver;
 pub mod element;
 pub mod ensemble;
 pub mod error;
+pub mod groups;
 pub mod lie;
 pub mod linalg;
 pub mod newton;

@@ -4,10 +4,7 @@
 
 use nalgebra::{SVector, Vector3};
 
-use super::{
-    blocks, matrix_at, orthogonality_defect, vee, CoordinateKind, LieLagrangian, LieState,
-    LieTrajectory,
-};
+use super::{blocks, LieLagrangian, LieState, LieTrajectory, SpatialMomentum};
 use crate::error::StepError;
 use crate::newton::{self, inf_norm, NewtonOptions};
 use crate::stepper::{
@@ -33,9 +30,6 @@ pub struct LieIntegrator<L, const P: usize, const N: usize> {
     options: NewtonOptions,
     variant: Variant,
 }
-
-/// Largest accepted `‖RᵀR − I‖∞` (and `|det R − 1|`) of an initial rotation or frame.
-pub const MANIFOLD_TOLERANCE: f64 = 1e-10;
 
 impl<L, const P: usize, const N: usize> LieIntegrator<L, P, N>
 where
@@ -84,39 +78,40 @@ where
         &self.options
     }
 
-    /// The spatial angular momentum `π = Σ R Π + Σ n × P` of the rotation and direction
-    /// coordinates: the momentum map of rotating all of them together, conserved when `L_d` is
-    /// invariant under that rotation (see the [module documentation](crate::lie)).
+    /// The spatial angular momentum `π = Σ R Π + Σ n × P + Σ (R Π + x × p)` of the rotation,
+    /// direction and pose coordinates: the momentum map of rotating all of them together,
+    /// conserved when `L_d` is invariant under that rotation (see the
+    /// [module documentation](crate::lie)).
     pub fn spatial_momentum(&self, state: &LieState<P, N>) -> Vector3<f64> {
-        let mut pi = Vector3::zeros();
-        for block in blocks(&self.system) {
-            match block.kind {
-                CoordinateKind::Scalar | CoordinateKind::Group => {}
-                CoordinateKind::Rotation => {
-                    let r = matrix_at(&state.q, block.point);
-                    let body = Vector3::new(
-                        state.p[block.chart],
-                        state.p[block.chart + 1],
-                        state.p[block.chart + 2],
-                    );
-                    pi += r * body;
-                }
-                CoordinateKind::Direction => {
-                    let f = matrix_at(&state.q, block.point);
-                    let ambient =
-                        f.column(0) * state.p[block.chart] + f.column(1) * state.p[block.chart + 1];
-                    pi += f.column(2).cross(&ambient);
-                }
-            }
+        self.rigid_momentum(state).angular
+    }
+
+    /// The linear momentum `ℓ = Σ p` of the pose coordinates: the momentum map of translating
+    /// all of them together (`x ↦ x + a`), conserved when `L_d` is invariant under that
+    /// translation; zero without poses.
+    pub fn linear_momentum(&self, state: &LieState<P, N>) -> Vector3<f64> {
+        self.rigid_momentum(state).linear
+    }
+
+    /// Both parts of the momentum map of the rigid motions of space
+    /// ([`Self::spatial_momentum`], [`Self::linear_momentum`]), each coordinate's
+    /// [`Group::spatial_momentum`](super::Group::spatial_momentum) summed.
+    pub fn rigid_momentum(&self, state: &LieState<P, N>) -> SpatialMomentum {
+        let (q, p) = (state.q.as_slice(), state.p.as_slice());
+        let mut sum = SpatialMomentum::default();
+        for b in blocks(&self.system) {
+            let group = b.kind.group();
+            sum += group.spatial_momentum(b.of_point(q), b.of_chart(p));
         }
-        pi
+        sum
     }
 
     /// The chart coordinates `z` of `point` in the chart centred at `base`, the inverse of
-    /// [`LieLagrangian::retract`] (`φ_base(z) = point`): `x − x_base` for a scalar,
+    /// [`LieLagrangian::retract`] (`φ_base(z) = point`), block by block
+    /// ([`Group::chart_inverse`](super::Group::chart_inverse)): `x − x_base` for a scalar,
     /// `cay⁻¹(R_baseᵀ R) = 2 vee(F − Fᵀ)/(1 + tr F)` for a rotation (any rotation by less than
     /// π), `(n·e1, n·e2)/(n·n_base)` in the frame of `base` for a direction (any `n` in the
-    /// open hemisphere about `n_base`).
+    /// open hemisphere about `n_base`), both for a pose.
     pub fn chart_coordinates(
         &self,
         base: &SVector<f64, P>,
@@ -124,24 +119,11 @@ where
     ) -> SVector<f64, N> {
         let mut z = SVector::<f64, N>::zeros();
         for block in blocks(&self.system) {
-            let (at, c) = (block.point, block.chart);
-            match block.kind {
-                CoordinateKind::Scalar | CoordinateKind::Group => z[c] = point[at] - base[at],
-                CoordinateKind::Rotation => {
-                    let f = matrix_at(base, at).transpose() * matrix_at(point, at);
-                    let xi = vee(&f) * (4.0 / (1.0 + f.trace()));
-                    z[c] = xi.x;
-                    z[c + 1] = xi.y;
-                    z[c + 2] = xi.z;
-                }
-                CoordinateKind::Direction => {
-                    let (f0, f1) = (matrix_at(base, at), matrix_at(point, at));
-                    let n = f1.column(2);
-                    let along = n.dot(&f0.column(2));
-                    z[c] = n.dot(&f0.column(0)) / along;
-                    z[c + 1] = n.dot(&f0.column(1)) / along;
-                }
-            }
+            block.kind.group().chart_inverse(
+                block.of_point(base.as_slice()),
+                block.of_point(point.as_slice()),
+                block.of_chart_mut(z.as_mut_slice()),
+            );
         }
         z
     }
@@ -213,12 +195,12 @@ where
         Ok((next, stats, sensitivity))
     }
 
-    /// The largest departure from the manifold over the rotation and direction coordinates of
-    /// `q`: `‖RᵀR − I‖∞` of each rotation and frame (for a direction this bounds `||n| − 1|`).
+    /// The largest departure from the manifold over the coordinates of `q`
+    /// ([`Group::manifold_defect`](super::Group::manifold_defect)): `‖RᵀR − I‖∞` of each
+    /// rotation, frame and pose's rotation (for a direction this bounds `||n| − 1|`).
     pub fn manifold_defect(&self, q: &SVector<f64, P>) -> f64 {
         blocks(&self.system)
-            .filter(|b| matches!(b.kind, CoordinateKind::Rotation | CoordinateKind::Direction))
-            .map(|b| orthogonality_defect(&matrix_at(q, b.point)))
+            .map(|b| b.kind.group().manifold_defect(b.of_point(q.as_slice())))
             .fold(0.0, f64::max)
     }
 
@@ -430,8 +412,10 @@ where
         super::adaptive::time_of(&self.system, &state.q)
     }
 
-    /// The common checks (time step, finite parameters and state) and every rotation and frame
-    /// orthogonal with determinant 1 to [`MANIFOLD_TOLERANCE`].
+    /// The common checks (time step, finite parameters and state) and every coordinate on its
+    /// manifold ([`Group::check`](super::Group::check): every rotation and frame orthogonal
+    /// with determinant 1 to [`MANIFOLD_TOLERANCE`](super::MANIFOLD_TOLERANCE), every direction
+    /// a unit vector).
     fn check(&self, initial: &LieState<P, N>) -> Result<(), StepError> {
         check_inputs(
             self.system.time_step(),
@@ -439,41 +423,11 @@ where
             initial.is_finite(),
         )?;
         for block in blocks(&self.system) {
-            if matches!(block.kind, CoordinateKind::Scalar | CoordinateKind::Group) {
-                continue;
-            }
-            let m = matrix_at(&initial.q, block.point);
-            if matches!(block.kind, CoordinateKind::Direction) {
-                // The rule a system given as text applies to the direction it is given.
-                let length = m.column(2).norm();
-                if (length - 1.0).abs() > super::UNIT_TOLERANCE {
-                    return Err(StepError::OffManifold {
-                        reason: format!(
-                            "the direction `{}` is not a unit vector: |{}| = {length}, tolerance \
-                             {:.0e}; give a unit vector (a direction is not normalized for you: \
-                             that would integrate another state than the one given)",
-                            block.name,
-                            block.name,
-                            super::UNIT_TOLERANCE
-                        ),
-                    });
-                }
-            }
-            let (defect, det) = (orthogonality_defect(&m), m.determinant());
-            if defect > MANIFOLD_TOLERANCE || (det - 1.0).abs() > MANIFOLD_TOLERANCE {
-                let what = match block.kind {
-                    CoordinateKind::Rotation => "the rotation",
-                    _ => "the frame of the direction",
-                };
-                return Err(StepError::OffManifold {
-                    reason: format!(
-                        "{what} `{}` has |MᵀM − I| = {defect:.3e} and det M = {det}, tolerance \
-                         {MANIFOLD_TOLERANCE:.0e}; build rotations with `dirac::lie::cayley`, \
-                         nalgebra's `Rotation3`, or directions with `Config::to_point`",
-                        block.name
-                    ),
-                });
-            }
+            block
+                .kind
+                .group()
+                .check(block.name, block.of_point(initial.q.as_slice()))
+                .map_err(|reason| StepError::OffManifold { reason })?;
         }
         if let Some(g) = self.system.monitor(&initial.q) {
             crate::stepper::check_monitor(0, g)?;
@@ -529,13 +483,16 @@ where
 /// Carries Newton's remaining residual `r = D1 L̃(0, z) + p_k` into the new momentum, so that
 /// the discrete Noether balance holds to round-off and not only to the accepted residual: the
 /// step solved `p̃_k = −D1 L̃ = p_k − r` exactly, and `J(q_{k+1}, p_{k+1}) = J(q_k, p̃_k)` by
-/// invariance. Adding to each block of `p_{k+1}` the residual transported to `q_{k+1}` — `r`
-/// itself for a scalar (whose momentum map is `p`), `F_kᵀ r` for a rotation with
-/// `F_k = R_kᵀ R_{k+1}` (whose momentum map is `R Π`, and `R_{k+1} F_kᵀ r = R_k r`) — restores
-/// `J(q_{k+1}, p_{k+1}) = J(q_k, p_k)` for every symmetry that translates scalars or rotates
-/// rotation coordinates. A direction's residual is carried by its frame (`e_a^{k+1}` components
-/// of `r_1 e_1^k + r_2 e_2^k`), which keeps its momentum map to the size of `r`. The change is of
-/// the size of the accepted residual, within the step's own tolerance.
+/// invariance. Adding to each block of `p_{k+1}` the residual transported to `q_{k+1}`
+/// ([`Group::carry_residual`](super::Group::carry_residual)) — `r` itself for a scalar (whose
+/// momentum map is `p`), `F_kᵀ r` for a rotation with `F_k = R_kᵀ R_{k+1}` (whose momentum map
+/// is `R Π`, and `R_{k+1} F_kᵀ r = R_k r`), for a pose the same on `Π` corrected by the moved
+/// position — restores `J(q_{k+1}, p_{k+1}) = J(q_k, p_k)` for every symmetry that translates
+/// scalars, rotates rotation coordinates or moves poses rigidly. A direction's residual is
+/// carried by its frame (`e_a^{k+1}` components of `r_1 e_1^k + r_2 e_2^k`), which keeps its
+/// momentum map to the size of `r`; a group scalar's momentum is the explicit Noether balance,
+/// exact as it is. The change is of the size of the accepted residual, within the step's own
+/// tolerance.
 fn compensate<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
     sys: &L,
     q: &SVector<f64, P>,
@@ -544,24 +501,11 @@ fn compensate<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
     p_next: &mut SVector<f64, N>,
 ) {
     for block in blocks(sys) {
-        let c = block.chart;
-        match block.kind {
-            CoordinateKind::Scalar => p_next[c] += r[c],
-            // Its momentum is the explicit Noether balance, exact as it is.
-            CoordinateKind::Group => {}
-            CoordinateKind::Rotation => {
-                let f = matrix_at(q, block.point).transpose() * matrix_at(q_next, block.point);
-                let t = f.transpose() * Vector3::new(r[c], r[c + 1], r[c + 2]);
-                p_next[c] += t.x;
-                p_next[c + 1] += t.y;
-                p_next[c + 2] += t.z;
-            }
-            CoordinateKind::Direction => {
-                let (f0, f1) = (matrix_at(q, block.point), matrix_at(q_next, block.point));
-                let ambient = f0.column(0) * r[c] + f0.column(1) * r[c + 1];
-                p_next[c] += f1.column(0).dot(&ambient);
-                p_next[c + 1] += f1.column(1).dot(&ambient);
-            }
-        }
+        block.kind.group().carry_residual(
+            block.of_point(q.as_slice()),
+            block.of_point(q_next.as_slice()),
+            block.of_chart(r.as_slice()),
+            block.of_chart_mut(p_next.as_mut_slice()),
+        );
     }
 }

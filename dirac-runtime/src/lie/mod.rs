@@ -1,5 +1,5 @@
-//! Configurations on rotation groups: rotations `R ∈ SO(3)`, directions `n ∈ S²` and ordinary
-//! scalars, stepped by a Lie group variational integrator whose residual and Jacobian
+//! Configurations on rotation groups: rotations `R ∈ SO(3)`, directions `n ∈ S²`, poses
+//! `(R, x) ∈ SE(3)` and ordinary scalars, stepped by a Lie group variational integrator whose residual and Jacobian
 //! `#[reduced_lagrangian]` derives from the discrete Lagrangian `L_d(q0, q1)` written with
 //! matrices and vectors (`rotation(R)`, `direction(n)` in the attribute).
 //!
@@ -17,7 +17,13 @@
 //!   column is `n`, see [`frame`]): `φ(a, b) = (n + a e1 + b e2) / |n + a e1 + b e2|` (the
 //!   sphere's retraction, so `|n| = 1` to round-off at every step), the frame carried along by
 //!   the rotation that takes `e3` to `(a, b, 1)/√(1 + a² + b²)` by the shortest arc and made
-//!   orthonormal to the new `n` again, so `dφ(0) (a, b) = a e1 + b e2`.
+//!   orthonormal to the new `n` again, so `dφ(0) (a, b) = a e1 + b e2`;
+//! * a pose `(R, x)`: `φ(ξ, v) = (R cay(ξ), x + v)`, the rotation's chart and the translation in
+//!   space, so `dφ(0) (η, ζ) = (R η̂, ζ)`.
+//!
+//! Each kind of coordinate is one implementation of [`Group`] (see [`crate::groups`]): its
+//! point, chart, manifold check, spatial momentum and output names are written there once, and
+//! the integrators below call them block by block.
 //!
 //! A configuration is stored as its point `q ∈ R^P` (scalars, then for each rotation its 9
 //! entries row by row, for each direction its frame's 9 entries row by row, in the order the
@@ -78,16 +84,18 @@
 //! # What is kept
 //!
 //! The step map is the discrete flow of `L_d`: symplectic on `T*Q`. If `L_d` is invariant under
-//! the rotation of every rotation and direction coordinate together (`R ↦ g R`, `n ↦ g n`,
-//! scalars fixed), differentiating `L_d(g q_k, g q_{k+1}) = L_d(q_k, q_{k+1})` in `g` along `ζ`
+//! the rotation of every rotation, direction and pose coordinate together (`R ↦ g R`,
+//! `n ↦ g n`, `x ↦ g x`, scalars fixed), differentiating `L_d(g q_k, g q_{k+1}) = L_d(q_k, q_{k+1})` in `g` along `ζ`
 //! gives `D1 L_d·(ζ̂ q_k) + D2 L_d·(ζ̂ q_{k+1}) = 0`; with `ζ̂ R = R (Rᵀζ)^` and
 //! `⟨P, ζ × n⟩ = ζ·(n × P)` this is the discrete Noether theorem for the spatial angular momentum
 //! ([`LieIntegrator::spatial_momentum`])
 //!
 //! ```text
-//! π = Σ_rotations R Π + Σ_directions n × P,        π_{k+1} = π_k,
+//! π = Σ_rotations R Π + Σ_directions n × P + Σ_poses (R Π + x × p),        π_{k+1} = π_k,
 //! ```
 //!
+//! and if it is invariant under translating every pose together (`x ↦ x + a`) the linear
+//! momentum `ℓ = Σ_poses p` is kept likewise ([`LieIntegrator::linear_momentum`]); both are
 //! kept up to the residual Newton accepts (not bit for bit: the update is not a copy). A
 //! rotation about one axis only (a body in a uniform field) keeps that component of `π`.
 //!
@@ -99,16 +107,16 @@ mod adaptive;
 pub mod diagnostics;
 mod integrator;
 pub mod reduced;
-mod so3;
 #[cfg(test)]
 mod tests;
 
-pub use integrator::{LieIntegrator, LieWorkspace, MANIFOLD_TOLERANCE};
+pub use crate::groups::{
+    cayley, direction_frame, frame, hat, orthogonality_defect, rows, vee, CoordinateKind, Group,
+    SpatialMomentum, MANIFOLD_TOLERANCE, UNIT_TOLERANCE,
+};
+pub use integrator::{LieIntegrator, LieWorkspace};
 pub use reduced::{
     LieSymmetric, ReducedLieIntegrator, ReducedLieState, ReducedLieTrajectory, RotationSymmetry,
-};
-pub use so3::{
-    cayley, direction_frame, frame, hat, orthogonality_defect, rows, vee, UNIT_TOLERANCE,
 };
 
 use nalgebra::{Matrix3, SVector};
@@ -118,42 +126,6 @@ use crate::linalg::LinearSolver;
 use crate::reduced::trajectory_accessors;
 use crate::state::IntoVector;
 use crate::stepper::{Collect, StepStats, StepStatsExt};
-
-/// What one declared coordinate of a system on rotation groups is.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum CoordinateKind {
-    /// An ordinary real coordinate (`shape(x)`): one entry of the point, one of the chart.
-    Scalar,
-    /// A real coordinate whose translations are a symmetry (`group(x)`, checked at compile
-    /// time): its momentum `μ` obeys the discrete Noether balance explicitly,
-    /// `μ_{k+1} = μ_k + f_d^− + f_d^+` — copied bit for bit without forces.
-    Group,
-    /// A rotation matrix `R ∈ SO(3)` (`rotation(R)`): 9 entries of the point (row by row), 3 of
-    /// the chart (the body-frame algebra element).
-    Rotation,
-    /// A unit vector `n ∈ S²` (`direction(n)`): the 9 entries of its frame `[e1 e2 n]` (row by
-    /// row), 2 of the chart.
-    Direction,
-}
-
-impl CoordinateKind {
-    /// Entries of the stored point.
-    pub const fn point_len(self) -> usize {
-        match self {
-            CoordinateKind::Scalar | CoordinateKind::Group => 1,
-            CoordinateKind::Rotation | CoordinateKind::Direction => 9,
-        }
-    }
-
-    /// Entries of the chart (and of the momentum).
-    pub const fn chart_len(self) -> usize {
-        match self {
-            CoordinateKind::Scalar | CoordinateKind::Group => 1,
-            CoordinateKind::Rotation => 3,
-            CoordinateKind::Direction => 2,
-        }
-    }
-}
 
 /// A discrete Lagrangian on `Q = R^m × SO(3)^a × (S²)^b`, with the straight-line functions of
 /// its Lie group variational step (see the [module documentation](self)). `P` is the length of a
@@ -253,7 +225,7 @@ pub trait LieLagrangian<const P: usize, const N: usize>: Clone + Send + Sync + '
     ) -> (SVector<f64, N>, <Self::Linear as LinearSolver>::Matrix);
 
     /// The momentum update `p_{k+1} = D2 L_d(q_k, q_{k+1}) · dφ_{q_{k+1}}(0)` at
-    /// `q_{k+1} = φ_{q_k}(z)` (`+ f_d^+` with forces); for a [`CoordinateKind::Group`]
+    /// `q_{k+1} = φ_{q_k}(z)` (`+ f_d^+` with forces); for a [`CoordinateKind::GROUP`]
     /// coordinate the Noether balance `p_k + f_d^− + f_d^+`, which reads `p_k`.
     fn momentum(
         &self,
@@ -448,6 +420,23 @@ fn blocks<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
         chart += kind.chart_len();
         Some(block)
     })
+}
+
+impl Block<'_> {
+    /// The coordinate's block of the stored point `q`.
+    fn of_point<'q>(&self, q: &'q [f64]) -> &'q [f64] {
+        &q[self.point..self.point + self.kind.point_len()]
+    }
+
+    /// The coordinate's block of a chart vector (a chart coordinate, a momentum).
+    fn of_chart<'p>(&self, p: &'p [f64]) -> &'p [f64] {
+        &p[self.chart..self.chart + self.kind.chart_len()]
+    }
+
+    /// [`Self::of_chart`], to write.
+    fn of_chart_mut<'p>(&self, p: &'p mut [f64]) -> &'p mut [f64] {
+        &mut p[self.chart..self.chart + self.kind.chart_len()]
+    }
 }
 
 /// The 3 × 3 matrix stored row by row at `q[at..at + 9]`.

@@ -84,9 +84,7 @@
 use nalgebra::{Matrix3, SVector, Vector3};
 
 use super::integrator::StepEquations;
-use super::{
-    blocks, matrix_at, CoordinateKind, LieIntegrator, LieLagrangian, LieState, LieWorkspace,
-};
+use super::{blocks, matrix_at, LieIntegrator, LieLagrangian, LieState, LieWorkspace};
 use crate::error::{StepError, Steps};
 use crate::newton::NewtonOptions;
 use crate::reduced::trajectory_accessors;
@@ -458,8 +456,10 @@ fn rotation_block<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
 }
 
 /// The generator `ζ(q)` of the rotations about coordinate axis `axis` of the listed
-/// coordinates of `sys`, in the chart at `q`: a rotation's body components `Rᵀ e`, a
-/// direction's frame components `((e × n)·e_1, (e × n)·e_2)`.
+/// coordinates of `sys`, in the chart at `q`
+/// ([`Group::rotation_generator`](super::Group::rotation_generator)): a rotation's body
+/// components `Rᵀ e`, a direction's frame components `((e × n)·e_1, (e × n)·e_2)`, a pose's
+/// `(Rᵀ e, e × x)`.
 fn generator<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
     sys: &L,
     q: &SVector<f64, P>,
@@ -472,21 +472,11 @@ fn generator<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
         if !coordinates.contains(&index) {
             continue;
         }
-        let (m, c) = (matrix_at(q, block.point), block.chart);
-        match block.kind {
-            CoordinateKind::Rotation => {
-                let body = m.transpose() * e;
-                zeta[c] = body.x;
-                zeta[c + 1] = body.y;
-                zeta[c + 2] = body.z;
-            }
-            CoordinateKind::Direction => {
-                let turn = e.cross(&m.column(2));
-                zeta[c] = turn.dot(&m.column(0));
-                zeta[c + 1] = turn.dot(&m.column(1));
-            }
-            CoordinateKind::Scalar | CoordinateKind::Group => {}
-        }
+        block.kind.group().rotation_generator(
+            block.of_point(q.as_slice()),
+            &e,
+            block.of_chart_mut(zeta.as_mut_slice()),
+        );
     }
     zeta
 }

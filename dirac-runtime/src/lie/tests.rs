@@ -133,7 +133,7 @@ struct Compiled {
 
 impl LieLagrangian<9, 3> for Compiled {
     const COORDINATES: &'static [(&'static str, CoordinateKind)] =
-        &[("attitude", CoordinateKind::Rotation)];
+        &[("attitude", CoordinateKind::ROTATION)];
     const PARAMETERS: &'static [&'static str] = &["j1", "j2", "j3"];
     body_steps!();
 }
@@ -159,7 +159,7 @@ impl Given {
     fn new(body: Body) -> Self {
         Given {
             body,
-            coordinates: vec![("attitude".into(), CoordinateKind::Rotation)],
+            coordinates: vec![("attitude".into(), CoordinateKind::ROTATION)],
             parameters: ["j1", "j2", "j3"].map(String::from).to_vec(),
             controls: 1,
             axis: None,
@@ -247,7 +247,7 @@ fn the_provided_methods_say_the_constants() {
     let compiled = Compiled { body: body() };
     assert_eq!(
         compiled.coordinate(0),
-        Some(("attitude", CoordinateKind::Rotation))
+        Some(("attitude", CoordinateKind::ROTATION))
     );
     assert_eq!(compiled.coordinate(1), None);
     assert_eq!(compiled.parameter_names(), ["j1", "j2", "j3"]);
