@@ -211,7 +211,7 @@ fn expand_lie(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> {
 /// A system on rotation groups up to the graph both back ends read.
 pub struct LieCompiled {
     /// The attribute.
-    pub spec: crate::ast::lie::LieSpec,
+    pub spec: crate::ir::lie::LieSpec,
     /// The signature.
     pub sig: Signature,
     /// The graph of every function.
@@ -227,17 +227,18 @@ pub fn compile_lie(args: TokenStream, func: &ItemFn) -> syn::Result<LieCompiled>
     use crate::ir::graph::Graph;
     use crate::ir::lower::Lowering;
     let cx = Ctxt::new();
-    let spec = crate::ast::lie::parse(&cx, args);
-    let rule = spec.as_ref().and_then(|s| s.rule.as_ref());
+    let spec =
+        crate::ast::lie::parse(&cx, args).map(|attr| crate::ir::lie::LieSpec::resolve(&cx, attr));
+    let attr = spec.as_ref().map(|s| &s.attr);
     let sig = parse_signature(
         &cx,
         &func.sig,
-        spec.as_ref().and_then(|s| s.step.as_ref()),
-        rule,
-        spec.as_ref().is_some_and(|s| s.rule_written),
+        attr.and_then(|s| s.step.as_ref()),
+        attr.and_then(|s| s.rule.as_ref()),
+        attr.is_some_and(|s| s.rule_written),
     );
-    if let (Some(spec), Some(sig)) = (&spec, &sig) {
-        crate::ast::signature::check_controls(&cx, &spec.controls, sig);
+    if let (Some(attr), Some(sig)) = (attr, &sig) {
+        crate::ast::signature::check_controls(&cx, &attr.controls, sig);
     }
     let (spec, sig) = cx.finish(spec.zip(sig))?;
     let cx = Ctxt::new();
@@ -251,7 +252,7 @@ pub fn compile_lie(args: TokenStream, func: &ItemFn) -> syn::Result<LieCompiled>
     }
     let body = cx.finish(body)?;
     // Adaptive steps: the time-transformed L₂ in place of L, before the rule.
-    let adapt = match &spec.adapt {
+    let adapt = match &spec.attr.adapt {
         None => None,
         Some(adapt) => {
             let cx = Ctxt::new();
@@ -261,7 +262,7 @@ pub fn compile_lie(args: TokenStream, func: &ItemFn) -> syn::Result<LieCompiled>
     };
     let body = adapt.as_ref().map_or(body, |(a, _)| a.lagrangian);
     // A continuous L(q, v): L_d by its rule.
-    let body = match spec.rule.as_ref().filter(|_| sig.continuous) {
+    let body = match spec.attr.rule.as_ref().filter(|_| sig.continuous) {
         Some(&(_, rule)) => {
             let step = sig.params.iter().position(|p| *p == sig.step);
             let h = graph.var(crate::ir::graph::Sym::Param(
@@ -276,7 +277,7 @@ pub fn compile_lie(args: TokenStream, func: &ItemFn) -> syn::Result<LieCompiled>
     crate::ir::lie::check_translations(&cx, &graph, &spec, body);
     cx.finish(Some(()))?;
     // The forces, in the displacement symbols of each coordinate.
-    let forces = match &spec.force {
+    let forces = match &spec.attr.force {
         None => None,
         Some(closure) => {
             let names = crate::ir::lower::Names::of(&sig, spec.lowering_coords());
@@ -290,7 +291,7 @@ pub fn compile_lie(args: TokenStream, func: &ItemFn) -> syn::Result<LieCompiled>
                 !sig.continuous,
             );
             let mut parts = cx.finish(parts)?;
-            if let Some(a) = &spec.adapt {
+            if let Some(a) = &spec.attr.adapt {
                 let cx = Ctxt::new();
                 let f = crate::ir::adapt::transform_force(
                     &cx,
@@ -301,7 +302,7 @@ pub fn compile_lie(args: TokenStream, func: &ItemFn) -> syn::Result<LieCompiled>
                 );
                 parts[0] = cx.finish(f)?;
             }
-            Some(match spec.rule.as_ref().filter(|_| sig.continuous) {
+            Some(match spec.attr.rule.as_ref().filter(|_| sig.continuous) {
                 Some(&(_, rule)) => {
                     let step = sig.params.iter().position(|p| *p == sig.step);
                     let h = graph.var(crate::ir::graph::Sym::Param(
@@ -317,7 +318,7 @@ pub fn compile_lie(args: TokenStream, func: &ItemFn) -> syn::Result<LieCompiled>
     let cx = Ctxt::new();
     let monitor = adapt
         .as_ref()
-        .zip(spec.adapt.as_ref())
+        .zip(spec.attr.adapt.as_ref())
         .map(|((a, _), spec)| (a.monitor, &spec.monitor));
     crate::ir::lie::check_rotations(&cx, &graph, &spec, body, forces.as_ref(), monitor);
     cx.finish(Some(()))?;
@@ -345,6 +346,7 @@ pub fn compile_lie(args: TokenStream, func: &ItemFn) -> syn::Result<LieCompiled>
     // The step's partial derivatives for its sensitivities, on the dense backend.
     if Backend::for_size(spec.n()).is_dense() {
         let controls: Vec<usize> = spec
+            .attr
             .controls
             .iter()
             .filter_map(|c| sig.params.iter().position(|p| p == c))
@@ -359,7 +361,7 @@ pub fn compile_lie(args: TokenStream, func: &ItemFn) -> syn::Result<LieCompiled>
         ));
     }
     code.adapt = adapt
-        .zip(spec.adapt.as_ref())
+        .zip(spec.attr.adapt.as_ref())
         .map(|((a, l), at)| crate::ir::lie::adaptive(&mut graph, &spec, at.coord, a.monitor, l));
     Ok(LieCompiled {
         spec,
@@ -371,7 +373,7 @@ pub fn compile_lie(args: TokenStream, func: &ItemFn) -> syn::Result<LieCompiled>
 
 /// Where the time coordinate of `adapt` is, in the configuration and the velocity.
 fn time_at(
-    spec: &crate::ast::lie::LieSpec,
+    spec: &crate::ir::lie::LieSpec,
     adapt: &crate::ast::lie::LieAdapt,
 ) -> crate::ir::adapt::TimeAt {
     let c = &spec.coords[adapt.coord];
@@ -387,7 +389,7 @@ fn time_at(
 fn lie_adapt(
     cx: &Ctxt,
     graph: &mut crate::ir::graph::Graph,
-    spec: &crate::ast::lie::LieSpec,
+    spec: &crate::ir::lie::LieSpec,
     sig: &Signature,
     l: crate::ir::graph::NodeId,
     adapt: &crate::ast::lie::LieAdapt,
@@ -404,7 +406,7 @@ fn lie_adapt(
     let groups: Vec<usize> = spec
         .coords
         .iter()
-        .filter(|c| c.group)
+        .filter(|c| c.group())
         .map(|c| c.point)
         .collect();
     let time = crate::ir::adapt::Declared {

@@ -54,6 +54,13 @@ pub const RIGHT: Symbol = Symbol("right");
 pub const ROTATION: Symbol = Symbol("rotation");
 /// `direction(n, ..)`: coordinates on the sphere `S²` (a unit 3-vector in the body).
 pub const DIRECTION: Symbol = Symbol("direction");
+/// `pose(X, ..)`: coordinates in the group of rigid motions `SE(3)` (a rotation and a
+/// translation in the body).
+pub const POSE: Symbol = Symbol("pose");
+/// The keys that declare coordinates on a group other than the line: any of them makes the
+/// attribute one of a system on groups (`crate::ast::lie`), whose coordinate kinds are these and
+/// `shape`, `group`.
+pub const GROUP_COORDINATES: [Symbol; 3] = [ROTATION, DIRECTION, POSE];
 /// `time(t)`: the group coordinate that is physical time, for adaptive steps.
 pub const TIME: Symbol = Symbol("time");
 /// `adapt = |q| g`: the step monitor of adaptive steps, `dt = g(q) dτ`.

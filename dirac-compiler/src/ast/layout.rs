@@ -258,24 +258,41 @@ pub enum Component {
 }
 
 /// A coordinate the body reads as `q0.name` (a scalar), `q0.name[i]` (an array), or as a
-/// matrix or vector value (a rotation or a direction, [`crate::ast::lie`]).
+/// matrix or vector value (a coordinate on a group, [`crate::ast::lie`]).
 pub struct CoordName {
     pub name: String,
     /// `None` for a scalar, the length for an array.
     pub len: Option<usize>,
     /// One per component.
     pub components: Vec<Component>,
-    /// A rotation (3 × 3) or a direction (3 × 1) read whole: its shape and, row by row, the
-    /// entries of the stored point it reads.
-    pub matrix: Option<(usize, usize, Vec<usize>)>,
-    /// What the velocity argument of a continuous Lagrangian on rotation groups reads for this
-    /// coordinate: its shape (`1 × 1` for a scalar, `3 × 1` for a rotation's body angular
-    /// velocity or a direction's velocity) and the indices of its velocity symbols.
-    pub velocity: Option<(usize, usize, Vec<usize>)>,
-    /// What a force's virtual displacement reads for this coordinate on rotation groups: a
-    /// rotation's `η` (`δR = R η̂`), a direction's tangent vector `δn`, a scalar's `δx`, with
-    /// the indices of their displacement symbols.
-    pub displacement: Option<(usize, usize, Vec<usize>)>,
+    /// A coordinate on a group read whole (a rotation as a 3 × 3 matrix, a direction as a
+    /// 3 × 1 vector, a pose as its `rotation` and `translation`): the entries of the stored
+    /// point it reads.
+    pub matrix: Option<Reading>,
+    /// What the velocity argument of a continuous Lagrangian on groups reads for this
+    /// coordinate (a scalar's rate, a rotation's body angular velocity, ...), in velocity
+    /// symbols.
+    pub velocity: Option<Reading>,
+    /// What a force's virtual displacement reads for this coordinate on groups (a rotation's
+    /// `η` with `δR = R η̂`, a direction's tangent vector `δn`, a scalar's `δx`, ...), in
+    /// displacement symbols.
+    pub displacement: Option<Reading>,
+}
+
+/// How the body reads a coordinate on a group, or its velocity or virtual displacement.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Reading {
+    /// A `rows × cols` matrix (`1 × 1`: an f64) of these symbol indices, row by row.
+    Entries(usize, usize, Vec<usize>),
+    /// A value with named parts, each read on its own (a pose's `rotation` and `translation`).
+    Parts(Vec<(&'static str, Reading)>),
+}
+
+impl Reading {
+    /// A `rows × cols` matrix of the consecutive symbols from `at`.
+    pub fn block(rows: usize, cols: usize, at: usize) -> Reading {
+        Reading::Entries(rows, cols, (at..at + rows * cols).collect())
+    }
 }
 
 impl CoordName {

@@ -9,79 +9,40 @@
 //! }
 //! ```
 //!
-//! The coordinates are `rotation(..)` (3 × 3 matrices), `direction(..)` (unit 3-vectors) and
-//! `shape(..)` (scalars), in the order the attribute lists them; `step = ..` and `name = ..`
-//! as for any system.
+//! The coordinates are `rotation(..)` (3 × 3 matrices), `direction(..)` (unit 3-vectors),
+//! `pose(..)` (rigid motions: a rotation and a translation) and `shape(..)`, `group(..)`
+//! (scalars), in the order the attribute lists them; `step = ..` and `name = ..` as for any
+//! system. This stage records which key declared each coordinate; what a kind of coordinate is
+//! (its point, chart and step) is [`crate::ir::group`]'s, which resolves the keys.
 
 use proc_macro2::{Span, TokenStream, TokenTree};
 use syn::parse::{Parse, ParseStream};
 use syn::punctuated::Punctuated;
 use syn::{Expr, Ident, Token};
 
-use crate::ast::layout::CoordName;
 use crate::ast::rule::Rule;
 use crate::ctxt::Ctxt;
 use crate::symbol::{
-    self, KeyArg, ADAPT, AXIS, CONTROLS, DIRECTION, FORCE, GROUP, NAME, ROTATION, RULE, SHAPE,
-    STEP, SYMMETRY, TIME,
+    self, KeyArg, Symbol, ADAPT, AXIS, CONTROLS, FORCE, GROUP, GROUP_COORDINATES, NAME, RULE,
+    SHAPE, STEP, SYMMETRY, TIME,
 };
 
 /// What the attribute of a system on rotation groups accepts, for messages.
 pub const LIE_KEYS: &str = "`rotation(R, ...)` (rotation matrices), `direction(n, ...)` (unit \
-vectors), `shape(x, ...)` (scalar coordinates), `group(x, ...)` (scalar coordinates whose \
+vectors), `pose(X, ...)` (rigid motions: `X.rotation`, `X.translation`), `shape(x, ...)` \
+(scalar coordinates), `group(x, ...)` (scalar coordinates whose \
 translations are a symmetry), `rule = trapezoid | left | right` (for \
 `L(q: Config, v: Velocity, ...)`), `force = |dq| ...` (or `|dq0, dq1|` for a discrete \
 Lagrangian), `controls(u, ...)`, `symmetry(R)` (every rotation `R ↦ g R`) or \
 `symmetry(R, n, ..., axis = z)` (rotations about a coordinate axis), `time(t), adapt = |q| \
 <monitor>` (adaptive steps), `step = <parameter>`, `name = <TypeName>`";
 
-/// What a coordinate is (the runtime's `CoordinateKind`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Kind {
-    Scalar,
-    Rotation,
-    Direction,
-}
-
-impl Kind {
-    /// Entries of the stored point.
-    pub fn point_len(self) -> usize {
-        match self {
-            Kind::Scalar => 1,
-            Kind::Rotation | Kind::Direction => 9,
-        }
-    }
-
-    /// Entries of the chart and the momentum.
-    pub fn chart_len(self) -> usize {
-        match self {
-            Kind::Scalar => 1,
-            Kind::Rotation => 3,
-            Kind::Direction => 2,
-        }
-    }
-
-    /// Entries of the velocity a continuous Lagrangian reads: the body angular velocity `Ω` of a
-    /// rotation, the velocity `ṅ` of a direction (a 3-vector), a scalar's rate.
-    pub fn velocity_len(self) -> usize {
-        match self {
-            Kind::Scalar => 1,
-            Kind::Rotation | Kind::Direction => 3,
-        }
-    }
-}
-
-/// One declared coordinate, with its place in the point and the chart.
+/// One declared coordinate: its name and the key that declared it (`shape`, `group`,
+/// `rotation`, `direction`, `pose`), the name of its kind.
 #[derive(Clone, Debug)]
 pub struct LieCoord {
     pub name: Ident,
-    pub kind: Kind,
-    pub point: usize,
-    pub chart: usize,
-    /// The first of its velocity symbols (a continuous Lagrangian's `v`).
-    pub velocity: usize,
-    /// A scalar declared in `group(..)`: its translations are a symmetry.
-    pub group: bool,
+    pub kind: Symbol,
 }
 
 /// Which rotations a `symmetry(..)` declares.
@@ -98,13 +59,23 @@ pub enum SymmetryKind {
 #[derive(Clone, Debug)]
 pub struct Symmetry {
     pub kind: SymmetryKind,
-    /// The coordinates it acts on (indices into [`LieSpec::coords`]), with their names as
+    /// The coordinates it acts on (indices into [`LieAttr::coords`]), with their names as
     /// written.
     pub coords: Vec<(usize, Ident)>,
 }
 
+/// `symmetry(..)` as written: the listed coordinates and the axis, before the kinds of the
+/// listed coordinates are checked against it (`crate::ir::lie::LieSpec::resolve`).
+#[derive(Clone, Debug)]
+pub struct SymmetryDecl {
+    /// `axis = x | y | z`: 0, 1 or 2.
+    pub axis: Option<usize>,
+    /// The listed coordinates (indices into [`LieAttr::coords`]), with their names as written.
+    pub coords: Vec<(usize, Ident)>,
+}
+
 /// The parsed attribute.
-pub struct LieSpec {
+pub struct LieAttr {
     pub coords: Vec<LieCoord>,
     pub step: Option<Ident>,
     pub name: Option<Ident>,
@@ -118,7 +89,7 @@ pub struct LieSpec {
     /// `controls(u, ..)`: parameters a control law sets before every step.
     pub controls: Vec<Ident>,
     /// `symmetry(..)`: the rotations under which `L_d` is invariant.
-    pub symmetry: Option<Symmetry>,
+    pub symmetry: Option<SymmetryDecl>,
     /// `time(t), adapt = |q| g`: adaptive steps (see [`crate::ir::adapt`]).
     pub adapt: Option<LieAdapt>,
 }
@@ -128,67 +99,19 @@ pub struct LieSpec {
 pub struct LieAdapt {
     /// The time coordinate as written.
     pub time: Ident,
-    /// Its index in [`LieSpec::coords`].
+    /// Its index in [`LieAttr::coords`].
     pub coord: usize,
     /// `|q| g(q)`.
     pub monitor: syn::ExprClosure,
 }
 
-impl LieSpec {
-    /// `P`, the length of a stored point.
-    pub fn p(&self) -> usize {
-        self.coords.iter().map(|c| c.kind.point_len()).sum()
-    }
-
-    /// The length of a continuous Lagrangian's velocity.
-    pub fn velocity_len(&self) -> usize {
-        self.coords.iter().map(|c| c.kind.velocity_len()).sum()
-    }
-
-    /// `N = dim Q`, the length of the chart and the momentum.
-    pub fn n(&self) -> usize {
-        self.coords.iter().map(|c| c.kind.chart_len()).sum()
-    }
-
-    /// The coordinates as the body reads them: a rotation whole (3 × 3, its point entries row
-    /// by row), a direction as the third column of its frame, a scalar as one entry.
-    ///
-    /// The velocity argument of a continuous Lagrangian reads a rotation's body angular velocity
-    /// and a direction's velocity as 3-vectors, a scalar's rate as an f64, each from its own
-    /// velocity symbols.
-    pub fn lowering_coords(&self) -> Vec<CoordName> {
-        self.coords
-            .iter()
-            .map(|c| {
-                let (p, v) = (c.point, c.velocity);
-                let matrix = match c.kind {
-                    Kind::Scalar => None,
-                    Kind::Rotation => Some((3, 3, (p..p + 9).collect())),
-                    Kind::Direction => Some((3, 1, vec![p + 2, p + 5, p + 8])),
-                };
-                let velocity = match c.kind {
-                    Kind::Scalar => (1, 1, vec![v]),
-                    Kind::Rotation | Kind::Direction => (3, 1, (v..v + 3).collect()),
-                };
-                CoordName {
-                    name: c.name.to_string(),
-                    len: None,
-                    components: vec![crate::ast::layout::Component::Var(p)],
-                    matrix,
-                    velocity: self.rule.is_some().then_some(velocity.clone()),
-                    displacement: Some(velocity),
-                }
-            })
-            .collect()
-    }
-}
-
-/// Whether the attribute declares a `rotation(..)` or `direction(..)` coordinate.
+/// Whether the attribute declares a coordinate on a group other than the line (`rotation(..)`,
+/// `direction(..)`, `pose(..)`).
 pub fn is_lie(args: &TokenStream) -> bool {
     let mut tokens = args.clone().into_iter().peekable();
     while let Some(t) = tokens.next() {
         if let TokenTree::Ident(id) = &t {
-            if (id == ROTATION.0 || id == DIRECTION.0)
+            if GROUP_COORDINATES.iter().any(|k| id == k)
                 && matches!(tokens.peek(), Some(TokenTree::Group(_)))
             {
                 return true;
@@ -216,24 +139,18 @@ impl Parse for LieItem {
 }
 
 /// The attribute; `None` after errors (recorded).
-pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
+pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieAttr> {
     let items = symbol::parse_args::<LieItem>(cx, args)?;
     let (mut coords, mut step, mut name, mut rule) = (Vec::<LieCoord>::new(), None, None, None);
     let (mut force, mut controls) = (None, Vec::new());
     let mut symmetry: Option<(&Ident, &Punctuated<Expr, Token![,]>)> = None;
     let (mut time, mut adapt) = (None, None);
-    let (mut point, mut chart, mut velocity) = (0, 0, 0);
     for LieItem(item) in &items {
         let key = item.key();
-        let kind = if key == ROTATION {
-            Some(Kind::Rotation)
-        } else if key == DIRECTION {
-            Some(Kind::Direction)
-        } else if key == SHAPE || key == GROUP {
-            Some(Kind::Scalar)
-        } else {
-            None
-        };
+        let kind = [SHAPE, GROUP]
+            .into_iter()
+            .chain(GROUP_COORDINATES)
+            .find(|k| key == k);
         match (kind, item) {
             (Some(kind), KeyArg::List(_, list)) => {
                 for e in list {
@@ -255,17 +172,7 @@ pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
                         cx.error_spanned_by(&id, format!("coordinate `{id}` is declared twice"));
                         continue;
                     }
-                    coords.push(LieCoord {
-                        name: id,
-                        kind,
-                        point,
-                        chart,
-                        velocity,
-                        group: key == GROUP,
-                    });
-                    point += kind.point_len();
-                    chart += kind.chart_len();
-                    velocity += kind.velocity_len();
+                    coords.push(LieCoord { name: id, kind });
                 }
             }
             (None, KeyArg::Value(_, Expr::Path(p)))
@@ -363,8 +270,9 @@ pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
         }
     }
     let listed = items.iter().any(|LieItem(i)| {
-        [ROTATION, DIRECTION, SHAPE, GROUP]
+        [SHAPE, GROUP]
             .iter()
+            .chain(&GROUP_COORDINATES)
             .any(|k| i.key() == k)
     });
     if coords.is_empty() && !listed {
@@ -377,7 +285,7 @@ pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
     let symmetry = symmetry.and_then(|(key, list)| parse_symmetry(cx, &coords, key, list));
     let adapt = crate::ast::attr::pair_adapt(cx, time, adapt).and_then(|(t, k, monitor)| {
         match coords.iter().position(|c| c.name == t) {
-            Some(coord) if coords[coord].group => {
+            Some(coord) if coords[coord].kind == GROUP => {
                 if rule.is_none() {
                     cx.error_spanned_by(
                         &k,
@@ -398,7 +306,7 @@ pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
             }
         }
     });
-    Some(LieSpec {
+    Some(LieAttr {
         coords,
         step,
         name,
@@ -411,13 +319,14 @@ pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieSpec> {
     })
 }
 
-/// `symmetry(R)` or `symmetry(a, b, .., axis = x | y | z)`, against the declared coordinates.
+/// `symmetry(R)` or `symmetry(a, b, .., axis = x | y | z)`, against the declared names (their
+/// kinds are checked once resolved, `crate::ir::lie::LieSpec::resolve`).
 fn parse_symmetry(
     cx: &Ctxt,
     coords: &[LieCoord],
     key: &Ident,
     list: &Punctuated<Expr, Token![,]>,
-) -> Option<Symmetry> {
+) -> Option<SymmetryDecl> {
     let (mut listed, mut axis) = (Vec::new(), None);
     let failed = std::cell::Cell::new(false);
     let error = |tokens: &dyn quote::ToTokens, message: String| {
@@ -429,14 +338,6 @@ fn parse_symmetry(
             Expr::Path(p) if p.path.get_ident().is_some() => {
                 let id = p.path.get_ident().expect("checked");
                 match coords.iter().position(|c| c.name == *id) {
-                    Some(i) if coords[i].kind == Kind::Scalar => error(
-                        id,
-                        format!(
-                            "`{id}` is a scalar coordinate; `symmetry(..)` lists rotation and \
-                             direction coordinates (declare translations of a scalar with \
-                             `group({id})`)"
-                        ),
-                    ),
                     Some(_) if listed.iter().any(|(_, n): &(usize, Ident)| n == id) => {
                         error(id, format!("`{id}` is listed twice"));
                     }
@@ -486,52 +387,8 @@ fn parse_symmetry(
         );
         return None;
     }
-    let kind = match axis {
-        Some(k) => SymmetryKind::Axis(k),
-        None => {
-            if let Some((i, id)) = listed
-                .iter()
-                .find(|(i, _)| coords[*i].kind != Kind::Rotation)
-            {
-                let _ = i;
-                cx.error_spanned_by(
-                    id,
-                    format!(
-                        "every rotation of a direction leaves only the rotations about it; \
-                         `symmetry(..)` without an axis acts on one rotation coordinate (`R ↦ g R`), \
-                         and `{id}` is a direction: declare the rotations about a fixed axis, \
-                         `symmetry({id}, axis = z)`"
-                    ),
-                );
-                return None;
-            }
-            if let Some((_, id)) = listed.get(1) {
-                cx.error_spanned_by(
-                    id,
-                    "`symmetry(..)` without an axis reduces by every rotation of one rotation \
-                     coordinate; list one (rotations acting on several bodies at once are \
-                     available about a fixed axis: `symmetry(R1, R2, axis = z)`)",
-                );
-                return None;
-            }
-            SymmetryKind::Rotations
-        }
-    };
-    Some(Symmetry {
-        kind,
+    Some(SymmetryDecl {
+        axis,
         coords: listed,
     })
-}
-
-impl LieSpec {
-    /// The name of coordinate `c`'s kind, as the runtime spells it.
-    pub fn kind_path(c: &LieCoord) -> Ident {
-        let name = match c.kind {
-            Kind::Scalar if c.group => "Group",
-            Kind::Scalar => "Scalar",
-            Kind::Rotation => "Rotation",
-            Kind::Direction => "Direction",
-        };
-        Ident::new(name, Span::call_site())
-    }
 }

@@ -1,20 +1,22 @@
-//! The items of a system on rotation groups: the user's function over `<Name>Config` (fields
-//! `nalgebra::Matrix3` for rotations, `Vector3` for directions, `f64` for scalars),
-//! `<Name>Momentum` (body momenta of rotations, momenta of directions as vectors tangent to the
-//! sphere), the parameter struct, and `impl LieLagrangian<P, N>` with the straight-line step of
-//! [`crate::ir::lie`].
+//! The items of a system on groups: the user's function over `<Name>Config` (fields
+//! `nalgebra::Matrix3` for rotations, `Vector3` for directions, `<Name>Pose` for poses, `f64`
+//! for scalars: each kind's own, [`crate::ir::group::Group::config_field`]), `<Name>Momentum`
+//! (body momenta of rotations, momenta of directions as vectors tangent to the sphere, a pose's
+//! body angular and spatial linear momenta), the parameter struct, and
+//! `impl LieLagrangian<P, N>` with the straight-line step of [`crate::ir::lie`].
 
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 use syn::{Ident, ItemFn};
 
-use crate::ast::lie::{Kind, LieSpec, SymmetryKind};
+use crate::ast::lie::SymmetryKind;
 use crate::ast::signature::Signature;
 use crate::codegen::backend::{stepper_fns, SteppedFns};
 use crate::codegen::items::{camel_case, param_struct, user_function};
 use crate::codegen::lints;
 use crate::ir::graph::{Graph, Sym};
-use crate::ir::lie::LieCode;
+use crate::ir::group::{Kind, Paths};
+use crate::ir::lie::{LieCode, LieSpec};
 
 /// Every item the attribute emits for a system on rotation groups.
 pub fn generate(
@@ -25,6 +27,7 @@ pub fn generate(
     code: &LieCode,
 ) -> TokenStream {
     let ty = spec
+        .attr
         .name
         .clone()
         .unwrap_or_else(|| camel_case(&func.sig.ident));
@@ -94,7 +97,7 @@ pub fn generate(
     let fn_name = &func.sig.ident;
     let fn_params = sig.fn_params();
     let param_names: Vec<String> = params.iter().map(Ident::to_string).collect();
-    let controls = &spec.controls;
+    let controls = &spec.attr.controls;
     let control_names: Vec<String> = controls.iter().map(Ident::to_string).collect();
     let control_index = 0..controls.len();
     let coords: Vec<TokenStream> = spec
@@ -129,37 +132,31 @@ pub fn generate(
         user_function(func, &config, false, &touch, false)
     };
     let params_item = param_struct(sig, func, &ty);
-    let mut structs = config_and_momentum(spec, func, &ty, &config, &momentum);
+    let mut structs = config_and_momentum(spec, func, &ty, (&config, &momentum), sig.continuous);
     if sig.continuous {
         structs.extend(velocity_struct(spec, func, &ty, &velocity));
     }
     // L_d: the user's function, or formed from a continuous L by its rule (then from the graph,
     // the relative rotations computed from the two points).
     let lagrangian_body = if sig.continuous {
-        let rels = spec
-            .coords
-            .iter()
-            .filter(|c| c.kind == Kind::Rotation)
-            .map(|c| {
-                let at = c.point;
-                let f = format_ident!("__rel_matrix_{}", at);
-                let rows: Vec<usize> = (at..at + 9).collect();
-                quote! {
-                    let #f = #na::Matrix3::new( #( q0[#rows] ),* ).transpose()
-                        * #na::Matrix3::new( #( q1[#rows] ),* );
-                }
-            });
+        let rels = spec.rotations().map(|(at, _)| {
+            let f = format_ident!("__rel_matrix_{}", at);
+            let rows: Vec<usize> = (at..at + 9).collect();
+            quote! {
+                let #f = #na::Matrix3::new( #( q0[#rows] ),* ).transpose()
+                    * #na::Matrix3::new( #( q1[#rows] ),* );
+            }
+        });
         let code = crate::codegen::emit::straight_line(g, &[code.lagrangian], &|sym| match sym {
             Sym::Q0(i) => quote! { q0[#i] },
             Sym::Q1(i) => quote! { q1[#i] },
             Sym::Rel(i) => {
-                let c = spec
-                    .coords
-                    .iter()
-                    .find(|c| c.kind == Kind::Rotation && (c.point..c.point + 9).contains(&i))
-                    .expect("Rel reads a rotation coordinate");
-                let f = format_ident!("__rel_matrix_{}", c.point);
-                let (r, col) = ((i - c.point) / 3, (i - c.point) % 3);
+                let (at, _) = spec
+                    .rotations()
+                    .find(|&(at, _)| (at..at + 9).contains(&i))
+                    .expect("Rel reads a rotation");
+                let f = format_ident!("__rel_matrix_{}", at);
+                let (r, col) = ((i - at) / 3, (i - at) % 3);
                 quote! { #f[(#r, #col)] }
             }
             Sym::Param(i) => {
@@ -302,12 +299,7 @@ fn adaptive_items(
         (&level.stmts, &level.outputs[0], &level.outputs[1..]);
     let entries = spec.coords.iter().flat_map(|c| {
         let name = &c.name;
-        match c.kind {
-            Kind::Scalar => vec![quote! { v.#name }],
-            Kind::Rotation | Kind::Direction => {
-                (0..3_usize).map(|k| quote! { v.#name[#k] }).collect()
-            }
-        }
+        c.kind.velocity_entries(&quote! { v.#name })
     });
     let time = adapt.coord;
     let time_name = spec.coords[time].name.to_string();
@@ -397,9 +389,10 @@ fn config_and_momentum(
     spec: &LieSpec,
     func: &ItemFn,
     ty: &Ident,
-    config: &Ident,
-    momentum: &Ident,
+    names: (&Ident, &Ident),
+    continuous: bool,
 ) -> TokenStream {
+    let (config, momentum) = names;
     let vis = &func.vis;
     let (p, n) = (spec.p(), spec.n());
     let (na, rt) = (quote!(::dirac::nalgebra), quote!(::dirac::runtime));
@@ -407,77 +400,33 @@ fn config_and_momentum(
     let mut momentum_fields = Vec::new();
     let (mut from_point, mut to_point) = (Vec::new(), Vec::new());
     let (mut from_chart, mut to_chart) = (Vec::new(), Vec::new());
+    let paths = Paths {
+        na: na.clone(),
+        rt: rt.clone(),
+    };
     for c in &spec.coords {
-        let name = &c.name;
+        let (name, kind) = (&c.name, c.kind);
         let (at, ch) = (c.point, c.chart);
-        let rows: Vec<usize> = (at..at + 9).collect();
-        match c.kind {
-            Kind::Scalar => {
-                let doc = format!("The coordinate `{name}`.");
-                config_fields.push(quote!(#[doc = #doc] pub #name: f64));
-                let doc = format!("The momentum conjugate to `{name}`.");
-                momentum_fields.push(quote!(#[doc = #doc] pub #name: f64));
-                from_point.push(quote!(#name: q[#at]));
-                to_point.push(quote!(q[#at] = self.#name;));
-                from_chart.push(quote!(#name: p[#ch]));
-                to_chart.push(quote!(p[#ch] = self.#name;));
-            }
-            Kind::Rotation => {
-                let doc = format!("The rotation `{name}` (a rotation matrix).");
-                config_fields.push(quote!(#[doc = #doc] pub #name: #na::Matrix3<f64>));
-                let doc = format!(
-                    "The discrete body momentum `Π` of `{name}` (left-trivialized: `⟨P, {name} η̂⟩ = Π·η`): \
-                     the discrete Legendre momentum a step reads, not `JΩ` (see `dirac::lie`; from an \
-                     angular velocity: `LieLagrangian::discrete_legendre_state`)."
-                );
-                momentum_fields.push(quote!(#[doc = #doc] pub #name: #na::Vector3<f64>));
-                from_point.push(quote!(#name: #na::Matrix3::new( #( q[#rows] ),* )));
-                to_point.push(quote! {
-                    for (i, v) in #rt::lie::rows(&self.#name).into_iter().enumerate() {
-                        q[#at + i] = v;
-                    }
-                });
-                let (c1, c2) = (ch + 1, ch + 2);
-                from_chart.push(quote!(#name: #na::Vector3::new(p[#ch], p[#c1], p[#c2])));
-                to_chart.push(
-                    quote! { p[#ch] = self.#name.x; p[#c1] = self.#name.y; p[#c2] = self.#name.z; },
-                );
-            }
-            Kind::Direction => {
-                let doc = format!("The direction `{name}` (a unit vector).");
-                config_fields.push(quote!(#[doc = #doc] pub #name: #na::Vector3<f64>));
-                let doc = format!(
-                    "The momentum of `{name}`: a vector tangent to the sphere at `{name}` (its component along `{name}` is dropped)."
-                );
-                momentum_fields.push(quote!(#[doc = #doc] pub #name: #na::Vector3<f64>));
-                let (n0, n1, n2) = (at + 2, at + 5, at + 8);
-                from_point.push(quote!(#name: #na::Vector3::new(q[#n0], q[#n1], q[#n2])));
-                to_point.push(quote! {
-                    for (i, v) in #rt::lie::rows(&#rt::lie::direction_frame(&self.#name)).into_iter().enumerate() {
-                        q[#at + i] = v;
-                    }
-                });
-                let c1 = ch + 1;
-                let frame = quote!(#na::Matrix3::new( #( q[#rows] ),* ));
-                from_chart.push(quote! {
-                    #name: {
-                        let f = #frame;
-                        f.column(0) * p[#ch] + f.column(1) * p[#c1]
-                    }
-                });
-                to_chart.push(quote! {
-                    let f = #frame;
-                    p[#ch] = f.column(0).dot(&self.#name);
-                    p[#c1] = f.column(1).dot(&self.#name);
-                });
-            }
-        }
+        let (ty_config, doc) = kind.config_field(&paths, name, ty);
+        config_fields.push(quote!(#[doc = #doc] pub #name: #ty_config));
+        let (ty_momentum, doc) = kind.momentum_field(&paths, name, ty);
+        momentum_fields.push(quote!(#[doc = #doc] pub #name: #ty_momentum));
+        let value = kind.read_point(&paths, ty, at);
+        from_point.push(quote!(#name: #value));
+        to_point.push(kind.write_point(&paths, name, at));
+        let value = kind.read_chart(&paths, ty, at, ch);
+        from_chart.push(quote!(#name: #value));
+        to_chart.push(kind.write_chart(&paths, name, at, ch));
     }
+    let kinds = distinct_kinds(spec);
+    let items = kinds.iter().map(|k| k.items(&paths, ty, vis, continuous));
     let allow = lints::generated();
     let config_doc =
         format!("A configuration of [`{ty}`]: its coordinates as matrices, vectors and scalars.");
     let momentum_doc = format!("The momenta of a state of [`{ty}`].");
     quote! {
+        #( #items )*
+
         #[doc = #config_doc]
         #[derive(Clone, Copy, Debug, PartialEq)]
         #[allow(non_snake_case, reason = "coordinates keep the user's names (R, n)")]
@@ -526,6 +475,17 @@ fn config_and_momentum(
     }
 }
 
+/// Each kind among the coordinates once, in the order of their first coordinate.
+fn distinct_kinds(spec: &LieSpec) -> Vec<Kind> {
+    let mut kinds: Vec<Kind> = Vec::new();
+    for c in &spec.coords {
+        if !kinds.contains(&c.kind) {
+            kinds.push(c.kind);
+        }
+    }
+    kinds
+}
+
 /// The user's continuous `L(q: Config, v: Velocity, ..)` with the emitted types.
 fn continuous_user_function(
     func: &ItemFn,
@@ -554,22 +514,14 @@ fn continuous_user_function(
 fn velocity_struct(spec: &LieSpec, func: &ItemFn, ty: &Ident, velocity: &Ident) -> TokenStream {
     let vis = &func.vis;
     let na = quote!(::dirac::nalgebra);
+    let paths = Paths {
+        na: na.clone(),
+        rt: quote!(::dirac::runtime),
+    };
     let fields = spec.coords.iter().map(|c| {
         let name = &c.name;
-        match c.kind {
-            Kind::Scalar => {
-                let doc = format!("The rate of `{name}`.");
-                quote!(#[doc = #doc] pub #name: f64)
-            }
-            Kind::Rotation => {
-                let doc = format!("The body angular velocity `Ω` of `{name}` (`Ṙ = R Ω̂`).");
-                quote!(#[doc = #doc] pub #name: #na::Vector3<f64>)
-            }
-            Kind::Direction => {
-                let doc = format!("The velocity of `{name}`.");
-                quote!(#[doc = #doc] pub #name: #na::Vector3<f64>)
-            }
-        }
+        let (field, doc) = c.kind.velocity_field(&paths, name, ty);
+        quote!(#[doc = #doc] pub #name: #field)
     });
     let doc = format!("A velocity of [`{ty}`], as its continuous Lagrangian reads it.");
     quote! {

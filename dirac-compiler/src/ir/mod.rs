@@ -14,6 +14,7 @@ pub mod discretize;
 pub mod element;
 pub mod force;
 pub mod graph;
+pub mod group;
 pub mod lie;
 pub mod lower;
 pub mod reduce;

@@ -7,15 +7,17 @@ use proc_macro2::TokenStream;
 use syn::ItemFn;
 
 use super::{stepper, Program, Stepper};
-use crate::ast::lie::{Kind, SymmetryKind};
+use crate::ast::lie::SymmetryKind;
 use crate::expand::{compile_lie as compile_phases, LieCompiled};
 use crate::ir::graph::{Graph, NodeId, Sym};
+pub use crate::ir::group::Kind as LieKind;
 use crate::program::program;
 
 /// A system on rotation groups compiled from text: its coordinates and names, and a
 /// straight-line [`Program`] for each function of the runtime's `LieLagrangian` (and
 /// `LieSymmetric` where a symmetry is declared). A point `q` stores scalars as themselves,
-/// rotations and directions as 9 entries row by row (a direction as its frame `[e1 e2 n]`); the
+/// rotations and directions as 9 entries row by row (a direction as its frame `[e1 e2 n]`), poses
+/// as their rotation's 9 entries then their position's 3; the
 /// chart and the momenta have [`Self::chart_len`] entries. Step Jacobians are dense up to 16
 /// chart coordinates and sparse above ([`Stepper::pattern`]), as the attribute emits them.
 #[derive(Clone, Debug)]
@@ -60,58 +62,6 @@ pub struct LieCoordinate {
     pub name: String,
     /// What it is.
     pub kind: LieKind,
-}
-
-/// What a coordinate of a system on rotation groups is (the runtime's `CoordinateKind`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum LieKind {
-    /// A real coordinate (`shape(x)`).
-    Scalar,
-    /// A real coordinate whose translations are a symmetry (`group(x)`).
-    Group,
-    /// A rotation matrix (`rotation(R)`).
-    Rotation,
-    /// A unit vector (`direction(n)`), stored as its frame.
-    Direction,
-}
-
-impl LieKind {
-    /// The attribute keyword that declares it (`shape`, `group`, `rotation`, `direction`): the
-    /// name the runtime's `CoordinateKind::by_name` resolves.
-    pub const fn name(self) -> &'static str {
-        match self {
-            LieKind::Scalar => "shape",
-            LieKind::Group => "group",
-            LieKind::Rotation => "rotation",
-            LieKind::Direction => "direction",
-        }
-    }
-
-    /// Entries of the stored point.
-    pub const fn point_len(self) -> usize {
-        match self {
-            LieKind::Scalar | LieKind::Group => 1,
-            LieKind::Rotation | LieKind::Direction => 9,
-        }
-    }
-
-    /// Entries of the chart and of the momentum.
-    pub const fn chart_len(self) -> usize {
-        match self {
-            LieKind::Scalar | LieKind::Group => 1,
-            LieKind::Rotation => 3,
-            LieKind::Direction => 2,
-        }
-    }
-
-    /// Entries of a velocity, as a continuous Lagrangian reads it: a rotation's body angular
-    /// velocity, a direction's velocity in space.
-    pub const fn velocity_len(self) -> usize {
-        match self {
-            LieKind::Scalar | LieKind::Group => 1,
-            LieKind::Rotation | LieKind::Direction => 3,
-        }
-    }
 }
 
 /// A declared rotation symmetry and its reduced step.
@@ -189,12 +139,7 @@ pub(super) fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<Lie
         .iter()
         .map(|c| LieCoordinate {
             name: c.name.to_string(),
-            kind: match c.kind {
-                Kind::Scalar if c.group => LieKind::Group,
-                Kind::Scalar => LieKind::Scalar,
-                Kind::Rotation => LieKind::Rotation,
-                Kind::Direction => LieKind::Direction,
-            },
+            kind: c.kind,
         })
         .collect();
     let lagrangian = between_points(g, &spec, code.lagrangian);
@@ -232,6 +177,7 @@ pub(super) fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<Lie
         .expect("the step is a parameter");
     Ok(LieSystem {
         name: spec
+            .attr
             .name
             .clone()
             .unwrap_or_else(|| crate::codegen::items::camel_case(&func.sig.ident))
@@ -240,11 +186,12 @@ pub(super) fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<Lie
         parameters: sig.params.iter().map(ToString::to_string).collect(),
         step,
         controls: spec
+            .attr
             .controls
             .iter()
             .filter_map(|u| sig.params.iter().position(|p| p == u))
             .collect(),
-        forced: spec.force.is_some(),
+        forced: spec.attr.force.is_some(),
         continuous: sig.continuous,
         lagrangian,
         retract: program(g, &code.retract),
@@ -257,10 +204,9 @@ pub(super) fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<Lie
 
 /// `L_d` over the two points alone: each relative rotation `Rel` it reads (`R0ᵀ R1`, which the
 /// step substitutes with its own `cay(ξ)ᵀ cay(z)`) formed from the stored matrices.
-fn between_points(g: &mut Graph, spec: &crate::ast::lie::LieSpec, l: NodeId) -> Program {
+fn between_points(g: &mut Graph, spec: &crate::ir::lie::LieSpec, l: NodeId) -> Program {
     let mut rel: Vec<Option<NodeId>> = vec![None; spec.p()];
-    for c in spec.coords.iter().filter(|c| c.kind == Kind::Rotation) {
-        let p = c.point;
+    for (p, _) in spec.rotations() {
         for r in 0..3 {
             for col in 0..3 {
                 let mut sum = None;

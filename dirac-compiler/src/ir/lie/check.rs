@@ -2,23 +2,10 @@
 //! translations and rotations are symmetries of `L_d` and its forces, and every `vee` reads a
 //! skew-symmetric matrix.
 
-use crate::ast::lie::{Kind, LieSpec, SymmetryKind};
+use super::LieSpec;
+use crate::ast::lie::SymmetryKind;
 use crate::ir::graph::{Graph, NodeId, Sym};
-
-/// `cay(x)` in plain arithmetic, row by row (for the sample configurations).
-fn cayley_value(x: [f64; 3]) -> [[f64; 3]; 3] {
-    let n2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
-    let alpha = 4.0 / (4.0 + n2);
-    let hat = [[0.0, -x[2], x[1]], [x[2], 0.0, -x[0]], [-x[1], x[0], 0.0]];
-    let mut m = [[0.0; 3]; 3];
-    for i in 0..3 {
-        for j in 0..3 {
-            let diag = if i == j { 1.0 - 0.5 * alpha * n2 } else { 0.0 };
-            m[i][j] = diag + alpha * hat[i][j] + 0.5 * alpha * x[i] * x[j];
-        }
-    }
-    m
-}
+use crate::ir::group::cayley_value;
 
 /// How a sample configuration is moved before the body is evaluated again.
 #[derive(Clone, Copy)]
@@ -27,55 +14,42 @@ enum Move<'a> {
     None,
     /// The scalar at point entry `.0` translated by `.1` in both configurations.
     Shift(usize, f64),
-    /// The rotations and frames stored at the point entries `.1` multiplied on the left by `.0`
-    /// in both configurations (their relative rotations unchanged).
+    /// The coordinates whose points start at the entries `.1` moved by the rotation `.0` in both
+    /// configurations ([`crate::ir::group::Group::rotate`]; their relative rotations unchanged).
     Rotate([[f64; 3]; 3], &'a [usize]),
 }
 
-/// `a b` of 3 × 3 matrices in plain arithmetic.
-fn times(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
-    std::array::from_fn(|i| std::array::from_fn(|j| (0..3).map(|k| a[i][k] * b[k][j]).sum()))
-}
-
-/// Values of the symbols at sample configuration `t`: rotations and frames `cay(..)` of sample
-/// vectors, relative rotations `R0ᵀ R1` consistent with them, scalars and velocities arbitrary,
-/// parameters positive; then moved by `moved`.
+/// Values of the symbols at sample configuration `t`: each coordinate's sample points
+/// ([`crate::ir::group::Group::sample`]) with the relative rotations `R0ᵀ R1` consistent with
+/// them, velocities arbitrary, parameters positive; then moved by `moved`.
 fn sampler(spec: &LieSpec, t: f64, moved: Move) -> impl Fn(Sym) -> f64 {
     let mut point = [vec![0.0; spec.p()], vec![0.0; spec.p()]];
     let mut rel = vec![0.0; spec.p()];
     for c in &spec.coords {
-        let p = c.point;
-        match c.kind {
-            Kind::Scalar => {
-                let by = match moved {
-                    Move::Shift(at, by) if at == p => by,
-                    _ => 0.0,
-                };
-                point[0][p] = 0.3 + 0.2 * t + 0.11 * p as f64 + by;
-                point[1][p] = -0.4 + 0.1 * t - 0.07 * p as f64 + by;
-            }
-            Kind::Rotation | Kind::Direction => {
-                let k = p as f64;
-                let mut r0 = cayley_value([0.3 + t, -0.5 + 0.1 * k, 0.2 * t + 0.1]);
-                let mut r1 = cayley_value([-0.2, 0.4 + 0.3 * t, 0.6 - 0.05 * k]);
-                for i in 0..3 {
-                    for j in 0..3 {
-                        rel[p + 3 * i + j] = (0..3).map(|k| r0[k][i] * r1[k][j]).sum();
-                    }
-                }
-                if let Move::Rotate(g, at) = moved {
-                    if at.contains(&p) {
-                        (r0, r1) = (times(&g, &r0), times(&g, &r1));
-                    }
-                }
-                for i in 0..3 {
-                    for j in 0..3 {
-                        point[0][p + 3 * i + j] = r0[i][j];
-                        point[1][p + 3 * i + j] = r1[i][j];
-                    }
+        let (p, len) = (c.point, c.kind.point_len());
+        let [mut q0, mut q1] = c.kind.sample(t, p);
+        if let Some(at) = c.kind.rotation() {
+            for i in 0..3 {
+                for j in 0..3 {
+                    rel[p + at + 3 * i + j] = (0..3)
+                        .map(|k| q0[at + 3 * k + i] * q1[at + 3 * k + j])
+                        .sum();
                 }
             }
         }
+        match moved {
+            Move::Shift(at, by) if at == p => {
+                q0[0] += by;
+                q1[0] += by;
+            }
+            Move::Rotate(g, at) if at.contains(&p) => {
+                c.kind.rotate(&g, &mut q0);
+                c.kind.rotate(&g, &mut q1);
+            }
+            _ => {}
+        }
+        point[0][p..p + len].copy_from_slice(&q0);
+        point[1][p..p + len].copy_from_slice(&q1);
     }
     move |sym: Sym| match sym {
         Sym::Q0(i) => point[0].get(i).copied().unwrap_or(0.7 - 0.1 * i as f64),
@@ -202,12 +176,18 @@ pub fn check_rotations(
             let after = g.eval(f, &sampler(spec, t, Move::Rotate(rotation, &points)));
             spec.coords.iter().any(|c| {
                 let v = c.velocity;
-                let turned = c.kind == Kind::Direction && points.contains(&c.point);
+                let moved = points.contains(&c.point);
                 (0..c.kind.velocity_len()).any(|i| {
-                    let expected = if turned {
-                        (0..3).map(|k| rotation[i][k] * before[v + k]).sum()
-                    } else {
-                        before[v + i]
+                    // A 3-vector in space turns with the configuration; body-frame torques and
+                    // scalar forces do not.
+                    let turned = c
+                        .kind
+                        .spatial()
+                        .iter()
+                        .find(|&&s| moved && (s..s + 3).contains(&i));
+                    let expected = match turned {
+                        Some(&s) => (0..3).map(|k| rotation[i - s][k] * before[v + s + k]).sum(),
+                        None => before[v + i],
                     };
                     differ(expected, after[v + i])
                 })
@@ -231,7 +211,7 @@ pub fn check_rotations(
 /// `L_d(q0 + a e_g, q1 + a e_g) = L_d(q0, q1)` at three sample configurations and two shifts
 /// `a` (to `1e-9` relative). A body that is not is a compile error at the coordinate's name.
 pub fn check_translations(cx: &crate::ctxt::Ctxt, g: &Graph, spec: &LieSpec, l: NodeId) {
-    for c in spec.coords.iter().filter(|c| c.group) {
+    for c in spec.coords.iter().filter(|c| c.group()) {
         let varies = (0..3).any(|sample| {
             let t = sample as f64;
             let at = g.eval(&[l], &sampler(spec, t, Move::None))[0];

@@ -1,9 +1,9 @@
 //! The partial derivatives of a step of a system on rotation groups, for its sensitivities.
 
-use super::{cayley, chart, product, to_chart};
-use crate::ast::lie::{Kind, LieSpec};
+use super::{chart, to_chart, LieSpec};
 use crate::ir::diff::derivatives;
 use crate::ir::graph::{Graph, NodeId, Sym};
+use crate::ir::group::{cayley, product};
 use crate::ir::reduce::{firsts, Mode};
 
 /// The partial derivatives of one step for its sensitivities, in the charts at the nominal
@@ -50,8 +50,7 @@ pub fn partials(
     let next = chart(g, spec, &nominal, &w);
     // The relative rotations: (varied start)ᵀ next, start ᵀ (varied next), start ᵀ next.
     let mut rel = [vec![None; p], vec![None; p], vec![None; p]];
-    for c in spec.coords.iter().filter(|c| c.kind == Kind::Rotation) {
-        let q = c.chart;
+    for (point, q) in spec.rotations() {
         let at = |v: &[NodeId]| [v[q], v[q + 1], v[q + 2]];
         let (cd, cz, cw, cx) = (
             cayley(g, at(&delta)),
@@ -66,7 +65,7 @@ pub fn partials(
         for (slot, m) in rel.iter_mut().zip([residual, momentum, dzw]) {
             for i in 0..3 {
                 for j in 0..3 {
-                    slot[c.point + 3 * i + j] = Some(m[i][j]);
+                    slot[point + 3 * i + j] = Some(m[i][j]);
                 }
             }
         }

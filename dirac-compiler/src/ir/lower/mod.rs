@@ -40,6 +40,9 @@ enum Value {
     Array(Vec<Value>),
     /// A matrix or vector (rotation and direction coordinates, [`matrix`]).
     Mat(Mat),
+    /// A coordinate on a group with named parts (a pose's `rotation` and `translation`), read
+    /// one part at a time.
+    Parts(Vec<(&'static str, Value)>),
     Unit,
     /// A name whose initializer was rejected: uses fail silently, so one mistake is reported once.
     Poison,
@@ -53,6 +56,10 @@ impl Value {
             Value::Tuple(_) => "a tuple",
             Value::Array(_) => "an array",
             Value::Mat(m) => return m.kind(),
+            Value::Parts(parts) => {
+                let names: Vec<String> = parts.iter().map(|(n, _)| format!("`.{n}`")).collect();
+                return format!("a value with the parts {}", names.join(", "));
+            }
             Value::Unit => "`()`",
             Value::Poison => "an invalid value",
         }

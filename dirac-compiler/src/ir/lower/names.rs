@@ -4,7 +4,7 @@
 use syn::{Expr, Member};
 
 use super::{f64_const, Lowering, Value, ACCEPTED};
-use crate::ast::layout::Component;
+use crate::ast::layout::{Component, Reading};
 use crate::ir::graph::Sym;
 
 impl Lowering<'_> {
@@ -211,45 +211,48 @@ impl Lowering<'_> {
             .any(|c| *id == c.name && c.matrix.is_some())
     }
 
+    /// The value `reading` reads, its leaves `sym(i)`. A 3 × 3 block of a configuration
+    /// (`which`) keeps its origin, so that `q0.R.transpose() * q1.R` reads the relative
+    /// rotation ([`super::matrix`]).
+    fn read(&mut self, reading: &Reading, sym: fn(usize) -> Sym, which: Option<usize>) -> Value {
+        match reading {
+            Reading::Entries(1, 1, entries) => Value::Scalar(self.g.var(sym(entries[0]))),
+            Reading::Entries(r, cols, entries) => {
+                let e = entries.iter().map(|&i| self.g.var(sym(i))).collect();
+                let mut m = super::Mat::new(*r, *cols, e);
+                if let (Some(which), (3, 3)) = (which, (*r, *cols)) {
+                    m.origin = Some((which, entries[0], false));
+                }
+                Value::Mat(m)
+            }
+            Reading::Parts(parts) => Value::Parts(
+                parts
+                    .iter()
+                    .map(|(name, part)| (*name, self.read(part, sym, which)))
+                    .collect(),
+            ),
+        }
+    }
+
     pub(super) fn field(&mut self, f: &syn::ExprField) -> Option<Value> {
         if let Some((which, member)) = self.coordinate_field(f) {
             let c = self.coordinate(f, member)?;
             let coord = &self.names.coords[c];
-            if let (2.., Some((r, cols, entries))) = (which, &coord.displacement) {
-                // A force's virtual displacement on rotation groups.
-                let d = if which == 2 { Sym::D0 } else { Sym::D1 };
-                let e: Vec<_> = entries.iter().map(|&i| self.g.var(d(i))).collect();
-                if (*r, *cols) == (1, 1) {
-                    return Some(Value::Scalar(e[0]));
-                }
-                return Some(Value::Mat(super::Mat::new(*r, *cols, e)));
-            }
-            if let (1, Some((r, cols, entries))) = (which, &coord.velocity) {
-                // The velocity argument of a continuous Lagrangian on rotation groups.
-                let e: Vec<_> = entries.iter().map(|&i| self.g.var(Sym::Q1(i))).collect();
-                if (*r, *cols) == (1, 1) {
-                    return Some(Value::Scalar(e[0]));
-                }
-                return Some(Value::Mat(super::Mat::new(*r, *cols, e)));
-            }
-            if let Some((r, cols, entries)) = &coord.matrix {
-                let sym = |i: usize| match which {
-                    0 => Sym::Q0(i),
-                    1 => Sym::Q1(i),
-                    2 => Sym::D0(i),
-                    _ => Sym::D1(i),
-                };
-                let (r, cols) = (*r, *cols);
-                let e = entries
-                    .clone()
-                    .into_iter()
-                    .map(|i| self.g.var(sym(i)))
-                    .collect();
-                let mut m = super::Mat::new(r, cols, e);
-                if (r, cols) == (3, 3) {
-                    m.origin = Some((which, entries[0], false));
-                }
-                return Some(Value::Mat(m));
+            let sym = match which {
+                0 => Sym::Q0,
+                1 => Sym::Q1,
+                2 => Sym::D0,
+                _ => Sym::D1,
+            };
+            // A force's virtual displacement, the velocity argument of a continuous
+            // Lagrangian, or a configuration, on groups.
+            let (reading, configuration) = match which {
+                2.. if coord.displacement.is_some() => (coord.displacement.as_ref(), false),
+                1 if coord.velocity.is_some() => (coord.velocity.as_ref(), false),
+                _ => (coord.matrix.as_ref(), true),
+            };
+            if let Some(reading) = reading.cloned() {
+                return Some(self.read(&reading, sym, configuration.then_some(which)));
             }
             if let Some(len) = coord.len {
                 let name = coord.name.clone();
@@ -279,6 +282,13 @@ impl Lowering<'_> {
                 ),
             },
             (m, Value::Mat(a)) => self.mat_field(a, m),
+            (Member::Named(m), Value::Parts(parts)) => match parts.iter().find(|(n, _)| m == n) {
+                Some((_, v)) => Some(v.clone()),
+                None => {
+                    let names: Vec<String> = parts.iter().map(|(n, _)| format!("`.{n}`")).collect();
+                    self.error(m, format!("no part `{m}`; accepted: {}", names.join(", ")))
+                }
+            },
             (m, v) => self.error(
                 m,
                 format!("no field `{}` on {}", crate::ctxt::show(&m), v.kind()),

@@ -1,0 +1,240 @@
+//! The kinds of coordinate of a system on groups, as data: each is one implementation of
+//! [`Group`] — its point, chart and velocity, the chart `φ_q(ξ)` on the graph, how a force and a
+//! momentum enter its chart, how the body reads it, what the symmetry checks move, and the
+//! fields of the emitted types — in its own file, so that a new group is a new file and one line
+//! of [`KINDS`] (manif's `LieGroupBase`, symbolically; the runtime's `CoordinateKind` is the
+//! same list, numerically, and resolves [`Kind::name`]).
+//!
+//! | kind | point `P` | chart `N` | velocity | `φ_q(ξ)` |
+//! |------|-----------|-----------|----------|----------|
+//! | `shape`, `group` ([`scalar`]) | `x` (1) | 1 | `ẋ` | `x + ξ` |
+//! | `rotation` ([`rotation`]) | `R` row by row (9) | 3 | body `Ω` | `R cay(ξ)` |
+//! | `direction` ([`direction`]) | its frame `[e1 e2 n]` (9) | 2 | `ṅ` | the sphere's retraction |
+//! | `pose` ([`pose`]) | `R` (9), then `x` (3) | 6 | body `Ω`, spatial `ẋ` | `(R cay(ξ), x + v)` |
+//!
+//! Every chart is centred (`φ_q(0) = q`) and inverse by sign (`φ_{φ_q(z)}(−z) = q`), which the
+//! (−) step relies on.
+
+use std::fmt::Debug;
+use std::ops::Deref;
+
+use proc_macro2::TokenStream;
+use syn::Ident;
+
+use crate::ast::layout::Reading;
+use crate::ir::graph::{Graph, NodeId};
+
+mod direction;
+mod pose;
+mod rotation;
+mod scalar;
+
+pub use rotation::{cayley, cayley_value, product};
+
+/// Every kind, the one registration list: a new group is its file and a line here.
+pub const KINDS: [Kind; 5] = [
+    Kind(&scalar::SHAPE),
+    Kind(&scalar::GROUP),
+    Kind(&rotation::Rotation),
+    Kind(&direction::Direction),
+    Kind(&pose::Pose),
+];
+
+/// What a coordinate of a system on groups is: a handle on its kind's implementation, compared
+/// by name (the runtime's `CoordinateKind` is the same list, numerically).
+#[derive(Clone, Copy)]
+pub struct Kind(&'static dyn Group);
+
+impl Kind {
+    /// The kind an attribute key declares (`shape`, `group`, `rotation`, `direction`, `pose`),
+    /// the name the runtime's `CoordinateKind::by_name` resolves too.
+    pub fn by_name(name: &str) -> Option<Kind> {
+        KINDS.into_iter().find(|k| k.name() == name)
+    }
+
+    /// The attribute key that declares it (`shape`, `group`, `rotation`, `direction`, `pose`):
+    /// the name the runtime's `CoordinateKind::by_name` resolves.
+    pub fn name(self) -> &'static str {
+        self.0.name()
+    }
+
+    /// Entries of the stored point.
+    pub fn point_len(self) -> usize {
+        self.0.point_len()
+    }
+
+    /// Entries of the chart and of the momentum.
+    pub fn chart_len(self) -> usize {
+        self.0.chart_len()
+    }
+
+    /// Entries of a velocity, as a continuous Lagrangian reads it (a rotation's body angular
+    /// velocity, a direction's velocity in space, a pose's body angular and spatial linear
+    /// velocities).
+    pub fn velocity_len(self) -> usize {
+        self.0.velocity_len()
+    }
+}
+
+impl Deref for Kind {
+    type Target = dyn Group;
+
+    fn deref(&self) -> &Self::Target {
+        self.0
+    }
+}
+
+impl PartialEq for Kind {
+    fn eq(&self, other: &Self) -> bool {
+        self.name() == other.name()
+    }
+}
+
+impl Eq for Kind {}
+
+impl std::hash::Hash for Kind {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        self.name().hash(state);
+    }
+}
+
+impl Debug for Kind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// What a `symmetry(..)` may do with a coordinate of this kind.
+#[derive(Clone, Copy, Debug)]
+pub enum Rotated {
+    /// Every rotation `g` acts on it (`symmetry(R)`, `SO(3)`), and so do the rotations about a
+    /// fixed axis.
+    Every,
+    /// Only the rotations about a fixed axis (`symmetry(n, axis = z)`): the message for
+    /// `symmetry(n)` without an axis, given the name as written.
+    AboutAxis(fn(&Ident) -> String),
+    /// None: the message for listing it, given the name as written.
+    Refused(fn(&Ident) -> String),
+}
+
+/// The nalgebra and runtime paths the emitted code names.
+pub struct Paths {
+    /// `::dirac::nalgebra`.
+    pub na: TokenStream,
+    /// `::dirac::runtime`.
+    pub rt: TokenStream,
+}
+
+/// One kind of coordinate of a system on groups, symbolically: a manifold `Q_i` with a stored
+/// point of [`Self::point_len`] entries, a centred chart `φ_q : ℝ^N → Q_i` of
+/// [`Self::chart_len`] entries in which momenta and forces are covectors, and the velocity a
+/// continuous Lagrangian reads ([`Self::velocity_len`] entries, the same components as a
+/// virtual displacement). Offsets into a system's vectors are the caller's: every slice a method
+/// takes or returns is this coordinate's own block.
+pub trait Group: Sync {
+    /// The attribute key that declares it, the runtime's name of the kind.
+    fn name(&self) -> &'static str;
+
+    /// Entries of the stored point.
+    fn point_len(&self) -> usize;
+
+    /// Entries of the chart and of the momentum.
+    fn chart_len(&self) -> usize;
+
+    /// Entries of the velocity a continuous Lagrangian reads, and of a virtual displacement.
+    fn velocity_len(&self) -> usize;
+
+    /// Whether its translations are a declared symmetry (`group(x)`): its momentum is then the
+    /// explicit discrete Noether balance, and `L_d` is checked invariant.
+    fn translations(&self) -> bool {
+        false
+    }
+
+    /// The offset in its point of a rotation matrix (row by row) whose relative rotation
+    /// `R0ᵀ R1` the body and the velocity read as the symbols `Rel` (so that a step substitutes
+    /// `cay(ξ)ᵀ cay(z)` for it, with no round-off from the stored matrices).
+    fn rotation(&self) -> Option<usize> {
+        None
+    }
+
+    /// How the body reads a configuration's coordinate whole, its point's entries from `point`;
+    /// `None` for a scalar (read as one entry, `q0.x`).
+    fn reads(&self, point: usize) -> Option<Reading>;
+
+    /// How the body reads a velocity or a virtual displacement of it, its components from
+    /// `velocity`.
+    fn reads_velocity(&self, velocity: usize) -> Reading;
+
+    /// `φ_q(ξ)`: the point at chart coordinates `xi` (`N` nodes) of the chart centred at `base`
+    /// (`P` nodes).
+    fn chart(&self, g: &mut Graph, base: &[NodeId], xi: &[NodeId]) -> Vec<NodeId>;
+
+    /// The velocity over a step from `q0` to `q1` (their points), with `rel` the relative
+    /// rotation's 9 symbols where [`Self::rotation`] is some (else empty) and `inv_h = 1/h`.
+    fn velocity(
+        &self,
+        g: &mut Graph,
+        q0: &[NodeId],
+        q1: &[NodeId],
+        rel: &[NodeId],
+        inv_h: NodeId,
+    ) -> Vec<NodeId>;
+
+    /// A covector in velocity components (a force `∂W/∂δq`, a momentum `∂L/∂v`) as a covector
+    /// of the chart at `point`: its pull-back by `dφ_point(0)`.
+    fn covector(&self, g: &mut Graph, f: &[NodeId], point: &[NodeId]) -> Vec<NodeId>;
+
+    /// What a declared `symmetry(..)` may do with it.
+    fn rotated(&self) -> Rotated;
+
+    /// A sample point `(q0, q1)` for the compile-time checks, varying with the sample `t` and
+    /// the offset `at` (so that coordinates differ); a rotation among it consistent with its
+    /// [`Self::rotation`] offset.
+    fn sample(&self, t: f64, at: usize) -> [Vec<f64>; 2];
+
+    /// The point moved by the rotation `g` about the origin (what `symmetry(..)` does).
+    fn rotate(&self, g: &[[f64; 3]; 3], point: &mut [f64]);
+
+    /// The offsets among its velocity components of 3-vectors in space, which a rotation of the
+    /// configuration turns (a force on them turns with it); body-frame components do not.
+    fn spatial(&self) -> &'static [usize] {
+        &[]
+    }
+
+    /// The field of `<Name>Config` named `name`: its type and documentation (`ty` the system's
+    /// type name, for the types [`Self::items`] emits).
+    fn config_field(&self, paths: &Paths, name: &Ident, ty: &Ident) -> (TokenStream, String);
+
+    /// The field's value read from the point `q` (its block from `at`).
+    fn read_point(&self, paths: &Paths, ty: &Ident, at: usize) -> TokenStream;
+
+    /// Statements writing `self.name` into the point `q` (its block from `at`).
+    fn write_point(&self, paths: &Paths, name: &Ident, at: usize) -> TokenStream;
+
+    /// The field of `<Name>Momentum` named `name`: its type and documentation.
+    fn momentum_field(&self, paths: &Paths, name: &Ident, ty: &Ident) -> (TokenStream, String);
+
+    /// The momentum read from the chart momentum `p` at the point `q` (blocks from `ch`, `at`).
+    fn read_chart(&self, paths: &Paths, ty: &Ident, at: usize, ch: usize) -> TokenStream;
+
+    /// Statements writing `self.name` into the chart momentum `p` at the point `q`.
+    fn write_chart(&self, paths: &Paths, name: &Ident, at: usize, ch: usize) -> TokenStream;
+
+    /// The field of `<Name>Velocity` named `name`: its type and documentation.
+    fn velocity_field(&self, paths: &Paths, name: &Ident, ty: &Ident) -> (TokenStream, String);
+
+    /// The velocity components of the field `v` (an expression of the field's type), in order.
+    fn velocity_entries(&self, v: &TokenStream) -> Vec<TokenStream>;
+
+    /// Types the fields name, emitted once per system that has the kind (`continuous`: a
+    /// velocity type too).
+    fn items(
+        &self,
+        _paths: &Paths,
+        _ty: &Ident,
+        _vis: &syn::Visibility,
+        _continuous: bool,
+    ) -> TokenStream {
+        TokenStream::new()
+    }
+}
