@@ -331,3 +331,460 @@ fn the_reference_keeps_the_momentum_map_of_rigid_motions() {
     let (_, vertical) = angular_drift(fall.iter().map(|s| s.momentum_map().1));
     assert!(vertical < 2e-13, "π_3 drifts by {vertical:e}");
 }
+
+// ---------------------------------------------------------------------------------------------
+// The same body through `#[reduced_lagrangian(pose(b), ..)]`.
+
+use dirac::prelude::*;
+
+/// The body of the module documentation as a `pose`: its `L_d` as written there, the thrust as
+/// the trapezoid rule's discrete forces on the translation.
+#[reduced_lagrangian(pose(b), step = h,
+    force = |dq0, dq1| 0.5 * h * thrust
+        * ((q0.b.rotation * Vector3::z()).dot(&dq0.b.linear)
+            + (q1.b.rotation * Vector3::z()).dot(&dq1.b.linear)))]
+#[allow(clippy::too_many_arguments)]
+fn body_in_space(
+    q0: Config,
+    q1: Config,
+    h: f64,
+    m: f64,
+    g: f64,
+    j1: f64,
+    j2: f64,
+    j3: f64,
+    thrust: f64,
+) -> f64 {
+    let jd = Matrix3::from_diagonal(&Vector3::new(j2 + j3 - j1, j1 + j3 - j2, j1 + j2 - j3)) * 0.5;
+    let f = q0.b.rotation.transpose() * q1.b.rotation;
+    let dx = q1.b.translation - q0.b.translation;
+    ((Matrix3::identity() - f) * jd).trace() / h + 0.5 * m * dx.norm_squared() / h
+        - 0.5 * h * m * g * (q0.b.translation.z + q1.b.translation.z)
+}
+
+/// The same body as a continuous Lagrangian, `L = ½ Ωᵀ J Ω + ½ m |ẋ|² − m g e3·x`, with the
+/// thrust `T R e3` as a force, both by the trapezoid rule.
+#[reduced_lagrangian(pose(b), rule = trapezoid,
+    force = |dq| thrust * (q.b.rotation * Vector3::z()).dot(&dq.b.linear))]
+#[allow(clippy::too_many_arguments)]
+fn flying_body(
+    q: Config,
+    v: Velocity,
+    m: f64,
+    g: f64,
+    j1: f64,
+    j2: f64,
+    j3: f64,
+    thrust: f64,
+) -> f64 {
+    let (omega, xdot) = (v.b.angular, v.b.linear);
+    0.5 * (j1 * omega.x * omega.x + j2 * omega.y * omega.y + j3 * omega.z * omega.z)
+        + 0.5 * m * xdot.norm_squared()
+        - m * g * q.b.translation.z
+}
+
+fn compiled(b: &Body) -> BodyInSpace {
+    BodyInSpace {
+        h: b.h,
+        m: b.m,
+        g: b.g,
+        j1: b.j.x,
+        j2: b.j.y,
+        j3: b.j.z,
+        thrust: b.thrust,
+    }
+}
+
+fn continuous(b: &Body) -> FlyingBody {
+    FlyingBody {
+        h: b.h,
+        m: b.m,
+        g: b.g,
+        j1: b.j.x,
+        j2: b.j.y,
+        j3: b.j.z,
+        thrust: b.thrust,
+    }
+}
+
+/// The stored state of the contract: `R` row by row, then `x`; the momentum `(Π, p)`.
+fn stored(s: &State) -> LieState<12, 6> {
+    let mut q = [0.0; 12];
+    for i in 0..3 {
+        for j in 0..3 {
+            q[3 * i + j] = s.r[(i, j)];
+        }
+        q[9 + i] = s.x[i];
+    }
+    let p = [s.pi.x, s.pi.y, s.pi.z, s.p.x, s.p.y, s.p.z];
+    LieState::from_row_major(q, p)
+}
+
+/// [`stored`]'s inverse.
+fn read(s: &LieState<12, 6>) -> State {
+    State {
+        r: Matrix3::from_fn(|i, j| s.q[3 * i + j]),
+        x: Vector3::new(s.q[9], s.q[10], s.q[11]),
+        pi: Vector3::new(s.p[0], s.p[1], s.p[2]),
+        p: Vector3::new(s.p[3], s.p[4], s.p[5]),
+    }
+}
+
+/// Newton to round-off, for runs compared with a reference solved to round-off.
+fn tight() -> NewtonOptions {
+    NewtonOptions {
+        abs_tol: 1e-13,
+        rel_tol: 1e-13,
+        ..NewtonOptions::default()
+    }
+}
+
+/// `(|R − R'|, |x − x'|, |Π − Π'|, |p − p'|)`, the largest entry of each, over two runs.
+fn deviations(a: &[State], b: &[State]) -> [f64; 4] {
+    let mut worst = [0.0_f64; 4];
+    for (a, b) in a.iter().zip(b) {
+        let d = [
+            (a.r - b.r).amax(),
+            (a.x - b.x).amax(),
+            (a.pi - b.pi).amax(),
+            (a.p - b.p).amax(),
+        ];
+        for (w, d) in worst.iter_mut().zip(d) {
+            *w = w.max(d);
+        }
+    }
+    worst
+}
+
+/// A body spinning about its major axis, held upright by the spin (its third axis vertical, a
+/// little nutation), its thrust about balancing its weight (`T = 30`, `m g = 29.4`): it hovers,
+/// and every part of its state stays of order 1 to 10.
+fn hovering() -> (Body, State) {
+    let b = body(0.01, 9.81, 30.0);
+    let s = State {
+        r: cayley_half(&Vector3::new(0.0, 0.0, 0.3)),
+        x: Vector3::new(0.5, -0.2, 1.0),
+        pi: Vector3::new(0.2, -0.1, 15.0),
+        p: Vector3::new(0.3, -0.2, 0.1),
+    };
+    (b, s)
+}
+
+/// 1000 steps of the pose system and of the reference from `s`: the largest deviation of each
+/// part (`R`, `x`, `Π`, `p`), absolute and relative to the part's largest entry over the run.
+fn against_reference(b: &Body, s: &State, options: NewtonOptions) -> ([f64; 4], [f64; 4]) {
+    let traj = LieIntegrator::new(compiled(b), options)
+        .run(stored(s))
+        .steps(1000)
+        .collect()
+        .map_err(|e| e.source)
+        .unwrap();
+    let states: Vec<State> = traj.states.iter().map(read).collect();
+    let reference = b.run(*s, 1000);
+    let d = deviations(&states, &reference);
+    let size = |f: &dyn Fn(&State) -> f64| reference.iter().map(f).fold(0.0, f64::max);
+    let sizes = [
+        1.0,
+        size(&|s| s.x.amax()),
+        size(&|s| s.pi.amax()),
+        size(&|s| s.p.amax()),
+    ];
+    (d, std::array::from_fn(|i| d[i] / sizes[i]))
+}
+
+/// The pose system takes the reference's steps over 1000 steps: `R` to 1e-12 and `x`, `Π`, `p`
+/// to 1e-12 of their size over the run (coasting: `|x|` ≤ 4, `|Π|` ≈ 1; hovering: `|x|` ≤ 11,
+/// `|Π|` = 15; falling: `|x|` ≈ 490, `|p|` ≈ 290).
+///
+/// Thrusting while tumbling, the rotation is solved less tightly than the reference solves it:
+/// Newton's residual test is one norm over the whole chart, `‖R‖∞ ≤ abs_tol + rel_tol·ρ` with
+/// `ρ` the largest momentum, here the linear `|p|` ≈ 200 against `|Π|` ≈ 1, so the rotation's
+/// part of the residual is accepted at `rel_tol·|p|`; and `rel_tol` cannot go below about
+/// `ε |x| m/(h |p|)`, the round-off floor of the translation's residual `m (x1 − x0)/h`
+/// (1e-14 fails to converge at step 788). The attitude then differs by 3e-11 and, through the
+/// thrust's direction, the position and momentum by 1e-11 of their size.
+#[test]
+fn a_pose_steps_as_the_hand_written_lgvi() {
+    let (hover, hover_start) = hovering();
+    for (what, b, s, tolerance) in [
+        ("coasting", body(0.01, 0.0, 0.0), start(), 1e-12),
+        ("hovering", hover, hover_start, 1e-12),
+        ("falling", body(0.01, 9.81, 0.0), start(), 1e-12),
+        ("thrusting", body(0.01, 9.81, 40.0), start(), 1e-10),
+    ] {
+        let (d, r) = against_reference(&b, &s, tight());
+        println!(
+            "{what}: R {:.1e}, x {:.1e}, Π {:.1e}, p {:.1e} (relative: x {:.1e}, Π {:.1e}, p {:.1e})",
+            d[0], d[1], d[2], d[3], r[1], r[2], r[3]
+        );
+        assert!(r.iter().all(|d| *d < tolerance), "{what}: {r:?}");
+    }
+}
+
+/// Without forces the momentum map of rigid motions is kept: `ℓ` and `π` from the runtime's
+/// momentum map, which is also checked against `(p, R Π + x × p)`.
+#[test]
+fn a_free_pose_keeps_its_linear_and_angular_momentum() {
+    let b = body(0.01, 0.0, 0.0);
+    let integ = LieIntegrator::new(compiled(&b), NewtonOptions::default());
+    let s0 = stored(&start());
+    let (l0, pi0) = start().momentum_map();
+    assert_eq!(integ.linear_momentum(&s0), l0);
+    assert!((integ.spatial_momentum(&s0) - pi0).amax() < 1e-15);
+    let traj = integ.run(s0).steps(1000).collect().unwrap();
+    let linear = traj
+        .states
+        .iter()
+        .map(|s| (integ.linear_momentum(s) - l0).norm() / l0.norm())
+        .fold(0.0, f64::max);
+    let (angular, _) = angular_drift(traj.states.iter().map(|s| integ.spatial_momentum(s)));
+    println!("free: ℓ drifts by {linear:e}, π by {angular:e} (relative, 1000 steps)");
+    assert!(linear < 1e-14, "ℓ drifts by {linear:e}");
+    assert!(angular < 2e-13, "π drifts by {angular:e}");
+}
+
+/// Gravity keeps the horizontal translations and the rotations about the vertical.
+#[test]
+fn a_pose_in_gravity_keeps_its_horizontal_linear_and_vertical_angular_momentum() {
+    let b = body(0.01, 9.81, 0.0);
+    let integ = LieIntegrator::new(compiled(&b), NewtonOptions::default());
+    let traj = integ.run(stored(&start())).steps(1000).collect().unwrap();
+    let l0 = integ.linear_momentum(&traj.states[0]);
+    let horizontal = traj
+        .states
+        .iter()
+        .map(|s| {
+            let l = integ.linear_momentum(s);
+            (l.x - l0.x).abs().max((l.y - l0.y).abs()) / l0.norm()
+        })
+        .fold(0.0, f64::max);
+    let (_, vertical) = angular_drift(traj.states.iter().map(|s| integ.spatial_momentum(s)));
+    println!("gravity: horizontal ℓ drifts by {horizontal:e}, vertical π by {vertical:e}");
+    assert!(horizontal < 1e-14, "horizontal ℓ drifts by {horizontal:e}");
+    assert!(vertical < 2e-13, "vertical π drifts by {vertical:e}");
+    // The vertical momentum falls by m g h per step: not kept.
+    let fall = integ.linear_momentum(traj.last()).z - l0.z;
+    assert!((fall + b.m * b.g * 10.0).abs() < 1e-10, "{fall}");
+}
+
+/// With gravity and thrust, the forced discrete Noether balance of both parts, step by step:
+/// `ℓ_{k+1} − ℓ_k = (h/2)(f_k + f_{k+1})` and
+/// `π_{k+1} − π_k = (h/2)(x_k × f_k + x_{k+1} × f_{k+1})`, with the total force
+/// `f = T R e3 − m g e3` and its moment about the origin: each to round-off of the momentum's
+/// size (`|ℓ|` up to 200 here; for `π`, of its terms' `|Π| + |x| |p|`).
+#[test]
+fn a_thrusting_pose_balances_the_impulse_and_its_moment() {
+    let b = body(0.01, 9.81, 40.0);
+    let integ = LieIntegrator::new(compiled(&b), NewtonOptions::default());
+    let traj = integ
+        .run(stored(&start()))
+        .steps(1000)
+        .collect()
+        .map_err(|e| e.source)
+        .unwrap();
+    let (mut linear, mut angular): (f64, f64) = (0.0, 0.0);
+    for w in traj.states.windows(2) {
+        let (a, c) = (read(&w[0]), read(&w[1]));
+        let (fa, fc) = (b.force(&a.r), b.force(&c.r));
+        let (l0, l1) = (integ.linear_momentum(&w[0]), integ.linear_momentum(&w[1]));
+        let (pi0, pi1) = (integ.spatial_momentum(&w[0]), integ.spatial_momentum(&w[1]));
+        let impulse = (fa + fc) * (b.h / 2.0);
+        let moment = (a.x.cross(&fa) + c.x.cross(&fc)) * (b.h / 2.0);
+        linear = linear.max((l1 - l0 - impulse).amax() / l1.norm());
+        // π's terms are larger than π itself: round-off is relative to them.
+        let terms = c.pi.norm() + c.x.norm() * c.p.norm();
+        angular = angular.max((pi1 - pi0 - moment).amax() / terms);
+    }
+    println!("thrust: impulse balance off by {linear:e}, its moment's by {angular:e} (relative)");
+    assert!(linear < 1e-14, "the impulse is off by {linear:e}");
+    assert!(
+        angular < 1e-14,
+        "the moment of the impulse is off by {angular:e}"
+    );
+}
+
+/// The (−) integrator solves for the current point in the chart at the next one, and the pose's
+/// chart is inverted by a sign (`cay(−ξ) = cay(ξ)ᵀ`, `x − v`): its equations are the (+) ones
+/// at `z = −w`, and negation is exact, so the steps are the same bit for bit.
+#[test]
+fn the_minus_integrator_takes_the_same_steps_bit_for_bit() {
+    let b = body(0.01, 9.81, 40.0);
+    let plus = LieIntegrator::new(compiled(&b), NewtonOptions::default())
+        .run(stored(&start()))
+        .steps(1000)
+        .collect()
+        .unwrap();
+    let minus = LieIntegrator::minus(compiled(&b), NewtonOptions::default())
+        .run(stored(&start()))
+        .steps(1000)
+        .collect()
+        .unwrap();
+    assert_eq!(plus.states, minus.states);
+}
+
+/// `max |state_N − state(1)|` after `n` steps of `1/n` against the exact motion.
+fn error_at_one(n: usize, rule: bool) -> f64 {
+    let b = body(1.0 / n as f64, 9.81, 40.0);
+    let last = if rule {
+        *LieIntegrator::new(continuous(&b), tight())
+            .run(stored(&start()))
+            .steps(n)
+            .collect()
+            .unwrap()
+            .last()
+    } else {
+        *LieIntegrator::new(compiled(&b), tight())
+            .run(stored(&start()))
+            .steps(n)
+            .collect()
+            .unwrap()
+            .last()
+    };
+    distance(&read(&last), &reference::exact(&b, &start(), 1.0))
+}
+
+#[test]
+fn a_pose_has_order_two_against_euler_and_newton() {
+    for rule in [false, true] {
+        let errors: Vec<f64> = [20, 40, 80]
+            .iter()
+            .map(|&n| error_at_one(n, rule))
+            .collect();
+        for w in errors.windows(2) {
+            let order = (w[0] / w[1]).log2();
+            println!("rule = {rule}: order {order:.3} from {errors:?}");
+            assert!((order - 2.0).abs() < 0.1, "order {order} from {errors:?}");
+        }
+    }
+}
+
+#[test]
+fn the_attitude_stays_a_rotation_over_ten_thousand_steps() {
+    let b = body(0.01, 9.81, 40.0);
+    let integ = LieIntegrator::new(compiled(&b), NewtonOptions::default());
+    let mut worst: f64 = 0.0;
+    integ
+        .run(stored(&start()))
+        .steps(10_000)
+        .observe(|_, _, s: &LieState<12, 6>, _| {
+            let r = read(s).r;
+            worst = worst.max((r.transpose() * r - Matrix3::identity()).amax());
+        })
+        .stream()
+        .unwrap();
+    println!("|RᵀR − I| ≤ {worst:e} over 10⁴ steps");
+    assert!(worst < 1e-13, "|RᵀR − I| = {worst:e}");
+}
+
+/// The continuous form's translation is the discrete one's (`h/2 (½ m |ẋ|² + ½ m |ẋ|²)` with
+/// `ẋ = (x1 − x0)/h` is `m |x1 − x0|²/(2h)`, the potential the same trapezoid): without thrust,
+/// which couples it to the attitude, its positions and linear momenta are the discrete
+/// form's to round-off. Its rotation differs (`h/2 ΩᵀJΩ` at the Cayley velocity against the
+/// LGVI's `tr((I − F) J_d)/h`, `O(h³)` apart per step): the attitudes agree to `O(h²)`.
+#[test]
+fn the_continuous_form_agrees_with_the_discrete_one() {
+    let b = body(0.01, 9.81, 0.0);
+    let run = |rule: bool| -> Vec<State> {
+        let s0 = stored(&start());
+        let states = if rule {
+            LieIntegrator::new(continuous(&b), tight())
+                .run(s0)
+                .steps(1000)
+                .collect()
+                .unwrap()
+                .states
+        } else {
+            LieIntegrator::new(compiled(&b), tight())
+                .run(s0)
+                .steps(1000)
+                .collect()
+                .unwrap()
+                .states
+        };
+        states.iter().map(read).collect()
+    };
+    let (a, c) = (run(false), run(true));
+    let translation = a
+        .iter()
+        .zip(&c)
+        .map(|(a, c)| (a.x - c.x).amax().max((a.p - c.p).amax()))
+        .fold(0.0, f64::max);
+    println!("continuous against discrete, translation: {translation:e}");
+    assert!(translation < 1e-12, "{translation:e}");
+    // The attitudes at t = 1: the difference falls by 4 as the step halves.
+    let attitude = |n: usize| {
+        let b = body(1.0 / n as f64, 9.81, 40.0);
+        let ends: Vec<Matrix3<f64>> = [false, true]
+            .iter()
+            .map(|&rule| {
+                let s0 = stored(&start());
+                let last = if rule {
+                    *LieIntegrator::new(continuous(&b), tight())
+                        .run(s0)
+                        .steps(n)
+                        .collect()
+                        .unwrap()
+                        .last()
+                } else {
+                    *LieIntegrator::new(compiled(&b), tight())
+                        .run(s0)
+                        .steps(n)
+                        .collect()
+                        .unwrap()
+                        .last()
+                };
+                read(&last).r
+            })
+            .collect();
+        (ends[0] - ends[1]).amax()
+    };
+    let ratio = attitude(20) / attitude(40);
+    assert!((ratio - 4.0).abs() < 0.4, "ratio {ratio}");
+}
+
+/// A start whose attitude is not a rotation, or whose position is not finite, is refused with
+/// a typed error before the first step.
+#[test]
+fn a_pose_off_the_group_or_not_finite_is_refused() {
+    let b = body(0.01, 9.81, 40.0);
+    let integ = LieIntegrator::new(compiled(&b), NewtonOptions::default());
+    let mut s0 = stored(&start());
+    s0.q[1] += 1e-6;
+    let err = integ.run(s0).steps(10).collect().unwrap_err();
+    assert!(matches!(err.source, StepError::OffManifold { .. }), "{err}");
+    assert_eq!(err.trajectory.states.len(), 1);
+    let mut s0 = stored(&start());
+    s0.q[10] = f64::NAN;
+    let err = integ.run(s0).steps(10).collect().unwrap_err();
+    assert!(
+        matches!(err.source, StepError::NonFinite { step: 0, .. }),
+        "{err}"
+    );
+    assert_eq!(err.trajectory.states.len(), 1);
+}
+
+/// The emitted types store a pose as the contract says, `R` row by row then `x`, its momentum
+/// `(Π, p)`, and read it back.
+#[test]
+fn the_emitted_types_store_the_pose_row_by_row_then_the_position() {
+    let sys = compiled(&body(0.01, 9.81, 40.0));
+    let s = start();
+    let state = sys.state(
+        &BodyInSpaceConfig {
+            b: BodyInSpacePose {
+                rotation: s.r,
+                translation: s.x,
+            },
+        },
+        &BodyInSpaceMomentum {
+            b: BodyInSpacePoseMomentum {
+                angular: s.pi,
+                linear: s.p,
+            },
+        },
+    );
+    assert_eq!(state, stored(&s));
+    let (q, p) = (sys.config(&state).b, sys.momenta(&state).b);
+    assert_eq!((q.rotation, q.translation), (s.r, s.x));
+    assert_eq!((p.angular, p.linear), (s.pi, s.p));
+}
