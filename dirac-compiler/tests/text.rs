@@ -324,3 +324,38 @@ fn shift_b(mut q: [f64; 2], b: usize, by: f64) -> [f64; 2] {
     q[b] += by;
     q
 }
+
+/// A rigid body in space given as text, with one `pose(..)` coordinate: its kind is the
+/// attribute key (the name the runtime resolves), its point has 12 entries and its chart 6, and
+/// the retraction is `(R cay(ξ), x + v)`: the position moves by `v` in space, the rotation by
+/// `cay(ξ)` in the body.
+#[test]
+fn a_pose_system_compiles_to_programs() {
+    let system = dirac_compiler::text::compile_lie(
+        "#[reduced_lagrangian(pose(body))]
+         fn free(q0: Config, q1: Config, h: f64, m: f64) -> f64 {
+             let f = q0.body.rotation.transpose() * q1.body.rotation;
+             let dx = q1.body.translation - q0.body.translation;
+             (Matrix3::identity() - f).trace() / h + 0.5 * m * dx.norm_squared() / h
+         }",
+    )
+    .unwrap();
+    assert_eq!(system.coordinates.len(), 1);
+    assert_eq!(system.coordinates[0].kind.name(), "pose");
+    assert_eq!((system.point_len(), system.chart_len()), (12, 6));
+    assert_eq!(system.stepper.residual.outputs.len(), 6);
+    // The base point: a rotation about z by a quarter turn, at (1, 2, 3).
+    let base = [0.0, -1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 2.0, 3.0];
+    // ξ = (0, 0, 2): cay(ξ) turns by 2 atan(|ξ|/2) = π/2 about the body's z axis; v = (0.5, 0, -1).
+    let z = [0.0, 0.0, 2.0, 0.5, 0.0, -1.0];
+    let q = system.retract.eval(&|leaf| match leaf {
+        Leaf::Base(i) => base[i],
+        Leaf::Chart(j) => z[j],
+        other => panic!("the retraction read {other:?}"),
+    });
+    // R cay(ξ) = Rz(π/2) Rz(π/2) = Rz(π).
+    let want = [-1.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 1.0, 1.5, 2.0, 2.0];
+    for (got, want) in q.iter().zip(want) {
+        assert!((got - want).abs() < 1e-15, "{q:?}");
+    }
+}

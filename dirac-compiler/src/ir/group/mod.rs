@@ -238,3 +238,116 @@ pub trait Group: Sync {
         TokenStream::new()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ir::graph::Sym;
+
+    /// Each kind's sample point `q0` (a rotation or frame from `cay`, a pose's position) and a
+    /// chart coordinate `z` of modest size.
+    fn point_and_z(kind: Kind) -> (Vec<f64>, Vec<f64>) {
+        let q = kind.sample(0.7, 3)[0].clone();
+        let z = (0..kind.chart_len())
+            .map(|j| 0.3 - 0.17 * j as f64)
+            .collect();
+        (q, z)
+    }
+
+    /// `φ_q(0) = q` and `φ_{φ_q(z)}(−z) = q` (to round-off) for every kind: the (−) step inverts
+    /// a chart by a sign (`cay(−ξ) = cay(ξ)ᵀ`, the sphere's `M(−w) = M(w)ᵀ`, translations).
+    #[test]
+    fn every_chart_is_centred_and_inverse_by_sign() {
+        for kind in KINDS {
+            let (q, z) = point_and_z(kind);
+            let mut g = Graph::default();
+            let base: Vec<NodeId> = (0..kind.point_len()).map(|i| g.var(Sym::Base(i))).collect();
+            let xi: Vec<NodeId> = (0..kind.chart_len())
+                .map(|j| g.var(Sym::Chart1(j)))
+                .collect();
+            let zero = vec![g.constant(0.0); kind.chart_len()];
+            let centre = kind.chart(&mut g, &base, &zero);
+            let next = kind.chart(&mut g, &base, &xi);
+            let minus: Vec<NodeId> = xi.iter().map(|&x| g.neg(x)).collect();
+            let back = kind.chart(&mut g, &next, &minus);
+            let value = |sym: Sym| match sym {
+                Sym::Base(i) => q[i],
+                Sym::Chart1(j) => z[j],
+                _ => unreachable!(),
+            };
+            let (c, b) = (g.eval(&centre, &value), g.eval(&back, &value));
+            let moved = g.eval(&next, &value);
+            for i in 0..q.len() {
+                assert!((c[i] - q[i]).abs() < 1e-15, "{kind:?}: φ_q(0) ≠ q at {i}");
+                assert!(
+                    (b[i] - q[i]).abs() < 1e-14,
+                    "{kind:?}: φ_φ(z)(−z) ≠ q at {i}"
+                );
+            }
+            assert!(
+                moved.iter().zip(&q).any(|(m, q)| (m - q).abs() > 0.1),
+                "{kind:?}: φ_q(z) did not move"
+            );
+        }
+    }
+
+    /// The velocity over a step to `φ_q(h w)` is `w` for the kinds whose velocity is their chart
+    /// velocity (scalars `x + hw`, a rotation's `Ω = cay⁻¹(R0ᵀ R1)/h`, a pose's `(Ω, ẋ)`), with
+    /// the relative rotation formed from the two points as the body reads it.
+    #[test]
+    fn the_velocity_of_a_chart_step_is_its_chart_velocity() {
+        let h = 0.05;
+        for kind in KINDS
+            .into_iter()
+            .filter(|k| k.velocity_len() == k.chart_len())
+        {
+            let (q, w) = point_and_z(kind);
+            let mut g = Graph::default();
+            let q0: Vec<NodeId> = q.iter().map(|&v| g.constant(v)).collect();
+            let hw: Vec<NodeId> = w.iter().map(|&v| g.constant(h * v)).collect();
+            let q1 = kind.chart(&mut g, &q0, &hw);
+            let rel: Vec<NodeId> = match kind.rotation() {
+                Some(at) => (0..9)
+                    .map(|e| {
+                        let (i, j) = (e / 3, e % 3);
+                        let (a, b): (Vec<NodeId>, Vec<NodeId>) = (0..3)
+                            .map(|k| (q0[at + 3 * k + i], q1[at + 3 * k + j]))
+                            .unzip();
+                        let terms: Vec<NodeId> =
+                            a.iter().zip(&b).map(|(&x, &y)| g.mul(x, y)).collect();
+                        let s = g.add(terms[0], terms[1]);
+                        g.add(s, terms[2])
+                    })
+                    .collect(),
+                None => Vec::new(),
+            };
+            let inv_h = g.constant(1.0 / h);
+            let v = kind.velocity(&mut g, &q0, &q1, &rel, inv_h);
+            let v = g.eval(&v, &|_| unreachable!("constants only"));
+            for (got, want) in v.iter().zip(&w) {
+                assert!((got - want).abs() < 1e-12, "{kind:?}: {got} ≠ {want}");
+            }
+        }
+    }
+
+    /// Every kind is found by its name, and the names are the attribute keys.
+    #[test]
+    fn kinds_are_found_by_their_keys() {
+        let keys = [
+            crate::symbol::SHAPE,
+            crate::symbol::GROUP,
+            crate::symbol::ROTATION,
+            crate::symbol::DIRECTION,
+            crate::symbol::POSE,
+        ];
+        for key in keys {
+            assert_eq!(Kind::by_name(key.0).map(Kind::name), Some(key.0));
+        }
+        assert!(Kind::by_name("translation").is_none());
+        let pose = Kind::by_name("pose").unwrap();
+        assert_eq!(
+            (pose.point_len(), pose.chart_len(), pose.velocity_len()),
+            (12, 6, 6)
+        );
+    }
+}
