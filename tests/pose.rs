@@ -32,16 +32,7 @@ fn free_split(q0: Config, q1: Config, h: f64, m: f64, j1: f64, j2: f64, j3: f64)
 /// `u (R e3)·δx` reads the pose's spatial displacement.
 #[reduced_lagrangian(pose(body), rule = trapezoid, step = h, controls(u),
     force = |dq| u * (q.body.rotation * Vector3::z()).dot(&dq.body.linear))]
-fn thrust_pose(
-    q: Config,
-    v: Velocity,
-    m: f64,
-    g: f64,
-    j1: f64,
-    j2: f64,
-    j3: f64,
-    u: f64,
-) -> f64 {
+fn thrust_pose(q: Config, v: Velocity, m: f64, g: f64, j1: f64, j2: f64, j3: f64, u: f64) -> f64 {
     let w = v.body.angular;
     let j = Matrix3::from_diagonal(&Vector3::new(j1, j2, j3));
     0.5 * w.dot(&(j * w)) + 0.5 * m * v.body.linear.norm_squared() - m * g * q.body.translation.z
@@ -50,16 +41,7 @@ fn thrust_pose(
 /// [`thrust_pose`] with its rotation and position as separate coordinates.
 #[reduced_lagrangian(rotation(r), shape(x, y, z), rule = trapezoid, step = h, controls(u),
     force = |dq| u * (q.r * Vector3::z()).dot(&Vector3::new(dq.x, dq.y, dq.z)))]
-fn thrust_split(
-    q: Config,
-    v: Velocity,
-    m: f64,
-    g: f64,
-    j1: f64,
-    j2: f64,
-    j3: f64,
-    u: f64,
-) -> f64 {
+fn thrust_split(q: Config, v: Velocity, m: f64, g: f64, j1: f64, j2: f64, j3: f64, u: f64) -> f64 {
     let w = v.r;
     let j = Matrix3::from_diagonal(&Vector3::new(j1, j2, j3));
     0.5 * w.dot(&(j * w)) + 0.5 * m * (v.x * v.x + v.y * v.y + v.z * v.z) - m * g * q.z
@@ -268,5 +250,107 @@ fn a_continuous_pose_with_a_force_and_a_control_steps_as_its_split_form() {
     // The thrust lifts the body: it moved, and moved the same way.
     let top = pose.config(&a.states[STEPS]).body.translation;
     assert!((top - x).norm() > 1.0, "the body barely moved: {top}");
+    assert!(worst < 1e-12, "pose and split runs differ by {worst:e}");
+}
+
+/// A body on a Kepler orbit in space, its steps following `|x|^{3/2}` (adaptive steps: the
+/// physical time `t` a group coordinate, the step monitor a function of the pose's position).
+#[reduced_lagrangian(pose(body), group(t), rule = trapezoid,
+    time(t), adapt = |q| q.body.translation.norm().powf(1.5))]
+fn orbiting_pose(q: Config, v: Velocity, k: f64, j1: f64, j2: f64, j3: f64) -> f64 {
+    let w = v.body.angular;
+    0.5 * v.body.linear.norm_squared()
+        + k / q.body.translation.norm()
+        + 0.5 * (j1 * w.x * w.x + j2 * w.y * w.y + j3 * w.z * w.z)
+}
+
+/// [`orbiting_pose`] with its rotation and position as separate coordinates (the same point
+/// layout: `R` row by row, then `x, y, z`, then `t`).
+#[reduced_lagrangian(rotation(r), shape(x, y, z), group(t), rule = trapezoid,
+    time(t), adapt = |q| (q.x * q.x + q.y * q.y + q.z * q.z).sqrt().powf(1.5))]
+fn orbiting_split(q: Config, v: Velocity, k: f64, j1: f64, j2: f64, j3: f64) -> f64 {
+    let w = v.r;
+    0.5 * (v.x * v.x + v.y * v.y + v.z * v.z)
+        + k / (q.x * q.x + q.y * q.y + q.z * q.z).sqrt()
+        + 0.5 * (j1 * w.x * w.x + j2 * w.y * w.y + j3 * w.z * w.z)
+}
+
+#[test]
+fn an_adaptive_pose_steps_as_its_split_form() {
+    let (r, _, _, _) = start();
+    let (e, eps): (f64, f64) = (0.6, 0.02);
+    let (r0, speed) = (1.0 - e, ((1.0 + e) / (1.0 - e)).sqrt());
+    let omega = Vector3::new(0.3, 0.5, -0.07);
+    let pose = OrbitingPose {
+        h: eps,
+        k: 1.0,
+        j1: 1.0,
+        j2: 2.0,
+        j3: 3.0,
+    };
+    let split = OrbitingSplit {
+        h: eps,
+        k: 1.0,
+        j1: 1.0,
+        j2: 2.0,
+        j3: 3.0,
+    };
+    let s0 = pose
+        .unreduced_state(
+            &OrbitingPoseConfig {
+                body: OrbitingPosePose {
+                    rotation: r,
+                    translation: Vector3::new(r0, 0.0, 0.0),
+                },
+                t: 0.0,
+            },
+            &OrbitingPoseVelocity {
+                body: OrbitingPosePoseVelocity {
+                    angular: omega,
+                    linear: Vector3::new(0.0, speed, 0.1),
+                },
+                t: 1.0,
+            },
+        )
+        .unwrap();
+    let t0 = split
+        .unreduced_state(
+            &OrbitingSplitConfig {
+                r,
+                x: r0,
+                y: 0.0,
+                z: 0.0,
+                t: 0.0,
+            },
+            &OrbitingSplitVelocity {
+                r: omega,
+                x: 0.0,
+                y: speed,
+                z: 0.1,
+                t: 1.0,
+            },
+        )
+        .unwrap();
+    // The same state on the energy level (the same layout), to round-off in `p_t = −E`.
+    assert_eq!(s0.q, t0.q);
+    assert!((s0.p - t0.p).amax() < 1e-14, "{} vs {}", s0.p, t0.p);
+    let a = LieIntegrator::new(pose, tight())
+        .run(s0)
+        .steps(STEPS)
+        .collect()
+        .unwrap();
+    let b = LieIntegrator::new(split, tight())
+        .run(t0)
+        .steps(STEPS)
+        .collect()
+        .unwrap();
+    let mut worst: f64 = 0.0;
+    for (s, t) in a.states.iter().zip(&b.states) {
+        worst = worst.max((s.q - t.q).amax()).max((s.p - t.p).amax());
+    }
+    // The steps follow the orbit: the last covered more physical time than `STEPS · ε` at
+    // periapsis would.
+    let time = a.states[STEPS].q[12];
+    assert!(time > 2.0 * STEPS as f64 * eps * r0.powf(1.5), "t = {time}");
     assert!(worst < 1e-12, "pose and split runs differ by {worst:e}");
 }

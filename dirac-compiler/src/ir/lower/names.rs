@@ -199,8 +199,8 @@ impl Lowering<'_> {
         }
     }
 
-    /// Whether `member` names a rotation or direction coordinate (read whole, as a matrix or
-    /// a vector).
+    /// Whether `member` names a coordinate on a group read whole (a rotation as a matrix, a
+    /// direction as a vector, a pose as its parts).
     pub(super) fn is_matrix_coordinate(&self, member: &Member) -> bool {
         let Member::Named(id) = member else {
             return false;
