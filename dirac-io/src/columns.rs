@@ -110,8 +110,12 @@ impl<const N: usize> StateColumns for UnreducedState<N> {
 /// and `p_<component>`. The names come from [`lie_names`]: a rotation `R` stores `q_R_00` …
 /// `q_R_22` (row by row) and its discrete body momentum `p_R_x`, `p_R_y`, `p_R_z`; a direction `n`
 /// stores its frame `[e1 e2 n]` row by row (`q_n_00` … `q_n_22`, so `n = (q_n_02, q_n_12, q_n_22)`)
-/// and its momentum's components in the frame, `p_n_1`, `p_n_2`; a scalar `x` stores `q_x` and
-/// `p_x`. Every entry is written, so a state reads back bit for bit.
+/// and its momentum's components in the frame, `p_n_1`, `p_n_2`; a pose `X` stores its rotation
+/// as a rotation's (`q_X_00` … `q_X_22`) then its position `q_X_x`, `q_X_y`, `q_X_z`, and its
+/// body angular momentum `p_X_ax`, `p_X_ay`, `p_X_az` then its linear momentum `p_X_x`, `p_X_y`,
+/// `p_X_z`; a scalar `x` stores `q_x` and `p_x`. Every entry is written, so a state reads back
+/// bit for bit. Each coordinate's kind names its entries
+/// ([`Group::point_suffixes`](dirac::runtime::lie::Group::point_suffixes)).
 impl<const P: usize, const N: usize> StateColumns for LieState<P, N> {
     const WIDTH: usize = P + N;
 
@@ -181,29 +185,33 @@ fn physical_time(columns: &[String], name: &str) -> Option<(String, String)> {
 }
 
 /// The names of a stored point's entries and of the momentum's components of a system on
-/// rotation groups (see [`LieState`]'s columns).
+/// rotation groups (see [`LieState`]'s columns), each coordinate's entries as its kind names
+/// them.
+///
+/// ```
+/// use dirac::runtime::lie::CoordinateKind;
+///
+/// let (point, chart) =
+///     dirac_io::lie_names(&[("s", CoordinateKind::SCALAR), ("X", CoordinateKind::POSE)]);
+/// assert_eq!(point.len(), 1 + 12);
+/// assert_eq!(&point[..3], ["s", "X_00", "X_01"]);
+/// assert_eq!(&point[10..], ["X_x", "X_y", "X_z"]);
+/// assert_eq!(chart, ["s", "X_ax", "X_ay", "X_az", "X_x", "X_y", "X_z"]);
+/// ```
 pub fn lie_names(coordinates: &[(&str, CoordinateKind)]) -> (Vec<String>, Vec<String>) {
+    let named = |name: &str, suffixes: &[&str]| -> Vec<String> {
+        suffixes
+            .iter()
+            .map(|s| match *s {
+                "" => name.to_owned(),
+                s => format!("{name}_{s}"),
+            })
+            .collect()
+    };
     let (mut point, mut chart) = (Vec::new(), Vec::new());
     for &(name, kind) in coordinates {
-        match kind {
-            CoordinateKind::Scalar | CoordinateKind::Group => {
-                point.push(name.to_owned());
-                chart.push(name.to_owned());
-            }
-            CoordinateKind::Rotation | CoordinateKind::Direction => {
-                for i in 0..3 {
-                    for j in 0..3 {
-                        point.push(format!("{name}_{i}{j}"));
-                    }
-                }
-                let components: &[&str] = if kind == CoordinateKind::Rotation {
-                    &["x", "y", "z"]
-                } else {
-                    &["1", "2"]
-                };
-                chart.extend(components.iter().map(|c| format!("{name}_{c}")));
-            }
-        }
+        point.extend(named(name, kind.group().point_suffixes()));
+        chart.extend(named(name, kind.group().chart_suffixes()));
     }
     (point, chart)
 }

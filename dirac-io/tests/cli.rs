@@ -225,7 +225,7 @@ fn a_system_on_rotation_groups_runs_into_parquet_as_the_compiled_in_one() {
             r: Vector3::new(0.2, -0.1, 3.0),
         },
     );
-    let (point, chart) = dirac_io::lie_names(&[("r", CoordinateKind::Rotation)]);
+    let (point, chart) = dirac_io::lie_names(&[("r", CoordinateKind::ROTATION)]);
     let point: Vec<&str> = point.iter().map(String::as_str).collect();
     let chart: Vec<&str> = chart.iter().map(String::as_str).collect();
     let opts = NewtonOptions::default();

@@ -16,12 +16,12 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use dirac_compiler::program::Leaf;
-use dirac_compiler::text::{self, LieKind, LieSymmetryKind, LieSystem};
+use dirac_compiler::text::{self, LieSymmetryKind, LieSystem};
 use dirac_runtime::lie::{
-    frame, rows, CoordinateKind, LieLagrangian, LiePartials, LieSymmetric, RotationSymmetry,
+    CoordinateKind, LieLagrangian, LiePartials, LieSymmetric, RotationSymmetry,
 };
 use dirac_runtime::linalg::LinearSolver;
-use dirac_runtime::nalgebra::{DMatrix, Matrix3, SVector, Vector3};
+use dirac_runtime::nalgebra::{DMatrix, SVector};
 use dirac_runtime::LieState;
 
 use crate::codegen::{Jit, Kernel};
@@ -162,13 +162,16 @@ impl LieCode {
         let kinds = system
             .coordinates
             .iter()
-            .map(|c| match c.kind {
-                LieKind::Scalar => CoordinateKind::Scalar,
-                LieKind::Group => CoordinateKind::Group,
-                LieKind::Rotation => CoordinateKind::Rotation,
-                LieKind::Direction => CoordinateKind::Direction,
+            .map(|c| {
+                CoordinateKind::by_name(c.kind.name()).ok_or_else(|| {
+                    Error::Codegen(format!(
+                        "the coordinate `{}` is declared `{}`, a kind the runtime does not have",
+                        c.name,
+                        c.kind.name()
+                    ))
+                })
             })
-            .collect();
+            .collect::<Result<_, _>>()?;
         let symmetric = match system.symmetry.as_ref().map(|s| &s.kind) {
             Some(LieSymmetryKind::Axis { coordinates, .. }) => coordinates.clone(),
             Some(LieSymmetryKind::Rotations { coordinate }) => vec![*coordinate],
@@ -187,6 +190,12 @@ impl LieCode {
     /// The compiled system's names and programs.
     pub fn system(&self) -> &LieSystem {
         &self.system
+    }
+
+    /// The runtime's kind of each coordinate, in the order of [`LieSystem::coordinates`]: what
+    /// its point, chart, values and output names are.
+    pub fn kinds(&self) -> &[CoordinateKind] {
+        &self.kinds
     }
 
     /// How long the text took to become machine code.
@@ -378,13 +387,15 @@ impl<const P: usize, const N: usize, B, R> JitLie<P, N, B, R> {
     }
 
     /// The state at the configuration `q` with the momenta `p`, each coordinate as the text
-    /// names it, in the order of the text's coordinates: a scalar one number, a rotation its
-    /// matrix row by row (9 numbers), a direction the unit vector (3 numbers); a scalar's
-    /// momentum one number, a rotation's discrete body momentum `Π` (3: the discrete Legendre
-    /// momentum a step reads, not `JΩ`), a direction's momentum as a vector in space (3; its
-    /// component along the direction is dropped). An error for a
-    /// wrong count, a matrix that is not a rotation or a vector that is not a unit vector (to
-    /// `1e-9`), or a value that is not finite.
+    /// names it (its value, [`Group::point_from_value`](dirac_runtime::lie::Group::point_from_value)),
+    /// in the order of the text's coordinates: a scalar one number, a rotation its matrix row by
+    /// row (9 numbers), a direction the unit vector (3 numbers), a pose its rotation row by row
+    /// then its position (12 numbers); a scalar's momentum one number, a rotation's discrete body
+    /// momentum `Π` (3: the discrete Legendre momentum a step reads, not `JΩ`), a direction's
+    /// momentum as a vector in space (3; its component along the direction is dropped), a pose's
+    /// body angular momentum `Π` then its linear momentum `p` in space (6). An error for a wrong
+    /// count, a matrix that is not a rotation or a vector that is not a unit vector (to `1e-9`),
+    /// or a value that is not finite.
     pub fn state(&self, q: &[&[f64]], p: &[&[f64]]) -> Result<LieState<P, N>, Error> {
         let sys = &self.code.system;
         let fail = |reason: String| Error::State {
@@ -401,13 +412,9 @@ impl<const P: usize, const N: usize, B, R> JitLie<P, N, B, R> {
         }
         let (mut point, mut chart) = (SVector::<f64, P>::zeros(), SVector::<f64, N>::zeros());
         let (mut at, mut ch) = (0, 0);
-        for ((c, &qi), &pi) in sys.coordinates.iter().zip(q).zip(p) {
-            let name = &c.name;
-            let (want_q, want_p) = match c.kind {
-                LieKind::Scalar | LieKind::Group => (1, 1),
-                LieKind::Rotation => (9, 3),
-                LieKind::Direction => (3, 3),
-            };
+        for (((c, kind), &qi), &pi) in sys.coordinates.iter().zip(&self.code.kinds).zip(q).zip(p) {
+            let (name, group) = (&c.name, kind.group());
+            let (want_q, want_p) = (group.value_len(), group.momentum_value_len());
             if qi.len() != want_q || pi.len() != want_p {
                 return Err(fail(format!(
                     "`{name}` takes {want_q} numbers and a momentum of {want_p}, not {} and {}",
@@ -418,91 +425,58 @@ impl<const P: usize, const N: usize, B, R> JitLie<P, N, B, R> {
             if !qi.iter().chain(pi).all(|v| v.is_finite()) {
                 return Err(fail(format!("`{name}` is not finite")));
             }
-            match c.kind {
-                LieKind::Scalar | LieKind::Group => {
-                    point[at] = qi[0];
-                    chart[ch] = pi[0];
-                }
-                LieKind::Rotation => {
-                    let r = Matrix3::from_row_slice(qi);
-                    let defect = dirac_runtime::lie::orthogonality_defect(&r);
-                    if defect > 1e-9 || r.determinant() < 0.0 {
-                        return Err(fail(format!(
-                            "`{name}` is not a rotation (|RᵀR − I| = {defect:.1e}, det R = {:.3})",
-                            r.determinant()
-                        )));
-                    }
-                    for (i, v) in qi.iter().enumerate() {
-                        point[at + i] = *v;
-                    }
-                    for i in 0..3 {
-                        chart[ch + i] = pi[i];
-                    }
-                }
-                LieKind::Direction => {
-                    let n = Vector3::new(qi[0], qi[1], qi[2]);
-                    if (n.norm() - 1.0).abs() > dirac_runtime::lie::UNIT_TOLERANCE {
-                        return Err(fail(format!(
-                            "`{name}` is not a unit vector (|{name}| = {})",
-                            n.norm()
-                        )));
-                    }
-                    let f = frame(&n);
-                    for (i, v) in rows(&f).into_iter().enumerate() {
-                        point[at + i] = v;
-                    }
-                    let m = Vector3::new(pi[0], pi[1], pi[2]);
-                    chart[ch] = f.column(0).dot(&m);
-                    chart[ch + 1] = f.column(1).dot(&m);
-                }
-            }
-            at += c.kind.point_len();
-            ch += c.kind.chart_len();
+            let block = &mut point.as_mut_slice()[at..at + group.point_len()];
+            group.point_from_value(name, qi, block).map_err(fail)?;
+            group.momentum_from_value(
+                &point.as_slice()[at..at + group.point_len()],
+                pi,
+                &mut chart.as_mut_slice()[ch..ch + group.chart_len()],
+            );
+            at += group.point_len();
+            ch += group.chart_len();
         }
         Ok(LieState { q: point, p: chart })
     }
 
     /// The configuration of a stored point, coordinate by coordinate as [`Self::state`] takes
-    /// it (a rotation's matrix row by row, a direction's unit vector).
+    /// it (a rotation's matrix row by row, a direction's unit vector, a pose's 12 numbers).
     pub fn configuration(&self, q: &SVector<f64, P>) -> Vec<Vec<f64>> {
         let mut at = 0;
-        let mut out = Vec::with_capacity(self.code.system.coordinates.len());
-        for c in &self.code.system.coordinates {
-            out.push(match c.kind {
-                LieKind::Scalar | LieKind::Group => vec![q[at]],
-                LieKind::Rotation => q.as_slice()[at..at + 9].to_vec(),
-                LieKind::Direction => vec![q[at + 2], q[at + 5], q[at + 8]],
-            });
-            at += c.kind.point_len();
+        let mut out = Vec::with_capacity(self.code.kinds.len());
+        for kind in &self.code.kinds {
+            let group = kind.group();
+            let mut value = Vec::with_capacity(group.value_len());
+            group.value(&q.as_slice()[at..at + group.point_len()], &mut value);
+            out.push(value);
+            at += group.point_len();
         }
         out
     }
 
     /// The momenta of a state, coordinate by coordinate as [`Self::state`] takes them (a
     /// rotation's body momentum, a direction's momentum as a vector in space, tangent to the
-    /// sphere).
+    /// sphere, a pose's body angular and spatial linear momenta).
     pub fn momenta(&self, state: &LieState<P, N>) -> Vec<Vec<f64>> {
         let (mut at, mut ch) = (0, 0);
-        let mut out = Vec::with_capacity(self.code.system.coordinates.len());
-        for c in &self.code.system.coordinates {
-            out.push(match c.kind {
-                LieKind::Scalar | LieKind::Group => vec![state.p[ch]],
-                LieKind::Rotation => state.p.as_slice()[ch..ch + 3].to_vec(),
-                LieKind::Direction => {
-                    let f = Matrix3::from_fn(|i, j| state.q[at + 3 * i + j]);
-                    let m = f.column(0) * state.p[ch] + f.column(1) * state.p[ch + 1];
-                    m.as_slice().to_vec()
-                }
-            });
-            at += c.kind.point_len();
-            ch += c.kind.chart_len();
+        let mut out = Vec::with_capacity(self.code.kinds.len());
+        for kind in &self.code.kinds {
+            let group = kind.group();
+            let mut value = Vec::with_capacity(group.momentum_value_len());
+            group.momentum_value(
+                &state.q.as_slice()[at..at + group.point_len()],
+                &state.p.as_slice()[ch..ch + group.chart_len()],
+                &mut value,
+            );
+            out.push(value);
+            at += group.point_len();
+            ch += group.chart_len();
         }
         out
     }
 
     /// Adaptive steps: the state at the configuration `q` (its time coordinate the physical
     /// time) and the physical velocity `v` (the one spelling of a state from a position and a
-    /// velocity, as the runtime's `ContinuousLagrangian::unreduced_state`) ([`LieKind::velocity_len`] entries per coordinate:
+    /// velocity, as the runtime's `ContinuousLagrangian::unreduced_state`) ([`text::LieKind::velocity_len`] entries per coordinate:
     /// a rotation's body angular velocity, a direction's velocity in space; the time
     /// coordinate's ignored), on the level set where the time-transformed system's solutions
     /// are the physical ones: the physical momenta `∂L/∂v` and `p_t = −E(q, v)`. An error for a
