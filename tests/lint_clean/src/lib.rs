@@ -211,3 +211,14 @@ pub fn body_and_wheel(q0: Config, q1: Config, h: f64, j1: f64, j3: f64, jw: f64,
 pub fn kepler_adaptive(q: Config, v: Velocity, k: f64) -> f64 {
     0.5 * (v.r * v.r + q.r * q.r * v.theta * v.theta) + k / q.r
 }
+
+/// A rigid body in space as one pose, with a thrust along its third axis: a pose's parts, its
+/// velocity and virtual displacement, a continuous Lagrangian, a control.
+#[reduced_lagrangian(pose(body), rule = trapezoid, step = h, controls(u),
+    force = |dq| u * (q.body.rotation * Vector3::z()).dot(&dq.body.linear))]
+#[must_use]
+pub fn thrust_body(q: Config, v: Velocity, m: f64, g: f64, j1: f64, j3: f64, u: f64) -> f64 {
+    let w = v.body.angular;
+    0.5 * (j1 * (w.x * w.x + w.y * w.y) + j3 * w.z * w.z) + 0.5 * m * v.body.linear.norm_squared()
+        - m * g * q.body.translation.z
+}
