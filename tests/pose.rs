@@ -354,3 +354,65 @@ fn an_adaptive_pose_steps_as_its_split_form() {
     assert!(time > 2.0 * STEPS as f64 * eps * r0.powf(1.5), "t = {time}");
     assert!(worst < 1e-12, "pose and split runs differ by {worst:e}");
 }
+
+/// The step's sensitivities (the partial derivatives the compiler emits for dense systems) in
+/// the pose's chart `(ξ, v)` are the split form's in its charts `(ξ, x, y, z)`: the same
+/// coordinates in the same order, so the same matrices.
+#[test]
+fn a_pose_step_has_the_sensitivities_of_its_split_form() {
+    let (r, x, _, _) = start();
+    let pose = ThrustPose {
+        h: 0.02,
+        m: 1.5,
+        g: 9.81,
+        j1: 1.0,
+        j2: 1.5,
+        j3: 2.5,
+        u: 20.0,
+    };
+    let split = ThrustSplit {
+        h: 0.02,
+        m: 1.5,
+        g: 9.81,
+        j1: 1.0,
+        j2: 1.5,
+        j3: 2.5,
+        u: 20.0,
+    };
+    let velocity = SVector::<f64, 6>::from([0.5, -1.0, 2.0, 0.1, 0.2, 3.0]);
+    let q0 = ThrustPoseConfig {
+        body: ThrustPosePose {
+            rotation: r,
+            translation: x,
+        },
+    };
+    let s0 = pose
+        .discrete_legendre_state(&q0.to_point(), &velocity)
+        .unwrap();
+    let q0 = ThrustSplitConfig {
+        r,
+        x: x.x,
+        y: x.y,
+        z: x.z,
+    };
+    let t0 = split
+        .discrete_legendre_state(&q0.to_point(), &velocity)
+        .unwrap();
+    let (_, _, a) = LieIntegrator::new(pose, tight())
+        .step_sensitivity(0, &s0, &[20.0])
+        .unwrap();
+    let (_, _, b) = LieIntegrator::new(split, tight())
+        .step_sensitivity(0, &t0, &[20.0])
+        .unwrap();
+    assert_eq!(a.state.shape(), (12, 12));
+    assert_eq!(a.control.shape(), (12, 1));
+    let scale = a.state.amax().max(1.0);
+    assert!(
+        (&a.state - &b.state).amax() < 1e-12 * scale,
+        "{}",
+        (&a.state - &b.state).amax()
+    );
+    assert!((&a.control - &b.control).amax() < 1e-12 * a.control.amax().max(1.0));
+    // The thrust moves the position: its control column is not zero there.
+    assert!(a.control.rows(3, 3).amax() > 1e-6, "{}", a.control);
+}
