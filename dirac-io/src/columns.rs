@@ -251,7 +251,7 @@ impl RunInfo {
     /// The description of `system` integrated with states `St`: column names from
     /// [`DiscreteLagrangian::shape_names`] and [`DiscreteLagrangian::group_names`] (the
     /// constants `SHAPE` and `GROUP` of a compiled-in system), the parameters from
-    /// [`DiscreteLagrangian::parameter_names`] and [`DiscreteLagrangian::parameter_values`], the
+    /// [`System::parameter_names`] and [`System::parameter_values`], the
     /// time step from the system.
     pub fn of_system<St, L, const S: usize, const K: usize, const N: usize>(system: &L) -> Self
     where

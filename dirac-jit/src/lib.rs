@@ -117,6 +117,7 @@ mod codegen;
 mod element;
 mod error;
 mod lie;
+mod model;
 mod system;
 
 pub use element::{compile_element, ElementCode, JitElement, MAX_DEPTH, MAX_SIZES, MAX_WIDTH};

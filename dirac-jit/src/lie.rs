@@ -515,36 +515,24 @@ impl<const P: usize, const N: usize, B, R> JitLie<P, N, B, R> {
     }
 }
 
+crate::model::impl_system! {
+    impl[const P: usize, const N: usize, B, R] for JitLie<P, N, B, R>; |sys| {
+        coordinates: sys.code.system.coordinates.iter().map(|c| c.name.as_str()).collect(),
+        time: sys.code.system.adaptive.as_ref().map(|a| a.time),
+    }
+}
+
 impl<const P: usize, const N: usize, B: Backend<N>, R: Reduction> LieLagrangian<P, N>
     for JitLie<P, N, B, R>
 {
     /// Empty: a system given at run time names its coordinates through `coordinate`, which is
     /// what the integrators and output read; the constant cannot know them.
     const COORDINATES: &'static [(&'static str, CoordinateKind)] = &[];
-    /// Empty, as [`Self::COORDINATES`]: the names are in [`LieCode::system`].
-    const PARAMETERS: &'static [&'static str] = &[];
     type Linear = B::Linear;
 
     fn coordinate(&self, i: usize) -> Option<(&str, CoordinateKind)> {
         let c = self.code.system.coordinates.get(i)?;
         Some((c.name.as_str(), self.code.kinds[i]))
-    }
-
-    fn parameter_names(&self) -> Vec<&str> {
-        self.code
-            .system
-            .parameters
-            .iter()
-            .map(String::as_str)
-            .collect()
-    }
-
-    fn control_count(&self) -> usize {
-        self.code.system.controls.len()
-    }
-
-    fn time_index(&self) -> Option<usize> {
-        self.code.system.adaptive.as_ref().map(|a| a.time)
     }
 
     fn monitor(&self, q: &SVector<f64, P>) -> Option<f64> {
@@ -561,28 +549,6 @@ impl<const P: usize, const N: usize, B: Backend<N>, R: Reduction> LieLagrangian<
             self.code.kernels.lagrangian,
             [q0.as_ptr(), q1.as_ptr(), UNUSED],
         )[0]
-    }
-
-    fn time_step(&self) -> f64 {
-        self.values[self.code.system.step]
-    }
-
-    fn with_time_step(&self, h: f64) -> Self {
-        let mut system = self.clone();
-        system.values[self.code.system.step] = h;
-        system
-    }
-
-    fn parameter_values(&self) -> Vec<f64> {
-        self.values[..self.code.system.parameters.len()].to_vec()
-    }
-
-    fn with_controls(&self, u: &[f64]) -> Self {
-        let mut system = self.clone();
-        for (&i, &v) in self.code.system.controls.iter().zip(u) {
-            system.values[i] = v;
-        }
-        system
     }
 
     fn retract(&self, q: &SVector<f64, P>, z: &SVector<f64, N>) -> SVector<f64, P> {

@@ -144,6 +144,10 @@ fn a_domain_given_as_text_is_checked_as_the_one_compiled_in() {
         .instantiate::<1, 1, 2>(&compiled.parameter_values())
         .unwrap();
     assert_eq!(jit.domain(), compiled.domain());
+    // The one system model says the same of both.
+    assert_eq!(jit.coordinate_names(), compiled.coordinate_names());
+    assert_eq!(jit.parameter_names(), compiled.parameter_names());
+    assert_eq!(jit.time_index(), compiled.time_index());
     let opts = NewtonOptions::default();
     let a = ReducedIntegrator::plus(compiled, opts)
         .run(start)

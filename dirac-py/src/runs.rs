@@ -9,7 +9,7 @@ use dirac_jit::{Code, JitSystem};
 use dirac_runtime::nalgebra::SVector;
 use dirac_runtime::{
     continuous_energies, Composition, DiscreteLagrangian, Drive, ReducedIntegrator, ReducedState,
-    UnreducedIntegrator, UnreducedState, UnreducedTrajectory,
+    System, UnreducedIntegrator, UnreducedState, UnreducedTrajectory,
 };
 
 use crate::calls::until;

@@ -146,7 +146,7 @@ impl CompositionMethod {
 /// implement it.
 pub trait SelfAdjoint: Stepper + Sized {
     /// The same integrator (same equations, Newton options and path) for the system at time step
-    /// `h` (any nonzero `h`, see [`DiscreteLagrangian::with_time_step`]).
+    /// `h` (any nonzero `h`, see [`crate::System::with_time_step`]).
     fn with_time_step(&self, h: f64) -> Self;
 
     /// The largest relative defect `|L_d(q0, q1; −h) + L_d(q1, q0; h)| / max(|L_d(q0, q1; −h)|,

@@ -193,7 +193,7 @@ pub enum StepError {
         what: &'static str,
     },
     /// The controls given for a step are not the ones the system declares (`controls(...)` in
-    /// its attribute, [`crate::DiscreteLagrangian::CONTROLS`]): the wrong number of values
+    /// its attribute, [`crate::System::CONTROLS`]): the wrong number of values
     /// (`found ≠ expected`), or a control law with no values for step `step` (`found =
     /// expected`: a [`crate::ControlSequence`] of `step` rows, which ended before the run did).
     #[error("{}", controls_message(*.step, *.expected, *.found))]

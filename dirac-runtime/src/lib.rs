@@ -17,6 +17,9 @@
 //! * [`driver`]: the one run, configured ([`Drive::run`]: steps or an end time, step sizes per
 //!   step, controls, stop conditions, observers; collected or streamed; ensembles), written once
 //!   for every stepper; [`ensemble`]: parallel members;
+//! * [`model`]: the one system model ([`System`]: parameters, time step, controls, time
+//!   coordinate, domain, names), which the flat ([`system`]), rotation ([`lie`]) and element-wise
+//!   ([`element`]) families extend;
 //! * [`state`], [`error`] (a failed step is a value carrying its index and residual),
 //!   [`diagnostics`] (the paper's Dirac structures, energies and action along a trajectory),
 //!   [`domain`] (the bounds a system declares, checked after every step),
@@ -47,6 +50,7 @@ pub mod error;
 pub mod groups;
 pub mod lie;
 pub mod linalg;
+pub mod model;
 pub mod newton;
 pub mod reduced;
 pub mod sensitivity;
@@ -84,6 +88,7 @@ pub mod prelude {
         LieTrajectory, ReducedLieIntegrator, ReducedLieState, ReducedLieTrajectory,
         RotationSymmetry,
     };
+    pub use crate::model::System;
     pub use crate::newton::NewtonOptions;
     pub use crate::reduced::{ReducedIntegrator, ReducedStep, Trajectory};
     pub use crate::sensitivity::{Sensitivity, StepPartials};

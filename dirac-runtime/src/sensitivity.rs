@@ -20,9 +20,10 @@ use nalgebra::{DMatrix, Dim, Matrix, RawStorage, SVector};
 
 use crate::error::StepError;
 use crate::linalg::{LinearSolver, NewtonVector};
+use crate::model::system_at;
 use crate::reduced::{ReducedIntegrator, ReducedStep};
 use crate::state::{ReducedState, UnreducedState};
-use crate::stepper::{controlled, Stepper};
+use crate::stepper::Stepper;
 use crate::system::{join, Reduced, Side, Unreduced, Variant};
 use crate::UnreducedIntegrator;
 
@@ -250,7 +251,7 @@ where
         record: &ReducedStep<K>,
         u: &[f64],
     ) -> Result<Sensitivity, StepError> {
-        let owned = controlled(self.system(), k, u)?;
+        let owned = system_at(self.system(), k, self.system().time_step(), u)?;
         let sys = owned.as_ref().unwrap_or(self.system());
         let m = sys.control_count();
         let (x, w, mu) = (&state.x, &state.w, &state.mu);
@@ -355,7 +356,7 @@ where
         next: &UnreducedState<N>,
         u: &[f64],
     ) -> Result<Sensitivity, StepError> {
-        let owned = controlled(self.system(), k, u)?;
+        let owned = system_at(self.system(), k, self.system().time_step(), u)?;
         let sys = owned.as_ref().unwrap_or(self.system());
         let m = sys.control_count();
         let (q, p_k, z) = (&state.q, &state.p, &next.q);

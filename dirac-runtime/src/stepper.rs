@@ -18,6 +18,7 @@ use std::fmt::Debug;
 use nalgebra::SVector;
 
 use crate::error::StepError;
+pub(crate) use crate::model::{same_step, system_at};
 use crate::newton::{NewtonFailure, NewtonSolution};
 
 /// One integrator as the driver sees it. Implemented by every integrator of this crate; see the
@@ -43,7 +44,7 @@ pub trait Stepper {
     /// A fresh workspace for one run: no history, no factors.
     fn workspace(&self) -> Self::Workspace;
 
-    /// The number of controls a step takes ([`crate::DiscreteLagrangian::CONTROLS`]); 0 for a
+    /// The number of controls a step takes ([`crate::System::CONTROLS`]); 0 for a
     /// system without controls.
     fn control_dim(&self) -> usize {
         0
@@ -72,7 +73,7 @@ pub trait Stepper {
     }
 
     /// Takes step `k`, of size `h`, from `state` in `workspace` with the controls `u` (in the
-    /// order of [`crate::DiscreteLagrangian::CONTROLS`]; empty: the values the system holds).
+    /// order of [`crate::System::CONTROLS`]; empty: the values the system holds).
     ///
     /// `h` is the step's own size: [`Self::time_step`] for a fixed-step run (then the step is the
     /// system's own, bit for bit), any other positive value for a step-size schedule. A
@@ -132,90 +133,6 @@ pub trait Stepper {
     ) -> Result<(Self::State, Self::Record), StepError> {
         self.step_in(&mut self.workspace(), k, state)
     }
-}
-
-/// The system of step `k`: `sys` itself when the step has the system's own size and no controls
-/// are given (`None`: borrow it, bit for bit the fixed-step system), otherwise a copy with the
-/// controls `u` set and the time step `h` ([`crate::DiscreteLagrangian::with_time_step`]). The
-/// typed error of step `k` when `u` has the wrong length or a value that is not finite.
-#[inline]
-pub(crate) fn system_at<L, const S: usize, const K: usize, const N: usize>(
-    sys: &L,
-    k: usize,
-    h: f64,
-    u: &[f64],
-) -> Result<Option<L>, StepError>
-where
-    L: crate::DiscreteLagrangian<S, K, N>,
-{
-    // The step of every fixed-step run without controls, decided inline.
-    if u.is_empty() && same_step(h, sys.time_step()) {
-        return Ok(None);
-    }
-    system_with(sys, k, h, u)
-}
-
-/// [`system_at`] when the step has controls or a size of its own: a copy of the system.
-fn system_with<L, const S: usize, const K: usize, const N: usize>(
-    sys: &L,
-    k: usize,
-    h: f64,
-    u: &[f64],
-) -> Result<Option<L>, StepError>
-where
-    L: crate::DiscreteLagrangian<S, K, N>,
-{
-    let controlled = controlled(sys, k, u)?;
-    if same_step(h, sys.time_step()) {
-        return Ok(controlled);
-    }
-    Ok(Some(match controlled {
-        Some(c) => c.with_time_step(h),
-        None => sys.with_time_step(h),
-    }))
-}
-
-/// Whether `h` is the system's own step `own`, bit for bit (then the system serves unchanged).
-#[inline]
-pub(crate) fn same_step(h: f64, own: f64) -> bool {
-    h.to_bits() == own.to_bits()
-}
-
-/// The system `sys` with the controls `u` set (`None` for `u` empty: `sys` itself serves); the
-/// typed error of step `k` when `u` has the wrong length or a value that is not finite.
-pub(crate) fn controlled<L, const S: usize, const K: usize, const N: usize>(
-    sys: &L,
-    k: usize,
-    u: &[f64],
-) -> Result<Option<L>, StepError>
-where
-    L: crate::DiscreteLagrangian<S, K, N>,
-{
-    if u.is_empty() {
-        return Ok(None);
-    }
-    check_controls(k, sys.control_count(), u)?;
-    Ok(Some(sys.with_controls(u)))
-}
-
-/// The typed error of step `k` when the controls `u` (not empty) are not `expected` in number
-/// or have a value that is not finite.
-pub(crate) fn check_controls(k: usize, expected: usize, u: &[f64]) -> Result<(), StepError> {
-    if u.len() != expected {
-        return Err(StepError::InvalidControls {
-            step: k,
-            expected,
-            found: u.len(),
-        });
-    }
-    if u.iter().any(|v| !v.is_finite()) {
-        return Err(StepError::NonFinite {
-            step: k,
-            what: "the controls",
-            residual: f64::NAN,
-        });
-    }
-    Ok(())
 }
 
 /// A momentum map's value, or [`StepError::NonFinite`] when it is not finite (a state that is

@@ -6,25 +6,22 @@
 use nalgebra::{SMatrix, SVector};
 
 use crate::linalg::LinearSolver;
+use crate::model::System;
 use crate::state::{ReducedState, UnreducedState};
 
 /// A discrete Lagrangian `L_d : Q × Q → R` invariant under translation of the group coordinates,
-/// together with a linear discrete connection `ω_d(q0, q1) = (g1 − g0) − B (x1 − x0)`.
+/// together with a linear discrete connection `ω_d(q0, q1) = (g1 − g0) − B (x1 − x0)`: the flat
+/// family of the one system model ([`System`]: parameters, time step, controls, time coordinate,
+/// domain and names are declared there).
 ///
 /// In the paper's notation (§2.2.1) this connection has `h_d((x0, g0), x1) = g0 + B (x1 − x0)`,
 /// so `h_d^0(x0, x1) = B (x1 − x0)`, `h_{d,Σ} = B`, `h*_{d,Σ} = Bᵀ` and `h_{d,Q}((x0, 0)) = −B x0`
 /// (eqs. (2.5)–(2.6)).
-pub trait DiscreteLagrangian<const S: usize, const K: usize, const N: usize> {
+pub trait DiscreteLagrangian<const S: usize, const K: usize, const N: usize>: System {
     /// Names of the shape coordinates `x`, in the order of the configuration vector.
     const SHAPE: [&'static str; S];
     /// Names of the group coordinates `g`, which follow the shape coordinates in `q`.
     const GROUP: [&'static str; K];
-    /// Names of the scalar parameters, in declaration order.
-    const PARAMETERS: &'static [&'static str];
-    /// Names of the controls (`controls(...)` in the attribute): parameters that a control law
-    /// sets before every step ([`crate::Run::feedback`], [`crate::Run::controls`]), in the order a control vector
-    /// `u_k` lists them. Empty for a system without controls.
-    const CONTROLS: &'static [&'static str] = &[];
 
     /// The names of the shape coordinates: [`Self::SHAPE`] for a system compiled in; a system
     /// given at run time (whose constants cannot know its names) says them here. What output
@@ -38,47 +35,14 @@ pub trait DiscreteLagrangian<const S: usize, const K: usize, const N: usize> {
         Self::GROUP.to_vec()
     }
 
-    /// The names of the parameters: [`Self::PARAMETERS`], or a run-time system's own.
-    fn parameter_names(&self) -> Vec<&str> {
-        Self::PARAMETERS.to_vec()
-    }
-
-    /// The number of controls, what the integrators check a control vector against:
-    /// `Self::CONTROLS.len()` for a system compiled in, whose names are known when the program
-    /// is compiled; a system given at run time (whose constants cannot know its names) says it
-    /// here.
-    fn control_count(&self) -> usize {
-        Self::CONTROLS.len()
-    }
     /// Whether the system declares forces (`force = ...` in the attribute): its steps solve the
     /// forced discrete Lagrange–Dirac equations `p_k = −D1 L_d − f_d^−`,
     /// `p_{k+1} = D2 L_d + f_d^+`, and its energy is not conserved.
     const FORCED: bool = false;
 
-    /// The domain the system declares (`domain(r > 0.0)` in the attribute; see
-    /// [`crate::domain`]): bounds on coordinates of `q = (x, g)` that every state must satisfy,
-    /// checked on the initial state and after every step. Empty (the default): no domain.
-    const DOMAIN: &'static [crate::domain::Bound] = &[];
-
-    /// The declared domain: [`Self::DOMAIN`] for a system compiled in; a system given at run
-    /// time says it here. What the integrators check.
-    fn domain(&self) -> &[crate::domain::Bound] {
-        Self::DOMAIN
-    }
-
-    /// Adaptive steps (`time(t), adapt = |q| g` in the attribute; see [`crate::adaptive`]): the
-    /// index among the group coordinates of the one that is physical time. `None` for a system
-    /// stepped in physical time.
-    const TIME: Option<usize> = None;
-
-    /// Adaptive steps: the time coordinate's index among the group coordinates, [`Self::TIME`],
-    /// or what only the value knows (a system given at run time). What the integrators read.
-    fn time_index(&self) -> Option<usize> {
-        Self::TIME
-    }
-
     /// Adaptive steps: the step monitor `g(x) > 0` at the shape `x` (`dt = g dτ`); `None` for a
-    /// system stepped in physical time.
+    /// system stepped in physical time. The time coordinate is [`System::time_index`], among
+    /// the group coordinates.
     fn monitor(&self, x: &SVector<f64, S>) -> Option<f64> {
         let _ = x;
         None
@@ -113,28 +77,6 @@ pub trait DiscreteLagrangian<const S: usize, const K: usize, const N: usize> {
 
     /// The connection matrix `B` (`K × S`); zero unless the attribute declares one.
     fn connection(&self) -> SMatrix<f64, K, S>;
-
-    /// The time step `h`.
-    fn time_step(&self) -> f64;
-
-    /// The same system with time step `h` in place of [`Self::time_step`]: the discrete
-    /// Lagrangian `L_d(q0, q1; h)` at another step, every other parameter unchanged.
-    ///
-    /// Any nonzero `h` is accepted here, negative included: a symmetric composition
-    /// ([`crate::compose`]) steps with `γ_i h` where some `γ_i < 0`. The integrators still reject
-    /// a user-facing time step that is not positive ([`crate::StepError::InvalidTimeStep`]).
-    fn with_time_step(&self, h: f64) -> Self
-    where
-        Self: Sized;
-
-    /// The parameter values, in the order of [`Self::PARAMETERS`].
-    fn parameter_values(&self) -> Vec<f64>;
-
-    /// The same system with its controls set to `u` (in the order of [`Self::CONTROLS`]; the
-    /// caller checks the length), every other parameter unchanged.
-    fn with_controls(&self, u: &[f64]) -> Self
-    where
-        Self: Sized;
 
     /// Right trivialization of `T*Q`, eq. (3.6): `(q, p) ↦ (q, w, μ)` with
     /// `w = p_x + h*_{d,Σ}(p_g) = p_x + Bᵀ p_g` and `μ = J(q, p) = p_g` (Lemma 2.2).

@@ -81,7 +81,7 @@
 //! Adaptive steps (`time(t), adapt = |q| g` on a continuous Lagrangian) compile to the
 //! time-transformed Lagrangian, as in Rust ([guide](crate::guide::adaptive_steps)); the system
 //! says which group coordinate is physical time and evaluates the monitor from the text
-//! (`DiscreteLagrangian::time_index`, `monitor`), so every integrator steps in fictitious time
+//! (`System::time_index`, `DiscreteLagrangian::monitor`), so every integrator steps in fictitious time
 //! and reports physical time. Adaptive Kepler (`e = 0.9`) steps bit for bit as compiled in.
 //!
 //! A kernel does what the attribute's emitted Rust does, operation by operation: `+ − · /`,

@@ -14,6 +14,7 @@ use crate::ast::element::families::FamilySpec;
 use crate::ast::element::index::Index;
 use crate::ast::element::{Dim, ElementSpec};
 use crate::codegen::emit::straight_line;
+use crate::codegen::impls;
 use crate::codegen::items::{camel_case, user_function};
 use crate::codegen::lints;
 use crate::ir::element::{ConstraintCode, ElementCode};
@@ -229,7 +230,6 @@ pub fn generate(
     let (constraint_family_items, constraint_lagrangian) =
         constraint_items(spec, vis, &ty, constraints);
     let size_names: Vec<String> = sizes.iter().map(|s| s.to_string()).collect();
-    let param_values = params.iter().map(|p| quote!(self.#p));
     let translations = spec.translates.iter().map(|members| {
         let ranges = members.iter().map(|&c| {
             let c1 = c + 1;
@@ -239,9 +239,17 @@ pub fn generate(
     });
     let continuous = spec.sig.continuous;
     let forced = codes.iter().any(|c| c.force);
-    let controls = &spec.controls;
-    let control_names: Vec<String> = controls.iter().map(ToString::to_string).collect();
-    let control_index = 0..controls.len();
+    let system = impls::system_impl(
+        &ty,
+        &impls::Model {
+            params,
+            step: &spec.sig.step,
+            controls: &spec.controls,
+            coordinates: spec.coords.iter().map(|c| c.name.to_string()).collect(),
+            time: None,
+            domain: &[],
+        },
+    );
     let generated = format!(
         "element-wise, sizes chosen at run time: {} famil{} of elements: {}",
         codes.len(),
@@ -320,7 +328,6 @@ pub fn generate(
     }
     let user = user_function(&user_func, &config, false, &touch, true);
     let gen = lints::generated();
-    let step_field = &spec.sig.step;
     quote! {
         #user
 
@@ -379,35 +386,18 @@ pub fn generate(
         #family_items
         #constraint_family_items
 
+        #system
+
         impl #rt::ElementLagrangian for #ty {
             const SIZES: &'static [&'static str] = &[#(#size_names),*];
             const MIN_SIZE: usize = #min_size;
             const CONTINUOUS: bool = #continuous;
             const FORCED: bool = #forced;
-            const CONTROLS: &'static [&'static str] = &[#(#control_names),*];
-            #[allow(unused_variables, reason = "a system without controls ignores `u`")]
-            fn with_controls(&self, u: &[f64]) -> Self {
-                #[allow(unused_mut, reason = "a system without controls changes nothing")]
-                let mut system = ::std::clone::Clone::clone(self);
-                #(system.#controls = u[#control_index];)*
-                system
-            }
             fn sizes(&self) -> ::std::vec::Vec<usize> {
                 ::std::vec![#(self.#sizes),*]
             }
             fn dim(&self) -> usize {
                 #ty::dim(self)
-            }
-            fn time_step(&self) -> f64 {
-                self.#step_field
-            }
-            fn with_time_step(&self, h: f64) -> Self {
-                let mut system = ::std::clone::Clone::clone(self);
-                system.#step_field = h;
-                system
-            }
-            fn parameter_values(&self) -> ::std::vec::Vec<f64> {
-                ::std::vec![#(#param_values),*]
             }
             fn translations(&self) -> ::std::vec::Vec<::std::vec::Vec<::std::ops::Range<usize>>> {
                 let o = self.__offsets();

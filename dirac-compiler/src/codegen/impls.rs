@@ -264,15 +264,14 @@ pub fn inherent(t: &Target) -> ImplBlock {
     }
 }
 
-/// `impl DiscreteLagrangian<S, K, N>`.
+/// `impl DiscreteLagrangian<S, K, N>`: the flat family's items (the system model's are
+/// [`system`]'s); `adaptive` adds the monitor and the adaptive steps' helpers.
 pub fn discrete_lagrangian(
     t: &Target,
     shape: &[String],
     group: &[String],
-    params: &[String],
-    controls: &[String],
     forced: bool,
-    time: Option<usize>,
+    adaptive: bool,
 ) -> ImplBlock {
     let (ty, s, k, n, rt, na) = (&t.ty, t.s, t.k, t.n, &t.rt, &t.na);
     let vn = t.vec(n);
@@ -288,14 +287,6 @@ pub fn discrete_lagrangian(
                 "GROUP",
                 quote!(const GROUP: [&'static str; #k] = [ #( #group ),* ];),
             ),
-            fixed(
-                "PARAMETERS",
-                quote!(const PARAMETERS: &'static [&'static str] = &[ #( #params ),* ];),
-            ),
-            fixed(
-                "CONTROLS",
-                quote!(const CONTROLS: &'static [&'static str] = &[ #( #controls ),* ];),
-            ),
             fixed("FORCED", quote!(const FORCED: bool = #forced;)),
             method(
                 "lagrangian",
@@ -307,31 +298,11 @@ pub fn discrete_lagrangian(
                 quote!(),
                 quote!(fn connection(&self) -> #na::SMatrix<f64, #k, #s>),
             ),
-            method("time_step", quote!(), quote!(fn time_step(&self) -> f64)),
-            method(
-                "with_time_step",
-                quote!(),
-                quote!(fn with_time_step(&self, h: f64) -> Self),
-            ),
-            method(
-                "parameter_values",
-                quote!(),
-                quote!(fn parameter_values(&self) -> ::std::vec::Vec<f64>),
-            ),
-            method(
-                "with_controls",
-                quote!(#[allow(unused_variables)]), // a system without controls ignores `u`
-                quote!(fn with_controls(&self, u: &[f64]) -> Self),
-            ),
         ],
     };
-    // Adaptive steps: the time coordinate and the monitor.
-    if let Some(j) = time {
+    // Adaptive steps: the monitor (the time coordinate is the system model's).
+    if adaptive {
         let vs = t.vec(s);
-        block.items.push(fixed(
-            "TIME",
-            quote!(const TIME: ::core::option::Option<usize> = ::core::option::Option::Some(#j);),
-        ));
         block.items.push(method(
             "monitor",
             quote!(#[allow(unused_variables)]), // a monitor need not read every coordinate
@@ -351,12 +322,48 @@ pub fn discrete_lagrangian(
     block
 }
 
-/// Adds the declared domain (`domain(...)`) to the `DiscreteLagrangian` block: the constant
-/// `DOMAIN`, or nothing (the trait's default, no domain) when none is declared.
-pub fn add_domain(block: &mut ImplBlock, t: &Target, domain: &[crate::ast::attr::DomainBound]) {
-    let rt = &t.rt;
-    if !domain.is_empty() {
-        let bounds = domain.iter().map(|b| {
+/// What every family's emitted type declares of the one system model
+/// (`dirac::runtime::model::System`): the fields that hold the parameters, the time step and the
+/// controls, the coordinates' names, the time coordinate of adaptive steps and the domain.
+pub struct Model<'a> {
+    /// The parameters, fields of the emitted type, in declaration order.
+    pub params: &'a [Ident],
+    /// The time-step parameter.
+    pub step: &'a Ident,
+    /// The controls (`controls(..)`), in the order a control vector lists them.
+    pub controls: &'a [Ident],
+    /// The names of the coordinates, in the order of the configuration.
+    pub coordinates: Vec<String>,
+    /// Adaptive steps: the index of the time coordinate in the family's list.
+    pub time: Option<usize>,
+    /// The declared bounds (`domain(..)`), empty for none.
+    pub domain: &'a [crate::ast::attr::DomainBound],
+}
+
+/// `impl System for Type`, the one impl of the system model every family emits (flat, on
+/// rotation groups, element-wise): its table entry, for real and stub bodies alike.
+pub fn system(ty: &Ident, model: &Model) -> ImplBlock {
+    let rt = quote!(::dirac::runtime);
+    let params: Vec<String> = model.params.iter().map(Ident::to_string).collect();
+    let controls: Vec<String> = model.controls.iter().map(Ident::to_string).collect();
+    let mut items = vec![
+        fixed(
+            "PARAMETERS",
+            quote!(const PARAMETERS: &'static [&'static str] = &[ #( #params ),* ];),
+        ),
+        fixed(
+            "CONTROLS",
+            quote!(const CONTROLS: &'static [&'static str] = &[ #( #controls ),* ];),
+        ),
+    ];
+    if let Some(j) = model.time {
+        items.push(fixed(
+            "TIME",
+            quote!(const TIME: ::core::option::Option<usize> = ::core::option::Option::Some(#j);),
+        ));
+    }
+    if !model.domain.is_empty() {
+        let bounds = model.domain.iter().map(|b| {
             let (i, relation) = (b.coordinate, quote::format_ident!("{}", b.relation.name()));
             let magnitude = proc_macro2::Literal::f64_unsuffixed(b.value.abs());
             let value = if b.value.is_sign_negative() {
@@ -366,11 +373,84 @@ pub fn add_domain(block: &mut ImplBlock, t: &Target, domain: &[crate::ast::attr:
             };
             quote!(#rt::domain::Bound::new(#i, #rt::domain::Relation::#relation, #value))
         });
-        block.items.push(fixed(
+        items.push(fixed(
             "DOMAIN",
             quote!(const DOMAIN: &'static [#rt::domain::Bound] = &[ #( #bounds ),* ];),
         ));
     }
+    let ignores_u = if model.controls.is_empty() {
+        unused("a system without controls ignores `u`")
+    } else {
+        quote!()
+    };
+    items.extend([
+        method(
+            "parameter_values",
+            quote!(),
+            quote!(fn parameter_values(&self) -> ::std::vec::Vec<f64>),
+        ),
+        method("time_step", quote!(), quote!(fn time_step(&self) -> f64)),
+        method(
+            "with_time_step",
+            quote!(),
+            quote!(fn with_time_step(&self, h: f64) -> Self),
+        ),
+        method(
+            "with_controls",
+            ignores_u,
+            quote!(fn with_controls(&self, u: &[f64]) -> Self),
+        ),
+        method(
+            "coordinate_names",
+            quote!(),
+            quote!(fn coordinate_names(&self) -> ::std::vec::Vec<&str>),
+        ),
+    ]);
+    ImplBlock {
+        attrs: generated_derived(),
+        header: quote!(impl #rt::System for #ty),
+        items,
+    }
+}
+
+/// The bodies of [`system`]'s methods: the emitted types hold their parameters as `f64` fields
+/// and are `Copy`, so the system at another step or with other controls is a copy with fields
+/// set.
+pub fn system_bodies(model: &Model) -> HashMap<&'static str, TokenStream> {
+    let (params, step, names) = (model.params, model.step, &model.coordinates);
+    let with_controls = if model.controls.is_empty() {
+        quote! { *self }
+    } else {
+        let (controls, index) = (model.controls, 0..model.controls.len());
+        quote! {
+            let mut system = *self;
+            #( system.#controls = u[#index]; )*
+            system
+        }
+    };
+    HashMap::from([
+        (
+            "parameter_values",
+            quote! { ::std::vec![ #( self.#params ),* ] },
+        ),
+        ("time_step", quote! { self.#step }),
+        (
+            "with_time_step",
+            quote! {
+                let mut system = *self;
+                system.#step = h;
+                system
+            },
+        ),
+        ("with_controls", with_controls),
+        ("coordinate_names", quote! { ::std::vec![ #( #names ),* ] }),
+    ])
+}
+
+/// `impl System` with its bodies: what the families that render no stubs (on rotation groups,
+/// element-wise) emit.
+pub fn system_impl(ty: &Ident, model: &Model) -> TokenStream {
+    system(ty, model).render(&Bodies::Real(system_bodies(model)))
 }
 
 /// `impl Reduced<Side, S, K, N>`, one side, on `backend`.

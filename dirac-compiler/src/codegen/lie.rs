@@ -12,6 +12,7 @@ use syn::{Ident, ItemFn};
 use crate::ast::lie::SymmetryKind;
 use crate::ast::signature::Signature;
 use crate::codegen::backend::{stepper_fns, SteppedFns};
+use crate::codegen::impls;
 use crate::codegen::items::{camel_case, param_struct, user_function};
 use crate::codegen::lints;
 use crate::ir::graph::{Graph, Sym};
@@ -93,13 +94,19 @@ pub fn generate(
         }
     });
     let solver = fns.backend.solver_type(n);
-    let step = &sig.step;
     let fn_name = &func.sig.ident;
     let fn_params = sig.fn_params();
-    let param_names: Vec<String> = params.iter().map(Ident::to_string).collect();
-    let controls = &spec.attr.controls;
-    let control_names: Vec<String> = controls.iter().map(Ident::to_string).collect();
-    let control_index = 0..controls.len();
+    let system = impls::system_impl(
+        &ty,
+        &impls::Model {
+            params,
+            step: &sig.step,
+            controls: &spec.attr.controls,
+            coordinates: spec.coords.iter().map(|c| c.name.to_string()).collect(),
+            time: code.adapt.as_ref().map(|a| a.coord),
+            domain: &[],
+        },
+    );
     let coords: Vec<TokenStream> = spec
         .coords
         .iter()
@@ -213,8 +220,6 @@ pub fn generate(
         #[automatically_derived]
         impl #rt::LieLagrangian<#p, #n> for #ty {
             const COORDINATES: &'static [(&'static str, #rt::lie::CoordinateKind)] = &[ #( #coords ),* ];
-            const PARAMETERS: &'static [&'static str] = &[ #( #param_names ),* ];
-            const CONTROLS: &'static [&'static str] = &[ #( #control_names ),* ];
             type Linear = #solver;
 
             #adapt_trait
@@ -227,28 +232,6 @@ pub fn generate(
                 #lagrangian_body
             }
 
-            fn time_step(&self) -> f64 {
-                self.#step
-            }
-
-            fn with_time_step(&self, h: f64) -> Self {
-                let mut system = *self;
-                system.#step = h;
-                system
-            }
-
-            fn parameter_values(&self) -> ::std::vec::Vec<f64> {
-                ::std::vec![ #( self.#params ),* ]
-            }
-
-            #[allow(unused_variables, reason = "a system without controls ignores `u`")]
-            fn with_controls(&self, u: &[f64]) -> Self {
-                #[allow(unused_mut, reason = "a system without controls changes nothing")]
-                let mut system = *self;
-                #( system.#controls = u[#control_index]; )*
-                system
-            }
-
             fn retract(&self, q_k: &#na::SVector<f64, #p>, z: &#na::SVector<f64, #n>) -> #na::SVector<f64, #p> {
                 #retract_stmts
                 #na::SVector::<f64, #p>::from([ #( #retract_out ),* ])
@@ -258,6 +241,8 @@ pub fn generate(
 
             #partials_fn
         }
+
+        #system
 
         #symmetric
     }
@@ -311,8 +296,6 @@ fn adaptive_items(
          `StepError::InvalidMonitor` where the monitor is not positive and finite."
     );
     let trait_items = quote! {
-        const TIME: ::core::option::Option<usize> = ::core::option::Option::Some(#time);
-
         fn monitor(&self, q: &#na::SVector<f64, #p>) -> ::core::option::Option<f64> {
             #monitor_stmts
             ::core::option::Option::Some(#monitor_out)

@@ -216,7 +216,6 @@ fn discrete_impl(
     lagrangian_body: TokenStream,
 ) -> TokenStream {
     let (s, k, na) = (t.s, t.k, &t.na);
-    let (params, step) = (&sig.params, &sig.step);
     let b_flat: Vec<NodeId> = c.b.iter().flatten().copied().collect();
     let b_code = straight_line(&c.graph, &b_flat, &|sym| match sym {
         Sym::Param(i) => t.param_leaf(i),
@@ -238,35 +237,6 @@ fn discrete_impl(
     let mut bodies = HashMap::from([
         ("lagrangian", lagrangian_body),
         ("connection", connection_body),
-        ("time_step", quote! { self.#step }),
-        (
-            "with_time_step",
-            quote! {
-                let mut system = *self;
-                system.#step = h;
-                system
-            },
-        ),
-        (
-            "parameter_values",
-            quote! { ::std::vec![ #( self.#params ),* ] },
-        ),
-        ("with_controls", {
-            let set = spec
-                .controls
-                .iter()
-                .enumerate()
-                .map(|(i, c)| quote! { system.#c = u[#i]; });
-            if spec.controls.is_empty() {
-                quote! { *self }
-            } else {
-                quote! {
-                    let mut system = *self;
-                    #( #set )*
-                    system
-                }
-            }
-        }),
     ]);
     if let Some((_, monitor, _)) = c.adapt {
         let code = straight_line(&c.graph, &[monitor], &|sym| match sym {
@@ -289,24 +259,40 @@ fn discrete_impl(
             quote! { #rt::adaptive::level_set_defect(self, q, p) },
         );
     }
-    discrete_table(t, spec, sig).render(&Bodies::Real(bodies))
+    let model = model(spec, sig);
+    let mut out = impls::system(&t.ty, &model).render(&Bodies::Real(impls::system_bodies(&model)));
+    out.extend(discrete_table(t, spec).render(&Bodies::Real(bodies)));
+    out
+}
+
+/// What this system declares of the one system model (`System`): its parameters, time step,
+/// controls, coordinates `q = (x, g)`, time coordinate and domain.
+fn model<'a>(spec: &'a Spec, sig: &'a Signature) -> impls::Model<'a> {
+    impls::Model {
+        params: &sig.params,
+        step: &sig.step,
+        controls: &spec.controls,
+        coordinates: spec
+            .layout
+            .shape
+            .iter()
+            .chain(&spec.layout.group)
+            .cloned()
+            .collect(),
+        time: spec.adapt.as_ref().map(|a| a.index),
+        domain: &spec.domain,
+    }
 }
 
 /// The table entry of `DiscreteLagrangian` for this system.
-pub fn discrete_table(t: &Target, spec: &Spec, sig: &Signature) -> impls::ImplBlock {
-    let params: Vec<String> = sig.params.iter().map(Ident::to_string).collect();
-    let controls: Vec<String> = spec.controls.iter().map(Ident::to_string).collect();
-    let mut block = impls::discrete_lagrangian(
+pub fn discrete_table(t: &Target, spec: &Spec) -> impls::ImplBlock {
+    impls::discrete_lagrangian(
         t,
         &spec.layout.shape,
         &spec.layout.group,
-        &params,
-        &controls,
         spec.force.is_some(),
-        spec.adapt.as_ref().map(|a| a.index),
-    );
-    impls::add_domain(&mut block, t, &spec.domain);
-    block
+        spec.adapt.is_some(),
+    )
 }
 
 /// Every item `#[reduced_lagrangian]` emits for a compiled system.
@@ -463,7 +449,8 @@ pub fn stubs(spec: &Spec, sig: &Signature, ty: &Ident) -> TokenStream {
     let stub = Bodies::Stub("reduced_lagrangian");
     let backend = Backend::for_size(t.n);
     let mut out = impls::inherent(&t).render(&stub);
-    out.extend(discrete_table(&t, spec, sig).render(&stub));
+    out.extend(impls::system(ty, &model(spec, sig)).render(&stub));
+    out.extend(discrete_table(&t, spec).render(&stub));
     for side in [Side::Plus, Side::Minus] {
         out.extend(impls::reduced(&t, side, &backend).render(&stub));
     }

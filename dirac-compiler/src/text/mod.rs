@@ -102,7 +102,7 @@ pub struct System {
     /// other programs are those of the time-transformed Lagrangian `L₂`, in fictitious time.
     pub adaptive: Option<Adaptive>,
     /// The declared domain (`domain(r > 0.0, ..)`): bounds on coordinates of `q = (x, g)` that
-    /// the integrators check after every step, as the attribute's `DiscreteLagrangian::DOMAIN`.
+    /// the integrators check after every step, as the attribute's `System::DOMAIN`.
     /// Empty: no domain.
     pub domain: Vec<DomainBound>,
 }

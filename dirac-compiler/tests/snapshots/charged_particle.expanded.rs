@@ -227,11 +227,63 @@ impl ChargedParticle {
     reason = "accessors of the emitted types; their results are plain values"
 )]
 #[automatically_derived]
+impl ::dirac::runtime::System for ChargedParticle {
+    const PARAMETERS: &'static [&'static str] = &["h", "m", "b0"];
+    const CONTROLS: &'static [&'static str] = &[];
+    fn parameter_values(&self) -> ::std::vec::Vec<f64> {
+        ::std::vec![self.h, self.m, self.b0]
+    }
+    fn time_step(&self) -> f64 {
+        self.h
+    }
+    fn with_time_step(&self, h: f64) -> Self {
+        let mut system = *self;
+        system.h = h;
+        system
+    }
+    #[allow(unused_variables, reason = "a system without controls ignores `u`")]
+    fn with_controls(&self, u: &[f64]) -> Self {
+        *self
+    }
+    fn coordinate_names(&self) -> ::std::vec::Vec<&str> {
+        ::std::vec!["x", "y", "z", "theta"]
+    }
+}
+#[allow(
+    clippy::approx_constant,
+    reason = "constants folded at compile time (2π = 6.283185307179586) are printed in full, not named"
+)]
+#[allow(
+    clippy::excessive_precision,
+    clippy::unreadable_literal,
+    reason = "folded constants are printed with every digit f64 round-trips, without separators"
+)]
+#[allow(
+    clippy::many_single_char_names,
+    clippy::similar_names,
+    reason = "generated locals and arguments follow the paper's symbols (x_k, w_k, mu_k, z)"
+)]
+#[allow(
+    clippy::too_many_lines,
+    clippy::let_and_return,
+    clippy::neg_multiply,
+    clippy::double_parens,
+    clippy::unnecessary_cast,
+    clippy::float_cmp,
+    clippy::suboptimal_flops,
+    clippy::imprecise_flops,
+    reason = "straight-line code emitted one operation per line, rounding exactly as the user's expression"
+)]
+#[allow(
+    clippy::must_use_candidate,
+    clippy::missing_const_for_fn,
+    clippy::return_self_not_must_use,
+    reason = "accessors of the emitted types; their results are plain values"
+)]
+#[automatically_derived]
 impl ::dirac::runtime::DiscreteLagrangian<3usize, 1usize, 4usize> for ChargedParticle {
     const SHAPE: [&'static str; 3usize] = ["x", "y", "z"];
     const GROUP: [&'static str; 1usize] = ["theta"];
-    const PARAMETERS: &'static [&'static str] = &["h", "m", "b0"];
-    const CONTROLS: &'static [&'static str] = &[];
     const FORCED: bool = false;
     fn lagrangian(
         &self,
@@ -252,21 +304,6 @@ impl ::dirac::runtime::DiscreteLagrangian<3usize, 1usize, 4usize> for ChargedPar
             1usize,
             3usize,
         >::from_row_slice(&[0f64, 0f64, 0f64])
-    }
-    fn time_step(&self) -> f64 {
-        self.h
-    }
-    fn with_time_step(&self, h: f64) -> Self {
-        let mut system = *self;
-        system.h = h;
-        system
-    }
-    fn parameter_values(&self) -> ::std::vec::Vec<f64> {
-        ::std::vec![self.h, self.m, self.b0]
-    }
-    #[allow(unused_variables)]
-    fn with_controls(&self, u: &[f64]) -> Self {
-        *self
     }
 }
 #[allow(

@@ -246,6 +246,12 @@ macro_rules! by_width {
     };
 }
 
+crate::model::impl_system! {
+    impl[] for JitElement; |sys| {
+        coordinates: sys.code.system.coordinates.iter().map(|c| c.name.as_str()).collect(),
+    }
+}
+
 impl ElementLagrangian for JitElement {
     /// Empty: a system given at run time names its sizes through `size_names`.
     const SIZES: &'static [&'static str] = &[];
@@ -268,10 +274,6 @@ impl ElementLagrangian for JitElement {
 
     fn forced(&self) -> bool {
         self.code.system.families.iter().any(|f| f.force)
-    }
-
-    fn control_count(&self) -> usize {
-        self.code.system.controls.len()
     }
 
     fn constrained(&self) -> bool {
@@ -297,34 +299,12 @@ impl ElementLagrangian for JitElement {
         }
     }
 
-    fn with_controls(&self, u: &[f64]) -> Self {
-        let mut system = self.clone();
-        for (&i, &v) in self.code.system.controls.iter().zip(u) {
-            system.values[i] = v;
-        }
-        system
-    }
-
     fn sizes(&self) -> Vec<usize> {
         self.at.sizes.clone()
     }
 
     fn dim(&self) -> usize {
         *self.at.offsets.last().expect("starts with 0") as usize
-    }
-
-    fn time_step(&self) -> f64 {
-        self.values[self.code.system.step]
-    }
-
-    fn with_time_step(&self, h: f64) -> Self {
-        let mut system = self.clone();
-        system.values[self.code.system.step] = h;
-        system
-    }
-
-    fn parameter_values(&self) -> Vec<f64> {
-        self.values[..self.code.system.parameters.len()].to_vec()
     }
 
     fn translations(&self) -> Vec<Vec<Range<usize>>> {

@@ -17,6 +17,7 @@ use dirac_compiler::program::Leaf;
 use dirac_compiler::text::{self, System};
 use dirac_runtime::nalgebra::{SMatrix, SVector};
 use dirac_runtime::DiscreteLagrangian;
+use dirac_runtime::System as _;
 
 use crate::codegen::{Jit, Kernel, Layout};
 use crate::error::Error;
@@ -660,13 +661,11 @@ impl<const S: usize, const K: usize, const N: usize, V: Variant<N>> DiscreteLagr
     for JitSystem<S, K, N, V>
 {
     /// Placeholders: a system given at run time has its names in [`Code::system`] and says
-    /// them through `shape_names`, `group_names` and `parameter_names`, which is what output
-    /// reads; the constants cannot know them.
+    /// them through `shape_names` and `group_names` (and `System::parameter_names`), which is
+    /// what output reads; the constants cannot know them.
     const SHAPE: [&'static str; S] = [""; S];
     /// Placeholders, as [`Self::SHAPE`].
     const GROUP: [&'static str; K] = [""; K];
-    /// Empty, as [`Self::SHAPE`]: the names are in [`Code::system`].
-    const PARAMETERS: &'static [&'static str] = &[];
 
     fn shape_names(&self) -> Vec<&str> {
         self.code.system.shape.iter().map(String::as_str).collect()
@@ -674,25 +673,6 @@ impl<const S: usize, const K: usize, const N: usize, V: Variant<N>> DiscreteLagr
 
     fn group_names(&self) -> Vec<&str> {
         self.code.system.group.iter().map(String::as_str).collect()
-    }
-
-    fn parameter_names(&self) -> Vec<&str> {
-        self.code
-            .system
-            .parameters
-            .iter()
-            .map(String::as_str)
-            .collect()
-    }
-
-    /// Known from the text only: the integrators read it here, not from [`Self::DOMAIN`].
-    fn domain(&self) -> &[dirac_runtime::domain::Bound] {
-        &self.code.domain
-    }
-
-    /// Known from the text only: the integrators read it here, not from [`Self::TIME`].
-    fn time_index(&self) -> Option<usize> {
-        self.code.system.adaptive.as_ref().map(|a| a.time)
     }
 
     fn monitor(&self, x: &SVector<f64, S>) -> Option<f64> {
@@ -740,10 +720,6 @@ impl<const S: usize, const K: usize, const N: usize, V: Variant<N>> DiscreteLagr
         })
     }
 
-    fn control_count(&self) -> usize {
-        self.code.system.controls.len()
-    }
-
     fn lagrangian(&self, q0: &SVector<f64, N>, q1: &SVector<f64, N>) -> f64 {
         let l: SVector<f64, 1> = self.call(
             self.code.kernels.lagrangian,
@@ -759,26 +735,12 @@ impl<const S: usize, const K: usize, const N: usize, V: Variant<N>> DiscreteLagr
             self.call(self.code.kernels.connection, [UNUSED; 4], SMatrix::zeros());
         bt.transpose()
     }
+}
 
-    fn time_step(&self) -> f64 {
-        self.values[self.code.system.step]
-    }
-
-    fn with_time_step(&self, h: f64) -> Self {
-        let mut system = self.clone();
-        system.values[self.code.system.step] = h;
-        system
-    }
-
-    fn parameter_values(&self) -> Vec<f64> {
-        self.values[..self.code.system.parameters.len()].to_vec()
-    }
-
-    fn with_controls(&self, u: &[f64]) -> Self {
-        let mut system = self.clone();
-        for (&i, &v) in self.code.system.controls.iter().zip(u) {
-            system.values[i] = v;
-        }
-        system
+crate::model::impl_system! {
+    impl[const S: usize, const K: usize, const N: usize, V] for JitSystem<S, K, N, V>; |sys| {
+        coordinates: sys.code.system.shape.iter().chain(&sys.code.system.group).map(String::as_str).collect(),
+        time: sys.code.system.adaptive.as_ref().map(|a| a.time),
+        domain: &sys.code.domain,
     }
 }

@@ -179,7 +179,11 @@ fn a_driven_chain_steps_bit_for_bit_under_feedback() {
     let jit = code
         .instantiate(&compiled.parameter_values(), &[9])
         .unwrap();
+    // The one system model says the same of both.
     assert_eq!(jit.control_count(), 1);
+    assert_eq!(jit.control_names(), compiled.control_names());
+    assert_eq!(jit.coordinate_names(), compiled.coordinate_names());
+    assert_eq!(jit.parameter_names(), compiled.parameter_names());
     let start = ElementState::new(
         DVector::from_fn(9, |i, _| 0.1 * (i as f64).sin()),
         DVector::from_fn(9, |i, _| 0.2 * (i as f64).cos()),

@@ -110,6 +110,8 @@ where
     assert_eq!(compiled.parameter_names(), jit.parameter_names());
     assert_eq!(compiled.parameter_values(), jit.parameter_values());
     assert_eq!(compiled.control_count(), jit.control_count());
+    assert_eq!(compiled.control_names(), jit.control_names());
+    assert_eq!(compiled.coordinate_names(), jit.coordinate_names());
     assert_eq!(compiled.time_index(), jit.time_index());
 }
 

@@ -2,7 +2,7 @@
 //! the stop condition and the observer, each a trait with its closure form and its default.
 
 /// Where a controlled run ([`Run::controls`](super::Run::controls)) takes the controls `u_k` of each step, in the order
-/// of [`crate::DiscreteLagrangian::CONTROLS`].
+/// of [`crate::System::CONTROLS`].
 ///
 /// Implemented by feedback laws — any closure `|k, t, state, u| { … }` that writes `u_k` into `u`
 /// from the step index, the time and the state the step starts from — and by

@@ -41,7 +41,7 @@ use super::{
 };
 use crate::error::{IntegrationError, StepError, Steps};
 use crate::newton::{slice_inf_norm, solve_in, NewtonOptions};
-use crate::stepper::{check_controls, step_error, Collect, StepStats, StepStatsExt, Stepper};
+use crate::stepper::{step_error, system_at, Collect, StepStats, StepStatsExt, Stepper};
 use crate::system::Variant;
 
 /// The workspace of an [`ElementConstrainedIntegrator`] run: the unconstrained step's
@@ -653,9 +653,8 @@ impl<L: ElementLagrangian> Stepper for ElementConstrainedIntegrator<L> {
         u: &[f64],
         next: &mut ElementState,
     ) -> Result<ElementConstrainedStep, StepError> {
-        if !u.is_empty() {
-            check_controls(k, self.base.system().control_count(), u)?;
-        }
+        // The system of this step (its controls checked first, before the workspace and state).
+        let owned = system_at(self.base.system(), k, h, u)?;
         if let Some(reason) = &workspace.invalid {
             return Err(self.base.invalid(reason.clone()));
         }
@@ -671,7 +670,6 @@ impl<L: ElementLagrangian> Stepper for ElementConstrainedIntegrator<L> {
         if next.q.len() != n || next.p.len() != n {
             *next = state.clone();
         }
-        let owned = self.base.system_for(h, u);
         let sys = owned.as_ref().unwrap_or(self.base.system());
         self.constrained_step(workspace, sys, k, h, state, next)
     }

@@ -85,6 +85,7 @@ use nalgebra::DVector;
 
 use crate::continuous::ContinuousEnergies;
 use crate::error::{IntegrationError, StepError, Steps};
+use crate::model::System;
 use crate::newton::NewtonOptions;
 use crate::stepper::{Collect, StepStats, StepStatsExt};
 use crate::system::Variant;
@@ -216,8 +217,10 @@ pub trait FamilyVisitor {
 
 /// A discrete Lagrangian that is a sum over elements, with sizes chosen at run time: what
 /// `#[reduced_lagrangian]` implements when the function takes `usize` sizes (see the
-/// [module documentation](self)).
-pub trait ElementLagrangian: Clone + Debug + Send + Sync + 'static {
+/// [module documentation](self)). The element-wise family of the one system model ([`System`]:
+/// parameters, time step, controls and names are declared there; this family declares no
+/// domain and no adaptive steps, and its integrators refuse a system that does).
+pub trait ElementLagrangian: System + Clone + Debug + Send + Sync + 'static {
     /// The names of the sizes, in the order of the function's `usize` arguments.
     const SIZES: &'static [&'static str];
     /// The smallest value of every size for which every stencil stays inside its coordinate
@@ -229,9 +232,6 @@ pub trait ElementLagrangian: Clone + Debug + Send + Sync + 'static {
     /// Whether the system declares forces (`force = |dq| ..`): families with
     /// [`Family::FORCE`], and the momentum map of each translation changes by their impulse.
     const FORCED: bool = false;
-    /// Names of the controls (`controls(..)` in the attribute): parameters a control law sets
-    /// before every step, in the order a control vector lists them.
-    const CONTROLS: &'static [&'static str] = &[];
 
     /// Whether the system declares holonomic constraints (`constraints = |q| ..`): then it is
     /// integrated by [`ElementConstrainedIntegrator`].
@@ -264,13 +264,6 @@ pub trait ElementLagrangian: Clone + Debug + Send + Sync + 'static {
         Self::FORCED
     }
 
-    /// The number of controls, what the integrators check a control vector against:
-    /// `Self::CONTROLS.len()` for a system compiled in; a system given at run time (whose
-    /// constants cannot know its names) says it here.
-    fn control_count(&self) -> usize {
-        Self::CONTROLS.len()
-    }
-
     /// Whether the system declares holonomic constraints: [`Self::CONSTRAINED`] for a system
     /// compiled in; a system given at run time says it here.
     fn constrained(&self) -> bool {
@@ -287,24 +280,10 @@ pub trait ElementLagrangian: Clone + Debug + Send + Sync + 'static {
         let _ = visitor;
     }
 
-    /// The same system with the controls set to `u` (in the order of [`Self::CONTROLS`], of
-    /// length [`Self::control_count`]; the caller checks the length).
-    fn with_controls(&self, u: &[f64]) -> Self {
-        let _ = u;
-        self.clone()
-    }
-
     /// The sizes this system is built with, in the order of [`Self::size_names`].
     fn sizes(&self) -> Vec<usize>;
     /// The number of coordinates for these sizes.
     fn dim(&self) -> usize;
-    /// The time step `h`.
-    fn time_step(&self) -> f64;
-    /// The same system with time step `h` (the step of a schedule), every other parameter and
-    /// size unchanged.
-    fn with_time_step(&self, h: f64) -> Self;
-    /// The values of the parameters (for the input checks).
-    fn parameter_values(&self) -> Vec<f64>;
     /// One entry per declared translation: the ranges of coordinate indices it moves together
     /// (its orbit; the first index is where the momentum map is kept exact).
     fn translations(&self) -> Vec<Vec<Range<usize>>>;

@@ -37,7 +37,7 @@ use super::{
 use crate::error::StepError;
 use crate::linalg::{DynSparseLu, LinearSolver};
 use crate::sensitivity::Sensitivity;
-use crate::stepper::{check_controls, StepStats, Stepper};
+use crate::stepper::{system_at, StepStats, Stepper};
 
 /// A sparse matrix in compressed columns: column `j` holds the rows
 /// `row_idx[col_ptr[j]..col_ptr[j + 1]]` (sorted) with the values at the same positions.
@@ -339,12 +339,7 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
         self.check_sizes(state)?;
         self.check_lengths(&[("next.q", next.q.len()), ("next.p", next.p.len())])?;
         let m = self.system.control_count();
-        let owned = if u.is_empty() {
-            None
-        } else {
-            check_controls(k, m, u)?;
-            Some(self.system.with_controls(u))
-        };
+        let owned = system_at(&self.system, k, self.system.time_step(), u)?;
         let sys = owned.as_ref().unwrap_or(&self.system);
         let ws = ElementWorkspace::new(sys, Parallel::Never, StepSolver::Direct);
         if let Some(reason) = ws.invalid() {

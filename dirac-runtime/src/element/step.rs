@@ -7,29 +7,10 @@ use super::{
     sums, ElementIntegrator, ElementLagrangian, ElementState, ElementTrajectory, ElementWorkspace,
 };
 use crate::error::StepError;
+use crate::model::{refuse_domain, system_at};
 use crate::newton::solve_in;
-use crate::stepper::{check_inputs, same_step, step_error, StepStats, Stepper};
+use crate::stepper::{check_inputs, step_error, StepStats, Stepper};
 use crate::system::Variant;
-
-impl<L: ElementLagrangian> ElementIntegrator<L> {
-    /// The system at a step's size `h` and controls `u`: `None` (the system itself, bit for
-    /// bit) for a fixed step without controls, a copy with the time step `h` and the controls
-    /// `u` otherwise (a copy of the parameters: no heap memory).
-    pub(super) fn system_for(&self, h: f64, u: &[f64]) -> Option<L> {
-        match (u.is_empty(), same_step(h, self.system.time_step())) {
-            (true, true) => None,
-            (true, false) => Some(self.system.with_time_step(h)),
-            (false, same) => {
-                let system = self.system.with_controls(u);
-                Some(if same {
-                    system
-                } else {
-                    system.with_time_step(h)
-                })
-            }
-        }
-    }
-}
 
 impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
     type State = ElementState;
@@ -47,6 +28,16 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
             &self.system.parameter_values(),
             initial.is_finite(),
         )?;
+        refuse_domain(
+            &self.system,
+            "a declared domain on an element-wise system (only a system of fixed size checks one)",
+        )?;
+        if self.system.time_index().is_some() {
+            return Err(StepError::Unsupported {
+                what: "adaptive steps of an element-wise system (a time coordinate is declared \
+                       only on a system of fixed size or on rotation groups)",
+            });
+        }
         self.check_sizes(initial)
     }
 
@@ -83,9 +74,8 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
         u: &[f64],
         next: &mut ElementState,
     ) -> Result<StepStats, StepError> {
-        if !u.is_empty() {
-            crate::stepper::check_controls(k, self.system.control_count(), u)?;
-        }
+        // The system of this step (its controls checked first, before the workspace and state).
+        let owned = system_at(&self.system, k, h, u)?;
         self.check_workspace(workspace)?;
         let n = workspace.dim();
         if state.q.len() != n || state.p.len() != n {
@@ -105,7 +95,6 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
             flip_backward(state.q.as_slice(), next.q.as_mut_slice());
         }
         let rho = crate::newton::slice_inf_norm(state.p.as_slice());
-        let owned = self.system_for(h, u);
         let sys = owned.as_ref().unwrap_or(&self.system);
         let (q0, p0) = (state.q.as_slice(), state.p.as_slice());
         let (solver, r, jacobian, assembler, scratch) = workspace.parts();

@@ -5,8 +5,10 @@
 use std::ops::Range;
 
 use super::{ElementIntegrator, ElementLagrangian, ElementState, Family, FamilyVisitor};
+use crate::domain::{Bound, Relation};
 use crate::driver::Drive;
 use crate::error::StepError;
+use crate::model::System;
 use crate::newton::NewtonOptions;
 use crate::stepper::Stepper;
 
@@ -113,22 +115,14 @@ macro_rules! ring_family {
     };
 }
 
-/// Implements the run-time parts of [`ElementLagrangian`] by [`Ring`]'s (field `ring`); the
-/// control is the stiffness `k`.
-macro_rules! ring_system {
+/// Implements the parameters of [`System`] by [`Ring`]'s (field `ring`); the control is the
+/// stiffness `k`.
+macro_rules! ring_model {
     () => {
         fn with_controls(&self, u: &[f64]) -> Self {
             let mut system = self.clone();
             system.ring.k = u[0];
             system
-        }
-
-        fn sizes(&self) -> Vec<usize> {
-            vec![self.ring.n]
-        }
-
-        fn dim(&self) -> usize {
-            self.ring.n
         }
 
         fn time_step(&self) -> f64 {
@@ -143,6 +137,23 @@ macro_rules! ring_system {
 
         fn parameter_values(&self) -> Vec<f64> {
             vec![self.ring.m, self.ring.k, self.ring.beta]
+        }
+
+        fn coordinate_names(&self) -> Vec<&str> {
+            vec!["x"]
+        }
+    };
+}
+
+/// Implements the run-time parts of [`ElementLagrangian`] by [`Ring`]'s (field `ring`).
+macro_rules! ring_system {
+    () => {
+        fn sizes(&self) -> Vec<usize> {
+            vec![self.ring.n]
+        }
+
+        fn dim(&self) -> usize {
+            self.ring.n
         }
 
         fn translations(&self) -> Vec<Vec<Range<usize>>> {
@@ -164,11 +175,16 @@ impl Family<2> for CompiledSprings<'_> {
     ring_family!();
 }
 
+impl System for Compiled {
+    const PARAMETERS: &'static [&'static str] = &["m", "k", "beta"];
+    const CONTROLS: &'static [&'static str] = &["k"];
+    ring_model!();
+}
+
 impl ElementLagrangian for Compiled {
     const SIZES: &'static [&'static str] = &["n"];
     const MIN_SIZE: usize = 2;
     const CONTINUOUS: bool = true;
-    const CONTROLS: &'static [&'static str] = &["k"];
 
     fn families<V: FamilyVisitor>(&self, visitor: &mut V) {
         visitor.family::<2, _>(&CompiledSprings(self));
@@ -187,6 +203,8 @@ struct Given {
     continuous: bool,
     controls: usize,
     depth: usize,
+    domain: Vec<Bound>,
+    time: Option<usize>,
 }
 
 impl Given {
@@ -198,6 +216,8 @@ impl Given {
             continuous: true,
             controls: 1,
             depth: 1,
+            domain: Vec::new(),
+            time: None,
         }
     }
 }
@@ -220,6 +240,33 @@ impl Family<2> for GivenSprings<'_> {
     }
 
     ring_family!();
+}
+
+impl System for Given {
+    // Placeholders: no names, no controls.
+    const PARAMETERS: &'static [&'static str] = &[];
+
+    fn parameter_names(&self) -> Vec<&str> {
+        vec!["m", "k", "beta"]
+    }
+
+    fn control_count(&self) -> usize {
+        self.controls
+    }
+
+    fn control_names(&self) -> Vec<&str> {
+        vec!["k"]
+    }
+
+    fn domain(&self) -> &[Bound] {
+        &self.domain
+    }
+
+    fn time_index(&self) -> Option<usize> {
+        self.time
+    }
+
+    ring_model!();
 }
 
 impl ElementLagrangian for Given {
@@ -245,10 +292,6 @@ impl ElementLagrangian for Given {
 
     fn forced(&self) -> bool {
         false
-    }
-
-    fn control_count(&self) -> usize {
-        self.controls
     }
 
     fn constrained(&self) -> bool {
@@ -309,6 +352,33 @@ fn the_provided_methods_say_the_constants() {
     let mut shapes = Shapes(Vec::new());
     given.families(&mut shapes);
     assert_eq!(shapes.0, [(2, 1, false)]);
+}
+
+/// A domain or a time coordinate the element-wise integrators cannot honour is refused before
+/// any step, not ignored.
+#[test]
+fn a_declared_domain_or_time_coordinate_is_refused_not_ignored() {
+    let options = NewtonOptions::default();
+    let plain = ElementIntegrator::new(Given::new(ring(5)), options);
+    assert!(plain.check(&initial(5)).is_ok());
+    let bounded = Given {
+        domain: vec![Bound::new(0, Relation::Above, -1.0)],
+        ..Given::new(ring(5))
+    };
+    let refused = ElementIntegrator::new(bounded, options).check(&initial(5));
+    assert!(
+        matches!(refused, Err(StepError::Unsupported { what }) if what.contains("domain")),
+        "{refused:?}"
+    );
+    let timed = Given {
+        time: Some(0),
+        ..Given::new(ring(5))
+    };
+    let refused = ElementIntegrator::minus(timed, options).check(&initial(5));
+    assert!(
+        matches!(refused, Err(StepError::Unsupported { what }) if what.contains("adaptive")),
+        "{refused:?}"
+    );
 }
 
 #[test]

@@ -8,7 +8,7 @@ use super::{blocks, LieLagrangian, LieState, LieTrajectory, SpatialMomentum};
 use crate::error::StepError;
 use crate::newton::{self, inf_norm, NewtonOptions};
 use crate::stepper::{
-    check_inputs, predicted_increment, same_step, step_error, History, StepStats, Stepper,
+    check_inputs, predicted_increment, step_error, system_at, History, StepStats, Stepper,
 };
 use crate::system::Variant;
 
@@ -146,7 +146,7 @@ where
         next: &LieState<P, N>,
         u: &[f64],
     ) -> Result<crate::Sensitivity, StepError> {
-        let owned = self.system_at(k, self.system.time_step(), u)?;
+        let owned = system_at(&self.system, k, self.system.time_step(), u)?;
         let sys = owned.as_ref().unwrap_or(&self.system);
         let z = self.chart_coordinates(&state.q, &next.q);
         let parts = sys
@@ -223,25 +223,6 @@ where
         worst
     }
 
-    /// The system of step `k`: `None` (the system itself) for its own step without controls,
-    /// otherwise a copy at step `h` with the controls `u` set; the typed error of step `k` for
-    /// controls of the wrong number or not finite.
-    pub(super) fn system_at(&self, k: usize, h: f64, u: &[f64]) -> Result<Option<L>, StepError> {
-        if u.is_empty() && same_step(h, self.system.time_step()) {
-            return Ok(None);
-        }
-        let mut system = if u.is_empty() {
-            self.system.clone()
-        } else {
-            crate::stepper::check_controls(k, self.system.control_count(), u)?;
-            self.system.with_controls(u)
-        };
-        if !same_step(h, system.time_step()) {
-            system = system.with_time_step(h);
-        }
-        Ok(Some(system))
-    }
-
     /// The step of size `h` from `state`, Newton starting at `guess` for the chart coordinate of
     /// the next point.
     fn solve_step(
@@ -275,7 +256,7 @@ where
         guess: Option<SVector<f64, N>>,
         u: &[f64],
     ) -> Result<(LieState<P, N>, SVector<f64, N>, StepStats), StepError> {
-        let owned = self.system_at(k, h, u)?;
+        let owned = system_at(&self.system, k, h, u)?;
         let sys = owned.as_ref().unwrap_or(&self.system);
         let (q, p) = (&state.q, &state.p);
         let rho = inf_norm(p);
@@ -421,6 +402,11 @@ where
             self.system.time_step(),
             &self.system.parameter_values(),
             initial.is_finite(),
+        )?;
+        crate::model::refuse_domain(
+            &self.system,
+            "a declared domain on a system on rotation groups (only a system on vector spaces \
+             checks one)",
         )?;
         for block in blocks(&self.system) {
             block

@@ -123,6 +123,7 @@ use nalgebra::{Matrix3, SVector};
 
 use crate::error::{StepError, Steps};
 use crate::linalg::LinearSolver;
+use crate::model::System;
 use crate::reduced::trajectory_accessors;
 use crate::state::IntoVector;
 use crate::stepper::{Collect, StepStats, StepStatsExt};
@@ -130,19 +131,15 @@ use crate::stepper::{Collect, StepStats, StepStatsExt};
 /// A discrete Lagrangian on `Q = R^m × SO(3)^a × (S²)^b`, with the straight-line functions of
 /// its Lie group variational step (see the [module documentation](self)). `P` is the length of a
 /// stored point, `N = dim Q` that of the chart and the momentum. `#[reduced_lagrangian]`
-/// implements it for a function with `rotation(..)` or `direction(..)` coordinates.
-pub trait LieLagrangian<const P: usize, const N: usize>: Clone + Send + Sync + 'static {
+/// implements it for a function with `rotation(..)` or `direction(..)` coordinates. The rotation
+/// family of the one system model ([`System`]: parameters, time step, controls, time coordinate
+/// and names are declared there; this family declares no domain, and its integrators refuse a
+/// system that does).
+pub trait LieLagrangian<const P: usize, const N: usize>:
+    System + Clone + Send + Sync + 'static
+{
     /// The coordinates, in the order of the point and the chart.
     const COORDINATES: &'static [(&'static str, CoordinateKind)];
-    /// Names of the scalar parameters, in declaration order.
-    const PARAMETERS: &'static [&'static str];
-    /// Names of the controls (`controls(..)` in the attribute): parameters a control law sets
-    /// before every step, in the order a control vector lists them.
-    const CONTROLS: &'static [&'static str] = &[];
-    /// Adaptive steps (`time(t), adapt = |q| g` in the attribute; see [`crate::adaptive`]): the
-    /// index in [`Self::COORDINATES`] of the group scalar that is physical time. `None` for a
-    /// system stepped in physical time.
-    const TIME: Option<usize> = None;
 
     /// The coordinate `i` (its name and kind, in the order of the point and the chart), `None`
     /// past the last: [`Self::COORDINATES`] for a system compiled in; a system given at run time
@@ -152,28 +149,9 @@ pub trait LieLagrangian<const P: usize, const N: usize>: Clone + Send + Sync + '
         Self::COORDINATES.get(i).copied()
     }
 
-    /// The names of the parameters: [`Self::PARAMETERS`] for a system compiled in; a system
-    /// given at run time says them here. What output (metadata) reads.
-    fn parameter_names(&self) -> Vec<&str> {
-        Self::PARAMETERS.to_vec()
-    }
-
-    /// The number of controls, what the integrators check a control vector against:
-    /// `Self::CONTROLS.len()` for a system compiled in; a system given at run time (whose
-    /// constants cannot know its names) says it here.
-    fn control_count(&self) -> usize {
-        Self::CONTROLS.len()
-    }
-
-    /// Adaptive steps: the index of the time coordinate among the coordinates, [`Self::TIME`]
-    /// for a system compiled in; a system given at run time says it here. What the integrators
-    /// and output read.
-    fn time_index(&self) -> Option<usize> {
-        Self::TIME
-    }
-
     /// Adaptive steps: the step monitor `g(q) > 0` at the point `q` (`dt = g dτ`); `None` for a
-    /// system stepped in physical time.
+    /// system stepped in physical time. The time coordinate is [`System::time_index`], an index
+    /// into [`Self::COORDINATES`] (a group scalar).
     fn monitor(&self, q: &SVector<f64, P>) -> Option<f64> {
         let _ = q;
         None
@@ -187,23 +165,6 @@ pub trait LieLagrangian<const P: usize, const N: usize>: Clone + Send + Sync + '
 
     /// `L_d(q0, q1)`, evaluated by the user's own function body.
     fn lagrangian(&self, q0: &SVector<f64, P>, q1: &SVector<f64, P>) -> f64;
-
-    /// The time step `h`.
-    fn time_step(&self) -> f64;
-
-    /// The same system at time step `h` (any nonzero `h`, negative included for the stages of a
-    /// composition).
-    fn with_time_step(&self, h: f64) -> Self;
-
-    /// The parameter values, in the order of [`Self::parameter_names`].
-    fn parameter_values(&self) -> Vec<f64>;
-
-    /// The same system with its controls set to `u` (in the order of [`Self::CONTROLS`], of
-    /// length [`Self::control_count`]; the caller checks the length).
-    fn with_controls(&self, u: &[f64]) -> Self {
-        let _ = u;
-        self.clone()
-    }
 
     /// The point `φ_q(z)` of the chart centred at `q`.
     fn retract(&self, q: &SVector<f64, P>, z: &SVector<f64, N>) -> SVector<f64, P>;

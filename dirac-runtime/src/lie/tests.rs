@@ -8,8 +8,10 @@ use super::{
     cayley, matrix_at, rows, vee, CoordinateKind, LieIntegrator, LieLagrangian, LieState,
     LieSymmetric, ReducedLieIntegrator, ReducedLieTrajectory, RotationSymmetry,
 };
+use crate::domain::{Bound, Relation};
 use crate::error::StepError;
 use crate::linalg::Lu;
+use crate::model::System;
 use crate::newton::NewtonOptions;
 use crate::stepper::Stepper;
 
@@ -65,19 +67,9 @@ impl Body {
     }
 }
 
-/// Implements the step functions of [`LieLagrangian`] by [`Body`]'s (field `body`).
-macro_rules! body_steps {
+/// Implements the parameters of [`System`] by [`Body`]'s (field `body`).
+macro_rules! body_model {
     () => {
-        type Linear = Lu<3>;
-
-        fn linear_solver(&self) -> Lu<3> {
-            Lu::empty()
-        }
-
-        fn lagrangian(&self, q0: &SVector<f64, 9>, q1: &SVector<f64, 9>) -> f64 {
-            self.body.lagrangian(q0, q1)
-        }
-
         fn time_step(&self) -> f64 {
             self.body.h
         }
@@ -90,6 +82,21 @@ macro_rules! body_steps {
 
         fn parameter_values(&self) -> Vec<f64> {
             self.body.inertia.iter().copied().collect()
+        }
+    };
+}
+
+/// Implements the step functions of [`LieLagrangian`] by [`Body`]'s (field `body`).
+macro_rules! body_steps {
+    () => {
+        type Linear = Lu<3>;
+
+        fn linear_solver(&self) -> Lu<3> {
+            Lu::empty()
+        }
+
+        fn lagrangian(&self, q0: &SVector<f64, 9>, q1: &SVector<f64, 9>) -> f64 {
+            self.body.lagrangian(q0, q1)
         }
 
         fn retract(&self, q: &SVector<f64, 9>, z: &SVector<f64, 3>) -> SVector<f64, 9> {
@@ -131,10 +138,23 @@ struct Compiled {
     body: Body,
 }
 
+impl System for Compiled {
+    const PARAMETERS: &'static [&'static str] = &["j1", "j2", "j3"];
+
+    fn with_controls(&self, _u: &[f64]) -> Self {
+        self.clone()
+    }
+
+    fn coordinate_names(&self) -> Vec<&str> {
+        vec!["attitude"]
+    }
+
+    body_model!();
+}
+
 impl LieLagrangian<9, 3> for Compiled {
     const COORDINATES: &'static [(&'static str, CoordinateKind)] =
         &[("attitude", CoordinateKind::ROTATION)];
-    const PARAMETERS: &'static [&'static str] = &["j1", "j2", "j3"];
     body_steps!();
 }
 
@@ -153,6 +173,7 @@ struct Given {
     controls: usize,
     /// `None`: every rotation of coordinate 0; otherwise the rotations about z of these.
     axis: Option<Vec<usize>>,
+    domain: Vec<Bound>,
 }
 
 impl Given {
@@ -163,19 +184,13 @@ impl Given {
             parameters: ["j1", "j2", "j3"].map(String::from).to_vec(),
             controls: 1,
             axis: None,
+            domain: Vec::new(),
         }
     }
 }
 
-impl LieLagrangian<9, 3> for Given {
-    const COORDINATES: &'static [(&'static str, CoordinateKind)] = &[];
+impl System for Given {
     const PARAMETERS: &'static [&'static str] = &[];
-
-    fn coordinate(&self, i: usize) -> Option<(&str, CoordinateKind)> {
-        self.coordinates
-            .get(i)
-            .map(|(name, kind)| (name.as_str(), *kind))
-    }
 
     fn parameter_names(&self) -> Vec<&str> {
         self.parameters.iter().map(String::as_str).collect()
@@ -187,6 +202,29 @@ impl LieLagrangian<9, 3> for Given {
 
     fn with_controls(&self, _u: &[f64]) -> Self {
         self.clone()
+    }
+
+    fn coordinate_names(&self) -> Vec<&str> {
+        self.coordinates
+            .iter()
+            .map(|(name, _)| name.as_str())
+            .collect()
+    }
+
+    fn domain(&self) -> &[Bound] {
+        &self.domain
+    }
+
+    body_model!();
+}
+
+impl LieLagrangian<9, 3> for Given {
+    const COORDINATES: &'static [(&'static str, CoordinateKind)] = &[];
+
+    fn coordinate(&self, i: usize) -> Option<(&str, CoordinateKind)> {
+        self.coordinates
+            .get(i)
+            .map(|(name, kind)| (name.as_str(), *kind))
     }
 
     body_steps!();
@@ -260,6 +298,24 @@ fn the_provided_methods_say_the_constants() {
     assert!(!compiled.symmetry_forced());
     let given = Given::new(body());
     assert_eq!(given.parameter_names(), ["j1", "j2", "j3"]);
+}
+
+/// A domain the rotation integrators cannot check is refused before any step, not ignored.
+#[test]
+fn a_declared_domain_is_refused_not_ignored() {
+    let options = NewtonOptions::default();
+    assert!(LieIntegrator::new(Given::new(body()), options)
+        .check(&initial())
+        .is_ok());
+    let bounded = Given {
+        domain: vec![Bound::new(0, Relation::Above, -2.0)],
+        ..Given::new(body())
+    };
+    let refused = LieIntegrator::new(bounded, options).check(&initial());
+    assert!(
+        matches!(refused, Err(StepError::Unsupported { what }) if what.contains("domain")),
+        "{refused:?}"
+    );
 }
 
 #[test]
