@@ -125,8 +125,8 @@
 //! momentum as a vector in space), and refuses a matrix that is not a rotation or a vector that
 //! is not a unit vector; `unreduced_state` takes a velocity instead. The coordinates, parameters,
 //! controls, time coordinate and symmetry are values of the system, which the integrators and the
-//! Parquet writer read through `LieLagrangian::coordinate`, `parameter_names`, `control_count`,
-//! `time_index` and `LieSymmetric::symmetry`. The rigid body, the heavy top, the satellite with
+//! Parquet writer read through `LieLagrangian::coordinate`, `System::parameter_names`,
+//! `control_count`, `time_index` and `LieSymmetric::symmetry`. The rigid body, the heavy top, the satellite with
 //! its reaction wheel (a shape coordinate, a motor torque as a control, a force), the paper's
 //! pendulum on `S² × S²`, a continuous Lagrangian in the body angular velocity, six bodies in one
 //! system (18 chart coordinates: the sparse backend) and a spherical pendulum with adaptive steps
