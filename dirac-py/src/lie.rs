@@ -10,8 +10,9 @@
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
-use dirac_compiler::text::{LieKind, LieSymmetryKind};
+use dirac_compiler::text::LieSymmetryKind;
 use dirac_jit::{JitLie, LieCode};
+use dirac_runtime::lie::Group;
 use dirac_runtime::{Composition, Drive, LieIntegrator, LieState, ReducedLieIntegrator, StepStats};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
@@ -24,13 +25,14 @@ use crate::results::{finish, Failed};
 use crate::{composition, CompileError};
 
 /// A run's trajectory flattened for NumPy: the times, per coordinate its configurations and
-/// momenta (each with the shape of one row), and the spatial momentum (and the symmetry's
-/// momentum of a reduced run) per state.
+/// momenta (each with the shape of one row), and the spatial angular and linear momenta (and the
+/// symmetry's momentum of a reduced run) per state.
 struct Flat {
     t: Vec<f64>,
     q: Vec<Vec<f64>>,
     p: Vec<Vec<f64>>,
     spatial: Vec<f64>,
+    linear: Vec<f64>,
     mu: Option<Vec<f64>>,
     iterations: Vec<usize>,
     residuals: Vec<f64>,
@@ -73,6 +75,7 @@ fn flat<const P: usize, const N: usize>(
         q: vec![Vec::new(); coordinates],
         p: vec![Vec::new(); coordinates],
         spatial: Vec::with_capacity(3 * times.len()),
+        linear: Vec::with_capacity(3 * times.len()),
         mu: None,
         iterations: stats.iter().map(|s| s.iterations).collect(),
         residuals: stats.iter().map(|s| s.residual).collect(),
@@ -84,8 +87,9 @@ fn flat<const P: usize, const N: usize>(
         for (all, one) in out.p.iter_mut().zip(sys.momenta(&state)) {
             all.extend(one);
         }
-        out.spatial
-            .extend(integ.spatial_momentum(&state).iter().copied());
+        let momentum = integ.rigid_momentum(&state);
+        out.spatial.extend(momentum.angular.iter().copied());
+        out.linear.extend(momentum.linear.iter().copied());
         if let Some(mu) = mu {
             out.mu.get_or_insert_with(Vec::new).extend(mu);
         }
@@ -108,10 +112,9 @@ fn start_state<const P: usize, const N: usize>(
             // The point of the configuration, then the state on the level set at `v`.
             let zeros: Vec<Vec<f64>> = sys
                 .code()
-                .system()
-                .coordinates
+                .kinds()
                 .iter()
-                .map(|c| vec![0.0; momentum_len(c.kind)])
+                .map(|k| vec![0.0; k.group().momentum_value_len()])
                 .collect();
             let zeros: Vec<&[f64]> = zeros.iter().map(Vec::as_slice).collect();
             let point = sys.state(&q, &zeros).map_err(|e| e.to_string())?.q;
@@ -231,39 +234,6 @@ fn write_one<const P: usize, const N: usize>(
     })
 }
 
-fn momentum_len(kind: LieKind) -> usize {
-    match kind {
-        LieKind::Scalar | LieKind::Group => 1,
-        LieKind::Rotation | LieKind::Direction => 3,
-    }
-}
-
-fn configuration_len(kind: LieKind) -> usize {
-    match kind {
-        LieKind::Scalar | LieKind::Group => 1,
-        LieKind::Rotation => 9,
-        LieKind::Direction => 3,
-    }
-}
-
-/// The shape of one row of a coordinate's configuration (`None`: a scalar) and momentum.
-fn row_shape(kind: LieKind, momentum: bool) -> Option<Vec<usize>> {
-    match (kind, momentum) {
-        (LieKind::Scalar | LieKind::Group, _) => None,
-        (LieKind::Rotation, false) => Some(vec![3, 3]),
-        _ => Some(vec![3]),
-    }
-}
-
-fn kind_name(kind: LieKind) -> &'static str {
-    match kind {
-        LieKind::Scalar => "scalar",
-        LieKind::Group => "group",
-        LieKind::Rotation => "rotation",
-        LieKind::Direction => "direction",
-    }
-}
-
 /// A system on rotation groups given as text, compiled to machine code.
 #[pyclass(frozen, module = "dirac._dirac")]
 pub(crate) struct LieSystem {
@@ -273,16 +243,13 @@ pub(crate) struct LieSystem {
 impl LieSystem {
     pub(crate) fn new(code: Arc<LieCode>) -> PyResult<LieSystem> {
         let s = code.system();
-        let rotations = s
-            .coordinates
-            .iter()
-            .filter(|c| matches!(c.kind, LieKind::Rotation | LieKind::Direction))
-            .count();
+        // Every kind but the scalars stores a matrix: what the dispatched dimensions count.
+        let rotations = code.kinds().iter().filter(|k| k.point_len() > 1).count();
         if rotations > dirac_jit::MAX_DISPATCHED_ROTATIONS
             || s.chart_len() > dirac_jit::MAX_DISPATCHED
         {
             return Err(CompileError::new_err(format!(
-                "{rotations} rotation and direction coordinates, {} chart coordinates: the Python \
+                "{rotations} rotation, direction and pose coordinates, {} chart coordinates: the Python \
                  module runs systems on rotation groups of at most {} and {}",
                 s.chart_len(),
                 dirac_jit::MAX_DISPATCHED_ROTATIONS,
@@ -344,7 +311,8 @@ impl LieSystem {
         v: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Start> {
         let coords = &self.code.system().coordinates;
-        let read = |d: &Bound<'_, PyDict>, what: &str, len: &dyn Fn(LieKind) -> usize| {
+        let kinds = self.code.kinds();
+        let read = |d: &Bound<'_, PyDict>, what: &str, len: &dyn Fn(&dyn Group) -> usize| {
             for key in d.keys() {
                 let key: String = key.extract()?;
                 if !coords.iter().any(|c| c.name == key) {
@@ -356,7 +324,8 @@ impl LieSystem {
             }
             coords
                 .iter()
-                .map(|c| {
+                .zip(kinds)
+                .map(|(c, kind)| {
                     let value = d.get_item(&c.name)?.ok_or_else(|| {
                         PyValueError::new_err(format!("`{what}` needs `{}`", c.name))
                     })?;
@@ -370,27 +339,27 @@ impl LieSystem {
                         )?
                         .extract()?
                     };
-                    let want = len(c.kind);
+                    let want = len(kind.group());
                     if flat.len() != want {
                         return Err(PyValueError::new_err(format!(
                             "`{what}[\"{}\"]` has {} values; a {} takes {want}",
                             c.name,
                             flat.len(),
-                            kind_name(c.kind)
+                            kind.name()
                         )));
                     }
                     Ok(flat)
                 })
                 .collect::<PyResult<Vec<Vec<f64>>>>()
         };
-        let q = read(q, "q", &configuration_len)?;
+        let q = read(q, "q", &|g| g.value_len())?;
         match (p, v) {
             (Some(_), Some(_)) => Err(PyValueError::new_err(
                 "give the momenta `p` or the velocities `v`, not both",
             )),
             (Some(p), None) => Ok(Start {
                 q,
-                p: Some(read(p, "p", &momentum_len)?),
+                p: Some(read(p, "p", &|g| g.momentum_value_len())?),
                 v: None,
             }),
             (None, Some(v)) => {
@@ -399,10 +368,8 @@ impl LieSystem {
                         "velocities `v` start a system with adaptive steps; give the momenta `p`",
                     ));
                 }
-                let v = read(v, "v", &|k| match k {
-                    LieKind::Scalar | LieKind::Group => 1,
-                    LieKind::Rotation | LieKind::Direction => 3,
-                })?;
+                // A velocity has a momentum's components.
+                let v = read(v, "v", &|g| g.momentum_value_len())?;
                 Ok(Start {
                     q,
                     p: None,
@@ -421,16 +388,15 @@ impl LieSystem {
         d.set_item("t", PyArray1::from_vec(py, flat.t))?;
         for (key, data, momentum) in [("q", flat.q, false), ("p", flat.p, true)] {
             let by_name = PyDict::new(py);
-            for (c, values) in self.code.system().coordinates.iter().zip(data) {
-                let a = PyArray1::from_vec(py, values);
-                let shaped = match row_shape(c.kind, momentum) {
-                    None => a.into_any(),
-                    Some(shape) => {
-                        let mut full = vec![rows];
-                        full.extend(shape);
-                        a.reshape(full)?.into_any()
-                    }
+            let coordinates = self.code.system().coordinates.iter();
+            for ((c, kind), values) in coordinates.zip(self.code.kinds()).zip(data) {
+                let shape = match momentum {
+                    false => kind.group().value_shape(),
+                    true => kind.group().momentum_shape(),
                 };
+                let mut full = vec![rows];
+                full.extend(shape);
+                let shaped = PyArray1::from_vec(py, values).reshape(full)?;
                 by_name.set_item(&c.name, shaped)?;
             }
             d.set_item(key, by_name)?;
@@ -438,6 +404,10 @@ impl LieSystem {
         d.set_item(
             "spatial_momentum",
             PyArray1::from_vec(py, flat.spatial).reshape([rows, 3])?,
+        )?;
+        d.set_item(
+            "linear_momentum",
+            PyArray1::from_vec(py, flat.linear).reshape([rows, 3])?,
         )?;
         if let Some(mu) = flat.mu {
             d.set_item("mu", PyArray1::from_vec(py, mu).reshape([rows, 3])?)?;
@@ -474,18 +444,18 @@ impl LieSystem {
     /// The bytes one state of a collected run costs until its arrays are returned: the state
     /// the integrator keeps (the stored point, the chart momentum, a reduced run's `μ`), its
     /// time and statistics, and its flattened copy (each coordinate's configuration and
-    /// momentum, the spatial momentum and `μ`, the time, the iterations and residual).
+    /// momentum, the spatial angular and linear momenta and `μ`, the time, the iterations and
+    /// residual).
     fn row_bytes(&self) -> u128 {
         let (point, chart) = self.dims();
         let kept = 8 * (point + chart + 3 + 1) + std::mem::size_of::<StepStats>();
         let coordinates: usize = self
             .code
-            .system()
-            .coordinates
+            .kinds()
             .iter()
-            .map(|c| configuration_len(c.kind) + momentum_len(c.kind))
+            .map(|k| k.group().value_len() + k.group().momentum_value_len())
             .sum();
-        (kept + 8 * (coordinates + 6 + 1) + 16) as u128
+        (kept + 8 * (coordinates + 9 + 1) + 16) as u128
     }
 }
 
@@ -505,15 +475,14 @@ impl LieSystem {
         self.code.system().name.clone()
     }
 
-    /// The coordinates as `(name, kind)`, kind one of "scalar", "group", "rotation",
-    /// "direction".
+    /// The coordinates as `(name, kind)`, kind the keyword that declares it: one of "shape",
+    /// "group", "rotation", "direction", "pose".
     #[getter]
     fn coordinates(&self) -> Vec<(String, &'static str)> {
-        self.code
-            .system()
-            .coordinates
-            .iter()
-            .map(|c| (c.name.clone(), kind_name(c.kind)))
+        let coordinates = self.code.system().coordinates.iter();
+        coordinates
+            .zip(self.code.kinds())
+            .map(|(c, k)| (c.name.clone(), k.name()))
             .collect()
     }
 
@@ -554,12 +523,16 @@ impl LieSystem {
     }
 
     /// Integrates `steps` steps from the start `q` (a dict by coordinate: a rotation's 3×3
-    /// matrix, a direction's unit vector, a scalar) with the momenta `p` (a rotation's body
-    /// momentum, a direction's momentum as a vector in space, a scalar's), or with adaptive
-    /// steps the velocities `v` (a rotation's body angular velocity). `method` is "plus",
-    /// "minus" or "reduced" (by the declared symmetry); `order` 2, 4 or 6. Returns a dict of
-    /// NumPy arrays: `t`, `q` and `p` (dicts by coordinate, one row per state), the spatial
-    /// angular momentum `spatial_momentum` (steps+1, 3), `mu` for a reduced run, and per step
+    /// matrix, a direction's unit vector, a pose's 12 numbers — its rotation row by row, then
+    /// its position —, a scalar) with the momenta `p` (a rotation's body momentum, a
+    /// direction's momentum as a vector in space, a pose's 6 — its body angular momentum, then
+    /// its linear momentum in space —, a scalar's), or with adaptive steps the velocities `v` (a
+    /// rotation's body angular velocity). `method` is "plus", "minus" or "reduced" (by the
+    /// declared symmetry); `order` 2, 4 or 6. Returns a dict of NumPy arrays: `t`, `q` and `p`
+    /// (dicts by coordinate, one row per state, each row shaped as the start gives it: a pose's
+    /// `(12,)`, its momentum's `(6,)`), the spatial angular momentum `spatial_momentum`
+    /// (steps+1, 3) and the poses' linear momentum `linear_momentum` (steps+1, 3; zero without
+    /// poses), `mu` for a reduced run, and per step
     /// `iterations` and `residuals`. Raises `StepError` with the trajectory so far,
     /// `KeyboardInterrupt` with the trajectory so far at Ctrl-C, `OutOfMemoryError` (before
     /// running) when the trajectory cannot be allocated, and `TypeError` for a keyword it does
@@ -644,7 +617,8 @@ impl LieSystem {
         let coords: Vec<String> = s
             .coordinates
             .iter()
-            .map(|c| format!("{} ({})", c.name, kind_name(c.kind)))
+            .zip(self.code.kinds())
+            .map(|(c, k)| format!("{} ({})", c.name, k.name()))
             .collect();
         format!(
             "<dirac.LieSystem {}: {}; parameters ({})>",
