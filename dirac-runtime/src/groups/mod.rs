@@ -19,8 +19,10 @@
 //! A coordinate's kind as the integrators, the output and the systems see it is a
 //! [`CoordinateKind`]: a reference to one implementation, compared by name, with one constant
 //! per implementation and [`CoordinateKind::by_name`] over the one registration list
-//! ([`CoordinateKind::ALL`]). Adding a group is its implementation here, its symbolic
-//! counterpart in the compiler, and one line in that list.
+//! ([`CoordinateKind::ALL`]). Adding a group is its file here (the implementation and its
+//! constant), its `mod` line and one line of that list in this file, and its symbolic
+//! counterpart in the compiler (`dirac-compiler/src/ir/group/`, with its line of that crate's
+//! list).
 
 mod pose;
 mod s2;
@@ -181,26 +183,9 @@ pub trait Group: Send + Sync + fmt::Debug + 'static {
 pub struct CoordinateKind(pub &'static dyn Group);
 
 impl CoordinateKind {
-    /// An ordinary real coordinate (`shape(x)`): one entry of the point, one of the chart.
-    pub const SCALAR: CoordinateKind = CoordinateKind(&Scalar);
-    /// [`Self::SCALAR`] by its keyword: each kind's constant is its keyword in capitals, which
-    /// is how the code `#[reduced_lagrangian]` emits names it.
-    pub const SHAPE: CoordinateKind = CoordinateKind::SCALAR;
-    /// A real coordinate whose translations are a symmetry (`group(x)`, checked at compile
-    /// time): its momentum `μ` obeys the discrete Noether balance explicitly,
-    /// `μ_{k+1} = μ_k + f_d^− + f_d^+` — copied bit for bit without forces.
-    pub const GROUP: CoordinateKind = CoordinateKind(&Translation);
-    /// A rotation matrix `R ∈ SO(3)` (`rotation(R)`): 9 entries of the point (row by row), 3 of
-    /// the chart (the body-frame algebra element).
-    pub const ROTATION: CoordinateKind = CoordinateKind(&So3);
-    /// A unit vector `n ∈ S²` (`direction(n)`): the 9 entries of its frame `[e1 e2 n]` (row by
-    /// row), 2 of the chart.
-    pub const DIRECTION: CoordinateKind = CoordinateKind(&S2);
-    /// A rigid motion `(R, x) ∈ SE(3) = SO(3) ⋉ R³` (`pose(X)`): 12 entries of the point (`R`
-    /// row by row, then `x`), 6 of the chart (the body-frame rotation, the spatial translation).
-    pub const POSE: CoordinateKind = CoordinateKind(&Pose);
-
-    /// Every kind: the one registration list.
+    /// Every kind: the one registration list (each kind's constant, `CoordinateKind::ROTATION`
+    /// and the others, is defined beside its implementation, named by its keyword in capitals:
+    /// the name the code `#[reduced_lagrangian]` emits refers to).
     pub const ALL: &'static [CoordinateKind] = &[
         CoordinateKind::SCALAR,
         CoordinateKind::GROUP,

@@ -5,7 +5,7 @@ use nalgebra::Vector3;
 use super::so3::{
     cayley, cayley_inverse, check_rotation, orthogonality_defect, rotation_from_value,
 };
-use super::{matrix, store_matrix, vector, Group, SpatialMomentum};
+use super::{matrix, store_matrix, vector, CoordinateKind, Group, SpatialMomentum};
 
 /// A pose `(R, x)`: the attitude `R ∈ SO(3)` (body → space) and the position `x ∈ R³` of a
 /// rigid body, `pose(X)`.
@@ -136,6 +136,12 @@ impl Group for Pose {
     fn momentum_value(&self, _q: &[f64], p: &[f64], out: &mut Vec<f64>) {
         out.extend_from_slice(&p[..6]);
     }
+}
+
+impl CoordinateKind {
+    /// A rigid motion `(R, x) ∈ SE(3) = SO(3) ⋉ R³` (`pose(X)`): 12 entries of the point (`R`
+    /// row by row, then `x`), 6 of the chart (the body-frame rotation, the spatial translation).
+    pub const POSE: CoordinateKind = CoordinateKind(&Pose);
 }
 
 #[cfg(test)]

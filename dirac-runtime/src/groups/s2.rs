@@ -3,7 +3,7 @@
 use nalgebra::{Matrix3, Vector3};
 
 use super::so3::{check_rotation, frame, orthogonality_defect, MATRIX_SUFFIXES};
-use super::{matrix, store_matrix, vector, Group, SpatialMomentum};
+use super::{matrix, store_matrix, vector, CoordinateKind, Group, SpatialMomentum};
 
 /// Largest accepted `| |n| − 1 |` of a direction given to a state: within it the direction is
 /// normalized (a rounding-level correction), beyond it the state is refused
@@ -191,4 +191,10 @@ impl Group for S2 {
         let m = f.column(0) * p[0] + f.column(1) * p[1];
         out.extend_from_slice(m.as_slice());
     }
+}
+
+impl CoordinateKind {
+    /// A unit vector `n ∈ S²` (`direction(n)`): the 9 entries of its frame `[e1 e2 n]` (row by
+    /// row), 2 of the chart.
+    pub const DIRECTION: CoordinateKind = CoordinateKind(&S2);
 }

@@ -1,6 +1,6 @@
 //! Coordinates on the real line: `shape(x)` ([`Scalar`]) and `group(x)` ([`Translation`]).
 
-use super::Group;
+use super::{CoordinateKind, Group};
 
 /// An ordinary real coordinate: `shape(x)`.
 ///
@@ -69,6 +69,17 @@ impl Group for Scalar {
     fn momentum_value(&self, _q: &[f64], p: &[f64], out: &mut Vec<f64>) {
         out.push(p[0]);
     }
+}
+
+impl CoordinateKind {
+    /// An ordinary real coordinate (`shape(x)`): one entry of the point, one of the chart.
+    pub const SCALAR: CoordinateKind = CoordinateKind(&Scalar);
+    /// [`Self::SCALAR`] by its keyword, the name the code `#[reduced_lagrangian]` emits.
+    pub const SHAPE: CoordinateKind = CoordinateKind::SCALAR;
+    /// A real coordinate whose translations are a symmetry (`group(x)`, checked at compile
+    /// time): its momentum `μ` obeys the discrete Noether balance explicitly,
+    /// `μ_{k+1} = μ_k + f_d^− + f_d^+` — copied bit for bit without forces.
+    pub const GROUP: CoordinateKind = CoordinateKind(&Translation);
 }
 
 /// A real coordinate whose translations are a symmetry (`group(x)`, checked at compile time):

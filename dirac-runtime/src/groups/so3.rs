@@ -4,7 +4,9 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::{matrix, store_matrix, vector, Group, SpatialMomentum, MANIFOLD_TOLERANCE};
+use super::{
+    matrix, store_matrix, vector, CoordinateKind, Group, SpatialMomentum, MANIFOLD_TOLERANCE,
+};
 
 /// `‖MᵀM − I‖∞` (largest entry).
 pub fn orthogonality_defect(m: &Matrix3<f64>) -> f64 {
@@ -202,6 +204,12 @@ impl Group for So3 {
     fn momentum_value(&self, _q: &[f64], p: &[f64], out: &mut Vec<f64>) {
         out.extend_from_slice(&p[..3]);
     }
+}
+
+impl CoordinateKind {
+    /// A rotation matrix `R ∈ SO(3)` (`rotation(R)`): 9 entries of the point (row by row), 3 of
+    /// the chart (the body-frame algebra element).
+    pub const ROTATION: CoordinateKind = CoordinateKind(&So3);
 }
 
 #[cfg(test)]
