@@ -8,8 +8,8 @@ use proc_macro2::TokenStream;
 use quote::quote;
 use syn::Ident;
 
-use super::rotation::{matrix_at, rotate_rows, sample_rotations, times_right, write_rows};
-use super::{Group, Paths, Rotated};
+use super::rotation::{matrix_at, times_right, write_rows, Rotation};
+use super::{Group, KindSpec, Paths, Rotated, Step};
 use crate::ast::layout::Reading;
 use crate::ir::graph::{Fun, Graph, NodeId};
 
@@ -66,21 +66,13 @@ fn column(point: &[NodeId], j: usize) -> [NodeId; 3] {
     [point[j], point[3 + j], point[6 + j]]
 }
 
+/// 9 point entries (the frame), a 2-entry chart, the 3 components of `ṅ`; a force on `ṅ` is a
+/// vector in space.
+static SPEC: KindSpec = KindSpec::new(crate::symbol::DIRECTION, 9, 2, 3).spatial_at(&[0]);
+
 impl Group for Direction {
-    fn name(&self) -> &'static str {
-        crate::symbol::DIRECTION.0
-    }
-
-    fn point_len(&self) -> usize {
-        9
-    }
-
-    fn chart_len(&self) -> usize {
-        2
-    }
-
-    fn velocity_len(&self) -> usize {
-        3
+    fn spec(&self) -> &KindSpec {
+        &SPEC
     }
 
     fn reads(&self, point: usize) -> Option<Reading> {
@@ -129,21 +121,8 @@ impl Group for Direction {
     }
 
     /// The chord `(n1 − n0)/h`.
-    fn velocity(
-        &self,
-        g: &mut Graph,
-        q0: &[NodeId],
-        q1: &[NodeId],
-        _rel: &[NodeId],
-        inv_h: NodeId,
-    ) -> Vec<NodeId> {
-        [2, 5, 8]
-            .into_iter()
-            .map(|i| {
-                let d = g.sub(q1[i], q0[i]);
-                g.mul(d, inv_h)
-            })
-            .collect()
+    fn velocity(&self, g: &mut Graph, step: &Step) -> Vec<NodeId> {
+        step.chord(g, [2, 5, 8])
     }
 
     /// `(F·e1, F·e2)` with the frame of `point`.
@@ -169,16 +148,14 @@ impl Group for Direction {
         })
     }
 
+    /// The frame is a rotation matrix: sampled as one.
     fn sample(&self, t: f64, at: usize) -> [Vec<f64>; 2] {
-        sample_rotations(t, at).map(|r| r.into_iter().flatten().collect())
+        Rotation.sample(t, at)
     }
 
+    /// `[e1 e2 n] ↦ g [e1 e2 n]`, as a rotation.
     fn rotate(&self, g: &[[f64; 3]; 3], point: &mut [f64]) {
-        rotate_rows(g, point);
-    }
-
-    fn spatial(&self) -> &'static [usize] {
-        &[0]
+        Rotation.rotate(g, point);
     }
 
     fn config_field(&self, paths: &Paths, name: &Ident, _: &Ident) -> (TokenStream, String) {

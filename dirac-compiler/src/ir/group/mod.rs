@@ -23,6 +23,7 @@ use syn::Ident;
 
 use crate::ast::layout::Reading;
 use crate::ir::graph::{Graph, NodeId};
+use crate::symbol::Symbol;
 
 mod direction;
 mod pose;
@@ -125,6 +126,85 @@ pub struct Paths {
     pub rt: TokenStream,
 }
 
+/// A kind as data: its attribute key, the sizes of its blocks (manif's `RepSize` and `DoF`, and
+/// the velocity a continuous Lagrangian reads) and the facts about it that the reduction and the
+/// checks read ([`Group::translations`], [`Group::rotation`], [`Group::spatial`]).
+#[derive(Clone, Copy, Debug)]
+pub struct KindSpec {
+    name: &'static str,
+    point: usize,
+    chart: usize,
+    velocity: usize,
+    translations: bool,
+    rotation: Option<usize>,
+    spatial: &'static [usize],
+}
+
+impl KindSpec {
+    /// The kind declared by `key`, with `point` entries of its stored point, `chart` of its
+    /// chart (and momentum) and `velocity` of its velocity; no declared translations, no
+    /// rotation matrix, no spatial vectors.
+    pub const fn new(key: Symbol, point: usize, chart: usize, velocity: usize) -> KindSpec {
+        KindSpec {
+            name: key.0,
+            point,
+            chart,
+            velocity,
+            translations: false,
+            rotation: None,
+            spatial: &[],
+        }
+    }
+
+    /// Its translations are a declared symmetry ([`Group::translations`]).
+    pub const fn translations(self) -> KindSpec {
+        KindSpec {
+            translations: true,
+            ..self
+        }
+    }
+
+    /// A rotation matrix stands at `at` in its point ([`Group::rotation`]).
+    pub const fn rotation_at(self, at: usize) -> KindSpec {
+        KindSpec {
+            rotation: Some(at),
+            ..self
+        }
+    }
+
+    /// 3-vectors in space stand at `at` among its velocity components ([`Group::spatial`]).
+    pub const fn spatial_at(self, at: &'static [usize]) -> KindSpec {
+        KindSpec {
+            spatial: at,
+            ..self
+        }
+    }
+}
+
+/// One coordinate's step from `q0` to `q1` (their points, this coordinate's blocks), as its
+/// velocity reads it: `rel` the relative rotation's 9 symbols where [`Group::rotation`] is some
+/// (else empty), `inv_h = 1/h`.
+pub struct Step<'a> {
+    pub q0: &'a [NodeId],
+    pub q1: &'a [NodeId],
+    pub rel: &'a [NodeId],
+    pub inv_h: NodeId,
+}
+
+impl Step<'_> {
+    /// The chord velocity `(q1 − q0)/h` of the point's `entries` (a scalar's `ẋ`, a direction's
+    /// `ṅ`, a pose's spatial `ẋ`).
+    pub fn chord(&self, g: &mut Graph, entries: impl IntoIterator<Item = usize>) -> Vec<NodeId> {
+        entries
+            .into_iter()
+            .map(|i| {
+                let d = g.sub(self.q1[i], self.q0[i]);
+                g.mul(d, self.inv_h)
+            })
+            .collect()
+    }
+}
+
 /// One kind of coordinate of a system on groups, symbolically: a manifold `Q_i` with a stored
 /// point of [`Self::point_len`] entries, a centred chart `φ_q : ℝ^N → Q_i` of
 /// [`Self::chart_len`] entries in which momenta and forces are covectors, and the velocity a
@@ -132,29 +212,40 @@ pub struct Paths {
 /// virtual displacement). Offsets into a system's vectors are the caller's: every slice a method
 /// takes or returns is this coordinate's own block.
 pub trait Group: Sync {
+    /// Its name, sizes and the facts the reduction and the checks read, as data.
+    fn spec(&self) -> &KindSpec;
+
     /// The attribute key that declares it, the runtime's name of the kind.
-    fn name(&self) -> &'static str;
+    fn name(&self) -> &'static str {
+        self.spec().name
+    }
 
     /// Entries of the stored point.
-    fn point_len(&self) -> usize;
+    fn point_len(&self) -> usize {
+        self.spec().point
+    }
 
     /// Entries of the chart and of the momentum.
-    fn chart_len(&self) -> usize;
+    fn chart_len(&self) -> usize {
+        self.spec().chart
+    }
 
     /// Entries of the velocity a continuous Lagrangian reads, and of a virtual displacement.
-    fn velocity_len(&self) -> usize;
+    fn velocity_len(&self) -> usize {
+        self.spec().velocity
+    }
 
     /// Whether its translations are a declared symmetry (`group(x)`): its momentum is then the
     /// explicit discrete Noether balance, and `L_d` is checked invariant.
     fn translations(&self) -> bool {
-        false
+        self.spec().translations
     }
 
     /// The offset in its point of a rotation matrix (row by row) whose relative rotation
     /// `R0ᵀ R1` the body and the velocity read as the symbols `Rel` (so that a step substitutes
     /// `cay(ξ)ᵀ cay(z)` for it, with no round-off from the stored matrices).
     fn rotation(&self) -> Option<usize> {
-        None
+        self.spec().rotation
     }
 
     /// How the body reads a configuration's coordinate whole, its point's entries from `point`;
@@ -169,20 +260,16 @@ pub trait Group: Sync {
     /// (`P` nodes).
     fn chart(&self, g: &mut Graph, base: &[NodeId], xi: &[NodeId]) -> Vec<NodeId>;
 
-    /// The velocity over a step from `q0` to `q1` (their points), with `rel` the relative
-    /// rotation's 9 symbols where [`Self::rotation`] is some (else empty) and `inv_h = 1/h`.
-    fn velocity(
-        &self,
-        g: &mut Graph,
-        q0: &[NodeId],
-        q1: &[NodeId],
-        rel: &[NodeId],
-        inv_h: NodeId,
-    ) -> Vec<NodeId>;
+    /// The velocity over the step `step`.
+    fn velocity(&self, g: &mut Graph, step: &Step) -> Vec<NodeId>;
 
     /// A covector in velocity components (a force `∂W/∂δq`, a momentum `∂L/∂v`) as a covector
-    /// of the chart at `point`: its pull-back by `dφ_point(0)`.
-    fn covector(&self, g: &mut Graph, f: &[NodeId], point: &[NodeId]) -> Vec<NodeId>;
+    /// of the chart at `point`: its pull-back by `dφ_point(0)`. By default the components as
+    /// they are, for the kinds whose `dφ(0)` is the identity on velocity components (`x + ξ`;
+    /// `R cay(ξ)` with `dφ_R(0) η = R η̂` and the velocity `η` itself; a pose's `(R η̂, ζ)`).
+    fn covector(&self, _g: &mut Graph, f: &[NodeId], _point: &[NodeId]) -> Vec<NodeId> {
+        f.to_vec()
+    }
 
     /// What a declared `symmetry(..)` may do with it.
     fn rotated(&self) -> Rotated;
@@ -198,7 +285,7 @@ pub trait Group: Sync {
     /// The offsets among its velocity components of 3-vectors in space, which a rotation of the
     /// configuration turns (a force on them turns with it); body-frame components do not.
     fn spatial(&self) -> &'static [usize] {
-        &[]
+        self.spec().spatial
     }
 
     /// The field of `<Name>Config` named `name`: its type and documentation (`ty` the system's
@@ -322,7 +409,13 @@ mod tests {
                 None => Vec::new(),
             };
             let inv_h = g.constant(1.0 / h);
-            let v = kind.velocity(&mut g, &q0, &q1, &rel, inv_h);
+            let step = Step {
+                q0: &q0,
+                q1: &q1,
+                rel: &rel,
+                inv_h,
+            };
+            let v = kind.velocity(&mut g, &step);
             let v = g.eval(&v, &|_| unreachable!("constants only"));
             for (got, want) in v.iter().zip(&w) {
                 assert!((got - want).abs() < 1e-12, "{kind:?}: {got} ≠ {want}");

@@ -21,7 +21,7 @@ use syn::Ident;
 use super::rotation::{
     angular_velocity, cayley, matrix_at, rotate_rows, sample_rotations, times_right, write_rows,
 };
-use super::{Group, Paths, Rotated};
+use super::{Group, KindSpec, Paths, Rotated, Step};
 use crate::ast::layout::Reading;
 use crate::ir::graph::{Graph, NodeId};
 
@@ -38,25 +38,15 @@ fn types(ty: &Ident) -> [Ident; 3] {
     ]
 }
 
+/// `R` (9) then `x` (3), the chart `(ξ, v)` and the velocity `(Ω, ẋ)` (6 each); `R` at 0, the
+/// spatial velocity `ẋ` at 3.
+static SPEC: KindSpec = KindSpec::new(crate::symbol::POSE, 12, 6, 6)
+    .rotation_at(0)
+    .spatial_at(&[3]);
+
 impl Group for Pose {
-    fn name(&self) -> &'static str {
-        crate::symbol::POSE.0
-    }
-
-    fn point_len(&self) -> usize {
-        12
-    }
-
-    fn chart_len(&self) -> usize {
-        6
-    }
-
-    fn velocity_len(&self) -> usize {
-        6
-    }
-
-    fn rotation(&self) -> Option<usize> {
-        Some(0)
+    fn spec(&self) -> &KindSpec {
+        &SPEC
     }
 
     fn reads(&self, point: usize) -> Option<Reading> {
@@ -80,26 +70,11 @@ impl Group for Pose {
         out
     }
 
-    fn velocity(
-        &self,
-        g: &mut Graph,
-        q0: &[NodeId],
-        q1: &[NodeId],
-        rel: &[NodeId],
-        inv_h: NodeId,
-    ) -> Vec<NodeId> {
-        let mut v = angular_velocity(g, rel, inv_h);
-        v.extend((9..12).map(|i| {
-            let d = g.sub(q1[i], q0[i]);
-            g.mul(d, inv_h)
-        }));
+    /// `(Ω, ẋ)`: the rotation's body angular velocity, the position's chord.
+    fn velocity(&self, g: &mut Graph, step: &Step) -> Vec<NodeId> {
+        let mut v = angular_velocity(g, step.rel, step.inv_h);
+        v.extend(step.chord(g, 9..12));
         v
-    }
-
-    /// `dφ(0)(η, ζ) = (R η̂, ζ)`: the torque paired with `η` and the force paired with `δx` are
-    /// the chart's covector as they are.
-    fn covector(&self, _g: &mut Graph, f: &[NodeId], _point: &[NodeId]) -> Vec<NodeId> {
-        f.to_vec()
     }
 
     fn rotated(&self) -> Rotated {
@@ -129,10 +104,6 @@ impl Group for Pose {
         for i in 0..3 {
             point[9 + i] = (0..3).map(|k| g[i][k] * x[k]).sum();
         }
-    }
-
-    fn spatial(&self) -> &'static [usize] {
-        &[3]
     }
 
     fn config_field(&self, _: &Paths, name: &Ident, ty: &Ident) -> (TokenStream, String) {

@@ -7,7 +7,7 @@ use proc_macro2::TokenStream;
 use quote::quote;
 use syn::Ident;
 
-use super::{Group, Paths, Rotated};
+use super::{Group, KindSpec, Paths, Rotated, Step};
 use crate::ast::layout::Reading;
 use crate::ir::graph::{Graph, NodeId};
 
@@ -162,25 +162,12 @@ pub(super) fn write_rows(paths: &Paths, m: &TokenStream, at: usize) -> TokenStre
     }
 }
 
+/// `R` row by row (9), the 3-entry chart `ξ` and body angular velocity `Ω`.
+static SPEC: KindSpec = KindSpec::new(crate::symbol::ROTATION, 9, 3, 3).rotation_at(0);
+
 impl Group for Rotation {
-    fn name(&self) -> &'static str {
-        crate::symbol::ROTATION.0
-    }
-
-    fn point_len(&self) -> usize {
-        9
-    }
-
-    fn chart_len(&self) -> usize {
-        3
-    }
-
-    fn velocity_len(&self) -> usize {
-        3
-    }
-
-    fn rotation(&self) -> Option<usize> {
-        Some(0)
+    fn spec(&self) -> &KindSpec {
+        &SPEC
     }
 
     fn reads(&self, point: usize) -> Option<Reading> {
@@ -196,19 +183,8 @@ impl Group for Rotation {
         times_right(g, base, &m).into_iter().flatten().collect()
     }
 
-    fn velocity(
-        &self,
-        g: &mut Graph,
-        _q0: &[NodeId],
-        _q1: &[NodeId],
-        rel: &[NodeId],
-        inv_h: NodeId,
-    ) -> Vec<NodeId> {
-        angular_velocity(g, rel, inv_h)
-    }
-
-    fn covector(&self, _g: &mut Graph, f: &[NodeId], _point: &[NodeId]) -> Vec<NodeId> {
-        f.to_vec()
+    fn velocity(&self, g: &mut Graph, step: &Step) -> Vec<NodeId> {
+        angular_velocity(g, step.rel, step.inv_h)
     }
 
     fn rotated(&self) -> Rotated {

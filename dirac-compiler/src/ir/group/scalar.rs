@@ -6,47 +6,22 @@ use proc_macro2::TokenStream;
 use quote::quote;
 use syn::Ident;
 
-use super::{Group, Paths, Rotated};
+use super::{Group, KindSpec, Paths, Rotated, Step};
 use crate::ast::layout::Reading;
 use crate::ir::graph::{Graph, NodeId};
 
-/// A real coordinate: `shape(x)`, or `group(x)` when `translations`.
-pub struct Scalar {
-    name: &'static str,
-    translations: bool,
-}
+/// A real coordinate: `shape(x)`, or `group(x)` when its spec declares translations.
+pub struct Scalar(KindSpec);
 
 /// `shape(x)`.
-pub static SHAPE: Scalar = Scalar {
-    name: crate::symbol::SHAPE.0,
-    translations: false,
-};
+pub static SHAPE: Scalar = Scalar(KindSpec::new(crate::symbol::SHAPE, 1, 1, 1));
 
 /// `group(x)`.
-pub static GROUP: Scalar = Scalar {
-    name: crate::symbol::GROUP.0,
-    translations: true,
-};
+pub static GROUP: Scalar = Scalar(KindSpec::new(crate::symbol::GROUP, 1, 1, 1).translations());
 
 impl Group for Scalar {
-    fn name(&self) -> &'static str {
-        self.name
-    }
-
-    fn point_len(&self) -> usize {
-        1
-    }
-
-    fn chart_len(&self) -> usize {
-        1
-    }
-
-    fn velocity_len(&self) -> usize {
-        1
-    }
-
-    fn translations(&self) -> bool {
-        self.translations
+    fn spec(&self) -> &KindSpec {
+        &self.0
     }
 
     fn reads(&self, _point: usize) -> Option<Reading> {
@@ -62,20 +37,8 @@ impl Group for Scalar {
     }
 
     /// `(x1 − x0)/h`.
-    fn velocity(
-        &self,
-        g: &mut Graph,
-        q0: &[NodeId],
-        q1: &[NodeId],
-        _rel: &[NodeId],
-        inv_h: NodeId,
-    ) -> Vec<NodeId> {
-        let d = g.sub(q1[0], q0[0]);
-        vec![g.mul(d, inv_h)]
-    }
-
-    fn covector(&self, _g: &mut Graph, f: &[NodeId], _point: &[NodeId]) -> Vec<NodeId> {
-        f.to_vec()
+    fn velocity(&self, g: &mut Graph, step: &Step) -> Vec<NodeId> {
+        step.chord(g, [0])
     }
 
     fn rotated(&self) -> Rotated {

@@ -11,7 +11,7 @@
 use crate::ast::rule::Rule;
 use crate::ir::diff::derivatives;
 use crate::ir::graph::{Graph, NodeId, Sym};
-use crate::ir::group::{cayley, product};
+use crate::ir::group::{cayley, product, Step};
 use crate::ir::reduce::{firsts, Mode, Stepper};
 
 mod check;
@@ -102,7 +102,13 @@ fn velocities(g: &mut Graph, spec: &LieSpec, h: NodeId) -> Vec<NodeId> {
             Some(at) => (0..9).map(|i| g.var(Sym::Rel(c.point + at + i))).collect(),
             None => Vec::new(),
         };
-        velocity.extend(c.kind.velocity(g, &q0, &q1, &rel, inv_h));
+        let step = Step {
+            q0: &q0,
+            q1: &q1,
+            rel: &rel,
+            inv_h,
+        };
+        velocity.extend(c.kind.velocity(g, &step));
     }
     velocity
 }
