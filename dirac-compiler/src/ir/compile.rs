@@ -14,9 +14,8 @@ use crate::ir::force::{self, Forces};
 use crate::ir::graph::{Graph, Node, NodeId, Sym};
 use crate::ir::lower::{Lowering, Names};
 use crate::ir::reduce::{
-    eliminate_group, firsts, lagrangian_hessian, partials, reduce, reduced_lagrangian,
-    reduced_stepper, unreduced_stepper, Eliminated, Mode, Partials, Side, StepForces, Stepper,
-    GROUP_ORIGINS,
+    eliminate_group, firsts, lagrangian_hessian, partials, reduce, reduced_stepper,
+    unreduced_stepper, Eliminated, Mode, Partials, Side, StepForces, Stepper, GROUP_ORIGINS,
 };
 
 /// The lowered body and connection: what the invariance check reads.
@@ -279,7 +278,7 @@ pub fn construct(
     let build = |side: Side| {
         let (b, forces) = (&b, &forces);
         move |g: &mut Graph, alpha: f64| {
-            let l = reduced_lagrangian(g, side, body, s, b, alpha);
+            let l = reduce(g, side, body, s, b, alpha);
             // G-invariant forces reduce by the same substitution as the Lagrangian.
             let reduced: Option<(Vec<NodeId>, Vec<NodeId>)> = forces.as_ref().map(|f| {
                 let mut at = |nodes: &[NodeId]| -> Vec<NodeId> {
@@ -333,7 +332,7 @@ pub fn construct(
     let side_code = |graph: &mut Graph, side: Side, stepper: Stepper, eliminated| {
         let elimination_pays = pays(&eliminated, &stepper, graph);
         // Built last, so the nodes of the steppers above keep their numbers (and names).
-        let lagrangian = reduced_lagrangian(graph, side, body, s, &b, 0.0);
+        let lagrangian = reduce(graph, side, body, s, &b, 0.0);
         let partials = with_partials.then(|| {
             let zero = graph.constant(0.0);
             let mut outputs = stepper.momentum.clone();
@@ -408,7 +407,7 @@ pub fn construct(
 /// within 5% (352 against 363 operations at 16 particles) and the forward-mode residual with
 /// Jacobian is smaller (546 against 584), so it stays in forward mode.
 fn sparser_gradient(g: &mut Graph, body: NodeId, s: usize, k: usize, b: &[Vec<NodeId>]) -> Mode {
-    let l = reduced_lagrangian(g, Side::Plus, body, s, b, 0.0);
+    let l = reduce(g, Side::Plus, body, s, b, 0.0);
     let rows: Vec<Sym> = (0..s).map(Sym::X0).chain((0..k).map(Sym::G1)).collect();
     let forward = firsts(g, Mode::Forward, l, &rows);
     let reverse = firsts(g, Mode::Reverse, l, &rows);

@@ -19,27 +19,11 @@ use crate::ir::reduce::{firsts, Mode};
 /// the same rule written out by hand give the same graph and the same code, bit for bit.
 pub fn discretize(g: &mut Graph, l: NodeId, n: usize, h: NodeId, rule: Rule) -> NodeId {
     let half = g.constant(0.5);
-    let v: Vec<NodeId> = (0..n)
-        .map(|i| {
-            let (a, b) = (g.var(Sym::Q0(i)), g.var(Sym::Q1(i)));
-            let d = g.sub(b, a);
-            g.div(d, h)
-        })
-        .collect();
-    let at = |g: &mut Graph, point: &dyn Fn(&mut Graph, usize) -> NodeId| {
-        g.substitute(l, &mut |g, sym| match sym {
-            Sym::Q0(i) => point(g, i),
-            Sym::Q1(i) => v[i],
-            other => g.var(other),
-        })
-    };
+    let v = difference_quotients(g, n, h);
+    let at = |g: &mut Graph, point: &dyn Fn(&mut Graph, usize) -> NodeId| at_point(g, l, point, &v);
     match rule {
         Rule::Midpoint => {
-            let l_mid = at(g, &|g, i| {
-                let (a, b) = (g.var(Sym::Q0(i)), g.var(Sym::Q1(i)));
-                let s = g.add(a, b);
-                g.mul(half, s)
-            });
+            let l_mid = at(g, &|g, i| midpoint(g, i, half));
             g.mul(h, l_mid)
         }
         Rule::Left => {
@@ -58,6 +42,39 @@ pub fn discretize(g: &mut Graph, l: NodeId, n: usize, h: NodeId, rule: Rule) -> 
             g.mul(half_h, sum)
         }
     }
+}
+
+/// The difference quotients `(q1 − q0)/h` of the `n` coordinates: the velocity every rule reads
+/// (of a Lagrangian and of a force alike).
+pub fn difference_quotients(g: &mut Graph, n: usize, h: NodeId) -> Vec<NodeId> {
+    (0..n)
+        .map(|i| {
+            let (a, b) = (g.var(Sym::Q0(i)), g.var(Sym::Q1(i)));
+            let d = g.sub(b, a);
+            g.div(d, h)
+        })
+        .collect()
+}
+
+/// `node` (over `q = Q0`, `v = Q1`) at the configuration `point(i)` and the velocities `v`.
+pub fn at_point(
+    g: &mut Graph,
+    node: NodeId,
+    point: &dyn Fn(&mut Graph, usize) -> NodeId,
+    v: &[NodeId],
+) -> NodeId {
+    g.substitute(node, &mut |g, sym| match sym {
+        Sym::Q0(i) => point(g, i),
+        Sym::Q1(i) => v[i],
+        other => g.var(other),
+    })
+}
+
+/// The midpoint `0.5 * (q0_i + q1_i)`, with `half` the constant `0.5`.
+pub fn midpoint(g: &mut Graph, i: usize, half: NodeId) -> NodeId {
+    let (a, b) = (g.var(Sym::Q0(i)), g.var(Sym::Q1(i)));
+    let s = g.add(a, b);
+    g.mul(half, s)
 }
 
 /// The Legendre map, its Jacobian and the energy of `l` (over `q = Q0`, `v = Q1`).

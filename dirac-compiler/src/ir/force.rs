@@ -39,6 +39,7 @@ use syn::{ExprClosure, Pat};
 use crate::ast::rule::Rule;
 use crate::ctxt::Ctxt;
 use crate::ir::diff::derivatives;
+use crate::ir::discretize::{at_point, difference_quotients, midpoint};
 use crate::ir::graph::{Graph, NodeId, Sym};
 use crate::ir::lower::{Lowering, Names};
 
@@ -234,22 +235,12 @@ fn vanishes_without_displacement(g: &mut Graph, w: NodeId) -> bool {
 /// module documentation for the formulas and their derivation).
 pub fn discretize(g: &mut Graph, f: &[NodeId], n: usize, h: NodeId, rule: Rule) -> Forces {
     let half = g.constant(0.5);
-    let v: Vec<NodeId> = (0..n)
-        .map(|i| {
-            let (a, b) = (g.var(Sym::Q0(i)), g.var(Sym::Q1(i)));
-            let d = g.sub(b, a);
-            g.div(d, h)
-        })
-        .collect();
+    let v = difference_quotients(g, n, h);
     // F at the configuration `point(i)` and the difference quotient, scaled by `weight`.
     let at = |g: &mut Graph, point: &dyn Fn(&mut Graph, usize) -> NodeId, weight: NodeId| {
         f.iter()
             .map(|&fi| {
-                let value = g.substitute(fi, &mut |g, sym| match sym {
-                    Sym::Q0(i) => point(g, i),
-                    Sym::Q1(i) => v[i],
-                    other => g.var(other),
-                });
+                let value = at_point(g, fi, point, &v);
                 g.mul(weight, value)
             })
             .collect::<Vec<NodeId>>()
@@ -260,13 +251,7 @@ pub fn discretize(g: &mut Graph, f: &[NodeId], n: usize, h: NodeId, rule: Rule) 
     let zero = g.constant(0.0);
     match rule {
         Rule::Midpoint => {
-            let mid = |g: &mut Graph, i: usize| {
-                let (a, b) = (g.var(Sym::Q0(i)), g.var(Sym::Q1(i)));
-                let s = g.add(a, b);
-                let half = g.constant(0.5);
-                g.mul(half, s)
-            };
-            let f_mid = at(g, &mid, half_h);
+            let f_mid = at(g, &|g, i| midpoint(g, i, half), half_h);
             Forces {
                 minus: f_mid.clone(),
                 plus: f_mid,

@@ -87,20 +87,10 @@ impl Side {
 /// The functions are equal, but their expressions are not: with `α = ½` a midpoint-rule
 /// Lagrangian sees the group coordinate only through its increment, which is what lets
 /// [`eliminate_group`] recognise affine momentum equations structurally.
-pub fn reduced_lagrangian(
-    g: &mut Graph,
-    side: Side,
-    l: NodeId,
-    s: usize,
-    b: &[Vec<NodeId>],
-    alpha: f64,
-) -> NodeId {
-    reduce(g, side, l, s, b, alpha)
-}
-
-/// Any expression in `(q0, q1)` in the reduced variables of `side`, by the substitution of
-/// [`reduced_lagrangian`]: for the Lagrangian itself, and for G-invariant discrete forces, whose
-/// values at `(q_k, q_{k+1})` are their values at the reduced arguments for the same reason.
+///
+/// The same substitution takes any expression in `(q0, q1)` to the reduced variables of `side`:
+/// G-invariant discrete forces too, whose values at `(q_k, q_{k+1})` are their values at the
+/// reduced arguments for the same reason.
 pub fn reduce(
     g: &mut Graph,
     side: Side,

@@ -46,18 +46,6 @@ impl Index {
         Self::parse_with(cx, e, loops, sizes, &HashMap::new())
     }
 
-    /// [`Self::parse`] where the names of `aliases` (integer `let`s of the body, `let j = (i +
-    /// 1) % n;`) stand for their index expressions.
-    pub fn parse_with(
-        cx: &Ctxt,
-        e: &Expr,
-        loops: &[Ident],
-        sizes: &[Ident],
-        aliases: &HashMap<String, Index>,
-    ) -> Option<Index> {
-        Self::parse_inner(cx, e, loops, sizes, aliases)
-    }
-
     /// Whether `e` is an index expression (no error recorded either way).
     pub fn try_parse(
         e: &Expr,
@@ -66,11 +54,13 @@ impl Index {
         aliases: &HashMap<String, Index>,
     ) -> Option<Index> {
         let cx = Ctxt::new();
-        let parsed = Self::parse_inner(&cx, e, loops, sizes, aliases);
+        let parsed = Self::parse_with(&cx, e, loops, sizes, aliases);
         cx.finish(parsed).ok()
     }
 
-    fn parse_inner(
+    /// [`Self::parse`] where the names of `aliases` (integer `let`s of the body, `let j = (i +
+    /// 1) % n;`) stand for their index expressions.
+    pub fn parse_with(
         cx: &Ctxt,
         e: &Expr,
         loops: &[Ident],
@@ -85,8 +75,8 @@ impl Index {
             None
         };
         match e {
-            Expr::Paren(p) => Self::parse_inner(cx, &p.expr, loops, sizes, aliases),
-            Expr::Group(g) => Self::parse_inner(cx, &g.expr, loops, sizes, aliases),
+            Expr::Paren(p) => Self::parse_with(cx, &p.expr, loops, sizes, aliases),
+            Expr::Group(g) => Self::parse_with(cx, &g.expr, loops, sizes, aliases),
             Expr::Lit(l) => match &l.lit {
                 Lit::Int(i) => match i.base10_parse::<i64>() {
                     Ok(v) => Some(Index::Lit(v)),
@@ -114,8 +104,8 @@ impl Index {
                 }
             }
             Expr::Binary(b) => {
-                let l = Self::parse_inner(cx, &b.left, loops, sizes, aliases);
-                let r = Self::parse_inner(cx, &b.right, loops, sizes, aliases);
+                let l = Self::parse_with(cx, &b.left, loops, sizes, aliases);
+                let r = Self::parse_with(cx, &b.right, loops, sizes, aliases);
                 let (l, r) = (Box::new(l?), Box::new(r?));
                 match b.op {
                     BinOp::Add(_) => Some(Index::Add(l, r)),

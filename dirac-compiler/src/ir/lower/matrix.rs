@@ -11,7 +11,7 @@
 use quote::ToTokens;
 use syn::{BinOp, Expr, Ident, Member};
 
-use super::{Lowering, Value};
+use super::{Lowering, Operand, Value};
 use crate::ir::graph::NodeId;
 
 /// What the body accepts on matrices and vectors, for messages.
@@ -90,15 +90,9 @@ impl Lowering<'_> {
     }
 
     /// `+ − * /` with a matrix on at least one side.
-    pub(super) fn mat_arith(
-        &mut self,
-        op: BinOp,
-        l: Value,
-        le: &Expr,
-        r: Value,
-        re: &Expr,
-    ) -> Option<Value> {
-        match (op, l, r) {
+    pub(super) fn mat_arith(&mut self, op: BinOp, l: Operand, r: Operand) -> Option<Value> {
+        let (le, re) = (l.at, r.at);
+        match (op, l.value, r.value) {
             (BinOp::Add(_) | BinOp::Sub(_), Value::Mat(a), Value::Mat(b)) => {
                 if (a.r, a.c) != (b.r, b.c) {
                     return self.mat_error(

@@ -48,7 +48,32 @@ enum Value {
     Poison,
 }
 
+/// An operand of a binary operation: its value, and the expression it came from (where an
+/// error about it points).
+struct Operand<'e> {
+    value: Value,
+    at: &'e Expr,
+}
+
+impl<'e> Operand<'e> {
+    fn new(value: Value, at: &'e Expr) -> Self {
+        Operand { value, at }
+    }
+}
+
 impl Value {
+    /// Its node if it is a scalar; else `None`, after `fail` has recorded the error given what
+    /// was found ([`Self::kind`]).
+    fn scalar_or(self, fail: impl FnOnce(String)) -> Option<NodeId> {
+        match self {
+            Value::Scalar(n) => Some(n),
+            other => {
+                fail(other.kind());
+                None
+            }
+        }
+    }
+
     fn kind(&self) -> String {
         match self {
             Value::Scalar(_) => "an f64",
@@ -158,16 +183,10 @@ impl<'a> Lowering<'a> {
     /// Lowers an expression that evaluates to an f64 (a force's virtual work); `None` after
     /// errors (already recorded).
     pub fn scalar_expr(&mut self, e: &Expr, what: &str) -> Option<NodeId> {
-        match self.expr(e)? {
-            Value::Scalar(n) => Some(n),
-            other => {
-                self.cx.error_spanned_by(
-                    e,
-                    format!("{what} must evaluate to an f64, found {}", other.kind()),
-                );
-                None
-            }
-        }
+        self.expr(e)?.scalar_or(|found| {
+            self.cx
+                .error_spanned_by(e, format!("{what} must evaluate to an f64, found {found}"));
+        })
     }
 
     /// Lowers an expression that evaluates to an f64, or an array or tuple of f64 (the values
@@ -189,15 +208,13 @@ impl<'a> Lowering<'a> {
         };
         items
             .into_iter()
-            .map(|v| match v {
-                Value::Scalar(n) => Some(n),
-                other => {
+            .map(|v| {
+                v.scalar_or(|found| {
                     self.cx.error_spanned_by(
                         e,
-                        format!("each of {what} must be an f64, found {}", other.kind()),
+                        format!("each of {what} must be an f64, found {found}"),
                     );
-                    None
-                }
+                })
             })
             .collect()
     }
@@ -227,15 +244,13 @@ impl<'a> Lowering<'a> {
         };
         items
             .into_iter()
-            .map(|v| match v {
-                Value::Scalar(n) => Some(n),
-                other => {
+            .map(|v| {
+                v.scalar_or(|found| {
                     self.cx.error_at(
                         span,
-                        format!("each new coordinate must be an f64, found {}", other.kind()),
+                        format!("each new coordinate must be an f64, found {found}"),
                     );
-                    None
-                }
+                })
             })
             .collect()
     }

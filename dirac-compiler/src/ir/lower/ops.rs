@@ -5,7 +5,7 @@ use std::collections::HashMap;
 
 use syn::{BinOp, Expr, Ident};
 
-use super::{Lowering, Value, ACCEPTED, MAX_UNROLL, METHODS};
+use super::{Lowering, Operand, Value, ACCEPTED, MAX_UNROLL, METHODS};
 use crate::ir::graph::Fun;
 
 impl Lowering<'_> {
@@ -20,7 +20,8 @@ impl Lowering<'_> {
         if let Some(op) = compound {
             let l = self.expr(&b.left);
             let r = self.expr(&b.right);
-            let v = self.arith(op, l?, &b.left, r?, &b.right)?;
+            let (l, r) = (Operand::new(l?, &b.left), Operand::new(r?, &b.right));
+            let v = self.arith(op, l, r)?;
             return self.assign(&b.left, v);
         }
         let arithmetic = |op: &BinOp| {
@@ -50,22 +51,18 @@ impl Lowering<'_> {
         for node in spine.into_iter().rev() {
             let r = self.expr(&node.right);
             value = match (value, r) {
-                (Some(l), Some(r)) => self.arith(node.op, l, &node.left, r, &node.right),
+                (Some(l), Some(r)) => {
+                    let (l, r) = (Operand::new(l, &node.left), Operand::new(r, &node.right));
+                    self.arith(node.op, l, r)
+                }
                 _ => None,
             };
         }
         value
     }
 
-    pub(super) fn arith(
-        &mut self,
-        op: BinOp,
-        l: Value,
-        le: &Expr,
-        r: Value,
-        re: &Expr,
-    ) -> Option<Value> {
-        if let (Value::Int(a), Value::Int(c)) = (&l, &r) {
+    pub(super) fn arith(&mut self, op: BinOp, l: Operand, r: Operand) -> Option<Value> {
+        if let (Value::Int(a), Value::Int(c)) = (&l.value, &r.value) {
             let v = match op {
                 BinOp::Add(_) => a.checked_add(*c),
                 BinOp::Sub(_) => a.checked_sub(*c),
@@ -84,8 +81,8 @@ impl Lowering<'_> {
                 None => self.error(op, "integer overflow"),
             };
         }
-        if matches!(l, Value::Mat(_)) || matches!(r, Value::Mat(_)) {
-            return self.mat_arith(op, l, le, r, re);
+        if matches!(l.value, Value::Mat(_)) || matches!(r.value, Value::Mat(_)) {
+            return self.mat_arith(op, l, r);
         }
         if let BinOp::Rem(_) = op {
             return self.error(
@@ -93,8 +90,8 @@ impl Lowering<'_> {
                 "`%` is accepted on constant integers only (index arithmetic such as `(i + 1) % n`), not on f64 values",
             );
         }
-        let a = self.scalar(l, le);
-        let c = self.scalar(r, re);
+        let a = self.scalar(l.value, l.at);
+        let c = self.scalar(r.value, r.at);
         let (a, c) = (a?, c?);
         let n = match op {
             BinOp::Add(_) => self.g.add(a, c),
