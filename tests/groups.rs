@@ -92,7 +92,7 @@ fn the_emitted_chart_is_the_runtime_chart_for_every_kind() {
         Vector3::new(0.3, -0.4, 0.5).normalize().as_slice().to_vec(),
         pose,
     ]);
-    let integ = LieIntegrator::new(sys.clone(), NewtonOptions::default());
+    let integ = LieIntegrator::new(sys, NewtonOptions::default());
     for scale in [0.0, 1e-3, 0.3] {
         let z = SVector::<f64, N>::from_fn(|i, _| scale * (0.9 - 0.23 * i as f64));
         let emitted = sys.retract(&q, &z);
