@@ -103,79 +103,43 @@ const CONSTS: [(&str, f64); 4] = [
     ("FRAC_1_SQRT_2", std::f64::consts::FRAC_1_SQRT_2),
 ];
 
-/// The functions of one argument, named by the fuzzer itself (not by the compiler's
-/// [`Fun`](crate::ir::graph::Fun)), so a function lowered under the wrong name is caught.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum F1 {
-    Sin,
-    Cos,
-    Tan,
-    Asin,
-    Acos,
-    Atan,
-    Exp,
-    Ln,
-    Sqrt,
-    Sinh,
-    Cosh,
-    Tanh,
-    Recip,
+/// Declares the functions of one argument from one list of `Variant method` pairs: the enum
+/// [`F1`], the list [`F1S`], each one's name as written in a body (the method's) and the oracle,
+/// num-dual's method of that name. The functions are named by the fuzzer itself (not by the
+/// compiler's [`Fun`](crate::ir::graph::Fun)), so a function lowered under the wrong name is
+/// caught.
+macro_rules! functions {
+    ($($variant:ident $method:ident),* $(,)?) => {
+        #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+        enum F1 {
+            $($variant),*
+        }
+
+        const F1S: &[F1] = &[$(F1::$variant),*];
+
+        impl F1 {
+            fn name(self) -> &'static str {
+                match self {
+                    $(F1::$variant => stringify!($method)),*
+                }
+            }
+
+            /// The oracle: num-dual's rule for this function.
+            fn apply<T: DualNum<Primitive = f64> + Copy>(self, x: T) -> T {
+                match self {
+                    $(F1::$variant => x.$method()),*
+                }
+            }
+        }
+    };
 }
 
-const F1S: [F1; 13] = [
-    F1::Sin,
-    F1::Cos,
-    F1::Tan,
-    F1::Asin,
-    F1::Acos,
-    F1::Atan,
-    F1::Exp,
-    F1::Ln,
-    F1::Sqrt,
-    F1::Sinh,
-    F1::Cosh,
-    F1::Tanh,
-    F1::Recip,
-];
+functions!(
+    Sin sin, Cos cos, Tan tan, Asin asin, Acos acos, Atan atan, Exp exp, Ln ln, Sqrt sqrt,
+    Sinh sinh, Cosh cosh, Tanh tanh, Recip recip,
+);
 
 impl F1 {
-    fn name(self) -> &'static str {
-        match self {
-            F1::Sin => "sin",
-            F1::Cos => "cos",
-            F1::Tan => "tan",
-            F1::Asin => "asin",
-            F1::Acos => "acos",
-            F1::Atan => "atan",
-            F1::Exp => "exp",
-            F1::Ln => "ln",
-            F1::Sqrt => "sqrt",
-            F1::Sinh => "sinh",
-            F1::Cosh => "cosh",
-            F1::Tanh => "tanh",
-            F1::Recip => "recip",
-        }
-    }
-
-    /// The oracle: num-dual's rule for this function.
-    fn apply<T: DualNum<Primitive = f64> + Copy>(self, x: T) -> T {
-        match self {
-            F1::Sin => x.sin(),
-            F1::Cos => x.cos(),
-            F1::Tan => x.tan(),
-            F1::Asin => x.asin(),
-            F1::Acos => x.acos(),
-            F1::Atan => x.atan(),
-            F1::Exp => x.exp(),
-            F1::Ln => x.ln(),
-            F1::Sqrt => x.sqrt(),
-            F1::Sinh => x.sinh(),
-            F1::Cosh => x.cosh(),
-            F1::Tanh => x.tanh(),
-            F1::Recip => x.recip(),
-        }
-    }
-
     /// An interval enclosing `f(x)` for `x ∈ r`, `r` already guarded.
     fn range(self, r: Range) -> Range {
         match self {
@@ -213,39 +177,33 @@ enum Form {
     Path,
 }
 
-/// A raw random expression: what proptest generates and shrinks.
+/// An expression over the body language, raw or guarded: `A` is what an `atan2` node carries
+/// and `S` the constant of a [`Guarded`]'s `Square` (uninhabited in a raw [`Expr`]).
 #[derive(Clone, Debug)]
-enum Expr {
+enum Tree<A, S> {
     /// `SYMS[i]`.
     Sym(usize),
     Lit(f64),
     /// `CONSTS[i]`.
     Const(usize),
-    Neg(Box<Expr>),
-    Bin(Op2, Box<Expr>, Box<Expr>),
-    Call(F1, Box<Expr>, Form),
-    Powi(Box<Expr>, i32, Form),
-    Powf(Box<Expr>, Box<Expr>, Form),
-    /// `y.atan2(x)`; `true` puts a guarded `x` on the negative side, `y` then kept off zero
-    /// (quadrant II, or III for a negative `y`).
-    Atan2(Box<Expr>, Box<Expr>, Form, bool),
+    Neg(Box<Self>),
+    Bin(Op2, Box<Self>, Box<Self>),
+    Call(F1, Box<Self>, Form),
+    Powi(Box<Self>, i32, Form),
+    Powf(Box<Self>, Box<Self>, Form),
+    /// `y.atan2(x)`.
+    Atan2(Box<Self>, Box<Self>, Form, A),
+    /// `c + u·u` with `u` bound to a `let`, so nested guards do not double the text.
+    Square(S, Box<Self>),
 }
 
+/// A raw random expression: what proptest generates and shrinks. An `atan2`'s `true` puts a
+/// guarded `x` on the negative side, `y` then kept off zero (quadrant II, or III for a negative
+/// `y`); it has no guards.
+type Expr = Tree<bool, std::convert::Infallible>;
+
 /// A guarded expression: what is compiled and what the oracle evaluates.
-#[derive(Clone, Debug)]
-enum Guarded {
-    Sym(usize),
-    Lit(f64),
-    Const(usize),
-    Neg(Box<Guarded>),
-    Bin(Op2, Box<Guarded>, Box<Guarded>),
-    Call(F1, Box<Guarded>, Form),
-    Powi(Box<Guarded>, i32, Form),
-    Powf(Box<Guarded>, Box<Guarded>, Form),
-    Atan2(Box<Guarded>, Box<Guarded>, Form),
-    /// `c + u·u` with `u` bound to a `let`, so nested guards do not double the text.
-    Square(f64, Box<Guarded>),
-}
+type Guarded = Tree<(), f64>;
 
 fn bx<T>(t: T) -> Box<T> {
     Box::new(t)
@@ -474,8 +432,9 @@ fn guard(e: &Expr) -> (Guarded, Range) {
                 (y, positive(x, rx).0)
             };
             let pi = std::f64::consts::PI;
-            (Guarded::Atan2(bx(y), bx(x), *form), Range::new(-pi, pi))
+            (Guarded::Atan2(bx(y), bx(x), *form, ()), Range::new(-pi, pi))
         }
+        Expr::Square(never, _) => match *never {},
     }
 }
 
@@ -483,7 +442,7 @@ fn guard(e: &Expr) -> (Guarded, Range) {
 // Rendering, compiling, and the oracle
 // ---------------------------------------------------------------------------------------------
 
-/// Renders `g` as Rust source, pushing the `let` bindings of [`Guarded::Square`] onto `lets`.
+/// Renders `g` as Rust source, pushing the `let` bindings of [`Tree::Square`] onto `lets`.
 fn render(g: &Guarded, lets: &mut Vec<String>) -> String {
     let call = |name: &str, form: Form, receiver: String, args: &[String]| match form {
         Form::Method => format!("{receiver}.{name}({})", args.join(", ")),
@@ -511,7 +470,7 @@ fn render(g: &Guarded, lets: &mut Vec<String>) -> String {
             let a = render(a, lets);
             call("powf", *form, a, &[render(b, lets)])
         }
-        Guarded::Atan2(y, x, form) => {
+        Guarded::Atan2(y, x, form, ()) => {
             let y = render(y, lets);
             call("atan2", *form, y, &[render(x, lets)])
         }
@@ -544,7 +503,7 @@ fn has_sym(g: &Guarded) -> bool {
         | Guarded::Call(_, a, _)
         | Guarded::Powi(a, _, _)
         | Guarded::Square(_, a) => has_sym(a),
-        Guarded::Bin(_, a, b) | Guarded::Powf(a, b, _) | Guarded::Atan2(a, b, _) => {
+        Guarded::Bin(_, a, b) | Guarded::Powf(a, b, _) | Guarded::Atan2(a, b, _, ()) => {
             has_sym(a) || has_sym(b)
         }
     }
@@ -572,7 +531,7 @@ fn value<T: DualNum<Primitive = f64> + Copy>(g: &Guarded, syms: &[T; 6]) -> T {
         // num-dual's `powf` takes a primitive exponent; a dual one is `powd`.
         Guarded::Powf(a, b, _) if has_sym(b) => v(a).powd(v(b)),
         Guarded::Powf(a, b, _) => v(a).powf(value::<f64>(b, &[0.0; 6])),
-        Guarded::Atan2(y, x, _) => v(y).atan2(v(x)),
+        Guarded::Atan2(y, x, _, ()) => v(y).atan2(v(x)),
         Guarded::Square(c, u) => {
             let u = v(u);
             T::from(*c) + u * u
@@ -791,6 +750,7 @@ fn count(e: &Expr, counts: &mut std::collections::BTreeMap<String, usize>) {
             count(a, counts);
             count(b, counts);
         }
+        Expr::Square(never, _) => match *never {},
     }
 }
 
@@ -848,7 +808,7 @@ fn check_domains(g: &Guarded, at: &[f64; 6]) {
     let ok = match g {
         Guarded::Call(F1::Ln | F1::Sqrt, a, _) | Guarded::Powf(a, _, _) => v(a) >= m,
         Guarded::Call(F1::Recip, a, _) | Guarded::Bin(Op2::Div, _, a) => v(a).abs() >= m,
-        Guarded::Atan2(y, x, _) => v(x) >= m || (v(x) <= -m && v(y).abs() >= m),
+        Guarded::Atan2(y, x, _, ()) => v(x) >= m || (v(x) <= -m && v(y).abs() >= m),
         Guarded::Powi(a, n, _) if *n < 0 => v(a).abs() >= m,
         Guarded::Call(F1::Asin | F1::Acos, a, _) => v(a).abs() <= 0.75,
         Guarded::Call(F1::Tan, a, _) => v(a).abs() <= 1.0,
@@ -863,7 +823,7 @@ fn check_domains(g: &Guarded, at: &[f64; 6]) {
         | Guarded::Call(_, a, _)
         | Guarded::Powi(a, _, _)
         | Guarded::Square(_, a) => check_domains(a, at),
-        Guarded::Bin(_, a, b) | Guarded::Powf(a, b, _) | Guarded::Atan2(a, b, _) => {
+        Guarded::Bin(_, a, b) | Guarded::Powf(a, b, _) | Guarded::Atan2(a, b, _, ()) => {
             check_domains(a, at);
             check_domains(b, at);
         }
