@@ -274,11 +274,12 @@ pub struct LieState<const P: usize, const N: usize> {
 impl<const P: usize, const N: usize> LieState<P, N> {
     /// The state from a stored point and a momentum (arrays or nalgebra vectors), the layout in
     /// the name: each rotation's 9 entries **row by row** (`R[(0, 0)], R[(0, 1)], R[(0, 2)],
-    /// R[(1, 0)], …`, as [`rows`] gives them), each direction's frame the same way. A matrix's
-    /// nalgebra slice (`R.as_slice()`, `Matrix3::from_slice`) is column by column: passed here it
-    /// would be read as `Rᵀ`, itself a rotation that no check can tell apart. From matrices, the
-    /// emitted `sys.state(&<Name>Config { r: R, .. }, &momenta)` (or `<Name>Config::to_point`)
-    /// takes a `Matrix3` and has no layout to get wrong.
+    /// R[(1, 0)], …`, as [`rows`] gives them), each direction's frame and each pose's rotation
+    /// the same way (a pose's position after it). A matrix's nalgebra slice (`R.as_slice()`,
+    /// `Matrix3::from_slice`) is column by column: passed here it would be read as `Rᵀ`, itself
+    /// a rotation that no check can tell apart. From matrices, the emitted
+    /// `sys.state(&<Name>Config { r: R, .. }, &momenta)` (or `<Name>Config::to_point`) takes a
+    /// `Matrix3` and has no layout to get wrong.
     pub fn from_row_major(
         q: impl IntoVector<SVector<f64, P>>,
         p: impl IntoVector<SVector<f64, N>>,
