@@ -20,15 +20,19 @@ use dirac::runtime::constrained::Form;
 /// let names = ReducedState::<2, 1>::column_names(&["r", "z"], &["theta"]);
 /// assert_eq!(names, ["x_r", "x_z", "w_r", "w_z", "mu_theta", "g_theta"]);
 /// ```
-pub trait StateColumns: Copy + std::fmt::Debug + Send + Sync + 'static {
-    /// The number of columns, `2 (S + K)`.
-    const WIDTH: usize;
+pub trait StateColumns: Clone + std::fmt::Debug + Send + Sync + 'static {
+    /// The number of columns of every state of the type (`2 (S + K)` for a reduced state), or
+    /// `None` for states sized at run time ([`ElementState`]: `2n`, from the system's sizes).
+    const WIDTH: Option<usize>;
+    /// The number of columns of this state: [`Self::WIDTH`] where the type fixes it.
+    fn width(&self) -> usize;
     /// The column names, given the shape and group coordinate names of the annotation.
     fn column_names(shape: &[&str], group: &[&str]) -> Vec<String>;
-    /// Writes the components into `out` (`out.len() == WIDTH`), in the order of the names.
+    /// Writes the components into `out` (`out.len() == self.width()`), in the order of the
+    /// names.
     fn write_to(&self, out: &mut [f64]);
-    /// The state whose components are `values` (`values.len() == WIDTH`), the inverse of
-    /// [`Self::write_to`].
+    /// The state whose components are `values` (`values.len()` its width), the inverse of
+    /// [`Self::write_to`], bit for bit.
     fn read_from(values: &[f64]) -> Self;
 }
 
@@ -37,7 +41,11 @@ fn prefixed<'a>(prefix: &'a str, names: &'a [&'a str]) -> impl Iterator<Item = S
 }
 
 impl<const S: usize, const K: usize> StateColumns for ReducedState<S, K> {
-    const WIDTH: usize = 2 * (S + K);
+    const WIDTH: Option<usize> = Some(2 * (S + K));
+
+    fn width(&self) -> usize {
+        2 * (S + K)
+    }
 
     fn column_names(shape: &[&str], group: &[&str]) -> Vec<String> {
         assert_eq!(
@@ -82,7 +90,11 @@ impl<const S: usize, const K: usize> StateColumns for ReducedState<S, K> {
 }
 
 impl<const N: usize> StateColumns for UnreducedState<N> {
-    const WIDTH: usize = 2 * N;
+    const WIDTH: Option<usize> = Some(2 * N);
+
+    fn width(&self) -> usize {
+        2 * N
+    }
 
     fn column_names(shape: &[&str], group: &[&str]) -> Vec<String> {
         assert_eq!(shape.len() + group.len(), N, "names of another system");
@@ -117,7 +129,11 @@ impl<const N: usize> StateColumns for UnreducedState<N> {
 /// bit for bit. Each coordinate's kind names its entries
 /// ([`Group::point_suffixes`](dirac::runtime::lie::Group::point_suffixes)).
 impl<const P: usize, const N: usize> StateColumns for LieState<P, N> {
-    const WIDTH: usize = P + N;
+    const WIDTH: Option<usize> = Some(P + N);
+
+    fn width(&self) -> usize {
+        P + N
+    }
 
     /// `point` and `chart` are the names of the point's entries and of the momentum's
     /// components ([`lie_names`]).
@@ -151,7 +167,11 @@ impl<const P: usize, const N: usize> StateColumns for LieState<P, N> {
 /// rotation, `μ e` for the rotations about the axis `e`). Every entry is written, so a state reads
 /// back bit for bit.
 impl<const P: usize, const N: usize> StateColumns for ReducedLieState<P, N> {
-    const WIDTH: usize = P + N + 3;
+    const WIDTH: Option<usize> = Some(P + N + 3);
+
+    fn width(&self) -> usize {
+        P + N + 3
+    }
 
     fn column_names(point: &[&str], chart: &[&str]) -> Vec<String> {
         let mut names = LieState::<P, N>::column_names(point, chart);
@@ -171,6 +191,34 @@ impl<const P: usize, const N: usize> StateColumns for ReducedLieState<P, N> {
             p: state.p,
             mu: Vector3::new(values[P + N], values[P + N + 1], values[P + N + 2]),
         }
+    }
+}
+
+/// States of element-wise systems sized at run time ([`ElementState`]): `q_<i>` then `p_<i>` for
+/// every coordinate index `i` of the flattened configuration (`0 .. n`, as
+/// [`ElementLagrangian::dim`] counts them), so the width is the system's, `2n`, known only when
+/// it is built. Every entry is written, so a state reads back bit for bit.
+impl StateColumns for ElementState {
+    const WIDTH: Option<usize> = None;
+
+    fn width(&self) -> usize {
+        self.q.len() + self.p.len()
+    }
+
+    fn column_names(shape: &[&str], group: &[&str]) -> Vec<String> {
+        let all: Vec<&str> = shape.iter().chain(group).copied().collect();
+        prefixed("q", &all).chain(prefixed("p", &all)).collect()
+    }
+
+    fn write_to(&self, out: &mut [f64]) {
+        let n = self.q.len();
+        out[..n].copy_from_slice(self.q.as_slice());
+        out[n..n + self.p.len()].copy_from_slice(self.p.as_slice());
+    }
+
+    fn read_from(values: &[f64]) -> Self {
+        let n = values.len() / 2;
+        ElementState::new(&values[..n], &values[n..])
     }
 }
 
@@ -225,6 +273,16 @@ where
     (0..).map_while(|i| system.coordinate(i)).collect()
 }
 
+/// The parameters of any system by name, in declaration order ([`RunInfo::parameters`]).
+fn parameters<L: System>(system: &L) -> Vec<(String, f64)> {
+    system
+        .parameter_names()
+        .iter()
+        .map(|p| (*p).to_owned())
+        .zip(system.parameter_values())
+        .collect()
+}
+
 /// A run as a file describes it: the state's column names, the time step, the parameters by
 /// name and whatever else identifies the run (integrator, Newton options), written as the
 /// Parquet file's key-value metadata (keys `dirac.*`, see the [crate documentation](crate)).
@@ -258,12 +316,7 @@ impl RunInfo {
         St: StateColumns,
         L: DiscreteLagrangian<S, K, N>,
     {
-        let parameters = system
-            .parameter_names()
-            .iter()
-            .map(|p| (*p).to_owned())
-            .zip(system.parameter_values())
-            .collect();
+        let parameters = parameters(system);
         let (shape, group) = (system.shape_names(), system.group_names());
         let columns = St::column_names(&shape, &group);
         let mut metadata = vec![
@@ -354,9 +407,11 @@ impl RunInfo {
     }
 }
 
-/// An integrator that can describe its runs ([`RunInfo`]): the reduced and unreduced
-/// integrators and their compositions. (An atlas changes coordinates between charts; describe
-/// its runs with [`RunInfo::of_system`] of the chart whose names the columns should carry.)
+/// An integrator that can describe its runs ([`RunInfo`]): the reduced, unreduced and
+/// constrained integrators and their compositions, the integrators on rotation groups (reduced or
+/// not), and the element-wise ones sized at run time. (An atlas changes coordinates between
+/// charts; describe its runs with [`RunInfo::of_system`] of the chart whose names the columns
+/// should carry.)
 pub trait Describe: Stepper<State: StateColumns> {
     /// The description of a run of `self`.
     fn describe(&self) -> RunInfo;
@@ -433,12 +488,7 @@ where
         RunInfo {
             columns,
             h: system.time_step(),
-            parameters: system
-                .parameter_names()
-                .iter()
-                .map(|p| (*p).to_owned())
-                .zip(system.parameter_values())
-                .collect(),
+            parameters: parameters(system),
             metadata,
         }
         .with_newton(self.options())
@@ -481,5 +531,60 @@ where
             "dirac.composition.stages",
             self.method().stages().to_string(),
         )
+    }
+}
+
+/// The description of an element-wise system sized at run time: one column per coordinate index
+/// ([`ElementState`]'s columns: the coordinate arrays, named in `dirac.coordinates`, flattened
+/// in their order), the sizes as `dirac.sizes` (`n=200`, in the order of
+/// [`ElementLagrangian::size_names`]), the parameters by name as every system's.
+fn element_info<L: ElementLagrangian>(system: &L) -> RunInfo {
+    let indices: Vec<String> = (0..system.dim()).map(|i| i.to_string()).collect();
+    let indices: Vec<&str> = indices.iter().map(String::as_str).collect();
+    let sizes: Vec<String> = system
+        .size_names()
+        .iter()
+        .zip(system.sizes())
+        .map(|(name, size)| format!("{name}={size}"))
+        .collect();
+    RunInfo {
+        columns: ElementState::column_names(&indices, &[]),
+        h: system.time_step(),
+        parameters: parameters(system),
+        metadata: vec![
+            (
+                "dirac.coordinates".into(),
+                system.coordinate_names().join(","),
+            ),
+            ("dirac.sizes".into(), sizes.join(",")),
+        ],
+    }
+}
+
+/// The name of a side's element-wise equations, as the metadata records it.
+fn element_side(variant: Variant) -> &'static str {
+    match variant {
+        Variant::Plus => "element-wise (+)",
+        Variant::Minus => "element-wise (-)",
+    }
+}
+
+impl<L: ElementLagrangian> Describe for ElementIntegrator<L> {
+    fn describe(&self) -> RunInfo {
+        element_info(self.system())
+            .with_newton(self.options())
+            .with("dirac.integrator", element_side(self.variant()))
+    }
+}
+
+impl<L: ElementLagrangian> Describe for ElementConstrainedIntegrator<L> {
+    fn describe(&self) -> RunInfo {
+        element_info(self.system())
+            .with_newton(self.options())
+            .with("dirac.integrator", element_side(self.variant()))
+            .with(
+                "dirac.constraints",
+                self.system().constraint_count().to_string(),
+            )
     }
 }

@@ -10,7 +10,8 @@ use crate::columns::{RunInfo, StateColumns};
 use crate::error::{Error, Result};
 pub use crate::files::member_file;
 use crate::files::publish;
-use crate::observer::{Options, ParquetObserver};
+use crate::output::Options;
+use crate::parquet::ParquetObserver;
 use crate::progress;
 use crate::read::concatenate;
 
@@ -59,8 +60,9 @@ where
     };
     std::fs::create_dir_all(&dir).map_err(Error::io(&dir))?;
     let bar = progress::bar(initials.len() as u64, "ensemble", "members");
-    let members: Vec<(usize, I::State)> = initials.iter().copied().enumerate().collect();
-    let outcomes = map(&members, |&(i, initial)| -> Result<RunResult<I::State>> {
+    let members: Vec<usize> = (0..initials.len()).collect();
+    let outcomes = map(&members, |&i| -> Result<RunResult<I::State>> {
+        let initial = initials[i].clone();
         // The members occupy every core: each writes its own row groups.
         let mut member_options = options(i).background(false).member_file();
         if one_file.is_some() {

@@ -2,10 +2,13 @@
 //! Apache Parquet, ensembles split into shards that run anywhere (a Slurm array job, several
 //! machines, one machine in several sittings) and restart where they stopped, and progress bars.
 //!
-//! * [`ParquetObserver`]: an observer for [`Drive::run`](dirac::Drive::run) that streams states
-//!   into Parquet, one bounded row group at a time, encoded on a thread of its own, into a
-//!   directory of parts each published complete when full ([`Options::rows_per_file`]), so that
-//!   a killed run keeps every part it finished and memory does not grow with the run;
+//! * [`Output`]: an observer for [`Drive::run`](dirac::Drive::run) that turns every state of a
+//!   run — flat, on rotation groups, element-wise, or an ensemble's members — into a row of
+//!   named `f64` columns (named by the system's description, [`Describe`]) and streams the rows,
+//!   one bounded block at a time, written on a thread of its own, into a [`Sink`]: a directory
+//!   of parts each published complete when full ([`Options::rows_per_file`]), so that a killed
+//!   run keeps every part it finished and memory does not grow with the run. The sink is the
+//!   format; [`Parquet`] is the one this crate writes ([`ParquetObserver`]), in [`parquet`].
 //!   [`write_ensemble`] for ensembles (one file per member, or one file with a `member` column);
 //! * [`table`]: an ensemble as a table of initial states and parameters (CSV or Parquet);
 //! * [`shard`]: shard `i` of `n` of such an ensemble, written atomically and skipped when already
@@ -89,14 +92,14 @@ pub mod columns;
 pub mod ensemble;
 pub mod error;
 mod files;
-pub mod integrity;
-pub mod observer;
+pub mod output;
+pub mod parquet;
 pub mod progress;
-pub mod read;
 pub mod shard;
 pub mod table;
 
+pub use self::parquet::{integrity, read, Parquet, ParquetObserver};
 pub use columns::{lie_names, Describe, RunInfo, StateColumns};
 pub use ensemble::{write_ensemble, EnsembleOutput};
 pub use error::{Error, Result};
-pub use observer::{run_to_parquet, Options, ParquetObserver, Resumed};
+pub use output::{Layout, Options, Output, Resumed, Rows, Sink};

@@ -88,7 +88,8 @@ use crate::error::{Error, Result};
 pub use crate::files::publish;
 use crate::files::{member_file, remove_partials};
 use crate::integrity::{verify_required, FileWriter};
-use crate::observer::{Options, ParquetObserver};
+use crate::output::Options;
+use crate::parquet::ParquetObserver;
 use crate::progress;
 use crate::read::{concatenate, key_values, row_count};
 pub use crate::table::{MissingColumn, Row, Table};
@@ -287,13 +288,12 @@ where
         match build(table, i, member) {
             Ok((integ, _)) => {
                 let info = integ.describe();
-                if info.columns.len() != I::State::WIDTH {
+                if let Some(width) = I::State::WIDTH.filter(|w| *w != info.columns.len()) {
                     return Err(Error::Usage(format!(
                         "the integrator's description names {} state columns ({}) where its \
-                         state has {}",
+                         state has {width}",
                         info.columns.len(),
                         info.columns.join(", "),
-                        I::State::WIDTH
                     )));
                 }
                 return Ok(info);
@@ -480,7 +480,7 @@ where
                     member: i as u64,
                     steps: 0,
                     t: 0.0,
-                    last: vec![f64::NAN; I::State::WIDTH],
+                    last: vec![f64::NAN; info.columns.len()],
                     summary: [0; 3],
                     max_residual: 0.0,
                     worst_rcond: None,
@@ -516,7 +516,7 @@ where
             Ok(s) => (s, None),
             Err(e) => (e.trajectory, Some(Failure::from(e.source))),
         };
-        let mut last = vec![0.0; I::State::WIDTH];
+        let mut last = vec![0.0; summary.last.width()];
         summary.last.write_to(&mut last);
         bar.inc(1);
         Ok(MemberRow {

@@ -92,7 +92,7 @@ impl Row<'_> {
     /// The state whose component named `columns[c]` is taken from the table where it has that
     /// column, and from `default` otherwise (`columns` as [`StateColumns::column_names`]).
     pub fn state_or<St: StateColumns>(&self, columns: &[String], default: St) -> St {
-        let mut values = vec![0.0; St::WIDTH];
+        let mut values = vec![0.0; default.width()];
         default.write_to(&mut values);
         for (v, name) in values.iter_mut().zip(columns) {
             if let Some(x) = self.get(name) {

@@ -16,8 +16,8 @@ use crate::results::exception_of;
 pub(crate) type Written =
     Result<(usize, f64, std::path::PathBuf), (RuntimeStepError, std::path::PathBuf)>;
 
-/// A run of `steps` steps streamed into Parquet at `path` by the workspace's writer, as
-/// [`dirac_io::run_to_parquet`] runs it, that ends after the step in progress once `cancel` is
+/// A run of `steps` steps streamed into Parquet at `path` by the workspace's writer (the run's
+/// observer, [`dirac_io::ParquetObserver`]), that ends after the step in progress once `cancel` is
 /// set (the file then holds the states so far, its outcome "stopped"): what it ended with, as
 /// [`Written`]; the writer's own failure is the outer `Err`.
 pub(crate) fn to_parquet<I>(

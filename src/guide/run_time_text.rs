@@ -160,9 +160,11 @@
 //! failed step raises `dirac.StepError` with the trajectory so far. A system on rotation groups
 //! is a `dirac.LieSystem`, started by coordinate name (`q={"R": R0}, p={"R": pi0}`) and returned
 //! per coordinate (a rotation's trajectory `(steps + 1, 3, 3)`), reduced with
-//! `method="reduced"`. The binary `dirac` of the crate `dirac-io` runs a system file (the text,
-//! its parameters, a start) into Parquet: `dirac run kepler.toml`, and for a system on rotation
-//! groups `[start.q]` and `[start.p]` by coordinate (`docs/output-and-clusters.md`). An
+//! `method="reduced"`. The binary `dirac` of the crate `dirac-io` (its feature `cli`, which
+//! alone brings Cranelift into `dirac-io`: `cargo install --path dirac-io --features cli`) runs a
+//! system file (the text, its parameters, a start) into Parquet: `dirac run kepler.toml`, and
+//! for a system on rotation groups `[start.q]` and `[start.p]` by coordinate
+//! (`docs/output-and-clusters.md`). An
 //! element-wise text is a `dirac.ElementSystem`, its sizes given per run
 //! (`toda.run(params, {"n": 1000}, steps=100, q=q0, p=p0)`).
 //!

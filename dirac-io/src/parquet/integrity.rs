@@ -36,13 +36,8 @@ use twox_hash::XxHash3_64;
 
 use crate::error::{Error, Result};
 
-/// Row groups are cut at about this many bytes of values, so that what a writer holds before
-/// it writes is bounded whatever the run's length and the state's size: 8 MiB is 2,600 rows of
-/// the 200-particle lattice (406 columns) or 80,000 rows of a 4-coordinate system. Measured on
-/// the lattice: 2 MiB groups cost more per row (per-column-chunk allocations and metadata) and
-/// grew the footer 4× faster; the writer holds at most three groups (one filling, one queued,
-/// one being written), 24 MiB.
-pub const ROW_GROUP_BYTES: usize = 8 << 20;
+/// The size at which row groups are cut ([`crate::output::ROW_GROUP_BYTES`]).
+pub use crate::output::ROW_GROUP_BYTES;
 
 /// The key of the hash of the data bytes.
 pub const CHECKSUM: &str = "dirac.checksum";

@@ -10,10 +10,10 @@ use arrow_schema::DataType;
 use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 use parquet::basic::Compression;
 
+use super::integrity::{verify, FileWriter};
 use crate::columns::StateColumns;
 use crate::error::{Error, Result};
 use crate::files::published_parts;
-use crate::integrity::{verify, FileWriter};
 
 /// `read()` with a panic of the Parquet reader caught: a corrupt file (a flipped byte in the
 /// footer's offsets) can trip an assertion inside the `parquet` crate, which is then an
@@ -45,7 +45,7 @@ pub fn row_count(path: &Path) -> Result<u64> {
 }
 
 /// Every row of the Parquet file (or directory of parts) at `path`, as record batches, after
-/// checking the checksums of each file ([`crate::integrity::verify`]; a file without them, not
+/// checking the checksums of each file ([`super::integrity::verify`]; a file without them, not
 /// written by this crate, is read unchecked).
 pub fn read_batches(path: &Path) -> Result<Vec<RecordBatch>> {
     guarded(path, || read_batches_unguarded(path))
@@ -201,11 +201,10 @@ fn last_state_unguarded<St: StateColumns>(
         return Err(Error::content(&last, "no rows"));
     };
     let row = batch.num_rows() - 1;
-    if columns.len() != St::WIDTH {
+    if let Some(width) = St::WIDTH.filter(|w| *w != columns.len()) {
         return Err(Error::Usage(format!(
-            "{} column names for a state of {} columns",
+            "{} column names for a state of {width} columns",
             columns.len(),
-            St::WIDTH
         )));
     }
     let step = batch
