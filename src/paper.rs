@@ -3,6 +3,28 @@
 
 use crate::prelude::*;
 
+/// The double spherical pendulum's parameters, those of `p` (a [`DoubleSphericalPendulum`]), as
+/// the type `$ty` of another of its formulations (each has the fields `h, m1, m2, l1, l2, g`),
+/// with the time step `h` where one is given.
+macro_rules! pendulum_parameters {
+    ($ty:ident, $p:expr) => {{
+        let p: &$crate::paper::DoubleSphericalPendulum = &$p;
+        $crate::paper::pendulum_parameters!($ty, p, h = p.h)
+    }};
+    ($ty:ident, $p:expr, h = $h:expr) => {{
+        let p: &$crate::paper::DoubleSphericalPendulum = &$p;
+        $ty {
+            h: $h,
+            m1: p.m1,
+            m2: p.m2,
+            l1: p.l1,
+            l2: p.l2,
+            g: p.g,
+        }
+    }};
+}
+pub(crate) use pendulum_parameters;
+
 pub mod atlas;
 
 /// Charged particle in a magnetic field in Kaluza–Klein form (§7.1), with the left-point rule
@@ -246,14 +268,6 @@ impl ChargedParticleContinuous {
 impl DoubleSphericalPendulumContinuous {
     /// The parameters of [`DoubleSphericalPendulum::paper`].
     pub fn paper() -> Self {
-        let p = DoubleSphericalPendulum::paper();
-        Self {
-            m1: p.m1,
-            m2: p.m2,
-            l1: p.l1,
-            l2: p.l2,
-            g: p.g,
-            h: p.h,
-        }
+        pendulum_parameters!(Self, DoubleSphericalPendulum::paper())
     }
 }

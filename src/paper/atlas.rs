@@ -39,108 +39,99 @@ pub const BOB1_FRAME: usize = 1;
 /// The index of [`DspBob2Frame`] in [`DoubleSphericalPendulum::atlas`].
 pub const BOB2_FRAME: usize = 2;
 
-/// The double spherical pendulum in the rotating frame of link 1 (module documentation): shape
-/// `(φ1, a2, b2)`, group `θ1`, midpoint rule `L_d = h L((q0 + q1)/2, (q1 − q0)/h)`.
-#[reduced_lagrangian(shape(phi1, a2, b2), group(th1))]
-#[allow(clippy::too_many_arguments)]
-pub fn dsp_bob1_frame(
-    q0: Config,
-    q1: Config,
-    h: f64,
-    m1: f64,
-    m2: f64,
-    l1: f64,
-    l2: f64,
-    g: f64,
-) -> f64 {
-    let (phi1, a2, b2) = (
-        0.5 * (q0.phi1 + q1.phi1),
-        0.5 * (q0.a2 + q1.a2),
-        0.5 * (q0.b2 + q1.b2),
-    );
-    let (dphi1, da2, db2, dth1) = (
-        (q1.phi1 - q0.phi1) / h,
-        (q1.a2 - q0.a2) / h,
-        (q1.b2 - q0.b2) / h,
-        (q1.th1 - q0.th1) / h,
-    );
-    let (s1, c1) = (phi1.sin(), phi1.cos());
-    let (sa, ca, sb, cb) = (a2.sin(), a2.cos(), b2.sin(), b2.cos());
-    // Link directions in the frame rotated by θ1, and their velocities u̇ + θ̇1 ẑ × u.
-    let u1 = [s1, 0.0, c1];
-    let u2 = [sa * cb, ca, sa * sb];
-    let du1 = [c1 * dphi1, 0.0, -s1 * dphi1];
-    let du2 = [
-        ca * cb * da2 - sa * sb * db2,
-        -sa * da2,
-        ca * sb * da2 + sa * cb * db2,
-    ];
-    let v1 = [
-        l1 * (du1[0] - dth1 * u1[1]),
-        l1 * (du1[1] + dth1 * u1[0]),
-        l1 * du1[2],
-    ];
-    let v2 = [
-        v1[0] + l2 * (du2[0] - dth1 * u2[1]),
-        v1[1] + l2 * (du2[1] + dth1 * u2[0]),
-        v1[2] + l2 * du2[2],
-    ];
-    let kinetic = 0.5 * m1 * (v1[0] * v1[0] + v1[1] * v1[1] + v1[2] * v1[2])
-        + 0.5 * m2 * (v2[0] * v2[0] + v2[1] * v2[1] + v2[2] * v2[2]);
-    let potential = g * (m1 * l1 * u1[2] + m2 * (l1 * u1[2] + l2 * u2[2]));
-    h * (kinetic - potential)
+/// A link frame's chart (module documentation): group `$th` the azimuth of the link `$own` whose
+/// polar angle is `$phi`, shape `($phi, $a, $b)` with `($a, $b)` the spherical angles of the
+/// other link `$other` about the pole `e2'` of the frame rotated by `$th`, and the midpoint rule
+/// `L_d = h L((q0 + q1)/2, (q1 − q0)/h)`. The two link frames are the one Lagrangian with the
+/// links exchanged; each is written from this one text, and the type it declares gets the
+/// paper's parameters ([`DoubleSphericalPendulum::paper`]).
+macro_rules! link_frame_chart {
+    ($(#[$doc:meta])* $name:ident, $ty:ident: $coords:tt, frame of link 1) => {
+        link_frame_chart!(@emit $(#[$doc])* $name, $ty: $coords, own = (u1, du1),
+            other = (u2, du2), links = (u1, du1, u2, du2));
+    };
+    ($(#[$doc:meta])* $name:ident, $ty:ident: $coords:tt, frame of link 2) => {
+        link_frame_chart!(@emit $(#[$doc])* $name, $ty: $coords, own = (u2, du2),
+            other = (u1, du1), links = (u1, du1, u2, du2));
+    };
+    (
+        @emit $(#[$doc:meta])* $name:ident, $ty:ident:
+        (shape($phi:ident, $a:ident, $b:ident), group($th:ident)),
+        own = ($own:ident, $down:ident), other = ($other:ident, $dother:ident),
+        links = ($u1:ident, $du1:ident, $u2:ident, $du2:ident)
+    ) => {
+        $(#[$doc])*
+        #[reduced_lagrangian(shape($phi, $a, $b), group($th))]
+        #[allow(clippy::too_many_arguments)]
+        pub fn $name(
+            q0: Config,
+            q1: Config,
+            h: f64,
+            m1: f64,
+            m2: f64,
+            l1: f64,
+            l2: f64,
+            g: f64,
+        ) -> f64 {
+            let (phi, a, b) = (
+                0.5 * (q0.$phi + q1.$phi),
+                0.5 * (q0.$a + q1.$a),
+                0.5 * (q0.$b + q1.$b),
+            );
+            let (dphi, da, db, dth) = (
+                (q1.$phi - q0.$phi) / h,
+                (q1.$a - q0.$a) / h,
+                (q1.$b - q0.$b) / h,
+                (q1.$th - q0.$th) / h,
+            );
+            let (s, c) = (phi.sin(), phi.cos());
+            let (sa, ca, sb, cb) = (a.sin(), a.cos(), b.sin(), b.cos());
+            // Link directions in the frame rotated by the group angle, and their velocities
+            // u̇ + θ̇ ẑ × u.
+            let $own = [s, 0.0, c];
+            let $other = [sa * cb, ca, sa * sb];
+            let $down = [c * dphi, 0.0, -s * dphi];
+            let $dother = [
+                ca * cb * da - sa * sb * db,
+                -sa * da,
+                ca * sb * da + sa * cb * db,
+            ];
+            let v1 = [
+                l1 * ($du1[0] - dth * $u1[1]),
+                l1 * ($du1[1] + dth * $u1[0]),
+                l1 * $du1[2],
+            ];
+            let v2 = [
+                v1[0] + l2 * ($du2[0] - dth * $u2[1]),
+                v1[1] + l2 * ($du2[1] + dth * $u2[0]),
+                v1[2] + l2 * $du2[2],
+            ];
+            let kinetic = 0.5 * m1 * (v1[0] * v1[0] + v1[1] * v1[1] + v1[2] * v1[2])
+                + 0.5 * m2 * (v2[0] * v2[0] + v2[1] * v2[1] + v2[2] * v2[2]);
+            let potential = g * (m1 * l1 * $u1[2] + m2 * (l1 * $u1[2] + l2 * $u2[2]));
+            h * (kinetic - potential)
+        }
+
+        impl $ty {
+            /// The paper's parameters (§7.2.2), as [`DoubleSphericalPendulum::paper`].
+            pub fn paper() -> Self {
+                pendulum_parameters!(Self, DoubleSphericalPendulum::paper())
+            }
+        }
+    };
 }
 
-/// The double spherical pendulum in the rotating frame of link 2 (module documentation): shape
-/// `(φ2, a1, b1)`, group `θ2`, midpoint rule.
-#[reduced_lagrangian(shape(phi2, a1, b1), group(th2))]
-#[allow(clippy::too_many_arguments)]
-pub fn dsp_bob2_frame(
-    q0: Config,
-    q1: Config,
-    h: f64,
-    m1: f64,
-    m2: f64,
-    l1: f64,
-    l2: f64,
-    g: f64,
-) -> f64 {
-    let (phi2, a1, b1) = (
-        0.5 * (q0.phi2 + q1.phi2),
-        0.5 * (q0.a1 + q1.a1),
-        0.5 * (q0.b1 + q1.b1),
-    );
-    let (dphi2, da1, db1, dth2) = (
-        (q1.phi2 - q0.phi2) / h,
-        (q1.a1 - q0.a1) / h,
-        (q1.b1 - q0.b1) / h,
-        (q1.th2 - q0.th2) / h,
-    );
-    let (s2, c2) = (phi2.sin(), phi2.cos());
-    let (sa, ca, sb, cb) = (a1.sin(), a1.cos(), b1.sin(), b1.cos());
-    let u2 = [s2, 0.0, c2];
-    let u1 = [sa * cb, ca, sa * sb];
-    let du2 = [c2 * dphi2, 0.0, -s2 * dphi2];
-    let du1 = [
-        ca * cb * da1 - sa * sb * db1,
-        -sa * da1,
-        ca * sb * da1 + sa * cb * db1,
-    ];
-    let v1 = [
-        l1 * (du1[0] - dth2 * u1[1]),
-        l1 * (du1[1] + dth2 * u1[0]),
-        l1 * du1[2],
-    ];
-    let v2 = [
-        v1[0] + l2 * (du2[0] - dth2 * u2[1]),
-        v1[1] + l2 * (du2[1] + dth2 * u2[0]),
-        v1[2] + l2 * du2[2],
-    ];
-    let kinetic = 0.5 * m1 * (v1[0] * v1[0] + v1[1] * v1[1] + v1[2] * v1[2])
-        + 0.5 * m2 * (v2[0] * v2[0] + v2[1] * v2[1] + v2[2] * v2[2]);
-    let potential = g * (m1 * l1 * u1[2] + m2 * (l1 * u1[2] + l2 * u2[2]));
-    h * (kinetic - potential)
-}
+link_frame_chart!(
+    /// The double spherical pendulum in the rotating frame of link 1 (module documentation):
+    /// shape `(φ1, a2, b2)`, group `θ1`, midpoint rule `L_d = h L((q0 + q1)/2, (q1 − q0)/h)`.
+    dsp_bob1_frame, DspBob1Frame: (shape(phi1, a2, b2), group(th1)), frame of link 1
+);
+
+link_frame_chart!(
+    /// The double spherical pendulum in the rotating frame of link 2 (module documentation):
+    /// shape `(φ2, a1, b1)`, group `θ2`, midpoint rule.
+    dsp_bob2_frame, DspBob2Frame: (shape(phi2, a1, b1), group(th2)), frame of link 2
+);
 
 /// Paper chart → link-1 frame. With `θ1 = ϑ1 − ϑ2`, link 2 in the frame rotated by `θ1` is
 /// `(sin φ2 cos 2ϑ2, sin φ2 sin 2ϑ2, cos φ2)`, whose angles about the pole `e2'` are `(a2, b2)`.
@@ -271,36 +262,6 @@ where
     Some(0.5 * canonical.p.dot(&velocity) + v)
 }
 
-impl DspBob1Frame {
-    /// The paper's parameters (§7.2.2), as [`DoubleSphericalPendulum::paper`].
-    pub fn paper() -> Self {
-        let p = DoubleSphericalPendulum::paper();
-        Self {
-            h: p.h,
-            m1: p.m1,
-            m2: p.m2,
-            l1: p.l1,
-            l2: p.l2,
-            g: p.g,
-        }
-    }
-}
-
-impl DspBob2Frame {
-    /// The paper's parameters (§7.2.2), as [`DoubleSphericalPendulum::paper`].
-    pub fn paper() -> Self {
-        let p = DoubleSphericalPendulum::paper();
-        Self {
-            h: p.h,
-            m1: p.m1,
-            m2: p.m2,
-            l1: p.l1,
-            l2: p.l2,
-            g: p.g,
-        }
-    }
-}
-
 /// The three charts of one pendulum, with the same parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DspCharts {
@@ -351,26 +312,10 @@ impl DspCharts {
 impl DoubleSphericalPendulum {
     /// The same pendulum in all three charts.
     pub fn charts(&self) -> DspCharts {
-        let p = *self;
-        let (h, m1, m2, l1, l2, g) = (p.h, p.m1, p.m2, p.l1, p.l2, p.g);
         DspCharts {
-            paper: p,
-            bob1: DspBob1Frame {
-                h,
-                m1,
-                m2,
-                l1,
-                l2,
-                g,
-            },
-            bob2: DspBob2Frame {
-                h,
-                m1,
-                m2,
-                l1,
-                l2,
-                g,
-            },
+            paper: *self,
+            bob1: pendulum_parameters!(DspBob1Frame, self),
+            bob2: pendulum_parameters!(DspBob2Frame, self),
         }
     }
 

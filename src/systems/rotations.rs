@@ -116,15 +116,7 @@ pub fn dsp_on_spheres(
 impl DspOnSpheres {
     /// The paper's parameters ([`DoubleSphericalPendulum::paper`]) with time step `h`.
     pub fn paper(h: f64) -> Self {
-        let p = DoubleSphericalPendulum::paper();
-        Self {
-            h,
-            m1: p.m1,
-            m2: p.m2,
-            l1: p.l1,
-            l2: p.l2,
-            g: p.g,
-        }
+        crate::paper::pendulum_parameters!(Self, DoubleSphericalPendulum::paper(), h = h)
     }
 
     /// The paper's initial state (§7.2) on `S² × S²`: the link directions, and their momenta from
