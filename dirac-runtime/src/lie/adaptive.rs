@@ -17,15 +17,15 @@ use crate::stepper::{check_monitor, check_time_increment};
 /// difference-quotient Jacobian (a guess, once per run). Starting from no motion instead, the
 /// transformed Lagrangian's `Δt L(q, ξ/Δt)` is singular at `Δt = 0`. No motion when the monitor is
 /// not positive and finite (the run's checks report it).
-pub(super) fn first_increment<L, E, const P: usize, const N: usize>(
+pub(super) fn first_increment<L, const P: usize, const N: usize>(
     sys: &L,
     q: &SVector<f64, P>,
     p: &SVector<f64, N>,
     h: f64,
+    equations: &StepEquations<L, P, N>,
 ) -> SVector<f64, N>
 where
     L: LieLagrangian<P, N>,
-    E: StepEquations<L, P, N>,
 {
     let mut z = SVector::<f64, N>::zeros();
     let (Some(time), Some(g)) = (sys.time_index(), sys.monitor(q)) else {
@@ -41,7 +41,7 @@ where
     let rows: Vec<usize> = (0..N).filter(|&i| i != at).collect();
     let scale = p.amax().max(1.0);
     for _ in 0..8 {
-        let r0 = E::residual(sys, q, p, &z);
+        let r0 = (equations.residual)(sys, q, p, &z);
         if rows.iter().all(|&i| r0[i].abs() <= 1e-13 * scale) {
             break;
         }
@@ -50,7 +50,7 @@ where
             let step = 1e-7 * z[i].abs().max(h.abs() * g).max(f64::MIN_POSITIVE);
             let mut w = z;
             w[i] += step;
-            let r1 = E::residual(sys, q, p, &w);
+            let r1 = (equations.residual)(sys, q, p, &w);
             for (r, &k) in rows.iter().enumerate() {
                 jacobian[(r, c)] = (r1[k] - r0[k]) / step;
             }

@@ -6,6 +6,7 @@ use nalgebra::{SVector, Vector3};
 
 use super::{blocks, LieLagrangian, LieState, LieTrajectory, SpatialMomentum};
 use crate::error::StepError;
+use crate::linalg::LinearSolver;
 use crate::newton::{self, inf_norm, NewtonOptions};
 use crate::stepper::{
     check_inputs, predicted_increment, step_error, system_at, History, StepStats, Stepper,
@@ -223,39 +224,26 @@ where
         worst
     }
 
-    /// The step of size `h` from `state`, Newton starting at `guess` for the chart coordinate of
-    /// the next point.
-    fn solve_step(
-        &self,
-        solver: &mut L::Linear,
-        k: usize,
-        h: f64,
-        state: &LieState<P, N>,
-        guess: Option<SVector<f64, N>>,
-        u: &[f64],
-    ) -> Result<(LieState<P, N>, SVector<f64, N>, StepStats), StepError> {
-        self.chart_step::<Unreduced>(solver, k, h, state, guess, u)
-    }
-
-    /// The step of size `h` from `state` with the equations `E` (the unreduced step's or a
-    /// reduced one's): Newton on the residual for the chart coordinate `z` of the next point
-    /// from `guess` — for the (−) equations on `w = −z`, the coordinate of the current point in
-    /// the chart about the next, with the residual `−R(−w)` (whose Jacobian in `w` is `R`'s in
-    /// `z`) — then the retraction, the momentum update and its compensation ([`compensate`]).
-    /// Without a `guess` (a run's first step) Newton starts at no motion, or for adaptive steps
-    /// at [`super::adaptive::first_increment`]; after an adaptive step the monitor and the sign
-    /// of the physical time step are checked. Returns the new state, the unknown Newton solved
-    /// for (`z`, or `w`) and the step's statistics.
+    /// The step of size `h` from `state` with the `equations` (the unreduced step's or a
+    /// reduced one's): Newton on the residual for the chart coordinate `z` of the next point —
+    /// for the (−) equations on `w = −z`, the coordinate of the current point in the chart about
+    /// the next, with the residual `−R(−w)` (whose Jacobian in `w` is `R`'s in `z`) — then the
+    /// retraction, the momentum update and its compensation ([`compensate`]). Newton starts from
+    /// the unknown of the workspace's last steps, extrapolated; on a run's first step from no
+    /// motion, or for adaptive steps from [`super::adaptive::first_increment`]. After an adaptive
+    /// step the monitor and the sign of the physical time step are checked. The unknown solved
+    /// for (`z`, or `w`) joins the workspace's history.
     #[inline]
-    pub(super) fn chart_step<E: StepEquations<L, P, N>>(
+    pub(super) fn chart_step(
         &self,
-        solver: &mut L::Linear,
+        workspace: &mut LieWorkspace<L::Linear, N>,
         k: usize,
         h: f64,
         state: &LieState<P, N>,
-        guess: Option<SVector<f64, N>>,
         u: &[f64],
-    ) -> Result<(LieState<P, N>, SVector<f64, N>, StepStats), StepError> {
+        equations: &StepEquations<L, P, N>,
+    ) -> Result<(LieState<P, N>, StepStats), StepError> {
+        let guess = predicted_increment(&workspace.history, h);
         let owned = system_at(&self.system, k, h, u)?;
         let sys = owned.as_ref().unwrap_or(&self.system);
         let (q, p) = (&state.q, &state.p);
@@ -266,20 +254,20 @@ where
             Variant::Minus => -1.0,
         };
         let guess = guess.unwrap_or_else(|| match sys.time_index() {
-            Some(_) => super::adaptive::first_increment::<L, E, P, N>(sys, q, p, h) * s,
+            Some(_) => super::adaptive::first_increment(sys, q, p, h, equations) * s,
             None => SVector::zeros(),
         });
         let (mut unknown, mut r, mut jacobian) = (guess, SVector::<f64, N>::zeros(), None);
         let solution = newton::solve_in(
-            solver,
+            &mut workspace.solver,
             &mut unknown,
             &mut r,
             &mut jacobian,
             rho,
             &self.options,
-            |u, r| *r = E::residual(sys, q, p, &(u * s)) * s,
+            |u, r| *r = (equations.residual)(sys, q, p, &(u * s)) * s,
             |u, r, j| {
-                let (r_z, j_z) = E::residual_jacobian(sys, q, p, &(u * s));
+                let (r_z, j_z) = (equations.residual_jacobian)(sys, q, p, &(u * s));
                 *r = r_z * s;
                 *j = Some(j_z);
             },
@@ -287,7 +275,7 @@ where
         .map_err(|failure| step_error(k, failure))?;
         let (z, r) = (unknown * s, r * s);
         let q_next = sys.retract(q, &z);
-        let mut p_next = E::momentum(sys, q, p, &z);
+        let mut p_next = (equations.momentum)(sys, q, p, &z);
         compensate(sys, q, &q_next, &r, &mut p_next);
         let next = LieState {
             q: q_next,
@@ -303,77 +291,50 @@ where
         if let Some(time) = sys.time_index() {
             super::adaptive::check_step::<L, P, N>(sys, k, h, time, q, &next.q)?;
         }
+        workspace.history.push(unknown, h);
         Ok((
             next,
-            unknown,
             StepStats::from_solution(&solution, self.options.residual_tolerance(rho)),
         ))
     }
 }
 
-/// The equations a step on the charts solves: the unreduced ones of [`LieLagrangian`]
-/// ([`Unreduced`]) or the reduced ones of [`super::LieSymmetric`]. A type, so that a step
-/// contains no dispatch on it.
-pub(super) trait StepEquations<L: LieLagrangian<P, N>, const P: usize, const N: usize> {
+/// A function of the step on the charts at the chart coordinate `z`, given the system, the
+/// stored point `q` and the momentum `p`: its residual, or the momentum update.
+type ChartFn<L, const P: usize, const N: usize> =
+    fn(&L, &SVector<f64, P>, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>;
+
+/// The residual and its Jacobian, as [`ChartFn`].
+type ChartJacobianFn<L, const P: usize, const N: usize> = fn(
+    &L,
+    &SVector<f64, P>,
+    &SVector<f64, N>,
+    &SVector<f64, N>,
+) -> (
+    SVector<f64, N>,
+    <<L as LieLagrangian<P, N>>::Linear as LinearSolver>::Matrix,
+);
+
+/// The equations a step on the charts solves, as the system's functions: the unreduced ones of
+/// [`LieLagrangian`] ([`Self::UNREDUCED`]) or the reduced ones of [`super::LieSymmetric`]. One
+/// step serves both; a step is inlined where it is called with a constant table, so the calls
+/// are direct.
+pub(super) struct StepEquations<L: LieLagrangian<P, N>, const P: usize, const N: usize> {
     /// The step residual at `z`.
-    fn residual(
-        sys: &L,
-        q: &SVector<f64, P>,
-        p: &SVector<f64, N>,
-        z: &SVector<f64, N>,
-    ) -> SVector<f64, N>;
+    pub residual: ChartFn<L, P, N>,
     /// The residual and its Jacobian at `z`.
-    fn residual_jacobian(
-        sys: &L,
-        q: &SVector<f64, P>,
-        p: &SVector<f64, N>,
-        z: &SVector<f64, N>,
-    ) -> (
-        SVector<f64, N>,
-        <L::Linear as crate::linalg::LinearSolver>::Matrix,
-    );
+    pub residual_jacobian: ChartJacobianFn<L, P, N>,
     /// The momentum update at the solution `z`.
-    fn momentum(
-        sys: &L,
-        q: &SVector<f64, P>,
-        p: &SVector<f64, N>,
-        z: &SVector<f64, N>,
-    ) -> SVector<f64, N>;
+    pub momentum: ChartFn<L, P, N>,
 }
 
-/// The unreduced step's equations.
-pub(super) struct Unreduced;
-
-impl<L: LieLagrangian<P, N>, const P: usize, const N: usize> StepEquations<L, P, N> for Unreduced {
-    fn residual(
-        sys: &L,
-        q: &SVector<f64, P>,
-        p: &SVector<f64, N>,
-        z: &SVector<f64, N>,
-    ) -> SVector<f64, N> {
-        sys.residual(q, p, z)
-    }
-
-    fn residual_jacobian(
-        sys: &L,
-        q: &SVector<f64, P>,
-        p: &SVector<f64, N>,
-        z: &SVector<f64, N>,
-    ) -> (
-        SVector<f64, N>,
-        <L::Linear as crate::linalg::LinearSolver>::Matrix,
-    ) {
-        sys.residual_jacobian(q, p, z)
-    }
-
-    fn momentum(
-        sys: &L,
-        q: &SVector<f64, P>,
-        p: &SVector<f64, N>,
-        z: &SVector<f64, N>,
-    ) -> SVector<f64, N> {
-        sys.momentum(q, p, z)
-    }
+impl<L: LieLagrangian<P, N>, const P: usize, const N: usize> StepEquations<L, P, N> {
+    /// The unreduced step's equations.
+    pub const UNREDUCED: Self = Self {
+        residual: L::residual,
+        residual_jacobian: L::residual_jacobian,
+        momentum: L::momentum,
+    };
 }
 
 impl<L, const P: usize, const N: usize> Stepper for LieIntegrator<L, P, N>
@@ -443,10 +404,7 @@ where
         state: &LieState<P, N>,
         u: &[f64],
     ) -> Result<(LieState<P, N>, StepStats), StepError> {
-        let guess = predicted_increment(&workspace.history, h);
-        let (next, z, stats) = self.solve_step(&mut workspace.solver, k, h, state, guess, u)?;
-        workspace.history.push(z, h);
-        Ok((next, stats))
+        self.chart_step(workspace, k, h, state, u, &StepEquations::UNREDUCED)
     }
 }
 

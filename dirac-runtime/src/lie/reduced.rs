@@ -88,7 +88,7 @@ use super::{blocks, matrix_at, LieIntegrator, LieLagrangian, LieState, LieWorksp
 use crate::error::{StepError, Steps};
 use crate::newton::NewtonOptions;
 use crate::reduced::trajectory_accessors;
-use crate::stepper::{predicted_increment, Collect, History, StepStats, StepStatsExt, Stepper};
+use crate::stepper::{Collect, StepStats, StepStatsExt, Stepper};
 
 /// A rotation symmetry of a system on rotation groups (`symmetry(..)` in the attribute).
 ///
@@ -169,43 +169,6 @@ pub trait LieSymmetric<const P: usize, const N: usize>: LieLagrangian<P, N> {
         z: &SVector<f64, N>,
     ) -> SVector<f64, N> {
         self.momentum(q_k, p_k, z)
-    }
-}
-
-/// The reduced step's equations.
-struct ReducedEquations;
-
-impl<L: LieSymmetric<P, N>, const P: usize, const N: usize> StepEquations<L, P, N>
-    for ReducedEquations
-{
-    fn residual(
-        sys: &L,
-        q: &SVector<f64, P>,
-        p: &SVector<f64, N>,
-        z: &SVector<f64, N>,
-    ) -> SVector<f64, N> {
-        sys.reduced_residual(q, p, z)
-    }
-
-    fn residual_jacobian(
-        sys: &L,
-        q: &SVector<f64, P>,
-        p: &SVector<f64, N>,
-        z: &SVector<f64, N>,
-    ) -> (
-        SVector<f64, N>,
-        <L::Linear as crate::linalg::LinearSolver>::Matrix,
-    ) {
-        sys.reduced_residual_jacobian(q, p, z)
-    }
-
-    fn momentum(
-        sys: &L,
-        q: &SVector<f64, P>,
-        p: &SVector<f64, N>,
-        z: &SVector<f64, N>,
-    ) -> SVector<f64, N> {
-        sys.reduced_momentum(q, p, z)
     }
 }
 
@@ -388,6 +351,13 @@ where
         }
     }
 
+    /// The reduced step's equations.
+    const EQUATIONS: StepEquations<L, P, N> = StepEquations {
+        residual: L::reduced_residual,
+        residual_jacobian: L::reduced_residual_jacobian,
+        momentum: L::reduced_momentum,
+    };
+
     /// The step of size `h` from `state`.
     fn solve_step(
         &self,
@@ -397,22 +367,15 @@ where
         state: &ReducedLieState<P, N>,
         u: &[f64],
     ) -> Result<(ReducedLieState<P, N>, StepStats), StepError> {
-        let guess = predicted_increment(&workspace.history, h);
         let system = self.system();
         let (symmetry, forced) = (system.symmetry(), system.symmetry_forced());
         let mut start = state.unreduced();
         if let RotationSymmetry::Axis { axis, coordinates } = symmetry {
             set_group_part(system, &mut start, axis, coordinates, state.mu[axis]);
         }
-        let (mut next, z, stats) = self.unreduced.chart_step::<ReducedEquations>(
-            &mut workspace.solver,
-            k,
-            h,
-            &start,
-            guess,
-            u,
-        )?;
-        workspace.history.push(z, h);
+        let (mut next, stats) =
+            self.unreduced
+                .chart_step(workspace, k, h, &start, u, &Self::EQUATIONS)?;
         let mu = if forced {
             self.spatial_momentum_map(&next)
         } else {
@@ -574,19 +537,16 @@ where
     }
 
     fn control_dim(&self) -> usize {
-        self.system().control_count()
+        self.unreduced.control_dim()
     }
 
+    /// The unreduced integrator's: the same solver, the same history of steps.
     fn workspace(&self) -> Self::Workspace {
-        LieWorkspace {
-            solver: self.system().linear_solver(),
-            history: History::default(),
-        }
+        self.unreduced.workspace()
     }
 
-    /// Newton starts from the chart coordinate of the last steps, extrapolated (on the first
-    /// step of a run from no motion, or for adaptive steps from the motion at the step's
-    /// physical size).
+    /// The unreduced step's with the reduced equations, Newton starting from the chart
+    /// coordinate of the last steps, extrapolated; then the momentum of the symmetry set.
     fn step_with(
         &self,
         workspace: &mut Self::Workspace,
