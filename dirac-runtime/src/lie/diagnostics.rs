@@ -20,9 +20,10 @@
 
 use nalgebra::SVector;
 
+use super::integrator::StepEquations;
 use super::reduced::{set_group_part, LieSymmetric, RotationSymmetry};
 use super::{
-    LieIntegrator, LieLagrangian, LieState, LieTrajectory, ReducedLieIntegrator,
+    LieIntegrator, LieLagrangian, LieState, LieTrajectory, ReducedLieIntegrator, ReducedLieState,
     ReducedLieTrajectory,
 };
 use crate::newton::inf_norm;
@@ -41,21 +42,32 @@ fn energies<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
         .collect()
 }
 
-/// The relative Dirac residual of one step with the step functions of the unreduced or the
-/// reduced equations.
-fn step_residual<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
+/// The relative Dirac residual of every step between the `states` at `times` for the
+/// `equations` (the unreduced or the reduced ones), at each step's own size: `read` gives the
+/// state a step read, `landed` the state it reached.
+fn dirac_residuals<L, S, const P: usize, const N: usize>(
     integrator: &LieIntegrator<L, P, N>,
-    sys: &L,
-    from: &LieState<P, N>,
-    to: &LieState<P, N>,
-    residual: impl Fn(&L, &SVector<f64, P>, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
-    momentum: impl Fn(&L, &SVector<f64, P>, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>,
-) -> f64 {
-    let z = integrator.chart_coordinates(&from.q, &to.q);
-    let scale = inf_norm(&from.p).max(inf_norm(&to.p)).max(1.0);
-    let r = inf_norm(&residual(sys, &from.q, &from.p, &z));
-    let m = inf_norm(&(momentum(sys, &from.q, &from.p, &z) - to.p));
-    r.max(m) / scale
+    (states, times): (&[S], &[f64]),
+    equations: &StepEquations<L, P, N>,
+    read: impl Fn(&S) -> LieState<P, N>,
+    landed: impl Fn(&S) -> LieState<P, N>,
+) -> Vec<f64>
+where
+    L: LieLagrangian<P, N>,
+{
+    states
+        .windows(2)
+        .zip(times.windows(2))
+        .map(|(s, t)| {
+            let sys = integrator.system().with_time_step(t[1] - t[0]);
+            let (from, to) = (read(&s[0]), landed(&s[1]));
+            let z = integrator.chart_coordinates(&from.q, &to.q);
+            let scale = inf_norm(&from.p).max(inf_norm(&to.p)).max(1.0);
+            let r = inf_norm(&(equations.residual)(&sys, &from.q, &from.p, &z));
+            let m = inf_norm(&((equations.momentum)(&sys, &from.q, &from.p, &z) - to.p));
+            r.max(m) / scale
+        })
+        .collect()
 }
 
 impl<L, const P: usize, const N: usize> LieIntegrator<L, P, N>
@@ -65,15 +77,13 @@ where
     /// The relative Dirac residual of every step of `trajectory` (see the
     /// [module documentation](self)).
     pub fn dirac_residuals(&self, trajectory: &LieTrajectory<P, N>) -> Vec<f64> {
-        trajectory
-            .states
-            .windows(2)
-            .zip(trajectory.times.windows(2))
-            .map(|(s, t)| {
-                let sys = self.system().with_time_step(t[1] - t[0]);
-                step_residual(self, &sys, &s[0], &s[1], L::residual, L::momentum)
-            })
-            .collect()
+        dirac_residuals(
+            self,
+            (&trajectory.states, &trajectory.times),
+            &StepEquations::UNREDUCED,
+            |s| *s,
+            |s| *s,
+        )
     }
 
     /// The discrete generalized energy `(E_d)_k = L_d(q_k, q_{k+1})` of every step.
@@ -99,26 +109,20 @@ where
     /// (the momentum each step read: `Π_k` for every rotation, the shape part of `p_k` with the
     /// group part `μ` for the rotations about an axis).
     pub fn dirac_residuals(&self, trajectory: &ReducedLieTrajectory<P, N>) -> Vec<f64> {
-        trajectory
-            .states
-            .windows(2)
-            .zip(trajectory.times.windows(2))
-            .map(|(s, t)| {
-                let sys = self.system().with_time_step(t[1] - t[0]);
-                let mut from = s[0].unreduced();
-                if let RotationSymmetry::Axis { axis, coordinates } = self.system().symmetry() {
-                    set_group_part(self.system(), &mut from, axis, coordinates, s[0].mu[axis]);
-                }
-                step_residual(
-                    self.unreduced(),
-                    &sys,
-                    &from,
-                    &s[1].unreduced(),
-                    L::reduced_residual,
-                    L::reduced_momentum,
-                )
-            })
-            .collect()
+        let read = |s: &ReducedLieState<P, N>| {
+            let mut from = s.unreduced();
+            if let RotationSymmetry::Axis { axis, coordinates } = self.system().symmetry() {
+                set_group_part(self.system(), &mut from, axis, coordinates, s.mu[axis]);
+            }
+            from
+        };
+        dirac_residuals(
+            self.unreduced(),
+            (&trajectory.states, &trajectory.times),
+            &Self::EQUATIONS,
+            read,
+            ReducedLieState::unreduced,
+        )
     }
 
     /// The discrete generalized energy `(E_d)_k = L_d(q_k, q_{k+1})` of every step (the reduced

@@ -352,7 +352,7 @@ where
     }
 
     /// The reduced step's equations.
-    const EQUATIONS: StepEquations<L, P, N> = StepEquations {
+    pub(super) const EQUATIONS: StepEquations<L, P, N> = StepEquations {
         residual: L::reduced_residual,
         residual_jacobian: L::reduced_residual_jacobian,
         momentum: L::reduced_momentum,
