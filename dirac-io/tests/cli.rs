@@ -370,3 +370,107 @@ fn unknown_start_keys_are_refused_naming_them() {
         "{stderr}"
     );
 }
+
+/// The same items compiled in here and, as text, given to the command line.
+macro_rules! compiled_and_text {
+    ($text:ident: $($item:tt)*) => {
+        $($item)*
+        const $text: &str = stringify!($($item)*);
+    };
+}
+
+compiled_and_text!(BODY_IN_SPACE:
+    /// A rigid body in space as one pose (`J = diag(1, 2, 3)`, so `J_d = diag(2, 1, 0)`), in
+    /// gravity, with a thrust along its third axis as the trapezoid rule's discrete forces.
+    #[reduced_lagrangian(pose(b),
+        force = |dq0, dq1| 0.5 * h * thrust
+            * ((q0.b.rotation * Vector3::z()).dot(&dq0.b.linear)
+                + (q1.b.rotation * Vector3::z()).dot(&dq1.b.linear)))]
+    fn body_in_space(q0: Config, q1: Config, h: f64, m: f64, g: f64, thrust: f64) -> f64 {
+        let jd = Matrix3::from_diagonal(&Vector3::new(2.0, 1.0, 0.0));
+        let f = q0.b.rotation.transpose() * q1.b.rotation;
+        let dx = q1.b.translation - q0.b.translation;
+        ((Matrix3::identity() - f) * jd).trace() / h + 0.5 * m * dx.norm_squared() / h
+            - 0.5 * h * m * g * (q0.b.translation.z + q1.b.translation.z)
+    }
+);
+
+/// A pose starts from its rotation's rows and then its position, its momentum from `Π` and
+/// then `p`.
+const BODY_TOML: &str = r#"system = "body.rs"
+steps = 500
+method = "METHOD"
+out = "body.parquet"
+
+[parameters]
+h = 0.01
+m = 3.0
+g = 9.81
+thrust = 40.0
+
+[start.q]
+b = [[1.0, 0.0, 0.0], [0.0, 0.8, -0.6], [0.0, 0.6, 0.8], [1.0, -2.0, 0.5]]
+
+[start.p]
+b = [0.4, 1.0, -0.3, 0.9, -0.3, 0.6]
+"#;
+
+#[test]
+fn a_body_in_space_runs_into_parquet_as_the_compiled_in_one() {
+    use dirac::runtime::nalgebra::Matrix3;
+    let dir = scratch("cli_body_in_space");
+    std::fs::write(dir.join("body.rs"), BODY_IN_SPACE).unwrap();
+    let body = BodyInSpace {
+        h: 0.01,
+        m: 3.0,
+        g: 9.81,
+        thrust: 40.0,
+    };
+    let start = body.state(
+        &BodyInSpaceConfig {
+            b: BodyInSpacePose {
+                rotation: Matrix3::new(1.0, 0.0, 0.0, 0.0, 0.8, -0.6, 0.0, 0.6, 0.8),
+                translation: Vector3::new(1.0, -2.0, 0.5),
+            },
+        },
+        &BodyInSpaceMomentum {
+            b: BodyInSpacePoseMomentum {
+                angular: Vector3::new(0.4, 1.0, -0.3),
+                linear: Vector3::new(0.9, -0.3, 0.6),
+            },
+        },
+    );
+    let (point, chart) = dirac_io::lie_names(&[("b", CoordinateKind::POSE)]);
+    let point: Vec<&str> = point.iter().map(String::as_str).collect();
+    let chart: Vec<&str> = chart.iter().map(String::as_str).collect();
+    let columns = LieState::<12, 6>::column_names(&point, &chart);
+    let file = dir.join("body.toml");
+    for (method, integ) in [
+        ("plus", LieIntegrator::new(body, NewtonOptions::default())),
+        (
+            "minus",
+            LieIntegrator::minus(body, NewtonOptions::default()),
+        ),
+    ] {
+        std::fs::write(&file, BODY_TOML.replace("METHOD", method)).unwrap();
+        let (code, stdout, stderr) = dirac(&["run", file.to_str().unwrap()]);
+        assert_eq!(code, 0, "{method}: {stderr}");
+        assert!(stdout.contains("500 steps"), "{stdout}");
+        let compiled = integ.run(start).steps(500).collect().unwrap();
+        let (step, _, last) =
+            last_state::<LieState<12, 6>>(&dir.join("body.parquet"), &columns).unwrap();
+        assert_eq!((step, last), (500, compiled.states[500]), "{method}");
+    }
+    // `check` names the coordinate and its kind; an attitude that is not a rotation is refused
+    // by the coordinate's name.
+    let (code, stdout, _) = dirac(&["check", file.to_str().unwrap()]);
+    assert_eq!(code, 0);
+    assert!(stdout.contains("coordinates: b (pose)"), "{stdout}");
+    let skewed = BODY_TOML
+        .replace("METHOD", "plus")
+        .replace("0.8, -0.6", "0.9, -0.6");
+    std::fs::write(&file, skewed).unwrap();
+    let (code, _, stderr) = dirac(&["run", file.to_str().unwrap()]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(stderr.contains("`b` is not a rotation"), "{stderr}");
+}
