@@ -238,3 +238,24 @@ fn every_family_refuses_the_wrong_number_of_controls_alike() {
             .unwrap_err(),
     );
 }
+
+/// The one vocabulary of equations: every keyword names equations whose keyword names them
+/// again, for a family whose own equations are reduced (on vector spaces) and one whose own are
+/// unreduced (on rotation groups, element-wise); "plus" and "minus" name the family's own form,
+/// and the other form's word its (+) side (in its own form a synonym of "plus").
+#[test]
+fn every_keyword_names_equations_that_name_them_back() {
+    for own in [Form::Reduced, Form::Unreduced] {
+        for word in Equations::KEYWORDS {
+            let equations = Equations::from_keyword(word, own).expect("a keyword");
+            let again = Equations::from_keyword(equations.keyword(own), own);
+            assert_eq!(again, Some(equations), "{word} in {own:?}");
+        }
+        let minus = Equations::from_keyword("minus", own).unwrap();
+        assert_eq!((minus.form, minus.side), (own, Variant::Minus));
+        assert_eq!(minus.keyword(own), "minus");
+    }
+    let unreduced = Equations::from_keyword("unreduced", Form::Reduced).unwrap();
+    assert_eq!(unreduced.keyword(Form::Reduced), "unreduced");
+    assert_eq!(Equations::from_keyword("Plus", Form::Reduced), None);
+}

@@ -22,7 +22,7 @@ use dirac_runtime::lie::{
 };
 use dirac_runtime::linalg::LinearSolver;
 use dirac_runtime::nalgebra::{DMatrix, SVector};
-use dirac_runtime::LieState;
+use dirac_runtime::{Form, LieState};
 
 use crate::codegen::{Jit, Kernel};
 use crate::error::Error;
@@ -273,7 +273,7 @@ impl LieCode {
                 constrained: false,
             });
         }
-        if R::REDUCED {
+        if R::FORM == Form::Reduced {
             let symmetry = sys.symmetry.as_ref().ok_or_else(|| Error::Symmetry {
                 name: sys.name.clone(),
                 reason: "the text declares no symmetry (`symmetry(..)` in the attribute)".into(),
@@ -296,10 +296,10 @@ impl LieCode {
 }
 
 /// Whether a [`JitLie`] is the reduced system ([`Reduced`]: `LieSymmetric`, for
-/// `ReducedLieIntegrator`) or not ([`Unreduced`]). Sealed.
+/// `ReducedLieIntegrator`) or not ([`Unreduced`]): the runtime's [`Form`] as a type. Sealed.
 pub trait Reduction: sealed::Sealed + Send + Sync + 'static {
-    /// Whether the system is reduced by its symmetry.
-    const REDUCED: bool;
+    /// The form of the equations the system is stepped with.
+    const FORM: Form;
 }
 
 /// A [`JitLie`] stepped on the whole configuration space.
@@ -311,11 +311,11 @@ pub struct Unreduced;
 pub struct Reduced;
 
 impl Reduction for Unreduced {
-    const REDUCED: bool = false;
+    const FORM: Form = Form::Unreduced;
 }
 
 impl Reduction for Reduced {
-    const REDUCED: bool = true;
+    const FORM: Form = Form::Reduced;
 }
 
 mod sealed {

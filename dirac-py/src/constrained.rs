@@ -12,15 +12,15 @@ use std::sync::Arc;
 
 use dirac_jit::Code;
 use dirac_runtime::{
-    ConstrainedIntegrator, ConstrainedTrajectory, Drive, ReducedConstrainedIntegrator,
-    ReducedState, UnreducedState,
+    ConstrainedIntegrator, ConstrainedTrajectory, Drive, Form, ReducedConstrainedIntegrator,
+    ReducedState, UnreducedState, Variant,
 };
 
 use crate::calls::until;
 use crate::inputs::{reduced_start, unreduced_start};
 use crate::parquet::{to_parquet, Written};
 use crate::results::{finish, parts, reduced_flat, unreduced_flat, Failed, Flat};
-use crate::{Method, Request};
+use crate::Request;
 
 pub(crate) use dirac_jit::with_constrained_dimensions as with_constrained;
 
@@ -60,17 +60,17 @@ pub(crate) fn run_constrained<
         .instantiate_constrained::<S, K, N, M, Z>(params)
         .map_err(|e| e.to_string())?;
     let (n, o) = (r.steps, r.options);
-    Ok(match r.method {
-        Method::Unreduced => {
+    Ok(match (r.method.form, r.method.side) {
+        (Form::Unreduced, _) => {
             let s0: UnreducedState<N> = unreduced_start(start);
             let integ = ConstrainedIntegrator::new(sys, o);
             finish(integ.run(s0).steps(n).stop(until(cancel)).collect(), |t| {
                 with_multipliers(t, |t| unreduced_flat(parts!(t)))
             })
         }
-        side => {
+        (Form::Reduced, side) => {
             let s0: ReducedState<S, K> = reduced_start(start);
-            if side == Method::Plus {
+            if side == Variant::Plus {
                 let integ = ReducedConstrainedIntegrator::plus(sys, o);
                 finish(integ.run(s0).steps(n).stop(until(cancel)).collect(), |t| {
                     with_multipliers(t, |t| reduced_flat(parts!(t)))
@@ -105,12 +105,12 @@ pub(crate) fn write_constrained<
         .instantiate_constrained::<S, K, N, M, Z>(params)
         .map_err(|e| e.to_string())?;
     let (n, o) = (r.steps, r.options);
-    Ok(match r.method {
-        Method::Unreduced => {
+    Ok(match (r.method.form, r.method.side) {
+        (Form::Unreduced, _) => {
             let s0: UnreducedState<N> = unreduced_start(start);
             to_parquet(&ConstrainedIntegrator::new(sys, o), s0, n, path, &o, cancel)?
         }
-        Method::Plus => {
+        (Form::Reduced, Variant::Plus) => {
             let s0: ReducedState<S, K> = reduced_start(start);
             to_parquet(
                 &ReducedConstrainedIntegrator::plus(sys, o),
@@ -121,7 +121,7 @@ pub(crate) fn write_constrained<
                 cancel,
             )?
         }
-        Method::Minus => {
+        (Form::Reduced, Variant::Minus) => {
             let s0: ReducedState<S, K> = reduced_start(start);
             to_parquet(
                 &ReducedConstrainedIntegrator::minus(sys, o),

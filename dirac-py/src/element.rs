@@ -14,7 +14,7 @@ use dirac_runtime::element::{
     ElementLagrangian, ElementState, ElementTrajectory,
 };
 use dirac_runtime::nalgebra::DVector;
-use dirac_runtime::{Composition, Drive, NewtonOptions};
+use dirac_runtime::{Composition, Drive, Equations, Form, NewtonOptions, Variant};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -391,12 +391,15 @@ impl ElementSystem {
         calls::no_other_keywords("ElementSystem.run", other, &[], RUN_KEYWORDS, |_| None)?;
         let params = crate::inputs::values_of(&self.text().parameters, parameters)?;
         let sizes = self.size_values(sizes)?;
-        let plus = match method {
-            "plus" => true,
-            "minus" => false,
-            other => {
+        // The runtime's one vocabulary: an element-wise system's equations are the unreduced
+        // ones, on either side.
+        let plus = match Equations::from_keyword(method, Form::Unreduced)
+            .filter(|_| ["plus", "minus"].contains(&method))
+        {
+            Some(e) => e.side == Variant::Plus,
+            None => {
                 return Err(PyValueError::new_err(format!(
-                    "unknown method `{other}`; accepted: \"plus\", \"minus\""
+                    "unknown method `{method}`; accepted: \"plus\", \"minus\""
                 )))
             }
         };

@@ -4,13 +4,13 @@
 
 use dirac_jit::Code;
 use dirac_runtime::nalgebra::SVector;
-use dirac_runtime::{NewtonOptions, ReducedState, UnreducedState};
+use dirac_runtime::{Equations, Form, NewtonOptions, ReducedState, UnreducedState};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::calls;
-use crate::{Method, Request, System};
+use crate::{Request, System};
 
 /// The parameter values in declaration order, from a mapping (by name) or a sequence.
 pub(crate) fn parameter_values(code: &Code, params: &Bound<'_, PyAny>) -> PyResult<Vec<f64>> {
@@ -51,15 +51,18 @@ pub(crate) fn values_of(names: &[String], params: &Bound<'_, PyAny>) -> PyResult
     }
 }
 
-fn method_of(method: &str) -> PyResult<Method> {
-    match method {
-        "plus" => Ok(Method::Plus),
-        "minus" => Ok(Method::Minus),
-        "unreduced" => Ok(Method::Unreduced),
-        other => Err(PyValueError::new_err(format!(
-            "unknown method `{other}`; accepted: \"plus\", \"minus\", \"unreduced\""
-        ))),
-    }
+/// The equations `method` names (the runtime's one vocabulary, [`Equations::from_keyword`]) for a
+/// system on vector spaces, whose own equations are the reduced ones: of the keywords, those
+/// this class takes.
+fn method_of(method: &str) -> PyResult<Equations> {
+    const ACCEPTED: [&str; 3] = ["plus", "minus", "unreduced"];
+    Equations::from_keyword(method, Form::Reduced)
+        .filter(|_| ACCEPTED.contains(&method))
+        .ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "unknown method `{method}`; accepted: \"plus\", \"minus\", \"unreduced\""
+            ))
+        })
 }
 
 /// One start's vectors, each of its length, from keyword arrays.
@@ -152,21 +155,21 @@ impl System {
         &self,
         function: &str,
         fixed: &[&str],
-        method: Method,
+        method: Equations,
         given: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<()> {
         let parts = self.start_parts(method);
         let names: Vec<&str> = parts.iter().map(|&(name, _)| name).collect();
         let accepted: Vec<&str> = fixed.iter().copied().chain(names.iter().copied()).collect();
-        let (this, other, other_names) = match method {
-            Method::Unreduced => ("\"unreduced\"", "\"plus\" or \"minus\"", "x, w, mu, g"),
-            Method::Plus => ("\"plus\"", "\"unreduced\"", "q, p"),
-            Method::Minus => ("\"minus\"", "\"unreduced\"", "q, p"),
+        let this = format!("\"{}\"", method.keyword(Form::Reduced));
+        let (other, other_names) = match method.form {
+            Form::Unreduced => ("\"plus\" or \"minus\"", "x, w, mu, g"),
+            Form::Reduced => ("\"unreduced\"", "q, p"),
         };
         calls::no_other_keywords(function, given, &names, &accepted, |key| {
-            let elsewhere = match method {
-                Method::Unreduced => ["x", "w", "mu", "g"].contains(&key),
-                _ => ["q", "p"].contains(&key),
+            let elsewhere = match method.form {
+                Form::Unreduced => ["x", "w", "mu", "g"].contains(&key),
+                Form::Reduced => ["q", "p"].contains(&key),
             };
             elsewhere.then(|| {
                 format!(

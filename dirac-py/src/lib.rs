@@ -32,7 +32,7 @@ use results::{finish_run, step_error, to_dict, Failed, Flat};
 use runs::{run_many, run_one, time_one, write_one};
 
 use dirac_jit::Code;
-use dirac_runtime::{CompositionMethod, NewtonOptions, StepStats};
+use dirac_runtime::{CompositionMethod, Equations, Form, NewtonOptions, StepStats};
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyException, PyMemoryError, PyValueError};
 use pyo3::prelude::*;
@@ -60,18 +60,11 @@ pyo3::create_exception!(
     "A run needs more memory than can be allocated, refused before it is allocated: `what` needs `bytes` bytes."
 );
 
-/// Which equations a run solves.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Method {
-    Plus,
-    Minus,
-    Unreduced,
-}
-
 /// What a run is asked for, apart from the system and the start.
 #[derive(Clone, Copy)]
 struct Request {
-    method: Method,
+    /// Which equations (`method=`: "plus", "minus" or "unreduced").
+    method: Equations,
     order: u32,
     steps: usize,
     options: NewtonOptions,
@@ -134,11 +127,11 @@ impl System {
     }
 
     /// The names and lengths of a start's vectors for `method`.
-    fn start_parts(&self, method: Method) -> Vec<(&'static str, usize)> {
+    fn start_parts(&self, method: Equations) -> Vec<(&'static str, usize)> {
         let (s, k) = self.dims();
-        match method {
-            Method::Unreduced => vec![("q", s + k), ("p", s + k)],
-            _ => vec![("x", s), ("w", s), ("mu", k), ("g", k)],
+        match method.form {
+            Form::Unreduced => vec![("q", s + k), ("p", s + k)],
+            Form::Reduced => vec![("x", s), ("w", s), ("mu", k), ("g", k)],
         }
     }
 

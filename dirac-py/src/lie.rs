@@ -13,7 +13,10 @@ use std::sync::Arc;
 use dirac_compiler::text::LieSymmetryKind;
 use dirac_jit::{JitLie, LieCode};
 use dirac_runtime::lie::Group;
-use dirac_runtime::{Composition, Drive, LieIntegrator, LieState, ReducedLieIntegrator, StepStats};
+use dirac_runtime::{
+    Composition, Drive, Equations, Form, LieIntegrator, LieState, ReducedLieIntegrator, StepStats,
+    Variant,
+};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -38,17 +41,10 @@ struct Flat {
     residuals: Vec<f64>,
 }
 
-/// Which equations a run solves.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Method {
-    Plus,
-    Minus,
-    Reduced,
-}
-
 #[derive(Clone, Copy)]
 struct Request {
-    method: Method,
+    /// Which equations (`method=`: "plus", "minus" or "reduced").
+    method: Equations,
     order: u32,
     steps: usize,
     options: dirac_runtime::NewtonOptions,
@@ -145,8 +141,8 @@ fn run_one<const P: usize, const N: usize>(
             &t.stats,
         )
     };
-    Ok(match r.method {
-        Method::Reduced => {
+    Ok(match (r.method.form, r.method.side) {
+        (Form::Reduced, _) => {
             let reduced = code
                 .instantiate_reduced::<P, N>(params)
                 .map_err(|e| e.to_string())?;
@@ -177,8 +173,8 @@ fn run_one<const P: usize, const N: usize>(
                 })
             }
         }
-        side => {
-            let integ = if side == Method::Plus {
+        (Form::Unreduced, side) => {
+            let integ = if side == Variant::Plus {
                 LieIntegrator::new(sys.clone(), o)
             } else {
                 LieIntegrator::minus(sys.clone(), o)
@@ -220,8 +216,8 @@ fn write_one<const P: usize, const N: usize>(
         .map_err(|e| e.to_string())?;
     let s0 = start_state(&sys, start)?;
     let (n, o) = (r.steps, r.options);
-    Ok(match r.method {
-        Method::Reduced => {
+    Ok(match (r.method.form, r.method.side) {
+        (Form::Reduced, _) => {
             let reduced = code
                 .instantiate_reduced::<P, N>(params)
                 .map_err(|e| e.to_string())?;
@@ -229,8 +225,12 @@ fn write_one<const P: usize, const N: usize>(
             let s0 = integ.reduce(&s0);
             to_parquet(&integ, s0, n, path, &o, cancel)?
         }
-        Method::Plus => to_parquet(&LieIntegrator::new(sys, o), s0, n, path, &o, cancel)?,
-        Method::Minus => to_parquet(&LieIntegrator::minus(sys, o), s0, n, path, &o, cancel)?,
+        (Form::Unreduced, Variant::Plus) => {
+            to_parquet(&LieIntegrator::new(sys, o), s0, n, path, &o, cancel)?
+        }
+        (Form::Unreduced, Variant::Minus) => {
+            to_parquet(&LieIntegrator::minus(sys, o), s0, n, path, &o, cancel)?
+        }
     })
 }
 
@@ -271,18 +271,21 @@ impl LieSystem {
         steps: usize,
         tol: Option<f64>,
     ) -> PyResult<Request> {
-        let method = match method {
-            "plus" => Method::Plus,
-            "minus" => Method::Minus,
-            "reduced" if self.code.system().symmetry.is_some() => Method::Reduced,
-            "reduced" => {
+        // The runtime's one vocabulary (a rotation system's own equations are the unreduced
+        // ones), of which this class takes three words.
+        const ACCEPTED: [&str; 3] = ["plus", "minus", "reduced"];
+        let method = match Equations::from_keyword(method, Form::Unreduced)
+            .filter(|_| ACCEPTED.contains(&method))
+        {
+            Some(e) if e.form == Form::Reduced && self.code.system().symmetry.is_none() => {
                 return Err(PyValueError::new_err(
                     "method \"reduced\": the system declares no symmetry (`symmetry(..)`)",
                 ))
             }
-            other => {
+            Some(e) => e,
+            None => {
                 return Err(PyValueError::new_err(format!(
-                    "unknown method `{other}`; accepted: \"plus\", \"minus\", \"reduced\""
+                    "unknown method `{method}`; accepted: \"plus\", \"minus\", \"reduced\""
                 )))
             }
         };

@@ -8,15 +8,16 @@ use std::sync::Arc;
 use dirac_jit::{Code, JitSystem};
 use dirac_runtime::nalgebra::SVector;
 use dirac_runtime::{
-    continuous_energies, Composition, DiscreteLagrangian, Drive, ReducedIntegrator, ReducedState,
-    System, UnreducedIntegrator, UnreducedState, UnreducedTrajectory,
+    continuous_energies, Composition, DiscreteLagrangian, Drive, Equations, Form,
+    ReducedIntegrator, ReducedState, System, UnreducedIntegrator, UnreducedState,
+    UnreducedTrajectory, Variant,
 };
 
 use crate::calls::until;
 use crate::inputs::{reduced_start, unreduced_start};
 use crate::parquet::{to_parquet, Written};
 use crate::results::{finish, parts, reduced_flat, unreduced_flat, Failed, Flat};
-use crate::{composition, Method, Request};
+use crate::{composition, Request};
 
 /// One run of a system of `S` shape and `K` group coordinates from `start` (`x, w, mu, g` or
 /// `q, p`, by the method).
@@ -32,8 +33,8 @@ pub(crate) fn run_one<const S: usize, const K: usize, const N: usize>(
         .map_err(|e| e.to_string())?;
     let (n, o) = (r.steps, r.options);
     let energies = r.energies.then(|| sys.clone());
-    let result = match r.method {
-        Method::Unreduced => {
+    let result = match (r.method.form, r.method.side) {
+        (Form::Unreduced, _) => {
             let s0 = unreduced_start(start);
             let integ = UnreducedIntegrator::new(sys, o);
             if r.order == 2 {
@@ -47,7 +48,7 @@ pub(crate) fn run_one<const S: usize, const K: usize, const N: usize>(
                 })
             }
         }
-        side => {
+        (Form::Reduced, side) => {
             let s0 = reduced_start(start);
             macro_rules! go {
                 ($integ:expr) => {{
@@ -64,7 +65,7 @@ pub(crate) fn run_one<const S: usize, const K: usize, const N: usize>(
                     }
                 }};
             }
-            if side == Method::Plus {
+            if side == Variant::Plus {
                 go!(ReducedIntegrator::plus(sys, o))
             } else {
                 go!(ReducedIntegrator::minus(sys, o))
@@ -83,7 +84,7 @@ pub(crate) fn run_one<const S: usize, const K: usize, const N: usize>(
 fn with_energies<const S: usize, const K: usize, const N: usize>(
     sys: &JitSystem<S, K, N>,
     mut flat: Flat,
-    method: Method,
+    method: Equations,
 ) -> Flat {
     let column = |name: &str| {
         flat.parts
@@ -93,12 +94,12 @@ fn with_energies<const S: usize, const K: usize, const N: usize>(
     };
     let rows = flat.t.len();
     let states: Vec<UnreducedState<N>> = (0..rows)
-        .map(|k| match method {
-            Method::Unreduced => UnreducedState {
+        .map(|k| match method.form {
+            Form::Unreduced => UnreducedState {
                 q: SVector::from_column_slice(&column("q")[k * N..(k + 1) * N]),
                 p: SVector::from_column_slice(&column("p")[k * N..(k + 1) * N]),
             },
-            _ => sys.untrivialize(&ReducedState {
+            Form::Reduced => sys.untrivialize(&ReducedState {
                 x: SVector::from_column_slice(&column("x")[k * S..(k + 1) * S]),
                 w: SVector::from_column_slice(&column("w")[k * S..(k + 1) * S]),
                 mu: SVector::from_column_slice(&column("mu")[k * K..(k + 1) * K]),
@@ -135,14 +136,14 @@ pub(crate) fn write_one<const S: usize, const K: usize, const N: usize>(
         .instantiate::<S, K, N>(params)
         .map_err(|e| e.to_string())?;
     let (n, o) = (r.steps, r.options);
-    Ok(match r.method {
-        Method::Unreduced => {
+    Ok(match (r.method.form, r.method.side) {
+        (Form::Unreduced, _) => {
             let s0 = unreduced_start(start);
             to_parquet(&UnreducedIntegrator::new(sys, o), s0, n, path, &o, cancel)?
         }
-        side => {
+        (Form::Reduced, side) => {
             let s0 = reduced_start(start);
-            if side == Method::Plus {
+            if side == Variant::Plus {
                 to_parquet(&ReducedIntegrator::plus(sys, o), s0, n, path, &o, cancel)?
             } else {
                 to_parquet(&ReducedIntegrator::minus(sys, o), s0, n, path, &o, cancel)?
@@ -186,8 +187,8 @@ pub(crate) fn run_many<const S: usize, const K: usize, const N: usize>(
         .instantiate::<S, K, N>(params)
         .map_err(|e| e.to_string())?;
     let (n, o) = (r.steps, r.options);
-    Ok(match r.method {
-        Method::Unreduced => {
+    Ok(match (r.method.form, r.method.side) {
+        (Form::Unreduced, _) => {
             let s0: Vec<_> = starts.iter().map(|s| unreduced_start(s)).collect();
             let integ = UnreducedIntegrator::new(sys, o);
             integ
@@ -199,9 +200,9 @@ pub(crate) fn run_many<const S: usize, const K: usize, const N: usize>(
                 .map(|m| finish(m, |t| unreduced_flat(parts!(t))))
                 .collect()
         }
-        side => {
+        (Form::Reduced, side) => {
             let s0: Vec<_> = starts.iter().map(|s| reduced_start(s)).collect();
-            let members = if side == Method::Plus {
+            let members = if side == Variant::Plus {
                 ReducedIntegrator::plus(sys, o)
                     .ensemble(&s0)
                     .steps(n)

@@ -95,7 +95,8 @@ pub mod prelude {
     pub use crate::state::{IntoVector, ReducedState, UnreducedState};
     pub use crate::stepper::{StepStats, StepStatsExt, Stepper};
     pub use crate::system::{
-        DiscreteLagrangian, LagrangianHessian, Minus, Plus, Reduced, Side, Unreduced, Variant,
+        DiscreteLagrangian, Equations, Form, LagrangianHessian, Minus, Plus, Reduced, Side,
+        Unreduced, Variant,
     };
     pub use crate::unreduced::{UnreducedIntegrator, UnreducedTrajectory};
 }

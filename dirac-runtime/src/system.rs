@@ -157,7 +157,7 @@ mod sealed {
 }
 
 /// Which reduced equations a trajectory was computed with: the value-level name of a [`Side`].
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Variant {
     /// Eq. (4.6): unknowns `(x_{k+1}, g_k^+)` (see [`Plus`]).
     #[default]
@@ -165,6 +165,77 @@ pub enum Variant {
     /// Eq. (4.8) with the signs of Definition 2.8: unknowns `(x_{k+1}, g_{k+1}^−)` (see
     /// [`Minus`]).
     Minus,
+}
+
+/// The form of the equations a run solves, in the paper's words: the unreduced discrete
+/// Lagrange–Dirac equations on `T*Q` (Definitions 2.7 and 2.8: [`Unreduced`],
+/// [`crate::LieIntegrator`], [`crate::ElementIntegrator`]) or the reduced discrete
+/// Lagrange–Poincaré–Dirac equations (eqs. (4.6) and (4.8): [`Reduced`],
+/// [`crate::ReducedLieIntegrator`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Form {
+    /// On `T*Q`, the group coordinates carried along.
+    Unreduced,
+    /// On the reduced space, the symmetry's momentum `μ` kept apart.
+    Reduced,
+}
+
+/// Which equations a run solves: their [`Form`] and their side ([`Variant`]). The one vocabulary
+/// of the programs that choose equations by name — the Python module's `method=` and the command
+/// line's `method =` — read through [`Self::from_keyword`], so a keyword means the same
+/// equations everywhere.
+///
+/// ```
+/// use dirac_runtime::{Equations, Form, Variant};
+///
+/// // A flat system's own equations are the reduced ones, a rotation system's the unreduced.
+/// let minus = Equations::from_keyword("minus", Form::Reduced).unwrap();
+/// assert_eq!((minus.form, minus.side), (Form::Reduced, Variant::Minus));
+/// let reduced = Equations::from_keyword("reduced", Form::Unreduced).unwrap();
+/// assert_eq!((reduced.form, reduced.side), (Form::Reduced, Variant::Plus));
+/// assert_eq!(reduced.keyword(Form::Unreduced), "reduced");
+/// assert_eq!(Equations::from_keyword("midpoint", Form::Reduced), None);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Equations {
+    /// Unreduced or reduced.
+    pub form: Form,
+    /// (+) or (−).
+    pub side: Variant,
+}
+
+impl Equations {
+    /// The words equations are named by: `"plus"` and `"minus"` (a side, in the family's own
+    /// form), `"unreduced"` and `"reduced"` (a form, on the (+) side).
+    pub const KEYWORDS: [&'static str; 4] = ["plus", "minus", "unreduced", "reduced"];
+
+    /// The equations `word` names for a family whose own form is `own` (a flat system's are the
+    /// reduced equations; the unreduced ones of a system on rotation groups or of an element-wise
+    /// one): `"plus"` and `"minus"` the side in that form, `"unreduced"` and `"reduced"` the
+    /// form on the (+) side (unconstrained, the unreduced (+) and (−) equations are one set,
+    /// Definition 2.8). `None` for a word not in [`Self::KEYWORDS`]; whether the family has the
+    /// equations named (a reduction needs a symmetry) is the caller's to check.
+    pub fn from_keyword(word: &str, own: Form) -> Option<Self> {
+        let (form, side) = match word {
+            "plus" => (own, Variant::Plus),
+            "minus" => (own, Variant::Minus),
+            "unreduced" => (Form::Unreduced, Variant::Plus),
+            "reduced" => (Form::Reduced, Variant::Plus),
+            _ => return None,
+        };
+        Some(Self { form, side })
+    }
+
+    /// The keyword of these equations for a family whose own form is `own`: the inverse of
+    /// [`Self::from_keyword`] (the side's name in the family's own form, the form's otherwise).
+    pub fn keyword(self, own: Form) -> &'static str {
+        match (self.form == own, self.side, self.form) {
+            (true, Variant::Plus, _) => "plus",
+            (true, Variant::Minus, _) => "minus",
+            (false, _, Form::Unreduced) => "unreduced",
+            (false, _, Form::Reduced) => "reduced",
+        }
+    }
 }
 
 /// The reduced (+) discrete Lagrange–Poincaré–Dirac equations, eq. (4.6), for the reduced

@@ -62,25 +62,31 @@ use dirac::prelude::*;
 use dirac_io::{Describe, Options, ParquetObserver, StateColumns};
 use dirac_jit::{Code, Compiled, LieCode};
 
-/// Which equations a run solves.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Method {
-    Plus,
-    Minus,
-    Unreduced,
-    Reduced,
-}
-
 /// A parsed system file.
 struct Config {
     text: String,
     steps: usize,
-    method: Method,
+    /// Which equations: one of the runtime's keywords (`Equations::KEYWORDS`), read as the
+    /// system's family reads it ([`Config::equations`]).
+    method: &'static str,
     out: PathBuf,
     parameters: Vec<(String, f64)>,
     start: toml::Table,
     /// The file read, named in the messages of its mistakes.
     file: PathBuf,
+}
+
+impl Config {
+    /// The equations `method` names for a system whose own equations are of form `own` (a
+    /// system on vector spaces: reduced; on rotation groups: unreduced), in the runtime's one
+    /// vocabulary ([`Equations::from_keyword`]); `method` is one of its keywords, checked when
+    /// the file was read.
+    fn equations(&self, own: Form) -> Equations {
+        Equations::from_keyword(self.method, own).unwrap_or(Equations {
+            form: own,
+            side: Variant::Plus,
+        })
+    }
 }
 
 /// A mistake in the command line or the file (exit status 2), or a failed system or run (1).
@@ -138,9 +144,9 @@ fn cli(args: Vec<String>) -> Result<(), Failure> {
         Err(e) => return Err(Failure::Run(e.to_string())),
     };
     let sys = code.system();
-    match config.method {
-        Method::Unreduced => check_start(&config, &["q", "p"], "the state of an unreduced run")?,
-        _ => check_start(
+    match config.equations(Form::Reduced).form {
+        Form::Unreduced => check_start(&config, &["q", "p"], "the state of an unreduced run")?,
+        Form::Reduced => check_start(
             &config,
             &["x", "w", "mu", "g"],
             "the state of a reduced run",
@@ -159,7 +165,7 @@ fn cli(args: Vec<String>) -> Result<(), Failure> {
             Ok(())
         }
         "run" => {
-            if config.method == Method::Reduced {
+            if config.method == "reduced" {
                 return Err(Failure::Run(format!(
                     "{}: method \"reduced\" runs a system on rotation groups by its symmetry; \
                      a system on vector spaces runs \"plus\" or \"minus\" (both reduced) or \"unreduced\"",
@@ -223,15 +229,16 @@ fn parse(path: &Path) -> Result<Config, Failure> {
         Some(toml::Value::Integer(n)) if *n > 0 => *n as usize,
         _ => return Err(usage("`steps` must be a positive integer".into())),
     };
+    // One of the runtime's keywords; which equations it names depends on the system's family.
     let method = match table.get("method").map(toml::Value::as_str) {
-        None | Some(Some("plus")) => Method::Plus,
-        Some(Some("minus")) => Method::Minus,
-        Some(Some("unreduced")) => Method::Unreduced,
-        Some(Some("reduced")) => Method::Reduced,
-        _ => return Err(usage(
+        None => Some("plus"),
+        Some(word) => word.and_then(|w| Equations::KEYWORDS.into_iter().find(|&k| k == w)),
+    };
+    let Some(method) = method else {
+        return Err(usage(
             "`method` is \"plus\", \"minus\", \"unreduced\" or (on rotation groups) \"reduced\""
                 .into(),
-        )),
+        ));
     };
     let out = match table.get("out") {
         Some(toml::Value::String(o)) => dir.join(o),
@@ -355,14 +362,17 @@ fn run<const S: usize, const K: usize, const N: usize>(
         .instantiate_named::<S, K, N>(&named)
         .map_err(|e| e.to_string())?;
     let options = NewtonOptions::default();
-    match config.method {
-        Method::Unreduced => {
+    match config.equations(Form::Reduced) {
+        Equations {
+            form: Form::Unreduced,
+            ..
+        } => {
             let start = unreduced_start::<N>(config)?;
             write(UnreducedIntegrator::new(sys, options), start, config)
         }
-        side => {
+        Equations { side, .. } => {
             let start = reduced_start::<S, K>(config)?;
-            if side == Method::Plus {
+            if side == Variant::Plus {
                 write(ReducedIntegrator::plus(sys, options), start, config)
             } else {
                 write(ReducedIntegrator::minus(sys, options), start, config)
@@ -397,7 +407,7 @@ fn cli_lie(command: &str, code: &Arc<LieCode>, config: &Config) -> Result<(), Fa
             Ok(())
         }
         "run" => {
-            if config.method == Method::Unreduced {
+            if config.method == "unreduced" {
                 return Err(Failure::Run(format!(
                     "{}: a system on rotation groups runs \"plus\", \"minus\" or \"reduced\" (by its symmetry)",
                     sys.name
@@ -486,8 +496,11 @@ fn run_lie<const P: usize, const N: usize>(
         }
     };
     let options = NewtonOptions::default();
-    match config.method {
-        Method::Reduced => {
+    match config.equations(Form::Unreduced) {
+        Equations {
+            form: Form::Reduced,
+            ..
+        } => {
             let reduced = code
                 .instantiate_reduced::<P, N>(&sys.parameter_values())
                 .map_err(|e| e.to_string())?;
@@ -495,8 +508,11 @@ fn run_lie<const P: usize, const N: usize>(
             let start = integ.reduce(&start);
             write(integ, start, config)
         }
-        Method::Minus => write(LieIntegrator::minus(sys, options), start, config),
-        _ => write(LieIntegrator::new(sys, options), start, config),
+        Equations {
+            side: Variant::Minus,
+            ..
+        } => write(LieIntegrator::minus(sys, options), start, config),
+        Equations { .. } => write(LieIntegrator::new(sys, options), start, config),
     }
 }
 
@@ -525,14 +541,17 @@ fn run_constrained<
         .instantiate_constrained::<S, K, N, M, Z>(&values)
         .map_err(|e| e.to_string())?;
     let options = NewtonOptions::default();
-    match config.method {
-        Method::Unreduced => {
+    match config.equations(Form::Reduced) {
+        Equations {
+            form: Form::Unreduced,
+            ..
+        } => {
             let start = unreduced_start::<N>(config)?;
             write(ConstrainedIntegrator::new(sys, options), start, config)
         }
-        side => {
+        Equations { side, .. } => {
             let start = reduced_start::<S, K>(config)?;
-            if side == Method::Plus {
+            if side == Variant::Plus {
                 write(
                     ReducedConstrainedIntegrator::plus(sys, options),
                     start,
