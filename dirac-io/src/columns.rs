@@ -473,9 +473,10 @@ where
         let (point, chart) = lie_names(&coordinates);
         let point: Vec<&str> = point.iter().map(String::as_str).collect();
         let chart: Vec<&str> = chart.iter().map(String::as_str).collect();
+        // Each coordinate with the attribute keyword of its kind (`r:rotation`, `x:pose`).
         let kinds: Vec<String> = coordinates
             .iter()
-            .map(|(name, kind)| format!("{name}:{kind:?}"))
+            .map(|(name, kind)| format!("{name}:{}", kind.name()))
             .collect();
         let columns = LieState::<P, N>::column_names(&point, &chart);
         let mut metadata = vec![("dirac.coordinates".into(), kinds.join(","))];

@@ -43,6 +43,8 @@
 //! | `t` | f64 | the time `t_k` of the state (`k · h` for a fixed step; a step-size schedule gives its own times) |
 //! | `x_<name>`, `w_<name>`, `mu_<name>`, `g_<name>` | f64 | a [`ReducedState`](dirac::ReducedState): shape `x`, momenta `w`, `μ`, group `g`, one column per coordinate named in the annotation |
 //! | `q_<name>`, `p_<name>` | f64 | a [`UnreducedState`](dirac::UnreducedState) instead |
+//! | `q_<entry>`, `p_<component>` (then `mu_x`, `mu_y`, `mu_z` reduced) | f64 | a state on rotation groups ([`lie_names`]) instead |
+//! | `q_<i>`, `p_<i>` | f64 | an element-wise state sized at run time, `i` the coordinate index, instead |
 //! | `iterations` | u32, null at step 0 | Newton corrections of the step that produced the state |
 //! | `residual` | f64, null at step 0 | its accepted `‖R‖∞` |
 //! | `rcond` | f64, nullable | its reciprocal condition estimate (null when no Jacobian was factored) |
@@ -57,9 +59,9 @@
 //! message}`, and the checksums `dirac.checksum*` ([`integrity`]). A system with adaptive steps
 //! (`time(t), adapt = ..`) adds `dirac.physical_time`, the name of the coordinate column that holds
 //! the physical time `t_k` (`g_t` or `q_t`); the run's clock, the `t` column, is that time too.
-//! Floats are
-//! written in Rust's
-//! shortest round-trip form. Values are written with plain encoding and no compression by
+//! A run on rotation groups records `dirac.coordinates` (`r:rotation`, each coordinate and its
+//! kind), an element-wise one `dirac.coordinates` (its coordinate arrays) and `dirac.sizes`
+//! (`n=200`). Floats are written in Rust's shortest round-trip form. Values are written with plain encoding and no compression by
 //! default ([`Options::snappy`]), so a reader gets the run's bits exactly.
 //!
 //! ```

@@ -507,7 +507,7 @@ fn rotation_states_are_written_bit_for_bit_under_their_entry_names() {
         );
     }
     let kv = key_values(&path).unwrap();
-    assert_eq!(kv["dirac.coordinates"], "r:Rotation");
+    assert_eq!(kv["dirac.coordinates"], "r:rotation");
 }
 
 /// A heavy top reduced about the vertical: the reduced states, with the momentum of the
