@@ -531,7 +531,12 @@ fn a_free_pose_keeps_its_linear_and_angular_momentum() {
     let (l0, pi0) = start().momentum_map();
     assert_eq!(integ.linear_momentum(&s0), l0);
     assert!((integ.spatial_momentum(&s0) - pi0).amax() < 1e-15);
-    let traj = integ.run(s0).steps(1000).collect().unwrap();
+    let traj = integ
+        .run(s0)
+        .steps(1000)
+        .collect()
+        .map_err(|e| e.source)
+        .unwrap();
     let linear = traj
         .states
         .iter()
@@ -540,7 +545,7 @@ fn a_free_pose_keeps_its_linear_and_angular_momentum() {
     let (angular, _) = angular_drift(traj.states.iter().map(|s| integ.spatial_momentum(s)));
     println!("free: ℓ drifts by {linear:e}, π by {angular:e} (relative, 1000 steps)");
     assert!(linear < 1e-14, "ℓ drifts by {linear:e}");
-    assert!(angular < 2e-13, "π drifts by {angular:e}");
+    assert!(angular < 2e-14, "π drifts by {angular:e}");
 }
 
 /// Gravity keeps the horizontal translations and the rotations about the vertical.
@@ -548,7 +553,12 @@ fn a_free_pose_keeps_its_linear_and_angular_momentum() {
 fn a_pose_in_gravity_keeps_its_horizontal_linear_and_vertical_angular_momentum() {
     let b = body(0.01, 9.81, 0.0);
     let integ = LieIntegrator::new(compiled(&b), NewtonOptions::default());
-    let traj = integ.run(stored(&start())).steps(1000).collect().unwrap();
+    let traj = integ
+        .run(stored(&start()))
+        .steps(1000)
+        .collect()
+        .map_err(|e| e.source)
+        .unwrap();
     let l0 = integ.linear_momentum(&traj.states[0]);
     let horizontal = traj
         .states
@@ -561,7 +571,7 @@ fn a_pose_in_gravity_keeps_its_horizontal_linear_and_vertical_angular_momentum()
     let (_, vertical) = angular_drift(traj.states.iter().map(|s| integ.spatial_momentum(s)));
     println!("gravity: horizontal ℓ drifts by {horizontal:e}, vertical π by {vertical:e}");
     assert!(horizontal < 1e-14, "horizontal ℓ drifts by {horizontal:e}");
-    assert!(vertical < 2e-13, "vertical π drifts by {vertical:e}");
+    assert!(vertical < 2e-14, "vertical π drifts by {vertical:e}");
     // The vertical momentum falls by m g h per step: not kept.
     let fall = integ.linear_momentum(traj.last()).z - l0.z;
     assert!((fall + b.m * b.g * 10.0).abs() < 1e-10, "{fall}");
@@ -613,11 +623,13 @@ fn the_minus_integrator_takes_the_same_steps_bit_for_bit() {
         .run(stored(&start()))
         .steps(1000)
         .collect()
+        .map_err(|e| e.source)
         .unwrap();
     let minus = LieIntegrator::minus(compiled(&b), NewtonOptions::default())
         .run(stored(&start()))
         .steps(1000)
         .collect()
+        .map_err(|e| e.source)
         .unwrap();
     assert_eq!(plus.states, minus.states);
 }
@@ -630,6 +642,7 @@ fn error_at_one(n: usize, rule: bool) -> f64 {
             .run(stored(&start()))
             .steps(n)
             .collect()
+            .map_err(|e| e.source)
             .unwrap()
             .last()
     } else {
@@ -637,6 +650,7 @@ fn error_at_one(n: usize, rule: bool) -> f64 {
             .run(stored(&start()))
             .steps(n)
             .collect()
+            .map_err(|e| e.source)
             .unwrap()
             .last()
     };
@@ -691,6 +705,7 @@ fn the_continuous_form_agrees_with_the_discrete_one() {
                 .run(s0)
                 .steps(1000)
                 .collect()
+                .map_err(|e| e.source)
                 .unwrap()
                 .states
         } else {
@@ -698,6 +713,7 @@ fn the_continuous_form_agrees_with_the_discrete_one() {
                 .run(s0)
                 .steps(1000)
                 .collect()
+                .map_err(|e| e.source)
                 .unwrap()
                 .states
         };
@@ -723,6 +739,7 @@ fn the_continuous_form_agrees_with_the_discrete_one() {
                         .run(s0)
                         .steps(n)
                         .collect()
+                        .map_err(|e| e.source)
                         .unwrap()
                         .last()
                 } else {
@@ -730,6 +747,7 @@ fn the_continuous_form_agrees_with_the_discrete_one() {
                         .run(s0)
                         .steps(n)
                         .collect()
+                        .map_err(|e| e.source)
                         .unwrap()
                         .last()
                 };
