@@ -185,9 +185,13 @@ impl KindSpec {
 /// velocity reads it: `rel` the relative rotation's 9 symbols where [`Group::rotation`] is some
 /// (else empty), `inv_h = 1/h`.
 pub struct Step<'a> {
+    /// The point at the start of the step.
     pub q0: &'a [NodeId],
+    /// The point at its end.
     pub q1: &'a [NodeId],
+    /// The relative rotation `R0ᵀ R1`'s 9 symbols, row by row (empty without a rotation).
     pub rel: &'a [NodeId],
+    /// `1/h`.
     pub inv_h: NodeId,
 }
 
