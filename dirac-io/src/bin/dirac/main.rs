@@ -77,6 +77,14 @@ struct Config {
 }
 
 impl Config {
+    /// The parameters by name, as the JIT's `instantiate_named` takes them.
+    fn named(&self) -> Vec<(&str, f64)> {
+        self.parameters
+            .iter()
+            .map(|(k, v)| (k.as_str(), *v))
+            .collect()
+    }
+
     /// The equations `method` names for a system whose own equations are of form `own` (a
     /// system on vector spaces: reduced; on rotation groups: unreduced), in the runtime's one
     /// vocabulary ([`Equations::from_keyword`]); `method` is one of its keywords, checked when
@@ -353,32 +361,17 @@ fn run<const S: usize, const K: usize, const N: usize>(
     code: &Arc<Code>,
     config: &Config,
 ) -> Result<String, String> {
-    let named: Vec<(&str, f64)> = config
-        .parameters
-        .iter()
-        .map(|(k, v)| (k.as_str(), *v))
-        .collect();
+    let named = config.named();
     let sys = code
         .instantiate_named::<S, K, N>(&named)
         .map_err(|e| e.to_string())?;
     let options = NewtonOptions::default();
-    match config.equations(Form::Reduced) {
-        Equations {
-            form: Form::Unreduced,
-            ..
-        } => {
-            let start = unreduced_start::<N>(config)?;
-            write(UnreducedIntegrator::new(sys, options), start, config)
-        }
-        Equations { side, .. } => {
-            let start = reduced_start::<S, K>(config)?;
-            if side == Variant::Plus {
-                write(ReducedIntegrator::plus(sys, options), start, config)
-            } else {
-                write(ReducedIntegrator::minus(sys, options), start, config)
-            }
-        }
-    }
+    write_flat::<S, K, N, _, _, _>(
+        config,
+        || UnreducedIntegrator::new(sys.clone(), options),
+        || ReducedIntegrator::plus(sys.clone(), options),
+        || ReducedIntegrator::minus(sys.clone(), options),
+    )
 }
 
 /// `check` and `run` of a system on rotation groups.
@@ -463,11 +456,7 @@ fn run_lie<const P: usize, const N: usize>(
     code: &Arc<LieCode>,
     config: &Config,
 ) -> Result<String, String> {
-    let named: Vec<(&str, f64)> = config
-        .parameters
-        .iter()
-        .map(|(k, v)| (k.as_str(), *v))
-        .collect();
+    let named = config.named();
     let sys = code
         .instantiate_named::<P, N>(&named)
         .map_err(|e| e.to_string())?;
@@ -528,11 +517,7 @@ fn run_constrained<
     code: &Arc<Code>,
     config: &Config,
 ) -> Result<String, String> {
-    let named: Vec<(&str, f64)> = config
-        .parameters
-        .iter()
-        .map(|(k, v)| (k.as_str(), *v))
-        .collect();
+    let named = config.named();
     let values = code
         .instantiate_named::<S, K, N>(&named)
         .map_err(|e| e.to_string())?
@@ -541,30 +526,41 @@ fn run_constrained<
         .instantiate_constrained::<S, K, N, M, Z>(&values)
         .map_err(|e| e.to_string())?;
     let options = NewtonOptions::default();
+    write_flat::<S, K, N, _, _, _>(
+        config,
+        || ConstrainedIntegrator::new(sys.clone(), options),
+        || ReducedConstrainedIntegrator::plus(sys.clone(), options),
+        || ReducedConstrainedIntegrator::minus(sys.clone(), options),
+    )
+}
+
+/// Writes the run of a system on vector spaces by the equations the file's `method` names: the
+/// unreduced integrator from the start `(q, p)`, or the reduced one of that side from
+/// `(x, w, μ, g)` (the integrators built only for the equations chosen).
+fn write_flat<const S: usize, const K: usize, const N: usize, U, P, M>(
+    config: &Config,
+    unreduced: impl FnOnce() -> U,
+    plus: impl FnOnce() -> P,
+    minus: impl FnOnce() -> M,
+) -> Result<String, String>
+where
+    U: Describe + Drive<State = UnreducedState<N>>,
+    P: Describe + Drive<State = ReducedState<S, K>>,
+    M: Describe + Drive<State = ReducedState<S, K>>,
+    U::Record: AsRef<StepStats>,
+    P::Record: AsRef<StepStats>,
+    M::Record: AsRef<StepStats>,
+{
     match config.equations(Form::Reduced) {
         Equations {
             form: Form::Unreduced,
             ..
-        } => {
-            let start = unreduced_start::<N>(config)?;
-            write(ConstrainedIntegrator::new(sys, options), start, config)
-        }
-        Equations { side, .. } => {
-            let start = reduced_start::<S, K>(config)?;
-            if side == Variant::Plus {
-                write(
-                    ReducedConstrainedIntegrator::plus(sys, options),
-                    start,
-                    config,
-                )
-            } else {
-                write(
-                    ReducedConstrainedIntegrator::minus(sys, options),
-                    start,
-                    config,
-                )
-            }
-        }
+        } => write(unreduced(), unreduced_start::<N>(config)?, config),
+        Equations {
+            side: Variant::Plus,
+            ..
+        } => write(plus(), reduced_start::<S, K>(config)?, config),
+        Equations { .. } => write(minus(), reduced_start::<S, K>(config)?, config),
     }
 }
 
