@@ -2,6 +2,10 @@
 //! shared by construction. The constructors fold constants and apply exact algebraic identities
 //! (`x + 0`, `x · 1`, `x · 0`, `−(−x)`, `x − x`, …); they never reassociate, so the emitted code
 //! rounds exactly as the expression the user wrote (up to these identities).
+//!
+//! One identity changes the rounding, always for the better: a difference of two sums with a
+//! common term drops the term (`(a + b) − a = b`, [`Graph::sub`]). It is what keeps a chart
+//! increment exact where a step's points are `x + z`: see [`Graph::sub`].
 
 use rustc_hash::FxHashMap as HashMap;
 
@@ -268,6 +272,26 @@ impl Graph {
         matches!((scaled(a), scaled(b)), (Some((ca, xa)), Some((cb, xb))) if xa == xb && ca == -cb)
     }
 
+    /// `a − b`, with `x − 0 = x`, `0 − x = −x`, `x − x = 0`, `a − (−b) = a + b`, and a common term
+    /// of two sums cancelled:
+    ///
+    /// ```text
+    /// (a + b) − a = b,     a − (a + b) = −b,     (a + b) − (a + c) = b − c.
+    /// ```
+    ///
+    /// These hold in real arithmetic. In floating point they remove a cancellation: `a + b`
+    /// rounds at `|a|`, so `(a + b) − a` evaluated as written is `b` with an error up to
+    /// `ε |a|`, and `b` is exact. This is where they apply: in a step on charts
+    /// ([`crate::ir::lie`]) the next point of a translation is `φ_x(z) = x + z` (a scalar's, a
+    /// pose's position), so in the chart Lagrangian `L̃(ξ, z) = L_d(φ_x(ξ), φ_x(z))` the body's
+    /// `q1.x − q0.x` is `(x + z) − (x + ξ)`, which is `z − ξ` (and `z` once `ξ = 0`, the centre
+    /// of the chart where the residual, its Jacobian, the momentum update and the
+    /// sensitivities are evaluated). Computed as written, the residual `m (x1 − x0)/h − p_k`
+    /// would have a floor of `ε |x| m/h` — the position's size, not the momentum's — and Newton
+    /// would stop converging once the body is far enough from the origin; with the increment
+    /// itself it is at the round-off of the momenta, wherever the body is. The same holds for
+    /// the velocity `(x1 − x0)/h` of a continuous Lagrangian ([`crate::ir::group::Step::chord`])
+    /// and for a force that reads the difference.
     pub fn sub(&mut self, a: NodeId, b: NodeId) -> NodeId {
         match (self.as_const(a), self.as_const(b)) {
             (Some(x), Some(y)) => return self.constant(x - y),
@@ -281,7 +305,44 @@ impl Graph {
         if let Node::Neg(nb) = self.node(b) {
             return self.add(a, nb);
         }
+        if let Some(d) = self.common_term_cancelled(a, b) {
+            return d;
+        }
         self.intern(Node::Sub(a, b))
+    }
+
+    /// The two terms of a sum node.
+    fn terms(&self, id: NodeId) -> Option<[NodeId; 2]> {
+        match self.node(id) {
+            Node::Add(p, q) => Some([p, q]),
+            _ => None,
+        }
+    }
+
+    /// `a − b` with the common term of `a` and `b` cancelled, if one is a sum containing the
+    /// other or both are sums sharing a term ([`Self::sub`]).
+    fn common_term_cancelled(&mut self, a: NodeId, b: NodeId) -> Option<NodeId> {
+        match (self.terms(a), self.terms(b)) {
+            (Some([p, q]), _) if p == b => Some(q),
+            (Some([p, q]), _) if q == b => Some(p),
+            (_, Some([r, s])) if r == a => Some(self.neg(s)),
+            (_, Some([r, s])) if s == a => Some(self.neg(r)),
+            (Some([p, q]), Some([r, s])) => {
+                let (x, y) = if p == r {
+                    (q, s)
+                } else if p == s {
+                    (q, r)
+                } else if q == r {
+                    (p, s)
+                } else if q == s {
+                    (p, r)
+                } else {
+                    return None;
+                };
+                Some(self.sub(x, y))
+            }
+            _ => None,
+        }
     }
 
     pub fn mul(&mut self, a: NodeId, b: NodeId) -> NodeId {
@@ -442,5 +503,50 @@ impl Graph {
             value.insert(id, x);
         }
         roots.iter().map(|r| value[r]).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `(a + b) − a`, `a − (a + b)` and `(a + b) − (a + c)` drop the common term `a`, whichever
+    /// side of each sum it is on, and then evaluate to `b`, `−b` and `b − c` exactly, where
+    /// the expressions as written round `b` at `|a|`.
+    #[test]
+    fn a_common_term_of_a_difference_of_sums_cancels() {
+        let mut g = Graph::default();
+        let (a, b, c) = (
+            g.var(Sym::Base(0)),
+            g.var(Sym::Chart1(0)),
+            g.var(Sym::Chart0(0)),
+        );
+        let (ab, ba, ac, ca) = (g.add(a, b), g.add(b, a), g.add(a, c), g.add(c, a));
+        assert_eq!(g.sub(ab, a), b);
+        assert_eq!(g.sub(ba, a), b);
+        let minus_b = g.neg(b);
+        assert_eq!(g.sub(a, ab), minus_b);
+        let b_minus_c = g.sub(b, c);
+        for (x, y) in [(ab, ac), (ab, ca), (ba, ac), (ba, ca)] {
+            assert_eq!(g.sub(x, y), b_minus_c);
+        }
+        // Far from the origin: b loses its low bits in a + b, and keeps them here.
+        let value = |s: Sym| match s {
+            Sym::Base(_) => 1.0e8,
+            Sym::Chart1(_) => 0.1 + 1e-9,
+            _ => 0.03,
+        };
+        let roots = [g.sub(ab, a), g.sub(ab, ac)];
+        let got = g.eval(&roots, &value);
+        assert_eq!(got, [0.1 + 1e-9, (0.1 + 1e-9) - 0.03]);
+        let as_written = (1.0e8 + (0.1 + 1e-9)) - 1.0e8;
+        assert_ne!(as_written, 0.1 + 1e-9);
+        // (a + b) − (b + d) = a − d; sums without a common term are left as written.
+        let d = g.var(Sym::Base(1));
+        let (bd, cd) = (g.add(b, d), g.add(c, d));
+        let a_minus_d = g.sub(a, d);
+        assert_eq!(g.sub(ab, bd), a_minus_d);
+        let unrelated = g.sub(ab, cd);
+        assert_eq!(g.node(unrelated), Node::Sub(ab, cd));
     }
 }
