@@ -19,7 +19,7 @@ use dirac_runtime::{
 use crate::calls::until;
 use crate::inputs::{reduced_start, unreduced_start};
 use crate::parquet::{to_parquet, Written};
-use crate::results::{finish, parts, reduced_flat, unreduced_flat, Failed, Flat};
+use crate::results::{finish, parts, reduced_flat, unreduced_flat, with_momenta_of, Failed, Flat};
 use crate::Request;
 
 pub(crate) use dirac_jit::with_constrained_dimensions as with_constrained;
@@ -70,7 +70,8 @@ pub(crate) fn run_constrained<
         }
         (Form::Reduced, side) => {
             let s0: ReducedState<S, K> = reduced_start(start);
-            if side == Variant::Plus {
+            let momenta = sys.clone();
+            let result = if side == Variant::Plus {
                 let integ = ReducedConstrainedIntegrator::plus(sys, o);
                 finish(integ.run(s0).steps(n).stop(until(cancel)).collect(), |t| {
                     with_multipliers(t, |t| reduced_flat(parts!(t)))
@@ -80,7 +81,8 @@ pub(crate) fn run_constrained<
                 finish(integ.run(s0).steps(n).stop(until(cancel)).collect(), |t| {
                     with_multipliers(t, |t| reduced_flat(parts!(t)))
                 })
-            }
+            };
+            with_momenta_of(&momenta, result)
         }
     })
 }

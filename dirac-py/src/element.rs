@@ -16,25 +16,128 @@ use dirac_runtime::element::{
 use dirac_runtime::nalgebra::DVector;
 use dirac_runtime::{Composition, Drive, Equations, Form, NewtonOptions, Variant};
 use numpy::{PyArray1, PyArrayMethods};
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyDeprecationWarning, PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyTuple};
 
 use crate::calls::{self, until};
 use crate::composition;
+use crate::ensemble::{self, Member};
+use crate::parquet::to_parquet;
 use crate::results::{finish, Failed};
 
-/// The keywords of `ElementSystem.run`.
+/// The keywords of `ElementSystem.run` and `ElementSystem.ensemble`, and of
+/// `ElementSystem.write`.
 const RUN_KEYWORDS: &[&str] = &[
     "parameters",
-    "sizes",
     "steps",
+    "sizes",
     "q",
     "p",
     "method",
     "order",
     "tol",
 ];
+const WRITE_KEYWORDS: &[&str] = &[
+    "parameters",
+    "steps",
+    "path",
+    "sizes",
+    "q",
+    "p",
+    "method",
+    "tol",
+];
+
+/// What a run is asked for: the system at its sizes, the side, the order, the steps and the
+/// Newton options.
+struct Request {
+    sys: JitElement,
+    plus: bool,
+    order: u32,
+    steps: usize,
+    options: NewtonOptions,
+}
+
+/// `value`, the keyword argument `name` of a run, which it needs.
+fn required<'a, 'py>(
+    name: &str,
+    value: Option<&'a Bound<'py, PyAny>>,
+) -> PyResult<&'a Bound<'py, PyAny>> {
+    value.ok_or_else(|| PyTypeError::new_err(format!("missing the keyword argument '{name}'")))
+}
+
+/// The bytes one state of a collected run of `sys` costs until its arrays are returned: `q` and
+/// `p` kept by the integrator (two vectors on the heap) and in the flattened copy, the momentum
+/// map, the time, the step's statistics.
+fn row_bytes(sys: &JitElement) -> u128 {
+    let n = sys.dim() as u128;
+    let translations = sys.translations().len() as u128;
+    2 * 16 * n + 64 + 8 * translations + 16 + 64
+}
+
+/// An ensemble: one run (order 2) per start, on all cores; the constrained integrator for a
+/// system with constraints.
+fn run_many(
+    sys: JitElement,
+    starts: &[ElementState],
+    plus: bool,
+    steps: usize,
+    options: NewtonOptions,
+    cancel: &AtomicBool,
+) -> Result<Vec<Member<Flat>>, String> {
+    let translations = sys.translations().len();
+    if sys.constrained() {
+        let integ = if plus {
+            ElementConstrainedIntegrator::new(sys, options)
+        } else {
+            ElementConstrainedIntegrator::minus(sys, options)
+        };
+        let to_flat = |t: &ElementConstrainedTrajectory| {
+            let mut f = flat(
+                translations,
+                &t.states,
+                &t.times,
+                t.stats.iter().map(|s| (s.iterations, s.residual)),
+                |s| integ.momentum_map(s).unwrap_or_default(),
+            );
+            f.multipliers = Some((
+                t.records
+                    .iter()
+                    .flat_map(|s| s.lambda.iter().copied())
+                    .collect(),
+                t.records.iter().map(|s| s.constraint_residual).collect(),
+            ));
+            f
+        };
+        let members = integ
+            .ensemble(starts)
+            .steps(steps)
+            .stop(until(cancel))
+            .collect();
+        return Ok(members.into_iter().map(|m| finish(m, to_flat)).collect());
+    }
+    let integ = if plus {
+        ElementIntegrator::new(sys, options)
+    } else {
+        ElementIntegrator::minus(sys, options)
+    };
+    let to_flat = |t: &ElementTrajectory| {
+        flat(
+            translations,
+            &t.states,
+            &t.times,
+            t.stats.iter().map(|s| (s.iterations, s.residual)),
+            |s| integ.momentum_map(s).unwrap_or_default(),
+        )
+    };
+    let members = integ
+        .ensemble(starts)
+        .steps(steps)
+        .stop(until(cancel))
+        .collect();
+    Ok(members.into_iter().map(|m| finish(m, to_flat)).collect())
+}
 
 /// A run's trajectory flattened for NumPy.
 struct Flat {
@@ -162,6 +265,100 @@ impl ElementSystem {
 
     fn text(&self) -> &Text {
         self.code.system()
+    }
+
+    /// Reads and checks a run's request: the parameters, the steps and the sizes (by keyword;
+    /// `positional` the arguments after the parameters, the steps or, deprecated, the sizes and
+    /// the steps), the method, the order and the tolerance; the system at these sizes.
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "the Python keyword arguments, one each"
+    )]
+    fn request(
+        &self,
+        function: &str,
+        parameters: &Bound<'_, PyAny>,
+        (positional, steps, sizes): (
+            &Bound<'_, PyTuple>,
+            Option<usize>,
+            Option<&Bound<'_, PyAny>>,
+        ),
+        method: &str,
+        order: u32,
+        tol: Option<f64>,
+    ) -> PyResult<Request> {
+        let params = crate::inputs::values_of(&self.text().parameters, parameters)?;
+        let (mut steps, mut sizes) = (steps, sizes.cloned());
+        let mut sizes_positional = false;
+        for arg in positional.iter() {
+            match arg.extract::<usize>() {
+                Ok(n) if steps.is_none() => steps = Some(n),
+                Err(_) if sizes.is_none() => {
+                    sizes = Some(arg);
+                    sizes_positional = true;
+                }
+                _ => {
+                    return Err(PyTypeError::new_err(format!(
+                        "{function}() takes the parameters and the steps as positional \
+                         arguments, the sizes as `sizes=`"
+                    )))
+                }
+            }
+        }
+        if sizes_positional {
+            let warnings = parameters.py().import("warnings")?;
+            let category = parameters.py().get_type::<PyDeprecationWarning>();
+            warnings.call_method1(
+                "warn",
+                (
+                    format!(
+                        "{function}(parameters, sizes, steps, ..) is deprecated: give the sizes \
+                         by keyword, {function}(parameters, steps, sizes=.., ..)"
+                    ),
+                    category,
+                    2,
+                ),
+            )?;
+        }
+        let steps = steps.ok_or_else(|| {
+            PyTypeError::new_err(format!("{function}() missing the argument 'steps'"))
+        })?;
+        let sizes = sizes.ok_or_else(|| {
+            PyTypeError::new_err(format!("{function}() missing the keyword argument 'sizes'"))
+        })?;
+        let sizes = self.size_values(&sizes)?;
+        // The runtime's one vocabulary: an element-wise system's equations are the unreduced
+        // ones, on either side ("unreduced" is the "plus").
+        let plus = match Equations::from_keyword(method, Form::Unreduced) {
+            Some(e) if e.form == Form::Unreduced => e.side == Variant::Plus,
+            _ => {
+                return Err(PyValueError::new_err(format!(
+                    "unknown method `{method}`; accepted: \"plus\", \"minus\", \"unreduced\" \
+                     (an element-wise system declares no reduction)"
+                )))
+            }
+        };
+        if ![2, 4, 6].contains(&order) || (order != 2 && self.constrained()) {
+            return Err(PyValueError::new_err(format!(
+                "order {order}: accepted 2 (the integrator itself), 4 (triple jump), 6 (Kahan–Li); \
+                 2 for a system with constraints"
+            )));
+        }
+        let sys = self
+            .code
+            .instantiate(&params, &sizes)
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let mut options = NewtonOptions::default();
+        if let Some(t) = tol {
+            options.abs_tol = t;
+        }
+        Ok(Request {
+            sys,
+            plus,
+            order,
+            steps,
+            options,
+        })
     }
 
     /// The sizes from a mapping (by name) or a sequence (in order).
@@ -360,17 +557,19 @@ impl ElementSystem {
         self.code.compile_time().as_secs_f64()
     }
 
-    /// Integrates `steps` steps at `sizes` (a dict by name or a sequence) from `q` and `p`
-    /// (each a flat array of the system's length at these sizes, or a dict by coordinate of
-    /// arrays of each coordinate's shape). `method` is "plus" or "minus"; `order` 2, 4 or 6 (a
-    /// constrained system: 2). Returns a dict of NumPy arrays: `t`, `q` and `p` (dicts by
-    /// coordinate, one leading row per state), `momentum_map` (one column per declared
-    /// translation), per step `iterations` and `residuals`, and for a constrained system
-    /// `multipliers` (steps, rows) and `constraint_residuals`. Raises `StepError` with the
-    /// trajectory so far, `KeyboardInterrupt` with the trajectory so far at Ctrl-C,
+    /// Integrates `steps` steps at `sizes` (a dict by name or a sequence in order) from `q` and
+    /// `p` (each a flat array of the system's length at these sizes, or a dict by coordinate of
+    /// arrays of each coordinate's shape). `method` is "plus" or "minus" (or "unreduced", the
+    /// "plus"); `order` 2, 4 or 6 (a constrained system: 2). Returns a dict of NumPy arrays: `t`,
+    /// `q` and `p` (dicts by coordinate, one leading row per state), `momentum_map` (one column
+    /// per declared translation), per step `iterations` and `residuals`, and for a constrained
+    /// system `multipliers` (steps, rows) and `constraint_residuals`. Raises `StepError` with
+    /// the trajectory so far, `KeyboardInterrupt` with the trajectory so far at Ctrl-C,
     /// `OutOfMemoryError` (before running) when the trajectory cannot be allocated, and
-    /// `TypeError` for a keyword it does not take.
-    #[pyo3(signature = (parameters, sizes, steps, q, p, method = "plus", order = 2, tol = None, **other))]
+    /// `TypeError` for a keyword it does not take. The sizes given before the steps, as
+    /// positional arguments (`run(parameters, sizes, steps, ..)`), are read with a
+    /// `DeprecationWarning`.
+    #[pyo3(signature = (parameters, *positional, steps = None, sizes = None, q = None, p = None, method = "plus", order = 2, tol = None, **other))]
     #[allow(
         clippy::too_many_arguments,
         reason = "the Python keyword arguments, one each"
@@ -379,8 +578,141 @@ impl ElementSystem {
         &self,
         py: Python<'py>,
         parameters: &Bound<'py, PyAny>,
-        sizes: &Bound<'py, PyAny>,
+        positional: &Bound<'py, PyTuple>,
+        steps: Option<usize>,
+        sizes: Option<&Bound<'py, PyAny>>,
+        q: Option<&Bound<'py, PyAny>>,
+        p: Option<&Bound<'py, PyAny>>,
+        method: &str,
+        order: u32,
+        tol: Option<f64>,
+        other: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        calls::no_other_keywords("ElementSystem.run", other, &[], RUN_KEYWORDS, |_| None)?;
+        let r = self.request(
+            "ElementSystem.run",
+            parameters,
+            (positional, steps, sizes),
+            method,
+            order,
+            tol,
+        )?;
+        let start = ElementState::new(
+            self.vector(&r.sys, "q", required("q", q)?)?,
+            self.vector(&r.sys, "p", required("p", p)?)?,
+        );
+        let steps = r.steps;
+        calls::check_memory(
+            || {
+                format!(
+                    "a run of {steps} steps of {} coordinates (every state kept, and its copy)",
+                    r.sys.dim()
+                )
+            },
+            steps as u128 + 1,
+            row_bytes(&r.sys),
+        )?;
+        let runner = r.sys.clone();
+        let (plus, order, options) = (r.plus, r.order, r.options);
+        let (result, interrupt) = calls::interruptible(py, move |cancel| {
+            run_one(runner, start, plus, order, steps, options, cancel)
+        })?;
+        crate::results::finish_run(py, Ok(result), interrupt, |flat| {
+            self.to_dict(py, &r.sys, flat)
+        })
+    }
+
+    /// Integrates `steps` steps (order 2) from the start of `run` and writes every state to
+    /// Apache Parquet at `path` (a directory of parts: columns `q_<i>` and `p_<i>` by index in
+    /// the flat vector, the coordinate arrays and the sizes in the metadata), streaming, in
+    /// constant memory. Returns a dict with `steps`, `t` and `path`; a failed step raises
+    /// `StepError` with `step`, `residual` and `path`, the states before it written; Ctrl-C
+    /// raises `KeyboardInterrupt` with `steps`, `t` and `path`, the states so far written.
+    #[pyo3(signature = (parameters, steps, path, sizes, q, p, method = "plus", tol = None, **other))]
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "the Python keyword arguments, one each"
+    )]
+    fn write<'py>(
+        &self,
+        py: Python<'py>,
+        parameters: &Bound<'py, PyAny>,
         steps: usize,
+        path: std::path::PathBuf,
+        sizes: &Bound<'py, PyAny>,
+        q: &Bound<'py, PyAny>,
+        p: &Bound<'py, PyAny>,
+        method: &str,
+        tol: Option<f64>,
+        other: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        calls::no_other_keywords("ElementSystem.write", other, &[], WRITE_KEYWORDS, |_| None)?;
+        let r = self.request(
+            "ElementSystem.write",
+            parameters,
+            (&PyTuple::empty(py), Some(steps), Some(sizes)),
+            method,
+            2,
+            tol,
+        )?;
+        let start = ElementState::new(self.vector(&r.sys, "q", q)?, self.vector(&r.sys, "p", p)?);
+        let (sys, plus, o) = (r.sys, r.plus, r.options);
+        let (written, interrupt) =
+            calls::interruptible(py, move |cancel| match (sys.constrained(), plus) {
+                (true, true) => to_parquet(
+                    &ElementConstrainedIntegrator::new(sys, o),
+                    start,
+                    steps,
+                    &path,
+                    &o,
+                    cancel,
+                ),
+                (true, false) => to_parquet(
+                    &ElementConstrainedIntegrator::minus(sys, o),
+                    start,
+                    steps,
+                    &path,
+                    &o,
+                    cancel,
+                ),
+                (false, true) => to_parquet(
+                    &ElementIntegrator::new(sys, o),
+                    start,
+                    steps,
+                    &path,
+                    &o,
+                    cancel,
+                ),
+                (false, false) => to_parquet(
+                    &ElementIntegrator::minus(sys, o),
+                    start,
+                    steps,
+                    &path,
+                    &o,
+                    cancel,
+                ),
+            })?;
+        crate::parquet::written_dict(py, written, interrupt)
+    }
+
+    /// An ensemble: one run (order 2) per member at the same `sizes`, in parallel on all cores,
+    /// from the starts of `run` with a leading member axis (`q` an array (members, length) or a
+    /// dict by coordinate of arrays (members, shape..)). Returns the dict of `run` with one
+    /// more leading axis and `failed`, the list of `(member, step, message)`; the first failed
+    /// member raises `StepError` (with `member` and `ensemble`) after all have run; Ctrl-C
+    /// raises `KeyboardInterrupt` with `ensemble`, the states so far (NaN after each member's
+    /// last).
+    #[pyo3(signature = (parameters, steps, sizes, q, p, method = "plus", order = 2, tol = None, **other))]
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "the Python keyword arguments, one each"
+    )]
+    fn ensemble<'py>(
+        &self,
+        py: Python<'py>,
+        parameters: &Bound<'py, PyAny>,
+        steps: usize,
+        sizes: &Bound<'py, PyAny>,
         q: &Bound<'py, PyAny>,
         p: &Bound<'py, PyAny>,
         method: &str,
@@ -388,55 +720,46 @@ impl ElementSystem {
         tol: Option<f64>,
         other: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        calls::no_other_keywords("ElementSystem.run", other, &[], RUN_KEYWORDS, |_| None)?;
-        let params = crate::inputs::values_of(&self.text().parameters, parameters)?;
-        let sizes = self.size_values(sizes)?;
-        // The runtime's one vocabulary: an element-wise system's equations are the unreduced
-        // ones, on either side.
-        let plus = match Equations::from_keyword(method, Form::Unreduced)
-            .filter(|_| ["plus", "minus"].contains(&method))
-        {
-            Some(e) => e.side == Variant::Plus,
-            None => {
-                return Err(PyValueError::new_err(format!(
-                    "unknown method `{method}`; accepted: \"plus\", \"minus\""
-                )))
-            }
-        };
-        if ![2, 4, 6].contains(&order) || (order != 2 && self.constrained()) {
-            return Err(PyValueError::new_err(format!(
-                "order {order}: accepted 2 (the integrator itself), 4 (triple jump), 6 (Kahan–Li); \
-                 2 for a system with constraints"
-            )));
+        calls::no_other_keywords("ElementSystem.ensemble", other, &[], RUN_KEYWORDS, |_| None)?;
+        if order != 2 {
+            return Err(PyValueError::new_err(
+                "ensembles run the integrators themselves (order 2)",
+            ));
         }
-        let sys = self
-            .code
-            .instantiate(&params, &sizes)
-            .map_err(|e| PyValueError::new_err(e.to_string()))?;
-        let start = ElementState::new(self.vector(&sys, "q", q)?, self.vector(&sys, "p", p)?);
-        // Per state: `q` and `p` kept by the integrator (two vectors on the heap) and in the
-        // flattened copy, the momentum map, the time, the step's statistics.
-        let n = start.q.len() as u128;
-        let translations = sys.translations().len() as u128;
-        calls::check_memory(
-            || {
-                format!(
-                    "a run of {steps} steps of {n} coordinates (every state kept, and its copy)"
-                )
-            },
-            steps as u128 + 1,
-            2 * 16 * n + 64 + 8 * translations + 16 + 64,
+        let r = self.request(
+            "ElementSystem.ensemble",
+            parameters,
+            (&PyTuple::empty(py), Some(steps), Some(sizes)),
+            method,
+            order,
+            tol,
         )?;
-        let mut options = NewtonOptions::default();
-        if let Some(t) = tol {
-            options.abs_tol = t;
-        }
-        let runner = sys.clone();
-        let (result, interrupt) = calls::interruptible(py, move |cancel| {
-            run_one(runner, start, plus, order, steps, options, cancel)
+        let given = PyDict::new(py);
+        given.set_item("q", q)?;
+        given.set_item("p", p)?;
+        let starts = ensemble::member_starts(py, &given)?
+            .iter()
+            .enumerate()
+            .map(|(i, start)| {
+                let part = |key: &str| -> PyResult<DVector<f64>> {
+                    let v = start.get_item(key)?.expect("q and p are given");
+                    self.vector(&r.sys, key, &v)
+                };
+                (|| Ok(ElementState::new(part("q")?, part("p")?)))().map_err(ensemble::of_member(i))
+            })
+            .collect::<PyResult<Vec<ElementState>>>()?;
+        let m = starts.len();
+        calls::check_memory(
+            || format!("an ensemble of {m} members of {steps} steps (every state kept)"),
+            (m as u128).saturating_mul(steps as u128 + 1),
+            2 * row_bytes(&r.sys),
+        )?;
+        let (sys, plus, options) = (r.sys.clone(), r.plus, r.options);
+        let (results, interrupt) = calls::interruptible(py, move |cancel| {
+            run_many(sys, &starts, plus, steps, options, cancel)
         })?;
-        crate::results::finish_run(py, Ok(result), interrupt, |flat| {
-            self.to_dict(py, &sys, flat)
+        ensemble::ensemble_dict(py, results, interrupt, steps, |flat| {
+            self.to_dict(py, &r.sys, flat)
         })
     }
 

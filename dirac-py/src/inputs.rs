@@ -52,25 +52,30 @@ pub(crate) fn values_of(names: &[String], params: &Bound<'_, PyAny>) -> PyResult
 }
 
 /// The equations `method` names (the runtime's one vocabulary, [`Equations::from_keyword`]) for a
-/// system on vector spaces, whose own equations are the reduced ones: of the keywords, those
-/// this class takes.
+/// system on vector spaces, whose own equations are the reduced ones: "plus" and "minus" (the
+/// reduced (+) and (−)), "reduced" (the (+)) and "unreduced".
 fn method_of(method: &str) -> PyResult<Equations> {
-    const ACCEPTED: [&str; 3] = ["plus", "minus", "unreduced"];
-    Equations::from_keyword(method, Form::Reduced)
-        .filter(|_| ACCEPTED.contains(&method))
-        .ok_or_else(|| {
-            PyValueError::new_err(format!(
-                "unknown method `{method}`; accepted: \"plus\", \"minus\", \"unreduced\""
-            ))
-        })
+    Equations::from_keyword(method, Form::Reduced).ok_or_else(|| {
+        PyValueError::new_err(format!(
+            "unknown method `{method}`; accepted: \"plus\", \"minus\", \"reduced\", \"unreduced\""
+        ))
+    })
 }
 
-/// One start's vectors, each of its length, from keyword arrays.
-fn vectors(parts: &[(&'static str, usize)], given: &Bound<'_, PyDict>) -> PyResult<Vec<Vec<f64>>> {
+/// One start's vectors, each of its length, from keyword arrays: each vector an array of its
+/// length or a mapping by coordinate (`names` gives each vector's coordinates, in order).
+fn vectors(
+    parts: &[(&'static str, usize)],
+    names: impl Fn(&str) -> Vec<String>,
+    given: &Bound<'_, PyDict>,
+) -> PyResult<Vec<Vec<f64>>> {
     parts
         .iter()
         .map(|&(name, len)| {
             let v: Vec<f64> = match given.get_item(name)? {
+                Some(d) if d.downcast::<PyDict>().is_ok() => {
+                    by_name(name, &names(name), d.downcast::<PyDict>()?)?
+                }
                 Some(v) => v.extract()?,
                 None if len == 0 => Vec::new(),
                 None => {
@@ -92,6 +97,28 @@ fn vectors(parts: &[(&'static str, usize)], given: &Bound<'_, PyDict>) -> PyResu
                 )));
             }
             Ok(v)
+        })
+        .collect()
+}
+
+/// The vector `what` from a mapping by coordinate: a value for each of `names`, in order, and
+/// no other key.
+fn by_name(what: &str, names: &[String], d: &Bound<'_, PyDict>) -> PyResult<Vec<f64>> {
+    for key in d.keys() {
+        let key: String = key.extract()?;
+        if !names.contains(&key) {
+            return Err(PyValueError::new_err(format!(
+                "`{what}` names `{key}`, not one of its coordinates ({})",
+                names.join(", ")
+            )));
+        }
+    }
+    names
+        .iter()
+        .map(|n| {
+            d.get_item(n)?
+                .ok_or_else(|| PyValueError::new_err(format!("`{what}` needs `{n}`")))?
+                .extract::<f64>()
         })
         .collect()
 }
@@ -182,6 +209,32 @@ impl System {
     }
 }
 
+impl System {
+    /// The coordinates of a start's vector `part`: `x`, `w` the shape coordinates, `mu`, `g`
+    /// the group ones, `q`, `p` both.
+    pub(crate) fn part_names(&self, part: &str) -> Vec<String> {
+        let s = self.code.system();
+        match part {
+            "x" | "w" => s.shape.clone(),
+            "mu" | "g" => s.group.clone(),
+            _ => s.shape.iter().chain(&s.group).cloned().collect(),
+        }
+    }
+
+    /// One member's start of an ensemble, read as `run` reads a start.
+    pub(crate) fn member_start(
+        &self,
+        method: Equations,
+        given: &Bound<'_, PyDict>,
+    ) -> PyResult<Vec<Vec<f64>>> {
+        vectors(
+            &self.start_parts(method),
+            |part| self.part_names(part),
+            given,
+        )
+    }
+}
+
 /// A run's inputs read from Python: the parameter values, the request, the start's vectors.
 pub(crate) struct Inputs {
     pub(crate) params: Vec<f64>,
@@ -211,7 +264,11 @@ impl System {
         self.check_start_keywords(function, keywords, request.method, start)?;
         let params = parameter_values(&self.code, parameters)?;
         let empty = PyDict::new(py);
-        let start = vectors(&self.start_parts(request.method), start.unwrap_or(&empty))?;
+        let start = vectors(
+            &self.start_parts(request.method),
+            |part| self.part_names(part),
+            start.unwrap_or(&empty),
+        )?;
         Ok(Inputs {
             params,
             request,

@@ -3,10 +3,13 @@
 //! the compositions of order 4 and 6; with constraints, the constrained integrators) with NumPy
 //! arrays in and out; ensembles on all cores; the runtime's typed errors as Python exceptions
 //! carrying the step and the trajectory so far. Systems on rotation groups (`lie`) and
-//! element-wise systems (`element`) are classes of their own. Every run method refuses a
+//! element-wise systems (`element`) are classes of their own, with the same surface: `run`,
+//! `write` and `ensemble`, the same keywords, and results of one shape (`t`, `q` and `p` by
+//! coordinate name, the step statistics, what the kind adds). Every run method refuses a
 //! keyword it does not take, a trajectory that cannot be allocated, and ends at Ctrl-C with
 //! what it computed (`calls`). A run's inputs are read and checked in `inputs`, its trajectory
-//! or error made Python's in `results`, and runs streamed to Parquet in `parquet`.
+//! or error made Python's in `results`, an ensemble's starts read and its members' results
+//! stacked in `ensemble` (for every class), and runs streamed to Parquet in `parquet`.
 //!
 //! The integrators take the dimensions as type parameters; the module dispatches a system's
 //! `(S, K)` at run time to one instance per pair with `S + K ≤ 8` (`dirac_jit::with_dimensions`).
@@ -16,6 +19,7 @@ use std::sync::Arc;
 mod calls;
 mod constrained;
 mod element;
+mod ensemble;
 mod inputs;
 mod lie;
 mod parquet;
@@ -28,15 +32,15 @@ use inputs::{
     WRITE_KEYWORDS,
 };
 use parquet::written_dict;
-use results::{finish_run, step_error, to_dict, Failed, Flat};
+use results::{finish_run, to_dict};
 use runs::{run_many, run_one, time_one, write_one};
 
 use dirac_jit::Code;
 use dirac_runtime::{CompositionMethod, Equations, Form, NewtonOptions, StepStats};
-use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::PyArray1;
 use pyo3::exceptions::{PyException, PyMemoryError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::PyDict;
 
 /// The largest `N = S + K` the module has integrators for.
 const MAX_N: usize = dirac_jit::MAX_DISPATCHED;
@@ -331,7 +335,8 @@ impl System {
                 run_constrained(&code, &params, &start, r, cancel)
             ),
         })?;
-        finish_run(py, result, interrupt, |flat| to_dict(py, flat))
+        let names = self.part_names("q");
+        finish_run(py, result, interrupt, |flat| to_dict(py, flat, &names))
     }
 
     /// An ensemble: one run per row of the start arrays (each `(members, length)`), in
@@ -363,65 +368,16 @@ impl System {
                 "ensembles run the integrators themselves (order 2)",
             ));
         }
-        let parts = self.start_parts(r.method);
         let empty = PyDict::new(py);
-        let starts = starts.unwrap_or(&empty);
-        let mut columns: Vec<Vec<Vec<f64>>> = Vec::new();
-        let mut members: Option<usize> = None;
-        for &(name, len) in &parts {
-            let rows: Vec<Vec<f64>> = match starts.get_item(name)? {
-                Some(a) => {
-                    let a: PyReadonlyArray2<f64> = a.extract()?;
-                    let shape = a.shape();
-                    if shape[1] != len {
-                        return Err(PyValueError::new_err(format!(
-                            "`{name}` has {} columns; the system has {len}",
-                            shape[1]
-                        )));
-                    }
-                    let a = a.as_array();
-                    a.rows().into_iter().map(|r| r.to_vec()).collect()
-                }
-                None if len == 0 => Vec::new(),
-                None => {
-                    return Err(PyValueError::new_err(format!(
-                        "the starts need `{name}` ({len} columns)"
-                    )))
-                }
-            };
-            if len > 0 {
-                match members {
-                    None => members = Some(rows.len()),
-                    Some(m) if m != rows.len() => {
-                        return Err(PyValueError::new_err(format!(
-                            "`{name}` has {} rows, an earlier array {m}",
-                            rows.len()
-                        )))
-                    }
-                    Some(_) => {}
-                }
-            }
-            columns.push(rows);
-        }
-        let m = members.unwrap_or(0);
-        let per_member: Vec<Vec<Vec<f64>>> = (0..m)
-            .map(|i| {
-                columns
-                    .iter()
-                    .map(|c| c.get(i).cloned().unwrap_or_default())
-                    .collect()
+        let per_member: Vec<Vec<Vec<f64>>> = ensemble::member_starts(py, starts.unwrap_or(&empty))?
+            .iter()
+            .enumerate()
+            .map(|(i, start)| {
+                self.member_start(r.method, start)
+                    .map_err(ensemble::of_member(i))
             })
-            .collect();
-        for (i, member) in per_member.iter().enumerate() {
-            for (v, &(name, _)) in member.iter().zip(&parts) {
-                if let Some(j) = v.iter().position(|x| !x.is_finite()) {
-                    return Err(PyValueError::new_err(format!(
-                        "`{name}[{i}, {j}]` = {} is not finite",
-                        v[j]
-                    )));
-                }
-            }
-        }
+            .collect::<PyResult<_>>()?;
+        let m = per_member.len();
         // Each member's trajectory and its flattened copy, and its rows of the stacked arrays.
         let words = 2 * (self.dims().0 + self.dims().1) as u128;
         calls::check_memory(
@@ -434,68 +390,10 @@ impl System {
         let (results, interrupt) = calls::interruptible(py, |cancel| {
             dirac_jit::with_dimensions!(s, k, run_many(&code, &params, &per_member, r, cancel))
         })?;
-        let (results, interrupt) = match (results, interrupt) {
-            (Err(why), None) => return Err(PyValueError::new_err(why)),
-            (Err(_), Some(interrupt)) => return Err(interrupt),
-            (Ok(results), interrupt) => (results, interrupt),
-        };
-        // Stack the members; a failed member's rows after its failure stay NaN. An interrupted
-        // ensemble has as many rows as its longest member reached.
-        let reached = |r: &Result<Flat, Box<Failed>>| match r {
-            Ok(flat) => flat.t.len(),
-            Err(failed) => failed.partial.t.len(),
-        };
-        let rows = match interrupt {
-            Some(_) => results.iter().map(reached).max().unwrap_or(0),
-            None => steps + 1,
-        };
-        let d = PyDict::new(py);
-        let mut t = vec![f64::NAN; m * rows];
-        let mut stacked: Vec<(&'static str, usize, Vec<f64>)> = parts
-            .iter()
-            .map(|&(name, len)| (name, len, vec![f64::NAN; m * rows * len]))
-            .collect();
-        let mut first_failure = None;
-        let failures = PyList::empty(py);
-        for (i, result) in results.into_iter().enumerate() {
-            let flat = match result {
-                Ok(flat) => flat,
-                Err(failed) => {
-                    failures.append((i, failed.error.step(), failed.error.to_string()))?;
-                    let partial = Flat {
-                        t: failed.partial.t.clone(),
-                        parts: failed.partial.parts.clone(),
-                        iterations: Vec::new(),
-                        residuals: Vec::new(),
-                        multipliers: None,
-                        energies: None,
-                    };
-                    if first_failure.is_none() {
-                        first_failure = Some((i, failed));
-                    }
-                    partial
-                }
-            };
-            let n = flat.t.len();
-            t[i * rows..i * rows + n].copy_from_slice(&flat.t);
-            for ((_, len, out), (_, _, data)) in stacked.iter_mut().zip(&flat.parts) {
-                out[i * rows * *len..i * rows * *len + n * *len].copy_from_slice(data);
-            }
-        }
-        d.set_item("t", PyArray1::from_vec(py, t).reshape([m, rows])?)?;
-        for (name, len, data) in stacked {
-            d.set_item(name, PyArray1::from_vec(py, data).reshape([m, rows, len])?)?;
-        }
-        d.set_item("failed", failures)?;
-        if let Some(interrupt) = interrupt {
-            return Err(calls::interrupted(py, interrupt, "ensemble", d));
-        }
-        if let Some((i, failed)) = first_failure {
-            let err = step_error(py, *failed, Some(i))?;
-            err.value(py).setattr("ensemble", d)?;
-            return Err(err);
-        }
-        Ok(d)
+        let names = self.part_names("q");
+        ensemble::ensemble_dict(py, results, interrupt, steps, |flat| {
+            to_dict(py, flat, &names)
+        })
     }
 
     /// Integrates `steps` steps from one start and writes every state to Apache Parquet at

@@ -23,6 +23,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::calls::{self, until};
+use crate::ensemble::{self, Member};
 use crate::parquet::to_parquet;
 use crate::results::{finish, Failed};
 use crate::{composition, CompileError};
@@ -199,6 +200,73 @@ fn run_one<const P: usize, const N: usize>(
     })
 }
 
+/// An ensemble: one run (order 2) per start, on all cores.
+fn run_many<const P: usize, const N: usize>(
+    code: &Arc<LieCode>,
+    params: &[f64],
+    starts: &[Start],
+    r: Request,
+    cancel: &AtomicBool,
+) -> Result<Vec<Member<Flat>>, String> {
+    let sys = code
+        .instantiate::<P, N>(params)
+        .map_err(|e| e.to_string())?;
+    let s0 = starts
+        .iter()
+        .map(|s| start_state(&sys, s))
+        .collect::<Result<Vec<_>, _>>()?;
+    let (n, o) = (r.steps, r.options);
+    let unreduced = |t: &dirac_runtime::LieTrajectory<P, N>| {
+        flat(
+            &sys,
+            t.states.iter().map(|s| (*s, None)),
+            &t.times,
+            &t.stats,
+        )
+    };
+    Ok(match (r.method.form, r.method.side) {
+        (Form::Reduced, _) => {
+            let reduced = code
+                .instantiate_reduced::<P, N>(params)
+                .map_err(|e| e.to_string())?;
+            let integ = ReducedLieIntegrator::new(reduced, o);
+            let s0: Vec<_> = s0.iter().map(|s| integ.reduce(s)).collect();
+            integ
+                .ensemble(&s0)
+                .steps(n)
+                .stop(until(cancel))
+                .collect()
+                .into_iter()
+                .map(|m| {
+                    finish(m, |t| {
+                        flat(
+                            &sys,
+                            t.states.iter().map(|s| (s.unreduced(), Some(s.mu.into()))),
+                            &t.times,
+                            &t.stats,
+                        )
+                    })
+                })
+                .collect()
+        }
+        (Form::Unreduced, side) => {
+            let integ = if side == Variant::Plus {
+                LieIntegrator::new(sys.clone(), o)
+            } else {
+                LieIntegrator::minus(sys.clone(), o)
+            };
+            integ
+                .ensemble(&s0)
+                .steps(n)
+                .stop(until(cancel))
+                .collect()
+                .into_iter()
+                .map(|m| finish(m, unreduced))
+                .collect()
+        }
+    })
+}
+
 /// What a run written to Parquet ended with (see the module of systems on vector spaces).
 type Written = crate::parquet::Written;
 
@@ -272,11 +340,8 @@ impl LieSystem {
         tol: Option<f64>,
     ) -> PyResult<Request> {
         // The runtime's one vocabulary (a rotation system's own equations are the unreduced
-        // ones), of which this class takes three words.
-        const ACCEPTED: [&str; 3] = ["plus", "minus", "reduced"];
-        let method = match Equations::from_keyword(method, Form::Unreduced)
-            .filter(|_| ACCEPTED.contains(&method))
-        {
+        // ones: "unreduced" is "plus").
+        let method = match Equations::from_keyword(method, Form::Unreduced) {
             Some(e) if e.form == Form::Reduced && self.code.system().symmetry.is_none() => {
                 return Err(PyValueError::new_err(
                     "method \"reduced\": the system declares no symmetry (`symmetry(..)`)",
@@ -285,7 +350,7 @@ impl LieSystem {
             Some(e) => e,
             None => {
                 return Err(PyValueError::new_err(format!(
-                    "unknown method `{method}`; accepted: \"plus\", \"minus\", \"reduced\""
+                    "unknown method `{method}`; accepted: \"plus\", \"minus\", \"reduced\", \"unreduced\""
                 )))
             }
         };
@@ -613,6 +678,75 @@ impl LieSystem {
             )
         })?;
         crate::parquet::written_dict(py, written, interrupt)
+    }
+
+    /// An ensemble: one run (order 2) per member, in parallel on all cores, from the starts of
+    /// `run` with a leading member axis (`q={"R": array (members, 3, 3)}`, `p=..` or `v=..`
+    /// likewise). Returns the dict of `run` with one more leading axis and `failed`, the list of
+    /// `(member, step, message)`; the first failed member raises `StepError` (with `member` and
+    /// `ensemble`) after all have run; Ctrl-C raises `KeyboardInterrupt` with `ensemble`, the
+    /// states so far (NaN after each member's last).
+    #[pyo3(signature = (parameters, steps, q, p = None, v = None, method = "plus", order = 2, tol = None, **other))]
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "the Python keyword arguments, one each"
+    )]
+    fn ensemble<'py>(
+        &self,
+        py: Python<'py>,
+        parameters: &Bound<'py, PyAny>,
+        steps: usize,
+        q: &Bound<'py, PyDict>,
+        p: Option<&Bound<'py, PyDict>>,
+        v: Option<&Bound<'py, PyDict>>,
+        method: &str,
+        order: u32,
+        tol: Option<f64>,
+        other: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        calls::no_other_keywords("LieSystem.ensemble", other, &[], RUN_KEYWORDS, |_| None)?;
+        let params = crate::inputs::values_of(&self.code.system().parameters, parameters)?;
+        let r = self.request(method, order, steps, tol)?;
+        if r.order != 2 {
+            return Err(PyValueError::new_err(
+                "ensembles run the integrators themselves (order 2)",
+            ));
+        }
+        let given = PyDict::new(py);
+        given.set_item("q", q)?;
+        if let Some(p) = p {
+            given.set_item("p", p)?;
+        }
+        if let Some(v) = v {
+            given.set_item("v", v)?;
+        }
+        let starts = ensemble::member_starts(py, &given)?
+            .iter()
+            .enumerate()
+            .map(|(i, start)| {
+                let part = |key: &str| -> PyResult<Option<Bound<'py, PyDict>>> {
+                    Ok(match start.get_item(key)? {
+                        Some(d) => Some(d.downcast_into::<PyDict>()?),
+                        None => None,
+                    })
+                };
+                let q = part("q")?.expect("q is given");
+                self.start(&q, part("p")?.as_ref(), part("v")?.as_ref())
+                    .map_err(ensemble::of_member(i))
+            })
+            .collect::<PyResult<Vec<Start>>>()?;
+        let m = starts.len();
+        calls::check_memory(
+            || format!("an ensemble of {m} members of {steps} steps (every state kept)"),
+            (m as u128).saturating_mul(steps as u128 + 1),
+            2 * self.row_bytes(),
+        )?;
+        let (pp, n) = self.dims();
+        let code = Arc::clone(&self.code);
+        let (results, interrupt) = calls::interruptible(py, |cancel| {
+            dirac_jit::with_lie_dimensions!(pp, n, run_many(&code, &params, &starts, r, cancel))
+        })?;
+        ensemble::ensemble_dict(py, results, interrupt, steps, |flat| self.to_dict(py, flat))
     }
 
     fn __repr__(&self) -> String {

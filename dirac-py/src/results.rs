@@ -3,8 +3,10 @@
 //! exception (`StepError`, `dirac.OutOfMemoryError`, `KeyboardInterrupt`) carrying the
 //! trajectory so far.
 
+use dirac_runtime::nalgebra::SVector;
 use dirac_runtime::{
-    IntegrationError, ReducedState, StepError as RuntimeStepError, StepStats, Steps, UnreducedState,
+    DiscreteLagrangian, IntegrationError, ReducedState, StepError as RuntimeStepError, StepStats,
+    Steps, UnreducedState,
 };
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
@@ -16,6 +18,7 @@ use crate::{OutOfMemoryError, StepError};
 
 /// A trajectory flattened for NumPy: the times and, per state, the vectors of the state in a
 /// fixed order (`x, w, mu, g` reduced; `q, p` unreduced), with their lengths.
+#[derive(Default)]
 pub(crate) struct Flat {
     pub(crate) t: Vec<f64>,
     pub(crate) parts: Vec<(&'static str, usize, Vec<f64>)>,
@@ -108,11 +111,58 @@ pub(crate) fn finish<T: Steps + std::fmt::Debug, F>(
     }
 }
 
-pub(crate) fn to_dict<'py>(py: Python<'py>, flat: Flat) -> PyResult<Bound<'py, PyDict>> {
+/// `rows` rows of `names.len()` values each (row-major) as a dict by name of `(rows,)` arrays,
+/// one per coordinate: the form every class's run returns a configuration or momentum in.
+fn by_coordinate<'py>(
+    py: Python<'py>,
+    names: &[String],
+    data: &[f64],
+    rows: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let n = names.len();
+    for (i, name) in names.iter().enumerate() {
+        let column: Vec<f64> = (0..rows).map(|r| data[r * n + i]).collect();
+        d.set_item(name, PyArray1::from_vec(py, column))?;
+    }
+    Ok(d)
+}
+
+/// The dict of a run of a system on vector spaces: `t`; `q` and `p`, dicts by coordinate
+/// (`names`: the shape coordinates, then the group ones), the configuration and the momenta of
+/// every state (of a reduced run, `x` and `g`, and `p` by eq. (3.7)); a reduced run's state `x,
+/// w, mu, g` besides, as arrays (rows, length); per step `iterations` and `residuals`; the
+/// multipliers and the energies when there are.
+pub(crate) fn to_dict<'py>(
+    py: Python<'py>,
+    flat: Flat,
+    names: &[String],
+) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     let rows = flat.t.len();
-    d.set_item("t", PyArray1::from_vec(py, flat.t))?;
+    let part = |name: &str| {
+        flat.parts
+            .iter()
+            .find(|(n, _, _)| *n == name)
+            .map(|(_, len, data)| (*len, data.as_slice()))
+    };
+    let q: Vec<f64> = match (part("q"), part("x"), part("g")) {
+        (Some((_, q)), _, _) => q.to_vec(),
+        (None, Some((s, x)), Some((k, g))) => (0..rows)
+            .flat_map(|r| x[r * s..(r + 1) * s].iter().chain(&g[r * k..(r + 1) * k]))
+            .copied()
+            .collect(),
+        _ => Vec::new(),
+    };
+    d.set_item("t", PyArray1::from_vec(py, flat.t.clone()))?;
+    d.set_item("q", by_coordinate(py, names, &q, rows)?)?;
+    if let Some((_, p)) = part("p") {
+        d.set_item("p", by_coordinate(py, names, p, rows)?)?;
+    }
     for (name, len, data) in flat.parts {
+        if name == "q" || name == "p" {
+            continue;
+        }
         let a = PyArray1::from_vec(py, data).reshape([rows, len])?;
         d.set_item(name, a)?;
     }
@@ -137,15 +187,67 @@ pub(crate) fn to_dict<'py>(py: Python<'py>, flat: Flat) -> PyResult<Bound<'py, P
     Ok(d)
 }
 
-pub(crate) fn step_error(py: Python<'_>, failed: Failed, member: Option<usize>) -> PyResult<PyErr> {
-    raise(py, &failed.error, to_dict(py, failed.partial)?, member)
+/// A reduced run's states with their momenta `p = (w − Bᵀ μ, μ)`, eq. (3.7)
+/// ([`DiscreteLagrangian::untrivialize`]), as the part `p`; an unreduced run's unchanged.
+pub(crate) fn with_momenta<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    mut flat: Flat,
+) -> Flat
+where
+    L: DiscreteLagrangian<S, K, N>,
+{
+    let part = |name: &str| {
+        flat.parts
+            .iter()
+            .find(|(n, _, _)| *n == name)
+            .map(|(_, _, data)| data.as_slice())
+    };
+    let (Some(x), Some(w), Some(mu), Some(g)) = (part("x"), part("w"), part("mu"), part("g"))
+    else {
+        return flat;
+    };
+    let p: Vec<f64> = (0..flat.t.len())
+        .flat_map(|k| {
+            let state = ReducedState {
+                x: SVector::from_column_slice(&x[k * S..(k + 1) * S]),
+                w: SVector::from_column_slice(&w[k * S..(k + 1) * S]),
+                mu: SVector::from_column_slice(&mu[k * K..(k + 1) * K]),
+                g: SVector::from_column_slice(&g[k * K..(k + 1) * K]),
+            };
+            sys.untrivialize(&state)
+                .p
+                .iter()
+                .copied()
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    flat.parts.push(("p", N, p));
+    flat
+}
+
+/// [`with_momenta`] on a run's outcome: the trajectory, or what a failed run computed.
+pub(crate) fn with_momenta_of<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    result: Result<Flat, Box<Failed>>,
+) -> Result<Flat, Box<Failed>>
+where
+    L: DiscreteLagrangian<S, K, N>,
+{
+    match result {
+        Ok(flat) => Ok(with_momenta(sys, flat)),
+        Err(mut failed) => {
+            let partial = std::mem::take(&mut failed.partial);
+            failed.partial = with_momenta(sys, partial);
+            Err(failed)
+        }
+    }
 }
 
 /// The `StepError` of a failed step: its message (prefixed by the member of an ensemble),
 /// `step`, `residual`, `member` and `trajectory`, the dict of the states before it. A run
 /// refused for its memory (the runtime's `OutOfMemory`) is a `dirac.OutOfMemoryError` with the
 /// same attributes and `what` and `bytes`.
-fn raise(
+pub(crate) fn raise(
     py: Python<'_>,
     error: &RuntimeStepError,
     trajectory: Bound<'_, PyDict>,

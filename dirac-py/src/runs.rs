@@ -16,7 +16,7 @@ use dirac_runtime::{
 use crate::calls::until;
 use crate::inputs::{reduced_start, unreduced_start};
 use crate::parquet::{to_parquet, Written};
-use crate::results::{finish, parts, reduced_flat, unreduced_flat, Failed, Flat};
+use crate::results::{finish, parts, reduced_flat, unreduced_flat, with_momenta_of, Failed, Flat};
 use crate::{composition, Request};
 
 /// One run of a system of `S` shape and `K` group coordinates from `start` (`x, w, mu, g` or
@@ -33,6 +33,7 @@ pub(crate) fn run_one<const S: usize, const K: usize, const N: usize>(
         .map_err(|e| e.to_string())?;
     let (n, o) = (r.steps, r.options);
     let energies = r.energies.then(|| sys.clone());
+    let momenta = sys.clone();
     let result = match (r.method.form, r.method.side) {
         (Form::Unreduced, _) => {
             let s0 = unreduced_start(start);
@@ -72,6 +73,7 @@ pub(crate) fn run_one<const S: usize, const K: usize, const N: usize>(
             }
         }
     };
+    let result = with_momenta_of(&momenta, result);
     Ok(match (energies, result) {
         (Some(sys), Ok(flat)) => Ok(with_energies(&sys, flat, r.method)),
         (_, result) => result,
@@ -202,6 +204,7 @@ pub(crate) fn run_many<const S: usize, const K: usize, const N: usize>(
         }
         (Form::Reduced, side) => {
             let s0: Vec<_> = starts.iter().map(|s| reduced_start(s)).collect();
+            let momenta = sys.clone();
             let members = if side == Variant::Plus {
                 ReducedIntegrator::plus(sys, o)
                     .ensemble(&s0)
@@ -217,7 +220,7 @@ pub(crate) fn run_many<const S: usize, const K: usize, const N: usize>(
             };
             members
                 .into_iter()
-                .map(|m| finish(m, |t| reduced_flat(parts!(t))))
+                .map(|m| with_momenta_of(&momenta, finish(m, |t| reduced_flat(parts!(t)))))
                 .collect()
         }
     })

@@ -80,8 +80,8 @@ def test_every_run_method_refuses_a_keyword_it_does_not_take():
     unexpected(lambda: body.write(BODY_PARAMS, steps=10, path="unused", tolerance=1e-3,
                                   **BODY_START), "tolerance", "tol")
     toda = dirac.compile(TODA_N)
-    unexpected(lambda: toda.run(TODA_PARAMS, {"n": 8}, steps=10, ordr=4, **toda_start(8)), "ordr",
-               "order")
+    unexpected(lambda: toda.run(TODA_PARAMS, steps=10, sizes={"n": 8}, ordr=4, **toda_start(8)),
+               "ordr", "order")
     # Spelled right, the same calls run.
     assert kepler.run(p, steps=10, order=4, tol=1e-12, **s)["x"].shape == (11, 1)
 
@@ -111,7 +111,7 @@ def test_a_trajectory_that_cannot_be_allocated_is_refused_before_it_is():
     body = dirac.compile(RIGID_BODY)
     refused(lambda: body.run(BODY_PARAMS, steps=10**12, **BODY_START))
     toda = dirac.compile(TODA_N)
-    refused(lambda: toda.run(TODA_PARAMS, {"n": 100}, steps=10**12, **toda_start(100)))
+    refused(lambda: toda.run(TODA_PARAMS, steps=10**12, sizes={"n": 100}, **toda_start(100)))
 
 
 # -- Ctrl-C -----------------------------------------------------------------------------------
@@ -174,7 +174,7 @@ def test_ctrl_c_ends_an_ensemble_and_a_run_of_each_kind_of_system():
     assert late < 2.0, late
     assert 2 <= error.trajectory["q"]["r"].shape[0] < LONG + 1
     toda = dirac.compile(TODA_N)
-    error, late = interrupted(lambda: toda.run(TODA_PARAMS, {"n": 20}, steps=LONG // 5,
+    error, late = interrupted(lambda: toda.run(TODA_PARAMS, steps=LONG // 5, sizes={"n": 20},
                                                **toda_start(20)))
     assert late < 2.0, late
     assert error.trajectory["q"]["x"].shape[1] == 20

@@ -54,8 +54,18 @@ def test_arrays_have_the_documented_shapes():
     q0 = np.concatenate([run["x"][0], run["g"][0]])
     p0 = np.concatenate([run["w"][0], run["mu"][0]])  # B = 0: p = (w, μ)
     unreduced = dsp.run(params, steps=50, method="unreduced", q=q0, p=p0)
-    assert unreduced["q"].shape == (51, 4) and unreduced["p"].shape == (51, 4)
-    assert np.max(np.abs(unreduced["q"][:, :3] - run["x"])) < 1e-9
+    names = dsp.shape + dsp.group
+    assert list(unreduced["q"]) == names and list(unreduced["p"]) == names
+    assert all(unreduced["q"][n].shape == (51,) for n in names)
+    for i, n in enumerate(dsp.shape):
+        assert np.max(np.abs(unreduced["q"][n] - run["x"][:, i])) < 1e-9
+    # A reduced run's configuration and momenta by coordinate too: x and g, p by eq. (3.7).
+    assert list(run["q"]) == names and list(run["p"]) == names
+    for i, n in enumerate(dsp.shape):
+        assert np.array_equal(run["q"][n], run["x"][:, i])
+        assert np.array_equal(run["p"][n], run["w"][:, i])  # B = 0: p_x = w
+    assert np.array_equal(run["q"][dsp.group[0]], run["g"][:, 0])
+    assert np.array_equal(run["p"][dsp.group[0]], run["mu"][:, 0])
 
 
 def test_compositions_of_order_4_and_6_are_more_accurate():
@@ -129,7 +139,7 @@ def test_a_pendulum_with_its_rod_as_a_constraint_swings_as_the_pendulum_equation
                        q=q0, p=[0.0, 0.0])
     assert run["multipliers"].shape == (steps, 1)
     assert np.max(run["constraint_residuals"]) < 1e-10
-    theta = np.arctan2(run["q"][:, 0], -run["q"][:, 1])
+    theta = np.arctan2(run["q"]["x"], -run["q"]["y"])
     # θ'' = −(g/l) sin θ by the classical Runge–Kutta method, 20 substeps per step.
     def rhs(y):
         return np.array([y[1], -g / l * math.sin(y[0])])
@@ -149,7 +159,7 @@ def test_a_pendulum_with_its_rod_as_a_constraint_swings_as_the_pendulum_equation
     pendulum.write({"m": 1.0, "l": l, "g": g, "h": h}, steps=50, path=str(out),
                    method="unreduced", q=q0, p=[0.0, 0.0])
     table = pq.read_table(out)
-    assert np.array_equal(table.column("q_x").to_numpy(), run["q"][:51, 0])
+    assert np.array_equal(table.column("q_x").to_numpy(), run["q"]["x"][:51])
     assert pq.read_metadata(next(out.glob("part-*.parquet"))).metadata[b"dirac.constraints"] == b"1"
     with pytest.raises(ValueError, match="without constraints"):
         pendulum.ensemble({"m": 1.0, "l": l, "g": g, "h": h}, steps=2, method="unreduced",
@@ -267,10 +277,11 @@ def test_a_translation_declared_on_the_users_coordinates_converts_both_ways():
     assert np.allclose(chain.momentum_from_adapted(p), p_user)
     run = chain.run({"k": 2.0, "h": 0.05}, steps=200, method="unreduced", q=q, p=p)
     # The total momentum: to round-off unreduced, exactly reduced (μ = p_g).
-    assert np.max(np.abs(run["p"][:, 3] - p[3])) < 1e-12
+    assert np.max(np.abs(run["p"][chain.group[0]] - p[3])) < 1e-12
     reduced = chain.run({"k": 2.0, "h": 0.05}, steps=200, x=q[:3], w=p[:3], mu=[p[3]], g=[q[3]])
     assert np.all(reduced["mu"] == p[3])
-    user = np.array([chain.from_adapted(row) for row in run["q"]])
+    rows = np.column_stack([run["q"][n] for n in chain.shape + chain.group])
+    user = np.array([chain.from_adapted(row) for row in rows])
     assert user.shape == (201, 4)
     assert np.max(np.abs(user[:, 0] - reduced["g"][:, 0])) < 1e-10
     with pytest.raises(ValueError, match="3 values"):

@@ -68,7 +68,7 @@ def test_a_lattice_sized_per_run_is_the_midpoint_rule():
         i = np.arange(n)
         q0 = i * 1.0 + 0.1 * np.sin(2 * np.pi * i / n)
         p0 = 0.2 * np.cos(2 * np.pi * i / n) + 0.05
-        run = toda.run(params, {"n": n}, steps=100, q=q0, p=p0)
+        run = toda.run(params, steps=100, sizes={"n": n}, q=q0, p=p0)
         assert run["t"].shape == (101,) and run["q"]["x"].shape == (101, n)
         assert run["momentum_map"].shape == (101, 1)
         qs, ps = toda_midpoint(q0, p0, 1.0, 1.0, 0.05, 100)
@@ -77,10 +77,11 @@ def test_a_lattice_sized_per_run_is_the_midpoint_rule():
         # Σ p, the translation's momentum, kept to round-off.
         assert np.max(np.abs(run["momentum_map"][:, 0] - p0.sum())) < 1e-11
     # The (−) side and the compositions from the same start.
-    minus = toda.run(params, [12], steps=50, q=np.arange(12.0), p=np.zeros(12), method="minus")
-    plus = toda.run(params, [12], steps=50, q=np.arange(12.0), p=np.zeros(12))
+    start = dict(sizes={"n": 12}, q=np.arange(12.0), p=np.zeros(12))
+    minus = toda.run(params, steps=50, method="minus", **start)
+    plus = toda.run(params, steps=50, **start)
     assert np.max(np.abs(minus["q"]["x"] - plus["q"]["x"])) < 1e-10
-    four = toda.run(params, [12], steps=10, q=np.arange(12.0), p=np.zeros(12), order=4)
+    four = toda.run(params, steps=10, order=4, **start)
     assert four["q"]["x"].shape == (11, 12)
 
 
@@ -91,7 +92,8 @@ def test_a_grid_returns_its_coordinates_shape():
     nx, ny = 9, 7
     u0 = np.fromfunction(lambda i, j: 0.1 * np.sin(2 * np.pi * i / nx) * np.cos(2 * np.pi * j / ny),
                          (nx, ny))
-    run = membrane.run(params, {"nx": nx, "ny": ny}, steps=20, q={"u": u0}, p={"u": np.zeros((nx, ny))})
+    run = membrane.run(params, steps=20, sizes={"nx": nx, "ny": ny}, q={"u": u0},
+                       p={"u": np.zeros((nx, ny))})
     assert run["q"]["u"].shape == (21, nx, ny)
     assert np.array_equal(run["q"]["u"][0], u0)
 
@@ -104,13 +106,14 @@ def test_a_chain_of_links_keeps_its_constraints():
     x, y = np.cumsum(l * np.sin(th)), -np.cumsum(l * np.cos(th))
     q = {"c": 0.0, "x": x, "y": y}
     p = {"c": 0.0, "x": np.zeros(n), "y": np.zeros(n)}
-    run = chain.run(dict(mc=1.0, m=0.5, l=l, gr=9.81, h=0.01), [n], steps=200, q=q, p=p)
+    run = chain.run(dict(mc=1.0, m=0.5, l=l, gr=9.81, h=0.01), steps=200, sizes=[n], q=q, p=p)
     assert run["multipliers"].shape == (200, n)
     assert np.max(run["constraint_residuals"]) < 1e-9
     links = np.hypot(np.diff(run["q"]["x"], axis=1), np.diff(run["q"]["y"], axis=1))
     assert np.max(np.abs(links - l)) < 1e-8
     with pytest.raises(ValueError, match="order"):
-        chain.run(dict(mc=1.0, m=0.5, l=l, gr=9.81, h=0.01), [n], steps=1, q=q, p=p, order=4)
+        chain.run(dict(mc=1.0, m=0.5, l=l, gr=9.81, h=0.01), steps=1, sizes=[n], q=q, p=p,
+                  order=4)
 
 
 def test_bad_input_raises_value_errors_and_a_failed_step_keeps_the_trajectory():
@@ -118,13 +121,13 @@ def test_bad_input_raises_value_errors_and_a_failed_step_keeps_the_trajectory():
     params = {"m": 1.0, "d": 1.0, "h": 0.05}
     q, p = np.arange(8.0), np.zeros(8)
     with pytest.raises(ValueError, match="no size `k`"):
-        toda.run(params, {"k": 8}, steps=1, q=q, p=p)
+        toda.run(params, steps=1, sizes={"k": 8}, q=q, p=p)
     with pytest.raises(ValueError, match="has 7 values"):
-        toda.run(params, {"n": 8}, steps=1, q=q[:7], p=p)
+        toda.run(params, steps=1, sizes={"n": 8}, q=q[:7], p=p)
     with pytest.raises(ValueError, match="not a coordinate"):
-        toda.run(params, {"n": 8}, steps=1, q={"y": q}, p=p)
+        toda.run(params, steps=1, sizes={"n": 8}, q={"y": q}, p=p)
     with pytest.raises(ValueError, match="unknown method"):
-        toda.run(params, {"n": 8}, steps=1, q=q, p=p, method="unreduced")
+        toda.run(params, steps=1, sizes={"n": 8}, q=q, p=p, method="reduced")
     # Particles flying apart into a potential √x_0, NaN once x_0 < 0.
     wall = dirac.compile(
         "#[reduced_lagrangian(coordinates(x[n]), rule = midpoint)]\n"
@@ -134,7 +137,7 @@ def test_bad_input_raises_value_errors_and_a_failed_step_keeps_the_trajectory():
         "    l\n"
         "}")
     with pytest.raises(dirac.StepError) as info:
-        wall.run({"c": 1e-6, "h": 0.1}, [3], steps=100, q=np.ones(3), p=-np.ones(3))
+        wall.run({"c": 1e-6, "h": 0.1}, steps=100, sizes=[3], q=np.ones(3), p=-np.ones(3))
     e = info.value
     assert 0 < e.step < 100
     assert e.trajectory["q"]["x"].shape == (e.step + 1, 3)

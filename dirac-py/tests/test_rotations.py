@@ -151,7 +151,7 @@ def test_bad_input_raises_value_errors():
     with pytest.raises(ValueError, match="has 2 values"):
         top.run(params, steps=1, q={"r": np.eye(3)}, p={"r": [0, 1]})
     with pytest.raises(ValueError, match="unknown method"):
-        top.run(params, steps=1, q={"r": np.eye(3)}, p={"r": [0, 0, 1]}, method="unreduced")
+        top.run(params, steps=1, q={"r": np.eye(3)}, p={"r": [0, 0, 1]}, method="sideways")
     with pytest.raises(ValueError, match="declares no symmetry"):
         dirac.compile(RIGID_BODY.replace(", symmetry(r)", "")).run(
             {"h": 0.1, "j1": 1, "j2": 2, "j3": 3}, steps=1, q={"r": np.eye(3)},

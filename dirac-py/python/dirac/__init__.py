@@ -15,7 +15,7 @@ arrays in and out::
             h * (0.5 * (dr * dr + r * r * dphi * dphi) + k / r)
         }''')
     run = kepler.run({"h": 0.01, "k": 1.0}, steps=1000, x=[0.5], w=[0.0], mu=[1.2], g=[0.0])
-    run["x"].shape  # (1001, 1)
+    run["x"].shape, run["q"]["r"].shape  # (1001, 1), (1001,)
 
 A system on rotation groups (``rotation(R)``, ``direction(n)`` coordinates) compiles to a
 :class:`LieSystem`, started from its coordinates by name (a rotation's matrix, a direction's
@@ -30,9 +30,13 @@ An element-wise system (a function that takes ``usize`` sizes, its body a sum ov
 compiles to an :class:`ElementSystem`, whose sizes are chosen per run::
 
     toda = dirac.compile(TODA_N)             # coordinates(x[n]), translate(x)
-    run = toda.run({"m": 1.0, "d": 1.0, "h": 0.05}, {"n": 1000}, steps=100, q=q0, p=p0)
+    run = toda.run({"m": 1.0, "d": 1.0, "h": 0.05}, steps=100, sizes={"n": 1000}, q=q0, p=p0)
     run["q"]["x"].shape  # (101, 1000)
 
+Every class has the same methods with the same keywords: ``run``, ``write`` (to Parquet) and
+``ensemble`` (many starts on all cores), taking ``steps``, ``method``, ``order``, ``tol`` and the
+start by coordinate name (``q={..}``, ``p={..}``); every run returns ``t``, ``q`` and ``p`` as
+dicts by coordinate name, ``iterations`` and ``residuals``, and what the kind of system adds.
 Every run method raises ``TypeError`` for a keyword it does not take, ``OutOfMemoryError`` (a
 ``MemoryError``) before running when the trajectory cannot be allocated, and at Ctrl-C
 ``KeyboardInterrupt`` with the trajectory so far (``trajectory``), as ``StepError`` carries it.
