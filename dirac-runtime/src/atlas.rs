@@ -505,18 +505,7 @@ impl<'a, const S: usize, const K: usize, const N: usize> Collect<AtlasIntegrator
         }
     }
 
-    fn try_reserve(
-        &mut self,
-        _state: &(usize, ReducedState<S, K>),
-        additional: usize,
-    ) -> Result<(), StepError> {
-        crate::stepper::try_grow(&mut self.states, additional, "states")?;
-        crate::stepper::try_grow(&mut self.times, additional, "times")?;
-        crate::stepper::try_grow(&mut self.step_sizes, additional, "step sizes")?;
-        crate::stepper::try_grow(&mut self.charts, additional, "charts")?;
-        crate::stepper::try_grow(&mut self.stats, additional, "step statistics")?;
-        Ok(())
-    }
+    crate::stepper::collect_steps!(try_reserve((usize, ReducedState<S, K>)), charts: "charts");
 }
 
 /// An atlas is a stepper on states `(chart, state)`: the one driver ([`crate::Drive`]) gives it

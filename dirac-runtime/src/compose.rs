@@ -306,33 +306,15 @@ impl<St> Collect<Composition<St>> for ComposedTrajectory<St::State>
 where
     St: SelfAdjoint,
 {
-    fn start(composition: &Composition<St>, steps: usize) -> Self {
-        ComposedTrajectory {
+    crate::stepper::collect_steps!(
+        start(composition: Composition<St>) {
             h: composition.time_step(),
             method: composition.method,
-            states: crate::stepper::reserved(steps.saturating_add(1)),
-            times: crate::stepper::reserved(steps.saturating_add(1)),
-            step_sizes: crate::stepper::reserved(steps),
-            stats: crate::stepper::reserved(steps),
-        }
-    }
-
-    fn push(&mut self, t: f64, state: &St::State, step: Option<(f64, &StepStats)>) {
-        self.states.push(state.clone());
-        self.times.push(t);
-        if let Some((h, stats)) = step {
-            self.step_sizes.push(h);
-            self.stats.push(*stats);
-        }
-    }
-
-    fn try_reserve(&mut self, _state: &St::State, additional: usize) -> Result<(), StepError> {
-        crate::stepper::try_grow(&mut self.states, additional, "states")?;
-        crate::stepper::try_grow(&mut self.times, additional, "times")?;
-        crate::stepper::try_grow(&mut self.step_sizes, additional, "step sizes")?;
-        crate::stepper::try_grow(&mut self.stats, additional, "step statistics")?;
-        Ok(())
-    }
+        },
+        St::State,
+        StepStats,
+        |stats| *stats
+    );
 }
 
 /// A composition is a stepper: a macro step runs the stages in order, each in its own workspace

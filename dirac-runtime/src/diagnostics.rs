@@ -7,7 +7,7 @@
 //! `ω_d(q0, q1) = (g1 − g0) − B (x1 − x0)`, for which `h_d^0(x0, x1) = B (x1 − x0)`,
 //! `h_{d,Σ} = B`, `h*_{d,Σ} = Bᵀ`, `h_{d,Q}((x, 0)) = −B x` and `h_d((0, g), 0) = g`.
 
-use nalgebra::{SMatrix, SVector};
+use nalgebra::SVector;
 
 use crate::error::StepError;
 use crate::newton::inf_norm;
@@ -55,16 +55,23 @@ where
     (d_x0, d_u, sys.momentum(x0, &z))
 }
 
-/// The pairing `⟨w − Bᵀμ, Δx⟩ + ⟨μ, Δg⟩` of a reduced momentum `(w, μ)` with a displacement
-/// `(Δx, Δg)`: the canonical pairing `⟨p, Δq⟩` through the trivialization (3.7). Both reduced
-/// generalized energies (Lemmas 5.1 and 5.4) add it to the reduced Lagrangian.
-fn pairing<const S: usize, const K: usize>(
-    b: &SMatrix<f64, K, S>,
-    w: &SVector<f64, S>,
-    mu: &SVector<f64, K>,
-    dx: SVector<f64, S>,
-    dg: SVector<f64, K>,
-) -> f64 {
+/// The pairing `⟨w − Bᵀμ, Δx⟩ + ⟨μ, Δg⟩` of a reduced momentum `(w, μ)` with the displacement
+/// `(Δx, Δg) = (x − x_v, g − g_v − h_d^0(x_s, x_v))` of a configuration `(x, g)` from a step's
+/// variables `(x_v, g_v)` taken from the shape point `x_s` (`h_d^0` of eq. (2.5)): the canonical
+/// pairing `⟨p, Δq⟩` through the trivialization (3.7). Both reduced generalized energies (Lemmas
+/// 5.1 and 5.4) add it to the reduced Lagrangian.
+fn pairing<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    (w, mu): (&SVector<f64, S>, &SVector<f64, K>),
+    (x, g): (&SVector<f64, S>, &SVector<f64, K>),
+    x_s: &SVector<f64, S>,
+    (x_v, g_v): (&SVector<f64, S>, &SVector<f64, K>),
+) -> f64
+where
+    L: DiscreteLagrangian<S, K, N>,
+{
+    let b = sys.connection();
+    let (dx, dg) = (x - x_v, g - g_v - sys.h_d0(x_s, x_v));
     (w - b.transpose() * mu).dot(&dx) + mu.dot(&dg)
 }
 
@@ -238,13 +245,7 @@ where
     L: Reduced<Plus, S, K, N>,
 {
     Reduced::<Plus, S, K, N>::reduced_lagrangian(sys, x0, x0_plus, g0_plus)
-        + pairing(
-            &sys.connection(),
-            w1,
-            mu1,
-            x1 - x0_plus,
-            g1 - g0_plus - sys.h_d0(x0, x0_plus),
-        )
+        + pairing(sys, (w1, mu1), (x1, g1), x0, (x0_plus, g0_plus))
 }
 
 /// The reduced (−) discrete generalized energy as printed in Lemma 5.4:
@@ -269,13 +270,7 @@ where
     L: Reduced<Minus, S, K, N>,
 {
     Reduced::<Minus, S, K, N>::reduced_lagrangian(sys, x1_minus, x1, g1_minus)
-        + pairing(
-            &sys.connection(),
-            w0,
-            mu0,
-            x0 - x1_minus,
-            g0 - g1_minus - sys.h_d0(x1, x1_minus),
-        )
+        + pairing(sys, (w0, mu0), (x0, g0), x1, (x1_minus, g1_minus))
 }
 
 /// The variables of the reduced (+) discrete action `Σ_k e_{d+}` (Theorem 5.2): configurations

@@ -105,40 +105,16 @@ where
     D: Side,
     L: Reduced<D, S, K, N>,
 {
-    fn start(integrator: &ReducedIntegrator<L, D, S, K, N>, steps: usize) -> Self {
-        Trajectory {
+    crate::stepper::collect_steps!(
+        start(integrator: ReducedIntegrator<L, D, S, K, N>) {
             h: integrator.system.time_step(),
             variant: D::VARIANT,
-            states: crate::stepper::reserved(steps.saturating_add(1)),
-            times: crate::stepper::reserved(steps.saturating_add(1)),
-            step_sizes: crate::stepper::reserved(steps),
-            group_unknowns: crate::stepper::reserved(steps),
-            stats: crate::stepper::reserved(steps),
-        }
-    }
-
-    fn push(&mut self, t: f64, state: &ReducedState<S, K>, step: Option<(f64, &ReducedStep<K>)>) {
-        self.states.push(*state);
-        self.times.push(t);
-        if let Some((h, step)) = step {
-            self.step_sizes.push(h);
-            self.group_unknowns.push(step.group_unknown);
-            self.stats.push(step.stats);
-        }
-    }
-
-    fn try_reserve(
-        &mut self,
-        _state: &ReducedState<S, K>,
-        additional: usize,
-    ) -> Result<(), StepError> {
-        crate::stepper::try_grow(&mut self.states, additional, "states")?;
-        crate::stepper::try_grow(&mut self.times, additional, "times")?;
-        crate::stepper::try_grow(&mut self.step_sizes, additional, "step sizes")?;
-        crate::stepper::try_grow(&mut self.group_unknowns, additional, "group unknowns")?;
-        crate::stepper::try_grow(&mut self.stats, additional, "step statistics")?;
-        Ok(())
-    }
+        },
+        ReducedState<S, K>,
+        ReducedStep<K>,
+        |step| step.stats,
+        group_unknowns: "group unknowns" = step.group_unknown
+    );
 }
 
 /// The workspace of a reduced run: the linear solver of the step Jacobian and the last two

@@ -108,23 +108,52 @@ impl<const S: usize, const K: usize> ReducedState<S, K> {
     /// True when every component is finite.
     #[inline]
     pub fn is_finite(&self) -> bool {
-        // `v · 0` is 0 for finite `v` and NaN otherwise: one branch-free sum instead of a
-        // short-circuiting test per component (this runs on every step).
-        let parts = [
+        all_finite(&[
             self.x.as_slice(),
             self.w.as_slice(),
             self.mu.as_slice(),
             self.g.as_slice(),
-        ];
-        let mut zero = 0.0;
-        for part in parts {
-            for v in part {
-                zero += v * 0.0;
-            }
-        }
-        zero == 0.0
+        ])
     }
 }
+
+/// Whether every component of `parts` is finite, what every state's `is_finite` asks. `v · 0`
+/// is 0 for finite `v` and NaN otherwise: one branch-free sum instead of a short-circuiting test
+/// per component (this runs on every step).
+#[inline]
+pub(crate) fn all_finite(parts: &[&[f64]]) -> bool {
+    let mut zero = 0.0;
+    for part in parts {
+        for v in *part {
+            zero += v * 0.0;
+        }
+    }
+    zero == 0.0
+}
+
+/// The constructor `$new(q, p)` (each given as whatever [`IntoVector`] takes to the vector
+/// types `$q` and `$p`) and `is_finite` of a state `(q, p)`: the unreduced state, the state on
+/// rotation groups and the state sized at run time.
+macro_rules! qp_state {
+    ($(#[$doc:meta])* $new:ident($q:ty, $p:ty)) => {
+        $(#[$doc])*
+        pub fn $new(
+            q: impl crate::state::IntoVector<$q>,
+            p: impl crate::state::IntoVector<$p>,
+        ) -> Self {
+            Self {
+                q: crate::state::IntoVector::into_vector(q),
+                p: crate::state::IntoVector::into_vector(p),
+            }
+        }
+
+        /// Whether every component is finite.
+        pub fn is_finite(&self) -> bool {
+            crate::state::all_finite(&[self.q.as_slice(), self.p.as_slice()])
+        }
+    };
+}
+pub(crate) use qp_state;
 
 /// A point `(q, p) ∈ T*Q ≃ Q × Q*` with `q = (x, g)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -136,19 +165,11 @@ pub struct UnreducedState<const N: usize> {
 }
 
 impl<const N: usize> UnreducedState<N> {
-    /// The state `(q, p)` with `q = (x, g)` and `p = (p_x, p_g)` in the order of the system's
-    /// coordinates ([`crate::DiscreteLagrangian::SHAPE`], then
-    /// [`crate::DiscreteLagrangian::GROUP`]), each given as an array or an
-    /// nalgebra vector ([`IntoVector`]).
-    pub fn new(q: impl IntoVector<SVector<f64, N>>, p: impl IntoVector<SVector<f64, N>>) -> Self {
-        Self {
-            q: q.into_vector(),
-            p: p.into_vector(),
-        }
-    }
-
-    /// True when every component is finite.
-    pub fn is_finite(&self) -> bool {
-        self.q.iter().chain(self.p.iter()).all(|v| v.is_finite())
-    }
+    qp_state!(
+        /// The state `(q, p)` with `q = (x, g)` and `p = (p_x, p_g)` in the order of the system's
+        /// coordinates ([`crate::DiscreteLagrangian::SHAPE`], then
+        /// [`crate::DiscreteLagrangian::GROUP`]), each given as an array or an nalgebra vector
+        /// ([`IntoVector`]).
+        new(SVector<f64, N>, SVector<f64, N>)
+    );
 }

@@ -218,6 +218,99 @@ pub(crate) fn try_grow<T>(v: &mut Vec<T>, additional: usize, what: &str) -> Resu
     })
 }
 
+/// The [`Collect`] methods of a trajectory that keeps `states`, `times`, `step_sizes` (the size
+/// of each step) and `stats` (each step's [`StepStats`]), and for each `field: "what"` another
+/// vector of one item per step:
+///
+/// - `collect_steps!(start(stepper: Stepper) { init: value, .. }, State, Record, ..)`: `start`,
+///   the trajectory with the fields `init` (read from `stepper`) and empty vectors with room
+///   for a run's first states ([`reserved`]), and what follows;
+/// - `collect_steps!(State, Record, |record| stats, field: "what" = item, ..)`: `push`, which
+///   keeps a copy of the state, its time and, for a state a step produced, the step's size,
+///   `stats` and each `item` (all read from the step's `record`), and `try_reserve`;
+/// - `collect_steps!(try_reserve(State), field: "what", ..)`: `try_reserve` alone, for a
+///   trajectory that pushes its own way; `then reserve` after the fields calls
+///   `reserve(state, additional)` last (room for what each state holds on the heap).
+///
+/// `try_reserve` asks for room in every vector ([`try_grow`], the error naming `what`).
+macro_rules! collect_steps {
+    (try_reserve($state:ty) $(, $field:ident: $what:literal)* $(; then $reserve:path)?) => {
+        fn try_reserve(
+            &mut self,
+            _state: &$state,
+            additional: usize,
+        ) -> Result<(), crate::error::StepError> {
+            crate::stepper::try_grow(&mut self.states, additional, "states")?;
+            crate::stepper::try_grow(&mut self.times, additional, "times")?;
+            crate::stepper::try_grow(&mut self.step_sizes, additional, "step sizes")?;
+            crate::stepper::try_grow(&mut self.stats, additional, "step statistics")?;
+            $(crate::stepper::try_grow(&mut self.$field, additional, $what)?;)*
+            $($reserve(_state, additional)?;)?
+            Ok(())
+        }
+    };
+    (
+        start($stepper:ident: $integrator:ty) { $($init:ident: $value:expr),* $(,)? },
+        $state:ty, $record:ty, |$r:ident| $stats:expr
+        $(, $field:ident: $what:literal = $item:expr)* $(; then $reserve:path)?
+    ) => {
+        fn start($stepper: &$integrator, steps: usize) -> Self {
+            Self {
+                $($init: $value,)*
+                states: crate::stepper::reserved(steps.saturating_add(1)),
+                times: crate::stepper::reserved(steps.saturating_add(1)),
+                step_sizes: crate::stepper::reserved(steps),
+                stats: crate::stepper::reserved(steps),
+                $($field: crate::stepper::reserved(steps),)*
+            }
+        }
+
+        crate::stepper::collect_steps!(
+            $state, $record, |$r| $stats $(, $field: $what = $item)* $(; then $reserve)?
+        );
+    };
+    (
+        $state:ty, $record:ty, |$r:ident| $stats:expr
+        $(, $field:ident: $what:literal = $item:expr)* $(; then $reserve:path)?
+    ) => {
+        fn push(&mut self, t: f64, state: &$state, step: Option<(f64, &$record)>) {
+            self.states.push(Clone::clone(state));
+            self.times.push(t);
+            if let Some((h, $r)) = step {
+                self.step_sizes.push(h);
+                self.stats.push($stats);
+                $(self.$field.push($item);)*
+            }
+        }
+
+        crate::stepper::collect_steps!(try_reserve($state) $(, $field: $what)* $(; then $reserve)?);
+    };
+}
+pub(crate) use collect_steps;
+
+/// `minus(system, options)`, the (−) integrator (documented by the attributes given), and
+/// `variant()`, of an integrator whose `new(system, options)` solves the (+) equations and whose
+/// field `variant` says which ones it solves: the flat element-wise one and the one on rotation
+/// groups.
+macro_rules! plus_or_minus {
+    ($(#[$doc:meta])*) => {
+        $(#[$doc])*
+        pub fn minus(system: L, options: crate::newton::NewtonOptions) -> Self {
+            Self {
+                variant: crate::system::Variant::Minus,
+                ..Self::new(system, options)
+            }
+        }
+
+        /// Which equations are solved: [`Variant::Plus`](crate::Variant::Plus) ([`Self::new`])
+        /// or [`Variant::Minus`](crate::Variant::Minus) ([`Self::minus`]).
+        pub fn variant(&self) -> crate::system::Variant {
+            self.variant
+        }
+    };
+}
+pub(crate) use plus_or_minus;
+
 /// What one step cost (the default: nothing yet, as a sum over stages starts).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct StepStats {

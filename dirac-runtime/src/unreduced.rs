@@ -49,36 +49,14 @@ impl<L, const S: usize, const K: usize, const N: usize> Collect<UnreducedIntegra
 where
     L: Unreduced<S, K, N>,
 {
-    fn start(integrator: &UnreducedIntegrator<L, S, K, N>, steps: usize) -> Self {
-        UnreducedTrajectory {
+    crate::stepper::collect_steps!(
+        start(integrator: UnreducedIntegrator<L, S, K, N>) {
             h: integrator.system.time_step(),
-            states: crate::stepper::reserved(steps.saturating_add(1)),
-            times: crate::stepper::reserved(steps.saturating_add(1)),
-            step_sizes: crate::stepper::reserved(steps),
-            stats: crate::stepper::reserved(steps),
-        }
-    }
-
-    fn push(&mut self, t: f64, state: &UnreducedState<N>, step: Option<(f64, &StepStats)>) {
-        self.states.push(*state);
-        self.times.push(t);
-        if let Some((h, stats)) = step {
-            self.step_sizes.push(h);
-            self.stats.push(*stats);
-        }
-    }
-
-    fn try_reserve(
-        &mut self,
-        _state: &UnreducedState<N>,
-        additional: usize,
-    ) -> Result<(), StepError> {
-        crate::stepper::try_grow(&mut self.states, additional, "states")?;
-        crate::stepper::try_grow(&mut self.times, additional, "times")?;
-        crate::stepper::try_grow(&mut self.step_sizes, additional, "step sizes")?;
-        crate::stepper::try_grow(&mut self.stats, additional, "step statistics")?;
-        Ok(())
-    }
+        },
+        UnreducedState<N>,
+        StepStats,
+        |stats| *stats
+    );
 }
 
 /// The workspace of an unreduced run: the linear solver and the last two increments

@@ -202,14 +202,15 @@ pub struct ConstrainedWorkspace<P, Q, H, const M: usize> {
     pub multipliers: Option<(SVector<f64, M>, SVector<f64, M>)>,
 }
 
-/// The constraint tolerance of the initial state: `‖φ(q_0)‖∞ ≤ max(abs_tol, rel_tol · scale)`
-/// with the Newton tolerances and the configuration's scale.
-fn check_constraint<const M: usize>(
-    phi: SVector<f64, M>,
+/// The constraint tolerance of the initial state: `‖φ(q_0)‖∞ = residual ≤ max(abs_tol, rel_tol ·
+/// max(scale, 1)) · 10³` with the Newton tolerances and the configuration's scale `‖q_0‖∞`; the
+/// typed [`StepError::ConstraintViolated`] otherwise. The check of every constrained
+/// integrator, the element-wise one included.
+pub(crate) fn check_constraint(
+    residual: f64,
     scale: f64,
     options: &NewtonOptions,
 ) -> Result<(), StepError> {
-    let residual = inf_norm(&phi);
     let tolerance = options.abs_tol.max(options.rel_tol * scale.max(1.0)) * 1e3;
     if residual <= tolerance {
         Ok(())
@@ -504,7 +505,11 @@ where
         if !self.system.holonomic() {
             return Ok(());
         }
-        check_constraint(self.system.constraint(&q), inf_norm(&q), &self.options)
+        check_constraint(
+            inf_norm(&self.system.constraint(&q)),
+            inf_norm(&q),
+            &self.options,
+        )
     }
 
     fn check_domain(&self, k: usize, state: &F::State) -> Result<(), StepError> {
@@ -555,33 +560,13 @@ where
     F: Form<S, K, N, State = St>,
     L: Constrained<F, S, K, N, M, Z>,
 {
-    fn start(integrator: &ConstrainedStepper<L, F, S, K, N, M, Z>, steps: usize) -> Self {
-        ConstrainedTrajectory {
+    crate::stepper::collect_steps!(
+        start(integrator: ConstrainedStepper<L, F, S, K, N, M, Z>) {
             h: integrator.system.time_step(),
-            states: crate::stepper::reserved(steps.saturating_add(1)),
-            times: crate::stepper::reserved(steps.saturating_add(1)),
-            step_sizes: crate::stepper::reserved(steps),
-            records: crate::stepper::reserved(steps),
-            stats: crate::stepper::reserved(steps),
-        }
-    }
-
-    fn push(&mut self, t: f64, state: &St, step: Option<(f64, &ConstrainedStep<M>)>) {
-        self.states.push(*state);
-        self.times.push(t);
-        if let Some((h, step)) = step {
-            self.step_sizes.push(h);
-            self.records.push(*step);
-            self.stats.push(step.stats);
-        }
-    }
-
-    fn try_reserve(&mut self, _state: &St, additional: usize) -> Result<(), StepError> {
-        crate::stepper::try_grow(&mut self.states, additional, "states")?;
-        crate::stepper::try_grow(&mut self.times, additional, "times")?;
-        crate::stepper::try_grow(&mut self.step_sizes, additional, "step sizes")?;
-        crate::stepper::try_grow(&mut self.records, additional, "step records")?;
-        crate::stepper::try_grow(&mut self.stats, additional, "step statistics")?;
-        Ok(())
-    }
+        },
+        St,
+        ConstrainedStep<M>,
+        |step| step.stats,
+        records: "step records" = *step
+    );
 }

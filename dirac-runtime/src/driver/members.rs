@@ -193,16 +193,7 @@ where
     {
         self.map(|i| {
             self.members.with_member(i, |integrator, initial| {
-                let run = Run {
-                    integrator,
-                    initial,
-                    span: self.span,
-                    step_size: self.step_size.clone(),
-                    controls: NoControls,
-                    stop: self.stop.clone(),
-                    observer: Unobserved,
-                };
-                run.collect()
+                self.member_run(integrator, initial, Unobserved).collect()
             })
         })
     }
@@ -220,18 +211,28 @@ where
         self.map(|i| {
             let mut observe = observer(i);
             let result = self.members.with_member(i, |integrator, initial| {
-                let run = Run {
-                    integrator,
-                    initial,
-                    span: self.span,
-                    step_size: self.step_size.clone(),
-                    controls: NoControls,
-                    stop: self.stop.clone(),
-                    observer: &mut observe,
-                };
-                run.stream()
+                self.member_run(integrator, initial, &mut observe).stream()
             });
             (observe, result)
         })
+    }
+
+    /// The run of one member from its `integrator` and `initial` state: this ensemble's span,
+    /// a clone of its step sizes and stop condition, no controls, and `observer`.
+    fn member_run<'r, O>(
+        &self,
+        integrator: &'r M::Integrator,
+        initial: StateOf<M>,
+        observer: O,
+    ) -> Run<'r, M::Integrator, P, NoControls, X, O> {
+        Run {
+            integrator,
+            initial,
+            span: self.span,
+            step_size: self.step_size.clone(),
+            controls: NoControls,
+            stop: self.stop.clone(),
+            observer,
+        }
     }
 }

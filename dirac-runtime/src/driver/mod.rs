@@ -312,15 +312,7 @@ where
     /// (the one way for each). Each size must be positive and finite, or the run stops with a
     /// typed error. With adaptive steps the sizes are fictitious steps `ε_k`.
     pub fn step_size<P2: StepSize<I::State>>(self, policy: P2) -> Run<'a, I, P2, C, X, O> {
-        Run {
-            integrator: self.integrator,
-            initial: self.initial,
-            span: self.span,
-            step_size: policy,
-            controls: self.controls,
-            stop: self.stop,
-            observer: self.observer,
-        }
+        self.with_parts(|_, controls, stop, observer| (policy, controls, stop, observer))
     }
 
     /// The size of step `k` computed as the run goes: `schedule(k, t, state)` from the step
@@ -348,15 +340,7 @@ where
     /// equations with those values. A sequence that ends before the run, or a value that is not
     /// finite, ends the run with a typed error.
     pub fn controls<C2: ControlLaw<I::State>>(self, law: C2) -> Run<'a, I, P, C2, X, O> {
-        Run {
-            integrator: self.integrator,
-            initial: self.initial,
-            span: self.span,
-            step_size: self.step_size,
-            controls: law,
-            stop: self.stop,
-            observer: self.observer,
-        }
+        self.with_parts(|step_size, _, stop, observer| (step_size, law, stop, observer))
     }
 
     /// Ends the run after the first step whose new state satisfies `stop(k, t, state)` (`k` the
@@ -365,15 +349,7 @@ where
     where
         X2: FnMut(usize, f64, &I::State) -> bool,
     {
-        Run {
-            integrator: self.integrator,
-            initial: self.initial,
-            span: self.span,
-            step_size: self.step_size,
-            controls: self.controls,
-            stop,
-            observer: self.observer,
-        }
+        self.with_parts(|step_size, controls, _, observer| (step_size, controls, stop, observer))
     }
 
     /// `observe(k, t, state, record)` sees every state as it is computed (every `k`-th with
@@ -383,13 +359,24 @@ where
     where
         O2: FnMut(usize, f64, &I::State, Option<&I::Record>),
     {
+        self.with_parts(|step_size, controls, stop, _| (step_size, controls, stop, observer))
+    }
+
+    /// The same run with its step sizes, controls, stop condition and observer replaced by
+    /// `parts(step_size, controls, stop, observer)`: what each of the options above changes.
+    fn with_parts<P2, C2, X2, O2>(
+        self,
+        parts: impl FnOnce(P, C, X, O) -> (P2, C2, X2, O2),
+    ) -> Run<'a, I, P2, C2, X2, O2> {
+        let (step_size, controls, stop, observer) =
+            parts(self.step_size, self.controls, self.stop, self.observer);
         Run {
             integrator: self.integrator,
             initial: self.initial,
             span: self.span,
-            step_size: self.step_size,
-            controls: self.controls,
-            stop: self.stop,
+            step_size,
+            controls,
+            stop,
             observer,
         }
     }
@@ -398,6 +385,50 @@ where
     /// states to write them somewhere). Returns the summary, or on failure the typed error with
     /// the summary up to it.
     pub fn stream(self) -> RunResult<I::State> {
+        self.drive_keeping(|_, _, _, _| Ok(()))
+    }
+
+    /// Runs and keeps every state and every step's record: the trajectory, or on failure the
+    /// typed error with the trajectory computed so far. Newton starts each step from an
+    /// extrapolation of the last steps.
+    ///
+    /// A trajectory that memory cannot hold ends the run with [`StepError::OutOfMemory`]
+    /// rather than aborting the process: a run of a number of steps without a stop condition
+    /// or an end time knows how many states it keeps and reserves room for all of them before
+    /// the first step (refusing a run of 10¹¹ steps at once); any other run asks for room
+    /// before each state it keeps ([`Collect::try_reserve`]).
+    pub fn collect(self) -> MemberResult<I::Trajectory> {
+        let integrator = self.integrator;
+        let h = integrator.time_step();
+        let mut trajectory = I::Trajectory::start(integrator, self.span.requested(h));
+        // The states a run keeps when it is known before the first step.
+        let known = match (self.span.steps, self.span.end) {
+            (Some(steps), None) if !X::MAY_STOP => steps.saturating_add(1),
+            _ => 1,
+        };
+        let outcome = self.drive_keeping(|k, t, state: &I::State, step| {
+            trajectory.try_reserve(state, if k == 0 { known } else { 1 })?;
+            trajectory.push(t, state, step);
+            Ok(())
+        });
+        match outcome {
+            Ok(_) => Ok(trajectory),
+            Err(e) => Err(Box::new(IntegrationError::new(
+                e.source,
+                trajectory,
+                e.requested,
+            ))),
+        }
+    }
+
+    /// Runs [`drive`] with this run's parts: `keep(k, t, state, step)` is passed every state
+    /// (and may fail the run, as a trajectory that cannot keep it does), then the observer is
+    /// shown those the output stride shows. [`Self::stream`] keeps nothing,
+    /// [`Self::collect`] everything.
+    fn drive_keeping<Keep>(self, mut keep: Keep) -> RunResult<I::State>
+    where
+        Keep: FnMut(usize, f64, &I::State, Option<(f64, &I::Record)>) -> Result<(), StepError>,
+    {
         let Run {
             integrator,
             initial,
@@ -415,64 +446,13 @@ where
             &mut controls,
             &mut stop,
             |k, t, state: &I::State, step: Option<(f64, &I::Record)>, shown| {
+                keep(k, t, state, step)?;
                 if shown {
                     observer.observe(k, t, state, step.map(|(_, record)| record));
                 }
                 Ok(())
             },
         )
-    }
-
-    /// Runs and keeps every state and every step's record: the trajectory, or on failure the
-    /// typed error with the trajectory computed so far. Newton starts each step from an
-    /// extrapolation of the last steps.
-    ///
-    /// A trajectory that memory cannot hold ends the run with [`StepError::OutOfMemory`]
-    /// rather than aborting the process: a run of a number of steps without a stop condition
-    /// or an end time knows how many states it keeps and reserves room for all of them before
-    /// the first step (refusing a run of 10¹¹ steps at once); any other run asks for room
-    /// before each state it keeps ([`Collect::try_reserve`]).
-    pub fn collect(self) -> MemberResult<I::Trajectory> {
-        let Run {
-            integrator,
-            initial,
-            span,
-            mut step_size,
-            mut controls,
-            mut stop,
-            mut observer,
-        } = self;
-        let h = integrator.time_step();
-        let mut trajectory = I::Trajectory::start(integrator, span.requested(h));
-        // The states a run keeps when it is known before the first step.
-        let known = match (span.steps, span.end) {
-            (Some(steps), None) if !X::MAY_STOP => steps.saturating_add(1),
-            _ => 1,
-        };
-        let outcome = drive(
-            integrator,
-            initial,
-            &span,
-            &mut step_size,
-            &mut controls,
-            &mut stop,
-            |k, t, state: &I::State, step: Option<(f64, &I::Record)>, shown| {
-                trajectory.try_reserve(state, if k == 0 { known } else { 1 })?;
-                trajectory.push(t, state, step);
-                if shown {
-                    observer.observe(k, t, state, step.map(|(_, record)| record));
-                }
-                Ok(())
-            },
-        );
-        match outcome {
-            Ok(_) => Ok(trajectory),
-            Err(e) => Err(Box::new(IntegrationError::new(
-                e.source,
-                trajectory,
-                e.requested,
-            ))),
-        }
     }
 }
 

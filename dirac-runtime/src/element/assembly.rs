@@ -157,13 +157,11 @@ impl FamilyVisitor for Collector {
             data.count += 1;
             data.indices.extend_from_slice(indices);
             for (slot, &g) in stencil.iter().enumerate() {
-                match usize::try_from(g).ok().filter(|&g| g < n) {
+                match coordinate(g, n) {
                     Some(g) => data.stencils.push(g),
                     None => {
                         if invalid.is_none() {
-                            *invalid = Some(format!(
-                                "element {indices:?} of family {index} reads coordinate {g} (slot {slot}), outside 0..{n}: the sizes are too small for its stencil"
-                            ));
+                            *invalid = Some(outside(indices, index, slot, g, n));
                         }
                         data.stencils.push(0);
                     }
@@ -172,6 +170,19 @@ impl FamilyVisitor for Collector {
         });
         self.families.push(data);
     }
+}
+
+/// The coordinate a stencil's slot reads, `g`, when it lies in `0..n`.
+fn coordinate(g: i64, n: usize) -> Option<usize> {
+    usize::try_from(g).ok().filter(|&g| g < n)
+}
+
+/// Why the stencil of element `indices` of family `index` is refused: its `slot` reads the
+/// coordinate `g`, outside `0..n`.
+fn outside(indices: &[i64], index: usize, slot: usize, g: i64, n: usize) -> String {
+    format!(
+        "element {indices:?} of family {index} reads coordinate {g} (slot {slot}), outside 0..{n}: the sizes are too small for its stencil"
+    )
 }
 
 /// The shape of one family of elements: stencil width, loop depth and number of elements.
@@ -199,14 +210,12 @@ impl FamilyVisitor for Counter {
             if invalid.is_some() {
                 return;
             }
-            if let Some((slot, g)) = stencil
+            if let Some((slot, &g)) = stencil
                 .iter()
                 .enumerate()
-                .find(|&(_, &g)| usize::try_from(g).map_or(true, |g| g >= n))
+                .find(|&(_, &g)| coordinate(g, n).is_none())
             {
-                *invalid = Some(format!(
-                    "element {indices:?} of family {index} reads coordinate {g} (slot {slot}), outside 0..{n}: the sizes are too small for its stencil"
-                ));
+                *invalid = Some(outside(indices, index, slot, g, n));
             }
         });
         self.shapes.push(FamilyShape {

@@ -285,38 +285,18 @@ impl Steps for ElementConstrainedTrajectory {
 impl<L: ElementLagrangian> Collect<ElementConstrainedIntegrator<L>>
     for ElementConstrainedTrajectory
 {
-    fn start(integrator: &ElementConstrainedIntegrator<L>, steps: usize) -> Self {
-        Self {
+    // Each state kept is a copy of `state`'s vectors: room for them is asked for (and given
+    // back) by `reserve_states`, where a failed allocation is an error rather than an abort.
+    crate::stepper::collect_steps!(
+        start(integrator: ElementConstrainedIntegrator<L>) {
             h: integrator.time_step(),
-            states: crate::stepper::reserved(steps.saturating_add(1)),
-            times: crate::stepper::reserved(steps.saturating_add(1)),
-            step_sizes: crate::stepper::reserved(steps),
-            records: crate::stepper::reserved(steps),
-            stats: crate::stepper::reserved(steps),
-        }
-    }
-
-    fn push(&mut self, t: f64, state: &ElementState, step: Option<(f64, &ElementConstrainedStep)>) {
-        self.states.push(state.clone());
-        self.times.push(t);
-        if let Some((h, step)) = step {
-            self.step_sizes.push(h);
-            self.stats.push(step.stats);
-            self.records.push(step.clone());
-        }
-    }
-
-    fn try_reserve(&mut self, state: &ElementState, additional: usize) -> Result<(), StepError> {
-        crate::stepper::try_grow(&mut self.states, additional, "states")?;
-        crate::stepper::try_grow(&mut self.times, additional, "times")?;
-        crate::stepper::try_grow(&mut self.step_sizes, additional, "step sizes")?;
-        crate::stepper::try_grow(&mut self.stats, additional, "step statistics")?;
-        crate::stepper::try_grow(&mut self.records, additional, "step records")?;
-        // Each state kept is a copy of `state`'s vectors: room for them is asked for (and given
-        // back) here, where a failed allocation is an error rather than an abort.
-        crate::element::reserve_states(state, additional)?;
-        Ok(())
-    }
+        },
+        ElementState,
+        ElementConstrainedStep,
+        |step| step.stats,
+        records: "step records" = step.clone();
+        then crate::element::reserve_states
+    );
 }
 
 /// What a failed [`ElementConstrainedIntegrator`] run keeps.
@@ -607,20 +587,7 @@ impl<L: ElementLagrangian> Stepper for ElementConstrainedIntegrator<L> {
     fn check(&self, initial: &ElementState) -> Result<(), StepError> {
         self.base.check(initial)?;
         let phi = self.constraint(&initial.q)?;
-        let options = self.options();
-        let residual = phi.amax();
-        let tolerance = options
-            .abs_tol
-            .max(options.rel_tol * initial.q.amax().max(1.0))
-            * 1e3;
-        if residual <= tolerance {
-            Ok(())
-        } else {
-            Err(StepError::ConstraintViolated {
-                residual,
-                tolerance,
-            })
-        }
+        crate::constrained::check_constraint(phi.amax(), initial.q.amax(), self.options())
     }
 
     fn workspace(&self) -> ElementConstrainedWorkspace {

@@ -301,22 +301,11 @@ pub struct ElementState {
 }
 
 impl ElementState {
-    /// The state `(q, p)`, each given as a slice, a `Vec`, an array or an nalgebra vector
-    /// ([`crate::state::IntoVector`]).
-    pub fn new(
-        q: impl crate::state::IntoVector<DVector<f64>>,
-        p: impl crate::state::IntoVector<DVector<f64>>,
-    ) -> Self {
-        Self {
-            q: q.into_vector(),
-            p: p.into_vector(),
-        }
-    }
-
-    /// Whether every component is finite.
-    pub fn is_finite(&self) -> bool {
-        self.q.iter().chain(self.p.iter()).all(|v| v.is_finite())
-    }
+    crate::state::qp_state!(
+        /// The state `(q, p)`, each given as a slice, a `Vec`, an array or an nalgebra vector
+        /// ([`crate::state::IntoVector`]).
+        new(DVector<f64>, DVector<f64>)
+    );
 }
 
 /// When the elements are assembled in parallel. The result is the same, bit for bit, either
@@ -402,36 +391,18 @@ impl Steps for ElementTrajectory {
 }
 
 impl<L: ElementLagrangian> Collect<ElementIntegrator<L>> for ElementTrajectory {
-    fn start(integrator: &ElementIntegrator<L>, steps: usize) -> Self {
-        Self {
+    // Each state kept is a copy of `state`'s vectors: room for them is asked for (and given
+    // back) by `reserve_states`, where a failed allocation is an error rather than an abort.
+    crate::stepper::collect_steps!(
+        start(integrator: ElementIntegrator<L>) {
             h: integrator.system.time_step(),
             variant: integrator.variant,
-            states: crate::stepper::reserved(steps.saturating_add(1)),
-            times: crate::stepper::reserved(steps.saturating_add(1)),
-            step_sizes: crate::stepper::reserved(steps),
-            stats: crate::stepper::reserved(steps),
-        }
-    }
-
-    fn push(&mut self, t: f64, state: &ElementState, step: Option<(f64, &StepStats)>) {
-        self.states.push(state.clone());
-        self.times.push(t);
-        if let Some((h, stats)) = step {
-            self.step_sizes.push(h);
-            self.stats.push(*stats);
-        }
-    }
-
-    fn try_reserve(&mut self, state: &ElementState, additional: usize) -> Result<(), StepError> {
-        crate::stepper::try_grow(&mut self.states, additional, "states")?;
-        crate::stepper::try_grow(&mut self.times, additional, "times")?;
-        crate::stepper::try_grow(&mut self.step_sizes, additional, "step sizes")?;
-        crate::stepper::try_grow(&mut self.stats, additional, "step statistics")?;
-        // Each state kept is a copy of `state`'s vectors: room for them is asked for (and given
-        // back) here, where a failed allocation is an error rather than an abort.
-        crate::element::reserve_states(state, additional)?;
-        Ok(())
-    }
+        },
+        ElementState,
+        StepStats,
+        |stats| *stats;
+        then crate::element::reserve_states
+    );
 }
 
 impl<L: ElementLagrangian> ElementIntegrator<L> {
@@ -446,21 +417,11 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
         }
     }
 
-    /// The (−) integrator with `options`: the (−) equations of Definition 2.8, solved for the
-    /// backward increment `Δ = q_k − q_{k+1}` (see the [module documentation](self#the---side)).
-    /// Started from the same state it computes the (+) integrator's trajectory, to round-off.
-    pub fn minus(system: L, options: NewtonOptions) -> Self {
-        Self {
-            variant: Variant::Minus,
-            ..Self::new(system, options)
-        }
-    }
-
-    /// Which equations are solved: [`Variant::Plus`] ([`Self::new`]) or [`Variant::Minus`]
-    /// ([`Self::minus`]).
-    pub fn variant(&self) -> Variant {
-        self.variant
-    }
+    crate::stepper::plus_or_minus!(
+        /// The (−) integrator with `options`: the (−) equations of Definition 2.8, solved for the
+        /// backward increment `Δ = q_k − q_{k+1}` (see the [module documentation](self#the---side)).
+        /// Started from the same state it computes the (+) integrator's trajectory, to round-off.
+    );
 
     /// The same integrator with the step Jacobian's solver chosen by `solver`.
     pub fn with_solver(mut self, solver: StepSolver) -> Self {

@@ -52,22 +52,12 @@ where
         }
     }
 
-    /// The (−) integrator of Definition 2.8 on the charts: solved for the chart coordinate `w`
-    /// of the current point about the next one, `q_k = φ_{q_{k+1}}(w)` (see the
-    /// [module documentation](crate::lie#the-equations), where the (−) equations are shown to be
-    /// the (+) equations at `z = −w`: the same steps).
-    pub fn minus(system: L, options: NewtonOptions) -> Self {
-        Self {
-            variant: Variant::Minus,
-            ..Self::new(system, options)
-        }
-    }
-
-    /// Which equations are solved: [`Variant::Plus`] ([`Self::new`]) or [`Variant::Minus`]
-    /// ([`Self::minus`]).
-    pub fn variant(&self) -> Variant {
-        self.variant
-    }
+    crate::stepper::plus_or_minus!(
+        /// The (−) integrator of Definition 2.8 on the charts: solved for the chart coordinate `w`
+        /// of the current point about the next one, `q_k = φ_{q_{k+1}}(w)` (see the
+        /// [module documentation](crate::lie#the-equations), where the (−) equations are shown to be
+        /// the (+) equations at `z = −w`: the same steps).
+    );
 
     /// The system being integrated.
     pub fn system(&self) -> &L {

@@ -125,7 +125,6 @@ use crate::error::{StepError, Steps};
 use crate::linalg::LinearSolver;
 use crate::model::System;
 use crate::reduced::trajectory_accessors;
-use crate::state::IntoVector;
 use crate::stepper::{Collect, StepStats, StepStatsExt};
 
 /// A discrete Lagrangian on `Q = R^m × SO(3)^a × (S²)^b`, with the straight-line functions of
@@ -272,28 +271,17 @@ pub struct LieState<const P: usize, const N: usize> {
 }
 
 impl<const P: usize, const N: usize> LieState<P, N> {
-    /// The state from a stored point and a momentum (arrays or nalgebra vectors), the layout in
-    /// the name: each rotation's 9 entries **row by row** (`R[(0, 0)], R[(0, 1)], R[(0, 2)],
-    /// R[(1, 0)], …`, as [`rows`] gives them), each direction's frame and each pose's rotation
-    /// the same way (a pose's position after it). A matrix's nalgebra slice (`R.as_slice()`,
-    /// `Matrix3::from_slice`) is column by column: passed here it would be read as `Rᵀ`, itself
-    /// a rotation that no check can tell apart. From matrices, the emitted
-    /// `sys.state(&<Name>Config { r: R, .. }, &momenta)` (or `<Name>Config::to_point`) takes a
-    /// `Matrix3` and has no layout to get wrong.
-    pub fn from_row_major(
-        q: impl IntoVector<SVector<f64, P>>,
-        p: impl IntoVector<SVector<f64, N>>,
-    ) -> Self {
-        Self {
-            q: q.into_vector(),
-            p: p.into_vector(),
-        }
-    }
-
-    /// Whether every entry is finite.
-    pub fn is_finite(&self) -> bool {
-        self.q.iter().chain(self.p.iter()).all(|v| v.is_finite())
-    }
+    crate::state::qp_state!(
+        /// The state from a stored point and a momentum (arrays or nalgebra vectors), the layout in
+        /// the name: each rotation's 9 entries **row by row** (`R[(0, 0)], R[(0, 1)], R[(0, 2)],
+        /// R[(1, 0)], …`, as [`rows`] gives them), each direction's frame and each pose's rotation
+        /// the same way (a pose's position after it). A matrix's nalgebra slice (`R.as_slice()`,
+        /// `Matrix3::from_slice`) is column by column: passed here it would be read as `Rᵀ`, itself
+        /// a rotation that no check can tell apart. From matrices, the emitted
+        /// `sys.state(&<Name>Config { r: R, .. }, &momenta)` (or `<Name>Config::to_point`) takes a
+        /// `Matrix3` and has no layout to get wrong.
+        from_row_major(SVector<f64, P>, SVector<f64, N>)
+    );
 }
 
 /// A trajectory `(q_k, p_k)`, `k = 0..=step_count()`, of a system on rotation groups.
@@ -328,32 +316,14 @@ impl<L, const P: usize, const N: usize> Collect<LieIntegrator<L, P, N>> for LieT
 where
     L: LieLagrangian<P, N>,
 {
-    fn start(integrator: &LieIntegrator<L, P, N>, steps: usize) -> Self {
-        LieTrajectory {
+    crate::stepper::collect_steps!(
+        start(integrator: LieIntegrator<L, P, N>) {
             h: integrator.system().time_step(),
-            states: crate::stepper::reserved(steps.saturating_add(1)),
-            times: crate::stepper::reserved(steps.saturating_add(1)),
-            step_sizes: crate::stepper::reserved(steps),
-            stats: crate::stepper::reserved(steps),
-        }
-    }
-
-    fn push(&mut self, t: f64, state: &LieState<P, N>, step: Option<(f64, &StepStats)>) {
-        self.states.push(*state);
-        self.times.push(t);
-        if let Some((h, stats)) = step {
-            self.step_sizes.push(h);
-            self.stats.push(*stats);
-        }
-    }
-
-    fn try_reserve(&mut self, _state: &LieState<P, N>, additional: usize) -> Result<(), StepError> {
-        crate::stepper::try_grow(&mut self.states, additional, "states")?;
-        crate::stepper::try_grow(&mut self.times, additional, "times")?;
-        crate::stepper::try_grow(&mut self.step_sizes, additional, "step sizes")?;
-        crate::stepper::try_grow(&mut self.stats, additional, "step statistics")?;
-        Ok(())
-    }
+        },
+        LieState<P, N>,
+        StepStats,
+        |stats| *stats
+    );
 }
 
 /// One coordinate's place in the point and the chart.

@@ -235,36 +235,14 @@ impl<L, const P: usize, const N: usize> Collect<ReducedLieIntegrator<L, P, N>>
 where
     L: LieSymmetric<P, N>,
 {
-    fn start(integrator: &ReducedLieIntegrator<L, P, N>, steps: usize) -> Self {
-        ReducedLieTrajectory {
+    crate::stepper::collect_steps!(
+        start(integrator: ReducedLieIntegrator<L, P, N>) {
             h: integrator.system().time_step(),
-            states: crate::stepper::reserved(steps.saturating_add(1)),
-            times: crate::stepper::reserved(steps.saturating_add(1)),
-            step_sizes: crate::stepper::reserved(steps),
-            stats: crate::stepper::reserved(steps),
-        }
-    }
-
-    fn push(&mut self, t: f64, state: &ReducedLieState<P, N>, step: Option<(f64, &StepStats)>) {
-        self.states.push(*state);
-        self.times.push(t);
-        if let Some((h, stats)) = step {
-            self.step_sizes.push(h);
-            self.stats.push(*stats);
-        }
-    }
-
-    fn try_reserve(
-        &mut self,
-        _state: &ReducedLieState<P, N>,
-        additional: usize,
-    ) -> Result<(), StepError> {
-        crate::stepper::try_grow(&mut self.states, additional, "states")?;
-        crate::stepper::try_grow(&mut self.times, additional, "times")?;
-        crate::stepper::try_grow(&mut self.step_sizes, additional, "step sizes")?;
-        crate::stepper::try_grow(&mut self.stats, additional, "step statistics")?;
-        Ok(())
-    }
+        },
+        ReducedLieState<P, N>,
+        StepStats,
+        |stats| *stats
+    );
 }
 
 /// The reduced integrator of a [`LieSymmetric`] system (see the [module documentation](self)):
