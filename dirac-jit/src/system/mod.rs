@@ -739,7 +739,10 @@ impl<const S: usize, const K: usize, const N: usize, V: Variant<N>> DiscreteLagr
 
 crate::model::impl_system! {
     impl[const S: usize, const K: usize, const N: usize, V] for JitSystem<S, K, N, V>; |sys| {
-        coordinates: sys.code.system.shape.iter().chain(&sys.code.system.group).map(String::as_str).collect(),
+        coordinates: {
+            let text = &sys.code.system;
+            text.shape.iter().chain(&text.group).map(String::as_str).collect()
+        },
         time: sys.code.system.adaptive.as_ref().map(|a| a.time),
         domain: &sys.code.domain,
     }
