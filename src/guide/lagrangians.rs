@@ -166,6 +166,11 @@
 //!   group (or your `coordinates(...)` in order);
 //! * `<Name>` — one `f64` field per parameter, and `<Name>::GENERATED`, the operation counts of
 //!   everything emitted;
+//! * `impl` [`System`](crate::System) — what every system answers, whatever its kind: the
+//!   parameters' names and values, the time step and the system at another
+//!   (`with_time_step`), the controls and the system with them set (`with_controls`), the time
+//!   coordinate of adaptive steps, the domain and the coordinates' names; a system on rotation
+//!   groups, one sized at run time and one given as text answer the same trait;
 //! * `impl` [`DiscreteLagrangian`](crate::DiscreteLagrangian) — the Lagrangian on vectors, the
 //!   connection matrix, the trivialization of momenta (3.6)/(3.7) `trivialize`/`untrivialize`,
 //!   the momentum map `J`, the discrete generalized energy (5.7);
