@@ -116,6 +116,14 @@ pub enum Error {
     /// allocating, as a run checks its workspace).
     #[error(transparent)]
     Step(#[from] dirac_runtime::StepError),
+    /// A run request the system cannot run: an unknown word for its equations, an order other
+    /// than 2, 4 or 6 (other than 2 with constraints), reduced equations of a system without
+    /// them, a tolerance that is not a positive finite number ([`crate::RunRequest`]).
+    #[error("{reason}")]
+    Request {
+        /// What is wrong, and what is accepted.
+        reason: String,
+    },
     /// The parameter values do not match the declared parameters.
     #[error("parameters of `{name}`: {reason}; declared: {declared}")]
     Parameters {

@@ -77,7 +77,10 @@
 //! their declared symmetry, `ReducedLieIntegrator` run; [`compile_any`] takes either kind.
 //! Element-wise systems sized at run time (a function with `usize` sizes) compile with
 //! [`compile_element`] into an [`ElementCode`], instantiated at any sizes as a [`JitElement`]
-//! that `ElementIntegrator` (and, with constraints, `ElementConstrainedIntegrator`) runs.
+//! that `ElementIntegrator` (and, with constraints, `ElementConstrainedIntegrator`) runs. What a
+//! front end is asked to run of any of them — the equations in the runtime's one vocabulary,
+//! the order, the steps, Newton's tolerance — is one [`RunRequest`], checked against the
+//! [`Compiled`] system in one place.
 //!
 //! A pendulum in Cartesian coordinates, its rod a holonomic constraint (`M = 1`, so each solve
 //! has `Z = N + M = 3` unknowns):
@@ -118,11 +121,13 @@ mod element;
 mod error;
 mod lie;
 mod model;
+mod request;
 mod system;
 
 pub use element::{compile_element, ElementCode, JitElement, MAX_DEPTH, MAX_SIZES, MAX_WIDTH};
 pub use error::Error;
 pub use lie::{compile_lie, JitLie, LieCode, Reduced, Reduction, Unreduced};
+pub use request::{RunRequest, ORDERS};
 pub use system::{
     compile, Backend, Code, Dense, JitConstrained, JitSystem, LegendreLu, LegendreMatrix, Sparse,
     Variant, WithConstraints, MAX_PARAMETERS,

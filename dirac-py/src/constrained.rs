@@ -20,7 +20,7 @@ use crate::calls::until;
 use crate::inputs::{reduced_start, unreduced_start};
 use crate::parquet::{to_parquet, Written};
 use crate::results::{finish, parts, reduced_flat, unreduced_flat, with_momenta_of, Failed, Flat};
-use crate::Request;
+use dirac_jit::RunRequest;
 
 pub(crate) use dirac_jit::with_constrained_dimensions as with_constrained;
 
@@ -53,14 +53,14 @@ pub(crate) fn run_constrained<
     code: &Arc<Code>,
     params: &[f64],
     start: &[Vec<f64>],
-    r: Request,
+    r: RunRequest,
     cancel: &AtomicBool,
 ) -> Result<Result<Flat, Box<Failed>>, String> {
     let sys = code
         .instantiate_constrained::<S, K, N, M, Z>(params)
         .map_err(|e| e.to_string())?;
-    let (n, o) = (r.steps, r.options);
-    Ok(match (r.method.form, r.method.side) {
+    let (n, o) = (r.steps, r.newton);
+    Ok(match (r.equations.form, r.equations.side) {
         (Form::Unreduced, _) => {
             let s0: UnreducedState<N> = unreduced_start(start);
             let integ = ConstrainedIntegrator::new(sys, o);
@@ -99,15 +99,15 @@ pub(crate) fn write_constrained<
     code: &Arc<Code>,
     params: &[f64],
     start: &[Vec<f64>],
-    r: Request,
+    r: RunRequest,
     path: &std::path::Path,
     cancel: &AtomicBool,
 ) -> Result<Written, String> {
     let sys = code
         .instantiate_constrained::<S, K, N, M, Z>(params)
         .map_err(|e| e.to_string())?;
-    let (n, o) = (r.steps, r.options);
-    Ok(match (r.method.form, r.method.side) {
+    let (n, o) = (r.steps, r.newton);
+    Ok(match (r.equations.form, r.equations.side) {
         (Form::Unreduced, _) => {
             let s0: UnreducedState<N> = unreduced_start(start);
             to_parquet(&ConstrainedIntegrator::new(sys, o), s0, n, path, &o, cancel)?

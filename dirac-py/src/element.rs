@@ -8,13 +8,13 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 use dirac_compiler::text::ElementSystem as Text;
-use dirac_jit::{ElementCode, JitElement};
+use dirac_jit::{Compiled, ElementCode, JitElement};
 use dirac_runtime::element::{
     ElementConstrainedIntegrator, ElementConstrainedTrajectory, ElementIntegrator,
     ElementLagrangian, ElementState, ElementTrajectory,
 };
 use dirac_runtime::nalgebra::DVector;
-use dirac_runtime::{Composition, Drive, Equations, Form, NewtonOptions, Variant};
+use dirac_runtime::{Composition, Drive, NewtonOptions, Variant};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::{PyDeprecationWarning, PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -49,10 +49,11 @@ const WRITE_KEYWORDS: &[&str] = &[
     "tol",
 ];
 
-/// What a run is asked for: the system at its sizes, the side, the order, the steps and the
-/// Newton options.
+/// What a run is asked for: the system at its sizes, and the run request of every class (the
+/// side, the order, the steps and the Newton options).
 struct Request {
     sys: JitElement,
+    /// The (+) side ("plus", "unreduced") or the (−).
     plus: bool,
     order: u32,
     steps: usize,
@@ -327,37 +328,18 @@ impl ElementSystem {
             PyTypeError::new_err(format!("{function}() missing the keyword argument 'sizes'"))
         })?;
         let sizes = self.size_values(&sizes)?;
-        // The runtime's one vocabulary: an element-wise system's equations are the unreduced
-        // ones, on either side ("unreduced" is the "plus").
-        let plus = match Equations::from_keyword(method, Form::Unreduced) {
-            Some(e) if e.form == Form::Unreduced => e.side == Variant::Plus,
-            _ => {
-                return Err(PyValueError::new_err(format!(
-                    "unknown method `{method}`; accepted: \"plus\", \"minus\", \"unreduced\" \
-                     (an element-wise system declares no reduction)"
-                )))
-            }
-        };
-        if ![2, 4, 6].contains(&order) || (order != 2 && self.constrained()) {
-            return Err(PyValueError::new_err(format!(
-                "order {order}: accepted 2 (the integrator itself), 4 (triple jump), 6 (Kahan–Li); \
-                 2 for a system with constraints"
-            )));
-        }
+        let system = Compiled::Element(Arc::clone(&self.code));
+        let run = crate::inputs::run_request(&system, method, order, steps, tol)?;
         let sys = self
             .code
             .instantiate(&params, &sizes)
             .map_err(|e| PyValueError::new_err(e.to_string()))?;
-        let mut options = NewtonOptions::default();
-        if let Some(t) = tol {
-            options.abs_tol = t;
-        }
         Ok(Request {
             sys,
-            plus,
-            order,
-            steps,
-            options,
+            plus: run.equations.side == Variant::Plus,
+            order: run.order,
+            steps: run.steps,
+            options: run.newton,
         })
     }
 

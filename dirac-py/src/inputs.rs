@@ -2,15 +2,17 @@
 //! method and order, the start's vectors (their lengths, finite), and no keyword the run
 //! method does not take.
 
-use dirac_jit::Code;
+use std::sync::Arc;
+
+use dirac_jit::{Code, Compiled, RunRequest};
 use dirac_runtime::nalgebra::SVector;
-use dirac_runtime::{Equations, Form, NewtonOptions, ReducedState, UnreducedState};
+use dirac_runtime::{Equations, Form, ReducedState, UnreducedState};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::calls;
-use crate::{Request, System};
+use crate::System;
 
 /// The parameter values in declaration order, from a mapping (by name) or a sequence.
 pub(crate) fn parameter_values(code: &Code, params: &Bound<'_, PyAny>) -> PyResult<Vec<f64>> {
@@ -51,15 +53,18 @@ pub(crate) fn values_of(names: &[String], params: &Bound<'_, PyAny>) -> PyResult
     }
 }
 
-/// The equations `method` names (the runtime's one vocabulary, [`Equations::from_keyword`]) for a
-/// system on vector spaces, whose own equations are the reduced ones: "plus" and "minus" (the
-/// reduced (+) and (−)), "reduced" (the (+)) and "unreduced".
-fn method_of(method: &str) -> PyResult<Equations> {
-    Equations::from_keyword(method, Form::Reduced).ok_or_else(|| {
-        PyValueError::new_err(format!(
-            "unknown method `{method}`; accepted: \"plus\", \"minus\", \"reduced\", \"unreduced\""
-        ))
-    })
+/// The run request of every class (`dirac_jit::RunRequest`, checked against the system there):
+/// the equations `method` names in the runtime's one vocabulary, the order, the steps, Newton's
+/// tolerance; what the system cannot run is a `ValueError` saying what it accepts.
+pub(crate) fn run_request(
+    system: &Compiled,
+    method: &str,
+    order: u32,
+    steps: usize,
+    tol: Option<f64>,
+) -> PyResult<RunRequest> {
+    RunRequest::from_keywords(system, method, order, steps, tol)
+        .map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
 /// One start's vectors, each of its length, from keyword arrays: each vector an array of its
@@ -156,23 +161,14 @@ impl System {
         order: u32,
         steps: usize,
         tol: Option<f64>,
-    ) -> PyResult<Request> {
-        if ![2, 4, 6].contains(&order) {
-            return Err(PyValueError::new_err(format!(
-                "order {order}: accepted 2 (the integrator itself), 4 (triple jump), 6 (Kahan–Li)"
-            )));
-        }
-        let mut options = NewtonOptions::default();
-        if let Some(t) = tol {
-            options.abs_tol = t;
-        }
-        Ok(Request {
-            energies: false,
-            method: method_of(method)?,
+    ) -> PyResult<RunRequest> {
+        run_request(
+            &Compiled::Flat(Arc::clone(&self.code)),
+            method,
             order,
             steps,
-            options,
-        })
+            tol,
+        )
     }
 
     /// A `TypeError` for a keyword of `given` (the start's vectors) that is none of the start's
@@ -238,7 +234,7 @@ impl System {
 /// A run's inputs read from Python: the parameter values, the request, the start's vectors.
 pub(crate) struct Inputs {
     pub(crate) params: Vec<f64>,
-    pub(crate) request: Request,
+    pub(crate) request: RunRequest,
     pub(crate) start: Vec<Vec<f64>>,
 }
 
@@ -261,11 +257,11 @@ impl System {
         start: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Inputs> {
         let request = self.request(method, order, steps, tol)?;
-        self.check_start_keywords(function, keywords, request.method, start)?;
+        self.check_start_keywords(function, keywords, request.equations, start)?;
         let params = parameter_values(&self.code, parameters)?;
         let empty = PyDict::new(py);
         let start = vectors(
-            &self.start_parts(request.method),
+            &self.start_parts(request.equations),
             |part| self.part_names(part),
             start.unwrap_or(&empty),
         )?;

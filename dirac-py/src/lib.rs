@@ -36,7 +36,7 @@ use results::{finish_run, to_dict};
 use runs::{run_many, run_one, time_one, write_one};
 
 use dirac_jit::Code;
-use dirac_runtime::{CompositionMethod, Equations, Form, NewtonOptions, StepStats};
+use dirac_runtime::{CompositionMethod, Equations, Form, StepStats};
 use numpy::PyArray1;
 use pyo3::exceptions::{PyException, PyMemoryError, PyValueError};
 use pyo3::prelude::*;
@@ -63,18 +63,6 @@ pyo3::create_exception!(
     PyMemoryError,
     "A run needs more memory than can be allocated, refused before it is allocated: `what` needs `bytes` bytes."
 );
-
-/// What a run is asked for, apart from the system and the start.
-#[derive(Clone, Copy)]
-struct Request {
-    /// Which equations (`method=`: "plus", "minus" or "unreduced").
-    method: Equations,
-    order: u32,
-    steps: usize,
-    options: NewtonOptions,
-    /// Whether the run's continuous energies are asked for.
-    energies: bool,
-}
 
 fn composition(order: u32) -> CompositionMethod {
     match order {
@@ -289,7 +277,7 @@ impl System {
     ) -> PyResult<Bound<'py, PyDict>> {
         let Inputs {
             params,
-            request: mut r,
+            request: r,
             start,
         } = self.inputs(
             py,
@@ -312,13 +300,7 @@ impl System {
                 "energies: for a system without constraints (from Rust, the constrained integrators' `energies`)",
             ));
         }
-        r.energies = energies;
         let m = self.constraint_count();
-        if m > 0 && r.order != 2 {
-            return Err(PyValueError::new_err(
-                "a system with constraints runs the constrained integrators themselves (order 2)",
-            ));
-        }
         calls::check_memory(
             || format!("a run of {steps} steps (every state kept)"),
             steps as u128 + 1,
@@ -327,7 +309,11 @@ impl System {
         let (s, k) = self.dims();
         let code = Arc::clone(&self.code);
         let (result, interrupt) = calls::interruptible(py, |cancel| match m {
-            0 => dirac_jit::with_dimensions!(s, k, run_one(&code, &params, &start, r, cancel)),
+            0 => dirac_jit::with_dimensions!(
+                s,
+                k,
+                run_one(&code, &params, &start, r, energies, cancel)
+            ),
             m => constrained::with_constrained!(
                 s,
                 k,
@@ -361,7 +347,7 @@ impl System {
     ) -> PyResult<Bound<'py, PyDict>> {
         self.unconstrained("`ensemble`")?;
         let r = self.request(method, order, steps, tol)?;
-        self.check_start_keywords("System.ensemble", ENSEMBLE_KEYWORDS, r.method, starts)?;
+        self.check_start_keywords("System.ensemble", ENSEMBLE_KEYWORDS, r.equations, starts)?;
         let params = parameter_values(&self.code, parameters)?;
         if r.order != 2 {
             return Err(PyValueError::new_err(
@@ -373,7 +359,7 @@ impl System {
             .iter()
             .enumerate()
             .map(|(i, start)| {
-                self.member_start(r.method, start)
+                self.member_start(r.equations, start)
                     .map_err(ensemble::of_member(i))
             })
             .collect::<PyResult<_>>()?;

@@ -11,11 +11,10 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 use dirac_compiler::text::LieSymmetryKind;
-use dirac_jit::{JitLie, LieCode};
+use dirac_jit::{Compiled, JitLie, LieCode, RunRequest};
 use dirac_runtime::lie::Group;
 use dirac_runtime::{
-    Composition, Drive, Equations, Form, LieIntegrator, LieState, ReducedLieIntegrator, StepStats,
-    Variant,
+    Composition, Drive, Form, LieIntegrator, LieState, ReducedLieIntegrator, StepStats, Variant,
 };
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
@@ -40,15 +39,6 @@ struct Flat {
     mu: Option<Vec<f64>>,
     iterations: Vec<usize>,
     residuals: Vec<f64>,
-}
-
-#[derive(Clone, Copy)]
-struct Request {
-    /// Which equations (`method=`: "plus", "minus" or "reduced").
-    method: Equations,
-    order: u32,
-    steps: usize,
-    options: dirac_runtime::NewtonOptions,
 }
 
 /// The start as given: per coordinate its configuration and its momentum or, for adaptive
@@ -126,14 +116,14 @@ fn run_one<const P: usize, const N: usize>(
     code: &Arc<LieCode>,
     params: &[f64],
     start: &Start,
-    r: Request,
+    r: RunRequest,
     cancel: &AtomicBool,
 ) -> Result<Result<Flat, Box<Failed<Flat>>>, String> {
     let sys = code
         .instantiate::<P, N>(params)
         .map_err(|e| e.to_string())?;
     let s0 = start_state(&sys, start)?;
-    let (n, o) = (r.steps, r.options);
+    let (n, o) = (r.steps, r.newton);
     let unreduced = |t: &dirac_runtime::LieTrajectory<P, N>| {
         flat(
             &sys,
@@ -142,7 +132,7 @@ fn run_one<const P: usize, const N: usize>(
             &t.stats,
         )
     };
-    Ok(match (r.method.form, r.method.side) {
+    Ok(match (r.equations.form, r.equations.side) {
         (Form::Reduced, _) => {
             let reduced = code
                 .instantiate_reduced::<P, N>(params)
@@ -205,7 +195,7 @@ fn run_many<const P: usize, const N: usize>(
     code: &Arc<LieCode>,
     params: &[f64],
     starts: &[Start],
-    r: Request,
+    r: RunRequest,
     cancel: &AtomicBool,
 ) -> Result<Vec<Member<Flat>>, String> {
     let sys = code
@@ -215,7 +205,7 @@ fn run_many<const P: usize, const N: usize>(
         .iter()
         .map(|s| start_state(&sys, s))
         .collect::<Result<Vec<_>, _>>()?;
-    let (n, o) = (r.steps, r.options);
+    let (n, o) = (r.steps, r.newton);
     let unreduced = |t: &dirac_runtime::LieTrajectory<P, N>| {
         flat(
             &sys,
@@ -224,7 +214,7 @@ fn run_many<const P: usize, const N: usize>(
             &t.stats,
         )
     };
-    Ok(match (r.method.form, r.method.side) {
+    Ok(match (r.equations.form, r.equations.side) {
         (Form::Reduced, _) => {
             let reduced = code
                 .instantiate_reduced::<P, N>(params)
@@ -275,7 +265,7 @@ fn write_one<const P: usize, const N: usize>(
     code: &Arc<LieCode>,
     params: &[f64],
     start: &Start,
-    r: Request,
+    r: RunRequest,
     path: &std::path::Path,
     cancel: &AtomicBool,
 ) -> Result<Written, String> {
@@ -283,8 +273,8 @@ fn write_one<const P: usize, const N: usize>(
         .instantiate::<P, N>(params)
         .map_err(|e| e.to_string())?;
     let s0 = start_state(&sys, start)?;
-    let (n, o) = (r.steps, r.options);
-    Ok(match (r.method.form, r.method.side) {
+    let (n, o) = (r.steps, r.newton);
+    Ok(match (r.equations.form, r.equations.side) {
         (Form::Reduced, _) => {
             let reduced = code
                 .instantiate_reduced::<P, N>(params)
@@ -338,37 +328,9 @@ impl LieSystem {
         order: u32,
         steps: usize,
         tol: Option<f64>,
-    ) -> PyResult<Request> {
-        // The runtime's one vocabulary (a rotation system's own equations are the unreduced
-        // ones: "unreduced" is "plus").
-        let method = match Equations::from_keyword(method, Form::Unreduced) {
-            Some(e) if e.form == Form::Reduced && self.code.system().symmetry.is_none() => {
-                return Err(PyValueError::new_err(
-                    "method \"reduced\": the system declares no symmetry (`symmetry(..)`)",
-                ))
-            }
-            Some(e) => e,
-            None => {
-                return Err(PyValueError::new_err(format!(
-                    "unknown method `{method}`; accepted: \"plus\", \"minus\", \"reduced\", \"unreduced\""
-                )))
-            }
-        };
-        if ![2, 4, 6].contains(&order) {
-            return Err(PyValueError::new_err(format!(
-                "order {order}: accepted 2 (the integrator itself), 4 (triple jump), 6 (Kahan–Li)"
-            )));
-        }
-        let mut options = dirac_runtime::NewtonOptions::default();
-        if let Some(t) = tol {
-            options.abs_tol = t;
-        }
-        Ok(Request {
-            method,
-            order,
-            steps,
-            options,
-        })
+    ) -> PyResult<RunRequest> {
+        let system = Compiled::Lie(Arc::clone(&self.code));
+        crate::inputs::run_request(&system, method, order, steps, tol)
     }
 
     /// Reads the start: `q` and `p` (or `v`) mappings by coordinate name.

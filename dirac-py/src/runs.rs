@@ -14,10 +14,11 @@ use dirac_runtime::{
 };
 
 use crate::calls::until;
+use crate::composition;
 use crate::inputs::{reduced_start, unreduced_start};
 use crate::parquet::{to_parquet, Written};
 use crate::results::{finish, parts, reduced_flat, unreduced_flat, with_momenta_of, Failed, Flat};
-use crate::{composition, Request};
+use dirac_jit::RunRequest;
 
 /// One run of a system of `S` shape and `K` group coordinates from `start` (`x, w, mu, g` or
 /// `q, p`, by the method).
@@ -25,16 +26,17 @@ pub(crate) fn run_one<const S: usize, const K: usize, const N: usize>(
     code: &Arc<Code>,
     params: &[f64],
     start: &[Vec<f64>],
-    r: Request,
+    r: RunRequest,
+    energies: bool,
     cancel: &AtomicBool,
 ) -> Result<Result<Flat, Box<Failed>>, String> {
     let sys = code
         .instantiate::<S, K, N>(params)
         .map_err(|e| e.to_string())?;
-    let (n, o) = (r.steps, r.options);
-    let energies = r.energies.then(|| sys.clone());
+    let (n, o) = (r.steps, r.newton);
+    let energies = energies.then(|| sys.clone());
     let momenta = sys.clone();
-    let result = match (r.method.form, r.method.side) {
+    let result = match (r.equations.form, r.equations.side) {
         (Form::Unreduced, _) => {
             let s0 = unreduced_start(start);
             let integ = UnreducedIntegrator::new(sys, o);
@@ -75,7 +77,7 @@ pub(crate) fn run_one<const S: usize, const K: usize, const N: usize>(
     };
     let result = with_momenta_of(&momenta, result);
     Ok(match (energies, result) {
-        (Some(sys), Ok(flat)) => Ok(with_energies(&sys, flat, r.method)),
+        (Some(sys), Ok(flat)) => Ok(with_energies(&sys, flat, r.equations)),
         (_, result) => result,
     })
 }
@@ -130,15 +132,15 @@ pub(crate) fn write_one<const S: usize, const K: usize, const N: usize>(
     code: &Arc<Code>,
     params: &[f64],
     start: &[Vec<f64>],
-    r: Request,
+    r: RunRequest,
     path: &std::path::Path,
     cancel: &AtomicBool,
 ) -> Result<Written, String> {
     let sys = code
         .instantiate::<S, K, N>(params)
         .map_err(|e| e.to_string())?;
-    let (n, o) = (r.steps, r.options);
-    Ok(match (r.method.form, r.method.side) {
+    let (n, o) = (r.steps, r.newton);
+    Ok(match (r.equations.form, r.equations.side) {
         (Form::Unreduced, _) => {
             let s0 = unreduced_start(start);
             to_parquet(&UnreducedIntegrator::new(sys, o), s0, n, path, &o, cancel)?
@@ -160,14 +162,14 @@ pub(crate) fn time_one<const S: usize, const K: usize, const N: usize>(
     code: &Arc<Code>,
     params: &[f64],
     start: &[Vec<f64>],
-    r: Request,
+    r: RunRequest,
 ) -> Result<f64, String> {
     let sys = code
         .instantiate::<S, K, N>(params)
         .map_err(|e| e.to_string())?;
     let s0 = reduced_start(start);
     let t = std::time::Instant::now();
-    let traj = ReducedIntegrator::plus(sys, r.options)
+    let traj = ReducedIntegrator::plus(sys, r.newton)
         .run(s0)
         .steps(r.steps)
         .collect()
@@ -182,14 +184,14 @@ pub(crate) fn run_many<const S: usize, const K: usize, const N: usize>(
     code: &Arc<Code>,
     params: &[f64],
     starts: &[Vec<Vec<f64>>],
-    r: Request,
+    r: RunRequest,
     cancel: &AtomicBool,
 ) -> Result<Vec<Result<Flat, Box<Failed>>>, String> {
     let sys = code
         .instantiate::<S, K, N>(params)
         .map_err(|e| e.to_string())?;
-    let (n, o) = (r.steps, r.options);
-    Ok(match (r.method.form, r.method.side) {
+    let (n, o) = (r.steps, r.newton);
+    Ok(match (r.equations.form, r.equations.side) {
         (Form::Unreduced, _) => {
             let s0: Vec<_> = starts.iter().map(|s| unreduced_start(s)).collect();
             let integ = UnreducedIntegrator::new(sys, o);

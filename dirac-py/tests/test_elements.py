@@ -127,7 +127,11 @@ def test_bad_input_raises_value_errors_and_a_failed_step_keeps_the_trajectory():
     with pytest.raises(ValueError, match="not a coordinate"):
         toda.run(params, steps=1, sizes={"n": 8}, q={"y": q}, p=p)
     with pytest.raises(ValueError, match="unknown method"):
+        toda.run(params, steps=1, sizes={"n": 8}, q=q, p=p, method="sideways")
+    with pytest.raises(ValueError, match="declares no reduction"):
         toda.run(params, steps=1, sizes={"n": 8}, q=q, p=p, method="reduced")
+    with pytest.raises(ValueError, match="positive finite"):
+        toda.run(params, steps=1, sizes={"n": 8}, q=q, p=p, tol=float("nan"))
     # Particles flying apart into a potential √x_0, NaN once x_0 < 0.
     wall = dirac.compile(
         "#[reduced_lagrangian(coordinates(x[n]), rule = midpoint)]\n"

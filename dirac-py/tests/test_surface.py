@@ -198,3 +198,20 @@ def test_the_sizes_given_before_the_steps_still_run_with_a_deprecation_warning()
     with pytest.warns(DeprecationWarning, match="sizes="):
         old = toda.run(params, {"n": N}, 10, **start)
     assert_same(old, new)
+
+
+@pytest.mark.parametrize("kind", SYSTEMS)
+def test_a_request_the_system_cannot_run_is_a_value_error_from_every_class(kind):
+    """One run request, checked in one place: the same words and messages for every class."""
+    text, params, method, fixed = SYSTEMS[kind]
+    system = dirac.compile(text)
+    start = member_start(kind, 0)
+    for keywords, message in [
+        (dict(method="sideways"), "unknown method `sideways`"),
+        (dict(method=method, order=3), "accepted 2"),
+        (dict(method=method, tol=float("nan")), "positive finite"),
+        (dict(method=method, tol=-1e-12), "positive finite"),
+        (dict(method=method, tol=0.0), "positive finite"),
+    ]:
+        with pytest.raises(ValueError, match=message):
+            system.run(params, steps=1, **fixed, **keywords, **start)

@@ -1,0 +1,238 @@
+//! One run request for a system given as text, whatever its family: which equations (the
+//! runtime's one vocabulary, [`Equations`]), which order, how many steps, and Newton's options —
+//! what a front end (the Python package's classes, a command line) reads from its user, checked
+//! against the compiled system in one place before the run is dispatched to its family's
+//! integrators.
+
+use dirac_runtime::{Equations, Form, NewtonOptions};
+
+use crate::{Compiled, Error};
+
+/// The orders a run takes: 2 (the integrator itself), 4 (the triple jump) and 6 (Kahan–Li's
+/// composition), the symmetric compositions of the integrator of order 2.
+pub const ORDERS: [u32; 3] = [2, 4, 6];
+
+/// What a run of a system given as text is asked for, apart from the parameters and the start.
+///
+/// ```
+/// use dirac_jit::{compile_any, RunRequest};
+/// use dirac_runtime::{Form, Variant};
+///
+/// let kepler = compile_any(
+///     "#[reduced_lagrangian(shape(r), group(phi))]
+///      fn kepler(q0: Config, q1: Config, h: f64) -> f64 {
+///          let (dr, dphi) = (q1.r - q0.r, q1.phi - q0.phi);
+///          let r = 0.5 * (q0.r + q1.r);
+///          0.5 / h * (dr * dr + r * r * dphi * dphi) + h / r
+///      }",
+/// )?;
+/// // "minus": the reduced (−) equations, the family's own form on the other side.
+/// let request = RunRequest::from_keywords(&kepler, "minus", 4, 100, Some(1e-12))?;
+/// assert_eq!((request.equations.form, request.equations.side), (Form::Reduced, Variant::Minus));
+/// assert_eq!((request.order, request.steps, request.newton.abs_tol), (4, 100, 1e-12));
+/// // Mistakes are typed errors that say what is accepted.
+/// let e = RunRequest::from_keywords(&kepler, "plus", 3, 100, None).unwrap_err();
+/// assert!(e.to_string().contains("accepted 2"), "{e}");
+/// # Ok::<(), dirac_jit::Error>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RunRequest {
+    /// Which equations: their form (reduced or unreduced) and side (+ or −).
+    pub equations: Equations,
+    /// 2, 4 or 6 ([`ORDERS`]).
+    pub order: u32,
+    /// The number of steps.
+    pub steps: usize,
+    /// Newton's options for each step.
+    pub newton: NewtonOptions,
+}
+
+impl Compiled {
+    /// The form of the equations the family integrates as its own, of which "plus" and "minus"
+    /// name the sides ([`Equations::from_keyword`]): reduced for a system on vector spaces (the
+    /// paper's eqs. (4.6) and (4.8)), unreduced on rotation groups and element-wise.
+    pub fn own_form(&self) -> Form {
+        match self {
+            Compiled::Flat(_) => Form::Reduced,
+            Compiled::Lie(_) | Compiled::Element(_) => Form::Unreduced,
+        }
+    }
+
+    /// Whether the system runs the constrained integrators (which compose no further than
+    /// order 2).
+    fn constrained(&self) -> bool {
+        match self {
+            Compiled::Flat(code) => code.system().constrained.is_some(),
+            Compiled::Lie(_) => false,
+            Compiled::Element(code) => code.system().constraints.is_some(),
+        }
+    }
+}
+
+impl RunRequest {
+    /// The request of `steps` steps of `equations` at order 2 with Newton's default options.
+    pub fn new(equations: Equations, steps: usize) -> Self {
+        RunRequest {
+            equations,
+            order: 2,
+            steps,
+            newton: NewtonOptions::default(),
+        }
+    }
+
+    /// The request a front end's keywords make for `system`: the equations named by `method`
+    /// ("plus", "minus", "reduced", "unreduced"), the `order`, the `steps` and, when given, the
+    /// absolute tolerance `tol` of Newton's residual; checked against the system ([`Self::check`]).
+    pub fn from_keywords(
+        system: &Compiled,
+        method: &str,
+        order: u32,
+        steps: usize,
+        tol: Option<f64>,
+    ) -> Result<Self, Error> {
+        let equations = Equations::from_keyword(method, system.own_form()).ok_or_else(|| {
+            let accepted = match system {
+                Compiled::Element(_) => {
+                    "\"plus\", \"minus\", \"unreduced\" (an element-wise system declares no \
+                     reduction)"
+                }
+                _ => "\"plus\", \"minus\", \"reduced\", \"unreduced\"",
+            };
+            request(format!("unknown method `{method}`; accepted: {accepted}"))
+        })?;
+        let mut newton = NewtonOptions::default();
+        if let Some(tol) = tol {
+            if !(tol.is_finite() && tol > 0.0) {
+                return Err(request(format!(
+                    "tol = {tol}: Newton's absolute tolerance is a positive finite number"
+                )));
+            }
+            newton.abs_tol = tol;
+        }
+        let r = RunRequest {
+            equations,
+            order,
+            steps,
+            newton,
+        };
+        r.check(system)?;
+        Ok(r)
+    }
+
+    /// Whether `system` can run this request: the order one of [`ORDERS`] (2 for a system with
+    /// constraints), reduced equations only for a system that has them (one on rotation groups
+    /// declares its `symmetry(..)`; an element-wise system declares no reduction).
+    pub fn check(&self, system: &Compiled) -> Result<(), Error> {
+        if !ORDERS.contains(&self.order) {
+            return Err(request(format!(
+                "order {}: accepted 2 (the integrator itself), 4 (triple jump), 6 (Kahan–Li)",
+                self.order
+            )));
+        }
+        if self.order != 2 && system.constrained() {
+            return Err(request(format!(
+                "order {}: a system with constraints runs the constrained integrators \
+                 themselves (order 2)",
+                self.order
+            )));
+        }
+        if self.equations.form == Form::Reduced {
+            match system {
+                Compiled::Lie(code) if code.system().symmetry.is_none() => {
+                    return Err(request(
+                        "method \"reduced\": the system declares no symmetry (`symmetry(..)`)",
+                    ))
+                }
+                Compiled::Element(_) => {
+                    return Err(request(
+                        "method \"reduced\": an element-wise system declares no reduction",
+                    ))
+                }
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+}
+
+fn request(reason: impl Into<String>) -> Error {
+    Error::Request {
+        reason: reason.into(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use dirac_runtime::Variant;
+
+    const KEPLER: &str = "#[reduced_lagrangian(shape(r), group(phi))]
+        fn kepler(q0: Config, q1: Config, h: f64) -> f64 {
+            let (dr, dphi) = (q1.r - q0.r, q1.phi - q0.phi);
+            let r = 0.5 * (q0.r + q1.r);
+            0.5 / h * (dr * dr + r * r * dphi * dphi) + h / r
+        }";
+    const BODY: &str = "#[reduced_lagrangian(rotation(r))]
+        fn body(q0: Config, q1: Config, h: f64) -> f64 {
+            let f = q0.r.transpose() * q1.r;
+            (Matrix3::identity() - f).trace() / h
+        }";
+    const CHAIN: &str = "#[reduced_lagrangian(coordinates(x[n]), rule = midpoint)]
+        fn chain(q: Config, v: Velocity, n: usize) -> f64 {
+            let mut l = 0.0;
+            for i in 0..n { l += 0.5 * v.x[i] * v.x[i]; }
+            l
+        }";
+    const ROD: &str = "#[reduced_lagrangian(shape(x, y), group(), rule = midpoint,
+            constraints = |q| [q.x * q.x + q.y * q.y - 1.0])]
+        fn rod(q: Config, v: Velocity) -> f64 { 0.5 * (v.x * v.x + v.y * v.y) - q.y }";
+
+    fn compiled(text: &str) -> Compiled {
+        crate::compile_any(text).expect("the test system compiles")
+    }
+
+    fn refused(system: &Compiled, method: &str, order: u32, tol: Option<f64>) -> String {
+        match RunRequest::from_keywords(system, method, order, 10, tol) {
+            Err(Error::Request { reason }) => reason,
+            other => panic!("{method}, order {order}, tol {tol:?}: {other:?}"),
+        }
+    }
+
+    #[test]
+    fn the_words_name_each_familys_equations() {
+        let (flat, lie, element) = (compiled(KEPLER), compiled(BODY), compiled(CHAIN));
+        let words = |system: &Compiled, word: &str| {
+            let e = RunRequest::from_keywords(system, word, 2, 10, None)
+                .expect("accepted")
+                .equations;
+            (e.form, e.side)
+        };
+        use Form::{Reduced, Unreduced};
+        use Variant::{Minus, Plus};
+        assert_eq!(words(&flat, "plus"), (Reduced, Plus));
+        assert_eq!(words(&flat, "minus"), (Reduced, Minus));
+        assert_eq!(words(&flat, "reduced"), (Reduced, Plus));
+        assert_eq!(words(&flat, "unreduced"), (Unreduced, Plus));
+        assert_eq!(words(&lie, "minus"), (Unreduced, Minus));
+        assert_eq!(words(&lie, "unreduced"), (Unreduced, Plus));
+        assert_eq!(words(&element, "plus"), (Unreduced, Plus));
+        assert_eq!(words(&element, "unreduced"), (Unreduced, Plus));
+    }
+
+    #[test]
+    fn what_a_system_cannot_run_is_a_typed_error_saying_what_is_accepted() {
+        let (flat, lie, element) = (compiled(KEPLER), compiled(BODY), compiled(CHAIN));
+        assert!(refused(&flat, "sideways", 2, None).contains("\"unreduced\""));
+        assert!(refused(&element, "sideways", 2, None).contains("no reduction"));
+        assert!(refused(&element, "reduced", 2, None).contains("no reduction"));
+        assert!(refused(&lie, "reduced", 2, None).contains("declares no symmetry"));
+        assert!(refused(&flat, "plus", 3, None).contains("accepted 2"));
+        assert!(refused(&compiled(ROD), "unreduced", 4, None).contains("constrained"));
+        for tol in [0.0, -1e-12, f64::NAN, f64::INFINITY] {
+            assert!(refused(&flat, "plus", 2, Some(tol)).contains("positive finite"));
+        }
+        let r = RunRequest::from_keywords(&compiled(ROD), "unreduced", 2, 10, Some(1e-13))
+            .expect("order 2 with constraints");
+        assert_eq!(r.newton.abs_tol, 1e-13);
+    }
+}
