@@ -134,41 +134,72 @@ impl std::fmt::Debug for ElementWorkspace {
     }
 }
 
-/// Collects every family's elements and stencils; records the first stencil out of range.
-struct Collector {
+/// A pass over the elements that records the first stencil out of `0..n` and keeps of each
+/// family all of it ([`FamilyData`], for the workspace) or its shape ([`FamilyShape`]).
+struct FamilyPass<T> {
     n: usize,
-    families: Vec<FamilyData>,
+    families: Vec<T>,
     invalid: Option<String>,
 }
 
-impl FamilyVisitor for Collector {
-    fn family<const S: usize, F: Family<S>>(&mut self, family: &F) {
-        let (n, index) = (self.n, self.families.len());
-        let mut data = FamilyData {
-            width: S,
-            depth: family.depth(),
+impl<T> FamilyPass<T> {
+    fn new(n: usize) -> Self {
+        Self {
+            n,
+            families: Vec::new(),
+            invalid: None,
+        }
+    }
+}
+
+/// What a [`FamilyPass`] keeps of a family.
+trait Kept {
+    /// Nothing yet of a family of stencil width `width` and loop depth `depth`.
+    fn family(width: usize, depth: usize) -> Self;
+    /// One more element: its loop `indices` and its `stencil` on a system of `n` coordinates.
+    fn element(&mut self, indices: &[i64], stencil: &[i64], n: usize);
+}
+
+impl Kept for FamilyData {
+    fn family(width: usize, depth: usize) -> Self {
+        FamilyData {
+            width,
+            depth,
             count: 0,
             indices: Vec::new(),
             stencils: Vec::new(),
             positions: Vec::new(),
-        };
+        }
+    }
+
+    /// A slot out of range reads coordinate 0 (the run is refused before any step).
+    fn element(&mut self, indices: &[i64], stencil: &[i64], n: usize) {
+        self.count += 1;
+        self.indices.extend_from_slice(indices);
+        self.stencils
+            .extend(stencil.iter().map(|&g| coordinate(g, n).unwrap_or(0)));
+    }
+}
+
+impl<T: Kept> FamilyVisitor for FamilyPass<T> {
+    fn family<const S: usize, F: Family<S>>(&mut self, family: &F) {
+        let (n, index) = (self.n, self.families.len());
+        let mut kept = T::family(S, family.depth());
         let invalid = &mut self.invalid;
         family.elements(&mut |indices, stencil| {
-            data.count += 1;
-            data.indices.extend_from_slice(indices);
-            for (slot, &g) in stencil.iter().enumerate() {
-                match coordinate(g, n) {
-                    Some(g) => data.stencils.push(g),
-                    None => {
-                        if invalid.is_none() {
-                            *invalid = Some(outside(indices, index, slot, g, n));
-                        }
-                        data.stencils.push(0);
-                    }
-                }
+            kept.element(indices, &stencil, n);
+            if invalid.is_some() {
+                return;
+            }
+            if let Some((slot, &g)) = stencil
+                .iter()
+                .enumerate()
+                .find(|&(_, &g)| coordinate(g, n).is_none())
+            {
+                *invalid = Some(outside(indices, index, slot, g, n));
             }
         });
-        self.families.push(data);
+        self.families.push(kept);
     }
 }
 
@@ -193,36 +224,17 @@ pub(super) struct FamilyShape {
     count: usize,
 }
 
-/// Counts every family's elements and checks their stencils, storing none of them.
-struct Counter {
-    n: usize,
-    shapes: Vec<FamilyShape>,
-    invalid: Option<String>,
-}
+impl Kept for FamilyShape {
+    fn family(width: usize, depth: usize) -> Self {
+        FamilyShape {
+            width,
+            depth,
+            count: 0,
+        }
+    }
 
-impl FamilyVisitor for Counter {
-    fn family<const S: usize, F: Family<S>>(&mut self, family: &F) {
-        let (n, index) = (self.n, self.shapes.len());
-        let mut count = 0usize;
-        let invalid = &mut self.invalid;
-        family.elements(&mut |indices, stencil| {
-            count += 1;
-            if invalid.is_some() {
-                return;
-            }
-            if let Some((slot, &g)) = stencil
-                .iter()
-                .enumerate()
-                .find(|&(_, &g)| coordinate(g, n).is_none())
-            {
-                *invalid = Some(outside(indices, index, slot, g, n));
-            }
-        });
-        self.shapes.push(FamilyShape {
-            width: S,
-            depth: family.depth(),
-            count,
-        });
+    fn element(&mut self, _indices: &[i64], _stencil: &[i64], _n: usize) {
+        self.count += 1;
     }
 }
 
@@ -230,13 +242,9 @@ impl FamilyVisitor for Counter {
 /// the shape of every family. One pass over the elements that stores none of them, so the check
 /// costs no memory whatever the sizes (the workspace's size is checked next, [`check_memory`]).
 pub(super) fn check_stencils<L: ElementLagrangian>(system: &L) -> Result<Vec<FamilyShape>, String> {
-    let mut counter = Counter {
-        n: system.dim(),
-        shapes: Vec::new(),
-        invalid: None,
-    };
-    system.families(&mut counter);
-    counter.invalid.map_or(Ok(counter.shapes), Err)
+    let mut pass = FamilyPass::<FamilyShape>::new(system.dim());
+    system.families(&mut pass);
+    pass.invalid.map_or(Ok(pass.families), Err)
 }
 
 /// The bytes a run of a system of `n` coordinates with the families `shapes` allocates before
@@ -309,17 +317,13 @@ impl ElementWorkspace {
         linear: StepSolver,
     ) -> Self {
         let n = system.dim();
-        let mut collector = Collector {
-            n,
-            families: Vec::new(),
-            invalid: None,
-        };
-        system.families(&mut collector);
-        let Collector {
+        let mut pass = FamilyPass::<FamilyData>::new(n);
+        system.families(&mut pass);
+        let FamilyPass {
             mut families,
             invalid,
             ..
-        } = collector;
+        } = pass;
         // The pattern: every block entry (row = stencil slot of q0, column = slot of q1).
         let mut entries: Vec<(usize, usize)> = Vec::new();
         for f in &families {
@@ -512,19 +516,6 @@ impl ElementWorkspace {
 
     pub(super) fn assembler(&self) -> &Assembler {
         &self.assembler
-    }
-
-    pub(super) fn residual_jacobian<L: ElementLagrangian>(
-        &self,
-        system: &L,
-        q0: &[f64],
-        p0: &[f64],
-        z: &[f64],
-        r: &mut [f64],
-        jacobian: Option<&mut [f64]>,
-    ) {
-        self.assembler
-            .residual_jacobian(system, q0, p0, z, r, jacobian)
     }
 }
 

@@ -594,7 +594,7 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
             ("r", r.len()),
         ])?;
         jacobian.resize(workspace.nnz(), 0.0);
-        workspace.residual_jacobian(
+        workspace.assembler().residual_jacobian(
             &self.system,
             q0.as_slice(),
             p0.as_slice(),

@@ -349,7 +349,7 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
         let (q0, p0, q1) = (&state.q, &state.p, &next.q);
         let mut r = DVector::zeros(n);
         let mut j = vec![0.0; ws.nnz()];
-        ws.residual_jacobian(
+        ws.assembler().residual_jacobian(
             sys,
             q0.as_slice(),
             p0.as_slice(),

@@ -11,7 +11,7 @@
 //! row interchanges applied to the columns right of the pivot only (the multipliers stay where
 //! they were computed, and a solve applies interchange and multipliers column by column).
 
-use super::{column_norm1, FactorError, HagerCache, LinearSolver};
+use super::{FactorError, HagerCache, LinearSolver};
 
 /// The reverse Cuthill–McKee ordering of the symmetric closure of the pattern `(col_ptr,
 /// row_idx)` of an `n × n` matrix: `order[new] = old`. Each connected component is ordered by
@@ -163,12 +163,13 @@ pub struct BandedLu {
 
 impl std::fmt::Debug for BandedLu {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("BandedLu")
-            .field("n", &self.n)
-            .field("kl", &self.kl)
-            .field("ku", &self.ku)
-            .field("factored", &self.factored)
-            .finish_non_exhaustive()
+        super::debug_solver(
+            f,
+            "BandedLu",
+            self.n,
+            &[("kl", &self.kl), ("ku", &self.ku)],
+            self.factored,
+        )
     }
 }
 
@@ -318,9 +319,7 @@ impl LinearSolver for BandedLu {
     type Matrix = Vec<f64>;
 
     fn factor(&mut self, j: &Vec<f64>) -> Result<(), FactorError> {
-        self.factored = false;
-        self.hager.clear();
-        self.norm1 = column_norm1(&self.col_ptr, j)?;
+        self.norm1 = self.hager.refactor(&mut self.factored, &self.col_ptr, j)?;
         self.band.fill(0.0);
         for (&p, &v) in self.map.iter().zip(j.iter()) {
             self.band[p] += v;

@@ -13,7 +13,7 @@
 
 use nalgebra::DVector;
 
-use super::{column_norm1, FactorError, HagerCache, LinearSolver};
+use super::{FactorError, HagerCache, LinearSolver};
 
 /// The relative residual `‖b − A x‖₂ ≤ tol ‖b‖₂` a solve stops at: below the Newton iteration's
 /// own round-off, so a correction is as good as a direct solve's.
@@ -146,9 +146,7 @@ impl LinearSolver for Pcg {
     /// Stores `j` and its inverse diagonal; `Singular` when `j` is not symmetric (to round-off)
     /// or has a zero on its diagonal.
     fn factor(&mut self, j: &Vec<f64>) -> Result<(), FactorError> {
-        self.factored = false;
-        self.hager.clear();
-        let norm1 = column_norm1(&self.col_ptr, j)?;
+        let norm1 = self.hager.refactor(&mut self.factored, &self.col_ptr, j)?;
         let mut largest = 0.0f64;
         for (p, &t) in self.transpose.iter().enumerate() {
             largest = largest.max((j[p] - j[t]).abs());

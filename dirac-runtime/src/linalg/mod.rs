@@ -250,6 +250,23 @@ pub(crate) fn hager_inverse_norm1_in(
     estimate
 }
 
+/// The `Debug` text of a heap-backed solver: its `name`, size `n`, the `fields` that describe
+/// it and whether it holds factors; its buffers are left out.
+fn debug_solver(
+    f: &mut std::fmt::Formatter<'_>,
+    name: &str,
+    n: usize,
+    fields: &[(&str, &dyn std::fmt::Debug)],
+    factored: bool,
+) -> std::fmt::Result {
+    let mut text = f.debug_struct(name);
+    text.field("n", &n);
+    for (field, value) in fields {
+        text.field(field, value);
+    }
+    text.field("factored", &factored).finish_non_exhaustive()
+}
+
 /// Hager's estimate of `1 / κ₁(A)` for a heap-backed solver ([`hager_inverse_norm1_in`] over
 /// [`reciprocal_condition`]), made at most once per factorization — chord iterations check the
 /// same factors at every step — in scratch allocated once with the solver.
@@ -273,6 +290,20 @@ impl HagerCache {
     /// Forgets the estimate: the factors changed.
     pub(crate) fn clear(&mut self) {
         self.rcond = None;
+    }
+
+    /// The start of a factorization of the CSC values `values` (column starts `col_ptr`), on a
+    /// backend of [`hager_conditioning`]: the old factors (`factored`) and their estimate
+    /// forgotten, and `‖A‖₁` with the finiteness test of [`column_norm1`].
+    pub(crate) fn refactor(
+        &mut self,
+        factored: &mut bool,
+        col_ptr: &[usize],
+        values: &[f64],
+    ) -> Result<f64, FactorError> {
+        *factored = false;
+        self.clear();
+        column_norm1(col_ptr, values)
     }
 
     /// The estimate for the current factors, if made.

@@ -34,7 +34,7 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRe
 use faer::{Conj, MatMut, Par};
 use nalgebra::SVector;
 
-use super::{column_norm1, reciprocal_condition, FactorError, HagerCache, LinearSolver};
+use super::{reciprocal_condition, FactorError, HagerCache, LinearSolver};
 
 /// The structurally nonzero entries of an `n × n` step Jacobian, in compressed sparse columns:
 /// the entries of column `j` are rows `row_idx[col_ptr[j]..col_ptr[j + 1]]`, increasing.
@@ -159,10 +159,10 @@ impl Factors {
     }
 
     fn factor(&mut self, values: &[f64]) -> Result<(), FactorError> {
-        self.factored = false;
         self.bound_cache = None;
-        self.hager.clear();
-        self.norm1 = column_norm1(self.pattern.col_ptr(), values)?;
+        self.norm1 = self
+            .hager
+            .refactor(&mut self.factored, self.pattern.col_ptr(), values)?;
         let a = SparseColMatRef::new(self.pattern.as_ref(), values);
         let stack = MemStack::new(&mut self.scratch);
         simplicial::factorize_simplicial_numeric_lu(
@@ -505,11 +505,13 @@ pub struct DynSparseLu {
 
 impl std::fmt::Debug for DynSparseLu {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("DynSparseLu")
-            .field("n", &self.n)
-            .field("nnz", &self.row_idx.len())
-            .field("factored", &self.factored)
-            .finish_non_exhaustive()
+        super::debug_solver(
+            f,
+            "DynSparseLu",
+            self.n,
+            &[("nnz", &self.row_idx.len())],
+            self.factored,
+        )
     }
 }
 
@@ -588,9 +590,7 @@ impl LinearSolver for DynSparseLu {
     type Matrix = Vec<f64>;
 
     fn factor(&mut self, j: &Vec<f64>) -> Result<(), FactorError> {
-        self.factored = false;
-        self.hager.clear();
-        self.norm1 = column_norm1(&self.col_ptr, j)?;
+        self.norm1 = self.hager.refactor(&mut self.factored, &self.col_ptr, j)?;
         let pattern = SymbolicSparseColMatRef::new_checked(
             self.n,
             self.n,
