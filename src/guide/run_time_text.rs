@@ -166,7 +166,9 @@
 //! for a system on rotation groups `[start.q]` and `[start.p]` by coordinate
 //! (`docs/output-and-clusters.md`). An
 //! element-wise text is a `dirac.ElementSystem`, its sizes given per run
-//! (`toda.run(params, {"n": 1000}, steps=100, q=q0, p=p0)`).
+//! (`toda.run(params, steps=100, sizes={"n": 1000}, q=q0, p=p0)`). Every class has `run`,
+//! `write` and `ensemble` with the same keywords, and every run returns `t`, `q` and `p` as dicts
+//! by coordinate name; what a run is asked for is one `dirac_jit::RunRequest`.
 //!
 //! ## Limits
 //!
