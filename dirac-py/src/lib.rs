@@ -252,10 +252,13 @@ impl System {
         self.code.compile_time().as_secs_f64()
     }
 
-    /// Integrates `steps` steps from one start and returns a dict of NumPy arrays: `t` (steps+1),
-    /// the state's vectors (`x, w, mu, g` for "plus" and "minus", `q, p` for "unreduced"), each
-    /// (steps+1, length), and per step `iterations` and `residuals`; with `energies=True` (a
-    /// continuous Lagrangian) `energy` at each state and `energy_midpoints`. Raises `StepError`
+    /// Integrates `steps` steps from one start (`x, w, mu, g` for "plus", "minus" and "reduced",
+    /// `q, p` for "unreduced": each an array in coordinate order or a dict by coordinate) and
+    /// returns a dict of NumPy arrays: `t` (steps+1); `q` and `p`, dicts by coordinate of
+    /// (steps+1,) arrays (a reduced run's `q` is `x` then `g`, its `p` `(w − Bᵀ μ, μ)` by eq.
+    /// (3.7)); a reduced run's `x, w, mu, g`, each (steps+1, length); per step `iterations` and
+    /// `residuals`; with `energies=True` (a continuous Lagrangian) `energy` at each state and
+    /// `energy_midpoints`. Raises `StepError`
     /// with the trajectory so far when a step fails, `KeyboardInterrupt` with the trajectory
     /// so far at Ctrl-C, `OutOfMemoryError` (before running) when the trajectory cannot be
     /// allocated, and `TypeError` for a keyword it does not take.
@@ -325,8 +328,9 @@ impl System {
         finish_run(py, result, interrupt, |flat| to_dict(py, flat, &names))
     }
 
-    /// An ensemble: one run per row of the start arrays (each `(members, length)`), in
-    /// parallel on all cores. Returns the same dict as `run` with one more leading axis; the
+    /// An ensemble: one run per row of the start arrays (each `(members, length)`, or a dict by
+    /// coordinate of `(members,)` arrays), in parallel on all cores. Returns the same dict as
+    /// `run` with one more leading axis and `failed`, the list of `(member, step, message)`; the
     /// first failed member raises `StepError` (with `member` set) after all have run. Ctrl-C
     /// ends every member after its current step and raises `KeyboardInterrupt` with `ensemble`,
     /// the dict of the states so far (NaN after each member's last).

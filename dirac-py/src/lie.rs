@@ -557,8 +557,8 @@ impl LieSystem {
     /// its position —, a scalar) with the momenta `p` (a rotation's body momentum, a
     /// direction's momentum as a vector in space, a pose's 6 — its body angular momentum, then
     /// its linear momentum in space —, a scalar's), or with adaptive steps the velocities `v` (a
-    /// rotation's body angular velocity). `method` is "plus", "minus" or "reduced" (by the
-    /// declared symmetry); `order` 2, 4 or 6. Returns a dict of NumPy arrays: `t`, `q` and `p`
+    /// rotation's body angular velocity). `method` is "plus" (or "unreduced"), "minus" or
+    /// "reduced" (by the declared symmetry); `order` 2, 4 or 6. Returns a dict of NumPy arrays: `t`, `q` and `p`
     /// (dicts by coordinate, one row per state, each row shaped as the start gives it: a pose's
     /// `(12,)`, its momentum's `(6,)`), the spatial angular momentum `spatial_momentum`
     /// (steps+1, 3) and the poses' linear momentum `linear_momentum` (steps+1, 3; zero without
