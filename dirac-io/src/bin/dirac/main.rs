@@ -60,7 +60,7 @@ use std::sync::Arc;
 
 use dirac::prelude::*;
 use dirac_io::{Describe, Options, ParquetObserver, StateColumns};
-use dirac_jit::{Code, Compiled, LieCode};
+use dirac_jit::{Code, Compiled, JitSystem, LieCode};
 
 /// A parsed system file.
 struct Config {
@@ -162,11 +162,7 @@ fn cli(args: Vec<String>) -> Result<(), Failure> {
     }
     match command {
         "check" => {
-            println!(
-                "{}: compiled in {:.1} ms",
-                sys.name,
-                code.compile_time().as_secs_f64() * 1e3
-            );
+            compiled(&sys.name, code.compile_time());
             println!("shape: {}", sys.shape.join(", "));
             println!("group: {}", sys.group.join(", "));
             println!("parameters: {}", sys.parameters.join(", "));
@@ -198,6 +194,11 @@ fn cli(args: Vec<String>) -> Result<(), Failure> {
         }
         other => Err(Failure::Usage(format!("unknown command `{other}`"))),
     }
+}
+
+/// The first line `check` prints: the system's name and the time its text took to compile.
+fn compiled(name: &str, time: std::time::Duration) {
+    println!("{name}: compiled in {:.1} ms", time.as_secs_f64() * 1e3);
 }
 
 /// Reads and checks the file (every mistake is a usage error, exit status 2).
@@ -356,22 +357,27 @@ fn reduced_start<const S: usize, const K: usize>(
     })
 }
 
+/// The text's system at dimensions `S`, `K`, `N`, with the file's parameters by name.
+fn flat_system<const S: usize, const K: usize, const N: usize>(
+    code: &Arc<Code>,
+    config: &Config,
+) -> Result<JitSystem<S, K, N>, String> {
+    code.instantiate_named::<S, K, N>(&config.named())
+        .map_err(|e| e.to_string())
+}
+
 /// Integrates the system at dimensions `S`, `K`, `N` and writes the run.
 fn run<const S: usize, const K: usize, const N: usize>(
     code: &Arc<Code>,
     config: &Config,
 ) -> Result<String, String> {
-    let named = config.named();
-    let sys = code
-        .instantiate_named::<S, K, N>(&named)
-        .map_err(|e| e.to_string())?;
-    let options = NewtonOptions::default();
-    write_flat::<S, K, N, _, _, _>(
-        config,
-        || UnreducedIntegrator::new(sys.clone(), options),
-        || ReducedIntegrator::plus(sys.clone(), options),
-        || ReducedIntegrator::minus(sys.clone(), options),
-    )
+    let sys = flat_system::<S, K, N>(code, config)?;
+    let integrators = (
+        UnreducedIntegrator::new,
+        ReducedIntegrator::plus,
+        ReducedIntegrator::minus,
+    );
+    write_flat::<S, K, N, _, _, _, _>(config, sys, integrators)
 }
 
 /// `check` and `run` of a system on rotation groups.
@@ -385,11 +391,7 @@ fn cli_lie(command: &str, code: &Arc<LieCode>, config: &Config) -> Result<(), Fa
     )?;
     match command {
         "check" => {
-            println!(
-                "{}: compiled in {:.1} ms",
-                sys.name,
-                code.compile_time().as_secs_f64() * 1e3
-            );
+            compiled(&sys.name, code.compile_time());
             let coordinates: Vec<String> = sys
                 .coordinates
                 .iter()
@@ -517,31 +519,30 @@ fn run_constrained<
     code: &Arc<Code>,
     config: &Config,
 ) -> Result<String, String> {
-    let named = config.named();
-    let values = code
-        .instantiate_named::<S, K, N>(&named)
-        .map_err(|e| e.to_string())?
-        .parameter_values();
+    let values = flat_system::<S, K, N>(code, config)?.parameter_values();
     let sys = code
         .instantiate_constrained::<S, K, N, M, Z>(&values)
         .map_err(|e| e.to_string())?;
-    let options = NewtonOptions::default();
-    write_flat::<S, K, N, _, _, _>(
-        config,
-        || ConstrainedIntegrator::new(sys.clone(), options),
-        || ReducedConstrainedIntegrator::plus(sys.clone(), options),
-        || ReducedConstrainedIntegrator::minus(sys.clone(), options),
-    )
+    let integrators = (
+        ConstrainedIntegrator::new,
+        ReducedConstrainedIntegrator::plus,
+        ReducedConstrainedIntegrator::minus,
+    );
+    write_flat::<S, K, N, _, _, _, _>(config, sys, integrators)
 }
 
-/// Writes the run of a system on vector spaces by the equations the file's `method` names: the
-/// unreduced integrator from the start `(q, p)`, or the reduced one of that side from
-/// `(x, w, μ, g)` (the integrators built only for the equations chosen).
-fn write_flat<const S: usize, const K: usize, const N: usize, U, P, M>(
+/// Writes the run of the system `sys` on vector spaces by the equations the file's `method`
+/// names: with the unreduced integrator from the start `(q, p)`, or the reduced one of that
+/// side from `(x, w, μ, g)` — `(unreduced, plus, minus)`, their constructors, of which only the
+/// one chosen is called (with the default Newton options).
+fn write_flat<const S: usize, const K: usize, const N: usize, L, U, P, M>(
     config: &Config,
-    unreduced: impl FnOnce() -> U,
-    plus: impl FnOnce() -> P,
-    minus: impl FnOnce() -> M,
+    sys: L,
+    (unreduced, plus, minus): (
+        impl FnOnce(L, NewtonOptions) -> U,
+        impl FnOnce(L, NewtonOptions) -> P,
+        impl FnOnce(L, NewtonOptions) -> M,
+    ),
 ) -> Result<String, String>
 where
     U: Describe + Drive<State = UnreducedState<N>>,
@@ -551,16 +552,21 @@ where
     P::Record: AsRef<StepStats>,
     M::Record: AsRef<StepStats>,
 {
+    let options = NewtonOptions::default();
     match config.equations(Form::Reduced) {
         Equations {
             form: Form::Unreduced,
             ..
-        } => write(unreduced(), unreduced_start::<N>(config)?, config),
+        } => write(
+            unreduced(sys, options),
+            unreduced_start::<N>(config)?,
+            config,
+        ),
         Equations {
             side: Variant::Plus,
             ..
-        } => write(plus(), reduced_start::<S, K>(config)?, config),
-        Equations { .. } => write(minus(), reduced_start::<S, K>(config)?, config),
+        } => write(plus(sys, options), reduced_start::<S, K>(config)?, config),
+        Equations { .. } => write(minus(sys, options), reduced_start::<S, K>(config)?, config),
     }
 }
 
