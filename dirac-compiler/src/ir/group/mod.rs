@@ -197,7 +197,9 @@ pub struct Step<'a> {
 
 impl Step<'_> {
     /// The chord velocity `(q1 − q0)/h` of the point's `entries` (a scalar's `ẋ`, a direction's
-    /// `ṅ`, a pose's spatial `ẋ`).
+    /// `ṅ`, a pose's spatial `ẋ`). In a step, where `q1` is the chart's `x + v` at the centre
+    /// `x`, the graph takes `q1 − q0` as the increment `v` itself ([`Graph::sub`]), not `v`
+    /// rounded at `|x|`.
     pub fn chord(&self, g: &mut Graph, entries: impl IntoIterator<Item = usize>) -> Vec<NodeId> {
         entries
             .into_iter()
