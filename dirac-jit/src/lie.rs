@@ -378,6 +378,16 @@ impl<const P: usize, const N: usize, B, R> JitLie<P, N, B, R> {
         out
     }
 
+    /// Step kernel `i` (0 the residual, 1 its Jacobian, 2 the momentum update): the reduced
+    /// step's when `reduced` and the system compiled one, else the unreduced step's, which a
+    /// system without a reduced step solves in its place.
+    fn step_kernel(&self, i: usize, reduced: bool) -> Kernel {
+        match self.code.kernels.reduced {
+            Some(k) if reduced => k[i],
+            _ => self.code.kernels.step[i],
+        }
+    }
+
     fn step_args(
         q_k: &SVector<f64, P>,
         p_k: &SVector<f64, N>,
@@ -522,6 +532,25 @@ crate::model::impl_system! {
     }
 }
 
+/// A method of [`LieLagrangian`] or [`LieSymmetric`] that is one of the step's kernels at the
+/// step's arguments `(q_k, p_k, z)` ([`JitLie::step_kernel`]): the residual (kernel 0) and the
+/// momentum update (kernel 2), of the unreduced or the reduced step.
+macro_rules! step_kernel {
+    ($name:ident = $kernel:literal, reduced: $reduced:literal) => {
+        fn $name(
+            &self,
+            q_k: &SVector<f64, P>,
+            p_k: &SVector<f64, N>,
+            z: &SVector<f64, N>,
+        ) -> SVector<f64, N> {
+            self.call(
+                self.step_kernel($kernel, $reduced),
+                Self::step_args(q_k, p_k, z),
+            )
+        }
+    };
+}
+
 impl<const P: usize, const N: usize, B: Backend<N>, R: Reduction> LieLagrangian<P, N>
     for JitLie<P, N, B, R>
 {
@@ -555,14 +584,7 @@ impl<const P: usize, const N: usize, B: Backend<N>, R: Reduction> LieLagrangian<
         self.call(self.code.kernels.retract, [q.as_ptr(), UNUSED, z.as_ptr()])
     }
 
-    fn residual(
-        &self,
-        q_k: &SVector<f64, P>,
-        p_k: &SVector<f64, N>,
-        z: &SVector<f64, N>,
-    ) -> SVector<f64, N> {
-        self.call(self.code.kernels.step[0], Self::step_args(q_k, p_k, z))
-    }
+    step_kernel!(residual = 0, reduced: false);
 
     fn residual_jacobian(
         &self,
@@ -575,14 +597,7 @@ impl<const P: usize, const N: usize, B: Backend<N>, R: Reduction> LieLagrangian<
         })
     }
 
-    fn momentum(
-        &self,
-        q_k: &SVector<f64, P>,
-        p_k: &SVector<f64, N>,
-        z: &SVector<f64, N>,
-    ) -> SVector<f64, N> {
-        self.call(self.code.kernels.step[2], Self::step_args(q_k, p_k, z))
-    }
+    step_kernel!(momentum = 2, reduced: false);
 
     fn step_partials(
         &self,
@@ -640,17 +655,7 @@ impl<const P: usize, const N: usize, B: Backend<N>> LieSymmetric<P, N>
         self.code.system.symmetry.as_ref().is_some_and(|s| s.forced)
     }
 
-    fn reduced_residual(
-        &self,
-        q_k: &SVector<f64, P>,
-        p_k: &SVector<f64, N>,
-        z: &SVector<f64, N>,
-    ) -> SVector<f64, N> {
-        match self.code.kernels.reduced {
-            Some(k) => self.call(k[0], Self::step_args(q_k, p_k, z)),
-            None => self.residual(q_k, p_k, z),
-        }
-    }
+    step_kernel!(reduced_residual = 0, reduced: true);
 
     fn reduced_residual_jacobian(
         &self,
@@ -673,15 +678,5 @@ impl<const P: usize, const N: usize, B: Backend<N>> LieSymmetric<P, N>
         })
     }
 
-    fn reduced_momentum(
-        &self,
-        q_k: &SVector<f64, P>,
-        p_k: &SVector<f64, N>,
-        z: &SVector<f64, N>,
-    ) -> SVector<f64, N> {
-        match self.code.kernels.reduced {
-            Some(k) => self.call(k[2], Self::step_args(q_k, p_k, z)),
-            None => self.momentum(q_k, p_k, z),
-        }
-    }
+    step_kernel!(reduced_momentum = 2, reduced: true);
 }
