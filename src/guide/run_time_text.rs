@@ -164,7 +164,7 @@
 //! alone brings Cranelift into `dirac-io`: `cargo install --path dirac-io --features cli`) runs a
 //! system file (the text, its parameters, a start) into Parquet: `dirac run kepler.toml`, and
 //! for a system on rotation groups `[start.q]` and `[start.p]` by coordinate
-//! (`docs/output-and-clusters.md`). An
+//! (`docs/output-and-clusters.md`), for an element-wise system its sizes in `[sizes]`. An
 //! element-wise text is a `dirac.ElementSystem`, its sizes given per run
 //! (`toda.run(params, steps=100, sizes={"n": 1000}, q=q0, p=p0)`). Every class has `run`,
 //! `write` and `ensemble` with the same keywords, and every run returns `t`, `q` and `p` as dicts

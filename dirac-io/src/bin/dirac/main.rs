@@ -51,6 +51,27 @@
 //! r = [0.2, -0.1, 3.0]
 //! ```
 //!
+//! An element-wise system (`coordinates(x[n])`) gives its sizes by name in `[sizes]` and starts
+//! from `q` and `p`, every coordinate in order (a grid row by row); its `method` is "plus" or
+//! "minus", and its file has one column per coordinate index (`q_0`, …):
+//!
+//! ```toml
+//! system = "toda.rs"
+//! steps = 1000
+//!
+//! [parameters]
+//! m = 1.0
+//! d = 1.0
+//! h = 0.05
+//!
+//! [sizes]
+//! n = 4
+//!
+//! [start]
+//! q = [0.0, 1.1, 2.0, 2.9]
+//! p = [0.3, 0.05, -0.2, 0.05]
+//! ```
+//!
 //! Exit status 0 on success, 1 when the system or a step fails (the states computed before a
 //! failed step are written and named), 2 for a malformed command line or file.
 
@@ -60,7 +81,7 @@ use std::sync::Arc;
 
 use dirac::prelude::*;
 use dirac_io::{Describe, Options, ParquetObserver, StateColumns};
-use dirac_jit::{Code, Compiled, JitSystem, LieCode};
+use dirac_jit::{Code, Compiled, ElementCode, JitSystem, LieCode};
 
 /// A parsed system file.
 struct Config {
@@ -71,6 +92,8 @@ struct Config {
     method: &'static str,
     out: PathBuf,
     parameters: Vec<(String, f64)>,
+    /// The sizes of an element-wise system, by name (the table `[sizes]`; empty otherwise).
+    sizes: Vec<(String, usize)>,
     start: toml::Table,
     /// The file read, named in the messages of its mistakes.
     file: PathBuf,
@@ -141,14 +164,7 @@ fn cli(args: Vec<String>) -> Result<(), Failure> {
     let code = match dirac_jit::compile_any(&config.text) {
         Ok(Compiled::Flat(code)) => code,
         Ok(Compiled::Lie(code)) => return cli_lie(command, &code, &config),
-        Ok(Compiled::Element(code)) => {
-            return Err(Failure::Run(format!(
-                "{}: an element-wise system (sizes chosen at run time); `dirac run` writes runs of \
-                 systems of fixed dimension to Parquet: run it from Rust \
-                 (`dirac_jit::compile_element`) or Python (`dirac.compile`, an `ElementSystem`)",
-                code.system().name
-            )))
-        }
+        Ok(Compiled::Element(code)) => return cli_element(command, &code, &config),
         Err(e) => return Err(Failure::Run(e.to_string())),
     };
     let sys = code.system();
@@ -216,6 +232,7 @@ fn parse(path: &Path) -> Result<Config, Failure> {
         "method",
         "out",
         "parameters",
+        "sizes",
         "start",
     ];
     if let Some(key) = table.keys().find(|k| !known.contains(&k.as_str())) {
@@ -268,6 +285,16 @@ fn parse(path: &Path) -> Result<Config, Failure> {
         let v = number(&v).ok_or_else(|| usage(format!("parameter `{k}` must be a number")))?;
         parameters.push((k, v));
     }
+    let mut sizes = Vec::new();
+    if table.contains_key("sizes") {
+        for (k, v) in section("sizes")? {
+            let size = v
+                .as_integer()
+                .and_then(|n| usize::try_from(n).ok())
+                .ok_or_else(|| usage(format!("size `{k}` must be a non-negative integer")))?;
+            sizes.push((k, size));
+        }
+    }
     let start = section("start")?;
     Ok(Config {
         text,
@@ -275,6 +302,7 @@ fn parse(path: &Path) -> Result<Config, Failure> {
         method,
         out,
         parameters,
+        sizes,
         start,
         file: path.to_owned(),
     })
@@ -318,23 +346,28 @@ fn numbers(v: &toml::Value) -> Option<Vec<f64>> {
     }
 }
 
-/// The start's vector `name` of length `len`.
-fn vector<const D: usize>(config: &Config, name: &str) -> Result<SVector<f64, D>, String> {
+/// The start's values `name`, `len` of them (an array, or an array of arrays read row by row).
+fn values(config: &Config, name: &str, len: usize) -> Result<Vec<f64>, String> {
     let values = match config.start.get(name) {
         Some(v @ toml::Value::Array(_)) => {
             numbers(v).ok_or_else(|| format!("`start.{name}` must be an array of numbers"))?
         }
         Some(_) => return Err(format!("`start.{name}` must be an array of numbers")),
-        None if D == 0 => Vec::new(),
-        None => return Err(format!("`start.{name}` is missing ({D} values)")),
+        None if len == 0 => Vec::new(),
+        None => return Err(format!("`start.{name}` is missing ({len} values)")),
     };
-    if values.len() != D {
+    if values.len() != len {
         return Err(format!(
-            "`start.{name}` has {} values; the system has {D}",
+            "`start.{name}` has {} values; the system has {len}",
             values.len()
         ));
     }
-    Ok(SVector::from_column_slice(&values))
+    Ok(values)
+}
+
+/// The start's vector `name` of length `D`.
+fn vector<const D: usize>(config: &Config, name: &str) -> Result<SVector<f64, D>, String> {
+    values(config, name, D).map(|v| SVector::from_column_slice(&v))
 }
 
 /// The unreduced start `(q, p)` of the file.
@@ -567,6 +600,70 @@ where
             ..
         } => write(plus(sys, options), reduced_start::<S, K>(config)?, config),
         Equations { .. } => write(minus(sys, options), reduced_start::<S, K>(config)?, config),
+    }
+}
+
+/// `check` and `run` of an element-wise system, its sizes given in the table `[sizes]`.
+fn cli_element(command: &str, code: &Arc<ElementCode>, config: &Config) -> Result<(), Failure> {
+    let sys = code.system();
+    check_start(
+        config,
+        &["q", "p"],
+        "an element-wise system starts from `q` and `p`, its coordinates in order, each grid row \
+         by row",
+    )?;
+    match command {
+        "check" => {
+            compiled(&sys.name, code.compile_time());
+            println!("sizes: {}", sys.sizes.join(", "));
+            println!("parameters: {}", sys.parameters.join(", "));
+            Ok(())
+        }
+        "run" => {
+            let report = run_element(code, config).map_err(Failure::Run)?;
+            println!("{report}");
+            Ok(())
+        }
+        other => Err(Failure::Usage(format!("unknown command `{other}`"))),
+    }
+}
+
+/// Integrates an element-wise system at the file's sizes by the element-wise integrator of the
+/// side `method` names (the constrained one for a system with constraints) and writes the run:
+/// one column per coordinate index (`q_0`, …, `p_0`, …), the sizes in `dirac.sizes`.
+fn run_element(code: &Arc<ElementCode>, config: &Config) -> Result<String, String> {
+    let sizes: Vec<(&str, usize)> = config.sizes.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+    let sys = code
+        .instantiate_named(&config.named(), &sizes)
+        .map_err(|e| e.to_string())?;
+    let n = sys.dim();
+    let start = ElementState::new(values(config, "q", n)?, values(config, "p", n)?);
+    let side = match config.equations(Form::Unreduced) {
+        Equations {
+            form: Form::Reduced,
+            ..
+        } => {
+            return Err(format!(
+                "{}: an element-wise system runs \"plus\" or \"minus\"",
+                code.system().name
+            ))
+        }
+        Equations { side, .. } => side,
+    };
+    let options = NewtonOptions::default();
+    match (sys.constrained(), side) {
+        (false, Variant::Plus) => write(ElementIntegrator::new(sys, options), start, config),
+        (false, Variant::Minus) => write(ElementIntegrator::minus(sys, options), start, config),
+        (true, Variant::Plus) => write(
+            ElementConstrainedIntegrator::new(sys, options),
+            start,
+            config,
+        ),
+        (true, Variant::Minus) => write(
+            ElementConstrainedIntegrator::minus(sys, options),
+            start,
+            config,
+        ),
     }
 }
 
