@@ -1,5 +1,6 @@
 //! One run request for a system given as text, whatever its family: which equations (the
-//! runtime's one vocabulary, [`Equations`]), which order, how many steps, and Newton's options —
+//! runtime's one vocabulary, [`Equations`]), which order, how many steps (and up to which
+//! time), and Newton's options —
 //! what a front end (the Python package's classes, a command line) reads from its user, checked
 //! against the compiled system in one place before the run is dispatched to its family's
 //! integrators.
@@ -41,8 +42,12 @@ pub struct RunRequest {
     pub equations: Equations,
     /// 2, 4 or 6 ([`ORDERS`]).
     pub order: u32,
-    /// The number of steps.
+    /// The number of steps: with [`Self::end_time`], at most this many.
     pub steps: usize,
+    /// Up to this time, reached exactly (the run API's `end_time`:
+    /// the last step shortened to land on it), or `None` for `steps` steps of the system's own
+    /// size.
+    pub end_time: Option<f64>,
     /// Newton's options for each step.
     pub newton: NewtonOptions,
 }
@@ -76,8 +81,23 @@ impl RunRequest {
             equations,
             order: 2,
             steps,
+            end_time: None,
             newton: NewtonOptions::default(),
         }
+    }
+
+    /// The request ending at the time `t` (or not, `None`), at most [`Self::steps`] steps; a
+    /// time that is not a positive finite number (a run starts at 0) is refused.
+    pub fn with_end_time(mut self, t: Option<f64>) -> Result<Self, Error> {
+        if let Some(t) = t {
+            if !(t.is_finite() && t > 0.0) {
+                return Err(request(format!(
+                    "end_time = {t}: a run starts at time 0 and ends at a positive finite time"
+                )));
+            }
+        }
+        self.end_time = t;
+        Ok(self)
     }
 
     /// The request a front end's keywords make for `system`: the equations named by `method`
@@ -113,6 +133,7 @@ impl RunRequest {
             equations,
             order,
             steps,
+            end_time: None,
             newton,
         };
         r.check(system)?;
@@ -234,5 +255,15 @@ mod tests {
         let r = RunRequest::from_keywords(&compiled(ROD), "unreduced", 2, 10, Some(1e-13))
             .expect("order 2 with constraints");
         assert_eq!(r.newton.abs_tol, 1e-13);
+        for t in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            match r.with_end_time(Some(t)) {
+                Err(Error::Request { reason }) => assert!(reason.contains("positive finite")),
+                other => panic!("end_time {t}: {other:?}"),
+            }
+        }
+        assert_eq!(
+            r.with_end_time(Some(0.5)).map(|r| r.end_time).ok(),
+            Some(Some(0.5))
+        );
     }
 }

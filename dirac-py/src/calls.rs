@@ -143,6 +143,20 @@ pub(crate) fn until<St>(
     move |_, _, _| cancel.load(Ordering::Relaxed)
 }
 
+/// A run (or an ensemble) of at most `steps` steps and, when asked, up to the time `end_time`,
+/// reached exactly: the runtime's `steps` and `end_time` (whichever ends the run first).
+macro_rules! span {
+    ($run:expr, $steps:expr, $end_time:expr) => {{
+        let run = $run.steps($steps);
+        match $end_time {
+            Some(t) => run.end_time(t),
+            None => run,
+        }
+    }};
+}
+
+pub(crate) use span;
+
 /// Runs `work` on a thread of its own, with the GIL released, while the calling thread looks
 /// at Python's signals every [`POLL`]: when a handler raises (Ctrl-C: `KeyboardInterrupt`),
 /// `cancel` is set, so a run stopped by [`until`] ends after its current step; `work`'s result

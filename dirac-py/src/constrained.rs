@@ -16,7 +16,7 @@ use dirac_runtime::{
     ReducedState, UnreducedState, Variant,
 };
 
-use crate::calls::until;
+use crate::calls::{span, until};
 use crate::inputs::{reduced_start, unreduced_start};
 use crate::parquet::{to_parquet, Written};
 use crate::results::{finish, parts, reduced_flat, unreduced_flat, with_momenta_of, Failed, Flat};
@@ -64,23 +64,32 @@ pub(crate) fn run_constrained<
         (Form::Unreduced, _) => {
             let s0: UnreducedState<N> = unreduced_start(start);
             let integ = ConstrainedIntegrator::new(sys, o);
-            finish(integ.run(s0).steps(n).stop(until(cancel)).collect(), |t| {
-                with_multipliers(t, |t| unreduced_flat(parts!(t)))
-            })
+            finish(
+                span!(integ.run(s0), n, r.end_time)
+                    .stop(until(cancel))
+                    .collect(),
+                |t| with_multipliers(t, |t| unreduced_flat(parts!(t))),
+            )
         }
         (Form::Reduced, side) => {
             let s0: ReducedState<S, K> = reduced_start(start);
             let momenta = sys.clone();
             let result = if side == Variant::Plus {
                 let integ = ReducedConstrainedIntegrator::plus(sys, o);
-                finish(integ.run(s0).steps(n).stop(until(cancel)).collect(), |t| {
-                    with_multipliers(t, |t| reduced_flat(parts!(t)))
-                })
+                finish(
+                    span!(integ.run(s0), n, r.end_time)
+                        .stop(until(cancel))
+                        .collect(),
+                    |t| with_multipliers(t, |t| reduced_flat(parts!(t))),
+                )
             } else {
                 let integ = ReducedConstrainedIntegrator::minus(sys, o);
-                finish(integ.run(s0).steps(n).stop(until(cancel)).collect(), |t| {
-                    with_multipliers(t, |t| reduced_flat(parts!(t)))
-                })
+                finish(
+                    span!(integ.run(s0), n, r.end_time)
+                        .stop(until(cancel))
+                        .collect(),
+                    |t| with_multipliers(t, |t| reduced_flat(parts!(t))),
+                )
             };
             with_momenta_of(&momenta, result)
         }
@@ -110,14 +119,21 @@ pub(crate) fn write_constrained<
     Ok(match (r.equations.form, r.equations.side) {
         (Form::Unreduced, _) => {
             let s0: UnreducedState<N> = unreduced_start(start);
-            to_parquet(&ConstrainedIntegrator::new(sys, o), s0, n, path, &o, cancel)?
+            to_parquet(
+                &ConstrainedIntegrator::new(sys, o),
+                s0,
+                (n, r.end_time),
+                path,
+                &o,
+                cancel,
+            )?
         }
         (Form::Reduced, Variant::Plus) => {
             let s0: ReducedState<S, K> = reduced_start(start);
             to_parquet(
                 &ReducedConstrainedIntegrator::plus(sys, o),
                 s0,
-                n,
+                (n, r.end_time),
                 path,
                 &o,
                 cancel,
@@ -128,7 +144,7 @@ pub(crate) fn write_constrained<
             to_parquet(
                 &ReducedConstrainedIntegrator::minus(sys, o),
                 s0,
-                n,
+                (n, r.end_time),
                 path,
                 &o,
                 cancel,

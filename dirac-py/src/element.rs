@@ -8,7 +8,7 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 use dirac_compiler::text::ElementSystem as Text;
-use dirac_jit::{Compiled, ElementCode, JitElement};
+use dirac_jit::{Compiled, ElementCode, JitElement, RunRequest};
 use dirac_runtime::element::{
     ElementConstrainedIntegrator, ElementConstrainedTrajectory, ElementIntegrator,
     ElementLagrangian, ElementState, ElementTrajectory,
@@ -20,7 +20,7 @@ use pyo3::exceptions::{PyDeprecationWarning, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
-use crate::calls::{self, until};
+use crate::calls::{self, span, until};
 use crate::composition;
 use crate::ensemble::{self, Member};
 use crate::parquet::to_parquet;
@@ -37,6 +37,7 @@ const RUN_KEYWORDS: &[&str] = &[
     "method",
     "order",
     "tol",
+    "end_time",
 ];
 const WRITE_KEYWORDS: &[&str] = &[
     "parameters",
@@ -47,17 +48,24 @@ const WRITE_KEYWORDS: &[&str] = &[
     "p",
     "method",
     "tol",
+    "end_time",
 ];
 
-/// What a run is asked for: the system at its sizes, and the run request of every class (the
-/// side, the order, the steps and the Newton options).
+/// What a run is asked for: the system at its sizes, and the run request of every class.
 struct Request {
     sys: JitElement,
-    /// The (+) side ("plus", "unreduced") or the (−).
-    plus: bool,
-    order: u32,
-    steps: usize,
-    options: NewtonOptions,
+    run: RunRequest,
+}
+
+/// What an element-wise run reads of its request: the (+) side ("plus", "unreduced") or the
+/// (−), the steps, the end time, Newton's options.
+fn sides(run: RunRequest) -> (bool, usize, Option<f64>, NewtonOptions) {
+    (
+        run.equations.side == Variant::Plus,
+        run.steps,
+        run.end_time,
+        run.newton,
+    )
 }
 
 /// `value`, the keyword argument `name` of a run, which it needs.
@@ -82,11 +90,10 @@ fn row_bytes(sys: &JitElement) -> u128 {
 fn run_many(
     sys: JitElement,
     starts: &[ElementState],
-    plus: bool,
-    steps: usize,
-    options: NewtonOptions,
+    run: RunRequest,
     cancel: &AtomicBool,
 ) -> Result<Vec<Member<Flat>>, String> {
+    let (plus, steps, end_time, options) = sides(run);
     let translations = sys.translations().len();
     if sys.constrained() {
         let integ = if plus {
@@ -111,9 +118,7 @@ fn run_many(
             ));
             f
         };
-        let members = integ
-            .ensemble(starts)
-            .steps(steps)
+        let members = span!(integ.ensemble(starts), steps, end_time)
             .stop(until(cancel))
             .collect();
         return Ok(members.into_iter().map(|m| finish(m, to_flat)).collect());
@@ -132,9 +137,7 @@ fn run_many(
             |s| integ.momentum_map(s).unwrap_or_default(),
         )
     };
-    let members = integ
-        .ensemble(starts)
-        .steps(steps)
+    let members = span!(integ.ensemble(starts), steps, end_time)
         .stop(until(cancel))
         .collect();
     Ok(members.into_iter().map(|m| finish(m, to_flat)).collect())
@@ -181,12 +184,11 @@ fn flat(
 fn run_one(
     sys: JitElement,
     start: ElementState,
-    plus: bool,
-    order: u32,
-    steps: usize,
-    options: NewtonOptions,
+    run: RunRequest,
     cancel: &AtomicBool,
 ) -> Result<Flat, Box<Failed<Flat>>> {
+    let (plus, steps, end_time, options) = sides(run);
+    let order = run.order;
     let translations = sys.translations().len();
     if sys.constrained() {
         let integ = if plus {
@@ -212,7 +214,9 @@ fn run_one(
             f
         };
         return finish(
-            integ.run(start).steps(steps).stop(until(cancel)).collect(),
+            span!(integ.run(start), steps, end_time)
+                .stop(until(cancel))
+                .collect(),
             to_flat,
         );
     }
@@ -232,13 +236,17 @@ fn run_one(
     };
     if order == 2 {
         finish(
-            integ.run(start).steps(steps).stop(until(cancel)).collect(),
+            span!(integ.run(start), steps, end_time)
+                .stop(until(cancel))
+                .collect(),
             to_flat,
         )
     } else {
         let c = Composition::new(integ.clone(), composition(order));
         finish(
-            c.run(start).steps(steps).stop(until(cancel)).collect(),
+            span!(c.run(start), steps, end_time)
+                .stop(until(cancel))
+                .collect(),
             |t| {
                 flat(
                     translations,
@@ -334,13 +342,7 @@ impl ElementSystem {
             .code
             .instantiate(&params, &sizes)
             .map_err(|e| PyValueError::new_err(e.to_string()))?;
-        Ok(Request {
-            sys,
-            plus: run.equations.side == Variant::Plus,
-            order: run.order,
-            steps: run.steps,
-            options: run.newton,
-        })
+        Ok(Request { sys, run })
     }
 
     /// The sizes from a mapping (by name) or a sequence (in order).
@@ -539,7 +541,8 @@ impl ElementSystem {
         self.code.compile_time().as_secs_f64()
     }
 
-    /// Integrates `steps` steps at `sizes` (a dict by name or a sequence in order) from `q` and
+    /// Integrates `steps` steps (with `end_time`, up to that time, reached exactly, and at most
+    /// `steps`) at `sizes` (a dict by name or a sequence in order) from `q` and
     /// `p` (each a flat array of the system's length at these sizes, or a dict by coordinate of
     /// arrays of each coordinate's shape). `method` is "plus" or "minus" (or "unreduced", the
     /// "plus"); `order` 2, 4 or 6 (a constrained system: 2). Returns a dict of NumPy arrays: `t`,
@@ -551,7 +554,7 @@ impl ElementSystem {
     /// `TypeError` for a keyword it does not take. The sizes given before the steps, as
     /// positional arguments (`run(parameters, sizes, steps, ..)`), are read with a
     /// `DeprecationWarning`.
-    #[pyo3(signature = (parameters, *positional, steps = None, sizes = None, q = None, p = None, method = "plus", order = 2, tol = None, **other))]
+    #[pyo3(signature = (parameters, *positional, steps = None, sizes = None, q = None, p = None, method = "plus", order = 2, tol = None, end_time = None, **other))]
     #[allow(
         clippy::too_many_arguments,
         reason = "the Python keyword arguments, one each"
@@ -568,6 +571,7 @@ impl ElementSystem {
         method: &str,
         order: u32,
         tol: Option<f64>,
+        end_time: Option<f64>,
         other: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         calls::no_other_keywords("ElementSystem.run", other, &[], RUN_KEYWORDS, |_| None)?;
@@ -579,11 +583,15 @@ impl ElementSystem {
             order,
             tol,
         )?;
+        let r = Request {
+            run: crate::inputs::ending(r.run, end_time)?,
+            sys: r.sys,
+        };
         let start = ElementState::new(
             self.vector(&r.sys, "q", required("q", q)?)?,
             self.vector(&r.sys, "p", required("p", p)?)?,
         );
-        let steps = r.steps;
+        let steps = r.run.steps;
         calls::check_memory(
             || {
                 format!(
@@ -595,10 +603,9 @@ impl ElementSystem {
             row_bytes(&r.sys),
         )?;
         let runner = r.sys.clone();
-        let (plus, order, options) = (r.plus, r.order, r.options);
-        let (result, interrupt) = calls::interruptible(py, move |cancel| {
-            run_one(runner, start, plus, order, steps, options, cancel)
-        })?;
+        let run = r.run;
+        let (result, interrupt) =
+            calls::interruptible(py, move |cancel| run_one(runner, start, run, cancel))?;
         crate::results::finish_run(py, Ok(result), interrupt, |flat| {
             self.to_dict(py, &r.sys, flat)
         })
@@ -610,7 +617,7 @@ impl ElementSystem {
     /// constant memory. Returns a dict with `steps`, `t` and `path`; a failed step raises
     /// `StepError` with `step`, `residual` and `path`, the states before it written; Ctrl-C
     /// raises `KeyboardInterrupt` with `steps`, `t` and `path`, the states so far written.
-    #[pyo3(signature = (parameters, steps, path, sizes, q, p, method = "plus", tol = None, **other))]
+    #[pyo3(signature = (parameters, steps, path, sizes, q, p, method = "plus", tol = None, end_time = None, **other))]
     #[allow(
         clippy::too_many_arguments,
         reason = "the Python keyword arguments, one each"
@@ -626,6 +633,7 @@ impl ElementSystem {
         p: &Bound<'py, PyAny>,
         method: &str,
         tol: Option<f64>,
+        end_time: Option<f64>,
         other: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         calls::no_other_keywords("ElementSystem.write", other, &[], WRITE_KEYWORDS, |_| None)?;
@@ -637,14 +645,18 @@ impl ElementSystem {
             2,
             tol,
         )?;
+        let r = Request {
+            run: crate::inputs::ending(r.run, end_time)?,
+            sys: r.sys,
+        };
         let start = ElementState::new(self.vector(&r.sys, "q", q)?, self.vector(&r.sys, "p", p)?);
-        let (sys, plus, o) = (r.sys, r.plus, r.options);
+        let (sys, (plus, _, end_time, o)) = (r.sys, sides(r.run));
         let (written, interrupt) =
             calls::interruptible(py, move |cancel| match (sys.constrained(), plus) {
                 (true, true) => to_parquet(
                     &ElementConstrainedIntegrator::new(sys, o),
                     start,
-                    steps,
+                    (steps, end_time),
                     &path,
                     &o,
                     cancel,
@@ -652,7 +664,7 @@ impl ElementSystem {
                 (true, false) => to_parquet(
                     &ElementConstrainedIntegrator::minus(sys, o),
                     start,
-                    steps,
+                    (steps, end_time),
                     &path,
                     &o,
                     cancel,
@@ -660,7 +672,7 @@ impl ElementSystem {
                 (false, true) => to_parquet(
                     &ElementIntegrator::new(sys, o),
                     start,
-                    steps,
+                    (steps, end_time),
                     &path,
                     &o,
                     cancel,
@@ -668,7 +680,7 @@ impl ElementSystem {
                 (false, false) => to_parquet(
                     &ElementIntegrator::minus(sys, o),
                     start,
-                    steps,
+                    (steps, end_time),
                     &path,
                     &o,
                     cancel,
@@ -684,7 +696,7 @@ impl ElementSystem {
     /// member raises `StepError` (with `member` and `ensemble`) after all have run; Ctrl-C
     /// raises `KeyboardInterrupt` with `ensemble`, the states so far (NaN after each member's
     /// last).
-    #[pyo3(signature = (parameters, steps, sizes, q, p, method = "plus", order = 2, tol = None, **other))]
+    #[pyo3(signature = (parameters, steps, sizes, q, p, method = "plus", order = 2, tol = None, end_time = None, **other))]
     #[allow(
         clippy::too_many_arguments,
         reason = "the Python keyword arguments, one each"
@@ -700,6 +712,7 @@ impl ElementSystem {
         method: &str,
         order: u32,
         tol: Option<f64>,
+        end_time: Option<f64>,
         other: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         calls::no_other_keywords("ElementSystem.ensemble", other, &[], RUN_KEYWORDS, |_| None)?;
@@ -716,6 +729,10 @@ impl ElementSystem {
             order,
             tol,
         )?;
+        let r = Request {
+            run: crate::inputs::ending(r.run, end_time)?,
+            sys: r.sys,
+        };
         let given = PyDict::new(py);
         given.set_item("q", q)?;
         given.set_item("p", p)?;
@@ -736,11 +753,11 @@ impl ElementSystem {
             (m as u128).saturating_mul(steps as u128 + 1),
             2 * row_bytes(&r.sys),
         )?;
-        let (sys, plus, options) = (r.sys.clone(), r.plus, r.options);
-        let (results, interrupt) = calls::interruptible(py, move |cancel| {
-            run_many(sys, &starts, plus, steps, options, cancel)
-        })?;
-        ensemble::ensemble_dict(py, results, interrupt, steps, |flat| {
+        let (sys, run) = (r.sys.clone(), r.run);
+        let (results, interrupt) =
+            calls::interruptible(py, move |cancel| run_many(sys, &starts, run, cancel))?;
+        let rows = r.run.end_time.is_none().then_some(steps + 1);
+        ensemble::ensemble_dict(py, results, interrupt, rows, |flat| {
             self.to_dict(py, &r.sys, flat)
         })
     }

@@ -80,15 +80,15 @@ pub(crate) fn of_member(i: usize) -> impl Fn(PyErr) -> PyErr {
 }
 
 /// What `ensemble` returns: the members' dicts (`dict` of each outcome, a failed member's what
-/// it computed) stacked, `steps + 1` rows (as many as the longest member reached when Ctrl-C
-/// ended the ensemble), with `failed` the list of `(member, step, message)`; the first failed
+/// it computed) stacked, `rows` rows (as many as the longest member reached when `rows` is
+/// `None`, as for a run up to an end time, or when Ctrl-C ended the ensemble), with `failed` the list of `(member, step, message)`; the first failed
 /// member's `StepError` (with `member`, its own `trajectory` and the stacked `ensemble`) after
 /// all have run; at Ctrl-C the interrupt with `ensemble`.
 pub(crate) fn ensemble_dict<'py, F>(
     py: Python<'py>,
     results: Result<Vec<Member<F>>, String>,
     interrupt: Option<PyErr>,
-    steps: usize,
+    rows: Option<usize>,
     dict: impl Fn(F) -> PyResult<Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let results = match (results, interrupt.is_some()) {
@@ -113,15 +113,15 @@ pub(crate) fn ensemble_dict<'py, F>(
             }
         }
     }
-    let rows = match &interrupt {
-        Some(_) => members
+    let rows = match (&interrupt, rows) {
+        (None, Some(rows)) => rows,
+        _ => members
             .iter()
             .map(|m| m.get_item("t").and_then(|t| t.len()))
             .collect::<PyResult<Vec<usize>>>()?
             .into_iter()
             .max()
             .unwrap_or(0),
-        None => steps + 1,
     };
     let stacked = py
         .import("dirac._ensemble")?

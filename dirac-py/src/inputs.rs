@@ -67,6 +67,12 @@ pub(crate) fn run_request(
         .map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
+/// `r` ending at `end_time` when given (a positive finite time, else a `ValueError`).
+pub(crate) fn ending(r: RunRequest, end_time: Option<f64>) -> PyResult<RunRequest> {
+    r.with_end_time(end_time)
+        .map_err(|e| PyValueError::new_err(e.to_string()))
+}
+
 /// One start's vectors, each of its length, from keyword arrays: each vector an array of its
 /// length or a mapping by coordinate (`names` gives each vector's coordinates, in order).
 fn vectors(
@@ -148,10 +154,19 @@ pub(crate) fn unreduced_start<const N: usize>(v: &[Vec<f64>]) -> UnreducedState<
 
 /// The keywords of `System.run`, `System.write`, `System.ensemble` and the benchmark's run
 /// besides the start's vectors.
-pub(crate) const RUN_KEYWORDS: &[&str] =
-    &["parameters", "steps", "method", "order", "tol", "energies"];
-pub(crate) const WRITE_KEYWORDS: &[&str] = &["parameters", "steps", "path", "method", "tol"];
-pub(crate) const ENSEMBLE_KEYWORDS: &[&str] = &["parameters", "steps", "method", "order", "tol"];
+pub(crate) const RUN_KEYWORDS: &[&str] = &[
+    "parameters",
+    "steps",
+    "method",
+    "order",
+    "tol",
+    "end_time",
+    "energies",
+];
+pub(crate) const WRITE_KEYWORDS: &[&str] =
+    &["parameters", "steps", "path", "method", "tol", "end_time"];
+pub(crate) const ENSEMBLE_KEYWORDS: &[&str] =
+    &["parameters", "steps", "method", "order", "tol", "end_time"];
 pub(crate) const CORE_KEYWORDS: &[&str] = &["parameters", "steps"];
 
 impl System {

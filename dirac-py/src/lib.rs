@@ -28,8 +28,8 @@ mod runs;
 
 use constrained::{run_constrained, write_constrained};
 use inputs::{
-    control_names, parameter_values, Inputs, CORE_KEYWORDS, ENSEMBLE_KEYWORDS, RUN_KEYWORDS,
-    WRITE_KEYWORDS,
+    control_names, ending, parameter_values, Inputs, CORE_KEYWORDS, ENSEMBLE_KEYWORDS,
+    RUN_KEYWORDS, WRITE_KEYWORDS,
 };
 use parquet::written_dict;
 use results::{finish_run, to_dict};
@@ -252,7 +252,8 @@ impl System {
         self.code.compile_time().as_secs_f64()
     }
 
-    /// Integrates `steps` steps from one start (`x, w, mu, g` for "plus", "minus" and "reduced",
+    /// Integrates `steps` steps (with `end_time`, up to that time, reached exactly, and at most
+    /// `steps`) from one start (`x, w, mu, g` for "plus", "minus" and "reduced",
     /// `q, p` for "unreduced": each an array in coordinate order or a dict by coordinate) and
     /// returns a dict of NumPy arrays: `t` (steps+1); `q` and `p`, dicts by coordinate of
     /// (steps+1,) arrays (a reduced run's `q` is `x` then `g`, its `p` `(w − Bᵀ μ, μ)` by eq.
@@ -262,7 +263,7 @@ impl System {
     /// with the trajectory so far when a step fails, `KeyboardInterrupt` with the trajectory
     /// so far at Ctrl-C, `OutOfMemoryError` (before running) when the trajectory cannot be
     /// allocated, and `TypeError` for a keyword it does not take.
-    #[pyo3(signature = (parameters, steps, method = "plus", order = 2, tol = None, energies = false, **start))]
+    #[pyo3(signature = (parameters, steps, method = "plus", order = 2, tol = None, end_time = None, energies = false, **start))]
     #[allow(
         clippy::too_many_arguments,
         reason = "the Python keyword arguments, one each"
@@ -275,6 +276,7 @@ impl System {
         method: &str,
         order: u32,
         tol: Option<f64>,
+        end_time: Option<f64>,
         energies: bool,
         start: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
@@ -292,6 +294,7 @@ impl System {
             tol,
             start,
         )?;
+        let r = ending(r, end_time)?;
         if energies && self.code.system().continuous.is_none() {
             return Err(PyValueError::new_err(
                 "energies: a discrete Lagrangian has no continuous energy; write \
@@ -334,7 +337,7 @@ impl System {
     /// first failed member raises `StepError` (with `member` set) after all have run. Ctrl-C
     /// ends every member after its current step and raises `KeyboardInterrupt` with `ensemble`,
     /// the dict of the states so far (NaN after each member's last).
-    #[pyo3(signature = (parameters, steps, method = "plus", order = 2, tol = None, **starts))]
+    #[pyo3(signature = (parameters, steps, method = "plus", order = 2, tol = None, end_time = None, **starts))]
     #[allow(
         clippy::too_many_arguments,
         reason = "the Python keyword arguments, one each"
@@ -347,10 +350,11 @@ impl System {
         method: &str,
         order: u32,
         tol: Option<f64>,
+        end_time: Option<f64>,
         starts: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         self.unconstrained("`ensemble`")?;
-        let r = self.request(method, order, steps, tol)?;
+        let r = ending(self.request(method, order, steps, tol)?, end_time)?;
         self.check_start_keywords("System.ensemble", ENSEMBLE_KEYWORDS, r.equations, starts)?;
         let params = parameter_values(&self.code, parameters)?;
         if r.order != 2 {
@@ -381,7 +385,8 @@ impl System {
             dirac_jit::with_dimensions!(s, k, run_many(&code, &params, &per_member, r, cancel))
         })?;
         let names = self.part_names("q");
-        ensemble::ensemble_dict(py, results, interrupt, steps, |flat| {
+        let rows = r.end_time.is_none().then_some(steps + 1);
+        ensemble::ensemble_dict(py, results, interrupt, rows, |flat| {
             to_dict(py, flat, &names)
         })
     }
@@ -393,7 +398,7 @@ impl System {
     /// `residual` and `path`, the states before it written; Ctrl-C ends the run after the
     /// step in progress and raises `KeyboardInterrupt` with `steps`, `t` and `path`, the states
     /// so far written.
-    #[pyo3(signature = (parameters, steps, path, method = "plus", tol = None, **start))]
+    #[pyo3(signature = (parameters, steps, path, method = "plus", tol = None, end_time = None, **start))]
     #[allow(
         clippy::too_many_arguments,
         reason = "the Python keyword arguments, one each"
@@ -406,6 +411,7 @@ impl System {
         path: std::path::PathBuf,
         method: &str,
         tol: Option<f64>,
+        end_time: Option<f64>,
         start: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let Inputs {
@@ -422,6 +428,7 @@ impl System {
             tol,
             start,
         )?;
+        let r = ending(r, end_time)?;
         let m = self.constraint_count();
         let (s, k) = self.dims();
         let code = Arc::clone(&self.code);

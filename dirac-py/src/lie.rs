@@ -21,7 +21,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::calls::{self, until};
+use crate::calls::{self, span, until};
 use crate::ensemble::{self, Member};
 use crate::parquet::to_parquet;
 use crate::results::{finish, Failed};
@@ -149,19 +149,26 @@ fn run_one<const P: usize, const N: usize>(
             };
             if r.order == 2 {
                 finish(
-                    integ.run(s0).steps(n).stop(until(cancel)).collect(),
+                    span!(integ.run(s0), n, r.end_time)
+                        .stop(until(cancel))
+                        .collect(),
                     to_flat,
                 )
             } else {
                 let c = Composition::new(integ, composition(r.order));
-                finish(c.run(s0).steps(n).stop(until(cancel)).collect(), |t| {
-                    flat(
-                        &sys,
-                        t.states.iter().map(|s| (s.unreduced(), Some(s.mu.into()))),
-                        &t.times,
-                        &t.stats,
-                    )
-                })
+                finish(
+                    span!(c.run(s0), n, r.end_time)
+                        .stop(until(cancel))
+                        .collect(),
+                    |t| {
+                        flat(
+                            &sys,
+                            t.states.iter().map(|s| (s.unreduced(), Some(s.mu.into()))),
+                            &t.times,
+                            &t.stats,
+                        )
+                    },
+                )
             }
         }
         (Form::Unreduced, side) => {
@@ -172,19 +179,26 @@ fn run_one<const P: usize, const N: usize>(
             };
             if r.order == 2 {
                 finish(
-                    integ.run(s0).steps(n).stop(until(cancel)).collect(),
+                    span!(integ.run(s0), n, r.end_time)
+                        .stop(until(cancel))
+                        .collect(),
                     unreduced,
                 )
             } else {
                 let c = Composition::new(integ, composition(r.order));
-                finish(c.run(s0).steps(n).stop(until(cancel)).collect(), |t| {
-                    flat(
-                        &sys,
-                        t.states.iter().map(|s| (*s, None)),
-                        &t.times,
-                        &t.stats,
-                    )
-                })
+                finish(
+                    span!(c.run(s0), n, r.end_time)
+                        .stop(until(cancel))
+                        .collect(),
+                    |t| {
+                        flat(
+                            &sys,
+                            t.states.iter().map(|s| (*s, None)),
+                            &t.times,
+                            &t.stats,
+                        )
+                    },
+                )
             }
         }
     })
@@ -221,9 +235,7 @@ fn run_many<const P: usize, const N: usize>(
                 .map_err(|e| e.to_string())?;
             let integ = ReducedLieIntegrator::new(reduced, o);
             let s0: Vec<_> = s0.iter().map(|s| integ.reduce(s)).collect();
-            integ
-                .ensemble(&s0)
-                .steps(n)
+            span!(integ.ensemble(&s0), n, r.end_time)
                 .stop(until(cancel))
                 .collect()
                 .into_iter()
@@ -245,9 +257,7 @@ fn run_many<const P: usize, const N: usize>(
             } else {
                 LieIntegrator::minus(sys.clone(), o)
             };
-            integ
-                .ensemble(&s0)
-                .steps(n)
+            span!(integ.ensemble(&s0), n, r.end_time)
                 .stop(until(cancel))
                 .collect()
                 .into_iter()
@@ -281,14 +291,24 @@ fn write_one<const P: usize, const N: usize>(
                 .map_err(|e| e.to_string())?;
             let integ = ReducedLieIntegrator::new(reduced, o);
             let s0 = integ.reduce(&s0);
-            to_parquet(&integ, s0, n, path, &o, cancel)?
+            to_parquet(&integ, s0, (n, r.end_time), path, &o, cancel)?
         }
-        (Form::Unreduced, Variant::Plus) => {
-            to_parquet(&LieIntegrator::new(sys, o), s0, n, path, &o, cancel)?
-        }
-        (Form::Unreduced, Variant::Minus) => {
-            to_parquet(&LieIntegrator::minus(sys, o), s0, n, path, &o, cancel)?
-        }
+        (Form::Unreduced, Variant::Plus) => to_parquet(
+            &LieIntegrator::new(sys, o),
+            s0,
+            (n, r.end_time),
+            path,
+            &o,
+            cancel,
+        )?,
+        (Form::Unreduced, Variant::Minus) => to_parquet(
+            &LieIntegrator::minus(sys, o),
+            s0,
+            (n, r.end_time),
+            path,
+            &o,
+            cancel,
+        )?,
     })
 }
 
@@ -458,6 +478,7 @@ const RUN_KEYWORDS: &[&str] = &[
     "method",
     "order",
     "tol",
+    "end_time",
 ];
 const WRITE_KEYWORDS: &[&str] = &[
     "parameters",
@@ -468,6 +489,7 @@ const WRITE_KEYWORDS: &[&str] = &[
     "v",
     "method",
     "tol",
+    "end_time",
 ];
 
 impl LieSystem {
@@ -552,7 +574,8 @@ impl LieSystem {
         self.code.compile_time().as_secs_f64()
     }
 
-    /// Integrates `steps` steps from the start `q` (a dict by coordinate: a rotation's 3×3
+    /// Integrates `steps` steps (with `end_time`, up to that time, reached exactly, and at most
+    /// `steps`) from the start `q` (a dict by coordinate: a rotation's 3×3
     /// matrix, a direction's unit vector, a pose's 12 numbers — its rotation row by row, then
     /// its position —, a scalar) with the momenta `p` (a rotation's body momentum, a
     /// direction's momentum as a vector in space, a pose's 6 — its body angular momentum, then
@@ -567,7 +590,7 @@ impl LieSystem {
     /// `KeyboardInterrupt` with the trajectory so far at Ctrl-C, `OutOfMemoryError` (before
     /// running) when the trajectory cannot be allocated, and `TypeError` for a keyword it does
     /// not take.
-    #[pyo3(signature = (parameters, steps, q, p = None, v = None, method = "plus", order = 2, tol = None, **other))]
+    #[pyo3(signature = (parameters, steps, q, p = None, v = None, method = "plus", order = 2, tol = None, end_time = None, **other))]
     #[allow(
         clippy::too_many_arguments,
         reason = "the Python keyword arguments, one each"
@@ -583,11 +606,12 @@ impl LieSystem {
         method: &str,
         order: u32,
         tol: Option<f64>,
+        end_time: Option<f64>,
         other: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         calls::no_other_keywords("LieSystem.run", other, &[], RUN_KEYWORDS, |_| None)?;
         let params = crate::inputs::values_of(&self.code.system().parameters, parameters)?;
-        let r = self.request(method, order, steps, tol)?;
+        let r = crate::inputs::ending(self.request(method, order, steps, tol)?, end_time)?;
         let start = self.start(q, p, v)?;
         calls::check_memory(
             || format!("a run of {steps} steps (every state kept)"),
@@ -608,7 +632,7 @@ impl LieSystem {
     /// with `steps`, `t` and `path`; a failed step raises `StepError` with `step`, `residual`
     /// and `path`, the states before it written; Ctrl-C raises `KeyboardInterrupt` with
     /// `steps`, `t` and `path`, the states so far written.
-    #[pyo3(signature = (parameters, steps, path, q, p = None, v = None, method = "plus", tol = None, **other))]
+    #[pyo3(signature = (parameters, steps, path, q, p = None, v = None, method = "plus", tol = None, end_time = None, **other))]
     #[allow(
         clippy::too_many_arguments,
         reason = "the Python keyword arguments, one each"
@@ -624,11 +648,12 @@ impl LieSystem {
         v: Option<&Bound<'py, PyDict>>,
         method: &str,
         tol: Option<f64>,
+        end_time: Option<f64>,
         other: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         calls::no_other_keywords("LieSystem.write", other, &[], WRITE_KEYWORDS, |_| None)?;
         let params = crate::inputs::values_of(&self.code.system().parameters, parameters)?;
-        let r = self.request(method, 2, steps, tol)?;
+        let r = crate::inputs::ending(self.request(method, 2, steps, tol)?, end_time)?;
         let start = self.start(q, p, v)?;
         let (pp, n) = self.dims();
         let code = Arc::clone(&self.code);
@@ -648,7 +673,7 @@ impl LieSystem {
     /// `(member, step, message)`; the first failed member raises `StepError` (with `member` and
     /// `ensemble`) after all have run; Ctrl-C raises `KeyboardInterrupt` with `ensemble`, the
     /// states so far (NaN after each member's last).
-    #[pyo3(signature = (parameters, steps, q, p = None, v = None, method = "plus", order = 2, tol = None, **other))]
+    #[pyo3(signature = (parameters, steps, q, p = None, v = None, method = "plus", order = 2, tol = None, end_time = None, **other))]
     #[allow(
         clippy::too_many_arguments,
         reason = "the Python keyword arguments, one each"
@@ -664,11 +689,12 @@ impl LieSystem {
         method: &str,
         order: u32,
         tol: Option<f64>,
+        end_time: Option<f64>,
         other: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         calls::no_other_keywords("LieSystem.ensemble", other, &[], RUN_KEYWORDS, |_| None)?;
         let params = crate::inputs::values_of(&self.code.system().parameters, parameters)?;
-        let r = self.request(method, order, steps, tol)?;
+        let r = crate::inputs::ending(self.request(method, order, steps, tol)?, end_time)?;
         if r.order != 2 {
             return Err(PyValueError::new_err(
                 "ensembles run the integrators themselves (order 2)",
@@ -708,7 +734,8 @@ impl LieSystem {
         let (results, interrupt) = calls::interruptible(py, |cancel| {
             dirac_jit::with_lie_dimensions!(pp, n, run_many(&code, &params, &starts, r, cancel))
         })?;
-        ensemble::ensemble_dict(py, results, interrupt, steps, |flat| self.to_dict(py, flat))
+        let rows = r.end_time.is_none().then_some(steps + 1);
+        ensemble::ensemble_dict(py, results, interrupt, rows, |flat| self.to_dict(py, flat))
     }
 
     fn __repr__(&self) -> String {

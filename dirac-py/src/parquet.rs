@@ -8,7 +8,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::calls;
+use crate::calls::{self, span};
 use crate::results::exception_of;
 
 /// What a run written to Parquet ended with: its steps, its final time and the path; or the
@@ -16,14 +16,14 @@ use crate::results::exception_of;
 pub(crate) type Written =
     Result<(usize, f64, std::path::PathBuf), (RuntimeStepError, std::path::PathBuf)>;
 
-/// A run of `steps` steps streamed into Parquet at `path` by the workspace's writer (the run's
+/// A run of `steps` steps (up to `end_time` when given) streamed into Parquet at `path` by the workspace's writer (the run's
 /// observer, [`dirac_io::ParquetObserver`]), that ends after the step in progress once `cancel` is
 /// set (the file then holds the states so far, its outcome "stopped"): what it ended with, as
 /// [`Written`]; the writer's own failure is the outer `Err`.
 pub(crate) fn to_parquet<I>(
     integ: &I,
     start: I::State,
-    steps: usize,
+    (steps, end_time): (usize, Option<f64>),
     path: &std::path::Path,
     newton: &NewtonOptions,
     cancel: &AtomicBool,
@@ -36,9 +36,7 @@ where
     let info = integ.describe().with_newton(newton);
     let mut writer = dirac_io::ParquetObserver::create(path, info, dirac_io::Options::new())
         .map_err(|e| e.to_string())?;
-    let result = integ
-        .run(start)
-        .steps(steps)
+    let result = span!(integ.run(start), steps, end_time)
         .stop(calls::until(cancel))
         .observe(writer.observer())
         .stream();

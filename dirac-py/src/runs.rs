@@ -13,7 +13,7 @@ use dirac_runtime::{
     UnreducedTrajectory, Variant,
 };
 
-use crate::calls::until;
+use crate::calls::{span, until};
 use crate::composition;
 use crate::inputs::{reduced_start, unreduced_start};
 use crate::parquet::{to_parquet, Written};
@@ -41,14 +41,20 @@ pub(crate) fn run_one<const S: usize, const K: usize, const N: usize>(
             let s0 = unreduced_start(start);
             let integ = UnreducedIntegrator::new(sys, o);
             if r.order == 2 {
-                finish(integ.run(s0).steps(n).stop(until(cancel)).collect(), |t| {
-                    unreduced_flat(parts!(t))
-                })
+                finish(
+                    span!(integ.run(s0), n, r.end_time)
+                        .stop(until(cancel))
+                        .collect(),
+                    |t| unreduced_flat(parts!(t)),
+                )
             } else {
                 let c = Composition::new(integ, composition(r.order));
-                finish(c.run(s0).steps(n).stop(until(cancel)).collect(), |t| {
-                    unreduced_flat(parts!(t))
-                })
+                finish(
+                    span!(c.run(s0), n, r.end_time)
+                        .stop(until(cancel))
+                        .collect(),
+                    |t| unreduced_flat(parts!(t)),
+                )
             }
         }
         (Form::Reduced, side) => {
@@ -57,14 +63,20 @@ pub(crate) fn run_one<const S: usize, const K: usize, const N: usize>(
                 ($integ:expr) => {{
                     let integ = $integ;
                     if r.order == 2 {
-                        finish(integ.run(s0).steps(n).stop(until(cancel)).collect(), |t| {
-                            reduced_flat(parts!(t))
-                        })
+                        finish(
+                            span!(integ.run(s0), n, r.end_time)
+                                .stop(until(cancel))
+                                .collect(),
+                            |t| reduced_flat(parts!(t)),
+                        )
                     } else {
                         let c = Composition::new(integ, composition(r.order));
-                        finish(c.run(s0).steps(n).stop(until(cancel)).collect(), |t| {
-                            reduced_flat(parts!(t))
-                        })
+                        finish(
+                            span!(c.run(s0), n, r.end_time)
+                                .stop(until(cancel))
+                                .collect(),
+                            |t| reduced_flat(parts!(t)),
+                        )
                     }
                 }};
             }
@@ -143,14 +155,35 @@ pub(crate) fn write_one<const S: usize, const K: usize, const N: usize>(
     Ok(match (r.equations.form, r.equations.side) {
         (Form::Unreduced, _) => {
             let s0 = unreduced_start(start);
-            to_parquet(&UnreducedIntegrator::new(sys, o), s0, n, path, &o, cancel)?
+            to_parquet(
+                &UnreducedIntegrator::new(sys, o),
+                s0,
+                (n, r.end_time),
+                path,
+                &o,
+                cancel,
+            )?
         }
         (Form::Reduced, side) => {
             let s0 = reduced_start(start);
             if side == Variant::Plus {
-                to_parquet(&ReducedIntegrator::plus(sys, o), s0, n, path, &o, cancel)?
+                to_parquet(
+                    &ReducedIntegrator::plus(sys, o),
+                    s0,
+                    (n, r.end_time),
+                    path,
+                    &o,
+                    cancel,
+                )?
             } else {
-                to_parquet(&ReducedIntegrator::minus(sys, o), s0, n, path, &o, cancel)?
+                to_parquet(
+                    &ReducedIntegrator::minus(sys, o),
+                    s0,
+                    (n, r.end_time),
+                    path,
+                    &o,
+                    cancel,
+                )?
             }
         }
     })
@@ -195,9 +228,7 @@ pub(crate) fn run_many<const S: usize, const K: usize, const N: usize>(
         (Form::Unreduced, _) => {
             let s0: Vec<_> = starts.iter().map(|s| unreduced_start(s)).collect();
             let integ = UnreducedIntegrator::new(sys, o);
-            integ
-                .ensemble(&s0)
-                .steps(n)
+            span!(integ.ensemble(&s0), n, r.end_time)
                 .stop(until(cancel))
                 .collect()
                 .into_iter()
@@ -208,15 +239,13 @@ pub(crate) fn run_many<const S: usize, const K: usize, const N: usize>(
             let s0: Vec<_> = starts.iter().map(|s| reduced_start(s)).collect();
             let momenta = sys.clone();
             let members = if side == Variant::Plus {
-                ReducedIntegrator::plus(sys, o)
-                    .ensemble(&s0)
-                    .steps(n)
+                let integ = ReducedIntegrator::plus(sys, o);
+                span!(integ.ensemble(&s0), n, r.end_time)
                     .stop(until(cancel))
                     .collect()
             } else {
-                ReducedIntegrator::minus(sys, o)
-                    .ensemble(&s0)
-                    .steps(n)
+                let integ = ReducedIntegrator::minus(sys, o);
+                span!(integ.ensemble(&s0), n, r.end_time)
                     .stop(until(cancel))
                     .collect()
             };

@@ -212,6 +212,37 @@ def test_a_request_the_system_cannot_run_is_a_value_error_from_every_class(kind)
         (dict(method=method, tol=float("nan")), "positive finite"),
         (dict(method=method, tol=-1e-12), "positive finite"),
         (dict(method=method, tol=0.0), "positive finite"),
+        (dict(method=method, end_time=-1.0), "positive finite"),
+        (dict(method=method, end_time=float("inf")), "positive finite"),
     ]:
         with pytest.raises(ValueError, match=message):
             system.run(params, steps=1, **fixed, **keywords, **start)
+
+
+@pytest.mark.parametrize("kind", SYSTEMS)
+def test_every_class_runs_writes_and_runs_ensembles_up_to_an_end_time(kind, tmp_path):
+    """`end_time=` with `steps` an upper bound: the last step shortened to land on the time
+    exactly (a time between two of the system's steps), the same for run, write and ensemble."""
+    pq = pytest.importorskip("pyarrow.parquet")
+    text, params, method, fixed = SYSTEMS[kind]
+    system = dirac.compile(text)
+    h = params["h"]
+    end = 6.5 * h
+    start = member_start(kind, 0)
+    run = system.run(params, steps=1000, end_time=end, method=method, **fixed, **start)
+    assert run["t"][-1] == end and len(run["t"]) == 8, run["t"]
+    assert np.all(np.diff(run["t"])[:-1] == pytest.approx(h)) and run["t"][-1] - run["t"][-2] < h
+    for values in run["q"].values():
+        assert values.shape[0] == 8
+    # At most `steps`: whichever ends the run first.
+    assert len(system.run(params, steps=3, end_time=end, method=method, **fixed, **start)["t"]) == 4
+    out = tmp_path / f"{kind}.parquet"
+    summary = system.write(params, steps=1000, path=str(out), end_time=end, method=method,
+                           **fixed, **start)
+    assert summary["steps"] == 7 and summary["t"] == end
+    assert np.array_equal(pq.read_table(out).column("t").to_numpy(), run["t"])
+    stacked = {key: {n: np.array([v, v]) for n, v in start[key].items()} for key in ("q", "p")}
+    ens = system.ensemble(params, steps=1000, end_time=end, method=method, **fixed, **stacked)
+    assert ens["t"].shape == (2, 8) and ens["failed"] == []
+    for i in range(2):
+        assert_same({n: a[i] for n, a in ens["q"].items()}, run["q"], f"member {i}")

@@ -34,9 +34,10 @@ compiles to an :class:`ElementSystem`, whose sizes are chosen per run::
     run["q"]["x"].shape  # (101, 1000)
 
 Every class has the same methods with the same keywords: ``run``, ``write`` (to Parquet) and
-``ensemble`` (many starts on all cores), taking ``steps``, ``method``, ``order``, ``tol`` and the
-start by coordinate name (``q={..}``, ``p={..}``); every run returns ``t``, ``q`` and ``p`` as
-dicts by coordinate name, ``iterations`` and ``residuals``, and what the kind of system adds.
+``ensemble`` (many starts on all cores), taking ``steps`` (and ``end_time``), ``method``,
+``order``, ``tol`` and the start by coordinate name (``q={..}``, ``p={..}``); every run returns
+``t``, ``q`` and ``p`` as dicts by coordinate name, ``iterations`` and ``residuals``, and what the
+kind of system adds.
 Every run method raises ``TypeError`` for a keyword it does not take, ``OutOfMemoryError`` (a
 ``MemoryError``) before running when the trajectory cannot be allocated, and at Ctrl-C
 ``KeyboardInterrupt`` with the trajectory so far (``trajectory``), as ``StepError`` carries it.
