@@ -17,22 +17,16 @@
 use std::fs::File;
 use std::io::{BufRead, BufReader, BufWriter, Write};
 use std::path::Path;
-use std::sync::Arc;
-
-use arrow_array::{Array, ArrayRef, Float64Array, RecordBatch};
-use arrow_schema::{DataType, Field, Schema};
-use parquet::basic::Compression;
 
 use crate::columns::{float_text, RunInfo, StateColumns};
 use crate::error::{Error, Result};
-use crate::integrity::FileWriter;
 
 /// Rows of named `f64` columns (see the [module documentation](self)).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Table {
-    names: Vec<String>,
+    pub(crate) names: Vec<String>,
     /// Column-major; every column has the same length.
-    columns: Vec<Vec<f64>>,
+    pub(crate) columns: Vec<Vec<f64>>,
     /// Names accepted beyond those of the run's description ([`Table::accept`]).
     accepted: Vec<String>,
 }
@@ -320,83 +314,12 @@ impl Table {
         };
         write().map_err(Error::io(path))
     }
-
-    /// Reads Parquet: every column must be `f64` (as this crate writes tables).
-    pub fn read_parquet(path: impl AsRef<Path>) -> Result<Self> {
-        let path = path.as_ref();
-        let batches = crate::read::read_batches(path)?;
-        let schema = match batches.first() {
-            Some(b) => b.schema(),
-            None => {
-                let names: Vec<String> = crate::read::schema(path)?
-                    .fields()
-                    .iter()
-                    .map(|f| f.name().clone())
-                    .collect();
-                let table = Table::new(names);
-                return match table.repeated_name() {
-                    Some(message) => Err(Error::content(path, message)),
-                    None => Ok(table),
-                };
-            }
-        };
-        let mut table = Table::new(schema.fields().iter().map(|f| f.name().clone()));
-        if let Some(message) = table.repeated_name() {
-            return Err(Error::content(path, message));
-        }
-        for batch in &batches {
-            for (c, (field, column)) in schema.fields().iter().zip(batch.columns()).enumerate() {
-                let values = column
-                    .as_any()
-                    .downcast_ref::<Float64Array>()
-                    .filter(|v| v.null_count() == 0)
-                    .ok_or_else(|| {
-                        Error::content(
-                            path,
-                            format!(
-                                "column `{}` is {}; a table's columns are f64 without nulls",
-                                field.name(),
-                                field.data_type()
-                            ),
-                        )
-                    })?;
-                if let Some(out) = table.columns.get_mut(c) {
-                    out.extend_from_slice(values.values());
-                }
-            }
-        }
-        Ok(table)
-    }
-
-    /// Writes Parquet: one `f64` column per column, key-value metadata `dirac.table.fingerprint`.
-    pub fn write_parquet(&self, path: impl AsRef<Path>) -> Result<()> {
-        let path = path.as_ref();
-        let schema = Arc::new(Schema::new(
-            self.names
-                .iter()
-                .map(|n| Field::new(n, DataType::Float64, false))
-                .collect::<Vec<_>>(),
-        ));
-        let kv = vec![(
-            "dirac.table.fingerprint".to_owned(),
-            format!("{:016x}", self.fingerprint()),
-        )];
-        let mut writer = FileWriter::create(path, schema.clone(), Compression::UNCOMPRESSED, kv)?;
-        let columns: Vec<ArrayRef> = self
-            .columns
-            .iter()
-            .map(|c| Arc::new(Float64Array::from(c.clone())) as ArrayRef)
-            .collect();
-        let batch = RecordBatch::try_new(schema, columns).map_err(Error::arrow(path))?;
-        writer.write(&batch)?;
-        writer.close(true)
-    }
 }
 
 impl Table {
     /// The first name the header gives twice, as an error message: a second column of the same
     /// name could never be read (a reader finds the first), so a header with one is refused.
-    fn repeated_name(&self) -> Option<String> {
+    pub(crate) fn repeated_name(&self) -> Option<String> {
         self.names.iter().enumerate().find_map(|(i, name)| {
             let first = self.names[..i].iter().position(|n| n == name)?;
             Some(format!(
