@@ -474,3 +474,57 @@ fn a_body_in_space_runs_into_parquet_as_the_compiled_in_one() {
     assert_eq!(code, 1, "{stderr}");
     assert!(stderr.contains("`b` is not a rotation"), "{stderr}");
 }
+
+/// The method words are the one run request's (`dirac_jit::RunRequest`), read as the Python
+/// package reads them: "reduced" is a system on vector spaces' "plus" and "unreduced" a
+/// rotation system's, bit for bit; "reduced" of a rotation system that declares no symmetry is
+/// refused before it runs (status 1), saying so.
+#[test]
+fn the_method_words_are_the_run_requests() {
+    let dir = scratch("cli_words");
+    std::fs::write(dir.join("kepler.rs"), kepler_text()).unwrap();
+    std::fs::write(dir.join("body.rs"), BODY_IN_SPACE).unwrap();
+    let run = |toml: &str, method: &str| {
+        let system = if toml == KEPLER_TOML {
+            "kepler"
+        } else {
+            "body"
+        };
+        let out = format!("{system}-{method}.parquet");
+        let text = toml
+            .replace("METHOD", method)
+            .replace("kepler.parquet", &out)
+            .replace("body.parquet", &out);
+        let file = dir.join(format!("{system}-{method}.toml"));
+        std::fs::write(&file, text).unwrap();
+        let (code, _, stderr) = dirac(&["run", file.to_str().unwrap()]);
+        (code, stderr, dir.join(out))
+    };
+    let kepler = ReducedState::<1, 1>::column_names(&["r"], &["phi"]);
+    let states: Vec<_> = ["plus", "reduced"]
+        .into_iter()
+        .map(|method| {
+            let (code, stderr, out) = run(KEPLER_TOML, method);
+            assert_eq!(code, 0, "{method}: {stderr}");
+            last_state::<ReducedState<1, 1>>(&out, &kepler).unwrap()
+        })
+        .collect();
+    assert_eq!(states[0], states[1]);
+    let (point, chart) = dirac_io::lie_names(&[("b", CoordinateKind::POSE)]);
+    let point: Vec<&str> = point.iter().map(String::as_str).collect();
+    let chart: Vec<&str> = chart.iter().map(String::as_str).collect();
+    let body = LieState::<12, 6>::column_names(&point, &chart);
+    let states: Vec<_> = ["plus", "unreduced"]
+        .into_iter()
+        .map(|method| {
+            let (code, stderr, out) = run(BODY_TOML, method);
+            assert_eq!(code, 0, "{method}: {stderr}");
+            last_state::<LieState<12, 6>>(&out, &body).unwrap()
+        })
+        .collect();
+    assert_eq!(states[0], states[1]);
+    let (code, stderr, out) = run(BODY_TOML, "reduced");
+    assert_eq!(code, 1, "{stderr}");
+    assert!(stderr.contains("declares no symmetry"), "{stderr}");
+    assert!(!out.exists(), "nothing is written before the run");
+}

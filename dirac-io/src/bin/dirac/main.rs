@@ -12,7 +12,7 @@
 //! system = "kepler.rs"      # the attribute and function, in a file beside this one
 //! # text = """#[reduced_lagrangian(..)] fn ..."""   (or inline)
 //! steps = 1000
-//! method = "plus"           # "plus", "minus" (reduced) or "unreduced"
+//! method = "plus"           # "plus", "minus" (reduced; "reduced" is "plus") or "unreduced"
 //! out = "kepler.parquet"    # relative to this file; --out overrides
 //!
 //! [parameters]              # every parameter of the function, by name
@@ -30,7 +30,8 @@
 //! coordinates by name — a rotation's matrix (rows, or 9 numbers row by row), a direction's
 //! unit vector, a scalar — and their momenta (a rotation's body momentum, a direction's momentum
 //! as a vector in space), or with adaptive steps their velocities (`[start.v]`); its `method` is
-//! "plus", "minus" or "reduced" (by its declared symmetry):
+//! "plus" (or "unreduced"), "minus" or "reduced" (by its declared symmetry). The words read as
+//! the Python package reads them, into the same run request (`dirac_jit::RunRequest`):
 //!
 //! ```toml
 //! system = "heavy_top.rs"
@@ -52,8 +53,8 @@
 //! ```
 //!
 //! An element-wise system (`coordinates(x[n])`) gives its sizes by name in `[sizes]` and starts
-//! from `q` and `p`, every coordinate in order (a grid row by row); its `method` is "plus" or
-//! "minus", and its file has one column per coordinate index (`q_0`, …):
+//! from `q` and `p`, every coordinate in order (a grid row by row); its `method` is "plus" (or
+//! "unreduced") or "minus", and its file has one column per coordinate index (`q_0`, …):
 //!
 //! ```toml
 //! system = "toda.rs"
@@ -81,7 +82,7 @@ use std::sync::Arc;
 
 use dirac::prelude::*;
 use dirac_io::{Describe, Options, ParquetObserver, StateColumns};
-use dirac_jit::{Code, Compiled, ElementCode, JitSystem, LieCode};
+use dirac_jit::{Code, Compiled, ElementCode, JitSystem, LieCode, RunRequest};
 
 /// A parsed system file.
 struct Config {
@@ -108,15 +109,13 @@ impl Config {
             .collect()
     }
 
-    /// The equations `method` names for a system whose own equations are of form `own` (a
-    /// system on vector spaces: reduced; on rotation groups: unreduced), in the runtime's one
-    /// vocabulary ([`Equations::from_keyword`]); `method` is one of its keywords, checked when
-    /// the file was read.
-    fn equations(&self, own: Form) -> Equations {
-        Equations::from_keyword(self.method, own).unwrap_or(Equations {
-            form: own,
-            side: Variant::Plus,
-        })
+    /// The run the file asks of the compiled `system`: the one request every front end builds
+    /// ([`RunRequest`]), the equations `method` names in the system's family (the runtime's one
+    /// vocabulary: "plus" and "minus" the sides of its own form, "reduced" and "unreduced" the
+    /// forms), checked against the system there (reduced equations only where it has them).
+    fn request(&self, system: &Compiled) -> Result<RunRequest, Failure> {
+        RunRequest::from_keywords(system, self.method, 2, self.steps, None)
+            .map_err(|e| Failure::Run(format!("{}: {e}", self.file.display())))
     }
 }
 
@@ -161,14 +160,15 @@ fn cli(args: Vec<String>) -> Result<(), Failure> {
     if let Some(out) = out {
         config.out = out;
     }
-    let code = match dirac_jit::compile_any(&config.text) {
-        Ok(Compiled::Flat(code)) => code,
-        Ok(Compiled::Lie(code)) => return cli_lie(command, &code, &config),
-        Ok(Compiled::Element(code)) => return cli_element(command, &code, &config),
-        Err(e) => return Err(Failure::Run(e.to_string())),
+    let system = dirac_jit::compile_any(&config.text).map_err(|e| Failure::Run(e.to_string()))?;
+    let request = config.request(&system)?;
+    let code = match system {
+        Compiled::Flat(code) => code,
+        Compiled::Lie(code) => return cli_lie(command, &code, &config, request),
+        Compiled::Element(code) => return cli_element(command, &code, &config, request),
     };
     let sys = code.system();
-    match config.equations(Form::Reduced).form {
+    match request.equations.form {
         Form::Unreduced => check_start(&config, &["q", "p"], "the state of an unreduced run")?,
         Form::Reduced => check_start(
             &config,
@@ -185,22 +185,15 @@ fn cli(args: Vec<String>) -> Result<(), Failure> {
             Ok(())
         }
         "run" => {
-            if config.method == "reduced" {
-                return Err(Failure::Run(format!(
-                    "{}: method \"reduced\" runs a system on rotation groups by its symmetry; \
-                     a system on vector spaces runs \"plus\" or \"minus\" (both reduced) or \"unreduced\"",
-                    sys.name
-                )));
-            }
             let (s, k) = (sys.shape.len(), sys.group.len());
             let report = match &sys.constrained {
-                None => dirac_jit::with_dimensions!(s, k, run(&code, &config)),
+                None => dirac_jit::with_dimensions!(s, k, run(&code, &config, request)),
                 Some(c) => {
                     dirac_jit::with_constrained_dimensions!(
                         s,
                         k,
                         c.m,
-                        run_constrained(&code, &config)
+                        run_constrained(&code, &config, request)
                     )
                 }
             }
@@ -403,6 +396,7 @@ fn flat_system<const S: usize, const K: usize, const N: usize>(
 fn run<const S: usize, const K: usize, const N: usize>(
     code: &Arc<Code>,
     config: &Config,
+    request: RunRequest,
 ) -> Result<String, String> {
     let sys = flat_system::<S, K, N>(code, config)?;
     let integrators = (
@@ -410,11 +404,16 @@ fn run<const S: usize, const K: usize, const N: usize>(
         ReducedIntegrator::plus,
         ReducedIntegrator::minus,
     );
-    write_flat::<S, K, N, _, _, _, _>(config, sys, integrators)
+    write_flat::<S, K, N, _, _, _, _>(config, request, sys, integrators)
 }
 
 /// `check` and `run` of a system on rotation groups.
-fn cli_lie(command: &str, code: &Arc<LieCode>, config: &Config) -> Result<(), Failure> {
+fn cli_lie(
+    command: &str,
+    code: &Arc<LieCode>,
+    config: &Config,
+    request: RunRequest,
+) -> Result<(), Failure> {
     let sys = code.system();
     check_start(
         config,
@@ -435,14 +434,8 @@ fn cli_lie(command: &str, code: &Arc<LieCode>, config: &Config) -> Result<(), Fa
             Ok(())
         }
         "run" => {
-            if config.method == "unreduced" {
-                return Err(Failure::Run(format!(
-                    "{}: a system on rotation groups runs \"plus\", \"minus\" or \"reduced\" (by its symmetry)",
-                    sys.name
-                )));
-            }
             let (p, n) = (sys.point_len(), sys.chart_len());
-            let report = dirac_jit::with_lie_dimensions!(p, n, run_lie(code, config))
+            let report = dirac_jit::with_lie_dimensions!(p, n, run_lie(code, config, request))
                 .map_err(Failure::Run)?;
             println!("{report}");
             Ok(())
@@ -490,6 +483,7 @@ fn per_coordinate(
 fn run_lie<const P: usize, const N: usize>(
     code: &Arc<LieCode>,
     config: &Config,
+    request: RunRequest,
 ) -> Result<String, String> {
     let named = config.named();
     let sys = code
@@ -519,8 +513,8 @@ fn run_lie<const P: usize, const N: usize>(
             )
         }
     };
-    let options = NewtonOptions::default();
-    match config.equations(Form::Unreduced) {
+    let options = request.newton;
+    match request.equations {
         Equations {
             form: Form::Reduced,
             ..
@@ -530,13 +524,13 @@ fn run_lie<const P: usize, const N: usize>(
                 .map_err(|e| e.to_string())?;
             let integ = ReducedLieIntegrator::new(reduced, options);
             let start = integ.reduce(&start);
-            write(integ, start, config)
+            write(integ, start, config, request)
         }
         Equations {
             side: Variant::Minus,
             ..
-        } => write(LieIntegrator::minus(sys, options), start, config),
-        Equations { .. } => write(LieIntegrator::new(sys, options), start, config),
+        } => write(LieIntegrator::minus(sys, options), start, config, request),
+        Equations { .. } => write(LieIntegrator::new(sys, options), start, config, request),
     }
 }
 
@@ -551,6 +545,7 @@ fn run_constrained<
 >(
     code: &Arc<Code>,
     config: &Config,
+    request: RunRequest,
 ) -> Result<String, String> {
     let values = flat_system::<S, K, N>(code, config)?.parameter_values();
     let sys = code
@@ -561,7 +556,7 @@ fn run_constrained<
         ReducedConstrainedIntegrator::plus,
         ReducedConstrainedIntegrator::minus,
     );
-    write_flat::<S, K, N, _, _, _, _>(config, sys, integrators)
+    write_flat::<S, K, N, _, _, _, _>(config, request, sys, integrators)
 }
 
 /// Writes the run of the system `sys` on vector spaces by the equations the file's `method`
@@ -570,6 +565,7 @@ fn run_constrained<
 /// one chosen is called (with the default Newton options).
 fn write_flat<const S: usize, const K: usize, const N: usize, L, U, P, M>(
     config: &Config,
+    request: RunRequest,
     sys: L,
     (unreduced, plus, minus): (
         impl FnOnce(L, NewtonOptions) -> U,
@@ -585,8 +581,8 @@ where
     P::Record: AsRef<StepStats>,
     M::Record: AsRef<StepStats>,
 {
-    let options = NewtonOptions::default();
-    match config.equations(Form::Reduced) {
+    let options = request.newton;
+    match request.equations {
         Equations {
             form: Form::Unreduced,
             ..
@@ -594,17 +590,33 @@ where
             unreduced(sys, options),
             unreduced_start::<N>(config)?,
             config,
+            request,
         ),
         Equations {
             side: Variant::Plus,
             ..
-        } => write(plus(sys, options), reduced_start::<S, K>(config)?, config),
-        Equations { .. } => write(minus(sys, options), reduced_start::<S, K>(config)?, config),
+        } => write(
+            plus(sys, options),
+            reduced_start::<S, K>(config)?,
+            config,
+            request,
+        ),
+        Equations { .. } => write(
+            minus(sys, options),
+            reduced_start::<S, K>(config)?,
+            config,
+            request,
+        ),
     }
 }
 
 /// `check` and `run` of an element-wise system, its sizes given in the table `[sizes]`.
-fn cli_element(command: &str, code: &Arc<ElementCode>, config: &Config) -> Result<(), Failure> {
+fn cli_element(
+    command: &str,
+    code: &Arc<ElementCode>,
+    config: &Config,
+    request: RunRequest,
+) -> Result<(), Failure> {
     let sys = code.system();
     check_start(
         config,
@@ -620,7 +632,7 @@ fn cli_element(command: &str, code: &Arc<ElementCode>, config: &Config) -> Resul
             Ok(())
         }
         "run" => {
-            let report = run_element(code, config).map_err(Failure::Run)?;
+            let report = run_element(code, config, request).map_err(Failure::Run)?;
             println!("{report}");
             Ok(())
         }
@@ -631,44 +643,51 @@ fn cli_element(command: &str, code: &Arc<ElementCode>, config: &Config) -> Resul
 /// Integrates an element-wise system at the file's sizes by the element-wise integrator of the
 /// side `method` names (the constrained one for a system with constraints) and writes the run:
 /// one column per coordinate index (`q_0`, …, `p_0`, …), the sizes in `dirac.sizes`.
-fn run_element(code: &Arc<ElementCode>, config: &Config) -> Result<String, String> {
+fn run_element(
+    code: &Arc<ElementCode>,
+    config: &Config,
+    request: RunRequest,
+) -> Result<String, String> {
     let sizes: Vec<(&str, usize)> = config.sizes.iter().map(|(k, v)| (k.as_str(), *v)).collect();
     let sys = code
         .instantiate_named(&config.named(), &sizes)
         .map_err(|e| e.to_string())?;
     let n = sys.dim();
     let start = ElementState::new(values(config, "q", n)?, values(config, "p", n)?);
-    let side = match config.equations(Form::Unreduced) {
-        Equations {
-            form: Form::Reduced,
-            ..
-        } => {
-            return Err(format!(
-                "{}: an element-wise system runs \"plus\" or \"minus\"",
-                code.system().name
-            ))
-        }
-        Equations { side, .. } => side,
-    };
-    let options = NewtonOptions::default();
+    // The request's check refused the reduced equations: an element-wise system has none.
+    let (side, options) = (request.equations.side, request.newton);
     match (sys.constrained(), side) {
-        (false, Variant::Plus) => write(ElementIntegrator::new(sys, options), start, config),
-        (false, Variant::Minus) => write(ElementIntegrator::minus(sys, options), start, config),
+        (false, Variant::Plus) => {
+            write(ElementIntegrator::new(sys, options), start, config, request)
+        }
+        (false, Variant::Minus) => write(
+            ElementIntegrator::minus(sys, options),
+            start,
+            config,
+            request,
+        ),
         (true, Variant::Plus) => write(
             ElementConstrainedIntegrator::new(sys, options),
             start,
             config,
+            request,
         ),
         (true, Variant::Minus) => write(
             ElementConstrainedIntegrator::minus(sys, options),
             start,
             config,
+            request,
         ),
     }
 }
 
 /// Runs `integ` from `start`, every state into the Parquet output.
-fn write<I>(integ: I, start: I::State, config: &Config) -> Result<String, String>
+fn write<I>(
+    integ: I,
+    start: I::State,
+    config: &Config,
+    request: RunRequest,
+) -> Result<String, String>
 where
     I: Describe + Drive,
     I::State: StateColumns,
@@ -678,7 +697,7 @@ where
         .map_err(|e| e.to_string())?;
     let result = integ
         .run(start)
-        .steps(config.steps)
+        .steps(request.steps)
         .observe(out.observer())
         .stream();
     let path = out.finish_with(&result).map_err(|e| e.to_string())?;
