@@ -75,20 +75,17 @@ use std::collections::BTreeMap;
 use std::ops::Range;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
-use arrow_array::{ArrayRef, Float64Array, RecordBatch, StringArray, UInt64Array};
-use arrow_schema::{DataType, Field, Schema};
 use dirac::prelude::*;
 use dirac::runtime::ensemble::map;
-use parquet::basic::Compression;
 
 use crate::columns::{Describe, RunInfo, StateColumns};
 use crate::error::{Error, Result};
 pub use crate::files::publish;
 use crate::files::{member_file, remove_partials};
-use crate::integrity::{verify_required, FileWriter};
+use crate::integrity::verify_required;
 use crate::output::Options;
+use crate::parquet::shard_file::{write_rows, Failure, MemberRow};
 use crate::parquet::ParquetObserver;
 use crate::progress;
 use crate::read::{concatenate, key_values, row_count};
@@ -205,37 +202,6 @@ pub struct ShardReport {
     /// A shard file found in place but damaged (its checksums disagree, or it cannot be read),
     /// and why: it was run again and replaced.
     pub corrupt: Option<String>,
-}
-
-/// One member's row of a shard file.
-struct MemberRow {
-    member: u64,
-    steps: u64,
-    t: f64,
-    last: Vec<f64>,
-    summary: [u64; 3],
-    max_residual: f64,
-    worst_rcond: Option<(usize, f64)>,
-    error: Option<Failure>,
-}
-
-/// Why a member failed, as its row records it.
-struct Failure {
-    kind: String,
-    step: Option<u64>,
-    residual: Option<f64>,
-    message: String,
-}
-
-impl From<StepError> for Failure {
-    fn from(e: StepError) -> Self {
-        Failure {
-            kind: e.kind().to_owned(),
-            step: Some(e.step() as u64),
-            residual: Some(e.residual()),
-            message: e.to_string(),
-        }
-    }
 }
 
 /// The text of a panic's payload (a `&str` or a `String`, as `panic!` makes them).
@@ -566,101 +532,6 @@ where
         failed,
         corrupt,
     })
-}
-
-fn write_rows(
-    path: &Path,
-    columns: &[String],
-    rows: &[MemberRow],
-    kv: Vec<(String, String)>,
-) -> Result<()> {
-    let mut fields = vec![
-        Field::new("member", DataType::UInt64, false),
-        Field::new("status", DataType::Utf8, false),
-        Field::new("steps", DataType::UInt64, false),
-        Field::new("t", DataType::Float64, false),
-    ];
-    fields.extend(
-        columns
-            .iter()
-            .map(|c| Field::new(c, DataType::Float64, false)),
-    );
-    for name in ["iterations", "max_iterations", "factorizations"] {
-        fields.push(Field::new(name, DataType::UInt64, false));
-    }
-    fields.extend([
-        Field::new("max_residual", DataType::Float64, false),
-        Field::new("worst_rcond", DataType::Float64, true),
-        Field::new("worst_rcond_step", DataType::UInt64, true),
-        Field::new("error_kind", DataType::Utf8, true),
-        Field::new("error_step", DataType::UInt64, true),
-        Field::new("error_residual", DataType::Float64, true),
-        Field::new("error_message", DataType::Utf8, true),
-    ]);
-    let schema = Arc::new(Schema::new(fields));
-    let u64s = |f: &dyn Fn(&MemberRow) -> u64| -> ArrayRef {
-        Arc::new(rows.iter().map(f).collect::<UInt64Array>())
-    };
-    let f64s = |f: &dyn Fn(&MemberRow) -> f64| -> ArrayRef {
-        Arc::new(rows.iter().map(f).collect::<Float64Array>())
-    };
-    let mut arrays: Vec<ArrayRef> = vec![
-        u64s(&|r| r.member),
-        Arc::new(
-            rows.iter()
-                .map(|r| {
-                    Some(if r.error.is_some() {
-                        "failed"
-                    } else {
-                        "completed"
-                    })
-                })
-                .collect::<StringArray>(),
-        ),
-        u64s(&|r| r.steps),
-        f64s(&|r| r.t),
-    ];
-    for c in 0..columns.len() {
-        arrays.push(f64s(&|r| r.last.get(c).copied().unwrap_or(f64::NAN)));
-    }
-    for s in 0..3 {
-        arrays.push(u64s(&|r| r.summary[s]));
-    }
-    arrays.push(f64s(&|r| r.max_residual));
-    arrays.push(Arc::new(
-        rows.iter()
-            .map(|r| r.worst_rcond.map(|w| w.1))
-            .collect::<Float64Array>(),
-    ));
-    arrays.push(Arc::new(
-        rows.iter()
-            .map(|r| r.worst_rcond.map(|w| w.0 as u64))
-            .collect::<UInt64Array>(),
-    ));
-    arrays.push(Arc::new(
-        rows.iter()
-            .map(|r| r.error.as_ref().map(|e| e.kind.as_str()))
-            .collect::<StringArray>(),
-    ));
-    arrays.push(Arc::new(
-        rows.iter()
-            .map(|r| r.error.as_ref().and_then(|e| e.step))
-            .collect::<UInt64Array>(),
-    ));
-    arrays.push(Arc::new(
-        rows.iter()
-            .map(|r| r.error.as_ref().and_then(|e| e.residual))
-            .collect::<Float64Array>(),
-    ));
-    arrays.push(Arc::new(
-        rows.iter()
-            .map(|r| r.error.as_ref().map(|e| e.message.as_str()))
-            .collect::<StringArray>(),
-    ));
-    let mut writer = FileWriter::create(path, schema.clone(), Compression::UNCOMPRESSED, kv)?;
-    let batch = RecordBatch::try_new(schema, arrays).map_err(Error::arrow(path))?;
-    writer.write(&batch)?;
-    writer.close(true)
 }
 
 fn first_states(kv: &BTreeMap<String, String>) -> bool {

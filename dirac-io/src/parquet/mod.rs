@@ -17,6 +17,7 @@ use crate::output::{Layout, Options, Output, Resumed, Rows, Sink};
 
 pub mod integrity;
 pub mod read;
+pub(crate) mod shard_file;
 mod table;
 
 use integrity::FileWriter;
