@@ -89,7 +89,7 @@ struct Config {
     text: String,
     steps: usize,
     /// Which equations: one of the runtime's keywords (`Equations::KEYWORDS`), read as the
-    /// system's family reads it ([`Config::equations`]).
+    /// system's family reads it ([`Config::request`]).
     method: &'static str,
     out: PathBuf,
     parameters: Vec<(String, f64)>,
