@@ -83,6 +83,11 @@ pub trait Stepper {
     /// their sizes) extrapolates, and on success the step is added to that memory. Fails with
     /// the typed error of step `k`; the workspace is then still valid (a later call starts from
     /// the memory of the last successful steps).
+    ///
+    /// The default steps into a copy of `state` with [`Self::step_into`], all that a stepper
+    /// with heap-backed states needs; the default of [`Self::step_into`] is this method, so a
+    /// stepper implements at least one of the two (one implementing neither would call itself
+    /// without end).
     fn step_with(
         &self,
         workspace: &mut Self::Workspace,
@@ -90,11 +95,16 @@ pub trait Stepper {
         h: f64,
         state: &Self::State,
         u: &[f64],
-    ) -> Result<(Self::State, Self::Record), StepError>;
+    ) -> Result<(Self::State, Self::Record), StepError> {
+        let mut next = state.clone();
+        let record = self.step_into(workspace, k, h, state, u, &mut next)?;
+        Ok((next, record))
+    }
 
     /// [`Self::step_with`] into `next`, whose memory a stepper with heap-backed states reuses
     /// (the driver keeps two states per run and swaps them, so such a run allocates no state
-    /// per step). The default moves the result of [`Self::step_with`] into `next`; on failure
+    /// per step). The default moves the result of [`Self::step_with`] into `next` (what a
+    /// stepper with fixed-size states, which implements [`Self::step_with`], needs); on failure
     /// `next` is unspecified.
     #[inline]
     fn step_into(
@@ -622,9 +632,83 @@ where
 mod tests {
     use nalgebra::{Matrix2, Vector2};
 
-    use super::{step_error, try_grow};
-    use crate::error::StepError;
+    use super::{step_error, try_grow, Collect, StepStats, Stepper};
+    use crate::error::{StepError, Steps};
     use crate::newton::NewtonOptions;
+
+    /// A stepper with heap-backed states that implements only `step_into`: `q ↦ 2 q + h`, each
+    /// step counted in the workspace, the step index recorded as its iterations.
+    struct Doubling;
+
+    #[derive(Debug)]
+    struct Kept(Vec<Vec<f64>>);
+
+    impl Steps for Kept {
+        fn completed_steps(&self) -> usize {
+            self.0.len().saturating_sub(1)
+        }
+    }
+
+    impl Collect<Doubling> for Kept {
+        fn start(_: &Doubling, _: usize) -> Self {
+            Kept(Vec::new())
+        }
+
+        fn push(&mut self, _: f64, state: &Vec<f64>, _: Option<(f64, &StepStats)>) {
+            self.0.push(state.clone());
+        }
+    }
+
+    impl Stepper for Doubling {
+        type State = Vec<f64>;
+        type Record = StepStats;
+        type Workspace = usize;
+        type Trajectory = Kept;
+
+        fn time_step(&self) -> f64 {
+            0.5
+        }
+
+        fn check(&self, _: &Vec<f64>) -> Result<(), StepError> {
+            Ok(())
+        }
+
+        fn workspace(&self) -> usize {
+            0
+        }
+
+        fn step_into(
+            &self,
+            workspace: &mut usize,
+            k: usize,
+            h: f64,
+            state: &Vec<f64>,
+            _: &[f64],
+            next: &mut Vec<f64>,
+        ) -> Result<StepStats, StepError> {
+            next.clear();
+            next.extend(state.iter().map(|q| 2.0 * q + h));
+            *workspace += 1;
+            Ok(StepStats {
+                iterations: k,
+                ..StepStats::default()
+            })
+        }
+    }
+
+    /// A stepper that implements only `step_into` gets `step_with` (and so `step_in` and
+    /// `step`) from it: the state `step_into` writes, its record, the workspace it advanced.
+    #[test]
+    fn step_with_defaults_to_step_into() {
+        let mut workspace = Doubling.workspace();
+        let (next, record) = Doubling
+            .step_with(&mut workspace, 3, 0.25, &vec![1.0, -2.0], &[])
+            .unwrap();
+        assert_eq!(next, vec![2.25, -3.75]);
+        assert_eq!((record.iterations, workspace), (3, 1));
+        let (next, record) = Doubling.step(7, &vec![1.0]).unwrap();
+        assert_eq!((next, record.iterations), (vec![2.5], 7));
+    }
 
     /// Room for more items than any allocation holds is the typed `OutOfMemory` with the bytes
     /// asked for (room that exists is given, and the vector is left as it was otherwise).
