@@ -124,7 +124,7 @@ mod model;
 mod request;
 mod system;
 
-pub use element::{compile_element, ElementCode, JitElement, MAX_DEPTH, MAX_SIZES, MAX_WIDTH};
+pub use element::{compile_element, ElementCode, JitElement, MAX_DEPTH, MAX_SIZES};
 pub use error::Error;
 pub use lie::{compile_lie, JitLie, LieCode, Reduced, Reduction, Unreduced};
 pub use request::{RunRequest, ORDERS};

@@ -95,45 +95,23 @@ pub fn generate(
         let kernel = |outputs: &[NodeId]| straight_line(&code.graph, outputs, &steps);
         let d1_d2: Vec<NodeId> = code.d1.iter().chain(&code.d2).copied().collect();
         let pair = kernel(&d1_d2);
-        let pair_stmts = &pair.stmts;
-        let (pair_d1, pair_d2) = pair.outputs.split_at(s);
+        let (pair_stmts, pair_out) = (&pair.stmts, &pair.outputs);
         let all: Vec<NodeId> = d1_d2
             .iter()
             .copied()
             .chain(code.d12.iter().flatten().copied())
             .collect();
         let all = kernel(&all);
-        let all_stmts = &all.stmts;
-        let (all_d1, rest) = all.outputs.split_at(s);
-        let (all_d2, all_d12) = rest.split_at(s);
-        let d12_rows: Vec<TokenStream> = all_d12
-            .chunks(s.max(1))
-            .map(|row| quote!([#(#row),*]))
-            .collect();
-        // The step partials of a sensitivity, one straight-line function.
+        let (all_stmts, all_out) = (&all.stmts, &all.outputs);
+        // The step partials of a sensitivity, one straight-line function whose outputs are
+        // the trait's layout: the three blocks row by row, then the control columns.
         let b = &code.blocks;
-        let m = b.u1.first().map_or(0, Vec::len);
         let partial_nodes: Vec<NodeId> = [&b.d11, &b.d21, &b.d22, &b.u1, &b.u2]
             .into_iter()
             .flat_map(|rows| rows.iter().flatten().copied())
             .collect();
         let partials = kernel(&partial_nodes);
-        let partial_stmts = &partials.stmts;
-        let (square, controls_out) = partials.outputs.split_at(3 * s * s);
-        let block_rows: Vec<TokenStream> = square
-            .chunks(s.max(1) * s.max(1))
-            .map(|block| {
-                let rows = block.chunks(s.max(1)).map(|row| quote!([#(#row),*]));
-                quote!([#(#rows),*])
-            })
-            .collect();
-        let block_rows = if s == 0 {
-            vec![quote!([]), quote!([]), quote!([])]
-        } else {
-            block_rows
-        };
-        let (u1_out, u2_out) = controls_out.split_at(s * m);
-        let sm = s * m;
+        let (partial_stmts, partial_out) = (&partials.stmts, &partials.outputs);
         let value = kernel(&[code.value]);
         let (value_stmts, value_out) = (&value.stmts, &value.outputs[0]);
         let energy = match code.energy {
@@ -141,7 +119,11 @@ pub fn generate(
                 let el = leaf(quote!(q), quote!(v));
                 let line = straight_line(&code.graph, &[e], &el);
                 let (st, out) = (&line.stmts, &line.outputs[0]);
-                quote! { let sys = self.0; #st #out }
+                quote! {
+                    let (q, v) = (#rt::stencil::<#s>(q), #rt::stencil::<#s>(v));
+                    let sys = self.0;
+                    #st #out
+                }
             }
             None => quote!(f64::NAN),
         };
@@ -151,13 +133,18 @@ pub fn generate(
                 let outputs: Vec<NodeId> =
                     p.iter().chain(hessian.iter().flatten()).copied().collect();
                 let line = straight_line(&code.graph, &outputs, &el);
-                let (p_out, h_out) = line.outputs.split_at(s);
-                let rows = h_out.chunks(s.max(1)).map(|row| quote!([#(#row),*]));
-                let st = &line.stmts;
-                quote! { let sys = self.0; #st ([#(#p_out),*], [#(#rows),*]) }
+                let (st, outs) = (&line.stmts, &line.outputs);
+                let len = outs.len();
+                quote! {
+                    let (q, v) = (#rt::stencil::<#s>(q), #rt::stencil::<#s>(v));
+                    let sys = self.0;
+                    #st
+                    *#rt::outputs::<#len>(out) = [#(#outs),*];
+                }
             }
-            None => quote!(([f64::NAN; #s], [[f64::NAN; #s]; #s])),
+            None => quote!(out.fill(f64::NAN);),
         };
+        let (pair_len, all_len, partial_len) = (pair_out.len(), all_out.len(), partial_out.len());
         described.push(format!(
             "{}×{s} ({} operations for R + J + p{})",
             depth_word(depth),
@@ -172,59 +159,61 @@ pub fn generate(
 
             #gen
             #[allow(unused_variables, unused_parens, clippy::identity_op, clippy::erasing_op, clippy::unnecessary_cast, clippy::double_parens, clippy::possible_missing_comma)]
-            impl #rt::Family<#s> for #name<'_> {
-                const DEPTH: usize = #depth;
-                const FORCE: bool = #force;
-                fn elements(&self, visit: &mut dyn FnMut(&[i64], [i64; #s])) {
+            impl #rt::Family for #name<'_> {
+                #[inline]
+                fn width(&self) -> usize {
+                    #s
+                }
+                #[inline]
+                fn depth(&self) -> usize {
+                    #depth
+                }
+                #[inline]
+                fn force(&self) -> bool {
+                    #force
+                }
+                fn elements(&self, visit: &mut dyn FnMut(&[i64], &[i64])) {
                     let sys = self.0;
                     let __o = sys.__offsets();
                     #(#size_bindings)*
                     #body
                 }
                 #[inline]
-                fn d1_d2(&self, indices: &[i64], q0: &[f64; #s], q1: &[f64; #s]) -> ([f64; #s], [f64; #s]) {
+                fn d1_d2(&self, indices: &[i64], q0: &[f64], q1: &[f64], out: &mut [f64]) {
+                    let (q0, q1) = (#rt::stencil::<#s>(q0), #rt::stencil::<#s>(q1));
                     let sys = self.0;
                     #pair_stmts
-                    ([#(#pair_d1),*], [#(#pair_d2),*])
+                    *#rt::outputs::<#pair_len>(out) = [#(#pair_out),*];
                 }
                 #[inline]
-                fn d1_d2_d12(&self, indices: &[i64], q0: &[f64; #s], q1: &[f64; #s]) -> ([f64; #s], [f64; #s], [[f64; #s]; #s]) {
+                fn d1_d2_d12(&self, indices: &[i64], q0: &[f64], q1: &[f64], out: &mut [f64]) {
+                    let (q0, q1) = (#rt::stencil::<#s>(q0), #rt::stencil::<#s>(q1));
                     let sys = self.0;
                     #all_stmts
-                    ([#(#all_d1),*], [#(#all_d2),*], [#(#d12_rows),*])
+                    *#rt::outputs::<#all_len>(out) = [#(#all_out),*];
                 }
-                fn step_partials(
-                    &self,
-                    indices: &[i64],
-                    q0: &[f64; #s],
-                    q1: &[f64; #s],
-                    blocks: &mut [[[f64; #s]; #s]; 3],
-                    u1: &mut [f64],
-                    u2: &mut [f64],
-                ) -> bool {
+                fn step_partials(&self, indices: &[i64], q0: &[f64], q1: &[f64], out: &mut [f64]) -> bool {
+                    let (q0, q1) = (#rt::stencil::<#s>(q0), #rt::stencil::<#s>(q1));
                     let sys = self.0;
                     #partial_stmts
-                    *blocks = [#(#block_rows),*];
-                    let __u1: [f64; #sm] = [#(#u1_out),*];
-                    let __u2: [f64; #sm] = [#(#u2_out),*];
-                    u1.copy_from_slice(&__u1);
-                    u2.copy_from_slice(&__u2);
+                    *#rt::outputs::<#partial_len>(out) = [#(#partial_out),*];
                     true
                 }
-                fn value(&self, indices: &[i64], q0: &[f64; #s], q1: &[f64; #s]) -> f64 {
+                fn value(&self, indices: &[i64], q0: &[f64], q1: &[f64]) -> f64 {
+                    let (q0, q1) = (#rt::stencil::<#s>(q0), #rt::stencil::<#s>(q1));
                     let sys = self.0;
                     #value_stmts
                     #value_out
                 }
-                fn energy(&self, indices: &[i64], q: &[f64; #s], v: &[f64; #s]) -> f64 {
+                fn energy(&self, indices: &[i64], q: &[f64], v: &[f64]) -> f64 {
                     #energy
                 }
-                fn legendre(&self, indices: &[i64], q: &[f64; #s], v: &[f64; #s]) -> ([f64; #s], [[f64; #s]; #s]) {
+                fn legendre(&self, indices: &[i64], q: &[f64], v: &[f64], out: &mut [f64]) {
                     #legendre
                 }
             }
         });
-        visits.push(quote!(visitor.family::<#s, _>(&#name(self));));
+        visits.push(quote!(visitor.family(&#name(self));));
     }
 
     let (constraint_family_items, constraint_lagrangian) =
@@ -470,7 +459,7 @@ fn element_nest(spec: &ElementSpec, family: &FamilySpec, row: Option<&Index>) ->
         let r = r.tokens(&size_tok, &loop_tok);
         quote!(#r,)
     });
-    let mut body = quote!(visit(&[#(#loop_vars),*], #row [#(#stencil),*]););
+    let mut body = quote!(visit(&[#(#loop_vars),*], #row &[#(#stencil),*]););
     for k in (0..depth).rev() {
         let v = &loop_vars[k];
         let (lo, hi) = (
@@ -549,7 +538,8 @@ fn constraint_items(
             .chain(code.gradient.iter().copied())
             .collect();
         let line = straight_line(&code.graph, &outputs, &leaf);
-        let (stmts, value, gradient) = (&line.stmts, &line.outputs[0], &line.outputs[1..]);
+        let (stmts, outs) = (&line.stmts, &line.outputs);
+        let len = outs.len();
         let gen = lints::generated();
         items.extend(quote! {
             #[doc(hidden)]
@@ -558,22 +548,30 @@ fn constraint_items(
 
             #gen
             #[allow(unused_variables, unused_parens, clippy::identity_op, clippy::erasing_op, clippy::unnecessary_cast, clippy::double_parens, clippy::possible_missing_comma)]
-            impl #rt::ConstraintFamily<#s> for #name<'_> {
-                const DEPTH: usize = #depth;
-                fn elements(&self, visit: &mut dyn FnMut(&[i64], i64, [i64; #s])) {
+            impl #rt::ConstraintFamily for #name<'_> {
+                #[inline]
+                fn width(&self) -> usize {
+                    #s
+                }
+                #[inline]
+                fn depth(&self) -> usize {
+                    #depth
+                }
+                fn elements(&self, visit: &mut dyn FnMut(&[i64], i64, &[i64])) {
                     let sys = self.0;
                     let __o = sys.__offsets();
                     #(#bindings)*
                     #body
                 }
-                fn value_gradient(&self, indices: &[i64], q: &[f64; #s]) -> (f64, [f64; #s]) {
+                fn value_gradient(&self, indices: &[i64], q: &[f64], out: &mut [f64]) {
+                    let q = #rt::stencil::<#s>(q);
                     let sys = self.0;
                     #stmts
-                    (#value, [#(#gradient),*])
+                    *#rt::outputs::<#len>(out) = [#(#outs),*];
                 }
             }
         });
-        visits.push(quote!(visitor.constraint::<#s, _>(&#name(self));));
+        visits.push(quote!(visitor.constraint(&#name(self));));
     }
     let size_tok = |k: usize| {
         let s = format_ident!("__n{}", k);

@@ -24,10 +24,6 @@ use dirac_runtime::StepError;
 
 mod family;
 
-/// The most coordinates one element reads (a family's stencil width) that a system given at
-/// run time may have: each width is an instance of the runtime's assembly.
-pub const MAX_WIDTH: usize = 12;
-
 /// The most nested element loops a family may have.
 pub const MAX_DEPTH: usize = 4;
 
@@ -146,10 +142,9 @@ impl ElementCode {
                 .flat_map(|c| c.families.iter().map(|f| &f.stencil)),
         );
         for stencil in stencils {
-            if stencil.slots.len() > MAX_WIDTH || stencil.loops.len() > MAX_DEPTH {
+            if stencil.loops.len() > MAX_DEPTH {
                 return Err(fail(format!(
-                    "an element reads {} coordinates in {} nested loops: a system given at run time reads at most {MAX_WIDTH} in at most {MAX_DEPTH}",
-                    stencil.slots.len(),
+                    "an element in {} nested loops: a system given at run time nests at most {MAX_DEPTH}",
                     stencil.loops.len()
                 )));
             }
@@ -564,7 +559,7 @@ impl JitElement {
         }
         // SAFETY: a kernel reads the parameters and sizes (inline, `MAX_PARAMETERS +
         // MAX_SIZES` of them, at most as many as the system declares: checked on compilation),
-        // `S` entries of `a` and `b` (the family's width, which every caller's arrays have) and
+        // `S` entries of `a` and `b` (the family's width, which every caller checks) and
         // at most `MAX_DEPTH` loop indices (the family's depth, checked on compilation), and
         // writes exactly as many values as its program has outputs, which is the size of the
         // memory at `out` at every call site.

@@ -11,12 +11,16 @@
 
 use std::cell::RefCell;
 use std::ops::Range;
+use std::sync::Mutex;
 
 use nalgebra::DVector;
 use rayon::prelude::*;
 
 use super::solver::ElementSolver;
-use super::{ElementLagrangian, Family, FamilyVisitor, Parallel, StepSolver, PARALLEL_MIN_ENTRIES};
+use super::{
+    scratch_len, ElementLagrangian, Family, FamilyVisitor, Parallel, StepSolver,
+    PARALLEL_MIN_ENTRIES,
+};
 use crate::error::StepError;
 
 /// The elements of one family as a run sees them.
@@ -37,10 +41,13 @@ pub(super) struct FamilyData {
 }
 
 /// The row blocks of the parallel passes: block `b` owns rows `ranges[b]` and evaluates the
-/// elements `lists[b][f]` of family `f` (those touching its rows, in increasing order).
+/// elements `lists[b][f]` of family `f` (those touching its rows, in increasing order), with
+/// its own element scratch `scratch[b]` (locked by the one task that runs the block, so never
+/// contended).
 struct Blocks {
     ranges: Vec<Range<usize>>,
     lists: Vec<Vec<Vec<u32>>>,
+    scratch: Vec<Mutex<Vec<f64>>>,
 }
 
 /// The most elements evaluated per element (over all blocks) for [`Parallel::Auto`] to assemble
@@ -67,7 +74,19 @@ impl Blocks {
                 }
             }
         }
-        Blocks { ranges, lists }
+        let len = families
+            .iter()
+            .map(|f| scratch_len(f.width))
+            .max()
+            .unwrap_or(0);
+        let scratch = (0..ranges.len())
+            .map(|_| Mutex::new(vec![0.0; len]))
+            .collect();
+        Blocks {
+            ranges,
+            lists,
+            scratch,
+        }
     }
 
     /// Elements evaluated by the blocks per element of the system (1 when no element touches
@@ -96,6 +115,9 @@ pub(super) struct Assembler {
     orbits: Vec<Vec<Range<usize>>>,
     /// `D_2 L_d(q0, z)` at the last `z` a pass evaluated: the next momentum once Newton stops.
     p1: RefCell<DVector<f64>>,
+    /// The serial pass's element scratch: the stencil values and the outputs of one element
+    /// ([`scratch_len`] of the widest family).
+    scratch: RefCell<Vec<f64>>,
 }
 
 /// The workspace of an [`super::ElementIntegrator`] run: the elements' stencils, the Jacobian's
@@ -172,23 +194,36 @@ impl Kept for FamilyData {
         }
     }
 
-    /// A slot out of range reads coordinate 0 (the run is refused before any step).
+    /// A slot out of range (or missing) reads coordinate 0 (the run is refused before any
+    /// step), so that every element keeps exactly `width` slots and `depth` indices.
     fn element(&mut self, indices: &[i64], stencil: &[i64], n: usize) {
         self.count += 1;
-        self.indices.extend_from_slice(indices);
-        self.stencils
-            .extend(stencil.iter().map(|&g| coordinate(g, n).unwrap_or(0)));
+        self.indices
+            .extend((0..self.depth).map(|d| indices.get(d).copied().unwrap_or(0)));
+        self.stencils.extend(
+            (0..self.width).map(|a| stencil.get(a).and_then(|&g| coordinate(g, n)).unwrap_or(0)),
+        );
     }
 }
 
 impl<T: Kept> FamilyVisitor for FamilyPass<T> {
-    fn family<const S: usize, F: Family<S>>(&mut self, family: &F) {
+    fn family<F: Family>(&mut self, family: &F) {
         let (n, index) = (self.n, self.families.len());
-        let mut kept = T::family(S, family.depth());
+        let (width, depth) = (family.width(), family.depth());
+        let mut kept = T::family(width, depth);
         let invalid = &mut self.invalid;
         family.elements(&mut |indices, stencil| {
-            kept.element(indices, &stencil, n);
+            kept.element(indices, stencil, n);
             if invalid.is_some() {
+                return;
+            }
+            if stencil.len() != width || indices.len() != depth {
+                *invalid = Some(format!(
+                    "element {indices:?} of family {index} reads {} coordinates in {} loops; its \
+                     family reads {width} in {depth}",
+                    stencil.len(),
+                    indices.len()
+                ));
                 return;
             }
             if let Some((slot, &g)) = stencil
@@ -303,9 +338,9 @@ struct Fits<'a> {
 }
 
 impl FamilyVisitor for Fits<'_> {
-    fn family<const S: usize, F: Family<S>>(&mut self, family: &F) {
+    fn family<F: Family>(&mut self, family: &F) {
         let f = self.families.get(self.next);
-        self.fits &= f.is_some_and(|f| f.width == S && f.depth == family.depth());
+        self.fits &= f.is_some_and(|f| f.width == family.width() && f.depth == family.depth());
         self.next += 1;
     }
 }
@@ -375,6 +410,11 @@ impl ElementWorkspace {
             Parallel::Auto => entries_total >= PARALLEL_MIN_ENTRIES && threads > 1,
         };
         let blocks = wanted.then(|| Blocks::new(n, threads, &families));
+        let scratch = families
+            .iter()
+            .map(|f| scratch_len(f.width))
+            .max()
+            .unwrap_or(0);
         // Auto: only when the blocks evaluate few elements twice. Pairs touch rows everywhere,
         // so every block would evaluate most of them (measured on the Lennard-Jones cluster:
         // 2–4× slower than serial); lattices and grids evaluate a few boundary elements twice.
@@ -398,6 +438,7 @@ impl ElementWorkspace {
                 parallel,
                 orbits: system.translations(),
                 p1: RefCell::new(DVector::zeros(n)),
+                scratch: RefCell::new(vec![0.0; scratch]),
             },
             last: DVector::zeros(n),
             before: DVector::zeros(n),
@@ -533,32 +574,78 @@ struct Visit<'a, 'p> {
     assembler: &'a Assembler,
     next: usize,
     pass: Pass<'p>,
+    /// The element scratch ([`scratch_len`] of the widest family).
+    scratch: &'p mut [f64],
 }
 
-/// The stencil values of element `e`.
+/// The stencil values of an element, `v[st[a]]`, into `out` (as long as `st`).
 #[inline(always)]
-pub(super) fn gather<const S: usize>(v: &[f64], st: &[usize]) -> [f64; S] {
-    std::array::from_fn(|a| v[st[a]])
+pub(super) fn gather(v: &[f64], st: &[usize], out: &mut [f64]) {
+    for (o, &g) in out.iter_mut().zip(st) {
+        *o = v[g];
+    }
 }
 
-/// [`gather`] without bounds checks, for the serial pass's inner loop.
+/// [`gather`] without bounds checks, for the passes' inner loops.
 ///
 /// # Safety
-/// Every `st[a] < v.len()`: the stencils are checked against the dimension when the workspace
-/// is built (a workspace with an invalid stencil never assembles) and the vectors' lengths at
-/// the entry of [`Assembler::residual_jacobian`].
+/// Every `st[a] < v.len()` and `out.len() >= st.len()`: the stencils are checked against the
+/// dimension when the workspace is built (a workspace with an invalid stencil never assembles),
+/// the vectors' lengths at the entry of [`Assembler::residual_jacobian`], and the scratch is
+/// sized for the widest family.
 #[inline(always)]
-unsafe fn gather_unchecked<const S: usize>(v: &[f64], st: &[usize; S]) -> [f64; S] {
-    // SAFETY: see the function's contract.
-    std::array::from_fn(|a| unsafe { *v.get_unchecked(st[a]) })
+unsafe fn gather_unchecked(v: &[f64], st: &[usize], out: &mut [f64]) {
+    for (a, &g) in st.iter().enumerate() {
+        // SAFETY: see the function's contract.
+        unsafe { *out.get_unchecked_mut(a) = *v.get_unchecked(g) };
+    }
+}
+
+thread_local! {
+    /// The element scratch of the passes outside a step's assembly (sums, impulses, constraint
+    /// rows, the Legendre map, partials): a stencil's indices and its values and outputs, grown
+    /// to the widest family a thread has seen, so that after a run's first step those passes
+    /// allocate nothing.
+    static SCRATCH: RefCell<(Vec<usize>, Vec<f64>)> = const { RefCell::new((Vec::new(), Vec::new())) };
+}
+
+/// Calls `f` with `stencil` indices and `len` numbers of scratch: this thread's buffers (grown
+/// once when too short), or fresh ones when a pass on this thread already holds them.
+pub(super) fn with_scratch<R>(
+    stencil: usize,
+    len: usize,
+    f: impl FnOnce(&mut [usize], &mut [f64]) -> R,
+) -> R {
+    SCRATCH.with(|cell| match cell.try_borrow_mut() {
+        Ok(mut buffers) => {
+            let (st, values) = &mut *buffers;
+            if st.len() < stencil {
+                st.resize(stencil, 0);
+            }
+            if values.len() < len {
+                values.resize(len, 0.0);
+            }
+            f(&mut st[..stencil], &mut values[..len])
+        }
+        Err(_) => f(&mut vec![0; stencil], &mut vec![0.0; len]),
+    })
+}
+
+/// The element scratch of a family of width `w` split into the stencil values `q0`, `q1` (`w`
+/// each) and the outputs (the rest).
+#[inline(always)]
+pub(super) fn split_scratch(scratch: &mut [f64], w: usize) -> (&mut [f64], &mut [f64], &mut [f64]) {
+    let (a0, rest) = scratch.split_at_mut(w);
+    let (a1, out) = rest.split_at_mut(w);
+    (a0, a1, out)
 }
 
 impl FamilyVisitor for Visit<'_, '_> {
-    fn family<const S: usize, F: Family<S>>(&mut self, family: &F) {
+    fn family<F: Family>(&mut self, family: &F) {
         let index = self.next;
         self.next += 1;
         let data = &self.assembler.families[index];
-        let depth = data.depth;
+        let (depth, w) = (data.depth, data.width);
         let indices = |e: usize| &data.indices[e * depth..(e + 1) * depth];
         let Pass {
             q0,
@@ -568,56 +655,61 @@ impl FamilyVisitor for Visit<'_, '_> {
             jacobian,
         } = &mut self.pass;
         let (q0, z) = (*q0, *z);
-        match self.assembler.parallel {
+        if self.assembler.parallel.is_some() {
+            unreachable!("parallel passes visit the families block by block");
+        }
+        if w == 0 {
+            return;
+        }
+        let (a0, a1, out) = split_scratch(self.scratch, w);
+        let stencils = data.stencils.chunks_exact(w);
+        // SAFETY (every unchecked access below): the stencil entries are below the dimension
+        // `n` (checked when the workspace was built), and `q0`, `z`, `r`, `p` have length `n`
+        // (checked at the entry of the pass); the scratch holds `4w + w²` entries (sized for
+        // the widest family); a Jacobian position is an index into the values of the pattern,
+        // of length `nnz`, built with it.
+        match jacobian {
             None => {
-                if S == 0 {
-                    return;
-                }
-                let stencils = data.stencils.chunks_exact(S);
-                // SAFETY (every unchecked access below): the stencil entries are below the
-                // dimension `n` (checked when the workspace was built), and `q0`, `z`, `r`, `p`
-                // have length `n` (checked at the entry of the pass); a Jacobian position is an
-                // index into the values of the pattern, of length `nnz`, built with it.
-                match jacobian {
-                    None => {
-                        for (e, st) in stencils.enumerate() {
-                            let st: &[usize; S] = st.try_into().expect("chunks of S");
-                            let (a0, a1) =
-                                unsafe { (gather_unchecked(q0, st), gather_unchecked(z, st)) };
-                            let (d1, d2) = family.d1_d2(indices(e), &a0, &a1);
-                            for a in 0..S {
-                                unsafe {
-                                    *r.get_unchecked_mut(st[a]) += d1[a];
-                                    *p.get_unchecked_mut(st[a]) += d2[a];
-                                }
-                            }
-                        }
+                let out = &mut out[..2 * w];
+                for (e, st) in stencils.enumerate() {
+                    unsafe {
+                        gather_unchecked(q0, st, a0);
+                        gather_unchecked(z, st, a1);
                     }
-                    Some(j) => {
-                        let positions = data.positions.chunks_exact(S * S);
-                        for (e, (st, pos)) in stencils.zip(positions).enumerate() {
-                            let st: &[usize; S] = st.try_into().expect("chunks of S");
-                            let (a0, a1) =
-                                unsafe { (gather_unchecked(q0, st), gather_unchecked(z, st)) };
-                            let (d1, d2, d12) = family.d1_d2_d12(indices(e), &a0, &a1);
-                            for a in 0..S {
-                                unsafe {
-                                    *r.get_unchecked_mut(st[a]) += d1[a];
-                                    *p.get_unchecked_mut(st[a]) += d2[a];
-                                }
-                            }
-                            for a in 0..S {
-                                for b in 0..S {
-                                    unsafe {
-                                        *j.get_unchecked_mut(pos[a * S + b]) += d12[a][b];
-                                    }
-                                }
-                            }
+                    family.d1_d2(indices(e), a0, a1, out);
+                    let (d1, d2) = out.split_at(w);
+                    for a in 0..w {
+                        unsafe {
+                            let g = *st.get_unchecked(a);
+                            *r.get_unchecked_mut(g) += *d1.get_unchecked(a);
+                            *p.get_unchecked_mut(g) += *d2.get_unchecked(a);
                         }
                     }
                 }
             }
-            Some(_) => unreachable!("parallel passes visit the families block by block"),
+            Some(j) => {
+                let out = &mut out[..2 * w + w * w];
+                let positions = data.positions.chunks_exact(w * w);
+                for (e, (st, pos)) in stencils.zip(positions).enumerate() {
+                    unsafe {
+                        gather_unchecked(q0, st, a0);
+                        gather_unchecked(z, st, a1);
+                    }
+                    family.d1_d2_d12(indices(e), a0, a1, out);
+                    let (d1, rest) = out.split_at(w);
+                    let (d2, d12) = rest.split_at(w);
+                    for a in 0..w {
+                        unsafe {
+                            let g = *st.get_unchecked(a);
+                            *r.get_unchecked_mut(g) += *d1.get_unchecked(a);
+                            *p.get_unchecked_mut(g) += *d2.get_unchecked(a);
+                        }
+                    }
+                    for (&position, &value) in pos.iter().zip(d12.iter()) {
+                        unsafe { *j.get_unchecked_mut(position) += value };
+                    }
+                }
+            }
         }
     }
 }
@@ -634,55 +726,60 @@ struct BlockVisit<'a> {
     r: Shared,
     p: Shared,
     jacobian: Option<Shared>,
+    /// The block's element scratch.
+    scratch: &'a mut [f64],
 }
 
 impl FamilyVisitor for BlockVisit<'_> {
-    fn family<const S: usize, F: Family<S>>(&mut self, family: &F) {
+    fn family<F: Family>(&mut self, family: &F) {
         let index = self.next;
         self.next += 1;
         let data = &self.families[index];
         let blocks = self.blocks;
         let owned = &blocks.ranges[self.block];
-        let depth = data.depth;
+        let (depth, w) = (data.depth, data.width);
         let (q0, z, r, p) = (self.q0, self.z, self.r, self.p);
-        if S == 0 {
+        if w == 0 {
             return;
         }
+        let (a0, a1, out) = split_scratch(self.scratch, w);
         for &e in &blocks.lists[self.block][index] {
             let e = e as usize;
-            let st: &[usize; S] = data.stencils[e * S..(e + 1) * S]
-                .try_into()
-                .expect("S entries");
+            let st = &data.stencils[e * w..(e + 1) * w];
             let indices = &data.indices[e * depth..(e + 1) * depth];
-            // SAFETY: as in the serial pass (stencils below `n`, vectors of length `n`).
-            let (a0, a1) = unsafe { (gather_unchecked(q0, st), gather_unchecked(z, st)) };
+            // SAFETY: as in the serial pass (stencils below `n`, vectors of length `n`, the
+            // scratch sized for the widest family).
+            unsafe {
+                gather_unchecked(q0, st, a0);
+                gather_unchecked(z, st, a1);
+            }
             match self.jacobian {
                 None => {
-                    let (d1, d2) = family.d1_d2(indices, &a0, &a1);
-                    for a in 0..S {
+                    family.d1_d2(indices, a0, a1, &mut out[..2 * w]);
+                    for a in 0..w {
                         if owned.contains(&st[a]) {
                             // SAFETY: row st[a] is owned by this block alone.
                             unsafe {
-                                *r.0.add(st[a]) += d1[a];
-                                *p.0.add(st[a]) += d2[a];
+                                *r.0.add(st[a]) += out[a];
+                                *p.0.add(st[a]) += out[w + a];
                             }
                         }
                     }
                 }
                 Some(j) => {
-                    let (d1, d2, d12) = family.d1_d2_d12(indices, &a0, &a1);
-                    let pos = &data.positions[e * S * S..(e + 1) * S * S];
-                    for a in 0..S {
+                    family.d1_d2_d12(indices, a0, a1, &mut out[..2 * w + w * w]);
+                    let pos = &data.positions[e * w * w..(e + 1) * w * w];
+                    for a in 0..w {
                         if !owned.contains(&st[a]) {
                             continue;
                         }
                         // SAFETY: row st[a], and every Jacobian entry of that row, is owned by
                         // this block alone.
                         unsafe {
-                            *r.0.add(st[a]) += d1[a];
-                            *p.0.add(st[a]) += d2[a];
-                            for b in 0..S {
-                                *j.0.add(pos[a * S + b]) += d12[a][b];
+                            *r.0.add(st[a]) += out[a];
+                            *p.0.add(st[a]) += out[w + a];
+                            for b in 0..w {
+                                *j.0.add(pos[a * w + b]) += out[2 * w + a * w + b];
                             }
                         }
                     }
@@ -726,6 +823,7 @@ impl Assembler {
         assert!(jacobian.as_ref().is_none_or(|j| j.len() == self.nnz));
         let mut p1 = self.p1.borrow_mut();
         let Some(blocks) = &self.parallel else {
+            let mut scratch = self.scratch.borrow_mut();
             r.copy_from_slice(p0);
             p1.fill(0.0);
             let mut jacobian = jacobian;
@@ -742,6 +840,7 @@ impl Assembler {
                     p: p1.as_mut_slice(),
                     jacobian,
                 },
+                scratch: scratch.as_mut_slice(),
             };
             system.families(&mut visit);
             return;
@@ -764,6 +863,11 @@ impl Assembler {
         );
         let families = &self.families[..];
         (0..blocks.ranges.len()).into_par_iter().for_each(|block| {
+            // One task per block: the lock is never contended (a poisoned one, after a panic in
+            // another pass, still holds a usable buffer).
+            let mut scratch = blocks.scratch[block]
+                .lock()
+                .unwrap_or_else(|poisoned| poisoned.into_inner());
             let mut visit = BlockVisit {
                 families,
                 blocks,
@@ -774,6 +878,7 @@ impl Assembler {
                 r,
                 p,
                 jacobian,
+                scratch: scratch.as_mut_slice(),
             };
             system.families(&mut visit);
         });

@@ -8,8 +8,8 @@
 
 use nalgebra::DVector;
 
-use super::assembly::gather;
-use super::{ElementLagrangian, Family, FamilyVisitor};
+use super::assembly::{gather, split_scratch, with_scratch};
+use super::{scratch_len, ElementLagrangian, Family, FamilyVisitor};
 use crate::error::StepError;
 use crate::linalg::{checked_rcond, DynSparseLu, LinearSolver};
 use crate::newton::NewtonOptions;
@@ -38,36 +38,45 @@ impl Assemble<'_> {
 }
 
 impl FamilyVisitor for Assemble<'_> {
-    fn family<const S: usize, F: Family<S>>(&mut self, family: &F) {
-        let n = self.r.len();
-        family.elements(&mut |indices, stencil| {
-            if self.invalid.is_some() {
-                return;
-            }
-            if !stencil.iter().all(|&g| g >= 0 && (g as usize) < n) {
-                self.invalid = Some(format!(
-                    "element {indices:?} reads coordinates {stencil:?}, outside 0..{n}"
-                ));
-                return;
-            }
-            let st = stencil.map(|g| g as usize);
-            let (g, hessian) = family.legendre(indices, &gather(self.q, &st), &gather(self.v, &st));
-            for a in 0..S {
-                self.r[st[a]] += g[a];
-                for b in 0..S {
-                    match self.position(st[a], st[b]) {
-                        Some(i) => self.values[i] += hessian[a][b],
-                        None => {
-                            self.invalid = Some(format!(
-                                "element {indices:?} couples coordinates {} and {} outside the \
-                                 step Jacobian's pattern",
-                                st[a], st[b]
-                            ));
-                            return;
+    fn family<F: Family>(&mut self, family: &F) {
+        let (n, w) = (self.r.len(), family.width());
+        with_scratch(w, scratch_len(w), |st, scratch| {
+            let (a0, a1, out) = split_scratch(scratch, w);
+            let out = &mut out[..w + w * w];
+            family.elements(&mut |indices, stencil| {
+                if self.invalid.is_some() {
+                    return;
+                }
+                if stencil.len() != w || !stencil.iter().all(|&g| g >= 0 && (g as usize) < n) {
+                    self.invalid = Some(format!(
+                        "element {indices:?} reads coordinates {stencil:?}, outside 0..{n}"
+                    ));
+                    return;
+                }
+                for (s, &g) in st.iter_mut().zip(stencil) {
+                    *s = g as usize;
+                }
+                gather(self.q, st, a0);
+                gather(self.v, st, a1);
+                family.legendre(indices, a0, a1, out);
+                let (g, hessian) = out.split_at(w);
+                for a in 0..w {
+                    self.r[st[a]] += g[a];
+                    for b in 0..w {
+                        match self.position(st[a], st[b]) {
+                            Some(i) => self.values[i] += hessian[a * w + b],
+                            None => {
+                                self.invalid = Some(format!(
+                                    "element {indices:?} couples coordinates {} and {} outside \
+                                     the step Jacobian's pattern",
+                                    st[a], st[b]
+                                ));
+                                return;
+                            }
                         }
                     }
                 }
-            }
+            });
         });
     }
 }

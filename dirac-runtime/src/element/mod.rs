@@ -101,118 +101,142 @@ pub use solver::{
 };
 
 /// One family of elements of an element-wise Lagrangian: a loop of its body (or a term outside
-/// loops), with a stencil of `S` coordinates. Emitted by `#[reduced_lagrangian]`.
+/// loops), each element reading a stencil of [`Self::width`] coordinates. Emitted by
+/// `#[reduced_lagrangian]` (the width then a literal of the emitted code) and formed at run time
+/// by a system given as text (the width then data: one family may read any number of
+/// coordinates).
+///
+/// The width is data rather than a type parameter, so that one instance of the runtime's
+/// assembly serves every width: the element functions read their stencil values from slices of
+/// `width` entries and write their outputs into a caller-provided slice, laid out as the
+/// compiled kernels write them (below), which the run holds in its workspace — nothing is
+/// allocated per element or per step.
 #[doc(hidden)]
-pub trait Family<const S: usize>: Sync {
-    /// Number of loop indices of an element (0 for a term outside loops).
-    const DEPTH: usize;
+pub trait Family: Sync {
+    /// The stencil width `S`: the number of coordinates an element reads.
+    fn width(&self) -> usize;
+
+    /// The number of loop indices of an element (0 for a term outside loops).
+    fn depth(&self) -> usize;
+
     /// Whether the family is one of the forces (`force = |dq| ..`): its `d1_d2` are the discrete
     /// forces `f_d^{e−}`, `f_d^{e+}`, its `d1_d2_d12` adds `∂f_d^{e−}/∂q_{k+1}`, and it has no
     /// value, energy or share of the Legendre map.
-    const FORCE: bool = false;
+    fn force(&self) -> bool {
+        false
+    }
 
     /// Calls `visit(indices, stencil)` for every element, in loop order: the values of the loop
-    /// indices (`DEPTH` of them) and the global indices of the coordinates the element reads,
-    /// slot by slot (negative or too large when the sizes are too small for the stencil; the
-    /// runtime checks them before any step).
-    fn elements(&self, visit: &mut dyn FnMut(&[i64], [i64; S]));
+    /// indices ([`Self::depth`] of them) and the global indices of the coordinates the element
+    /// reads, slot by slot ([`Self::width`] of them; negative or too large when the sizes are
+    /// too small for the stencil; the runtime checks them before any step).
+    fn elements(&self, visit: &mut dyn FnMut(&[i64], &[i64]));
 
-    /// The number of loop indices of an element: [`Self::DEPTH`] for a family compiled in; a
-    /// family given at run time says it here. What the runtime reads (how many indices
-    /// [`Self::elements`] passes per element).
-    fn depth(&self) -> usize {
-        Self::DEPTH
-    }
+    /// `D_1 L_d^e` and `D_2 L_d^e` at the stencil values `q0`, `q1` of element `indices` into
+    /// `out` (`2S` entries: `D_1 L_d^e`, then `D_2 L_d^e`), from one straight-line function
+    /// (they share the element's subexpressions: a residual pass yields the next momentum at no
+    /// extra transcendental cost). `q0`, `q1` have `S` entries.
+    fn d1_d2(&self, indices: &[i64], q0: &[f64], q1: &[f64], out: &mut [f64]);
 
-    /// Whether the family is one of the forces: [`Self::FORCE`] for a family compiled in; a
-    /// family given at run time says it here. What the runtime reads.
-    fn force(&self) -> bool {
-        Self::FORCE
-    }
+    /// `D_1 L_d^e`, `D_2 L_d^e` and `D_1 D_2 L_d^e` into `out` (`2S + S²` entries: the two
+    /// vectors, then the matrix row by row, row `a`: `∂(D_1 L_d^e)_a / ∂q1_b`).
+    fn d1_d2_d12(&self, indices: &[i64], q0: &[f64], q1: &[f64], out: &mut [f64]);
 
-    /// `D_1 L_d^e` and `D_2 L_d^e` at the stencil values `q0`, `q1` of element `indices`, from
-    /// one straight-line function (they share the element's subexpressions: a residual pass
-    /// yields the next momentum at no extra transcendental cost).
-    fn d1_d2(&self, indices: &[i64], q0: &[f64; S], q1: &[f64; S]) -> ([f64; S], [f64; S]);
-
-    /// `D_1 L_d^e`, `D_2 L_d^e` and `D_1 D_2 L_d^e` (row `a`: `∂(D_1 L_d^e)_a / ∂q1_b`).
-    #[allow(clippy::type_complexity)]
-    fn d1_d2_d12(
-        &self,
-        indices: &[i64],
-        q0: &[f64; S],
-        q1: &[f64; S],
-    ) -> ([f64; S], [f64; S], [[f64; S]; S]);
-
-    /// The element's step partials, for a step's sensitivity: into `blocks` the `S × S`
-    /// blocks `∂d1/∂q0`, `∂d2/∂q0`, `∂d2/∂q1` (row `a`: component `a` of `d1` or `d2`, the
-    /// element's `D_1 L_d^e`, `D_2 L_d^e` or discrete forces), into `u1[a·m + c]` and
-    /// `u2[a·m + c]` the derivatives of `d1_a` and `d2_a` in control `c` (`m` controls, `S·m`
-    /// entries each). `false` when the family has none (the default, for a family written by
-    /// hand).
-    fn step_partials(
-        &self,
-        indices: &[i64],
-        q0: &[f64; S],
-        q1: &[f64; S],
-        blocks: &mut [[[f64; S]; S]; 3],
-        u1: &mut [f64],
-        u2: &mut [f64],
-    ) -> bool {
-        let _ = (indices, q0, q1, blocks, u1, u2);
+    /// The element's step partials, for a step's sensitivity, into `out` (`3S² + 2Sm` entries,
+    /// `m` controls): the `S × S` blocks `∂d1/∂q0`, `∂d2/∂q0`, `∂d2/∂q1` row by row (row `a`:
+    /// component `a` of `d1` or `d2`, the element's `D_1 L_d^e`, `D_2 L_d^e` or discrete
+    /// forces), then the derivatives of `d1_a` and of `d2_a` in control `c` at `a·m + c`.
+    /// `false` when the family has none (the default, for a family written by hand).
+    fn step_partials(&self, indices: &[i64], q0: &[f64], q1: &[f64], out: &mut [f64]) -> bool {
+        let _ = (indices, q0, q1, out);
         false
     }
 
     /// `L_d^e` itself.
-    fn value(&self, indices: &[i64], q0: &[f64; S], q1: &[f64; S]) -> f64;
+    fn value(&self, indices: &[i64], q0: &[f64], q1: &[f64]) -> f64;
 
     /// The element's energy `E^e(q, v) = ⟨∂L^e/∂v, v⟩ − L^e` of a continuous Lagrangian (NaN
     /// for a discrete one).
-    fn energy(&self, indices: &[i64], q: &[f64; S], v: &[f64; S]) -> f64;
+    fn energy(&self, indices: &[i64], q: &[f64], v: &[f64]) -> f64;
 
     /// The element's share of the Legendre map, `∂L^e/∂v`, and its Jacobian `∂²L^e/∂v²` (row
-    /// `a`) at `(q, v)` of a continuous Lagrangian (NaN for a discrete one, and by default for
-    /// a family written by hand).
-    #[allow(clippy::type_complexity)]
-    fn legendre(&self, indices: &[i64], q: &[f64; S], v: &[f64; S]) -> ([f64; S], [[f64; S]; S]) {
+    /// `a`) at `(q, v)` of a continuous Lagrangian, into `out` (`S + S²` entries); NaN for a
+    /// discrete one, and by default for a family written by hand.
+    fn legendre(&self, indices: &[i64], q: &[f64], v: &[f64], out: &mut [f64]) {
         let _ = (indices, q, v);
-        ([f64::NAN; S], [[f64::NAN; S]; S])
+        out.fill(f64::NAN);
     }
 }
 
-/// One family of holonomic constraint rows of an element-wise system (`constraints = |q| ..`):
-/// an assignment `phi[<row>] = φ` of the closure, in loops or not. Emitted by
-/// `#[reduced_lagrangian]`.
+/// The first `S` stencil values of `v` as an array, for the element functions the attribute
+/// emits (which know their width): the runtime passes exactly [`Family::width`] values.
+///
+/// # Panics
+/// If `v` has fewer than `S` entries (never, from the runtime's passes).
 #[doc(hidden)]
-pub trait ConstraintFamily<const S: usize>: Sync {
-    /// Number of loop indices of an element.
-    const DEPTH: usize;
+#[inline(always)]
+pub fn stencil<const S: usize>(v: &[f64]) -> &[f64; S] {
+    match v.get(..S).map(<&[f64; S]>::try_from) {
+        Some(Ok(array)) => array,
+        _ => panic!(
+            "dirac: an element function was passed {} stencil values for a width of {S}",
+            v.len()
+        ),
+    }
+}
+
+/// The first `N` entries of an element function's output slice as an array, for the element
+/// functions the attribute emits (which know their output's length).
+///
+/// # Panics
+/// If `out` has fewer than `N` entries (never, from the runtime's passes).
+#[doc(hidden)]
+#[inline(always)]
+pub fn outputs<const N: usize>(out: &mut [f64]) -> &mut [f64; N] {
+    let len = out.len();
+    match out.get_mut(..N).map(<&mut [f64; N]>::try_from) {
+        Some(Ok(array)) => array,
+        _ => panic!("dirac: an element function was given {len} outputs to write {N}"),
+    }
+}
+
+/// The scratch entries a family of stencil width `width` needs for one element: its stencil
+/// values `q0`, `q1` (`2S`) and the largest output of an element function (`2S + S²`).
+pub(crate) fn scratch_len(width: usize) -> usize {
+    4 * width + width * width
+}
+
+/// One family of holonomic constraint rows of an element-wise system (`constraints = |q| ..`):
+/// an assignment `phi[<row>] = φ` of the closure, in loops or not, each element reading
+/// [`Self::width`] coordinates (data, as for [`Family`]). Emitted by `#[reduced_lagrangian]`.
+#[doc(hidden)]
+pub trait ConstraintFamily: Sync {
+    /// The stencil width `S`.
+    fn width(&self) -> usize;
+    /// The number of loop indices of an element.
+    fn depth(&self) -> usize;
     /// Calls `visit(indices, row, stencil)` for every element: its loop indices, the constraint
     /// row it assigns and the global indices of the coordinates it reads (unchecked: the
     /// runtime checks rows and stencils before any step).
     #[allow(clippy::type_complexity)]
-    fn elements(&self, visit: &mut dyn FnMut(&[i64], i64, [i64; S]));
-    /// The number of loop indices of an element: [`Self::DEPTH`] for a family compiled in; a
-    /// family given at run time says it here. What the runtime reads.
-    fn depth(&self) -> usize {
-        Self::DEPTH
-    }
-    /// `φ^e(q)` and its gradient `∂φ^e/∂q` at the stencil values `q`.
-    fn value_gradient(&self, indices: &[i64], q: &[f64; S]) -> (f64, [f64; S]);
+    fn elements(&self, visit: &mut dyn FnMut(&[i64], i64, &[i64]));
+    /// `φ^e(q)` and its gradient `∂φ^e/∂q` at the stencil values `q` (`S` entries) into `out`
+    /// (`1 + S` entries: the value, then the gradient).
+    fn value_gradient(&self, indices: &[i64], q: &[f64], out: &mut [f64]);
 }
 
 /// What visits the constraint families of an [`ElementLagrangian`].
 #[doc(hidden)]
 pub trait ConstraintVisitor {
     /// Visits one family.
-    fn constraint<const S: usize, F: ConstraintFamily<S>>(&mut self, family: &F);
+    fn constraint<F: ConstraintFamily>(&mut self, family: &F);
 }
 
 /// What visits the families of an [`ElementLagrangian`], one type per family.
 #[doc(hidden)]
 pub trait FamilyVisitor {
     /// Visits one family.
-    fn family<const S: usize, F: Family<S>>(&mut self, family: &F);
+    fn family<F: Family>(&mut self, family: &F);
 }
 
 /// A discrete Lagrangian that is a sum over elements, with sizes chosen at run time: what
@@ -230,7 +254,7 @@ pub trait ElementLagrangian: System + Clone + Debug + Send + Sync + 'static {
     /// energy, [`ElementIntegrator::energy`]).
     const CONTINUOUS: bool;
     /// Whether the system declares forces (`force = |dq| ..`): families with
-    /// [`Family::FORCE`], and the momentum map of each translation changes by their impulse.
+    /// [`Family::force`], and the momentum map of each translation changes by their impulse.
     const FORCED: bool = false;
 
     /// Whether the system declares holonomic constraints (`constraints = |q| ..`): then it is

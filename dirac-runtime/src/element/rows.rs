@@ -2,8 +2,10 @@
 //! and over the elements that a constrained step's saddle-point systems are assembled from
 //! (see the [parent module](super::constrained)).
 
-use super::assembly::{gather, FamilyData};
-use super::{ConstraintFamily, ConstraintVisitor, ElementLagrangian, Family, FamilyVisitor};
+use super::assembly::{gather, split_scratch, with_scratch, FamilyData};
+use super::{
+    scratch_len, ConstraintFamily, ConstraintVisitor, ElementLagrangian, Family, FamilyVisitor,
+};
 
 /// The rows of one constraint family as a run sees them.
 pub(super) struct RowData {
@@ -30,10 +32,11 @@ pub(super) struct RowCollector {
 }
 
 impl ConstraintVisitor for RowCollector {
-    fn constraint<const S: usize, F: ConstraintFamily<S>>(&mut self, family: &F) {
+    fn constraint<F: ConstraintFamily>(&mut self, family: &F) {
         let (n, m, index) = (self.n, self.m, self.families.len());
+        let width = family.width();
         let mut data = RowData {
-            width: S,
+            width,
             depth: family.depth(),
             count: 0,
             indices: Vec::new(),
@@ -43,9 +46,11 @@ impl ConstraintVisitor for RowCollector {
             at_pos: Vec::new(),
         };
         let invalid = &mut self.invalid;
+        let depth = data.depth;
         family.elements(&mut |indices, row, stencil| {
             data.count += 1;
-            data.indices.extend_from_slice(indices);
+            data.indices
+                .extend((0..depth).map(|d| indices.get(d).copied().unwrap_or(0)));
             match usize::try_from(row).ok().filter(|&r| r < m) {
                 Some(r) => data.rows.push(r),
                 None => {
@@ -58,7 +63,18 @@ impl ConstraintVisitor for RowCollector {
                     data.rows.push(0);
                 }
             }
-            for (slot, &g) in stencil.iter().enumerate() {
+            if stencil.len() != width || indices.len() != depth {
+                invalid.get_or_insert_with(|| {
+                    format!(
+                        "constraint element {indices:?} of family {index} reads {} coordinates \
+                         in {} loops; its family reads {width} in {depth}",
+                        stencil.len(),
+                        indices.len()
+                    )
+                });
+            }
+            for slot in 0..width {
+                let g = stencil.get(slot).copied().unwrap_or(-1);
                 match usize::try_from(g).ok().filter(|&g| g < n) {
                     Some(g) => data.stencils.push(g),
                     None => {
@@ -91,23 +107,25 @@ pub(super) struct Rows<'a> {
 }
 
 impl ConstraintVisitor for Rows<'_> {
-    fn constraint<const S: usize, F: ConstraintFamily<S>>(&mut self, family: &F) {
+    fn constraint<F: ConstraintFamily>(&mut self, family: &F) {
         let data = &self.data[self.next];
         self.next += 1;
-        for e in 0..data.count {
-            let st = &data.stencils[e * S..(e + 1) * S];
-            let (value, gradient) = family.value_gradient(
-                &data.indices[e * data.depth..(e + 1) * data.depth],
-                &gather::<S>(self.q, st),
-            );
-            if let Some(phi) = self.phi.as_deref_mut() {
-                phi[data.rows[e]] = value;
+        let w = data.width;
+        with_scratch(0, 2 * w + 1, |_, scratch| {
+            let (a0, out) = scratch.split_at_mut(w);
+            for e in 0..data.count {
+                let st = &data.stencils[e * w..(e + 1) * w];
+                gather(self.q, st, a0);
+                family.value_gradient(&data.indices[e * data.depth..(e + 1) * data.depth], a0, out);
+                if let Some(phi) = self.phi.as_deref_mut() {
+                    phi[data.rows[e]] = out[0];
+                }
+                if let Some(grad) = self.grad.as_deref_mut() {
+                    grad[self.offset + e * w..self.offset + (e + 1) * w].copy_from_slice(&out[1..]);
+                }
             }
-            if let Some(grad) = self.grad.as_deref_mut() {
-                grad[self.offset + e * S..self.offset + (e + 1) * S].copy_from_slice(&gradient);
-            }
-        }
-        self.offset += data.count * S;
+        });
+        self.offset += data.count * w;
     }
 }
 
@@ -172,31 +190,38 @@ pub(super) struct Legendre<'a> {
 }
 
 impl FamilyVisitor for Legendre<'_> {
-    fn family<const S: usize, F: Family<S>>(&mut self, family: &F) {
+    fn family<F: Family>(&mut self, family: &F) {
         let data = &self.families[self.next];
         self.next += 1;
-        if family.force() || S == 0 {
+        let w = data.width;
+        if family.force() || w == 0 {
             return;
         }
-        for e in 0..data.count {
-            let st = &data.stencils[e * S..(e + 1) * S];
-            let (g, hessian) = family.legendre(
-                &data.indices[e * data.depth..(e + 1) * data.depth],
-                &gather::<S>(self.q, st),
-                &gather::<S>(self.v, st),
-            );
-            for a in 0..S {
-                self.r[st[a]] += g[a];
-            }
-            if let Some((kkt, j_to_kkt)) = self.kkt.as_mut() {
-                let pos = &data.positions[e * S * S..(e + 1) * S * S];
-                for a in 0..S {
-                    for b in 0..S {
-                        kkt[j_to_kkt[pos[a * S + b]]] += hessian[a][b];
+        with_scratch(0, scratch_len(w), |_, scratch| {
+            let (a0, a1, out) = split_scratch(scratch, w);
+            let out = &mut out[..w + w * w];
+            for e in 0..data.count {
+                let st = &data.stencils[e * w..(e + 1) * w];
+                gather(self.q, st, a0);
+                gather(self.v, st, a1);
+                family.legendre(
+                    &data.indices[e * data.depth..(e + 1) * data.depth],
+                    a0,
+                    a1,
+                    out,
+                );
+                let (g, hessian) = out.split_at(w);
+                for a in 0..w {
+                    self.r[st[a]] += g[a];
+                }
+                if let Some((kkt, j_to_kkt)) = self.kkt.as_mut() {
+                    let pos = &data.positions[e * w * w..(e + 1) * w * w];
+                    for (&position, &value) in pos.iter().zip(hessian) {
+                        kkt[j_to_kkt[position]] += value;
                     }
                 }
             }
-        }
+        });
     }
 }
 

@@ -29,7 +29,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::assembly::{gather, FamilyData};
+use super::assembly::{gather, with_scratch, FamilyData};
 use super::{
     ElementIntegrator, ElementLagrangian, ElementState, ElementWorkspace, Family, FamilyVisitor,
     Parallel, StepSolver,
@@ -289,37 +289,43 @@ struct PartialsVisit<'a> {
 }
 
 impl FamilyVisitor for PartialsVisit<'_> {
-    fn family<const S: usize, F: Family<S>>(&mut self, family: &F) {
+    fn family<F: Family>(&mut self, family: &F) {
         let data = &self.families[self.next];
         self.next += 1;
-        if S == 0 || !self.supported {
+        let (w, m, depth) = (data.width, self.m, data.depth);
+        if w == 0 || !self.supported {
             return;
         }
-        let (m, depth) = (self.m, data.depth);
-        let mut blocks = [[[0.0; S]; S]; 3];
-        let (mut u1, mut u2) = (vec![0.0; S * m], vec![0.0; S * m]);
-        for e in 0..data.count {
-            let st = &data.stencils[e * S..(e + 1) * S];
-            let indices = &data.indices[e * depth..(e + 1) * depth];
-            let (a0, a1) = (gather::<S>(self.q0, st), gather::<S>(self.q1, st));
-            if !family.step_partials(indices, &a0, &a1, &mut blocks, &mut u1, &mut u2) {
-                self.supported = false;
-                return;
-            }
-            let positions = &data.positions[e * S * S..(e + 1) * S * S];
-            for a in 0..S {
-                for b in 0..S {
-                    let p = positions[a * S + b];
-                    for (values, block) in self.values.iter_mut().zip(&blocks) {
-                        values[p] += block[a][b];
+        let len = 3 * w * w + 2 * w * m;
+        with_scratch(0, 2 * w + len, |_, scratch| {
+            let (a0, rest) = scratch.split_at_mut(w);
+            let (a1, out) = rest.split_at_mut(w);
+            for e in 0..data.count {
+                let st = &data.stencils[e * w..(e + 1) * w];
+                let indices = &data.indices[e * depth..(e + 1) * depth];
+                gather(self.q0, st, a0);
+                gather(self.q1, st, a1);
+                if !family.step_partials(indices, a0, a1, out) {
+                    self.supported = false;
+                    return;
+                }
+                let (blocks, controls) = out.split_at(3 * w * w);
+                let (u1, u2) = controls.split_at(w * m);
+                let positions = &data.positions[e * w * w..(e + 1) * w * w];
+                for a in 0..w {
+                    for b in 0..w {
+                        let p = positions[a * w + b];
+                        for (k, values) in self.values.iter_mut().enumerate() {
+                            values[p] += blocks[k * w * w + a * w + b];
+                        }
+                    }
+                    for c in 0..m {
+                        self.residual_u[(st[a], c)] += u1[a * m + c];
+                        self.momentum_u[(st[a], c)] += u2[a * m + c];
                     }
                 }
-                for c in 0..m {
-                    self.residual_u[(st[a], c)] += u1[a * m + c];
-                    self.momentum_u[(st[a], c)] += u2[a * m + c];
-                }
             }
-        }
+        });
     }
 }
 

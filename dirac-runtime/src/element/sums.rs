@@ -2,8 +2,8 @@
 //! the midpoint energy — serially and in the order of the body, with the first element that
 //! reads outside the coordinates reported instead of a panic.
 
-use super::assembly::gather;
-use super::{ElementLagrangian, Family, FamilyVisitor};
+use super::assembly::{gather, split_scratch, with_scratch};
+use super::{scratch_len, ElementLagrangian, Family, FamilyVisitor};
 
 /// Sums a per-element scalar over every element, serially, in order.
 struct Scalar<G> {
@@ -15,24 +15,38 @@ struct Scalar<G> {
     invalid: Option<String>,
 }
 
-/// What a scalar pass evaluates per element: its stencil values in `q0` and `q1`.
+/// What a scalar pass evaluates per element: its stencil values in `q0` and `q1` (`st` the
+/// element's checked stencil; `a0`, `a1` scratch of its width).
 trait ElementScalar {
-    fn eval<const S: usize, F: Family<S>>(&self, f: &F, indices: &[i64], st: [usize; S]) -> f64;
+    fn eval<F: Family>(
+        &self,
+        f: &F,
+        indices: &[i64],
+        st: &[usize],
+        a0: &mut [f64],
+        a1: &mut [f64],
+    ) -> f64;
 }
 
 impl<G: ElementScalar> FamilyVisitor for Scalar<G> {
-    fn family<const S: usize, F: Family<S>>(&mut self, family: &F) {
-        let (element, n) = (&self.element, self.n);
+    fn family<F: Family>(&mut self, family: &F) {
+        let (element, n, w) = (&self.element, self.n, family.width());
         let mut total = self.total;
         let invalid = &mut self.invalid;
-        family.elements(&mut |indices, stencil| {
-            if stencil.iter().all(|&g| g >= 0 && (g as usize) < n) {
-                total += element.eval(family, indices, stencil.map(|g| g as usize));
-            } else if invalid.is_none() {
-                *invalid = Some(format!(
-                    "element {indices:?} reads coordinates {stencil:?}, outside 0..{n}: the sizes are too small for its stencil"
-                ));
-            }
+        with_scratch(w, 2 * w, |st, values| {
+            let (a0, a1) = values.split_at_mut(w);
+            family.elements(&mut |indices, stencil| {
+                if stencil.len() == w && stencil.iter().all(|&g| g >= 0 && (g as usize) < n) {
+                    for (s, &g) in st.iter_mut().zip(stencil) {
+                        *s = g as usize;
+                    }
+                    total += element.eval(family, indices, st, a0, a1);
+                } else if invalid.is_none() {
+                    *invalid = Some(format!(
+                        "element {indices:?} reads coordinates {stencil:?}, outside 0..{n}: the sizes are too small for its stencil"
+                    ));
+                }
+            });
         });
         self.total = total;
     }
@@ -44,8 +58,17 @@ struct Value<'a> {
 }
 
 impl ElementScalar for Value<'_> {
-    fn eval<const S: usize, F: Family<S>>(&self, f: &F, indices: &[i64], st: [usize; S]) -> f64 {
-        f.value(indices, &gather(self.q0, &st), &gather(self.q1, &st))
+    fn eval<F: Family>(
+        &self,
+        f: &F,
+        indices: &[i64],
+        st: &[usize],
+        a0: &mut [f64],
+        a1: &mut [f64],
+    ) -> f64 {
+        gather(self.q0, st, a0);
+        gather(self.q1, st, a1);
+        f.value(indices, a0, a1)
     }
 }
 
@@ -56,10 +79,19 @@ struct Energy<'a> {
 }
 
 impl ElementScalar for Energy<'_> {
-    fn eval<const S: usize, F: Family<S>>(&self, f: &F, indices: &[i64], st: [usize; S]) -> f64 {
-        let q = std::array::from_fn(|a| 0.5 * (self.q0[st[a]] + self.q1[st[a]]));
-        let v = std::array::from_fn(|a| (self.q1[st[a]] - self.q0[st[a]]) / self.h);
-        f.energy(indices, &q, &v)
+    fn eval<F: Family>(
+        &self,
+        f: &F,
+        indices: &[i64],
+        st: &[usize],
+        q: &mut [f64],
+        v: &mut [f64],
+    ) -> f64 {
+        for (a, &g) in st.iter().enumerate() {
+            q[a] = 0.5 * (self.q0[g] + self.q1[g]);
+            v[a] = (self.q1[g] - self.q0[g]) / self.h;
+        }
+        f.energy(indices, q, v)
     }
 }
 
@@ -69,8 +101,17 @@ struct EnergyAt<'a> {
 }
 
 impl ElementScalar for EnergyAt<'_> {
-    fn eval<const S: usize, F: Family<S>>(&self, f: &F, indices: &[i64], st: [usize; S]) -> f64 {
-        f.energy(indices, &gather(self.q, &st), &gather(self.v, &st))
+    fn eval<F: Family>(
+        &self,
+        f: &F,
+        indices: &[i64],
+        st: &[usize],
+        a0: &mut [f64],
+        a1: &mut [f64],
+    ) -> f64 {
+        gather(self.q, st, a0);
+        gather(self.v, st, a1);
+        f.energy(indices, a0, a1)
     }
 }
 
@@ -135,25 +176,39 @@ pub(super) fn impulse<L: ElementLagrangian>(
         total: f64,
     }
     impl FamilyVisitor for Impulse<'_> {
-        fn family<const S: usize, F: Family<S>>(&mut self, family: &F) {
+        fn family<F: Family>(&mut self, family: &F) {
             if !family.force() {
                 return;
             }
-            let (orbit, q0, q1, n) = (self.orbit, self.q0, self.q1, self.q0.len());
+            let (orbit, q0, q1, n, w) =
+                (self.orbit, self.q0, self.q1, self.q0.len(), family.width());
             let inside = |g: usize| orbit.iter().any(|r| r.contains(&g));
             let mut total = self.total;
-            family.elements(&mut |indices, stencil| {
-                let valid = stencil.iter().all(|&g| g >= 0 && (g as usize) < n);
-                let st = stencil.map(|g| g.max(0) as usize);
-                if !valid || !st.iter().any(|&g| inside(g)) {
-                    return;
-                }
-                let (minus, plus) = family.d1_d2(indices, &gather(q0, &st), &gather(q1, &st));
-                for (a, &g) in st.iter().enumerate() {
-                    if inside(g) {
-                        total += minus[a] + plus[a];
+            with_scratch(w, scratch_len(w), |st, scratch| {
+                let (a0, a1, out) = split_scratch(scratch, w);
+                let out = &mut out[..2 * w];
+                family.elements(&mut |indices, stencil| {
+                    let valid =
+                        stencil.len() == w && stencil.iter().all(|&g| g >= 0 && (g as usize) < n);
+                    if !valid {
+                        return;
                     }
-                }
+                    for (s, &g) in st.iter_mut().zip(stencil) {
+                        *s = g as usize;
+                    }
+                    if !st.iter().any(|&g| inside(g)) {
+                        return;
+                    }
+                    gather(q0, st, a0);
+                    gather(q1, st, a1);
+                    family.d1_d2(indices, a0, a1, out);
+                    let (minus, plus) = out.split_at(w);
+                    for (a, &g) in st.iter().enumerate() {
+                        if inside(g) {
+                            total += minus[a] + plus[a];
+                        }
+                    }
+                });
             });
             self.total = total;
         }

@@ -80,37 +80,52 @@ impl Ring {
     }
 }
 
-/// Implements the element functions of [`Family<2>`] by [`Ring`]'s (the family's system holds
-/// it in field `ring`).
+/// The two stencil values of a ring element.
+fn pair(q: &[f64]) -> &[f64; 2] {
+    q.try_into().expect("a ring element reads two coordinates")
+}
+
+/// Implements the element functions of [`Family`] (width 2) by [`Ring`]'s (the family's system
+/// holds it in field `ring`).
 macro_rules! ring_family {
     () => {
-        fn elements(&self, visit: &mut dyn FnMut(&[i64], [i64; 2])) {
-            self.0.ring.elements(visit)
+        fn width(&self) -> usize {
+            2
         }
 
-        fn d1_d2(&self, _: &[i64], q0: &[f64; 2], q1: &[f64; 2]) -> ([f64; 2], [f64; 2]) {
-            self.0.ring.d1_d2(q0, q1)
+        fn elements(&self, visit: &mut dyn FnMut(&[i64], &[i64])) {
+            self.0
+                .ring
+                .elements(&mut |indices, stencil| visit(indices, &stencil))
         }
 
-        fn d1_d2_d12(
-            &self,
-            _: &[i64],
-            q0: &[f64; 2],
-            q1: &[f64; 2],
-        ) -> ([f64; 2], [f64; 2], [[f64; 2]; 2]) {
-            self.0.ring.d1_d2_d12(q0, q1)
+        fn d1_d2(&self, _: &[i64], q0: &[f64], q1: &[f64], out: &mut [f64]) {
+            let (d1, d2) = self.0.ring.d1_d2(pair(q0), pair(q1));
+            out[..2].copy_from_slice(&d1);
+            out[2..4].copy_from_slice(&d2);
         }
 
-        fn value(&self, _: &[i64], q0: &[f64; 2], q1: &[f64; 2]) -> f64 {
-            self.0.ring.value(q0, q1)
+        fn d1_d2_d12(&self, _: &[i64], q0: &[f64], q1: &[f64], out: &mut [f64]) {
+            let (d1, d2, d12) = self.0.ring.d1_d2_d12(pair(q0), pair(q1));
+            out[..2].copy_from_slice(&d1);
+            out[2..4].copy_from_slice(&d2);
+            out[4..6].copy_from_slice(&d12[0]);
+            out[6..8].copy_from_slice(&d12[1]);
         }
 
-        fn energy(&self, _: &[i64], q: &[f64; 2], v: &[f64; 2]) -> f64 {
-            self.0.ring.energy(q, v)
+        fn value(&self, _: &[i64], q0: &[f64], q1: &[f64]) -> f64 {
+            self.0.ring.value(pair(q0), pair(q1))
         }
 
-        fn legendre(&self, _: &[i64], _: &[f64; 2], v: &[f64; 2]) -> ([f64; 2], [[f64; 2]; 2]) {
-            self.0.ring.legendre(v)
+        fn energy(&self, _: &[i64], q: &[f64], v: &[f64]) -> f64 {
+            self.0.ring.energy(pair(q), pair(v))
+        }
+
+        fn legendre(&self, _: &[i64], _: &[f64], v: &[f64], out: &mut [f64]) {
+            let (p, m) = self.0.ring.legendre(pair(v));
+            out[..2].copy_from_slice(&p);
+            out[2..4].copy_from_slice(&m[0]);
+            out[4..6].copy_from_slice(&m[1]);
         }
     };
 }
@@ -170,8 +185,11 @@ struct Compiled {
 
 struct CompiledSprings<'a>(&'a Compiled);
 
-impl Family<2> for CompiledSprings<'_> {
-    const DEPTH: usize = 1;
+impl Family for CompiledSprings<'_> {
+    fn depth(&self) -> usize {
+        1
+    }
+
     ring_family!();
 }
 
@@ -187,7 +205,7 @@ impl ElementLagrangian for Compiled {
     const CONTINUOUS: bool = true;
 
     fn families<V: FamilyVisitor>(&self, visitor: &mut V) {
-        visitor.family::<2, _>(&CompiledSprings(self));
+        visitor.family(&CompiledSprings(self));
     }
 
     ring_system!();
@@ -224,13 +242,7 @@ impl Given {
 
 struct GivenSprings<'a>(&'a Given);
 
-impl Family<2> for GivenSprings<'_> {
-    // Placeholders: a depth no family has (slicing the loop indices by it panics, the memory
-    // check refuses it), and a force (its elements would have no share of the Legendre map,
-    // and an impulse).
-    const DEPTH: usize = usize::MAX;
-    const FORCE: bool = true;
-
+impl Family for GivenSprings<'_> {
     fn depth(&self) -> usize {
         self.0.depth
     }
@@ -299,7 +311,7 @@ impl ElementLagrangian for Given {
     }
 
     fn families<V: FamilyVisitor>(&self, visitor: &mut V) {
-        visitor.family::<2, _>(&GivenSprings(self));
+        visitor.family(&GivenSprings(self));
     }
 
     ring_system!();
@@ -326,8 +338,9 @@ fn initial(n: usize) -> ElementState {
 struct Shapes(Vec<(usize, usize, bool)>);
 
 impl FamilyVisitor for Shapes {
-    fn family<const S: usize, F: Family<S>>(&mut self, family: &F) {
-        self.0.push((S, family.depth(), family.force()));
+    fn family<F: Family>(&mut self, family: &F) {
+        self.0
+            .push((family.width(), family.depth(), family.force()));
     }
 }
 
