@@ -99,10 +99,10 @@ pub mod paper;
 pub mod systems;
 
 pub use dirac_macros::{chart_transition, reduced_lagrangian};
-pub use dirac_runtime as runtime;
-pub use dirac_runtime::lie;
 /// Articulated rigid bodies as data: models read from URDF, kinematics, energies, momenta.
 pub use dirac_multibody as multibody;
+pub use dirac_runtime as runtime;
+pub use dirac_runtime::lie;
 pub use dirac_runtime::nalgebra;
 pub use dirac_runtime::prelude::*;
 
