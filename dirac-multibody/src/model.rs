@@ -302,17 +302,21 @@ pub struct Coordinate {
 /// from a massless root (the world).
 ///
 /// ```
-/// use dirac_multibody::{Inertial, JointSpec, Model, Pose};
-/// use nalgebra::Vector3;
+/// use dirac_multibody::nalgebra::{Matrix3, Vector3};
+/// use dirac_multibody::{Inertial, JointSpec, Model};
 ///
-/// # fn main() -> Result<(), dirac_multibody::ModelError> {
-/// let rod = Inertial::new(1.0, Vector3::new(0.0, 0.0, -0.5), Matrix3::from_diagonal(&Vector3::new(0.1, 0.1, 0.01)));
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// // A rod hanging from a hinge about y: centre of mass 0.5 below it.
+/// let inertia = Matrix3::from_diagonal(&Vector3::new(0.1, 0.1, 0.01));
+/// let rod = Inertial::new(1.0, Vector3::new(0.0, 0.0, -0.5), inertia);
 /// let model = Model::builder()
 ///     .frame("world")
 ///     .body("arm", rod)
 ///     .joint(JointSpec::revolute("shoulder", "world", "arm", Vector3::y()))
 ///     .build()?;
 /// assert_eq!(model.bodies().len(), 2);
+/// let q = model.configuration_from_scalars(&[std::f64::consts::FRAC_PI_2])?;
+/// assert!(model.potential_energy(&q)?.abs() < 1e-15); // swung up to the hinge's height
 /// assert_eq!(model.coordinates()[0].name, "shoulder");
 /// # Ok(())
 /// # }

@@ -47,7 +47,7 @@ impl Model {
     ///   </robot>"#)?;
     /// assert_eq!(model.joints()[0].name, "hinge");
     /// let q = model.configuration_from_scalars(&[0.0]).unwrap();
-    /// assert!((model.potential_energy(&q).unwrap() - 9.81).abs() < 1e-12);
+    /// assert!((model.potential_energy(&q).unwrap() + 9.81).abs() < 1e-12); // V = −m g·c
     /// # Ok(())
     /// # }
     /// ```
@@ -184,7 +184,7 @@ fn read_link(node: Node<'_, '_>) -> Result<(String, Option<Inertial>), ModelErro
         "value",
         &mass_element,
     )?;
-    let inertia_node = child(inertial, "inertia").ok_or_else(|| ModelError::MissingElement {
+    let inertia_node = child(inertial, "inertia").ok_or(ModelError::MissingElement {
         element,
         child: "inertia",
     })?;

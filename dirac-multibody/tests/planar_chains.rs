@@ -1,6 +1,9 @@
 //! The double pendulum and the planar 3-link arm of `examples/data/`, read from URDF, against
 //! their energies, mass matrices and end positions written by hand.
 
+// The hand-written formulas index links and joints as the equations do.
+#![allow(clippy::needless_range_loop)]
+
 use dirac_multibody::Model;
 use proptest::prelude::*;
 
