@@ -315,3 +315,55 @@ proptest! {
         assert_vec_close(&h_moved.angular, &angular, 1e-13, "angular momentum");
     }
 }
+
+/// `exp(t [Ω]×)` by Rodrigues' formula.
+fn exp_so3(omega: &Vector3<f64>, t: f64) -> Matrix3<f64> {
+    let angle = omega.norm() * t;
+    if omega.norm() == 0.0 {
+        return Matrix3::identity();
+    }
+    dirac_multibody::axis_angle(&(omega / omega.norm()), angle)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(32))]
+
+    /// The velocity convention against forward kinematics alone: moving the free tree's joints
+    /// along the curve `R(t) = R exp(t [Ω]×)`, `p(t) = p + t R V`, `d(t) = d + t ḋ`, the central
+    /// differences of every centre of mass and attitude are the body velocities' `v_c` and `ω`.
+    #[test]
+    fn body_velocities_are_the_derivatives_of_forward_kinematics(
+        base in proptest::array::uniform3(-3.2..3.2f64),
+        shoulder in proptest::array::uniform3(-3.2..3.2f64),
+        slide in -0.5..0.5f64,
+        v in proptest::collection::vec(-2.0..2.0f64, 10),
+    ) {
+        let model = free_tree().unwrap();
+        let (r0, p0, s0) = (rotation(base), Vector3::new(0.2, -0.1, 0.3), rotation(shoulder));
+        let omega_base = Vector3::new(v[0], v[1], v[2]);
+        let v_base = Vector3::new(v[3], v[4], v[5]);
+        let omega_shoulder = Vector3::new(v[6], v[7], v[8]);
+        let at = |t: f64| Configuration {
+            positions: vec![
+                JointPosition::Pose(Pose::new(r0 * exp_so3(&omega_base, t), p0 + r0 * v_base * t)),
+                JointPosition::Rotation(s0 * exp_so3(&omega_shoulder, t)),
+                JointPosition::Scalar(slide + v[9] * t),
+            ],
+        };
+        let h = 1e-5;
+        let (before, now, after) = (
+            model.forward_kinematics(&at(-h)).unwrap(),
+            model.forward_kinematics(&at(0.0)).unwrap(),
+            model.forward_kinematics(&at(h)).unwrap(),
+        );
+        let velocities = model.body_velocities(&at(0.0), &v).unwrap();
+        for (b, body) in model.bodies().iter().enumerate().skip(1) {
+            let com = |x: &Pose| x.transform_point(&body.inertial.com);
+            let v_c = (com(&after[b]) - com(&before[b])) / (2.0 * h);
+            assert_vec_close(&velocities[b].linear, &v_c, 1e-8, "v_c");
+            let w = (after[b].rotation - before[b].rotation) / (2.0 * h) * now[b].rotation.transpose();
+            let omega = Vector3::new(w[(2, 1)], w[(0, 2)], w[(1, 0)]);
+            assert_vec_close(&velocities[b].angular, &omega, 1e-8, "ω");
+        }
+    }
+}
