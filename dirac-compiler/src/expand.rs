@@ -449,14 +449,7 @@ pub fn parse(args: TokenStream, func: &ItemFn) -> Parsed {
 /// The phases after the attribute and signature parsed cleanly: lowering, the invariance check
 /// and the paper's constructions, up to the graph both back ends read.
 pub fn compile_system(spec: &Spec, sig: &Signature, func: &ItemFn) -> syn::Result<Compiled> {
-    let cx = Ctxt::new();
-    let ranges = crate::ast::ranges::resolve_ranges(&cx, spec, sig);
-    let lowered = compile::lower(&cx, spec, sig, func);
-    let lowered = cx.finish(lowered)?;
-    // The reduction is only valid for a G-invariant L_d.
-    let cx = Ctxt::new();
-    check::check(&cx, &lowered, spec, sig, &ranges, &func.block);
-    cx.finish(Some(()))?;
+    let lowered = lower_checked(spec, sig, func)?;
     let (s, k) = (spec.layout.s(), spec.layout.k());
     let dense = Backend::for_size(s + k).is_dense();
     let controls: Vec<usize> = spec
@@ -465,6 +458,21 @@ pub fn compile_system(spec: &Spec, sig: &Signature, func: &ItemFn) -> syn::Resul
         .filter_map(|c| sig.params.iter().position(|p| p == c))
         .collect();
     Ok(compile::construct(lowered, s, k, dense, &controls))
+}
+
+/// The lowering and the invariance check of a system on vector spaces: the graph of `L_d`,
+/// the connection, the forces and the constraints, once `L_d` is known to be invariant under
+/// the group (the reduction, and the momentum map a run keeps exact, are valid only then).
+pub fn lower_checked(spec: &Spec, sig: &Signature, func: &ItemFn) -> syn::Result<compile::Lowered> {
+    let cx = Ctxt::new();
+    let ranges = crate::ast::ranges::resolve_ranges(&cx, spec, sig);
+    let lowered = compile::lower(&cx, spec, sig, func);
+    let lowered = cx.finish(lowered)?;
+    // The reduction is only valid for a G-invariant L_d.
+    let cx = Ctxt::new();
+    check::check(&cx, &lowered, spec, sig, &ranges, &func.block);
+    cx.finish(Some(()))?;
+    Ok(lowered)
 }
 
 /// `#[chart_transition]`: the transition's items, or the errors and the fallback items.

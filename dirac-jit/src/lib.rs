@@ -124,7 +124,9 @@ mod model;
 mod request;
 mod system;
 
-pub use element::{compile_element, ElementCode, JitElement, MAX_DEPTH, MAX_SIZES};
+pub use element::{
+    compile_element, compile_flat_elements, ElementCode, JitElement, MAX_DEPTH, MAX_SIZES,
+};
 pub use error::Error;
 pub use lie::{compile_lie, JitLie, LieCode, Reduced, Reduction, Unreduced};
 pub use request::{RunRequest, ORDERS};

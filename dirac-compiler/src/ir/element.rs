@@ -73,21 +73,32 @@ fn step_blocks(
     d1: &[NodeId],
     d2: &[NodeId],
 ) -> StepBlocks {
-    let q0: Vec<Sym> = (0..width).map(Sym::Q0).collect();
-    let q1: Vec<Sym> = (0..width).map(Sym::Q1).collect();
-    let controls: Vec<Sym> = spec
+    let controls: Vec<usize> = spec
         .controls
         .iter()
         .map(|c| {
-            let i = spec
-                .sig
+            spec.sig
                 .params
                 .iter()
                 .position(|p| p == c)
-                .expect("a control is a parameter (checked when parsed)");
-            Sym::Param(i)
+                .expect("a control is a parameter (checked when parsed)")
         })
         .collect();
+    step_blocks_of(g, width, &controls, d1, d2)
+}
+
+/// The [`StepBlocks`] of an element of `width` slots whose step shares are `d1`, `d2`, with the
+/// controls the parameters `controls` (their indices).
+pub fn step_blocks_of(
+    g: &mut Graph,
+    width: usize,
+    controls: &[usize],
+    d1: &[NodeId],
+    d2: &[NodeId],
+) -> StepBlocks {
+    let q0: Vec<Sym> = (0..width).map(Sym::Q0).collect();
+    let q1: Vec<Sym> = (0..width).map(Sym::Q1).collect();
+    let controls: Vec<Sym> = controls.iter().map(|&i| Sym::Param(i)).collect();
     StepBlocks {
         d11: jacobian(g, d1, &q0),
         d21: jacobian(g, d2, &q0),

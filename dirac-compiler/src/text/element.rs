@@ -11,8 +11,8 @@ use crate::ast::element::families::FamilySpec;
 use crate::ast::element::index::Index;
 use crate::ast::element::Dim;
 use crate::expand::{compile_element as compile_phases, ElementCompiled};
-use crate::ir::element::ElementCode;
-use crate::ir::graph::NodeId;
+use crate::ir::element::{ElementCode, StepBlocks};
+use crate::ir::graph::{Graph, NodeId};
 use crate::program::{program, Program};
 
 /// An element-wise system compiled from text: a discrete Lagrangian that is a sum over families
@@ -201,27 +201,56 @@ pub struct ConstraintFamily {
 
 /// The programs of one family.
 fn family(code: &ElementCode, stencil: Stencil) -> ElementFamily {
-    let g = &code.graph;
-    let d1_d2: Vec<NodeId> = code.d1.iter().chain(&code.d2).copied().collect();
+    family_of(
+        &code.graph,
+        stencil,
+        code.force,
+        code.value,
+        [&code.d1, &code.d2],
+        &code.d12,
+        &code.blocks,
+        code.energy,
+        code.legendre.as_ref().map(|(p, h)| (&p[..], &h[..])),
+    )
+}
+
+/// The programs of one family from its nodes in `g`: `L_d^e` (`value`), `D_1 L_d^e` and
+/// `D_2 L_d^e` (or a force family's `f_d^∓`), `D_1 D_2 L_d^e` (row by row), the step partials
+/// and, for a continuous Lagrangian, the energy and the Legendre map with its Jacobian.
+#[allow(
+    clippy::too_many_arguments,
+    reason = "a family's nodes, one argument each"
+)]
+pub(super) fn family_of(
+    g: &Graph,
+    stencil: Stencil,
+    force: bool,
+    value: NodeId,
+    [d1, d2]: [&[NodeId]; 2],
+    d12: &[Vec<NodeId>],
+    b: &StepBlocks,
+    energy: Option<NodeId>,
+    legendre: Option<(&[NodeId], &[Vec<NodeId>])>,
+) -> ElementFamily {
+    let d1_d2: Vec<NodeId> = d1.iter().chain(d2).copied().collect();
     let all: Vec<NodeId> = d1_d2
         .iter()
         .copied()
-        .chain(code.d12.iter().flatten().copied())
+        .chain(d12.iter().flatten().copied())
         .collect();
-    let b = &code.blocks;
     let partials: Vec<NodeId> = [&b.d11, &b.d21, &b.d22, &b.u1, &b.u2]
         .into_iter()
         .flat_map(|rows| rows.iter().flatten().copied())
         .collect();
     ElementFamily {
         stencil,
-        force: code.force,
+        force,
         d1_d2: program(g, &d1_d2),
         d1_d2_d12: program(g, &all),
         partials: program(g, &partials),
-        value: program(g, &[code.value]),
-        energy: code.energy.map(|e| program(g, &[e])),
-        legendre: code.legendre.as_ref().map(|(p, h)| {
+        value: program(g, &[value]),
+        energy: energy.map(|e| program(g, &[e])),
+        legendre: legendre.map(|(p, h)| {
             let outputs: Vec<NodeId> = p.iter().chain(h.iter().flatten()).copied().collect();
             program(g, &outputs)
         }),

@@ -33,6 +33,7 @@ use crate::program::{program, Program};
 
 mod depth;
 mod element;
+mod flat;
 mod lie;
 
 pub use crate::ast::attr::{DomainBound, DomainRelation};
@@ -351,6 +352,31 @@ pub fn compile(source: &str) -> Result<System, Error> {
         }
         compile_parts(args, func)
     })
+}
+
+/// The element view of a system on vector spaces given as text (see [`compile`] for the text):
+/// its `L_d` as one element reading every coordinate, each group coordinate a translation, each
+/// holonomic constraint row a constraint family — what the run-time-sized element integrators
+/// run at any number of coordinates, with the trajectory of the reduced and unreduced
+/// integrators (see the module `flat` of this front end: Definitions 2.7/2.8, eqs. (4.6),
+/// (4.8)). Adaptive steps, a domain and nonholonomic constraints are refused.
+///
+/// ```
+/// let view = dirac_compiler::text::compile_flat_elements(
+///     "#[reduced_lagrangian(shape(r), group(theta))]
+///      fn kepler(q0: Config, q1: Config, h: f64) -> f64 {
+///          let (dr, dth) = (q1.r - q0.r, q1.theta - q0.theta);
+///          let r = 0.5 * (q0.r + q1.r);
+///          0.5 / h * (dr * dr + r * r * dth * dth) + h / r
+///      }",
+/// )?;
+/// assert_eq!(view.coordinates.len(), 2);
+/// assert_eq!(view.families[0].stencil.slots.len(), 2); // one element reading r and theta
+/// assert_eq!(view.translations, [vec![1]]); // theta
+/// # Ok::<(), dirac_compiler::text::Error>(())
+/// ```
+pub fn compile_flat_elements(source: &str) -> Result<ElementSystem, Error> {
+    compile_with(source, flat::compile_parts)
 }
 
 /// Compiles a system on rotation groups given as text: a function carrying

@@ -97,6 +97,42 @@ pub fn compile_element(source: &str) -> Result<Arc<ElementCode>, Error> {
     ElementCode::from_system(system, start)
 }
 
+/// Compiles the element view of a system on vector spaces given as text (see
+/// [`dirac_compiler::text::compile_flat_elements`]): its `L_d` as one element reading every
+/// coordinate, each group coordinate a translation whose momentum map `μ = p_g` the element
+/// integrators keep exact, each holonomic constraint row a constraint family. Instantiated with
+/// no sizes (`instantiate(&parameters, &[])`), it runs on `ElementIntegrator` (or, with
+/// constraints, `ElementConstrainedIntegrator`) at any number of coordinates from one build —
+/// the path of a system whose size the fixed-size instances ([`crate::with_dimensions!`],
+/// [`crate::with_constrained_dimensions!`]) do not serve. Its (+) and (−) sides compute the
+/// trajectory of the reduced (+) and (−) equations (4.6), (4.8), in the user's coordinates
+/// `q = (x, g)`, `p = (w − Bᵀ μ, μ)` (eq. (3.7)), to round-off; the unreduced step is its (+)
+/// side.
+///
+/// ```
+/// use dirac_runtime::element::{ElementIntegrator, ElementState};
+/// use dirac_runtime::prelude::*;
+///
+/// let code = dirac_jit::compile_flat_elements(
+///     "#[reduced_lagrangian(shape(r), group(theta))]
+///      fn kepler(q0: Config, q1: Config, h: f64) -> f64 {
+///          let (dr, dth) = (q1.r - q0.r, q1.theta - q0.theta);
+///          let r = 0.5 * (q0.r + q1.r);
+///          0.5 / h * (dr * dr + r * r * dth * dth) + h / r
+///      }",
+/// )?;
+/// let kepler = code.instantiate(&[0.01], &[])?;
+/// let integ = ElementIntegrator::new(kepler, NewtonOptions::default());
+/// let traj = integ.run(ElementState::new([1.0, 0.0], [0.0, 1.0])).steps(100).collect()?;
+/// assert_eq!(traj.last().p[1], 1.0); // the angular momentum p_theta, exactly
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn compile_flat_elements(source: &str) -> Result<Arc<ElementCode>, Error> {
+    let start = Instant::now();
+    let system = text::compile_flat_elements(source)?;
+    ElementCode::from_system(system, start)
+}
+
 /// An element's kernels: the parameters and sizes first, then `q0` (or `q`), `q1` (or `v`) and
 /// the loop indices.
 fn element_layout(p: usize, z: usize) -> impl Fn(Leaf) -> (usize, usize) {
