@@ -330,8 +330,26 @@ fn lie_time<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
     t.elapsed().as_secs_f64() / steps as f64
 }
 
+/// Seconds per step of a streamed run of the Lie group variational integrator on a system at
+/// the sizes its text declares (`Dyn`).
+fn dyn_lie_time(
+    sys: &dirac_jit::DynJitLie,
+    start: &dirac::runtime::lie::DynLieState,
+    steps: usize,
+) -> f64 {
+    let t = Instant::now();
+    let s = dirac::runtime::lie::LieIntegratorOf::new(sys.clone(), NewtonOptions::default())
+        .run(start.clone())
+        .steps(steps)
+        .stream();
+    std::hint::black_box(s.expect("the run completes"));
+    t.elapsed().as_secs_f64() / steps as f64
+}
+
 /// A system on rotation groups: `rounds` compilations of its text, and its steps against the
-/// compiled-in system's, interleaved.
+/// compiled-in system's, interleaved: at fixed sizes (the instances the front ends dispatch
+/// small systems to), then at the sizes the text declares (`Dyn`, what they run any other size
+/// at).
 fn lie_rounds<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
     name: &str,
     rounds: usize,
@@ -355,6 +373,29 @@ fn lie_rounds<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
         "{name} (rotation groups): text → machine code {:.1} ms (min {:.1}); step {:.2} µs given at run time, {:.2} µs compiled in: ratio {:.2} ({:.2}–{:.2})",
         r.compile * 1e3,
         r.compile_min * 1e3,
+        r.jit * 1e6,
+        r.aot * 1e6,
+        r.ratio,
+        r.ratio_min,
+        r.ratio_max,
+    );
+    let dyn_start = dirac::runtime::lie::DynLieState {
+        q: dirac::runtime::nalgebra::DVector::from_column_slice(start.q.as_slice()),
+        p: dirac::runtime::nalgebra::DVector::from_column_slice(start.p.as_slice()),
+    };
+    let r = Rounds::interleaved(
+        rounds,
+        || {
+            let code = dirac_jit::compile_lie(&text)?;
+            let jit = code.instantiate_dyn(&aot.parameter_values())?;
+            Ok::<_, dirac_jit::Error>((code.compile_time().as_secs_f64(), jit))
+        },
+        |jit| dyn_lie_time(jit, &dyn_start, steps),
+        || lie_time(aot, start, steps),
+    )?
+    .summary();
+    println!(
+        "{name} (rotation groups) at run-time sizes: step {:.2} µs given at run time, {:.2} µs compiled in: ratio {:.2} ({:.2}–{:.2})",
         r.jit * 1e6,
         r.aot * 1e6,
         r.ratio,

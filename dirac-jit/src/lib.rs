@@ -128,7 +128,9 @@ pub use element::{
     compile_element, compile_flat_elements, ElementCode, JitElement, MAX_DEPTH, MAX_SIZES,
 };
 pub use error::Error;
-pub use lie::{compile_lie, JitLie, LieCode, Reduced, Reduction, Unreduced};
+pub use lie::{
+    compile_lie, DynJitLie, JitLie, LieCode, LieFront, Reduced, Reduction, Unreduced,
+};
 pub use request::{RunRequest, ORDERS};
 pub use system::{
     compile, Backend, Code, Dense, JitConstrained, JitSystem, LegendreLu, LegendreMatrix, Sparse,

@@ -24,6 +24,10 @@ use dirac_runtime::linalg::LinearSolver;
 use dirac_runtime::nalgebra::{DMatrix, SVector};
 use dirac_runtime::{Form, LieState};
 
+mod dynamic;
+
+pub use dynamic::{DynJitLie, LieFront};
+
 use crate::codegen::{Jit, Kernel};
 use crate::error::Error;
 use crate::system::{by_name, ld_layout, parameter_values, Module, UNUSED};
@@ -274,24 +278,31 @@ impl LieCode {
             });
         }
         if R::FORM == Form::Reduced {
-            let symmetry = sys.symmetry.as_ref().ok_or_else(|| Error::Symmetry {
-                name: sys.name.clone(),
-                reason: "the text declares no symmetry (`symmetry(..)` in the attribute)".into(),
-            })?;
-            // One solver serves both steps: the reduced Jacobian must have the same structure.
-            let differs = |r: &text::Stepper| r.pattern != sys.stepper.pattern;
-            if symmetry.reduced.as_ref().is_some_and(differs) {
-                return Err(Error::Symmetry {
-                    name: sys.name.clone(),
-                    reason: "its reduced step's Jacobian has another sparsity pattern than the unreduced one".into(),
-                });
-            }
+            self.check_reduced()?;
         }
         Ok(JitLie {
             code: Arc::clone(self),
             values: parameter_values(&sys.name, &sys.parameters, parameters)?,
             kind: PhantomData,
         })
+    }
+
+    /// The checks of a reduced instance: a declared symmetry, and a reduced step's Jacobian of
+    /// the unreduced one's structure (one solver serves both steps).
+    fn check_reduced(&self) -> Result<(), Error> {
+        let sys = &self.system;
+        let symmetry = sys.symmetry.as_ref().ok_or_else(|| Error::Symmetry {
+            name: sys.name.clone(),
+            reason: "the text declares no symmetry (`symmetry(..)` in the attribute)".into(),
+        })?;
+        let differs = |r: &text::Stepper| r.pattern != sys.stepper.pattern;
+        if symmetry.reduced.as_ref().is_some_and(differs) {
+            return Err(Error::Symmetry {
+                name: sys.name.clone(),
+                reason: "its reduced step's Jacobian has another sparsity pattern than the unreduced one".into(),
+            });
+        }
+        Ok(())
     }
 }
 
@@ -407,7 +418,53 @@ impl<const P: usize, const N: usize, B, R> JitLie<P, N, B, R> {
     /// count, a matrix that is not a rotation or a vector that is not a unit vector (to `1e-9`),
     /// or a value that is not finite.
     pub fn state(&self, q: &[&[f64]], p: &[&[f64]]) -> Result<LieState<P, N>, Error> {
-        let sys = &self.code.system;
+        let (mut point, mut chart) = (SVector::<f64, P>::zeros(), SVector::<f64, N>::zeros());
+        self.code
+            .fill_state(q, p, point.as_mut_slice(), chart.as_mut_slice())?;
+        Ok(LieState { q: point, p: chart })
+    }
+
+    /// The configuration of a stored point, coordinate by coordinate as [`Self::state`] takes
+    /// it (a rotation's matrix row by row, a direction's unit vector, a pose's 12 numbers).
+    pub fn configuration(&self, q: &SVector<f64, P>) -> Vec<Vec<f64>> {
+        self.code.configuration(q.as_slice())
+    }
+
+    /// The momenta of a state, coordinate by coordinate as [`Self::state`] takes them (a
+    /// rotation's body momentum, a direction's momentum as a vector in space, tangent to the
+    /// sphere, a pose's body angular and spatial linear momenta).
+    pub fn momenta(&self, state: &LieState<P, N>) -> Vec<Vec<f64>> {
+        self.code.momenta(state.q.as_slice(), state.p.as_slice())
+    }
+
+    /// Adaptive steps: the state at the configuration `q` (its time coordinate the physical
+    /// time) and the physical velocity `v` (the one spelling of a state from a position and a
+    /// velocity, as the runtime's `ContinuousLagrangian::unreduced_state`) ([`text::LieKind::velocity_len`] entries per coordinate:
+    /// a rotation's body angular velocity, a direction's velocity in space; the time
+    /// coordinate's ignored), on the level set where the time-transformed system's solutions
+    /// are the physical ones: the physical momenta `∂L/∂v` and `p_t = −E(q, v)`. An error for a
+    /// system stepped in physical time, a velocity of the wrong length, or a monitor that is not
+    /// positive and finite at `q`.
+    pub fn unreduced_state(&self, q: &SVector<f64, P>, v: &[f64]) -> Result<LieState<P, N>, Error> {
+        let mut p = SVector::<f64, N>::zeros();
+        self.code
+            .level_state(&self.values, q.as_slice(), v, p.as_mut_slice())?;
+        Ok(LieState { q: *q, p })
+    }
+}
+
+impl LieCode {
+    /// Writes the stored point and the chart momentum of the configuration `q` with the momenta
+    /// `p`, each coordinate as the text names it, into `point` and `chart` (of the system's
+    /// sizes): what [`JitLie::state`] and [`DynJitLie::state`] build.
+    pub(crate) fn fill_state(
+        &self,
+        q: &[&[f64]],
+        p: &[&[f64]],
+        point: &mut [f64],
+        chart: &mut [f64],
+    ) -> Result<(), Error> {
+        let sys = &self.system;
         let fail = |reason: String| Error::State {
             name: sys.name.clone(),
             reason,
@@ -420,9 +477,8 @@ impl<const P: usize, const N: usize, B, R> JitLie<P, N, B, R> {
                 sys.coordinates.len()
             )));
         }
-        let (mut point, mut chart) = (SVector::<f64, P>::zeros(), SVector::<f64, N>::zeros());
         let (mut at, mut ch) = (0, 0);
-        for (((c, kind), &qi), &pi) in sys.coordinates.iter().zip(&self.code.kinds).zip(q).zip(p) {
+        for (((c, kind), &qi), &pi) in sys.coordinates.iter().zip(&self.kinds).zip(q).zip(p) {
             let (name, group) = (&c.name, kind.group());
             let (want_q, want_p) = (group.value_len(), group.momentum_value_len());
             if qi.len() != want_q || pi.len() != want_p {
@@ -435,46 +491,43 @@ impl<const P: usize, const N: usize, B, R> JitLie<P, N, B, R> {
             if !qi.iter().chain(pi).all(|v| v.is_finite()) {
                 return Err(fail(format!("`{name}` is not finite")));
             }
-            let block = &mut point.as_mut_slice()[at..at + group.point_len()];
+            let block = &mut point[at..at + group.point_len()];
             group.point_from_value(name, qi, block).map_err(fail)?;
             group.momentum_from_value(
-                &point.as_slice()[at..at + group.point_len()],
+                &point[at..at + group.point_len()],
                 pi,
-                &mut chart.as_mut_slice()[ch..ch + group.chart_len()],
+                &mut chart[ch..ch + group.chart_len()],
             );
             at += group.point_len();
             ch += group.chart_len();
         }
-        Ok(LieState { q: point, p: chart })
+        Ok(())
     }
 
-    /// The configuration of a stored point, coordinate by coordinate as [`Self::state`] takes
-    /// it (a rotation's matrix row by row, a direction's unit vector, a pose's 12 numbers).
-    pub fn configuration(&self, q: &SVector<f64, P>) -> Vec<Vec<f64>> {
+    /// The configuration of a stored point `q`, coordinate by coordinate.
+    pub(crate) fn configuration(&self, q: &[f64]) -> Vec<Vec<f64>> {
         let mut at = 0;
-        let mut out = Vec::with_capacity(self.code.kinds.len());
-        for kind in &self.code.kinds {
+        let mut out = Vec::with_capacity(self.kinds.len());
+        for kind in &self.kinds {
             let group = kind.group();
             let mut value = Vec::with_capacity(group.value_len());
-            group.value(&q.as_slice()[at..at + group.point_len()], &mut value);
+            group.value(&q[at..at + group.point_len()], &mut value);
             out.push(value);
             at += group.point_len();
         }
         out
     }
 
-    /// The momenta of a state, coordinate by coordinate as [`Self::state`] takes them (a
-    /// rotation's body momentum, a direction's momentum as a vector in space, tangent to the
-    /// sphere, a pose's body angular and spatial linear momenta).
-    pub fn momenta(&self, state: &LieState<P, N>) -> Vec<Vec<f64>> {
+    /// The momenta of the state `(q, p)`, coordinate by coordinate.
+    pub(crate) fn momenta(&self, q: &[f64], p: &[f64]) -> Vec<Vec<f64>> {
         let (mut at, mut ch) = (0, 0);
-        let mut out = Vec::with_capacity(self.code.kinds.len());
-        for kind in &self.code.kinds {
+        let mut out = Vec::with_capacity(self.kinds.len());
+        for kind in &self.kinds {
             let group = kind.group();
             let mut value = Vec::with_capacity(group.momentum_value_len());
             group.momentum_value(
-                &state.q.as_slice()[at..at + group.point_len()],
-                &state.p.as_slice()[ch..ch + group.chart_len()],
+                &q[at..at + group.point_len()],
+                &p[ch..ch + group.chart_len()],
                 &mut value,
             );
             out.push(value);
@@ -484,21 +537,22 @@ impl<const P: usize, const N: usize, B, R> JitLie<P, N, B, R> {
         out
     }
 
-    /// Adaptive steps: the state at the configuration `q` (its time coordinate the physical
-    /// time) and the physical velocity `v` (the one spelling of a state from a position and a
-    /// velocity, as the runtime's `ContinuousLagrangian::unreduced_state`) ([`text::LieKind::velocity_len`] entries per coordinate:
-    /// a rotation's body angular velocity, a direction's velocity in space; the time
-    /// coordinate's ignored), on the level set where the time-transformed system's solutions
-    /// are the physical ones: the physical momenta `∂L/∂v` and `p_t = −E(q, v)`. An error for a
-    /// system stepped in physical time, a velocity of the wrong length, or a monitor that is not
-    /// positive and finite at `q`.
-    pub fn unreduced_state(&self, q: &SVector<f64, P>, v: &[f64]) -> Result<LieState<P, N>, Error> {
-        let sys = &self.code.system;
+    /// Adaptive steps: writes into `p` the momenta of the state at the point `q` with the
+    /// physical velocity `v` on the level set (see [`JitLie::unreduced_state`]), the parameters
+    /// `values`.
+    pub(crate) fn level_state(
+        &self,
+        values: &[f64; MAX_PARAMETERS],
+        q: &[f64],
+        v: &[f64],
+        p: &mut [f64],
+    ) -> Result<(), Error> {
+        let sys = &self.system;
         let fail = |reason: String| Error::State {
             name: sys.name.clone(),
             reason,
         };
-        let Some(level) = self.code.kernels.level else {
+        let Some(level) = self.kernels.level else {
             return Err(fail(
                 "its steps are in physical time (no `time(..), adapt = ..`)".into(),
             ));
@@ -510,18 +564,28 @@ impl<const P: usize, const N: usize, B, R> JitLie<P, N, B, R> {
                 v.len()
             )));
         }
-        let mut out = vec![0.0; 1 + N];
-        self.call_into(level, [q.as_ptr(), v.as_ptr(), UNUSED], out.as_mut_ptr());
+        let mut out = vec![0.0; 1 + p.len()];
+        // SAFETY: the level kernel reads the point (`P` entries, `q`'s length, checked by the
+        // callers' sizes) and the velocity (checked above), and writes the monitor and `N`
+        // momenta, `out`'s length.
+        unsafe {
+            level(
+                values.as_ptr(),
+                q.as_ptr(),
+                v.as_ptr(),
+                UNUSED,
+                UNUSED,
+                out.as_mut_ptr(),
+            );
+        }
         if !(out[0] > 0.0 && out[0].is_finite()) {
             return Err(fail(format!(
                 "the monitor is {} at this configuration; it must be positive and finite",
                 out[0]
             )));
         }
-        Ok(LieState {
-            q: *q,
-            p: SVector::from_column_slice(&out[1..]),
-        })
+        p.copy_from_slice(&out[1..]);
+        Ok(())
     }
 }
 
@@ -639,16 +703,7 @@ impl<const P: usize, const N: usize, B: Backend<N>> LieSymmetric<P, N>
     const SYMMETRY_FORCED: bool = false;
 
     fn symmetry(&self) -> RotationSymmetry<'_> {
-        match self.code.system.symmetry.as_ref().map(|s| &s.kind) {
-            Some(LieSymmetryKind::Rotations { coordinate }) => RotationSymmetry::Rotations {
-                coordinate: *coordinate,
-            },
-            Some(LieSymmetryKind::Axis { axis, .. }) => RotationSymmetry::Axis {
-                axis: *axis,
-                coordinates: &self.code.symmetric,
-            },
-            None => unreachable!("a reduced system declares a symmetry (checked on instantiation)"),
-        }
+        self.code.symmetry()
     }
 
     fn symmetry_forced(&self) -> bool {

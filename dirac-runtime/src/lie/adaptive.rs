@@ -3,54 +3,58 @@
 //! compiler's, so a step is an ordinary step of the transformed discrete Lagrangian; what the
 //! integrators add is a run's first guess and the checks after each step.
 
-use nalgebra::{DMatrix, DVector, SVector};
+use nalgebra::allocator::Allocator;
+use nalgebra::{DMatrix, DVector, DefaultAllocator, Dim, OVector};
 
 use super::integrator::StepEquations;
-use super::{blocks, LieLagrangian};
+use super::{blocks, LieModel};
 use crate::error::StepError;
 use crate::stepper::{check_monitor, check_time_increment};
 
 /// Newton's guess for the chart coordinate `z` of a run's first step of fictitious size `h`
-/// from `(q, p)`: the time coordinate's entry `h g(q)` (the step's physical size on the level
-/// set, where `t' = g`), the others solving the step's own equations with it held — the discrete
-/// Legendre transform at the physical step `Δt = h g` — by Newton iterations with a
-/// difference-quotient Jacobian (a guess, once per run). Starting from no motion instead, the
-/// transformed Lagrangian's `Δt L(q, ξ/Δt)` is singular at `Δt = 0`. No motion when the monitor is
-/// not positive and finite (the run's checks report it).
-pub(super) fn first_increment<L, const P: usize, const N: usize>(
+/// from `(q, p)`, written into `z`: the time coordinate's entry `h g(q)` (the step's physical
+/// size on the level set, where `t' = g`), the others solving the step's own equations with it
+/// held — the discrete Legendre transform at the physical step `Δt = h g` — by Newton iterations
+/// with a difference-quotient Jacobian (a guess, once per run). Starting from no motion instead,
+/// the transformed Lagrangian's `Δt L(q, ξ/Δt)` is singular at `Δt = 0`. No motion when the
+/// monitor is not positive and finite (the run's checks report it).
+pub(super) fn first_increment<L, P: Dim, N: Dim>(
     sys: &L,
-    q: &SVector<f64, P>,
-    p: &SVector<f64, N>,
+    q: &OVector<f64, P>,
+    p: &OVector<f64, N>,
     h: f64,
     equations: &StepEquations<L, P, N>,
-) -> SVector<f64, N>
-where
-    L: LieLagrangian<P, N>,
+    z: &mut OVector<f64, N>,
+) where
+    L: LieModel<P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
 {
-    let mut z = SVector::<f64, N>::zeros();
+    z.fill(0.0);
     let (Some(time), Some(g)) = (sys.time_index(), sys.monitor(q)) else {
-        return z;
+        return;
     };
     if check_monitor(0, g).is_err() {
-        return z;
+        return;
     }
     let Some(at) = blocks(sys).nth(time).map(|b| b.chart) else {
-        return z;
+        return;
     };
     z[at] = h * g;
-    let rows: Vec<usize> = (0..N).filter(|&i| i != at).collect();
+    let n = z.len();
+    let rows: Vec<usize> = (0..n).filter(|&i| i != at).collect();
     let scale = p.amax().max(1.0);
+    let (mut r0, mut r1) = (z.clone(), z.clone());
     for _ in 0..8 {
-        let r0 = (equations.residual)(sys, q, p, &z);
+        (equations.residual)(sys, q, p, z, &mut r0);
         if rows.iter().all(|&i| r0[i].abs() <= 1e-13 * scale) {
             break;
         }
         let mut jacobian = DMatrix::<f64>::zeros(rows.len(), rows.len());
         for (c, &i) in rows.iter().enumerate() {
             let step = 1e-7 * z[i].abs().max(h.abs() * g).max(f64::MIN_POSITIVE);
-            let mut w = z;
+            let mut w = z.clone();
             w[i] += step;
-            let r1 = (equations.residual)(sys, q, p, &w);
+            (equations.residual)(sys, q, p, &w, &mut r1);
             for (r, &k) in rows.iter().enumerate() {
                 jacobian[(r, c)] = (r1[k] - r0[k]) / step;
             }
@@ -59,25 +63,22 @@ where
         let Some(delta) = jacobian.lu().solve(&rhs) else {
             break;
         };
-        let mut next = z;
+        let mut next = z.clone();
         for (c, &i) in rows.iter().enumerate() {
             next[i] -= delta[c];
         }
         if !next.iter().all(|x| x.is_finite()) {
             break;
         }
-        z = next;
+        z.copy_from(&next);
     }
-    z
 }
 
 /// The physical time stored in the point `q` of a system with adaptive steps.
-pub(super) fn time_of<L, const P: usize, const N: usize>(
-    sys: &L,
-    q: &SVector<f64, P>,
-) -> Option<f64>
+pub(super) fn time_of<L, P: Dim, N: Dim>(sys: &L, q: &OVector<f64, P>) -> Option<f64>
 where
-    L: LieLagrangian<P, N>,
+    L: LieModel<P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
 {
     let time = sys.time_index()?;
     blocks(sys).nth(time).map(|b| q[b.point])
@@ -87,16 +88,17 @@ where
 /// positive and finite at `next` ([`StepError::InvalidMonitor`]), and the physical time step —
 /// the increment of coordinate `time`, a group scalar — of the sign of `h`
 /// ([`StepError::TimeReversed`]).
-pub(super) fn check_step<L, const P: usize, const N: usize>(
+pub(super) fn check_step<L, P: Dim, N: Dim>(
     sys: &L,
     k: usize,
     h: f64,
     time: usize,
-    q: &SVector<f64, P>,
-    next: &SVector<f64, P>,
+    q: &OVector<f64, P>,
+    next: &OVector<f64, P>,
 ) -> Result<(), StepError>
 where
-    L: LieLagrangian<P, N>,
+    L: LieModel<P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
 {
     if let Some(g) = sys.monitor(next) {
         check_monitor(k, g)?;

@@ -18,43 +18,53 @@
 //! All three read the system's own parameters: for a controlled run, evaluate them step by step
 //! with the controls of each step.
 
-use nalgebra::SVector;
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim, OVector};
 
 use super::integrator::StepEquations;
-use super::reduced::{set_group_part, LieSymmetric, RotationSymmetry};
+use super::reduced::{set_group_part, RotationSymmetry};
+use super::SymmetricLieModel;
 use super::{
-    LieIntegrator, LieLagrangian, LieState, LieTrajectory, ReducedLieIntegrator, ReducedLieState,
-    ReducedLieTrajectory,
+    zeros, LieIntegratorOf, LieModel, LieStateOf, LieTrajectoryOf, ReducedLieIntegratorOf,
+    ReducedLieStateOf, ReducedLieTrajectoryOf,
 };
-use crate::newton::inf_norm;
+use crate::newton::slice_inf_norm;
 
 /// `L_d(q_k, q_{k+1})` of each step, at the step's own size.
-fn energies<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
+fn energies<'a, L: LieModel<P, N>, P: Dim, N: Dim>(
     sys: &L,
-    points: impl Iterator<Item = SVector<f64, P>>,
+    points: impl Iterator<Item = &'a OVector<f64, P>>,
     times: &[f64],
-) -> Vec<f64> {
-    let points: Vec<SVector<f64, P>> = points.collect();
+) -> Vec<f64>
+where
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+{
+    let points: Vec<&OVector<f64, P>> = points.collect();
     points
         .windows(2)
         .zip(times.windows(2))
-        .map(|(q, t)| sys.with_time_step(t[1] - t[0]).lagrangian(&q[0], &q[1]))
+        .map(|(q, t)| sys.with_time_step(t[1] - t[0]).lagrangian(q[0], q[1]))
         .collect()
 }
 
 /// The relative Dirac residual of every step between the `states` at `times` for the
 /// `equations` (the unreduced or the reduced ones), at each step's own size: `read` gives the
 /// state a step read, `landed` the state it reached.
-fn dirac_residuals<L, S, const P: usize, const N: usize>(
-    integrator: &LieIntegrator<L, P, N>,
+fn dirac_residuals<L, S, P: Dim, N: Dim>(
+    integrator: &LieIntegratorOf<L, P, N>,
     (states, times): (&[S], &[f64]),
     equations: &StepEquations<L, P, N>,
-    read: impl Fn(&S) -> LieState<P, N>,
-    landed: impl Fn(&S) -> LieState<P, N>,
+    read: impl Fn(&S) -> LieStateOf<P, N>,
+    landed: impl Fn(&S) -> LieStateOf<P, N>,
 ) -> Vec<f64>
 where
-    L: LieLagrangian<P, N>,
+    L: LieModel<P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+    OVector<f64, P>: Send + Sync,
+    OVector<f64, N>: Send + Sync,
 {
+    let n = integrator.system().dims().1;
+    let (mut r, mut m) = (zeros(n), zeros(n));
     states
         .windows(2)
         .zip(times.windows(2))
@@ -62,54 +72,63 @@ where
             let sys = integrator.system().with_time_step(t[1] - t[0]);
             let (from, to) = (read(&s[0]), landed(&s[1]));
             let z = integrator.chart_coordinates(&from.q, &to.q);
-            let scale = inf_norm(&from.p).max(inf_norm(&to.p)).max(1.0);
-            let r = inf_norm(&(equations.residual)(&sys, &from.q, &from.p, &z));
-            let m = inf_norm(&((equations.momentum)(&sys, &from.q, &from.p, &z) - to.p));
-            r.max(m) / scale
+            let scale = slice_inf_norm(from.p.as_slice())
+                .max(slice_inf_norm(to.p.as_slice()))
+                .max(1.0);
+            (equations.residual)(&sys, &from.q, &from.p, &z, &mut r);
+            (equations.momentum)(&sys, &from.q, &from.p, &z, &mut m);
+            m -= &to.p;
+            slice_inf_norm(r.as_slice()).max(slice_inf_norm(m.as_slice())) / scale
         })
         .collect()
 }
 
-impl<L, const P: usize, const N: usize> LieIntegrator<L, P, N>
+impl<L, P: Dim, N: Dim> LieIntegratorOf<L, P, N>
 where
-    L: LieLagrangian<P, N>,
+    L: LieModel<P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+    OVector<f64, P>: Send + Sync,
+    OVector<f64, N>: Send + Sync,
 {
     /// The relative Dirac residual of every step of `trajectory` (see the
     /// [module documentation](self)).
-    pub fn dirac_residuals(&self, trajectory: &LieTrajectory<P, N>) -> Vec<f64> {
+    pub fn dirac_residuals(&self, trajectory: &LieTrajectoryOf<P, N>) -> Vec<f64> {
         dirac_residuals(
             self,
             (&trajectory.states, &trajectory.times),
             &StepEquations::UNREDUCED,
-            |s| *s,
-            |s| *s,
+            |s| s.clone(),
+            |s| s.clone(),
         )
     }
 
     /// The discrete generalized energy `(E_d)_k = L_d(q_k, q_{k+1})` of every step.
-    pub fn discrete_energies(&self, trajectory: &LieTrajectory<P, N>) -> Vec<f64> {
+    pub fn discrete_energies(&self, trajectory: &LieTrajectoryOf<P, N>) -> Vec<f64> {
         energies(
             self.system(),
-            trajectory.states.iter().map(|s| s.q),
+            trajectory.states.iter().map(|s| &s.q),
             &trajectory.times,
         )
     }
 
     /// The discrete action `Σ_k L_d(q_k, q_{k+1})` of `trajectory`.
-    pub fn discrete_action(&self, trajectory: &LieTrajectory<P, N>) -> f64 {
+    pub fn discrete_action(&self, trajectory: &LieTrajectoryOf<P, N>) -> f64 {
         self.discrete_energies(trajectory).iter().sum()
     }
 }
 
-impl<L, const P: usize, const N: usize> ReducedLieIntegrator<L, P, N>
+impl<L, P: Dim, N: Dim> ReducedLieIntegratorOf<L, P, N>
 where
-    L: LieSymmetric<P, N>,
+    L: SymmetricLieModel<P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+    OVector<f64, P>: Send + Sync,
+    OVector<f64, N>: Send + Sync,
 {
     /// The relative Dirac residual of every step of `trajectory` for the reduced equations
     /// (the momentum each step read: `Π_k` for every rotation, the shape part of `p_k` with the
     /// group part `μ` for the rotations about an axis).
-    pub fn dirac_residuals(&self, trajectory: &ReducedLieTrajectory<P, N>) -> Vec<f64> {
-        let read = |s: &ReducedLieState<P, N>| {
+    pub fn dirac_residuals(&self, trajectory: &ReducedLieTrajectoryOf<P, N>) -> Vec<f64> {
+        let read = |s: &ReducedLieStateOf<P, N>| {
             let mut from = s.unreduced();
             if let RotationSymmetry::Axis { axis, coordinates } = self.system().symmetry() {
                 set_group_part(self.system(), &mut from, axis, coordinates, s.mu[axis]);
@@ -121,22 +140,22 @@ where
             (&trajectory.states, &trajectory.times),
             &Self::EQUATIONS,
             read,
-            ReducedLieState::unreduced,
+            ReducedLieStateOf::unreduced,
         )
     }
 
     /// The discrete generalized energy `(E_d)_k = L_d(q_k, q_{k+1})` of every step (the reduced
     /// Lagrangian's value: `L_d` is invariant).
-    pub fn discrete_energies(&self, trajectory: &ReducedLieTrajectory<P, N>) -> Vec<f64> {
+    pub fn discrete_energies(&self, trajectory: &ReducedLieTrajectoryOf<P, N>) -> Vec<f64> {
         energies(
             self.system(),
-            trajectory.states.iter().map(|s| s.q),
+            trajectory.states.iter().map(|s| &s.q),
             &trajectory.times,
         )
     }
 
     /// The discrete action `Σ_k L_d(q_k, q_{k+1})` of `trajectory`.
-    pub fn discrete_action(&self, trajectory: &ReducedLieTrajectory<P, N>) -> f64 {
+    pub fn discrete_action(&self, trajectory: &ReducedLieTrajectoryOf<P, N>) -> f64 {
         self.discrete_energies(trajectory).iter().sum()
     }
 }

@@ -2,53 +2,104 @@
 //! [module documentation](crate::lie), its checks, sensitivities and the Noether-exact momentum
 //! update.
 
-use nalgebra::{SVector, Vector3};
+use std::cell::RefCell;
+use std::marker::PhantomData;
 
-use super::{blocks, LieLagrangian, LieState, LieTrajectory, SpatialMomentum};
+use nalgebra::allocator::Allocator;
+use nalgebra::{Const, DefaultAllocator, Dim, OVector, Vector3};
+
+use super::model::LieHistory;
+use super::{blocks, zeros, LieModel, LieStateOf, LieTrajectoryOf, SpatialMomentum};
 use crate::error::StepError;
 use crate::linalg::LinearSolver;
-use crate::newton::{self, inf_norm, NewtonOptions};
-use crate::stepper::{
-    check_inputs, predicted_increment, step_error, system_at, History, StepStats, Stepper,
-};
+use crate::newton::{self, slice_inf_norm, NewtonOptions};
+use crate::stepper::{check_inputs, step_error, system_at, StepStats, Stepper};
 use crate::system::Variant;
 
-/// The workspace of a run: the linear solver and the chart coordinates of the last two steps,
-/// which Newton's guess extrapolates.
-#[derive(Clone, Debug)]
-pub struct LieWorkspace<B, const N: usize> {
+/// The workspace of a run, built once per run: the linear solver, the chart coordinates of the
+/// last two steps (which Newton's guess extrapolates), and the buffers a step writes its
+/// unknown, residual, chart coordinate and Jacobian into, so that a step on vectors sized at run
+/// time allocates nothing.
+pub struct LieWorkspaceOf<B: LinearSolver, N: Dim>
+where
+    DefaultAllocator: Allocator<N>,
+{
     #[doc(hidden)]
     pub solver: B,
     #[doc(hidden)]
-    pub history: History<SVector<f64, N>>,
+    pub history: LieHistory<N>,
+    /// Newton's unknown (`z`, or `w` for the (−) equations).
+    unknown: OVector<f64, N>,
+    /// The residual.
+    residual: OVector<f64, N>,
+    /// The chart coordinate `z` of the unknown.
+    chart: OVector<f64, N>,
+    /// The Jacobian's memory.
+    jacobian: Option<B::Matrix>,
 }
 
-/// The Lie group variational integrator of a [`LieLagrangian`] (see the
-/// [module documentation](crate::lie)).
+/// The workspace of a run at a fixed chart size `N` (see [`LieWorkspaceOf`]).
+pub type LieWorkspace<B, const N: usize> = LieWorkspaceOf<B, Const<N>>;
+
+impl<B: LinearSolver + std::fmt::Debug, N: Dim> std::fmt::Debug for LieWorkspaceOf<B, N>
+where
+    DefaultAllocator: Allocator<N>,
+{
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LieWorkspace")
+            .field("solver", &self.solver)
+            .field("history", &self.history)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<B: LinearSolver, N: Dim> LieWorkspaceOf<B, N>
+where
+    DefaultAllocator: Allocator<N>,
+{
+    /// The workspace of a run with chart size `n` on `solver`.
+    pub(super) fn new(solver: B, n: N) -> Self {
+        Self {
+            solver,
+            history: LieHistory::new(n),
+            unknown: zeros(n),
+            residual: zeros(n),
+            chart: zeros(n),
+            jacobian: None,
+        }
+    }
+}
+
+/// The Lie group variational integrator of a [`LieModel`] (see the
+/// [module documentation](crate::lie)), at sizes `P` (a stored point) and `N` (the chart), fixed
+/// or chosen at run time; [`LieIntegrator<L, P, N>`](LieIntegrator) names it at fixed sizes.
 #[derive(Clone, Debug)]
-pub struct LieIntegrator<L, const P: usize, const N: usize> {
+pub struct LieIntegratorOf<L, P: Dim, N: Dim> {
     system: L,
     options: NewtonOptions,
     variant: Variant,
+    sizes: PhantomData<fn() -> (P, N)>,
 }
 
-impl<L, const P: usize, const N: usize> LieIntegrator<L, P, N>
+/// The Lie group variational integrator of a [`LieLagrangian`](super::LieLagrangian) at fixed
+/// sizes (see [`LieIntegratorOf`]).
+pub type LieIntegrator<L, const P: usize, const N: usize> = LieIntegratorOf<L, Const<P>, Const<N>>;
+
+impl<L, P: Dim, N: Dim> LieIntegratorOf<L, P, N>
 where
-    L: LieLagrangian<P, N>,
+    L: LieModel<P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+    OVector<f64, P>: Send + Sync,
+    OVector<f64, N>: Send + Sync,
 {
     /// The integrator of `system` with Newton's `options`: the (+) equations, solved for the
     /// chart coordinate `z` of the next point about the current one.
     pub fn new(system: L, options: NewtonOptions) -> Self {
-        const {
-            assert!(
-                P >= N,
-                "a stored point has at least as many entries as the chart"
-            )
-        };
         Self {
             system,
             options,
             variant: Variant::Plus,
+            sizes: PhantomData,
         }
     }
 
@@ -73,21 +124,21 @@ where
     /// direction and pose coordinates: the momentum map of rotating all of them together,
     /// conserved when `L_d` is invariant under that rotation (see the
     /// [module documentation](crate::lie)).
-    pub fn spatial_momentum(&self, state: &LieState<P, N>) -> Vector3<f64> {
+    pub fn spatial_momentum(&self, state: &LieStateOf<P, N>) -> Vector3<f64> {
         self.rigid_momentum(state).angular
     }
 
     /// The linear momentum `ℓ = Σ p` of the pose coordinates: the momentum map of translating
     /// all of them together (`x ↦ x + a`), conserved when `L_d` is invariant under that
     /// translation; zero without poses.
-    pub fn linear_momentum(&self, state: &LieState<P, N>) -> Vector3<f64> {
+    pub fn linear_momentum(&self, state: &LieStateOf<P, N>) -> Vector3<f64> {
         self.rigid_momentum(state).linear
     }
 
     /// Both parts of the momentum map of the rigid motions of space
     /// ([`Self::spatial_momentum`], [`Self::linear_momentum`]), each coordinate's
     /// [`Group::spatial_momentum`](super::Group::spatial_momentum) summed.
-    pub fn rigid_momentum(&self, state: &LieState<P, N>) -> SpatialMomentum {
+    pub fn rigid_momentum(&self, state: &LieStateOf<P, N>) -> SpatialMomentum {
         let (q, p) = (state.q.as_slice(), state.p.as_slice());
         let mut sum = SpatialMomentum::default();
         for b in blocks(&self.system) {
@@ -98,17 +149,17 @@ where
     }
 
     /// The chart coordinates `z` of `point` in the chart centred at `base`, the inverse of
-    /// [`LieLagrangian::retract`] (`φ_base(z) = point`), block by block
+    /// [`LieModel::retract_into`] (`φ_base(z) = point`), block by block
     /// ([`Group::chart_inverse`](super::Group::chart_inverse)): `x − x_base` for a scalar,
     /// `cay⁻¹(R_baseᵀ R) = 2 vee(F − Fᵀ)/(1 + tr F)` for a rotation (any rotation by less than
     /// π), `(n·e1, n·e2)/(n·n_base)` in the frame of `base` for a direction (any `n` in the
     /// open hemisphere about `n_base`), both for a pose.
     pub fn chart_coordinates(
         &self,
-        base: &SVector<f64, P>,
-        point: &SVector<f64, P>,
-    ) -> SVector<f64, N> {
-        let mut z = SVector::<f64, N>::zeros();
+        base: &OVector<f64, P>,
+        point: &OVector<f64, P>,
+    ) -> OVector<f64, N> {
+        let mut z = zeros(self.system.dims().1);
         for block in blocks(&self.system) {
             block.kind.group().chart_inverse(
                 block.of_point(base.as_slice()),
@@ -123,7 +174,7 @@ where
     /// system's own), in the charts at the two points: the state near `(q, p)` is
     /// `(φ_q(δ), p)` — `δ` the chart coordinate, `p` the momentum in the chart at the perturbed
     /// point — so [`Sensitivity::state`](crate::Sensitivity::state) is `∂(w, p_{k+1})/∂(δ, p_k)` (each `N × N` block in the
-    /// order of [`LieLagrangian::coordinate`]) and [`Sensitivity::control`](crate::Sensitivity::control) is
+    /// order of [`LieModel::coordinate`]) and [`Sensitivity::control`](crate::Sensitivity::control) is
     /// `∂(w, p_{k+1})/∂u`, where `q'_{k+1} = φ_{q_{k+1}}(w)`. By the implicit-function theorem
     /// on the step residual in these charts ([`LiePartials`](super::LiePartials)): `dw = −R̃_w⁻¹ (R̃_δ dδ + dp + R̃_u
     /// du)`, `dp_{k+1} = O_w dw + O_δ dδ + O_u du`.
@@ -133,8 +184,8 @@ where
     pub fn sensitivity(
         &self,
         k: usize,
-        state: &LieState<P, N>,
-        next: &LieState<P, N>,
+        state: &LieStateOf<P, N>,
+        next: &LieStateOf<P, N>,
         u: &[f64],
     ) -> Result<crate::Sensitivity, StepError> {
         let owned = system_at(&self.system, k, self.system.time_step(), u)?;
@@ -147,29 +198,32 @@ where
                        systems on rotation groups of at most 16 dimensions",
             })?;
         let m = self.system.control_count();
-        let cols = 2 * N + m;
-        let mut rhs = nalgebra::DMatrix::<f64>::zeros(N, cols);
-        rhs.view_mut((0, 0), (N, N)).copy_from(&parts.r_y);
-        for i in 0..N {
-            rhs[(i, N + i)] = 1.0;
+        let n = self.system.dims().1.value();
+        let cols = 2 * n + m;
+        let mut rhs = nalgebra::DMatrix::<f64>::zeros(n, cols);
+        rhs.view_mut((0, 0), (n, n)).copy_from(&parts.r_y);
+        for i in 0..n {
+            rhs[(i, n + i)] = 1.0;
         }
-        rhs.view_mut((0, 2 * N), (N, m)).copy_from(&parts.r_u);
-        let residual = crate::newton::inf_norm(&sys.residual(&state.q, &state.p, &z));
+        rhs.view_mut((0, 2 * n), (n, m)).copy_from(&parts.r_u);
+        let mut r = zeros(self.system.dims().1);
+        sys.residual_into(&state.q, &state.p, &z, &mut r);
+        let residual = slice_inf_norm(r.as_slice());
         let lu = parts.r_w.clone().lu();
         let dw = -lu
             .solve(&rhs)
             .ok_or(StepError::SingularJacobian { step: k, residual })?;
         let mut dp = &parts.o_w * &dw;
-        let mut view = dp.view_mut((0, 0), (N, N));
+        let mut view = dp.view_mut((0, 0), (n, n));
         view += &parts.o_y;
-        let mut view = dp.view_mut((0, 2 * N), (N, m));
+        let mut view = dp.view_mut((0, 2 * n), (n, m));
         view += &parts.o_u;
-        let mut full = nalgebra::DMatrix::<f64>::zeros(2 * N, cols);
-        full.view_mut((0, 0), (N, cols)).copy_from(&dw);
-        full.view_mut((N, 0), (N, cols)).copy_from(&dp);
+        let mut full = nalgebra::DMatrix::<f64>::zeros(2 * n, cols);
+        full.view_mut((0, 0), (n, cols)).copy_from(&dw);
+        full.view_mut((n, 0), (n, cols)).copy_from(&dp);
         Ok(crate::Sensitivity {
-            state: full.view((0, 0), (2 * N, 2 * N)).into_owned(),
-            control: full.view((0, 2 * N), (2 * N, m)).into_owned(),
+            state: full.view((0, 0), (2 * n, 2 * n)).into_owned(),
+            control: full.view((0, 2 * n), (2 * n, m)).into_owned(),
         })
     }
 
@@ -178,9 +232,9 @@ where
     pub fn step_sensitivity(
         &self,
         k: usize,
-        state: &LieState<P, N>,
+        state: &LieStateOf<P, N>,
         u: &[f64],
-    ) -> Result<(LieState<P, N>, StepStats, crate::Sensitivity), StepError> {
+    ) -> Result<(LieStateOf<P, N>, StepStats, crate::Sensitivity), StepError> {
         let (next, stats) = self.step_with(&mut self.workspace(), k, self.time_step(), state, u)?;
         let sensitivity = self.sensitivity(k, state, &next, u)?;
         Ok((next, stats, sensitivity))
@@ -189,7 +243,7 @@ where
     /// The largest departure from the manifold over the coordinates of `q`
     /// ([`Group::manifold_defect`](super::Group::manifold_defect)): `‖RᵀR − I‖∞` of each
     /// rotation, frame and pose's rotation (for a direction this bounds `||n| − 1|`).
-    pub fn manifold_defect(&self, q: &SVector<f64, P>) -> f64 {
+    pub fn manifold_defect(&self, q: &OVector<f64, P>) -> f64 {
         blocks(&self.system)
             .map(|b| b.kind.group().manifold_defect(b.of_point(q.as_slice())))
             .fold(0.0, f64::max)
@@ -198,13 +252,16 @@ where
     /// The largest relative defect `|L_d(q0, q1; −h) + L_d(q1, q0; h)|` over sample pairs
     /// `(q, φ_q(δ d_j))` and the reversed pairs, for three fixed directions `d_j` and
     /// `δ = 0.05`: zero for a symmetric discrete Lagrangian, up to round-off.
-    pub fn symmetry_defect(&self, q: &SVector<f64, P>) -> f64 {
+    pub fn symmetry_defect(&self, q: &OVector<f64, P>) -> f64 {
         let backward = self.system.with_time_step(-self.system.time_step());
         let mut worst: f64 = 0.0;
+        let (p_dim, n_dim) = self.system.dims();
         for j in 0..3 {
-            let d =
-                SVector::<f64, N>::from_fn(|i, _| 0.05 * crate::compose::sample_direction(j, i));
-            let near = self.system.retract(q, &d);
+            let d = OVector::<f64, N>::from_fn_generic(n_dim, nalgebra::U1, |i, _| {
+                0.05 * crate::compose::sample_direction(j, i)
+            });
+            let mut near = zeros(p_dim);
+            self.system.retract_into(q, &d, &mut near);
             for (q0, q1) in [(q, &near), (&near, q)] {
                 let minus = backward.lagrangian(q0, q1);
                 let plus = self.system.lagrangian(q1, q0);
@@ -215,63 +272,83 @@ where
     }
 
     /// The step of size `h` from `state` with the `equations` (the unreduced step's or a
-    /// reduced one's): Newton on the residual for the chart coordinate `z` of the next point —
-    /// for the (−) equations on `w = −z`, the coordinate of the current point in the chart about
-    /// the next, with the residual `−R(−w)` (whose Jacobian in `w` is `R`'s in `z`) — then the
-    /// retraction, the momentum update and its compensation ([`compensate`]). Newton starts from
-    /// the unknown of the workspace's last steps, extrapolated; on a run's first step from no
-    /// motion, or for adaptive steps from [`super::adaptive::first_increment`]. After an adaptive
-    /// step the monitor and the sign of the physical time step are checked. The unknown solved
-    /// for (`z`, or `w`) joins the workspace's history.
+    /// reduced one's), into `next`: Newton on the residual for the chart coordinate `z` of the
+    /// next point — for the (−) equations on `w = −z`, the coordinate of the current point in the
+    /// chart about the next, with the residual `−R(−w)` (whose Jacobian in `w` is `R`'s in `z`)
+    /// — then the retraction, the momentum update and its compensation ([`compensate`]). Newton
+    /// starts from the unknown of the workspace's last steps, extrapolated; on a run's first step
+    /// from no motion, or for adaptive steps from [`super::adaptive::first_increment`]. After an
+    /// adaptive step the monitor and the sign of the physical time step are checked. The unknown
+    /// solved for (`z`, or `w`) joins the workspace's history. Every vector is the workspace's or
+    /// `next`'s: a step allocates nothing.
     #[inline]
-    pub(super) fn chart_step(
+    pub(super) fn chart_step_into(
         &self,
-        workspace: &mut LieWorkspace<L::Linear, N>,
+        workspace: &mut LieWorkspaceOf<L::Linear, N>,
         k: usize,
         h: f64,
-        state: &LieState<P, N>,
+        state: &LieStateOf<P, N>,
         u: &[f64],
         equations: &StepEquations<L, P, N>,
-    ) -> Result<(LieState<P, N>, StepStats), StepError> {
-        let guess = predicted_increment(&workspace.history, h);
+        next: &mut LieStateOf<P, N>,
+    ) -> Result<StepStats, StepError> {
+        let LieWorkspaceOf {
+            solver,
+            history,
+            unknown,
+            residual,
+            chart,
+            jacobian,
+        } = workspace;
+        let guessed = history.predict_into(h, unknown);
         let owned = system_at(&self.system, k, h, u)?;
         let sys = owned.as_ref().unwrap_or(&self.system);
         let (q, p) = (&state.q, &state.p);
-        let rho = inf_norm(p);
+        let rho = slice_inf_norm(p.as_slice());
         // z = s u and R̃(u) = s R(s u) with s = ±1: dR̃/du = R'(z), and the (+) residual is s R̃.
         let s = match self.variant {
             Variant::Plus => 1.0,
             Variant::Minus => -1.0,
         };
-        let guess = guess.unwrap_or_else(|| match sys.time_index() {
-            Some(_) => super::adaptive::first_increment(sys, q, p, h, equations) * s,
-            None => SVector::zeros(),
-        });
-        let (mut unknown, mut r, mut jacobian) = (guess, SVector::<f64, N>::zeros(), None);
+        if !guessed {
+            match sys.time_index() {
+                Some(_) => {
+                    super::adaptive::first_increment(sys, q, p, h, equations, unknown);
+                    *unknown *= s;
+                }
+                None => unknown.fill(0.0),
+            }
+        }
+        let chart = RefCell::new(chart);
+        let at = |u: &OVector<f64, N>| {
+            let mut z = chart.borrow_mut();
+            z.copy_from(u);
+            **z *= s;
+            z
+        };
         let solution = newton::solve_in(
-            &mut workspace.solver,
-            &mut unknown,
-            &mut r,
-            &mut jacobian,
+            solver,
+            unknown,
+            residual,
+            jacobian,
             rho,
             &self.options,
-            |u, r| *r = (equations.residual)(sys, q, p, &(u * s)) * s,
+            |u, r| {
+                (equations.residual)(sys, q, p, &at(u), r);
+                *r *= s;
+            },
             |u, r, j| {
-                let (r_z, j_z) = (equations.residual_jacobian)(sys, q, p, &(u * s));
-                *r = r_z * s;
-                *j = Some(j_z);
+                (equations.residual_jacobian)(sys, q, p, &at(u), r, j);
+                *r *= s;
             },
         )
         .map_err(|failure| step_error(k, failure))?;
-        let (z, r) = (unknown * s, r * s);
-        let q_next = sys.retract(q, &z);
-        let mut p_next = (equations.momentum)(sys, q, p, &z);
-        compensate(sys, q, &q_next, &r, &mut p_next);
-        let next = LieState {
-            q: q_next,
-            p: p_next,
-        };
-        if !next.is_finite() {
+        let z = at(unknown);
+        *residual *= s;
+        sys.retract_into(q, &z, &mut next.q);
+        (equations.momentum)(sys, q, p, &z, &mut next.p);
+        compensate(sys, q, &next.q, residual, &mut next.p);
+        if !next.all_finite() {
             return Err(StepError::NonFinite {
                 step: k,
                 what: "the updated state",
@@ -279,37 +356,39 @@ where
             });
         }
         if let Some(time) = sys.time_index() {
-            super::adaptive::check_step::<L, P, N>(sys, k, h, time, q, &next.q)?;
+            super::adaptive::check_step(sys, k, h, time, q, &next.q)?;
         }
-        workspace.history.push(unknown, h);
-        Ok((
-            next,
-            StepStats::from_solution(&solution, self.options.residual_tolerance(rho)),
+        history.push(unknown, h);
+        Ok(StepStats::from_solution(
+            &solution,
+            self.options.residual_tolerance(rho),
         ))
     }
 }
 
 /// A function of the step on the charts at the chart coordinate `z`, given the system, the
-/// stored point `q` and the momentum `p`: its residual, or the momentum update.
-type ChartFn<L, const P: usize, const N: usize> =
-    fn(&L, &SVector<f64, P>, &SVector<f64, N>, &SVector<f64, N>) -> SVector<f64, N>;
+/// stored point `q` and the momentum `p`, writing its residual or the momentum update.
+type ChartFn<L, P, N> =
+    fn(&L, &OVector<f64, P>, &OVector<f64, N>, &OVector<f64, N>, &mut OVector<f64, N>);
 
 /// The residual and its Jacobian, as [`ChartFn`].
-type ChartJacobianFn<L, const P: usize, const N: usize> = fn(
+type ChartJacobianFn<L, P, N> = fn(
     &L,
-    &SVector<f64, P>,
-    &SVector<f64, N>,
-    &SVector<f64, N>,
-) -> (
-    SVector<f64, N>,
-    <<L as LieLagrangian<P, N>>::Linear as LinearSolver>::Matrix,
+    &OVector<f64, P>,
+    &OVector<f64, N>,
+    &OVector<f64, N>,
+    &mut OVector<f64, N>,
+    &mut Option<<<L as LieModel<P, N>>::Linear as LinearSolver>::Matrix>,
 );
 
 /// The equations a step on the charts solves, as the system's functions: the unreduced ones of
-/// [`LieLagrangian`] ([`Self::UNREDUCED`]) or the reduced ones of [`super::LieSymmetric`]. One
+/// [`LieModel`] ([`Self::UNREDUCED`]) or the reduced ones of [`super::SymmetricLieModel`]. One
 /// step serves both; a step is inlined where it is called with a constant table, so the calls
 /// are direct.
-pub(super) struct StepEquations<L: LieLagrangian<P, N>, const P: usize, const N: usize> {
+pub(super) struct StepEquations<L: LieModel<P, N>, P: Dim, N: Dim>
+where
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+{
     /// The step residual at `z`.
     pub residual: ChartFn<L, P, N>,
     /// The residual and its Jacobian at `z`.
@@ -318,29 +397,35 @@ pub(super) struct StepEquations<L: LieLagrangian<P, N>, const P: usize, const N:
     pub momentum: ChartFn<L, P, N>,
 }
 
-impl<L: LieLagrangian<P, N>, const P: usize, const N: usize> StepEquations<L, P, N> {
+impl<L: LieModel<P, N>, P: Dim, N: Dim> StepEquations<L, P, N>
+where
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+{
     /// The unreduced step's equations.
     pub const UNREDUCED: Self = Self {
-        residual: L::residual,
-        residual_jacobian: L::residual_jacobian,
-        momentum: L::momentum,
+        residual: L::residual_into,
+        residual_jacobian: L::residual_jacobian_into,
+        momentum: L::momentum_into,
     };
 }
 
-impl<L, const P: usize, const N: usize> Stepper for LieIntegrator<L, P, N>
+impl<L, P: Dim, N: Dim> Stepper for LieIntegratorOf<L, P, N>
 where
-    L: LieLagrangian<P, N>,
+    L: LieModel<P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+    OVector<f64, P>: Send + Sync,
+    OVector<f64, N>: Send + Sync,
 {
-    type State = LieState<P, N>;
+    type State = LieStateOf<P, N>;
     type Record = StepStats;
-    type Workspace = LieWorkspace<L::Linear, N>;
-    type Trajectory = LieTrajectory<P, N>;
+    type Workspace = LieWorkspaceOf<L::Linear, N>;
+    type Trajectory = LieTrajectoryOf<P, N>;
 
     fn time_step(&self) -> f64 {
         self.system.time_step()
     }
 
-    fn physical_time(&self, state: &LieState<P, N>) -> Option<f64> {
+    fn physical_time(&self, state: &LieStateOf<P, N>) -> Option<f64> {
         super::adaptive::time_of(&self.system, &state.q)
     }
 
@@ -348,12 +433,13 @@ where
     /// manifold ([`Group::check`](super::Group::check): every rotation and frame orthogonal
     /// with determinant 1 to [`MANIFOLD_TOLERANCE`](super::MANIFOLD_TOLERANCE), every direction
     /// a unit vector).
-    fn check(&self, initial: &LieState<P, N>) -> Result<(), StepError> {
+    fn check(&self, initial: &LieStateOf<P, N>) -> Result<(), StepError> {
         check_inputs(
             self.system.time_step(),
             &self.system.parameter_values(),
-            initial.is_finite(),
+            initial.all_finite(),
         )?;
+        check_sizes(&self.system, initial)?;
         crate::model::refuse_domain(
             &self.system,
             "a declared domain on a system on rotation groups (only a system on vector spaces \
@@ -377,10 +463,7 @@ where
     }
 
     fn workspace(&self) -> Self::Workspace {
-        LieWorkspace {
-            solver: self.system.linear_solver(),
-            history: History::default(),
-        }
+        LieWorkspaceOf::new(self.system.linear_solver(), self.system.dims().1)
     }
 
     /// Newton starts from the chart coordinate of the last steps, extrapolated (on the first
@@ -391,16 +474,37 @@ where
         workspace: &mut Self::Workspace,
         k: usize,
         h: f64,
-        state: &LieState<P, N>,
+        state: &LieStateOf<P, N>,
         u: &[f64],
-    ) -> Result<(LieState<P, N>, StepStats), StepError> {
-        self.chart_step(workspace, k, h, state, u, &StepEquations::UNREDUCED)
+    ) -> Result<(LieStateOf<P, N>, StepStats), StepError> {
+        let mut next = state.clone();
+        let stats = self.step_into(workspace, k, h, state, u, &mut next)?;
+        Ok((next, stats))
+    }
+
+    /// [`Self::step_with`] into `next`, whose memory a run sized at run time reuses.
+    #[inline]
+    fn step_into(
+        &self,
+        workspace: &mut Self::Workspace,
+        k: usize,
+        h: f64,
+        state: &LieStateOf<P, N>,
+        u: &[f64],
+        next: &mut LieStateOf<P, N>,
+    ) -> Result<StepStats, StepError> {
+        check_sizes(&self.system, state)?;
+        match_sizes(state, next);
+        self.chart_step_into(workspace, k, h, state, u, &StepEquations::UNREDUCED, next)
     }
 }
 
-impl<L, const P: usize, const N: usize> crate::compose::SelfAdjoint for LieIntegrator<L, P, N>
+impl<L, P: Dim, N: Dim> crate::compose::SelfAdjoint for LieIntegratorOf<L, P, N>
 where
-    L: LieLagrangian<P, N>,
+    L: LieModel<P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+    OVector<f64, P>: Send + Sync,
+    OVector<f64, N>: Send + Sync,
 {
     fn with_time_step(&self, h: f64) -> Self {
         Self {
@@ -409,8 +513,8 @@ where
         }
     }
 
-    fn symmetry_defect(&self, at: &LieState<P, N>) -> f64 {
-        LieIntegrator::symmetry_defect(self, &at.q)
+    fn symmetry_defect(&self, at: &LieStateOf<P, N>) -> f64 {
+        LieIntegratorOf::symmetry_defect(self, &at.q)
     }
 }
 
@@ -427,13 +531,15 @@ where
 /// momentum map to the size of `r`; a group scalar's momentum is the explicit Noether balance,
 /// exact as it is. The change is of the size of the accepted residual, within the step's own
 /// tolerance.
-fn compensate<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
+fn compensate<L: LieModel<P, N>, P: Dim, N: Dim>(
     sys: &L,
-    q: &SVector<f64, P>,
-    q_next: &SVector<f64, P>,
-    r: &SVector<f64, N>,
-    p_next: &mut SVector<f64, N>,
-) {
+    q: &OVector<f64, P>,
+    q_next: &OVector<f64, P>,
+    r: &OVector<f64, N>,
+    p_next: &mut OVector<f64, N>,
+) where
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+{
     for block in blocks(sys) {
         block.kind.group().carry_residual(
             block.of_point(q.as_slice()),
@@ -441,5 +547,40 @@ fn compensate<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
             block.of_chart(r.as_slice()),
             block.of_chart_mut(p_next.as_mut_slice()),
         );
+    }
+}
+
+/// Refuses a state whose sizes are not the system's: a typed error for a state sized at run
+/// time; never taken at fixed sizes, where the types say it.
+pub(super) fn check_sizes<L: LieModel<P, N>, P: Dim, N: Dim>(
+    sys: &L,
+    state: &LieStateOf<P, N>,
+) -> Result<(), StepError>
+where
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+{
+    let (p, n) = sys.dims();
+    if state.q.len() != p.value() || state.p.len() != n.value() {
+        return Err(StepError::OffManifold {
+            reason: format!(
+                "the state has a point of {} entries and {} momenta; the system's point has {} \
+                 and its chart {}",
+                state.q.len(),
+                state.p.len(),
+                p.value(),
+                n.value()
+            ),
+        });
+    }
+    Ok(())
+}
+
+/// Makes `next` of `state`'s sizes (a copy) where it is not, so that a step can write into it.
+pub(super) fn match_sizes<P: Dim, N: Dim>(state: &LieStateOf<P, N>, next: &mut LieStateOf<P, N>)
+where
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+{
+    if next.q.len() != state.q.len() || next.p.len() != state.p.len() {
+        next.clone_from(state);
     }
 }

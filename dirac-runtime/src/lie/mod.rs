@@ -106,6 +106,7 @@
 mod adaptive;
 pub mod diagnostics;
 mod integrator;
+pub mod model;
 pub mod reduced;
 #[cfg(test)]
 mod tests;
@@ -114,12 +115,15 @@ pub use crate::groups::{
     cayley, direction_frame, frame, hat, orthogonality_defect, rows, vee, CoordinateKind, Group,
     SpatialMomentum, MANIFOLD_TOLERANCE, UNIT_TOLERANCE,
 };
-pub use integrator::{LieIntegrator, LieWorkspace};
+pub use integrator::{LieIntegrator, LieIntegratorOf, LieWorkspace, LieWorkspaceOf};
+pub use model::{LieHistory, LieModel, SymmetricLieModel};
 pub use reduced::{
-    LieSymmetric, ReducedLieIntegrator, ReducedLieState, ReducedLieTrajectory, RotationSymmetry,
+    LieSymmetric, ReducedLieIntegrator, ReducedLieIntegratorOf, ReducedLieState, ReducedLieStateOf,
+    ReducedLieTrajectory, ReducedLieTrajectoryOf, RotationSymmetry,
 };
 
-use nalgebra::{Matrix3, SVector};
+use nalgebra::allocator::Allocator;
+use nalgebra::{Const, DefaultAllocator, Dim, Dyn, Matrix3, OVector, SVector};
 
 use crate::error::{StepError, Steps};
 use crate::linalg::LinearSolver;
@@ -259,18 +263,33 @@ pub struct LiePartials {
     pub o_u: nalgebra::DMatrix<f64>,
 }
 
-/// A state `(q, p)` of a system on rotation groups: the stored point `q` (see
+/// A state `(q, p)` of a system on rotation groups at sizes `P` (a stored point) and `N` (the
+/// chart), fixed ([`Const`]) or chosen at run time ([`Dyn`]): the stored point `q` (see
 /// [`CoordinateKind`]) and the momentum `p` in the chart at `q` (body momenta for rotations,
-/// frame components for directions).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LieState<const P: usize, const N: usize> {
+/// frame components for directions). [`LieState<P, N>`](LieState) names it at fixed sizes,
+/// [`DynLieState`] at sizes chosen at run time.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LieStateOf<P: Dim, N: Dim>
+where
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+{
     /// The stored point.
-    pub q: SVector<f64, P>,
+    pub q: OVector<f64, P>,
     /// The momentum in the chart centred at `q`.
-    pub p: SVector<f64, N>,
+    pub p: OVector<f64, N>,
 }
 
-impl<const P: usize, const N: usize> LieState<P, N> {
+/// A state of a system on rotation groups at fixed sizes: `P` entries of a stored point, `N` of
+/// the chart (see [`LieStateOf`]). On the stack, and `Copy`.
+pub type LieState<const P: usize, const N: usize> = LieStateOf<Const<P>, Const<N>>;
+
+/// A state of a system on rotation groups whose sizes are chosen at run time (see
+/// [`LieStateOf`]).
+pub type DynLieState = LieStateOf<Dyn, Dyn>;
+
+impl<const P: usize, const N: usize> Copy for LieStateOf<Const<P>, Const<N>> {}
+
+impl<const P: usize, const N: usize> LieStateOf<Const<P>, Const<N>> {
     crate::state::qp_state!(
         /// The state from a stored point and a momentum (arrays or nalgebra vectors), the layout in
         /// the name: each rotation's 9 entries **row by row** (`R[(0, 0)], R[(0, 1)], R[(0, 2)],
@@ -284,13 +303,35 @@ impl<const P: usize, const N: usize> LieState<P, N> {
     );
 }
 
-/// A trajectory `(q_k, p_k)`, `k = 0..=step_count()`, of a system on rotation groups.
+impl LieStateOf<Dyn, Dyn> {
+    crate::state::qp_state!(
+        /// The state from a stored point and a momentum (slices, `Vec`s, arrays or `DVector`s),
+        /// laid out as [`LieState::from_row_major`] says.
+        from_row_major(nalgebra::DVector<f64>, nalgebra::DVector<f64>)
+    );
+}
+
+impl<P: Dim, N: Dim> LieStateOf<P, N>
+where
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+{
+    /// Whether every component is finite, at any size.
+    pub(crate) fn all_finite(&self) -> bool {
+        crate::state::all_finite(&[self.q.as_slice(), self.p.as_slice()])
+    }
+}
+
+/// A trajectory `(q_k, p_k)`, `k = 0..=step_count()`, of a system on rotation groups, at any
+/// size ([`LieTrajectory<P, N>`](LieTrajectory) at fixed sizes).
 #[derive(Clone, Debug, PartialEq)]
-pub struct LieTrajectory<const P: usize, const N: usize> {
+pub struct LieTrajectoryOf<P: Dim, N: Dim>
+where
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+{
     /// The integrator's time step `h` (the default step of a run).
     pub h: f64,
     /// `states[k]` is the state at `times[k]`.
-    pub states: Vec<LieState<P, N>>,
+    pub states: Vec<LieStateOf<P, N>>,
     /// `times[k] = t_k`.
     pub times: Vec<f64>,
     /// `step_sizes[k]` is the size step `k` was taken with, bit for bit as the run passed it to
@@ -302,25 +343,37 @@ pub struct LieTrajectory<const P: usize, const N: usize> {
     pub stats: Vec<StepStats>,
 }
 
-impl<const P: usize, const N: usize> LieTrajectory<P, N> {
-    trajectory_accessors!(LieState<P, N>);
+/// A trajectory of a system on rotation groups at fixed sizes (see [`LieTrajectoryOf`]).
+pub type LieTrajectory<const P: usize, const N: usize> = LieTrajectoryOf<Const<P>, Const<N>>;
+
+impl<P: Dim, N: Dim> LieTrajectoryOf<P, N>
+where
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+{
+    trajectory_accessors!(LieStateOf<P, N>);
 }
 
-impl<const P: usize, const N: usize> Steps for LieTrajectory<P, N> {
+impl<P: Dim, N: Dim> Steps for LieTrajectoryOf<P, N>
+where
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+{
     fn completed_steps(&self) -> usize {
         self.step_count()
     }
 }
 
-impl<L, const P: usize, const N: usize> Collect<LieIntegrator<L, P, N>> for LieTrajectory<P, N>
+impl<L, P: Dim, N: Dim> Collect<LieIntegratorOf<L, P, N>> for LieTrajectoryOf<P, N>
 where
-    L: LieLagrangian<P, N>,
+    L: LieModel<P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+    OVector<f64, P>: Send + Sync,
+    OVector<f64, N>: Send + Sync,
 {
     crate::stepper::collect_steps!(
-        start(integrator: LieIntegrator<L, P, N>) {
+        start(integrator: LieIntegratorOf<L, P, N>) {
             h: integrator.system().time_step(),
         },
-        LieState<P, N>,
+        LieStateOf<P, N>,
         StepStats,
         |stats| *stats
     );
@@ -334,11 +387,12 @@ struct Block<'a> {
     chart: usize,
 }
 
-/// The coordinates of `system` ([`LieLagrangian::coordinate`]) with their places in the point
+/// The coordinates of `system` ([`LieModel::coordinate`]) with their places in the point
 /// and the chart; allocates nothing (read inside steps).
-fn blocks<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
-    system: &L,
-) -> impl Iterator<Item = Block<'_>> + '_ {
+fn blocks<L: LieModel<P, N>, P: Dim, N: Dim>(system: &L) -> impl Iterator<Item = Block<'_>> + '_
+where
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+{
     let (mut point, mut chart) = (0, 0);
     (0..).map_while(move |i| {
         let (name, kind) = system.coordinate(i)?;
@@ -372,6 +426,14 @@ impl Block<'_> {
 }
 
 /// The 3 × 3 matrix stored row by row at `q[at..at + 9]`.
-fn matrix_at<const P: usize>(q: &SVector<f64, P>, at: usize) -> Matrix3<f64> {
+fn matrix_at(q: &[f64], at: usize) -> Matrix3<f64> {
     Matrix3::from_fn(|i, j| q[at + 3 * i + j])
+}
+
+/// A zero vector of the size `n`.
+fn zeros<D: Dim>(n: D) -> OVector<f64, D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    OVector::zeros_generic(n, nalgebra::U1)
 }

@@ -81,10 +81,14 @@
 //! coordinates the symmetry moves, the momentum obeys the forced balance and is recomputed from
 //! the state after every step (no orbit correction then).
 
-use nalgebra::{Matrix3, SVector, Vector3};
+use nalgebra::allocator::Allocator;
+use nalgebra::{Const, DefaultAllocator, Dim, Matrix3, OVector, SVector, Vector3};
 
-use super::integrator::StepEquations;
-use super::{blocks, matrix_at, LieIntegrator, LieLagrangian, LieState, LieWorkspace};
+use super::integrator::{check_sizes, StepEquations};
+use super::{
+    blocks, matrix_at, zeros, LieIntegratorOf, LieLagrangian, LieModel, LieStateOf, LieWorkspaceOf,
+    SymmetricLieModel,
+};
 use crate::error::{StepError, Steps};
 use crate::newton::NewtonOptions;
 use crate::reduced::trajectory_accessors;
@@ -177,38 +181,53 @@ pub trait LieSymmetric<const P: usize, const N: usize>: LieLagrangian<P, N> {
 /// momentum `Π` for [`RotationSymmetry::Rotations`]) and the conserved momentum `mu` of the
 /// symmetry: the spatial momentum `π` for every rotation, `μ e` (one nonzero entry, on the
 /// axis) for the rotations about an axis.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ReducedLieState<const P: usize, const N: usize> {
+/// At any size; [`ReducedLieState<P, N>`](ReducedLieState) names it at fixed sizes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReducedLieStateOf<P: Dim, N: Dim>
+where
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+{
     /// The stored point.
-    pub q: SVector<f64, P>,
+    pub q: OVector<f64, P>,
     /// The momentum in the chart centred at `q`.
-    pub p: SVector<f64, N>,
+    pub p: OVector<f64, N>,
     /// The momentum of the symmetry, a parameter of the reduced dynamics.
     pub mu: Vector3<f64>,
 }
 
-impl<const P: usize, const N: usize> ReducedLieState<P, N> {
+/// A state of a reduced system on rotation groups at fixed sizes (see [`ReducedLieStateOf`]).
+pub type ReducedLieState<const P: usize, const N: usize> = ReducedLieStateOf<Const<P>, Const<N>>;
+
+impl<const P: usize, const N: usize> Copy for ReducedLieStateOf<Const<P>, Const<N>> {}
+
+impl<P: Dim, N: Dim> ReducedLieStateOf<P, N>
+where
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+{
     /// The unreduced state `(q, p)`.
-    pub fn unreduced(&self) -> LieState<P, N> {
-        LieState {
-            q: self.q,
-            p: self.p,
+    pub fn unreduced(&self) -> LieStateOf<P, N> {
+        LieStateOf {
+            q: self.q.clone(),
+            p: self.p.clone(),
         }
     }
 
     /// Whether every entry is finite.
     pub fn is_finite(&self) -> bool {
-        self.unreduced().is_finite() && self.mu.iter().all(|v| v.is_finite())
+        crate::state::all_finite(&[self.q.as_slice(), self.p.as_slice(), self.mu.as_slice()])
     }
 }
 
 /// A trajectory of a reduced system on rotation groups.
 #[derive(Clone, Debug, PartialEq)]
-pub struct ReducedLieTrajectory<const P: usize, const N: usize> {
+pub struct ReducedLieTrajectoryOf<P: Dim, N: Dim>
+where
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+{
     /// The integrator's time step `h` (the default step of a run).
     pub h: f64,
     /// `states[k]` is the state at `times[k]`.
-    pub states: Vec<ReducedLieState<P, N>>,
+    pub states: Vec<ReducedLieStateOf<P, N>>,
     /// `times[k] = t_k`.
     pub times: Vec<f64>,
     /// `step_sizes[k]` is the size step `k` was taken with, bit for bit as the run passed it to
@@ -220,26 +239,39 @@ pub struct ReducedLieTrajectory<const P: usize, const N: usize> {
     pub stats: Vec<StepStats>,
 }
 
-impl<const P: usize, const N: usize> ReducedLieTrajectory<P, N> {
-    trajectory_accessors!(ReducedLieState<P, N>);
+/// A trajectory of a reduced system on rotation groups at fixed sizes (see
+/// [`ReducedLieTrajectoryOf`]).
+pub type ReducedLieTrajectory<const P: usize, const N: usize> =
+    ReducedLieTrajectoryOf<Const<P>, Const<N>>;
+
+impl<P: Dim, N: Dim> ReducedLieTrajectoryOf<P, N>
+where
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+{
+    trajectory_accessors!(ReducedLieStateOf<P, N>);
 }
 
-impl<const P: usize, const N: usize> Steps for ReducedLieTrajectory<P, N> {
+impl<P: Dim, N: Dim> Steps for ReducedLieTrajectoryOf<P, N>
+where
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+{
     fn completed_steps(&self) -> usize {
         self.step_count()
     }
 }
 
-impl<L, const P: usize, const N: usize> Collect<ReducedLieIntegrator<L, P, N>>
-    for ReducedLieTrajectory<P, N>
+impl<L, P: Dim, N: Dim> Collect<ReducedLieIntegratorOf<L, P, N>> for ReducedLieTrajectoryOf<P, N>
 where
-    L: LieSymmetric<P, N>,
+    L: SymmetricLieModel<P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+    OVector<f64, P>: Send + Sync,
+    OVector<f64, N>: Send + Sync,
 {
     crate::stepper::collect_steps!(
-        start(integrator: ReducedLieIntegrator<L, P, N>) {
+        start(integrator: ReducedLieIntegratorOf<L, P, N>) {
             h: integrator.system().time_step(),
         },
-        ReducedLieState<P, N>,
+        ReducedLieStateOf<P, N>,
         StepStats,
         |stats| *stats
     );
@@ -247,23 +279,32 @@ where
 
 /// The reduced integrator of a [`LieSymmetric`] system (see the [module documentation](self)):
 /// the same run API, compositions and checks as [`LieIntegrator`], on [`ReducedLieState`]s.
+/// At any size; [`ReducedLieIntegrator<L, P, N>`](ReducedLieIntegrator) names it at fixed sizes.
 #[derive(Clone, Debug)]
-pub struct ReducedLieIntegrator<L, const P: usize, const N: usize> {
-    unreduced: LieIntegrator<L, P, N>,
+pub struct ReducedLieIntegratorOf<L, P: Dim, N: Dim> {
+    unreduced: LieIntegratorOf<L, P, N>,
 }
+
+/// The reduced integrator of a [`LieSymmetric`] system at fixed sizes (see
+/// [`ReducedLieIntegratorOf`]).
+pub type ReducedLieIntegrator<L, const P: usize, const N: usize> =
+    ReducedLieIntegratorOf<L, Const<P>, Const<N>>;
 
 /// Largest accepted relative mismatch between a reduced state's `mu` and the momentum map of its
 /// `(q, p)`.
 const MOMENTUM_TOLERANCE: f64 = 1e-9;
 
-impl<L, const P: usize, const N: usize> ReducedLieIntegrator<L, P, N>
+impl<L, P: Dim, N: Dim> ReducedLieIntegratorOf<L, P, N>
 where
-    L: LieSymmetric<P, N>,
+    L: SymmetricLieModel<P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+    OVector<f64, P>: Send + Sync,
+    OVector<f64, N>: Send + Sync,
 {
     /// The reduced integrator of `system` with Newton's `options`.
     pub fn new(system: L, options: NewtonOptions) -> Self {
         Self {
-            unreduced: LieIntegrator::new(system, options),
+            unreduced: LieIntegratorOf::new(system, options),
         }
     }
 
@@ -273,7 +314,7 @@ where
     /// steps as [`Self::new`]'s (see [`LieIntegrator::minus`]).
     pub fn minus(system: L, options: NewtonOptions) -> Self {
         Self {
-            unreduced: LieIntegrator::minus(system, options),
+            unreduced: LieIntegratorOf::minus(system, options),
         }
     }
 
@@ -291,7 +332,7 @@ where
     /// round-off, and its diagnostics ([`LieIntegrator::manifold_defect`],
     /// [`LieIntegrator::chart_coordinates`], ..) apply to reduced states through
     /// [`ReducedLieState::unreduced`].
-    pub fn unreduced(&self) -> &LieIntegrator<L, P, N> {
+    pub fn unreduced(&self) -> &LieIntegratorOf<L, P, N> {
         &self.unreduced
     }
 
@@ -299,17 +340,18 @@ where
     /// [`RotationSymmetry::Rotations`], `(e · π) e` for the rotations about the axis `e`. A
     /// `Result` as on every integrator: [`StepError::NonFinite`] for a state that is not
     /// finite.
-    pub fn momentum_map(&self, state: &LieState<P, N>) -> Result<Vector3<f64>, StepError> {
+    pub fn momentum_map(&self, state: &LieStateOf<P, N>) -> Result<Vector3<f64>, StepError> {
         crate::stepper::finite_momentum_map(self.spatial_momentum_map(state))
     }
 
     /// [`Self::momentum_map`]'s value, unchecked (what the reduction reads).
-    fn spatial_momentum_map(&self, state: &LieState<P, N>) -> Vector3<f64> {
+    fn spatial_momentum_map(&self, state: &LieStateOf<P, N>) -> Vector3<f64> {
         let system = self.system();
         match system.symmetry() {
             RotationSymmetry::Rotations { coordinate } => {
                 let (r, c) = rotation_block(system, coordinate);
-                matrix_at(&state.q, r) * Vector3::new(state.p[c], state.p[c + 1], state.p[c + 2])
+                matrix_at(state.q.as_slice(), r)
+                    * Vector3::new(state.p[c], state.p[c + 1], state.p[c + 2])
             }
             RotationSymmetry::Axis { axis, coordinates } => {
                 let zeta = generator(system, &state.q, axis, coordinates);
@@ -321,58 +363,66 @@ where
     }
 
     /// The reduced state of `state`: its momentum map as `mu`.
-    pub fn reduce(&self, state: &LieState<P, N>) -> ReducedLieState<P, N> {
-        ReducedLieState {
-            q: state.q,
-            p: state.p,
+    pub fn reduce(&self, state: &LieStateOf<P, N>) -> ReducedLieStateOf<P, N> {
+        ReducedLieStateOf {
+            q: state.q.clone(),
+            p: state.p.clone(),
             mu: self.spatial_momentum_map(state),
         }
     }
 
     /// The reduced step's equations.
     pub(super) const EQUATIONS: StepEquations<L, P, N> = StepEquations {
-        residual: L::reduced_residual,
-        residual_jacobian: L::reduced_residual_jacobian,
-        momentum: L::reduced_momentum,
+        residual: L::reduced_residual_into,
+        residual_jacobian: L::reduced_residual_jacobian_into,
+        momentum: L::reduced_momentum_into,
     };
 
-    /// The step of size `h` from `state`.
-    fn solve_step(
+    /// The step of size `h` from `state`, into `next`.
+    fn solve_step_into(
         &self,
-        workspace: &mut LieWorkspace<L::Linear, N>,
+        workspace: &mut LieWorkspaceOf<L::Linear, N>,
         k: usize,
         h: f64,
-        state: &ReducedLieState<P, N>,
+        state: &ReducedLieStateOf<P, N>,
         u: &[f64],
-    ) -> Result<(ReducedLieState<P, N>, StepStats), StepError> {
+        next: &mut ReducedLieStateOf<P, N>,
+    ) -> Result<StepStats, StepError> {
         let system = self.system();
         let (symmetry, forced) = (system.symmetry(), system.symmetry_forced());
         let mut start = state.unreduced();
         if let RotationSymmetry::Axis { axis, coordinates } = symmetry {
             set_group_part(system, &mut start, axis, coordinates, state.mu[axis]);
         }
-        let (mut next, stats) =
-            self.unreduced
-                .chart_step(workspace, k, h, &start, u, &Self::EQUATIONS)?;
+        // (Sized at run time, the reduced step's corrections work on copies of the state: two
+        // vectors per step, which the unreduced step does not allocate.)
+        let mut landed = start.clone();
+        let stats = self.unreduced.chart_step_into(
+            workspace,
+            k,
+            h,
+            &start,
+            u,
+            &Self::EQUATIONS,
+            &mut landed,
+        )?;
         let mu = if forced {
-            self.spatial_momentum_map(&next)
+            self.spatial_momentum_map(&landed)
         } else {
             state.mu
         };
         match symmetry {
             RotationSymmetry::Rotations { coordinate } if !forced => {
-                onto_level(system, &mut next, coordinate, &mu);
+                onto_level(system, &mut landed, coordinate, &mu);
             }
             RotationSymmetry::Rotations { .. } => {}
             RotationSymmetry::Axis { axis, coordinates } => {
-                set_group_part(system, &mut next, axis, coordinates, mu[axis]);
+                set_group_part(system, &mut landed, axis, coordinates, mu[axis]);
             }
         }
-        let next = ReducedLieState {
-            q: next.q,
-            p: next.p,
-            mu,
-        };
+        next.q.clone_from(&landed.q);
+        next.p.clone_from(&landed.p);
+        next.mu = mu;
         // The step checked its own state; what the corrections computed from it is checked here.
         if !next.mu.iter().chain(next.p.iter()).all(|v| v.is_finite()) {
             return Err(StepError::NonFinite {
@@ -381,15 +431,15 @@ where
                 residual: stats.residual,
             });
         }
-        Ok((next, stats))
+        Ok(stats)
     }
 }
 
 /// The point and chart offsets of coordinate `index` of `sys`.
-fn rotation_block<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
-    sys: &L,
-    index: usize,
-) -> (usize, usize) {
+fn rotation_block<L: LieModel<P, N>, P: Dim, N: Dim>(sys: &L, index: usize) -> (usize, usize)
+where
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+{
     let block = blocks(sys)
         .nth(index)
         .expect("the symmetry names a declared coordinate");
@@ -401,14 +451,17 @@ fn rotation_block<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
 /// ([`Group::rotation_generator`](super::Group::rotation_generator)): a rotation's body
 /// components `Rᵀ e`, a direction's frame components `((e × n)·e_1, (e × n)·e_2)`, a pose's
 /// `(Rᵀ e, e × x)`.
-fn generator<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
+fn generator<L: LieModel<P, N>, P: Dim, N: Dim>(
     sys: &L,
-    q: &SVector<f64, P>,
+    q: &OVector<f64, P>,
     axis: usize,
     coordinates: &[usize],
-) -> SVector<f64, N> {
+) -> OVector<f64, N>
+where
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+{
     let e = Vector3::ith(axis, 1.0);
-    let mut zeta = SVector::<f64, N>::zeros();
+    let mut zeta = zeros(sys.dims().1);
     for (index, block) in blocks(sys).enumerate() {
         if !coordinates.contains(&index) {
             continue;
@@ -424,18 +477,23 @@ fn generator<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
 
 /// Sets the group part of `state.p` to `mu`: `p + (μ − ⟨p, ζ⟩) ζ / |ζ|²` (nothing on the axis,
 /// where `ζ = 0`).
-pub(super) fn set_group_part<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
+pub(super) fn set_group_part<L: LieModel<P, N>, P: Dim, N: Dim>(
     sys: &L,
-    state: &mut LieState<P, N>,
+    state: &mut LieStateOf<P, N>,
     axis: usize,
     coordinates: &[usize],
     mu: f64,
-) {
+) where
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+{
     let zeta = generator(sys, &state.q, axis, coordinates);
     let norm2 = zeta.norm_squared();
     if norm2 > 0.0 {
         let missing = mu - zeta.dot(&state.p);
-        state.p += zeta * (missing / norm2);
+        let c = missing / norm2;
+        for (p, z) in state.p.iter_mut().zip(zeta.iter()) {
+            *p += z * c;
+        }
     }
 }
 
@@ -443,12 +501,14 @@ pub(super) fn set_group_part<L: LieLagrangian<P, N>, const P: usize, const N: us
 /// onto the orbit `|Π| = |π|`, then `R` turned by the smallest rotation taking `R Π` to `π` and
 /// made orthogonal to round-off (all three of the size of the step's round-off). Nothing where
 /// `π` or `Π` vanishes.
-fn onto_level<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
+fn onto_level<L: LieModel<P, N>, P: Dim, N: Dim>(
     sys: &L,
-    state: &mut LieState<P, N>,
+    state: &mut LieStateOf<P, N>,
     index: usize,
     pi: &Vector3<f64>,
-) {
+) where
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+{
     let (at, c) = rotation_block(sys, index);
     let body = Vector3::new(state.p[c], state.p[c + 1], state.p[c + 2]);
     let (size, own) = (pi.norm(), body.norm());
@@ -456,7 +516,7 @@ fn onto_level<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
         return;
     }
     let body = body * (size / own);
-    let r = matrix_at(&state.q, at);
+    let r = matrix_at(state.q.as_slice(), at);
     let (from, to) = ((r * body) / size, pi / size);
     // The smallest rotation taking `from` to `to` is `I + v̂ + v̂²/(1 + cos)`, `v = from × to`;
     // `|v|` is of the size of the step's round-off (the check of a run's first state bounds it
@@ -475,26 +535,29 @@ fn onto_level<L: LieLagrangian<P, N>, const P: usize, const N: usize>(
     }
 }
 
-impl<L, const P: usize, const N: usize> Stepper for ReducedLieIntegrator<L, P, N>
+impl<L, P: Dim, N: Dim> Stepper for ReducedLieIntegratorOf<L, P, N>
 where
-    L: LieSymmetric<P, N>,
+    L: SymmetricLieModel<P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+    OVector<f64, P>: Send + Sync,
+    OVector<f64, N>: Send + Sync,
 {
-    type State = ReducedLieState<P, N>;
+    type State = ReducedLieStateOf<P, N>;
     type Record = StepStats;
-    type Workspace = LieWorkspace<L::Linear, N>;
-    type Trajectory = ReducedLieTrajectory<P, N>;
+    type Workspace = LieWorkspaceOf<L::Linear, N>;
+    type Trajectory = ReducedLieTrajectoryOf<P, N>;
 
     fn time_step(&self) -> f64 {
         self.unreduced.time_step()
     }
 
-    fn physical_time(&self, state: &ReducedLieState<P, N>) -> Option<f64> {
+    fn physical_time(&self, state: &ReducedLieStateOf<P, N>) -> Option<f64> {
         super::adaptive::time_of(self.system(), &state.q)
     }
 
     /// The unreduced integrator's checks, and `mu` the momentum map of `(q, p)` (to `1e-9`
     /// relative; build reduced states with [`ReducedLieIntegrator::reduce`]).
-    fn check(&self, initial: &ReducedLieState<P, N>) -> Result<(), StepError> {
+    fn check(&self, initial: &ReducedLieStateOf<P, N>) -> Result<(), StepError> {
         let state = initial.unreduced();
         self.unreduced.check(&state)?;
         let expected = self.spatial_momentum_map(&state);
@@ -530,17 +593,35 @@ where
         workspace: &mut Self::Workspace,
         k: usize,
         h: f64,
-        state: &ReducedLieState<P, N>,
+        state: &ReducedLieStateOf<P, N>,
         u: &[f64],
-    ) -> Result<(ReducedLieState<P, N>, StepStats), StepError> {
-        self.solve_step(workspace, k, h, state, u)
+    ) -> Result<(ReducedLieStateOf<P, N>, StepStats), StepError> {
+        let mut next = state.clone();
+        let stats = self.step_into(workspace, k, h, state, u, &mut next)?;
+        Ok((next, stats))
+    }
+
+    /// [`Self::step_with`] into `next`, whose memory a run sized at run time reuses.
+    fn step_into(
+        &self,
+        workspace: &mut Self::Workspace,
+        k: usize,
+        h: f64,
+        state: &ReducedLieStateOf<P, N>,
+        u: &[f64],
+        next: &mut ReducedLieStateOf<P, N>,
+    ) -> Result<StepStats, StepError> {
+        check_sizes(self.system(), &state.unreduced())?;
+        self.solve_step_into(workspace, k, h, state, u, next)
     }
 }
 
-impl<L, const P: usize, const N: usize> crate::compose::SelfAdjoint
-    for ReducedLieIntegrator<L, P, N>
+impl<L, P: Dim, N: Dim> crate::compose::SelfAdjoint for ReducedLieIntegratorOf<L, P, N>
 where
-    L: LieSymmetric<P, N>,
+    L: SymmetricLieModel<P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+    OVector<f64, P>: Send + Sync,
+    OVector<f64, N>: Send + Sync,
 {
     fn with_time_step(&self, h: f64) -> Self {
         Self {
@@ -548,7 +629,7 @@ where
         }
     }
 
-    fn symmetry_defect(&self, at: &ReducedLieState<P, N>) -> f64 {
+    fn symmetry_defect(&self, at: &ReducedLieStateOf<P, N>) -> f64 {
         self.unreduced.symmetry_defect(&at.q)
     }
 }

@@ -30,12 +30,12 @@ impl Body {
     }
 
     fn lagrangian(&self, q0: &SVector<f64, 9>, q1: &SVector<f64, 9>) -> f64 {
-        let f = matrix_at(q0, 0).transpose() * matrix_at(q1, 0);
+        let f = matrix_at(q0.as_slice(), 0).transpose() * matrix_at(q1.as_slice(), 0);
         ((Matrix3::identity() - f) * self.j_d()).trace() / self.h
     }
 
     fn retract(&self, q: &SVector<f64, 9>, z: &SVector<f64, 3>) -> SVector<f64, 9> {
-        let r = matrix_at(q, 0) * cayley(&Vector3::new(z[0], z[1], z[2]));
+        let r = matrix_at(q.as_slice(), 0) * cayley(&Vector3::new(z[0], z[1], z[2]));
         SVector::from(rows(&r))
     }
 

@@ -69,7 +69,9 @@ use nalgebra::SVector;
 pub use banded::BandedLu;
 pub use dense::Lu;
 pub use iterative::Pcg;
-pub use sparse::{CscBuffer, CscPattern, CscValues, DynSparseLu, PatternLu, SparseLu};
+pub use sparse::{
+    CscBuffer, CscPattern, CscValues, DynPatternLu, DynSparseLu, PatternLu, SparseLu,
+};
 
 /// Systems with at most this many configuration coordinates get the dense fixed-size backend
 /// ([`crate::Lu`], everything on the stack, unrolled); larger ones the sparse backend. The compiler
