@@ -6,6 +6,12 @@
 use dirac::prelude::*;
 use dirac::runtime::compose::Composition;
 use dirac::runtime::constrained::Form;
+use dirac::runtime::lie::{
+    DynLieState, LieIntegratorOf, LieModel, LieStateOf, ReducedLieIntegratorOf, ReducedLieStateOf,
+    SymmetricLieModel,
+};
+use dirac::runtime::nalgebra::allocator::Allocator;
+use dirac::runtime::nalgebra::{DVector, DefaultAllocator, Dim, Dyn, OVector};
 
 /// A state whose components are written as `f64` columns, one per coordinate and momentum.
 ///
@@ -31,9 +37,12 @@ pub trait StateColumns: Clone + std::fmt::Debug + Send + Sync + 'static {
     /// Writes the components into `out` (`out.len() == self.width()`), in the order of the
     /// names.
     fn write_to(&self, out: &mut [f64]);
-    /// The state whose components are `values` (`values.len()` its width), the inverse of
-    /// [`Self::write_to`], bit for bit.
-    fn read_from(values: &[f64]) -> Self;
+    /// The state whose components are `values` (`values.len()` its width), named `columns` (as
+    /// [`Self::column_names`] names them), the inverse of [`Self::write_to`], bit for bit. A
+    /// state of fixed sizes reads the values alone; a state sized at run time whose values do
+    /// not say how they split (a state on rotation groups: its point, then its momentum) reads
+    /// the split from the names.
+    fn read_from(columns: &[String], values: &[f64]) -> Self;
 }
 
 fn prefixed<'a>(prefix: &'a str, names: &'a [&'a str]) -> impl Iterator<Item = String> + 'a {
@@ -74,7 +83,7 @@ impl<const S: usize, const K: usize> StateColumns for ReducedState<S, K> {
         }
     }
 
-    fn read_from(values: &[f64]) -> Self {
+    fn read_from(_: &[String], values: &[f64]) -> Self {
         let mut state = ReducedState::<S, K> {
             x: SVector::zeros(),
             w: SVector::zeros(),
@@ -107,7 +116,7 @@ impl<const N: usize> StateColumns for UnreducedState<N> {
         out[N..2 * N].copy_from_slice(self.p.as_slice());
     }
 
-    fn read_from(values: &[f64]) -> Self {
+    fn read_from(_: &[String], values: &[f64]) -> Self {
         let mut state = UnreducedState::<N> {
             q: SVector::zeros(),
             p: SVector::zeros(),
@@ -151,7 +160,7 @@ impl<const P: usize, const N: usize> StateColumns for LieState<P, N> {
         out[P..P + N].copy_from_slice(self.p.as_slice());
     }
 
-    fn read_from(values: &[f64]) -> Self {
+    fn read_from(_: &[String], values: &[f64]) -> Self {
         let mut state = LieState::<P, N> {
             q: SVector::zeros(),
             p: SVector::zeros(),
@@ -184,12 +193,79 @@ impl<const P: usize, const N: usize> StateColumns for ReducedLieState<P, N> {
         out[P + N..].copy_from_slice(self.mu.as_slice());
     }
 
-    fn read_from(values: &[f64]) -> Self {
-        let state = LieState::<P, N>::read_from(&values[..P + N]);
+    fn read_from(_: &[String], values: &[f64]) -> Self {
+        let state = LieState::<P, N>::read_from(&[], &values[..P + N]);
         ReducedLieState {
             q: state.q,
             p: state.p,
             mu: Vector3::new(values[P + N], values[P + N + 1], values[P + N + 2]),
+        }
+    }
+}
+
+/// States on rotation groups sized at run time ([`DynLieState`]): the columns of [`LieState`],
+/// `P + N` of them for the system's sizes; read back by their names (the point's entries are the
+/// `q_` columns, the momentum's the `p_` columns), bit for bit.
+impl StateColumns for DynLieState {
+    const WIDTH: Option<usize> = None;
+
+    fn width(&self) -> usize {
+        self.q.len() + self.p.len()
+    }
+
+    fn column_names(point: &[&str], chart: &[&str]) -> Vec<String> {
+        prefixed("q", point).chain(prefixed("p", chart)).collect()
+    }
+
+    fn write_to(&self, out: &mut [f64]) {
+        let m = self.q.len();
+        out[..m].copy_from_slice(self.q.as_slice());
+        out[m..m + self.p.len()].copy_from_slice(self.p.as_slice());
+    }
+
+    fn read_from(columns: &[String], values: &[f64]) -> Self {
+        let m = point_columns(columns).min(values.len());
+        DynLieState {
+            q: DVector::from_column_slice(&values[..m]),
+            p: DVector::from_column_slice(&values[m..]),
+        }
+    }
+}
+
+/// The number of a state's columns that name its stored point (`q_`), which come first.
+fn point_columns(columns: &[String]) -> usize {
+    columns.iter().take_while(|c| c.starts_with("q_")).count()
+}
+
+/// Reduced states on rotation groups sized at run time: the columns of [`DynLieState`], then
+/// `mu_x`, `mu_y`, `mu_z`.
+impl StateColumns for ReducedLieStateOf<Dyn, Dyn> {
+    const WIDTH: Option<usize> = None;
+
+    fn width(&self) -> usize {
+        self.q.len() + self.p.len() + 3
+    }
+
+    fn column_names(point: &[&str], chart: &[&str]) -> Vec<String> {
+        let mut names = DynLieState::column_names(point, chart);
+        names.extend(["mu_x", "mu_y", "mu_z"].map(String::from));
+        names
+    }
+
+    fn write_to(&self, out: &mut [f64]) {
+        let m = self.q.len() + self.p.len();
+        self.unreduced().write_to(&mut out[..m]);
+        out[m..m + 3].copy_from_slice(self.mu.as_slice());
+    }
+
+    fn read_from(columns: &[String], values: &[f64]) -> Self {
+        let m = values.len().saturating_sub(3);
+        let state = DynLieState::read_from(columns, &values[..m]);
+        let mu = |i: usize| values.get(m + i).copied().unwrap_or(f64::NAN);
+        ReducedLieStateOf {
+            q: state.q,
+            p: state.p,
+            mu: Vector3::new(mu(0), mu(1), mu(2)),
         }
     }
 }
@@ -216,7 +292,7 @@ impl StateColumns for ElementState {
         out[n..n + self.p.len()].copy_from_slice(self.p.as_slice());
     }
 
-    fn read_from(values: &[f64]) -> Self {
+    fn read_from(_: &[String], values: &[f64]) -> Self {
         let n = values.len() / 2;
         ElementState::new(&values[..n], &values[n..])
     }
@@ -265,10 +341,11 @@ pub fn lie_names(coordinates: &[(&str, CoordinateKind)]) -> (Vec<String>, Vec<St
 }
 
 /// The coordinates of a system on rotation groups, in the order of the point and the chart
-/// ([`LieLagrangian::coordinate`]: the constant `COORDINATES` of a compiled-in system).
-fn lie_coordinates<L, const P: usize, const N: usize>(system: &L) -> Vec<(&str, CoordinateKind)>
+/// ([`LieModel::coordinate`]: the constant `COORDINATES` of a compiled-in system).
+fn lie_coordinates<L, P: Dim, N: Dim>(system: &L) -> Vec<(&str, CoordinateKind)>
 where
-    L: LieLagrangian<P, N>,
+    L: LieModel<P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
 {
     (0..).map_while(|i| system.coordinate(i)).collect()
 }
@@ -463,9 +540,13 @@ where
     }
 }
 
-impl<L, const P: usize, const N: usize> Describe for LieIntegrator<L, P, N>
+impl<L, P: Dim, N: Dim> Describe for LieIntegratorOf<L, P, N>
 where
-    L: LieLagrangian<P, N>,
+    L: LieModel<P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+    OVector<f64, P>: Send + Sync,
+    OVector<f64, N>: Send + Sync,
+    LieStateOf<P, N>: StateColumns,
 {
     fn describe(&self) -> RunInfo {
         let system = self.system();
@@ -478,7 +559,7 @@ where
             .iter()
             .map(|(name, kind)| format!("{name}:{}", kind.name()))
             .collect();
-        let columns = LieState::<P, N>::column_names(&point, &chart);
+        let columns: Vec<String> = prefixed("q", &point).chain(prefixed("p", &chart)).collect();
         let mut metadata = vec![("dirac.coordinates".into(), kinds.join(","))];
         metadata.extend(
             system
@@ -501,16 +582,19 @@ where
     }
 }
 
-impl<L, const P: usize, const N: usize> Describe for ReducedLieIntegrator<L, P, N>
+impl<L, P: Dim, N: Dim> Describe for ReducedLieIntegratorOf<L, P, N>
 where
-    L: LieSymmetric<P, N>,
+    L: SymmetricLieModel<P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+    OVector<f64, P>: Send + Sync,
+    OVector<f64, N>: Send + Sync,
+    LieStateOf<P, N>: StateColumns,
+    ReducedLieStateOf<P, N>: StateColumns,
 {
     fn describe(&self) -> RunInfo {
         let mut info = self.unreduced().describe();
-        let (point, chart) = lie_names(&lie_coordinates(self.system()));
-        let point: Vec<&str> = point.iter().map(String::as_str).collect();
-        let chart: Vec<&str> = chart.iter().map(String::as_str).collect();
-        info.columns = ReducedLieState::<P, N>::column_names(&point, &chart);
+        info.columns
+            .extend(["mu_x", "mu_y", "mu_z"].map(String::from));
         info.metadata.retain(|(key, _)| key != "dirac.integrator");
         info.with(
             "dirac.integrator",
@@ -537,10 +621,17 @@ where
 
 /// The description of an element-wise system sized at run time: one column per coordinate index
 /// ([`ElementState`]'s columns: the coordinate arrays, named in `dirac.coordinates`, flattened
-/// in their order), the sizes as `dirac.sizes` (`n=200`, in the order of
-/// [`ElementLagrangian::size_names`]), the parameters by name as every system's.
+/// in their order) — or, when every coordinate is a scalar (the element view of a system on
+/// vector spaces), one per coordinate by its name, as an unreduced run names them — the sizes
+/// as `dirac.sizes` (`n=200`, in the order of [`ElementLagrangian::size_names`]), the
+/// parameters by name as every system's.
 fn element_info<L: ElementLagrangian>(system: &L) -> RunInfo {
-    let indices: Vec<String> = (0..system.dim()).map(|i| i.to_string()).collect();
+    let names = system.coordinate_names();
+    let indices: Vec<String> = if names.len() == system.dim() {
+        names.iter().map(|n| n.to_string()).collect()
+    } else {
+        (0..system.dim()).map(|i| i.to_string()).collect()
+    };
     let indices: Vec<&str> = indices.iter().map(String::as_str).collect();
     let sizes: Vec<String> = system
         .size_names()

@@ -307,6 +307,8 @@ pub struct Output<St: StateColumns, S: Sink> {
     extra: Option<Extra<St>>,
     rows_per_group: usize,
     buffer: Rows,
+    /// The names of a state's columns (the layout's), which read a state back.
+    columns: Vec<String>,
     /// The components of the last state observed (its width is the layout's).
     scratch: Vec<f64>,
     extra_scratch: Vec<f64>,
@@ -350,6 +352,7 @@ impl<St: StateColumns, S: Sink> Output<St, S> {
             extra: options.extra,
             rows_per_group: layout.rows_per_group,
             buffer: Rows::new(width, extra, layout.rows_per_group),
+            columns: layout.state.clone(),
             scratch: vec![0.0; width],
             extra_scratch: vec![0.0; extra],
             last: None,
@@ -460,7 +463,7 @@ impl<St: StateColumns, S: Sink> Output<St, S> {
     fn write_last(&mut self) {
         if let Some((k, t, stats)) = self.last {
             if self.last_written != Some(k) {
-                let state = St::read_from(&self.scratch);
+                let state = St::read_from(&self.columns, &self.scratch);
                 self.push(k, t, &state, stats.as_ref());
             }
         }

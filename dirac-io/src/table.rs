@@ -93,7 +93,7 @@ impl Row<'_> {
                 *v = x;
             }
         }
-        St::read_from(&values)
+        St::read_from(columns, &values)
     }
 }
 

@@ -528,3 +528,93 @@ fn the_method_words_are_the_run_requests() {
     assert!(stderr.contains("declares no symmetry"), "{stderr}");
     assert!(!out.exists(), "nothing is written before the run");
 }
+
+/// The eight bodies on a chain of springs, compiled in from the text the dirac-jit tests and the
+/// Python package read (`dirac-jit/tests/texts/eight_bodies.rs`).
+#[path = "../../dirac-jit/tests/texts/eight_bodies.rs"]
+mod eight_bodies;
+
+/// Eight rigid bodies (8 rotations, 24 chart coordinates: beyond the fixed-size instances, so
+/// the command line runs them at the sizes the text declares) from a system file: the file's
+/// columns are named after the coordinates, and its states are the compiled-in system's, bit
+/// for bit (both factor on the compiler's sparsity pattern, and the kernels perform the emitted
+/// Rust's operations in its order).
+#[test]
+fn eight_bodies_run_from_a_system_file_as_the_compiled_in_system() {
+    use dirac::runtime::lie::cayley;
+    use dirac::runtime::nalgebra::Vector3;
+    use eight_bodies::{EightBodies, EightBodiesConfig, EightBodiesMomentum};
+
+    let dir = scratch("cli_eight_bodies");
+    let src = include_str!("../../dirac-jit/tests/texts/eight_bodies.rs");
+    let text = &src[src.find("#[reduced_lagrangian").expect("the attribute")..];
+    std::fs::write(dir.join("bodies.rs"), text).unwrap();
+    let rotations: Vec<_> = (1..=8)
+        .map(|i| cayley(&Vector3::new(0.1 * f64::from(i), -0.2, 0.05 * f64::from(i))))
+        .collect();
+    let momenta: Vec<_> = (1..=8)
+        .map(|i| Vector3::new(0.3, 1.0 - 0.1 * f64::from(i), -0.2 * f64::from(i)))
+        .collect();
+    let mut toml = String::from(
+        "system = \"bodies.rs\"\nsteps = 250\nmethod = \"plus\"\nout = \"bodies.parquet\"\n\n\
+         [parameters]\nh = 0.01\nk = 3.0\n\n[start.q]\n",
+    );
+    for (i, r) in rotations.iter().enumerate() {
+        let rows: Vec<String> = (0..3)
+            .map(|a| format!("[{:?}, {:?}, {:?}]", r[(a, 0)], r[(a, 1)], r[(a, 2)]))
+            .collect();
+        toml += &format!("r{} = [{}]\n", i + 1, rows.join(", "));
+    }
+    toml += "\n[start.p]\n";
+    for (i, m) in momenta.iter().enumerate() {
+        toml += &format!("r{} = [{:?}, {:?}, {:?}]\n", i + 1, m.x, m.y, m.z);
+    }
+    let file = dir.join("bodies.toml");
+    std::fs::write(&file, toml).unwrap();
+    let (code, stdout, stderr) = dirac(&["run", file.to_str().unwrap()]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("250 steps"), "{stdout}");
+
+    let sys = EightBodies { h: 0.01, k: 3.0 };
+    let r = &rotations;
+    let m = &momenta;
+    let start = sys.state(
+        &EightBodiesConfig {
+            r1: r[0],
+            r2: r[1],
+            r3: r[2],
+            r4: r[3],
+            r5: r[4],
+            r6: r[5],
+            r7: r[6],
+            r8: r[7],
+        },
+        &EightBodiesMomentum {
+            r1: m[0],
+            r2: m[1],
+            r3: m[2],
+            r4: m[3],
+            r5: m[4],
+            r6: m[5],
+            r7: m[6],
+            r8: m[7],
+        },
+    );
+    let compiled = LieIntegrator::new(sys, NewtonOptions::default())
+        .run(start)
+        .steps(250)
+        .collect()
+        .unwrap();
+    let kinds: Vec<(String, CoordinateKind)> = (1..=8)
+        .map(|i| (format!("r{i}"), CoordinateKind::ROTATION))
+        .collect();
+    let kinds: Vec<(&str, CoordinateKind)> = kinds.iter().map(|(n, k)| (n.as_str(), *k)).collect();
+    let (point, chart) = dirac_io::lie_names(&kinds);
+    let point: Vec<&str> = point.iter().map(String::as_str).collect();
+    let chart: Vec<&str> = chart.iter().map(String::as_str).collect();
+    let columns = LieState::<72, 24>::column_names(&point, &chart);
+    assert!(columns.contains(&"q_r8_22".to_owned()) && columns.contains(&"p_r8_z".to_owned()));
+    let (step, _, last) =
+        last_state::<LieState<72, 24>>(&dir.join("bodies.parquet"), &columns).unwrap();
+    assert_eq!((step, last), (250, compiled.states[250]));
+}

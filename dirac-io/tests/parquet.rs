@@ -490,7 +490,7 @@ fn rotation_states_are_written_bit_for_bit_under_their_entry_names() {
         .collect();
     for (k, s) in traj.states.iter().enumerate() {
         let row: Vec<f64> = columns.iter().map(|c| c[k]).collect();
-        let back = LieState::<9, 3>::read_from(&row);
+        let back = LieState::<9, 3>::read_from(&[], &row);
         assert!(
             back.q
                 .iter()
@@ -548,7 +548,7 @@ fn reduced_rotation_states_are_written_bit_for_bit_with_their_momentum() {
         .collect();
     for (k, s) in traj.states.iter().enumerate() {
         let row: Vec<f64> = columns.iter().map(|c| c[k]).collect();
-        let back = ReducedLieState::<9, 3>::read_from(&row);
+        let back = ReducedLieState::<9, 3>::read_from(&[], &row);
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(back.q.as_slice()), bits(s.q.as_slice()), "state {k}");
         assert_eq!(bits(back.p.as_slice()), bits(s.p.as_slice()), "state {k}");

@@ -207,37 +207,32 @@ macro_rules! with_dimensions {
     };
 }
 
-/// The most rotation and direction coordinates together that [`with_lie_dimensions!`] has
-/// instances for.
-pub const MAX_DISPATCHED_ROTATIONS: usize = 2;
-
 /// Calls a function generic over the dimensions of a system on rotation groups, `f::<P, N>(args)`,
-/// for dimensions known only at run time: one instance per `(P, N)` of a system with at most
-/// [`MAX_DISPATCHED_ROTATIONS`] rotation and direction coordinates and `N ≤`
-/// [`MAX_DISPATCHED`] (25 instances). The function returns `Result<_, String>`; other
-/// dimensions are an `Err` saying so.
+/// for the small dimensions of its fixed-size instances, and evaluates `fallback` for any other:
+/// one instance per `(P, N)` of a system with at most two rotation and direction coordinates and
+/// `N ≤` [`MAX_DISPATCHED`] (25 instances), whose steps run on stack vectors and the dense LU.
+/// A system of any other size runs at the sizes its text declares ([`DynJitLie`], by
+/// `LieIntegratorOf<_, Dyn, Dyn>`): the fallback. The fixed-size instances are kept for the small
+/// systems because their steps are faster than the run-time-sized step there (see the
+/// [`DynJitLie`] documentation).
 ///
 /// ```
 /// fn dims<const P: usize, const N: usize>() -> Result<usize, String> {
 ///     Ok(100 * P + N)
 /// }
-/// assert_eq!(dirac_jit::with_lie_dimensions!(18, 4, dims()), Ok(1804));
-/// assert!(dirac_jit::with_lie_dimensions!(54, 18, dims()).is_err());
+/// assert_eq!(dirac_jit::with_lie_dimensions!(18, 4, dims() else Ok(0)), Ok(1804));
+/// assert_eq!(dirac_jit::with_lie_dimensions!(72, 24, dims() else Ok(0)), Ok(0));
 /// ```
 #[macro_export]
 macro_rules! with_lie_dimensions {
-    ($p:expr, $n:expr, $f:ident $args:tt) => {
-        $crate::with_lie_dimensions!(@arms ($p, $n), $f $args;
+    ($p:expr, $n:expr, $f:ident $args:tt else $fallback:expr) => {
+        $crate::with_lie_dimensions!(@arms ($p, $n), $f $args, $fallback;
             (9,2) (9,3) (10,3) (10,4) (11,4) (11,5) (12,5) (12,6) (13,6) (13,7) (14,7) (14,8) (15,8) (18,4) (18,5) (18,6) (19,5) (19,6) (19,7) (20,6) (20,7) (20,8) (21,7) (21,8) (22,8))
     };
-    (@arms $pn:expr, $f:ident $args:tt; $(($p:literal, $n:literal))*) => {
+    (@arms $pn:expr, $f:ident $args:tt, $fallback:expr; $(($p:literal, $n:literal))*) => {
         match $pn {
             $(($p, $n) => $f::<$p, $n> $args,)*
-            (p, n) => ::core::result::Result::Err(::std::format!(
-                "a point of {p} entries and {n} chart coordinates: systems on rotation groups given at run time are integrated here with at most {} rotation and direction coordinates and {} chart coordinates",
-                $crate::MAX_DISPATCHED_ROTATIONS,
-                $crate::MAX_DISPATCHED
-            )),
+            _ => $fallback,
         }
     };
 }

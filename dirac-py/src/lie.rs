@@ -3,19 +3,25 @@
 //! group variational integrator (both sides, its compositions) and of the reduced integrator
 //! of the declared symmetry, trajectories as NumPy arrays per coordinate, Parquet output.
 //!
-//! The integrators take the dimensions `P` (a stored point) and `N` (the chart) as type
-//! parameters; the module dispatches a system's `(P, N)` at run time
-//! (`dirac_jit::with_lie_dimensions`).
+//! Any number of rotations, directions, poses and scalars: the integrators are generic over the
+//! sizes `P` (a stored point) and `N` (the chart), fixed or chosen at run time. A small system
+//! (at most two rotation or direction coordinates, at most 8 chart coordinates) runs at fixed
+//! sizes, on stack vectors and the dense LU (`dirac_jit::with_lie_dimensions`, its fixed-size
+//! instances); any other at the sizes its text declares (`dirac_jit::DynJitLie`, vectors a run
+//! allocates once), so no size is refused.
 
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 use dirac_compiler::text::LieSymmetryKind;
-use dirac_jit::{Compiled, JitLie, LieCode, RunRequest};
-use dirac_runtime::lie::Group;
-use dirac_runtime::{
-    Composition, Drive, Form, LieIntegrator, LieState, ReducedLieIntegrator, StepStats, Variant,
+use dirac_jit::{Compiled, DynJitLie, JitLie, LieCode, LieFront, RunRequest};
+use dirac_runtime::lie::{
+    Group, LieIntegratorOf, LieStateOf, LieTrajectoryOf, ReducedLieIntegratorOf, ReducedLieStateOf,
+    ReducedLieTrajectoryOf,
 };
+use dirac_runtime::nalgebra::allocator::Allocator;
+use dirac_runtime::nalgebra::{Const, DefaultAllocator, Dim, Dyn, OVector};
+use dirac_runtime::{Composition, Drive, Form, StepStats, Variant};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -49,14 +55,20 @@ struct Start {
     v: Option<Vec<f64>>,
 }
 
-fn flat<const P: usize, const N: usize>(
-    sys: &JitLie<P, N>,
-    states: impl Iterator<Item = (LieState<P, N>, Option<[f64; 3]>)>,
+fn flat<S, P: Dim, N: Dim>(
+    sys: &S,
+    states: impl Iterator<Item = (LieStateOf<P, N>, Option<[f64; 3]>)>,
     times: &[f64],
     stats: &[StepStats],
-) -> Flat {
-    let integ = LieIntegrator::new(sys.clone(), Default::default());
-    let coordinates = sys.code().system().coordinates.len();
+) -> Flat
+where
+    S: LieFront<P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+    OVector<f64, P>: Send + Sync,
+    OVector<f64, N>: Send + Sync,
+{
+    let integ = LieIntegratorOf::new(sys.clone(), Default::default());
+    let coordinates = sys.lie_code().system().coordinates.len();
     let mut out = Flat {
         t: times.to_vec(),
         q: vec![Vec::new(); coordinates],
@@ -68,10 +80,10 @@ fn flat<const P: usize, const N: usize>(
         residuals: stats.iter().map(|s| s.residual).collect(),
     };
     for (state, mu) in states {
-        for (all, one) in out.q.iter_mut().zip(sys.configuration(&state.q)) {
+        for (all, one) in out.q.iter_mut().zip(sys.configuration_of(&state.q)) {
             all.extend(one);
         }
-        for (all, one) in out.p.iter_mut().zip(sys.momenta(&state)) {
+        for (all, one) in out.p.iter_mut().zip(sys.momenta_of(&state)) {
             all.extend(one);
         }
         let momentum = integ.rigid_momentum(&state);
@@ -85,61 +97,89 @@ fn flat<const P: usize, const N: usize>(
 }
 
 /// The start state of `sys`.
-fn start_state<const P: usize, const N: usize>(
-    sys: &JitLie<P, N>,
-    start: &Start,
-) -> Result<LieState<P, N>, String> {
+fn start_state<S, P: Dim, N: Dim>(sys: &S, start: &Start) -> Result<LieStateOf<P, N>, String>
+where
+    S: LieFront<P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+{
     let q: Vec<&[f64]> = start.q.iter().map(Vec::as_slice).collect();
     match (&start.p, &start.v) {
         (Some(p), _) => {
             let p: Vec<&[f64]> = p.iter().map(Vec::as_slice).collect();
-            sys.state(&q, &p).map_err(|e| e.to_string())
+            sys.state_of(&q, &p).map_err(|e| e.to_string())
         }
         (None, Some(v)) => {
             // The point of the configuration, then the state on the level set at `v`.
             let zeros: Vec<Vec<f64>> = sys
-                .code()
+                .lie_code()
                 .kinds()
                 .iter()
                 .map(|k| vec![0.0; k.group().momentum_value_len()])
                 .collect();
             let zeros: Vec<&[f64]> = zeros.iter().map(Vec::as_slice).collect();
-            let point = sys.state(&q, &zeros).map_err(|e| e.to_string())?.q;
-            sys.unreduced_state(&point, v).map_err(|e| e.to_string())
+            let point = sys.state_of(&q, &zeros).map_err(|e| e.to_string())?.q;
+            sys.level_state_of(&point, v).map_err(|e| e.to_string())
         }
         (None, None) => Err("the start needs the momenta `p` (or the velocities `v`)".into()),
     }
 }
 
-/// One run of a system of point length `P` and chart dimension `N`.
-fn run_one<const P: usize, const N: usize>(
+/// [`run_one`], [`run_many`] and [`write_one`] at the fixed sizes `P` (a stored point) and `N`
+/// (the chart) of [`JitLie`], called through `dirac_jit::with_lie_dimensions`.
+macro_rules! at_fixed_sizes {
+    ($($fixed:ident = $f:ident($($arg:ident: $ty:ty),*) -> $out:ty;)*) => {$(
+        fn $fixed<const P: usize, const N: usize>($($arg: $ty),*) -> $out {
+            $f::<JitLie<P, N>, Const<P>, Const<N>>($($arg),*)
+        }
+    )*};
+}
+
+at_fixed_sizes! {
+    run_one_fixed = run_one(
+        code: &Arc<LieCode>, params: &[f64], start: &Start, r: RunRequest, cancel: &AtomicBool
+    ) -> Result<Result<Flat, Box<Failed<Flat>>>, String>;
+    run_many_fixed = run_many(
+        code: &Arc<LieCode>, params: &[f64], starts: &[Start], r: RunRequest, cancel: &AtomicBool
+    ) -> Result<Vec<Member<Flat>>, String>;
+    write_one_fixed = write_one(
+        code: &Arc<LieCode>, params: &[f64], start: &Start, r: RunRequest,
+        path: &std::path::Path, cancel: &AtomicBool
+    ) -> Result<Written, String>;
+}
+
+/// One run of a system `S` of point length `P` and chart dimension `N`.
+fn run_one<S, P: Dim, N: Dim>(
     code: &Arc<LieCode>,
     params: &[f64],
     start: &Start,
     r: RunRequest,
     cancel: &AtomicBool,
-) -> Result<Result<Flat, Box<Failed<Flat>>>, String> {
-    let sys = code
-        .instantiate::<P, N>(params)
-        .map_err(|e| e.to_string())?;
+) -> Result<Result<Flat, Box<Failed<Flat>>>, String>
+where
+    S: LieFront<P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+    OVector<f64, P>: Send + Sync,
+    OVector<f64, N>: Send + Sync,
+    LieStateOf<P, N>: dirac_io::StateColumns,
+    ReducedLieStateOf<P, N>: dirac_io::StateColumns,
+{
+    let sys = S::instantiate(code, params).map_err(|e| e.to_string())?;
     let s0 = start_state(&sys, start)?;
     let (n, o) = (r.steps, r.newton);
-    let unreduced = |t: &dirac_runtime::LieTrajectory<P, N>| {
+    let unreduced = |t: &LieTrajectoryOf<P, N>| {
         flat(
             &sys,
-            t.states.iter().map(|s| (*s, None)),
+            t.states.iter().map(|s| (s.clone(), None)),
             &t.times,
             &t.stats,
         )
     };
     Ok(match (r.equations.form, r.equations.side) {
         (Form::Reduced, _) => {
-            let reduced = code
-                .instantiate_reduced::<P, N>(params)
-                .map_err(|e| e.to_string())?;
-            let integ = ReducedLieIntegrator::new(reduced, o);
+            let reduced = S::instantiate_reduced(code, params).map_err(|e| e.to_string())?;
+            let integ = ReducedLieIntegratorOf::new(reduced, o);
             let s0 = integ.reduce(&s0);
-            let to_flat = |t: &dirac_runtime::ReducedLieTrajectory<P, N>| {
+            let to_flat = |t: &ReducedLieTrajectoryOf<P, N>| {
                 flat(
                     &sys,
                     t.states.iter().map(|s| (s.unreduced(), Some(s.mu.into()))),
@@ -173,9 +213,9 @@ fn run_one<const P: usize, const N: usize>(
         }
         (Form::Unreduced, side) => {
             let integ = if side == Variant::Plus {
-                LieIntegrator::new(sys.clone(), o)
+                LieIntegratorOf::new(sys.clone(), o)
             } else {
-                LieIntegrator::minus(sys.clone(), o)
+                LieIntegratorOf::minus(sys.clone(), o)
             };
             if r.order == 2 {
                 finish(
@@ -193,7 +233,7 @@ fn run_one<const P: usize, const N: usize>(
                     |t| {
                         flat(
                             &sys,
-                            t.states.iter().map(|s| (*s, None)),
+                            t.states.iter().map(|s| (s.clone(), None)),
                             &t.times,
                             &t.stats,
                         )
@@ -205,35 +245,39 @@ fn run_one<const P: usize, const N: usize>(
 }
 
 /// An ensemble: one run (order 2) per start, on all cores.
-fn run_many<const P: usize, const N: usize>(
+fn run_many<S, P: Dim, N: Dim>(
     code: &Arc<LieCode>,
     params: &[f64],
     starts: &[Start],
     r: RunRequest,
     cancel: &AtomicBool,
-) -> Result<Vec<Member<Flat>>, String> {
-    let sys = code
-        .instantiate::<P, N>(params)
-        .map_err(|e| e.to_string())?;
+) -> Result<Vec<Member<Flat>>, String>
+where
+    S: LieFront<P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+    OVector<f64, P>: Send + Sync,
+    OVector<f64, N>: Send + Sync,
+    LieStateOf<P, N>: dirac_io::StateColumns,
+    ReducedLieStateOf<P, N>: dirac_io::StateColumns,
+{
+    let sys = S::instantiate(code, params).map_err(|e| e.to_string())?;
     let s0 = starts
         .iter()
         .map(|s| start_state(&sys, s))
         .collect::<Result<Vec<_>, _>>()?;
     let (n, o) = (r.steps, r.newton);
-    let unreduced = |t: &dirac_runtime::LieTrajectory<P, N>| {
+    let unreduced = |t: &LieTrajectoryOf<P, N>| {
         flat(
             &sys,
-            t.states.iter().map(|s| (*s, None)),
+            t.states.iter().map(|s| (s.clone(), None)),
             &t.times,
             &t.stats,
         )
     };
     Ok(match (r.equations.form, r.equations.side) {
         (Form::Reduced, _) => {
-            let reduced = code
-                .instantiate_reduced::<P, N>(params)
-                .map_err(|e| e.to_string())?;
-            let integ = ReducedLieIntegrator::new(reduced, o);
+            let reduced = S::instantiate_reduced(code, params).map_err(|e| e.to_string())?;
+            let integ = ReducedLieIntegratorOf::new(reduced, o);
             let s0: Vec<_> = s0.iter().map(|s| integ.reduce(s)).collect();
             span!(integ.ensemble(&s0), n, r.end_time)
                 .stop(until(cancel))
@@ -253,9 +297,9 @@ fn run_many<const P: usize, const N: usize>(
         }
         (Form::Unreduced, side) => {
             let integ = if side == Variant::Plus {
-                LieIntegrator::new(sys.clone(), o)
+                LieIntegratorOf::new(sys.clone(), o)
             } else {
-                LieIntegrator::minus(sys.clone(), o)
+                LieIntegratorOf::minus(sys.clone(), o)
             };
             span!(integ.ensemble(&s0), n, r.end_time)
                 .stop(until(cancel))
@@ -271,30 +315,34 @@ fn run_many<const P: usize, const N: usize>(
 type Written = crate::parquet::Written;
 
 /// One run written to Parquet at `path`.
-fn write_one<const P: usize, const N: usize>(
+fn write_one<S, P: Dim, N: Dim>(
     code: &Arc<LieCode>,
     params: &[f64],
     start: &Start,
     r: RunRequest,
     path: &std::path::Path,
     cancel: &AtomicBool,
-) -> Result<Written, String> {
-    let sys = code
-        .instantiate::<P, N>(params)
-        .map_err(|e| e.to_string())?;
+) -> Result<Written, String>
+where
+    S: LieFront<P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+    OVector<f64, P>: Send + Sync,
+    OVector<f64, N>: Send + Sync,
+    LieStateOf<P, N>: dirac_io::StateColumns,
+    ReducedLieStateOf<P, N>: dirac_io::StateColumns,
+{
+    let sys = S::instantiate(code, params).map_err(|e| e.to_string())?;
     let s0 = start_state(&sys, start)?;
     let (n, o) = (r.steps, r.newton);
     Ok(match (r.equations.form, r.equations.side) {
         (Form::Reduced, _) => {
-            let reduced = code
-                .instantiate_reduced::<P, N>(params)
-                .map_err(|e| e.to_string())?;
-            let integ = ReducedLieIntegrator::new(reduced, o);
+            let reduced = S::instantiate_reduced(code, params).map_err(|e| e.to_string())?;
+            let integ = ReducedLieIntegratorOf::new(reduced, o);
             let s0 = integ.reduce(&s0);
             to_parquet(&integ, s0, (n, r.end_time), path, &o, cancel)?
         }
         (Form::Unreduced, Variant::Plus) => to_parquet(
-            &LieIntegrator::new(sys, o),
+            &LieIntegratorOf::new(sys, o),
             s0,
             (n, r.end_time),
             path,
@@ -302,7 +350,7 @@ fn write_one<const P: usize, const N: usize>(
             cancel,
         )?,
         (Form::Unreduced, Variant::Minus) => to_parquet(
-            &LieIntegrator::minus(sys, o),
+            &LieIntegratorOf::minus(sys, o),
             s0,
             (n, r.end_time),
             path,
@@ -320,20 +368,6 @@ pub(crate) struct LieSystem {
 
 impl LieSystem {
     pub(crate) fn new(code: Arc<LieCode>) -> PyResult<LieSystem> {
-        let s = code.system();
-        // Every kind but the scalars stores a matrix: what the dispatched dimensions count.
-        let rotations = code.kinds().iter().filter(|k| k.point_len() > 1).count();
-        if rotations > dirac_jit::MAX_DISPATCHED_ROTATIONS
-            || s.chart_len() > dirac_jit::MAX_DISPATCHED
-        {
-            return Err(CompileError::new_err(format!(
-                "{rotations} rotation, direction and pose coordinates, {} chart coordinates: the Python \
-                 module runs systems on rotation groups of at most {} and {}",
-                s.chart_len(),
-                dirac_jit::MAX_DISPATCHED_ROTATIONS,
-                dirac_jit::MAX_DISPATCHED
-            )));
-        }
         Ok(LieSystem { code })
     }
 
@@ -621,7 +655,12 @@ impl LieSystem {
         let (pp, n) = self.dims();
         let code = Arc::clone(&self.code);
         let (result, interrupt) = calls::interruptible(py, |cancel| {
-            dirac_jit::with_lie_dimensions!(pp, n, run_one(&code, &params, &start, r, cancel))
+            dirac_jit::with_lie_dimensions!(
+                pp,
+                n,
+                run_one_fixed(&code, &params, &start, r, cancel)
+                    else run_one::<DynJitLie, Dyn, Dyn>(&code, &params, &start, r, cancel)
+            )
         })?;
         crate::results::finish_run(py, result, interrupt, |flat| self.to_dict(py, flat))
     }
@@ -661,7 +700,8 @@ impl LieSystem {
             dirac_jit::with_lie_dimensions!(
                 pp,
                 n,
-                write_one(&code, &params, &start, r, &path, cancel)
+                write_one_fixed(&code, &params, &start, r, &path, cancel)
+                    else write_one::<DynJitLie, Dyn, Dyn>(&code, &params, &start, r, &path, cancel)
             )
         })?;
         crate::parquet::written_dict(py, written, interrupt)
@@ -732,7 +772,12 @@ impl LieSystem {
         let (pp, n) = self.dims();
         let code = Arc::clone(&self.code);
         let (results, interrupt) = calls::interruptible(py, |cancel| {
-            dirac_jit::with_lie_dimensions!(pp, n, run_many(&code, &params, &starts, r, cancel))
+            dirac_jit::with_lie_dimensions!(
+                pp,
+                n,
+                run_many_fixed(&code, &params, &starts, r, cancel)
+                    else run_many::<DynJitLie, Dyn, Dyn>(&code, &params, &starts, r, cancel)
+            )
         })?;
         let rows = r.end_time.is_none().then_some(steps + 1);
         ensemble::ensemble_dict(py, results, interrupt, rows, |flat| self.to_dict(py, flat))

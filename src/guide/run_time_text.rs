@@ -178,8 +178,10 @@
 //! on rotation groups, reduced or not, and element-wise systems of any size (stencils of at most
 //! 12 coordinates in at most 4 nested loops, at most 8 sizes), with at most 32 parameters. The
 //! Python package runs systems on vector spaces (with constraints: at most 6 coordinates and 3
-//! constraints), on rotation groups with at most two rotation and direction coordinates, and
-//! element-wise systems; the command line runs systems on vector spaces (with constraints: as
+//! constraints), on rotation groups of any size (any number of rotations, directions, poses
+//! and scalars: a small system at fixed sizes, a larger one at the sizes its text declares,
+//! `dirac_jit::DynJitLie`), and element-wise systems; the command line runs systems on vector
+//! spaces (with constraints: as
 //! many as Python) and on rotation groups (it writes Parquet of a fixed width, which an
 //! element-wise run does not have).
 //!

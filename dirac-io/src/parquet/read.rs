@@ -217,7 +217,7 @@ fn last_state_unguarded<St: StateColumns>(
     for name in columns {
         values.push(f64_column(batch, &last, name)?.value(row));
     }
-    Ok((step as usize, t, St::read_from(&values)))
+    Ok((step as usize, t, St::read_from(columns, &values)))
 }
 
 /// [`concatenate`] without the guard.

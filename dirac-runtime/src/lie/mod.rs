@@ -102,6 +102,29 @@
 //! A symmetric `L_d` (`L_d(q0, q1; −h) = −L_d(q1, q0; h)`, e.g. the rigid body's above or a
 //! midpoint-type rule) gives a symmetric step of order 2, which the compositions of
 //! [`crate::compose`] raise to order 4 and 6.
+//!
+//! # Sizes, fixed or chosen at run time
+//!
+//! The integrators are generic over the sizes `P` (a stored point) and `N` (the chart) as
+//! nalgebra [`Dim`]s ([`LieIntegratorOf`], [`ReducedLieIntegratorOf`], their states
+//! [`LieStateOf`], [`ReducedLieStateOf`]), through one dimension-generic trait, [`LieModel`]
+//! (and [`SymmetricLieModel`] for the reduced step), whose functions write into the vectors they
+//! are given (see [`model`]):
+//!
+//! * a system compiled in implements [`LieLagrangian<P, N>`](LieLagrangian) at `const` sizes and
+//!   is a `LieModel<Const<P>, Const<N>>` by a blanket impl. Its vectors are fixed-size
+//!   `SVector`s on the stack and its step the fixed-size code it was before the sizes became
+//!   type parameters; [`LieState<P, N>`](LieState), [`LieIntegrator<L, P, N>`](LieIntegrator)
+//!   and the other `const` spellings name the generic types at `Const` sizes (and `LieState` is
+//!   `Copy`);
+//! * a system whose size is known only when it is given (a text with any number of rotations,
+//!   directions, poses and scalars: `dirac_jit::DynJitLie`) implements `LieModel<Dyn, Dyn>`. Its
+//!   vectors are `DVector`s; the step's unknown, residual, chart coordinate, Jacobian buffer and
+//!   the history Newton extrapolates are in the run's workspace ([`LieWorkspaceOf`]), built once
+//!   per run, and the driver steps into the memory of the state before, so the unreduced step
+//!   allocates nothing (the reduced step's corrections copy the state: two vectors per step). A
+//!   state of other sizes than the system's is refused before the first step
+//!   ([`StepError::OffManifold`]).
 
 mod adaptive;
 pub mod diagnostics;

@@ -81,8 +81,13 @@ use std::process::ExitCode;
 use std::sync::Arc;
 
 use dirac::prelude::*;
+use dirac::runtime::lie::{LieIntegratorOf, LieStateOf, ReducedLieIntegratorOf, ReducedLieStateOf};
+use dirac::runtime::nalgebra::allocator::Allocator;
+use dirac::runtime::nalgebra::{Const, DefaultAllocator, Dim, Dyn, OVector};
 use dirac_io::{Describe, Options, ParquetObserver, StateColumns};
-use dirac_jit::{Code, Compiled, ElementCode, JitSystem, LieCode, RunRequest};
+use dirac_jit::{
+    Code, Compiled, DynJitLie, ElementCode, JitLie, JitSystem, LieCode, LieFront, RunRequest,
+};
 
 /// A parsed system file.
 struct Config {
@@ -434,9 +439,16 @@ fn cli_lie(
             Ok(())
         }
         "run" => {
+            // The small sizes of the fixed-size instances (stack vectors, the dense LU), any
+            // other at the sizes the text declares.
             let (p, n) = (sys.point_len(), sys.chart_len());
-            let report = dirac_jit::with_lie_dimensions!(p, n, run_lie(code, config, request))
-                .map_err(Failure::Run)?;
+            let report = dirac_jit::with_lie_dimensions!(
+                p,
+                n,
+                run_lie_fixed(code, config, request)
+                    else run_lie::<DynJitLie, Dyn, Dyn>(code, config, request)
+            )
+            .map_err(Failure::Run)?;
             println!("{report}");
             Ok(())
         }
@@ -479,16 +491,33 @@ fn per_coordinate(
         .map(Some)
 }
 
-/// Integrates a system on rotation groups at dimensions `P`, `N` and writes the run.
-fn run_lie<const P: usize, const N: usize>(
+/// [`run_lie`] at the fixed sizes `P` (a stored point) and `N` (the chart).
+fn run_lie_fixed<const P: usize, const N: usize>(
     code: &Arc<LieCode>,
     config: &Config,
     request: RunRequest,
 ) -> Result<String, String> {
+    run_lie::<JitLie<P, N>, Const<P>, Const<N>>(code, config, request)
+}
+
+/// Integrates the system on rotation groups `S` (at fixed sizes or at the sizes the text
+/// declares) by the equations the file asks for and writes the run.
+fn run_lie<S, P: Dim, N: Dim>(
+    code: &Arc<LieCode>,
+    config: &Config,
+    request: RunRequest,
+) -> Result<String, String>
+where
+    S: LieFront<P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+    OVector<f64, P>: Send + Sync,
+    OVector<f64, N>: Send + Sync,
+    LieStateOf<P, N>: StateColumns,
+    ReducedLieStateOf<P, N>: StateColumns,
+{
     let named = config.named();
-    let sys = code
-        .instantiate_named::<P, N>(&named)
-        .map_err(|e| e.to_string())?;
+    let values = code.values_by_name(&named).map_err(|e| e.to_string())?;
+    let sys = S::instantiate(code, &values).map_err(|e| e.to_string())?;
     let q = per_coordinate(config, code, "q")?.ok_or("the table `[start.q]` is missing")?;
     let q: Vec<&[f64]> = q.iter().map(Vec::as_slice).collect();
     let start = match (
@@ -497,13 +526,13 @@ fn run_lie<const P: usize, const N: usize>(
     ) {
         (Some(p), None) => {
             let p: Vec<&[f64]> = p.iter().map(Vec::as_slice).collect();
-            sys.state(&q, &p).map_err(|e| e.to_string())?
+            sys.state_of(&q, &p).map_err(|e| e.to_string())?
         }
         (None, Some(v)) => {
             let zeros: Vec<Vec<f64>> = v.iter().map(|v| vec![0.0; v.len()]).collect();
             let zeros: Vec<&[f64]> = zeros.iter().map(Vec::as_slice).collect();
-            let point = sys.state(&q, &zeros).map_err(|e| e.to_string())?.q;
-            sys.unreduced_state(&point, &v.concat())
+            let point = sys.state_of(&q, &zeros).map_err(|e| e.to_string())?.q;
+            sys.level_state_of(&point, &v.concat())
                 .map_err(|e| e.to_string())?
         }
         _ => {
@@ -519,18 +548,16 @@ fn run_lie<const P: usize, const N: usize>(
             form: Form::Reduced,
             ..
         } => {
-            let reduced = code
-                .instantiate_reduced::<P, N>(&sys.parameter_values())
-                .map_err(|e| e.to_string())?;
-            let integ = ReducedLieIntegrator::new(reduced, options);
+            let reduced = S::instantiate_reduced(code, &values).map_err(|e| e.to_string())?;
+            let integ = ReducedLieIntegratorOf::new(reduced, options);
             let start = integ.reduce(&start);
             write(integ, start, config, request)
         }
         Equations {
             side: Variant::Minus,
             ..
-        } => write(LieIntegrator::minus(sys, options), start, config, request),
-        Equations { .. } => write(LieIntegrator::new(sys, options), start, config, request),
+        } => write(LieIntegratorOf::minus(sys, options), start, config, request),
+        Equations { .. } => write(LieIntegratorOf::new(sys, options), start, config, request),
     }
 }
 
