@@ -156,7 +156,7 @@ pub fn compile_any(source: &str) -> Result<Compiled, Error> {
     let start = std::time::Instant::now();
     match dirac_compiler::text::compile_any(source)? {
         dirac_compiler::text::AnySystem::Flat(system) => {
-            system::Code::from_system(*system, start).map(Compiled::Flat)
+            system::Code::from_system(*system, source, start).map(Compiled::Flat)
         }
         dirac_compiler::text::AnySystem::Lie(system) => {
             LieCode::from_system(*system, start).map(Compiled::Lie)

@@ -47,7 +47,11 @@ fn a_30_coordinate_system_given_as_text_runs_on_the_element_integrators_as_compi
     let code = dirac_jit::compile_flat_elements(CART).expect("the cart compiles");
     let sys = code.system();
     assert_eq!(sys.coordinates.len(), 30);
-    assert_eq!(sys.families[0].stencil.slots.len(), 30, "one element reads all");
+    assert_eq!(
+        sys.families[0].stencil.slots.len(),
+        30,
+        "one element reads all"
+    );
     let (mc, m, k, kappa, h) = (2.0, 0.5, 3.0, 1.5, 0.01);
     let params: Vec<(&str, f64)> = vec![("mc", mc), ("m", m), ("k", k), ("kappa", kappa), ("h", h)];
     let given = code.instantiate_named(&params, &[]).expect("instantiates");
@@ -90,8 +94,18 @@ fn a_30_coordinate_system_given_as_text_runs_on_the_element_integrators_as_compi
             let side = if minus { "(−)" } else { "(+)" };
             let bq: Vec<f64> = b.x.iter().copied().chain(b.g.iter().copied()).collect();
             let bp: Vec<f64> = b.w.iter().copied().chain(b.mu.iter().copied()).collect();
-            close(a.q.as_slice(), &bq, 1e-12, &format!("{side} q at step {kk}"));
-            close(a.p.as_slice(), &bp, 1e-12, &format!("{side} p at step {kk}"));
+            close(
+                a.q.as_slice(),
+                &bq,
+                1e-12,
+                &format!("{side} q at step {kk}"),
+            );
+            close(
+                a.p.as_slice(),
+                &bp,
+                1e-12,
+                &format!("{side} p at step {kk}"),
+            );
             // The cart's momentum, exactly.
             assert_eq!(a.p[29], mu, "{side} μ at step {kk}");
             assert_eq!(b.mu[0], mu);
@@ -141,9 +155,122 @@ fn a_system_with_20_constraints_given_as_text_runs_on_the_element_integrators_as
         .expect("the element run");
     assert_eq!(run.states.len(), steps + 1);
     for (k, (a, b)) in run.states.iter().zip(&reference.states).enumerate() {
-        close(a.q.as_slice(), b.q.as_slice(), 1e-12, &format!("q at step {k}"));
-        close(a.p.as_slice(), b.p.as_slice(), 1e-12, &format!("p at step {k}"));
+        close(
+            a.q.as_slice(),
+            b.q.as_slice(),
+            1e-12,
+            &format!("q at step {k}"),
+        );
+        close(
+            a.p.as_slice(),
+            b.p.as_slice(),
+            1e-12,
+            &format!("p at step {k}"),
+        );
     }
     // It fell: the last state is not the first.
     assert!((run.last().q[39] - q[39]).abs() > 1e-3);
+}
+
+/// A JSON array of numbers, each as Rust prints an `f64` (the shortest text that reads back
+/// bit for bit).
+fn json_numbers(v: impl IntoIterator<Item = f64>) -> String {
+    let items: Vec<String> = v.into_iter().map(|x| format!("{x:?}")).collect();
+    format!("[{}]", items.join(", "))
+}
+
+/// A JSON array of rows.
+fn json_rows<'a>(rows: impl IntoIterator<Item = &'a [f64]>) -> String {
+    let items: Vec<String> = rows
+        .into_iter()
+        .map(|r| json_numbers(r.iter().copied()))
+        .collect();
+    format!("[\n      {}\n    ]", items.join(",\n      "))
+}
+
+/// Every number of a JSON text, in order (keys hold none).
+fn numbers_of(text: &str) -> Vec<f64> {
+    text.split(|c: char| !(c.is_ascii_digit() || "+-.eE".contains(c)))
+        .filter_map(|t| t.parse::<f64>().ok())
+        .collect()
+}
+
+/// The compiled-in trajectories the Python package's tests compare its runs of the same texts
+/// with (`dirac-py/tests/data/sizes.json`): the cart's reduced (+) run and the chain's
+/// constrained run, 50 steps each, from the starts above. Written when `DIRAC_BLESS` is set;
+/// otherwise the committed file must hold the trajectories computed here (to 1e-13 relative:
+/// the same compiled-in code, up to the platform's rounding).
+#[test]
+fn the_python_fixture_is_the_compiled_in_trajectory() {
+    let steps = 50;
+    let opts = NewtonOptions::default();
+    // The cart.
+    let (mc, m, k, kappa, h) = (2.0, 0.5, 3.0, 1.5, 0.01);
+    let x = SVector::<f64, 29>::from_fn(|i, _| 0.4 * ((i as f64) * 0.7).sin());
+    let w = SVector::<f64, 29>::from_fn(|i, _| 0.3 * ((i as f64) * 1.3).cos());
+    let (mu, g) = (0.8, 0.1);
+    let cart = ReducedIntegrator::plus(cart::Cart { mc, m, k, kappa, h }, opts)
+        .run(ReducedState::new(x, w, [mu], [g]))
+        .steps(steps)
+        .collect()
+        .expect("the cart runs");
+    let cart_q: Vec<Vec<f64>> = cart
+        .states
+        .iter()
+        .map(|s| s.x.iter().chain(s.g.iter()).copied().collect())
+        .collect();
+    let cart_p: Vec<Vec<f64>> = cart
+        .states
+        .iter()
+        .map(|s| s.w.iter().chain(s.mu.iter()).copied().collect())
+        .collect();
+    // The chain.
+    let (cm, l, gr, ch) = (0.7, 0.5, 9.81, 0.005);
+    let (cx, cy) = chain_start(l);
+    let q0: Vec<f64> = cx.iter().chain(&cy).copied().collect();
+    let chain = ConstrainedIntegrator::new(
+        chain::Chain {
+            m: cm,
+            l,
+            gr,
+            h: ch,
+        },
+        opts,
+    )
+    .run(UnreducedState::new(
+        SVector::<f64, 40>::from_column_slice(&q0),
+        [0.0; 40],
+    ))
+    .steps(steps)
+    .collect()
+    .expect("the chain runs");
+    let chain_q: Vec<&[f64]> = chain.states.iter().map(|s| s.q.as_slice()).collect();
+    let chain_p: Vec<&[f64]> = chain.states.iter().map(|s| s.p.as_slice()).collect();
+    let text = format!(
+        "{{\n  \"cart\": {{\n    \"parameters\": {{\"mc\": {mc:?}, \"m\": {m:?}, \"k\": {k:?}, \"kappa\": {kappa:?}, \"h\": {h:?}}},\n    \"steps\": {steps},\n    \"x\": {},\n    \"w\": {},\n    \"mu\": {mu:?},\n    \"g\": {g:?},\n    \"q\": {},\n    \"p\": {}\n  }},\n  \"chain\": {{\n    \"parameters\": {{\"m\": {cm:?}, \"l\": {l:?}, \"gr\": {gr:?}, \"h\": {ch:?}}},\n    \"steps\": {steps},\n    \"q0\": {},\n    \"q\": {},\n    \"p\": {}\n  }}\n}}\n",
+        json_numbers(x.iter().copied()),
+        json_numbers(w.iter().copied()),
+        json_rows(cart_q.iter().map(Vec::as_slice)),
+        json_rows(cart_p.iter().map(Vec::as_slice)),
+        json_numbers(q0.iter().copied()),
+        json_rows(chain_q),
+        json_rows(chain_p),
+    );
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../dirac-py/tests/data/sizes.json");
+    if std::env::var_os("DIRAC_BLESS").is_some() {
+        std::fs::create_dir_all(path.parent().expect("a folder")).expect("the folder");
+        std::fs::write(&path, &text).expect("the fixture is written");
+        return;
+    }
+    let committed =
+        std::fs::read_to_string(&path).expect("the committed fixture (DIRAC_BLESS=1 writes it)");
+    let (a, b) = (numbers_of(&committed), numbers_of(&text));
+    assert_eq!(a.len(), b.len(), "the fixture's numbers");
+    for (i, (x, y)) in a.iter().zip(&b).enumerate() {
+        assert!(
+            (x - y).abs() <= 1e-13 * y.abs().max(1.0),
+            "number {i} of the fixture: {x} committed, {y} computed"
+        );
+    }
 }

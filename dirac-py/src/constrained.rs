@@ -5,7 +5,9 @@
 //!
 //! The integrators take the dimensions and the number of constraints as type parameters; the
 //! module has an instance per `(S, K, M)` with at most one group coordinate, `S + K ≤ 6` and
-//! `M ≤ 3` (`dirac_jit::with_constrained_dimensions`).
+//! `M ≤ 3` (`dirac_jit::with_constrained_dimensions`), which runs, writes and ensembles of those
+//! sizes take (bit for bit as the integrators compiled in); larger constrained systems run on
+//! their element view (`sizes`).
 
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
@@ -17,6 +19,7 @@ use dirac_runtime::{
 };
 
 use crate::calls::{span, until};
+use crate::ensemble::Member;
 use crate::inputs::{reduced_start, unreduced_start};
 use crate::parquet::{to_parquet, Written};
 use crate::results::{finish, parts, reduced_flat, unreduced_flat, with_momenta_of, Failed, Flat};
@@ -92,6 +95,68 @@ pub(crate) fn run_constrained<
                 )
             };
             with_momenta_of(&momenta, result)
+        }
+    })
+}
+
+/// An ensemble of a constrained system of `S` shape and `K` group coordinates and `M`
+/// constraints (order 2), one member per start, on all cores: each member the run
+/// [`run_constrained`] takes from its start, bit for bit.
+pub(crate) fn run_many_constrained<
+    const S: usize,
+    const K: usize,
+    const N: usize,
+    const M: usize,
+    const Z: usize,
+>(
+    code: &Arc<Code>,
+    params: &[f64],
+    starts: &[Vec<Vec<f64>>],
+    r: RunRequest,
+    cancel: &AtomicBool,
+) -> Result<Vec<Member<Flat>>, String> {
+    let sys = code
+        .instantiate_constrained::<S, K, N, M, Z>(params)
+        .map_err(|e| e.to_string())?;
+    let (n, o) = (r.steps, r.newton);
+    Ok(match (r.equations.form, r.equations.side) {
+        (Form::Unreduced, _) => {
+            let s0: Vec<UnreducedState<N>> = starts.iter().map(|s| unreduced_start(s)).collect();
+            let integ = ConstrainedIntegrator::new(sys, o);
+            span!(integ.ensemble(&s0), n, r.end_time)
+                .stop(until(cancel))
+                .collect()
+                .into_iter()
+                .map(|m| finish(m, |t| with_multipliers(t, |t| unreduced_flat(parts!(t)))))
+                .collect()
+        }
+        (Form::Reduced, side) => {
+            let s0: Vec<ReducedState<S, K>> = starts.iter().map(|s| reduced_start(s)).collect();
+            let momenta = sys.clone();
+            let flat = |t: &ConstrainedTrajectory<ReducedState<S, K>, M>| {
+                with_multipliers(t, |t| reduced_flat(parts!(t)))
+            };
+            let members: Vec<Member<Flat>> = if side == Variant::Plus {
+                let integ = ReducedConstrainedIntegrator::plus(sys, o);
+                span!(integ.ensemble(&s0), n, r.end_time)
+                    .stop(until(cancel))
+                    .collect()
+                    .into_iter()
+                    .map(|m| finish(m, flat))
+                    .collect()
+            } else {
+                let integ = ReducedConstrainedIntegrator::minus(sys, o);
+                span!(integ.ensemble(&s0), n, r.end_time)
+                    .stop(until(cancel))
+                    .collect()
+                    .into_iter()
+                    .map(|m| finish(m, flat))
+                    .collect()
+            };
+            members
+                .into_iter()
+                .map(|m| with_momenta_of(&momenta, m))
+                .collect()
         }
     })
 }

@@ -87,7 +87,7 @@ fn row_bytes(sys: &JitElement) -> u128 {
 
 /// An ensemble: one run (order 2) per start, on all cores; the constrained integrator for a
 /// system with constraints.
-fn run_many(
+pub(crate) fn run_many(
     sys: JitElement,
     starts: &[ElementState],
     run: RunRequest,
@@ -144,15 +144,15 @@ fn run_many(
 }
 
 /// A run's trajectory flattened for NumPy.
-struct Flat {
-    t: Vec<f64>,
-    q: Vec<f64>,
-    p: Vec<f64>,
+pub(crate) struct Flat {
+    pub(crate) t: Vec<f64>,
+    pub(crate) q: Vec<f64>,
+    pub(crate) p: Vec<f64>,
     momentum_map: Vec<f64>,
-    iterations: Vec<usize>,
-    residuals: Vec<f64>,
+    pub(crate) iterations: Vec<usize>,
+    pub(crate) residuals: Vec<f64>,
     /// For a constrained run: `λ_k` per step, and `‖φ(q_{k+1})‖∞`.
-    multipliers: Option<(Vec<f64>, Vec<f64>)>,
+    pub(crate) multipliers: Option<(Vec<f64>, Vec<f64>)>,
 }
 
 fn flat(
@@ -181,7 +181,7 @@ fn flat(
 }
 
 /// One run: the unconstrained integrator (order 2, 4 or 6), or the constrained one.
-fn run_one(
+pub(crate) fn run_one(
     sys: JitElement,
     start: ElementState,
     run: RunRequest,

@@ -11,8 +11,15 @@
 //! or error made Python's in `results`, an ensemble's starts read and its members' results
 //! stacked in `ensemble` (for every class), and runs streamed to Parquet in `parquet`.
 //!
-//! The integrators take the dimensions as type parameters; the module dispatches a system's
-//! `(S, K)` at run time to one instance per pair with `S + K ≤ 8` (`dirac_jit::with_dimensions`).
+//! Systems on vector spaces run at any size, on one of two paths chosen by their dimensions
+//! (`dirac_jit::Code::fixed_size`). The fixed-size integrators take the dimensions as type
+//! parameters; the module dispatches a system's `(S, K)` at run time to one instance per pair
+//! with `S + K ≤ 8` (`dirac_jit::with_dimensions`), with constraints per `(S, K, M)` with
+//! `S + K ≤ 6`, `K ≤ 1`, `M ≤ 3` (`dirac_jit::with_constrained_dimensions`): those sizes step
+//! bit for bit as the system compiled in, with the fixed-size stack-only steps. Every other
+//! size runs on the system's element view (`sizes`: the element integrators, sized at run time,
+//! the same trajectory to round-off by the paper's Lemma: the reduced (+)/(−) equations (4.6),
+//! (4.8) are the element (+)/(−) sides in another basis). Results have the same shape on both.
 
 use std::sync::Arc;
 
@@ -25,8 +32,9 @@ mod lie;
 mod parquet;
 mod results;
 mod runs;
+mod sizes;
 
-use constrained::{run_constrained, write_constrained};
+use constrained::{run_constrained, run_many_constrained, write_constrained};
 use inputs::{
     control_names, ending, parameter_values, Inputs, CORE_KEYWORDS, ENSEMBLE_KEYWORDS,
     RUN_KEYWORDS, WRITE_KEYWORDS,
@@ -41,9 +49,6 @@ use numpy::PyArray1;
 use pyo3::exceptions::{PyException, PyMemoryError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-
-/// The largest `N = S + K` the module has integrators for.
-const MAX_N: usize = dirac_jit::MAX_DISPATCHED;
 
 pyo3::create_exception!(
     _dirac,
@@ -81,16 +86,6 @@ impl System {
     /// The number of constraints (0 without).
     fn constraint_count(&self) -> usize {
         self.code.system().constrained.as_ref().map_or(0, |c| c.m)
-    }
-
-    /// A `ValueError` for what runs systems without constraints only.
-    fn unconstrained(&self, what: &str) -> PyResult<()> {
-        if self.constraint_count() > 0 {
-            return Err(PyValueError::new_err(format!(
-                "{what} runs systems without constraints; `run` integrates this one"
-            )));
-        }
-        Ok(())
     }
 
     /// One of the maps of the adapted coordinates on a vector of the system's length.
@@ -312,9 +307,17 @@ impl System {
             steps as u128 + 1,
             self.row_bytes(energies),
         )?;
+        if energies && !self.code.fixed_size() {
+            return Err(PyValueError::new_err(format!(
+                "energies: a system of {} coordinates runs on the element integrators, whose \
+                 runs from Python give no energies (from Rust: `ElementIntegrator::energies`)",
+                self.dims().0 + self.dims().1
+            )));
+        }
         let (s, k) = self.dims();
         let code = Arc::clone(&self.code);
         let (result, interrupt) = calls::interruptible(py, |cancel| match m {
+            _ if !code.fixed_size() => sizes::run_one(&code, &params, &start, r, cancel),
             0 => dirac_jit::with_dimensions!(
                 s,
                 k,
@@ -353,7 +356,6 @@ impl System {
         end_time: Option<f64>,
         starts: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        self.unconstrained("`ensemble`")?;
         let r = ending(self.request(method, order, steps, tol)?, end_time)?;
         self.check_start_keywords("System.ensemble", ENSEMBLE_KEYWORDS, r.equations, starts)?;
         let params = parameter_values(&self.code, parameters)?;
@@ -381,9 +383,21 @@ impl System {
         )?;
         let (s, k) = self.dims();
         let code = Arc::clone(&self.code);
-        let (results, interrupt) = calls::interruptible(py, |cancel| {
-            dirac_jit::with_dimensions!(s, k, run_many(&code, &params, &per_member, r, cancel))
-        })?;
+        let (results, interrupt) =
+            calls::interruptible(py, |cancel| match self.constraint_count() {
+                _ if !code.fixed_size() => sizes::run_many(&code, &params, &per_member, r, cancel),
+                0 => dirac_jit::with_dimensions!(
+                    s,
+                    k,
+                    run_many(&code, &params, &per_member, r, cancel)
+                ),
+                m => constrained::with_constrained!(
+                    s,
+                    k,
+                    m,
+                    run_many_constrained(&code, &params, &per_member, r, cancel)
+                ),
+            })?;
         let names = self.part_names("q");
         let rows = r.end_time.is_none().then_some(steps + 1);
         ensemble::ensemble_dict(py, results, interrupt, rows, |flat| {
@@ -433,6 +447,7 @@ impl System {
         let (s, k) = self.dims();
         let code = Arc::clone(&self.code);
         let (written, interrupt) = calls::interruptible(py, |cancel| match m {
+            _ if !code.fixed_size() => sizes::write_one(&code, &params, &start, r, &path, cancel),
             0 => dirac_jit::with_dimensions!(
                 s,
                 k,
@@ -501,29 +516,7 @@ fn compile(py: Python<'_>, text: &str) -> PyResult<PyObject> {
         Ok(dirac_jit::Compiled::Element(code)) => {
             Ok(Py::new(py, element::ElementSystem::new(code))?.into_any())
         }
-        Ok(dirac_jit::Compiled::Flat(code)) => {
-            let (s, k) = (code.system().shape.len(), code.system().group.len());
-            if let Some(c) = &code.system().constrained {
-                let (m_max, n_max, k_max) = dirac_jit::MAX_DISPATCHED_CONSTRAINED;
-                if c.m > m_max || s + k > n_max || k > k_max {
-                    return Err(CompileError::new_err(format!(
-                        "{s} shape and {k} group coordinates with {} constraints: the Python \
-                         module integrates constrained systems of at most {n_max} coordinates, \
-                         {k_max} of them group coordinates, and {m_max} constraints (the \
-                         constrained integrators take larger ones from Rust: \
-                         `dirac_jit::Code::instantiate_constrained`)",
-                        c.m
-                    )));
-                }
-            }
-            if s + k > MAX_N {
-                return Err(CompileError::new_err(format!(
-                    "{} coordinates: the Python module runs systems of at most {MAX_N}",
-                    s + k
-                )));
-            }
-            Ok(Py::new(py, System { code })?.into_any())
-        }
+        Ok(dirac_jit::Compiled::Flat(code)) => Ok(Py::new(py, System { code })?.into_any()),
         Err(dirac_jit::Error::Text(e)) => {
             let err = CompileError::new_err(e.to_string());
             let diagnostics: Vec<(String, usize, usize)> = e
@@ -547,6 +540,5 @@ fn _dirac(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("CompileError", m.py().get_type::<CompileError>())?;
     m.add("StepError", m.py().get_type::<StepError>())?;
     m.add("OutOfMemoryError", m.py().get_type::<OutOfMemoryError>())?;
-    m.add("MAX_COORDINATES", MAX_N)?;
     Ok(())
 }

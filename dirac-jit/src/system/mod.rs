@@ -117,6 +117,10 @@ impl Drop for Module {
 /// compilation took. Shared ([`Arc`]) by every [`JitSystem`] made from it.
 pub struct Code {
     system: System,
+    /// The text it was compiled from, for its element view ([`Code::element_view`]).
+    source: String,
+    /// The element view, compiled on first use.
+    view: std::sync::OnceLock<Result<Arc<crate::ElementCode>, String>>,
     /// The declared domain, as the runtime reads it.
     domain: Vec<dirac_runtime::domain::Bound>,
     kernels: Kernels,
@@ -140,12 +144,16 @@ impl std::fmt::Debug for Code {
 /// to machine code.
 pub fn compile(source: &str) -> Result<Arc<Code>, Error> {
     let start = Instant::now();
-    Code::from_system(text::compile(source)?, start)
+    Code::from_system(text::compile(source)?, source, start)
 }
 
 impl Code {
     /// The machine code of a compiled system; `start` is when its compilation began.
-    pub(crate) fn from_system(system: System, start: Instant) -> Result<Arc<Code>, Error> {
+    pub(crate) fn from_system(
+        system: System,
+        source: &str,
+        start: Instant,
+    ) -> Result<Arc<Code>, Error> {
         let s = system.shape.len();
         let mut jit = Jit::new()?;
         let stepper = |jit: &mut Jit, st: &text::Stepper, layout: Layout| -> Result<_, Error> {
@@ -278,6 +286,8 @@ impl Code {
             .collect();
         Ok(Arc::new(Code {
             system,
+            source: source.to_owned(),
+            view: std::sync::OnceLock::new(),
             domain,
             kernels,
             compile_time: start.elapsed(),
@@ -350,6 +360,68 @@ impl Code {
     /// The compiled system's names and programs.
     pub fn system(&self) -> &System {
         &self.system
+    }
+
+    /// Whether the fixed-size instances serve this system's dimensions: [`crate::with_dimensions!`]
+    /// without constraints, [`crate::with_constrained_dimensions!`] with them. A system they do
+    /// not serve runs on its [`Self::element_view`] (any number of coordinates and constraints).
+    pub fn fixed_size(&self) -> bool {
+        let (s, k) = (self.system.shape.len(), self.system.group.len());
+        match &self.system.constrained {
+            None => (1..=crate::MAX_DISPATCHED).contains(&(s + k)),
+            Some(c) => {
+                let (m, n, k_max) = crate::MAX_DISPATCHED_CONSTRAINED;
+                (1..=m).contains(&c.m) && s + k <= n && k <= k_max && s + k >= 1
+            }
+        }
+    }
+
+    /// The element view of this system ([`crate::compile_flat_elements`] of its text), compiled
+    /// on the first call and shared by every later one: what runs the system at any number of
+    /// coordinates and constraints on the element integrators, with the trajectory of its
+    /// reduced and unreduced integrators (eqs. (4.6), (4.8), Definitions 2.7/2.8) in the
+    /// coordinates `q = (x, g)`, `p = (w − Bᵀ μ, μ)` (eq. (3.7)). An error for what the element
+    /// integrators do not support (adaptive steps, a domain, nonholonomic constraints).
+    pub fn element_view(&self) -> Result<Arc<crate::ElementCode>, Error> {
+        self.view
+            .get_or_init(|| {
+                crate::compile_flat_elements(&self.source).map_err(|e| match e {
+                    Error::Text(t) => t
+                        .diagnostics
+                        .iter()
+                        .map(|d| d.message.clone())
+                        .collect::<Vec<_>>()
+                        .join("; "),
+                    other => other.to_string(),
+                })
+            })
+            .clone()
+            .map_err(|reason| Error::Element {
+                name: self.system.name.clone(),
+                reason,
+            })
+    }
+
+    /// The connection `B` (`K × S`, row by row) at `parameters` (in declaration order): what
+    /// maps the reduced momenta to the user's, `p_x = w − Bᵀ μ` (eq. (3.7)). An error for a
+    /// wrong number of parameters or a value that is not finite.
+    pub fn connection(&self, parameters: &[f64]) -> Result<Vec<f64>, Error> {
+        let values = parameter_values(&self.system.name, &self.system.parameters, parameters)?;
+        let (s, k) = (self.system.shape.len(), self.system.group.len());
+        let mut bt = vec![0.0; s * k];
+        // SAFETY: the connection's kernel reads the parameters only (inline, `MAX_PARAMETERS`
+        // of them, checked on compilation) and writes its `K × S` outputs, the length of `bt`.
+        unsafe {
+            (self.kernels.connection)(
+                values.as_ptr(),
+                UNUSED,
+                UNUSED,
+                UNUSED,
+                UNUSED,
+                bt.as_mut_ptr(),
+            );
+        }
+        Ok(bt)
     }
 
     /// How long the text took to become machine code (parsing, the checks, differentiation and

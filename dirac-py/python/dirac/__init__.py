@@ -17,6 +17,13 @@ arrays in and out::
     run = kepler.run({"h": 0.01, "k": 1.0}, steps=1000, x=[0.5], w=[0.0], mu=[1.2], g=[0.0])
     run["x"].shape, run["q"]["r"].shape  # (1001, 1), (1001,)
 
+A system on vector spaces runs at any size, constraints and ensembles included: up to 8
+coordinates (with constraints up to 6 coordinates, one of them a group coordinate, and 3
+constraints) on the fixed-size integrators, bit for bit as the system compiled in; above, on its
+element view (the whole Lagrangian one element reading every coordinate, each group coordinate a
+translation whose momentum is kept exact), with the same methods, keywords and results — the
+same trajectory to round-off, as both solve the same equations.
+
 A system on rotation groups (``rotation(R)``, ``direction(n)`` coordinates) compiles to a
 :class:`LieSystem`, started from its coordinates by name (a rotation's matrix, a direction's
 unit vector) and their momenta, its trajectory per coordinate::
@@ -43,14 +50,13 @@ Every run method raises ``TypeError`` for a keyword it does not take, ``OutOfMem
 ``KeyboardInterrupt`` with the trajectory so far (``trajectory``), as ``StepError`` carries it.
 """
 
-from ._dirac import (CompileError, ElementSystem, LieSystem, MAX_COORDINATES, OutOfMemoryError,
-                     StepError, System, compile)
+from ._dirac import (CompileError, ElementSystem, LieSystem, OutOfMemoryError, StepError, System,
+                     compile)
 
 __all__ = [
     "CompileError",
     "ElementSystem",
     "LieSystem",
-    "MAX_COORDINATES",
     "OutOfMemoryError",
     "StepError",
     "System",
