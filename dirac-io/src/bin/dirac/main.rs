@@ -73,8 +73,15 @@
 //! p = [0.3, 0.05, -0.2, 0.05]
 //! ```
 //!
+//! A system on vector spaces runs at any size: up to 8 coordinates (with constraints up to 6,
+//! one of them a group coordinate, and 3 constraints) on the fixed-size integrators, bit for bit
+//! as compiled in; above, on its element view (`sizes`), the same trajectory to round-off, its
+//! file then with the columns `q_<coordinate>` and `p_<coordinate>` whatever the method.
+//!
 //! Exit status 0 on success, 1 when the system or a step fails (the states computed before a
 //! failed step are written and named), 2 for a malformed command line or file.
+
+mod sizes;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -192,6 +199,8 @@ fn cli(args: Vec<String>) -> Result<(), Failure> {
         "run" => {
             let (s, k) = (sys.shape.len(), sys.group.len());
             let report = match &sys.constrained {
+                // Any other size: the element view on the element integrators.
+                _ if !code.fixed_size() => sizes::run_view(&code, &config, request),
                 None => dirac_jit::with_dimensions!(s, k, run(&code, &config, request)),
                 Some(c) => {
                     dirac_jit::with_constrained_dimensions!(
