@@ -175,15 +175,17 @@
 //! Systems on vector spaces (of more than 16 coordinates on the sparse backend, as compiled in:
 //! `instantiate_sparse::<S, K, N>`, and the 200-particle lattice steps bit for bit as its
 //! compiled-in version), with or without constraints, with fixed or adaptive steps, and systems
-//! on rotation groups, reduced or not, and element-wise systems of any size (stencils of at most
-//! 12 coordinates in at most 4 nested loops, at most 8 sizes), with at most 32 parameters. The
-//! Python package runs systems on vector spaces (with constraints: at most 6 coordinates and 3
-//! constraints), on rotation groups of any size (any number of rotations, directions, poses
-//! and scalars: a small system at fixed sizes, a larger one at the sizes its text declares,
-//! `dirac_jit::DynJitLie`), and element-wise systems; the command line runs systems on vector
-//! spaces (with constraints: as
-//! many as Python) and on rotation groups (it writes Parquet of a fixed width, which an
-//! element-wise run does not have).
+//! on rotation groups, reduced or not, and element-wise systems of any size (stencils of any
+//! number of coordinates in at most 4 nested loops, at most 8 sizes), with at most 32
+//! parameters. The Python package runs systems on vector spaces of any size, with any number of
+//! constraints, ensembles included (up to 8 coordinates — with constraints up to 6, one group
+//! coordinate and 3 constraints — on the fixed-size integrators, bit for bit as compiled in;
+//! above on the system's element view, `dirac_jit::Code::element_view`: the whole `L_d` one
+//! element reading every coordinate, each group coordinate a translation whose momentum is kept
+//! exact, the same trajectory to round-off), on rotation groups of any size (any number of
+//! rotations, directions, poses and scalars: a small system at fixed sizes, a larger one at the
+//! sizes its text declares, `dirac_jit::DynJitLie`), and element-wise systems; the command line runs the same systems
+//! from system files (on vector spaces of any size, as Python).
 //!
 //! A text is never a crash: groups (`(..)`, `[..]`, `{..}`) nested deeper than
 //! `text::MAX_NESTING` = 256, longer runs of prefixes (`- - x`, closures) and generic arguments
