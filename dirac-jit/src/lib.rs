@@ -113,6 +113,25 @@
 //! ([`Code::instantiate`]); above, the sparse LU on the step Jacobian's structural nonzeros
 //! ([`Code::instantiate_sparse`]), whose kernels write only those entries, into a buffer that a
 //! run reuses. A 200-particle lattice given as text steps bit for bit as the compiled-in one.
+//!
+//! # Sizes: two paths
+//!
+//! A program that takes systems at run time (the Python package, the command line) cannot name
+//! the dimensions as type parameters. It takes one of two paths, by size
+//! ([`Code::fixed_size`]):
+//!
+//! - the fixed-size instances, [`with_dimensions!`] (`S + K ≤` [`MAX_DISPATCHED`]) and
+//!   [`with_constrained_dimensions!`] ([`MAX_DISPATCHED_CONSTRAINED`]): stack-only steps,
+//!   bit for bit as the system compiled in, for the small systems where a step's cost is a few
+//!   hundred operations and an allocation or a sparse solve would dominate it;
+//! - every other size, the system's element view ([`Code::element_view`],
+//!   [`compile_flat_elements`]): its `L_d` one element reading every coordinate, each group
+//!   coordinate a translation whose momentum `μ = p_g` the element integrators keep exact, each
+//!   constraint row a constraint family, on `ElementIntegrator` and
+//!   `ElementConstrainedIntegrator`, which take their sizes at run time. Its (+)/(−) sides
+//!   solve the reduced (+)/(−) equations (4.6), (4.8) in another basis (Definitions 2.7/2.8 in
+//!   the coordinates `q = (x, g)`, `p = (w − Bᵀ μ, μ)`, eq. (3.7)): the same trajectory to
+//!   round-off, not bit for bit (other unknowns, another linear solver).
 
 #![warn(missing_docs)]
 
@@ -200,7 +219,7 @@ macro_rules! with_dimensions {
         match $sk {
             $(($s, $k) => $f::<$s, $k, { $s + $k }> $args,)*
             (s, k) => ::core::result::Result::Err(::std::format!(
-                "{s} shape and {k} group coordinates: systems given at run time are integrated with at most {} coordinates here",
+                "{s} shape and {k} group coordinates: the fixed-size instances have at most {} coordinates (other sizes run on the element view, `Code::element_view`)",
                 $crate::MAX_DISPATCHED
             )),
         }
@@ -270,7 +289,7 @@ macro_rules! with_constrained_dimensions {
         match $skm {
             $(($s, $k, $m) => $f::<$s, $k, { $s + $k }, $m, { $s + $k + $m }> $args,)*
             (s, k, m) => ::core::result::Result::Err(::std::format!(
-                "{s} shape and {k} group coordinates with {m} constraints: constrained systems given at run time are integrated here with at most {} coordinates, {} of them group coordinates, and {} constraints",
+                "{s} shape and {k} group coordinates with {m} constraints: the fixed-size constrained instances have at most {} coordinates, {} of them group coordinates, and {} constraints (other sizes run on the element view, `Code::element_view`)",
                 $crate::MAX_DISPATCHED_CONSTRAINED.1,
                 $crate::MAX_DISPATCHED_CONSTRAINED.2,
                 $crate::MAX_DISPATCHED_CONSTRAINED.0
