@@ -598,19 +598,6 @@ impl<L: ElementLagrangian> Stepper for ElementConstrainedIntegrator<L> {
         self.base.system().control_count()
     }
 
-    fn step_with(
-        &self,
-        workspace: &mut ElementConstrainedWorkspace,
-        k: usize,
-        h: f64,
-        state: &ElementState,
-        u: &[f64],
-    ) -> Result<(ElementState, ElementConstrainedStep), StepError> {
-        let mut next = state.clone();
-        let record = self.step_into(workspace, k, h, state, u, &mut next)?;
-        Ok((next, record))
-    }
-
     fn step_into(
         &self,
         workspace: &mut ElementConstrainedWorkspace,

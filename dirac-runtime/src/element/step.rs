@@ -49,19 +49,6 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
         self.system.control_count()
     }
 
-    fn step_with(
-        &self,
-        workspace: &mut ElementWorkspace,
-        k: usize,
-        h: f64,
-        state: &ElementState,
-        u: &[f64],
-    ) -> Result<(ElementState, StepStats), StepError> {
-        let mut next = state.clone();
-        let record = self.step_into(workspace, k, h, state, u, &mut next)?;
-        Ok((next, record))
-    }
-
     /// Step `k` into `next` (whose memory is reused): Newton on `R(q_{k+1}) = 0` from the
     /// extrapolated guess, then `p_{k+1} = D_2 L_d` with the momentum map of each translation
     /// kept exact (see the [module documentation](super)).
