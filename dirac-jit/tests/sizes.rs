@@ -25,8 +25,14 @@ mod chain {
     include!("sizes/chain20.rs");
 }
 
+mod forced {
+    use dirac::prelude::*;
+    include!("sizes/forced12.rs");
+}
+
 const CART: &str = include_str!("sizes/cart30.rs");
 const CHAIN: &str = include_str!("sizes/chain20.rs");
+const FORCED: &str = include_str!("sizes/forced12.rs");
 
 /// `|a − b|∞ ≤ tol · max(|b|∞, 1)`, else the step and both vectors.
 fn close(a: &[f64], b: &[f64], tol: f64, what: &str) {
@@ -111,6 +117,62 @@ fn a_30_coordinate_system_given_as_text_runs_on_the_element_integrators_as_compi
             assert_eq!(b.mu[0], mu);
         }
     }
+}
+
+#[test]
+fn forces_act_on_the_element_view_as_on_the_reduced_equations() {
+    let code = dirac_jit::compile_flat_elements(FORCED).expect("the forced cart compiles");
+    assert_eq!(
+        code.system().families.len(),
+        2,
+        "L_d and the forces, one element each"
+    );
+    let (m, k, b, f, h) = (0.5, 2.0, 0.3, 0.7, 0.01);
+    let given = code
+        .instantiate_named(&[("m", m), ("k", k), ("b", b), ("f", f), ("h", h)], &[])
+        .expect("instantiates");
+    let compiled = forced::Forced { m, k, b, f, h };
+    let x = SVector::<f64, 11>::from_fn(|i, _| 0.3 * ((i as f64) * 0.9).sin());
+    let w = SVector::<f64, 11>::from_fn(|i, _| 0.2 * ((i as f64) * 0.4).cos());
+    let start = ReducedState::new(x, w, [0.1], [0.0]);
+    let q: Vec<f64> = x.iter().copied().chain([0.0]).collect();
+    let p: Vec<f64> = w.iter().copied().chain([0.1]).collect();
+    let opts = NewtonOptions::default();
+    let steps = 200;
+    let reduced = ReducedIntegrator::plus(compiled, opts)
+        .run(start)
+        .steps(steps)
+        .collect()
+        .expect("the compiled-in run");
+    let run = ElementIntegrator::new(given, opts)
+        .run(ElementState::new(q, p))
+        .steps(steps)
+        .collect()
+        .expect("the element run");
+    for (kk, (a, b)) in run.states.iter().zip(&reduced.states).enumerate() {
+        let bq: Vec<f64> = b.x.iter().copied().chain(b.g.iter().copied()).collect();
+        let bp: Vec<f64> = b.w.iter().copied().chain(b.mu.iter().copied()).collect();
+        close(a.q.as_slice(), &bq, 1e-12, &format!("q at step {kk}"));
+        close(a.p.as_slice(), &bp, 1e-12, &format!("p at step {kk}"));
+    }
+    // The push changed the cart's momentum: by f t, the damping being internal.
+    let t = reduced.times[steps];
+    assert!((run.last().p[11] - (0.1 + f * t)).abs() < 1e-10);
+}
+
+#[test]
+fn what_the_element_integrators_do_not_support_is_refused_with_the_attributes_error() {
+    let adaptive = "#[reduced_lagrangian(shape(x), group(t), time(t), adapt = |q| 1.0 + q.x * q.x,
+                        rule = midpoint)]
+                    fn f(q: Config, v: Velocity, m: f64) -> f64 { 0.5 * m * v.x * v.x - q.x * q.x }";
+    let e = dirac_jit::compile_flat_elements(adaptive)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("adaptive steps"), "{e}");
+    let code = dirac_jit::compile(adaptive).expect("the fixed-size integrators take it");
+    assert!(code.fixed_size());
+    let e = code.element_view().unwrap_err().to_string();
+    assert!(e.contains("do not support"), "{e}");
 }
 
 /// The chain hanging at an angle, at rest.
