@@ -156,3 +156,25 @@ def test_a_large_system_writes_its_run(tmp_path):
     for name in ("x[0]", "x[28]", "c"):
         np.testing.assert_array_equal(table.column(f"q_{name}").to_numpy(), run["q"][name])
         np.testing.assert_array_equal(table.column(f"p_{name}").to_numpy(), run["p"][name])
+
+
+def test_what_the_element_path_does_not_support_is_a_value_error():
+    cart = dirac.compile(CART)
+    f = FIXTURE["cart"]
+    with pytest.raises(ValueError, match="energies"):
+        cart.run(f["parameters"], steps=2, energies=True, x=f["x"], w=f["w"], mu=[f["mu"]],
+                 g=[f["g"]])
+    # Adaptive steps at a size only the element integrators serve.
+    adaptive = dirac.compile("""
+        #[reduced_lagrangian(shape(x[9]), group(t), time(t), adapt = |q| 1.0 + q.x[0] * q.x[0],
+            rule = midpoint)]
+        fn f(q: Config, v: Velocity, m: f64) -> f64 {
+            let mut l = 0.0;
+            for i in 0..9 {
+                l += 0.5 * m * v.x[i] * v.x[i] - q.x[i] * q.x[i];
+            }
+            l
+        }""")
+    with pytest.raises(ValueError, match="adaptive steps"):
+        adaptive.run({"m": 1.0, "h": 0.01}, steps=2, method="unreduced", q=np.zeros(10),
+                     p=np.ones(10))
