@@ -28,10 +28,10 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::calls::{self, span, until};
+use crate::composition;
 use crate::ensemble::{self, Member};
 use crate::parquet::to_parquet;
 use crate::results::{finish, Failed};
-use crate::{composition, CompileError};
 
 /// A run's trajectory flattened for NumPy: the times, per coordinate its configurations and
 /// momenta (each with the shape of one row), and the spatial angular and linear momenta (and the
@@ -341,22 +341,14 @@ where
             let s0 = integ.reduce(&s0);
             to_parquet(&integ, s0, (n, r.end_time), path, &o, cancel)?
         }
-        (Form::Unreduced, Variant::Plus) => to_parquet(
-            &LieIntegratorOf::new(sys, o),
-            s0,
-            (n, r.end_time),
-            path,
-            &o,
-            cancel,
-        )?,
-        (Form::Unreduced, Variant::Minus) => to_parquet(
-            &LieIntegratorOf::minus(sys, o),
-            s0,
-            (n, r.end_time),
-            path,
-            &o,
-            cancel,
-        )?,
+        (Form::Unreduced, side) => {
+            let integ = if side == Variant::Plus {
+                LieIntegratorOf::new(sys, o)
+            } else {
+                LieIntegratorOf::minus(sys, o)
+            };
+            to_parquet(&integ, s0, (n, r.end_time), path, &o, cancel)?
+        }
     })
 }
 

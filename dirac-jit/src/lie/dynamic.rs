@@ -1,17 +1,5 @@
-//! A system on rotation groups given as text at sizes chosen at run time ([`DynJitLie`]): any
-//! number of rotations, directions, poses and scalars, with no dimension among the type
-//! parameters. It implements the runtime's dimension-generic [`LieModel`] at `Dyn` sizes (and
-//! [`SymmetricLieModel`] when reduced by its declared symmetry), so the same integrators run it
-//! — `LieIntegratorOf<DynJitLie, Dyn, Dyn>` and `ReducedLieIntegratorOf` — on `DVector`s that
-//! a run allocates once, in its workspace: a step allocates nothing. The kernels are the ones
-//! [`JitLie`](super::JitLie) calls; the step Jacobian is written with the residual into one
-//! buffer ([`CscBuffer`]) that the run reuses and factored by [`DynPatternLu`]: on the
-//! compiler's sparsity pattern above 16 chart coordinates (the compiled-in system's
-//! factorization, so the same steps), on the full pattern below.
-//!
-//! [`LieFront`] is what the front ends (Python, the command line) read of a system on rotation
-//! groups given as text at either kind of size: [`JitLie`](super::JitLie) at fixed sizes,
-//! [`DynJitLie`] at sizes chosen at run time, so that one generic run serves both.
+//! Systems on rotation groups given as text at sizes chosen at run time ([`DynJitLie`]), and
+//! what the front ends read of either kind of size ([`LieFront`]).
 
 use std::marker::PhantomData;
 use std::sync::Arc;
@@ -37,8 +25,34 @@ fn step_layout_args(q_k: &DVector<f64>, p_k: &DVector<f64>, z: &DVector<f64>) ->
 }
 
 /// A system on rotation groups given as text, with its parameter values, at the sizes its text
-/// declares (see the [module documentation](self)): what `LieIntegratorOf` and, reduced
-/// ([`Reduced`]), `ReducedLieIntegratorOf` take at `Dyn` sizes. Cloning it shares the code.
+/// declares: what `LieIntegratorOf` and, reduced ([`Reduced`]), `ReducedLieIntegratorOf` take at
+/// `Dyn` sizes. Cloning it shares the code.
+///
+/// Any number of rotations, directions, poses and scalars, with no dimension among the type
+/// parameters: it implements the runtime's dimension-generic [`LieModel`] at `Dyn` sizes (and
+/// [`SymmetricLieModel`] when reduced by its declared symmetry), so the same integrators run it
+/// — `LieIntegratorOf<DynJitLie, Dyn, Dyn>` and `ReducedLieIntegratorOf` — on `DVector`s that
+/// a run allocates once, in its workspace: a step allocates nothing. The kernels are the ones
+/// [`JitLie`] calls; the step Jacobian is written with the residual into one
+/// buffer ([`CscBuffer`]) that the run reuses and factored by [`DynPatternLu`]: on the
+/// compiler's sparsity pattern above 16 chart coordinates (the compiled-in system's
+/// factorization, so the same steps), on the full pattern below.
+///
+/// [`LieFront`] is what the front ends (Python, the command line) read of a system on rotation
+/// groups given as text at either kind of size, so that one generic run serves both.
+///
+/// # Which sizes run where
+///
+/// The front ends keep the fixed-size instances for the small systems
+/// ([`with_lie_dimensions!`](crate::with_lie_dimensions): at most two rotation or direction
+/// coordinates, at most 8 chart coordinates) and run every other size here. On the small
+/// systems the fixed-size step is the faster one: `jit_bench` (`--rounds 3 --steps 2000`,
+/// 2026-11-28, the 2-core machine) measured the heavy top's step given as text at 1.03× the
+/// compiled-in step at fixed sizes and 3.2× at run-time sizes, the pendulum on `S² × S²` at
+/// 1.40× and 2.5× — on a system of 3 or 4 chart coordinates the heap vectors and the sparse
+/// factorization of the full pattern cost more than the step's own arithmetic, and the guarantee
+/// for those systems is 1.5× the compiled-in step. On a large system the factorization on the
+/// compiler's pattern is the compiled-in system's own, and the steps are the same.
 pub struct DynJitLie<R = Unreduced> {
     code: Arc<LieCode>,
     values: [f64; MAX_PARAMETERS],

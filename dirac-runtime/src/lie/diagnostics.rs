@@ -5,7 +5,7 @@
 //!
 //! * **Dirac residual.** A step `(q_k, p_k) → (q_{k+1}, p_{k+1})` is a point of the discrete
 //!   Dirac structure when, with `z_k` the chart coordinate of `q_{k+1}` about `q_k`
-//!   ([`LieIntegrator::chart_coordinates`]), both momentum equations hold:
+//!   ([`LieIntegrator::chart_coordinates`](super::LieIntegratorOf::chart_coordinates)), both momentum equations hold:
 //!   `p_k = −D1 L̃(0, z_k) (− f_d^−)` and `p_{k+1} = D2 L_d · dφ_{q_{k+1}}(0) (+ f_d^+)`. The
 //!   residual is the larger of the two ∞-norms, relative to the momenta's size; along a computed
 //!   trajectory it is of the order of the Newton residual the steps were accepted with.

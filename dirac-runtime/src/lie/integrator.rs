@@ -271,7 +271,7 @@ where
         worst
     }
 
-    /// The step of size `h` from `state` with the `equations` (the unreduced step's or a
+    /// Step `k`, of size `h`, from `state` with the `equations` (the unreduced step's or a
     /// reduced one's), into `next`: Newton on the residual for the chart coordinate `z` of the
     /// next point — for the (−) equations on `w = −z`, the coordinate of the current point in the
     /// chart about the next, with the residual `−R(−w)` (whose Jacobian in `w` is `R`'s in `z`)
@@ -285,8 +285,7 @@ where
     pub(super) fn chart_step_into(
         &self,
         workspace: &mut LieWorkspaceOf<L::Linear, N>,
-        k: usize,
-        h: f64,
+        (k, h): (usize, f64),
         state: &LieStateOf<P, N>,
         u: &[f64],
         equations: &StepEquations<L, P, N>,
@@ -319,9 +318,12 @@ where
                 None => unknown.fill(0.0),
             }
         }
-        let chart = RefCell::new(chart);
+        // The (+) equations read the unknown itself (`s = 1`: the products by `s` are exact, so
+        // they are left out); the (−) ones its negation, written into the workspace's `chart`.
+        let minus = s < 0.0;
+        let negated = RefCell::new(&mut *chart);
         let at = |u: &OVector<f64, N>| {
-            let mut z = chart.borrow_mut();
+            let mut z = negated.borrow_mut();
             z.copy_from(u);
             **z *= s;
             z
@@ -334,19 +336,33 @@ where
             rho,
             &self.options,
             |u, r| {
-                (equations.residual)(sys, q, p, &at(u), r);
-                *r *= s;
+                if minus {
+                    (equations.residual)(sys, q, p, &at(u), r);
+                    *r *= s;
+                } else {
+                    (equations.residual)(sys, q, p, u, r);
+                }
             },
             |u, r, j| {
-                (equations.residual_jacobian)(sys, q, p, &at(u), r, j);
-                *r *= s;
+                if minus {
+                    (equations.residual_jacobian)(sys, q, p, &at(u), r, j);
+                    *r *= s;
+                } else {
+                    (equations.residual_jacobian)(sys, q, p, u, r, j);
+                }
             },
         )
         .map_err(|failure| step_error(k, failure))?;
-        let z = at(unknown);
-        *residual *= s;
-        sys.retract_into(q, &z, &mut next.q);
-        (equations.momentum)(sys, q, p, &z, &mut next.p);
+        let z: &OVector<f64, N> = if minus {
+            chart.copy_from(unknown);
+            *chart *= s;
+            *residual *= s;
+            chart
+        } else {
+            unknown
+        };
+        sys.retract_into(q, z, &mut next.q);
+        (equations.momentum)(sys, q, p, z, &mut next.p);
         compensate(sys, q, &next.q, residual, &mut next.p);
         if !next.all_finite() {
             return Err(StepError::NonFinite {
@@ -495,7 +511,7 @@ where
     ) -> Result<StepStats, StepError> {
         check_sizes(&self.system, state)?;
         match_sizes(state, next);
-        self.chart_step_into(workspace, k, h, state, u, &StepEquations::UNREDUCED, next)
+        self.chart_step_into(workspace, (k, h), state, u, &StepEquations::UNREDUCED, next)
     }
 }
 

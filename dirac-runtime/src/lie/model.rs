@@ -29,7 +29,7 @@ use crate::stepper::same_step;
 /// ([`super::LieIntegrator`], [`super::ReducedLieIntegrator`]) call. Every
 /// [`LieLagrangian<P, N>`](super::LieLagrangian) is one at `Const<P>`, `Const<N>`; a system sized
 /// at run time implements it at `Dyn`, `Dyn`. The equations are those of
-/// [`LieLagrangian`](super::LieLagrangian) (see the [module documentation](super)); each method
+/// [`LieLagrangian`] (see the [module documentation](super)); each method
 /// writes its result into the vector it is given, of the sizes [`Self::dims`] says.
 pub trait LieModel<P: Dim, N: Dim>: System + Clone + Send + Sync + 'static
 where
@@ -42,7 +42,7 @@ where
     fn dims(&self) -> (P, N);
 
     /// The coordinate `i` (its name and kind, in the order of the point and the chart), `None`
-    /// past the last ([`LieLagrangian::coordinate`](super::LieLagrangian::coordinate)).
+    /// past the last ([`LieLagrangian::coordinate`]).
     fn coordinate(&self, i: usize) -> Option<(&str, CoordinateKind)>;
 
     /// The step monitor `g(q)` of adaptive steps, `None` in physical time.
@@ -86,7 +86,7 @@ where
     );
 
     /// The partial derivatives of the step that its sensitivity needs, `None` where none were
-    /// compiled ([`LieLagrangian::step_partials`](super::LieLagrangian::step_partials)).
+    /// compiled ([`LieLagrangian::step_partials`]).
     fn step_partials(
         &self,
         q_k: &OVector<f64, P>,
@@ -277,9 +277,8 @@ where
 }
 
 /// The chart coordinates of a run's last two steps and their sizes, in buffers built once per
-/// run: what Newton's first guess extrapolates
-/// ([`crate::stepper::predicted_increment`]'s rule, component by component, so the guess is the
-/// same to the bit).
+/// run: what Newton's first guess extrapolates (the rule of the other integrators' guess,
+/// component by component, so the guess is the same to the bit).
 #[derive(Clone, Debug)]
 pub struct LieHistory<N: Dim>
 where

@@ -278,7 +278,7 @@ where
 }
 
 /// The reduced integrator of a [`LieSymmetric`] system (see the [module documentation](self)):
-/// the same run API, compositions and checks as [`LieIntegrator`], on [`ReducedLieState`]s.
+/// the same run API, compositions and checks as [`LieIntegrator`](super::LieIntegratorOf), on [`ReducedLieState`]s.
 /// At any size; [`ReducedLieIntegrator<L, P, N>`](ReducedLieIntegrator) names it at fixed sizes.
 #[derive(Clone, Debug)]
 pub struct ReducedLieIntegratorOf<L, P: Dim, N: Dim> {
@@ -311,7 +311,7 @@ where
     /// The reduced (−) integrator: the reduced equations solved for the chart coordinate of the
     /// current point about the next one (for every rotation, the reduced (−) Lagrangian
     /// `l_{d−}(G, s0, s1) = L_d(G, s0, I, s1)` with `G = R_{k+1}ᵀ R_k = cay(w)`), the same
-    /// steps as [`Self::new`]'s (see [`LieIntegrator::minus`]).
+    /// steps as [`Self::new`]'s (see [`LieIntegrator::minus`](super::LieIntegratorOf::minus)).
     pub fn minus(system: L, options: NewtonOptions) -> Self {
         Self {
             unreduced: LieIntegratorOf::minus(system, options),
@@ -329,8 +329,8 @@ where
     }
 
     /// The unreduced integrator of the same system: its steps are this integrator's to
-    /// round-off, and its diagnostics ([`LieIntegrator::manifold_defect`],
-    /// [`LieIntegrator::chart_coordinates`], ..) apply to reduced states through
+    /// round-off, and its diagnostics ([`LieIntegrator::manifold_defect`](super::LieIntegratorOf::manifold_defect),
+    /// [`LieIntegrator::chart_coordinates`](super::LieIntegratorOf::chart_coordinates), ..) apply to reduced states through
     /// [`ReducedLieState::unreduced`].
     pub fn unreduced(&self) -> &LieIntegratorOf<L, P, N> {
         &self.unreduced
@@ -399,8 +399,7 @@ where
         let mut landed = start.clone();
         let stats = self.unreduced.chart_step_into(
             workspace,
-            k,
-            h,
+            (k, h),
             &start,
             u,
             &Self::EQUATIONS,
