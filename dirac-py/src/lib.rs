@@ -307,17 +307,10 @@ impl System {
             steps as u128 + 1,
             self.row_bytes(energies),
         )?;
-        if energies && !self.code.fixed_size() {
-            return Err(PyValueError::new_err(format!(
-                "energies: a system of {} coordinates runs on the element integrators, whose \
-                 runs from Python give no energies (from Rust: `ElementIntegrator::energies`)",
-                self.dims().0 + self.dims().1
-            )));
-        }
         let (s, k) = self.dims();
         let code = Arc::clone(&self.code);
         let (result, interrupt) = calls::interruptible(py, |cancel| match m {
-            _ if !code.fixed_size() => sizes::run_one(&code, &params, &start, r, cancel),
+            _ if !code.fixed_size() => sizes::run_one(&code, &params, &start, r, energies, cancel),
             0 => dirac_jit::with_dimensions!(
                 s,
                 k,

@@ -17,8 +17,9 @@ use std::sync::Arc;
 use dirac_jit::{Code, JitElement, RunRequest};
 use dirac_runtime::element::{
     ElementConstrainedIntegrator, ElementIntegrator, ElementLagrangian, ElementState,
+    ElementTrajectory,
 };
-use dirac_runtime::{Form, Variant};
+use dirac_runtime::{Form, System, Variant};
 
 use crate::element::{self, Flat as ElementFlat};
 use crate::ensemble::Member;
@@ -114,18 +115,54 @@ impl View {
 }
 
 /// One run of `code` from `start` (`x, w, mu, g` or `q, p`, by the method) on its element
-/// view (order 2, 4 or 6; constrained: 2).
+/// view (order 2, 4 or 6; constrained: 2), with the continuous energies of its states when
+/// `energies` is set.
 pub(crate) fn run_one(
     code: &Arc<Code>,
     params: &[f64],
     start: &[Vec<f64>],
     r: RunRequest,
+    energies: bool,
     cancel: &AtomicBool,
 ) -> Result<Result<Flat, Box<Failed>>, String> {
     let view = View::new(code, params)?;
     let form = r.equations.form;
     let s0 = view.start(form, start);
-    Ok(view.member(form, element::run_one(view.sys.clone(), s0, r, cancel)))
+    let run = element::run_one(view.sys.clone(), s0, r, cancel);
+    let with_energies = |f: &ElementFlat| energies.then(|| view.energies(f, r));
+    Ok(match run {
+        Ok(f) => {
+            let e = with_energies(&f);
+            let mut flat = view.flat(form, f);
+            flat.energies = e;
+            Ok(flat)
+        }
+        Err(failed) => view.member(form, Err(failed)),
+    })
+}
+
+impl View {
+    /// The continuous energies of a run of the view (`ElementIntegrator::energies`: at each
+    /// state through the inverse Legendre map, at each step's midpoint), or why there are none.
+    fn energies(&self, f: &ElementFlat, r: RunRequest) -> Result<(Vec<f64>, Vec<f64>), String> {
+        let n = self.s + self.k;
+        let states: Vec<ElementState> = (0..f.t.len())
+            .map(|k| ElementState::new(&f.q[k * n..(k + 1) * n], &f.p[k * n..(k + 1) * n]))
+            .collect();
+        let h = self.sys.time_step();
+        let trajectory = ElementTrajectory {
+            h,
+            variant: r.equations.side,
+            states,
+            times: f.t.clone(),
+            step_sizes: f.t.windows(2).map(|w| w[1] - w[0]).collect(),
+            stats: Vec::new(),
+        };
+        ElementIntegrator::new(self.sys.clone(), r.newton)
+            .energies(&trajectory)
+            .map(|e| (e.nodes, e.midpoints))
+            .map_err(|e| e.to_string())
+    }
 }
 
 /// An ensemble of `code` (order 2), one member per start, on its element view.
