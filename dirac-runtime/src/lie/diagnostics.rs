@@ -131,7 +131,14 @@ where
         let read = |s: &ReducedLieStateOf<P, N>| {
             let mut from = s.unreduced();
             if let RotationSymmetry::Axis { axis, coordinates } = self.system().symmetry() {
-                set_group_part(self.system(), &mut from, axis, coordinates, s.mu[axis]);
+                let mut zeta = zeros(self.system().dims().1);
+                set_group_part(
+                    self.system(),
+                    (&from.q, &mut from.p),
+                    (axis, coordinates),
+                    s.mu[axis],
+                    &mut zeta,
+                );
             }
             from
         };

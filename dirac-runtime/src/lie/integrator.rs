@@ -18,16 +18,28 @@ use crate::system::Variant;
 
 /// The workspace of a run, built once per run: the linear solver, the chart coordinates of the
 /// last two steps (which Newton's guess extrapolates), and the buffers a step writes its
-/// unknown, residual, chart coordinate and Jacobian into, so that a step on vectors sized at run
-/// time allocates nothing.
+/// unknown, residual, chart coordinate and Jacobian into — and a reduced step its start's
+/// momentum and the symmetry's generator —, so that a step on vectors sized at run time
+/// allocates nothing.
 pub struct LieWorkspaceOf<B: LinearSolver, N: Dim>
 where
     DefaultAllocator: Allocator<N>,
 {
-    #[doc(hidden)]
-    pub solver: B,
-    #[doc(hidden)]
-    pub history: LieHistory<N>,
+    /// What the step on the charts uses.
+    pub(super) step: StepBuffers<B, N>,
+    /// A reduced step's start momentum (the state's, with the symmetry's part set).
+    pub(super) momentum: OVector<f64, N>,
+    /// The generator of the symmetry in the chart (rotations about an axis).
+    pub(super) generator: OVector<f64, N>,
+}
+
+/// The solver, the history and the buffers of the step on the charts.
+pub(super) struct StepBuffers<B: LinearSolver, N: Dim>
+where
+    DefaultAllocator: Allocator<N>,
+{
+    solver: B,
+    history: LieHistory<N>,
     /// Newton's unknown (`z`, or `w` for the (−) equations).
     unknown: OVector<f64, N>,
     /// The residual.
@@ -47,8 +59,8 @@ where
 {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("LieWorkspace")
-            .field("solver", &self.solver)
-            .field("history", &self.history)
+            .field("solver", &self.step.solver)
+            .field("history", &self.step.history)
             .finish_non_exhaustive()
     }
 }
@@ -60,12 +72,16 @@ where
     /// The workspace of a run with chart size `n` on `solver`.
     pub(super) fn new(solver: B, n: N) -> Self {
         Self {
-            solver,
-            history: LieHistory::new(n),
-            unknown: zeros(n),
-            residual: zeros(n),
-            chart: zeros(n),
-            jacobian: None,
+            step: StepBuffers {
+                solver,
+                history: LieHistory::new(n),
+                unknown: zeros(n),
+                residual: zeros(n),
+                chart: zeros(n),
+                jacobian: None,
+            },
+            momentum: zeros(n),
+            generator: zeros(n),
         }
     }
 }
@@ -284,14 +300,14 @@ where
     #[inline]
     pub(super) fn chart_step_into(
         &self,
-        workspace: &mut LieWorkspaceOf<L::Linear, N>,
+        workspace: &mut StepBuffers<L::Linear, N>,
         (k, h): (usize, f64),
-        state: &LieStateOf<P, N>,
+        (q, p): (&OVector<f64, P>, &OVector<f64, N>),
         u: &[f64],
         equations: &StepEquations<L, P, N>,
-        next: &mut LieStateOf<P, N>,
+        (next_q, next_p): (&mut OVector<f64, P>, &mut OVector<f64, N>),
     ) -> Result<StepStats, StepError> {
-        let LieWorkspaceOf {
+        let StepBuffers {
             solver,
             history,
             unknown,
@@ -302,7 +318,6 @@ where
         let guessed = history.predict_into(h, unknown);
         let owned = system_at(&self.system, k, h, u)?;
         let sys = owned.as_ref().unwrap_or(&self.system);
-        let (q, p) = (&state.q, &state.p);
         let rho = slice_inf_norm(p.as_slice());
         // z = s u and R̃(u) = s R(s u) with s = ±1: dR̃/du = R'(z), and the (+) residual is s R̃.
         let s = match self.variant {
@@ -361,10 +376,10 @@ where
         } else {
             unknown
         };
-        sys.retract_into(q, z, &mut next.q);
-        (equations.momentum)(sys, q, p, z, &mut next.p);
-        compensate(sys, q, &next.q, residual, &mut next.p);
-        if !next.all_finite() {
+        sys.retract_into(q, z, next_q);
+        (equations.momentum)(sys, q, p, z, next_p);
+        compensate(sys, q, next_q, residual, next_p);
+        if !crate::state::all_finite(&[next_q.as_slice(), next_p.as_slice()]) {
             return Err(StepError::NonFinite {
                 step: k,
                 what: "the updated state",
@@ -372,7 +387,7 @@ where
             });
         }
         if let Some(time) = sys.time_index() {
-            super::adaptive::check_step(sys, k, h, time, q, &next.q)?;
+            super::adaptive::check_step(sys, k, h, time, q, next_q)?;
         }
         history.push(unknown, h);
         Ok(StepStats::from_solution(
@@ -455,7 +470,7 @@ where
             &self.system.parameter_values(),
             initial.all_finite(),
         )?;
-        check_sizes(&self.system, initial)?;
+        check_sizes(&self.system, (&initial.q, &initial.p))?;
         crate::model::refuse_domain(
             &self.system,
             "a declared domain on a system on rotation groups (only a system on vector spaces \
@@ -509,9 +524,16 @@ where
         u: &[f64],
         next: &mut LieStateOf<P, N>,
     ) -> Result<StepStats, StepError> {
-        check_sizes(&self.system, state)?;
-        match_sizes(state, next);
-        self.chart_step_into(workspace, (k, h), state, u, &StepEquations::UNREDUCED, next)
+        check_sizes(&self.system, (&state.q, &state.p))?;
+        match_sizes((&state.q, &state.p), (&mut next.q, &mut next.p));
+        self.chart_step_into(
+            &mut workspace.step,
+            (k, h),
+            (&state.q, &state.p),
+            u,
+            &StepEquations::UNREDUCED,
+            (&mut next.q, &mut next.p),
+        )
     }
 }
 
@@ -570,19 +592,19 @@ fn compensate<L: LieModel<P, N>, P: Dim, N: Dim>(
 /// time; never taken at fixed sizes, where the types say it.
 pub(super) fn check_sizes<L: LieModel<P, N>, P: Dim, N: Dim>(
     sys: &L,
-    state: &LieStateOf<P, N>,
+    (q, momentum): (&OVector<f64, P>, &OVector<f64, N>),
 ) -> Result<(), StepError>
 where
     DefaultAllocator: Allocator<P> + Allocator<N>,
 {
     let (p, n) = sys.dims();
-    if state.q.len() != p.value() || state.p.len() != n.value() {
+    if q.len() != p.value() || momentum.len() != n.value() {
         return Err(StepError::OffManifold {
             reason: format!(
                 "the state has a point of {} entries and {} momenta; the system's point has {} \
                  and its chart {}",
-                state.q.len(),
-                state.p.len(),
+                q.len(),
+                momentum.len(),
                 p.value(),
                 n.value()
             ),
@@ -592,11 +614,14 @@ where
 }
 
 /// Makes `next` of `state`'s sizes (a copy) where it is not, so that a step can write into it.
-pub(super) fn match_sizes<P: Dim, N: Dim>(state: &LieStateOf<P, N>, next: &mut LieStateOf<P, N>)
-where
+pub(super) fn match_sizes<P: Dim, N: Dim>(
+    state: (&OVector<f64, P>, &OVector<f64, N>),
+    next: (&mut OVector<f64, P>, &mut OVector<f64, N>),
+) where
     DefaultAllocator: Allocator<P> + Allocator<N>,
 {
-    if next.q.len() != state.q.len() || next.p.len() != state.p.len() {
-        next.clone_from(state);
+    if next.0.len() != state.0.len() || next.1.len() != state.1.len() {
+        next.0.clone_from(state.0);
+        next.1.clone_from(state.1);
     }
 }

@@ -84,7 +84,7 @@
 use nalgebra::allocator::Allocator;
 use nalgebra::{Const, DefaultAllocator, Dim, Matrix3, OVector, SVector, Vector3};
 
-use super::integrator::{check_sizes, StepEquations};
+use super::integrator::{check_sizes, match_sizes, StepEquations};
 use super::{
     blocks, matrix_at, zeros, LieIntegratorOf, LieLagrangian, LieModel, LieStateOf, LieWorkspaceOf,
     SymmetricLieModel,
@@ -346,17 +346,32 @@ where
 
     /// [`Self::momentum_map`]'s value, unchecked (what the reduction reads).
     fn spatial_momentum_map(&self, state: &LieStateOf<P, N>) -> Vector3<f64> {
+        self.momentum_map_of(&state.q, &state.p)
+    }
+
+    /// The momentum map at the point `q` with the momentum `p`.
+    fn momentum_map_of(&self, q: &OVector<f64, P>, p: &OVector<f64, N>) -> Vector3<f64> {
+        self.momentum_map_with(q, p, &mut zeros(self.system().dims().1))
+    }
+
+    /// [`Self::momentum_map_of`], the generator of the rotations about an axis written into
+    /// `zeta` (a step's buffer: nothing allocated).
+    fn momentum_map_with(
+        &self,
+        q: &OVector<f64, P>,
+        p: &OVector<f64, N>,
+        zeta: &mut OVector<f64, N>,
+    ) -> Vector3<f64> {
         let system = self.system();
         match system.symmetry() {
             RotationSymmetry::Rotations { coordinate } => {
                 let (r, c) = rotation_block(system, coordinate);
-                matrix_at(state.q.as_slice(), r)
-                    * Vector3::new(state.p[c], state.p[c + 1], state.p[c + 2])
+                matrix_at(q.as_slice(), r) * Vector3::new(p[c], p[c + 1], p[c + 2])
             }
             RotationSymmetry::Axis { axis, coordinates } => {
-                let zeta = generator(system, &state.q, axis, coordinates);
+                generator_into(system, q, (axis, coordinates), zeta);
                 let mut mu = Vector3::zeros();
-                mu[axis] = zeta.dot(&state.p);
+                mu[axis] = zeta.dot(p);
                 mu
             }
         }
@@ -390,37 +405,52 @@ where
     ) -> Result<StepStats, StepError> {
         let system = self.system();
         let (symmetry, forced) = (system.symmetry(), system.symmetry_forced());
-        let mut start = state.unreduced();
+        match_sizes((&state.q, &state.p), (&mut next.q, &mut next.p));
+        let LieWorkspaceOf {
+            step,
+            momentum,
+            generator,
+        } = workspace;
+        // The momentum the step reads: the state's, with the symmetry's part `μ` for the
+        // rotations about an axis.
+        momentum.copy_from(&state.p);
         if let RotationSymmetry::Axis { axis, coordinates } = symmetry {
-            set_group_part(system, &mut start, axis, coordinates, state.mu[axis]);
+            set_group_part(
+                system,
+                (&state.q, &mut *momentum),
+                (axis, coordinates),
+                state.mu[axis],
+                generator,
+            );
         }
-        // (Sized at run time, the reduced step's corrections work on copies of the state: two
-        // vectors per step, which the unreduced step does not allocate.)
-        let mut landed = start.clone();
         let stats = self.unreduced.chart_step_into(
-            workspace,
+            step,
             (k, h),
-            &start,
+            (&state.q, &*momentum),
             u,
             &Self::EQUATIONS,
-            &mut landed,
+            (&mut next.q, &mut next.p),
         )?;
         let mu = if forced {
-            self.spatial_momentum_map(&landed)
+            self.momentum_map_with(&next.q, &next.p, generator)
         } else {
             state.mu
         };
         match symmetry {
             RotationSymmetry::Rotations { coordinate } if !forced => {
-                onto_level(system, &mut landed, coordinate, &mu);
+                onto_level(system, (&mut next.q, &mut next.p), coordinate, &mu);
             }
             RotationSymmetry::Rotations { .. } => {}
             RotationSymmetry::Axis { axis, coordinates } => {
-                set_group_part(system, &mut landed, axis, coordinates, mu[axis]);
+                set_group_part(
+                    system,
+                    (&next.q, &mut next.p),
+                    (axis, coordinates),
+                    mu[axis],
+                    generator,
+                );
             }
         }
-        next.q.clone_from(&landed.q);
-        next.p.clone_from(&landed.p);
         next.mu = mu;
         // The step checked its own state; what the corrections computed from it is checked here.
         if !next.mu.iter().chain(next.p.iter()).all(|v| v.is_finite()) {
@@ -450,17 +480,16 @@ where
 /// ([`Group::rotation_generator`](super::Group::rotation_generator)): a rotation's body
 /// components `Rᵀ e`, a direction's frame components `((e × n)·e_1, (e × n)·e_2)`, a pose's
 /// `(Rᵀ e, e × x)`.
-fn generator<L: LieModel<P, N>, P: Dim, N: Dim>(
+fn generator_into<L: LieModel<P, N>, P: Dim, N: Dim>(
     sys: &L,
     q: &OVector<f64, P>,
-    axis: usize,
-    coordinates: &[usize],
-) -> OVector<f64, N>
-where
+    (axis, coordinates): (usize, &[usize]),
+    zeta: &mut OVector<f64, N>,
+) where
     DefaultAllocator: Allocator<P> + Allocator<N>,
 {
     let e = Vector3::ith(axis, 1.0);
-    let mut zeta = zeros(sys.dims().1);
+    zeta.fill(0.0);
     for (index, block) in blocks(sys).enumerate() {
         if !coordinates.contains(&index) {
             continue;
@@ -471,26 +500,25 @@ where
             block.of_chart_mut(zeta.as_mut_slice()),
         );
     }
-    zeta
 }
 
 /// Sets the group part of `state.p` to `mu`: `p + (μ − ⟨p, ζ⟩) ζ / |ζ|²` (nothing on the axis,
 /// where `ζ = 0`).
 pub(super) fn set_group_part<L: LieModel<P, N>, P: Dim, N: Dim>(
     sys: &L,
-    state: &mut LieStateOf<P, N>,
-    axis: usize,
-    coordinates: &[usize],
+    (q, p): (&OVector<f64, P>, &mut OVector<f64, N>),
+    symmetry: (usize, &[usize]),
     mu: f64,
+    zeta: &mut OVector<f64, N>,
 ) where
     DefaultAllocator: Allocator<P> + Allocator<N>,
 {
-    let zeta = generator(sys, &state.q, axis, coordinates);
+    generator_into(sys, q, symmetry, zeta);
     let norm2 = zeta.norm_squared();
     if norm2 > 0.0 {
-        let missing = mu - zeta.dot(&state.p);
+        let missing = mu - zeta.dot(p);
         let c = missing / norm2;
-        for (p, z) in state.p.iter_mut().zip(zeta.iter()) {
+        for (p, z) in p.iter_mut().zip(zeta.iter()) {
             *p += z * c;
         }
     }
@@ -502,20 +530,20 @@ pub(super) fn set_group_part<L: LieModel<P, N>, P: Dim, N: Dim>(
 /// `π` or `Π` vanishes.
 fn onto_level<L: LieModel<P, N>, P: Dim, N: Dim>(
     sys: &L,
-    state: &mut LieStateOf<P, N>,
+    (q, p): (&mut OVector<f64, P>, &mut OVector<f64, N>),
     index: usize,
     pi: &Vector3<f64>,
 ) where
     DefaultAllocator: Allocator<P> + Allocator<N>,
 {
     let (at, c) = rotation_block(sys, index);
-    let body = Vector3::new(state.p[c], state.p[c + 1], state.p[c + 2]);
+    let body = Vector3::new(p[c], p[c + 1], p[c + 2]);
     let (size, own) = (pi.norm(), body.norm());
     if size == 0.0 || own == 0.0 {
         return;
     }
     let body = body * (size / own);
-    let r = matrix_at(state.q.as_slice(), at);
+    let r = matrix_at(q.as_slice(), at);
     let (from, to) = ((r * body) / size, pi / size);
     // The smallest rotation taking `from` to `to` is `I + v̂ + v̂²/(1 + cos)`, `v = from × to`;
     // `|v|` is of the size of the step's round-off (the check of a run's first state bounds it
@@ -528,9 +556,9 @@ fn onto_level<L: LieModel<P, N>, P: Dim, N: Dim>(
     let turned = turned * (Matrix3::identity() * 3.0 - turned.transpose() * turned) * 0.5;
     for i in 0..3 {
         for j in 0..3 {
-            state.q[at + 3 * i + j] = turned[(i, j)];
+            q[at + 3 * i + j] = turned[(i, j)];
         }
-        state.p[c + i] = body[i];
+        p[c + i] = body[i];
     }
 }
 
@@ -610,7 +638,7 @@ where
         u: &[f64],
         next: &mut ReducedLieStateOf<P, N>,
     ) -> Result<StepStats, StepError> {
-        check_sizes(self.system(), &state.unreduced())?;
+        check_sizes(self.system(), (&state.q, &state.p))?;
         self.solve_step_into(workspace, k, h, state, u, next)
     }
 }
