@@ -72,9 +72,12 @@
 //! as `x[200]`), a connection, `step = ..`, a continuous Lagrangian with its `rule`, forces,
 //! controls, holonomic or nonholonomic constraints ([`Code::instantiate_constrained`]: the
 //! constrained integrators, unreduced and reduced), and adaptive steps (`time(t), adapt = |q| g`).
-//! Systems on rotation groups (`rotation(..)`, `direction(..)`) compile with [`compile_lie`] into
-//! a [`LieCode`], whose [`JitLie`] systems the Lie group variational integrator and, reduced by
-//! their declared symmetry, `ReducedLieIntegrator` run; [`compile_any`] takes either kind.
+//! Systems on rotation groups (`rotation(..)`, `direction(..)`, `pose(..)`) compile with
+//! [`compile_lie`] into a [`LieCode`], whose systems the Lie group variational integrator and,
+//! reduced by their declared symmetry, `ReducedLieIntegrator` run: at fixed sizes a [`JitLie`],
+//! at the sizes the text declares — any number of rotations, directions, poses and scalars — a
+//! [`DynJitLie`] (`LieIntegratorOf<_, Dyn, Dyn>`, its vectors allocated once per run);
+//! [`compile_any`] takes either kind.
 //! Element-wise systems sized at run time (a function with `usize` sizes) compile with
 //! [`compile_element`] into an [`ElementCode`], instantiated at any sizes as a [`JitElement`]
 //! that `ElementIntegrator` (and, with constraints, `ElementConstrainedIntegrator`) runs. What a
