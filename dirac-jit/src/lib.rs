@@ -150,9 +150,7 @@ pub use element::{
     compile_element, compile_flat_elements, ElementCode, JitElement, MAX_DEPTH, MAX_SIZES,
 };
 pub use error::Error;
-pub use lie::{
-    compile_lie, DynJitLie, JitLie, LieCode, LieFront, Reduced, Reduction, Unreduced,
-};
+pub use lie::{compile_lie, DynJitLie, JitLie, LieCode, LieFront, Reduced, Reduction, Unreduced};
 pub use request::{RunRequest, ORDERS};
 pub use system::{
     compile, Backend, Code, Dense, JitConstrained, JitSystem, LegendreLu, LegendreMatrix, Sparse,
