@@ -176,9 +176,10 @@ fn eight_bodies_at_run_time_sizes_step_bit_for_bit_as_compiled_in() {
 }
 
 /// The small systems of the facade, at run-time sizes: the heavy top (dense kernels, the step
-/// Jacobian factored on the full pattern where the compiled-in step uses the dense LU — another
-/// order of operations, so agreement to 1e-12 relative and not bit for bit), reduced or not, and
-/// the pendulum on `S² × S²` (over 200 steps: its motion is chaotic and amplifies round-off).
+/// Jacobian factored by the run-time-sized dense LU where the compiled-in step uses the
+/// fixed-size one — another order of operations, so agreement to 1e-12 relative and not bit for
+/// bit), reduced or not, and the pendulum on `S² × S²` (over 200 steps: its motion is chaotic
+/// and amplifies round-off).
 #[test]
 fn small_systems_at_run_time_sizes_agree_with_the_compiled_in_ones() {
     let opts = NewtonOptions::default();

@@ -36,7 +36,7 @@ fn step_layout_args(q_k: &DVector<f64>, p_k: &DVector<f64>, z: &DVector<f64>) ->
 /// [`JitLie`] calls; the step Jacobian is written with the residual into one
 /// buffer ([`CscBuffer`]) that the run reuses and factored by [`DynPatternLu`]: on the
 /// compiler's sparsity pattern above 16 chart coordinates (the compiled-in system's
-/// factorization, so the same steps), on the full pattern below.
+/// factorization, so the same steps), by a dense LU with partial pivoting below.
 ///
 /// [`LieFront`] is what the front ends (Python, the command line) read of a system on rotation
 /// groups given as text at either kind of size, so that one generic run serves both.
@@ -47,12 +47,12 @@ fn step_layout_args(q_k: &DVector<f64>, p_k: &DVector<f64>, z: &DVector<f64>) ->
 /// ([`with_lie_dimensions!`](crate::with_lie_dimensions): at most two rotation or direction
 /// coordinates, at most 8 chart coordinates) and run every other size here. On the small
 /// systems the fixed-size step is the faster one: `jit_bench` (`--rounds 3 --steps 2000`,
-/// 2026-11-28, the 2-core machine) measured the heavy top's step given as text at 1.03× the
-/// compiled-in step at fixed sizes and 3.2× at run-time sizes, the pendulum on `S² × S²` at
-/// 1.40× and 2.5× — on a system of 3 or 4 chart coordinates the heap vectors and the sparse
-/// factorization of the full pattern cost more than the step's own arithmetic, and the guarantee
-/// for those systems is 1.5× the compiled-in step. On a large system the factorization on the
-/// compiler's pattern is the compiled-in system's own, and the steps are the same.
+/// 2026-11-28, the 2-core machine) measured the heavy top's step given as text at 1.17× the
+/// compiled-in step at fixed sizes and 1.38× at run-time sizes, the pendulum on `S² × S²` at
+/// 1.43× and 1.64× — beyond the 1.5× guaranteed for those systems (on 3 or 4 chart coordinates
+/// the heap vectors and the calls through them weigh against the step's own arithmetic). On a
+/// large system the factorization on the compiler's pattern is the compiled-in system's own,
+/// and the steps are the same.
 pub struct DynJitLie<R = Unreduced> {
     code: Arc<LieCode>,
     values: [f64; MAX_PARAMETERS],
