@@ -194,7 +194,12 @@ fn a_system_with_20_constraints_given_as_text_runs_on_the_element_integrators_as
     let code = dirac_jit::compile_flat_elements(CHAIN).expect("the chain compiles");
     let sys = code.system();
     assert_eq!(sys.coordinates.len(), 40);
-    assert_eq!(sys.constraints.as_ref().map(|c| c.families.len()), Some(20));
+    let rows = &sys.constraints.as_ref().expect("constrained").families;
+    assert_eq!(rows.len(), 20);
+    // Each row reads its link's end points: the anchored first link 2 coordinates, the others 4.
+    let widths: Vec<usize> = rows.iter().map(|r| r.stencil.slots.len()).collect();
+    assert_eq!(widths[0], 2);
+    assert!(widths[1..].iter().all(|&w| w == 4), "{widths:?}");
     let (m, l, gr, h) = (0.7, 0.5, 9.81, 0.005);
     let given = code
         .instantiate_named(&[("m", m), ("l", l), ("gr", gr), ("h", h)], &[])

@@ -14,7 +14,8 @@
 //!   `g_{k+1} − g_k` (checked, as for the reduction), and its momentum map is `μ_j = p_{g_j}`.
 //!   The element integrators keep `μ_{k+1} = μ_k` (plus the forces' impulse) exactly, as the
 //!   reduced integrators do.
-//! - Each holonomic constraint row `φ_i(q) = 0` is a constraint family of one element.
+//! - Each holonomic constraint row `φ_i(q) = 0` is a constraint family of one element reading
+//!   the coordinates `φ_i` reads.
 //!
 //! Why the same trajectory: the element integrator's (+) step solves the position–momentum form
 //! of the discrete Lagrange–Dirac (+) equations (Definition 2.7) in `(x, g)`. In the adapted
@@ -41,6 +42,37 @@ use crate::ir::element::step_blocks_of;
 use crate::ir::graph::{Graph, NodeId, Sym};
 use crate::ir::reduce::firsts;
 use crate::program::program;
+
+/// The coordinates `node` reads (`Q0(i)` or `Q1(i)`: coordinate `i`), sorted.
+fn reads(g: &Graph, node: NodeId) -> Vec<usize> {
+    let mut coords: Vec<usize> = g
+        .symbols(&[node])
+        .into_iter()
+        .filter_map(|s| match s {
+            Sym::Q0(i) | Sym::Q1(i) => Some(i),
+            _ => None,
+        })
+        .collect();
+    coords.sort_unstable();
+    coords.dedup();
+    coords
+}
+
+/// `node` over the slots of `coords`: coordinate `coords[a]` read as slot `a`.
+fn to_slots(g: &mut Graph, node: NodeId, coords: &[usize]) -> NodeId {
+    g.substitute(node, &mut |g, sym| {
+        let slot = |i: usize| {
+            coords
+                .binary_search(&i)
+                .expect("a row reads the coordinates it was given")
+        };
+        match sym {
+            Sym::Q0(i) => g.var(Sym::Q0(slot(i))),
+            Sym::Q1(i) => g.var(Sym::Q1(slot(i))),
+            other => g.var(other),
+        }
+    })
+}
 
 /// `D_1 D_2` of `d1` (row `a`: `∂d1_a/∂q1_b`), one forward pass per column.
 fn mixed(g: &mut Graph, d1: &[NodeId], n: usize) -> Vec<Vec<NodeId>> {
@@ -141,17 +173,28 @@ pub(super) fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<Ele
             continuous.map(|_| (&zeros[..], &zero_rows[..])),
         ));
     }
-    // One constraint family per row φ_i, reading every coordinate.
+    // One constraint family per row φ_i, reading the coordinates φ_i reads (all of them for a
+    // row that reads none: a constant row, which the start's check refuses unless zero).
     let constraints = lowered.constraints.as_ref().map(|c| {
         let rows: Vec<ConstraintFamily> = c
             .phi
             .iter()
             .enumerate()
             .map(|(i, &phi)| {
-                let gradient = firsts(&mut g, mode, phi, &q0);
+                let mut coords = reads(&g, phi);
+                if coords.is_empty() {
+                    coords = (0..n).collect();
+                }
+                let w = coords.len();
+                let phi = to_slots(&mut g, phi, &coords);
+                let slots: Vec<Sym> = (0..w).map(Sym::Q0).collect();
+                let gradient = firsts(&mut g, mode_for(w), phi, &slots);
                 let outputs: Vec<NodeId> = std::iter::once(phi).chain(gradient).collect();
                 ConstraintFamily {
-                    stencil: stencil.clone(),
+                    stencil: Stencil {
+                        loops: Vec::new(),
+                        slots: coords.iter().map(|&c| (c, Vec::new())).collect(),
+                    },
                     row: IndexExpr::Lit(i as i64),
                     value_gradient: program(&g, &outputs),
                 }
