@@ -621,13 +621,13 @@ where
 
 /// The description of an element-wise system sized at run time: one column per coordinate index
 /// ([`ElementState`]'s columns: the coordinate arrays, named in `dirac.coordinates`, flattened
-/// in their order) — or, when every coordinate is a scalar (the element view of a system on
-/// vector spaces), one per coordinate by its name, as an unreduced run names them — the sizes
-/// as `dirac.sizes` (`n=200`, in the order of [`ElementLagrangian::size_names`]), the
-/// parameters by name as every system's.
+/// in their order) — or, for a system without sizes whose every coordinate is a scalar (the
+/// element view of a system on vector spaces), one per coordinate by its name, as an unreduced
+/// run names them — the sizes as `dirac.sizes` (`n=200`, in the order of
+/// [`ElementLagrangian::size_names`]), the parameters by name as every system's.
 fn element_info<L: ElementLagrangian>(system: &L) -> RunInfo {
     let names = system.coordinate_names();
-    let indices: Vec<String> = if names.len() == system.dim() {
+    let indices: Vec<String> = if system.sizes().is_empty() && names.len() == system.dim() {
         names.iter().map(|n| n.to_string()).collect()
     } else {
         (0..system.dim()).map(|i| i.to_string()).collect()
