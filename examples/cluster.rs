@@ -248,7 +248,12 @@ fn measure(n: usize, o: &Options) -> Result<Row, Failure> {
         let (mut state, mut next) = (start.clone(), start.clone());
         let t0 = Instant::now();
         for k in 0..o.steps {
-            integ.step_into(&mut ws, k, integ.time_step(), &state, &[], &mut next)?;
+            integ.step_into(
+                &mut ws,
+                StepAt::new(k, integ.time_step()),
+                &state,
+                &mut next,
+            )?;
             std::mem::swap(&mut state, &mut next);
         }
         step_ms.push(1e3 * t0.elapsed().as_secs_f64() / o.steps as f64);

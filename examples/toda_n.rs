@@ -199,7 +199,12 @@ fn measure(n: usize, o: &Options) -> Result<Row, Box<dyn std::error::Error>> {
         let (mut state, mut next) = (start.clone(), start.clone());
         let t0 = Instant::now();
         for k in 0..steps {
-            integ.step_into(&mut ws, k, integ.time_step(), &state, &[], &mut next)?;
+            integ.step_into(
+                &mut ws,
+                StepAt::new(k, integ.time_step()),
+                &state,
+                &mut next,
+            )?;
             std::mem::swap(&mut state, &mut next);
         }
         let unforced = t0.elapsed().as_secs_f64() / steps as f64;
@@ -208,7 +213,12 @@ fn measure(n: usize, o: &Options) -> Result<Row, Box<dyn std::error::Error>> {
         let (mut state, mut next) = (start.clone(), start.clone());
         let t0 = Instant::now();
         for k in 0..steps {
-            damped.step_into(&mut ws, k, damped.time_step(), &state, &[], &mut next)?;
+            damped.step_into(
+                &mut ws,
+                StepAt::new(k, damped.time_step()),
+                &state,
+                &mut next,
+            )?;
             std::mem::swap(&mut state, &mut next);
         }
         forced.push(t0.elapsed().as_secs_f64() / steps as f64 / unforced);

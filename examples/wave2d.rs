@@ -160,7 +160,12 @@ fn timed_run(
     let t0 = Instant::now();
     let mut first = 0.0;
     for k in 0..steps {
-        integ.step_into(&mut ws, k, integ.time_step(), &state, &[], &mut next)?;
+        integ.step_into(
+            &mut ws,
+            StepAt::new(k, integ.time_step()),
+            &state,
+            &mut next,
+        )?;
         std::mem::swap(&mut state, &mut next);
         if k == 0 {
             first = t0.elapsed().as_secs_f64();

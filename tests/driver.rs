@@ -576,7 +576,7 @@ fn a_foreign_workspace_or_chart_index_is_a_typed_error() {
     let got = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         format!(
             "{:?}",
-            triple.step_with(&mut foreign, 0, triple.time_step(), &start, &[])
+            triple.step_with(&mut foreign, StepAt::new(0, triple.time_step()), &start)
         )
     }))
     .unwrap_or_else(|_| "a panic".to_string());

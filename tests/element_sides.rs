@@ -151,7 +151,11 @@ fn step_map<L: ElementLagrangian>(
 ) -> DVector<f64> {
     let state = ElementState::new(q.clone(), p.clone());
     let (next, _) = integ
-        .step_with(&mut integ.workspace(), 0, integ.time_step(), &state, u)
+        .step_with(
+            &mut integ.workspace(),
+            StepAt::new(0, integ.time_step()).with_controls(u),
+            &state,
+        )
         .unwrap();
     let n = q.len();
     DVector::from_fn(2 * n, |i, _| if i < n { next.q[i] } else { next.p[i - n] })

@@ -449,7 +449,12 @@ fn conjugate_gradients_match_the_lu_and_fall_back_when_not_symmetric() {
     assert_eq!(ws.linear_solver(), "conjugate gradients (Jacobi)");
     let mut next = start.clone();
     integ
-        .step_into(&mut ws, 0, integ.time_step(), &start, &[], &mut next)
+        .step_into(
+            &mut ws,
+            StepAt::new(0, integ.time_step()),
+            &start,
+            &mut next,
+        )
         .unwrap();
     assert_eq!(
         ws.linear_solver(),
@@ -694,7 +699,11 @@ fn discrete_forces_and_controls_at_run_time_sizes_are_the_unrolled_forced_step()
     // Controls of the wrong number, or not finite, are typed errors with their step.
     let mut ws = integ.workspace();
     let err = integ
-        .step_with(&mut ws, 3, h, &start, &[1.0, 2.0])
+        .step_with(
+            &mut ws,
+            StepAt::new(3, h).with_controls(&[1.0, 2.0]),
+            &start,
+        )
         .unwrap_err();
     assert!(
         matches!(
@@ -708,7 +717,11 @@ fn discrete_forces_and_controls_at_run_time_sizes_are_the_unrolled_forced_step()
         "{err}"
     );
     let err = integ
-        .step_with(&mut ws, 4, h, &start, &[f64::NAN])
+        .step_with(
+            &mut ws,
+            StepAt::new(4, h).with_controls(&[f64::NAN]),
+            &start,
+        )
         .unwrap_err();
     assert!(matches!(err, StepError::NonFinite { step: 4, .. }), "{err}");
 }

@@ -370,10 +370,8 @@ fn check_reduced<L, D, const S: usize, const K: usize, const N: usize>(
         let (next, _) = integ
             .step_with(
                 &mut integ.workspace(),
-                0,
-                integ.time_step(),
+                StepAt::new(0, integ.time_step()).with_controls(u),
                 &reduced_from::<S, K>(s),
-                u,
             )
             .unwrap();
         reduced_vec(&next)
@@ -398,7 +396,11 @@ fn check_unreduced<L, const S: usize, const K: usize, const N: usize>(
             p: SVector::from_column_slice(&s[N..]),
         };
         let (next, _) = integ
-            .step_with(&mut integ.workspace(), 0, integ.time_step(), &state, u)
+            .step_with(
+                &mut integ.workspace(),
+                StepAt::new(0, integ.time_step()).with_controls(u),
+                &state,
+            )
             .unwrap();
         flat(&next)
     };

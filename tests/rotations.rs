@@ -672,7 +672,11 @@ where
     L: LieLagrangian<P, N>,
 {
     let (next, _) = integ
-        .step_with(&mut integ.workspace(), 0, integ.time_step(), s0, u)
+        .step_with(
+            &mut integ.workspace(),
+            StepAt::new(0, integ.time_step()).with_controls(u),
+            s0,
+        )
         .unwrap();
     let read = |s: &LieState<P, N>| {
         let w = integ.chart_coordinates(&next.q, &s.q);
@@ -685,7 +689,11 @@ where
     };
     let step = |s: &LieState<P, N>, u: &[f64]| {
         integ
-            .step_with(&mut integ.workspace(), 0, integ.time_step(), s, u)
+            .step_with(
+                &mut integ.workspace(),
+                StepAt::new(0, integ.time_step()).with_controls(u),
+                s,
+            )
             .unwrap()
             .0
     };

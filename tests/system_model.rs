@@ -146,7 +146,11 @@ fn a_step_with_its_own_size_and_controls_steps_the_system_formed_by_the_model() 
     let start = UnreducedState::new([1.0], [0.2]);
     let integ = UnreducedIntegrator::new(flat, options);
     let (own, _) = integ
-        .step_with(&mut integ.workspace(), 0, h, &start, &u)
+        .step_with(
+            &mut integ.workspace(),
+            StepAt::new(0, h).with_controls(&u),
+            &start,
+        )
         .unwrap();
     let formed = UnreducedIntegrator::new(flat.with_time_step(h).with_controls(&u), options);
     assert_eq!(own, formed.step(0, &start).unwrap().0);
@@ -171,7 +175,11 @@ fn a_step_with_its_own_size_and_controls_steps_the_system_formed_by_the_model() 
     );
     let integ = LieIntegrator::new(lie, options);
     let (own, _) = integ
-        .step_with(&mut integ.workspace(), 0, h, &start, &u)
+        .step_with(
+            &mut integ.workspace(),
+            StepAt::new(0, h).with_controls(&u),
+            &start,
+        )
         .unwrap();
     let formed = LieIntegrator::new(lie.with_time_step(h).with_controls(&u), options);
     assert_eq!(own, formed.step(0, &start).unwrap().0);
@@ -185,7 +193,11 @@ fn a_step_with_its_own_size_and_controls_steps_the_system_formed_by_the_model() 
     let start = ElementState::new(vec![0.0, 0.1, 0.2, 0.3], vec![0.1; 4]);
     let integ = ElementIntegrator::new(element, options);
     let (own, _) = integ
-        .step_with(&mut integ.workspace(), 0, h, &start, &u)
+        .step_with(
+            &mut integ.workspace(),
+            StepAt::new(0, h).with_controls(&u),
+            &start,
+        )
         .unwrap();
     let formed = ElementIntegrator::new(element.with_time_step(h).with_controls(&u), options);
     assert_eq!(own, formed.step(0, &start).unwrap().0);
@@ -219,8 +231,12 @@ fn every_family_refuses_the_wrong_number_of_controls_alike() {
     );
     let start = UnreducedState::new([1.0], [0.2]);
     expected(
-        flat.step_with(&mut flat.workspace(), 3, 0.1, &start, &[1.0, 2.0])
-            .unwrap_err(),
+        flat.step_with(
+            &mut flat.workspace(),
+            StepAt::new(3, 0.1).with_controls(&[1.0, 2.0]),
+            &start,
+        )
+        .unwrap_err(),
     );
     let element = ElementIntegrator::new(
         Driven {
@@ -234,7 +250,11 @@ fn every_family_refuses_the_wrong_number_of_controls_alike() {
     let start = ElementState::new(vec![0.0; 4], vec![0.1; 4]);
     expected(
         element
-            .step_with(&mut element.workspace(), 3, 0.1, &start, &[1.0, 2.0])
+            .step_with(
+                &mut element.workspace(),
+                StepAt::new(3, 0.1).with_controls(&[1.0, 2.0]),
+                &start,
+            )
             .unwrap_err(),
     );
 }

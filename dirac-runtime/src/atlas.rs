@@ -48,7 +48,7 @@ use crate::error::{StepError, Steps};
 use crate::linalg::Lu;
 use crate::reduced::{reduced_guess, ReducedIntegrator, ReducedStep, ReducedWorkspace};
 use crate::state::{ReducedState, UnreducedState};
-use crate::stepper::{check_inputs, Collect, History, StepStats, Stepper};
+use crate::stepper::{check_inputs, Collect, History, StepAt, StepStats, Stepper};
 use crate::system::{join, split, Reduced, Side, Variant};
 
 /// A change of chart `φ : q_old ↦ q_new`, equivariant for the translation of the group
@@ -110,19 +110,17 @@ pub trait Chart<const S: usize, const K: usize, const N: usize> {
     /// A fresh workspace for this chart's steps ([`Stepper::workspace`]).
     fn chart_workspace(&self) -> Box<dyn Any>;
 
-    /// Takes step `k`, of size `h`, from `state` with the controls `u` (empty: the chart
-    /// system's own), Newton starting at `guess`, in `workspace` (one that [`Self::chart_workspace`] built;
-    /// another is reported as [`StepError::InvalidAtlas`]). Every chart declares the forces in
+    /// Takes the step `at` (step `k` of size `h` with the controls `u`; empty: the chart
+    /// system's own) from `state`, Newton starting at `guess`, in `workspace` (one that
+    /// [`Self::chart_workspace`] built; another is reported as [`StepError::InvalidAtlas`]). Every chart declares the forces in
     /// its own coordinates; a virtual work written the same way in each is the cotangent lift of
     /// one force.
     fn chart_step(
         &self,
         workspace: &mut dyn Any,
-        k: usize,
-        h: f64,
+        at: StepAt<'_>,
         state: &ReducedState<S, K>,
         guess: &SVector<f64, N>,
-        u: &[f64],
     ) -> Result<(ReducedState<S, K>, ReducedStep<K>), StepError>;
 
     /// The number of controls the chart's system declares.
@@ -158,18 +156,16 @@ where
     fn chart_step(
         &self,
         workspace: &mut dyn Any,
-        k: usize,
-        h: f64,
+        at: StepAt<'_>,
         state: &ReducedState<S, K>,
         guess: &SVector<f64, N>,
-        u: &[f64],
     ) -> Result<(ReducedState<S, K>, ReducedStep<K>), StepError> {
         let Some(workspace) = workspace.downcast_mut::<ReducedWorkspace<L::Linear, S, K>>() else {
             return Err(StepError::InvalidAtlas {
                 reason: "a chart was given the workspace of another chart",
             });
         };
-        self.solve_step(&mut workspace.solver, k, h, state, guess, u)
+        self.solve_step(&mut workspace.solver, at, state, guess)
     }
 
     fn chart_control_dim(&self) -> usize {
@@ -394,18 +390,14 @@ impl<'a, const S: usize, const K: usize, const N: usize> AtlasIntegrator<'a, S, 
     }
 
     /// The chart to move to from `chart` at `state`, with the state there, if one is better
-    /// (trial steps of the conditioning fallback run in the charts' workspaces, step `k` of size
-    /// `h` with the controls `u`).
-    #[allow(clippy::too_many_arguments)]
+    /// (trial steps of the conditioning fallback run in the charts' workspaces, the step `at`).
     fn better_chart(
         &self,
         workspaces: &mut [Box<dyn Any>],
-        k: usize,
-        h: f64,
+        at: StepAt<'_>,
         chart: usize,
         state: &ReducedState<S, K>,
         current: f64,
-        u: &[f64],
     ) -> Option<(usize, ReducedState<S, K>)> {
         let mut best: Option<(f64, usize, ReducedState<S, K>)> = None;
         for (to, (target, workspace)) in self.charts.iter().zip(workspaces).enumerate() {
@@ -418,7 +410,7 @@ impl<'a, const S: usize, const K: usize, const N: usize> AtlasIntegrator<'a, S, 
             let q = match &self.quality {
                 Some(quality) => quality(to, &mapped),
                 None => target
-                    .chart_step(workspace.as_mut(), k, h, &mapped, &fresh_guess(&mapped), u)
+                    .chart_step(workspace.as_mut(), at, &mapped, &fresh_guess(&mapped))
                     .map_or(0.0, |(_, step)| step.stats.rcond.unwrap_or(1.0)),
             };
             if q > current && best.as_ref().is_none_or(|b| q > b.0) {
@@ -569,11 +561,10 @@ impl<'a, const S: usize, const K: usize, const N: usize> Stepper for AtlasIntegr
     fn step_with(
         &self,
         workspace: &mut AtlasWorkspace<S, K>,
-        k: usize,
-        h: f64,
+        at: StepAt<'_>,
         &(chart, ref from): &Self::State,
-        u: &[f64],
     ) -> Result<(Self::State, AtlasStep<S, K>), StepError> {
+        let (k, h) = (at.k, at.h);
         // `Stepper::step` and `step_with` are public: a chart index or a workspace that is not
         // this atlas's is an error, as in the run's check, not an index out of bounds.
         if chart >= self.charts.len() || workspace.charts.len() != self.charts.len() {
@@ -583,50 +574,41 @@ impl<'a, const S: usize, const K: usize, const N: usize> Stepper for AtlasIntegr
             });
         }
         let guess = reduced_guess::<S, K, N>(&from.x, &workspace.history, h);
-        let (c, state, rescue, (next, step)) = match self.charts[chart].chart_step(
-            workspace.charts[chart].as_mut(),
-            k,
-            h,
-            from,
-            &guess,
-            u,
-        ) {
-            Ok(ok) => (chart, *from, None, ok),
-            Err(error) => {
-                // Rescue: the same step from the same state in the best other chart.
-                let Some((to, mapped)) = self.better_chart(
-                    &mut workspace.charts,
-                    k,
-                    h,
-                    chart,
-                    from,
-                    f64::NEG_INFINITY,
-                    u,
-                ) else {
-                    return Err(error);
-                };
-                let Ok(ok) = self.charts[to].chart_step(
-                    workspace.charts[to].as_mut(),
-                    k,
-                    h,
-                    &mapped,
-                    &fresh_guess(&mapped),
-                    u,
-                ) else {
-                    return Err(error);
-                };
-                workspace.history.clear();
-                let rescue = Switch {
-                    step: k,
-                    from: chart,
-                    to,
-                    before: *from,
-                    after: mapped,
-                    rescue: true,
-                };
-                (to, mapped, Some(rescue), ok)
-            }
-        };
+        let (c, state, rescue, (next, step)) =
+            match self.charts[chart].chart_step(workspace.charts[chart].as_mut(), at, from, &guess)
+            {
+                Ok(ok) => (chart, *from, None, ok),
+                Err(error) => {
+                    // Rescue: the same step from the same state in the best other chart.
+                    let Some((to, mapped)) = self.better_chart(
+                        &mut workspace.charts,
+                        at,
+                        chart,
+                        from,
+                        f64::NEG_INFINITY,
+                    ) else {
+                        return Err(error);
+                    };
+                    let Ok(ok) = self.charts[to].chart_step(
+                        workspace.charts[to].as_mut(),
+                        at,
+                        &mapped,
+                        &fresh_guess(&mapped),
+                    ) else {
+                        return Err(error);
+                    };
+                    workspace.history.clear();
+                    let rescue = Switch {
+                        step: k,
+                        from: chart,
+                        to,
+                        before: *from,
+                        after: mapped,
+                        rescue: true,
+                    };
+                    (to, mapped, Some(rescue), ok)
+                }
+            };
         workspace
             .history
             .push((next.x - state.x, step.group_unknown), h);
@@ -641,9 +623,13 @@ impl<'a, const S: usize, const K: usize, const N: usize> Stepper for AtlasIntegr
             None => step.stats.rcond.unwrap_or(1.0),
         };
         if current < self.switch_below {
-            if let Some((to, mapped)) =
-                self.better_chart(&mut workspace.charts, k + 1, h, c, &next, current, u)
-            {
+            if let Some((to, mapped)) = self.better_chart(
+                &mut workspace.charts,
+                StepAt { k: k + 1, ..at },
+                c,
+                &next,
+                current,
+            ) {
                 // The extrapolation continues in the new chart from the step's start mapped there
                 // and the group unknown its increment implies (last line of (4.6)).
                 let last = self.express(c, &state, to).map(|p| {

@@ -56,7 +56,7 @@ use crate::error::{StepError, Steps};
 use crate::reduced::ReducedIntegrator;
 use crate::sensitivity::Sensitivity;
 use crate::state::UnreducedState;
-use crate::stepper::{Collect, StepStats, Stepper};
+use crate::stepper::{Collect, StepAt, StepStats, Stepper};
 use crate::system::{join, DiscreteLagrangian, LagrangianHessian, Reduced, Side, Unreduced};
 use crate::unreduced::UnreducedIntegrator;
 
@@ -373,15 +373,14 @@ where
     }
 
     /// Every stage takes the macro step's controls `u`: the forces of a composition are its
-    /// stages' forces, each at its stage's time step `γ_i h`. A macro step of size `h_k` runs
-    /// stage `i` with `γ_i h_k` (for `h_k = h` the stage's own step, bit for bit).
+    /// stages' forces, each at its stage's time step `γ_i h`. A macro step `at` of size `h_k`
+    /// runs stage `i` at [`StepAt::scaled`]`(γ_i)`, the same index and controls with size
+    /// `γ_i h_k` (for `h_k = h` the stage's own step, bit for bit).
     fn step_with(
         &self,
         workspace: &mut Vec<I::Workspace>,
-        k: usize,
-        h: f64,
+        at: StepAt<'_>,
         state: &I::State,
-        u: &[f64],
     ) -> Result<(I::State, StepStats), StepError> {
         if workspace.len() != self.stages.len() {
             return Err(StepError::InvalidSize {
@@ -399,9 +398,10 @@ where
         for (i, ((stage, stage_workspace), gamma)) in
             stages.zip(self.method.coefficients).enumerate()
         {
+            let stage_at = at.scaled(*gamma);
             let (next, record) = stage
-                .step_with(stage_workspace, k, gamma * h, &current, u)
-                .map_err(|e| self.stage_failed(i, gamma * h, e))?;
+                .step_with(stage_workspace, stage_at, &current)
+                .map_err(|e| self.stage_failed(i, stage_at.h, e))?;
             total.accumulate(record.as_ref());
             current = next;
         }

@@ -93,7 +93,7 @@ pub mod prelude {
     pub use crate::reduced::{ReducedIntegrator, ReducedStep, Trajectory};
     pub use crate::sensitivity::{Sensitivity, StepPartials};
     pub use crate::state::{IntoVector, ReducedState, UnreducedState};
-    pub use crate::stepper::{StepStats, StepStatsExt, Stepper};
+    pub use crate::stepper::{StepAt, StepStats, StepStatsExt, Stepper};
     pub use crate::system::{
         DiscreteLagrangian, Equations, Form, LagrangianHessian, Minus, Plus, Reduced, Side,
         Unreduced, Variant,

@@ -10,7 +10,7 @@ use crate::linalg::{Lu, RCOND_CLEARANCE};
 use crate::newton::{self, inf_norm, NewtonOptions};
 use crate::state::ReducedState;
 use crate::stepper::{
-    check_inputs, predicted_increment, same_step, step_error, system_at, Collect, History,
+    check_inputs, predicted_increment, same_step, step_error, system_at, Collect, History, StepAt,
     StepStats, StepStatsExt, Stepper,
 };
 use crate::system::{join, split, Minus, Plus, Reduced, Side, Variant};
@@ -247,21 +247,20 @@ where
         state: &ReducedState<S, K>,
         guess: &SVector<f64, N>,
     ) -> Result<(ReducedState<S, K>, ReducedStep<K>), StepError> {
-        let h = self.system.time_step();
-        self.solve_step(&mut self.system.linear_solver(), k, h, state, guess, &[])
+        let at = StepAt::new(k, self.system.time_step());
+        self.solve_step(&mut self.system.linear_solver(), at, state, guess)
     }
 
-    /// The step of size `h` from `state` with the controls `u` (empty: the system's own),
+    /// The step `at` (its size `h`, its controls `u`: empty, the system's own) from `state`,
     /// Newton starting at `guess`, in the linear solver `solver`.
     pub(crate) fn solve_step(
         &self,
         solver: &mut L::Linear,
-        k: usize,
-        h: f64,
+        at: StepAt<'_>,
         state: &ReducedState<S, K>,
         guess: &SVector<f64, N>,
-        u: &[f64],
     ) -> Result<(ReducedState<S, K>, ReducedStep<K>), StepError> {
+        let StepAt { k, h, u } = at;
         let owned = system_at(&self.system, k, h, u)?;
         let sys = owned.as_ref().unwrap_or(&self.system);
         let (x, w, mu) = (&state.x, &state.w, &state.mu);
@@ -473,11 +472,10 @@ where
     fn step_with(
         &self,
         workspace: &mut Self::Workspace,
-        k: usize,
-        h: f64,
+        at: StepAt<'_>,
         state: &ReducedState<S, K>,
-        u: &[f64],
     ) -> Result<(ReducedState<S, K>, ReducedStep<K>), StepError> {
+        let h = at.h;
         let mut guess = reduced_guess::<S, K, N>(&state.x, &workspace.history, h);
         // Adaptive steps: a run's first step starts from the motion in fictitious time, not rest.
         if workspace.history.last.is_none() && self.system.time_index().is_some() {
@@ -488,7 +486,7 @@ where
                 guess = join::<S, K, N>(&(state.x + dx), &u);
             }
         }
-        let (next, step) = self.solve_step(&mut workspace.solver, k, h, state, &guess, u)?;
+        let (next, step) = self.solve_step(&mut workspace.solver, at, state, &guess)?;
         workspace
             .history
             .push((next.x - state.x, step.group_unknown), h);

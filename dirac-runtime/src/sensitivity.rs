@@ -23,7 +23,7 @@ use crate::linalg::{LinearSolver, NewtonVector};
 use crate::model::system_at;
 use crate::reduced::{ReducedIntegrator, ReducedStep};
 use crate::state::{ReducedState, UnreducedState};
-use crate::stepper::Stepper;
+use crate::stepper::{StepAt, Stepper};
 use crate::system::{join, Reduced, Side, Unreduced, Variant};
 use crate::UnreducedIntegrator;
 
@@ -334,8 +334,8 @@ where
         state: &ReducedState<S, K>,
         u: &[f64],
     ) -> Result<(ReducedState<S, K>, ReducedStep<K>, Sensitivity), StepError> {
-        let (next, record) =
-            self.step_with(&mut self.workspace(), k, self.time_step(), state, u)?;
+        let at = StepAt::new(k, self.time_step()).with_controls(u);
+        let (next, record) = self.step_with(&mut self.workspace(), at, state)?;
         let sensitivity = self.sensitivity(k, state, &next, &record, u)?;
         Ok((next, record, sensitivity))
     }
@@ -396,7 +396,8 @@ where
         state: &UnreducedState<N>,
         u: &[f64],
     ) -> Result<(UnreducedState<N>, crate::StepStats, Sensitivity), StepError> {
-        let (next, stats) = self.step_with(&mut self.workspace(), k, self.time_step(), state, u)?;
+        let at = StepAt::new(k, self.time_step()).with_controls(u);
+        let (next, stats) = self.step_with(&mut self.workspace(), at, state)?;
         let sensitivity = self.sensitivity(k, state, &next, u)?;
         Ok((next, stats, sensitivity))
     }

@@ -21,6 +21,65 @@ use crate::error::StepError;
 pub(crate) use crate::model::{same_step, system_at};
 use crate::newton::{NewtonFailure, NewtonSolution};
 
+/// What one step is taken at: its index `k`, its size `h` and its controls `u` — the step's
+/// context, which the run loop owns and hands to [`Stepper::step_with`] /
+/// [`Stepper::step_into`], and which a composition passes on to its stages at `γ_i h`
+/// ([`Self::scaled`]).
+///
+/// The size is the step parameter of the discrete Lagrangian `L_d(q_k, q_{k+1}; h_k)`: the
+/// system's own [`crate::System::time_step`] for a fixed-step run, a schedule's `h_k`, the last
+/// step onto an end time, or, with adaptive steps ([`crate::adaptive`]), the fictitious step
+/// `ε_k` (the physical step `Δt_k ≈ g(x_k) ε_k`, eq. (2) of the time transformation). The
+/// controls are listed in the order of [`crate::System::CONTROLS`]; empty: the values the system
+/// holds.
+///
+/// ```
+/// use dirac_runtime::StepAt;
+///
+/// let at = StepAt::new(3, 0.1).with_controls(&[1.0, 2.0]);
+/// assert_eq!((at.k, at.h, at.u), (3, 0.1, &[1.0, 2.0][..]));
+/// assert_eq!(at.scaled(-0.5).h, -0.05);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepAt<'u> {
+    /// The step's index: the step from state `k` to state `k + 1` (what its errors name).
+    pub k: usize,
+    /// The step's size `h_k` (with adaptive steps the fictitious `ε_k`).
+    pub h: f64,
+    /// The step's controls `u_k`; empty: the values the system holds.
+    pub u: &'u [f64],
+}
+
+impl<'u> StepAt<'u> {
+    /// Step `k` of size `h`, with the controls the system holds.
+    #[inline]
+    pub fn new(k: usize, h: f64) -> Self {
+        Self { k, h, u: &[] }
+    }
+
+    /// The same step with the controls `u`.
+    #[inline]
+    pub fn with_controls(self, u: &'u [f64]) -> Self {
+        Self { u, ..self }
+    }
+
+    /// The same step (index and controls) of size `h`.
+    #[inline]
+    pub fn with_size(self, h: f64) -> Self {
+        Self { h, ..self }
+    }
+
+    /// The stage of a composition at `γ h` ([`crate::compose`]): the same index and controls,
+    /// the size scaled by `gamma` (negative for a backward stage).
+    #[inline]
+    pub fn scaled(self, gamma: f64) -> Self {
+        Self {
+            h: gamma * self.h,
+            ..self
+        }
+    }
+}
+
 /// One integrator as the driver sees it. Implemented by every integrator of this crate; see the
 /// [module documentation](self).
 pub trait Stepper {
@@ -72,17 +131,19 @@ pub trait Stepper {
         Ok(())
     }
 
-    /// Takes step `k`, of size `h`, from `state` in `workspace` with the controls `u` (in the
-    /// order of [`crate::System::CONTROLS`]; empty: the values the system holds).
+    /// Takes the step `at` (its index `k`, size `h` and controls `u`, see [`StepAt`]) from
+    /// `state` in `workspace`.
     ///
-    /// `h` is the step's own size: [`Self::time_step`] for a fixed-step run (then the step is the
-    /// system's own, bit for bit), any other positive value for a step-size schedule. A
-    /// variational step of size `h_k` is the discrete Lagrangian `L_d(q_k, q_{k+1}; h_k)`'s
-    /// step: see the guide's chapter on integrators for what a sequence of such steps keeps.
-    /// Newton starts from the guess that the workspace's memory of the previous steps (and
-    /// their sizes) extrapolates, and on success the step is added to that memory. Fails with
-    /// the typed error of step `k`; the workspace is then still valid (a later call starts from
-    /// the memory of the last successful steps).
+    /// `at.h` is the step's own size: [`Self::time_step`] for a fixed-step run (then the step is
+    /// the system's own, bit for bit), any other positive value for a step-size schedule or the
+    /// last step onto an end time, `γ_i h` for a stage of a composition. A variational step of
+    /// size `h_k` is the discrete Lagrangian `L_d(q_k, q_{k+1}; h_k)`'s step: see the guide's
+    /// chapter on integrators for what a sequence of such steps keeps. `at.u` lists the controls
+    /// in the order of [`crate::System::CONTROLS`] (empty: the values the system holds). Newton
+    /// starts from the guess that the workspace's memory of the previous steps (and their sizes)
+    /// extrapolates, and on success the step is added to that memory. Fails with the typed error
+    /// of step `at.k`; the workspace is then still valid (a later call starts from the memory of
+    /// the last successful steps).
     ///
     /// The default steps into a copy of `state` with [`Self::step_into`], all that a stepper
     /// with heap-backed states needs; the default of [`Self::step_into`] is this method, so a
@@ -91,13 +152,11 @@ pub trait Stepper {
     fn step_with(
         &self,
         workspace: &mut Self::Workspace,
-        k: usize,
-        h: f64,
+        at: StepAt<'_>,
         state: &Self::State,
-        u: &[f64],
     ) -> Result<(Self::State, Self::Record), StepError> {
         let mut next = state.clone();
-        let record = self.step_into(workspace, k, h, state, u, &mut next)?;
+        let record = self.step_into(workspace, at, state, &mut next)?;
         Ok((next, record))
     }
 
@@ -110,13 +169,11 @@ pub trait Stepper {
     fn step_into(
         &self,
         workspace: &mut Self::Workspace,
-        k: usize,
-        h: f64,
+        at: StepAt<'_>,
         state: &Self::State,
-        u: &[f64],
         next: &mut Self::State,
     ) -> Result<Self::Record, StepError> {
-        let (state, record) = self.step_with(workspace, k, h, state, u)?;
+        let (state, record) = self.step_with(workspace, at, state)?;
         *next = state;
         Ok(record)
     }
@@ -129,7 +186,7 @@ pub trait Stepper {
         k: usize,
         state: &Self::State,
     ) -> Result<(Self::State, Self::Record), StepError> {
-        let (next, record) = self.step_with(workspace, k, self.time_step(), state, &[])?;
+        let (next, record) = self.step_with(workspace, StepAt::new(k, self.time_step()), state)?;
         self.check_domain(k, &next)?;
         Ok((next, record))
     }
@@ -632,7 +689,7 @@ where
 mod tests {
     use nalgebra::{Matrix2, Vector2};
 
-    use super::{step_error, try_grow, Collect, StepStats, Stepper};
+    use super::{step_error, try_grow, Collect, StepAt, StepStats, Stepper};
     use crate::error::{StepError, Steps};
     use crate::newton::NewtonOptions;
 
@@ -680,17 +737,15 @@ mod tests {
         fn step_into(
             &self,
             workspace: &mut usize,
-            k: usize,
-            h: f64,
+            at: StepAt<'_>,
             state: &Vec<f64>,
-            _: &[f64],
             next: &mut Vec<f64>,
         ) -> Result<StepStats, StepError> {
             next.clear();
-            next.extend(state.iter().map(|q| 2.0 * q + h));
+            next.extend(state.iter().map(|q| 2.0 * q + at.h));
             *workspace += 1;
             Ok(StepStats {
-                iterations: k,
+                iterations: at.k,
                 ..StepStats::default()
             })
         }
@@ -702,7 +757,7 @@ mod tests {
     fn step_with_defaults_to_step_into() {
         let mut workspace = Doubling.workspace();
         let (next, record) = Doubling
-            .step_with(&mut workspace, 3, 0.25, &vec![1.0, -2.0], &[])
+            .step_with(&mut workspace, StepAt::new(3, 0.25), &vec![1.0, -2.0])
             .unwrap();
         assert_eq!(next, vec![2.25, -3.75]);
         assert_eq!((record.iterations, workspace), (3, 1));

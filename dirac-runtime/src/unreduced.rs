@@ -10,7 +10,7 @@ use crate::reduced::trajectory_accessors;
 use crate::sensitivity::Sensitivity;
 use crate::state::UnreducedState;
 use crate::stepper::{
-    check_inputs, predicted_increment, step_error, system_at, Collect, History, StepStats,
+    check_inputs, predicted_increment, step_error, system_at, Collect, History, StepAt, StepStats,
     StepStatsExt, Stepper,
 };
 use crate::system::{LagrangianHessian, Unreduced};
@@ -129,25 +129,22 @@ where
     ) -> Result<(UnreducedState<N>, StepStats), StepError> {
         self.solve_step(
             &mut self.system.unreduced_linear_solver(),
-            k,
-            self.system.time_step(),
+            StepAt::new(k, self.system.time_step()),
             state,
             guess,
-            &[],
         )
     }
 
-    /// The step of size `h` from `state` with the controls `u` (empty: the system's own),
+    /// The step `at` (its size `h`, its controls `u`: empty, the system's own) from `state`,
     /// Newton starting at `guess`, in the linear solver `solver`.
     fn solve_step(
         &self,
         solver: &mut L::UnreducedLinear,
-        k: usize,
-        h: f64,
+        at: StepAt<'_>,
         state: &UnreducedState<N>,
         guess: &SVector<f64, N>,
-        u: &[f64],
     ) -> Result<(UnreducedState<N>, StepStats), StepError> {
+        let StepAt { k, h, u } = at;
         let owned = system_at(&self.system, k, h, u)?;
         let sys = owned.as_ref().unwrap_or(&self.system);
         let (q, p) = (&state.q, &state.p);
@@ -235,11 +232,10 @@ where
     fn step_with(
         &self,
         workspace: &mut Self::Workspace,
-        k: usize,
-        h: f64,
+        at: StepAt<'_>,
         state: &UnreducedState<N>,
-        u: &[f64],
     ) -> Result<(UnreducedState<N>, StepStats), StepError> {
+        let h = at.h;
         let mut guess = canonical_guess(&state.q, &workspace.history, h);
         // Adaptive steps: a run's first step starts from the motion in fictitious time, not rest.
         if workspace.history.last.is_none() && self.system.time_index().is_some() {
@@ -247,7 +243,7 @@ where
                 guess = state.q + dq;
             }
         }
-        let (next, stats) = self.solve_step(&mut workspace.solver, k, h, state, &guess, u)?;
+        let (next, stats) = self.solve_step(&mut workspace.solver, at, state, &guess)?;
         workspace.history.push(next.q - state.q, h);
         Ok((next, stats))
     }

@@ -249,10 +249,8 @@ impl Swingup {
                 .integ
                 .step_with(
                     &mut ws,
-                    k,
-                    self.integ.time_step(),
+                    StepAt::new(k, self.integ.time_step()).with_controls(&[u[k]]),
                     &state_of(&s[k]),
-                    &[u[k]],
                 )
                 .ok()?;
             out.defects.push(components(&next) - s[k + 1]);

@@ -32,7 +32,7 @@ use crate::newton::{self, inf_norm, NewtonOptions};
 use crate::reduced::trajectory_accessors;
 use crate::state::UnreducedState;
 use crate::stepper::{
-    check_inputs, step_error, system_at, Collect, History, StepStats, StepStatsExt, Stepper,
+    check_inputs, step_error, system_at, Collect, History, StepAt, StepStats, StepStatsExt, Stepper,
 };
 use crate::system::DiscreteLagrangian;
 
@@ -536,11 +536,10 @@ where
     fn step_with(
         &self,
         ws: &mut Self::Workspace,
-        k: usize,
-        h: f64,
+        at: StepAt<'_>,
         state: &F::State,
-        u: &[f64],
     ) -> Result<(F::State, ConstrainedStep<M>), StepError> {
+        let StepAt { k, h, u } = at;
         // The system at the step's size and controls (itself for the system's own step).
         let owned = system_at(&self.system, k, h, u)?;
         step(

@@ -69,7 +69,7 @@
 //! coordinate, so a [`Run::start_time`] other than it is refused.
 
 use crate::error::{IntegrationError, StepError, Steps};
-use crate::stepper::{Collect, StepStats, Stepper};
+use crate::stepper::{Collect, StepAt, StepStats, Stepper};
 
 /// The outcome of a streamed run ([`Run::stream`]): the last state and statistics accumulated
 /// over the steps, in memory independent of the number of steps.
@@ -564,7 +564,8 @@ where
             };
             return Err(fail(e, summary));
         }
-        match integrator.step_into(&mut workspace, k, h, &summary.last, &u, &mut next) {
+        let at = StepAt::new(k, h).with_controls(&u);
+        match integrator.step_into(&mut workspace, at, &summary.last, &mut next) {
             Ok(mut record) => {
                 if physical {
                     t_next = integrator.physical_time(&next).unwrap_or(f64::NAN);
@@ -578,10 +579,8 @@ where
                             |eps| {
                                 let step = integrator.step_with(
                                     &mut integrator.workspace(),
-                                    k,
-                                    eps,
+                                    at.with_size(eps),
                                     &summary.last,
-                                    &u,
                                 )?;
                                 Ok((integrator.physical_time(&step.0).unwrap_or(f64::NAN), step))
                             },

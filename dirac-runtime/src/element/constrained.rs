@@ -41,7 +41,7 @@ use super::{
 };
 use crate::error::{IntegrationError, StepError, Steps};
 use crate::newton::{slice_inf_norm, solve_in, NewtonOptions};
-use crate::stepper::{step_error, system_at, Collect, StepStats, StepStatsExt, Stepper};
+use crate::stepper::{step_error, system_at, Collect, StepAt, StepStats, StepStatsExt, Stepper};
 use crate::system::Variant;
 
 /// The workspace of an [`ElementConstrainedIntegrator`] run: the unconstrained step's
@@ -601,12 +601,11 @@ impl<L: ElementLagrangian> Stepper for ElementConstrainedIntegrator<L> {
     fn step_into(
         &self,
         workspace: &mut ElementConstrainedWorkspace,
-        k: usize,
-        h: f64,
+        at: StepAt<'_>,
         state: &ElementState,
-        u: &[f64],
         next: &mut ElementState,
     ) -> Result<ElementConstrainedStep, StepError> {
+        let StepAt { k, h, u } = at;
         // The system of this step (its controls checked first, before the workspace and state).
         let owned = system_at(self.base.system(), k, h, u)?;
         if let Some(reason) = &workspace.invalid {

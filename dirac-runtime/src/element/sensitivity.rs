@@ -37,7 +37,7 @@ use super::{
 use crate::error::StepError;
 use crate::linalg::{DynSparseLu, LinearSolver};
 use crate::sensitivity::Sensitivity;
-use crate::stepper::{system_at, StepStats, Stepper};
+use crate::stepper::{system_at, StepAt, StepStats, Stepper};
 
 /// A sparse matrix in compressed columns: column `j` holds the rows
 /// `row_idx[col_ptr[j]..col_ptr[j + 1]]` (sorted) with the values at the same positions.
@@ -425,7 +425,8 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
         u: &[f64],
     ) -> Result<(ElementState, StepStats, ElementSensitivity), StepError> {
         self.check(state)?;
-        let (next, stats) = self.step_with(&mut self.workspace(), k, self.time_step(), state, u)?;
+        let at = StepAt::new(k, self.time_step()).with_controls(u);
+        let (next, stats) = self.step_with(&mut self.workspace(), at, state)?;
         let sensitivity = self.sensitivity(k, state, &next, u)?;
         Ok((next, stats, sensitivity))
     }

@@ -9,7 +9,7 @@ use super::{
 use crate::error::StepError;
 use crate::model::{refuse_domain, system_at};
 use crate::newton::solve_in;
-use crate::stepper::{check_inputs, step_error, StepStats, Stepper};
+use crate::stepper::{check_inputs, step_error, StepAt, StepStats, Stepper};
 use crate::system::Variant;
 
 impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
@@ -55,12 +55,11 @@ impl<L: ElementLagrangian> Stepper for ElementIntegrator<L> {
     fn step_into(
         &self,
         workspace: &mut ElementWorkspace,
-        k: usize,
-        h: f64,
+        at: StepAt<'_>,
         state: &ElementState,
-        u: &[f64],
         next: &mut ElementState,
     ) -> Result<StepStats, StepError> {
+        let StepAt { k, h, u } = at;
         // The system of this step (its controls checked first, before the workspace and state).
         let owned = system_at(&self.system, k, h, u)?;
         self.check_workspace(workspace)?;

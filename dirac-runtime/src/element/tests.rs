@@ -10,7 +10,7 @@ use crate::driver::Drive;
 use crate::error::StepError;
 use crate::model::System;
 use crate::newton::NewtonOptions;
-use crate::stepper::Stepper;
+use crate::stepper::{StepAt, Stepper};
 
 /// A ring of `n` particles of mass `m` joined by nearest-neighbour springs with the potential
 /// `V(d) = k d²/2 + β d⁴/4`, a continuous Lagrangian under the midpoint rule. One family of
@@ -438,17 +438,18 @@ fn the_smallest_size_and_the_controls_are_the_values() {
     // The controls: the value's count, and a controlled step as compiled in.
     assert_eq!((compiled.control_dim(), given.control_dim()), (1, 1));
     let start = initial(n);
+    let at = |u| StepAt::new(0, 0.05).with_controls(u);
     let (a, _) = compiled
-        .step_with(&mut compiled.workspace(), 0, 0.05, &start, &[3.0])
+        .step_with(&mut compiled.workspace(), at(&[3.0]), &start)
         .unwrap();
     let (b, _) = given
-        .step_with(&mut given.workspace(), 0, 0.05, &start, &[3.0])
+        .step_with(&mut given.workspace(), at(&[3.0]), &start)
         .unwrap();
     assert_eq!(a, b);
     let (free, _) = given.step_in(&mut given.workspace(), 0, &start).unwrap();
     assert_ne!(free, b);
     assert!(matches!(
-        given.step_with(&mut given.workspace(), 0, 0.05, &start, &[3.0, 1.0]),
+        given.step_with(&mut given.workspace(), at(&[3.0, 1.0]), &start),
         Err(StepError::InvalidControls {
             expected: 1,
             found: 2,
@@ -470,7 +471,7 @@ fn the_smallest_size_and_the_controls_are_the_values() {
     let none = ElementIntegrator::new(none, options);
     assert_eq!(none.control_dim(), 0);
     assert!(matches!(
-        none.step_with(&mut none.workspace(), 0, 0.05, &start, &[3.0]),
+        none.step_with(&mut none.workspace(), at(&[3.0]), &start),
         Err(StepError::InvalidControls {
             expected: 0,
             found: 1,

@@ -13,7 +13,7 @@ use super::{blocks, zeros, LieModel, LieStateOf, LieTrajectoryOf, SpatialMomentu
 use crate::error::StepError;
 use crate::linalg::LinearSolver;
 use crate::newton::{self, slice_inf_norm, NewtonOptions};
-use crate::stepper::{check_inputs, step_error, system_at, StepStats, Stepper};
+use crate::stepper::{check_inputs, step_error, system_at, StepAt, StepStats, Stepper};
 use crate::system::Variant;
 
 /// The workspace of a run, built once per run: the linear solver, the chart coordinates of the
@@ -251,7 +251,8 @@ where
         state: &LieStateOf<P, N>,
         u: &[f64],
     ) -> Result<(LieStateOf<P, N>, StepStats, crate::Sensitivity), StepError> {
-        let (next, stats) = self.step_with(&mut self.workspace(), k, self.time_step(), state, u)?;
+        let at = StepAt::new(k, self.time_step()).with_controls(u);
+        let (next, stats) = self.step_with(&mut self.workspace(), at, state)?;
         let sensitivity = self.sensitivity(k, state, &next, u)?;
         Ok((next, stats, sensitivity))
     }
@@ -301,9 +302,8 @@ where
     pub(super) fn chart_step_into(
         &self,
         workspace: &mut StepBuffers<L::Linear, N>,
-        (k, h): (usize, f64),
+        step_at: StepAt<'_>,
         (q, p): (&OVector<f64, P>, &OVector<f64, N>),
-        u: &[f64],
         equations: &StepEquations<L, P, N>,
         (next_q, next_p): (&mut OVector<f64, P>, &mut OVector<f64, N>),
     ) -> Result<StepStats, StepError> {
@@ -315,6 +315,7 @@ where
             chart,
             jacobian,
         } = workspace;
+        let StepAt { k, h, u } = step_at;
         let guessed = history.predict_into(h, unknown);
         let owned = system_at(&self.system, k, h, u)?;
         let sys = owned.as_ref().unwrap_or(&self.system);
@@ -499,38 +500,22 @@ where
 
     /// Newton starts from the chart coordinate of the last steps, extrapolated (on the first
     /// step of a run from no motion, or for adaptive steps from the motion at the step's
-    /// physical size).
-    fn step_with(
-        &self,
-        workspace: &mut Self::Workspace,
-        k: usize,
-        h: f64,
-        state: &LieStateOf<P, N>,
-        u: &[f64],
-    ) -> Result<(LieStateOf<P, N>, StepStats), StepError> {
-        let mut next = state.clone();
-        let stats = self.step_into(workspace, k, h, state, u, &mut next)?;
-        Ok((next, stats))
-    }
-
-    /// [`Self::step_with`] into `next`, whose memory a run sized at run time reuses.
+    /// physical size), into `next`, whose memory a run sized at run time reuses
+    /// ([`Stepper::step_with`] is the trait's: a step into a copy of the state).
     #[inline]
     fn step_into(
         &self,
         workspace: &mut Self::Workspace,
-        k: usize,
-        h: f64,
+        at: StepAt<'_>,
         state: &LieStateOf<P, N>,
-        u: &[f64],
         next: &mut LieStateOf<P, N>,
     ) -> Result<StepStats, StepError> {
         check_sizes(&self.system, (&state.q, &state.p))?;
         match_sizes((&state.q, &state.p), (&mut next.q, &mut next.p));
         self.chart_step_into(
             &mut workspace.step,
-            (k, h),
+            at,
             (&state.q, &state.p),
-            u,
             &StepEquations::UNREDUCED,
             (&mut next.q, &mut next.p),
         )

@@ -92,7 +92,7 @@ use super::{
 use crate::error::{StepError, Steps};
 use crate::newton::NewtonOptions;
 use crate::reduced::trajectory_accessors;
-use crate::stepper::{Collect, StepStats, StepStatsExt, Stepper};
+use crate::stepper::{Collect, StepAt, StepStats, StepStatsExt, Stepper};
 
 /// A rotation symmetry of a system on rotation groups (`symmetry(..)` in the attribute).
 ///
@@ -397,10 +397,8 @@ where
     fn solve_step_into(
         &self,
         workspace: &mut LieWorkspaceOf<L::Linear, N>,
-        k: usize,
-        h: f64,
+        at: StepAt<'_>,
         state: &ReducedLieStateOf<P, N>,
-        u: &[f64],
         next: &mut ReducedLieStateOf<P, N>,
     ) -> Result<StepStats, StepError> {
         let system = self.system();
@@ -425,9 +423,8 @@ where
         }
         let stats = self.unreduced.chart_step_into(
             step,
-            (k, h),
+            at,
             (&state.q, &*momentum),
-            u,
             &Self::EQUATIONS,
             (&mut next.q, &mut next.p),
         )?;
@@ -455,7 +452,7 @@ where
         // The step checked its own state; what the corrections computed from it is checked here.
         if !next.mu.iter().chain(next.p.iter()).all(|v| v.is_finite()) {
             return Err(StepError::NonFinite {
-                step: k,
+                step: at.k,
                 what: "the updated state",
                 residual: stats.residual,
             });
@@ -614,32 +611,18 @@ where
     }
 
     /// The unreduced step's with the reduced equations, Newton starting from the chart
-    /// coordinate of the last steps, extrapolated; then the momentum of the symmetry set.
-    fn step_with(
-        &self,
-        workspace: &mut Self::Workspace,
-        k: usize,
-        h: f64,
-        state: &ReducedLieStateOf<P, N>,
-        u: &[f64],
-    ) -> Result<(ReducedLieStateOf<P, N>, StepStats), StepError> {
-        let mut next = state.clone();
-        let stats = self.step_into(workspace, k, h, state, u, &mut next)?;
-        Ok((next, stats))
-    }
-
-    /// [`Self::step_with`] into `next`, whose memory a run sized at run time reuses.
+    /// coordinate of the last steps, extrapolated; then the momentum of the symmetry set. Into
+    /// `next`, whose memory a run sized at run time reuses ([`Stepper::step_with`] is the
+    /// trait's: a step into a copy of the state).
     fn step_into(
         &self,
         workspace: &mut Self::Workspace,
-        k: usize,
-        h: f64,
+        at: StepAt<'_>,
         state: &ReducedLieStateOf<P, N>,
-        u: &[f64],
         next: &mut ReducedLieStateOf<P, N>,
     ) -> Result<StepStats, StepError> {
         check_sizes(self.system(), (&state.q, &state.p))?;
-        self.solve_step_into(workspace, k, h, state, u, next)
+        self.solve_step_into(workspace, at, state, next)
     }
 }
 

@@ -13,7 +13,7 @@ use crate::error::StepError;
 use crate::linalg::Lu;
 use crate::model::System;
 use crate::newton::NewtonOptions;
-use crate::stepper::Stepper;
+use crate::stepper::{StepAt, Stepper};
 
 /// The free rigid body, `L_d = tr((I − F) J_d)/h` with `F = R0ᵀ R1` and
 /// `J_d = ½ tr(J) I − J`: `h Π_k = vee(F J_d − J_d Fᵀ)`, `h Π_{k+1} = vee(J_d F − Fᵀ J_d)`.
@@ -341,10 +341,18 @@ fn a_system_given_at_run_time_steps_as_the_one_compiled_in() {
     assert_eq!((compiled.control_dim(), given.control_dim()), (0, 1));
     let mut workspace = given.workspace();
     assert!(given
-        .step_with(&mut workspace, 0, 0.05, &b[0], &[0.0])
+        .step_with(
+            &mut workspace,
+            StepAt::new(0, 0.05).with_controls(&[0.0]),
+            &b[0]
+        )
         .is_ok());
     assert!(matches!(
-        compiled.step_with(&mut compiled.workspace(), 0, 0.05, &a[0], &[0.0]),
+        compiled.step_with(
+            &mut compiled.workspace(),
+            StepAt::new(0, 0.05).with_controls(&[0.0]),
+            &a[0],
+        ),
         Err(StepError::InvalidControls {
             expected: 0,
             found: 1,
