@@ -56,7 +56,7 @@ use crate::error::{StepError, Steps};
 use crate::reduced::ReducedIntegrator;
 use crate::sensitivity::Sensitivity;
 use crate::state::UnreducedState;
-use crate::stepper::{Collect, StepAt, StepStats, Stepper};
+use crate::stepper::{check_adaptive_step, Collect, StepAt, StepStats, Stepper};
 use crate::system::{join, DiscreteLagrangian, LagrangianHessian, Reduced, Side, Unreduced};
 use crate::unreduced::UnreducedIntegrator;
 
@@ -343,6 +343,10 @@ where
         self.base.physical_time(state)
     }
 
+    fn monitor(&self, at: StepAt<'_>, state: &I::State) -> Result<Option<f64>, StepError> {
+        self.base.monitor(at, state)
+    }
+
     /// The base integrator's checks (the macro step must be positive and finite, the parameters
     /// and the initial state finite), and the discrete Lagrangian symmetric at sample points near
     /// `initial` ([`Self::symmetry_defect`] at most [`SYMMETRY_TOLERANCE`]).
@@ -401,6 +405,10 @@ where
             let stage_at = at.scaled(*gamma);
             let (next, record) = stage
                 .step_with(stage_workspace, stage_at, &current)
+                .and_then(|(next, record)| {
+                    check_adaptive_step(stage, stage_at, &current, &next)?;
+                    Ok((next, record))
+                })
                 .map_err(|e| self.stage_failed(i, stage_at.h, e))?;
             total.accumulate(record.as_ref());
             current = next;

@@ -404,10 +404,6 @@ where
                 residual: stats.residual,
             });
         }
-        crate::stepper::monitor_at(sys, k, &next.x)?;
-        if let Some(j) = sys.time_index() {
-            crate::stepper::check_time_increment(k, sys.time_step(), next.g[j] - state.g[j])?;
-        }
         Ok((
             next,
             ReducedStep {
@@ -454,6 +450,16 @@ where
 
     fn physical_time(&self, state: &ReducedState<S, K>) -> Option<f64> {
         self.system.time_index().map(|j| state.g[j])
+    }
+
+    /// `g(x)` at the state's shape `x`.
+    fn monitor(
+        &self,
+        at: StepAt<'_>,
+        state: &ReducedState<S, K>,
+    ) -> Result<Option<f64>, StepError> {
+        let owned = system_at(&self.system, at.k, at.h, at.u)?;
+        Ok(owned.as_ref().unwrap_or(&self.system).monitor(&state.x))
     }
 
     fn workspace(&self) -> Self::Workspace {

@@ -121,6 +121,19 @@ pub trait Stepper {
         None
     }
 
+    /// Adaptive steps ([`crate::adaptive`]): the monitor `g` at `state` — the rate `dt/dτ` of
+    /// the time transformation `dt = g(x) dτ` — of the system of the step `at` (its controls
+    /// set: a control law may change the monitor), for a system declared with
+    /// `time(t), adapt = |q| g`; `Ok(None)` for a system stepped in physical time, an error for
+    /// controls of the wrong number. What the one adaptive check after every step reads
+    /// ([`check_adaptive_step`]: the monitor positive and finite, the physical step `Δt_k` of
+    /// the sign of the fictitious `ε_k`); each family says only how its state gives the monitor.
+    /// The default: `Ok(None)`.
+    fn monitor(&self, at: StepAt<'_>, state: &Self::State) -> Result<Option<f64>, StepError> {
+        let _ = (at, state);
+        Ok(None)
+    }
+
     /// The domain check of the state step `k` reached ([`crate::domain`]): the typed
     /// [`StepError::OutOfDomain`] when it lies outside the domain the system declares
     /// (`domain(...)` in its attribute). Every run calls it after every step (the initial state
@@ -179,14 +192,17 @@ pub trait Stepper {
     }
 
     /// [`Self::step_with`] of size [`Self::time_step`] with the controls the system holds, the
-    /// new state checked against the declared domain ([`Self::check_domain`]).
+    /// new state checked as a run checks it: with adaptive steps the monitor and the sign of the
+    /// physical step ([`crate::adaptive`]), then the declared domain ([`Self::check_domain`]).
     fn step_in(
         &self,
         workspace: &mut Self::Workspace,
         k: usize,
         state: &Self::State,
     ) -> Result<(Self::State, Self::Record), StepError> {
-        let (next, record) = self.step_with(workspace, StepAt::new(k, self.time_step()), state)?;
+        let at = StepAt::new(k, self.time_step());
+        let (next, record) = self.step_with(workspace, at, state)?;
+        check_adaptive_step(self, at, state, &next)?;
         self.check_domain(k, &next)?;
         Ok((next, record))
     }
@@ -605,6 +621,29 @@ pub(crate) fn step_error(k: usize, failure: NewtonFailure) -> StepError {
             residual,
         },
     }
+}
+
+/// Adaptive steps ([`crate::adaptive`]): the one check after every step of a run with adaptive
+/// steps, whatever the stepper — the run loop ([`crate::driver`]) calls it after each step (the
+/// last step onto an end time included), as [`Stepper::step_in`] does, and a composition after
+/// each of its stages. With the time transformation `dt = g(x) dτ` a step of fictitious size
+/// `ε_k = at.h` covers `Δt_k = t_{k+1} − t_k ≈ ε_k g(x_k)`: the monitor `g` at `next` must be
+/// positive and finite ([`StepError::InvalidMonitor`]), and `Δt_k`, read from the states' time
+/// coordinates ([`Stepper::physical_time`]), must have the sign of `ε_k`
+/// ([`StepError::TimeReversed`]). Nothing for a stepper in physical time.
+pub(crate) fn check_adaptive_step<I: Stepper + ?Sized>(
+    stepper: &I,
+    at: StepAt<'_>,
+    state: &I::State,
+    next: &I::State,
+) -> Result<(), StepError> {
+    let (Some(t0), Some(t1)) = (stepper.physical_time(state), stepper.physical_time(next)) else {
+        return Ok(());
+    };
+    if let Some(g) = stepper.monitor(at, next)? {
+        check_monitor(at.k, g)?;
+    }
+    check_time_increment(at.k, at.h, t1 - t0)
 }
 
 /// Adaptive steps ([`crate::adaptive`]): the typed error of a step `step` of fictitious size `h`

@@ -169,10 +169,6 @@ where
                 residual: solution.residual,
             });
         }
-        crate::stepper::monitor_at(sys, k, &next.q.fixed_rows::<S>(0).into_owned())?;
-        if let Some(j) = sys.time_index() {
-            crate::stepper::check_time_increment(k, sys.time_step(), next.q[S + j] - q[S + j])?;
-        }
         Ok((
             next,
             StepStats::from_solution(&solution, self.options.residual_tolerance(rho)),
@@ -214,6 +210,13 @@ where
 
     fn physical_time(&self, state: &UnreducedState<N>) -> Option<f64> {
         self.system.time_index().map(|j| state.q[S + j])
+    }
+
+    /// `g(x)` at the shape `x`, the first `S` coordinates of `q`.
+    fn monitor(&self, at: StepAt<'_>, state: &UnreducedState<N>) -> Result<Option<f64>, StepError> {
+        let owned = system_at(&self.system, at.k, at.h, at.u)?;
+        let x = state.q.fixed_rows::<S>(0).into_owned();
+        Ok(owned.as_ref().unwrap_or(&self.system).monitor(&x))
     }
 
     fn workspace(&self) -> Self::Workspace {

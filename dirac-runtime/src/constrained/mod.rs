@@ -443,11 +443,6 @@ where
             residual: stats.residual,
         });
     }
-    if let Some(j) = sys.time_index() {
-        let (before, after) = (F::configuration(sys, state), F::configuration(sys, &next));
-        crate::stepper::monitor_at(sys, k, &after.fixed_rows::<S>(0).into_owned())?;
-        crate::stepper::check_time_increment(k, h, after[S + j] - before[S + j])?;
-    }
     ws.history.push(increment, h);
     ws.multipliers = Some((lambda, nu));
     let constraint_residual = if sys.holonomic() {
@@ -485,6 +480,14 @@ where
         self.system
             .time_index()
             .map(|j| F::configuration(&self.system, state)[S + j])
+    }
+
+    /// `g(x)` at the shape `x` of the state's configuration.
+    fn monitor(&self, at: StepAt<'_>, state: &F::State) -> Result<Option<f64>, StepError> {
+        let owned = system_at(&self.system, at.k, at.h, at.u)?;
+        let sys = owned.as_ref().unwrap_or(&self.system);
+        let x = F::configuration(sys, state).fixed_rows::<S>(0).into_owned();
+        Ok(sys.monitor(&x))
     }
 
     /// The inputs, and `‖φ(q_0)‖∞` within the Newton tolerances (×10³): a typed

@@ -69,7 +69,7 @@
 //! coordinate, so a [`Run::start_time`] other than it is refused.
 
 use crate::error::{IntegrationError, StepError, Steps};
-use crate::stepper::{Collect, StepAt, StepStats, Stepper};
+use crate::stepper::{check_adaptive_step, Collect, StepAt, StepStats, Stepper};
 
 /// The outcome of a streamed run ([`Run::stream`]): the last state and statistics accumulated
 /// over the steps, in memory independent of the number of steps.
@@ -568,6 +568,11 @@ where
         match integrator.step_into(&mut workspace, at, &summary.last, &mut next) {
             Ok(mut record) => {
                 if physical {
+                    // The step policy of adaptive steps: the monitor and the sign of the
+                    // physical step, checked once here for every stepper.
+                    if let Err(source) = check_adaptive_step(integrator, at, &summary.last, &next) {
+                        return Err(fail(source, summary));
+                    }
                     t_next = integrator.physical_time(&next).unwrap_or(f64::NAN);
                     if let Some(end) = span.end.filter(|&end| t_next > end) {
                         // The step passed the end time: retake it, landing on the end.
@@ -577,11 +582,13 @@ where
                             h,
                             (t_next, (next.clone(), record)),
                             |eps| {
+                                let at = at.with_size(eps);
                                 let step = integrator.step_with(
                                     &mut integrator.workspace(),
-                                    at.with_size(eps),
+                                    at,
                                     &summary.last,
                                 )?;
+                                check_adaptive_step(integrator, at, &summary.last, &step.0)?;
                                 Ok((integrator.physical_time(&step.0).unwrap_or(f64::NAN), step))
                             },
                         );

@@ -8,8 +8,7 @@ use nalgebra::{DMatrix, DVector, DefaultAllocator, Dim, OVector};
 
 use super::integrator::StepEquations;
 use super::{blocks, LieModel};
-use crate::error::StepError;
-use crate::stepper::{check_monitor, check_time_increment};
+use crate::stepper::check_monitor;
 
 /// Newton's guess for the chart coordinate `z` of a run's first step of fictitious size `h`
 /// from `(q, p)`, written into `z`: the time coordinate's entry `h g(q)` (the step's physical
@@ -82,29 +81,4 @@ where
 {
     let time = sys.time_index()?;
     blocks(sys).nth(time).map(|b| q[b.point])
-}
-
-/// The checks after step `k` of fictitious size `h` from the point `q` to `next`: the monitor
-/// positive and finite at `next` ([`StepError::InvalidMonitor`]), and the physical time step —
-/// the increment of coordinate `time`, a group scalar — of the sign of `h`
-/// ([`StepError::TimeReversed`]).
-pub(super) fn check_step<L, P: Dim, N: Dim>(
-    sys: &L,
-    k: usize,
-    h: f64,
-    time: usize,
-    q: &OVector<f64, P>,
-    next: &OVector<f64, P>,
-) -> Result<(), StepError>
-where
-    L: LieModel<P, N>,
-    DefaultAllocator: Allocator<P> + Allocator<N>,
-{
-    if let Some(g) = sys.monitor(next) {
-        check_monitor(k, g)?;
-    }
-    if let Some(at) = blocks(sys).nth(time).map(|b| b.point) {
-        check_time_increment(k, h, next[at] - q[at])?;
-    }
-    Ok(())
 }

@@ -387,9 +387,6 @@ where
                 residual: solution.residual,
             });
         }
-        if let Some(time) = sys.time_index() {
-            super::adaptive::check_step(sys, k, h, time, q, next_q)?;
-        }
         history.push(unknown, h);
         Ok(StepStats::from_solution(
             &solution,
@@ -459,6 +456,12 @@ where
 
     fn physical_time(&self, state: &LieStateOf<P, N>) -> Option<f64> {
         super::adaptive::time_of(&self.system, &state.q)
+    }
+
+    /// `g(q)` at the state's point.
+    fn monitor(&self, at: StepAt<'_>, state: &LieStateOf<P, N>) -> Result<Option<f64>, StepError> {
+        let owned = system_at(&self.system, at.k, at.h, at.u)?;
+        Ok(owned.as_ref().unwrap_or(&self.system).monitor(&state.q))
     }
 
     /// The common checks (time step, finite parameters and state) and every coordinate on its

@@ -579,6 +579,16 @@ where
         super::adaptive::time_of(self.system(), &state.q)
     }
 
+    /// The unreduced integrator's: `g(q)` at the state's point.
+    fn monitor(
+        &self,
+        at: StepAt<'_>,
+        state: &ReducedLieStateOf<P, N>,
+    ) -> Result<Option<f64>, StepError> {
+        let owned = crate::model::system_at(self.system(), at.k, at.h, at.u)?;
+        Ok(owned.as_ref().unwrap_or(self.system()).monitor(&state.q))
+    }
+
     /// The unreduced integrator's checks, and `mu` the momentum map of `(q, p)` (to `1e-9`
     /// relative; build reduced states with [`ReducedLieIntegrator::reduce`]).
     fn check(&self, initial: &ReducedLieStateOf<P, N>) -> Result<(), StepError> {
