@@ -28,10 +28,15 @@
 //! physical position and velocity with
 //! [`sys.unreduced_state(q, v)`](crate::ContinuousLagrangian::unreduced_state) (or
 //! `reduced_state`), which for such a system sets `t' = g` and so `p_t = −E` exactly. Every
-//! integrator checks it before the first step: a start farther from the level set than
+//! run checks it before the first step, once for every integrator (each says only where its
+//! state lies, [`crate::Stepper::level_set`]): a start farther from the level set than
 //! [`LEVEL_SET_TOLERANCE`] (relative) is refused with [`crate::StepError::OffManifold`]. Each
 //! step's monitor must be positive and finite ([`crate::StepError::InvalidMonitor`] otherwise,
-//! with the step index); Newton's first guess for the time increment of a run is `ε g(x)`.
+//! with the step index) and its physical step `Δt_k` of the sign of `ε`
+//! ([`crate::StepError::TimeReversed`]): the run loop checks both after every step, once for every
+//! integrator (each says only how its state gives the monitor, [`crate::Stepper::monitor`], and
+//! its time, [`crate::Stepper::physical_time`]); Newton's first guess for the time increment of
+//! a run is `ε g(x)`.
 
 use nalgebra::SVector;
 

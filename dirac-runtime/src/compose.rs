@@ -56,7 +56,7 @@ use crate::error::{StepError, Steps};
 use crate::reduced::ReducedIntegrator;
 use crate::sensitivity::Sensitivity;
 use crate::state::UnreducedState;
-use crate::stepper::{check_adaptive_step, Collect, StepAt, StepStats, Stepper};
+use crate::stepper::{check_adaptive_step, Collect, LevelSet, StepAt, StepStats, Stepper};
 use crate::system::{join, DiscreteLagrangian, LagrangianHessian, Reduced, Side, Unreduced};
 use crate::unreduced::UnreducedIntegrator;
 
@@ -345,6 +345,10 @@ where
 
     fn monitor(&self, at: StepAt<'_>, state: &I::State) -> Result<Option<f64>, StepError> {
         self.base.monitor(at, state)
+    }
+
+    fn level_set(&self, state: &I::State) -> Option<LevelSet> {
+        self.base.level_set(state)
     }
 
     /// The base integrator's checks (the macro step must be positive and finite, the parameters

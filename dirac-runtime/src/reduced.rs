@@ -10,8 +10,8 @@ use crate::linalg::{Lu, RCOND_CLEARANCE};
 use crate::newton::{self, inf_norm, NewtonOptions};
 use crate::state::ReducedState;
 use crate::stepper::{
-    check_inputs, predicted_increment, same_step, step_error, system_at, Collect, History, StepAt,
-    StepStats, StepStatsExt, Stepper,
+    check_inputs, flat_level_set, predicted_increment, same_step, step_error, system_at, Collect,
+    History, LevelSet, StepAt, StepStats, StepStatsExt, Stepper,
 };
 use crate::system::{join, split, Minus, Plus, Reduced, Side, Variant};
 
@@ -435,13 +435,8 @@ where
             &self.system.parameter_values(),
             initial.is_finite(),
         )?;
-        // The domain first: outside it the monitor need not be defined.
-        reduced_domain(&self.system, 0, true, initial)?;
-        if crate::stepper::monitor_at(&self.system, 0, &initial.x)?.is_some() {
-            let start = self.system.untrivialize(initial);
-            crate::stepper::check_level_set(&self.system, &start.q, &start.p)?;
-        }
-        Ok(())
+        // The domain: outside it the monitor (checked next by the run) need not be defined.
+        reduced_domain(&self.system, 0, true, initial)
     }
 
     fn check_domain(&self, k: usize, state: &ReducedState<S, K>) -> Result<(), StepError> {
@@ -450,6 +445,13 @@ where
 
     fn physical_time(&self, state: &ReducedState<S, K>) -> Option<f64> {
         self.system.time_index().map(|j| state.g[j])
+    }
+
+    /// The level set of the state's unreduced form `(q, p)`.
+    fn level_set(&self, state: &ReducedState<S, K>) -> Option<LevelSet> {
+        self.system.time_index()?;
+        let start = self.system.untrivialize(state);
+        flat_level_set(&self.system, &start.q, &start.p)
     }
 
     /// `g(x)` at the state's shape `x`.

@@ -97,7 +97,9 @@ pub trait Stepper {
 
     /// The checks made before the first step: a valid time step, finite parameters and initial
     /// state, and whatever the integrator adds (a symmetric rule for a composition, consistent
-    /// charts for an atlas). An error here is reported with step index 0 and no step taken.
+    /// charts for an atlas). An error here is reported with step index 0 and no step taken. With
+    /// adaptive steps a run then checks the start's monitor and level set, once for every
+    /// stepper (see [`crate::adaptive`]).
     fn check(&self, initial: &Self::State) -> Result<(), StepError>;
 
     /// A fresh workspace for one run: no history, no factors.
@@ -126,7 +128,7 @@ pub trait Stepper {
     /// set: a control law may change the monitor), for a system declared with
     /// `time(t), adapt = |q| g`; `Ok(None)` for a system stepped in physical time, an error for
     /// controls of the wrong number. What the one adaptive check after every step reads
-    /// ([`check_adaptive_step`]: the monitor positive and finite, the physical step `Δt_k` of
+    /// (once for every stepper: the monitor positive and finite, the physical step `Δt_k` of
     /// the sign of the fictitious `ε_k`); each family says only how its state gives the monitor.
     /// The default: `Ok(None)`.
     fn monitor(&self, at: StepAt<'_>, state: &Self::State) -> Result<Option<f64>, StepError> {
@@ -142,6 +144,15 @@ pub trait Stepper {
     fn check_domain(&self, k: usize, state: &Self::State) -> Result<(), StepError> {
         let _ = (k, state);
         Ok(())
+    }
+
+    /// Adaptive steps ([`crate::adaptive`]): where `state` lies with respect to its energy level
+    /// set `p_t + E(q, p) = 0` ([`LevelSet`]), which a run's start must lie on (checked by the
+    /// run loop with the start's monitor, once for every stepper); `None` where the family has
+    /// no energy to compare (a system stepped in physical time, the default).
+    fn level_set(&self, state: &Self::State) -> Option<LevelSet> {
+        let _ = state;
+        None
     }
 
     /// Takes the step `at` (its index `k`, size `h` and controls `u`, see [`StepAt`]) from
@@ -666,22 +677,6 @@ pub(crate) fn check_monitor(step: usize, value: f64) -> Result<(), StepError> {
     }
 }
 
-/// The monitor at the shape `x` of a system with adaptive steps, checked (`Ok(None)` for a
-/// system stepped in physical time).
-pub(crate) fn monitor_at<L, const S: usize, const K: usize, const N: usize>(
-    sys: &L,
-    step: usize,
-    x: &nalgebra::SVector<f64, S>,
-) -> Result<Option<f64>, StepError>
-where
-    L: crate::system::DiscreteLagrangian<S, K, N>,
-{
-    match sys.monitor(x) {
-        Some(g) => check_monitor(step, g).map(|()| Some(g)),
-        None => Ok(None),
-    }
-}
-
 /// The largest accepted relative distance of a run's initial state from its energy level set:
 /// `|p_t + E(q, p)| ≤ LEVEL_SET_TOLERANCE · max(|E|, |⟨p_q, u⟩|)`, `u` the physical velocity
 /// (see [`crate::adaptive::level_set_defect`]). A state built from a position and a physical velocity by
@@ -690,26 +685,41 @@ where
 /// ([`StepError::OffManifold`]): it would integrate another orbit than the physical one.
 pub const LEVEL_SET_TOLERANCE: f64 = 1e-8;
 
-/// The input check of an adaptive run's initial state `(q, p)` ([`LEVEL_SET_TOLERANCE`]): the
-/// typed error of a state off its energy level set.
-pub(crate) fn check_level_set<L, const S: usize, const K: usize, const N: usize>(
-    sys: &L,
-    q: &SVector<f64, N>,
-    p: &SVector<f64, N>,
-) -> Result<(), StepError>
-where
-    L: crate::DiscreteLagrangian<S, K, N>,
-{
-    let Some(j) = sys.time_index() else {
+/// Adaptive steps ([`crate::adaptive`]): where a state lies with respect to its energy level set
+/// `p_t + E(q, p) = 0`, on which the solutions of the time-transformed system are the physical
+/// ones reparametrized ([`Stepper::level_set`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LevelSet {
+    /// The time coordinate's momentum `p_t`.
+    pub p_t: f64,
+    /// `p_t + E(q, p)`: zero on the level set.
+    pub defect: f64,
+    /// The scale the defect is measured against, `max(|E|, |⟨p_q, u⟩|)` with `u` the physical
+    /// velocity ([`crate::adaptive::level_set_defect`]).
+    pub scale: f64,
+}
+
+/// Adaptive steps ([`crate::adaptive`]): the one check of a run's start, whatever the stepper,
+/// made by the run loop after [`Stepper::check`]: the monitor `g` positive and finite at the
+/// initial state ([`StepError::InvalidMonitor`] with step 0), and the state on its energy level
+/// set to [`LEVEL_SET_TOLERANCE`] ([`StepError::OffManifold`] otherwise: off the level set the
+/// run integrates another orbit). Nothing for a stepper in physical time.
+pub(crate) fn check_adaptive_start<I: Stepper + ?Sized>(
+    stepper: &I,
+    initial: &I::State,
+) -> Result<(), StepError> {
+    if stepper.physical_time(initial).is_none() {
         return Ok(());
-    };
-    let Some((defect, scale)) = sys.level_set_defect(q, p) else {
+    }
+    if let Some(g) = stepper.monitor(StepAt::new(0, stepper.time_step()), initial)? {
+        check_monitor(0, g)?;
+    }
+    let Some(LevelSet { p_t, defect, scale }) = stepper.level_set(initial) else {
         return Ok(());
     };
     if defect.abs() <= LEVEL_SET_TOLERANCE * scale {
         return Ok(());
     }
-    let p_t = p[S + j];
     Err(StepError::OffManifold {
         reason: format!(
             "an adaptive run starts off its energy level set: the time coordinate's momentum is \
@@ -721,6 +731,26 @@ where
             defect.abs(),
             defect.abs() / scale.max(f64::MIN_POSITIVE)
         ),
+    })
+}
+
+/// The level set of the unreduced state `(q, p)` of a flat system with adaptive steps
+/// ([`LevelSet`]; `None` for a system stepped in physical time or a monitor that is not
+/// positive): what the flat families' [`Stepper::level_set`] give.
+pub(crate) fn flat_level_set<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    q: &SVector<f64, N>,
+    p: &SVector<f64, N>,
+) -> Option<LevelSet>
+where
+    L: crate::DiscreteLagrangian<S, K, N>,
+{
+    let j = sys.time_index()?;
+    let (defect, scale) = sys.level_set_defect(q, p)?;
+    Some(LevelSet {
+        p_t: p[S + j],
+        defect,
+        scale,
     })
 }
 

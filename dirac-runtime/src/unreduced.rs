@@ -10,8 +10,8 @@ use crate::reduced::trajectory_accessors;
 use crate::sensitivity::Sensitivity;
 use crate::state::UnreducedState;
 use crate::stepper::{
-    check_inputs, predicted_increment, step_error, system_at, Collect, History, StepAt, StepStats,
-    StepStatsExt, Stepper,
+    check_inputs, flat_level_set, predicted_increment, step_error, system_at, Collect, History,
+    LevelSet, StepAt, StepStats, StepStatsExt, Stepper,
 };
 use crate::system::{LagrangianHessian, Unreduced};
 
@@ -195,13 +195,8 @@ where
             &self.system.parameter_values(),
             initial.is_finite(),
         )?;
-        let x = initial.q.fixed_rows::<S>(0).into_owned();
-        // The domain first: outside it the monitor need not be defined.
-        crate::domain::check_system(&self.system, 0, true, |i| initial.q.get(i).copied())?;
-        if crate::stepper::monitor_at(&self.system, 0, &x)?.is_some() {
-            crate::stepper::check_level_set(&self.system, &initial.q, &initial.p)?;
-        }
-        Ok(())
+        // The domain: outside it the monitor (checked next by the run) need not be defined.
+        crate::domain::check_system(&self.system, 0, true, |i| initial.q.get(i).copied())
     }
 
     fn check_domain(&self, k: usize, state: &UnreducedState<N>) -> Result<(), StepError> {
@@ -210,6 +205,10 @@ where
 
     fn physical_time(&self, state: &UnreducedState<N>) -> Option<f64> {
         self.system.time_index().map(|j| state.q[S + j])
+    }
+
+    fn level_set(&self, state: &UnreducedState<N>) -> Option<LevelSet> {
+        flat_level_set(&self.system, &state.q, &state.p)
     }
 
     /// `g(x)` at the shape `x`, the first `S` coordinates of `q`.

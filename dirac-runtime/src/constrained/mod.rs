@@ -32,7 +32,8 @@ use crate::newton::{self, inf_norm, NewtonOptions};
 use crate::reduced::trajectory_accessors;
 use crate::state::UnreducedState;
 use crate::stepper::{
-    check_inputs, step_error, system_at, Collect, History, StepAt, StepStats, StepStatsExt, Stepper,
+    check_inputs, flat_level_set, step_error, system_at, Collect, History, LevelSet, StepAt,
+    StepStats, StepStatsExt, Stepper,
 };
 use crate::system::DiscreteLagrangian;
 
@@ -482,6 +483,13 @@ where
             .map(|j| F::configuration(&self.system, state)[S + j])
     }
 
+    /// The level set of the state's unreduced form `(q, p)`.
+    fn level_set(&self, state: &F::State) -> Option<LevelSet> {
+        self.system.time_index()?;
+        let start = F::unreduced(&self.system, state);
+        flat_level_set(&self.system, &start.q, &start.p)
+    }
+
     /// `g(x)` at the shape `x` of the state's configuration.
     fn monitor(&self, at: StepAt<'_>, state: &F::State) -> Result<Option<f64>, StepError> {
         let owned = system_at(&self.system, at.k, at.h, at.u)?;
@@ -500,11 +508,6 @@ where
         )?;
         let q = F::configuration(&self.system, initial);
         crate::domain::check_system(&self.system, 0, true, |i| q.get(i).copied())?;
-        // Adaptive steps: a start on the energy level set `p_t = −E` (see `crate::adaptive`).
-        if self.system.time_index().is_some() {
-            let start = F::unreduced(&self.system, initial);
-            crate::stepper::check_level_set(&self.system, &start.q, &start.p)?;
-        }
         if !self.system.holonomic() {
             return Ok(());
         }

@@ -69,7 +69,9 @@
 //! coordinate, so a [`Run::start_time`] other than it is refused.
 
 use crate::error::{IntegrationError, StepError, Steps};
-use crate::stepper::{check_adaptive_step, Collect, StepAt, StepStats, Stepper};
+use crate::stepper::{
+    check_adaptive_start, check_adaptive_step, Collect, StepAt, StepStats, Stepper,
+};
 
 /// The outcome of a streamed run ([`Run::stream`]): the last state and statistics accumulated
 /// over the steps, in memory independent of the number of steps.
@@ -495,6 +497,7 @@ where
     let checked = if physical {
         integrator
             .check(&summary.last)
+            .and_then(|()| check_adaptive_start(integrator, &summary.last))
             .and_then(|()| span.check(t0, true))
     } else {
         span.check(t0, false)

@@ -487,9 +487,6 @@ where
                 .check(block.name, block.of_point(initial.q.as_slice()))
                 .map_err(|reason| StepError::OffManifold { reason })?;
         }
-        if let Some(g) = self.system.monitor(&initial.q) {
-            crate::stepper::check_monitor(0, g)?;
-        }
         Ok(())
     }
 
