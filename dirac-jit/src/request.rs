@@ -1,9 +1,11 @@
 //! One run request for a system given as text, whatever its family: which equations (the
-//! runtime's one vocabulary, [`Equations`]), which order, how many steps (and up to which
-//! time), and Newton's options —
+//! runtime's one vocabulary, [`Equations`]), which order, how many steps (up to which time, of
+//! which sizes), and Newton's options —
 //! what a front end (the Python package's classes, a command line) reads from its user, checked
 //! against the compiled system in one place before the run is dispatched to its family's
 //! integrators.
+
+use std::sync::Arc;
 
 use dirac_runtime::{Equations, Form, NewtonOptions};
 
@@ -36,7 +38,7 @@ pub const ORDERS: [u32; 3] = [2, 4, 6];
 /// assert!(e.to_string().contains("accepted 2"), "{e}");
 /// # Ok::<(), dirac_jit::Error>(())
 /// ```
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct RunRequest {
     /// Which equations: their form (reduced or unreduced) and side (+ or −).
     pub equations: Equations,
@@ -48,6 +50,9 @@ pub struct RunRequest {
     /// the last step shortened to land on it), or `None` for `steps` steps of the system's own
     /// size.
     pub end_time: Option<f64>,
+    /// The size of each step, `h_0, h_1, …` (the run API's `StepSizes`), or `None` for every
+    /// step of the system's own size; set through [`Self::with_schedule`], which checks it.
+    pub schedule: Option<Arc<[f64]>>,
     /// Newton's options for each step.
     pub newton: NewtonOptions,
 }
@@ -82,6 +87,7 @@ impl RunRequest {
             order: 2,
             steps,
             end_time: None,
+            schedule: None,
             newton: NewtonOptions::default(),
         }
     }
@@ -97,6 +103,34 @@ impl RunRequest {
             }
         }
         self.end_time = t;
+        Ok(self)
+    }
+
+    /// The request stepping through the sizes `schedule` (or each step of the system's own size,
+    /// `None`): step `k` has size `schedule[k]`, by the run API's `StepSizes` (the last step
+    /// shortened to land on [`Self::end_time`] when one is given). Every size is a positive
+    /// finite number and there is one for each of the [`Self::steps`] the run may take; anything
+    /// else is refused, saying what is accepted.
+    pub fn with_schedule(mut self, schedule: Option<Vec<f64>>) -> Result<Self, Error> {
+        if let Some(sizes) = &schedule {
+            if let Some((k, h)) = sizes
+                .iter()
+                .enumerate()
+                .find(|(_, h)| !(h.is_finite() && **h > 0.0))
+            {
+                return Err(request(format!(
+                    "schedule[{k}] = {h}: each step size is a positive finite number"
+                )));
+            }
+            if sizes.len() < self.steps {
+                return Err(request(format!(
+                    "schedule: {} step sizes for {} steps; give one size for each step (steps                      at most the schedule's length)",
+                    sizes.len(),
+                    self.steps
+                )));
+            }
+        }
+        self.schedule = schedule.map(Arc::from);
         Ok(self)
     }
 
@@ -134,6 +168,7 @@ impl RunRequest {
             order,
             steps,
             end_time: None,
+            schedule: None,
             newton,
         };
         r.check(system)?;
@@ -256,14 +291,38 @@ mod tests {
             .expect("order 2 with constraints");
         assert_eq!(r.newton.abs_tol, 1e-13);
         for t in [0.0, -1.0, f64::NAN, f64::INFINITY] {
-            match r.with_end_time(Some(t)) {
+            match r.clone().with_end_time(Some(t)) {
                 Err(Error::Request { reason }) => assert!(reason.contains("positive finite")),
                 other => panic!("end_time {t}: {other:?}"),
             }
         }
         assert_eq!(
-            r.with_end_time(Some(0.5)).map(|r| r.end_time).ok(),
+            r.clone().with_end_time(Some(0.5)).map(|r| r.end_time).ok(),
             Some(Some(0.5))
         );
+    }
+
+    #[test]
+    fn a_schedule_is_one_positive_finite_size_for_each_step() {
+        let r = RunRequest::from_keywords(&compiled(KEPLER), "plus", 2, 3, None).expect("valid");
+        for (sizes, says) in [
+            (vec![0.1, 0.0, 0.1], "schedule[1] = 0"),
+            (vec![0.1, 0.1, -0.2], "schedule[2] = -0.2"),
+            (vec![f64::NAN, 0.1, 0.1], "schedule[0] = NaN"),
+            (vec![0.1, f64::INFINITY, 0.1], "schedule[1] = inf"),
+            (vec![0.1, 0.1], "2 step sizes for 3 steps"),
+            (vec![], "0 step sizes for 3 steps"),
+        ] {
+            match r.clone().with_schedule(Some(sizes.clone())) {
+                Err(Error::Request { reason }) => assert!(reason.contains(says), "{reason}"),
+                other => panic!("{sizes:?}: {other:?}"),
+            }
+        }
+        let given = r
+            .clone()
+            .with_schedule(Some(vec![0.1, 0.05, 0.05, 0.2]))
+            .expect("four sizes for three steps");
+        assert_eq!(given.schedule.as_deref(), Some(&[0.1, 0.05, 0.05, 0.2][..]));
+        assert_eq!(r.with_schedule(None).map(|r| r.schedule).ok(), Some(None));
     }
 }

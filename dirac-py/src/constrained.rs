@@ -18,7 +18,7 @@ use dirac_runtime::{
     ReducedState, UnreducedState, Variant,
 };
 
-use crate::calls::{span, until};
+use crate::calls::span;
 use crate::ensemble::Member;
 use crate::inputs::{reduced_start, unreduced_start};
 use crate::parquet::{to_parquet, Written};
@@ -62,37 +62,28 @@ pub(crate) fn run_constrained<
     let sys = code
         .instantiate_constrained::<S, K, N, M, Z>(params)
         .map_err(|e| e.to_string())?;
-    let (n, o) = (r.steps, r.newton);
+    let o = r.newton;
     Ok(match (r.equations.form, r.equations.side) {
         (Form::Unreduced, _) => {
             let s0: UnreducedState<N> = unreduced_start(start);
             let integ = ConstrainedIntegrator::new(sys, o);
-            finish(
-                span!(integ.run(s0), n, r.end_time)
-                    .stop(until(cancel))
-                    .collect(),
-                |t| with_multipliers(t, |t| unreduced_flat(parts!(t))),
-            )
+            finish(span!(integ.run(s0), r, cancel => collect), |t| {
+                with_multipliers(t, |t| unreduced_flat(parts!(t)))
+            })
         }
         (Form::Reduced, side) => {
             let s0: ReducedState<S, K> = reduced_start(start);
             let momenta = sys.clone();
             let result = if side == Variant::Plus {
                 let integ = ReducedConstrainedIntegrator::plus(sys, o);
-                finish(
-                    span!(integ.run(s0), n, r.end_time)
-                        .stop(until(cancel))
-                        .collect(),
-                    |t| with_multipliers(t, |t| reduced_flat(parts!(t))),
-                )
+                finish(span!(integ.run(s0), r, cancel => collect), |t| {
+                    with_multipliers(t, |t| reduced_flat(parts!(t)))
+                })
             } else {
                 let integ = ReducedConstrainedIntegrator::minus(sys, o);
-                finish(
-                    span!(integ.run(s0), n, r.end_time)
-                        .stop(until(cancel))
-                        .collect(),
-                    |t| with_multipliers(t, |t| reduced_flat(parts!(t))),
-                )
+                finish(span!(integ.run(s0), r, cancel => collect), |t| {
+                    with_multipliers(t, |t| reduced_flat(parts!(t)))
+                })
             };
             with_momenta_of(&momenta, result)
         }
@@ -118,14 +109,12 @@ pub(crate) fn run_many_constrained<
     let sys = code
         .instantiate_constrained::<S, K, N, M, Z>(params)
         .map_err(|e| e.to_string())?;
-    let (n, o) = (r.steps, r.newton);
+    let o = r.newton;
     Ok(match (r.equations.form, r.equations.side) {
         (Form::Unreduced, _) => {
             let s0: Vec<UnreducedState<N>> = starts.iter().map(|s| unreduced_start(s)).collect();
             let integ = ConstrainedIntegrator::new(sys, o);
-            span!(integ.ensemble(&s0), n, r.end_time)
-                .stop(until(cancel))
-                .collect()
+            span!(integ.ensemble(&s0), r, cancel => collect)
                 .into_iter()
                 .map(|m| finish(m, |t| with_multipliers(t, |t| unreduced_flat(parts!(t)))))
                 .collect()
@@ -138,17 +127,13 @@ pub(crate) fn run_many_constrained<
             };
             let members: Vec<Member<Flat>> = if side == Variant::Plus {
                 let integ = ReducedConstrainedIntegrator::plus(sys, o);
-                span!(integ.ensemble(&s0), n, r.end_time)
-                    .stop(until(cancel))
-                    .collect()
+                span!(integ.ensemble(&s0), r, cancel => collect)
                     .into_iter()
                     .map(|m| finish(m, flat))
                     .collect()
             } else {
                 let integ = ReducedConstrainedIntegrator::minus(sys, o);
-                span!(integ.ensemble(&s0), n, r.end_time)
-                    .stop(until(cancel))
-                    .collect()
+                span!(integ.ensemble(&s0), r, cancel => collect)
                     .into_iter()
                     .map(|m| finish(m, flat))
                     .collect()
@@ -180,27 +165,19 @@ pub(crate) fn write_constrained<
     let sys = code
         .instantiate_constrained::<S, K, N, M, Z>(params)
         .map_err(|e| e.to_string())?;
-    let (n, o) = (r.steps, r.newton);
+    let o = r.newton;
     Ok(match (r.equations.form, r.equations.side) {
         (Form::Unreduced, _) => {
             let s0: UnreducedState<N> = unreduced_start(start);
-            to_parquet(
-                &ConstrainedIntegrator::new(sys, o),
-                s0,
-                (n, r.end_time),
-                path,
-                &o,
-                cancel,
-            )?
+            to_parquet(&ConstrainedIntegrator::new(sys, o), s0, &r, path, cancel)?
         }
         (Form::Reduced, Variant::Plus) => {
             let s0: ReducedState<S, K> = reduced_start(start);
             to_parquet(
                 &ReducedConstrainedIntegrator::plus(sys, o),
                 s0,
-                (n, r.end_time),
+                &r,
                 path,
-                &o,
                 cancel,
             )?
         }
@@ -209,9 +186,8 @@ pub(crate) fn write_constrained<
             to_parquet(
                 &ReducedConstrainedIntegrator::minus(sys, o),
                 s0,
-                (n, r.end_time),
+                &r,
                 path,
-                &o,
                 cancel,
             )?
         }

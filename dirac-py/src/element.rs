@@ -20,10 +20,10 @@ use pyo3::exceptions::{PyDeprecationWarning, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
-use crate::calls::{self, span, until};
+use crate::calls::{self, span};
 use crate::composition;
 use crate::ensemble::{self, Member};
-use crate::parquet::to_parquet;
+use crate::parquet::{to_parquet, Written};
 use crate::results::{finish, Failed};
 
 /// The keywords of `ElementSystem.run` and `ElementSystem.ensemble`, and of
@@ -38,6 +38,7 @@ const RUN_KEYWORDS: &[&str] = &[
     "order",
     "tol",
     "end_time",
+    "schedule",
 ];
 const WRITE_KEYWORDS: &[&str] = &[
     "parameters",
@@ -49,6 +50,7 @@ const WRITE_KEYWORDS: &[&str] = &[
     "method",
     "tol",
     "end_time",
+    "schedule",
 ];
 
 /// What a run is asked for: the system at its sizes, and the run request of every class.
@@ -57,15 +59,10 @@ struct Request {
     run: RunRequest,
 }
 
-/// What an element-wise run reads of its request: the (+) side ("plus", "unreduced") or the
-/// (−), the steps, the end time, Newton's options.
-fn sides(run: RunRequest) -> (bool, usize, Option<f64>, NewtonOptions) {
-    (
-        run.equations.side == Variant::Plus,
-        run.steps,
-        run.end_time,
-        run.newton,
-    )
+/// What an element-wise run reads of its request besides its span: the (+) side ("plus",
+/// "unreduced") or the (−), Newton's options.
+fn sides(run: &RunRequest) -> (bool, NewtonOptions) {
+    (run.equations.side == Variant::Plus, run.newton)
 }
 
 /// `value`, the keyword argument `name` of a run, which it needs.
@@ -93,7 +90,7 @@ pub(crate) fn run_many(
     run: RunRequest,
     cancel: &AtomicBool,
 ) -> Result<Vec<Member<Flat>>, String> {
-    let (plus, steps, end_time, options) = sides(run);
+    let (plus, options) = sides(&run);
     let translations = sys.translations().len();
     if sys.constrained() {
         let integ = if plus {
@@ -118,9 +115,7 @@ pub(crate) fn run_many(
             ));
             f
         };
-        let members = span!(integ.ensemble(starts), steps, end_time)
-            .stop(until(cancel))
-            .collect();
+        let members = span!(integ.ensemble(starts), run, cancel => collect);
         return Ok(members.into_iter().map(|m| finish(m, to_flat)).collect());
     }
     let integ = if plus {
@@ -137,9 +132,7 @@ pub(crate) fn run_many(
             |s| integ.momentum_map(s).unwrap_or_default(),
         )
     };
-    let members = span!(integ.ensemble(starts), steps, end_time)
-        .stop(until(cancel))
-        .collect();
+    let members = span!(integ.ensemble(starts), run, cancel => collect);
     Ok(members.into_iter().map(|m| finish(m, to_flat)).collect())
 }
 
@@ -180,6 +173,30 @@ fn flat(
     out
 }
 
+/// One run of `sys` from `start` as `run` asks, written to Parquet at `path` by the
+/// element-wise integrator of its side (the constrained one for a system with constraints).
+pub(crate) fn write_run(
+    sys: JitElement,
+    start: ElementState,
+    run: &RunRequest,
+    path: &std::path::Path,
+    cancel: &AtomicBool,
+) -> Result<Written, String> {
+    let (plus, o) = sides(run);
+    match (sys.constrained(), plus) {
+        (true, true) => {
+            let integ = ElementConstrainedIntegrator::new(sys, o);
+            to_parquet(&integ, start, run, path, cancel)
+        }
+        (true, false) => {
+            let integ = ElementConstrainedIntegrator::minus(sys, o);
+            to_parquet(&integ, start, run, path, cancel)
+        }
+        (false, true) => to_parquet(&ElementIntegrator::new(sys, o), start, run, path, cancel),
+        (false, false) => to_parquet(&ElementIntegrator::minus(sys, o), start, run, path, cancel),
+    }
+}
+
 /// One run: the unconstrained integrator (order 2, 4 or 6), or the constrained one.
 pub(crate) fn run_one(
     sys: JitElement,
@@ -187,7 +204,7 @@ pub(crate) fn run_one(
     run: RunRequest,
     cancel: &AtomicBool,
 ) -> Result<Flat, Box<Failed<Flat>>> {
-    let (plus, steps, end_time, options) = sides(run);
+    let (plus, options) = sides(&run);
     let order = run.order;
     let translations = sys.translations().len();
     if sys.constrained() {
@@ -213,12 +230,7 @@ pub(crate) fn run_one(
             ));
             f
         };
-        return finish(
-            span!(integ.run(start), steps, end_time)
-                .stop(until(cancel))
-                .collect(),
-            to_flat,
-        );
+        return finish(span!(integ.run(start), run, cancel => collect), to_flat);
     }
     let integ = if plus {
         ElementIntegrator::new(sys, options)
@@ -235,28 +247,18 @@ pub(crate) fn run_one(
         )
     };
     if order == 2 {
-        finish(
-            span!(integ.run(start), steps, end_time)
-                .stop(until(cancel))
-                .collect(),
-            to_flat,
-        )
+        finish(span!(integ.run(start), run, cancel => collect), to_flat)
     } else {
         let c = Composition::new(integ.clone(), composition(order));
-        finish(
-            span!(c.run(start), steps, end_time)
-                .stop(until(cancel))
-                .collect(),
-            |t| {
-                flat(
-                    translations,
-                    &t.states,
-                    &t.times,
-                    t.stats.iter().map(|s| (s.iterations, s.residual)),
-                    |s| integ.momentum_map(s).unwrap_or_default(),
-                )
-            },
-        )
+        finish(span!(c.run(start), run, cancel => collect), |t| {
+            flat(
+                translations,
+                &t.states,
+                &t.times,
+                t.stats.iter().map(|s| (s.iterations, s.residual)),
+                |s| integ.momentum_map(s).unwrap_or_default(),
+            )
+        })
     }
 }
 
@@ -554,7 +556,7 @@ impl ElementSystem {
     /// `TypeError` for a keyword it does not take. The sizes given before the steps, as
     /// positional arguments (`run(parameters, sizes, steps, ..)`), are read with a
     /// `DeprecationWarning`.
-    #[pyo3(signature = (parameters, *positional, steps = None, sizes = None, q = None, p = None, method = "plus", order = 2, tol = None, end_time = None, **other))]
+    #[pyo3(signature = (parameters, *positional, steps = None, sizes = None, q = None, p = None, method = "plus", order = 2, tol = None, end_time = None, schedule = None, **other))]
     #[allow(
         clippy::too_many_arguments,
         reason = "the Python keyword arguments, one each"
@@ -572,6 +574,7 @@ impl ElementSystem {
         order: u32,
         tol: Option<f64>,
         end_time: Option<f64>,
+        schedule: Option<Vec<f64>>,
         other: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         calls::no_other_keywords("ElementSystem.run", other, &[], RUN_KEYWORDS, |_| None)?;
@@ -584,7 +587,7 @@ impl ElementSystem {
             tol,
         )?;
         let r = Request {
-            run: crate::inputs::ending(r.run, end_time)?,
+            run: crate::inputs::ending(r.run, end_time, schedule)?,
             sys: r.sys,
         };
         let start = ElementState::new(
@@ -617,7 +620,7 @@ impl ElementSystem {
     /// constant memory. Returns a dict with `steps`, `t` and `path`; a failed step raises
     /// `StepError` with `step`, `residual` and `path`, the states before it written; Ctrl-C
     /// raises `KeyboardInterrupt` with `steps`, `t` and `path`, the states so far written.
-    #[pyo3(signature = (parameters, steps, path, sizes, q, p, method = "plus", tol = None, end_time = None, **other))]
+    #[pyo3(signature = (parameters, steps, path, sizes, q, p, method = "plus", tol = None, end_time = None, schedule = None, **other))]
     #[allow(
         clippy::too_many_arguments,
         reason = "the Python keyword arguments, one each"
@@ -634,6 +637,7 @@ impl ElementSystem {
         method: &str,
         tol: Option<f64>,
         end_time: Option<f64>,
+        schedule: Option<Vec<f64>>,
         other: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         calls::no_other_keywords("ElementSystem.write", other, &[], WRITE_KEYWORDS, |_| None)?;
@@ -646,46 +650,13 @@ impl ElementSystem {
             tol,
         )?;
         let r = Request {
-            run: crate::inputs::ending(r.run, end_time)?,
+            run: crate::inputs::ending(r.run, end_time, schedule)?,
             sys: r.sys,
         };
         let start = ElementState::new(self.vector(&r.sys, "q", q)?, self.vector(&r.sys, "p", p)?);
-        let (sys, (plus, _, end_time, o)) = (r.sys, sides(r.run));
-        let (written, interrupt) =
-            calls::interruptible(py, move |cancel| match (sys.constrained(), plus) {
-                (true, true) => to_parquet(
-                    &ElementConstrainedIntegrator::new(sys, o),
-                    start,
-                    (steps, end_time),
-                    &path,
-                    &o,
-                    cancel,
-                ),
-                (true, false) => to_parquet(
-                    &ElementConstrainedIntegrator::minus(sys, o),
-                    start,
-                    (steps, end_time),
-                    &path,
-                    &o,
-                    cancel,
-                ),
-                (false, true) => to_parquet(
-                    &ElementIntegrator::new(sys, o),
-                    start,
-                    (steps, end_time),
-                    &path,
-                    &o,
-                    cancel,
-                ),
-                (false, false) => to_parquet(
-                    &ElementIntegrator::minus(sys, o),
-                    start,
-                    (steps, end_time),
-                    &path,
-                    &o,
-                    cancel,
-                ),
-            })?;
+        let (written, interrupt) = calls::interruptible(py, move |cancel| {
+            write_run(r.sys, start, &r.run, &path, cancel)
+        })?;
         crate::parquet::written_dict(py, written, interrupt)
     }
 
@@ -696,7 +667,7 @@ impl ElementSystem {
     /// member raises `StepError` (with `member` and `ensemble`) after all have run; Ctrl-C
     /// raises `KeyboardInterrupt` with `ensemble`, the states so far (NaN after each member's
     /// last).
-    #[pyo3(signature = (parameters, steps, sizes, q, p, method = "plus", order = 2, tol = None, end_time = None, **other))]
+    #[pyo3(signature = (parameters, steps, sizes, q, p, method = "plus", order = 2, tol = None, end_time = None, schedule = None, **other))]
     #[allow(
         clippy::too_many_arguments,
         reason = "the Python keyword arguments, one each"
@@ -713,6 +684,7 @@ impl ElementSystem {
         order: u32,
         tol: Option<f64>,
         end_time: Option<f64>,
+        schedule: Option<Vec<f64>>,
         other: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         calls::no_other_keywords("ElementSystem.ensemble", other, &[], RUN_KEYWORDS, |_| None)?;
@@ -730,7 +702,7 @@ impl ElementSystem {
             tol,
         )?;
         let r = Request {
-            run: crate::inputs::ending(r.run, end_time)?,
+            run: crate::inputs::ending(r.run, end_time, schedule)?,
             sys: r.sys,
         };
         let given = PyDict::new(py);
@@ -753,10 +725,10 @@ impl ElementSystem {
             (m as u128).saturating_mul(steps as u128 + 1),
             2 * row_bytes(&r.sys),
         )?;
+        let rows = r.run.end_time.is_none().then_some(steps + 1);
         let (sys, run) = (r.sys.clone(), r.run);
         let (results, interrupt) =
             calls::interruptible(py, move |cancel| run_many(sys, &starts, run, cancel))?;
-        let rows = r.run.end_time.is_none().then_some(steps + 1);
         ensemble::ensemble_dict(py, results, interrupt, rows, |flat| {
             self.to_dict(py, &r.sys, flat)
         })

@@ -67,9 +67,15 @@ pub(crate) fn run_request(
         .map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
-/// `r` ending at `end_time` when given (a positive finite time, else a `ValueError`).
-pub(crate) fn ending(r: RunRequest, end_time: Option<f64>) -> PyResult<RunRequest> {
+/// `r` ending at `end_time` when given (a positive finite time) and stepping through the sizes
+/// `schedule` when given (positive finite sizes, one for each step): else a `ValueError`.
+pub(crate) fn ending(
+    r: RunRequest,
+    end_time: Option<f64>,
+    schedule: Option<Vec<f64>>,
+) -> PyResult<RunRequest> {
     r.with_end_time(end_time)
+        .and_then(|r| r.with_schedule(schedule))
         .map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
@@ -161,12 +167,27 @@ pub(crate) const RUN_KEYWORDS: &[&str] = &[
     "order",
     "tol",
     "end_time",
+    "schedule",
     "energies",
 ];
-pub(crate) const WRITE_KEYWORDS: &[&str] =
-    &["parameters", "steps", "path", "method", "tol", "end_time"];
-pub(crate) const ENSEMBLE_KEYWORDS: &[&str] =
-    &["parameters", "steps", "method", "order", "tol", "end_time"];
+pub(crate) const WRITE_KEYWORDS: &[&str] = &[
+    "parameters",
+    "steps",
+    "path",
+    "method",
+    "tol",
+    "end_time",
+    "schedule",
+];
+pub(crate) const ENSEMBLE_KEYWORDS: &[&str] = &[
+    "parameters",
+    "steps",
+    "method",
+    "order",
+    "tol",
+    "end_time",
+    "schedule",
+];
 pub(crate) const CORE_KEYWORDS: &[&str] = &["parameters", "steps"];
 
 impl System {

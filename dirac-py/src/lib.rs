@@ -258,7 +258,7 @@ impl System {
     /// with the trajectory so far when a step fails, `KeyboardInterrupt` with the trajectory
     /// so far at Ctrl-C, `OutOfMemoryError` (before running) when the trajectory cannot be
     /// allocated, and `TypeError` for a keyword it does not take.
-    #[pyo3(signature = (parameters, steps, method = "plus", order = 2, tol = None, end_time = None, energies = false, **start))]
+    #[pyo3(signature = (parameters, steps, method = "plus", order = 2, tol = None, end_time = None, schedule = None, energies = false, **start))]
     #[allow(
         clippy::too_many_arguments,
         reason = "the Python keyword arguments, one each"
@@ -272,6 +272,7 @@ impl System {
         order: u32,
         tol: Option<f64>,
         end_time: Option<f64>,
+        schedule: Option<Vec<f64>>,
         energies: bool,
         start: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
@@ -289,7 +290,7 @@ impl System {
             tol,
             start,
         )?;
-        let r = ending(r, end_time)?;
+        let r = ending(r, end_time, schedule)?;
         if energies && self.code.system().continuous.is_none() {
             return Err(PyValueError::new_err(
                 "energies: a discrete Lagrangian has no continuous energy; write \
@@ -333,7 +334,7 @@ impl System {
     /// first failed member raises `StepError` (with `member` set) after all have run. Ctrl-C
     /// ends every member after its current step and raises `KeyboardInterrupt` with `ensemble`,
     /// the dict of the states so far (NaN after each member's last).
-    #[pyo3(signature = (parameters, steps, method = "plus", order = 2, tol = None, end_time = None, **starts))]
+    #[pyo3(signature = (parameters, steps, method = "plus", order = 2, tol = None, end_time = None, schedule = None, **starts))]
     #[allow(
         clippy::too_many_arguments,
         reason = "the Python keyword arguments, one each"
@@ -347,9 +348,10 @@ impl System {
         order: u32,
         tol: Option<f64>,
         end_time: Option<f64>,
+        schedule: Option<Vec<f64>>,
         starts: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let r = ending(self.request(method, order, steps, tol)?, end_time)?;
+        let r = ending(self.request(method, order, steps, tol)?, end_time, schedule)?;
         self.check_start_keywords("System.ensemble", ENSEMBLE_KEYWORDS, r.equations, starts)?;
         let params = parameter_values(&self.code, parameters)?;
         if r.order != 2 {
@@ -376,6 +378,7 @@ impl System {
         )?;
         let (s, k) = self.dims();
         let code = Arc::clone(&self.code);
+        let rows = r.end_time.is_none().then_some(steps + 1);
         let (results, interrupt) =
             calls::interruptible(py, |cancel| match self.constraint_count() {
                 _ if !code.fixed_size() => sizes::run_many(&code, &params, &per_member, r, cancel),
@@ -392,7 +395,6 @@ impl System {
                 ),
             })?;
         let names = self.part_names("q");
-        let rows = r.end_time.is_none().then_some(steps + 1);
         ensemble::ensemble_dict(py, results, interrupt, rows, |flat| {
             to_dict(py, flat, &names)
         })
@@ -405,7 +407,7 @@ impl System {
     /// `residual` and `path`, the states before it written; Ctrl-C ends the run after the
     /// step in progress and raises `KeyboardInterrupt` with `steps`, `t` and `path`, the states
     /// so far written.
-    #[pyo3(signature = (parameters, steps, path, method = "plus", tol = None, end_time = None, **start))]
+    #[pyo3(signature = (parameters, steps, path, method = "plus", tol = None, end_time = None, schedule = None, **start))]
     #[allow(
         clippy::too_many_arguments,
         reason = "the Python keyword arguments, one each"
@@ -419,6 +421,7 @@ impl System {
         method: &str,
         tol: Option<f64>,
         end_time: Option<f64>,
+        schedule: Option<Vec<f64>>,
         start: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let Inputs {
@@ -435,7 +438,7 @@ impl System {
             tol,
             start,
         )?;
-        let r = ending(r, end_time)?;
+        let r = ending(r, end_time, schedule)?;
         let m = self.constraint_count();
         let (s, k) = self.dims();
         let code = Arc::clone(&self.code);

@@ -27,7 +27,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::calls::{self, span, until};
+use crate::calls::{self, span};
 use crate::composition;
 use crate::ensemble::{self, Member};
 use crate::parquet::to_parquet;
@@ -165,7 +165,7 @@ where
 {
     let sys = S::instantiate(code, params).map_err(|e| e.to_string())?;
     let s0 = start_state(&sys, start)?;
-    let (n, o) = (r.steps, r.newton);
+    let o = r.newton;
     let unreduced = |t: &LieTrajectoryOf<P, N>| {
         flat(
             &sys,
@@ -188,27 +188,17 @@ where
                 )
             };
             if r.order == 2 {
-                finish(
-                    span!(integ.run(s0), n, r.end_time)
-                        .stop(until(cancel))
-                        .collect(),
-                    to_flat,
-                )
+                finish(span!(integ.run(s0), r, cancel => collect), to_flat)
             } else {
                 let c = Composition::new(integ, composition(r.order));
-                finish(
-                    span!(c.run(s0), n, r.end_time)
-                        .stop(until(cancel))
-                        .collect(),
-                    |t| {
-                        flat(
-                            &sys,
-                            t.states.iter().map(|s| (s.unreduced(), Some(s.mu.into()))),
-                            &t.times,
-                            &t.stats,
-                        )
-                    },
-                )
+                finish(span!(c.run(s0), r, cancel => collect), |t| {
+                    flat(
+                        &sys,
+                        t.states.iter().map(|s| (s.unreduced(), Some(s.mu.into()))),
+                        &t.times,
+                        &t.stats,
+                    )
+                })
             }
         }
         (Form::Unreduced, side) => {
@@ -218,27 +208,17 @@ where
                 LieIntegratorOf::minus(sys.clone(), o)
             };
             if r.order == 2 {
-                finish(
-                    span!(integ.run(s0), n, r.end_time)
-                        .stop(until(cancel))
-                        .collect(),
-                    unreduced,
-                )
+                finish(span!(integ.run(s0), r, cancel => collect), unreduced)
             } else {
                 let c = Composition::new(integ, composition(r.order));
-                finish(
-                    span!(c.run(s0), n, r.end_time)
-                        .stop(until(cancel))
-                        .collect(),
-                    |t| {
-                        flat(
-                            &sys,
-                            t.states.iter().map(|s| (s.clone(), None)),
-                            &t.times,
-                            &t.stats,
-                        )
-                    },
-                )
+                finish(span!(c.run(s0), r, cancel => collect), |t| {
+                    flat(
+                        &sys,
+                        t.states.iter().map(|s| (s.clone(), None)),
+                        &t.times,
+                        &t.stats,
+                    )
+                })
             }
         }
     })
@@ -265,7 +245,7 @@ where
         .iter()
         .map(|s| start_state(&sys, s))
         .collect::<Result<Vec<_>, _>>()?;
-    let (n, o) = (r.steps, r.newton);
+    let o = r.newton;
     let unreduced = |t: &LieTrajectoryOf<P, N>| {
         flat(
             &sys,
@@ -279,9 +259,7 @@ where
             let reduced = S::instantiate_reduced(code, params).map_err(|e| e.to_string())?;
             let integ = ReducedLieIntegratorOf::new(reduced, o);
             let s0: Vec<_> = s0.iter().map(|s| integ.reduce(s)).collect();
-            span!(integ.ensemble(&s0), n, r.end_time)
-                .stop(until(cancel))
-                .collect()
+            span!(integ.ensemble(&s0), r, cancel => collect)
                 .into_iter()
                 .map(|m| {
                     finish(m, |t| {
@@ -301,9 +279,7 @@ where
             } else {
                 LieIntegratorOf::minus(sys.clone(), o)
             };
-            span!(integ.ensemble(&s0), n, r.end_time)
-                .stop(until(cancel))
-                .collect()
+            span!(integ.ensemble(&s0), r, cancel => collect)
                 .into_iter()
                 .map(|m| finish(m, unreduced))
                 .collect()
@@ -333,13 +309,13 @@ where
 {
     let sys = S::instantiate(code, params).map_err(|e| e.to_string())?;
     let s0 = start_state(&sys, start)?;
-    let (n, o) = (r.steps, r.newton);
+    let o = r.newton;
     Ok(match (r.equations.form, r.equations.side) {
         (Form::Reduced, _) => {
             let reduced = S::instantiate_reduced(code, params).map_err(|e| e.to_string())?;
             let integ = ReducedLieIntegratorOf::new(reduced, o);
             let s0 = integ.reduce(&s0);
-            to_parquet(&integ, s0, (n, r.end_time), path, &o, cancel)?
+            to_parquet(&integ, s0, &r, path, cancel)?
         }
         (Form::Unreduced, side) => {
             let integ = if side == Variant::Plus {
@@ -347,7 +323,7 @@ where
             } else {
                 LieIntegratorOf::minus(sys, o)
             };
-            to_parquet(&integ, s0, (n, r.end_time), path, &o, cancel)?
+            to_parquet(&integ, s0, &r, path, cancel)?
         }
     })
 }
@@ -505,6 +481,7 @@ const RUN_KEYWORDS: &[&str] = &[
     "order",
     "tol",
     "end_time",
+    "schedule",
 ];
 const WRITE_KEYWORDS: &[&str] = &[
     "parameters",
@@ -516,6 +493,7 @@ const WRITE_KEYWORDS: &[&str] = &[
     "method",
     "tol",
     "end_time",
+    "schedule",
 ];
 
 impl LieSystem {
@@ -616,7 +594,7 @@ impl LieSystem {
     /// `KeyboardInterrupt` with the trajectory so far at Ctrl-C, `OutOfMemoryError` (before
     /// running) when the trajectory cannot be allocated, and `TypeError` for a keyword it does
     /// not take.
-    #[pyo3(signature = (parameters, steps, q, p = None, v = None, method = "plus", order = 2, tol = None, end_time = None, **other))]
+    #[pyo3(signature = (parameters, steps, q, p = None, v = None, method = "plus", order = 2, tol = None, end_time = None, schedule = None, **other))]
     #[allow(
         clippy::too_many_arguments,
         reason = "the Python keyword arguments, one each"
@@ -633,11 +611,13 @@ impl LieSystem {
         order: u32,
         tol: Option<f64>,
         end_time: Option<f64>,
+        schedule: Option<Vec<f64>>,
         other: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         calls::no_other_keywords("LieSystem.run", other, &[], RUN_KEYWORDS, |_| None)?;
         let params = crate::inputs::values_of(&self.code.system().parameters, parameters)?;
-        let r = crate::inputs::ending(self.request(method, order, steps, tol)?, end_time)?;
+        let r =
+            crate::inputs::ending(self.request(method, order, steps, tol)?, end_time, schedule)?;
         let start = self.start(q, p, v)?;
         calls::check_memory(
             || format!("a run of {steps} steps (every state kept)"),
@@ -663,7 +643,7 @@ impl LieSystem {
     /// with `steps`, `t` and `path`; a failed step raises `StepError` with `step`, `residual`
     /// and `path`, the states before it written; Ctrl-C raises `KeyboardInterrupt` with
     /// `steps`, `t` and `path`, the states so far written.
-    #[pyo3(signature = (parameters, steps, path, q, p = None, v = None, method = "plus", tol = None, end_time = None, **other))]
+    #[pyo3(signature = (parameters, steps, path, q, p = None, v = None, method = "plus", tol = None, end_time = None, schedule = None, **other))]
     #[allow(
         clippy::too_many_arguments,
         reason = "the Python keyword arguments, one each"
@@ -680,11 +660,12 @@ impl LieSystem {
         method: &str,
         tol: Option<f64>,
         end_time: Option<f64>,
+        schedule: Option<Vec<f64>>,
         other: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         calls::no_other_keywords("LieSystem.write", other, &[], WRITE_KEYWORDS, |_| None)?;
         let params = crate::inputs::values_of(&self.code.system().parameters, parameters)?;
-        let r = crate::inputs::ending(self.request(method, 2, steps, tol)?, end_time)?;
+        let r = crate::inputs::ending(self.request(method, 2, steps, tol)?, end_time, schedule)?;
         let start = self.start(q, p, v)?;
         let (pp, n) = self.dims();
         let code = Arc::clone(&self.code);
@@ -705,7 +686,7 @@ impl LieSystem {
     /// `(member, step, message)`; the first failed member raises `StepError` (with `member` and
     /// `ensemble`) after all have run; Ctrl-C raises `KeyboardInterrupt` with `ensemble`, the
     /// states so far (NaN after each member's last).
-    #[pyo3(signature = (parameters, steps, q, p = None, v = None, method = "plus", order = 2, tol = None, end_time = None, **other))]
+    #[pyo3(signature = (parameters, steps, q, p = None, v = None, method = "plus", order = 2, tol = None, end_time = None, schedule = None, **other))]
     #[allow(
         clippy::too_many_arguments,
         reason = "the Python keyword arguments, one each"
@@ -722,11 +703,13 @@ impl LieSystem {
         order: u32,
         tol: Option<f64>,
         end_time: Option<f64>,
+        schedule: Option<Vec<f64>>,
         other: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         calls::no_other_keywords("LieSystem.ensemble", other, &[], RUN_KEYWORDS, |_| None)?;
         let params = crate::inputs::values_of(&self.code.system().parameters, parameters)?;
-        let r = crate::inputs::ending(self.request(method, order, steps, tol)?, end_time)?;
+        let r =
+            crate::inputs::ending(self.request(method, order, steps, tol)?, end_time, schedule)?;
         if r.order != 2 {
             return Err(PyValueError::new_err(
                 "ensembles run the integrators themselves (order 2)",
@@ -763,6 +746,7 @@ impl LieSystem {
         )?;
         let (pp, n) = self.dims();
         let code = Arc::clone(&self.code);
+        let rows = r.end_time.is_none().then_some(steps + 1);
         let (results, interrupt) = calls::interruptible(py, |cancel| {
             dirac_jit::with_lie_dimensions!(
                 pp,
@@ -771,7 +755,6 @@ impl LieSystem {
                     else run_many::<DynJitLie, Dyn, Dyn>(&code, &params, &starts, r, cancel)
             )
         })?;
-        let rows = r.end_time.is_none().then_some(steps + 1);
         ensemble::ensemble_dict(py, results, interrupt, rows, |flat| self.to_dict(py, flat))
     }
 

@@ -3,12 +3,13 @@
 
 use std::sync::atomic::AtomicBool;
 
-use dirac_runtime::{NewtonOptions, StepError as RuntimeStepError, StepStats};
+use dirac_jit::RunRequest;
+use dirac_runtime::{StepError as RuntimeStepError, StepStats};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::calls::{self, span};
+use crate::calls::span;
 use crate::results::exception_of;
 
 /// What a run written to Parquet ended with: its steps, its final time and the path; or the
@@ -16,16 +17,15 @@ use crate::results::exception_of;
 pub(crate) type Written =
     Result<(usize, f64, std::path::PathBuf), (RuntimeStepError, std::path::PathBuf)>;
 
-/// A run of `steps` steps (up to `end_time` when given) streamed into Parquet at `path` by the workspace's writer (the run's
+/// The run `request` asks (its steps, end time, schedule and Newton's options) streamed into Parquet at `path` by the workspace's writer (the run's
 /// observer, [`dirac_io::ParquetObserver`]), that ends after the step in progress once `cancel` is
 /// set (the file then holds the states so far, its outcome "stopped"): what it ended with, as
 /// [`Written`]; the writer's own failure is the outer `Err`.
 pub(crate) fn to_parquet<I>(
     integ: &I,
     start: I::State,
-    (steps, end_time): (usize, Option<f64>),
+    request: &RunRequest,
     path: &std::path::Path,
-    newton: &NewtonOptions,
     cancel: &AtomicBool,
 ) -> Result<Written, String>
 where
@@ -33,13 +33,10 @@ where
     I::State: dirac_io::StateColumns,
     I::Record: AsRef<StepStats>,
 {
-    let info = integ.describe().with_newton(newton);
+    let info = integ.describe().with_newton(&request.newton);
     let mut writer = dirac_io::ParquetObserver::create(path, info, dirac_io::Options::new())
         .map_err(|e| e.to_string())?;
-    let result = span!(integ.run(start), steps, end_time)
-        .stop(calls::until(cancel))
-        .observe(writer.observer())
-        .stream();
+    let result = span!(integ.run(start), request, cancel, observe(writer.observer()) => stream);
     let path = writer.finish_with(&result).map_err(|e| e.to_string())?;
     Ok(match result {
         Ok(summary) => Ok((summary.step_count, summary.t, path)),

@@ -13,7 +13,7 @@ use dirac_runtime::{
     UnreducedTrajectory, Variant,
 };
 
-use crate::calls::{span, until};
+use crate::calls::span;
 use crate::composition;
 use crate::inputs::{reduced_start, unreduced_start};
 use crate::parquet::{to_parquet, Written};
@@ -33,7 +33,7 @@ pub(crate) fn run_one<const S: usize, const K: usize, const N: usize>(
     let sys = code
         .instantiate::<S, K, N>(params)
         .map_err(|e| e.to_string())?;
-    let (n, o) = (r.steps, r.newton);
+    let o = r.newton;
     let energies = energies.then(|| sys.clone());
     let momenta = sys.clone();
     let result = match (r.equations.form, r.equations.side) {
@@ -41,20 +41,14 @@ pub(crate) fn run_one<const S: usize, const K: usize, const N: usize>(
             let s0 = unreduced_start(start);
             let integ = UnreducedIntegrator::new(sys, o);
             if r.order == 2 {
-                finish(
-                    span!(integ.run(s0), n, r.end_time)
-                        .stop(until(cancel))
-                        .collect(),
-                    |t| unreduced_flat(parts!(t)),
-                )
+                finish(span!(integ.run(s0), r, cancel => collect), |t| {
+                    unreduced_flat(parts!(t))
+                })
             } else {
                 let c = Composition::new(integ, composition(r.order));
-                finish(
-                    span!(c.run(s0), n, r.end_time)
-                        .stop(until(cancel))
-                        .collect(),
-                    |t| unreduced_flat(parts!(t)),
-                )
+                finish(span!(c.run(s0), r, cancel => collect), |t| {
+                    unreduced_flat(parts!(t))
+                })
             }
         }
         (Form::Reduced, side) => {
@@ -64,17 +58,13 @@ pub(crate) fn run_one<const S: usize, const K: usize, const N: usize>(
                     let integ = $integ;
                     if r.order == 2 {
                         finish(
-                            span!(integ.run(s0), n, r.end_time)
-                                .stop(until(cancel))
-                                .collect(),
+                            span!(integ.run(s0), r, cancel => collect),
                             |t| reduced_flat(parts!(t)),
                         )
                     } else {
                         let c = Composition::new(integ, composition(r.order));
                         finish(
-                            span!(c.run(s0), n, r.end_time)
-                                .stop(until(cancel))
-                                .collect(),
+                            span!(c.run(s0), r, cancel => collect),
                             |t| reduced_flat(parts!(t)),
                         )
                     }
@@ -151,39 +141,18 @@ pub(crate) fn write_one<const S: usize, const K: usize, const N: usize>(
     let sys = code
         .instantiate::<S, K, N>(params)
         .map_err(|e| e.to_string())?;
-    let (n, o) = (r.steps, r.newton);
+    let o = r.newton;
     Ok(match (r.equations.form, r.equations.side) {
         (Form::Unreduced, _) => {
             let s0 = unreduced_start(start);
-            to_parquet(
-                &UnreducedIntegrator::new(sys, o),
-                s0,
-                (n, r.end_time),
-                path,
-                &o,
-                cancel,
-            )?
+            to_parquet(&UnreducedIntegrator::new(sys, o), s0, &r, path, cancel)?
         }
         (Form::Reduced, side) => {
             let s0 = reduced_start(start);
             if side == Variant::Plus {
-                to_parquet(
-                    &ReducedIntegrator::plus(sys, o),
-                    s0,
-                    (n, r.end_time),
-                    path,
-                    &o,
-                    cancel,
-                )?
+                to_parquet(&ReducedIntegrator::plus(sys, o), s0, &r, path, cancel)?
             } else {
-                to_parquet(
-                    &ReducedIntegrator::minus(sys, o),
-                    s0,
-                    (n, r.end_time),
-                    path,
-                    &o,
-                    cancel,
-                )?
+                to_parquet(&ReducedIntegrator::minus(sys, o), s0, &r, path, cancel)?
             }
         }
     })
@@ -223,14 +192,12 @@ pub(crate) fn run_many<const S: usize, const K: usize, const N: usize>(
     let sys = code
         .instantiate::<S, K, N>(params)
         .map_err(|e| e.to_string())?;
-    let (n, o) = (r.steps, r.newton);
+    let o = r.newton;
     Ok(match (r.equations.form, r.equations.side) {
         (Form::Unreduced, _) => {
             let s0: Vec<_> = starts.iter().map(|s| unreduced_start(s)).collect();
             let integ = UnreducedIntegrator::new(sys, o);
-            span!(integ.ensemble(&s0), n, r.end_time)
-                .stop(until(cancel))
-                .collect()
+            span!(integ.ensemble(&s0), r, cancel => collect)
                 .into_iter()
                 .map(|m| finish(m, |t| unreduced_flat(parts!(t))))
                 .collect()
@@ -240,14 +207,10 @@ pub(crate) fn run_many<const S: usize, const K: usize, const N: usize>(
             let momenta = sys.clone();
             let members = if side == Variant::Plus {
                 let integ = ReducedIntegrator::plus(sys, o);
-                span!(integ.ensemble(&s0), n, r.end_time)
-                    .stop(until(cancel))
-                    .collect()
+                span!(integ.ensemble(&s0), r, cancel => collect)
             } else {
                 let integ = ReducedIntegrator::minus(sys, o);
-                span!(integ.ensemble(&s0), n, r.end_time)
-                    .stop(until(cancel))
-                    .collect()
+                span!(integ.ensemble(&s0), r, cancel => collect)
             };
             members
                 .into_iter()

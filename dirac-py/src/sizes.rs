@@ -16,14 +16,13 @@ use std::sync::Arc;
 
 use dirac_jit::{Code, JitElement, RunRequest};
 use dirac_runtime::element::{
-    ElementConstrainedIntegrator, ElementIntegrator, ElementLagrangian, ElementState,
-    ElementTrajectory,
+    ElementIntegrator, ElementLagrangian, ElementState, ElementTrajectory,
 };
-use dirac_runtime::{Form, System, Variant};
+use dirac_runtime::{Form, System};
 
 use crate::element::{self, Flat as ElementFlat};
 use crate::ensemble::Member;
-use crate::parquet::{to_parquet, Written};
+use crate::parquet::Written;
 use crate::results::{Failed, Flat};
 
 /// The element view of `code` at `params`, and its connection `B` (`K × S`, row by row).
@@ -128,8 +127,8 @@ pub(crate) fn run_one(
     let view = View::new(code, params)?;
     let form = r.equations.form;
     let s0 = view.start(form, start);
-    let run = element::run_one(view.sys.clone(), s0, r, cancel);
-    let with_energies = |f: &ElementFlat| energies.then(|| view.energies(f, r));
+    let run = element::run_one(view.sys.clone(), s0, r.clone(), cancel);
+    let with_energies = |f: &ElementFlat| energies.then(|| view.energies(f, &r));
     Ok(match run {
         Ok(f) => {
             let e = with_energies(&f);
@@ -144,7 +143,7 @@ pub(crate) fn run_one(
 impl View {
     /// The continuous energies of a run of the view (`ElementIntegrator::energies`: at each
     /// state through the inverse Legendre map, at each step's midpoint), or why there are none.
-    fn energies(&self, f: &ElementFlat, r: RunRequest) -> Result<(Vec<f64>, Vec<f64>), String> {
+    fn energies(&self, f: &ElementFlat, r: &RunRequest) -> Result<(Vec<f64>, Vec<f64>), String> {
         let n = self.s + self.k;
         let states: Vec<ElementState> = (0..f.t.len())
             .map(|k| ElementState::new(&f.q[k * n..(k + 1) * n], &f.p[k * n..(k + 1) * n]))
@@ -192,33 +191,5 @@ pub(crate) fn write_one(
 ) -> Result<Written, String> {
     let view = View::new(code, params)?;
     let s0 = view.start(r.equations.form, start);
-    let (sys, o, span) = (view.sys, r.newton, (r.steps, r.end_time));
-    let plus = r.equations.side == Variant::Plus;
-    match (sys.constrained(), plus) {
-        (true, true) => to_parquet(
-            &ElementConstrainedIntegrator::new(sys, o),
-            s0,
-            span,
-            path,
-            &o,
-            cancel,
-        ),
-        (true, false) => to_parquet(
-            &ElementConstrainedIntegrator::minus(sys, o),
-            s0,
-            span,
-            path,
-            &o,
-            cancel,
-        ),
-        (false, true) => to_parquet(&ElementIntegrator::new(sys, o), s0, span, path, &o, cancel),
-        (false, false) => to_parquet(
-            &ElementIntegrator::minus(sys, o),
-            s0,
-            span,
-            path,
-            &o,
-            cancel,
-        ),
-    }
+    element::write_run(view.sys, s0, &r, path, cancel)
 }

@@ -14,6 +14,8 @@
 //! steps = 1000
 //! method = "plus"           # "plus", "minus" (reduced; "reduced" is "plus") or "unreduced"
 //! out = "kepler.parquet"    # relative to this file; --out overrides
+//! # schedule = [0.01, 0.005, 0.005]   each step's size (at least `steps` of them; `steps`
+//! #                                    defaults to their number), instead of the system's `h`
 //!
 //! [parameters]              # every parameter of the function, by name
 //! h = 0.01
@@ -104,6 +106,8 @@ struct Config {
     /// system's family reads it ([`Config::request`]).
     method: &'static str,
     out: PathBuf,
+    /// The size of each step (`schedule = [h0, h1, ..]`), or `None` for the system's own.
+    schedule: Option<Vec<f64>>,
     parameters: Vec<(String, f64)>,
     /// The sizes of an element-wise system, by name (the table `[sizes]`; empty otherwise).
     sizes: Vec<(String, usize)>,
@@ -127,6 +131,7 @@ impl Config {
     /// forms), checked against the system there (reduced equations only where it has them).
     fn request(&self, system: &Compiled) -> Result<RunRequest, Failure> {
         RunRequest::from_keywords(system, self.method, 2, self.steps, None)
+            .and_then(|r| r.with_schedule(self.schedule.clone()))
             .map_err(|e| Failure::Run(format!("{}: {e}", self.file.display())))
     }
 }
@@ -238,6 +243,7 @@ fn parse(path: &Path) -> Result<Config, Failure> {
         "steps",
         "method",
         "out",
+        "schedule",
         "parameters",
         "sizes",
         "start",
@@ -258,9 +264,27 @@ fn parse(path: &Path) -> Result<Config, Failure> {
                     .into(),
             )),
         };
-    let steps = match table.get("steps") {
-        Some(toml::Value::Integer(n)) if *n > 0 => *n as usize,
-        _ => return Err(usage("`steps` must be a positive integer".into())),
+    // Positive finite sizes, one for each step: checked with the request (`with_schedule`).
+    let schedule = match table.get("schedule") {
+        None => None,
+        Some(v @ toml::Value::Array(a)) if a.iter().all(|e| !e.is_array()) => numbers(v),
+        Some(_) => None,
+    };
+    if table.contains_key("schedule") && schedule.is_none() {
+        return Err(usage(
+            "`schedule` must be an array of step sizes, `[h0, h1, ..]`".into(),
+        ));
+    }
+    let steps = match (table.get("steps"), &schedule) {
+        (Some(toml::Value::Integer(n)), _) if *n > 0 => *n as usize,
+        (None, Some(sizes)) if !sizes.is_empty() => sizes.len(),
+        _ => {
+            return Err(usage(
+                "`steps` must be a positive integer (or left out with a `schedule`: one step \
+                 for each size)"
+                    .into(),
+            ))
+        }
     };
     // One of the runtime's keywords; which equations it names depends on the system's family.
     let method = match table.get("method").map(toml::Value::as_str) {
@@ -308,6 +332,7 @@ fn parse(path: &Path) -> Result<Config, Failure> {
         steps,
         method,
         out,
+        schedule,
         parameters,
         sizes,
         start,
@@ -731,11 +756,14 @@ where
 {
     let mut out = ParquetObserver::create(&config.out, integ.describe(), Options::new())
         .map_err(|e| e.to_string())?;
-    let result = integ
-        .run(start)
-        .steps(request.steps)
-        .observe(out.observer())
-        .stream();
+    let run = integ.run(start).steps(request.steps);
+    let result = match request.schedule.as_deref() {
+        Some(sizes) => run
+            .step_size(dirac::runtime::StepSizes(sizes))
+            .observe(out.observer())
+            .stream(),
+        None => run.observe(out.observer()).stream(),
+    };
     let path = out.finish_with(&result).map_err(|e| e.to_string())?;
     match result {
         Ok(summary) => Ok(format!(
