@@ -168,7 +168,11 @@
 //! element-wise text is a `dirac.ElementSystem`, its sizes given per run
 //! (`toda.run(params, steps=100, sizes={"n": 1000}, q=q0, p=p0)`). Every class has `run`,
 //! `write` and `ensemble` with the same keywords, and every run returns `t`, `q` and `p` as dicts
-//! by coordinate name; what a run is asked for is one `dirac_jit::RunRequest`.
+//! by coordinate name; what a run is asked for is one `dirac_jit::RunRequest`. A step schedule,
+//! `schedule=[h0, h1, ...]` in Python and `schedule = [h0, h1, ...]` in a system file, gives each
+//! step's size (the run API's `StepSizes`, the times the sums of the sizes): positive finite
+//! sizes, at least one for each step (a system file may leave `steps` out: one per size), with
+//! `end_time` too (the last step shortened to land on it).
 //!
 //! ## Limits
 //!
