@@ -544,7 +544,8 @@ impl ElementSystem {
     }
 
     /// Integrates `steps` steps (with `end_time`, up to that time, reached exactly, and at most
-    /// `steps`) at `sizes` (a dict by name or a sequence in order) from `q` and
+    /// `steps`; with `schedule`, a list of at least `steps` sizes, step `k` of size `schedule[k]`)
+    /// at `sizes` (a dict by name or a sequence in order) from `q` and
     /// `p` (each a flat array of the system's length at these sizes, or a dict by coordinate of
     /// arrays of each coordinate's shape). `method` is "plus" or "minus" (or "unreduced", the
     /// "plus"); `order` 2, 4 or 6 (a constrained system: 2). Returns a dict of NumPy arrays: `t`,

@@ -248,7 +248,8 @@ impl System {
     }
 
     /// Integrates `steps` steps (with `end_time`, up to that time, reached exactly, and at most
-    /// `steps`) from one start (`x, w, mu, g` for "plus", "minus" and "reduced",
+    /// `steps`; with `schedule`, a list of at least `steps` sizes, step `k` of size `schedule[k]`)
+    /// from one start (`x, w, mu, g` for "plus", "minus" and "reduced",
     /// `q, p` for "unreduced": each an array in coordinate order or a dict by coordinate) and
     /// returns a dict of NumPy arrays: `t` (steps+1); `q` and `p`, dicts by coordinate of
     /// (steps+1,) arrays (a reduced run's `q` is `x` then `g`, its `p` `(w − Bᵀ μ, μ)` by eq.

@@ -579,7 +579,8 @@ impl LieSystem {
     }
 
     /// Integrates `steps` steps (with `end_time`, up to that time, reached exactly, and at most
-    /// `steps`) from the start `q` (a dict by coordinate: a rotation's 3×3
+    /// `steps`; with `schedule`, a list of at least `steps` sizes, step `k` of size `schedule[k]`)
+    /// from the start `q` (a dict by coordinate: a rotation's 3×3
     /// matrix, a direction's unit vector, a pose's 12 numbers — its rotation row by row, then
     /// its position —, a scalar) with the momenta `p` (a rotation's body momentum, a
     /// direction's momentum as a vector in space, a pose's 6 — its body angular momentum, then
