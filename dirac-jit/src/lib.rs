@@ -146,9 +146,7 @@ mod model;
 mod request;
 mod system;
 
-pub use element::{
-    compile_element, compile_flat_elements, ElementCode, JitElement, MAX_DEPTH, MAX_SIZES,
-};
+pub use element::{compile_element, compile_flat_elements, ElementCode, JitElement, MAX_SIZES};
 pub use error::Error;
 pub use lie::{compile_lie, DynJitLie, JitLie, LieCode, LieFront, Reduced, Reduction, Unreduced};
 pub use request::{RunRequest, ORDERS};

@@ -341,3 +341,35 @@ fn the_python_fixture_is_the_compiled_in_trajectory() {
         );
     }
 }
+
+/// An element-wise system whose elements sit in nine nested loops (eight of them of one
+/// iteration, so the compiler's check of the stencils on sample sizes stays small): deeper
+/// nests than the eight the kernel calls pass from the stack run, their loop indices passed
+/// from a buffer of the thread.
+#[test]
+fn elements_in_deep_loop_nests_run() {
+    let code = dirac_jit::compile_element(
+        "#[reduced_lagrangian(coordinates(x[n]), translate(x), rule = midpoint)]
+         fn nest(q: Config, v: Velocity, k: f64, n: usize) -> f64 {
+             let mut l = 0.0;
+             for i in 0..n { l += 0.5 * v.x[i] * v.x[i]; }
+             for a in 0..n { for b in 0..1 { for c in 0..1 { for d in 0..1 { for e in 0..1 {
+                 for f in 0..1 { for g in 0..1 { for r in 0..1 { for s in 0..1 {
+                     l -= 0.5 * k * (q.x[(a + 1) % n] - q.x[a]) * (q.x[(a + 1) % n] - q.x[a]);
+                 } } } }
+             } } } } }
+             l
+         }",
+    )
+    .expect("nine nested loops compile");
+    let sys = code.instantiate(&[2.0, 0.05], &[3]).expect("instantiates");
+    let start = ElementState::new(vec![0.0, 0.3, -0.2], vec![0.2, -0.1, 0.0]);
+    let run = ElementIntegrator::new(sys, NewtonOptions::default())
+        .run(start)
+        .steps(20)
+        .collect()
+        .expect("runs");
+    // The translation's momentum Σ p, kept; the springs moved the particles.
+    assert!((run.last().p.sum() - 0.1).abs() < 1e-14);
+    assert!((run.last().q[1] - run.last().q[0] - 0.3).abs() > 1e-6);
+}

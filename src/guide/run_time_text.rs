@@ -180,7 +180,7 @@
 //! `instantiate_sparse::<S, K, N>`, and the 200-particle lattice steps bit for bit as its
 //! compiled-in version), with or without constraints, with fixed or adaptive steps, and systems
 //! on rotation groups, reduced or not, and element-wise systems of any size (stencils of any
-//! number of coordinates in at most 4 nested loops, at most 8 sizes), with at most 32
+//! number of coordinates in loops nested to any depth, at most 8 sizes), with at most 32
 //! parameters. The Python package runs systems on vector spaces of any size, with any number of
 //! constraints, ensembles included (up to 8 coordinates — with constraints up to 6, one group
 //! coordinate and 3 constraints — on the fixed-size integrators, bit for bit as compiled in;

@@ -24,11 +24,17 @@ use dirac_runtime::StepError;
 
 mod family;
 
-/// The most nested element loops a family may have.
-pub const MAX_DEPTH: usize = 4;
-
 /// The most sizes a system may declare.
 pub const MAX_SIZES: usize = 8;
+
+/// The nests of element loops whose indices a kernel call passes from the stack; deeper ones
+/// from a buffer per thread ([`JitElement::call`]).
+const STACK_DEPTH: usize = 8;
+
+thread_local! {
+    /// The loop indices of an element of a nest deeper than [`STACK_DEPTH`], as numbers.
+    static NUMBERS: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
+}
 
 /// The kernels of one family.
 #[derive(Clone, Copy)]
@@ -170,20 +176,6 @@ impl ElementCode {
             return Err(fail(format!(
                 "{p} parameters and {z} sizes: a system given at run time has at most {MAX_PARAMETERS} and {MAX_SIZES}"
             )));
-        }
-        let stencils = system.families.iter().map(|f| &f.stencil).chain(
-            system
-                .constraints
-                .iter()
-                .flat_map(|c| c.families.iter().map(|f| &f.stencil)),
-        );
-        for stencil in stencils {
-            if stencil.loops.len() > MAX_DEPTH {
-                return Err(fail(format!(
-                    "an element in {} nested loops: a system given at run time nests at most {MAX_DEPTH}",
-                    stencil.loops.len()
-                )));
-            }
         }
         let mut jit = Jit::new()?;
         let layout = element_layout(p, z);
@@ -588,19 +580,42 @@ impl JitElement {
 
     /// Calls `kernel` on the parameters and sizes, `a`, `b` and the loop indices of element
     /// `indices`, writing its outputs at `out`.
+    /// The loop indices are passed as the numbers the kernels read: from a stack buffer for up
+    /// to [`STACK_DEPTH`] nested loops, from this thread's buffer (grown once) for deeper nests,
+    /// so a call allocates nothing whatever the family's depth.
     fn call(&self, kernel: Kernel, a: *const f64, b: *const f64, indices: &[i64], out: *mut f64) {
-        let mut numbers = [0.0; MAX_DEPTH];
-        for (n, &i) in numbers.iter_mut().zip(indices) {
-            *n = i as f64;
-        }
         // SAFETY: a kernel reads the parameters and sizes (inline, `MAX_PARAMETERS +
         // MAX_SIZES` of them, at most as many as the system declares: checked on compilation),
-        // `S` entries of `a` and `b` (the family's width, which every caller checks) and
-        // at most `MAX_DEPTH` loop indices (the family's depth, checked on compilation), and
-        // writes exactly as many values as its program has outputs, which is the size of the
-        // memory at `out` at every call site.
-        unsafe {
-            kernel(self.values.as_ptr(), a, b, numbers.as_ptr(), UNUSED, out);
+        // `S` entries of `a` and `b` (the family's width, which every caller checks), as many
+        // loop indices as the family's depth (which every caller checks `indices` has, and
+        // `numbers` holds as many as `indices`), and writes exactly as many values as its
+        // program has outputs, which is the size of the memory at `out` at every call site.
+        let run = |numbers: *const f64| unsafe {
+            kernel(self.values.as_ptr(), a, b, numbers, UNUSED, out);
+        };
+        if indices.len() <= STACK_DEPTH {
+            let mut numbers = [0.0; STACK_DEPTH];
+            for (n, &i) in numbers.iter_mut().zip(indices) {
+                *n = i as f64;
+            }
+            return run(numbers.as_ptr());
         }
+        NUMBERS.with(|cell| {
+            let numbers = |v: &mut Vec<f64>| {
+                v.clear();
+                v.extend(indices.iter().map(|&i| i as f64));
+            };
+            match cell.try_borrow_mut() {
+                Ok(mut v) => {
+                    numbers(&mut v);
+                    run(v.as_ptr())
+                }
+                Err(_) => {
+                    let mut v = Vec::new();
+                    numbers(&mut v);
+                    run(v.as_ptr())
+                }
+            }
+        })
     }
 }
