@@ -12,6 +12,16 @@
 //! the last steps that Newton's guess extrapolates from ([`History`]). A workspace is built once
 //! per run and travels with it — through every stage of a composition and every chart of an
 //! atlas — so after the first factorization no step allocates.
+//!
+//! A step's size travels with the run, not with the system: the run loop owns each step's context, a
+//! [`StepAt`] (the step's index `k`, its size `h_k` and its controls `u_k`), and hands it to
+//! [`Stepper::step_with`] / [`Stepper::step_into`] — the system's own `h` for a fixed-step run, a
+//! schedule's `h_k`, the last step onto an end time, `γ_i h_k` for a composition's stage. With
+//! adaptive steps ([`crate::adaptive`]) the clock is the state's time coordinate
+//! ([`Stepper::physical_time`]) and the run loop makes the checks of the time transformation once
+//! for every stepper — the start's monitor and energy level set before the first step, the
+//! monitor and the direction of time after each step — each stepper saying only what it alone
+//! knows ([`Stepper::monitor`], [`Stepper::level_set`]).
 
 use std::fmt::Debug;
 
