@@ -73,6 +73,7 @@ mod legendre;
 mod rows;
 pub mod sensitivity;
 mod solver;
+mod stencils;
 mod step;
 mod sums;
 #[cfg(test)]
@@ -700,23 +701,19 @@ impl<L: ElementLagrangian> ElementIntegrator<L> {
             )));
         }
         let elements =
-            assembly::check_stencils(&self.system).map_err(|reason| self.invalid(reason))?;
-        assembly::check_memory(n, &elements)
+            stencils::check_stencils(&self.system).map_err(|reason| self.invalid(reason))?;
+        stencils::check_memory(n, &elements)
     }
 }
 
 /// Whether `additional` more copies of `state`'s vectors can be allocated, as a trajectory
-/// keeps them: asked for and given back at once (as [`assembly::check_memory`] asks for a run's
+/// keeps them: asked for and given back at once (as [`stencils::check_memory`] asks for a run's
 /// workspace), so that a trajectory longer than memory holds is the typed
 /// [`StepError::OutOfMemory`] rather than an abort in the allocator. The arithmetic is in
 /// `u128`, so no count overflows it.
 pub(crate) fn reserve_states(state: &ElementState, additional: usize) -> Result<(), StepError> {
     let words = (state.q.len() as u128 + state.p.len() as u128) * additional as u128;
-    let fits = usize::try_from(words)
-        .ok()
-        .filter(|&w| w <= isize::MAX as usize / 8)
-        .is_some_and(|w| Vec::<f64>::new().try_reserve_exact(w).is_ok());
-    if fits {
+    if crate::linalg::allocatable(words.saturating_mul(8)) {
         Ok(())
     } else {
         Err(StepError::OutOfMemory {

@@ -80,6 +80,22 @@ pub use sparse::{
 /// copy) grows faster than a sparse factorization of a mechanical system's Jacobian.
 pub const DENSE_MAX: usize = 16;
 
+/// Whether `bytes` bytes can be allocated now: reserved once, untouched, and released, so that a
+/// size the allocator, the kernel or an address-space limit (`ulimit -v`) refuses is found before
+/// anything is built (and reported as a typed error) instead of aborting the process on the
+/// first allocation that fails. Counted in `u128` by the callers, so that no size overflows.
+///
+/// ```
+/// assert!(dirac_runtime::linalg::allocatable(1 << 10));
+/// assert!(!dirac_runtime::linalg::allocatable(u128::MAX));
+/// ```
+pub fn allocatable(bytes: u128) -> bool {
+    usize::try_from(bytes)
+        .ok()
+        .filter(|&b| b <= isize::MAX as usize)
+        .is_some_and(|b| Vec::<u8>::new().try_reserve_exact(b).is_ok())
+}
+
 /// Why a matrix could not be factored.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FactorError {
