@@ -108,11 +108,7 @@ pub(crate) fn check_memory(
     bytes_per_row: u128,
 ) -> PyResult<()> {
     let bytes = rows.saturating_mul(bytes_per_row);
-    let fits = usize::try_from(bytes)
-        .ok()
-        .filter(|&b| b <= isize::MAX as usize)
-        .is_some_and(|b| Vec::<u8>::new().try_reserve_exact(b).is_ok());
-    if fits {
+    if dirac_runtime::linalg::allocatable(bytes) {
         Ok(())
     } else {
         Err(out_of_memory(&what(), bytes))
@@ -170,6 +166,24 @@ macro_rules! span {
 }
 
 pub(crate) use span;
+
+/// One run of `$integ` from `$start` at the order the request `$r` asks, collected ([`span!`])
+/// and flattened by the closure `|$t| $flat` (written once, typed at each kind of trajectory):
+/// the integrator itself at order 2, or its symmetric composition (4: the triple jump, 6:
+/// Kahan–Li).
+macro_rules! by_order {
+    ($integ:expr, $start:expr, $r:expr, $cancel:expr, |$t:ident| $flat:expr) => {{
+        let (integ, r): (_, &dirac_jit::RunRequest) = ($integ, &$r);
+        if r.order == 2 {
+            $crate::results::finish(span!(integ.run($start), *r, $cancel => collect), |$t| $flat)
+        } else {
+            let c = dirac_runtime::Composition::new(integ, $crate::composition(r.order));
+            $crate::results::finish(span!(c.run($start), *r, $cancel => collect), |$t| $flat)
+        }
+    }};
+}
+
+pub(crate) use by_order;
 
 /// Runs `work` on a thread of its own, with the GIL released, while the calling thread looks
 /// at Python's signals every [`POLL`]: when a handler raises (Ctrl-C: `KeyboardInterrupt`),

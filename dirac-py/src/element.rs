@@ -14,14 +14,13 @@ use dirac_runtime::element::{
     ElementLagrangian, ElementState, ElementTrajectory,
 };
 use dirac_runtime::nalgebra::DVector;
-use dirac_runtime::{Composition, Drive, NewtonOptions, Variant};
+use dirac_runtime::{Drive, NewtonOptions, Variant};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::{PyDeprecationWarning, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
-use crate::calls::{self, span};
-use crate::composition;
+use crate::calls::{self, by_order, span};
 use crate::ensemble::{self, Member};
 use crate::parquet::{to_parquet, Written};
 use crate::results::{finish, Failed};
@@ -205,7 +204,6 @@ pub(crate) fn run_one(
     cancel: &AtomicBool,
 ) -> Result<Flat, Box<Failed<Flat>>> {
     let (plus, options) = sides(&run);
-    let order = run.order;
     let translations = sys.translations().len();
     if sys.constrained() {
         let integ = if plus {
@@ -237,7 +235,7 @@ pub(crate) fn run_one(
     } else {
         ElementIntegrator::minus(sys, options)
     };
-    let to_flat = |t: &ElementTrajectory| {
+    by_order!(integ.clone(), start, run, cancel, |t| {
         flat(
             translations,
             &t.states,
@@ -245,21 +243,7 @@ pub(crate) fn run_one(
             t.stats.iter().map(|s| (s.iterations, s.residual)),
             |s| integ.momentum_map(s).unwrap_or_default(),
         )
-    };
-    if order == 2 {
-        finish(span!(integ.run(start), run, cancel => collect), to_flat)
-    } else {
-        let c = Composition::new(integ.clone(), composition(order));
-        finish(span!(c.run(start), run, cancel => collect), |t| {
-            flat(
-                translations,
-                &t.states,
-                &t.times,
-                t.stats.iter().map(|s| (s.iterations, s.residual)),
-                |s| integ.momentum_map(s).unwrap_or_default(),
-            )
-        })
-    }
+    })
 }
 
 /// An element-wise system given as text, compiled to machine code; its sizes are chosen per

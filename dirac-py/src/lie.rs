@@ -17,18 +17,16 @@ use dirac_compiler::text::LieSymmetryKind;
 use dirac_jit::{Compiled, DynJitLie, JitLie, LieCode, LieFront, RunRequest};
 use dirac_runtime::lie::{
     Group, LieIntegratorOf, LieStateOf, LieTrajectoryOf, ReducedLieIntegratorOf, ReducedLieStateOf,
-    ReducedLieTrajectoryOf,
 };
 use dirac_runtime::nalgebra::allocator::Allocator;
 use dirac_runtime::nalgebra::{Const, DefaultAllocator, Dim, Dyn, OVector};
-use dirac_runtime::{Composition, Drive, Form, StepStats, Variant};
+use dirac_runtime::{Drive, Form, StepStats, Variant};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::calls::{self, span};
-use crate::composition;
+use crate::calls::{self, by_order, span};
 use crate::ensemble::{self, Member};
 use crate::parquet::to_parquet;
 use crate::results::{finish, Failed};
@@ -166,40 +164,19 @@ where
     let sys = S::instantiate(code, params).map_err(|e| e.to_string())?;
     let s0 = start_state(&sys, start)?;
     let o = r.newton;
-    let unreduced = |t: &LieTrajectoryOf<P, N>| {
-        flat(
-            &sys,
-            t.states.iter().map(|s| (s.clone(), None)),
-            &t.times,
-            &t.stats,
-        )
-    };
     Ok(match (r.equations.form, r.equations.side) {
         (Form::Reduced, _) => {
             let reduced = S::instantiate_reduced(code, params).map_err(|e| e.to_string())?;
             let integ = ReducedLieIntegratorOf::new(reduced, o);
             let s0 = integ.reduce(&s0);
-            let to_flat = |t: &ReducedLieTrajectoryOf<P, N>| {
+            by_order!(integ, s0, r, cancel, |t| {
                 flat(
                     &sys,
                     t.states.iter().map(|s| (s.unreduced(), Some(s.mu.into()))),
                     &t.times,
                     &t.stats,
                 )
-            };
-            if r.order == 2 {
-                finish(span!(integ.run(s0), r, cancel => collect), to_flat)
-            } else {
-                let c = Composition::new(integ, composition(r.order));
-                finish(span!(c.run(s0), r, cancel => collect), |t| {
-                    flat(
-                        &sys,
-                        t.states.iter().map(|s| (s.unreduced(), Some(s.mu.into()))),
-                        &t.times,
-                        &t.stats,
-                    )
-                })
-            }
+            })
         }
         (Form::Unreduced, side) => {
             let integ = if side == Variant::Plus {
@@ -207,19 +184,14 @@ where
             } else {
                 LieIntegratorOf::minus(sys.clone(), o)
             };
-            if r.order == 2 {
-                finish(span!(integ.run(s0), r, cancel => collect), unreduced)
-            } else {
-                let c = Composition::new(integ, composition(r.order));
-                finish(span!(c.run(s0), r, cancel => collect), |t| {
-                    flat(
-                        &sys,
-                        t.states.iter().map(|s| (s.clone(), None)),
-                        &t.times,
-                        &t.stats,
-                    )
-                })
-            }
+            by_order!(integ, s0, r, cancel, |t| {
+                flat(
+                    &sys,
+                    t.states.iter().map(|s| (s.clone(), None)),
+                    &t.times,
+                    &t.stats,
+                )
+            })
         }
     })
 }

@@ -8,13 +8,11 @@ use std::sync::Arc;
 use dirac_jit::{Code, JitSystem};
 use dirac_runtime::nalgebra::SVector;
 use dirac_runtime::{
-    continuous_energies, Composition, DiscreteLagrangian, Drive, Equations, Form,
-    ReducedIntegrator, ReducedState, System, UnreducedIntegrator, UnreducedState,
-    UnreducedTrajectory, Variant,
+    continuous_energies, DiscreteLagrangian, Drive, Equations, Form, ReducedIntegrator,
+    ReducedState, System, UnreducedIntegrator, UnreducedState, UnreducedTrajectory, Variant,
 };
 
-use crate::calls::span;
-use crate::composition;
+use crate::calls::{by_order, span};
 use crate::inputs::{reduced_start, unreduced_start};
 use crate::parquet::{to_parquet, Written};
 use crate::results::{finish, parts, reduced_flat, unreduced_flat, with_momenta_of, Failed, Flat};
@@ -39,41 +37,20 @@ pub(crate) fn run_one<const S: usize, const K: usize, const N: usize>(
     let result = match (r.equations.form, r.equations.side) {
         (Form::Unreduced, _) => {
             let s0 = unreduced_start(start);
-            let integ = UnreducedIntegrator::new(sys, o);
-            if r.order == 2 {
-                finish(span!(integ.run(s0), r, cancel => collect), |t| {
-                    unreduced_flat(parts!(t))
-                })
-            } else {
-                let c = Composition::new(integ, composition(r.order));
-                finish(span!(c.run(s0), r, cancel => collect), |t| {
-                    unreduced_flat(parts!(t))
-                })
-            }
+            by_order!(UnreducedIntegrator::new(sys, o), s0, r, cancel, |t| {
+                unreduced_flat(parts!(t))
+            })
         }
         (Form::Reduced, side) => {
             let s0 = reduced_start(start);
-            macro_rules! go {
-                ($integ:expr) => {{
-                    let integ = $integ;
-                    if r.order == 2 {
-                        finish(
-                            span!(integ.run(s0), r, cancel => collect),
-                            |t| reduced_flat(parts!(t)),
-                        )
-                    } else {
-                        let c = Composition::new(integ, composition(r.order));
-                        finish(
-                            span!(c.run(s0), r, cancel => collect),
-                            |t| reduced_flat(parts!(t)),
-                        )
-                    }
-                }};
-            }
             if side == Variant::Plus {
-                go!(ReducedIntegrator::plus(sys, o))
+                by_order!(ReducedIntegrator::plus(sys, o), s0, r, cancel, |t| {
+                    reduced_flat(parts!(t))
+                })
             } else {
-                go!(ReducedIntegrator::minus(sys, o))
+                by_order!(ReducedIntegrator::minus(sys, o), s0, r, cancel, |t| {
+                    reduced_flat(parts!(t))
+                })
             }
         }
     };
