@@ -103,7 +103,7 @@ pub struct LieAdaptive {
     /// The monitor `g(q)`: one output, reading the point `Q0` and parameters.
     pub monitor: Program,
     /// The monitor and the momentum of the state at the configuration `Q0` (a point) with the
-    /// physical velocity `Q1` ([`LieKind::velocity_len`] entries per coordinate): `1 + N`
+    /// physical velocity `Q1` (`velocity_len()` of a [`LieKind`] entries per coordinate): `1 + N`
     /// outputs.
     pub level: Program,
 }

@@ -439,7 +439,7 @@ impl<const P: usize, const N: usize, B, R> JitLie<P, N, B, R> {
 
     /// Adaptive steps: the state at the configuration `q` (its time coordinate the physical
     /// time) and the physical velocity `v` (the one spelling of a state from a position and a
-    /// velocity, as the runtime's `ContinuousLagrangian::unreduced_state`) ([`text::LieKind::velocity_len`] entries per coordinate:
+    /// velocity, as the runtime's `ContinuousLagrangian::unreduced_state`) (`velocity_len()` of [`text::LieKind`] entries per coordinate:
     /// a rotation's body angular velocity, a direction's velocity in space; the time
     /// coordinate's ignored), on the level set where the time-transformed system's solutions
     /// are the physical ones: the physical momenta `∂L/∂v` and `p_t = −E(q, v)`. An error for a

@@ -3,7 +3,7 @@
 //! momentum enter its chart, how the body reads it, what the symmetry checks move, and the
 //! fields of the emitted types — in its own file, so that a new group is a new file and one line
 //! of [`KINDS`] (manif's `LieGroupBase`, symbolically; the runtime's `CoordinateKind` is the
-//! same list, numerically, and resolves [`Kind::name`]).
+//! same list, numerically, and resolves [`Group::name`]).
 //!
 //! | kind | point `P` | chart `N` | velocity | `φ_q(ξ)` |
 //! |------|-----------|-----------|----------|----------|
@@ -52,31 +52,11 @@ impl Kind {
     pub fn by_name(name: &str) -> Option<Kind> {
         KINDS.into_iter().find(|k| k.name() == name)
     }
-
-    /// The attribute key that declares it (`shape`, `group`, `rotation`, `direction`, `pose`):
-    /// the name the runtime's `CoordinateKind::by_name` resolves.
-    pub fn name(self) -> &'static str {
-        self.0.name()
-    }
-
-    /// Entries of the stored point.
-    pub fn point_len(self) -> usize {
-        self.0.point_len()
-    }
-
-    /// Entries of the chart and of the momentum.
-    pub fn chart_len(self) -> usize {
-        self.0.chart_len()
-    }
-
-    /// Entries of a velocity, as a continuous Lagrangian reads it (a rotation's body angular
-    /// velocity, a direction's velocity in space, a pose's body angular and spatial linear
-    /// velocities).
-    pub fn velocity_len(self) -> usize {
-        self.0.velocity_len()
-    }
 }
 
+/// The kind's implementation: `kind.name()` (the attribute key that declares it, which the
+/// runtime's `CoordinateKind::by_name` resolves), `point_len()`, `chart_len()`, `velocity_len()`
+/// and the rest of [`Group`], read through the handle.
 impl Deref for Kind {
     type Target = dyn Group;
 
@@ -440,7 +420,7 @@ mod tests {
             crate::symbol::POSE,
         ];
         for key in keys {
-            assert_eq!(Kind::by_name(key.0).map(Kind::name), Some(key.0));
+            assert_eq!(Kind::by_name(key.0).map(|k| k.name()), Some(key.0));
         }
         assert!(Kind::by_name("translation").is_none());
         let pose = Kind::by_name("pose").unwrap();
