@@ -180,8 +180,8 @@
 //! [`sys.unreduced_state(q, v)`](crate::runtime::ContinuousLagrangian::unreduced_state) and
 //! `sys.reduced_state(q, v)` build it from the physical position and velocity (for a system
 //! with adaptive steps; the same calls start any system with a continuous Lagrangian). A start
-//! off the level set would integrate another orbit, so every integrator checks it before the
-//! first step and refuses one farther from it than
+//! off the level set would integrate another orbit, so every run checks it before the first
+//! step, whatever the integrator, and refuses one farther from it than
 //! [`LEVEL_SET_TOLERANCE`](crate::runtime::adaptive::LEVEL_SET_TOLERANCE) (`1e-8` relative to
 //! the energy's terms) with [`StepError::OffManifold`](crate::StepError::OffManifold). Each new state's monitor must be positive and finite, or the
 //! run ends with [`StepError::InvalidMonitor`](crate::StepError::InvalidMonitor) carrying the step
