@@ -69,9 +69,7 @@
 //! coordinate, so a [`Run::start_time`] other than it is refused.
 
 use crate::error::{IntegrationError, StepError, Steps};
-use crate::stepper::{
-    check_adaptive_start, check_adaptive_step, Collect, StepAt, StepStats, Stepper,
-};
+use crate::stepper::{check_adaptive_start, Collect, StepAt, StepStats, Stepper};
 
 /// The outcome of a streamed run ([`Run::stream`]): the last state and statistics accumulated
 /// over the steps, in memory independent of the number of steps.
@@ -273,6 +271,7 @@ mod members;
 mod policies;
 
 pub use members::{parameters, Ensemble, Members, Parameters, States};
+use policies::adaptive_step;
 pub use policies::{
     ControlLaw, ControlSequence, Fixed, Never, NoControls, Observer, Schedule, StepSize, StepSizes,
     StopCondition, Unobserved,
@@ -571,39 +570,18 @@ where
         match integrator.step_into(&mut workspace, at, &summary.last, &mut next) {
             Ok(mut record) => {
                 if physical {
-                    // The step policy of adaptive steps: the monitor and the sign of the
-                    // physical step, checked once here for every stepper.
-                    if let Err(source) = check_adaptive_step(integrator, at, &summary.last, &next) {
-                        return Err(fail(source, summary));
-                    }
-                    t_next = integrator.physical_time(&next).unwrap_or(f64::NAN);
-                    if let Some(end) = span.end.filter(|&end| t_next > end) {
-                        // The step passed the end time: retake it, landing on the end.
-                        let landed = crate::adaptive::land_within(
-                            end,
-                            t,
-                            h,
-                            (t_next, (next.clone(), record)),
-                            |eps| {
-                                let at = at.with_size(eps);
-                                let step = integrator.step_with(
-                                    &mut integrator.workspace(),
-                                    at,
-                                    &summary.last,
-                                )?;
-                                check_adaptive_step(integrator, at, &summary.last, &step.0)?;
-                                Ok((integrator.physical_time(&step.0).unwrap_or(f64::NAN), step))
-                            },
-                        );
-                        match landed {
-                            Ok((eps, (state, landed_record))) => {
-                                h = eps;
-                                t_next = integrator.physical_time(&state).unwrap_or(f64::NAN);
-                                next = state;
-                                record = landed_record;
-                            }
-                            Err(source) => return Err(fail(source, summary)),
-                        }
+                    // The step policy of adaptive steps: the checks, the physical clock and the
+                    // landing on an end time.
+                    match adaptive_step(
+                        integrator,
+                        at,
+                        (t, &summary.last),
+                        span.end,
+                        &mut next,
+                        record,
+                    ) {
+                        Ok((size, time, kept)) => (h, t_next, record) = (size, time, kept),
+                        Err(source) => return Err(fail(source, summary)),
                     }
                 }
                 // A state outside the declared domain ends the run; the states before it are

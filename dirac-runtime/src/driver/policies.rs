@@ -1,5 +1,9 @@
 //! What a run is configured with, besides its length: the control law, the step-size policy,
-//! the stop condition and the observer, each a trait with its closure form and its default.
+//! the stop condition and the observer, each a trait with its closure form and its default; and
+//! the step policy of adaptive steps ([`adaptive_step`]).
+
+use crate::error::StepError;
+use crate::stepper::{check_adaptive_step, StepAt, Stepper};
 
 /// Where a controlled run ([`Run::controls`](super::Run::controls)) takes the controls `u_k` of each step, in the order
 /// of [`crate::System::CONTROLS`].
@@ -198,4 +202,37 @@ pub struct Unobserved;
 impl<St, R> Observer<St, R> for Unobserved {
     #[inline]
     fn observe(&mut self, _: usize, _: f64, _: &St, _: Option<&R>) {}
+}
+
+/// Adaptive steps ([`crate::adaptive`]): the run loop's policy after a step of fictitious size
+/// `ε_k = at.h` from `last`, at physical time `t`, to `next` (with its `record`), written once for
+/// every stepper. The checks of the time transformation `dt = g(x) dτ` (the monitor positive and
+/// finite at `next`, `Δt_k` of the sign of `ε_k`: [`check_adaptive_step`]); the clock read from
+/// the state's time coordinate ([`Stepper::physical_time`]); and where the step passed a physical
+/// `end`, the step retaken from `last` at the fictitious size that lands on `end`
+/// ([`crate::adaptive::land_within`], each trial checked alike), which replaces `next` and the
+/// record. Returns the size the step was taken with, the physical time it reached and its record.
+pub(super) fn adaptive_step<I: Stepper + ?Sized>(
+    integrator: &I,
+    at: StepAt<'_>,
+    (t, last): (f64, &I::State),
+    end: Option<f64>,
+    next: &mut I::State,
+    record: I::Record,
+) -> Result<(f64, f64, I::Record), StepError> {
+    check_adaptive_step(integrator, at, last, next)?;
+    let t_next = integrator.physical_time(next).unwrap_or(f64::NAN);
+    let Some(end) = end.filter(|&end| t_next > end) else {
+        return Ok((at.h, t_next, record));
+    };
+    let (eps, (state, landed)) =
+        crate::adaptive::land_within(end, t, at.h, (t_next, (next.clone(), record)), |eps| {
+            let at = at.with_size(eps);
+            let step = integrator.step_with(&mut integrator.workspace(), at, last)?;
+            check_adaptive_step(integrator, at, last, &step.0)?;
+            Ok((integrator.physical_time(&step.0).unwrap_or(f64::NAN), step))
+        })?;
+    let t_landed = integrator.physical_time(&state).unwrap_or(f64::NAN);
+    *next = state;
+    Ok((eps, t_landed, landed))
 }
