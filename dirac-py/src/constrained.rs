@@ -166,30 +166,23 @@ pub(crate) fn write_constrained<
         .instantiate_constrained::<S, K, N, M, Z>(params)
         .map_err(|e| e.to_string())?;
     let o = r.newton;
+    // The start of the equations' form, and their side.
+    let (unreduced, reduced) = (
+        || -> UnreducedState<N> { unreduced_start(start) },
+        || -> ReducedState<S, K> { reduced_start(start) },
+    );
     Ok(match (r.equations.form, r.equations.side) {
         (Form::Unreduced, _) => {
-            let s0: UnreducedState<N> = unreduced_start(start);
-            to_parquet(&ConstrainedIntegrator::new(sys, o), s0, &r, path, cancel)?
+            let integ = ConstrainedIntegrator::new(sys, o);
+            to_parquet(&integ, unreduced(), &r, path, cancel)?
         }
         (Form::Reduced, Variant::Plus) => {
-            let s0: ReducedState<S, K> = reduced_start(start);
-            to_parquet(
-                &ReducedConstrainedIntegrator::plus(sys, o),
-                s0,
-                &r,
-                path,
-                cancel,
-            )?
+            let integ = ReducedConstrainedIntegrator::plus(sys, o);
+            to_parquet(&integ, reduced(), &r, path, cancel)?
         }
         (Form::Reduced, Variant::Minus) => {
-            let s0: ReducedState<S, K> = reduced_start(start);
-            to_parquet(
-                &ReducedConstrainedIntegrator::minus(sys, o),
-                s0,
-                &r,
-                path,
-                cancel,
-            )?
+            let integ = ReducedConstrainedIntegrator::minus(sys, o);
+            to_parquet(&integ, reduced(), &r, path, cancel)?
         }
     })
 }

@@ -179,15 +179,8 @@ pub(crate) const WRITE_KEYWORDS: &[&str] = &[
     "end_time",
     "schedule",
 ];
-pub(crate) const ENSEMBLE_KEYWORDS: &[&str] = &[
-    "parameters",
-    "steps",
-    "method",
-    "order",
-    "tol",
-    "end_time",
-    "schedule",
-];
+/// `System.run`'s keywords but the last, `energies`.
+pub(crate) const ENSEMBLE_KEYWORDS: &[&str] = RUN_KEYWORDS.split_at(RUN_KEYWORDS.len() - 1).0;
 pub(crate) const CORE_KEYWORDS: &[&str] = &["parameters", "steps"];
 
 impl System {
