@@ -81,6 +81,46 @@ fn row_bytes(sys: &JitElement) -> u128 {
     2 * 16 * n + 64 + 8 * translations + 16 + 64
 }
 
+/// An unconstrained run's trajectory flattened, with the momentum map of `integ`'s
+/// `translations` at each state.
+fn unconstrained_flat(
+    integ: &ElementIntegrator<JitElement>,
+    translations: usize,
+    t: &ElementTrajectory,
+) -> Flat {
+    flat(
+        translations,
+        &t.states,
+        &t.times,
+        t.stats.iter().map(|s| (s.iterations, s.residual)),
+        |s| integ.momentum_map(s).unwrap_or_default(),
+    )
+}
+
+/// A constrained run's trajectory flattened, with its multipliers `λ_k` and `‖φ(q_{k+1})‖∞` per
+/// step.
+fn constrained_flat(
+    integ: &ElementConstrainedIntegrator<JitElement>,
+    translations: usize,
+    t: &ElementConstrainedTrajectory,
+) -> Flat {
+    let mut f = flat(
+        translations,
+        &t.states,
+        &t.times,
+        t.stats.iter().map(|s| (s.iterations, s.residual)),
+        |s| integ.momentum_map(s).unwrap_or_default(),
+    );
+    f.multipliers = Some((
+        t.records
+            .iter()
+            .flat_map(|s| s.lambda.iter().copied())
+            .collect(),
+        t.records.iter().map(|s| s.constraint_residual).collect(),
+    ));
+    f
+}
+
 /// An ensemble: one run (order 2) per start, on all cores; the constrained integrator for a
 /// system with constraints.
 pub(crate) fn run_many(
@@ -97,23 +137,7 @@ pub(crate) fn run_many(
         } else {
             ElementConstrainedIntegrator::minus(sys, options)
         };
-        let to_flat = |t: &ElementConstrainedTrajectory| {
-            let mut f = flat(
-                translations,
-                &t.states,
-                &t.times,
-                t.stats.iter().map(|s| (s.iterations, s.residual)),
-                |s| integ.momentum_map(s).unwrap_or_default(),
-            );
-            f.multipliers = Some((
-                t.records
-                    .iter()
-                    .flat_map(|s| s.lambda.iter().copied())
-                    .collect(),
-                t.records.iter().map(|s| s.constraint_residual).collect(),
-            ));
-            f
-        };
+        let to_flat = |t: &_| constrained_flat(&integ, translations, t);
         let members = span!(integ.ensemble(starts), run, cancel => collect);
         return Ok(members.into_iter().map(|m| finish(m, to_flat)).collect());
     }
@@ -122,15 +146,7 @@ pub(crate) fn run_many(
     } else {
         ElementIntegrator::minus(sys, options)
     };
-    let to_flat = |t: &ElementTrajectory| {
-        flat(
-            translations,
-            &t.states,
-            &t.times,
-            t.stats.iter().map(|s| (s.iterations, s.residual)),
-            |s| integ.momentum_map(s).unwrap_or_default(),
-        )
-    };
+    let to_flat = |t: &ElementTrajectory| unconstrained_flat(&integ, translations, t);
     let members = span!(integ.ensemble(starts), run, cancel => collect);
     Ok(members.into_iter().map(|m| finish(m, to_flat)).collect())
 }
@@ -211,23 +227,7 @@ pub(crate) fn run_one(
         } else {
             ElementConstrainedIntegrator::minus(sys, options)
         };
-        let to_flat = |t: &ElementConstrainedTrajectory| {
-            let mut f = flat(
-                translations,
-                &t.states,
-                &t.times,
-                t.stats.iter().map(|s| (s.iterations, s.residual)),
-                |s| integ.momentum_map(s).unwrap_or_default(),
-            );
-            f.multipliers = Some((
-                t.records
-                    .iter()
-                    .flat_map(|s| s.lambda.iter().copied())
-                    .collect(),
-                t.records.iter().map(|s| s.constraint_residual).collect(),
-            ));
-            f
-        };
+        let to_flat = |t: &_| constrained_flat(&integ, translations, t);
         return finish(span!(integ.run(start), run, cancel => collect), to_flat);
     }
     let integ = if plus {
