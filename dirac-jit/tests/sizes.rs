@@ -373,3 +373,93 @@ fn elements_in_deep_loop_nests_run() {
     assert!((run.last().p.sum() - 0.1).abs() < 1e-14);
     assert!((run.last().q[1] - run.last().q[0] - 0.3).abs() > 1e-6);
 }
+
+/// The step times of the element view against the compiled-in integrators (BENCHMARKS.md,
+/// "Flat systems sized as data"): the cart at 5000 steps, (+) compiled in against the view with
+/// [`StepSolver::Auto`] and with the sparse LU forced, and the chain at 1000 steps, three rounds.
+/// Ignored (a measurement, not a check): `cargo test --release --manifest-path
+/// dirac-io/Cargo.toml --target-dir target -p dirac-jit --test sizes -- --ignored --nocapture
+/// element_view_step_times`.
+#[test]
+#[ignore = "timing; run in release with --ignored --nocapture"]
+fn element_view_step_times() {
+    use dirac_runtime::element::StepSolver;
+    use std::time::Instant;
+    let per_step = |t: Instant, steps: usize| t.elapsed().as_secs_f64() * 1e6 / steps as f64;
+    let code = dirac_jit::compile_flat_elements(CART).expect("the cart compiles");
+    let (mc, m, k, kappa, h) = (2.0, 0.5, 3.0, 1.5, 0.01);
+    let params: Vec<(&str, f64)> = vec![("mc", mc), ("m", m), ("k", k), ("kappa", kappa), ("h", h)];
+    let given = code.instantiate_named(&params, &[]).expect("instantiates");
+    let compiled = cart::Cart { mc, m, k, kappa, h };
+    let x = SVector::<f64, 29>::from_fn(|i, _| 0.4 * ((i as f64) * 0.7).sin());
+    let w = SVector::<f64, 29>::from_fn(|i, _| 0.3 * ((i as f64) * 1.3).cos());
+    let start = ReducedState::new(x, w, [0.8], [0.1]);
+    let q: Vec<f64> = x.iter().copied().chain([0.1]).collect();
+    let p: Vec<f64> = w.iter().copied().chain([0.8]).collect();
+    let opts = NewtonOptions::default();
+    let (ccode, (cm, l, gr, ch)) = (
+        dirac_jit::compile_flat_elements(CHAIN).expect("the chain compiles"),
+        (0.7, 0.5, 9.81, 0.005),
+    );
+    let chain_given = ccode
+        .instantiate_named(&[("m", cm), ("l", l), ("gr", gr), ("h", ch)], &[])
+        .expect("instantiates");
+    let (cx, cy) = chain_start(l);
+    let cq: Vec<f64> = cx.iter().chain(&cy).copied().collect();
+    let cstart = UnreducedState::new(SVector::<f64, 40>::from_column_slice(&cq), [0.0; 40]);
+    for round in 0..3 {
+        let steps = 5000;
+        let t = Instant::now();
+        ReducedIntegrator::plus(compiled, opts)
+            .run(start)
+            .steps(steps)
+            .collect()
+            .expect("compiled in");
+        let fixed = per_step(t, steps);
+        let mut view = [0.0; 2];
+        for (i, solver) in [StepSolver::Auto, StepSolver::Direct]
+            .into_iter()
+            .enumerate()
+        {
+            let t = Instant::now();
+            ElementIntegrator::new(given.clone(), opts)
+                .with_solver(solver)
+                .run(ElementState::new(q.clone(), p.clone()))
+                .steps(steps)
+                .collect()
+                .expect("the view");
+            view[i] = per_step(t, steps);
+        }
+        let steps = 1000;
+        let t = Instant::now();
+        ConstrainedIntegrator::new(
+            chain::Chain {
+                m: cm,
+                l,
+                gr,
+                h: ch,
+            },
+            opts,
+        )
+        .run(cstart)
+        .steps(steps)
+        .collect()
+        .expect("compiled in");
+        let chain_fixed = per_step(t, steps);
+        let t = Instant::now();
+        ElementConstrainedIntegrator::new(chain_given.clone(), opts)
+            .run(ElementState::new(cq.clone(), DVector::zeros(40)))
+            .steps(steps)
+            .collect()
+            .expect("the view");
+        let chain_view = per_step(t, steps);
+        println!(
+            "round {round}: cart compiled {fixed:.2} us, view (Auto) {:.2} us ({:.2}x), view (sparse LU) {:.2} us ({:.2}x); chain compiled {chain_fixed:.1} us, view {chain_view:.1} us ({:.2}x)",
+            view[0],
+            view[0] / fixed,
+            view[1],
+            view[1] / fixed,
+            chain_view / chain_fixed
+        );
+    }
+}

@@ -221,7 +221,10 @@
 //! pattern built once per run). The step Jacobian is solved by a banded LU when a reverse
 //! Cuthill–McKee ordering makes its pattern a band at most
 //! [`BANDED_MAX_WIDTH`](crate::runtime::element::BANDED_MAX_WIDTH) wide (chains, lattices,
-//! rings, several arrays coupled site by site), by faer's sparse LU otherwise — or, for large
+//! rings, several arrays coupled site by site), by a dense LU with partial pivoting when the
+//! pattern is wider but small and dense (at most
+//! [`DENSE_MAX_DIM`](crate::runtime::element::DENSE_MAX_DIM) unknowns, as an element reading
+//! every coordinate), by faer's sparse LU otherwise — or, for large
 //! fields on grids (at least [`ITERATIVE_MIN_DIM`](crate::runtime::element::ITERATIVE_MIN_DIM)
 //! unknowns and five entries per row), by conjugate gradients with a Jacobi preconditioner,
 //! which needs no factorization and no fill and falls back to the LU when the Jacobian is not

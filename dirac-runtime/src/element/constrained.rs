@@ -186,7 +186,7 @@ impl ElementConstrainedWorkspace {
         self.kkt_nnz
     }
 
-    /// The saddle-point systems' solver: `"banded LU"` or `"sparse LU"`.
+    /// The saddle-point systems' solver: `"banded LU"`, `"dense LU"` or `"sparse LU"`.
     pub fn linear_solver(&self) -> &'static str {
         self.position.name()
     }

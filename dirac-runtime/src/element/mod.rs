@@ -20,8 +20,9 @@
 //! by the one Newton driver ([`crate::newton::solve_in`]) with chord iterations, on a pattern
 //! built once per run from the stencils, `∂R/∂q_{k+1} = Σ_e D_1 D_2 L_d^e` scattered block by
 //! block and solved as [`StepSolver`] chooses (the banded LU [`crate::linalg::BandedLu`] for a
-//! narrow band once reordered, the sparse LU [`crate::linalg::DynSparseLu`], or conjugate
-//! gradients for large grids). Nothing is allocated per step:
+//! narrow band once reordered, a dense LU for a small wide pattern, the sparse LU
+//! [`crate::linalg::DynSparseLu`], or conjugate gradients for large grids). Nothing is
+//! allocated per step:
 //! the states are `DVector`s whose memory the driver's two states reuse
 //! ([`crate::Stepper::step_into`]), and the residual, the Jacobian's values and the factors live
 //! in the run's [`ElementWorkspace`].
@@ -98,7 +99,8 @@ pub use constrained::{
 };
 pub use sensitivity::{CscMatrix, ElementSensitivity};
 pub use solver::{
-    ElementSolver, BANDED_MAX_WIDTH, ITERATIVE_MIN_DIM, ITERATIVE_MIN_ENTRIES_PER_ROW,
+    DenseStep, ElementSolver, BANDED_MAX_WIDTH, DENSE_MAX_DIM, DENSE_MIN_FILL, ITERATIVE_MIN_DIM,
+    ITERATIVE_MIN_ENTRIES_PER_ROW,
 };
 
 /// One family of elements of an element-wise Lagrangian: a loop of its body (or a term outside
@@ -355,8 +357,11 @@ pub enum StepSolver {
     /// [`ITERATIVE_MIN_ENTRIES_PER_ROW`] entries per row: fields on grids), whose
     /// sparse LU fills in; the banded LU ([`crate::linalg::BandedLu`]) when a reverse
     /// Cuthill–McKee ordering makes the pattern a band of at most [`BANDED_MAX_WIDTH`]
-    /// (chains, lattices, rings); the sparse LU otherwise (pairs). CG falls back to the LU when
-    /// the Jacobian is not symmetric.
+    /// (chains, lattices, rings); a dense LU with partial pivoting for a wider pattern of at
+    /// most [`DENSE_MAX_DIM`] unknowns and at least `1 /` [`DENSE_MIN_FILL`] full (small pairs,
+    /// the element view of a flat system given as text: one element reading every
+    /// coordinate); the sparse LU otherwise (larger pairs). CG falls back to the LU when the
+    /// Jacobian is not symmetric.
     #[default]
     Auto,
     /// The banded LU on the reverse Cuthill–McKee ordering however wide the band, as long as
