@@ -167,24 +167,6 @@ macro_rules! span {
 
 pub(crate) use span;
 
-/// One run of `$integ` from `$start` at the order the request `$r` asks, collected ([`span!`])
-/// and flattened by the closure `|$t| $flat` (written once, typed at each kind of trajectory):
-/// the integrator itself at order 2, or its symmetric composition (4: the triple jump, 6:
-/// Kahan–Li).
-macro_rules! by_order {
-    ($integ:expr, $start:expr, $r:expr, $cancel:expr, |$t:ident| $flat:expr) => {{
-        let (integ, r): (_, &dirac_jit::RunRequest) = ($integ, &$r);
-        if r.order == 2 {
-            $crate::results::finish(span!(integ.run($start), *r, $cancel => collect), |$t| $flat)
-        } else {
-            let c = dirac_runtime::Composition::new(integ, $crate::composition(r.order));
-            $crate::results::finish(span!(c.run($start), *r, $cancel => collect), |$t| $flat)
-        }
-    }};
-}
-
-pub(crate) use by_order;
-
 /// Runs `work` on a thread of its own, with the GIL released, while the calling thread looks
 /// at Python's signals every [`POLL`]: when a handler raises (Ctrl-C: `KeyboardInterrupt`),
 /// `cancel` is set, so a run stopped by [`until`] ends after its current step; `work`'s result

@@ -20,9 +20,10 @@ use pyo3::exceptions::{PyDeprecationWarning, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
-use crate::calls::{self, by_order, span};
+use crate::calls::{self, span};
 use crate::ensemble::{self, Member};
 use crate::parquet::{to_parquet, Written};
+use crate::results::by_order;
 use crate::results::{finish, Failed};
 
 /// The keywords of `ElementSystem.run` and `ElementSystem.ensemble`, and of

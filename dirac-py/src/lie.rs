@@ -26,9 +26,10 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::calls::{self, by_order, span};
+use crate::calls::{self, span};
 use crate::ensemble::{self, Member};
 use crate::parquet::to_parquet;
+use crate::results::by_order;
 use crate::results::{finish, Failed};
 
 /// A run's trajectory flattened for NumPy: the times, per coordinate its configurations and

@@ -318,3 +318,21 @@ pub(crate) fn finish_run<'py, F>(
         }
     }
 }
+
+/// One run of `$integ` from `$start` at the order the request `$r` asks, collected
+/// ([`crate::calls::span!`]) and flattened by the closure `|$t| $flat` (written once, typed at
+/// each kind of trajectory): the integrator itself at order 2, or its symmetric composition (4:
+/// the triple jump, 6: Kahan–Li).
+macro_rules! by_order {
+    ($integ:expr, $start:expr, $r:expr, $cancel:expr, |$t:ident| $flat:expr) => {{
+        let (integ, r): (_, &dirac_jit::RunRequest) = ($integ, &$r);
+        if r.order == 2 {
+            $crate::results::finish($crate::calls::span!(integ.run($start), *r, $cancel => collect), |$t| $flat)
+        } else {
+            let c = dirac_runtime::Composition::new(integ, $crate::composition(r.order));
+            $crate::results::finish($crate::calls::span!(c.run($start), *r, $cancel => collect), |$t| $flat)
+        }
+    }};
+}
+
+pub(crate) use by_order;

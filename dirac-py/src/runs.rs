@@ -12,9 +12,10 @@ use dirac_runtime::{
     ReducedState, System, UnreducedIntegrator, UnreducedState, UnreducedTrajectory, Variant,
 };
 
-use crate::calls::{by_order, span};
+use crate::calls::span;
 use crate::inputs::{reduced_start, unreduced_start};
 use crate::parquet::{to_parquet, Written};
+use crate::results::by_order;
 use crate::results::{finish, parts, reduced_flat, unreduced_flat, with_momenta_of, Failed, Flat};
 use dirac_jit::RunRequest;
 

@@ -13,7 +13,6 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use cranelift_jit::JITModule;
-use dirac_compiler::program::Leaf;
 use dirac_compiler::text::{self, System};
 use dirac_runtime::nalgebra::{SMatrix, SVector};
 use dirac_runtime::DiscreteLagrangian;
@@ -26,12 +25,15 @@ mod adapted;
 mod backend;
 mod constrained;
 mod continuous;
+mod layout;
 mod steps;
 
 pub use backend::{Backend, Dense, Sparse, Variant, WithConstraints};
 use constrained::ConstrainedKernels;
 pub use constrained::JitConstrained;
 pub use continuous::{LegendreLu, LegendreMatrix};
+pub(crate) use layout::ld_layout;
+use layout::{monitor_layout, reduced_lagrangian_layout, reduced_layout, unreduced_layout};
 
 /// The most parameters a system given at run time declares: the values travel inline with the
 /// system, so a control law that sets them before every step allocates nothing.
@@ -293,66 +295,6 @@ impl Code {
             compile_time: start.elapsed(),
             _module: Module(Some(module)),
         }))
-    }
-}
-
-/// `L_d`, the connection, the Legendre map and the energy: `q0` (or `q`) in `a`, `q1` (or `v`)
-/// in `b`.
-pub(crate) fn ld_layout(leaf: Leaf) -> (usize, usize) {
-    match leaf {
-        Leaf::Param(i) => (0, i),
-        Leaf::Q0(i) => (1, i),
-        Leaf::Q1(i) => (2, i),
-        other => unreachable!("L_d does not read {other:?}"),
-    }
-}
-
-/// The monitor `g(x)` of adaptive steps: the shape `x` (`S` entries) in `a`.
-fn monitor_layout(leaf: Leaf, s: usize) -> (usize, usize) {
-    match leaf {
-        Leaf::Param(i) => (0, i),
-        Leaf::Q0(i) if i < s => (1, i),
-        other => unreachable!("the monitor reads the shape and the parameters, not {other:?}"),
-    }
-}
-
-/// `l_{d±}(x0, x1, u)`: `x0`, `x1`, `u` in `a`, `b`, `c`.
-fn reduced_lagrangian_layout(leaf: Leaf) -> (usize, usize) {
-    match leaf {
-        Leaf::Param(i) => (0, i),
-        Leaf::X0(i) => (1, i),
-        Leaf::X1(i) => (2, i),
-        Leaf::U(j) => (3, j),
-        other => unreachable!("a reduced Lagrangian does not read {other:?}"),
-    }
-}
-
-/// A reduced step of a system of `s` shape and `n` coordinates: `x_k`, `w_k`, `μ_k` in `a`,
-/// `b`, `c`, the unknowns `z = (x_{k+1}, u)` in `d`. A constrained step reads its state the same
-/// way (the projection reads the shape of `q_{k+1}` as `Q0`) and its unknowns `(x_{k+1}, u, λ)`
-/// or `(v, ν)` in `d`.
-fn reduced_layout(leaf: Leaf, s: usize, n: usize) -> (usize, usize) {
-    match leaf {
-        Leaf::Param(i) => (0, i),
-        Leaf::X0(i) => (1, i),
-        Leaf::Q0(i) if i < s => (1, i),
-        Leaf::W(i) => (2, i),
-        Leaf::Mu(j) => (3, j),
-        Leaf::X1(i) | Leaf::Q1(i) => (4, i),
-        Leaf::U(j) => (4, s + j),
-        Leaf::Lambda(j) => (4, n + j),
-        other => unreachable!("a reduced step does not read {other:?}"),
-    }
-}
-
-/// An unreduced step: `q_k`, `p_k`, the unknown `z` in `a`, `b`, `c`.
-fn unreduced_layout(leaf: Leaf) -> (usize, usize) {
-    match leaf {
-        Leaf::Param(i) => (0, i),
-        Leaf::Q0(i) => (1, i),
-        Leaf::P(i) => (2, i),
-        Leaf::Q1(i) => (3, i),
-        other => unreachable!("an unreduced step does not read {other:?}"),
     }
 }
 

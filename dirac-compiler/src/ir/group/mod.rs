@@ -56,7 +56,7 @@ impl Kind {
 
 /// The kind's implementation: `kind.name()` (the attribute key that declares it, which the
 /// runtime's `CoordinateKind::by_name` resolves), `point_len()`, `chart_len()`, `velocity_len()`
-/// and the rest of [`Group`], read through the handle.
+/// and the rest of the group's `Group` implementation, read through the handle.
 impl Deref for Kind {
     type Target = dyn Group;
 
