@@ -467,28 +467,85 @@ pub(super) fn split_scratch(scratch: &mut [f64], w: usize) -> (&mut [f64], &mut 
     (a0, a1, out)
 }
 
-impl FamilyVisitor for Visit<'_, '_> {
-    fn family<F: Family>(&mut self, family: &F) {
-        let index = self.next;
-        self.next += 1;
-        let data = &self.assembler.families[index];
-        let (depth, w) = (data.depth, data.width);
-        let indices = |e: usize| &data.indices[e * depth..(e + 1) * depth];
-        let Pass {
+/// A family's stencil width in the passes' inner loops: a constant for the small widths the
+/// dispatch in [`with_width`] names, so that LLVM unrolls the gathers and scatters as it did when
+/// the width was a const generic of the family, and the run-time value above them.
+pub(super) trait Width: Copy {
+    fn get(self) -> usize;
+}
+
+/// A width known when the pass is compiled.
+#[derive(Clone, Copy)]
+pub(super) struct Fixed<const S: usize>;
+
+impl<const S: usize> Width for Fixed<S> {
+    #[inline(always)]
+    fn get(self) -> usize {
+        S
+    }
+}
+
+/// A width known when the run starts.
+#[derive(Clone, Copy)]
+pub(super) struct Runtime(usize);
+
+impl Width for Runtime {
+    #[inline(always)]
+    fn get(self) -> usize {
+        self.0
+    }
+}
+
+/// Something run with a family's width: [`Fixed`] for widths 1 to 4, [`Runtime`] above.
+pub(super) trait WithWidth {
+    type Output;
+    fn run<W: Width>(self, width: W) -> Self::Output;
+}
+
+/// Runs `f` with `w` as a constant when it is small (the stencils of chains, lattices and
+/// meshes), else as a run-time value: one instance of the pass per constant width.
+#[inline(always)]
+pub(super) fn with_width<F: WithWidth>(w: usize, f: F) -> F::Output {
+    match w {
+        1 => f.run(Fixed::<1>),
+        2 => f.run(Fixed::<2>),
+        3 => f.run(Fixed::<3>),
+        4 => f.run(Fixed::<4>),
+        _ => f.run(Runtime(w)),
+    }
+}
+
+/// The serial pass over one family's elements (see [`Visit`]).
+struct SerialFamily<'a, 'b, F> {
+    family: &'a F,
+    data: &'a FamilyData,
+    q0: &'a [f64],
+    z: &'a [f64],
+    r: &'b mut [f64],
+    p: &'b mut [f64],
+    jacobian: Option<&'b mut [f64]>,
+    scratch: &'b mut [f64],
+}
+
+impl<F: Family> WithWidth for SerialFamily<'_, '_, F> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<W: Width>(self, width: W) {
+        let SerialFamily {
+            family,
+            data,
             q0,
             z,
             r,
             p,
             jacobian,
-        } = &mut self.pass;
-        let (q0, z) = (*q0, *z);
-        if self.assembler.parallel.is_some() {
-            unreachable!("parallel passes visit the families block by block");
-        }
-        if w == 0 {
-            return;
-        }
-        let (a0, a1, out) = split_scratch(self.scratch, w);
+            scratch,
+        } = self;
+        let (depth, w) = (data.depth, width.get());
+        let indices = |e: usize| &data.indices[e * depth..(e + 1) * depth];
+        let (a0, a1, out) = split_scratch(scratch, w);
+        let (a0, a1) = (&mut a0[..w], &mut a1[..w]);
         let stencils = data.stencils.chunks_exact(w);
         // SAFETY (every unchecked access below): the stencil entries are below the dimension
         // `n` (checked when the workspace was built), and `q0`, `z`, `r`, `p` have length `n`
@@ -499,6 +556,7 @@ impl FamilyVisitor for Visit<'_, '_> {
             None => {
                 let out = &mut out[..2 * w];
                 for (e, st) in stencils.enumerate() {
+                    let st = &st[..w];
                     unsafe {
                         gather_unchecked(q0, st, a0);
                         gather_unchecked(z, st, a1);
@@ -518,6 +576,7 @@ impl FamilyVisitor for Visit<'_, '_> {
                 let out = &mut out[..2 * w + w * w];
                 let positions = data.positions.chunks_exact(w * w);
                 for (e, (st, pos)) in stencils.zip(positions).enumerate() {
+                    let (st, pos) = (&st[..w], &pos[..w * w]);
                     unsafe {
                         gather_unchecked(q0, st, a0);
                         gather_unchecked(z, st, a1);
@@ -532,12 +591,46 @@ impl FamilyVisitor for Visit<'_, '_> {
                             *p.get_unchecked_mut(g) += *d2.get_unchecked(a);
                         }
                     }
-                    for (&position, &value) in pos.iter().zip(d12.iter()) {
-                        unsafe { *j.get_unchecked_mut(position) += value };
+                    for b in 0..w * w {
+                        unsafe {
+                            *j.get_unchecked_mut(*pos.get_unchecked(b)) += *d12.get_unchecked(b)
+                        };
                     }
                 }
             }
         }
+    }
+}
+
+impl FamilyVisitor for Visit<'_, '_> {
+    fn family<F: Family>(&mut self, family: &F) {
+        let index = self.next;
+        self.next += 1;
+        let data = &self.assembler.families[index];
+        let Pass {
+            q0,
+            z,
+            r,
+            p,
+            jacobian,
+        } = &mut self.pass;
+        if self.assembler.parallel.is_some() {
+            unreachable!("parallel passes visit the families block by block");
+        }
+        if data.width == 0 {
+            return;
+        }
+        let pass = SerialFamily {
+            family,
+            data,
+            q0,
+            z,
+            r,
+            p,
+            jacobian: jacobian.as_deref_mut(),
+            scratch: self.scratch,
+        };
+        with_width(data.width, pass);
     }
 }
 
@@ -557,20 +650,42 @@ struct BlockVisit<'a> {
     scratch: &'a mut [f64],
 }
 
-impl FamilyVisitor for BlockVisit<'_> {
-    fn family<F: Family>(&mut self, family: &F) {
-        let index = self.next;
-        self.next += 1;
-        let data = &self.families[index];
-        let blocks = self.blocks;
-        let owned = &blocks.ranges[self.block];
-        let (depth, w) = (data.depth, data.width);
-        let (q0, z, r, p) = (self.q0, self.z, self.r, self.p);
-        if w == 0 {
-            return;
-        }
-        let (a0, a1, out) = split_scratch(self.scratch, w);
-        for &e in &blocks.lists[self.block][index] {
+/// The parallel pass over one family's elements that touch one block's rows (see
+/// [`BlockVisit`]).
+struct BlockFamily<'a, F> {
+    family: &'a F,
+    data: &'a FamilyData,
+    elements: &'a [u32],
+    owned: &'a Range<usize>,
+    q0: &'a [f64],
+    z: &'a [f64],
+    r: Shared,
+    p: Shared,
+    jacobian: Option<Shared>,
+    scratch: &'a mut [f64],
+}
+
+impl<F: Family> WithWidth for BlockFamily<'_, F> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<W: Width>(self, width: W) {
+        let BlockFamily {
+            family,
+            data,
+            elements,
+            owned,
+            q0,
+            z,
+            r,
+            p,
+            jacobian,
+            scratch,
+        } = self;
+        let (depth, w) = (data.depth, width.get());
+        let (a0, a1, out) = split_scratch(scratch, w);
+        let (a0, a1) = (&mut a0[..w], &mut a1[..w]);
+        for &e in elements {
             let e = e as usize;
             let st = &data.stencils[e * w..(e + 1) * w];
             let indices = &data.indices[e * depth..(e + 1) * depth];
@@ -580,9 +695,10 @@ impl FamilyVisitor for BlockVisit<'_> {
                 gather_unchecked(q0, st, a0);
                 gather_unchecked(z, st, a1);
             }
-            match self.jacobian {
+            match jacobian {
                 None => {
-                    family.d1_d2(indices, a0, a1, &mut out[..2 * w]);
+                    let out = &mut out[..2 * w];
+                    family.d1_d2(indices, a0, a1, out);
                     for a in 0..w {
                         if owned.contains(&st[a]) {
                             // SAFETY: row st[a] is owned by this block alone.
@@ -594,7 +710,8 @@ impl FamilyVisitor for BlockVisit<'_> {
                     }
                 }
                 Some(j) => {
-                    family.d1_d2_d12(indices, a0, a1, &mut out[..2 * w + w * w]);
+                    let out = &mut out[..2 * w + w * w];
+                    family.d1_d2_d12(indices, a0, a1, out);
                     let pos = &data.positions[e * w * w..(e + 1) * w * w];
                     for a in 0..w {
                         if !owned.contains(&st[a]) {
@@ -613,6 +730,30 @@ impl FamilyVisitor for BlockVisit<'_> {
                 }
             }
         }
+    }
+}
+
+impl FamilyVisitor for BlockVisit<'_> {
+    fn family<F: Family>(&mut self, family: &F) {
+        let index = self.next;
+        self.next += 1;
+        let data = &self.families[index];
+        if data.width == 0 {
+            return;
+        }
+        let pass = BlockFamily {
+            family,
+            data,
+            elements: &self.blocks.lists[self.block][index],
+            owned: &self.blocks.ranges[self.block],
+            q0: self.q0,
+            z: self.z,
+            r: self.r,
+            p: self.p,
+            jacobian: self.jacobian,
+            scratch: self.scratch,
+        };
+        with_width(data.width, pass);
     }
 }
 

@@ -2,7 +2,7 @@
 //! the midpoint energy — serially and in the order of the body, with the first element that
 //! reads outside the coordinates reported instead of a panic.
 
-use super::assembly::{gather, split_scratch, with_scratch};
+use super::assembly::{gather, split_scratch, with_scratch, with_width, Width, WithWidth};
 use super::{scratch_len, ElementLagrangian, Family, FamilyVisitor};
 
 /// Sums a per-element scalar over every element, serially, in order.
@@ -180,37 +180,74 @@ pub(super) fn impulse<L: ElementLagrangian>(
             if !family.force() {
                 return;
             }
-            let (orbit, q0, q1, n, w) =
-                (self.orbit, self.q0, self.q1, self.q0.len(), family.width());
-            let inside = |g: usize| orbit.iter().any(|r| r.contains(&g));
-            let mut total = self.total;
-            with_scratch(w, scratch_len(w), |st, scratch| {
-                let (a0, a1, out) = split_scratch(scratch, w);
-                let out = &mut out[..2 * w];
-                family.elements(&mut |indices, stencil| {
-                    let valid =
-                        stencil.len() == w && stencil.iter().all(|&g| g >= 0 && (g as usize) < n);
-                    if !valid {
-                        return;
-                    }
-                    for (s, &g) in st.iter_mut().zip(stencil) {
-                        *s = g as usize;
-                    }
-                    if !st.iter().any(|&g| inside(g)) {
-                        return;
-                    }
-                    gather(q0, st, a0);
-                    gather(q1, st, a1);
-                    family.d1_d2(indices, a0, a1, out);
-                    let (minus, plus) = out.split_at(w);
-                    for (a, &g) in st.iter().enumerate() {
-                        if inside(g) {
-                            total += minus[a] + plus[a];
-                        }
-                    }
-                });
+            let w = family.width();
+            self.total = with_scratch(w, scratch_len(w), |st, scratch| {
+                with_width(
+                    w,
+                    ImpulseFamily {
+                        family,
+                        total: self.total,
+                        orbit: self.orbit,
+                        q0: self.q0,
+                        q1: self.q1,
+                        st,
+                        scratch,
+                    },
+                )
             });
-            self.total = total;
+        }
+    }
+    /// One force family's part of the impulse, with its width a constant when small.
+    struct ImpulseFamily<'a, 'b, F> {
+        family: &'a F,
+        /// The impulse of the families before this one (the sum continues from it).
+        total: f64,
+        orbit: &'a [std::ops::Range<usize>],
+        q0: &'a [f64],
+        q1: &'a [f64],
+        st: &'b mut [usize],
+        scratch: &'b mut [f64],
+    }
+    impl<F: Family> WithWidth for ImpulseFamily<'_, '_, F> {
+        type Output = f64;
+        #[inline(always)]
+        fn run<W: Width>(self, width: W) -> f64 {
+            let ImpulseFamily {
+                family,
+                mut total,
+                orbit,
+                q0,
+                q1,
+                st,
+                scratch,
+            } = self;
+            let (n, w) = (q0.len(), width.get());
+            let inside = |g: usize| orbit.iter().any(|r| r.contains(&g));
+            let (a0, a1, out) = split_scratch(scratch, w);
+            let (a0, a1, st, out) = (&mut a0[..w], &mut a1[..w], &mut st[..w], &mut out[..2 * w]);
+            family.elements(&mut |indices, stencil| {
+                let valid =
+                    stencil.len() == w && stencil.iter().all(|&g| g >= 0 && (g as usize) < n);
+                if !valid {
+                    return;
+                }
+                for (s, &g) in st.iter_mut().zip(stencil) {
+                    *s = g as usize;
+                }
+                if !st.iter().any(|&g| inside(g)) {
+                    return;
+                }
+                gather(q0, st, a0);
+                gather(q1, st, a1);
+                family.d1_d2(indices, a0, a1, out);
+                let (minus, plus) = out.split_at(w);
+                for (a, &g) in st.iter().enumerate() {
+                    if inside(g) {
+                        total += minus[a] + plus[a];
+                    }
+                }
+            });
+            total
         }
     }
     let mut visit = Impulse {
