@@ -16,6 +16,7 @@ use std::sync::Mutex;
 use nalgebra::DVector;
 use rayon::prelude::*;
 
+use super::pass::{Shared, Visit};
 use super::solver::ElementSolver;
 use super::stencils::FamilyPass;
 use super::{
@@ -97,15 +98,6 @@ impl Blocks {
         evaluated as f64 / elements.max(1) as f64
     }
 }
-
-/// A pointer to a buffer that the blocks of a parallel pass write at disjoint rows.
-#[derive(Clone, Copy)]
-struct Shared(*mut f64);
-
-// SAFETY: a `Shared` is only written through by the blocks of one pass, each at the rows (and
-// the Jacobian entries of the rows) it owns; the owned sets are disjoint.
-unsafe impl Send for Shared {}
-unsafe impl Sync for Shared {}
 
 /// The elements, the pattern and the passes over them.
 pub(super) struct Assembler {
@@ -387,376 +379,6 @@ impl ElementWorkspace {
     }
 }
 
-/// The buffers of a pass over the elements: `r += Σ D_1 L_d^e`, `p += Σ D_2 L_d^e` and, when
-/// given, `jacobian += Σ D_1 D_2 L_d^e` (each starting from what the caller put there).
-struct Pass<'a> {
-    q0: &'a [f64],
-    z: &'a [f64],
-    r: &'a mut [f64],
-    p: &'a mut [f64],
-    jacobian: Option<&'a mut [f64]>,
-}
-
-struct Visit<'a, 'p> {
-    assembler: &'a Assembler,
-    next: usize,
-    pass: Pass<'p>,
-    /// The element scratch ([`scratch_len`] of the widest family).
-    scratch: &'p mut [f64],
-}
-
-/// The stencil values of an element, `v[st[a]]`, into `out` (as long as `st`).
-#[inline(always)]
-pub(super) fn gather(v: &[f64], st: &[usize], out: &mut [f64]) {
-    for (o, &g) in out.iter_mut().zip(st) {
-        *o = v[g];
-    }
-}
-
-/// [`gather`] without bounds checks, for the passes' inner loops.
-///
-/// # Safety
-/// Every `st[a] < v.len()` and `out.len() >= st.len()`: the stencils are checked against the
-/// dimension when the workspace is built (a workspace with an invalid stencil never assembles),
-/// the vectors' lengths at the entry of [`Assembler::residual_jacobian`], and the scratch is
-/// sized for the widest family.
-#[inline(always)]
-unsafe fn gather_unchecked(v: &[f64], st: &[usize], out: &mut [f64]) {
-    for (a, &g) in st.iter().enumerate() {
-        // SAFETY: see the function's contract.
-        unsafe { *out.get_unchecked_mut(a) = *v.get_unchecked(g) };
-    }
-}
-
-thread_local! {
-    /// The element scratch of the passes outside a step's assembly (sums, impulses, constraint
-    /// rows, the Legendre map, partials): a stencil's indices and its values and outputs, grown
-    /// to the widest family a thread has seen, so that after a run's first step those passes
-    /// allocate nothing.
-    static SCRATCH: RefCell<(Vec<usize>, Vec<f64>)> = const { RefCell::new((Vec::new(), Vec::new())) };
-}
-
-/// Calls `f` with `stencil` indices and `len` numbers of scratch: this thread's buffers (grown
-/// once when too short), or fresh ones when a pass on this thread already holds them.
-pub(super) fn with_scratch<R>(
-    stencil: usize,
-    len: usize,
-    f: impl FnOnce(&mut [usize], &mut [f64]) -> R,
-) -> R {
-    SCRATCH.with(|cell| match cell.try_borrow_mut() {
-        Ok(mut buffers) => {
-            let (st, values) = &mut *buffers;
-            if st.len() < stencil {
-                st.resize(stencil, 0);
-            }
-            if values.len() < len {
-                values.resize(len, 0.0);
-            }
-            f(&mut st[..stencil], &mut values[..len])
-        }
-        Err(_) => f(&mut vec![0; stencil], &mut vec![0.0; len]),
-    })
-}
-
-/// The element scratch of a family of width `w` split into the stencil values `q0`, `q1` (`w`
-/// each) and the outputs (the rest).
-#[inline(always)]
-pub(super) fn split_scratch(scratch: &mut [f64], w: usize) -> (&mut [f64], &mut [f64], &mut [f64]) {
-    let (a0, rest) = scratch.split_at_mut(w);
-    let (a1, out) = rest.split_at_mut(w);
-    (a0, a1, out)
-}
-
-/// A family's stencil width in the passes' inner loops: a constant for the small widths the
-/// dispatch in [`with_width`] names, so that LLVM unrolls the gathers and scatters as it did when
-/// the width was a const generic of the family, and the run-time value above them.
-pub(super) trait Width: Copy {
-    fn get(self) -> usize;
-}
-
-/// A width known when the pass is compiled.
-#[derive(Clone, Copy)]
-pub(super) struct Fixed<const S: usize>;
-
-impl<const S: usize> Width for Fixed<S> {
-    #[inline(always)]
-    fn get(self) -> usize {
-        S
-    }
-}
-
-/// A width known when the run starts.
-#[derive(Clone, Copy)]
-pub(super) struct Runtime(usize);
-
-impl Width for Runtime {
-    #[inline(always)]
-    fn get(self) -> usize {
-        self.0
-    }
-}
-
-/// Something run with a family's width: [`Fixed`] for widths 1 to 4, [`Runtime`] above.
-pub(super) trait WithWidth {
-    type Output;
-    fn run<W: Width>(self, width: W) -> Self::Output;
-}
-
-/// Runs `f` with `w` as a constant when it is small (the stencils of chains, lattices and
-/// meshes), else as a run-time value: one instance of the pass per constant width.
-#[inline(always)]
-pub(super) fn with_width<F: WithWidth>(w: usize, f: F) -> F::Output {
-    match w {
-        1 => f.run(Fixed::<1>),
-        2 => f.run(Fixed::<2>),
-        3 => f.run(Fixed::<3>),
-        4 => f.run(Fixed::<4>),
-        _ => f.run(Runtime(w)),
-    }
-}
-
-/// The serial pass over one family's elements (see [`Visit`]).
-struct SerialFamily<'a, 'b, F> {
-    family: &'a F,
-    data: &'a FamilyData,
-    q0: &'a [f64],
-    z: &'a [f64],
-    r: &'b mut [f64],
-    p: &'b mut [f64],
-    jacobian: Option<&'b mut [f64]>,
-    scratch: &'b mut [f64],
-}
-
-impl<F: Family> WithWidth for SerialFamily<'_, '_, F> {
-    type Output = ();
-
-    #[inline(always)]
-    fn run<W: Width>(self, width: W) {
-        let SerialFamily {
-            family,
-            data,
-            q0,
-            z,
-            r,
-            p,
-            jacobian,
-            scratch,
-        } = self;
-        let (depth, w) = (data.depth, width.get());
-        let indices = |e: usize| &data.indices[e * depth..(e + 1) * depth];
-        let (a0, a1, out) = split_scratch(scratch, w);
-        let (a0, a1) = (&mut a0[..w], &mut a1[..w]);
-        let stencils = data.stencils.chunks_exact(w);
-        // SAFETY (every unchecked access below): the stencil entries are below the dimension
-        // `n` (checked when the workspace was built), and `q0`, `z`, `r`, `p` have length `n`
-        // (checked at the entry of the pass); the scratch holds `4w + w²` entries (sized for
-        // the widest family); a Jacobian position is an index into the values of the pattern,
-        // of length `nnz`, built with it.
-        match jacobian {
-            None => {
-                let out = &mut out[..2 * w];
-                for (e, st) in stencils.enumerate() {
-                    let st = &st[..w];
-                    unsafe {
-                        gather_unchecked(q0, st, a0);
-                        gather_unchecked(z, st, a1);
-                    }
-                    family.d1_d2(indices(e), a0, a1, out);
-                    let (d1, d2) = out.split_at(w);
-                    for a in 0..w {
-                        unsafe {
-                            let g = *st.get_unchecked(a);
-                            *r.get_unchecked_mut(g) += *d1.get_unchecked(a);
-                            *p.get_unchecked_mut(g) += *d2.get_unchecked(a);
-                        }
-                    }
-                }
-            }
-            Some(j) => {
-                let out = &mut out[..2 * w + w * w];
-                let positions = data.positions.chunks_exact(w * w);
-                for (e, (st, pos)) in stencils.zip(positions).enumerate() {
-                    let (st, pos) = (&st[..w], &pos[..w * w]);
-                    unsafe {
-                        gather_unchecked(q0, st, a0);
-                        gather_unchecked(z, st, a1);
-                    }
-                    family.d1_d2_d12(indices(e), a0, a1, out);
-                    let (d1, rest) = out.split_at(w);
-                    let (d2, d12) = rest.split_at(w);
-                    for a in 0..w {
-                        unsafe {
-                            let g = *st.get_unchecked(a);
-                            *r.get_unchecked_mut(g) += *d1.get_unchecked(a);
-                            *p.get_unchecked_mut(g) += *d2.get_unchecked(a);
-                        }
-                    }
-                    for b in 0..w * w {
-                        unsafe {
-                            *j.get_unchecked_mut(*pos.get_unchecked(b)) += *d12.get_unchecked(b)
-                        };
-                    }
-                }
-            }
-        }
-    }
-}
-
-impl FamilyVisitor for Visit<'_, '_> {
-    fn family<F: Family>(&mut self, family: &F) {
-        let index = self.next;
-        self.next += 1;
-        let data = &self.assembler.families[index];
-        let Pass {
-            q0,
-            z,
-            r,
-            p,
-            jacobian,
-        } = &mut self.pass;
-        if self.assembler.parallel.is_some() {
-            unreachable!("parallel passes visit the families block by block");
-        }
-        if data.width == 0 {
-            return;
-        }
-        let pass = SerialFamily {
-            family,
-            data,
-            q0,
-            z,
-            r,
-            p,
-            jacobian: jacobian.as_deref_mut(),
-            scratch: self.scratch,
-        };
-        with_width(data.width, pass);
-    }
-}
-
-/// The parallel pass of one block: every family's elements that touch the block's rows, in
-/// order, added into the block's rows only.
-struct BlockVisit<'a> {
-    families: &'a [FamilyData],
-    blocks: &'a Blocks,
-    block: usize,
-    next: usize,
-    q0: &'a [f64],
-    z: &'a [f64],
-    r: Shared,
-    p: Shared,
-    jacobian: Option<Shared>,
-    /// The block's element scratch.
-    scratch: &'a mut [f64],
-}
-
-/// The parallel pass over one family's elements that touch one block's rows (see
-/// [`BlockVisit`]).
-struct BlockFamily<'a, F> {
-    family: &'a F,
-    data: &'a FamilyData,
-    elements: &'a [u32],
-    owned: &'a Range<usize>,
-    q0: &'a [f64],
-    z: &'a [f64],
-    r: Shared,
-    p: Shared,
-    jacobian: Option<Shared>,
-    scratch: &'a mut [f64],
-}
-
-impl<F: Family> WithWidth for BlockFamily<'_, F> {
-    type Output = ();
-
-    #[inline(always)]
-    fn run<W: Width>(self, width: W) {
-        let BlockFamily {
-            family,
-            data,
-            elements,
-            owned,
-            q0,
-            z,
-            r,
-            p,
-            jacobian,
-            scratch,
-        } = self;
-        let (depth, w) = (data.depth, width.get());
-        let (a0, a1, out) = split_scratch(scratch, w);
-        let (a0, a1) = (&mut a0[..w], &mut a1[..w]);
-        for &e in elements {
-            let e = e as usize;
-            let st = &data.stencils[e * w..(e + 1) * w];
-            let indices = &data.indices[e * depth..(e + 1) * depth];
-            // SAFETY: as in the serial pass (stencils below `n`, vectors of length `n`, the
-            // scratch sized for the widest family).
-            unsafe {
-                gather_unchecked(q0, st, a0);
-                gather_unchecked(z, st, a1);
-            }
-            match jacobian {
-                None => {
-                    let out = &mut out[..2 * w];
-                    family.d1_d2(indices, a0, a1, out);
-                    for a in 0..w {
-                        if owned.contains(&st[a]) {
-                            // SAFETY: row st[a] is owned by this block alone.
-                            unsafe {
-                                *r.0.add(st[a]) += out[a];
-                                *p.0.add(st[a]) += out[w + a];
-                            }
-                        }
-                    }
-                }
-                Some(j) => {
-                    let out = &mut out[..2 * w + w * w];
-                    family.d1_d2_d12(indices, a0, a1, out);
-                    let pos = &data.positions[e * w * w..(e + 1) * w * w];
-                    for a in 0..w {
-                        if !owned.contains(&st[a]) {
-                            continue;
-                        }
-                        // SAFETY: row st[a], and every Jacobian entry of that row, is owned by
-                        // this block alone.
-                        unsafe {
-                            *r.0.add(st[a]) += out[a];
-                            *p.0.add(st[a]) += out[w + a];
-                            for b in 0..w {
-                                *j.0.add(pos[a * w + b]) += out[2 * w + a * w + b];
-                            }
-                        }
-                    }
-                }
-            }
-        }
-    }
-}
-
-impl FamilyVisitor for BlockVisit<'_> {
-    fn family<F: Family>(&mut self, family: &F) {
-        let index = self.next;
-        self.next += 1;
-        let data = &self.families[index];
-        if data.width == 0 {
-            return;
-        }
-        let pass = BlockFamily {
-            family,
-            data,
-            elements: &self.blocks.lists[self.block][index],
-            owned: &self.blocks.ranges[self.block],
-            q0: self.q0,
-            z: self.z,
-            r: self.r,
-            p: self.p,
-            jacobian: self.jacobian,
-            scratch: self.scratch,
-        };
-        with_width(data.width, pass);
-    }
-}
-
 impl Assembler {
     pub(super) fn nnz(&self) -> usize {
         self.nnz
@@ -798,16 +420,17 @@ impl Assembler {
             if let Some(j) = jacobian.as_deref_mut() {
                 j.fill(0.0);
             }
+            // SAFETY (the pointers): the serial pass is the only writer of `r`, `p1` and the
+            // Jacobian while it runs, at indices below their lengths (see `pass::Visit`).
             let mut visit = Visit {
-                assembler: self,
+                families: &self.families,
+                block: None,
                 next: 0,
-                pass: Pass {
-                    q0,
-                    z,
-                    r,
-                    p: p1.as_mut_slice(),
-                    jacobian,
-                },
+                q0,
+                z,
+                r: Shared(r.as_mut_ptr()),
+                p: Shared(p1.as_mut_slice().as_mut_ptr()),
+                jacobian: jacobian.map(|j| Shared(j.as_mut_ptr())),
                 scratch: scratch.as_mut_slice(),
             };
             system.families(&mut visit);
@@ -836,10 +459,9 @@ impl Assembler {
             let mut scratch = blocks.scratch[block]
                 .lock()
                 .unwrap_or_else(|poisoned| poisoned.into_inner());
-            let mut visit = BlockVisit {
+            let mut visit = Visit {
                 families,
-                blocks,
-                block,
+                block: Some((&blocks.ranges[block], &blocks.lists[block])),
                 next: 0,
                 q0,
                 z,

@@ -8,7 +8,7 @@
 
 use nalgebra::DVector;
 
-use super::assembly::{gather, split_scratch, with_scratch};
+use super::pass::{gather, split_scratch, with_scratch};
 use super::{scratch_len, ElementLagrangian, Family, FamilyVisitor};
 use crate::error::StepError;
 use crate::linalg::{checked_rcond, DynSparseLu, LinearSolver};

@@ -71,6 +71,7 @@
 mod assembly;
 pub mod constrained;
 mod legendre;
+mod pass;
 mod rows;
 pub mod sensitivity;
 mod solver;

@@ -2,7 +2,8 @@
 //! and over the elements that a constrained step's saddle-point systems are assembled from
 //! (see the [parent module](super::constrained)).
 
-use super::assembly::{gather, split_scratch, with_scratch, FamilyData};
+use super::assembly::FamilyData;
+use super::pass::{gather, split_scratch, with_scratch};
 use super::{
     scratch_len, ConstraintFamily, ConstraintVisitor, ElementLagrangian, Family, FamilyVisitor,
 };

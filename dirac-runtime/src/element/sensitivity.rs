@@ -29,7 +29,8 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::assembly::{gather, with_scratch, FamilyData};
+use super::assembly::FamilyData;
+use super::pass::{gather, with_scratch};
 use super::{
     ElementIntegrator, ElementLagrangian, ElementState, ElementWorkspace, Family, FamilyVisitor,
     Parallel, StepSolver,

@@ -2,7 +2,7 @@
 //! the midpoint energy — serially and in the order of the body, with the first element that
 //! reads outside the coordinates reported instead of a panic.
 
-use super::assembly::{gather, split_scratch, with_scratch, with_width, Width, WithWidth};
+use super::pass::{gather, split_scratch, with_scratch, with_width, Width, WithWidth};
 use super::{scratch_len, ElementLagrangian, Family, FamilyVisitor};
 
 /// Sums a per-element scalar over every element, serially, in order.
