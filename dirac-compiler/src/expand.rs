@@ -1,19 +1,19 @@
 //! Ties the stages together, one phase after another, each with its own error context
 //! ([`Ctxt`]), finished before the next phase starts: the attribute and signature
-//! ([`crate::ast`]), the lowering, the invariance (or equivariance) check, the constructions
-//! ([`crate::ir`]), and code generation ([`crate::codegen`]). A phase with errors ends the
+//! ([`crate::front`]), the lowering, the invariance (or equivariance) check, the constructions
+//! ([`crate::ir`]), and code generation ([`crate::back`]). A phase with errors ends the
 //! compilation: its errors are emitted with the [`crate::fallback`] items, so the user's other
 //! code still type-checks and shows no follow-on errors.
 
 use proc_macro2::{Span, TokenStream};
 use syn::ItemFn;
 
-use crate::ast::signature::{parse_signature, Signature};
-use crate::ast::{parse_spec, transition as ast_transition, Spec};
-use crate::codegen::backend::Backend;
-use crate::codegen::{system, transition as codegen_transition};
+use crate::back::backend::Backend;
+use crate::back::{system, transition as codegen_transition};
 use crate::ctxt::Ctxt;
 use crate::fallback;
+use crate::front::signature::{parse_signature, Signature};
+use crate::front::{parse_spec, transition as ast_transition, Spec};
 use crate::ir::compile::Compiled;
 use crate::ir::{check, compile, transition as ir_transition};
 
@@ -30,10 +30,10 @@ pub fn expand(args: TokenStream, item: TokenStream) -> TokenStream {
             return e.into_compile_error();
         }
     };
-    if crate::ast::lie::is_lie(&args) {
+    if crate::front::lie::is_lie(&args) {
         return expand_lie(args, &func).unwrap_or_else(|e| e.into_compile_error());
     }
-    if crate::ast::element::is_element_wise(&func) {
+    if crate::front::element::is_element_wise(&func) {
         return expand_element(args, &func).unwrap_or_else(|e| e.into_compile_error());
     }
     // The attribute and the signature: kept for the fallback even when they have errors.
@@ -60,14 +60,14 @@ pub fn expand(args: TokenStream, item: TokenStream) -> TokenStream {
 /// An element-wise system (the function takes `usize` sizes): the attribute and signature, the
 /// body split into families of elements with the stencils' range check, each family's element
 /// lowered and differentiated, and the emitted kernels and assembly types
-/// ([`crate::ast::element`], [`crate::ir::element`], [`crate::codegen::element`]).
+/// ([`crate::front::element`], [`crate::ir::element`], [`crate::back::element`]).
 fn expand_element(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> {
     let c = compile_element(args, func)?;
     let constraints = c
         .constraints
         .as_ref()
         .map(|(split, codes)| (split, codes.as_slice()));
-    Ok(crate::codegen::element::generate(
+    Ok(crate::back::element::generate(
         &c.spec,
         func,
         &c.families,
@@ -80,14 +80,14 @@ fn expand_element(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> 
 /// An element-wise system up to the graphs both back ends read.
 pub struct ElementCompiled {
     /// The attribute and signature.
-    pub spec: crate::ast::element::ElementSpec,
+    pub spec: crate::front::element::ElementSpec,
     /// Every family of elements, the Lagrangian's first, then the forces'.
-    pub families: Vec<crate::ast::element::families::FamilySpec>,
+    pub families: Vec<crate::front::element::families::FamilySpec>,
     /// Each family's element, differentiated.
     pub codes: Vec<crate::ir::element::ElementCode>,
     /// The constraint rows' families and their elements, when declared.
     pub constraints: Option<(
-        crate::ast::element::constraints::ConstraintSplit,
+        crate::front::element::constraints::ConstraintSplit,
         Vec<crate::ir::element::ConstraintCode>,
     )>,
     /// The smallest size every stencil fits in.
@@ -98,7 +98,7 @@ pub struct ElementCompiled {
 /// families of elements with the stencils' range check, and each family's element lowered and
 /// differentiated.
 pub fn compile_element(args: TokenStream, func: &ItemFn) -> syn::Result<ElementCompiled> {
-    use crate::ast::element::{families, parse as parse_element};
+    use crate::front::element::{families, parse as parse_element};
     let cx = Ctxt::new();
     let spec = parse_element(&cx, args, func);
     let spec = cx.finish(spec)?;
@@ -141,7 +141,7 @@ pub fn compile_element(args: TokenStream, func: &ItemFn) -> syn::Result<ElementC
         Some(closure) => {
             let cx = Ctxt::new();
             let c =
-                crate::ast::element::constraints::split(&cx, closure, &spec.sizes, &spec.coords);
+                crate::front::element::constraints::split(&cx, closure, &spec.sizes, &spec.coords);
             Some(cx.finish(c)?)
         }
     };
@@ -194,8 +194,8 @@ pub fn compile_element(args: TokenStream, func: &ItemFn) -> syn::Result<ElementC
 
 /// A system on rotation groups (`rotation(..)` or `direction(..)` coordinates): the attribute
 /// and signature, the body lowered with matrix and vector values, the Lie group variational
-/// step on the graph, and the emitted items ([`crate::ast::lie`], [`crate::ir::lie`],
-/// [`crate::codegen::lie`]).
+/// step on the graph, and the emitted items ([`crate::front::lie`], [`crate::ir::lie`],
+/// [`crate::back::lie`]).
 fn expand_lie(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> {
     let LieCompiled {
         spec,
@@ -203,9 +203,7 @@ fn expand_lie(args: TokenStream, func: &ItemFn) -> syn::Result<TokenStream> {
         graph,
         code,
     } = compile_lie(args, func)?;
-    Ok(crate::codegen::lie::generate(
-        &spec, &sig, func, &graph, &code,
-    ))
+    Ok(crate::back::lie::generate(&spec, &sig, func, &graph, &code))
 }
 
 /// A system on rotation groups up to the graph both back ends read.
@@ -228,7 +226,7 @@ pub fn compile_lie(args: TokenStream, func: &ItemFn) -> syn::Result<LieCompiled>
     use crate::ir::lower::Lowering;
     let cx = Ctxt::new();
     let spec =
-        crate::ast::lie::parse(&cx, args).map(|attr| crate::ir::lie::LieSpec::resolve(&cx, attr));
+        crate::front::lie::parse(&cx, args).map(|attr| crate::ir::lie::LieSpec::resolve(&cx, attr));
     let attr = spec.as_ref().map(|s| &s.attr);
     let sig = parse_signature(
         &cx,
@@ -238,7 +236,7 @@ pub fn compile_lie(args: TokenStream, func: &ItemFn) -> syn::Result<LieCompiled>
         attr.is_some_and(|s| s.rule_written),
     );
     if let (Some(attr), Some(sig)) = (attr, &sig) {
-        crate::ast::signature::check_controls(&cx, &attr.controls, sig);
+        crate::front::signature::check_controls(&cx, &attr.controls, sig);
     }
     let (spec, sig) = cx.finish(spec.zip(sig))?;
     let cx = Ctxt::new();
@@ -326,7 +324,7 @@ pub fn compile_lie(args: TokenStream, func: &ItemFn) -> syn::Result<LieCompiled>
     let mut code = crate::ir::lie::compile(&mut graph, &spec, body, forces.as_ref(), mode, None);
     // Reduced by every rotation of one rotation coordinate: the step of the reduced Lagrangian.
     if let Some(symmetry) = &spec.symmetry {
-        if symmetry.kind == crate::ast::lie::SymmetryKind::Rotations {
+        if symmetry.kind == crate::front::lie::SymmetryKind::Rotations {
             let at = spec.coords[symmetry.coords[0].0].point;
             let reduced =
                 crate::ir::lie::compile(&mut graph, &spec, body, forces.as_ref(), mode, Some(at));
@@ -374,7 +372,7 @@ pub fn compile_lie(args: TokenStream, func: &ItemFn) -> syn::Result<LieCompiled>
 /// Where the time coordinate of `adapt` is, in the configuration and the velocity.
 fn time_at(
     spec: &crate::ir::lie::LieSpec,
-    adapt: &crate::ast::lie::LieAdapt,
+    adapt: &crate::front::lie::LieAdapt,
 ) -> crate::ir::adapt::TimeAt {
     let c = &spec.coords[adapt.coord];
     crate::ir::adapt::TimeAt {
@@ -392,7 +390,7 @@ fn lie_adapt(
     spec: &crate::ir::lie::LieSpec,
     sig: &Signature,
     l: crate::ir::graph::NodeId,
-    adapt: &crate::ast::lie::LieAdapt,
+    adapt: &crate::front::lie::LieAdapt,
 ) -> Option<crate::ir::adapt::Adapted> {
     if !sig.continuous {
         cx.error_spanned_by(
@@ -440,7 +438,7 @@ pub fn parse(args: TokenStream, func: &ItemFn) -> Parsed {
         spec.as_ref().is_some_and(|s| s.rule_written),
     );
     if let (Some(spec), Some(sig)) = (&spec, &sig) {
-        crate::ast::signature::check_controls(&cx, &spec.controls, sig);
+        crate::front::signature::check_controls(&cx, &spec.controls, sig);
     }
     let parsed = cx.finish(spec.as_ref().zip(sig.as_ref()).map(|_| ()));
     Parsed { spec, sig, parsed }
@@ -465,7 +463,7 @@ pub fn compile_system(spec: &Spec, sig: &Signature, func: &ItemFn) -> syn::Resul
 /// the group (the reduction, and the momentum map a run keeps exact, are valid only then).
 pub fn lower_checked(spec: &Spec, sig: &Signature, func: &ItemFn) -> syn::Result<compile::Lowered> {
     let cx = Ctxt::new();
-    let ranges = crate::ast::ranges::resolve_ranges(&cx, spec, sig);
+    let ranges = crate::front::ranges::resolve_ranges(&cx, spec, sig);
     let lowered = compile::lower(&cx, spec, sig, func);
     let lowered = cx.finish(lowered)?;
     // The reduction is only valid for a G-invariant L_d.

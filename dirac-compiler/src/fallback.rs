@@ -1,18 +1,18 @@
 //! After an error, the items the user's other code refers to, so the real error is not buried
 //! under follow-on ones (thiserror's `fallback.rs`): the same items as a successful expansion,
 //! with the same signatures — the trait impls rendered from the one table of
-//! [`crate::codegen::impls`] with bodies never reached, the rest from the same functions as the
+//! [`crate::back::impls`] with bodies never reached, the rest from the same functions as the
 //! real items.
 
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 use syn::ItemFn;
 
-use crate::ast::signature::Signature;
-use crate::ast::transition::TransitionSpec;
-use crate::ast::Spec;
-use crate::codegen::items::{config_struct, param_struct, type_name, user_function};
-use crate::codegen::{adapted, system, transition};
+use crate::back::items::{config_struct, param_struct, type_name, user_function};
+use crate::back::{adapted, system, transition};
+use crate::front::signature::Signature;
+use crate::front::transition::TransitionSpec;
+use crate::front::Spec;
 
 /// The fallback of `#[reduced_lagrangian]`: as much as the attribute and signature determine.
 pub fn reduced_lagrangian(

@@ -60,8 +60,8 @@ use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 use proptest::test_runner::TestRunner;
 
-use crate::ast::layout::CoordName;
 use crate::ctxt::Ctxt;
+use crate::front::layout::CoordName;
 use crate::ir::diff::{derivatives, gradient};
 use crate::ir::graph::{Graph, NodeId, Sym};
 use crate::ir::lower::{Lowering, Names};

@@ -12,29 +12,32 @@
 //! * `expand` — the attribute's entry: one phase after another, each with its own error context;
 //!   `fallback` — the items emitted after an error; [`text`] — the run-time entry: the same
 //!   phases on a system given as text, ending in programs;
-//! * `codegen` — graph → straight-line Rust, the backend choice, the one table of trait impls
-//!   (rendered with real or stub bodies), the items around them; [`program`] — graph →
-//!   straight-line program as data, for a code generator at run time;
+//! * `back` — the back end: graph → straight-line Rust, the backend choice, the one table of
+//!   trait impls (rendered with real or stub bodies), the items around them; and [`program`] —
+//!   graph → straight-line program as data, for a code generator at run time;
 //! * `ir` — lowering (body → hash-consed graph), the invariance check, forward- and
-//!   reverse-mode derivatives, the paper's constructions (reduction, discretization of a continuous `L`);
-//! * `ast` — the attribute grammar, the coordinate layout, the signature, the ranges;
+//!   reverse-mode derivatives, the paper's constructions (reduction, discretization of a
+//!   continuous `L`), the configuration groups (`ir::group`);
+//! * `front` — the front end: the attribute grammar, the coordinate layout, the signature, the
+//!   ranges;
 //! * `ctxt` (every error with its span, one report per compilation), `symbol` (the
 //!   attribute keys, spelled once) and `stack` (enough stack for deep expressions).
 
 #![warn(missing_docs)]
 
-mod ast;
-mod codegen;
+mod back;
 mod ctxt;
 mod expand;
 mod fallback;
+mod front;
 #[cfg(test)]
 mod fuzz;
 mod ir;
-pub mod program;
 mod stack;
 mod symbol;
 pub mod text;
+
+pub use back::program;
 
 use proc_macro2::TokenStream;
 

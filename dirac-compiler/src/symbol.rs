@@ -58,7 +58,7 @@ pub const DIRECTION: Symbol = Symbol("direction");
 /// translation in the body).
 pub const POSE: Symbol = Symbol("pose");
 /// The keys that declare coordinates on a group other than the line: any of them makes the
-/// attribute one of a system on groups (`crate::ast::lie`), whose coordinate kinds are these and
+/// attribute one of a system on groups (`crate::front::lie`), whose coordinate kinds are these and
 /// `shape`, `group`.
 pub const GROUP_COORDINATES: [Symbol; 3] = [ROTATION, DIRECTION, POSE];
 /// `time(t)`: the group coordinate that is physical time, for adaptive steps.

@@ -11,11 +11,11 @@
 
 use std::ops::Not;
 
-use crate::ast::layout::{GroupDecl, Layout};
-use crate::ast::ranges::Ranges;
-use crate::ast::signature::Signature;
-use crate::ast::Spec;
 use crate::ctxt::Ctxt;
+use crate::front::layout::{GroupDecl, Layout};
+use crate::front::ranges::Ranges;
+use crate::front::signature::Signature;
+use crate::front::Spec;
 use crate::ir::compile::Lowered;
 use crate::ir::graph::{Graph, NodeId, Sym};
 
@@ -592,13 +592,13 @@ mod tests {
         };
         let phases = || -> syn::Result<()> {
             let cx = Ctxt::new();
-            let spec = crate::ast::parse_spec(&cx, args);
+            let spec = crate::front::parse_spec(&cx, args);
             let sig = spec.as_ref().and_then(|_| {
-                crate::ast::signature::parse_signature(&cx, &func.sig, None, None, false)
+                crate::front::signature::parse_signature(&cx, &func.sig, None, None, false)
             });
             let (spec, sig) = cx.finish(spec.zip(sig))?;
             let cx = Ctxt::new();
-            let ranges = crate::ast::ranges::resolve_ranges(&cx, &spec, &sig);
+            let ranges = crate::front::ranges::resolve_ranges(&cx, &spec, &sig);
             let lowered = crate::ir::compile::lower(&cx, &spec, &sig, &func);
             let lowered = cx.finish(lowered)?;
             let cx = Ctxt::new();

@@ -5,9 +5,9 @@
 
 use syn::ItemFn;
 
-use crate::ast::signature::Signature;
-use crate::ast::Spec;
 use crate::ctxt::Ctxt;
+use crate::front::signature::Signature;
+use crate::front::Spec;
 use crate::ir::constraint::{self, ConstrainedCode};
 use crate::ir::discretize::{self, Continuous};
 use crate::ir::force::{self, Forces};

@@ -2,12 +2,12 @@
 //! become the discrete Lagrangian `L_d(q0, q1)` on the expression graph, so everything
 //! downstream (reduction, differentiation, emission) is unchanged; and the Legendre map
 //! `p = ∂L/∂v`, its Jacobian `∂²L/∂v²` and the energy `E = ⟨∂L/∂v, v⟩ − L` are differentiated
-//! here, forward mode, on the graph ([`crate::codegen::continuous`] emits them).
+//! here, forward mode, on the graph ([`crate::back::continuous`] emits them).
 //!
 //! While lowering a continuous body, `Sym::Q0(i)` stands for `q_i` and `Sym::Q1(i)` for `v_i`;
 //! [`discretize`] substitutes the rule's quadrature point and difference quotient for them.
 
-use crate::ast::rule::Rule;
+use crate::front::rule::Rule;
 use crate::ir::diff::{derivatives, symmetric_jacobian};
 use crate::ir::graph::{Graph, NodeId, Sym};
 use crate::ir::reduce::{firsts, Mode};

@@ -6,10 +6,10 @@
 //! sum over elements: `R = p_k + Σ_e D_1 L_d^e`, `∂R/∂q_{k+1} = Σ_e D_1 D_2 L_d^e`,
 //! `p_{k+1} = Σ_e D_2 L_d^e`.
 
-use crate::ast::element::families::{loop_param, size_param, slot_name, FamilySpec};
-use crate::ast::element::ElementSpec;
-use crate::ast::layout::CoordName;
 use crate::ctxt::Ctxt;
+use crate::front::element::families::{loop_param, size_param, slot_name, FamilySpec};
+use crate::front::element::ElementSpec;
+use crate::front::layout::CoordName;
 use crate::ir::compile::mode_for;
 use crate::ir::diff::derivatives;
 use crate::ir::discretize::{continuous, discretize};
@@ -121,7 +121,7 @@ pub fn param_names(spec: &ElementSpec, depth: usize) -> Vec<String> {
 }
 
 /// The time step (a parameter) and the rule of a continuous Lagrangian.
-fn step_and_rule(g: &mut Graph, spec: &ElementSpec) -> (NodeId, crate::ast::rule::Rule) {
+fn step_and_rule(g: &mut Graph, spec: &ElementSpec) -> (NodeId, crate::front::rule::Rule) {
     let step = spec
         .sig
         .params

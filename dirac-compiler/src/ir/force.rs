@@ -36,8 +36,8 @@ use std::ops::Not;
 use syn::spanned::Spanned;
 use syn::{ExprClosure, Pat};
 
-use crate::ast::rule::Rule;
 use crate::ctxt::Ctxt;
+use crate::front::rule::Rule;
 use crate::ir::diff::derivatives;
 use crate::ir::discretize::{at_point, difference_quotients, midpoint};
 use crate::ir::graph::{Graph, NodeId, Sym};

@@ -3,7 +3,7 @@
 //! ([`force`]), the compile-time invariance check
 //! ([`check`]), forward-mode and reverse-mode derivatives ([`diff`]), the paper's constructions ([`reduce`]),
 //! all of it driven for a system by [`compile`] and for a chart transition by [`transition`].
-//! Imports only the front end ([`crate::ast`]); emits no code.
+//! Imports only the front end ([`crate::front`]); emits no code.
 
 pub mod adapt;
 pub mod check;

@@ -9,9 +9,9 @@
 use proc_macro2::Span;
 use syn::{Ident, ItemFn};
 
-use crate::ast::layout::CoordName;
-use crate::ast::transition::TransitionSpec;
 use crate::ctxt::Ctxt;
+use crate::front::layout::CoordName;
+use crate::front::transition::TransitionSpec;
 use crate::ir::diff::derivatives;
 use crate::ir::graph::{Graph, NodeId, Sym};
 use crate::ir::lower::{Lowering, Names};

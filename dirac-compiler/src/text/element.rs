@@ -7,13 +7,13 @@
 use proc_macro2::TokenStream;
 use syn::ItemFn;
 
-use crate::ast::element::families::FamilySpec;
-use crate::ast::element::index::Index;
-use crate::ast::element::Dim;
+use crate::back::program::{program, Program};
 use crate::expand::{compile_element as compile_phases, ElementCompiled};
+use crate::front::element::families::FamilySpec;
+use crate::front::element::index::Index;
+use crate::front::element::Dim;
 use crate::ir::element::{ElementCode, StepBlocks};
 use crate::ir::graph::{Graph, NodeId};
-use crate::program::{program, Program};
 
 /// An element-wise system compiled from text: a discrete Lagrangian that is a sum over families
 /// of elements, each element reading a stencil of `S` coordinates given by index expressions in
@@ -271,7 +271,7 @@ pub(super) fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<Ele
         name: spec
             .name
             .clone()
-            .unwrap_or_else(|| crate::codegen::items::camel_case(&func.sig.ident))
+            .unwrap_or_else(|| crate::back::items::camel_case(&func.sig.ident))
             .to_string(),
         parameters: sig.params.iter().map(ToString::to_string).collect(),
         step: sig

@@ -35,13 +35,13 @@ use syn::ItemFn;
 
 use super::element::{family_of, ConstraintFamily, ElementConstraints, IndexExpr, Stencil};
 use super::{ElementCoordinate, ElementFamily, ElementSystem};
+use crate::back::program::program;
 use crate::expand::{lower_checked, parse, Parsed};
 use crate::ir::compile::mode_for;
 use crate::ir::diff::derivatives;
 use crate::ir::element::step_blocks_of;
 use crate::ir::graph::{Graph, NodeId, Sym};
 use crate::ir::reduce::firsts;
-use crate::program::program;
 
 /// The coordinates `node` reads (`Q0(i)` or `Q1(i)`: coordinate `i`), sorted.
 fn reads(g: &Graph, node: NodeId) -> Vec<usize> {
@@ -85,14 +85,14 @@ fn mixed(g: &mut Graph, d1: &[NodeId], n: usize) -> Vec<Vec<NodeId>> {
 /// The phases of `#[reduced_lagrangian]` on a system on vector spaces up to its lowered and
 /// checked `L_d`, then the element view's programs (see the [module documentation](self)).
 pub(super) fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<ElementSystem> {
-    if crate::ast::element::is_element_wise(func) {
+    if crate::front::element::is_element_wise(func) {
         return Err(syn::Error::new_spanned(
             &func.sig.inputs,
             "an element-wise system (sizes as `usize` arguments) compiles with `compile_element`: \
              it is element-wise already",
         ));
     }
-    if crate::ast::lie::is_lie(&args) {
+    if crate::front::lie::is_lie(&args) {
         return Err(syn::Error::new_spanned(
             &args,
             "a system on rotation groups (`rotation(..)`, `direction(..)`) has no element view: \
@@ -207,7 +207,7 @@ pub(super) fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<Ele
     });
     let names = spec.layout.shape.iter().chain(&spec.layout.group);
     Ok(ElementSystem {
-        name: crate::codegen::items::type_name(&spec, func).to_string(),
+        name: crate::back::items::type_name(&spec, func).to_string(),
         parameters: sig.params.iter().map(ToString::to_string).collect(),
         step: sig
             .params

@@ -7,11 +7,11 @@ use proc_macro2::TokenStream;
 use syn::ItemFn;
 
 use super::{stepper, Program, Stepper};
-use crate::ast::lie::SymmetryKind;
+use crate::back::program::program;
 use crate::expand::{compile_lie as compile_phases, LieCompiled};
+use crate::front::lie::SymmetryKind;
 use crate::ir::graph::{Graph, NodeId, Sym};
 pub use crate::ir::group::Kind as LieKind;
-use crate::program::program;
 
 /// A system on rotation groups compiled from text: its coordinates and names, and a
 /// straight-line [`Program`] for each function of the runtime's `LieLagrangian` (and
@@ -180,7 +180,7 @@ pub(super) fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<Lie
             .attr
             .name
             .clone()
-            .unwrap_or_else(|| crate::codegen::items::camel_case(&func.sig.ident))
+            .unwrap_or_else(|| crate::back::items::camel_case(&func.sig.ident))
             .to_string(),
         coordinates,
         parameters: sig.params.iter().map(ToString::to_string).collect(),

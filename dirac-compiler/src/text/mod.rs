@@ -23,20 +23,20 @@ use std::fmt;
 use proc_macro2::{Span, TokenStream};
 use syn::{Attribute, ItemFn};
 
-use crate::codegen::backend::{Csc, DENSE_MAX};
+use crate::back::backend::{Csc, DENSE_MAX};
+use crate::back::program::{program, Program};
 use crate::expand::{compile_system, parse, Parsed};
 use crate::ir::compile::{Compiled, SideCode};
 use crate::ir::constraint::ConstrainedCode;
 use crate::ir::graph::Graph;
 use crate::ir::reduce::Stepper as StepperCode;
-use crate::program::{program, Program};
 
 mod depth;
 mod element;
 mod flat;
 mod lie;
 
-pub use crate::ast::attr::{DomainBound, DomainRelation};
+pub use crate::front::attr::{DomainBound, DomainRelation};
 pub use depth::{MAX_LEVELS, MAX_NESTING};
 pub use element::{
     ConstraintFamily, ElementConstraints, ElementCoordinate, ElementFamily, ElementSystem,
@@ -343,7 +343,7 @@ impl std::error::Error for Error {}
 /// system with [`compile_element`] (or either with [`compile_any`]).
 pub fn compile(source: &str) -> Result<System, Error> {
     compile_with(source, |args, func| {
-        if crate::ast::lie::is_lie(&args) {
+        if crate::front::lie::is_lie(&args) {
             return Err(syn::Error::new_spanned(
                 &args,
                 "a system on rotation groups (`rotation(..)`, `direction(..)`) compiles with \
@@ -401,7 +401,7 @@ pub fn compile_flat_elements(source: &str) -> Result<ElementSystem, Error> {
 /// ```
 pub fn compile_lie(source: &str) -> Result<LieSystem, Error> {
     compile_with(source, |args, func| {
-        if !crate::ast::lie::is_lie(&args) {
+        if !crate::front::lie::is_lie(&args) {
             return Err(syn::Error::new_spanned(
                 &args,
                 "a system on vector spaces (no `rotation(..)` or `direction(..)` coordinate) \
@@ -447,7 +447,7 @@ pub enum AnySystem {
 /// ```
 pub fn compile_element(source: &str) -> Result<ElementSystem, Error> {
     compile_with(source, |args, func| {
-        if crate::ast::lie::is_lie(&args) || !crate::ast::element::is_element_wise(func) {
+        if crate::front::lie::is_lie(&args) || !crate::front::element::is_element_wise(func) {
             return Err(syn::Error::new_spanned(
                 &func.sig.inputs,
                 "not an element-wise system (no `usize` size among the arguments): it compiles \
@@ -465,9 +465,9 @@ pub fn compile_element(source: &str) -> Result<ElementSystem, Error> {
 /// line) calls.
 pub fn compile_any(source: &str) -> Result<AnySystem, Error> {
     compile_with(source, |args, func| {
-        if crate::ast::lie::is_lie(&args) {
+        if crate::front::lie::is_lie(&args) {
             lie::compile_parts(args, func).map(|s| AnySystem::Lie(Box::new(s)))
-        } else if crate::ast::element::is_element_wise(func) {
+        } else if crate::front::element::is_element_wise(func) {
             element::compile_parts(args, func).map(|s| AnySystem::Element(Box::new(s)))
         } else {
             compile_parts(args, func).map(|s| AnySystem::Flat(Box::new(s)))
@@ -579,7 +579,7 @@ fn is_attribute(attr: &Attribute) -> bool {
 
 /// The phases of `#[reduced_lagrangian]` on a system on vector spaces, then the programs.
 fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<System> {
-    if crate::ast::element::is_element_wise(func) {
+    if crate::front::element::is_element_wise(func) {
         return Err(syn::Error::new_spanned(
             &func.sig.inputs,
             "an element-wise system (sizes as `usize` arguments) compiles with `compile_element` \
@@ -601,7 +601,7 @@ fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<System> {
         .filter_map(|u| sig.params.iter().position(|p| p == u))
         .collect();
     Ok(System {
-        name: crate::codegen::items::type_name(&spec, func).to_string(),
+        name: crate::back::items::type_name(&spec, func).to_string(),
         shape: spec.layout.shape.clone(),
         group: spec.layout.group.clone(),
         parameters: sig.params.iter().map(ToString::to_string).collect(),
@@ -615,8 +615,8 @@ fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<System> {
                 .components
                 .iter()
                 .map(|c| match *c {
-                    crate::ast::layout::Component::Var(a) => UserComponent::Var(a),
-                    crate::ast::layout::Component::Sum(g, r) => UserComponent::Sum(g, r),
+                    crate::front::layout::Component::Var(a) => UserComponent::Var(a),
+                    crate::front::layout::Component::Sum(g, r) => UserComponent::Sum(g, r),
                 })
                 .collect()
         }),

@@ -10,7 +10,7 @@ use syn::Ident;
 
 use super::rotation::{matrix_at, times_right, write_rows, Rotation};
 use super::{Group, KindSpec, Paths, Rotated, Step};
-use crate::ast::layout::Reading;
+use crate::front::layout::Reading;
 use crate::ir::graph::{Fun, Graph, NodeId};
 
 /// `direction(n)`.

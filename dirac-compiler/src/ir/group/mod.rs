@@ -21,7 +21,7 @@ use std::ops::Deref;
 use proc_macro2::TokenStream;
 use syn::Ident;
 
-use crate::ast::layout::Reading;
+use crate::front::layout::Reading;
 use crate::ir::graph::{Graph, NodeId};
 use crate::symbol::Symbol;
 

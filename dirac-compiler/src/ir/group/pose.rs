@@ -22,7 +22,7 @@ use super::rotation::{
     angular_velocity, cayley, matrix_at, rotate_rows, sample_rotations, times_right, write_rows,
 };
 use super::{Group, KindSpec, Paths, Rotated, Step};
-use crate::ast::layout::Reading;
+use crate::front::layout::Reading;
 use crate::ir::graph::{Graph, NodeId};
 
 /// `pose(X)`.

@@ -8,7 +8,7 @@ use quote::quote;
 use syn::Ident;
 
 use super::{Group, KindSpec, Paths, Rotated, Step};
-use crate::ast::layout::Reading;
+use crate::front::layout::Reading;
 use crate::ir::graph::{Graph, NodeId};
 
 /// `rotation(R)`.

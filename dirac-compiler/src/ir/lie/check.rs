@@ -3,7 +3,7 @@
 //! skew-symmetric matrix.
 
 use super::LieSpec;
-use crate::ast::lie::SymmetryKind;
+use crate::front::lie::SymmetryKind;
 use crate::ir::graph::{Graph, NodeId, Sym};
 use crate::ir::group::cayley_value;
 
@@ -83,7 +83,7 @@ fn sample_rotation(kind: SymmetryKind) -> [[f64; 3]; 3] {
 }
 
 /// Checks that `L_d` and its forces are invariant under the declared rotations
-/// ([`crate::ast::lie::Symmetry`]): with every listed rotation and direction rotated by the same
+/// ([`crate::front::lie::Symmetry`]): with every listed rotation and direction rotated by the same
 /// `g` in both configurations, `L_d(g q0, g q1) = L_d(q0, q1)` and the virtual work is unchanged
 /// — a rotation's torque `τ` (paired with the body-frame `η`) and a scalar's force the same, a
 /// direction's force rotated with it, `f(g q) = g f(q)` — at three sample configurations (to

@@ -8,7 +8,7 @@
 //! Both are derivatives at the centre of a chart (`φ_q(ξ)` at `ξ = 0`), taken on the graph: for a
 //! rotation `dφ(0) η = R η̂`, for a direction `dφ(0)(a, b) = a e1 + b e2`.
 
-use crate::ast::rule::Rule;
+use crate::front::rule::Rule;
 use crate::ir::diff::derivatives;
 use crate::ir::graph::{Graph, NodeId, Sym};
 use crate::ir::group::{cayley, product, Step};

@@ -5,9 +5,9 @@
 use proc_macro2::Span;
 use syn::Ident;
 
-use crate::ast::layout::{Component, CoordName};
-use crate::ast::lie::{LieAttr, Symmetry, SymmetryKind};
 use crate::ctxt::Ctxt;
+use crate::front::layout::{Component, CoordName};
+use crate::front::lie::{LieAttr, Symmetry, SymmetryKind};
 use crate::ir::group::{Kind, Rotated};
 
 /// One declared coordinate, with its kind and its place in the point and the chart.
@@ -131,7 +131,7 @@ impl LieSpec {
 fn check_symmetry(
     cx: &Ctxt,
     coords: &[LieCoord],
-    decl: &crate::ast::lie::SymmetryDecl,
+    decl: &crate::front::lie::SymmetryDecl,
 ) -> Option<Symmetry> {
     let mut failed = false;
     for (i, id) in &decl.coords {

@@ -8,8 +8,8 @@ use quote::ToTokens;
 use syn::spanned::Spanned;
 use syn::{Block, Expr, Ident, Lit, Pat, Stmt, UnOp};
 
-use crate::ast::layout::CoordName;
 use crate::ctxt::Ctxt;
+use crate::front::layout::CoordName;
 use crate::ir::graph::{Graph, NodeId};
 
 mod matrix;
@@ -114,7 +114,7 @@ pub struct Names<'a> {
 impl<'a> Names<'a> {
     /// The names of a body with the signature `sig` reading `coords`: its configurations and
     /// parameters, no virtual displacements.
-    pub fn of(sig: &'a crate::ast::signature::Signature, coords: Vec<CoordName>) -> Self {
+    pub fn of(sig: &'a crate::front::signature::Signature, coords: Vec<CoordName>) -> Self {
         Names {
             q0: &sig.q0,
             q1: &sig.q1,

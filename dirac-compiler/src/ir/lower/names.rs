@@ -4,7 +4,7 @@
 use syn::{Expr, Member};
 
 use super::{f64_const, Lowering, Value, ACCEPTED};
-use crate::ast::layout::{Component, Reading};
+use crate::front::layout::{Component, Reading};
 use crate::ir::graph::Sym;
 
 impl Lowering<'_> {

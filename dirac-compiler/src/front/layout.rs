@@ -258,7 +258,7 @@ pub enum Component {
 }
 
 /// A coordinate the body reads as `q0.name` (a scalar), `q0.name[i]` (an array), or as a
-/// matrix or vector value (a coordinate on a group, [`crate::ast::lie`]).
+/// matrix or vector value (a coordinate on a group, [`crate::front::lie`]).
 pub struct CoordName {
     pub name: String,
     /// `None` for a scalar, the length for an array.

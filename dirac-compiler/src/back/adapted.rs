@@ -1,7 +1,7 @@
 //! Adapted coordinates of a symmetry declared on the user's coordinates (`coordinates(...)`,
 //! `translate(...)`): `impl AdaptedCoordinates<N>`, the unimodular change of coordinates
 //! `q_user = T q` of the trivialization `Q = Σ × G` (§2.2.1), as straight-line sums and
-//! differences. See [`crate::ast::layout::Layout`] for `T`.
+//! differences. See [`crate::front::layout::Layout`] for `T`.
 //!
 //! With `shape(...), group(...)` the user's vector is the configuration vector and every map is
 //! the identity.
@@ -10,9 +10,9 @@ use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 use syn::Ident;
 
-use crate::ast::layout::Component;
-use crate::ast::layout::Layout;
-use crate::codegen::lints;
+use crate::back::lints;
+use crate::front::layout::Component;
+use crate::front::layout::Layout;
 
 /// `impl ::dirac::runtime::AdaptedCoordinates<N> for ty`.
 pub fn adapted_impl(layout: &Layout, ty: &Ident) -> TokenStream {

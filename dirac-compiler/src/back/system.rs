@@ -1,5 +1,5 @@
 //! The real bodies of a `#[reduced_lagrangian]` system's impls, rendered through the table of
-//! [`crate::codegen::impls`]: the Lagrangian and connection, both reduced steppers (and their
+//! [`crate::back::impls`]: the Lagrangian and connection, both reduced steppers (and their
 //! eliminated forms), the unreduced stepper and the Hessian of `L_d`.
 
 use std::collections::HashMap;
@@ -8,13 +8,13 @@ use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 use syn::{Ident, ItemFn};
 
-use crate::ast::signature::Signature;
-use crate::ast::Spec;
-use crate::codegen::backend::{stepper_fns, Backend, DENSE_MAX};
-use crate::codegen::emit::straight_line;
-use crate::codegen::impls::{self, Bodies, Target};
-use crate::codegen::items::{config_struct, param_struct, type_name, user_function};
-use crate::codegen::{adapted, continuous};
+use crate::back::backend::{stepper_fns, Backend, DENSE_MAX};
+use crate::back::emit::straight_line;
+use crate::back::impls::{self, Bodies, Target};
+use crate::back::items::{config_struct, param_struct, type_name, user_function};
+use crate::back::{adapted, continuous};
+use crate::front::signature::Signature;
+use crate::front::Spec;
 use crate::ir::compile::{Compiled, SideCode};
 use crate::ir::graph::Graph;
 use crate::ir::graph::{NodeId, Sym};
@@ -380,7 +380,7 @@ pub fn generate(spec: &Spec, sig: &Signature, func: &ItemFn, c: &Compiled) -> To
     let constrained_impls = c
         .constrained
         .as_ref()
-        .map(|code| crate::codegen::constrained::emit(&t, c, code));
+        .map(|code| crate::back::constrained::emit(&t, c, code));
 
     quote! {
         #config_item
@@ -463,8 +463,8 @@ pub fn stubs(spec: &Spec, sig: &Signature, ty: &Ident) -> TokenStream {
             out.extend(impls::continuous_lagrangian(&t, rule.describe(), &backend).render(&stub));
         }
         if let Some(closure) = &spec.constraints {
-            let m = crate::codegen::constrained::count(closure);
-            out.extend(crate::codegen::constrained::stubs(&t, m));
+            let m = crate::back::constrained::count(closure);
+            out.extend(crate::back::constrained::stubs(&t, m));
         }
     }
     out

@@ -5,8 +5,8 @@ use proc_macro2::Span;
 use syn::spanned::Spanned;
 use syn::Ident;
 
-use crate::ast::rule::{Rule, RULES};
 use crate::ctxt::Ctxt;
+use crate::front::rule::{Rule, RULES};
 
 /// The parsed function signature.
 pub struct Signature {

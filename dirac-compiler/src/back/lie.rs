@@ -9,12 +9,12 @@ use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 use syn::{Ident, ItemFn};
 
-use crate::ast::lie::SymmetryKind;
-use crate::ast::signature::Signature;
-use crate::codegen::backend::{stepper_fns, SteppedFns};
-use crate::codegen::impls;
-use crate::codegen::items::{camel_case, param_struct, user_function};
-use crate::codegen::lints;
+use crate::back::backend::{stepper_fns, SteppedFns};
+use crate::back::impls;
+use crate::back::items::{camel_case, param_struct, user_function};
+use crate::back::lints;
+use crate::front::lie::SymmetryKind;
+use crate::front::signature::Signature;
 use crate::ir::graph::{Graph, Sym};
 use crate::ir::group::{Kind, Paths};
 use crate::ir::lie::{LieCode, LieSpec};
@@ -48,13 +48,13 @@ pub fn generate(
         other => unreachable!("the step reads q_k, z, p_k and parameters, not {other:?}"),
     };
     let fns = stepper_fns(g, &code.stepper, &leaf, n, n);
-    let retract = crate::codegen::emit::straight_line(g, &code.retract, &leaf);
+    let retract = crate::back::emit::straight_line(g, &code.retract, &leaf);
     let (retract_stmts, retract_out) = (&retract.stmts, &retract.outputs);
     let solver_new = &fns.solver_new;
     let step_methods = step_methods("", &fns, p, n);
     let partials_fn = code.partials.as_ref().map(|parts| {
         let roots: Vec<_> = parts.blocks.iter().flatten().flatten().copied().collect();
-        let line = crate::codegen::emit::straight_line(g, &roots, &leaf);
+        let line = crate::back::emit::straight_line(g, &roots, &leaf);
         let stmts = &line.stmts;
         let mut outputs = line.outputs.iter();
         let names = ["r_w", "r_y", "r_u", "o_w", "o_y", "o_u"];
@@ -154,7 +154,7 @@ pub fn generate(
                     * #na::Matrix3::new( #( q1[#rows] ),* );
             }
         });
-        let code = crate::codegen::emit::straight_line(g, &[code.lagrangian], &|sym| match sym {
+        let code = crate::back::emit::straight_line(g, &[code.lagrangian], &|sym| match sym {
             Sym::Q0(i) => quote! { q0[#i] },
             Sym::Q1(i) => quote! { q1[#i] },
             Sym::Rel(i) => {
@@ -275,11 +275,11 @@ fn adaptive_items(
             unreachable!("the monitor and the level set read q, v and parameters, not {other:?}")
         }
     };
-    let monitor = crate::codegen::emit::straight_line(g, &[adapt.monitor], &leaf);
+    let monitor = crate::back::emit::straight_line(g, &[adapt.monitor], &leaf);
     let (monitor_stmts, monitor_out) = (&monitor.stmts, &monitor.outputs[0]);
     let mut roots = vec![adapt.monitor];
     roots.extend(&adapt.momentum);
-    let level = crate::codegen::emit::straight_line(g, &roots, &leaf);
+    let level = crate::back::emit::straight_line(g, &roots, &leaf);
     let (level_stmts, level_monitor, level_p) =
         (&level.stmts, &level.outputs[0], &level.outputs[1..]);
     let entries = spec.coords.iter().flat_map(|c| {

@@ -9,14 +9,14 @@ use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 use syn::{Ident, ItemFn};
 
-use crate::ast::element::constraints::ConstraintSplit;
-use crate::ast::element::families::FamilySpec;
-use crate::ast::element::index::Index;
-use crate::ast::element::{Dim, ElementSpec};
-use crate::codegen::emit::straight_line;
-use crate::codegen::impls;
-use crate::codegen::items::{camel_case, user_function};
-use crate::codegen::lints;
+use crate::back::emit::straight_line;
+use crate::back::impls;
+use crate::back::items::{camel_case, user_function};
+use crate::back::lints;
+use crate::front::element::constraints::ConstraintSplit;
+use crate::front::element::families::FamilySpec;
+use crate::front::element::index::Index;
+use crate::front::element::{Dim, ElementSpec};
 use crate::ir::element::{ConstraintCode, ElementCode};
 use crate::ir::graph::{NodeId, Sym};
 
@@ -268,7 +268,7 @@ pub fn generate(
         let doc = format!("The coordinate `{name}`.");
         quote!(#[doc = #doc] pub #name: #t)
     });
-    let dim_of = |c: &crate::ast::element::ElementCoord, k: usize| match &c.dims[k] {
+    let dim_of = |c: &crate::front::element::ElementCoord, k: usize| match &c.dims[k] {
         Dim::Size(s) => {
             let s = &sizes[*s];
             quote!(self.#s)

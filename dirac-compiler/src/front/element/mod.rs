@@ -25,9 +25,9 @@ use syn::parse::{Parse, ParseStream};
 use syn::punctuated::Punctuated;
 use syn::{Expr, Ident, ItemFn, Token};
 
-use crate::ast::rule::{Rule, RULES};
-use crate::ast::signature::{parse_signature, Signature};
 use crate::ctxt::Ctxt;
+use crate::front::rule::{Rule, RULES};
+use crate::front::signature::{parse_signature, Signature};
 use crate::symbol::{
     self, KeyArg, CONNECTION, CONSTRAINTS, CONTROLS, COORDINATES, FORCE, GROUP, NAME, NONHOLONOMIC,
     RANGES, RULE, SHAPE, STEP, TRANSLATE,
@@ -245,7 +245,7 @@ pub fn parse(cx: &Ctxt, args: proc_macro2::TokenStream, func: &ItemFn) -> Option
         rule_key.as_ref(),
         rule_key.is_some(),
     )?;
-    crate::ast::signature::check_controls(cx, &controls, &sig);
+    crate::front::signature::check_controls(cx, &controls, &sig);
     if let (Some(c), false) = (&constraints, sig.continuous) {
         cx.error_spanned_by(
             c.or1_token,

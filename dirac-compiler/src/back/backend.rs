@@ -5,7 +5,7 @@
 use proc_macro2::TokenStream;
 use quote::quote;
 
-use crate::codegen::emit::straight_line;
+use crate::back::emit::straight_line;
 use crate::ir::graph::{Graph, NodeId, Sym};
 use crate::ir::reduce::Stepper;
 
@@ -18,7 +18,7 @@ pub const DENSE_MAX: usize = 16;
 
 /// The linear algebra of a step, chosen by size (see [`DENSE_MAX`]): it fixes the types of the
 /// Jacobian and of the solver in the impls' signatures, so the table of
-/// [`crate::codegen::impls`] needs it for stubs too.
+/// [`crate::back::impls`] needs it for stubs too.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Backend {
     /// `Lu<N>` on an `SMatrix<f64, N, N>`.

@@ -7,9 +7,9 @@ use std::collections::HashMap;
 use proc_macro2::TokenStream;
 use quote::quote;
 
-use crate::codegen::backend::residual_jacobian;
-use crate::codegen::emit::straight_line;
-use crate::codegen::impls::{self, Bodies, Target};
+use crate::back::backend::residual_jacobian;
+use crate::back::emit::straight_line;
+use crate::back::impls::{self, Bodies, Target};
 use crate::ir::discretize::Continuous;
 use crate::ir::graph::{Graph, NodeId, Sym};
 

@@ -1,6 +1,6 @@
 //! `#[chart_transition]`'s back end: the struct, its `FROM`/`TO` constants and
 //! `impl ChartTransition` with straight-line `φ` and `Dφ`, through the table of
-//! [`crate::codegen::impls`] (so the stubs after an error have the same signatures).
+//! [`crate::back::impls`] (so the stubs after an error have the same signatures).
 
 use std::collections::HashMap;
 
@@ -8,10 +8,10 @@ use proc_macro2::TokenStream;
 use quote::quote;
 use syn::{Ident, ItemFn};
 
-use crate::ast::transition::TransitionSpec;
-use crate::codegen::emit::straight_line;
-use crate::codegen::impls::{self, Bodies};
-use crate::codegen::items::camel_case;
+use crate::back::emit::straight_line;
+use crate::back::impls::{self, Bodies};
+use crate::back::items::camel_case;
+use crate::front::transition::TransitionSpec;
 use crate::ir::graph::Sym;
 use crate::ir::transition::Transition;
 
@@ -23,7 +23,7 @@ pub fn type_name(spec: Option<&TransitionSpec>, func: &ItemFn) -> Ident {
 
 /// The coordinate names of both charts, shape then group.
 fn chart_names(spec: &TransitionSpec) -> (Vec<String>, Vec<String>) {
-    let names = |side: &crate::ast::transition::Side| -> Vec<String> {
+    let names = |side: &crate::front::transition::Side| -> Vec<String> {
         side.shape
             .iter()
             .chain(&side.group)

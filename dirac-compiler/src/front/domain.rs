@@ -5,8 +5,8 @@
 use syn::punctuated::Punctuated;
 use syn::{Expr, Ident, Token};
 
-use crate::ast::layout::Layout;
 use crate::ctxt::Ctxt;
+use crate::front::layout::Layout;
 
 /// What `domain(...)` accepts, for its messages.
 pub const DOMAIN_ACCEPTED: &str = "`domain(<coordinate> <op> <number>, ...)`: each entry bounds one coordinate by a number \
@@ -251,7 +251,7 @@ pub(crate) fn domain_bounds(cx: &Ctxt, layout: &Layout, entry: &DomainEntry) -> 
     let mut bounds = Vec::new();
     for i in components {
         match layout.components.get(offset + i) {
-            Some(crate::ast::layout::Component::Var(j)) => bounds.push(DomainBound {
+            Some(crate::front::layout::Component::Var(j)) => bounds.push(DomainBound {
                 coordinate: *j,
                 relation: entry.relation,
                 value: entry.value,

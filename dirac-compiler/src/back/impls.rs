@@ -15,8 +15,8 @@ use proc_macro2::TokenStream;
 use quote::quote;
 use syn::Ident;
 
-use crate::codegen::backend::Backend;
-use crate::codegen::lints;
+use crate::back::backend::Backend;
+use crate::back::lints;
 use crate::ir::reduce::Side;
 
 /// What every emitted impl shares: the type, the dimensions, the paths, how parameters are read.
@@ -337,7 +337,7 @@ pub struct Model<'a> {
     /// Adaptive steps: the index of the time coordinate in the family's list.
     pub time: Option<usize>,
     /// The declared bounds (`domain(..)`), empty for none.
-    pub domain: &'a [crate::ast::attr::DomainBound],
+    pub domain: &'a [crate::front::attr::DomainBound],
 }
 
 /// `impl System for Type`, the one impl of the system model every family emits (flat, on

@@ -6,10 +6,10 @@ use quote::quote;
 use syn::parse::Parser;
 use syn::{Ident, ItemFn};
 
-use crate::ast::layout::Coord;
-use crate::ast::signature::Signature;
-use crate::ast::Spec;
-use crate::codegen::lints;
+use crate::back::lints;
+use crate::front::layout::Coord;
+use crate::front::signature::Signature;
+use crate::front::Spec;
 
 /// The emitted type's name: `name = ..`, or the function's name in CamelCase.
 pub fn type_name(spec: &Spec, func: &ItemFn) -> Ident {

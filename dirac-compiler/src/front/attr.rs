@@ -25,7 +25,7 @@
 //! ```
 //!
 //! A coordinate may be an array of constant length, `shape(x[199], y)`, read in the body as
-//! `q0.x[i]`. Or the symmetry is declared on the user's own coordinates (see [`crate::ast::layout::Layout`]):
+//! `q0.x[i]`. Or the symmetry is declared on the user's own coordinates (see [`crate::front::layout::Layout`]):
 //!
 //! ```text
 //! #[reduced_lagrangian(coordinates(x[4], y[4]), translate(x), translate(y))]
@@ -41,17 +41,17 @@ use syn::parse::{Parse, ParseStream};
 use syn::punctuated::Punctuated;
 use syn::{Expr, Ident, Token};
 
-use crate::ast::domain::{domain_bounds, domain_entries, DomainEntry};
-use crate::ast::layout::{Coord, GroupDecl, Layout, MAX_COMPONENTS};
-use crate::ast::ranges::{parse_ranges, Range, RangeArg, RANGES as RANGES_ACCEPTED};
-use crate::ast::rule::{Rule, RULES};
 use crate::ctxt::Ctxt;
+use crate::front::domain::{domain_bounds, domain_entries, DomainEntry};
+use crate::front::layout::{Coord, GroupDecl, Layout, MAX_COMPONENTS};
+use crate::front::ranges::{parse_ranges, Range, RangeArg, RANGES as RANGES_ACCEPTED};
+use crate::front::rule::{Rule, RULES};
 use crate::symbol::{
     self, KeyArg, Symbol, ADAPT, CONNECTION, CONSTRAINTS, CONTROLS, COORDINATES, DOMAIN, FORCE,
     GROUP, NAME, NONHOLONOMIC, RANGES, RULE, SHAPE, STEP, TIME, TRANSLATE,
 };
 
-pub use crate::ast::domain::{DomainBound, DomainRelation, DOMAIN_ACCEPTED};
+pub use crate::front::domain::{DomainBound, DomainRelation, DOMAIN_ACCEPTED};
 
 const KEYS: &str = "`shape(...)`, `group(...)` (or `coordinates(...)` with `translate(...)`), `connection = [[...], ...]`, `step = <parameter>`, `name = <TypeName>`, `rule = midpoint | trapezoid | left | right`, `ranges(<name> = (lo, hi), ...)`, `controls(<parameter>, ...)`, `force = |dq| <virtual work>` (or `|dq0, dq1|` for a discrete Lagrangian) `constraints = |q| [<φ_1>, ...]` or `nonholonomic = |q, v| [<A_1(q) v>, ...]`, `time(t), adapt = |q| <monitor>` (adaptive steps), `domain(<coordinate> > <number>, ...)`";
 

@@ -5,9 +5,9 @@ use syn::parse::{Parse, ParseStream};
 use syn::punctuated::Punctuated;
 use syn::{Expr, Ident, Token};
 
-use crate::ast::signature::Signature;
-use crate::ast::Spec;
 use crate::ctxt::Ctxt;
+use crate::front::signature::Signature;
+use crate::front::Spec;
 
 /// What `ranges(...)` accepts, for error messages.
 pub const RANGES: &str = "`ranges(name = (lo, hi), ...)` with a parameter or coordinate name and finite f64 literals lo < hi, e.g. `ranges(h = (0.001, 0.1))`";

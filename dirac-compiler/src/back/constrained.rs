@@ -8,10 +8,10 @@ use std::collections::HashMap;
 use proc_macro2::TokenStream;
 use quote::quote;
 
-use crate::codegen::backend::{stepper_fns, Backend};
-use crate::codegen::emit::straight_line;
-use crate::codegen::impls::{Bodies, ImplBlock, Item, Kind, Target};
-use crate::codegen::lints;
+use crate::back::backend::{stepper_fns, Backend};
+use crate::back::emit::straight_line;
+use crate::back::impls::{Bodies, ImplBlock, Item, Kind, Target};
+use crate::back::lints;
 use crate::ir::compile::Compiled;
 use crate::ir::constraint::ConstrainedCode;
 use crate::ir::graph::Sym;

@@ -20,8 +20,8 @@ use syn::parse::{Parse, ParseStream};
 use syn::punctuated::Punctuated;
 use syn::{Expr, Ident, Token};
 
-use crate::ast::rule::Rule;
 use crate::ctxt::Ctxt;
+use crate::front::rule::Rule;
 use crate::symbol::{
     self, KeyArg, Symbol, ADAPT, AXIS, CONTROLS, FORCE, GROUP, GROUP_COORDINATES, NAME, RULE,
     SHAPE, STEP, SYMMETRY, TIME,
@@ -283,7 +283,7 @@ pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieAttr> {
     }
     let rule_written = items.iter().any(|LieItem(i)| i.key() == RULE);
     let symmetry = symmetry.and_then(|(key, list)| parse_symmetry(cx, &coords, key, list));
-    let adapt = crate::ast::attr::pair_adapt(cx, time, adapt).and_then(|(t, k, monitor)| {
+    let adapt = crate::front::attr::pair_adapt(cx, time, adapt).and_then(|(t, k, monitor)| {
         match coords.iter().position(|c| c.name == t) {
             Some(coord) if coords[coord].kind == GROUP => {
                 if rule.is_none() {
@@ -301,7 +301,7 @@ pub fn parse(cx: &Ctxt, args: TokenStream) -> Option<LieAttr> {
                 })
             }
             _ => {
-                cx.error_spanned_by(&t, crate::ast::attr::not_group_time(&t));
+                cx.error_spanned_by(&t, crate::front::attr::not_group_time(&t));
                 None
             }
         }
