@@ -460,8 +460,7 @@ where
         at: StepAt<'_>,
         state: &ReducedState<S, K>,
     ) -> Result<Option<f64>, StepError> {
-        let owned = system_at(&self.system, at.k, at.h, at.u)?;
-        Ok(owned.as_ref().unwrap_or(&self.system).monitor(&state.x))
+        flat_monitor(&self.system, at, &state.x)
     }
 
     fn workspace(&self) -> Self::Workspace {
@@ -500,6 +499,21 @@ where
             .push((next.x - state.x, step.group_unknown), h);
         Ok((next, step))
     }
+}
+
+/// `g(x)` at the shape `x` for the system of the step `at` ([`system_at`]: the system itself,
+/// or a copy with the step's size and controls): what the flat families' [`Stepper::monitor`]
+/// gives.
+pub(crate) fn flat_monitor<L, const S: usize, const K: usize, const N: usize>(
+    sys: &L,
+    at: StepAt<'_>,
+    x: &SVector<f64, S>,
+) -> Result<Option<f64>, StepError>
+where
+    L: crate::DiscreteLagrangian<S, K, N>,
+{
+    let owned = system_at(sys, at.k, at.h, at.u)?;
+    Ok(owned.as_ref().unwrap_or(sys).monitor(x))
 }
 
 /// The declared domain ([`crate::domain`]) at the configuration `(x, g)` of a reduced state.

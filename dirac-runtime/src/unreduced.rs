@@ -6,7 +6,7 @@ use nalgebra::{SMatrix, SVector};
 use crate::error::{StepError, Steps};
 use crate::linalg::Lu;
 use crate::newton::{self, inf_norm, NewtonOptions};
-use crate::reduced::trajectory_accessors;
+use crate::reduced::{flat_monitor, trajectory_accessors};
 use crate::sensitivity::Sensitivity;
 use crate::state::UnreducedState;
 use crate::stepper::{
@@ -213,9 +213,7 @@ where
 
     /// `g(x)` at the shape `x`, the first `S` coordinates of `q`.
     fn monitor(&self, at: StepAt<'_>, state: &UnreducedState<N>) -> Result<Option<f64>, StepError> {
-        let owned = system_at(&self.system, at.k, at.h, at.u)?;
-        let x = state.q.fixed_rows::<S>(0).into_owned();
-        Ok(owned.as_ref().unwrap_or(&self.system).monitor(&x))
+        flat_monitor(&self.system, at, &state.q.fixed_rows::<S>(0).into_owned())
     }
 
     fn workspace(&self) -> Self::Workspace {

@@ -5,9 +5,59 @@
 use super::pass::{gather, split_scratch, with_scratch, with_width, Width, WithWidth};
 use super::{scratch_len, ElementLagrangian, Family, FamilyVisitor};
 
+/// What a scalar pass sums per element, with the vectors it reads (each of the system's
+/// dimension).
+#[derive(Clone, Copy)]
+enum PerElement<'a> {
+    /// The element value `L_d^e(q0, q1)`.
+    Value { q0: &'a [f64], q1: &'a [f64] },
+    /// The element energy at the midpoint rule's point of `TQ`,
+    /// `E^e((q0 + q1)/2, (q1 − q0)/h)` (§7.2.1).
+    Midpoint {
+        q0: &'a [f64],
+        q1: &'a [f64],
+        h: f64,
+    },
+    /// The element energy `E^e(q, v)` at a point of `TQ`.
+    EnergyAt { q: &'a [f64], v: &'a [f64] },
+}
+
+impl PerElement<'_> {
+    /// The element's scalar: its stencil values gathered into `a0`, `a1` (scratch of its width;
+    /// `st` the element's checked stencil) and the family's value or energy on them.
+    fn eval<F: Family>(
+        self,
+        f: &F,
+        indices: &[i64],
+        st: &[usize],
+        a0: &mut [f64],
+        a1: &mut [f64],
+    ) -> f64 {
+        match self {
+            Self::Value { q0, q1 } => {
+                gather(q0, st, a0);
+                gather(q1, st, a1);
+                f.value(indices, a0, a1)
+            }
+            Self::Midpoint { q0, q1, h } => {
+                for (a, &g) in st.iter().enumerate() {
+                    a0[a] = 0.5 * (q0[g] + q1[g]);
+                    a1[a] = (q1[g] - q0[g]) / h;
+                }
+                f.energy(indices, a0, a1)
+            }
+            Self::EnergyAt { q, v } => {
+                gather(q, st, a0);
+                gather(v, st, a1);
+                f.energy(indices, a0, a1)
+            }
+        }
+    }
+}
+
 /// Sums a per-element scalar over every element, serially, in order.
-struct Scalar<G> {
-    element: G,
+struct Scalar<'a> {
+    element: PerElement<'a>,
     /// The number of coordinates: an element reading outside is an error.
     n: usize,
     total: f64,
@@ -15,22 +65,9 @@ struct Scalar<G> {
     invalid: Option<String>,
 }
 
-/// What a scalar pass evaluates per element: its stencil values in `q0` and `q1` (`st` the
-/// element's checked stencil; `a0`, `a1` scratch of its width).
-trait ElementScalar {
-    fn eval<F: Family>(
-        &self,
-        f: &F,
-        indices: &[i64],
-        st: &[usize],
-        a0: &mut [f64],
-        a1: &mut [f64],
-    ) -> f64;
-}
-
-impl<G: ElementScalar> FamilyVisitor for Scalar<G> {
+impl FamilyVisitor for Scalar<'_> {
     fn family<F: Family>(&mut self, family: &F) {
-        let (element, n, w) = (&self.element, self.n, family.width());
+        let (element, n, w) = (self.element, self.n, family.width());
         let mut total = self.total;
         let invalid = &mut self.invalid;
         with_scratch(w, 2 * w, |st, values| {
@@ -52,72 +89,9 @@ impl<G: ElementScalar> FamilyVisitor for Scalar<G> {
     }
 }
 
-struct Value<'a> {
-    q0: &'a [f64],
-    q1: &'a [f64],
-}
-
-impl ElementScalar for Value<'_> {
-    fn eval<F: Family>(
-        &self,
-        f: &F,
-        indices: &[i64],
-        st: &[usize],
-        a0: &mut [f64],
-        a1: &mut [f64],
-    ) -> f64 {
-        gather(self.q0, st, a0);
-        gather(self.q1, st, a1);
-        f.value(indices, a0, a1)
-    }
-}
-
-struct Energy<'a> {
-    q0: &'a [f64],
-    q1: &'a [f64],
-    h: f64,
-}
-
-impl ElementScalar for Energy<'_> {
-    fn eval<F: Family>(
-        &self,
-        f: &F,
-        indices: &[i64],
-        st: &[usize],
-        q: &mut [f64],
-        v: &mut [f64],
-    ) -> f64 {
-        for (a, &g) in st.iter().enumerate() {
-            q[a] = 0.5 * (self.q0[g] + self.q1[g]);
-            v[a] = (self.q1[g] - self.q0[g]) / self.h;
-        }
-        f.energy(indices, q, v)
-    }
-}
-
-struct EnergyAt<'a> {
-    q: &'a [f64],
-    v: &'a [f64],
-}
-
-impl ElementScalar for EnergyAt<'_> {
-    fn eval<F: Family>(
-        &self,
-        f: &F,
-        indices: &[i64],
-        st: &[usize],
-        a0: &mut [f64],
-        a1: &mut [f64],
-    ) -> f64 {
-        gather(self.q, st, a0);
-        gather(self.v, st, a1);
-        f.energy(indices, a0, a1)
-    }
-}
-
 /// The sum of `element` over every element, or the first element that reads outside the
 /// coordinates. The callers check the vectors' lengths against the system's dimension.
-fn scalar<L: ElementLagrangian, G: ElementScalar>(system: &L, element: G) -> Result<f64, String> {
+fn scalar<L: ElementLagrangian>(system: &L, element: PerElement<'_>) -> Result<f64, String> {
     let mut visit = Scalar {
         element,
         n: system.dim(),
@@ -134,7 +108,7 @@ pub(super) fn value<L: ElementLagrangian>(
     q0: &[f64],
     q1: &[f64],
 ) -> Result<f64, String> {
-    scalar(system, Value { q0, q1 })
+    scalar(system, PerElement::Value { q0, q1 })
 }
 
 /// `E((q0 + q1)/2, (q1 − q0)/h)`, the sum of the element energies (`q0`, `q1` of the system's
@@ -145,7 +119,7 @@ pub(super) fn energy<L: ElementLagrangian>(
     q1: &[f64],
     h: f64,
 ) -> Result<f64, String> {
-    scalar(system, Energy { q0, q1, h })
+    scalar(system, PerElement::Midpoint { q0, q1, h })
 }
 
 /// `E(q, v)`, the sum of the element energies at a point of `TQ` (`q`, `v` of the system's
@@ -155,7 +129,7 @@ pub(super) fn energy_at<L: ElementLagrangian>(
     q: &[f64],
     v: &[f64],
 ) -> Result<f64, String> {
-    scalar(system, EnergyAt { q, v })
+    scalar(system, PerElement::EnergyAt { q, v })
 }
 
 /// The impulse of the forces on one translation's orbit over a step: `Σ_e Σ_a (f_d^{e−} +
