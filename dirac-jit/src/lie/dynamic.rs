@@ -10,7 +10,7 @@ use dirac_runtime::lie::{
 };
 use dirac_runtime::linalg::{CscBuffer, DynPatternLu};
 use dirac_runtime::nalgebra::allocator::Allocator;
-use dirac_runtime::nalgebra::{Const, DMatrix, DVector, DefaultAllocator, Dim, Dyn, OVector};
+use dirac_runtime::nalgebra::{Const, DVector, DefaultAllocator, Dim, Dyn, OVector};
 use dirac_runtime::Form;
 
 use super::{JitLie, LieCode, Reduced, Reduction, Unreduced};
@@ -123,23 +123,12 @@ impl<R> DynJitLie<R> {
         &self.code
     }
 
-    /// Calls `kernel` on the parameters and `args`, writing its outputs at `out`.
+    /// Calls `kernel` on the parameters and `args`, writing its outputs into `out`
+    /// ([`LieCode::call_into`]: `out`'s length is the kernel's number of outputs at every call
+    /// site, checked in debug builds).
     fn call_into(&self, kernel: Kernel, args: [*const f64; 3], out: &mut [f64]) {
-        // SAFETY: every kernel reads only the entries its layout names, which the compiler
-        // bounds by the system's sizes — the lengths of the point and chart vectors every
-        // caller passes (the integrators build them at `dims()`, and refuse a state of other
-        // sizes before a step) — and writes exactly as many `f64` as its program has outputs,
-        // which is `out`'s length at every call site (checked in debug builds).
-        unsafe {
-            kernel(
-                self.values.as_ptr(),
-                args[0],
-                args[1],
-                args[2],
-                UNUSED,
-                out.as_mut_ptr(),
-            );
-        }
+        self.code
+            .call_into(&self.values, kernel, args, out.as_mut_ptr());
     }
 
     /// The state at the configuration `q` with the momenta `p`, each coordinate as the text
@@ -210,13 +199,40 @@ impl<R> DynJitLie<R> {
 
     /// Step kernel `i` at the step's arguments, its `N` outputs into `out`.
     fn step_into(&self, i: usize, reduced: bool, args: [*const f64; 3], out: &mut DVector<f64>) {
-        let kernel = match self.code.kernels.reduced {
-            Some(k) if reduced => k[i],
-            _ => self.code.kernels.step[i],
-        };
         debug_assert_eq!(out.len(), self.code.system.chart_len());
+        let kernel = self.code.step_kernel(i, reduced);
         self.call_into(kernel, args, out.as_mut_slice());
     }
+}
+
+/// The functions of [`LieModel`] or [`SymmetricLieModel`] that are a step's kernels at the
+/// step's arguments `(q_k, p_k, z)`: the residual (kernel 0), the residual with its Jacobian
+/// (kernel 1) and the momentum update (kernel 2), of the unreduced or the reduced step.
+macro_rules! step_kernels {
+    (reduced: $reduced:literal; $jacobian:ident; $($name:ident = $kernel:literal),+) => {
+        fn $jacobian(
+            &self,
+            q_k: &DVector<f64>,
+            p_k: &DVector<f64>,
+            z: &DVector<f64>,
+            r: &mut DVector<f64>,
+            jacobian: &mut Option<CscBuffer>,
+        ) {
+            self.residual_jacobian_of($reduced, step_layout_args(q_k, p_k, z), r, jacobian);
+        }
+
+        $(
+            fn $name(
+                &self,
+                q_k: &DVector<f64>,
+                p_k: &DVector<f64>,
+                z: &DVector<f64>,
+                out: &mut DVector<f64>,
+            ) {
+                self.step_into($kernel, $reduced, step_layout_args(q_k, p_k, z), out);
+            }
+        )+
+    };
 }
 
 crate::model::impl_system! {
@@ -235,15 +251,11 @@ impl<R: Reduction> LieModel<Dyn, Dyn> for DynJitLie<R> {
     }
 
     fn coordinate(&self, i: usize) -> Option<(&str, CoordinateKind)> {
-        let c = self.code.system.coordinates.get(i)?;
-        Some((c.name.as_str(), self.code.kinds[i]))
+        self.code.coordinate(i)
     }
 
     fn monitor(&self, q: &DVector<f64>) -> Option<f64> {
-        let kernel = self.code.kernels.monitor?;
-        let mut out = [0.0];
-        self.call_into(kernel, [q.as_ptr(), UNUSED, UNUSED], &mut out);
-        Some(out[0])
+        self.code.monitor(&self.values, q.as_ptr())
     }
 
     fn linear_solver(&self) -> DynPatternLu {
@@ -257,13 +269,7 @@ impl<R: Reduction> LieModel<Dyn, Dyn> for DynJitLie<R> {
     }
 
     fn lagrangian(&self, q0: &DVector<f64>, q1: &DVector<f64>) -> f64 {
-        let mut out = [0.0];
-        self.call_into(
-            self.code.kernels.lagrangian,
-            [q0.as_ptr(), q1.as_ptr(), UNUSED],
-            &mut out,
-        );
-        out[0]
+        self.code.lagrangian(&self.values, q0.as_ptr(), q1.as_ptr())
     }
 
     fn retract_into(&self, q: &DVector<f64>, z: &DVector<f64>, out: &mut DVector<f64>) {
@@ -275,36 +281,12 @@ impl<R: Reduction> LieModel<Dyn, Dyn> for DynJitLie<R> {
         );
     }
 
-    fn residual_into(
-        &self,
-        q_k: &DVector<f64>,
-        p_k: &DVector<f64>,
-        z: &DVector<f64>,
-        out: &mut DVector<f64>,
-    ) {
-        self.step_into(0, false, step_layout_args(q_k, p_k, z), out);
-    }
-
-    fn residual_jacobian_into(
-        &self,
-        q_k: &DVector<f64>,
-        p_k: &DVector<f64>,
-        z: &DVector<f64>,
-        r: &mut DVector<f64>,
-        jacobian: &mut Option<CscBuffer>,
-    ) {
-        self.residual_jacobian_of(false, step_layout_args(q_k, p_k, z), r, jacobian);
-    }
-
-    fn momentum_into(
-        &self,
-        q_k: &DVector<f64>,
-        p_k: &DVector<f64>,
-        z: &DVector<f64>,
-        out: &mut DVector<f64>,
-    ) {
-        self.step_into(2, false, step_layout_args(q_k, p_k, z), out);
-    }
+    step_kernels!(
+        reduced: false;
+        residual_jacobian_into;
+        residual_into = 0,
+        momentum_into = 2
+    );
 
     fn step_partials(
         &self,
@@ -312,25 +294,8 @@ impl<R: Reduction> LieModel<Dyn, Dyn> for DynJitLie<R> {
         p_k: &DVector<f64>,
         z: &DVector<f64>,
     ) -> Option<LiePartials> {
-        let kernel = self.code.kernels.partials?;
-        let n = self.code.system.chart_len();
-        let u = self.code.system.controls.len();
-        let mut out = vec![0.0; 4 * n * n + 2 * n * u];
-        self.call_into(kernel, step_layout_args(q_k, p_k, z), &mut out);
-        let mut blocks = [n, n, u, n, n, u].into_iter().scan(0, |at, cols| {
-            let block = DMatrix::from_row_slice(n, cols, &out[*at..*at + n * cols]);
-            *at += n * cols;
-            Some(block)
-        });
-        let mut next = || blocks.next().expect("six blocks");
-        Some(LiePartials {
-            r_w: next(),
-            r_y: next(),
-            r_u: next(),
-            o_w: next(),
-            o_y: next(),
-            o_u: next(),
-        })
+        self.code
+            .step_partials(&self.values, step_layout_args(q_k, p_k, z))
     }
 }
 
@@ -343,36 +308,12 @@ impl SymmetricLieModel<Dyn, Dyn> for DynJitLie<Reduced> {
         self.code.system.symmetry.as_ref().is_some_and(|s| s.forced)
     }
 
-    fn reduced_residual_into(
-        &self,
-        q_k: &DVector<f64>,
-        p_k: &DVector<f64>,
-        z: &DVector<f64>,
-        out: &mut DVector<f64>,
-    ) {
-        self.step_into(0, true, step_layout_args(q_k, p_k, z), out);
-    }
-
-    fn reduced_residual_jacobian_into(
-        &self,
-        q_k: &DVector<f64>,
-        p_k: &DVector<f64>,
-        z: &DVector<f64>,
-        r: &mut DVector<f64>,
-        jacobian: &mut Option<CscBuffer>,
-    ) {
-        self.residual_jacobian_of(true, step_layout_args(q_k, p_k, z), r, jacobian);
-    }
-
-    fn reduced_momentum_into(
-        &self,
-        q_k: &DVector<f64>,
-        p_k: &DVector<f64>,
-        z: &DVector<f64>,
-        out: &mut DVector<f64>,
-    ) {
-        self.step_into(2, true, step_layout_args(q_k, p_k, z), out);
-    }
+    step_kernels!(
+        reduced: true;
+        reduced_residual_jacobian_into;
+        reduced_residual_into = 0,
+        reduced_momentum_into = 2
+    );
 }
 
 /// What a front end (Python, the command line) reads of a system on rotation groups given as

@@ -306,6 +306,90 @@ impl LieCode {
     }
 }
 
+impl LieCode {
+    /// Calls `kernel` on the parameter `values` and `args` (a step's `q_k`, `p_k`, `z`, or what
+    /// the kernel's layout names), writing its outputs at `out`: the one call of the kernels of
+    /// [`JitLie`] and [`DynJitLie`].
+    fn call_into(
+        &self,
+        values: &[f64; MAX_PARAMETERS],
+        kernel: Kernel,
+        args: [*const f64; 3],
+        out: *mut f64,
+    ) {
+        // SAFETY: every kernel reads only the entries its layout names, which the compiler
+        // bounds by the system's sizes — the lengths of the point and chart vectors every caller
+        // passes: a `JitLie`'s dimensions are checked equal to the system's on instantiation, and
+        // the integrators build a `DynJitLie`'s vectors at `dims()` and refuse a state of other
+        // sizes before a step — and writes exactly as many `f64` as its program has outputs,
+        // which is the size of the memory at `out` at every call site (a vector of the program's
+        // outputs, or the buffer of the step Jacobian, sized by the backend checked on
+        // instantiation or by the compiler's pattern).
+        unsafe {
+            kernel(values.as_ptr(), args[0], args[1], args[2], UNUSED, out);
+        }
+    }
+
+    /// Step kernel `i` (0 the residual, 1 its Jacobian, 2 the momentum update): the reduced
+    /// step's when `reduced` and the system compiled one, else the unreduced step's, which a
+    /// system without a reduced step solves in its place.
+    fn step_kernel(&self, i: usize, reduced: bool) -> Kernel {
+        match self.kernels.reduced {
+            Some(k) if reduced => k[i],
+            _ => self.kernels.step[i],
+        }
+    }
+
+    /// The coordinate `i`: its name and kind, `None` past the last.
+    fn coordinate(&self, i: usize) -> Option<(&str, CoordinateKind)> {
+        let c = self.system.coordinates.get(i)?;
+        Some((c.name.as_str(), self.kinds[i]))
+    }
+
+    /// `L_d(q0, q1)` at the parameter `values`.
+    fn lagrangian(&self, values: &[f64; MAX_PARAMETERS], q0: *const f64, q1: *const f64) -> f64 {
+        let mut out = 0.0;
+        self.call_into(values, self.kernels.lagrangian, [q0, q1, UNUSED], &mut out);
+        out
+    }
+
+    /// The step monitor `g(q)` at the parameter `values`, `None` in physical time.
+    fn monitor(&self, values: &[f64; MAX_PARAMETERS], q: *const f64) -> Option<f64> {
+        let kernel = self.kernels.monitor?;
+        let mut out = 0.0;
+        self.call_into(values, kernel, [q, UNUSED, UNUSED], &mut out);
+        Some(out)
+    }
+
+    /// The partial derivatives of the step at its arguments `args` (`q_k`, `p_k`, `z`), `None`
+    /// where the compiler emitted none: the kernel's six row-major blocks `∂R̃/∂w`, `∂R̃/∂δ`,
+    /// `∂R̃/∂u`, `∂O/∂w`, `∂O/∂δ`, `∂O/∂u` (`N × N`, `N × N`, `N × m`, ..).
+    fn step_partials(
+        &self,
+        values: &[f64; MAX_PARAMETERS],
+        args: [*const f64; 3],
+    ) -> Option<LiePartials> {
+        let kernel = self.kernels.partials?;
+        let (n, u) = (self.system.chart_len(), self.system.controls.len());
+        let mut out = vec![0.0; 4 * n * n + 2 * n * u];
+        self.call_into(values, kernel, args, out.as_mut_ptr());
+        let mut blocks = [n, n, u, n, n, u].into_iter().scan(0, |at, cols| {
+            let block = DMatrix::from_row_slice(n, cols, &out[*at..*at + n * cols]);
+            *at += n * cols;
+            Some(block)
+        });
+        let mut next = || blocks.next().expect("six blocks");
+        Some(LiePartials {
+            r_w: next(),
+            r_y: next(),
+            r_u: next(),
+            o_w: next(),
+            o_y: next(),
+            o_u: next(),
+        })
+    }
+}
+
 /// Whether a [`JitLie`] is the reduced system ([`Reduced`]: `LieSymmetric`, for
 /// `ReducedLieIntegrator`) or not ([`Unreduced`]): the runtime's [`Form`] as a type. Sealed.
 pub trait Reduction: sealed::Sealed + Send + Sync + 'static {
@@ -370,16 +454,11 @@ impl<const P: usize, const N: usize, B, R> JitLie<P, N, B, R> {
         &self.code
     }
 
-    /// Calls `kernel` on the parameters and `args`, writing its outputs at `out`.
+    /// Calls `kernel` on the parameters and `args`, writing its outputs at `out`
+    /// ([`LieCode::call_into`]: the dimensions `P` and `N` are checked equal to the system's on
+    /// instantiation).
     fn call_into(&self, kernel: Kernel, args: [*const f64; 3], out: *mut f64) {
-        // SAFETY: every kernel reads only the entries its layout names, which the compiler
-        // bounds by the system's dimensions (checked equal to `P` and `N` on instantiation),
-        // and writes exactly as many `f64` as its program has outputs, which is the size of the
-        // memory at `out` at every call site (a vector of the program's outputs, or the buffer
-        // of `Backend::residual_jacobian`, sized by the backend checked on instantiation).
-        unsafe {
-            kernel(self.values.as_ptr(), args[0], args[1], args[2], UNUSED, out);
-        }
+        self.code.call_into(&self.values, kernel, args, out);
     }
 
     /// Calls `kernel`, its `M` outputs as a vector.
@@ -387,16 +466,6 @@ impl<const P: usize, const N: usize, B, R> JitLie<P, N, B, R> {
         let mut out = SVector::<f64, M>::zeros();
         self.call_into(kernel, args, out.as_mut_ptr());
         out
-    }
-
-    /// Step kernel `i` (0 the residual, 1 its Jacobian, 2 the momentum update): the reduced
-    /// step's when `reduced` and the system compiled one, else the unreduced step's, which a
-    /// system without a reduced step solves in its place.
-    fn step_kernel(&self, i: usize, reduced: bool) -> Kernel {
-        match self.code.kernels.reduced {
-            Some(k) if reduced => k[i],
-            _ => self.code.kernels.step[i],
-        }
     }
 
     fn step_args(
@@ -608,7 +677,7 @@ macro_rules! step_kernel {
             z: &SVector<f64, N>,
         ) -> SVector<f64, N> {
             self.call(
-                self.step_kernel($kernel, $reduced),
+                self.code.step_kernel($kernel, $reduced),
                 Self::step_args(q_k, p_k, z),
             )
         }
@@ -624,13 +693,11 @@ impl<const P: usize, const N: usize, B: Backend<N>, R: Reduction> LieLagrangian<
     type Linear = B::Linear;
 
     fn coordinate(&self, i: usize) -> Option<(&str, CoordinateKind)> {
-        let c = self.code.system.coordinates.get(i)?;
-        Some((c.name.as_str(), self.code.kinds[i]))
+        self.code.coordinate(i)
     }
 
     fn monitor(&self, q: &SVector<f64, P>) -> Option<f64> {
-        let kernel = self.code.kernels.monitor?;
-        Some(self.call::<1>(kernel, [q.as_ptr(), UNUSED, UNUSED])[0])
+        self.code.monitor(&self.values, q.as_ptr())
     }
 
     fn linear_solver(&self) -> Self::Linear {
@@ -638,10 +705,7 @@ impl<const P: usize, const N: usize, B: Backend<N>, R: Reduction> LieLagrangian<
     }
 
     fn lagrangian(&self, q0: &SVector<f64, P>, q1: &SVector<f64, P>) -> f64 {
-        self.call::<1>(
-            self.code.kernels.lagrangian,
-            [q0.as_ptr(), q1.as_ptr(), UNUSED],
-        )[0]
+        self.code.lagrangian(&self.values, q0.as_ptr(), q1.as_ptr())
     }
 
     fn retract(&self, q: &SVector<f64, P>, z: &SVector<f64, N>) -> SVector<f64, P> {
@@ -669,24 +733,8 @@ impl<const P: usize, const N: usize, B: Backend<N>, R: Reduction> LieLagrangian<
         p_k: &SVector<f64, N>,
         z: &SVector<f64, N>,
     ) -> Option<LiePartials> {
-        let kernel = self.code.kernels.partials?;
-        let u = self.code.system.controls.len();
-        let mut out = vec![0.0; 4 * N * N + 2 * N * u];
-        self.call_into(kernel, Self::step_args(q_k, p_k, z), out.as_mut_ptr());
-        let mut blocks = [N, N, u, N, N, u].into_iter().scan(0, |at, cols| {
-            let block = DMatrix::from_row_slice(N, cols, &out[*at..*at + N * cols]);
-            *at += N * cols;
-            Some(block)
-        });
-        let mut next = || blocks.next().expect("six blocks");
-        Some(LiePartials {
-            r_w: next(),
-            r_y: next(),
-            r_u: next(),
-            o_w: next(),
-            o_y: next(),
-            o_u: next(),
-        })
+        self.code
+            .step_partials(&self.values, Self::step_args(q_k, p_k, z))
     }
 }
 

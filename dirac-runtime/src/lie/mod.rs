@@ -152,7 +152,7 @@ use crate::error::{StepError, Steps};
 use crate::linalg::LinearSolver;
 use crate::model::System;
 use crate::reduced::trajectory_accessors;
-use crate::stepper::{Collect, StepStats, StepStatsExt};
+use crate::stepper::{Collect, StepStats, StepStatsExt, Stepper};
 
 /// A discrete Lagrangian on `Q = R^m × SO(3)^a × (S²)^b`, with the straight-line functions of
 /// its Lie group variational step (see the [module documentation](self)). `P` is the length of a
@@ -344,17 +344,17 @@ where
     }
 }
 
-/// A trajectory `(q_k, p_k)`, `k = 0..=step_count()`, of a system on rotation groups, at any
-/// size ([`LieTrajectory<P, N>`](LieTrajectory) at fixed sizes).
+/// A trajectory of a system on rotation groups: the states `S` a run stepped through,
+/// `k = 0..=step_count()`, with their times, step sizes and Newton statistics. One type for
+/// both forms of the equations: [`LieTrajectoryOf`] of the unreduced states `(q_k, p_k)`,
+/// [`ReducedLieTrajectoryOf`] of the reduced ones, at any size ([`LieTrajectory<P, N>`](LieTrajectory)
+/// and [`ReducedLieTrajectory<P, N>`](ReducedLieTrajectory) at fixed sizes).
 #[derive(Clone, Debug, PartialEq)]
-pub struct LieTrajectoryOf<P: Dim, N: Dim>
-where
-    DefaultAllocator: Allocator<P> + Allocator<N>,
-{
+pub struct LieTrajectoryIn<S> {
     /// The integrator's time step `h` (the default step of a run).
     pub h: f64,
     /// `states[k]` is the state at `times[k]`.
-    pub states: Vec<LieStateOf<P, N>>,
+    pub states: Vec<S>,
     /// `times[k] = t_k`.
     pub times: Vec<f64>,
     /// `step_sizes[k]` is the size step `k` was taken with, bit for bit as the run passed it to
@@ -366,37 +366,34 @@ where
     pub stats: Vec<StepStats>,
 }
 
-/// A trajectory of a system on rotation groups at fixed sizes (see [`LieTrajectoryOf`]).
+/// A trajectory `(q_k, p_k)` of a system on rotation groups, at any size (see
+/// [`LieTrajectoryIn`]).
+pub type LieTrajectoryOf<P, N> = LieTrajectoryIn<LieStateOf<P, N>>;
+
+/// A trajectory of a system on rotation groups at fixed sizes (see [`LieTrajectoryIn`]).
 pub type LieTrajectory<const P: usize, const N: usize> = LieTrajectoryOf<Const<P>, Const<N>>;
 
-impl<P: Dim, N: Dim> LieTrajectoryOf<P, N>
-where
-    DefaultAllocator: Allocator<P> + Allocator<N>,
-{
-    trajectory_accessors!(LieStateOf<P, N>);
+impl<S> LieTrajectoryIn<S> {
+    trajectory_accessors!(S);
 }
 
-impl<P: Dim, N: Dim> Steps for LieTrajectoryOf<P, N>
-where
-    DefaultAllocator: Allocator<P> + Allocator<N>,
-{
+impl<S> Steps for LieTrajectoryIn<S> {
     fn completed_steps(&self) -> usize {
         self.step_count()
     }
 }
 
-impl<L, P: Dim, N: Dim> Collect<LieIntegratorOf<L, P, N>> for LieTrajectoryOf<P, N>
+/// The trajectory of either integrator on rotation groups, unreduced or reduced (any stepper of
+/// these states that records its Newton statistics).
+impl<St> Collect<St> for LieTrajectoryIn<St::State>
 where
-    L: LieModel<P, N>,
-    DefaultAllocator: Allocator<P> + Allocator<N>,
-    OVector<f64, P>: Send + Sync,
-    OVector<f64, N>: Send + Sync,
+    St: Stepper<Record = StepStats>,
 {
     crate::stepper::collect_steps!(
-        start(integrator: LieIntegratorOf<L, P, N>) {
-            h: integrator.system().time_step(),
+        start(integrator: St) {
+            h: integrator.time_step(),
         },
-        LieStateOf<P, N>,
+        St::State,
         StepStats,
         |stats| *stats
     );

@@ -17,12 +17,76 @@
 //! the code it ran before.
 
 use nalgebra::allocator::Allocator;
-use nalgebra::{Const, DefaultAllocator, Dim, OVector};
+use nalgebra::{Const, DefaultAllocator, Dim, OVector, SVector};
 
 use super::{CoordinateKind, LieLagrangian, LiePartials, LieSymmetric, RotationSymmetry};
 use crate::linalg::LinearSolver;
 use crate::model::System;
 use crate::stepper::same_step;
+
+/// The three functions of a step on the charts — the residual with its Jacobian, then the two
+/// that write one chart vector (the residual, the momentum update) — of the unreduced equations
+/// ([`LieModel`]) or the reduced ones ([`SymmetricLieModel`]), which differ only in their names:
+/// `declare` writes their signatures in a trait, each with its documentation; `forward` writes
+/// them at `Const` sizes for a system compiled in, each assigning what the by-value function of
+/// `$source` ([`LieLagrangian`], [`LieSymmetric`]) that it names returns (inlined: the code that
+/// function is).
+macro_rules! chart_step_functions {
+    (declare {
+        $(#[$jacobian_doc:meta])* $jacobian:ident;
+        $($(#[$doc:meta])* $name:ident),+ $(,)?
+    }) => {
+        $(#[$jacobian_doc])*
+        fn $jacobian(
+            &self,
+            q_k: &OVector<f64, P>,
+            p_k: &OVector<f64, N>,
+            z: &OVector<f64, N>,
+            r: &mut OVector<f64, N>,
+            jacobian: &mut Option<<Self::Linear as LinearSolver>::Matrix>,
+        );
+
+        $(
+            $(#[$doc])*
+            fn $name(
+                &self,
+                q_k: &OVector<f64, P>,
+                p_k: &OVector<f64, N>,
+                z: &OVector<f64, N>,
+                out: &mut OVector<f64, N>,
+            );
+        )+
+    };
+    (forward $source:ident: $jacobian:ident = $by_value_jacobian:ident;
+        $($name:ident = $by_value:ident),+ $(,)?) => {
+        #[inline]
+        fn $jacobian(
+            &self,
+            q_k: &SVector<f64, P>,
+            p_k: &SVector<f64, N>,
+            z: &SVector<f64, N>,
+            r: &mut SVector<f64, N>,
+            jacobian: &mut Option<<Self::Linear as LinearSolver>::Matrix>,
+        ) {
+            let (r_z, j_z) = $source::$by_value_jacobian(self, q_k, p_k, z);
+            *r = r_z;
+            *jacobian = Some(j_z);
+        }
+
+        $(
+            #[inline]
+            fn $name(
+                &self,
+                q_k: &SVector<f64, P>,
+                p_k: &SVector<f64, N>,
+                z: &SVector<f64, N>,
+                out: &mut SVector<f64, N>,
+            ) {
+                *out = $source::$by_value(self, q_k, p_k, z);
+            }
+        )+
+    };
+}
 
 /// A system on rotation groups at sizes `P` (a stored point) and `N` (the chart and the
 /// momentum), fixed ([`Const`]) or chosen at run time ([`nalgebra::Dyn`]): what the integrators
@@ -57,33 +121,15 @@ where
     /// Writes the point `φ_q(z)` into `out`.
     fn retract_into(&self, q: &OVector<f64, P>, z: &OVector<f64, N>, out: &mut OVector<f64, P>);
 
-    /// Writes the step residual `R(z) = D1 L̃(0, z) + p_k` into `out`.
-    fn residual_into(
-        &self,
-        q_k: &OVector<f64, P>,
-        p_k: &OVector<f64, N>,
-        z: &OVector<f64, N>,
-        out: &mut OVector<f64, N>,
-    );
-
-    /// Writes `R(z)` into `r` and its Jacobian into `jacobian` (reusing the memory of a `Some`).
-    fn residual_jacobian_into(
-        &self,
-        q_k: &OVector<f64, P>,
-        p_k: &OVector<f64, N>,
-        z: &OVector<f64, N>,
-        r: &mut OVector<f64, N>,
-        jacobian: &mut Option<<Self::Linear as LinearSolver>::Matrix>,
-    );
-
-    /// Writes the momentum update `p_{k+1}` at `q_{k+1} = φ_{q_k}(z)` into `out`.
-    fn momentum_into(
-        &self,
-        q_k: &OVector<f64, P>,
-        p_k: &OVector<f64, N>,
-        z: &OVector<f64, N>,
-        out: &mut OVector<f64, N>,
-    );
+    chart_step_functions!(declare {
+        /// Writes `R(z)` into `r` and its Jacobian into `jacobian` (reusing the memory of a
+        /// `Some`).
+        residual_jacobian_into;
+        /// Writes the step residual `R(z) = D1 L̃(0, z) + p_k` into `out`.
+        residual_into,
+        /// Writes the momentum update `p_{k+1}` at `q_{k+1} = φ_{q_k}(z)` into `out`.
+        momentum_into,
+    });
 
     /// The partial derivatives of the step that its sensitivity needs, `None` where none were
     /// compiled ([`LieLagrangian::step_partials`]).
@@ -108,33 +154,14 @@ where
     /// Whether the forces act on a coordinate the symmetry moves.
     fn symmetry_forced(&self) -> bool;
 
-    /// [`LieModel::residual_into`] of the reduced step.
-    fn reduced_residual_into(
-        &self,
-        q_k: &OVector<f64, P>,
-        p_k: &OVector<f64, N>,
-        z: &OVector<f64, N>,
-        out: &mut OVector<f64, N>,
-    );
-
-    /// [`LieModel::residual_jacobian_into`] of the reduced step.
-    fn reduced_residual_jacobian_into(
-        &self,
-        q_k: &OVector<f64, P>,
-        p_k: &OVector<f64, N>,
-        z: &OVector<f64, N>,
-        r: &mut OVector<f64, N>,
-        jacobian: &mut Option<<Self::Linear as LinearSolver>::Matrix>,
-    );
-
-    /// [`LieModel::momentum_into`] of the reduced step.
-    fn reduced_momentum_into(
-        &self,
-        q_k: &OVector<f64, P>,
-        p_k: &OVector<f64, N>,
-        z: &OVector<f64, N>,
-        out: &mut OVector<f64, N>,
-    );
+    chart_step_functions!(declare {
+        /// [`LieModel::residual_jacobian_into`] of the reduced step.
+        reduced_residual_jacobian_into;
+        /// [`LieModel::residual_into`] of the reduced step.
+        reduced_residual_into,
+        /// [`LieModel::momentum_into`] of the reduced step.
+        reduced_momentum_into,
+    });
 }
 
 impl<L, const P: usize, const N: usize> LieModel<Const<P>, Const<N>> for L
@@ -178,41 +205,11 @@ where
         *out = LieLagrangian::retract(self, q, z);
     }
 
-    #[inline]
-    fn residual_into(
-        &self,
-        q_k: &OVector<f64, Const<P>>,
-        p_k: &OVector<f64, Const<N>>,
-        z: &OVector<f64, Const<N>>,
-        out: &mut OVector<f64, Const<N>>,
-    ) {
-        *out = LieLagrangian::residual(self, q_k, p_k, z);
-    }
-
-    #[inline]
-    fn residual_jacobian_into(
-        &self,
-        q_k: &OVector<f64, Const<P>>,
-        p_k: &OVector<f64, Const<N>>,
-        z: &OVector<f64, Const<N>>,
-        r: &mut OVector<f64, Const<N>>,
-        jacobian: &mut Option<<Self::Linear as LinearSolver>::Matrix>,
-    ) {
-        let (r_z, j_z) = LieLagrangian::residual_jacobian(self, q_k, p_k, z);
-        *r = r_z;
-        *jacobian = Some(j_z);
-    }
-
-    #[inline]
-    fn momentum_into(
-        &self,
-        q_k: &OVector<f64, Const<P>>,
-        p_k: &OVector<f64, Const<N>>,
-        z: &OVector<f64, Const<N>>,
-        out: &mut OVector<f64, Const<N>>,
-    ) {
-        *out = LieLagrangian::momentum(self, q_k, p_k, z);
-    }
+    chart_step_functions!(
+        forward LieLagrangian: residual_jacobian_into = residual_jacobian;
+        residual_into = residual,
+        momentum_into = momentum,
+    );
 
     #[inline]
     fn step_partials(
@@ -239,41 +236,11 @@ where
         LieSymmetric::symmetry_forced(self)
     }
 
-    #[inline]
-    fn reduced_residual_into(
-        &self,
-        q_k: &OVector<f64, Const<P>>,
-        p_k: &OVector<f64, Const<N>>,
-        z: &OVector<f64, Const<N>>,
-        out: &mut OVector<f64, Const<N>>,
-    ) {
-        *out = LieSymmetric::reduced_residual(self, q_k, p_k, z);
-    }
-
-    #[inline]
-    fn reduced_residual_jacobian_into(
-        &self,
-        q_k: &OVector<f64, Const<P>>,
-        p_k: &OVector<f64, Const<N>>,
-        z: &OVector<f64, Const<N>>,
-        r: &mut OVector<f64, Const<N>>,
-        jacobian: &mut Option<<Self::Linear as LinearSolver>::Matrix>,
-    ) {
-        let (r_z, j_z) = LieSymmetric::reduced_residual_jacobian(self, q_k, p_k, z);
-        *r = r_z;
-        *jacobian = Some(j_z);
-    }
-
-    #[inline]
-    fn reduced_momentum_into(
-        &self,
-        q_k: &OVector<f64, Const<P>>,
-        p_k: &OVector<f64, Const<N>>,
-        z: &OVector<f64, Const<N>>,
-        out: &mut OVector<f64, Const<N>>,
-    ) {
-        *out = LieSymmetric::reduced_momentum(self, q_k, p_k, z);
-    }
+    chart_step_functions!(
+        forward LieSymmetric: reduced_residual_jacobian_into = reduced_residual_jacobian;
+        reduced_residual_into = reduced_residual,
+        reduced_momentum_into = reduced_momentum,
+    );
 }
 
 /// The chart coordinates of a run's last two steps and their sizes, in buffers built once per

@@ -89,10 +89,9 @@ use super::{
     blocks, matrix_at, zeros, LieIntegratorOf, LieLagrangian, LieModel, LieStateOf, LieWorkspaceOf,
     SymmetricLieModel,
 };
-use crate::error::{StepError, Steps};
+use crate::error::StepError;
 use crate::newton::NewtonOptions;
-use crate::reduced::trajectory_accessors;
-use crate::stepper::{Collect, StepAt, StepStats, StepStatsExt, Stepper};
+use crate::stepper::{StepAt, StepStats, Stepper};
 
 /// A rotation symmetry of a system on rotation groups (`symmetry(..)` in the attribute).
 ///
@@ -218,64 +217,14 @@ where
     }
 }
 
-/// A trajectory of a reduced system on rotation groups.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ReducedLieTrajectoryOf<P: Dim, N: Dim>
-where
-    DefaultAllocator: Allocator<P> + Allocator<N>,
-{
-    /// The integrator's time step `h` (the default step of a run).
-    pub h: f64,
-    /// `states[k]` is the state at `times[k]`.
-    pub states: Vec<ReducedLieStateOf<P, N>>,
-    /// `times[k] = t_k`.
-    pub times: Vec<f64>,
-    /// `step_sizes[k]` is the size step `k` was taken with, bit for bit as the run passed it to
-    /// the step: `h` itself for a fixed step, `h_k` with a schedule (the last step shortened to
-    /// land on an end time); with adaptive steps the fictitious step `ε_k` (the physical step is
-    /// `times[k + 1] − times[k]`).
-    pub step_sizes: Vec<f64>,
-    /// Newton statistics of each step.
-    pub stats: Vec<StepStats>,
-}
+/// A trajectory of a reduced system on rotation groups, at any size (see
+/// [`LieTrajectoryIn`](super::LieTrajectoryIn)).
+pub type ReducedLieTrajectoryOf<P, N> = super::LieTrajectoryIn<ReducedLieStateOf<P, N>>;
 
 /// A trajectory of a reduced system on rotation groups at fixed sizes (see
-/// [`ReducedLieTrajectoryOf`]).
+/// [`LieTrajectoryIn`](super::LieTrajectoryIn)).
 pub type ReducedLieTrajectory<const P: usize, const N: usize> =
     ReducedLieTrajectoryOf<Const<P>, Const<N>>;
-
-impl<P: Dim, N: Dim> ReducedLieTrajectoryOf<P, N>
-where
-    DefaultAllocator: Allocator<P> + Allocator<N>,
-{
-    trajectory_accessors!(ReducedLieStateOf<P, N>);
-}
-
-impl<P: Dim, N: Dim> Steps for ReducedLieTrajectoryOf<P, N>
-where
-    DefaultAllocator: Allocator<P> + Allocator<N>,
-{
-    fn completed_steps(&self) -> usize {
-        self.step_count()
-    }
-}
-
-impl<L, P: Dim, N: Dim> Collect<ReducedLieIntegratorOf<L, P, N>> for ReducedLieTrajectoryOf<P, N>
-where
-    L: SymmetricLieModel<P, N>,
-    DefaultAllocator: Allocator<P> + Allocator<N>,
-    OVector<f64, P>: Send + Sync,
-    OVector<f64, N>: Send + Sync,
-{
-    crate::stepper::collect_steps!(
-        start(integrator: ReducedLieIntegratorOf<L, P, N>) {
-            h: integrator.system().time_step(),
-        },
-        ReducedLieStateOf<P, N>,
-        StepStats,
-        |stats| *stats
-    );
-}
 
 /// The reduced integrator of a [`LieSymmetric`] system (see the [module documentation](self)):
 /// the same run API, compositions and checks as [`LieIntegrator`](super::LieIntegratorOf), on [`ReducedLieState`]s.
