@@ -13,6 +13,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use cranelift_jit::JITModule;
+use dirac_compiler::program::Program;
 use dirac_compiler::text::{self, System};
 use dirac_runtime::nalgebra::{SMatrix, SVector};
 use dirac_runtime::DiscreteLagrangian;
@@ -158,13 +159,14 @@ impl Code {
     ) -> Result<Arc<Code>, Error> {
         let s = system.shape.len();
         let mut jit = Jit::new()?;
-        let stepper = |jit: &mut Jit, st: &text::Stepper, layout: Layout| -> Result<_, Error> {
-            Ok([
-                jit.define(&st.residual, layout)?,
-                jit.define(&st.residual_jacobian, layout)?,
-                jit.define(&st.momentum, layout)?,
-                jit.define(&st.residual_momentum, layout)?,
-            ])
+        let stepper = |jit: &mut Jit, st: &text::Stepper, layout: Layout| {
+            let programs = [
+                &st.residual,
+                &st.residual_jacobian,
+                &st.momentum,
+                &st.residual_momentum,
+            ];
+            define_each(jit, programs, layout)
         };
         let ld = jit.define(&system.lagrangian, &ld_layout)?;
         let b = jit.define(&system.connection, &ld_layout)?;
@@ -173,46 +175,27 @@ impl Code {
         let side = |jit: &mut Jit, side: &text::Side| -> Result<_, Error> {
             let l = jit.define(&side.lagrangian, &reduced_lagrangian_layout)?;
             let st = stepper(jit, &side.stepper, &reduced)?;
-            let impulse = side
-                .impulse
-                .as_ref()
-                .map(|p| jit.define(p, &reduced))
-                .transpose()?;
+            let impulse = define_optional(jit, side.impulse.as_ref(), &reduced)?;
             let eliminated = side
                 .eliminated
                 .as_ref()
                 .map(|e| {
-                    Ok::<_, Error>((
-                        [
-                            jit.define(&e.residual, &reduced)?,
-                            jit.define(&e.residual_jacobian, &reduced)?,
-                            jit.define(&e.group, &reduced)?,
-                            jit.define(&e.block, &reduced)?,
-                        ],
-                        e.pays,
-                    ))
+                    let programs = [&e.residual, &e.residual_jacobian, &e.group, &e.block];
+                    Ok::<_, Error>((define_each(jit, programs, &reduced)?, e.pays))
                 })
                 .transpose()?;
-            let partials = side
-                .partials
-                .as_ref()
-                .map(|p| jit.define(p, &reduced))
-                .transpose()?;
+            let partials = define_optional(jit, side.partials.as_ref(), &reduced)?;
             Ok((l, st, impulse, eliminated, partials))
         };
         let plus = side(&mut jit, &system.plus)?;
         let minus = side(&mut jit, &system.minus)?;
         let unreduced = stepper(&mut jit, &system.unreduced, &unreduced_layout)?;
-        let unreduced_partials = system
-            .unreduced_partials
-            .as_ref()
-            .map(|p| jit.define(p, &unreduced_layout))
-            .transpose()?;
-        let hessian = system
-            .hessian
-            .as_ref()
-            .map(|p| jit.define(p, &ld_layout))
-            .transpose()?;
+        let unreduced_partials = define_optional(
+            &mut jit,
+            system.unreduced_partials.as_ref(),
+            &unreduced_layout,
+        )?;
+        let hessian = define_optional(&mut jit, system.hessian.as_ref(), &ld_layout)?;
         let monitor = system
             .adaptive
             .as_ref()
@@ -222,12 +205,13 @@ impl Code {
             .continuous
             .as_ref()
             .map(|c| {
-                Ok::<_, Error>((
-                    jit.define(&c.legendre, &ld_layout)?,
-                    jit.define(&c.energy, &ld_layout)?,
-                    jit.define(&c.lagrangian, &ld_layout)?,
-                    jit.define(&c.legendre_jacobian.residual_jacobian, &ld_layout)?,
-                ))
+                let programs = [
+                    &c.legendre,
+                    &c.energy,
+                    &c.lagrangian,
+                    &c.legendre_jacobian.residual_jacobian,
+                ];
+                define_each(&mut jit, programs, &ld_layout)
             })
             .transpose()?;
         let constrained = system
@@ -265,10 +249,10 @@ impl Code {
             unreduced: stepper_kernels(unreduced),
             unreduced_partials: unreduced_partials.map(|i| k[i]),
             hessian: hessian.map(|i| k[i]),
-            legendre: continuous.map(|(l, _, _, _)| k[l]),
-            energy: continuous.map(|(_, e, _, _)| k[e]),
-            continuous_lagrangian: continuous.map(|(_, _, l, _)| k[l]),
-            legendre_jacobian: continuous.map(|(_, _, _, j)| k[j]),
+            legendre: continuous.map(|[l, _, _, _]| k[l]),
+            energy: continuous.map(|[_, e, _, _]| k[e]),
+            continuous_lagrangian: continuous.map(|[_, _, l, _]| k[l]),
+            legendre_jacobian: continuous.map(|[_, _, _, j]| k[j]),
             monitor: monitor.map(|m| k[m]),
             constrained: constrained.map(|defined| constrained::kernels(defined, &k)),
         };
@@ -296,6 +280,28 @@ impl Code {
             _module: Module(Some(module)),
         }))
     }
+}
+
+/// `jit.define` of each program on one layout: their indices among the defined kernels.
+fn define_each<const M: usize>(
+    jit: &mut Jit,
+    programs: [&Program; M],
+    layout: Layout,
+) -> Result<[usize; M], Error> {
+    let mut defined = [0; M];
+    for (index, program) in defined.iter_mut().zip(programs) {
+        *index = jit.define(program, layout)?;
+    }
+    Ok(defined)
+}
+
+/// `jit.define` of a program the system may not have.
+fn define_optional(
+    jit: &mut Jit,
+    program: Option<&Program>,
+    layout: Layout,
+) -> Result<Option<usize>, Error> {
+    program.map(|p| jit.define(p, layout)).transpose()
 }
 
 impl Code {
@@ -607,26 +613,25 @@ impl<const S: usize, const K: usize, const N: usize, V> JitSystem<S, K, N, V> {
         }
     }
 
+    /// Calls `kernel` on a pair of configuration-sized vectors, `(q0, q1)` or `(q, v)` (the
+    /// layout of `L_d` and of a continuous Lagrangian's kernels), writing into `out` as
+    /// [`Self::call`].
+    fn call_pair<T>(&self, kernel: Kernel, a: &SVector<f64, N>, b: &SVector<f64, N>, out: T) -> T {
+        self.call(kernel, [a.as_ptr(), b.as_ptr(), UNUSED, UNUSED], out)
+    }
+
     /// The Legendre map `p = ∂L/∂v (q, v)` of a continuous Lagrangian; `None` for a discrete
     /// one.
     pub fn legendre(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> Option<SVector<f64, N>> {
         let kernel = self.code.kernels.legendre?;
-        Some(self.call(
-            kernel,
-            [q.as_ptr(), v.as_ptr(), UNUSED, UNUSED],
-            SVector::zeros(),
-        ))
+        Some(self.call_pair(kernel, q, v, SVector::zeros()))
     }
 
     /// The energy `⟨∂L/∂v, v⟩ − L` of a continuous Lagrangian at `(q, v)`; `None` for a
     /// discrete one.
     pub fn energy(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> Option<f64> {
         let kernel = self.code.kernels.energy?;
-        let e: SVector<f64, 1> = self.call(
-            kernel,
-            [q.as_ptr(), v.as_ptr(), UNUSED, UNUSED],
-            SVector::zeros(),
-        );
+        let e: SVector<f64, 1> = self.call_pair(kernel, q, v, SVector::zeros());
         Some(e[0])
     }
 
@@ -661,13 +666,26 @@ impl<const S: usize, const K: usize, const N: usize, V> JitSystem<S, K, N, V> {
         l[0]
     }
 
-    fn reduced_args(
+    /// The arguments of a reduced step's kernel: the step's data `(x_k, w_k, μ_k)` and its
+    /// unknowns, `z = (x_{k+1}, u)` (or `x_{k+1}` alone for the eliminated step).
+    fn reduced_args<const Z: usize>(
         x_k: &SVector<f64, S>,
         w_k: &SVector<f64, S>,
         mu_k: &SVector<f64, K>,
-        z: &SVector<f64, N>,
+        z: &SVector<f64, Z>,
     ) -> [*const f64; 4] {
         [x_k.as_ptr(), w_k.as_ptr(), mu_k.as_ptr(), z.as_ptr()]
+    }
+}
+
+impl<const S: usize, const K: usize, const N: usize, V: Variant<N>> JitSystem<S, K, N, V> {
+    /// What the adaptive guesses read at `q`: the index of the time coordinate in `q`, the
+    /// monitor `g(x)` at the shape of `q`, and the Legendre map's kernel; `None` for a system
+    /// stepped in physical time.
+    fn adaptive_at(&self, q: &SVector<f64, N>) -> Option<(usize, f64, Kernel)> {
+        let time = S + self.time_index()?;
+        let g = self.monitor(&q.fixed_rows::<S>(0).into_owned())?;
+        Some((time, g, self.code.kernels.legendre?))
     }
 }
 
@@ -707,39 +725,24 @@ impl<const S: usize, const K: usize, const N: usize, V: Variant<N>> DiscreteLagr
         p: &SVector<f64, N>,
         h: f64,
     ) -> Option<SVector<f64, N>> {
-        let time = S + self.time_index()?;
-        let g = self.monitor(&q.fixed_rows::<S>(0).into_owned())?;
-        let legendre = self.code.kernels.legendre?;
+        let (time, g, legendre) = self.adaptive_at(q)?;
         dirac_runtime::adaptive::first_increment_of(time, g, q, p, h, |q, v| {
-            self.call(
-                legendre,
-                [q.as_ptr(), v.as_ptr(), UNUSED, UNUSED],
-                SVector::zeros(),
-            )
+            self.call_pair(legendre, q, v, SVector::zeros())
         })
     }
 
     /// As the attribute's ([`dirac_runtime::adaptive::level_set_defect`]), on this system's
     /// Legendre map.
     fn level_set_defect(&self, q: &SVector<f64, N>, p: &SVector<f64, N>) -> Option<(f64, f64)> {
-        let time = S + self.time_index()?;
-        let g = self.monitor(&q.fixed_rows::<S>(0).into_owned())?;
-        let legendre = self.code.kernels.legendre?;
+        let (time, g, legendre) = self.adaptive_at(q)?;
         dirac_runtime::adaptive::level_set_defect_of(time, g, q, p, |q, v| {
-            self.call(
-                legendre,
-                [q.as_ptr(), v.as_ptr(), UNUSED, UNUSED],
-                SVector::zeros(),
-            )
+            self.call_pair(legendre, q, v, SVector::zeros())
         })
     }
 
     fn lagrangian(&self, q0: &SVector<f64, N>, q1: &SVector<f64, N>) -> f64 {
-        let l: SVector<f64, 1> = self.call(
-            self.code.kernels.lagrangian,
-            [q0.as_ptr(), q1.as_ptr(), UNUSED, UNUSED],
-            SVector::zeros(),
-        );
+        let l: SVector<f64, 1> =
+            self.call_pair(self.code.kernels.lagrangian, q0, q1, SVector::zeros());
         l[0]
     }
 

@@ -111,7 +111,7 @@ macro_rules! reduced_impl {
                 let e = self.side($plus).eliminated?;
                 Some(self.call(
                     e.residual,
-                    [x_k.as_ptr(), w_k.as_ptr(), mu_k.as_ptr(), x1.as_ptr()],
+                    Self::reduced_args(x_k, w_k, mu_k, x1),
                     SVector::zeros(),
                 ))
             }
@@ -126,7 +126,7 @@ macro_rules! reduced_impl {
                 let e = self.side($plus).eliminated?;
                 let rj = self.call(
                     e.residual_jacobian,
-                    [x_k.as_ptr(), w_k.as_ptr(), mu_k.as_ptr(), x1.as_ptr()],
+                    Self::reduced_args(x_k, w_k, mu_k, x1),
                     ResidualJacobian {
                         r: SVector::zeros(),
                         j: SMatrix::zeros(),
@@ -145,7 +145,7 @@ macro_rules! reduced_impl {
                 let e = self.side($plus).eliminated?;
                 Some(self.call(
                     e.group,
-                    [x_k.as_ptr(), w_k.as_ptr(), mu_k.as_ptr(), x1.as_ptr()],
+                    Self::reduced_args(x_k, w_k, mu_k, x1),
                     SVector::zeros(),
                 ))
             }
@@ -160,7 +160,7 @@ macro_rules! reduced_impl {
                 let e = self.side($plus).eliminated?;
                 Some(self.call(
                     e.block,
-                    [x_k.as_ptr(), w_k.as_ptr(), mu_k.as_ptr(), x1.as_ptr()],
+                    Self::reduced_args(x_k, w_k, mu_k, x1),
                     SMatrix::zeros(),
                 ))
             }
@@ -279,11 +279,7 @@ impl<const S: usize, const K: usize, const N: usize> LagrangianHessian<S, K, N>
             return (nan, nan, nan);
         };
         // The program lists each block row by row: the memory of its transpose.
-        let blocks = self.call(
-            kernel,
-            [q0.as_ptr(), q1.as_ptr(), UNUSED, UNUSED],
-            [SMatrix::<f64, N, N>::zeros(); 3],
-        );
+        let blocks = self.call_pair(kernel, q0, q1, [SMatrix::<f64, N, N>::zeros(); 3]);
         (
             blocks[0].transpose(),
             blocks[1].transpose(),
