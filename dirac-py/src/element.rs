@@ -22,36 +22,26 @@ use pyo3::types::{PyDict, PyTuple};
 
 use crate::calls::{self, span};
 use crate::ensemble::{self, Member};
+use crate::keywords::{self, Keywords, Method};
 use crate::parquet::{to_parquet, Written};
 use crate::results::by_order;
 use crate::results::{finish, Failed};
 
-/// The keywords of `ElementSystem.run` and `ElementSystem.ensemble`, and of
-/// `ElementSystem.write`.
-const RUN_KEYWORDS: &[&str] = &[
-    "parameters",
-    "steps",
-    "sizes",
-    "q",
-    "p",
-    "method",
-    "order",
-    "tol",
-    "end_time",
-    "schedule",
-];
-const WRITE_KEYWORDS: &[&str] = &[
-    "parameters",
-    "steps",
-    "path",
-    "sizes",
-    "q",
-    "p",
-    "method",
-    "tol",
-    "end_time",
-    "schedule",
-];
+/// `ElementSystem.run`, `write` and `ensemble`: their arguments and options.
+const RUN: Method = Method {
+    name: "ElementSystem.run",
+    positional: &["parameters", "steps", "sizes", "q", "p"],
+    options: keywords::RUN,
+};
+const WRITE: Method = Method {
+    name: "ElementSystem.write",
+    positional: &["parameters", "steps", "path", "sizes", "q", "p"],
+    options: keywords::WRITE,
+};
+const ENSEMBLE: Method = Method {
+    name: "ElementSystem.ensemble",
+    ..RUN
+};
 
 /// What a run is asked for: the system at its sizes, and the run request of every class.
 struct Request {
@@ -265,11 +255,8 @@ impl ElementSystem {
 
     /// Reads and checks a run's request: the parameters, the steps and the sizes (by keyword;
     /// `positional` the arguments after the parameters, the steps or, deprecated, the sizes and
-    /// the steps), the method, the order and the tolerance; the system at these sizes.
-    #[allow(
-        clippy::too_many_arguments,
-        reason = "the Python keyword arguments, one each"
-    )]
+    /// the steps), the options `k` of `function` (an ensemble's: order 2); the system at these
+    /// sizes.
     fn request(
         &self,
         function: &str,
@@ -279,9 +266,7 @@ impl ElementSystem {
             Option<usize>,
             Option<&Bound<'_, PyAny>>,
         ),
-        method: &str,
-        order: u32,
-        tol: Option<f64>,
+        k: &Keywords<'_>,
     ) -> PyResult<Request> {
         let params = crate::inputs::values_of(&self.text().parameters, parameters)?;
         let (mut steps, mut sizes) = (steps, sizes.cloned());
@@ -324,7 +309,10 @@ impl ElementSystem {
         })?;
         let sizes = self.size_values(&sizes)?;
         let system = Compiled::Element(Arc::clone(&self.code));
-        let run = crate::inputs::run_request(&system, method, order, steps, tol)?;
+        let run = match function {
+            "ElementSystem.ensemble" => k.ensemble_request(&system, steps)?,
+            _ => k.request(&system, steps)?,
+        };
         let sys = self
             .code
             .instantiate(&params, &sizes)
@@ -542,11 +530,8 @@ impl ElementSystem {
     /// `TypeError` for a keyword it does not take. The sizes given before the steps, as
     /// positional arguments (`run(parameters, sizes, steps, ..)`), are read with a
     /// `DeprecationWarning`.
-    #[pyo3(signature = (parameters, *positional, steps = None, sizes = None, q = None, p = None, method = "plus", order = 2, tol = None, end_time = None, schedule = None, **other))]
-    #[allow(
-        clippy::too_many_arguments,
-        reason = "the Python keyword arguments, one each"
-    )]
+    #[pyo3(signature = (parameters, *positional, steps = None, sizes = None, q = None, p = None, **keywords))]
+    #[allow(clippy::too_many_arguments, reason = "the Python arguments, one each")]
     fn run<'py>(
         &self,
         py: Python<'py>,
@@ -556,26 +541,10 @@ impl ElementSystem {
         sizes: Option<&Bound<'py, PyAny>>,
         q: Option<&Bound<'py, PyAny>>,
         p: Option<&Bound<'py, PyAny>>,
-        method: &str,
-        order: u32,
-        tol: Option<f64>,
-        end_time: Option<f64>,
-        schedule: Option<Vec<f64>>,
-        other: Option<&Bound<'py, PyDict>>,
+        keywords: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        calls::no_other_keywords("ElementSystem.run", other, &[], RUN_KEYWORDS, |_| None)?;
-        let r = self.request(
-            "ElementSystem.run",
-            parameters,
-            (positional, steps, sizes),
-            method,
-            order,
-            tol,
-        )?;
-        let r = Request {
-            run: crate::inputs::ending(r.run, end_time, schedule)?,
-            sys: r.sys,
-        };
+        let kw = Keywords::read(py, &RUN, keywords, Some(&[]))?;
+        let r = self.request(RUN.name, parameters, (positional, steps, sizes), &kw)?;
         let start = ElementState::new(
             self.vector(&r.sys, "q", required("q", q)?)?,
             self.vector(&r.sys, "p", required("p", p)?)?,
@@ -606,11 +575,8 @@ impl ElementSystem {
     /// constant memory. Returns a dict with `steps`, `t` and `path`; a failed step raises
     /// `StepError` with `step`, `residual` and `path`, the states before it written; Ctrl-C
     /// raises `KeyboardInterrupt` with `steps`, `t` and `path`, the states so far written.
-    #[pyo3(signature = (parameters, steps, path, sizes, q, p, method = "plus", tol = None, end_time = None, schedule = None, **other))]
-    #[allow(
-        clippy::too_many_arguments,
-        reason = "the Python keyword arguments, one each"
-    )]
+    #[pyo3(signature = (parameters, steps, path, sizes, q, p, **keywords))]
+    #[allow(clippy::too_many_arguments, reason = "the Python arguments, one each")]
     fn write<'py>(
         &self,
         py: Python<'py>,
@@ -620,25 +586,16 @@ impl ElementSystem {
         sizes: &Bound<'py, PyAny>,
         q: &Bound<'py, PyAny>,
         p: &Bound<'py, PyAny>,
-        method: &str,
-        tol: Option<f64>,
-        end_time: Option<f64>,
-        schedule: Option<Vec<f64>>,
-        other: Option<&Bound<'py, PyDict>>,
+        keywords: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        calls::no_other_keywords("ElementSystem.write", other, &[], WRITE_KEYWORDS, |_| None)?;
+        let kw = Keywords::read(py, &WRITE, keywords, Some(&[]))?;
+        let no_more = PyTuple::empty(py);
         let r = self.request(
-            "ElementSystem.write",
+            WRITE.name,
             parameters,
-            (&PyTuple::empty(py), Some(steps), Some(sizes)),
-            method,
-            2,
-            tol,
+            (&no_more, Some(steps), Some(sizes)),
+            &kw,
         )?;
-        let r = Request {
-            run: crate::inputs::ending(r.run, end_time, schedule)?,
-            sys: r.sys,
-        };
         let start = ElementState::new(self.vector(&r.sys, "q", q)?, self.vector(&r.sys, "p", p)?);
         let (written, interrupt) = calls::interruptible(py, move |cancel| {
             write_run(r.sys, start, &r.run, &path, cancel)
@@ -653,11 +610,8 @@ impl ElementSystem {
     /// member raises `StepError` (with `member` and `ensemble`) after all have run; Ctrl-C
     /// raises `KeyboardInterrupt` with `ensemble`, the states so far (NaN after each member's
     /// last).
-    #[pyo3(signature = (parameters, steps, sizes, q, p, method = "plus", order = 2, tol = None, end_time = None, schedule = None, **other))]
-    #[allow(
-        clippy::too_many_arguments,
-        reason = "the Python keyword arguments, one each"
-    )]
+    #[pyo3(signature = (parameters, steps, sizes, q, p, **keywords))]
+    #[allow(clippy::too_many_arguments, reason = "the Python arguments, one each")]
     fn ensemble<'py>(
         &self,
         py: Python<'py>,
@@ -666,31 +620,16 @@ impl ElementSystem {
         sizes: &Bound<'py, PyAny>,
         q: &Bound<'py, PyAny>,
         p: &Bound<'py, PyAny>,
-        method: &str,
-        order: u32,
-        tol: Option<f64>,
-        end_time: Option<f64>,
-        schedule: Option<Vec<f64>>,
-        other: Option<&Bound<'py, PyDict>>,
+        keywords: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        calls::no_other_keywords("ElementSystem.ensemble", other, &[], RUN_KEYWORDS, |_| None)?;
-        if order != 2 {
-            return Err(PyValueError::new_err(
-                "ensembles run the integrators themselves (order 2)",
-            ));
-        }
+        let kw = Keywords::read(py, &ENSEMBLE, keywords, Some(&[]))?;
+        let no_more = PyTuple::empty(py);
         let r = self.request(
-            "ElementSystem.ensemble",
+            ENSEMBLE.name,
             parameters,
-            (&PyTuple::empty(py), Some(steps), Some(sizes)),
-            method,
-            order,
-            tol,
+            (&no_more, Some(steps), Some(sizes)),
+            &kw,
         )?;
-        let r = Request {
-            run: crate::inputs::ending(r.run, end_time, schedule)?,
-            sys: r.sys,
-        };
         let given = PyDict::new(py);
         given.set_item("q", q)?;
         given.set_item("p", p)?;

@@ -12,6 +12,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::calls;
+use crate::keywords::{Keywords, Method};
 use crate::System;
 
 /// The parameter values in declaration order, from a mapping (by name) or a sequence.
@@ -51,32 +52,6 @@ pub(crate) fn values_of(names: &[String], params: &Bound<'_, PyAny>) -> PyResult
     } else {
         params.extract::<Vec<f64>>()
     }
-}
-
-/// The run request of every class (`dirac_jit::RunRequest`, checked against the system there):
-/// the equations `method` names in the runtime's one vocabulary, the order, the steps, Newton's
-/// tolerance; what the system cannot run is a `ValueError` saying what it accepts.
-pub(crate) fn run_request(
-    system: &Compiled,
-    method: &str,
-    order: u32,
-    steps: usize,
-    tol: Option<f64>,
-) -> PyResult<RunRequest> {
-    RunRequest::from_keywords(system, method, order, steps, tol)
-        .map_err(|e| PyValueError::new_err(e.to_string()))
-}
-
-/// `r` ending at `end_time` when given (a positive finite time) and stepping through the sizes
-/// `schedule` when given (positive finite sizes, one for each step): else a `ValueError`.
-pub(crate) fn ending(
-    r: RunRequest,
-    end_time: Option<f64>,
-    schedule: Option<Vec<f64>>,
-) -> PyResult<RunRequest> {
-    r.with_end_time(end_time)
-        .and_then(|r| r.with_schedule(schedule))
-        .map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
 /// One start's vectors, each of its length, from keyword arrays: each vector an array of its
@@ -158,46 +133,10 @@ pub(crate) fn unreduced_start<const N: usize>(v: &[Vec<f64>]) -> UnreducedState<
     }
 }
 
-/// The keywords of `System.run`, `System.write`, `System.ensemble` and the benchmark's run
-/// besides the start's vectors.
-pub(crate) const RUN_KEYWORDS: &[&str] = &[
-    "parameters",
-    "steps",
-    "method",
-    "order",
-    "tol",
-    "end_time",
-    "schedule",
-    "energies",
-];
-pub(crate) const WRITE_KEYWORDS: &[&str] = &[
-    "parameters",
-    "steps",
-    "path",
-    "method",
-    "tol",
-    "end_time",
-    "schedule",
-];
-/// `System.run`'s keywords but the last, `energies`.
-pub(crate) const ENSEMBLE_KEYWORDS: &[&str] = RUN_KEYWORDS.split_at(RUN_KEYWORDS.len() - 1).0;
-pub(crate) const CORE_KEYWORDS: &[&str] = &["parameters", "steps"];
-
 impl System {
-    pub(crate) fn request(
-        &self,
-        method: &str,
-        order: u32,
-        steps: usize,
-        tol: Option<f64>,
-    ) -> PyResult<RunRequest> {
-        run_request(
-            &Compiled::Flat(Arc::clone(&self.code)),
-            method,
-            order,
-            steps,
-            tol,
-        )
+    /// The system as the run request checks it.
+    pub(crate) fn compiled(&self) -> Compiled {
+        Compiled::Flat(Arc::clone(&self.code))
     }
 
     /// A `TypeError` for a keyword of `given` (the start's vectors) that is none of the start's
@@ -205,20 +144,23 @@ impl System {
     /// kind of start (`q` for a reduced run) is named as such.
     pub(crate) fn check_start_keywords(
         &self,
-        function: &str,
-        fixed: &[&str],
+        function: &Method<'_>,
         method: Equations,
-        given: Option<&Bound<'_, PyDict>>,
+        given: &Bound<'_, PyDict>,
     ) -> PyResult<()> {
         let parts = self.start_parts(method);
         let names: Vec<&str> = parts.iter().map(|&(name, _)| name).collect();
-        let accepted: Vec<&str> = fixed.iter().copied().chain(names.iter().copied()).collect();
+        let accepted: Vec<&str> = (function.positional.iter())
+            .chain(function.options)
+            .chain(&names)
+            .copied()
+            .collect();
         let this = format!("\"{}\"", method.keyword(Form::Reduced));
         let (other, other_names) = match method.form {
             Form::Unreduced => ("\"plus\" or \"minus\"", "x, w, mu, g"),
             Form::Reduced => ("\"unreduced\"", "q, p"),
         };
-        calls::no_other_keywords(function, given, &names, &accepted, |key| {
+        calls::no_other_keywords(function.name, Some(given), &names, &accepted, |key| {
             let elsewhere = match method.form {
                 Form::Unreduced => ["x", "w", "mu", "g"].contains(&key),
                 Form::Reduced => ["q", "p"].contains(&key),
@@ -268,31 +210,22 @@ pub(crate) struct Inputs {
 }
 
 impl System {
-    /// Reads and checks one run's inputs (the parameters, the method and order, the start, no
-    /// keyword that `function`, taking `keywords` and the start, does not take).
-    #[allow(
-        clippy::too_many_arguments,
-        reason = "the Python keyword arguments, one each"
-    )]
+    /// Reads and checks one run's inputs (the parameters, the request its options `k` make,
+    /// the start, no keyword that `function` does not take).
     pub(crate) fn inputs(
         &self,
-        py: Python<'_>,
-        (function, keywords): (&str, &[&str]),
+        function: &Method<'_>,
         parameters: &Bound<'_, PyAny>,
-        method: &str,
-        order: u32,
+        k: &Keywords<'_>,
         steps: usize,
-        tol: Option<f64>,
-        start: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Inputs> {
-        let request = self.request(method, order, steps, tol)?;
-        self.check_start_keywords(function, keywords, request.equations, start)?;
+        let request = k.request(&self.compiled(), steps)?;
+        self.check_start_keywords(function, request.equations, &k.start)?;
         let params = parameter_values(&self.code, parameters)?;
-        let empty = PyDict::new(py);
         let start = vectors(
             &self.start_parts(request.equations),
             |part| self.part_names(part),
-            start.unwrap_or(&empty),
+            &k.start,
         )?;
         Ok(Inputs {
             params,

@@ -28,6 +28,7 @@ mod constrained;
 mod element;
 mod ensemble;
 mod inputs;
+mod keywords;
 mod lie;
 mod parquet;
 mod results;
@@ -35,10 +36,8 @@ mod runs;
 mod sizes;
 
 use constrained::{run_constrained, run_many_constrained, write_constrained};
-use inputs::{
-    control_names, ending, parameter_values, Inputs, CORE_KEYWORDS, ENSEMBLE_KEYWORDS,
-    RUN_KEYWORDS, WRITE_KEYWORDS,
-};
+use inputs::{control_names, parameter_values, Inputs};
+use keywords::{Keywords, Method, OPTIONS};
 use parquet::written_dict;
 use results::{finish_run, to_dict};
 use runs::{run_many, run_one, time_one, write_one};
@@ -75,6 +74,28 @@ fn composition(order: u32) -> CompositionMethod {
         _ => CompositionMethod::KAHAN_LI_6,
     }
 }
+
+/// `System.run`, `ensemble`, `write` and the benchmark's run: their arguments and options.
+const RUN: Method = Method {
+    name: "System.run",
+    positional: &["parameters", "steps"],
+    options: &OPTIONS,
+};
+const ENSEMBLE: Method = Method {
+    name: "System.ensemble",
+    positional: &["parameters", "steps"],
+    options: keywords::RUN,
+};
+const WRITE: Method = Method {
+    name: "System.write",
+    positional: &["parameters", "steps", "path"],
+    options: keywords::WRITE,
+};
+const CORE: Method = Method {
+    name: "System._core_seconds",
+    positional: &["parameters", "steps"],
+    options: &[],
+};
 
 /// A system given as text, compiled to machine code.
 #[pyclass(frozen, module = "dirac._dirac")]
@@ -255,43 +276,26 @@ impl System {
     /// (steps+1,) arrays (a reduced run's `q` is `x` then `g`, its `p` `(w − Bᵀ μ, μ)` by eq.
     /// (3.7)); a reduced run's `x, w, mu, g`, each (steps+1, length); per step `iterations` and
     /// `residuals`; with `energies=True` (a continuous Lagrangian) `energy` at each state and
-    /// `energy_midpoints`. Raises `StepError`
+    /// `energy_midpoints`. The keywords besides the start: `method="plus"`, `order=2`,
+    /// `tol=None`, `end_time=None`, `schedule=None`, `energies=False`. Raises `StepError`
     /// with the trajectory so far when a step fails, `KeyboardInterrupt` with the trajectory
     /// so far at Ctrl-C, `OutOfMemoryError` (before running) when the trajectory cannot be
     /// allocated, and `TypeError` for a keyword it does not take.
-    #[pyo3(signature = (parameters, steps, method = "plus", order = 2, tol = None, end_time = None, schedule = None, energies = false, **start))]
-    #[allow(
-        clippy::too_many_arguments,
-        reason = "the Python keyword arguments, one each"
-    )]
+    #[pyo3(signature = (parameters, steps, **keywords))]
     fn run<'py>(
         &self,
         py: Python<'py>,
         parameters: &Bound<'py, PyAny>,
         steps: usize,
-        method: &str,
-        order: u32,
-        tol: Option<f64>,
-        end_time: Option<f64>,
-        schedule: Option<Vec<f64>>,
-        energies: bool,
-        start: Option<&Bound<'py, PyDict>>,
+        keywords: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        let kw = Keywords::read(py, &RUN, keywords, None)?;
+        let energies = kw.energies;
         let Inputs {
             params,
             request: r,
             start,
-        } = self.inputs(
-            py,
-            ("System.run", RUN_KEYWORDS),
-            parameters,
-            method,
-            order,
-            steps,
-            tol,
-            start,
-        )?;
-        let r = ending(r, end_time, schedule)?;
+        } = self.inputs(&RUN, parameters, &kw, steps)?;
         if energies && self.code.system().continuous.is_none() {
             return Err(PyValueError::new_err(
                 "energies: a discrete Lagrangian has no continuous energy; write \
@@ -330,38 +334,25 @@ impl System {
     }
 
     /// An ensemble: one run per row of the start arrays (each `(members, length)`, or a dict by
-    /// coordinate of `(members,)` arrays), in parallel on all cores. Returns the same dict as
-    /// `run` with one more leading axis and `failed`, the list of `(member, step, message)`; the
-    /// first failed member raises `StepError` (with `member` set) after all have run. Ctrl-C
-    /// ends every member after its current step and raises `KeyboardInterrupt` with `ensemble`,
-    /// the dict of the states so far (NaN after each member's last).
-    #[pyo3(signature = (parameters, steps, method = "plus", order = 2, tol = None, end_time = None, schedule = None, **starts))]
-    #[allow(
-        clippy::too_many_arguments,
-        reason = "the Python keyword arguments, one each"
-    )]
+    /// coordinate of `(members,)` arrays), in parallel on all cores, with the keywords of `run`
+    /// but `energies`. Returns the same dict as `run` with one more leading axis and `failed`,
+    /// the list of `(member, step, message)`; the first failed member raises `StepError` (with
+    /// `member` set) after all have run. Ctrl-C ends every member after its current step and
+    /// raises `KeyboardInterrupt` with `ensemble`, the dict of the states so far (NaN after
+    /// each member's last).
+    #[pyo3(signature = (parameters, steps, **keywords))]
     fn ensemble<'py>(
         &self,
         py: Python<'py>,
         parameters: &Bound<'py, PyAny>,
         steps: usize,
-        method: &str,
-        order: u32,
-        tol: Option<f64>,
-        end_time: Option<f64>,
-        schedule: Option<Vec<f64>>,
-        starts: Option<&Bound<'py, PyDict>>,
+        keywords: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let r = ending(self.request(method, order, steps, tol)?, end_time, schedule)?;
-        self.check_start_keywords("System.ensemble", ENSEMBLE_KEYWORDS, r.equations, starts)?;
+        let kw = Keywords::read(py, &ENSEMBLE, keywords, None)?;
+        let r = kw.ensemble_request(&self.compiled(), steps)?;
+        self.check_start_keywords(&ENSEMBLE, r.equations, &kw.start)?;
         let params = parameter_values(&self.code, parameters)?;
-        if r.order != 2 {
-            return Err(PyValueError::new_err(
-                "ensembles run the integrators themselves (order 2)",
-            ));
-        }
-        let empty = PyDict::new(py);
-        let per_member: Vec<Vec<Vec<f64>>> = ensemble::member_starts(py, starts.unwrap_or(&empty))?
+        let per_member: Vec<Vec<Vec<f64>>> = ensemble::member_starts(py, &kw.start)?
             .iter()
             .enumerate()
             .map(|(i, start)| {
@@ -403,43 +394,26 @@ impl System {
 
     /// Integrates `steps` steps from one start and writes every state to Apache Parquet at
     /// `path` (a directory of parts; the columns named after the coordinates, the parameters and
-    /// the Newton options in the metadata), streaming, in constant memory. Returns a dict with
-    /// `steps`, `t` (the final time) and `path`. A failed step raises `StepError` with `step`,
-    /// `residual` and `path`, the states before it written; Ctrl-C ends the run after the
-    /// step in progress and raises `KeyboardInterrupt` with `steps`, `t` and `path`, the states
-    /// so far written.
-    #[pyo3(signature = (parameters, steps, path, method = "plus", tol = None, end_time = None, schedule = None, **start))]
-    #[allow(
-        clippy::too_many_arguments,
-        reason = "the Python keyword arguments, one each"
-    )]
+    /// the Newton options in the metadata), streaming, in constant memory, with the keywords of
+    /// `run` but `order` and `energies`. Returns a dict with `steps`, `t` (the final time) and
+    /// `path`. A failed step raises `StepError` with `step`, `residual` and `path`, the states
+    /// before it written; Ctrl-C ends the run after the step in progress and raises
+    /// `KeyboardInterrupt` with `steps`, `t` and `path`, the states so far written.
+    #[pyo3(signature = (parameters, steps, path, **keywords))]
     fn write<'py>(
         &self,
         py: Python<'py>,
         parameters: &Bound<'py, PyAny>,
         steps: usize,
         path: std::path::PathBuf,
-        method: &str,
-        tol: Option<f64>,
-        end_time: Option<f64>,
-        schedule: Option<Vec<f64>>,
-        start: Option<&Bound<'py, PyDict>>,
+        keywords: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        let kw = Keywords::read(py, &WRITE, keywords, None)?;
         let Inputs {
             params,
             request: r,
             start,
-        } = self.inputs(
-            py,
-            ("System.write", WRITE_KEYWORDS),
-            parameters,
-            method,
-            2,
-            steps,
-            tol,
-            start,
-        )?;
-        let r = ending(r, end_time, schedule)?;
+        } = self.inputs(&WRITE, parameters, &kw, steps)?;
         let m = self.constraint_count();
         let (s, k) = self.dims();
         let code = Arc::clone(&self.code);
@@ -470,20 +444,12 @@ impl System {
         steps: usize,
         start: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<f64> {
+        let kw = Keywords::read(py, &CORE, start, None)?;
         let Inputs {
             params,
             request: r,
             start,
-        } = self.inputs(
-            py,
-            ("System._core_seconds", CORE_KEYWORDS),
-            parameters,
-            "plus",
-            2,
-            steps,
-            None,
-            start,
-        )?;
+        } = self.inputs(&CORE, parameters, &kw, steps)?;
         let (s, k) = self.dims();
         let code = Arc::clone(&self.code);
         py.allow_threads(|| dirac_jit::with_dimensions!(s, k, time_one(&code, &params, &start, r)))

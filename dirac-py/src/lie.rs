@@ -28,6 +28,7 @@ use pyo3::types::PyDict;
 
 use crate::calls::{self, span};
 use crate::ensemble::{self, Member};
+use crate::keywords::{self, Keywords, Method};
 use crate::parquet::to_parquet;
 use crate::results::by_order;
 use crate::results::{finish, Failed};
@@ -317,15 +318,9 @@ impl LieSystem {
         (s.point_len(), s.chart_len())
     }
 
-    fn request(
-        &self,
-        method: &str,
-        order: u32,
-        steps: usize,
-        tol: Option<f64>,
-    ) -> PyResult<RunRequest> {
-        let system = Compiled::Lie(Arc::clone(&self.code));
-        crate::inputs::run_request(&system, method, order, steps, tol)
+    /// The system as the run request checks it.
+    fn compiled(&self) -> Compiled {
+        Compiled::Lie(Arc::clone(&self.code))
     }
 
     /// Reads the start: `q` and `p` (or `v`) mappings by coordinate name.
@@ -443,31 +438,21 @@ impl LieSystem {
     }
 }
 
-/// The keywords of `LieSystem.run` and `LieSystem.write`.
-const RUN_KEYWORDS: &[&str] = &[
-    "parameters",
-    "steps",
-    "q",
-    "p",
-    "v",
-    "method",
-    "order",
-    "tol",
-    "end_time",
-    "schedule",
-];
-const WRITE_KEYWORDS: &[&str] = &[
-    "parameters",
-    "steps",
-    "path",
-    "q",
-    "p",
-    "v",
-    "method",
-    "tol",
-    "end_time",
-    "schedule",
-];
+/// `LieSystem.run`, `write` and `ensemble`: their arguments and options.
+const RUN: Method = Method {
+    name: "LieSystem.run",
+    positional: &["parameters", "steps", "q", "p", "v"],
+    options: keywords::RUN,
+};
+const WRITE: Method = Method {
+    name: "LieSystem.write",
+    positional: &["parameters", "steps", "path", "q", "p", "v"],
+    options: keywords::WRITE,
+};
+const ENSEMBLE: Method = Method {
+    name: "LieSystem.ensemble",
+    ..RUN
+};
 
 impl LieSystem {
     /// The bytes one state of a collected run costs until its arrays are returned: the state
@@ -568,11 +553,8 @@ impl LieSystem {
     /// `KeyboardInterrupt` with the trajectory so far at Ctrl-C, `OutOfMemoryError` (before
     /// running) when the trajectory cannot be allocated, and `TypeError` for a keyword it does
     /// not take.
-    #[pyo3(signature = (parameters, steps, q, p = None, v = None, method = "plus", order = 2, tol = None, end_time = None, schedule = None, **other))]
-    #[allow(
-        clippy::too_many_arguments,
-        reason = "the Python keyword arguments, one each"
-    )]
+    #[pyo3(signature = (parameters, steps, q, p = None, v = None, **keywords))]
+    #[allow(clippy::too_many_arguments, reason = "the Python arguments, one each")]
     fn run<'py>(
         &self,
         py: Python<'py>,
@@ -581,17 +563,10 @@ impl LieSystem {
         q: &Bound<'py, PyDict>,
         p: Option<&Bound<'py, PyDict>>,
         v: Option<&Bound<'py, PyDict>>,
-        method: &str,
-        order: u32,
-        tol: Option<f64>,
-        end_time: Option<f64>,
-        schedule: Option<Vec<f64>>,
-        other: Option<&Bound<'py, PyDict>>,
+        keywords: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        calls::no_other_keywords("LieSystem.run", other, &[], RUN_KEYWORDS, |_| None)?;
+        let r = Keywords::read(py, &RUN, keywords, Some(&[]))?.request(&self.compiled(), steps)?;
         let params = crate::inputs::values_of(&self.code.system().parameters, parameters)?;
-        let r =
-            crate::inputs::ending(self.request(method, order, steps, tol)?, end_time, schedule)?;
         let start = self.start(q, p, v)?;
         calls::check_memory(
             || format!("a run of {steps} steps (every state kept)"),
@@ -617,11 +592,8 @@ impl LieSystem {
     /// with `steps`, `t` and `path`; a failed step raises `StepError` with `step`, `residual`
     /// and `path`, the states before it written; Ctrl-C raises `KeyboardInterrupt` with
     /// `steps`, `t` and `path`, the states so far written.
-    #[pyo3(signature = (parameters, steps, path, q, p = None, v = None, method = "plus", tol = None, end_time = None, schedule = None, **other))]
-    #[allow(
-        clippy::too_many_arguments,
-        reason = "the Python keyword arguments, one each"
-    )]
+    #[pyo3(signature = (parameters, steps, path, q, p = None, v = None, **keywords))]
+    #[allow(clippy::too_many_arguments, reason = "the Python arguments, one each")]
     fn write<'py>(
         &self,
         py: Python<'py>,
@@ -631,15 +603,11 @@ impl LieSystem {
         q: &Bound<'py, PyDict>,
         p: Option<&Bound<'py, PyDict>>,
         v: Option<&Bound<'py, PyDict>>,
-        method: &str,
-        tol: Option<f64>,
-        end_time: Option<f64>,
-        schedule: Option<Vec<f64>>,
-        other: Option<&Bound<'py, PyDict>>,
+        keywords: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        calls::no_other_keywords("LieSystem.write", other, &[], WRITE_KEYWORDS, |_| None)?;
+        let r =
+            Keywords::read(py, &WRITE, keywords, Some(&[]))?.request(&self.compiled(), steps)?;
         let params = crate::inputs::values_of(&self.code.system().parameters, parameters)?;
-        let r = crate::inputs::ending(self.request(method, 2, steps, tol)?, end_time, schedule)?;
         let start = self.start(q, p, v)?;
         let (pp, n) = self.dims();
         let code = Arc::clone(&self.code);
@@ -660,11 +628,8 @@ impl LieSystem {
     /// `(member, step, message)`; the first failed member raises `StepError` (with `member` and
     /// `ensemble`) after all have run; Ctrl-C raises `KeyboardInterrupt` with `ensemble`, the
     /// states so far (NaN after each member's last).
-    #[pyo3(signature = (parameters, steps, q, p = None, v = None, method = "plus", order = 2, tol = None, end_time = None, schedule = None, **other))]
-    #[allow(
-        clippy::too_many_arguments,
-        reason = "the Python keyword arguments, one each"
-    )]
+    #[pyo3(signature = (parameters, steps, q, p = None, v = None, **keywords))]
+    #[allow(clippy::too_many_arguments, reason = "the Python arguments, one each")]
     fn ensemble<'py>(
         &self,
         py: Python<'py>,
@@ -673,22 +638,11 @@ impl LieSystem {
         q: &Bound<'py, PyDict>,
         p: Option<&Bound<'py, PyDict>>,
         v: Option<&Bound<'py, PyDict>>,
-        method: &str,
-        order: u32,
-        tol: Option<f64>,
-        end_time: Option<f64>,
-        schedule: Option<Vec<f64>>,
-        other: Option<&Bound<'py, PyDict>>,
+        keywords: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        calls::no_other_keywords("LieSystem.ensemble", other, &[], RUN_KEYWORDS, |_| None)?;
+        let kw = Keywords::read(py, &ENSEMBLE, keywords, Some(&[]))?;
+        let r = kw.ensemble_request(&self.compiled(), steps)?;
         let params = crate::inputs::values_of(&self.code.system().parameters, parameters)?;
-        let r =
-            crate::inputs::ending(self.request(method, order, steps, tol)?, end_time, schedule)?;
-        if r.order != 2 {
-            return Err(PyValueError::new_err(
-                "ensembles run the integrators themselves (order 2)",
-            ));
-        }
         let given = PyDict::new(py);
         given.set_item("q", q)?;
         if let Some(p) = p {
