@@ -25,33 +25,16 @@ use super::integrator::StepEquations;
 use super::reduced::{set_group_part, RotationSymmetry};
 use super::SymmetricLieModel;
 use super::{
-    zeros, LieIntegratorOf, LieModel, LieStateOf, LieTrajectoryOf, ReducedLieIntegratorOf,
-    ReducedLieStateOf, ReducedLieTrajectoryOf,
+    zeros, LieForm, LieIntegratorIn, LieIntegratorOf, LieModel, LieStateOf, LieTrajectoryIn,
+    LieTrajectoryOf, ReducedLieIntegratorOf, ReducedLieStateOf, ReducedLieTrajectoryOf,
 };
 use crate::newton::slice_inf_norm;
-
-/// `L_d(q_k, q_{k+1})` of each step, at the step's own size.
-fn energies<'a, L: LieModel<P, N>, P: Dim, N: Dim>(
-    sys: &L,
-    points: impl Iterator<Item = &'a OVector<f64, P>>,
-    times: &[f64],
-) -> Vec<f64>
-where
-    DefaultAllocator: Allocator<P> + Allocator<N>,
-{
-    let points: Vec<&OVector<f64, P>> = points.collect();
-    points
-        .windows(2)
-        .zip(times.windows(2))
-        .map(|(q, t)| sys.with_time_step(t[1] - t[0]).lagrangian(q[0], q[1]))
-        .collect()
-}
 
 /// The relative Dirac residual of every step between the `states` at `times` for the
 /// `equations` (the unreduced or the reduced ones), at each step's own size: `read` gives the
 /// state a step read, `landed` the state it reached.
-fn dirac_residuals<L, S, P: Dim, N: Dim>(
-    integrator: &LieIntegratorOf<L, P, N>,
+fn dirac_residuals<L, F, S, P: Dim, N: Dim>(
+    integrator: &LieIntegratorIn<L, P, N, F>,
     (states, times): (&[S], &[f64]),
     equations: &StepEquations<L, P, N>,
     read: impl Fn(&S) -> LieStateOf<P, N>,
@@ -60,8 +43,6 @@ fn dirac_residuals<L, S, P: Dim, N: Dim>(
 where
     L: LieModel<P, N>,
     DefaultAllocator: Allocator<P> + Allocator<N>,
-    OVector<f64, P>: Send + Sync,
-    OVector<f64, N>: Send + Sync,
 {
     let n = integrator.system().dims().1;
     let (mut r, mut m) = (zeros(n), zeros(n));
@@ -83,12 +64,36 @@ where
         .collect()
 }
 
+impl<L, P: Dim, N: Dim, F> LieIntegratorIn<L, P, N, F>
+where
+    L: LieModel<P, N>,
+    F: LieForm<L, P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+{
+    /// The discrete generalized energy `(E_d)_k = L_d(q_k, q_{k+1})` of every step, at the step's
+    /// own size (reduced: the reduced Lagrangian's value, `L_d` being invariant).
+    pub fn discrete_energies(&self, trajectory: &LieTrajectoryIn<F::State>) -> Vec<f64> {
+        let points: Vec<&OVector<f64, P>> = trajectory.states.iter().map(F::point).collect();
+        points
+            .windows(2)
+            .zip(trajectory.times.windows(2))
+            .map(|(q, t)| {
+                let sys = self.system().with_time_step(t[1] - t[0]);
+                sys.lagrangian(q[0], q[1])
+            })
+            .collect()
+    }
+
+    /// The discrete action `Σ_k L_d(q_k, q_{k+1})` of `trajectory`.
+    pub fn discrete_action(&self, trajectory: &LieTrajectoryIn<F::State>) -> f64 {
+        self.discrete_energies(trajectory).iter().sum()
+    }
+}
+
 impl<L, P: Dim, N: Dim> LieIntegratorOf<L, P, N>
 where
     L: LieModel<P, N>,
     DefaultAllocator: Allocator<P> + Allocator<N>,
-    OVector<f64, P>: Send + Sync,
-    OVector<f64, N>: Send + Sync,
 {
     /// The relative Dirac residual of every step of `trajectory` (see the
     /// [module documentation](self)).
@@ -101,28 +106,12 @@ where
             |s| s.clone(),
         )
     }
-
-    /// The discrete generalized energy `(E_d)_k = L_d(q_k, q_{k+1})` of every step.
-    pub fn discrete_energies(&self, trajectory: &LieTrajectoryOf<P, N>) -> Vec<f64> {
-        energies(
-            self.system(),
-            trajectory.states.iter().map(|s| &s.q),
-            &trajectory.times,
-        )
-    }
-
-    /// The discrete action `Σ_k L_d(q_k, q_{k+1})` of `trajectory`.
-    pub fn discrete_action(&self, trajectory: &LieTrajectoryOf<P, N>) -> f64 {
-        self.discrete_energies(trajectory).iter().sum()
-    }
 }
 
 impl<L, P: Dim, N: Dim> ReducedLieIntegratorOf<L, P, N>
 where
     L: SymmetricLieModel<P, N>,
     DefaultAllocator: Allocator<P> + Allocator<N>,
-    OVector<f64, P>: Send + Sync,
-    OVector<f64, N>: Send + Sync,
 {
     /// The relative Dirac residual of every step of `trajectory` for the reduced equations
     /// (the momentum each step read: `Π_k` for every rotation, the shape part of `p_k` with the
@@ -143,26 +132,11 @@ where
             from
         };
         dirac_residuals(
-            self.unreduced(),
+            self,
             (&trajectory.states, &trajectory.times),
             &Self::EQUATIONS,
             read,
             ReducedLieStateOf::unreduced,
         )
-    }
-
-    /// The discrete generalized energy `(E_d)_k = L_d(q_k, q_{k+1})` of every step (the reduced
-    /// Lagrangian's value: `L_d` is invariant).
-    pub fn discrete_energies(&self, trajectory: &ReducedLieTrajectoryOf<P, N>) -> Vec<f64> {
-        energies(
-            self.system(),
-            trajectory.states.iter().map(|s| &s.q),
-            &trajectory.times,
-        )
-    }
-
-    /// The discrete action `Σ_k L_d(q_k, q_{k+1})` of `trajectory`.
-    pub fn discrete_action(&self, trajectory: &ReducedLieTrajectoryOf<P, N>) -> f64 {
-        self.discrete_energies(trajectory).iter().sum()
     }
 }

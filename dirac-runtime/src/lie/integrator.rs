@@ -9,7 +9,8 @@ use nalgebra::allocator::Allocator;
 use nalgebra::{Const, DefaultAllocator, Dim, OVector, Vector3};
 
 use super::model::LieHistory;
-use super::{blocks, zeros, LieModel, LieStateOf, LieTrajectoryOf, SpatialMomentum};
+use super::{blocks, zeros, LieModel, LieStateOf, LieTrajectoryIn, SpatialMomentum};
+pub use crate::constrained::UnreducedForm;
 use crate::error::StepError;
 use crate::linalg::LinearSolver;
 use crate::newton::{self, slice_inf_norm, NewtonOptions};
@@ -87,45 +88,98 @@ where
 }
 
 /// The Lie group variational integrator of a [`LieModel`] (see the
-/// [module documentation](crate::lie)), at sizes `P` (a stored point) and `N` (the chart), fixed
-/// or chosen at run time; [`LieIntegrator<L, P, N>`](LieIntegrator) names it at fixed sizes.
+/// [module documentation](crate::lie)) in the form `F` of its equations — unreduced
+/// ([`UnreducedForm`]: [`LieIntegratorOf`]) or reduced by the system's rotation symmetry
+/// ([`ReducedForm`](super::ReducedForm): [`ReducedLieIntegratorOf`](super::ReducedLieIntegratorOf))
+/// —, at sizes `P` (a stored point) and `N` (the chart), fixed or chosen at run time. One type
+/// for both forms: the step on the charts, its checks, the run API, compositions and the
+/// diagnostics are written once; the form says what differs ([`LieForm`]).
 #[derive(Clone, Debug)]
-pub struct LieIntegratorOf<L, P: Dim, N: Dim> {
+pub struct LieIntegratorIn<L, P: Dim, N: Dim, F> {
     system: L,
     options: NewtonOptions,
     variant: Variant,
     sizes: PhantomData<fn() -> (P, N)>,
+    form: PhantomData<F>,
 }
 
+/// The Lie group variational integrator of a [`LieModel`] on the whole configuration space, at
+/// any size (see [`LieIntegratorIn`]); [`LieIntegrator<L, P, N>`](LieIntegrator) names it at
+/// fixed sizes.
+pub type LieIntegratorOf<L, P, N> = LieIntegratorIn<L, P, N, UnreducedForm>;
+
 /// The Lie group variational integrator of a [`LieLagrangian`](super::LieLagrangian) at fixed
-/// sizes (see [`LieIntegratorOf`]).
+/// sizes (see [`LieIntegratorIn`]).
 pub type LieIntegrator<L, const P: usize, const N: usize> = LieIntegratorOf<L, Const<P>, Const<N>>;
 
-impl<L, P: Dim, N: Dim> LieIntegratorOf<L, P, N>
+/// Where the two forms of the integrator on rotation groups differ: the state a step maps, the
+/// checks of a run's first state beyond the unreduced ones, and the step (the unreduced step's
+/// on the charts, with the reduced equations and the symmetry's momentum set before and after
+/// for the reduced form). Sealed: [`UnreducedForm`] and [`ReducedForm`](super::ReducedForm).
+pub trait LieForm<L, P: Dim, N: Dim>:
+    super::sealed::Sealed + Copy + std::fmt::Debug + Send + Sync + 'static
 where
     L: LieModel<P, N>,
     DefaultAllocator: Allocator<P> + Allocator<N>,
-    OVector<f64, P>: Send + Sync,
-    OVector<f64, N>: Send + Sync,
 {
-    /// The integrator of `system` with Newton's `options`: the (+) equations, solved for the
-    /// chart coordinate `z` of the next point about the current one.
-    pub fn new(system: L, options: NewtonOptions) -> Self {
-        Self {
-            system,
-            options,
-            variant: Variant::Plus,
-            sizes: PhantomData,
-        }
+    /// The state a step maps: [`LieStateOf`], or [`ReducedLieStateOf`](super::ReducedLieStateOf).
+    type State: Clone + std::fmt::Debug + PartialEq + Send + Sync + 'static;
+
+    /// The stored point of `state`.
+    fn point(state: &Self::State) -> &OVector<f64, P>;
+
+    /// The checks of a run's first state `initial` ([`Stepper::check`]).
+    fn check(
+        integrator: &LieIntegratorIn<L, P, N, Self>,
+        initial: &Self::State,
+    ) -> Result<(), StepError>;
+
+    /// Step `at` from `state` into `next` ([`Stepper::step_into`]).
+    fn step_into(
+        integrator: &LieIntegratorIn<L, P, N, Self>,
+        workspace: &mut LieWorkspaceOf<L::Linear, N>,
+        at: StepAt<'_>,
+        state: &Self::State,
+        next: &mut Self::State,
+    ) -> Result<StepStats, StepError>;
+}
+
+impl<L, P: Dim, N: Dim> LieForm<L, P, N> for UnreducedForm
+where
+    L: LieModel<P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+    LieStateOf<P, N>: Send + Sync,
+{
+    type State = LieStateOf<P, N>;
+
+    #[inline]
+    fn point(state: &LieStateOf<P, N>) -> &OVector<f64, P> {
+        &state.q
     }
 
-    crate::stepper::plus_or_minus!(
-        /// The (−) integrator of Definition 2.8 on the charts: solved for the chart coordinate `w`
-        /// of the current point about the next one, `q_k = φ_{q_{k+1}}(w)` (see the
-        /// [module documentation](crate::lie#the-equations), where the (−) equations are shown to be
-        /// the (+) equations at `z = −w`: the same steps).
-    );
+    /// The common checks (time step, finite parameters and state) and every coordinate on its
+    /// manifold ([`Group::check`](super::Group::check)).
+    fn check(
+        integrator: &LieIntegratorOf<L, P, N>,
+        initial: &LieStateOf<P, N>,
+    ) -> Result<(), StepError> {
+        integrator.check_unreduced(initial)
+    }
 
+    /// The unreduced step on the charts (see the [module documentation](crate::lie)).
+    #[inline]
+    fn step_into(
+        integrator: &LieIntegratorOf<L, P, N>,
+        workspace: &mut LieWorkspaceOf<L::Linear, N>,
+        at: StepAt<'_>,
+        state: &LieStateOf<P, N>,
+        next: &mut LieStateOf<P, N>,
+    ) -> Result<StepStats, StepError> {
+        integrator.unreduced_step_into(workspace, at, state, next)
+    }
+}
+
+impl<L, P: Dim, N: Dim, F> LieIntegratorIn<L, P, N, F> {
     /// The system being integrated.
     pub fn system(&self) -> &L {
         &self.system
@@ -136,6 +190,56 @@ where
         &self.options
     }
 
+    /// The same integrator (system, Newton options, side) in the form `G`.
+    pub(super) fn in_form<G>(&self) -> LieIntegratorIn<L, P, N, G>
+    where
+        L: Clone,
+    {
+        LieIntegratorIn {
+            system: self.system.clone(),
+            options: self.options,
+            variant: self.variant,
+            sizes: PhantomData,
+            form: PhantomData,
+        }
+    }
+}
+
+impl<L, P: Dim, N: Dim, F> LieIntegratorIn<L, P, N, F>
+where
+    L: LieModel<P, N>,
+    F: LieForm<L, P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+{
+    /// The integrator of `system` with Newton's `options` in the form `F`: the (+) equations,
+    /// solved for the chart coordinate `z` of the next point about the current one — for the
+    /// reduced form the reduced equations of the system's symmetry (see
+    /// [`crate::lie::reduced`]).
+    pub fn new(system: L, options: NewtonOptions) -> Self {
+        Self {
+            system,
+            options,
+            variant: Variant::Plus,
+            sizes: PhantomData,
+            form: PhantomData,
+        }
+    }
+
+    crate::stepper::plus_or_minus!(
+        /// The (−) integrator of Definition 2.8 on the charts: solved for the chart coordinate `w`
+        /// of the current point about the next one, `q_k = φ_{q_{k+1}}(w)` (see the
+        /// [module documentation](crate::lie#the-equations), where the (−) equations are shown to be
+        /// the (+) equations at `z = −w`: the same steps). Reduced by every rotation, these are
+        /// the equations of the reduced (−) Lagrangian `l_{d−}(G, s0, s1) = L_d(G, s0, I, s1)`
+        /// with `G = R_{k+1}ᵀ R_k = cay(w)`.
+    );
+}
+
+impl<L, P: Dim, N: Dim, F> LieIntegratorIn<L, P, N, F>
+where
+    L: LieModel<P, N>,
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+{
     /// The spatial angular momentum `π = Σ R Π + Σ n × P + Σ (R Π + x × p)` of the rotation,
     /// direction and pose coordinates: the momentum map of rotating all of them together,
     /// conserved when `L_d` is invariant under that rotation (see the
@@ -186,77 +290,6 @@ where
         z
     }
 
-    /// The sensitivity of step `k` from `state` to `next` under the controls `u` (empty: the
-    /// system's own), in the charts at the two points: the state near `(q, p)` is
-    /// `(φ_q(δ), p)` — `δ` the chart coordinate, `p` the momentum in the chart at the perturbed
-    /// point — so [`Sensitivity::state`](crate::Sensitivity::state) is `∂(w, p_{k+1})/∂(δ, p_k)` (each `N × N` block in the
-    /// order of [`LieModel::coordinate`]) and [`Sensitivity::control`](crate::Sensitivity::control) is
-    /// `∂(w, p_{k+1})/∂u`, where `q'_{k+1} = φ_{q_{k+1}}(w)`. By the implicit-function theorem
-    /// on the step residual in these charts ([`LiePartials`](super::LiePartials)): `dw = −R̃_w⁻¹ (R̃_δ dδ + dp + R̃_u
-    /// du)`, `dp_{k+1} = O_w dw + O_δ dδ + O_u du`.
-    ///
-    /// A typed error for a system compiled without its partials (the sparse backend), a step
-    /// whose chart Jacobian is singular, or controls of the wrong number.
-    pub fn sensitivity(
-        &self,
-        k: usize,
-        state: &LieStateOf<P, N>,
-        next: &LieStateOf<P, N>,
-        u: &[f64],
-    ) -> Result<crate::Sensitivity, StepError> {
-        let owned = system_at(&self.system, k, self.system.time_step(), u)?;
-        let sys = owned.as_ref().unwrap_or(&self.system);
-        let z = self.chart_coordinates(&state.q, &next.q);
-        let parts = sys
-            .step_partials(&state.q, &state.p, &z)
-            .ok_or(StepError::Unsupported {
-                what: "step sensitivities: the compiler emits the step's partial derivatives for \
-                       systems on rotation groups of at most 16 dimensions",
-            })?;
-        let m = self.system.control_count();
-        let n = self.system.dims().1.value();
-        let cols = 2 * n + m;
-        let mut rhs = nalgebra::DMatrix::<f64>::zeros(n, cols);
-        rhs.view_mut((0, 0), (n, n)).copy_from(&parts.r_y);
-        for i in 0..n {
-            rhs[(i, n + i)] = 1.0;
-        }
-        rhs.view_mut((0, 2 * n), (n, m)).copy_from(&parts.r_u);
-        let mut r = zeros(self.system.dims().1);
-        sys.residual_into(&state.q, &state.p, &z, &mut r);
-        let residual = slice_inf_norm(r.as_slice());
-        let lu = parts.r_w.clone().lu();
-        let dw = -lu
-            .solve(&rhs)
-            .ok_or(StepError::SingularJacobian { step: k, residual })?;
-        let mut dp = &parts.o_w * &dw;
-        let mut view = dp.view_mut((0, 0), (n, n));
-        view += &parts.o_y;
-        let mut view = dp.view_mut((0, 2 * n), (n, m));
-        view += &parts.o_u;
-        let mut full = nalgebra::DMatrix::<f64>::zeros(2 * n, cols);
-        full.view_mut((0, 0), (n, cols)).copy_from(&dw);
-        full.view_mut((n, 0), (n, cols)).copy_from(&dp);
-        Ok(crate::Sensitivity {
-            state: full.view((0, 0), (2 * n, 2 * n)).into_owned(),
-            control: full.view((0, 2 * n), (2 * n, m)).into_owned(),
-        })
-    }
-
-    /// Takes step `k` from `state` with the controls `u` in a fresh workspace and returns the
-    /// new state, the step's statistics and its [`Self::sensitivity`].
-    pub fn step_sensitivity(
-        &self,
-        k: usize,
-        state: &LieStateOf<P, N>,
-        u: &[f64],
-    ) -> Result<(LieStateOf<P, N>, StepStats, crate::Sensitivity), StepError> {
-        let at = StepAt::new(k, self.time_step()).with_controls(u);
-        let (next, stats) = self.step_with(&mut self.workspace(), at, state)?;
-        let sensitivity = self.sensitivity(k, state, &next, u)?;
-        Ok((next, stats, sensitivity))
-    }
-
     /// The largest departure from the manifold over the coordinates of `q`
     /// ([`Group::manifold_defect`](super::Group::manifold_defect)): `‖RᵀR − I‖∞` of each
     /// rotation, frame and pose's rotation (for a direction this bounds `||n| − 1|`).
@@ -266,10 +299,9 @@ where
             .fold(0.0, f64::max)
     }
 
-    /// The largest relative defect `|L_d(q0, q1; −h) + L_d(q1, q0; h)|` over sample pairs
-    /// `(q, φ_q(δ d_j))` and the reversed pairs, for three fixed directions `d_j` and
-    /// `δ = 0.05`: zero for a symmetric discrete Lagrangian, up to round-off.
-    pub fn symmetry_defect(&self, q: &OVector<f64, P>) -> f64 {
+    /// [`LieIntegratorOf::symmetry_defect`] in either form (what a composition checks,
+    /// [`SelfAdjoint::symmetry_defect`](crate::compose::SelfAdjoint::symmetry_defect)).
+    pub(super) fn defect_of_symmetry(&self, q: &OVector<f64, P>) -> f64 {
         let backward = self.system.with_time_step(-self.system.time_step());
         let mut worst: f64 = 0.0;
         let (p_dim, n_dim) = self.system.dims();
@@ -286,6 +318,59 @@ where
             }
         }
         worst
+    }
+
+    /// A fresh workspace of a run ([`Stepper::workspace`]).
+    pub(super) fn new_workspace(&self) -> LieWorkspaceOf<L::Linear, N> {
+        LieWorkspaceOf::new(self.system.linear_solver(), self.system.dims().1)
+    }
+
+    /// The common checks (time step, finite parameters and state) and every coordinate on its
+    /// manifold ([`Group::check`](super::Group::check): every rotation and frame orthogonal
+    /// with determinant 1 to [`MANIFOLD_TOLERANCE`](super::MANIFOLD_TOLERANCE), every direction
+    /// a unit vector): the unreduced integrator's checks of a run's first state, which the
+    /// reduced one makes on the state's `(q, p)`.
+    pub(super) fn check_unreduced(&self, initial: &LieStateOf<P, N>) -> Result<(), StepError> {
+        check_inputs(
+            self.system.time_step(),
+            &self.system.parameter_values(),
+            initial.all_finite(),
+        )?;
+        check_sizes(&self.system, (&initial.q, &initial.p))?;
+        crate::model::refuse_domain(
+            &self.system,
+            "a declared domain on a system on rotation groups (only a system on vector spaces \
+             checks one)",
+        )?;
+        for block in blocks(&self.system) {
+            block
+                .kind
+                .group()
+                .check(block.name, block.of_point(initial.q.as_slice()))
+                .map_err(|reason| StepError::OffManifold { reason })?;
+        }
+        Ok(())
+    }
+
+    /// The unreduced step `at` from `state` into `next`, whose memory a run sized at run time
+    /// reuses: [`Self::chart_step_into`] with the unreduced equations.
+    #[inline]
+    pub(super) fn unreduced_step_into(
+        &self,
+        workspace: &mut LieWorkspaceOf<L::Linear, N>,
+        at: StepAt<'_>,
+        state: &LieStateOf<P, N>,
+        next: &mut LieStateOf<P, N>,
+    ) -> Result<StepStats, StepError> {
+        check_sizes(&self.system, (&state.q, &state.p))?;
+        match_sizes((&state.q, &state.p), (&mut next.q, &mut next.p));
+        self.chart_step_into(
+            &mut workspace.step,
+            at,
+            (&state.q, &state.p),
+            &StepEquations::UNREDUCED,
+            (&mut next.q, &mut next.p),
+        )
     }
 
     /// Step `k`, of size `h`, from `state` with the `equations` (the unreduced step's or a
@@ -438,96 +523,73 @@ where
     };
 }
 
-impl<L, P: Dim, N: Dim> Stepper for LieIntegratorOf<L, P, N>
+/// The one run API of both forms: what differs is the form's ([`LieForm`]).
+impl<L, P: Dim, N: Dim, F> Stepper for LieIntegratorIn<L, P, N, F>
 where
     L: LieModel<P, N>,
+    F: LieForm<L, P, N>,
     DefaultAllocator: Allocator<P> + Allocator<N>,
-    OVector<f64, P>: Send + Sync,
-    OVector<f64, N>: Send + Sync,
 {
-    type State = LieStateOf<P, N>;
+    type State = F::State;
     type Record = StepStats;
     type Workspace = LieWorkspaceOf<L::Linear, N>;
-    type Trajectory = LieTrajectoryOf<P, N>;
+    type Trajectory = LieTrajectoryIn<F::State>;
 
     fn time_step(&self) -> f64 {
         self.system.time_step()
     }
 
-    fn physical_time(&self, state: &LieStateOf<P, N>) -> Option<f64> {
-        super::adaptive::time_of(&self.system, &state.q)
+    fn physical_time(&self, state: &F::State) -> Option<f64> {
+        super::adaptive::time_of(&self.system, F::point(state))
     }
 
     /// `g(q)` at the state's point.
-    fn monitor(&self, at: StepAt<'_>, state: &LieStateOf<P, N>) -> Result<Option<f64>, StepError> {
+    fn monitor(&self, at: StepAt<'_>, state: &F::State) -> Result<Option<f64>, StepError> {
         let owned = system_at(&self.system, at.k, at.h, at.u)?;
-        Ok(owned.as_ref().unwrap_or(&self.system).monitor(&state.q))
+        Ok(owned
+            .as_ref()
+            .unwrap_or(&self.system)
+            .monitor(F::point(state)))
     }
 
-    /// The common checks (time step, finite parameters and state) and every coordinate on its
-    /// manifold ([`Group::check`](super::Group::check): every rotation and frame orthogonal
-    /// with determinant 1 to [`MANIFOLD_TOLERANCE`](super::MANIFOLD_TOLERANCE), every direction
-    /// a unit vector).
-    fn check(&self, initial: &LieStateOf<P, N>) -> Result<(), StepError> {
-        check_inputs(
-            self.system.time_step(),
-            &self.system.parameter_values(),
-            initial.all_finite(),
-        )?;
-        check_sizes(&self.system, (&initial.q, &initial.p))?;
-        crate::model::refuse_domain(
-            &self.system,
-            "a declared domain on a system on rotation groups (only a system on vector spaces \
-             checks one)",
-        )?;
-        for block in blocks(&self.system) {
-            block
-                .kind
-                .group()
-                .check(block.name, block.of_point(initial.q.as_slice()))
-                .map_err(|reason| StepError::OffManifold { reason })?;
-        }
-        Ok(())
+    /// The form's checks ([`LieForm::check`]): for both, the unreduced ones (time step, finite
+    /// parameters and state, every coordinate on its manifold:
+    /// [`Group::check`](super::Group::check)).
+    fn check(&self, initial: &F::State) -> Result<(), StepError> {
+        F::check(self, initial)
     }
 
     fn control_dim(&self) -> usize {
         self.system.control_count()
     }
 
+    /// The same solver and history of steps for both forms.
     fn workspace(&self) -> Self::Workspace {
-        LieWorkspaceOf::new(self.system.linear_solver(), self.system.dims().1)
+        self.new_workspace()
     }
 
-    /// Newton starts from the chart coordinate of the last steps, extrapolated (on the first
-    /// step of a run from no motion, or for adaptive steps from the motion at the step's
-    /// physical size), into `next`, whose memory a run sized at run time reuses
-    /// ([`Stepper::step_with`] is the trait's: a step into a copy of the state).
+    /// The form's step ([`LieForm::step_into`]): Newton starts from the chart coordinate of the
+    /// last steps, extrapolated (on the first step of a run from no motion, or for adaptive
+    /// steps from the motion at the step's physical size), into `next`, whose memory a run
+    /// sized at run time reuses ([`Stepper::step_with`] is the trait's: a step into a copy of
+    /// the state).
     #[inline]
     fn step_into(
         &self,
         workspace: &mut Self::Workspace,
         at: StepAt<'_>,
-        state: &LieStateOf<P, N>,
-        next: &mut LieStateOf<P, N>,
+        state: &F::State,
+        next: &mut F::State,
     ) -> Result<StepStats, StepError> {
-        check_sizes(&self.system, (&state.q, &state.p))?;
-        match_sizes((&state.q, &state.p), (&mut next.q, &mut next.p));
-        self.chart_step_into(
-            &mut workspace.step,
-            at,
-            (&state.q, &state.p),
-            &StepEquations::UNREDUCED,
-            (&mut next.q, &mut next.p),
-        )
+        F::step_into(self, workspace, at, state, next)
     }
 }
 
-impl<L, P: Dim, N: Dim> crate::compose::SelfAdjoint for LieIntegratorOf<L, P, N>
+impl<L, P: Dim, N: Dim, F> crate::compose::SelfAdjoint for LieIntegratorIn<L, P, N, F>
 where
     L: LieModel<P, N>,
+    F: LieForm<L, P, N>,
     DefaultAllocator: Allocator<P> + Allocator<N>,
-    OVector<f64, P>: Send + Sync,
-    OVector<f64, N>: Send + Sync,
 {
     fn with_time_step(&self, h: f64) -> Self {
         Self {
@@ -536,8 +598,8 @@ where
         }
     }
 
-    fn symmetry_defect(&self, at: &LieStateOf<P, N>) -> f64 {
-        LieIntegratorOf::symmetry_defect(self, &at.q)
+    fn symmetry_defect(&self, at: &F::State) -> f64 {
+        self.defect_of_symmetry(F::point(at))
     }
 }
 

@@ -131,6 +131,7 @@ pub mod diagnostics;
 mod integrator;
 pub mod model;
 pub mod reduced;
+mod sensitivity;
 #[cfg(test)]
 mod tests;
 
@@ -138,11 +139,14 @@ pub use crate::groups::{
     cayley, direction_frame, frame, hat, orthogonality_defect, rows, vee, CoordinateKind, Group,
     SpatialMomentum, MANIFOLD_TOLERANCE, UNIT_TOLERANCE,
 };
-pub use integrator::{LieIntegrator, LieIntegratorOf, LieWorkspace, LieWorkspaceOf};
+pub use integrator::{
+    LieForm, LieIntegrator, LieIntegratorIn, LieIntegratorOf, LieWorkspace, LieWorkspaceOf,
+    UnreducedForm,
+};
 pub use model::{LieHistory, LieModel, SymmetricLieModel};
 pub use reduced::{
-    LieSymmetric, ReducedLieIntegrator, ReducedLieIntegratorOf, ReducedLieState, ReducedLieStateOf,
-    ReducedLieTrajectory, ReducedLieTrajectoryOf, RotationSymmetry,
+    LieSymmetric, ReducedForm, ReducedLieIntegrator, ReducedLieIntegratorOf, ReducedLieState,
+    ReducedLieStateOf, ReducedLieTrajectory, ReducedLieTrajectoryOf, RotationSymmetry,
 };
 
 use nalgebra::allocator::Allocator;
@@ -397,6 +401,14 @@ where
         StepStats,
         |stats| *stats
     );
+}
+
+/// The forms of the integrator on rotation groups ([`LieForm`]): [`UnreducedForm`] and
+/// [`ReducedForm`].
+mod sealed {
+    pub trait Sealed {}
+    impl Sealed for super::UnreducedForm {}
+    impl Sealed for super::ReducedForm {}
 }
 
 /// One coordinate's place in the point and the chart.

@@ -86,12 +86,11 @@ use nalgebra::{Const, DefaultAllocator, Dim, Matrix3, OVector, SVector, Vector3}
 
 use super::integrator::{check_sizes, match_sizes, StepEquations};
 use super::{
-    blocks, matrix_at, zeros, LieIntegratorOf, LieLagrangian, LieModel, LieStateOf, LieWorkspaceOf,
-    SymmetricLieModel,
+    blocks, matrix_at, zeros, LieForm, LieIntegratorIn, LieIntegratorOf, LieLagrangian, LieModel,
+    LieStateOf, LieWorkspaceOf, SymmetricLieModel,
 };
 use crate::error::StepError;
-use crate::newton::NewtonOptions;
-use crate::stepper::{StepAt, StepStats, Stepper};
+use crate::stepper::{StepAt, StepStats};
 
 /// A rotation symmetry of a system on rotation groups (`symmetry(..)` in the attribute).
 ///
@@ -175,22 +174,23 @@ pub trait LieSymmetric<const P: usize, const N: usize>: LieLagrangian<P, N> {
     }
 }
 
-/// A state of a reduced system on rotation groups: the stored point `q` (the rotation the
-/// symmetry acts on is the reconstruction), the momentum `p` in the chart at `q` (the reduced
-/// momentum `Π` for [`RotationSymmetry::Rotations`]) and the conserved momentum `mu` of the
-/// symmetry: the spatial momentum `π` for every rotation, `μ e` (one nonzero entry, on the
-/// axis) for the rotations about an axis.
-/// At any size; [`ReducedLieState<P, N>`](ReducedLieState) names it at fixed sizes.
+/// A state of a reduced system on rotation groups: the unreduced state's `(q, p)` and the
+/// conserved momentum `mu` of the symmetry. At any size;
+/// [`ReducedLieState<P, N>`](ReducedLieState) names it at fixed sizes.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReducedLieStateOf<P: Dim, N: Dim>
 where
     DefaultAllocator: Allocator<P> + Allocator<N>,
 {
-    /// The stored point.
+    /// The stored point; the rotation the symmetry acts on is the reconstruction
+    /// (`R_{k+1} = R_k F_k`), which the reduced dynamics does not read.
     pub q: OVector<f64, P>,
-    /// The momentum in the chart centred at `q`.
+    /// The momentum in the chart centred at `q`: the reduced momentum `Π` for
+    /// [`RotationSymmetry::Rotations`], with its group part `μ` for the rotations about an axis.
     pub p: OVector<f64, N>,
-    /// The momentum of the symmetry, a parameter of the reduced dynamics.
+    /// The momentum of the symmetry, a parameter of the reduced dynamics: the spatial momentum
+    /// `π` for every rotation, `μ e` (one nonzero entry, on the axis) for the rotations about an
+    /// axis.
     pub mu: Vector3<f64>,
 }
 
@@ -226,13 +226,18 @@ pub type ReducedLieTrajectoryOf<P, N> = super::LieTrajectoryIn<ReducedLieStateOf
 pub type ReducedLieTrajectory<const P: usize, const N: usize> =
     ReducedLieTrajectoryOf<Const<P>, Const<N>>;
 
+/// The reduced form of the integrator on rotation groups ([`LieIntegratorIn`]): the reduced
+/// equations of the system's declared symmetry on [`ReducedLieStateOf`]s, the symmetry's momentum
+/// set before and after the unreduced step on the charts (see the [module documentation](self)).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct ReducedForm;
+
 /// The reduced integrator of a [`LieSymmetric`] system (see the [module documentation](self)):
-/// the same run API, compositions and checks as [`LieIntegrator`](super::LieIntegratorOf), on [`ReducedLieState`]s.
-/// At any size; [`ReducedLieIntegrator<L, P, N>`](ReducedLieIntegrator) names it at fixed sizes.
-#[derive(Clone, Debug)]
-pub struct ReducedLieIntegratorOf<L, P: Dim, N: Dim> {
-    unreduced: LieIntegratorOf<L, P, N>,
-}
+/// the same run API, compositions, checks and diagnostics as
+/// [`LieIntegrator`](super::LieIntegratorOf) — one type, [`LieIntegratorIn`], in the form
+/// [`ReducedForm`] —, on [`ReducedLieState`]s. At any size;
+/// [`ReducedLieIntegrator<L, P, N>`](ReducedLieIntegrator) names it at fixed sizes.
+pub type ReducedLieIntegratorOf<L, P, N> = LieIntegratorIn<L, P, N, ReducedForm>;
 
 /// The reduced integrator of a [`LieSymmetric`] system at fixed sizes (see
 /// [`ReducedLieIntegratorOf`]).
@@ -247,42 +252,14 @@ impl<L, P: Dim, N: Dim> ReducedLieIntegratorOf<L, P, N>
 where
     L: SymmetricLieModel<P, N>,
     DefaultAllocator: Allocator<P> + Allocator<N>,
-    OVector<f64, P>: Send + Sync,
-    OVector<f64, N>: Send + Sync,
 {
-    /// The reduced integrator of `system` with Newton's `options`.
-    pub fn new(system: L, options: NewtonOptions) -> Self {
-        Self {
-            unreduced: LieIntegratorOf::new(system, options),
-        }
-    }
-
-    /// The reduced (−) integrator: the reduced equations solved for the chart coordinate of the
-    /// current point about the next one (for every rotation, the reduced (−) Lagrangian
-    /// `l_{d−}(G, s0, s1) = L_d(G, s0, I, s1)` with `G = R_{k+1}ᵀ R_k = cay(w)`), the same
-    /// steps as [`Self::new`]'s (see [`LieIntegrator::minus`](super::LieIntegratorOf::minus)).
-    pub fn minus(system: L, options: NewtonOptions) -> Self {
-        Self {
-            unreduced: LieIntegratorOf::minus(system, options),
-        }
-    }
-
-    /// Which equations are solved.
-    pub fn variant(&self) -> crate::Variant {
-        self.unreduced.variant()
-    }
-
-    /// The system being integrated.
-    pub fn system(&self) -> &L {
-        self.unreduced.system()
-    }
-
-    /// The unreduced integrator of the same system: its steps are this integrator's to
-    /// round-off, and its diagnostics ([`LieIntegrator::manifold_defect`](super::LieIntegratorOf::manifold_defect),
-    /// [`LieIntegrator::chart_coordinates`](super::LieIntegratorOf::chart_coordinates), ..) apply to reduced states through
-    /// [`ReducedLieState::unreduced`].
-    pub fn unreduced(&self) -> &LieIntegratorOf<L, P, N> {
-        &self.unreduced
+    /// The unreduced integrator of the same system, Newton options and side (a copy): its steps
+    /// are this integrator's to round-off. The diagnostics of the charts
+    /// ([`manifold_defect`](LieIntegratorIn::manifold_defect),
+    /// [`chart_coordinates`](LieIntegratorIn::chart_coordinates), ..) are this integrator's own,
+    /// and apply to reduced states through [`ReducedLieState::unreduced`].
+    pub fn unreduced(&self) -> LieIntegratorOf<L, P, N> {
+        self.in_form()
     }
 
     /// The momentum map of the symmetry at `(q, p)`: `π = R Π` of the rotation coordinate for
@@ -370,7 +347,7 @@ where
                 generator,
             );
         }
-        let stats = self.unreduced.chart_step_into(
+        let stats = self.chart_step_into(
             step,
             at,
             (&state.q, &*momentum),
@@ -508,42 +485,28 @@ fn onto_level<L: LieModel<P, N>, P: Dim, N: Dim>(
     }
 }
 
-impl<L, P: Dim, N: Dim> Stepper for ReducedLieIntegratorOf<L, P, N>
+impl<L, P: Dim, N: Dim> LieForm<L, P, N> for ReducedForm
 where
     L: SymmetricLieModel<P, N>,
     DefaultAllocator: Allocator<P> + Allocator<N>,
-    OVector<f64, P>: Send + Sync,
-    OVector<f64, N>: Send + Sync,
+    ReducedLieStateOf<P, N>: Send + Sync,
 {
     type State = ReducedLieStateOf<P, N>;
-    type Record = StepStats;
-    type Workspace = LieWorkspaceOf<L::Linear, N>;
-    type Trajectory = ReducedLieTrajectoryOf<P, N>;
 
-    fn time_step(&self) -> f64 {
-        self.unreduced.time_step()
-    }
-
-    fn physical_time(&self, state: &ReducedLieStateOf<P, N>) -> Option<f64> {
-        super::adaptive::time_of(self.system(), &state.q)
-    }
-
-    /// The unreduced integrator's: `g(q)` at the state's point.
-    fn monitor(
-        &self,
-        at: StepAt<'_>,
-        state: &ReducedLieStateOf<P, N>,
-    ) -> Result<Option<f64>, StepError> {
-        let owned = crate::model::system_at(self.system(), at.k, at.h, at.u)?;
-        Ok(owned.as_ref().unwrap_or(self.system()).monitor(&state.q))
+    #[inline]
+    fn point(state: &ReducedLieStateOf<P, N>) -> &OVector<f64, P> {
+        &state.q
     }
 
     /// The unreduced integrator's checks, and `mu` the momentum map of `(q, p)` (to `1e-9`
     /// relative; build reduced states with [`ReducedLieIntegrator::reduce`]).
-    fn check(&self, initial: &ReducedLieStateOf<P, N>) -> Result<(), StepError> {
+    fn check(
+        integrator: &ReducedLieIntegratorOf<L, P, N>,
+        initial: &ReducedLieStateOf<P, N>,
+    ) -> Result<(), StepError> {
         let state = initial.unreduced();
-        self.unreduced.check(&state)?;
-        let expected = self.spatial_momentum_map(&state);
+        integrator.check_unreduced(&state)?;
+        let expected = integrator.spatial_momentum_map(&state);
         let scale = expected.norm().max(initial.mu.norm()).max(1.0);
         let off = (expected - initial.mu).norm();
         if off.is_nan() || off > MOMENTUM_TOLERANCE * scale {
@@ -560,45 +523,16 @@ where
         Ok(())
     }
 
-    fn control_dim(&self) -> usize {
-        self.unreduced.control_dim()
-    }
-
-    /// The unreduced integrator's: the same solver, the same history of steps.
-    fn workspace(&self) -> Self::Workspace {
-        self.unreduced.workspace()
-    }
-
     /// The unreduced step's with the reduced equations, Newton starting from the chart
-    /// coordinate of the last steps, extrapolated; then the momentum of the symmetry set. Into
-    /// `next`, whose memory a run sized at run time reuses ([`Stepper::step_with`] is the
-    /// trait's: a step into a copy of the state).
+    /// coordinate of the last steps, extrapolated; then the momentum of the symmetry set.
     fn step_into(
-        &self,
-        workspace: &mut Self::Workspace,
+        integrator: &ReducedLieIntegratorOf<L, P, N>,
+        workspace: &mut LieWorkspaceOf<L::Linear, N>,
         at: StepAt<'_>,
         state: &ReducedLieStateOf<P, N>,
         next: &mut ReducedLieStateOf<P, N>,
     ) -> Result<StepStats, StepError> {
-        check_sizes(self.system(), (&state.q, &state.p))?;
-        self.solve_step_into(workspace, at, state, next)
-    }
-}
-
-impl<L, P: Dim, N: Dim> crate::compose::SelfAdjoint for ReducedLieIntegratorOf<L, P, N>
-where
-    L: SymmetricLieModel<P, N>,
-    DefaultAllocator: Allocator<P> + Allocator<N>,
-    OVector<f64, P>: Send + Sync,
-    OVector<f64, N>: Send + Sync,
-{
-    fn with_time_step(&self, h: f64) -> Self {
-        Self {
-            unreduced: crate::compose::SelfAdjoint::with_time_step(&self.unreduced, h),
-        }
-    }
-
-    fn symmetry_defect(&self, at: &ReducedLieStateOf<P, N>) -> f64 {
-        self.unreduced.symmetry_defect(&at.q)
+        check_sizes(integrator.system(), (&state.q, &state.p))?;
+        integrator.solve_step_into(workspace, at, state, next)
     }
 }
