@@ -144,12 +144,17 @@ mod error;
 mod lie;
 mod model;
 mod request;
+pub mod run;
 mod system;
 
 pub use element::{compile_element, compile_flat_elements, ElementCode, JitElement, MAX_SIZES};
 pub use error::Error;
 pub use lie::{compile_lie, DynJitLie, JitLie, LieCode, LieFront, Reduced, Reduction, Unreduced};
 pub use request::{RunRequest, ORDERS};
+
+/// The runtime, for the macros' expansions in other crates ([`span!`]).
+#[doc(hidden)]
+pub use dirac_runtime as __runtime;
 pub use system::{
     compile, Backend, Code, Dense, JitConstrained, JitSystem, LegendreLu, LegendreMatrix, Sparse,
     Variant, WithConstraints, MAX_PARAMETERS,
@@ -201,10 +206,32 @@ pub const MAX_DISPATCHED: usize = 8;
 /// assert_eq!(dirac_jit::with_dimensions!(3, 1, dims(2)), Ok(66));
 /// assert!(dirac_jit::with_dimensions!(9, 1, dims(2)).is_err());
 /// ```
+///
+/// A function with one more type parameter (a [`run::Job`]'s type, inferred) is called as
+/// `f::<_>(args)`, with the expression evaluated for any other dimensions after `else`:
+///
+/// ```
+/// fn scaled<const S: usize, const K: usize, const N: usize, T: Into<f64>>(x: T) -> f64 {
+///     x.into() * N as f64
+/// }
+/// assert_eq!(dirac_jit::with_dimensions!(3, 1, scaled::<_>(2.0f32) else 0.0), 8.0);
+/// assert_eq!(dirac_jit::with_dimensions!(9, 1, scaled::<_>(2.0f32) else 0.0), 0.0);
+/// ```
 #[macro_export]
 macro_rules! with_dimensions {
     ($s:expr, $k:expr, $f:ident $args:tt) => {
-        $crate::with_dimensions!(@arms ($s, $k), $f $args;
+        $crate::with_dimensions!(@table ($s, $k), $f [] $args,
+            (s, k) => ::core::result::Result::Err(::std::format!(
+                "{s} shape and {k} group coordinates: the fixed-size instances have at most {} coordinates (other sizes run on the element view, `Code::element_view`)",
+                $crate::MAX_DISPATCHED
+            )),
+        )
+    };
+    ($s:expr, $k:expr, $f:ident::<_> $args:tt else $fallback:expr) => {
+        $crate::with_dimensions!(@table ($s, $k), $f [, _] $args, _ => $fallback,)
+    };
+    (@table $sk:expr, $f:ident $tail:tt $args:tt, $($fallback:tt)*) => {
+        $crate::with_dimensions!(@arms $sk, $f $tail $args, [$($fallback)*];
             (0,1) (1,0)
             (0,2) (1,1) (2,0)
             (0,3) (1,2) (2,1) (3,0)
@@ -214,13 +241,18 @@ macro_rules! with_dimensions {
             (0,7) (1,6) (2,5) (3,4) (4,3) (5,2) (6,1) (7,0)
             (0,8) (1,7) (2,6) (3,5) (4,4) (5,3) (6,2) (7,1) (8,0))
     };
-    (@arms $sk:expr, $f:ident $args:tt; $(($s:literal, $k:literal))*) => {
+    (@arms $sk:expr, $f:ident [] $args:tt, [$($fallback:tt)*];
+        $(($s:literal, $k:literal))*) => {
         match $sk {
             $(($s, $k) => $f::<$s, $k, { $s + $k }> $args,)*
-            (s, k) => ::core::result::Result::Err(::std::format!(
-                "{s} shape and {k} group coordinates: the fixed-size instances have at most {} coordinates (other sizes run on the element view, `Code::element_view`)",
-                $crate::MAX_DISPATCHED
-            )),
+            $($fallback)*
+        }
+    };
+    (@arms $sk:expr, $f:ident [, _] $args:tt, [$($fallback:tt)*];
+        $(($s:literal, $k:literal))*) => {
+        match $sk {
+            $(($s, $k) => $f::<$s, $k, { $s + $k }, _> $args,)*
+            $($fallback)*
         }
     };
 }
@@ -244,12 +276,25 @@ macro_rules! with_dimensions {
 #[macro_export]
 macro_rules! with_lie_dimensions {
     ($p:expr, $n:expr, $f:ident $args:tt else $fallback:expr) => {
-        $crate::with_lie_dimensions!(@arms ($p, $n), $f $args, $fallback;
+        $crate::with_lie_dimensions!(@table ($p, $n), $f [] $args, $fallback)
+    };
+    // `f::<_>(args)`: a function with one more type parameter, inferred.
+    ($p:expr, $n:expr, $f:ident::<_> $args:tt else $fallback:expr) => {
+        $crate::with_lie_dimensions!(@table ($p, $n), $f [, _] $args, $fallback)
+    };
+    (@table $pn:expr, $f:ident $tail:tt $args:tt, $fallback:expr) => {
+        $crate::with_lie_dimensions!(@arms $pn, $f $tail $args, $fallback;
             (9,2) (9,3) (10,3) (10,4) (11,4) (11,5) (12,5) (12,6) (13,6) (13,7) (14,7) (14,8) (15,8) (18,4) (18,5) (18,6) (19,5) (19,6) (19,7) (20,6) (20,7) (20,8) (21,7) (21,8) (22,8))
     };
-    (@arms $pn:expr, $f:ident $args:tt, $fallback:expr; $(($p:literal, $n:literal))*) => {
+    (@arms $pn:expr, $f:ident [] $args:tt, $fallback:expr; $(($p:literal, $n:literal))*) => {
         match $pn {
             $(($p, $n) => $f::<$p, $n> $args,)*
+            _ => $fallback,
+        }
+    };
+    (@arms $pn:expr, $f:ident [, _] $args:tt, $fallback:expr; $(($p:literal, $n:literal))*) => {
+        match $pn {
+            $(($p, $n) => $f::<$p, $n, _> $args,)*
             _ => $fallback,
         }
     };
@@ -276,7 +321,21 @@ pub const MAX_DISPATCHED_CONSTRAINED: (usize, usize, usize) = (3, 6, 1);
 #[macro_export]
 macro_rules! with_constrained_dimensions {
     ($s:expr, $k:expr, $m:expr, $f:ident $args:tt) => {
-        $crate::with_constrained_dimensions!(@arms ($s, $k, $m), $f $args;
+        $crate::with_constrained_dimensions!(@table ($s, $k, $m), $f [] $args,
+            (s, k, m) => ::core::result::Result::Err(::std::format!(
+                "{s} shape and {k} group coordinates with {m} constraints: the fixed-size constrained instances have at most {} coordinates, {} of them group coordinates, and {} constraints (other sizes run on the element view, `Code::element_view`)",
+                $crate::MAX_DISPATCHED_CONSTRAINED.1,
+                $crate::MAX_DISPATCHED_CONSTRAINED.2,
+                $crate::MAX_DISPATCHED_CONSTRAINED.0
+            )),
+        )
+    };
+    // `f::<_>(args)`: a function with one more type parameter, inferred.
+    ($s:expr, $k:expr, $m:expr, $f:ident::<_> $args:tt else $fallback:expr) => {
+        $crate::with_constrained_dimensions!(@table ($s, $k, $m), $f [, _] $args, _ => $fallback,)
+    };
+    (@table $skm:expr, $f:ident $tail:tt $args:tt, $($fallback:tt)*) => {
+        $crate::with_constrained_dimensions!(@arms $skm, $f $tail $args, [$($fallback)*];
             (1,0,1) (2,0,1) (3,0,1) (4,0,1) (5,0,1) (6,0,1)
             (0,1,1) (1,1,1) (2,1,1) (3,1,1) (4,1,1) (5,1,1)
             (1,0,2) (2,0,2) (3,0,2) (4,0,2) (5,0,2) (6,0,2)
@@ -284,15 +343,18 @@ macro_rules! with_constrained_dimensions {
             (1,0,3) (2,0,3) (3,0,3) (4,0,3) (5,0,3) (6,0,3)
             (0,1,3) (1,1,3) (2,1,3) (3,1,3) (4,1,3) (5,1,3))
     };
-    (@arms $skm:expr, $f:ident $args:tt; $(($s:literal, $k:literal, $m:literal))*) => {
+    (@arms $skm:expr, $f:ident [] $args:tt, [$($fallback:tt)*];
+        $(($s:literal, $k:literal, $m:literal))*) => {
         match $skm {
             $(($s, $k, $m) => $f::<$s, $k, { $s + $k }, $m, { $s + $k + $m }> $args,)*
-            (s, k, m) => ::core::result::Result::Err(::std::format!(
-                "{s} shape and {k} group coordinates with {m} constraints: the fixed-size constrained instances have at most {} coordinates, {} of them group coordinates, and {} constraints (other sizes run on the element view, `Code::element_view`)",
-                $crate::MAX_DISPATCHED_CONSTRAINED.1,
-                $crate::MAX_DISPATCHED_CONSTRAINED.2,
-                $crate::MAX_DISPATCHED_CONSTRAINED.0
-            )),
+            $($fallback)*
+        }
+    };
+    (@arms $skm:expr, $f:ident [, _] $args:tt, [$($fallback:tt)*];
+        $(($s:literal, $k:literal, $m:literal))*) => {
+        match $skm {
+            $(($s, $k, $m) => $f::<$s, $k, { $s + $k }, $m, { $s + $k + $m }, _> $args,)*
+            $($fallback)*
         }
     };
 }

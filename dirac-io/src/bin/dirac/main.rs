@@ -83,20 +83,14 @@
 //! Exit status 0 on success, 1 when the system or a step fails (the states computed before a
 //! failed step are written and named), 2 for a malformed command line or file.
 
-mod sizes;
-
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
 
 use dirac::prelude::*;
-use dirac::runtime::lie::{LieIntegratorOf, LieStateOf, ReducedLieIntegratorOf, ReducedLieStateOf};
-use dirac::runtime::nalgebra::allocator::Allocator;
-use dirac::runtime::nalgebra::{Const, DefaultAllocator, Dim, Dyn, OVector};
 use dirac_io::{Describe, Options, ParquetObserver, StateColumns};
-use dirac_jit::{
-    Code, Compiled, DynJitLie, ElementCode, JitLie, JitSystem, LieCode, LieFront, RunRequest,
-};
+use dirac_jit::run::{Finish, Job, LieStart};
+use dirac_jit::{Code, Compiled, ElementCode, LieCode, RunRequest};
 
 /// A parsed system file.
 struct Config {
@@ -181,8 +175,8 @@ fn cli(args: Vec<String>) -> Result<(), Failure> {
     let request = config.request(&system)?;
     let code = match system {
         Compiled::Flat(code) => code,
-        Compiled::Lie(code) => return cli_lie(command, &code, &config, request),
-        Compiled::Element(code) => return cli_element(command, &code, &config, request),
+        Compiled::Lie(code) => return cli_lie(command, &code, &config, &request),
+        Compiled::Element(code) => return cli_element(command, &code, &config, &request),
     };
     let sys = code.system();
     match request.equations.form {
@@ -202,21 +196,7 @@ fn cli(args: Vec<String>) -> Result<(), Failure> {
             Ok(())
         }
         "run" => {
-            let (s, k) = (sys.shape.len(), sys.group.len());
-            let report = match &sys.constrained {
-                // Any other size: the element view on the element integrators.
-                _ if !code.fixed_size() => sizes::run_view(&code, &config, request),
-                None => dirac_jit::with_dimensions!(s, k, run(&code, &config, request)),
-                Some(c) => {
-                    dirac_jit::with_constrained_dimensions!(
-                        s,
-                        k,
-                        c.m,
-                        run_constrained(&code, &config, request)
-                    )
-                }
-            }
-            .map_err(Failure::Run)?;
+            let report = run_flat(&code, &config, &request).map_err(Failure::Run)?;
             println!("{report}");
             Ok(())
         }
@@ -397,53 +377,34 @@ fn values(config: &Config, name: &str, len: usize) -> Result<Vec<f64>, String> {
     Ok(values)
 }
 
-/// The start's vector `name` of length `D`.
-fn vector<const D: usize>(config: &Config, name: &str) -> Result<SVector<f64, D>, String> {
-    values(config, name, D).map(|v| SVector::from_column_slice(&v))
+/// Integrates the system on vector spaces by the equations the file's `method` names and
+/// writes the run: from the start `(q, p)` or `(x, w, μ, g)`, at its fixed sizes (with
+/// constraints, the constrained integrators) or, at any other size, on its element view.
+fn run_flat(code: &Arc<Code>, config: &Config, request: &RunRequest) -> Result<String, String> {
+    let sys = code.system();
+    let (s, k) = (sys.shape.len(), sys.group.len());
+    let params = parameters(&Compiled::Flat(Arc::clone(code)), config)?;
+    let parts: &[(&str, usize)] = match request.equations.form {
+        Form::Unreduced => &[("q", s + k), ("p", s + k)],
+        Form::Reduced => &[("x", s), ("w", s), ("mu", k), ("g", k)],
+    };
+    let start = (parts.iter())
+        .map(|&(name, len)| values(config, name, len))
+        .collect::<Result<Vec<_>, _>>()?;
+    written(dirac_jit::run_flat!(
+        code,
+        &params,
+        &[start],
+        request,
+        Write(&config.out)
+    ))
 }
 
-/// The unreduced start `(q, p)` of the file.
-fn unreduced_start<const N: usize>(config: &Config) -> Result<UnreducedState<N>, String> {
-    Ok(UnreducedState {
-        q: vector::<N>(config, "q")?,
-        p: vector::<N>(config, "p")?,
-    })
-}
-
-/// The reduced start `(x, w, μ, g)` of the file.
-fn reduced_start<const S: usize, const K: usize>(
-    config: &Config,
-) -> Result<ReducedState<S, K>, String> {
-    Ok(ReducedState {
-        x: vector::<S>(config, "x")?,
-        w: vector::<S>(config, "w")?,
-        mu: vector::<K>(config, "mu")?,
-        g: vector::<K>(config, "g")?,
-    })
-}
-
-/// The text's system at dimensions `S`, `K`, `N`, with the file's parameters by name.
-fn flat_system<const S: usize, const K: usize, const N: usize>(
-    code: &Arc<Code>,
-    config: &Config,
-) -> Result<JitSystem<S, K, N>, String> {
-    code.instantiate_named::<S, K, N>(&config.named())
+/// The file's parameters, by name, as the values in declaration order.
+fn parameters(system: &Compiled, config: &Config) -> Result<Vec<f64>, String> {
+    system
+        .values_by_name(&config.named())
         .map_err(|e| e.to_string())
-}
-
-/// Integrates the system at dimensions `S`, `K`, `N` and writes the run.
-fn run<const S: usize, const K: usize, const N: usize>(
-    code: &Arc<Code>,
-    config: &Config,
-    request: RunRequest,
-) -> Result<String, String> {
-    let sys = flat_system::<S, K, N>(code, config)?;
-    let integrators = (
-        UnreducedIntegrator::new,
-        ReducedIntegrator::plus,
-        ReducedIntegrator::minus,
-    );
-    write_flat::<S, K, N, _, _, _, _>(config, request, sys, integrators)
 }
 
 /// `check` and `run` of a system on rotation groups.
@@ -451,7 +412,7 @@ fn cli_lie(
     command: &str,
     code: &Arc<LieCode>,
     config: &Config,
-    request: RunRequest,
+    request: &RunRequest,
 ) -> Result<(), Failure> {
     let sys = code.system();
     check_start(
@@ -473,16 +434,7 @@ fn cli_lie(
             Ok(())
         }
         "run" => {
-            // The small sizes of the fixed-size instances (stack vectors, the dense LU), any
-            // other at the sizes the text declares.
-            let (p, n) = (sys.point_len(), sys.chart_len());
-            let report = dirac_jit::with_lie_dimensions!(
-                p,
-                n,
-                run_lie_fixed(code, config, request)
-                    else run_lie::<DynJitLie, Dyn, Dyn>(code, config, request)
-            )
-            .map_err(Failure::Run)?;
+            let report = run_lie(code, config, request).map_err(Failure::Run)?;
             println!("{report}");
             Ok(())
         }
@@ -525,50 +477,18 @@ fn per_coordinate(
         .map(Some)
 }
 
-/// [`run_lie`] at the fixed sizes `P` (a stored point) and `N` (the chart).
-fn run_lie_fixed<const P: usize, const N: usize>(
-    code: &Arc<LieCode>,
-    config: &Config,
-    request: RunRequest,
-) -> Result<String, String> {
-    run_lie::<JitLie<P, N>, Const<P>, Const<N>>(code, config, request)
-}
-
-/// Integrates the system on rotation groups `S` (at fixed sizes or at the sizes the text
-/// declares) by the equations the file asks for and writes the run.
-fn run_lie<S, P: Dim, N: Dim>(
-    code: &Arc<LieCode>,
-    config: &Config,
-    request: RunRequest,
-) -> Result<String, String>
-where
-    S: LieFront<P, N>,
-    DefaultAllocator: Allocator<P> + Allocator<N>,
-    OVector<f64, P>: Send + Sync,
-    OVector<f64, N>: Send + Sync,
-    LieStateOf<P, N>: StateColumns,
-    ReducedLieStateOf<P, N>: StateColumns,
-{
-    let named = config.named();
-    let values = code.values_by_name(&named).map_err(|e| e.to_string())?;
-    let sys = S::instantiate(code, &values).map_err(|e| e.to_string())?;
+/// Integrates the system on rotation groups by the equations the file asks for and writes
+/// the run: at the fixed sizes of the small systems (stack vectors, the dense LU), any other at
+/// the sizes the text declares.
+fn run_lie(code: &Arc<LieCode>, config: &Config, request: &RunRequest) -> Result<String, String> {
+    let params = parameters(&Compiled::Lie(Arc::clone(code)), config)?;
     let q = per_coordinate(config, code, "q")?.ok_or("the table `[start.q]` is missing")?;
-    let q: Vec<&[f64]> = q.iter().map(Vec::as_slice).collect();
     let start = match (
         per_coordinate(config, code, "p")?,
         per_coordinate(config, code, "v")?,
     ) {
-        (Some(p), None) => {
-            let p: Vec<&[f64]> = p.iter().map(Vec::as_slice).collect();
-            sys.state_of(&q, &p).map_err(|e| e.to_string())?
-        }
-        (None, Some(v)) => {
-            let zeros: Vec<Vec<f64>> = v.iter().map(|v| vec![0.0; v.len()]).collect();
-            let zeros: Vec<&[f64]> = zeros.iter().map(Vec::as_slice).collect();
-            let point = sys.state_of(&q, &zeros).map_err(|e| e.to_string())?.q;
-            sys.level_state_of(&point, &v.concat())
-                .map_err(|e| e.to_string())?
-        }
+        (Some(p), None) => LieStart { q, p: Some(p), v: None },
+        (None, Some(v)) => LieStart { q, p: None, v: Some(v.concat()) },
         _ => {
             return Err(
                 "give the momenta `[start.p]` or (with adaptive steps) the velocities `[start.v]`, one of them"
@@ -576,99 +496,13 @@ where
             )
         }
     };
-    let options = request.newton;
-    match request.equations {
-        Equations {
-            form: Form::Reduced,
-            ..
-        } => {
-            let reduced = S::instantiate_reduced(code, &values).map_err(|e| e.to_string())?;
-            let integ = ReducedLieIntegratorOf::new(reduced, options);
-            let start = integ.reduce(&start);
-            write(integ, start, config, request)
-        }
-        Equations {
-            side: Variant::Minus,
-            ..
-        } => write(LieIntegratorOf::minus(sys, options), start, config, request),
-        Equations { .. } => write(LieIntegratorOf::new(sys, options), start, config, request),
-    }
-}
-
-/// Integrates the system with `M` constraints at dimensions `S`, `K`, `N`, `Z = N + M` by the
-/// constrained integrators and writes the run (the states; the multipliers are not columns).
-fn run_constrained<
-    const S: usize,
-    const K: usize,
-    const N: usize,
-    const M: usize,
-    const Z: usize,
->(
-    code: &Arc<Code>,
-    config: &Config,
-    request: RunRequest,
-) -> Result<String, String> {
-    let values = flat_system::<S, K, N>(code, config)?.parameter_values();
-    let sys = code
-        .instantiate_constrained::<S, K, N, M, Z>(&values)
-        .map_err(|e| e.to_string())?;
-    let integrators = (
-        ConstrainedIntegrator::new,
-        ReducedConstrainedIntegrator::plus,
-        ReducedConstrainedIntegrator::minus,
-    );
-    write_flat::<S, K, N, _, _, _, _>(config, request, sys, integrators)
-}
-
-/// Writes the run of the system `sys` on vector spaces by the equations the file's `method`
-/// names: with the unreduced integrator from the start `(q, p)`, or the reduced one of that
-/// side from `(x, w, μ, g)` — `(unreduced, plus, minus)`, their constructors, of which only the
-/// one chosen is called (with the default Newton options).
-fn write_flat<const S: usize, const K: usize, const N: usize, L, U, P, M>(
-    config: &Config,
-    request: RunRequest,
-    sys: L,
-    (unreduced, plus, minus): (
-        impl FnOnce(L, NewtonOptions) -> U,
-        impl FnOnce(L, NewtonOptions) -> P,
-        impl FnOnce(L, NewtonOptions) -> M,
-    ),
-) -> Result<String, String>
-where
-    U: Describe + Drive<State = UnreducedState<N>>,
-    P: Describe + Drive<State = ReducedState<S, K>>,
-    M: Describe + Drive<State = ReducedState<S, K>>,
-    U::Record: AsRef<StepStats>,
-    P::Record: AsRef<StepStats>,
-    M::Record: AsRef<StepStats>,
-{
-    let options = request.newton;
-    match request.equations {
-        Equations {
-            form: Form::Unreduced,
-            ..
-        } => write(
-            unreduced(sys, options),
-            unreduced_start::<N>(config)?,
-            config,
-            request,
-        ),
-        Equations {
-            side: Variant::Plus,
-            ..
-        } => write(
-            plus(sys, options),
-            reduced_start::<S, K>(config)?,
-            config,
-            request,
-        ),
-        Equations { .. } => write(
-            minus(sys, options),
-            reduced_start::<S, K>(config)?,
-            config,
-            request,
-        ),
-    }
+    written(dirac_jit::run_lie!(
+        code,
+        &params,
+        &[start],
+        request,
+        Write(&config.out)
+    ))
 }
 
 /// `check` and `run` of an element-wise system, its sizes given in the table `[sizes]`.
@@ -676,7 +510,7 @@ fn cli_element(
     command: &str,
     code: &Arc<ElementCode>,
     config: &Config,
-    request: RunRequest,
+    request: &RunRequest,
 ) -> Result<(), Failure> {
     let sys = code.system();
     check_start(
@@ -707,7 +541,7 @@ fn cli_element(
 fn run_element(
     code: &Arc<ElementCode>,
     config: &Config,
-    request: RunRequest,
+    request: &RunRequest,
 ) -> Result<String, String> {
     let sizes: Vec<(&str, usize)> = config.sizes.iter().map(|(k, v)| (k.as_str(), *v)).collect();
     let sys = code
@@ -715,66 +549,52 @@ fn run_element(
         .map_err(|e| e.to_string())?;
     let n = sys.dim();
     let start = ElementState::new(values(config, "q", n)?, values(config, "p", n)?);
-    // The request's check refused the reduced equations: an element-wise system has none.
-    let (side, options) = (request.equations.side, request.newton);
-    match (sys.constrained(), side) {
-        (false, Variant::Plus) => {
-            write(ElementIntegrator::new(sys, options), start, config, request)
-        }
-        (false, Variant::Minus) => write(
-            ElementIntegrator::minus(sys, options),
-            start,
-            config,
-            request,
-        ),
-        (true, Variant::Plus) => write(
-            ElementConstrainedIntegrator::new(sys, options),
-            start,
-            config,
-            request,
-        ),
-        (true, Variant::Minus) => write(
-            ElementConstrainedIntegrator::minus(sys, options),
-            start,
-            config,
-            request,
-        ),
-    }
+    written(dirac_jit::run::element(
+        sys,
+        vec![start],
+        request,
+        Write(&config.out),
+    ))
 }
 
-/// Runs `integ` from `start`, every state into the Parquet output.
-fn write<I>(
-    integ: I,
-    start: I::State,
-    config: &Config,
-    request: RunRequest,
-) -> Result<String, String>
+/// A run written to Parquet at the path it holds, every state (the run's one output).
+#[derive(Clone, Copy)]
+struct Write<'a>(&'a Path);
+
+impl Job for Write<'_> {
+    /// What `run` prints, or why the run failed (the states before a failed step written).
+    type Output = Result<String, String>;
+}
+
+impl<I> Finish<I> for Write<'_>
 where
     I: Describe + Drive,
     I::State: StateColumns,
     I::Record: AsRef<StepStats>,
 {
-    let mut out = ParquetObserver::create(&config.out, integ.describe(), Options::new())
-        .map_err(|e| e.to_string())?;
-    let run = integ.run(start).steps(request.steps);
-    let result = match request.schedule.as_deref() {
-        Some(sizes) => run
-            .step_size(dirac::runtime::StepSizes(sizes))
-            .observe(out.observer())
-            .stream(),
-        None => run.observe(out.observer()).stream(),
-    };
-    let path = out.finish_with(&result).map_err(|e| e.to_string())?;
-    match result {
-        Ok(summary) => Ok(format!(
-            "{} steps to t = {} written to {}",
-            summary.step_count,
-            summary.t,
-            path.display()
-        )),
-        Err(e) => Err(format!(
-            "{e}; the states before it are written to {}",
-            path.display()
-        )),
+    fn finish(self, integ: I, starts: Vec<I::State>, request: &RunRequest) -> Self::Output {
+        let start = starts.into_iter().next().ok_or("a run needs its start")?;
+        let mut out = ParquetObserver::create(self.0, integ.describe(), Options::new())
+            .map_err(|e| e.to_string())?;
+        let result = dirac_jit::span!(integ.run(start), request, observe(out.observer()) => stream);
+        let path = out.finish_with(&result).map_err(|e| e.to_string())?;
+        match result {
+            Ok(summary) => Ok(format!(
+                "{} steps to t = {} written to {}",
+                summary.step_count,
+                summary.t,
+                path.display()
+            )),
+            Err(e) => Err(format!(
+                "{e}; the states before it are written to {}",
+                path.display()
+            )),
+        }
     }
+}
+
+/// What a run ended with: its report, or why it failed (its system, request or start refused,
+/// or a step).
+fn written(run: Result<Result<String, String>, dirac_jit::Error>) -> Result<String, String> {
+    run.map_err(|e| e.to_string())?
 }
