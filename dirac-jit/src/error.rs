@@ -10,6 +10,10 @@ pub enum Error {
     /// Cranelift could not generate the machine code (an unsupported machine, or a bug).
     #[error("code generation failed: {0}")]
     Codegen(String),
+    /// A model of articulated rigid bodies whose system text cannot be written
+    /// ([`crate::compile_model`]).
+    #[error("{0}")]
+    Model(#[from] dirac_multibody::ModelError),
     /// The dimensions a program asked for are not the system's.
     #[error(
         "the system `{name}` has {s} shape and {k} group coordinates (N = {n}); it was asked for as S = {want_s}, K = {want_k}, N = {want_n}"

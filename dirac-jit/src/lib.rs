@@ -143,6 +143,7 @@ mod element;
 mod error;
 mod lie;
 mod model;
+mod multibody;
 mod request;
 pub mod run;
 mod system;
@@ -150,6 +151,7 @@ mod system;
 pub use element::{compile_element, compile_flat_elements, ElementCode, JitElement, MAX_SIZES};
 pub use error::Error;
 pub use lie::{compile_lie, DynJitLie, JitLie, LieCode, LieFront, Reduced, Reduction, Unreduced};
+pub use multibody::{compile_model, ModelCode};
 pub use request::{RunRequest, ORDERS};
 
 /// The runtime, for the macros' expansions in other crates ([`span!`]).

@@ -197,7 +197,8 @@ pub enum ModelError {
         kind: String,
     },
     /// A URDF joint type or element this library reads but does not support yet (`planar`
-    /// joints, `<mimic>`).
+    /// joints, `<mimic>`), or a joint that a system text does not support yet (spherical
+    /// joints, a free joint below the root: [`Model::system_text`](crate::Model::system_text)).
     #[error("joint {joint:?}: {feature} is not supported")]
     Unsupported {
         /// The joint's name.
@@ -217,6 +218,10 @@ pub enum ModelError {
         /// The joint's name.
         joint: String,
     },
+    /// The model has no moving joint: its system text would have no coordinate
+    /// ([`Model::system_text`](crate::Model::system_text)).
+    #[error("the model has no moving joint: nothing to step")]
+    NothingMoves,
     /// The gravity vector is not finite.
     #[error("gravity {gravity:?} is not finite")]
     InvalidGravity {

@@ -69,6 +69,14 @@
 //! [`Model::kinetic_energy`], [`Model::potential_energy`], [`Model::momentum`] and
 //! [`Model::mass_matrix`] (the composite-rigid-body algorithm), after Featherstone, *Rigid Body
 //! Dynamics Algorithms* (Springer, 2008), chapters 2–6.
+//!
+//! ## Stepping a model
+//!
+//! [`Model::system_text`] writes the model's Lagrangian as a system given as text (the
+//! [`text`] module derives it): scalar joints with the midpoint rule for a fixed base, the base
+//! on `SE(3)` beside them with the trapezoid rule for a floating one. The run-time front end
+//! (`dirac_jit::compile_any`, or `dirac_jit::compile_model`) compiles it to machine code, and
+//! every integrator of the run API steps it.
 
 #![warn(missing_docs)]
 
@@ -77,6 +85,7 @@ mod inertia;
 pub mod kinematics;
 mod model;
 mod pose;
+pub mod text;
 pub mod urdf;
 
 pub use error::{InertiaDefect, ModelError, StateError};
@@ -87,6 +96,7 @@ pub use model::{
     ModelBuilder, STANDARD_GRAVITY,
 };
 pub use pose::{axis_angle, skew, Pose};
+pub use text::{SystemText, TextCoordinate, TextKind, TextOptions};
 
 /// The linear algebra the model's vectors and matrices are written in.
 pub use nalgebra;
