@@ -7,11 +7,11 @@ use dirac::prelude::*;
 use dirac::runtime::compose::Composition;
 use dirac::runtime::constrained::Form;
 use dirac::runtime::lie::{
-    DynLieState, LieIntegratorOf, LieModel, LieStateOf, ReducedLieIntegratorOf, ReducedLieStateOf,
-    SymmetricLieModel,
+    DynLieState, LieForm, LieIntegratorIn, LieModel, ReducedForm, ReducedLieStateOf,
+    SymmetricLieModel, UnreducedForm,
 };
 use dirac::runtime::nalgebra::allocator::Allocator;
-use dirac::runtime::nalgebra::{DVector, DefaultAllocator, Dim, Dyn, OVector};
+use dirac::runtime::nalgebra::{DVector, DefaultAllocator, Dim, Dyn};
 
 /// A state whose components are written as `f64` columns, one per coordinate and momentum.
 ///
@@ -540,13 +540,16 @@ where
     }
 }
 
-impl<L, P: Dim, N: Dim> Describe for LieIntegratorOf<L, P, N>
+/// The integrators on rotation groups, in either form: the columns of the form's states
+/// ([`LieState`]'s, then `mu_x`, `mu_y`, `mu_z` for [`ReducedLieState`]), each coordinate with
+/// the attribute keyword of its kind (`dirac.coordinates`: `r:rotation`, `x:pose`), the physical
+/// time of adaptive steps, the Newton options, then the form's integrator and side, and the
+/// reduced form's symmetry.
+impl<L, P: Dim, N: Dim, F> Describe for LieIntegratorIn<L, P, N, F>
 where
     L: LieModel<P, N>,
+    F: LieForm<L, P, N, State: StateColumns> + FormInfo<L, P, N>,
     DefaultAllocator: Allocator<P> + Allocator<N>,
-    OVector<f64, P>: Send + Sync,
-    OVector<f64, N>: Send + Sync,
-    LieStateOf<P, N>: StateColumns,
 {
     fn describe(&self) -> RunInfo {
         let system = self.system();
@@ -554,12 +557,11 @@ where
         let (point, chart) = lie_names(&coordinates);
         let point: Vec<&str> = point.iter().map(String::as_str).collect();
         let chart: Vec<&str> = chart.iter().map(String::as_str).collect();
-        // Each coordinate with the attribute keyword of its kind (`r:rotation`, `x:pose`).
         let kinds: Vec<String> = coordinates
             .iter()
             .map(|(name, kind)| format!("{name}:{}", kind.name()))
             .collect();
-        let columns: Vec<String> = prefixed("q", &point).chain(prefixed("p", &chart)).collect();
+        let columns = F::State::column_names(&point, &chart);
         let mut metadata = vec![("dirac.coordinates".into(), kinds.join(","))];
         metadata.extend(
             system
@@ -567,40 +569,44 @@ where
                 .and_then(|i| coordinates.get(i))
                 .and_then(|&(name, _)| physical_time(&columns, name)),
         );
-        RunInfo {
+        let info = RunInfo {
             columns,
             h: system.time_step(),
             parameters: parameters(system),
             metadata,
-        }
-        .with_newton(self.options())
-        .with(
-            "dirac.integrator",
-            "Lie group variational (Cayley retraction)",
-        )
-        .with("dirac.variant", format!("{:?}", self.variant()))
+        };
+        F::finish(system, self.variant(), info.with_newton(self.options()))
     }
 }
 
-impl<L, P: Dim, N: Dim> Describe for ReducedLieIntegratorOf<L, P, N>
-where
-    L: SymmetricLieModel<P, N>,
-    DefaultAllocator: Allocator<P> + Allocator<N>,
-    OVector<f64, P>: Send + Sync,
-    OVector<f64, N>: Send + Sync,
-    LieStateOf<P, N>: StateColumns,
-    ReducedLieStateOf<P, N>: StateColumns,
-{
-    fn describe(&self) -> RunInfo {
-        let mut info = self.unreduced().describe();
-        info.columns
-            .extend(["mu_x", "mu_y", "mu_z"].map(String::from));
-        info.metadata.retain(|(key, _)| key != "dirac.integrator");
+/// What each form of the integrator on rotation groups adds to its description: the
+/// integrator's name and side (`variant`), and the reduced form's symmetry.
+trait FormInfo<L, P, N> {
+    fn finish(system: &L, variant: Variant, info: RunInfo) -> RunInfo;
+}
+
+impl<L, P, N> FormInfo<L, P, N> for UnreducedForm {
+    fn finish(_: &L, variant: Variant, info: RunInfo) -> RunInfo {
         info.with(
             "dirac.integrator",
-            "reduced Lie group variational (Cayley retraction)",
+            "Lie group variational (Cayley retraction)",
         )
-        .with("dirac.symmetry", format!("{:?}", self.system().symmetry()))
+        .with("dirac.variant", format!("{variant:?}"))
+    }
+}
+
+impl<L: SymmetricLieModel<P, N>, P: Dim, N: Dim> FormInfo<L, P, N> for ReducedForm
+where
+    DefaultAllocator: Allocator<P> + Allocator<N>,
+{
+    fn finish(system: &L, variant: Variant, info: RunInfo) -> RunInfo {
+        let symmetry = format!("{:?}", system.symmetry());
+        info.with("dirac.variant", format!("{variant:?}"))
+            .with(
+                "dirac.integrator",
+                "reduced Lie group variational (Cayley retraction)",
+            )
+            .with("dirac.symmetry", symmetry)
     }
 }
 
