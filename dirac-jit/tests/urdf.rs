@@ -548,6 +548,82 @@ fn iiwa_compiles_and_steps_with_bounded_energy_error() {
     assert!(moved > 0.1, "{moved}");
 }
 
+/// A branching tree with every kind of scalar joint: a prismatic joint below two revolute
+/// ones (so the slide is carried by a turning body), two branches from one body, placements
+/// turned by `rpy`, centres of mass off the frames, inertias with products, gravity askew.
+fn mixed_tree() -> Model {
+    let body = |m: f64, c: [f64; 3], d: [f64; 3], p: f64| {
+        let i = Matrix3::new(d[0], p, -p, p, d[1], 0.5 * p, -p, 0.5 * p, d[2]);
+        Inertial::new(m, Vector3::from(c), i)
+    };
+    let at = |xyz: [f64; 3], rpy: [f64; 3]| Pose::from_xyz_rpy(xyz, rpy);
+    Model::builder()
+        .frame("world")
+        .body("a", body(2.0, [0.1, 0.0, -0.3], [0.2, 0.25, 0.1], 0.01))
+        .body("b", body(1.5, [0.0, 0.2, -0.1], [0.1, 0.12, 0.08], -0.005))
+        .body(
+            "c",
+            body(0.8, [0.05, -0.02, 0.1], [0.03, 0.04, 0.05], 0.002),
+        )
+        .body("d", body(1.1, [-0.1, 0.1, 0.0], [0.06, 0.05, 0.07], 0.003))
+        .body("e", body(0.5, [0.0, 0.0, 0.2], [0.02, 0.02, 0.01], 0.0))
+        .joint(
+            JointSpec::revolute("r1", "world", "a", Vector3::new(0.0, 0.3, 1.0))
+                .at(at([0.0, 0.0, 0.5], [0.1, 0.0, 0.0])),
+        )
+        .joint(
+            JointSpec::revolute("r2", "a", "b", Vector3::x())
+                .at(at([0.3, 0.1, -0.6], [0.0, 0.4, -0.2])),
+        )
+        .joint(
+            JointSpec::prismatic("slide", "b", "c", Vector3::new(1.0, -1.0, 0.5))
+                .at(at([0.0, 0.2, -0.4], [0.3, 0.0, 0.7])),
+        )
+        .joint(
+            JointSpec::revolute("branch", "a", "d", Vector3::y())
+                .at(at([-0.2, 0.0, -0.6], [0.0, 0.0, 0.5])),
+        )
+        .joint(JointSpec::new(
+            "wrist",
+            "c",
+            "e",
+            dirac_multibody::JointKind::Continuous {
+                axis: Vector3::new(1.0, 1.0, 1.0),
+            },
+        ))
+        .gravity(Vector3::new(1.0, -2.0, -9.0))
+        .build()
+        .unwrap()
+}
+
+/// The text of a branching tree with a carried prismatic joint has the model's energy and
+/// Legendre map: `T + V` and `M(q) q̇` of `dirac-multibody` (the composite-rigid-body
+/// algorithm in the world frame, written independently), at sample states.
+#[test]
+fn a_mixed_tree_has_the_model_energy_and_mass_matrix() {
+    let model = mixed_tree();
+    let code = flat(&model.system_text().unwrap());
+    let sys = code.instantiate::<5, 0, 5>(&[0.01]).unwrap();
+    for k in 0..20 {
+        let q: SVector<f64, 5> = SVector::from_fn(|i, _| 2.0 * wave(5 * k + i));
+        let v: SVector<f64, 5> = SVector::from_fn(|i, _| 3.0 * wave(200 + 5 * k + i));
+        let config = model.configuration_from_scalars(q.as_slice()).unwrap();
+        let energy = model.kinetic_energy(&config, v.as_slice()).unwrap()
+            + model.potential_energy(&config).unwrap();
+        let e = sys.energy(&q, &v).unwrap();
+        assert!(
+            (e - energy).abs() < 1e-12 * energy.abs().max(1.0),
+            "{e} {energy}"
+        );
+        let p = model.mass_matrix(&config).unwrap() * DVector::from_column_slice(v.as_slice());
+        let legendre = sys.legendre(&q, &v).unwrap();
+        let worst = (0..5)
+            .map(|i| (legendre[i] - p[i]).abs())
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-12 * p.amax().max(1.0), "{worst:e}");
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Floating bases.
 

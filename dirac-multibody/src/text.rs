@@ -511,11 +511,13 @@ impl Model {
         } else {
             TextKind::FixedBase
         };
-        let text = format!(
-            "// The Lagrangian L = T - V of a tree of {} moving bodies, written by dirac-multibody.\n\
+        let text =
+            format!(
+            "// The Lagrangian L = T - V of a tree of {} moving {}, written by dirac-multibody.\n\
              #[reduced_lagrangian({attribute})]\n\
              fn {name}(q: Config, v: Velocity{parameters}) -> f64 {{\n{body}}}\n",
-            self.joints.len()
+            self.joints.len(),
+            if self.joints.len() == 1 { "body" } else { "bodies" }
         );
         Ok(SystemText {
             text,
@@ -570,10 +572,9 @@ impl Model {
                 energy.push(format!("{} * {vc}.norm_squared()", num(0.5 * m)));
             }
             if let Vec3::Named(w) = &motion.w {
-                energy.push(format!(
-                    "0.5 * {w}.dot(&({} * {w}))",
-                    mat3(&inertial.inertia)
-                ));
+                // The symmetric part: a transformed inertia may be asymmetric by round-off.
+                let inertia = (inertial.inertia + inertial.inertia.transpose()) * 0.5;
+                energy.push(format!("0.5 * {w}.dot(&({} * {w}))", mat3(&inertia)));
             }
             match &motion.y {
                 Scalar::Const(y) => constant += m * y,
