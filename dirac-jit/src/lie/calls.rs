@@ -14,6 +14,7 @@ impl LieCode {
     /// Calls `kernel` on the parameter `values` and `args` (a step's `q_k`, `p_k`, `z`, or what
     /// the kernel's layout names), writing its outputs at `out`: the one call of the kernels of
     /// [`JitLie`](super::JitLie) and [`DynJitLie`](super::DynJitLie).
+    #[inline]
     pub(super) fn call_into(
         &self,
         values: &[f64; MAX_PARAMETERS],
@@ -37,6 +38,7 @@ impl LieCode {
     /// Step kernel `i` (0 the residual, 1 its Jacobian, 2 the momentum update): the reduced
     /// step's when `reduced` and the system compiled one, else the unreduced step's, which a
     /// system without a reduced step solves in its place.
+    #[inline]
     pub(super) fn step_kernel(&self, i: usize, reduced: bool) -> Kernel {
         match self.kernels.reduced {
             Some(k) if reduced => k[i],
@@ -45,12 +47,14 @@ impl LieCode {
     }
 
     /// The coordinate `i`: its name and kind, `None` past the last.
+    #[inline]
     pub(super) fn coordinate(&self, i: usize) -> Option<(&str, CoordinateKind)> {
         let c = self.system.coordinates.get(i)?;
         Some((c.name.as_str(), self.kinds[i]))
     }
 
     /// `L_d(q0, q1)` at the parameter `values`.
+    #[inline]
     pub(super) fn lagrangian(
         &self,
         values: &[f64; MAX_PARAMETERS],
@@ -63,6 +67,7 @@ impl LieCode {
     }
 
     /// The step monitor `g(q)` at the parameter `values`, `None` in physical time.
+    #[inline]
     pub(super) fn monitor(&self, values: &[f64; MAX_PARAMETERS], q: *const f64) -> Option<f64> {
         let kernel = self.kernels.monitor?;
         let mut out = 0.0;
