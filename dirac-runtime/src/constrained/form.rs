@@ -9,8 +9,10 @@ use crate::state::{ReducedState, UnreducedState};
 use crate::stepper::{predicted_increment, History};
 use crate::system::{join, split, DiscreteLagrangian, Side};
 
-/// The unreduced form of the constrained steps: the state is the canonical `(q, p)`
-/// ([`UnreducedState`]), the position step's unknowns `z = (q_{k+1}, λ_k)`.
+/// The unreduced form of the equations. Of the constrained steps ([`Form`]): the state is the
+/// canonical `(q, p)` ([`UnreducedState`]), the position step's unknowns `z = (q_{k+1}, λ_k)`.
+/// Of the integrators on rotation groups ([`LieForm`](crate::lie::LieForm)): the state
+/// `(q, p)` on the whole configuration space ([`LieStateOf`](crate::lie::LieStateOf)).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct UnreducedForm;
 
