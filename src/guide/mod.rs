@@ -35,11 +35,14 @@
 //! 12. [Systems given at run time](run_time_text): the attribute and function as text, compiled
 //!     by the same compiler and Cranelift to machine code while the program runs, behind the
 //!     same traits: the same integrators, the same messages, the same trajectories bit for bit.
-//! 13. [Diagnostics](diagnostics): Newton statistics and conditioning per step, energies, the
+//! 13. [Articulated bodies](articulated): robots and linkages read from URDF, their Lagrangian
+//!     written as a system text and stepped by the same integrators; a floating base on `SE(3)`
+//!     keeping the tree's total momentum.
+//! 14. [Diagnostics](diagnostics): Newton statistics and conditioning per step, energies, the
 //!     Dirac structure and the discrete action along a trajectory, the step-map Jacobian.
-//! 14. [Errors](errors): the typed [`StepError`](crate::StepError) of a failed step, the
+//! 15. [Errors](errors): the typed [`StepError`](crate::StepError) of a failed step, the
 //!     trajectory kept up to it, and the compile errors of the attributes.
-//! 15. [Limits](limits): what the integrators do not do, and where their guarantees end.
+//! 16. [Limits](limits): what the integrators do not do, and where their guarantees end.
 //!
 //! Results that leave the process — runs and ensembles in Apache Parquet, sharded ensembles on a
 //! Slurm cluster, progress bars — are the separate crate `dirac-io`, described in
@@ -56,6 +59,7 @@
 // Each capability still to come adds its chapter as a module here and a line in the list above.
 
 pub mod adaptive_steps;
+pub mod articulated;
 pub mod benchmarks;
 pub mod constraints;
 pub mod diagnostics;
