@@ -262,10 +262,7 @@ pub fn compile_lie(args: TokenStream, func: &ItemFn) -> syn::Result<LieCompiled>
     // A continuous L(q, v): L_d by its rule.
     let body = match spec.attr.rule.as_ref().filter(|_| sig.continuous) {
         Some(&(_, rule)) => {
-            let step = sig.params.iter().position(|p| *p == sig.step);
-            let h = graph.var(crate::ir::graph::Sym::Param(
-                step.expect("the step is a parameter"),
-            ));
+            let h = graph.var(crate::ir::graph::Sym::Param(sig.step_index()));
             crate::ir::lie::discretize(&mut graph, &spec, body, rule, h)
         }
         None => body,
@@ -302,10 +299,7 @@ pub fn compile_lie(args: TokenStream, func: &ItemFn) -> syn::Result<LieCompiled>
             }
             Some(match spec.attr.rule.as_ref().filter(|_| sig.continuous) {
                 Some(&(_, rule)) => {
-                    let step = sig.params.iter().position(|p| *p == sig.step);
-                    let h = graph.var(crate::ir::graph::Sym::Param(
-                        step.expect("the step is a parameter"),
-                    ));
+                    let h = graph.var(crate::ir::graph::Sym::Param(sig.step_index()));
                     crate::ir::lie::discretize_force(&mut graph, &spec, &parts[0], rule, h)
                 }
                 None => (parts[0].clone(), parts[1].clone()),

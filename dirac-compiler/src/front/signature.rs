@@ -29,6 +29,19 @@ impl Signature {
         let n = self.params.len() - usize::from(self.synthetic_step);
         &self.params[..n]
     }
+
+    /// The index of the time step among [`Self::params`] (the parser puts it there).
+    pub fn step_index(&self) -> usize {
+        self.params
+            .iter()
+            .position(|p| *p == self.step)
+            .expect("the step is a parameter")
+    }
+
+    /// The parameters' names, in order (the time step among them).
+    pub fn parameter_names(&self) -> Vec<String> {
+        self.params.iter().map(ToString::to_string).collect()
+    }
 }
 
 /// Checks the function signature: `(q0: Config, q1: Config, p1: f64, ...) -> f64`.

@@ -145,8 +145,7 @@ pub fn lower(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<L
     // A continuous L(q, v): keep it for the Legendre map and energy, and form L_d by the rule.
     let (body, continuous) = match (body, spec.rule.as_ref().filter(|_| sig.continuous)) {
         (Some(l), Some(&(_, rule))) => {
-            let step = sig.params.iter().position(|p| *p == sig.step);
-            let h = graph.var(Sym::Param(step.expect("the step is a parameter")));
+            let h = graph.var(Sym::Param(sig.step_index()));
             let parts = discretize::continuous(&mut graph, l, s + k, rule, mode_for(s + k));
             (
                 Some(discretize::discretize(&mut graph, l, s + k, h, rule)),
@@ -172,8 +171,7 @@ pub fn lower(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<L
     let forces = spec.force.as_ref().map(|closure| {
         let form = match spec.rule.as_ref().filter(|_| sig.continuous) {
             Some(&(_, rule)) => {
-                let step = sig.params.iter().position(|p| *p == sig.step);
-                let h = graph.var(Sym::Param(step.expect("the step is a parameter")));
+                let h = graph.var(Sym::Param(sig.step_index()));
                 force::Form::Continuous { rule, h }
             }
             None => force::Form::Discrete,
@@ -195,8 +193,7 @@ pub fn lower(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<L
     });
     let constraints = spec.constraints.as_ref().map(|closure| {
         let names = Names::of(sig, spec.layout.lowering_coords());
-        let step = sig.params.iter().position(|p| *p == sig.step);
-        let h = graph.var(Sym::Param(step.expect("the step is a parameter")));
+        let h = graph.var(Sym::Param(sig.step_index()));
         constraint::lower(
             cx,
             &mut graph,

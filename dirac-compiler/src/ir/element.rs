@@ -122,12 +122,7 @@ pub fn param_names(spec: &ElementSpec, depth: usize) -> Vec<String> {
 
 /// The time step (a parameter) and the rule of a continuous Lagrangian.
 fn step_and_rule(g: &mut Graph, spec: &ElementSpec) -> (NodeId, crate::front::rule::Rule) {
-    let step = spec
-        .sig
-        .params
-        .iter()
-        .position(|p| *p == spec.sig.step)
-        .expect("the time step is a parameter");
+    let step = spec.sig.step_index();
     let h = g.var(Sym::Param(step));
     (h, spec.rule.expect("a continuous Lagrangian has a rule"))
 }

@@ -273,12 +273,8 @@ pub(super) fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<Ele
             .clone()
             .unwrap_or_else(|| crate::back::items::camel_case(&func.sig.ident))
             .to_string(),
-        parameters: sig.params.iter().map(ToString::to_string).collect(),
-        step: sig
-            .params
-            .iter()
-            .position(|p| *p == sig.step)
-            .expect("the step is a parameter"),
+        parameters: sig.parameter_names(),
+        step: sig.step_index(),
         sizes: spec.sizes.iter().map(ToString::to_string).collect(),
         controls: spec
             .controls

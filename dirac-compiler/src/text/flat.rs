@@ -208,12 +208,8 @@ pub(super) fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<Ele
     let names = spec.layout.shape.iter().chain(&spec.layout.group);
     Ok(ElementSystem {
         name: crate::back::items::type_name(&spec, func).to_string(),
-        parameters: sig.params.iter().map(ToString::to_string).collect(),
-        step: sig
-            .params
-            .iter()
-            .position(|p| *p == sig.step)
-            .expect("the step is a parameter"),
+        parameters: sig.parameter_names(),
+        step: sig.step_index(),
         sizes: Vec::new(),
         controls,
         continuous: continuous.is_some(),

@@ -170,11 +170,7 @@ pub(super) fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<Lie
                 .collect::<Vec<_>>(),
         ),
     });
-    let step = sig
-        .params
-        .iter()
-        .position(|p| *p == sig.step)
-        .expect("the step is a parameter");
+    let step = sig.step_index();
     Ok(LieSystem {
         name: spec
             .attr
@@ -183,7 +179,7 @@ pub(super) fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<Lie
             .unwrap_or_else(|| crate::back::items::camel_case(&func.sig.ident))
             .to_string(),
         coordinates,
-        parameters: sig.params.iter().map(ToString::to_string).collect(),
+        parameters: sig.parameter_names(),
         step,
         controls: spec
             .attr

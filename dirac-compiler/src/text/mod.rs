@@ -590,11 +590,7 @@ fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<System> {
     parsed?;
     let (spec, sig) = spec.zip(sig).expect("a clean parse has both");
     let c = compile_system(&spec, &sig, func)?;
-    let step = sig
-        .params
-        .iter()
-        .position(|p| *p == sig.step)
-        .expect("the step is a parameter");
+    let step = sig.step_index();
     let controls = spec
         .controls
         .iter()
@@ -604,7 +600,7 @@ fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<System> {
         name: crate::back::items::type_name(&spec, func).to_string(),
         shape: spec.layout.shape.clone(),
         group: spec.layout.group.clone(),
-        parameters: sig.params.iter().map(ToString::to_string).collect(),
+        parameters: sig.parameter_names(),
         step,
         controls,
         forced: spec.force.is_some(),
