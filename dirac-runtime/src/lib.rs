@@ -35,29 +35,24 @@
 //! the diagnostics are reached through their modules.
 #![warn(missing_docs)]
 
-pub mod adapted;
-pub mod adaptive;
-pub mod atlas;
-pub mod compose;
-pub mod constrained;
-pub mod continuous;
-pub mod diagnostics;
-pub mod domain;
-pub mod driver;
-pub mod element;
-pub mod ensemble;
 pub mod error;
 pub mod groups;
-pub mod lie;
 pub mod linalg;
 pub mod model;
 pub mod newton;
-pub mod reduced;
-pub mod sensitivity;
-pub mod state;
-pub mod stepper;
-pub mod system;
-pub mod unreduced;
+
+// The layers, folder by folder: the system model (`model/`: the one `System` trait, the flat
+// family, states, domains, continuous Lagrangians), the configuration groups (`groups/`), the
+// steps (`steps/`), the run (`run/`), what is read off a run (`analysis/`) and the linear
+// algebra (`linalg/`). The modules keep their paths at the crate root.
+mod analysis;
+mod run;
+mod steps;
+
+pub use analysis::{diagnostics, sensitivity};
+pub use model::{adapted, continuous, domain, state, system};
+pub use run::{driver, ensemble};
+pub use steps::{adaptive, atlas, compose, constrained, element, lie, reduced, stepper, unreduced};
 
 /// Everything a user of the integrators names, in one list: the crate root re-exports it, and
 /// so do the `dirac` facade's root and prelude.

@@ -221,3 +221,9 @@ pub(crate) fn refuse_domain<L: System>(sys: &L, family: &'static str) -> Result<
         Err(StepError::Unsupported { what: family })
     }
 }
+
+pub mod adapted;
+pub mod continuous;
+pub mod domain;
+pub mod state;
+pub mod system;
