@@ -151,10 +151,13 @@
 //! * the iiwa arm at `h = 1 ms`: the energy error over 1000 steps is 8·10⁻⁵ of the kinetic
 //!   energy the arm reaches as it falls and swings, and falls by 4 when `h` halves;
 //! * a free body from a URDF with one floating joint against the rigid body on `SE(3)` written
-//!   by hand: 6e-14 relative over 1000 steps;
+//!   by hand: 6e-14 relative over 1000 steps; and its order 2 against its exact motion (the
+//!   centre of mass on its parabola, the attitude by Euler's equations; orders 2.00, 2.00);
 //! * a satellite base with a 2-joint arm, out of gravity, over 10⁴ steps: the integrator's
 //!   momentum map stays put to 8e-14 relative, and the model's own total momentum (evaluated
-//!   at each node's configuration and velocity) to 2e-13.
+//!   at each node's configuration and velocity) to 2e-13; with its joints driven by torques
+//!   under a feedback law to new angles (the base turning to compensate), to 3e-15 over 5000
+//!   steps: joint torques are internal forces.
 //!
 //! ## What it costs
 //!
