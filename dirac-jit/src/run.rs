@@ -444,6 +444,15 @@ impl LieStart {
     }
 }
 
+impl LieCode {
+    /// A state `(q, p)` (a stored point, chart momenta) as a front end shows it, coordinate by
+    /// coordinate: each coordinate's configuration (a rotation's 9 entries row by row, a
+    /// direction's 3, a pose's 12, a scalar) and its momentum, the forms [`LieStart`] reads.
+    pub fn state_values(&self, q: &[f64], p: &[f64]) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
+        (self.configuration(q), self.momenta(q, p))
+    }
+}
+
 /// The integrator of a system on rotation groups `Sys` (at fixed sizes, `JitLie<P, N>`, or at
 /// the sizes its text declares, `DynJitLie`): the Lie group variational integrator of the
 /// request's side or, for the reduced equations, the reduced one of its declared symmetry

@@ -139,34 +139,6 @@ pub(crate) fn until<St>(
     move |_, _, _| cancel.load(Ordering::Relaxed)
 }
 
-/// A run (or an ensemble) as the request `r` asks it: at most `r.steps` steps and, when asked,
-/// up to the time `r.end_time`, reached exactly (the runtime's `steps` and `end_time`, whichever
-/// ends the run first), each step of the system's own size or of the size the schedule gives
-/// (the runtime's `StepSizes`), stopped by `cancel` and finished by `$finish` (`collect` or
-/// `stream`) after the options `$(.option(..))*`. The two kinds of step size are two types of
-/// run, hence a macro: every step of the system's own size keeps `t_k = t_0 + k h`, bit for bit
-/// the fixed-step run.
-macro_rules! span {
-    ($run:expr, $r:expr, $cancel:expr $(, $option:ident($($arg:expr),*))* => $finish:ident) => {{
-        let r: &dirac_jit::RunRequest = &$r;
-        let run = $run.steps(r.steps);
-        let run = match r.end_time {
-            Some(t) => run.end_time(t),
-            None => run,
-        };
-        let run = run.stop($crate::calls::until($cancel));
-        match r.schedule.as_deref() {
-            Some(sizes) => run
-                .step_size(dirac_runtime::StepSizes(sizes))
-                $(.$option($($arg),*))*
-                .$finish(),
-            None => run $(.$option($($arg),*))* .$finish(),
-        }
-    }};
-}
-
-pub(crate) use span;
-
 /// Runs `work` on a thread of its own, with the GIL released, while the calling thread looks
 /// at Python's signals every [`POLL`]: when a handler raises (Ctrl-C: `KeyboardInterrupt`),
 /// `cancel` is set, so a run stopped by [`until`] ends after its current step; `work`'s result

@@ -4,7 +4,6 @@
 //! arrays per coordinate. The integrators take their sizes at run time: no dispatch on
 //! dimensions is needed.
 
-use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 use dirac_compiler::text::ElementSystem as Text;
@@ -14,18 +13,17 @@ use dirac_runtime::element::{
     ElementLagrangian, ElementState, ElementTrajectory,
 };
 use dirac_runtime::nalgebra::DVector;
-use dirac_runtime::{Drive, NewtonOptions, Variant};
+use dirac_runtime::StepStats;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::{PyDeprecationWarning, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
-use crate::calls::{self, span};
-use crate::ensemble::{self, Member};
+use crate::calls;
+use crate::ensemble;
 use crate::keywords::{self, Keywords, Method};
-use crate::parquet::{to_parquet, Written};
-use crate::results::by_order;
-use crate::results::{finish, Failed};
+use crate::parquet::{self, ToParquet};
+use crate::runs::{collected, Collect, Ensemble, Flatten};
 
 /// `ElementSystem.run`, `write` and `ensemble`: their arguments and options.
 const RUN: Method = Method {
@@ -49,12 +47,6 @@ struct Request {
     run: RunRequest,
 }
 
-/// What an element-wise run reads of its request besides its span: the (+) side ("plus",
-/// "unreduced") or the (−), Newton's options.
-fn sides(run: &RunRequest) -> (bool, NewtonOptions) {
-    (run.equations.side == Variant::Plus, run.newton)
-}
-
 /// `value`, the keyword argument `name` of a run, which it needs.
 fn required<'a, 'py>(
     name: &str,
@@ -72,74 +64,63 @@ fn row_bytes(sys: &JitElement) -> u128 {
     2 * 16 * n + 64 + 8 * translations + 16 + 64
 }
 
-/// An unconstrained run's trajectory flattened, with the momentum map of `integ`'s
-/// `translations` at each state.
-fn unconstrained_flat(
-    integ: &ElementIntegrator<JitElement>,
-    translations: usize,
-    t: &ElementTrajectory,
-) -> Flat {
-    flat(
-        translations,
-        &t.states,
-        &t.times,
-        t.stats.iter().map(|s| (s.iterations, s.residual)),
-        |s| integ.momentum_map(s).unwrap_or_default(),
-    )
-}
+impl Flatten for ElementIntegrator<JitElement> {
+    type Flat = Flat;
 
-/// A constrained run's trajectory flattened, with its multipliers `λ_k` and `‖φ(q_{k+1})‖∞` per
-/// step.
-fn constrained_flat(
-    integ: &ElementConstrainedIntegrator<JitElement>,
-    translations: usize,
-    t: &ElementConstrainedTrajectory,
-) -> Flat {
-    let mut f = flat(
-        translations,
-        &t.states,
-        &t.times,
-        t.stats.iter().map(|s| (s.iterations, s.residual)),
-        |s| integ.momentum_map(s).unwrap_or_default(),
-    );
-    f.multipliers = Some((
-        t.records
-            .iter()
-            .flat_map(|s| s.lambda.iter().copied())
-            .collect(),
-        t.records.iter().map(|s| s.constraint_residual).collect(),
-    ));
-    f
-}
-
-/// An ensemble: one run (order 2) per start, on all cores; the constrained integrator for a
-/// system with constraints.
-pub(crate) fn run_many(
-    sys: JitElement,
-    starts: &[ElementState],
-    run: RunRequest,
-    cancel: &AtomicBool,
-) -> Result<Vec<Member<Flat>>, String> {
-    let (plus, options) = sides(&run);
-    let translations = sys.translations().len();
-    if sys.constrained() {
-        let integ = if plus {
-            ElementConstrainedIntegrator::new(sys, options)
-        } else {
-            ElementConstrainedIntegrator::minus(sys, options)
-        };
-        let to_flat = |t: &_| constrained_flat(&integ, translations, t);
-        let members = span!(integ.ensemble(starts), run, cancel => collect);
-        return Ok(members.into_iter().map(|m| finish(m, to_flat)).collect());
+    /// The states with the momentum map of the system's translations at each.
+    fn flat_states(&self, states: &[ElementState], times: &[f64], stats: &[StepStats]) -> Flat {
+        flat(self, states, times, stats)
     }
-    let integ = if plus {
-        ElementIntegrator::new(sys, options)
-    } else {
-        ElementIntegrator::minus(sys, options)
-    };
-    let to_flat = |t: &ElementTrajectory| unconstrained_flat(&integ, translations, t);
-    let members = span!(integ.ensemble(starts), run, cancel => collect);
-    Ok(members.into_iter().map(|m| finish(m, to_flat)).collect())
+
+    fn flat(&self, t: &ElementTrajectory) -> Flat {
+        self.flat_states(&t.states, &t.times, &t.stats)
+    }
+}
+
+impl Flatten for ElementConstrainedIntegrator<JitElement> {
+    type Flat = Flat;
+
+    fn flat_states(&self, states: &[ElementState], times: &[f64], stats: &[StepStats]) -> Flat {
+        flat(self, states, times, stats)
+    }
+
+    /// The states, and each step's multipliers `λ_k` and `‖φ(q_{k+1})‖∞`.
+    fn flat(&self, t: &ElementConstrainedTrajectory) -> Flat {
+        let mut f = self.flat_states(&t.states, &t.times, &t.stats);
+        f.multipliers = Some((
+            t.records
+                .iter()
+                .flat_map(|s| s.lambda.iter().copied())
+                .collect(),
+            t.records.iter().map(|s| s.constraint_residual).collect(),
+        ));
+        f
+    }
+}
+
+/// What the element integrators read the momentum map `J(q, p)` of the system's translations
+/// with.
+trait MomentumMap {
+    fn translations(&self) -> usize;
+    fn momentum_map(&self, state: &ElementState) -> Vec<f64>;
+}
+
+impl MomentumMap for ElementIntegrator<JitElement> {
+    fn translations(&self) -> usize {
+        self.system().translations().len()
+    }
+    fn momentum_map(&self, state: &ElementState) -> Vec<f64> {
+        ElementIntegrator::momentum_map(self, state).unwrap_or_default()
+    }
+}
+
+impl MomentumMap for ElementConstrainedIntegrator<JitElement> {
+    fn translations(&self) -> usize {
+        self.system().translations().len()
+    }
+    fn momentum_map(&self, state: &ElementState) -> Vec<f64> {
+        ElementConstrainedIntegrator::momentum_map(self, state).unwrap_or_default()
+    }
 }
 
 /// A run's trajectory flattened for NumPy.
@@ -154,87 +135,29 @@ pub(crate) struct Flat {
     pub(crate) multipliers: Option<(Vec<f64>, Vec<f64>)>,
 }
 
+/// The states, times and statistics of a run of `integ`, flattened, with the momentum map at
+/// each state.
 fn flat(
-    translations: usize,
+    integ: &impl MomentumMap,
     states: &[ElementState],
     times: &[f64],
-    stats: impl Iterator<Item = (usize, f64)>,
-    momentum_map: impl Fn(&ElementState) -> Vec<f64>,
+    stats: &[StepStats],
 ) -> Flat {
-    let (iterations, residuals) = stats.unzip();
     let mut out = Flat {
         t: times.to_vec(),
         q: Vec::new(),
         p: Vec::new(),
-        momentum_map: Vec::with_capacity(translations * states.len()),
-        iterations,
-        residuals,
+        momentum_map: Vec::with_capacity(integ.translations() * states.len()),
+        iterations: stats.iter().map(|s| s.iterations).collect(),
+        residuals: stats.iter().map(|s| s.residual).collect(),
         multipliers: None,
     };
     for s in states {
         out.q.extend_from_slice(s.q.as_slice());
         out.p.extend_from_slice(s.p.as_slice());
-        out.momentum_map.extend(momentum_map(s));
+        out.momentum_map.extend(integ.momentum_map(s));
     }
     out
-}
-
-/// One run of `sys` from `start` as `run` asks, written to Parquet at `path` by the
-/// element-wise integrator of its side (the constrained one for a system with constraints).
-pub(crate) fn write_run(
-    sys: JitElement,
-    start: ElementState,
-    run: &RunRequest,
-    path: &std::path::Path,
-    cancel: &AtomicBool,
-) -> Result<Written, String> {
-    let (plus, o) = sides(run);
-    match (sys.constrained(), plus) {
-        (true, true) => {
-            let integ = ElementConstrainedIntegrator::new(sys, o);
-            to_parquet(&integ, start, run, path, cancel)
-        }
-        (true, false) => {
-            let integ = ElementConstrainedIntegrator::minus(sys, o);
-            to_parquet(&integ, start, run, path, cancel)
-        }
-        (false, true) => to_parquet(&ElementIntegrator::new(sys, o), start, run, path, cancel),
-        (false, false) => to_parquet(&ElementIntegrator::minus(sys, o), start, run, path, cancel),
-    }
-}
-
-/// One run: the unconstrained integrator (order 2, 4 or 6), or the constrained one.
-pub(crate) fn run_one(
-    sys: JitElement,
-    start: ElementState,
-    run: RunRequest,
-    cancel: &AtomicBool,
-) -> Result<Flat, Box<Failed<Flat>>> {
-    let (plus, options) = sides(&run);
-    let translations = sys.translations().len();
-    if sys.constrained() {
-        let integ = if plus {
-            ElementConstrainedIntegrator::new(sys, options)
-        } else {
-            ElementConstrainedIntegrator::minus(sys, options)
-        };
-        let to_flat = |t: &_| constrained_flat(&integ, translations, t);
-        return finish(span!(integ.run(start), run, cancel => collect), to_flat);
-    }
-    let integ = if plus {
-        ElementIntegrator::new(sys, options)
-    } else {
-        ElementIntegrator::minus(sys, options)
-    };
-    by_order!(integ.clone(), start, run, cancel, |t| {
-        flat(
-            translations,
-            &t.states,
-            &t.times,
-            t.stats.iter().map(|s| (s.iterations, s.residual)),
-            |s| integ.momentum_map(s).unwrap_or_default(),
-        )
-    })
 }
 
 /// An element-wise system given as text, compiled to machine code; its sizes are chosen per
@@ -562,11 +485,15 @@ impl ElementSystem {
         )?;
         let runner = r.sys.clone();
         let run = r.run;
-        let (result, interrupt) =
-            calls::interruptible(py, move |cancel| run_one(runner, start, run, cancel))?;
-        crate::results::finish_run(py, Ok(result), interrupt, |flat| {
-            self.to_dict(py, &r.sys, flat)
-        })
+        let (result, interrupt) = calls::interruptible(py, move |cancel| {
+            collected(dirac_jit::run::element(
+                runner,
+                vec![start],
+                &run,
+                Collect::new(cancel, false),
+            ))
+        })?;
+        crate::results::finish_run(py, result, interrupt, |flat| self.to_dict(py, &r.sys, flat))
     }
 
     /// Integrates `steps` steps (order 2) from the start of `run` and writes every state to
@@ -598,7 +525,11 @@ impl ElementSystem {
         )?;
         let start = ElementState::new(self.vector(&r.sys, "q", q)?, self.vector(&r.sys, "p", p)?);
         let (written, interrupt) = calls::interruptible(py, move |cancel| {
-            write_run(r.sys, start, &r.run, &path, cancel)
+            let out = ToParquet {
+                path: &path,
+                cancel,
+            };
+            parquet::written(dirac_jit::run::element(r.sys, vec![start], &r.run, out))
         })?;
         crate::parquet::written_dict(py, written, interrupt)
     }
@@ -652,8 +583,14 @@ impl ElementSystem {
         )?;
         let rows = r.run.end_time.is_none().then_some(steps + 1);
         let (sys, run) = (r.sys.clone(), r.run);
-        let (results, interrupt) =
-            calls::interruptible(py, move |cancel| run_many(sys, &starts, run, cancel))?;
+        let (results, interrupt) = calls::interruptible(py, move |cancel| {
+            collected(dirac_jit::run::element(
+                sys,
+                starts,
+                &run,
+                Ensemble::new(cancel),
+            ))
+        })?;
         ensemble::ensemble_dict(py, results, interrupt, rows, |flat| {
             self.to_dict(py, &r.sys, flat)
         })

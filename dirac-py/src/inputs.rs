@@ -5,8 +5,7 @@
 use std::sync::Arc;
 
 use dirac_jit::{Code, Compiled, RunRequest};
-use dirac_runtime::nalgebra::SVector;
-use dirac_runtime::{Equations, Form, ReducedState, UnreducedState};
+use dirac_runtime::{Equations, Form};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -113,24 +112,6 @@ fn by_name(what: &str, names: &[String], d: &Bound<'_, PyDict>) -> PyResult<Vec<
                 .extract::<f64>()
         })
         .collect()
-}
-
-/// A reduced start `(x, w, μ, g)` from its vectors, checked for length by `vectors`.
-pub(crate) fn reduced_start<const S: usize, const K: usize>(v: &[Vec<f64>]) -> ReducedState<S, K> {
-    ReducedState {
-        x: SVector::from_column_slice(&v[0]),
-        w: SVector::from_column_slice(&v[1]),
-        mu: SVector::from_column_slice(&v[2]),
-        g: SVector::from_column_slice(&v[3]),
-    }
-}
-
-/// An unreduced start `(q, p)` from its vectors.
-pub(crate) fn unreduced_start<const N: usize>(v: &[Vec<f64>]) -> UnreducedState<N> {
-    UnreducedState {
-        q: SVector::from_column_slice(&v[0]),
-        p: SVector::from_column_slice(&v[1]),
-    }
 }
 
 impl System {

@@ -24,7 +24,6 @@
 use std::sync::Arc;
 
 mod calls;
-mod constrained;
 mod element;
 mod ensemble;
 mod inputs;
@@ -35,15 +34,15 @@ mod results;
 mod runs;
 mod sizes;
 
-use constrained::{run_constrained, run_many_constrained, write_constrained};
 use inputs::{control_names, parameter_values, Inputs};
 use keywords::{Keywords, Method, OPTIONS};
-use parquet::written_dict;
+use parquet::{written_dict, ToParquet};
 use results::{finish_run, to_dict};
-use runs::{run_many, run_one, time_one, write_one};
+use runs::{collected, Collect, Ensemble, Timed};
 
+use dirac_jit::run::{constrained, flat};
 use dirac_jit::Code;
-use dirac_runtime::{CompositionMethod, Equations, Form, StepStats};
+use dirac_runtime::{Equations, Form, StepStats};
 use numpy::PyArray1;
 use pyo3::exceptions::{PyException, PyMemoryError, PyValueError};
 use pyo3::prelude::*;
@@ -68,10 +67,12 @@ pyo3::create_exception!(
     "A run needs more memory than can be allocated, refused before it is allocated: `what` needs `bytes` bytes."
 );
 
-fn composition(order: u32) -> CompositionMethod {
-    match order {
-        4 => CompositionMethod::TRIPLE_JUMP,
-        _ => CompositionMethod::KAHAN_LI_6,
+/// The error of a size the fixed-size instances do not have, which a system of that size never
+/// asks of them (`Code::fixed_size`: it runs on its element view).
+fn off_the_tables() -> dirac_jit::Error {
+    dirac_jit::Error::Request {
+        reason: "no fixed-size instance at these sizes (other sizes run on the element view)"
+            .to_owned(),
     }
 }
 
@@ -315,19 +316,25 @@ impl System {
         )?;
         let (s, k) = self.dims();
         let code = Arc::clone(&self.code);
-        let (result, interrupt) = calls::interruptible(py, |cancel| match m {
-            _ if !code.fixed_size() => sizes::run_one(&code, &params, &start, r, energies, cancel),
-            0 => dirac_jit::with_dimensions!(
-                s,
-                k,
-                run_one(&code, &params, &start, r, energies, cancel)
-            ),
-            m => constrained::with_constrained!(
-                s,
-                k,
-                m,
-                run_constrained(&code, &params, &start, r, cancel)
-            ),
+        let starts = std::slice::from_ref(&start);
+        let (result, interrupt) = calls::interruptible(py, |cancel| {
+            let job = Collect::new(cancel, energies);
+            match m {
+                _ if !code.fixed_size() => {
+                    sizes::run_one(&code, &params, &start, r, energies, cancel)
+                }
+                0 => collected(dirac_jit::with_dimensions!(
+                    s,
+                    k,
+                    flat::<_>(&code, &params, starts, &r, job) else Err(off_the_tables())
+                )),
+                m => collected(dirac_jit::with_constrained_dimensions!(
+                    s,
+                    k,
+                    m,
+                    constrained::<_>(&code, &params, starts, &r, job) else Err(off_the_tables())
+                )),
+            }
         })?;
         let names = self.part_names("q");
         finish_run(py, result, interrupt, |flat| to_dict(py, flat, &names))
@@ -371,21 +378,24 @@ impl System {
         let (s, k) = self.dims();
         let code = Arc::clone(&self.code);
         let rows = r.end_time.is_none().then_some(steps + 1);
-        let (results, interrupt) =
-            calls::interruptible(py, |cancel| match self.constraint_count() {
+        let (results, interrupt) = calls::interruptible(py, |cancel| {
+            let job = Ensemble::new(cancel);
+            match self.constraint_count() {
                 _ if !code.fixed_size() => sizes::run_many(&code, &params, &per_member, r, cancel),
-                0 => dirac_jit::with_dimensions!(
+                0 => collected(dirac_jit::with_dimensions!(
                     s,
                     k,
-                    run_many(&code, &params, &per_member, r, cancel)
-                ),
-                m => constrained::with_constrained!(
+                    flat::<_>(&code, &params, &per_member, &r, job) else Err(off_the_tables())
+                )),
+                m => collected(dirac_jit::with_constrained_dimensions!(
                     s,
                     k,
                     m,
-                    run_many_constrained(&code, &params, &per_member, r, cancel)
-                ),
-            })?;
+                    constrained::<_>(&code, &params, &per_member, &r, job)
+                        else Err(off_the_tables())
+                )),
+            }
+        })?;
         let names = self.part_names("q");
         ensemble::ensemble_dict(py, results, interrupt, rows, |flat| {
             to_dict(py, flat, &names)
@@ -414,22 +424,18 @@ impl System {
             request: r,
             start,
         } = self.inputs(&WRITE, parameters, &kw, steps)?;
-        let m = self.constraint_count();
-        let (s, k) = self.dims();
-        let code = Arc::clone(&self.code);
-        let (written, interrupt) = calls::interruptible(py, |cancel| match m {
-            _ if !code.fixed_size() => sizes::write_one(&code, &params, &start, r, &path, cancel),
-            0 => dirac_jit::with_dimensions!(
-                s,
-                k,
-                write_one(&code, &params, &start, r, &path, cancel)
-            ),
-            m => constrained::with_constrained!(
-                s,
-                k,
-                m,
-                write_constrained(&code, &params, &start, r, &path, cancel)
-            ),
+        let (written, interrupt) = calls::interruptible(py, |cancel| {
+            let out = ToParquet {
+                path: &path,
+                cancel,
+            };
+            parquet::written(dirac_jit::run_flat!(
+                &self.code,
+                &params,
+                std::slice::from_ref(&start),
+                &r,
+                out
+            ))
         })?;
         written_dict(py, written, interrupt)
     }
@@ -451,9 +457,15 @@ impl System {
             start,
         } = self.inputs(&CORE, parameters, &kw, steps)?;
         let (s, k) = self.dims();
-        let code = Arc::clone(&self.code);
-        py.allow_threads(|| dirac_jit::with_dimensions!(s, k, time_one(&code, &params, &start, r)))
-            .map_err(PyValueError::new_err)
+        let starts = std::slice::from_ref(&start);
+        py.allow_threads(|| {
+            collected(dirac_jit::with_dimensions!(
+                s,
+                k,
+                flat::<_>(&self.code, &params, starts, &r, Timed) else Err(off_the_tables())
+            ))
+        })
+        .map_err(PyValueError::new_err)
     }
 
     fn __repr__(&self) -> String {

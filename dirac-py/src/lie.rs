@@ -8,35 +8,36 @@
 //! (at most two rotation or direction coordinates, at most 8 chart coordinates) runs at fixed
 //! sizes, on stack vectors and the dense LU (`dirac_jit::with_lie_dimensions`, its fixed-size
 //! instances); any other at the sizes its text declares (`dirac_jit::DynJitLie`, vectors a run
-//! allocates once), so no size is refused.
+//! allocates once), so no size is refused. Which integrator runs is decided by `dirac_jit::run`
+//! (`run_lie!`); this module reads the start and flattens the trajectories.
 
-use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 use dirac_compiler::text::LieSymmetryKind;
-use dirac_jit::{Compiled, DynJitLie, JitLie, LieCode, LieFront, RunRequest};
+use dirac_jit::run::LieStart;
+use dirac_jit::{Compiled, DynJitLie, JitLie, LieCode};
 use dirac_runtime::lie::{
-    Group, LieIntegratorOf, LieStateOf, LieTrajectoryOf, ReducedLieIntegratorOf, ReducedLieStateOf,
+    Group, LieIntegratorOf, LieModel, LieStateOf, LieTrajectoryOf, ReducedLieIntegratorOf,
+    ReducedLieStateOf, ReducedLieTrajectoryOf, SpatialMomentum, SymmetricLieModel,
 };
 use dirac_runtime::nalgebra::allocator::Allocator;
-use dirac_runtime::nalgebra::{Const, DefaultAllocator, Dim, Dyn, OVector};
-use dirac_runtime::{Drive, Form, StepStats, Variant};
+use dirac_runtime::nalgebra::{DefaultAllocator, Dim, OVector};
+use dirac_runtime::{Drive, StepStats};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::calls::{self, span};
-use crate::ensemble::{self, Member};
+use crate::calls;
+use crate::ensemble;
 use crate::keywords::{self, Keywords, Method};
-use crate::parquet::to_parquet;
-use crate::results::by_order;
-use crate::results::{finish, Failed};
+use crate::parquet::{written, ToParquet};
+use crate::runs::{collected, Collect, Ensemble, Flatten};
 
 /// A run's trajectory flattened for NumPy: the times, per coordinate its configurations and
 /// momenta (each with the shape of one row), and the spatial angular and linear momenta (and the
 /// symmetry's momentum of a reduced run) per state.
-struct Flat {
+pub(crate) struct Flat {
     t: Vec<f64>,
     q: Vec<Vec<f64>>,
     p: Vec<Vec<f64>>,
@@ -47,28 +48,37 @@ struct Flat {
     residuals: Vec<f64>,
 }
 
-/// The start as given: per coordinate its configuration and its momentum or, for adaptive
-/// steps, its velocity.
-struct Start {
-    q: Vec<Vec<f64>>,
-    p: Option<Vec<Vec<f64>>>,
-    v: Option<Vec<f64>>,
+/// A system on rotation groups at any sizes, unreduced or reduced: the code it runs, which
+/// shows its states coordinate by coordinate.
+trait Coded {
+    fn lie_code(&self) -> &Arc<LieCode>;
 }
 
-fn flat<S, P: Dim, N: Dim>(
-    sys: &S,
+impl<const P: usize, const N: usize, B, R> Coded for JitLie<P, N, B, R> {
+    fn lie_code(&self) -> &Arc<LieCode> {
+        self.code()
+    }
+}
+
+impl<R> Coded for DynJitLie<R> {
+    fn lie_code(&self) -> &Arc<LieCode> {
+        self.code()
+    }
+}
+
+/// The states of a run flattened: each coordinate's configuration and momentum, the spatial
+/// angular and linear momenta (`rigid`), a reduced run's `μ`.
+fn flat<P: Dim, N: Dim>(
+    code: &LieCode,
+    rigid: impl Fn(&LieStateOf<P, N>) -> SpatialMomentum,
     states: impl Iterator<Item = (LieStateOf<P, N>, Option<[f64; 3]>)>,
     times: &[f64],
     stats: &[StepStats],
 ) -> Flat
 where
-    S: LieFront<P, N>,
     DefaultAllocator: Allocator<P> + Allocator<N>,
-    OVector<f64, P>: Send + Sync,
-    OVector<f64, N>: Send + Sync,
 {
-    let integ = LieIntegratorOf::new(sys.clone(), Default::default());
-    let coordinates = sys.lie_code().system().coordinates.len();
+    let coordinates = code.system().coordinates.len();
     let mut out = Flat {
         t: times.to_vec(),
         q: vec![Vec::new(); coordinates],
@@ -80,13 +90,14 @@ where
         residuals: stats.iter().map(|s| s.residual).collect(),
     };
     for (state, mu) in states {
-        for (all, one) in out.q.iter_mut().zip(sys.configuration_of(&state.q)) {
+        let (q, p) = code.state_values(state.q.as_slice(), state.p.as_slice());
+        for (all, one) in out.q.iter_mut().zip(q) {
             all.extend(one);
         }
-        for (all, one) in out.p.iter_mut().zip(sys.momenta_of(&state)) {
+        for (all, one) in out.p.iter_mut().zip(p) {
             all.extend(one);
         }
-        let momentum = integ.rigid_momentum(&state);
+        let momentum = rigid(&state);
         out.spatial.extend(momentum.angular.iter().copied());
         out.linear.extend(momentum.linear.iter().copied());
         if let Some(mu) = mu {
@@ -96,210 +107,57 @@ where
     out
 }
 
-/// The start state of `sys`.
-fn start_state<S, P: Dim, N: Dim>(sys: &S, start: &Start) -> Result<LieStateOf<P, N>, String>
+impl<L, P: Dim, N: Dim> Flatten for LieIntegratorOf<L, P, N>
 where
-    S: LieFront<P, N>,
+    L: LieModel<P, N> + Coded,
     DefaultAllocator: Allocator<P> + Allocator<N>,
+    OVector<f64, P>: Send + Sync,
+    OVector<f64, N>: Send + Sync,
+    Self: Drive<State = LieStateOf<P, N>, Trajectory = LieTrajectoryOf<P, N>> + Sync,
 {
-    let q: Vec<&[f64]> = start.q.iter().map(Vec::as_slice).collect();
-    match (&start.p, &start.v) {
-        (Some(p), _) => {
-            let p: Vec<&[f64]> = p.iter().map(Vec::as_slice).collect();
-            sys.state_of(&q, &p).map_err(|e| e.to_string())
-        }
-        (None, Some(v)) => {
-            // The point of the configuration, then the state on the level set at `v`.
-            let zeros: Vec<Vec<f64>> = sys
-                .lie_code()
-                .kinds()
-                .iter()
-                .map(|k| vec![0.0; k.group().momentum_value_len()])
-                .collect();
-            let zeros: Vec<&[f64]> = zeros.iter().map(Vec::as_slice).collect();
-            let point = sys.state_of(&q, &zeros).map_err(|e| e.to_string())?.q;
-            sys.level_state_of(&point, v).map_err(|e| e.to_string())
-        }
-        (None, None) => Err("the start needs the momenta `p` (or the velocities `v`)".into()),
+    type Flat = Flat;
+
+    fn flat_states(&self, states: &[LieStateOf<P, N>], times: &[f64], stats: &[StepStats]) -> Flat {
+        let states = states.iter().map(|s| (s.clone(), None));
+        flat(
+            self.system().lie_code(),
+            |s| self.rigid_momentum(s),
+            states,
+            times,
+            stats,
+        )
+    }
+
+    fn flat(&self, t: &LieTrajectoryOf<P, N>) -> Flat {
+        self.flat_states(&t.states, &t.times, &t.stats)
     }
 }
 
-/// [`run_one`], [`run_many`] and [`write_one`] at the fixed sizes `P` (a stored point) and `N`
-/// (the chart) of [`JitLie`], called through `dirac_jit::with_lie_dimensions`.
-macro_rules! at_fixed_sizes {
-    ($($fixed:ident = $f:ident($($arg:ident: $ty:ty),*) -> $out:ty;)*) => {$(
-        fn $fixed<const P: usize, const N: usize>($($arg: $ty),*) -> $out {
-            $f::<JitLie<P, N>, Const<P>, Const<N>>($($arg),*)
-        }
-    )*};
-}
-
-at_fixed_sizes! {
-    run_one_fixed = run_one(
-        code: &Arc<LieCode>, params: &[f64], start: &Start, r: RunRequest, cancel: &AtomicBool
-    ) -> Result<Result<Flat, Box<Failed<Flat>>>, String>;
-    run_many_fixed = run_many(
-        code: &Arc<LieCode>, params: &[f64], starts: &[Start], r: RunRequest, cancel: &AtomicBool
-    ) -> Result<Vec<Member<Flat>>, String>;
-    write_one_fixed = write_one(
-        code: &Arc<LieCode>, params: &[f64], start: &Start, r: RunRequest,
-        path: &std::path::Path, cancel: &AtomicBool
-    ) -> Result<Written, String>;
-}
-
-/// One run of a system `S` of point length `P` and chart dimension `N`.
-fn run_one<S, P: Dim, N: Dim>(
-    code: &Arc<LieCode>,
-    params: &[f64],
-    start: &Start,
-    r: RunRequest,
-    cancel: &AtomicBool,
-) -> Result<Result<Flat, Box<Failed<Flat>>>, String>
+impl<L, P: Dim, N: Dim> Flatten for ReducedLieIntegratorOf<L, P, N>
 where
-    S: LieFront<P, N>,
+    L: SymmetricLieModel<P, N> + Coded,
     DefaultAllocator: Allocator<P> + Allocator<N>,
     OVector<f64, P>: Send + Sync,
     OVector<f64, N>: Send + Sync,
-    LieStateOf<P, N>: dirac_io::StateColumns,
-    ReducedLieStateOf<P, N>: dirac_io::StateColumns,
+    Self: Drive<State = ReducedLieStateOf<P, N>, Trajectory = ReducedLieTrajectoryOf<P, N>> + Sync,
 {
-    let sys = S::instantiate(code, params).map_err(|e| e.to_string())?;
-    let s0 = start_state(&sys, start)?;
-    let o = r.newton;
-    Ok(match (r.equations.form, r.equations.side) {
-        (Form::Reduced, _) => {
-            let reduced = S::instantiate_reduced(code, params).map_err(|e| e.to_string())?;
-            let integ = ReducedLieIntegratorOf::new(reduced, o);
-            let s0 = integ.reduce(&s0);
-            by_order!(integ, s0, r, cancel, |t| {
-                flat(
-                    &sys,
-                    t.states.iter().map(|s| (s.unreduced(), Some(s.mu.into()))),
-                    &t.times,
-                    &t.stats,
-                )
-            })
-        }
-        (Form::Unreduced, side) => {
-            let integ = if side == Variant::Plus {
-                LieIntegratorOf::new(sys.clone(), o)
-            } else {
-                LieIntegratorOf::minus(sys.clone(), o)
-            };
-            by_order!(integ, s0, r, cancel, |t| {
-                flat(
-                    &sys,
-                    t.states.iter().map(|s| (s.clone(), None)),
-                    &t.times,
-                    &t.stats,
-                )
-            })
-        }
-    })
-}
+    type Flat = Flat;
 
-/// An ensemble: one run (order 2) per start, on all cores.
-fn run_many<S, P: Dim, N: Dim>(
-    code: &Arc<LieCode>,
-    params: &[f64],
-    starts: &[Start],
-    r: RunRequest,
-    cancel: &AtomicBool,
-) -> Result<Vec<Member<Flat>>, String>
-where
-    S: LieFront<P, N>,
-    DefaultAllocator: Allocator<P> + Allocator<N>,
-    OVector<f64, P>: Send + Sync,
-    OVector<f64, N>: Send + Sync,
-    LieStateOf<P, N>: dirac_io::StateColumns,
-    ReducedLieStateOf<P, N>: dirac_io::StateColumns,
-{
-    let sys = S::instantiate(code, params).map_err(|e| e.to_string())?;
-    let s0 = starts
-        .iter()
-        .map(|s| start_state(&sys, s))
-        .collect::<Result<Vec<_>, _>>()?;
-    let o = r.newton;
-    let unreduced = |t: &LieTrajectoryOf<P, N>| {
-        flat(
-            &sys,
-            t.states.iter().map(|s| (s.clone(), None)),
-            &t.times,
-            &t.stats,
-        )
-    };
-    Ok(match (r.equations.form, r.equations.side) {
-        (Form::Reduced, _) => {
-            let reduced = S::instantiate_reduced(code, params).map_err(|e| e.to_string())?;
-            let integ = ReducedLieIntegratorOf::new(reduced, o);
-            let s0: Vec<_> = s0.iter().map(|s| integ.reduce(s)).collect();
-            span!(integ.ensemble(&s0), r, cancel => collect)
-                .into_iter()
-                .map(|m| {
-                    finish(m, |t| {
-                        flat(
-                            &sys,
-                            t.states.iter().map(|s| (s.unreduced(), Some(s.mu.into()))),
-                            &t.times,
-                            &t.stats,
-                        )
-                    })
-                })
-                .collect()
-        }
-        (Form::Unreduced, side) => {
-            let integ = if side == Variant::Plus {
-                LieIntegratorOf::new(sys.clone(), o)
-            } else {
-                LieIntegratorOf::minus(sys.clone(), o)
-            };
-            span!(integ.ensemble(&s0), r, cancel => collect)
-                .into_iter()
-                .map(|m| finish(m, unreduced))
-                .collect()
-        }
-    })
-}
+    /// The reduced states as their unreduced states, with `μ`.
+    fn flat_states(
+        &self,
+        states: &[ReducedLieStateOf<P, N>],
+        times: &[f64],
+        stats: &[StepStats],
+    ) -> Flat {
+        let states = states.iter().map(|s| (s.unreduced(), Some(s.mu.into())));
+        let rigid = |s: &LieStateOf<P, N>| self.unreduced().rigid_momentum(s);
+        flat(self.system().lie_code(), rigid, states, times, stats)
+    }
 
-/// What a run written to Parquet ended with (see the module of systems on vector spaces).
-type Written = crate::parquet::Written;
-
-/// One run written to Parquet at `path`.
-fn write_one<S, P: Dim, N: Dim>(
-    code: &Arc<LieCode>,
-    params: &[f64],
-    start: &Start,
-    r: RunRequest,
-    path: &std::path::Path,
-    cancel: &AtomicBool,
-) -> Result<Written, String>
-where
-    S: LieFront<P, N>,
-    DefaultAllocator: Allocator<P> + Allocator<N>,
-    OVector<f64, P>: Send + Sync,
-    OVector<f64, N>: Send + Sync,
-    LieStateOf<P, N>: dirac_io::StateColumns,
-    ReducedLieStateOf<P, N>: dirac_io::StateColumns,
-{
-    let sys = S::instantiate(code, params).map_err(|e| e.to_string())?;
-    let s0 = start_state(&sys, start)?;
-    let o = r.newton;
-    Ok(match (r.equations.form, r.equations.side) {
-        (Form::Reduced, _) => {
-            let reduced = S::instantiate_reduced(code, params).map_err(|e| e.to_string())?;
-            let integ = ReducedLieIntegratorOf::new(reduced, o);
-            let s0 = integ.reduce(&s0);
-            to_parquet(&integ, s0, &r, path, cancel)?
-        }
-        (Form::Unreduced, side) => {
-            let integ = if side == Variant::Plus {
-                LieIntegratorOf::new(sys, o)
-            } else {
-                LieIntegratorOf::minus(sys, o)
-            };
-            to_parquet(&integ, s0, &r, path, cancel)?
-        }
-    })
+    fn flat(&self, t: &ReducedLieTrajectoryOf<P, N>) -> Flat {
+        self.flat_states(&t.states, &t.times, &t.stats)
+    }
 }
 
 /// A system on rotation groups given as text, compiled to machine code.
@@ -329,7 +187,7 @@ impl LieSystem {
         q: &Bound<'_, PyDict>,
         p: Option<&Bound<'_, PyDict>>,
         v: Option<&Bound<'_, PyDict>>,
-    ) -> PyResult<Start> {
+    ) -> PyResult<LieStart> {
         let coords = &self.code.system().coordinates;
         let kinds = self.code.kinds();
         let read = |d: &Bound<'_, PyDict>, what: &str, len: &dyn Fn(&dyn Group) -> usize| {
@@ -377,7 +235,7 @@ impl LieSystem {
             (Some(_), Some(_)) => Err(PyValueError::new_err(
                 "give the momenta `p` or the velocities `v`, not both",
             )),
-            (Some(p), None) => Ok(Start {
+            (Some(p), None) => Ok(LieStart {
                 q,
                 p: Some(read(p, "p", &|g| g.momentum_value_len())?),
                 v: None,
@@ -390,7 +248,7 @@ impl LieSystem {
                 }
                 // A velocity has a momentum's components.
                 let v = read(v, "v", &|g| g.momentum_value_len())?;
-                Ok(Start {
+                Ok(LieStart {
                     q,
                     p: None,
                     v: Some(v.concat()),
@@ -573,15 +431,11 @@ impl LieSystem {
             steps as u128 + 1,
             self.row_bytes(),
         )?;
-        let (pp, n) = self.dims();
         let code = Arc::clone(&self.code);
         let (result, interrupt) = calls::interruptible(py, |cancel| {
-            dirac_jit::with_lie_dimensions!(
-                pp,
-                n,
-                run_one_fixed(&code, &params, &start, r, cancel)
-                    else run_one::<DynJitLie, Dyn, Dyn>(&code, &params, &start, r, cancel)
-            )
+            let starts = std::slice::from_ref(&start);
+            let job = Collect::new(cancel, false);
+            collected(dirac_jit::run_lie!(&code, &params, starts, &r, job))
         })?;
         crate::results::finish_run(py, result, interrupt, |flat| self.to_dict(py, flat))
     }
@@ -609,15 +463,18 @@ impl LieSystem {
             Keywords::read(py, &WRITE, keywords, Some(&[]))?.request(&self.compiled(), steps)?;
         let params = crate::inputs::values_of(&self.code.system().parameters, parameters)?;
         let start = self.start(q, p, v)?;
-        let (pp, n) = self.dims();
-        let code = Arc::clone(&self.code);
         let (written, interrupt) = calls::interruptible(py, |cancel| {
-            dirac_jit::with_lie_dimensions!(
-                pp,
-                n,
-                write_one_fixed(&code, &params, &start, r, &path, cancel)
-                    else write_one::<DynJitLie, Dyn, Dyn>(&code, &params, &start, r, &path, cancel)
-            )
+            let out = ToParquet {
+                path: &path,
+                cancel,
+            };
+            written(dirac_jit::run_lie!(
+                &self.code,
+                &params,
+                std::slice::from_ref(&start),
+                &r,
+                out
+            ))
         })?;
         crate::parquet::written_dict(py, written, interrupt)
     }
@@ -665,23 +522,18 @@ impl LieSystem {
                 self.start(&q, part("p")?.as_ref(), part("v")?.as_ref())
                     .map_err(ensemble::of_member(i))
             })
-            .collect::<PyResult<Vec<Start>>>()?;
+            .collect::<PyResult<Vec<LieStart>>>()?;
         let m = starts.len();
         calls::check_memory(
             || format!("an ensemble of {m} members of {steps} steps (every state kept)"),
             (m as u128).saturating_mul(steps as u128 + 1),
             2 * self.row_bytes(),
         )?;
-        let (pp, n) = self.dims();
         let code = Arc::clone(&self.code);
         let rows = r.end_time.is_none().then_some(steps + 1);
         let (results, interrupt) = calls::interruptible(py, |cancel| {
-            dirac_jit::with_lie_dimensions!(
-                pp,
-                n,
-                run_many_fixed(&code, &params, &starts, r, cancel)
-                    else run_many::<DynJitLie, Dyn, Dyn>(&code, &params, &starts, r, cancel)
-            )
+            let job = Ensemble::new(cancel);
+            collected(dirac_jit::run_lie!(&code, &params, &starts, &r, job))
         })?;
         ensemble::ensemble_dict(py, results, interrupt, rows, |flat| self.to_dict(py, flat))
     }

@@ -33,7 +33,7 @@ pub(crate) struct Flat {
 }
 
 /// The continuous energies of a run at its states and midpoints, or why there are none.
-type Energies = Result<(Vec<f64>, Vec<f64>), String>;
+pub(crate) type Energies = Result<(Vec<f64>, Vec<f64>), String>;
 
 /// A failed run: the runtime's error and what was computed before it (a [`Flat`] trajectory,
 /// or another kind's).
@@ -41,15 +41,6 @@ pub(crate) struct Failed<F = Flat> {
     pub(crate) error: RuntimeStepError,
     pub(crate) partial: F,
 }
-
-/// A run's states, times and statistics, the parts every trajectory type has.
-macro_rules! parts {
-    ($t:expr) => {
-        (&$t.states[..], &$t.times[..], &$t.stats[..])
-    };
-}
-
-pub(crate) use parts;
 
 pub(crate) fn reduced_flat<const S: usize, const K: usize>(
     (states, times, stats): (&[ReducedState<S, K>], &[f64], &[StepStats]),
@@ -225,24 +216,6 @@ where
     flat
 }
 
-/// [`with_momenta`] on a run's outcome: the trajectory, or what a failed run computed.
-pub(crate) fn with_momenta_of<L, const S: usize, const K: usize, const N: usize>(
-    sys: &L,
-    result: Result<Flat, Box<Failed>>,
-) -> Result<Flat, Box<Failed>>
-where
-    L: DiscreteLagrangian<S, K, N>,
-{
-    match result {
-        Ok(flat) => Ok(with_momenta(sys, flat)),
-        Err(mut failed) => {
-            let partial = std::mem::take(&mut failed.partial);
-            failed.partial = with_momenta(sys, partial);
-            Err(failed)
-        }
-    }
-}
-
 /// The `StepError` of a failed step: its message (prefixed by the member of an ensemble),
 /// `step`, `residual`, `member` and `trajectory`, the dict of the states before it. A run
 /// refused for its memory (the runtime's `OutOfMemory`) is a `dirac.OutOfMemoryError` with the
@@ -318,21 +291,3 @@ pub(crate) fn finish_run<'py, F>(
         }
     }
 }
-
-/// One run of `$integ` from `$start` at the order the request `$r` asks, collected
-/// ([`crate::calls::span!`]) and flattened by the closure `|$t| $flat` (written once, typed at
-/// each kind of trajectory): the integrator itself at order 2, or its symmetric composition (4:
-/// the triple jump, 6: Kahan–Li).
-macro_rules! by_order {
-    ($integ:expr, $start:expr, $r:expr, $cancel:expr, |$t:ident| $flat:expr) => {{
-        let (integ, r): (_, &dirac_jit::RunRequest) = ($integ, &$r);
-        if r.order == 2 {
-            $crate::results::finish($crate::calls::span!(integ.run($start), *r, $cancel => collect), |$t| $flat)
-        } else {
-            let c = dirac_runtime::Composition::new(integ, $crate::composition(r.order));
-            $crate::results::finish($crate::calls::span!(c.run($start), *r, $cancel => collect), |$t| $flat)
-        }
-    }};
-}
-
-pub(crate) use by_order;

@@ -1,75 +1,230 @@
-//! The runs of systems on vector spaces without constraints, at dimensions `S`, `K`,
-//! `N = S + K` (what `dirac_jit::with_dimensions` dispatches to): one run, one written to
-//! Parquet, an ensemble, and the benchmark's bare run.
+//! The runs of systems on vector spaces collected into arrays: what `System.run` and
+//! `System.ensemble` hand the integrator their request chose to (`dirac_jit::run`: [`Collect`],
+//! [`Ensemble`]), how each integrator of the family — unreduced, reduced on either side, their
+//! compositions, the constrained ones — flattens its trajectory for NumPy ([`Flatten`]), and the
+//! benchmark's bare run.
 
+use std::marker::PhantomData;
 use std::sync::atomic::AtomicBool;
-use std::sync::Arc;
 
-use dirac_jit::{Code, JitSystem};
+use dirac_jit::run::{Finish, Job};
+use dirac_jit::{JitConstrained, JitSystem, RunRequest};
 use dirac_runtime::nalgebra::SVector;
 use dirac_runtime::{
-    continuous_energies, DiscreteLagrangian, Drive, Equations, Form, ReducedIntegrator,
-    ReducedState, System, UnreducedIntegrator, UnreducedState, UnreducedTrajectory, Variant,
+    continuous_energies, ComposedTrajectory, Composition, ConstrainedIntegrator,
+    ConstrainedTrajectory, DiscreteLagrangian, Drive, Equations, Form, Minus, Plus, Reduced,
+    ReducedConstrainedIntegrator, ReducedIntegrator, ReducedState, SelfAdjoint, Side, StepStats,
+    System, Trajectory, UnreducedIntegrator, UnreducedState, UnreducedTrajectory,
 };
 
-use crate::calls::span;
-use crate::inputs::{reduced_start, unreduced_start};
-use crate::parquet::{to_parquet, Written};
-use crate::results::by_order;
-use crate::results::{finish, parts, reduced_flat, unreduced_flat, with_momenta_of, Failed, Flat};
-use dirac_jit::RunRequest;
+use crate::calls::until;
+use crate::ensemble::Member;
+use crate::results::{finish, reduced_flat, unreduced_flat, with_momenta, Energies, Flat};
 
-/// One run of a system of `S` shape and `K` group coordinates from `start` (`x, w, mu, g` or
-/// `q, p`, by the method).
-pub(crate) fn run_one<const S: usize, const K: usize, const N: usize>(
-    code: &Arc<Code>,
-    params: &[f64],
-    start: &[Vec<f64>],
-    r: RunRequest,
-    energies: bool,
-    cancel: &AtomicBool,
-) -> Result<Result<Flat, Box<Failed>>, String> {
-    let sys = code
-        .instantiate::<S, K, N>(params)
-        .map_err(|e| e.to_string())?;
-    let o = r.newton;
-    let energies = energies.then(|| sys.clone());
-    let momenta = sys.clone();
-    let result = match (r.equations.form, r.equations.side) {
-        (Form::Unreduced, _) => {
-            let s0 = unreduced_start(start);
-            by_order!(UnreducedIntegrator::new(sys, o), s0, r, cancel, |t| {
-                unreduced_flat(parts!(t))
-            })
-        }
-        (Form::Reduced, side) => {
-            let s0 = reduced_start(start);
-            if side == Variant::Plus {
-                by_order!(ReducedIntegrator::plus(sys, o), s0, r, cancel, |t| {
-                    reduced_flat(parts!(t))
-                })
-            } else {
-                by_order!(ReducedIntegrator::minus(sys, o), s0, r, cancel, |t| {
-                    reduced_flat(parts!(t))
-                })
-            }
-        }
-    };
-    let result = with_momenta_of(&momenta, result);
-    Ok(match (energies, result) {
-        (Some(sys), Ok(flat)) => Ok(with_energies(&sys, flat, r.equations)),
-        (_, result) => result,
-    })
+/// A run collected into arrays (every class's `run`), with the continuous energies of its
+/// states when `energies` is set; it ends after the step in progress once `cancel` is set. `F`:
+/// what the class flattens a trajectory to.
+pub(crate) struct Collect<'a, F> {
+    pub(crate) cancel: &'a AtomicBool,
+    pub(crate) energies: bool,
+    pub(crate) flat: PhantomData<F>,
 }
 
-/// `flat` with the continuous energies of its states (`ContinuousLagrangian`: the inverse
+/// An ensemble collected into arrays (every class's `ensemble`), one member per start, on all
+/// cores.
+pub(crate) struct Ensemble<'a, F> {
+    pub(crate) cancel: &'a AtomicBool,
+    pub(crate) flat: PhantomData<F>,
+}
+
+impl<'a, F> Collect<'a, F> {
+    pub(crate) fn new(cancel: &'a AtomicBool, energies: bool) -> Self {
+        Collect {
+            cancel,
+            energies,
+            flat: PhantomData,
+        }
+    }
+}
+
+impl<'a, F> Ensemble<'a, F> {
+    pub(crate) fn new(cancel: &'a AtomicBool) -> Self {
+        Ensemble {
+            cancel,
+            flat: PhantomData,
+        }
+    }
+}
+
+impl<F> Job for Collect<'_, F> {
+    /// The trajectory flattened, or the failed step's error with the states before it; `Err`
+    /// for a run that could not start.
+    type Output = Result<Member<F>, String>;
+}
+
+impl<F> Job for Ensemble<'_, F> {
+    /// Each member's outcome.
+    type Output = Result<Vec<Member<F>>, String>;
+}
+
+impl<I: Flatten> Finish<I> for Collect<'_, I::Flat> {
+    fn finish(self, integ: I, starts: Vec<I::State>, r: &RunRequest) -> Self::Output {
+        let start = starts.into_iter().next().ok_or("a run needs its start")?;
+        let run = dirac_jit::span!(integ.run(start), r, stop(until(self.cancel)) => collect);
+        Ok(match finish(run, |t| integ.flat(t)) {
+            Ok(mut flat) if self.energies => {
+                integ.energies(&mut flat, r.equations);
+                Ok(flat)
+            }
+            outcome => outcome,
+        })
+    }
+}
+
+impl<I: Flatten> Finish<I> for Ensemble<'_, I::Flat>
+where
+    I::Trajectory: Send,
+{
+    fn finish(self, integ: I, starts: Vec<I::State>, r: &RunRequest) -> Self::Output {
+        let members =
+            dirac_jit::span!(integ.ensemble(&starts), r, stop(until(self.cancel)) => collect);
+        Ok(members
+            .into_iter()
+            .map(|m| finish(m, |t| integ.flat(t)))
+            .collect())
+    }
+}
+
+/// What a collected run has of one outcome: `dirac_jit::run`'s, its error as text.
+pub(crate) fn collected<T>(run: Result<Result<T, String>, dirac_jit::Error>) -> Result<T, String> {
+    run.map_err(|e| e.to_string())?
+}
+
+/// An integrator whose runs Python returns as arrays: its trajectory flattened (`Flat`, each
+/// class's), and, where the system has them, the continuous energies of its states.
+pub(crate) trait Flatten: Drive + Sync {
+    /// What a trajectory is flattened to.
+    type Flat;
+
+    /// The states, times and statistics of a run, flattened.
+    fn flat_states(&self, states: &[Self::State], times: &[f64], stats: &[StepStats])
+        -> Self::Flat;
+
+    /// A run's trajectory, flattened.
+    fn flat(&self, t: &Self::Trajectory) -> Self::Flat;
+
+    /// Sets the continuous energies of a run flattened by [`Self::flat`] (a system without
+    /// constraints, its Lagrangian continuous); the default: none.
+    fn energies(&self, flat: &mut Self::Flat, equations: Equations) {
+        let _ = (flat, equations);
+    }
+}
+
+/// A composition's states are its base integrator's.
+impl<I> Flatten for Composition<I>
+where
+    I: Flatten + SelfAdjoint,
+    Self: Drive<State = I::State, Trajectory = ComposedTrajectory<I::State>> + Sync,
+{
+    type Flat = I::Flat;
+
+    fn flat_states(&self, states: &[Self::State], times: &[f64], stats: &[StepStats]) -> I::Flat {
+        self.base().flat_states(states, times, stats)
+    }
+
+    fn flat(&self, t: &ComposedTrajectory<I::State>) -> I::Flat {
+        self.flat_states(&t.states, &t.times, &t.stats)
+    }
+
+    fn energies(&self, flat: &mut I::Flat, equations: Equations) {
+        self.base().energies(flat, equations)
+    }
+}
+
+impl<const S: usize, const K: usize, const N: usize> Flatten
+    for UnreducedIntegrator<JitSystem<S, K, N>, S, K, N>
+{
+    type Flat = Flat;
+
+    fn flat_states(&self, states: &[Self::State], times: &[f64], stats: &[StepStats]) -> Flat {
+        unreduced_flat((states, times, stats))
+    }
+
+    fn flat(&self, t: &UnreducedTrajectory<N>) -> Flat {
+        self.flat_states(&t.states, &t.times, &t.stats)
+    }
+
+    fn energies(&self, flat: &mut Flat, equations: Equations) {
+        flat.energies = Some(energies(self.system(), flat, equations));
+    }
+}
+
+impl<D: Side, const S: usize, const K: usize, const N: usize> Flatten
+    for ReducedIntegrator<JitSystem<S, K, N>, D, S, K, N>
+where
+    JitSystem<S, K, N>: Reduced<D, S, K, N>,
+    Self: Drive<State = ReducedState<S, K>, Trajectory = Trajectory<S, K>> + Sync,
+{
+    type Flat = Flat;
+
+    fn flat_states(&self, states: &[Self::State], times: &[f64], stats: &[StepStats]) -> Flat {
+        with_momenta(self.system(), reduced_flat((states, times, stats)))
+    }
+
+    fn flat(&self, t: &Trajectory<S, K>) -> Flat {
+        self.flat_states(&t.states, &t.times, &t.stats)
+    }
+
+    fn energies(&self, flat: &mut Flat, equations: Equations) {
+        flat.energies = Some(energies(self.system(), flat, equations));
+    }
+}
+
+/// The constrained integrators: their states flattened as the unconstrained ones', and each
+/// step's multipliers `λ_k` and constraint residual.
+macro_rules! constrained_flat_run {
+    ($($integrator:ident $(<$side:ident>)? => $state:ty, $flat:ident;)*) => {$(
+        impl<const S: usize, const K: usize, const N: usize, const M: usize, const Z: usize>
+            Flatten for $integrator<JitConstrained<S, K, N, M, Z>, $($side,)? S, K, N, M, Z>
+        {
+            type Flat = Flat;
+
+            fn flat_states(
+                &self,
+                states: &[Self::State],
+                times: &[f64],
+                stats: &[StepStats],
+            ) -> Flat {
+                with_momenta(self.system(), $flat((states, times, stats)))
+            }
+
+            fn flat(&self, t: &ConstrainedTrajectory<$state, M>) -> Flat {
+                let mut flat = self.flat_states(&t.states, &t.times, &t.stats);
+                flat.multipliers = Some((
+                    M,
+                    t.records.iter().flat_map(|s| s.lambda.iter().copied()).collect(),
+                    t.records.iter().map(|s| s.constraint_residual).collect(),
+                ));
+                flat
+            }
+        }
+    )*};
+}
+
+constrained_flat_run! {
+    ConstrainedIntegrator => UnreducedState<N>, unreduced_flat;
+    ReducedConstrainedIntegrator<Plus> => ReducedState<S, K>, reduced_flat;
+    ReducedConstrainedIntegrator<Minus> => ReducedState<S, K>, reduced_flat;
+}
+
+/// The continuous energies of the states of `flat` (`ContinuousLagrangian`: the inverse
 /// Legendre map at each node, the midpoint rule between), reduced states mapped back to
 /// `(q, p)` by eq. (3.7).
-fn with_energies<const S: usize, const K: usize, const N: usize>(
+fn energies<const S: usize, const K: usize, const N: usize>(
     sys: &JitSystem<S, K, N>,
-    mut flat: Flat,
+    flat: &Flat,
     method: Equations,
-) -> Flat {
+) -> Energies {
     let column = |name: &str| {
         flat.parts
             .iter()
@@ -99,101 +254,30 @@ fn with_energies<const S: usize, const K: usize, const N: usize>(
         step_sizes: vec![sys.time_step(); rows.saturating_sub(1)],
         stats: Vec::new(),
     };
-    flat.energies = Some(
-        continuous_energies(sys, &trajectory)
-            .map(|e| (e.nodes, e.midpoints))
-            .map_err(|e| e.to_string()),
-    );
-    flat
+    continuous_energies(sys, &trajectory)
+        .map(|e| (e.nodes, e.midpoints))
+        .map_err(|e| e.to_string())
 }
 
-/// One run written to Parquet at `path` by the workspace's writer.
-pub(crate) fn write_one<const S: usize, const K: usize, const N: usize>(
-    code: &Arc<Code>,
-    params: &[f64],
-    start: &[Vec<f64>],
-    r: RunRequest,
-    path: &std::path::Path,
-    cancel: &AtomicBool,
-) -> Result<Written, String> {
-    let sys = code
-        .instantiate::<S, K, N>(params)
-        .map_err(|e| e.to_string())?;
-    let o = r.newton;
-    Ok(match (r.equations.form, r.equations.side) {
-        (Form::Unreduced, _) => {
-            let s0 = unreduced_start(start);
-            to_parquet(&UnreducedIntegrator::new(sys, o), s0, &r, path, cancel)?
-        }
-        (Form::Reduced, side) => {
-            let s0 = reduced_start(start);
-            if side == Variant::Plus {
-                to_parquet(&ReducedIntegrator::plus(sys, o), s0, &r, path, cancel)?
-            } else {
-                to_parquet(&ReducedIntegrator::minus(sys, o), s0, &r, path, cancel)?
-            }
-        }
-    })
+/// The benchmark's bare run: the seconds of the run alone (collected, no arrays), timed around
+/// the integrator its request chose.
+pub(crate) struct Timed;
+
+impl Job for Timed {
+    type Output = Result<f64, String>;
 }
 
-/// Seconds of the reduced (+) run alone (collected, no arrays): the baseline of the Python
-/// overhead benchmark (`dirac-py/examples/overhead.py`).
-pub(crate) fn time_one<const S: usize, const K: usize, const N: usize>(
-    code: &Arc<Code>,
-    params: &[f64],
-    start: &[Vec<f64>],
-    r: RunRequest,
-) -> Result<f64, String> {
-    let sys = code
-        .instantiate::<S, K, N>(params)
-        .map_err(|e| e.to_string())?;
-    let s0 = reduced_start(start);
-    let t = std::time::Instant::now();
-    let traj = ReducedIntegrator::plus(sys, r.newton)
-        .run(s0)
-        .steps(r.steps)
-        .collect()
-        .map_err(|e| e.to_string())?;
-    let elapsed = t.elapsed().as_secs_f64();
-    drop(traj);
-    Ok(elapsed)
-}
-
-/// An ensemble: one run per start, on all cores.
-pub(crate) fn run_many<const S: usize, const K: usize, const N: usize>(
-    code: &Arc<Code>,
-    params: &[f64],
-    starts: &[Vec<Vec<f64>>],
-    r: RunRequest,
-    cancel: &AtomicBool,
-) -> Result<Vec<Result<Flat, Box<Failed>>>, String> {
-    let sys = code
-        .instantiate::<S, K, N>(params)
-        .map_err(|e| e.to_string())?;
-    let o = r.newton;
-    Ok(match (r.equations.form, r.equations.side) {
-        (Form::Unreduced, _) => {
-            let s0: Vec<_> = starts.iter().map(|s| unreduced_start(s)).collect();
-            let integ = UnreducedIntegrator::new(sys, o);
-            span!(integ.ensemble(&s0), r, cancel => collect)
-                .into_iter()
-                .map(|m| finish(m, |t| unreduced_flat(parts!(t))))
-                .collect()
-        }
-        (Form::Reduced, side) => {
-            let s0: Vec<_> = starts.iter().map(|s| reduced_start(s)).collect();
-            let momenta = sys.clone();
-            let members = if side == Variant::Plus {
-                let integ = ReducedIntegrator::plus(sys, o);
-                span!(integ.ensemble(&s0), r, cancel => collect)
-            } else {
-                let integ = ReducedIntegrator::minus(sys, o);
-                span!(integ.ensemble(&s0), r, cancel => collect)
-            };
-            members
-                .into_iter()
-                .map(|m| with_momenta_of(&momenta, finish(m, |t| reduced_flat(parts!(t)))))
-                .collect()
-        }
-    })
+impl<I: Drive> Finish<I> for Timed {
+    fn finish(self, integ: I, starts: Vec<I::State>, r: &RunRequest) -> Self::Output {
+        let start = starts.into_iter().next().ok_or("a run needs its start")?;
+        let t = std::time::Instant::now();
+        let traj = integ
+            .run(start)
+            .steps(r.steps)
+            .collect()
+            .map_err(|e| e.to_string())?;
+        let elapsed = t.elapsed().as_secs_f64();
+        drop(traj);
+        Ok(elapsed)
+    }
 }
