@@ -161,15 +161,16 @@
 //!
 //! ## What it costs
 //!
-//! The example `urdf_arm` of `dirac-jit` measures (one run on a shared 2-core machine):
+//! The example `urdf_arm` of `dirac-jit` measures (two runs on a loaded 2-core machine, so the
+//! step times scatter by up to 2×; `BENCHMARKS.md`):
 //!
 //! | system | text | compile | step | Newton iterations |
 //! | --- | --- | --- | --- | --- |
-//! | iiwa 14, 7 joints, `h` = 1 ms | 8.4 kB | 0.4 s | 4.3 µs | 2.0 |
-//! | chain of 5 links | 3.4 kB | 0.07 s | 1.3 µs | 1.0 |
-//! | chain of 10 links | 6.9 kB | 0.9 s | 14 µs | 2.0 |
-//! | chain of 20 links (sparse backend) | 14 kB | 9.5 s | 22 µs | 4.7 |
-//! | chain of 40 links (sparse backend) | 29 kB | 95 s | 350 µs | 3.8 |
+//! | iiwa 14, 7 joints, `h` = 1 ms | 8.4 kB | 0.4–0.5 s | 4.3–5.7 µs | 2.0 |
+//! | chain of 5 links | 3.4 kB | 0.07–0.15 s | 1.3–1.6 µs | 1.0 |
+//! | chain of 10 links | 6.9 kB | 0.9 s | 9–14 µs | 2.0 |
+//! | chain of 20 links (sparse backend) | 14 kB | 9.3–9.5 s | 22–40 µs | 4.7 |
+//! | chain of 40 links (sparse backend) | 29 kB | 95–112 s | 160–350 µs | 3.8 |
 //!
 //! ```sh
 //! cargo run --release --manifest-path dirac-io/Cargo.toml --target-dir target -p dirac-jit --example urdf_arm
@@ -177,13 +178,13 @@
 //!
 //! ## Limits
 //!
-//! * **Cost grows as `n³` in the number of joints.** In minimal coordinates the step's
+//! * **Cost grows toward `n³` in the number of joints.** In minimal coordinates the step's
 //!   Jacobian `D₁D₂L_d` is dense: every joint moves every body below it. A Newton iteration
 //!   evaluates its `n²` entries, each a straight line through the tree (`O(n³)` operations),
 //!   and factors it in `O(n³)`; the compiler differentiates the whole `L` symbolically, so the
-//!   compile time grows about as `n³` too. Measured, the step time's slope in `n` is about 3–4
-//!   from 5 to 40 links (10 to 20: 0.7, where the sparse backend's chord iterations start), the
-//!   compile time's about 3.3. A 7-joint arm is cheap (4 µs); a 100-link chain is not what
+//!   compile time grows about as `n³` too. Measured from 5 to 40 links, the step time's slope
+//!   in `n` is 2.2–2.7 (from 20 to 40 links 2.0–4.0: the `n³` terms are not yet dominant at
+//!   these sizes, and the machine's load blurs the pieces), the compile time's about 3.2. A 7-joint arm is cheap (4 µs); a 100-link chain is not what
 //!   this path is for: it needs a recursive (linear-time) residual and Jacobian, or maximal
 //!   coordinates with the sparse constrained step, neither built yet.
 //! * **Joints.** Revolute, continuous, prismatic, fixed (fused) and one floating base; a
