@@ -1008,3 +1008,99 @@ fn floating_arm_under_joint_torques_keeps_its_total_momentum() {
     assert!(reached < 5e-2, "{reached}");
     assert!(base_turn > 0.05, "{base_turn}");
 }
+
+/// A small deterministic generator (an LCG) for the random trees below.
+struct Lcg(u64);
+
+impl Lcg {
+    /// A number in `[-1, 1)`.
+    fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    }
+
+    fn vector(&mut self, scale: f64) -> Vector3<f64> {
+        Vector3::new(self.next(), self.next(), self.next()) * scale
+    }
+
+    fn below(&mut self, n: usize) -> usize {
+        (((self.next() + 1.0) / 2.0) * n as f64) as usize % n
+    }
+}
+
+/// A random tree of four moving joints (revolute, continuous or prismatic, about random axes,
+/// each from a random earlier link) and two fixed joints fusing massive links into their
+/// parents, with random placements, centres of mass, inertias and gravity.
+fn random_tree(seed: u64) -> Model {
+    let mut rng = Lcg(seed);
+    let inertial = |rng: &mut Lcg| {
+        // Principal moments that satisfy the triangle inequality.
+        let d = Vector3::new(0.06, 0.07, 0.08) + rng.vector(0.005);
+        let turn = cayley(&rng.vector(1.0));
+        Inertial::new(
+            1.0 + rng.next().abs(),
+            rng.vector(0.3),
+            turn * Matrix3::from_diagonal(&d) * turn.transpose(),
+        )
+    };
+    let mut builder = Model::builder().frame("l0");
+    for i in 1..=6 {
+        let parent = format!("l{}", rng.below(i));
+        let placement = Pose::new(cayley(&rng.vector(1.0)), rng.vector(0.5));
+        let axis = rng.vector(1.0) + Vector3::new(0.0, 0.0, 0.1);
+        let (name, child) = (format!("j{i}"), format!("l{i}"));
+        let spec = match i {
+            // Two fixed joints, the rest moving.
+            2 | 5 => JointSpec::fixed(name, parent, child.clone()),
+            3 => JointSpec::prismatic(name, parent, child.clone(), axis),
+            4 => JointSpec::new(
+                name,
+                parent,
+                child.clone(),
+                dirac_multibody::JointKind::Continuous { axis },
+            ),
+            _ => JointSpec::revolute(name, parent, child.clone(), axis),
+        };
+        builder = builder
+            .body(child, inertial(&mut rng))
+            .joint(spec.at(placement));
+    }
+    builder
+        .gravity(rng.vector(10.0))
+        .build()
+        .expect("a random tree")
+}
+
+/// Random trees (random joint kinds, axes, placements, branching, fused links, inertias and
+/// gravity): the text's energy and Legendre map are the model's `T + V` and `M(q) q̇`.
+#[test]
+fn random_trees_have_the_model_energy_and_mass_matrix() {
+    for seed in 1..=8 {
+        let model = random_tree(seed);
+        assert_eq!(model.joints().len(), 4, "seed {seed}");
+        let code = flat(&model.system_text().unwrap());
+        let sys = code.instantiate::<4, 0, 4>(&[0.01]).unwrap();
+        let mut rng = Lcg(1000 + seed);
+        for _ in 0..10 {
+            let q: SVector<f64, 4> = SVector::from_fn(|_, _| 2.0 * rng.next());
+            let v: SVector<f64, 4> = SVector::from_fn(|_, _| 3.0 * rng.next());
+            let config = model.configuration_from_scalars(q.as_slice()).unwrap();
+            let energy = model.kinetic_energy(&config, v.as_slice()).unwrap()
+                + model.potential_energy(&config).unwrap();
+            let e = sys.energy(&q, &v).unwrap();
+            assert!(
+                (e - energy).abs() < 1e-12 * energy.abs().max(1.0),
+                "seed {seed}: {e} {energy}"
+            );
+            let p = model.mass_matrix(&config).unwrap() * DVector::from_column_slice(v.as_slice());
+            let legendre = sys.legendre(&q, &v).unwrap();
+            let worst = (0..4)
+                .map(|i| (legendre[i] - p[i]).abs())
+                .fold(0.0, f64::max);
+            assert!(worst < 1e-12 * p.amax().max(1.0), "seed {seed}: {worst:e}");
+        }
+    }
+}
