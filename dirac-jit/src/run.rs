@@ -16,8 +16,8 @@
 //!
 //! ```
 //! use dirac_jit::run::{Finish, Job};
-//! use dirac_jit::{compile_any, Compiled, RunRequest};
-//! use dirac_runtime::{Drive, Stepper};
+//! use dirac_jit::{compile, Compiled, RunRequest};
+//! use dirac_runtime::Drive;
 //!
 //! /// A front end's run: the final time, whatever the integrator.
 //! struct LastTime;
@@ -27,19 +27,18 @@
 //! impl<I: Drive> Finish<I> for LastTime {
 //!     fn finish(self, integ: I, starts: Vec<I::State>, request: &RunRequest) -> f64 {
 //!         let start = starts.into_iter().next().expect("one start");
-//!         let traj = integ.run(start).steps(request.steps).collect().expect("runs");
-//!         *traj.times.last().expect("a state")
+//!         integ.run(start).steps(request.steps).stream().expect("runs").t
 //!     }
 //! }
 //!
-//! let Compiled::Flat(kepler) = compile_any(
+//! let kepler = compile(
 //!     "#[reduced_lagrangian(shape(r), group(phi))]
 //!      fn kepler(q0: Config, q1: Config, h: f64) -> f64 {
 //!          let (dr, dphi) = (q1.r - q0.r, q1.phi - q0.phi);
 //!          let r = 0.5 * (q0.r + q1.r);
 //!          0.5 / h * (dr * dr + r * r * dphi * dphi) + h / r
 //!      }",
-//! )? else { unreachable!() };
+//! )?;
 //! let request = RunRequest::from_keywords(&Compiled::Flat(kepler.clone()), "minus", 4, 10, None)?;
 //! // The reduced (−) integrator's composition of order 4, from (x, w, μ, g).
 //! let start = vec![vec![1.0], vec![0.0], vec![1.0], vec![0.0]];
@@ -315,6 +314,23 @@ impl Connection {
     }
 }
 
+/// What a [`Finish`] of the element integrators takes: the element-wise integrator (either
+/// side), its compositions, and the element constrained integrator — every integrator [`view`]
+/// and [`element`] may choose.
+pub trait FinishElements:
+    Finish<ElementIntegrator<JitElement>>
+    + Finish<Composition<ElementIntegrator<JitElement>>>
+    + Finish<ElementConstrainedIntegrator<JitElement>>
+{
+}
+
+impl<J> FinishElements for J where
+    J: Finish<ElementIntegrator<JitElement>>
+        + Finish<Composition<ElementIntegrator<JitElement>>>
+        + Finish<ElementConstrainedIntegrator<JitElement>>
+{
+}
+
 /// A system on vector spaces at any size on its element view ([`Code::element_view`]: the
 /// element integrators, sized at run time), from starts as [`flat`] reads them (eq. (3.7)):
 /// the reduced (+)/(−) equations (4.6), (4.8) are the element (+)/(−) sides in the user's
@@ -328,9 +344,7 @@ pub fn view<J>(
     job: J,
 ) -> Result<J::Output, Error>
 where
-    J: Finish<ElementIntegrator<JitElement>>
-        + Finish<Composition<ElementIntegrator<JitElement>>>
-        + Finish<ElementConstrainedIntegrator<JitElement>>,
+    J: FinishElements,
 {
     request.check(&Compiled::Flat(Arc::clone(code)))?;
     let sys = code.element_view()?.instantiate(params, &[])?;
@@ -354,9 +368,7 @@ pub fn element<J>(
     job: J,
 ) -> Result<J::Output, Error>
 where
-    J: Finish<ElementIntegrator<JitElement>>
-        + Finish<Composition<ElementIntegrator<JitElement>>>
-        + Finish<ElementConstrainedIntegrator<JitElement>>,
+    J: FinishElements,
 {
     request.check(&Compiled::Element(Arc::clone(sys.code())))?;
     run_elements(sys, starts, request, job)
@@ -370,9 +382,7 @@ fn run_elements<J>(
     job: J,
 ) -> Result<J::Output, Error>
 where
-    J: Finish<ElementIntegrator<JitElement>>
-        + Finish<Composition<ElementIntegrator<JitElement>>>
-        + Finish<ElementConstrainedIntegrator<JitElement>>,
+    J: FinishElements,
 {
     if let Some(i) = starts
         .iter()

@@ -21,25 +21,12 @@ use pyo3::types::{PyDict, PyTuple};
 
 use crate::calls;
 use crate::ensemble;
-use crate::keywords::{self, Keywords, Method};
+use crate::keywords::{self, Keywords};
 use crate::parquet::{self, ToParquet};
 use crate::runs::{collected, Collect, Ensemble, Flatten};
 
-/// `ElementSystem.run`, `write` and `ensemble`: their arguments and options.
-const RUN: Method = Method {
-    name: "ElementSystem.run",
-    positional: &["parameters", "steps", "sizes", "q", "p"],
-    options: keywords::RUN,
-};
-const WRITE: Method = Method {
-    name: "ElementSystem.write",
-    positional: &["parameters", "steps", "path", "sizes", "q", "p"],
-    options: keywords::WRITE,
-};
-const ENSEMBLE: Method = Method {
-    name: "ElementSystem.ensemble",
-    ..RUN
-};
+// `ElementSystem.run`, `write` and `ensemble`: their arguments and options.
+keywords::methods!("ElementSystem", ["sizes", "q", "p"], run = keywords::RUN);
 
 /// What a run is asked for: the system at its sizes, and the run request of every class.
 struct Request {

@@ -32,6 +32,32 @@ pub(crate) struct Method<'a> {
     pub(crate) options: &'a [&'a str],
 }
 
+/// The `RUN`, `WRITE` and `ENSEMBLE` [`Method`]s of the class `$class`: each takes the
+/// parameters and the steps, `write` then the path, and then the arguments `$after` (a start's
+/// vectors, the sizes); `run` takes the options `$run`, `ensemble` those of [`RUN`], `write`
+/// those of [`WRITE`].
+macro_rules! methods {
+    ($class:literal, [$($after:literal),*], run = $run:expr) => {
+        const RUN: $crate::keywords::Method = $crate::keywords::Method {
+            name: concat!($class, ".run"),
+            positional: &["parameters", "steps" $(, $after)*],
+            options: $run,
+        };
+        const WRITE: $crate::keywords::Method = $crate::keywords::Method {
+            name: concat!($class, ".write"),
+            positional: &["parameters", "steps", "path" $(, $after)*],
+            options: $crate::keywords::WRITE,
+        };
+        const ENSEMBLE: $crate::keywords::Method = $crate::keywords::Method {
+            name: concat!($class, ".ensemble"),
+            positional: &["parameters", "steps" $(, $after)*],
+            options: $crate::keywords::RUN,
+        };
+    };
+}
+
+pub(crate) use methods;
+
 /// A run method's options, read from its keywords (each its default when not given), and the
 /// keywords left: the start.
 pub(crate) struct Keywords<'py> {

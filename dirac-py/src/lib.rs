@@ -76,22 +76,8 @@ fn off_the_tables() -> dirac_jit::Error {
     }
 }
 
-/// `System.run`, `ensemble`, `write` and the benchmark's run: their arguments and options.
-const RUN: Method = Method {
-    name: "System.run",
-    positional: &["parameters", "steps"],
-    options: &OPTIONS,
-};
-const ENSEMBLE: Method = Method {
-    name: "System.ensemble",
-    positional: &["parameters", "steps"],
-    options: keywords::RUN,
-};
-const WRITE: Method = Method {
-    name: "System.write",
-    positional: &["parameters", "steps", "path"],
-    options: keywords::WRITE,
-};
+// `System.run`, `ensemble`, `write` and the benchmark's run: their arguments and options.
+keywords::methods!("System", [], run = &OPTIONS);
 const CORE: Method = Method {
     name: "System._core_seconds",
     positional: &["parameters", "steps"],

@@ -30,7 +30,7 @@ use pyo3::types::PyDict;
 
 use crate::calls;
 use crate::ensemble;
-use crate::keywords::{self, Keywords, Method};
+use crate::keywords::{self, Keywords};
 use crate::parquet::{written, ToParquet};
 use crate::runs::{collected, Collect, Ensemble, Flatten};
 
@@ -296,21 +296,8 @@ impl LieSystem {
     }
 }
 
-/// `LieSystem.run`, `write` and `ensemble`: their arguments and options.
-const RUN: Method = Method {
-    name: "LieSystem.run",
-    positional: &["parameters", "steps", "q", "p", "v"],
-    options: keywords::RUN,
-};
-const WRITE: Method = Method {
-    name: "LieSystem.write",
-    positional: &["parameters", "steps", "path", "q", "p", "v"],
-    options: keywords::WRITE,
-};
-const ENSEMBLE: Method = Method {
-    name: "LieSystem.ensemble",
-    ..RUN
-};
+// `LieSystem.run`, `write` and `ensemble`: their arguments and options.
+keywords::methods!("LieSystem", ["q", "p", "v"], run = keywords::RUN);
 
 impl LieSystem {
     /// The bytes one state of a collected run costs until its arrays are returned: the state

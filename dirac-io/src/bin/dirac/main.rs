@@ -187,16 +187,32 @@ fn cli(args: Vec<String>) -> Result<(), Failure> {
             "the state of a reduced run",
         )?,
     }
+    let names = [
+        ("shape", sys.shape.join(", ")),
+        ("group", sys.group.join(", ")),
+        ("parameters", sys.parameters.join(", ")),
+    ];
+    let check = (sys.name.as_str(), code.compile_time(), &names[..]);
+    perform(command, check, || run_flat(&code, &config, &request))
+}
+
+/// `check` (the system's name, the time its text took to compile, its names) or `run` (the
+/// run's report), as `command` asks.
+fn perform(
+    command: &str,
+    (name, time, names): (&str, std::time::Duration, &[(&str, String)]),
+    run: impl FnOnce() -> Result<String, String>,
+) -> Result<(), Failure> {
     match command {
         "check" => {
-            compiled(&sys.name, code.compile_time());
-            println!("shape: {}", sys.shape.join(", "));
-            println!("group: {}", sys.group.join(", "));
-            println!("parameters: {}", sys.parameters.join(", "));
+            compiled(name, time);
+            for (what, list) in names {
+                println!("{what}: {list}");
+            }
             Ok(())
         }
         "run" => {
-            let report = run_flat(&code, &config, &request).map_err(Failure::Run)?;
+            let report = run().map_err(Failure::Run)?;
             println!("{report}");
             Ok(())
         }
@@ -421,25 +437,15 @@ fn cli_lie(
         "a system on rotation groups starts from the tables `[start.q]` and `[start.p]`, or \
          `[start.v]` with adaptive steps",
     )?;
-    match command {
-        "check" => {
-            compiled(&sys.name, code.compile_time());
-            let coordinates: Vec<String> = sys
-                .coordinates
-                .iter()
-                .map(|c| format!("{} ({:?})", c.name, c.kind).to_lowercase())
-                .collect();
-            println!("coordinates: {}", coordinates.join(", "));
-            println!("parameters: {}", sys.parameters.join(", "));
-            Ok(())
-        }
-        "run" => {
-            let report = run_lie(code, config, request).map_err(Failure::Run)?;
-            println!("{report}");
-            Ok(())
-        }
-        other => Err(Failure::Usage(format!("unknown command `{other}`"))),
-    }
+    let coordinates: Vec<String> = (sys.coordinates.iter())
+        .map(|c| format!("{} ({:?})", c.name, c.kind).to_lowercase())
+        .collect();
+    let names = [
+        ("coordinates", coordinates.join(", ")),
+        ("parameters", sys.parameters.join(", ")),
+    ];
+    let check = (sys.name.as_str(), code.compile_time(), &names[..]);
+    perform(command, check, || run_lie(code, config, request))
 }
 
 /// The start's values of each coordinate from the table `start.{part}`, in the order of the
@@ -519,20 +525,12 @@ fn cli_element(
         "an element-wise system starts from `q` and `p`, its coordinates in order, each grid row \
          by row",
     )?;
-    match command {
-        "check" => {
-            compiled(&sys.name, code.compile_time());
-            println!("sizes: {}", sys.sizes.join(", "));
-            println!("parameters: {}", sys.parameters.join(", "));
-            Ok(())
-        }
-        "run" => {
-            let report = run_element(code, config, request).map_err(Failure::Run)?;
-            println!("{report}");
-            Ok(())
-        }
-        other => Err(Failure::Usage(format!("unknown command `{other}`"))),
-    }
+    let names = [
+        ("sizes", sys.sizes.join(", ")),
+        ("parameters", sys.parameters.join(", ")),
+    ];
+    let check = (sys.name.as_str(), code.compile_time(), &names[..]);
+    perform(command, check, || run_element(code, config, request))
 }
 
 /// Integrates an element-wise system at the file's sizes by the element-wise integrator of the
