@@ -173,27 +173,58 @@ fn cli(args: Vec<String>) -> Result<(), Failure> {
     }
     let system = dirac_jit::compile_any(&config.text).map_err(|e| Failure::Run(e.to_string()))?;
     let request = config.request(&system)?;
-    let code = match system {
-        Compiled::Flat(code) => code,
-        Compiled::Lie(code) => return cli_lie(command, &code, &config, &request),
-        Compiled::Element(code) => return cli_element(command, &code, &config, &request),
-    };
-    let sys = code.system();
-    match request.equations.form {
-        Form::Unreduced => check_start(&config, &["q", "p"], "the state of an unreduced run")?,
-        Form::Reduced => check_start(
-            &config,
-            &["x", "w", "mu", "g"],
-            "the state of a reduced run",
-        )?,
-    }
-    let names = [
-        ("shape", sys.shape.join(", ")),
-        ("group", sys.group.join(", ")),
-        ("parameters", sys.parameters.join(", ")),
-    ];
-    let check = (sys.name.as_str(), code.compile_time(), &names[..]);
-    perform(command, check, || run_flat(&code, &config, &request))
+    // What `[start]` may hold and what it is, and the names `check` prints, by the family.
+    let (accepted, kind, name, time, names): (&[&str], &str, _, _, Vec<(&str, String)>) =
+        match &system {
+            Compiled::Flat(code) => {
+                let sys = code.system();
+                let (accepted, kind): (&[&str], _) = match request.equations.form {
+                    Form::Unreduced => (&["q", "p"], "the state of an unreduced run"),
+                    Form::Reduced => (&["x", "w", "mu", "g"], "the state of a reduced run"),
+                };
+                let names = vec![
+                    ("shape", sys.shape.join(", ")),
+                    ("group", sys.group.join(", ")),
+                    ("parameters", sys.parameters.join(", ")),
+                ];
+                (accepted, kind, &sys.name, code.compile_time(), names)
+            }
+            Compiled::Lie(code) => {
+                let sys = code.system();
+                let coordinates: Vec<String> = (sys.coordinates.iter())
+                    .map(|c| format!("{} ({:?})", c.name, c.kind).to_lowercase())
+                    .collect();
+                let names = vec![
+                    ("coordinates", coordinates.join(", ")),
+                    ("parameters", sys.parameters.join(", ")),
+                ];
+                let kind = "a system on rotation groups starts from the tables `[start.q]` and \
+                            `[start.p]`, or `[start.v]` with adaptive steps";
+                (
+                    &["q", "p", "v"],
+                    kind,
+                    &sys.name,
+                    code.compile_time(),
+                    names,
+                )
+            }
+            Compiled::Element(code) => {
+                let sys = code.system();
+                let names = vec![
+                    ("sizes", sys.sizes.join(", ")),
+                    ("parameters", sys.parameters.join(", ")),
+                ];
+                let kind = "an element-wise system starts from `q` and `p`, its coordinates in \
+                            order, each grid row by row";
+                (&["q", "p"], kind, &sys.name, code.compile_time(), names)
+            }
+        };
+    check_start(&config, accepted, kind)?;
+    perform(command, (name, time, &names), || match &system {
+        Compiled::Flat(code) => run_flat(code, &config, &request),
+        Compiled::Lie(code) => run_lie(code, &config, &request),
+        Compiled::Element(code) => run_element(code, &config, &request),
+    })
 }
 
 /// `check` (the system's name, the time its text took to compile, its names) or `run` (the
@@ -423,31 +454,6 @@ fn parameters(system: &Compiled, config: &Config) -> Result<Vec<f64>, String> {
         .map_err(|e| e.to_string())
 }
 
-/// `check` and `run` of a system on rotation groups.
-fn cli_lie(
-    command: &str,
-    code: &Arc<LieCode>,
-    config: &Config,
-    request: &RunRequest,
-) -> Result<(), Failure> {
-    let sys = code.system();
-    check_start(
-        config,
-        &["q", "p", "v"],
-        "a system on rotation groups starts from the tables `[start.q]` and `[start.p]`, or \
-         `[start.v]` with adaptive steps",
-    )?;
-    let coordinates: Vec<String> = (sys.coordinates.iter())
-        .map(|c| format!("{} ({:?})", c.name, c.kind).to_lowercase())
-        .collect();
-    let names = [
-        ("coordinates", coordinates.join(", ")),
-        ("parameters", sys.parameters.join(", ")),
-    ];
-    let check = (sys.name.as_str(), code.compile_time(), &names[..]);
-    perform(command, check, || run_lie(code, config, request))
-}
-
 /// The start's values of each coordinate from the table `start.{part}`, in the order of the
 /// coordinates (`None` when the table is absent).
 fn per_coordinate(
@@ -509,28 +515,6 @@ fn run_lie(code: &Arc<LieCode>, config: &Config, request: &RunRequest) -> Result
         request,
         Write(&config.out)
     ))
-}
-
-/// `check` and `run` of an element-wise system, its sizes given in the table `[sizes]`.
-fn cli_element(
-    command: &str,
-    code: &Arc<ElementCode>,
-    config: &Config,
-    request: &RunRequest,
-) -> Result<(), Failure> {
-    let sys = code.system();
-    check_start(
-        config,
-        &["q", "p"],
-        "an element-wise system starts from `q` and `p`, its coordinates in order, each grid row \
-         by row",
-    )?;
-    let names = [
-        ("sizes", sys.sizes.join(", ")),
-        ("parameters", sys.parameters.join(", ")),
-    ];
-    let check = (sys.name.as_str(), code.compile_time(), &names[..]);
-    perform(command, check, || run_element(code, config, request))
 }
 
 /// Integrates an element-wise system at the file's sizes by the element-wise integrator of the
