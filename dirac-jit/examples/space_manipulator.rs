@@ -23,8 +23,8 @@
 //! adds round-off), the attitude's defect exceeds `1e-13 + 2e-16 n`, a joint ends more than
 //! `1e-3` rad from its target (after a run of at least 20 s), or the base did not turn. The
 //! bounds grow with `n` because the stored attitude is the product of the steps' rotations,
-//! never projected back onto SO(3): its defect gathers about 1.5e-16 of round-off a step once
-//! the arm has settled, and the momentum map `R Π + x × p` carries it, the more as the base
+//! never projected back onto SO(3): its defect gathers up to about 1.5e-16 of round-off a
+//! step, and the momentum map `R Π + x × p` carries it, the more as the base
 //! drifts away from the origin (measured: defect `6.6e-12` and momentum drift `6.4e-13` over
 //! 10⁵ steps; `1.5e-10` and `1.5e-10` over 10⁶ steps, the base 23 m away).
 //!
@@ -242,7 +242,7 @@ fn main() {
     );
 
     // The stored attitude is the product of the steps' rotations, `R_{k+1} = R_k F_k`, never
-    // projected back onto SO(3): each product adds a round-off of about 1.5e-16 to its defect,
+    // projected back onto SO(3): each product adds a round-off of up to 1.5e-16 to its defect,
     // and the momentum map `R Π + x × p` carries that defect, the more as the base drifts
     // away from the origin. The bounds are about three times what is measured at 10⁵ and 10⁶
     // steps.

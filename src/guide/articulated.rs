@@ -176,6 +176,23 @@
 //! cargo run --release --manifest-path dirac-io/Cargo.toml --target-dir target -p dirac-jit --example urdf_arm
 //! ```
 //!
+//! Two more examples step floating bases from their URDF files (`examples/data`, illustrative
+//! masses and inertias); both run in CI and exit with an error when a figure misses its bound:
+//!
+//! * `space_manipulator`: a 500 kg satellite with a 6-DoF arm, out of gravity, its joints moved
+//!   to new angles by a PD law on the torques while the base turns (0.05 rad) and translates in
+//!   reaction. Over 10⁵ steps of 1 ms: the total linear momentum kept bit for bit, the angular
+//!   momentum to 6·10⁻¹³ relative, the base's attitude orthonormal to 7·10⁻¹²; the joints end
+//!   3·10⁻¹⁴ rad from their targets; 4.7–5.9 µs a step, 3–8 s to compile. The attitude is the
+//!   product of the steps' rotations, never projected back onto SO(3), so its defect (and the
+//!   momentum map's drift with it) grows with the run: 1.5·10⁻¹⁰ over 10⁶ steps.
+//! * `quadruped_flight`: a 12 kg trunk with four 3-joint legs thrown with a spin, legs swinging
+//!   under a PD law, no contact. The horizontal momentum and the vertical angular momentum are
+//!   kept to round-off and the vertical momentum falls by `M g h` a step, to round-off; the angular
+//!   momentum about the centre of mass (8·10⁻⁶ relative over 2 s at `h` = 1 ms) and the centre
+//!   of mass's parabola (0.2 µm) hold at order 2 (observed orders 2.00). 18 chart coordinates,
+//!   so the sparse backend: 9–14 µs a step, 4.5 Newton iterations, 0.4–1 s to compile.
+//!
 //! ## Limits
 //!
 //! * **Cost grows toward `n³` in the number of joints.** In minimal coordinates the step's
