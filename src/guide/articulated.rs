@@ -189,9 +189,9 @@
 //! * `quadruped_flight`: a 12 kg trunk with four 3-joint legs thrown with a spin, legs swinging
 //!   under a PD law, no contact. The horizontal momentum and the vertical angular momentum are
 //!   kept to round-off and the vertical momentum falls by `M g h` a step, to round-off; the angular
-//!   momentum about the centre of mass (8·10⁻⁶ relative over 2 s at `h` = 1 ms) and the centre
-//!   of mass's parabola (0.2 µm) hold at order 2 (observed orders 2.00). 18 chart coordinates,
-//!   so the sparse backend: 9–14 µs a step, 4.5 Newton iterations, 0.4–1 s to compile.
+//!   momentum about the centre of mass (2·10⁻⁵ relative over 2 s at `h` = 1 ms) and the centre
+//!   of mass's parabola (0.3 µm) hold at order 2 (observed orders 2.00). 18 chart coordinates,
+//!   so the sparse backend: 14–16 µs a step, 4.7 Newton iterations, 0.7–0.9 s to compile.
 //!
 //! ## Limits
 //!
