@@ -44,7 +44,7 @@ use dirac_jit::run::{constrained, flat};
 use dirac_jit::Code;
 use dirac_runtime::{Equations, Form, StepStats};
 use numpy::PyArray1;
-use pyo3::exceptions::{PyException, PyMemoryError, PyValueError};
+use pyo3::exceptions::{PyException, PyMemoryError, PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -470,31 +470,70 @@ impl System {
 /// `CompileError` with the attribute's messages, lines and columns.
 #[pyfunction]
 fn compile(py: Python<'_>, text: &str) -> PyResult<PyObject> {
-    match py.allow_threads(|| dirac_jit::compile_any(text)) {
-        Ok(dirac_jit::Compiled::Lie(code)) => {
-            Ok(Py::new(py, lie::LieSystem::new(code)?)?.into_any())
-        }
-        Ok(dirac_jit::Compiled::Element(code)) => {
+    let compiled = py.allow_threads(|| dirac_jit::compile_any(text));
+    system_object(py, compiled.map_err(|e| compile_error(py, e))?)
+}
+
+/// Compiles the articulated rigid bodies of a URDF file (links, joints, inertias, gravity) into
+/// a system: on vector spaces (a `System`, one coordinate per joint, the midpoint rule) for a
+/// fixed base, on rotation groups (a `LieSystem`, the base's pose on SE(3) beside the joints,
+/// the trapezoid rule) for a floating one. With `torques`, each joint `j` gets a control
+/// `tau_j` (a torque about a revolute joint's axis, a force along a prismatic one's). Raises
+/// `OSError` when the file cannot be read and `ValueError` naming the element for a model the
+/// reader or the system text refuses (a missing inertia, a negative mass, a cycle, a spherical
+/// joint, ...).
+#[pyfunction]
+#[pyo3(signature = (path, *, torques = false, name = "multibody"))]
+fn from_urdf(py: Python<'_>, path: &str, torques: bool, name: &str) -> PyResult<PyObject> {
+    let model = dirac_multibody::Model::from_urdf_file(path).map_err(|e| match e {
+        dirac_multibody::ModelError::Io { .. } => PyOSError::new_err(e.to_string()),
+        other => PyValueError::new_err(other.to_string()),
+    })?;
+    let options = dirac_multibody::TextOptions {
+        name: name.to_owned(),
+        torques,
+    };
+    let code = py.allow_threads(|| dirac_jit::compile_model(&model, &options));
+    let code = code.map_err(|e| match e {
+        dirac_jit::Error::Model(e) => PyValueError::new_err(e.to_string()),
+        other => compile_error(py, other),
+    })?;
+    system_object(py, code.compiled)
+}
+
+/// The Python class of a compiled system: `System`, `LieSystem` or `ElementSystem`.
+fn system_object(py: Python<'_>, compiled: dirac_jit::Compiled) -> PyResult<PyObject> {
+    match compiled {
+        dirac_jit::Compiled::Lie(code) => Ok(Py::new(py, lie::LieSystem::new(code)?)?.into_any()),
+        dirac_jit::Compiled::Element(code) => {
             Ok(Py::new(py, element::ElementSystem::new(code))?.into_any())
         }
-        Ok(dirac_jit::Compiled::Flat(code)) => Ok(Py::new(py, System { code })?.into_any()),
-        Err(dirac_jit::Error::Text(e)) => {
-            let err = CompileError::new_err(e.to_string());
-            let diagnostics: Vec<(String, usize, usize)> = e
-                .diagnostics
-                .iter()
-                .map(|d| (d.message.clone(), d.line, d.column))
-                .collect();
-            err.value(py).setattr("diagnostics", diagnostics)?;
-            Err(err)
-        }
-        Err(other) => Err(CompileError::new_err(other.to_string())),
+        dirac_jit::Compiled::Flat(code) => Ok(Py::new(py, System { code })?.into_any()),
     }
+}
+
+/// `CompileError` for a text's mistakes (with their messages, lines and columns), or for any
+/// other error of the front end.
+fn compile_error(py: Python<'_>, error: dirac_jit::Error) -> PyErr {
+    let dirac_jit::Error::Text(e) = error else {
+        return CompileError::new_err(error.to_string());
+    };
+    let err = CompileError::new_err(e.to_string());
+    let diagnostics: Vec<(String, usize, usize)> = e
+        .diagnostics
+        .iter()
+        .map(|d| (d.message.clone(), d.line, d.column))
+        .collect();
+    if let Err(set) = err.value(py).setattr("diagnostics", diagnostics) {
+        return set;
+    }
+    err
 }
 
 #[pymodule]
 fn _dirac(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(compile, m)?)?;
+    m.add_function(wrap_pyfunction!(from_urdf, m)?)?;
     m.add_class::<System>()?;
     m.add_class::<lie::LieSystem>()?;
     m.add_class::<element::ElementSystem>()?;

@@ -111,9 +111,12 @@
 //!
 //! With torques the controls are parameters before `h` (`tau_<joint>`), set per step by a
 //! feedback law or a sequence, and `step_sensitivity` gives the step's derivative in the state
-//! and the torques (an LQR or a trajectory optimisation of the arm). The text is also what the
-//! Python package's `dirac.compile` and a system file of `dirac run` take: write
-//! `model.system_text()?.text` where they expect a text.
+//! and the torques (an LQR or a trajectory optimisation of the arm). From Python,
+//! `dirac.from_urdf("iiwa14.urdf", torques=True)` reads and compiles the file in one call and
+//! returns the same classes `dirac.compile` does (a `System` for a fixed base, a `LieSystem`
+//! for a floating one), with the same runs, ensembles and Parquet output. The text is also what
+//! a system file of `dirac run` takes: write `model.system_text()?.text` where it expects a
+//! text.
 //!
 //! ## The rules, and why
 //!

@@ -51,7 +51,7 @@ Every run method raises ``TypeError`` for a keyword it does not take, ``OutOfMem
 """
 
 from ._dirac import (CompileError, ElementSystem, LieSystem, OutOfMemoryError, StepError, System,
-                     compile)
+                     compile, from_urdf)
 
 __all__ = [
     "CompileError",
@@ -61,6 +61,7 @@ __all__ = [
     "StepError",
     "System",
     "compile",
+    "from_urdf",
     "system",
     "from_sympy",
 ]

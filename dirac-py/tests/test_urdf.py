@@ -1,0 +1,90 @@
+"""Articulated rigid bodies from URDF files: a model read and compiled from Python steps as the
+same system written by hand, a floating base runs on SE(3), and a malformed file is a typed
+error naming what is wrong."""
+
+import pathlib
+
+import numpy as np
+import pytest
+
+import dirac
+
+DATA = pathlib.Path(__file__).resolve().parents[2] / "examples" / "data"
+
+# The double pendulum of examples/data/double_pendulum.urdf written by hand (as in
+# dirac-jit/tests/urdf.rs): rods of mass m_i, centre of mass a_i below the hinge, inertia j_i
+# about it, the second hinge l1 below the first, angles about y.
+BY_HAND = """
+#[reduced_lagrangian(shape(shoulder, elbow), group(), rule = midpoint)]
+fn pendulum(q: Config, v: Velocity) -> f64 {
+    let (m1, a1, j1, l1, m2, a2, j2) = (1.3, 0.45, 0.11, 1.0, 0.7, 0.6, 0.08);
+    let g = 9.81;
+    let phi2 = q.shoulder + q.elbow;
+    let w2 = v.shoulder + v.elbow;
+    let vx = -l1 * q.shoulder.cos() * v.shoulder - a2 * phi2.cos() * w2;
+    let vz = l1 * q.shoulder.sin() * v.shoulder + a2 * phi2.sin() * w2;
+    let kinetic = 0.5 * (m1 * a1 * a1 + j1) * v.shoulder * v.shoulder
+        + 0.5 * m2 * (vx * vx + vz * vz)
+        + 0.5 * j2 * w2 * w2;
+    let potential =
+        -m1 * g * a1 * q.shoulder.cos() - m2 * g * (l1 * q.shoulder.cos() + a2 * phi2.cos());
+    kinetic - potential
+}
+"""
+
+
+def test_a_double_pendulum_from_its_urdf_file_steps_as_written_by_hand():
+    model = dirac.from_urdf(str(DATA / "double_pendulum.urdf"))
+    assert isinstance(model, dirac.System)
+    assert model.shape == ["shoulder", "elbow"] and model.group == []
+    by_hand = dirac.compile(BY_HAND)
+    q0, p0 = [0.6, -0.3], [0.2, 0.3]
+    a = model.run({"h": 0.01}, steps=1000, method="unreduced", q=q0, p=p0)
+    b = by_hand.run({"h": 0.01}, steps=1000, method="unreduced", q=q0, p=p0)
+    for name in ["shoulder", "elbow"]:
+        scale = max(1.0, np.max(np.abs(b["q"][name])))
+        assert np.max(np.abs(a["q"][name] - b["q"][name])) < 1e-12 * scale
+        assert np.max(np.abs(a["p"][name] - b["p"][name])) < 1e-12 * max(
+            1.0, np.max(np.abs(b["p"][name])))
+    # The motion is not trivial: the elbow swings through a wide range.
+    assert np.ptp(a["q"]["elbow"]) > 0.5
+
+
+def test_joint_torques_are_controls_named_after_the_joints():
+    model = dirac.from_urdf(str(DATA / "three_link_arm.urdf"), torques=True)
+    assert model.controls == ["tau_joint1", "tau_joint2", "tau_joint3"]
+
+
+def test_a_floating_base_is_a_system_on_rotation_groups():
+    body = dirac.from_urdf(str(DATA / "free_body.urdf"))
+    assert isinstance(body, dirac.LieSystem)
+
+
+def test_a_malformed_file_is_a_value_error_naming_the_element(tmp_path):
+    bad = tmp_path / "bad.urdf"
+    bad.write_text("""<robot name="r"><link name="world"/>
+      <link name="arm"><inertial><mass value="-1"/>
+        <inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>
+      <joint name="j" type="revolute"><parent link="world"/><child link="arm"/>
+        <axis xyz="0 0 1"/></joint></robot>""")
+    with pytest.raises(ValueError, match="arm"):
+        dirac.from_urdf(str(bad))
+    with pytest.raises(OSError):
+        dirac.from_urdf(str(tmp_path / "missing.urdf"))
+
+
+def test_a_free_body_keeps_its_horizontal_momentum_and_its_attitude():
+    body = dirac.from_urdf(str(DATA / "free_body.urdf"))
+    assert body.parameters == ["h"]
+    ((name, kind),) = body.coordinates
+    assert kind == "pose"
+    pose = np.concatenate([np.eye(3).ravel(), [0.0, 0.0, 1.0]])
+    run = body.run({"h": 0.01}, steps=200, q={name: pose},
+                   p={name: [0.3, -0.2, 0.5, 1.0, 0.5, 0.0]})
+    q, p = run["q"][name], run["p"][name]
+    assert q.shape == (201, 12) and p.shape == (201, 6)
+    rotations = q[:, :9].reshape(-1, 3, 3)
+    defect = np.max(np.abs(np.einsum("kji,kjl->kil", rotations, rotations) - np.eye(3)))
+    assert defect < 1e-12
+    assert np.max(np.abs(p[:, 3:5] - p[0, 3:5])) < 1e-12
+    assert np.ptp(q[:, 9]) > 0.5  # it moves
