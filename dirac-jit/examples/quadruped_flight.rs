@@ -41,10 +41,14 @@ use std::time::Instant;
 
 use dirac_jit::{compile_model, Compiled, JitLie, LieCode, Sparse};
 use dirac_multibody::nalgebra::{DVector, Matrix3, Vector3};
-use dirac_multibody::{Configuration, JointPosition, Model, Pose, TextOptions};
+use dirac_multibody::{Model, TextOptions};
 use dirac_runtime::prelude::*;
 
 /// Joints of the legs.
+#[path = "common/floating.rs"]
+mod floating;
+use floating::{base_pose, configuration, pose_numbers};
+
 const J: usize = 12;
 /// A state's stored point: the trunk's pose (12 numbers) and the joint angles.
 const P: usize = 12 + J;
@@ -63,25 +67,6 @@ fn args() -> (usize, f64) {
         }
     }
     (steps, h)
-}
-
-/// The trunk's attitude and position in a stored point (the rotation row by row, then `x`).
-fn trunk_pose(q: &[f64]) -> (Matrix3<f64>, Vector3<f64>) {
-    (
-        Matrix3::from_fn(|i, j| q[3 * i + j]),
-        Vector3::new(q[9], q[10], q[11]),
-    )
-}
-
-/// The model's configuration at a stored point.
-fn configuration(model: &Model, q: &[f64]) -> Configuration {
-    let (r, x) = trunk_pose(q);
-    let mut config = model.neutral_configuration();
-    config.positions[0] = JointPosition::Pose(Pose::new(r, x));
-    for j in 0..J {
-        config.positions[1 + j] = JointPosition::Scalar(q[12 + j]);
-    }
-    config
 }
 
 /// What each joint of a leg is, read from its name in the URDF (the model orders its joints
@@ -171,8 +156,7 @@ fn fly(lie: &Arc<LieCode>, model: &Model, h: f64, steps: usize) -> Flight {
     let legs = legs(model);
     let rest: [f64; J] = legs.map(rest);
     let (r0, x0) = (Matrix3::identity(), Vector3::new(0.0, 0.0, 1.0));
-    let mut point: Vec<f64> = r0.transpose().as_slice().to_vec();
-    point.extend_from_slice(x0.as_slice());
+    let mut point = pose_numbers(&r0, &x0);
     point.extend_from_slice(&rest);
     let config0 = configuration(model, &point);
     let mut v0 = vec![0.0; N];
@@ -237,7 +221,7 @@ fn fly(lie: &Arc<LieCode>, model: &Model, h: f64, steps: usize) -> Flight {
         for j in (0..J).filter(|&j| legs[j].0 == Role::Flexion) {
             swung = swung.max((s.q[12 + j] - rest[j]).abs());
         }
-        let (r, _) = trunk_pose(s.q.as_slice());
+        let (r, _) = base_pose(s.q.as_slice());
         turned = turned.max(((r.trace() - 1.0) / 2.0).clamp(-1.0, 1.0).acos());
     }
     let impulse = mass * g.norm() * steps as f64 * h;

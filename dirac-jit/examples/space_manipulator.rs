@@ -34,10 +34,14 @@ use std::time::Instant;
 
 use dirac_jit::{compile_model, Compiled, JitLie};
 use dirac_multibody::nalgebra::{DVector, Matrix3, Vector3};
-use dirac_multibody::{Configuration, JointPosition, Model, Pose, TextOptions};
+use dirac_multibody::{Configuration, Model, TextOptions};
 use dirac_runtime::prelude::*;
 
 /// Joints of the arm.
+#[path = "common/floating.rs"]
+mod floating;
+use floating::{base_pose, configuration, pose_numbers};
+
 const J: usize = 6;
 /// A state's stored point: the base's pose (12 numbers) and the joint angles.
 const P: usize = 12 + J;
@@ -61,32 +65,6 @@ fn steps() -> usize {
         }
     }
     steps
-}
-
-/// The base's attitude and position in a stored point (the rotation row by row, then `x`).
-fn base_pose(q: &[f64]) -> (Matrix3<f64>, Vector3<f64>) {
-    (
-        Matrix3::from_fn(|i, j| q[3 * i + j]),
-        Vector3::new(q[9], q[10], q[11]),
-    )
-}
-
-/// A pose's 12 numbers as a state takes them: the rotation row by row, then the position.
-fn pose_numbers(r: &Matrix3<f64>, x: &Vector3<f64>) -> Vec<f64> {
-    let mut out: Vec<f64> = r.transpose().as_slice().to_vec();
-    out.extend_from_slice(x.as_slice());
-    out
-}
-
-/// The model's configuration at a stored point.
-fn configuration(model: &Model, q: &[f64]) -> Configuration {
-    let (r, x) = base_pose(q);
-    let mut config = model.neutral_configuration();
-    config.positions[0] = JointPosition::Pose(Pose::new(r, x));
-    for j in 0..J {
-        config.positions[1 + j] = JointPosition::Scalar(q[12 + j]);
-    }
-    config
 }
 
 /// The model's velocity at a state: `M(q) v = p` for the state's momenta in the model's
