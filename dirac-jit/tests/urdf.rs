@@ -42,6 +42,26 @@ fn lie(text: &SystemText) -> Arc<LieCode> {
     }
 }
 
+/// The system from the model and the one written by hand, 1000 steps each from `start` at the
+/// default Newton options: their trajectories.
+macro_rules! both_runs {
+    ($given:expr, $by_hand:expr, $start:expr) => {{
+        let opts = NewtonOptions::default();
+        (
+            UnreducedIntegrator::new($given, opts)
+                .run($start)
+                .steps(1000)
+                .collect()
+                .unwrap(),
+            UnreducedIntegrator::new($by_hand, opts)
+                .run($start)
+                .steps(1000)
+                .collect()
+                .unwrap(),
+        )
+    }};
+}
+
 /// The largest entry-wise gap between two unreduced trajectories, positions and momenta,
 /// relative to the size of each state (at least 1).
 fn gap<const N: usize>(a: &[UnreducedState<N>], b: &[UnreducedState<N>]) -> f64 {
@@ -150,17 +170,7 @@ fn double_pendulum_from_urdf_steps_as_written_by_hand() {
     let by_hand = Pendulum { h };
     same_lagrangian(&given, &by_hand, 0.5);
     let start = UnreducedState::new([0.6, -0.3], [0.2, 0.3]);
-    let opts = NewtonOptions::default();
-    let a = UnreducedIntegrator::new(given, opts)
-        .run(start)
-        .steps(1000)
-        .collect()
-        .unwrap();
-    let b = UnreducedIntegrator::new(by_hand, opts)
-        .run(start)
-        .steps(1000)
-        .collect()
-        .unwrap();
+    let (a, b) = both_runs!(given, by_hand, start);
     let worst = gap(&a.states, &b.states);
     println!(
         "double pendulum: URDF against by hand, largest relative gap {worst:.1e} over 1000 steps"
@@ -192,17 +202,7 @@ fn three_link_arm_from_urdf_steps_as_written_by_hand() {
     // Swinging about the hanging arm (φ = π/2), where the motion is regular: a chaotic one
     // would amplify the round-off that separates two ways of writing one L.
     let start = UnreducedState::new([1.2, 0.3, -0.2], [0.1, -0.05, 0.02]);
-    let opts = NewtonOptions::default();
-    let a = UnreducedIntegrator::new(given, opts)
-        .run(start)
-        .steps(1000)
-        .collect()
-        .unwrap();
-    let b = UnreducedIntegrator::new(by_hand, opts)
-        .run(start)
-        .steps(1000)
-        .collect()
-        .unwrap();
+    let (a, b) = both_runs!(given, by_hand, start);
     let worst = gap(&a.states, &b.states);
     println!("3-link arm: URDF against by hand, largest relative gap {worst:.1e} over 1000 steps");
     assert!(worst < 1e-12, "{worst:e}");
@@ -270,17 +270,7 @@ fn cart_pole_from_a_model_steps_as_written_by_hand() {
     let by_hand = CartPole { h };
     same_lagrangian(&given, &by_hand, 1.0);
     let start = UnreducedState::new([0.2, 0.1], [0.3, -0.05]);
-    let opts = NewtonOptions::default();
-    let a = UnreducedIntegrator::new(given, opts)
-        .run(start)
-        .steps(1000)
-        .collect()
-        .unwrap();
-    let b = UnreducedIntegrator::new(by_hand, opts)
-        .run(start)
-        .steps(1000)
-        .collect()
-        .unwrap();
+    let (a, b) = both_runs!(given, by_hand, start);
     let worst = gap(&a.states, &b.states);
     println!(
         "cart and pole: model against by hand, largest relative gap {worst:.1e} over 1000 steps"
