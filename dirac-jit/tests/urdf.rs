@@ -108,7 +108,7 @@ fn same_lagrangian<A, B, const N: usize>(
 /// angles about `y`, so a point `a` below a hinge turned by `θ` sits at `(−a sin θ, −a cos θ)`
 /// in the `x-z` plane. `T = ½ (m1 a1² + j1) θ̇1² + ½ m2 |v_c2|² + ½ j2 (θ̇1 + θ̇2)²`.
 #[reduced_lagrangian(shape(shoulder, elbow), group(), rule = midpoint)]
-fn pendulum(q: Config, v: Velocity) -> f64 {
+pub fn pendulum(q: Config, v: Velocity) -> f64 {
     let (m1, a1, j1, l1, m2, a2, j2) = (1.3, 0.45, 0.11, 1.0, 0.7, 0.6, 0.08);
     let g = 9.81;
     let phi2 = q.shoulder + q.elbow;

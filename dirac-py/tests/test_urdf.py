@@ -9,28 +9,14 @@ import pytest
 
 import dirac
 
+from sources import function
+
 DATA = pathlib.Path(__file__).resolve().parents[2] / "examples" / "data"
 
-# The double pendulum of examples/data/double_pendulum.urdf written by hand (as in
-# dirac-jit/tests/urdf.rs): rods of mass m_i, centre of mass a_i below the hinge, inertia j_i
-# about it, the second hinge l1 below the first, angles about y.
-BY_HAND = """
-#[reduced_lagrangian(shape(shoulder, elbow), group(), rule = midpoint)]
-fn pendulum(q: Config, v: Velocity) -> f64 {
-    let (m1, a1, j1, l1, m2, a2, j2) = (1.3, 0.45, 0.11, 1.0, 0.7, 0.6, 0.08);
-    let g = 9.81;
-    let phi2 = q.shoulder + q.elbow;
-    let w2 = v.shoulder + v.elbow;
-    let vx = -l1 * q.shoulder.cos() * v.shoulder - a2 * phi2.cos() * w2;
-    let vz = l1 * q.shoulder.sin() * v.shoulder + a2 * phi2.sin() * w2;
-    let kinetic = 0.5 * (m1 * a1 * a1 + j1) * v.shoulder * v.shoulder
-        + 0.5 * m2 * (vx * vx + vz * vz)
-        + 0.5 * j2 * w2 * w2;
-    let potential =
-        -m1 * g * a1 * q.shoulder.cos() - m2 * g * (l1 * q.shoulder.cos() + a2 * phi2.cos());
-    kinetic - potential
-}
-"""
+# The double pendulum of examples/data/double_pendulum.urdf written by hand, as the Rust tests of
+# the model's system text compare it (rods of mass m_i, centre of mass a_i below the hinge,
+# inertia j_i about it, the second hinge l1 below the first, angles about y).
+BY_HAND = function("dirac-jit/tests/urdf.rs", "pendulum")
 
 
 def test_a_double_pendulum_from_its_urdf_file_steps_as_written_by_hand():
