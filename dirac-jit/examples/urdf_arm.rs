@@ -5,8 +5,13 @@
 //!
 //! ```text
 //! cargo run --release --manifest-path dirac-io/Cargo.toml --target-dir target -p dirac-jit \
-//!     --example urdf_arm -- [--steps 10000] [--no-chains]
+//!     --example urdf_arm -- [--steps 10000] [--h 0.001] [--no-chains] [--machine]
 //! ```
+//!
+//! `--h` changes the iiwa's step (seconds; the chains keep 1 ms). `--machine` adds two lines of JSON for the MuJoCo comparison (`benches/mujoco/run.sh`): the
+//! iiwa's start (angles, rates, kinetic and potential energy, mass matrix), and the run's figures
+//! (step time, Newton iterations, the energy's largest error and its drift: the mean of
+//! `E − E₀` over the last tenth of the nodes less that over the first tenth; the last angles).
 //!
 //! A fixed-base tree is stepped in its joint angles with the midpoint rule: the step's
 //! Jacobian is the dense `n × n` matrix `D1 D2 L_d`, so a Newton iteration assembles `O(n²)`
@@ -20,23 +25,43 @@ use dirac_multibody::nalgebra::{Matrix3, Vector3};
 use dirac_multibody::{Inertial, JointSpec, Model, Pose, TextOptions};
 use dirac_runtime::prelude::*;
 
-fn args() -> (usize, bool) {
-    let mut steps = 10_000;
-    let mut chains = true;
+/// The command line's options.
+struct Args {
+    steps: usize,
+    h: f64,
+    chains: bool,
+    machine: bool,
+}
+
+fn args() -> Args {
+    let mut args = Args {
+        steps: 10_000,
+        h: 1e-3,
+        chains: true,
+        machine: false,
+    };
     let mut it = std::env::args().skip(1);
     while let Some(a) = it.next() {
         match a.as_str() {
             "--steps" => {
-                steps = it
+                args.steps = it
                     .next()
                     .and_then(|s| s.parse().ok())
                     .expect("--steps takes a number")
             }
-            "--no-chains" => chains = false,
+            "--h" => {
+                args.h = it
+                    .next()
+                    .and_then(|s| s.parse().ok())
+                    .filter(|h: &f64| h.is_finite() && *h > 0.0)
+                    .expect("--h takes a positive number of seconds")
+            }
+            "--no-chains" => args.chains = false,
+            "--machine" => args.machine = true,
             other => panic!("unknown argument {other}"),
         }
     }
-    (steps, chains)
+    args
 }
 
 /// A chain of `n` rods hanging from the world, 0.5 m apart, hinged alternately about `y` and
@@ -72,8 +97,14 @@ fn chain(n: usize) -> Model {
 struct Measured {
     compile: Duration,
     per_step: Duration,
+    /// The whole run's time, for a per-step figure finer than `per_step`'s nanoseconds.
+    run: Duration,
     iterations: f64,
     energy_error: f64,
+    /// The mean of `E − E₀` over the last tenth of the nodes less that over the first tenth.
+    energy_drift: f64,
+    /// The joint angles at the last node.
+    q_end: Vec<f64>,
 }
 
 /// Compiles the model and runs `steps` steps of `h` from the angles `q0` and rates `v0`
@@ -95,10 +126,14 @@ macro_rules! measure {
         let integ = UnreducedIntegrator::new(sys, NewtonOptions::default());
         let started = Instant::now();
         let traj = integ.run(start).steps($steps).collect().expect("the steps");
-        let per_step = started.elapsed() / $steps as u32;
+        let run = started.elapsed();
+        let per_step = run / $steps as u32;
         let energies = integ.energies(&traj).expect("a regular Lagrangian").nodes;
         let e0 = energies[0];
         let energy_error = energies.iter().map(|e| (e - e0).abs()).fold(0.0, f64::max);
+        let tenth = (energies.len() / 10).max(1);
+        let mean = |es: &[f64]| es.iter().map(|e| e - e0).sum::<f64>() / es.len() as f64;
+        let energy_drift = mean(&energies[energies.len() - tenth..]) - mean(&energies[..tenth]);
         let iterations =
             traj.stats.iter().map(|s| s.iterations as f64).sum::<f64>() / traj.stats.len() as f64;
         (
@@ -106,26 +141,45 @@ macro_rules! measure {
             Measured {
                 compile,
                 per_step,
+                run,
                 iterations,
                 energy_error,
+                energy_drift,
+                q_end: traj
+                    .states
+                    .last()
+                    .expect("a start")
+                    .q
+                    .iter()
+                    .copied()
+                    .collect(),
             },
         )
     }};
 }
 
 fn main() {
-    let (steps, chains) = args();
+    let Args {
+        steps,
+        h,
+        chains,
+        machine,
+    } = args();
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/data/iiwa14.urdf");
     let iiwa = Model::from_urdf_file(path).expect("the iiwa URDF reads");
     let q0 = [0.3, 0.5, -0.2, -1.2, 0.4, 0.7, -0.1];
     let v0 = [0.5, -0.4, 0.8, 0.6, -1.0, 0.9, 1.5];
-    let (code, m) = measure!(iiwa, 7, instantiate, 1e-3, steps, q0, v0);
+    let (code, m) = measure!(iiwa, 7, instantiate, h, steps, q0, v0);
     let config = iiwa
         .configuration_from_scalars(&q0)
         .expect("a configuration");
-    let energy = iiwa.kinetic_energy(&config, &v0).expect("a velocity")
-        + iiwa.potential_energy(&config).expect("a configuration");
-    println!("iiwa14 (7 revolute joints, h = 1 ms, {steps} steps from a swing under gravity):");
+    let kinetic = iiwa.kinetic_energy(&config, &v0).expect("a velocity");
+    let potential = iiwa.potential_energy(&config).expect("a configuration");
+    let energy = kinetic + potential;
+    println!(
+        "iiwa14 (7 revolute joints, h = {} ms, {steps} steps from a swing under gravity):",
+        h * 1e3
+    );
     println!(
         "  text {} bytes in {} lines; compiled in {:.0} ms",
         code.text.text.len(),
@@ -139,6 +193,27 @@ fn main() {
         m.iterations,
         m.energy_error
     );
+    if machine {
+        let mass = iiwa.mass_matrix(&config).expect("a configuration");
+        let rows: Vec<String> = mass
+            .row_iter()
+            .map(|r| format!("{:?}", r.iter().collect::<Vec<_>>()))
+            .collect();
+        println!(
+            "{{\"start\": {{\"q\": {q0:?}, \"v\": {v0:?}, \"kinetic\": {kinetic:?}, \
+             \"potential\": {potential:?}, \"mass_matrix\": [{}]}}}}",
+            rows.join(", ")
+        );
+        println!(
+            "{{\"run\": {{\"steps\": {steps}, \"h\": {h:?}, \"us_per_step\": {:?}, \"iterations\": {:?}, \
+             \"energy_error\": {:?}, \"energy_drift\": {:?}, \"q_end\": {:?}}}}}",
+            m.run.as_secs_f64() * 1e6 / steps as f64,
+            m.iterations,
+            m.energy_error,
+            m.energy_drift,
+            m.q_end
+        );
+    }
     if !chains {
         return;
     }
