@@ -80,6 +80,7 @@
 
 #![warn(missing_docs)]
 
+pub mod articulated;
 mod error;
 mod inertia;
 pub mod kinematics;
@@ -88,6 +89,9 @@ mod pose;
 pub mod text;
 pub mod urdf;
 
+pub use articulated::{
+    ArticulatedIntegrator, ArticulatedSolver, ArticulatedWorkspace, MassOperator,
+};
 pub use error::{InertiaDefect, ModelError, StateError};
 pub use inertia::{parallel_axis, principal_moments, Inertial};
 pub use kinematics::{BodyVelocity, Configuration, JointPosition, Momentum};

@@ -66,7 +66,7 @@ pub fn inf_norm<const N: usize>(v: &SVector<f64, N>) -> f64 {
 /// (Written as a branch-free select and a NaN flag, so that it vectorizes: on the large
 /// element-wise systems it runs three times per Newton correction.)
 #[inline]
-pub(crate) fn slice_inf_norm(v: &[f64]) -> f64 {
+pub fn slice_inf_norm(v: &[f64]) -> f64 {
     let (mut m, mut nan) = (0.0f64, false);
     for x in v {
         let a = x.abs();

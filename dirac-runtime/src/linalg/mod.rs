@@ -229,11 +229,15 @@ pub(crate) fn hager_inverse_norm1<const N: usize>(
     estimate
 }
 
-/// [`hager_inverse_norm1`] on slices of length `n` (the scratch `x`, `y`, `z`): for the sparse
-/// backend, whose scratch is allocated once per workspace. (The dense backend keeps its own
-/// fixed-size copy: nalgebra's `dot` sums in another order, and the dense results stay bit for
-/// bit what they were.)
-pub(crate) fn hager_inverse_norm1_in(
+/// Hager's estimate of `‖A⁻¹‖₁` (Higham, *Accuracy and Stability of Numerical Algorithms*,
+/// Alg. 15.1) on slices of length `n` (the scratch `x`, `y`, `z`): `solve(x, false)` overwrites
+/// `x` with `A⁻¹ x`, `solve(x, true)` with `A⁻ᵀ x`. Given products with `A` instead of solves, it
+/// estimates `‖A‖₁`. For the sparse backend, whose scratch is allocated once per workspace, and
+/// for a [`LinearSolver`] of another crate that solves without forming its matrix (the
+/// articulated-body solve of a tree's mass matrix). (The dense backend keeps its own fixed-size
+/// copy: nalgebra's `dot` sums in another order, and the dense results stay bit for bit what
+/// they were.)
+pub fn hager_inverse_norm1_in(
     x: &mut [f64],
     y: &mut [f64],
     z: &mut [f64],

@@ -482,9 +482,10 @@ where
     worst
 }
 
-/// Entry `i` of the `j`-th sample direction of [`symmetry_defect`]: fixed directions, neither
+/// Entry `i` of the `j`-th sample direction of [`symmetry_defect`] (and of every other
+/// integrator's symmetry test, those of other crates included): fixed directions, neither
 /// aligned with an axis nor with each other.
-pub(crate) fn sample_direction(j: usize, i: usize) -> f64 {
+pub fn sample_direction(j: usize, i: usize) -> f64 {
     (1.0 + 0.37 * j as f64 + 0.61 * i as f64 + 0.13 * (i * j) as f64).sin()
 }
 

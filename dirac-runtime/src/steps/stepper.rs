@@ -443,7 +443,10 @@ impl AsRef<StepStats> for StepStats {
 }
 
 impl StepStats {
-    pub(crate) fn from_solution<V>(s: &NewtonSolution<V>, tolerance: f64) -> Self {
+    /// The record of a step that Newton's solve `s` accepted against `tolerance`: what every
+    /// integrator's step returns, those of other crates included.
+    #[must_use]
+    pub fn from_solution<V>(s: &NewtonSolution<V>, tolerance: f64) -> Self {
         Self {
             iterations: s.iterations,
             factorizations: s.factorizations,
@@ -614,8 +617,10 @@ pub(crate) fn check_inputs(
     Ok(())
 }
 
-/// Maps a Newton failure of step `k` to the public error.
-pub(crate) fn step_error(k: usize, failure: NewtonFailure) -> StepError {
+/// Maps a Newton failure of step `k` to the public error (for every integrator, those of other
+/// crates included).
+#[must_use]
+pub fn step_error(k: usize, failure: NewtonFailure) -> StepError {
     match failure {
         NewtonFailure::NotConverged {
             iterations,

@@ -19,6 +19,7 @@ use rayon::prelude::*;
 use super::pass::{Shared, Visit};
 use super::solver::ElementSolver;
 use super::stencils::FamilyPass;
+use super::Increments;
 use super::{
     scratch_len, ElementLagrangian, Family, FamilyVisitor, Parallel, StepSolver,
     PARALLEL_MIN_ENTRIES,
@@ -129,12 +130,8 @@ pub struct ElementWorkspace {
     assembler: Assembler,
     /// The point `q_{k+1} = q_k − Δ` of a (−) step's unknown, formed for each residual pass.
     scratch: RefCell<DVector<f64>>,
-    /// `q_k − q_{k−1}` and `q_{k−1} − q_{k−2}`, and how many of them are known (0, 1, 2).
-    last: DVector<f64>,
-    before: DVector<f64>,
-    known: u8,
-    /// The sizes of those two steps, newest first.
-    steps: (f64, f64),
+    /// The last two increments, for Newton's first guess.
+    history: Increments,
 }
 
 impl std::fmt::Debug for ElementWorkspace {
@@ -259,10 +256,7 @@ impl ElementWorkspace {
                 p1: RefCell::new(DVector::zeros(n)),
                 scratch: RefCell::new(vec![0.0; scratch]),
             },
-            last: DVector::zeros(n),
-            before: DVector::zeros(n),
-            known: 0,
-            steps: (f64::NAN, f64::NAN),
+            history: Increments::new(n),
         }
     }
 
@@ -337,41 +331,14 @@ impl ElementWorkspace {
         )
     }
 
-    /// Newton's first guess for `q_{k+1}`, over a step of size `h`, into `z`: `q_k` plus the
-    /// increment the last two extrapolate (`2 Δ_{k−1} − Δ_{k−2}` on a uniform grid, the
-    /// quadratic through the last three points on another: `crate::stepper`'s
-    /// `predicted_increment`; `Δ_{k−1}` scaled to `h` after one step; none before).
+    /// Newton's first guess for `q_{k+1}` ([`Increments::guess`]).
     pub(super) fn guess(&self, q: &DVector<f64>, h: f64, z: &mut DVector<f64>) {
-        z.copy_from(q);
-        let (h1, h2) = self.steps;
-        let same = |a: f64| a.to_bits() == h.to_bits();
-        match self.known {
-            0 => {}
-            1 if same(h1) => *z += &self.last,
-            1 => z.axpy(h / h1, &self.last, 1.0),
-            _ if same(h1) && same(h2) => {
-                for ((zi, l), b) in z.iter_mut().zip(self.last.iter()).zip(self.before.iter()) {
-                    *zi += 2.0 * l - b;
-                }
-            }
-            _ => {
-                // Δ = h v1 + c (v1 − v2), v_i = Δ_i / h_i, c = h (h + h1) / (h1 + h2).
-                let c = h * (h + h1) / (h1 + h2);
-                let (a, b) = ((h + c) / h1, c / h2);
-                for ((zi, l), p) in z.iter_mut().zip(self.last.iter()).zip(self.before.iter()) {
-                    *zi += a * l - b * p;
-                }
-            }
-        }
+        self.history.guess(q, h, z);
     }
 
     /// Records the step `q0 → q1`, of size `h`, for the next guess.
     pub(super) fn remember(&mut self, q0: &DVector<f64>, q1: &DVector<f64>, h: f64) {
-        std::mem::swap(&mut self.last, &mut self.before);
-        self.last.copy_from(q1);
-        self.last -= q0;
-        self.steps = (h, self.steps.0);
-        self.known = (self.known + 1).min(2);
+        self.history.remember(q0, q1, h);
     }
 
     pub(super) fn assembler(&self) -> &Assembler {

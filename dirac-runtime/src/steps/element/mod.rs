@@ -70,6 +70,7 @@
 
 mod assembly;
 pub mod constrained;
+mod history;
 mod legendre;
 mod pass;
 mod rows;
@@ -92,6 +93,8 @@ use crate::model::System;
 use crate::newton::NewtonOptions;
 use crate::stepper::{Collect, StepStats, StepStatsExt};
 use crate::system::Variant;
+
+pub use history::Increments;
 
 pub use assembly::ElementWorkspace;
 pub use constrained::{
@@ -421,13 +424,28 @@ impl Steps for ElementTrajectory {
     }
 }
 
-impl<L: ElementLagrangian> Collect<ElementIntegrator<L>> for ElementTrajectory {
+/// A stepper whose states are [`ElementState`]s and whose records are [`StepStats`]: what an
+/// [`ElementTrajectory`] collects. [`ElementIntegrator`] is one; an integrator of another crate
+/// on configurations sized at run time (the recursive step of articulated bodies) is another,
+/// and its runs collect into the same trajectory.
+pub trait ElementSteps: crate::stepper::Stepper<State = ElementState, Record = StepStats> {
+    /// The equations it solves, as [`ElementTrajectory::variant`] records them.
+    fn variant(&self) -> Variant;
+}
+
+impl<L: ElementLagrangian> ElementSteps for ElementIntegrator<L> {
+    fn variant(&self) -> Variant {
+        self.variant
+    }
+}
+
+impl<St: ElementSteps> Collect<St> for ElementTrajectory {
     // Each state kept is a copy of `state`'s vectors: room for them is asked for (and given
     // back) by `reserve_states`, where a failed allocation is an error rather than an abort.
     crate::stepper::collect_steps!(
-        start(integrator: ElementIntegrator<L>) {
-            h: integrator.system.time_step(),
-            variant: integrator.variant,
+        start(integrator: St) {
+            h: integrator.time_step(),
+            variant: ElementSteps::variant(integrator),
         },
         ElementState,
         StepStats,
