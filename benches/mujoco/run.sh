@@ -16,6 +16,7 @@
 # usage: bash benches/mujoco/run.sh [REPS] [STEPS]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
+root=$(pwd)
 reps=${1:-3}
 steps=${2:-1000000}
 venv=target/bench-venv-mujoco
@@ -34,6 +35,7 @@ cargo build --release --quiet --manifest-path dirac-io/Cargo.toml --target-dir t
     -p dirac-jit --example urdf_arm
 arm=target/release/examples/urdf_arm
 mkdir -p "$out"
+rm -f "$out"/dirac-*.txt "$out"/mujoco-*.txt "$out"/mujoco-*.err
 results="$out/results.jsonl"
 : >"$results"
 
@@ -60,10 +62,11 @@ for rep in $(seq 1 "$reps"); do
     else
         extra=()
     fi
-    "$py" benches/mujoco/iiwa.py --steps "$steps" "${extra[@]}" \
-        >"$out/mujoco-$rep.txt" 2>"$out/mujoco-$rep.err"
-    # MuJoCo's instability warnings (printed each time a diverging integrator meets them) are
-    # left out here; the table gives the step after which each run diverged.
+    # Run in $out, where MuJoCo writes its log (MUJOCO_LOG.TXT) of the instability warnings a
+    # diverging integrator raises; they are left out of the output here, and the table gives the
+    # step after which each run diverged.
+    (cd "$out" && "$root/$py" "$root/benches/mujoco/iiwa.py" --steps "$steps" "${extra[@]}" \
+        >"mujoco-$rep.txt" 2>"mujoco-$rep.err")
     grep -v -e '^WARNING: Nan' -e '^$' "$out/mujoco-$rep.err" || true
     mj=$(line 'mujoco: ' "$out/mujoco-$rep.txt")
     echo "{\"rep\": $rep, \"mujoco\": ${mj#mujoco: }}" >>"$results"
