@@ -22,11 +22,12 @@
 //! `n` steps (integrator; `1e-12 + 4e-17 n + 2e-22 n²` for the model, whose own evaluation
 //! adds round-off), the attitude's defect exceeds `1e-13 + 2e-16 n`, a joint ends more than
 //! `1e-3` rad from its target (after a run of at least 20 s), or the base did not turn. The
-//! bounds grow with `n` because the stored attitude is the product of the steps' rotations,
-//! never projected back onto SO(3): its defect gathers up to about 1.5e-16 of round-off a
-//! step, and the momentum map `R Π + x × p` carries it, the more as the base
-//! drifts away from the origin (measured: defect `6.6e-12` and momentum drift `6.4e-13` over
-//! 10⁵ steps; `1.5e-10` and `1.5e-10` over 10⁶ steps, the base 23 m away).
+//! attitude is brought back onto SO(3) after every step (one Newton–Schulz step), so its
+//! defect stays at round-off. The momentum bounds grow with `n`: the angular momentum about
+//! the origin is `π = R Π + x × p` with the base drifting away (23 m over 10⁶ steps), and
+//! the round-off of `x × p`, about `ε |x| |p|` a step, is large against `|π|` (it prints
+//! both): a random walk of it over the run (measured: `6.4e-13` over 10⁵ steps, `9.1e-11`
+//! over 10⁶).
 //!
 //! Default: 10⁵ steps of `h` = 1 ms (100 s; the PD law settles in about 15 s).
 
@@ -185,6 +186,13 @@ fn main() {
         .map(|j| (last.q[12 + j] - target[j]).abs())
         .fold(0.0, f64::max);
     let (r, x) = base_pose(last.q.as_slice());
+    // The round-off of `x × p` a step, relative to `|π|`, at the base's farthest position.
+    let farthest = traj
+        .states
+        .iter()
+        .map(|s| base_pose(s.q.as_slice()).1.norm())
+        .fold(0.0, f64::max);
+    let cross_roundoff = f64::EPSILON * farthest * l0.norm() / a0.norm();
     let turned = angle(&(r * r0.transpose()));
     let drifted = x0 + (l0 / model.total_mass()) * (steps as f64 * H);
     let moved = (x - x0).norm();
@@ -209,6 +217,12 @@ fn main() {
          {angular_drift:.1e} (integrator's momentum map, every node); {model_drift:.1e} \
          (the model's momentum, every 100th node)"
     );
+    println!(
+        "  |pi| = {:.3e}, |p| = {:.3e}, the base at most {farthest:.2} m from the origin: the \
+         round-off of x × p is {cross_roundoff:.1e} of |pi| a step",
+        a0.norm(),
+        l0.norm()
+    );
     println!("  base attitude: largest |R^T R - I| {defect:.1e}; turned through {turned:.3} rad");
     println!(
         "  base position: moved {moved:.3} m, {reaction:.3} m off the drift of the total momentum"
@@ -219,14 +233,13 @@ fn main() {
         per_step * 1e6
     );
 
-    // The stored attitude is the product of the steps' rotations, `R_{k+1} = R_k F_k`, never
-    // projected back onto SO(3): each product adds a round-off of up to 1.5e-16 to its defect,
-    // and the momentum map `R Π + x × p` carries that defect, the more as the base drifts
-    // away from the origin. The bounds are about three times what is measured at 10⁵ and 10⁶
-    // steps.
+    // The attitude is reprojected onto SO(3) after every step, so its defect stays at
+    // round-off; the momentum map `R Π + x × p` gathers the round-off of `x × p`, the more as
+    // the base drifts away from the origin. The momentum bounds are about three times what is
+    // measured at 10⁵ and 10⁶ steps.
     let n = steps as f64;
     let (defect_bound, drift_bound, model_bound) = (
-        1e-13 + 2e-16 * n,
+        1e-14,
         1e-13 + 2e-17 * n + 2e-22 * n * n,
         1e-12 + 4e-17 * n + 2e-22 * n * n,
     );

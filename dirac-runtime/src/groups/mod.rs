@@ -143,6 +143,18 @@ pub trait Group: Send + Sync + fmt::Debug + 'static {
     /// (+) step's compensation in [`crate::lie`]).
     fn carry_residual(&self, q: &[f64], q_next: &[f64], r: &[f64], p_next: &mut [f64]);
 
+    /// Brings a stored point that a step's round-off moved off the manifold back onto it, by a
+    /// correction of the size of that departure (the identity in exact arithmetic): for a
+    /// stored rotation (a rotation's, a pose's attitude), one Newton–Schulz step `R (3I − RᵀR)/2` towards the nearest
+    /// rotation, which squares the orthogonality defect. Without it
+    /// the product `R_k cay(ξ_k)` of many steps drifts off `SO(3)` as a random walk of
+    /// round-off, and every quantity that reads `R` (a momentum map `R Π`) with it. The default
+    /// does nothing: a vector space, and a direction, whose frame the retraction rebuilds
+    /// orthonormal to the new unit vector at every step.
+    fn reproject(&self, q: &mut [f64]) {
+        let _ = q;
+    }
+
     /// The NumPy shape of one value (`[]` for a number, `[3, 3]` for a rotation matrix).
     fn value_shape(&self) -> &'static [usize];
 
@@ -264,6 +276,16 @@ fn matrix(q: &[f64]) -> Matrix3<f64> {
 }
 
 /// `m` stored row by row in `out[..9]`.
+/// One Newton–Schulz step `R ← R (3I − RᵀR)/2` on the rotation stored row by row in
+/// `q[..9]` ([`Group::reproject`]): for `RᵀR = I + E` it leaves a defect of order `E²`.
+fn reproject_rotation(q: &mut [f64]) {
+    let r = matrix(q);
+    store_matrix(
+        &(r * (Matrix3::identity() * 3.0 - r.transpose() * r) * 0.5),
+        q,
+    );
+}
+
 fn store_matrix(m: &Matrix3<f64>, out: &mut [f64]) {
     out[..9].copy_from_slice(&rows(m));
 }

@@ -66,6 +66,10 @@ impl Group for Pose {
         }
     }
 
+    fn reproject(&self, q: &mut [f64]) {
+        super::reproject_rotation(&mut q[..9]);
+    }
+
     /// `‖RᵀR − I‖∞` of the attitude (the position is on a vector space).
     fn manifold_defect(&self, q: &[f64]) -> f64 {
         orthogonality_defect(&matrix(q))

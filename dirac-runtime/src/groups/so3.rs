@@ -152,6 +152,10 @@ impl Group for So3 {
         z.copy_from_slice(xi.as_slice());
     }
 
+    fn reproject(&self, q: &mut [f64]) {
+        super::reproject_rotation(&mut q[..9]);
+    }
+
     fn manifold_defect(&self, q: &[f64]) -> f64 {
         orthogonality_defect(&matrix(q))
     }

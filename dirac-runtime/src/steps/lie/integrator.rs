@@ -616,17 +616,24 @@ where
 /// momentum map to the size of `r`; a group scalar's momentum is the explicit Noether balance,
 /// exact as it is. The change is of the size of the accepted residual, within the step's own
 /// tolerance.
+///
+/// First each block's new point is brought back onto its manifold
+/// ([`Group::reproject`](super::Group::reproject): one Newton–Schulz step for a stored rotation
+/// or a pose's attitude), so that the attitudes stay on `SO(3)` at the round-off of one step over any
+/// number of steps, and the momentum maps that read them with them.
 fn compensate<L: LieModel<P, N>, P: Dim, N: Dim>(
     sys: &L,
     q: &OVector<f64, P>,
-    q_next: &OVector<f64, P>,
+    q_next: &mut OVector<f64, P>,
     r: &OVector<f64, N>,
     p_next: &mut OVector<f64, N>,
 ) where
     DefaultAllocator: Allocator<P> + Allocator<N>,
 {
     for block in blocks(sys) {
-        block.kind.group().carry_residual(
+        let group = block.kind.group();
+        group.reproject(block.of_point_mut(q_next.as_mut_slice()));
+        group.carry_residual(
             block.of_point(q.as_slice()),
             block.of_point(q_next.as_slice()),
             block.of_chart(r.as_slice()),

@@ -451,6 +451,11 @@ impl Block<'_> {
         &p[self.chart..self.chart + self.kind.chart_len()]
     }
 
+    /// [`Self::of_point`], to write.
+    fn of_point_mut<'q>(&self, q: &'q mut [f64]) -> &'q mut [f64] {
+        &mut q[self.point..self.point + self.kind.point_len()]
+    }
+
     /// [`Self::of_chart`], to write.
     fn of_chart_mut<'p>(&self, p: &'p mut [f64]) -> &'p mut [f64] {
         &mut p[self.chart..self.chart + self.kind.chart_len()]
