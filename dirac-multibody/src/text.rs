@@ -75,9 +75,11 @@
 //!   symmetric too, so the step is of order 2. A rigid motion of the whole tree,
 //!   `(A, a)·(R, x) = (A R, A x + a)`, moves every body with the base and leaves `Ω`, the
 //!   joints and every `|v_c,b|` and `Ω_b` unchanged: without gravity `L_d` is invariant under
-//!   all of them, and the step keeps the total linear and angular momentum (the discrete
-//!   Noether theorem) to round-off; under gravity, the horizontal translations and the
-//!   rotations about the vertical.
+//!   all of them — the text then declares `symmetry(<base>)`, checked by the compiler on
+//!   sample configurations — and the step keeps the total linear and angular momentum (the
+//!   discrete Noether theorem) to round-off, while the reduced integrator
+//!   (`ReducedLieIntegrator`) carries them as the run's parameters, exactly; under gravity,
+//!   the horizontal translations and the rotations about the vertical (not declared).
 //!
 //! # Names
 //!
@@ -484,6 +486,13 @@ impl Model {
         };
         let body = self.lagrangian_body(&coordinates);
         let mut attribute = match floating {
+            // Out of gravity the tree is invariant under every rigid motion of the whole:
+            // declared, so that the reduced integrator can carry its momentum.
+            Some(f) if self.gravity == Vector3::zeros() => format!(
+                "pose({0}), shape({1}), rule = trapezoid, symmetry({0})",
+                coordinates[f].identifier,
+                scalars.join(", ")
+            ),
             Some(f) => format!(
                 "pose({}), shape({}), rule = trapezoid",
                 coordinates[f].identifier,

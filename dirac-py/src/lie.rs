@@ -358,8 +358,9 @@ impl LieSystem {
         crate::inputs::control_names(&s.parameters, &s.controls)
     }
 
-    /// The declared symmetry: `None`, `("rotations", [R])` for every rotation of `R`, or
-    /// `("axis x|y|z", [names])` for the rotations about a coordinate axis.
+    /// The declared symmetry: `None`, `("rotations", [R])` for every rotation of `R`,
+    /// `("rigid motions", [X])` for every rigid motion of the pose `X`, or `("axis x|y|z",
+    /// [names])` for the rotations about a coordinate axis.
     #[getter]
     fn symmetry(&self) -> Option<(String, Vec<String>)> {
         let s = self.code.system();
@@ -367,6 +368,9 @@ impl LieSystem {
         s.symmetry.as_ref().map(|sym| match &sym.kind {
             LieSymmetryKind::Rotations { coordinate } => {
                 ("rotations".to_owned(), vec![name(*coordinate)])
+            }
+            LieSymmetryKind::RigidMotions { coordinate } => {
+                ("rigid motions".to_owned(), vec![name(*coordinate)])
             }
             LieSymmetryKind::Axis { axis, coordinates } => (
                 format!("axis {}", ["x", "y", "z"][*axis]),

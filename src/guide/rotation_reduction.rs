@@ -17,6 +17,11 @@
 //! * `symmetry(R, n1, .., axis = z)`: the rotations about a coordinate axis of every listed
 //!   rotation and direction together (`SO(2)`): a body in a field along that axis, pendula on a
 //!   pivot.
+//! * `symmetry(X)` for a pose `X`: every rigid motion `(A, a)·(R, x) = (A R, A x + a)`
+//!   (`SE(3)`): a body, or a tree carried by a floating base, in empty space. The reduced
+//!   integrator carries its spatial momentum `(π, p) = (R Π + x × p, p)` — `π` as `mu`, `p`
+//!   copied bit for bit in the state's momentum (see
+//!   [`dirac::runtime::lie::reduced`](crate::runtime::lie::reduced)).
 //!
 //! ```
 //! use dirac::prelude::*;

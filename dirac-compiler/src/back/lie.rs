@@ -344,6 +344,10 @@ fn symmetry_impl(
             let coordinate = symmetry.coords[0].0;
             quote!(#rt::lie::RotationSymmetry::Rotations { coordinate: #coordinate })
         }
+        SymmetryKind::RigidMotions => {
+            let coordinate = symmetry.coords[0].0;
+            quote!(#rt::lie::RotationSymmetry::RigidMotions { coordinate: #coordinate })
+        }
         SymmetryKind::Axis(axis) => {
             let coordinates = symmetry.coords.iter().map(|(i, _)| *i);
             quote!(#rt::lie::RotationSymmetry::Axis { axis: #axis, coordinates: &[ #( #coordinates ),* ] })

@@ -34,7 +34,8 @@ vectors), `pose(X, ...)` (rigid motions: `X.rotation`, `X.translation`), `shape(
 translations are a symmetry), `rule = trapezoid | left | right` (for \
 `L(q: Config, v: Velocity, ...)`), `force = |dq| ...` (or `|dq0, dq1|` for a discrete \
 Lagrangian), `controls(u, ...)`, `symmetry(R)` (every rotation `R ↦ g R`) or \
-`symmetry(R, n, ..., axis = z)` (rotations about a coordinate axis), `time(t), adapt = |q| \
+`symmetry(R, n, ..., axis = z)` (rotations about a coordinate axis) or `symmetry(X)` (every \
+rigid motion of a pose `X`), `time(t), adapt = |q| \
 <monitor>` (adaptive steps), `step = <parameter>`, `name = <TypeName>`";
 
 /// One declared coordinate: its name and the key that declared it (`shape`, `group`,
@@ -53,6 +54,9 @@ pub enum SymmetryKind {
     /// The rotations about coordinate axis `0`, `1` or `2` (`x`, `y`, `z`) of every listed
     /// coordinate together (`symmetry(R, n, .., axis = z)`): `SO(2)`.
     Axis(usize),
+    /// Every rigid motion `(A, a)·(R, x) = (A R, A x + a)` of one pose coordinate
+    /// (`symmetry(X)`): `SE(3)`.
+    RigidMotions,
 }
 
 /// A declared rotation symmetry.

@@ -85,6 +85,11 @@ pub enum LieSymmetryKind {
         /// Its index in [`LieSystem::coordinates`].
         coordinate: usize,
     },
+    /// Every rigid motion of the pose coordinate `coordinate`.
+    RigidMotions {
+        /// Its index in [`LieSystem::coordinates`].
+        coordinate: usize,
+    },
     /// The rotations about coordinate axis `axis` (0, 1, 2) of the listed coordinates together.
     Axis {
         /// 0, 1 or 2.
@@ -146,6 +151,9 @@ pub(super) fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<Lie
     let symmetry = spec.symmetry.as_ref().map(|s| LieSymmetry {
         kind: match s.kind {
             SymmetryKind::Rotations => LieSymmetryKind::Rotations {
+                coordinate: s.coords[0].0,
+            },
+            SymmetryKind::RigidMotions => LieSymmetryKind::RigidMotions {
                 coordinate: s.coords[0].0,
             },
             SymmetryKind::Axis(axis) => LieSymmetryKind::Axis {

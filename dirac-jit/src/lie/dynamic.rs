@@ -424,6 +424,9 @@ impl LieCode {
             Some(LieSymmetryKind::Rotations { coordinate }) => RotationSymmetry::Rotations {
                 coordinate: *coordinate,
             },
+            Some(LieSymmetryKind::RigidMotions { coordinate }) => RotationSymmetry::RigidMotions {
+                coordinate: *coordinate,
+            },
             Some(LieSymmetryKind::Axis { axis, .. }) => RotationSymmetry::Axis {
                 axis: *axis,
                 coordinates: &self.symmetric,

@@ -179,7 +179,10 @@ impl LieCode {
             .collect::<Result<_, _>>()?;
         let symmetric = match system.symmetry.as_ref().map(|s| &s.kind) {
             Some(LieSymmetryKind::Axis { coordinates, .. }) => coordinates.clone(),
-            Some(LieSymmetryKind::Rotations { coordinate }) => vec![*coordinate],
+            Some(
+                LieSymmetryKind::Rotations { coordinate }
+                | LieSymmetryKind::RigidMotions { coordinate },
+            ) => vec![*coordinate],
             None => Vec::new(),
         };
         Ok(Arc::new(LieCode {

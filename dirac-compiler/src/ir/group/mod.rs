@@ -94,6 +94,9 @@ pub enum Rotated {
     /// Only the rotations about a fixed axis (`symmetry(n, axis = z)`): the message for
     /// `symmetry(n)` without an axis, given the name as written.
     AboutAxis(fn(&Ident) -> String),
+    /// Every rigid motion `(A, a)·(R, x) = (A R, A x + a)` (`symmetry(X)` of a pose, `SE(3)`):
+    /// the message for listing it with an axis, given the name as written.
+    Rigid(fn(&Ident) -> String),
     /// None: the message for listing it, given the name as written.
     Refused(fn(&Ident) -> String),
 }

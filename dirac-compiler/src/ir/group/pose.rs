@@ -78,11 +78,10 @@ impl Group for Pose {
     }
 
     fn rotated(&self) -> Rotated {
-        Rotated::Refused(|id| {
+        Rotated::Rigid(|id| {
             format!(
-                "`{id}` is a pose; `symmetry(..)` lists rotation and direction coordinates (the reduction of a \
-                 pose by rigid motions is not available): remove `{id}` from `symmetry(..)`, or declare its \
-                 rotation with `rotation(..)` and its position with `shape(..)`"
+                "`{id}` is a pose, reduced by every rigid motion `(A, a)·({id}) = (A R, A x + a)`: declare \
+                 `symmetry({id})` alone, without an axis"
             )
         })
     }

@@ -15,8 +15,9 @@ enum Move<'a> {
     /// The scalar at point entry `.0` translated by `.1` in both configurations.
     Shift(usize, f64),
     /// The coordinates whose points start at the entries `.1` moved by the rotation `.0` in both
-    /// configurations ([`crate::ir::group::Group::rotate`]; their relative rotations unchanged).
-    Rotate([[f64; 3]; 3], &'a [usize]),
+    /// configurations ([`crate::ir::group::Group::rotate`]; their relative rotations unchanged),
+    /// then a pose's position translated by `.2` (a rigid motion; zero for rotations).
+    Rotate([[f64; 3]; 3], &'a [usize], [f64; 3]),
 }
 
 /// Values of the symbols at sample configuration `t`: each coordinate's sample points
@@ -42,9 +43,16 @@ fn sampler(spec: &LieSpec, t: f64, moved: Move) -> impl Fn(Sym) -> f64 {
                 q0[0] += by;
                 q1[0] += by;
             }
-            Move::Rotate(g, at) if at.contains(&p) => {
+            Move::Rotate(g, at, a) if at.contains(&p) => {
                 c.kind.rotate(&g, &mut q0);
                 c.kind.rotate(&g, &mut q1);
+                if len == 12 {
+                    // A pose: the position, after the rotation, translated.
+                    for i in 0..3 {
+                        q0[9 + i] += a[i];
+                        q1[9 + i] += a[i];
+                    }
+                }
             }
             _ => {}
         }
@@ -70,7 +78,7 @@ fn differ(a: f64, b: f64) -> bool {
 /// 0.83 rad about the axis for rotations about an axis.
 fn sample_rotation(kind: SymmetryKind) -> [[f64; 3]; 3] {
     match kind {
-        SymmetryKind::Rotations => cayley_value([0.7, -0.4, 1.1]),
+        SymmetryKind::Rotations | SymmetryKind::RigidMotions => cayley_value([0.7, -0.4, 1.1]),
         SymmetryKind::Axis(k) => {
             let (c, s) = (0.83_f64.cos(), 0.83_f64.sin());
             let (a, b) = ((k + 1) % 3, (k + 2) % 3);
@@ -102,6 +110,11 @@ pub fn check_rotations(
         return;
     };
     let rotation = sample_rotation(symmetry.kind);
+    // A rigid motion also translates: by a sample vector.
+    let shift = match symmetry.kind {
+        SymmetryKind::RigidMotions => [0.9, -1.7, 0.6],
+        _ => [0.0; 3],
+    };
     let points: Vec<usize> = symmetry
         .coords
         .iter()
@@ -109,6 +122,9 @@ pub fn check_rotations(
         .collect();
     let what = match symmetry.kind {
         SymmetryKind::Rotations => format!("the rotations `{0} ↦ g {0}`", symmetry.coords[0].1),
+        SymmetryKind::RigidMotions => {
+            format!("the rigid motions `{0} ↦ (A, a)·{0}`", symmetry.coords[0].1)
+        }
         SymmetryKind::Axis(k) => {
             let names: Vec<String> = symmetry
                 .coords
@@ -130,6 +146,11 @@ pub fn check_rotations(
              body-frame vectors; a potential (gravity, a field along an axis) leaves the rotations about that \
              axis: declare `symmetry({first}, axis = z)`"
         ),
+        SymmetryKind::RigidMotions => format!(
+            "a body in empty space reads its pose only through the relative pose `(q0.{first}.rotation.transpose() * \
+             q1.{first}.rotation, q0.{first}.rotation.transpose() * (q1.{first}.translation - q0.{first}.translation))` \
+             and body-frame vectors; a potential (gravity) breaks it"
+        ),
         SymmetryKind::Axis(_) => "a field along another axis, or a coordinate that the body compares with a \
              listed one but the list leaves out, breaks it; list every rotation and direction the rotations move"
             .to_string(),
@@ -138,7 +159,10 @@ pub fn check_rotations(
         (0..3).any(|sample| {
             let t = sample as f64;
             let at = g.eval(&[node], &sampler(spec, t, Move::None))[0];
-            let moved = g.eval(&[node], &sampler(spec, t, Move::Rotate(rotation, &points)))[0];
+            let moved = g.eval(
+                &[node],
+                &sampler(spec, t, Move::Rotate(rotation, &points, shift)),
+            )[0];
             differ(at, moved)
         })
     };
@@ -155,12 +179,15 @@ pub fn check_rotations(
     }
     let lagrangian_varies = varies(l);
     let at = &symmetry.coords[0].1;
+    let moved = match symmetry.kind {
+        SymmetryKind::RigidMotions => "both configurations are moved by the same rigid motion",
+        _ => "they are rotated by the same rotation in both configurations",
+    };
     if lagrangian_varies {
         cx.error_spanned_by(
             at,
             format!(
-                "the discrete Lagrangian is not invariant under {what}: its value changes when they are \
-                 rotated by the same rotation in both configurations; {hint}"
+                "the discrete Lagrangian is not invariant under {what}: its value changes when {moved}; {hint}"
             ),
         );
         return;
@@ -173,7 +200,7 @@ pub fn check_rotations(
         let t = sample as f64;
         [minus, plus].iter().any(|f| {
             let before = g.eval(f, &sampler(spec, t, Move::None));
-            let after = g.eval(f, &sampler(spec, t, Move::Rotate(rotation, &points)));
+            let after = g.eval(f, &sampler(spec, t, Move::Rotate(rotation, &points, shift)));
             spec.coords.iter().any(|c| {
                 let v = c.velocity;
                 let moved = points.contains(&c.point);

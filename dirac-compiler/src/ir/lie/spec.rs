@@ -143,6 +143,24 @@ fn check_symmetry(
     if failed {
         return None;
     }
+    // A pose is reduced by every rigid motion, alone and without an axis.
+    let rigid = decl
+        .coords
+        .iter()
+        .find_map(|(i, id)| match coords[*i].kind.rotated() {
+            Rotated::Rigid(why) => Some((id, why)),
+            _ => None,
+        });
+    if let Some((id, why)) = rigid {
+        if decl.axis.is_some() || decl.coords.len() > 1 {
+            cx.error_spanned_by(id, why(id));
+            return None;
+        }
+        return Some(Symmetry {
+            kind: SymmetryKind::RigidMotions,
+            coords: decl.coords.clone(),
+        });
+    }
     let kind = match decl.axis {
         Some(k) => SymmetryKind::Axis(k),
         None => {
