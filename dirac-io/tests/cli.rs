@@ -618,3 +618,76 @@ fn eight_bodies_run_from_a_system_file_as_the_compiled_in_system() {
         last_state::<LieState<72, 24>>(&dir.join("bodies.parquet"), &columns).unwrap();
     assert_eq!((step, last), (250, compiled.states[250]));
 }
+
+/// A robot from its URDF file: `urdf = "arm.urdf"` in place of `system`, the model's text
+/// compiled — the states, bit for bit, of the same text compiled in the test, its columns named
+/// after the joints; `check` names them; a malformed file, a missing one, and `torques` without
+/// `urdf` are refused (status 2) naming what is wrong.
+#[test]
+fn a_robot_runs_from_its_urdf_file_as_its_model_text() {
+    use dirac_multibody::{Model, TextOptions};
+    let dir = scratch("cli_urdf");
+    let source = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../examples/data/three_link_arm.urdf"
+    );
+    std::fs::copy(source, dir.join("arm.urdf")).unwrap();
+    let file = dir.join("arm.toml");
+    let toml = "urdf = \"arm.urdf\"\nsteps = 300\nmethod = \"unreduced\"\n\
+                [parameters]\nh = 0.01\n\
+                [start]\nq = [1.2, 0.3, -0.2]\np = [0.1, -0.05, 0.02]\n";
+    std::fs::write(&file, toml).unwrap();
+    let (code, stdout, stderr) = dirac(&["run", file.to_str().unwrap()]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("300 steps"), "{stdout}");
+    let model = Model::from_urdf_file(dir.join("arm.urdf")).unwrap();
+    let options = TextOptions {
+        name: "arm".into(),
+        torques: false,
+    };
+    let compiled = dirac_jit::compile_model(&model, &options).unwrap();
+    let dirac_jit::Compiled::Flat(code) = &compiled.compiled else {
+        panic!("a fixed base is a system on vector spaces")
+    };
+    let sys = code.instantiate::<3, 0, 3>(&[0.01]).unwrap();
+    let traj = UnreducedIntegrator::new(sys, NewtonOptions::default())
+        .run(UnreducedState::new([1.2, 0.3, -0.2], [0.1, -0.05, 0.02]))
+        .steps(300)
+        .collect()
+        .unwrap();
+    let joints: Vec<&str> = compiled
+        .text
+        .coordinates
+        .iter()
+        .map(|c| c.identifier.as_str())
+        .collect();
+    assert_eq!(joints, ["joint1", "joint2", "joint3"]);
+    let columns = UnreducedState::<3>::column_names(&joints, &[]);
+    let (step, _, last) =
+        last_state::<UnreducedState<3>>(&dir.join("arm.parquet"), &columns).unwrap();
+    assert_eq!((step, last), (300, traj.states[300]));
+    let (code, stdout, _) = dirac(&["check", file.to_str().unwrap()]);
+    assert_eq!(code, 0);
+    assert!(stdout.contains("joint1"), "{stdout}");
+    // Mistakes: a body with a negative mass, a missing file, torques without a robot.
+    let bad = std::fs::read_to_string(dir.join("arm.urdf"))
+        .unwrap()
+        .replacen("<mass value=\"", "<mass value=\"-", 1);
+    std::fs::write(dir.join("bad.urdf"), bad).unwrap();
+    for (text, says) in [
+        (toml.replace("arm.urdf", "bad.urdf"), "mass"),
+        (toml.replace("arm.urdf", "missing.urdf"), "missing.urdf"),
+        (
+            format!(
+                "torques = true\n{}",
+                toml.replace("urdf = \"arm.urdf\"", "text = \"\"")
+            ),
+            "`torques` goes with",
+        ),
+    ] {
+        std::fs::write(&file, text).unwrap();
+        let (code, _, stderr) = dirac(&["run", file.to_str().unwrap()]);
+        assert_eq!(code, 2, "{stderr}");
+        assert!(stderr.contains(says), "{says}: {stderr}");
+    }
+}

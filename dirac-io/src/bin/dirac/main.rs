@@ -54,6 +54,27 @@
 //! r = [0.2, -0.1, 3.0]
 //! ```
 //!
+//! A robot from its URDF file: `urdf = "arm.urdf"` in place of `system` — the model's
+//! Lagrangian written as text by `dirac-multibody` (joint angles with the midpoint rule for a
+//! fixed base, a floating base on `SE(3)` beside them), its coordinates and so its columns named
+//! after the joints. `torques = true` adds a control `tau_<joint>` for each scalar joint (given
+//! in `[parameters]`, held over the run), `gravity = [0, 0, 0]` replaces the standard gravity
+//! (a floating base out of gravity declares its rigid motions: `method = "reduced"` keeps its
+//! total momentum as the run's parameter). A malformed file is refused naming the element:
+//!
+//! ```toml
+//! urdf = "three_link_arm.urdf"
+//! steps = 1000
+//! method = "unreduced"
+//!
+//! [parameters]
+//! h = 0.01
+//!
+//! [start]
+//! q = [1.2, 0.3, -0.2]
+//! p = [0.1, -0.05, 0.02]
+//! ```
+//!
 //! An element-wise system (`coordinates(x[n])`) gives its sizes by name in `[sizes]` and starts
 //! from `q` and `p`, every coordinate in order (a grid row by row); its `method` is "plus" (or
 //! "unreduced") or "minus", and its file has one column per coordinate index (`q_0`, …):
@@ -267,6 +288,9 @@ fn parse(path: &Path) -> Result<Config, Failure> {
     let known = [
         "system",
         "text",
+        "urdf",
+        "torques",
+        "gravity",
         "steps",
         "method",
         "out",
@@ -281,16 +305,28 @@ fn parse(path: &Path) -> Result<Config, Failure> {
             known.join(", ")
         )));
     }
-    let text =
-        match (table.get("system"), table.get("text")) {
-            (Some(toml::Value::String(file)), None) => std::fs::read_to_string(dir.join(file))
-                .map_err(|e| usage(format!("system = \"{file}\": {e}")))?,
-            (None, Some(toml::Value::String(text))) => text.clone(),
-            _ => return Err(usage(
-                "give the system as `system = \"file.rs\"` or `text = \"\"\"..\"\"\"`, one of them"
+    let text = match (table.get("system"), table.get("text"), table.get("urdf")) {
+        (Some(toml::Value::String(file)), None, None) => std::fs::read_to_string(dir.join(file))
+            .map_err(|e| usage(format!("system = \"{file}\": {e}")))?,
+        (None, Some(toml::Value::String(text)), None) => text.clone(),
+        (None, None, Some(toml::Value::String(file))) => robot_text(&dir.join(file), &table)
+            .map_err(|e| usage(format!("urdf = \"{file}\": {e}")))?,
+        _ => {
+            return Err(usage(
+                "give the system as `system = \"file.rs\"`, `text = \"\"\"..\"\"\"` or \
+                 `urdf = \"robot.urdf\"`, one of them"
                     .into(),
-            )),
-        };
+            ))
+        }
+    };
+    if !table.contains_key("urdf") {
+        if let Some(key) = ["torques", "gravity"]
+            .into_iter()
+            .find(|k| table.contains_key(*k))
+        {
+            return Err(usage(format!("`{key}` goes with `urdf = \"robot.urdf\"`")));
+        }
+    }
     // Positive finite sizes, one for each step: checked with the request (`with_schedule`).
     let schedule = match table.get("schedule") {
         None => None,
@@ -365,6 +401,36 @@ fn parse(path: &Path) -> Result<Config, Failure> {
         start,
         file: path.to_owned(),
     })
+}
+
+/// The Lagrangian text of the robot in the URDF file `path` (`dirac_multibody::Model`'s
+/// `system_text_with`), named after the file: its coordinates named after the joints, with
+/// `torques = true` a control `tau_<joint>` for each scalar joint, and `gravity = [x, y, z]`
+/// in place of the standard gravity along `−z` (`[0, 0, 0]`: a floating base in space,
+/// reduced by its rigid motions). Every mistake is a message naming the element or key.
+fn robot_text(path: &Path, table: &toml::Table) -> Result<String, String> {
+    let mut model = dirac_multibody::Model::from_urdf_file(path).map_err(|e| e.to_string())?;
+    if let Some(g) = table.get("gravity") {
+        let g = numbers(g)
+            .filter(|g| g.len() == 3)
+            .ok_or("`gravity` must be an array of three numbers, `[x, y, z]`")?;
+        model = model
+            .with_gravity(dirac_multibody::nalgebra::Vector3::new(g[0], g[1], g[2]))
+            .map_err(|e| e.to_string())?;
+    }
+    let torques = match table.get("torques") {
+        None => false,
+        Some(toml::Value::Boolean(b)) => *b,
+        Some(_) => return Err("`torques` must be true or false".into()),
+    };
+    let name = path
+        .file_stem()
+        .map_or_else(|| "robot".to_owned(), |s| s.to_string_lossy().into_owned());
+    let options = dirac_multibody::TextOptions { name, torques };
+    model
+        .system_text_with(&options)
+        .map(|text| text.text)
+        .map_err(|e| e.to_string())
 }
 
 /// Refuses a key of the table `[start]` that a system of this kind does not start from, as
