@@ -478,17 +478,38 @@ fn compile(py: Python<'_>, text: &str) -> PyResult<PyObject> {
 /// a system: on vector spaces (a `System`, one coordinate per joint, the midpoint rule) for a
 /// fixed base, on rotation groups (a `LieSystem`, the base's pose on SE(3) beside the joints,
 /// the trapezoid rule) for a floating one. With `torques`, each joint `j` gets a control
-/// `tau_j` (a torque about a revolute joint's axis, a force along a prismatic one's). Raises
-/// `OSError` when the file cannot be read and `ValueError` naming the element for a model the
-/// reader or the system text refuses (a missing inertia, a negative mass, a cycle, a spherical
-/// joint, ...).
+/// `tau_j` (a torque about a revolute joint's axis, a force along a prismatic one's).
+/// `gravity` (three numbers) replaces the standard gravity along `−z`; `[0, 0, 0]` puts a
+/// floating base in space, where its system declares the rigid motions of the whole as its
+/// symmetry (`symmetry` reads `("rigid motions", [base])`) and `method="reduced"` carries the
+/// total momentum as the run's parameter. Raises `OSError` when the file cannot be read and
+/// `ValueError` naming the element for a model the reader or the system text refuses (a missing
+/// inertia, a negative mass, a cycle, a spherical joint, ...) or for a gravity that is not
+/// three finite numbers.
 #[pyfunction]
-#[pyo3(signature = (path, *, torques = false, name = "multibody"))]
-fn from_urdf(py: Python<'_>, path: &str, torques: bool, name: &str) -> PyResult<PyObject> {
-    let model = dirac_multibody::Model::from_urdf_file(path).map_err(|e| match e {
+#[pyo3(signature = (path, *, torques = false, gravity = None, name = "multibody"))]
+fn from_urdf(
+    py: Python<'_>,
+    path: &str,
+    torques: bool,
+    gravity: Option<Vec<f64>>,
+    name: &str,
+) -> PyResult<PyObject> {
+    let mut model = dirac_multibody::Model::from_urdf_file(path).map_err(|e| match e {
         dirac_multibody::ModelError::Io { .. } => PyOSError::new_err(e.to_string()),
         other => PyValueError::new_err(other.to_string()),
     })?;
+    if let Some(g) = gravity {
+        let [x, y, z] = g[..] else {
+            return Err(PyValueError::new_err(format!(
+                "gravity has {} numbers; give three, [x, y, z]",
+                g.len()
+            )));
+        };
+        model = model
+            .with_gravity(dirac_multibody::nalgebra::Vector3::new(x, y, z))
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    }
     let options = dirac_multibody::TextOptions {
         name: name.to_owned(),
         torques,

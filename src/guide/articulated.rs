@@ -114,9 +114,10 @@
 //! and the torques (an LQR or a trajectory optimisation of the arm). From Python,
 //! `dirac.from_urdf("iiwa14.urdf", torques=True)` reads and compiles the file in one call and
 //! returns the same classes `dirac.compile` does (a `System` for a fixed base, a `LieSystem`
-//! for a floating one), with the same runs, ensembles and Parquet output. The text is also what
-//! a system file of `dirac run` takes: write `model.system_text()?.text` where it expects a
-//! text.
+//! for a floating one), with the same runs, ensembles and Parquet output (`gravity=[0, 0, 0]`
+//! puts a floating base in space). On the command line a system file names the robot,
+//! `urdf = "iiwa14.urdf"` (with `torques = true`, `gravity = [x, y, z]`), in place of a text,
+//! and `dirac run` writes its columns named after the joints.
 //!
 //! ## The rules, and why
 //!
