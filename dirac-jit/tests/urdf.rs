@@ -1296,3 +1296,156 @@ fn the_recursive_step_follows_the_compiled_text() {
         true,
     );
 }
+
+// ---------------------------------------------------------------------------------------------
+// Spherical joints.
+
+/// A rigid pendulum on a ball joint written by hand: the bob's rotation `R` about the pivot
+/// (its frame at the pivot), its centre of mass at `c` in that frame, its inertia `I` about the
+/// centre of mass: `L = ½ m |Ω × c|² + ½ Ωᵀ I Ω + m (Rᵀ g)·c`.
+#[reduced_lagrangian(rotation(ball), rule = trapezoid)]
+fn ball_pendulum(q: Config, v: Velocity) -> f64 {
+    let c = Vector3::new(0.05, -0.02, -0.5);
+    let inertia = Matrix3::new(0.03, 0.002, 0.0, 0.002, 0.025, 0.001, 0.0, 0.001, 0.01);
+    let g = Vector3::new(0.0, 0.0, -9.81);
+    let w = v.ball;
+    0.5 * 1.3 * w.cross(&c).norm_squared()
+        + 0.5 * w.dot(&(inertia * w))
+        + 1.3 * (q.ball.transpose() * g).dot(&c)
+}
+
+fn ball_pendulum_model() -> Model {
+    let inertia = Matrix3::new(0.03, 0.002, 0.0, 0.002, 0.025, 0.001, 0.0, 0.001, 0.01);
+    Model::builder()
+        .frame("world")
+        .body(
+            "bob",
+            Inertial::new(1.3, Vector3::new(0.05, -0.02, -0.5), inertia),
+        )
+        .joint(JointSpec::spherical("ball", "world", "bob"))
+        .gravity(Vector3::new(0.0, 0.0, -9.81))
+        .build()
+        .unwrap()
+}
+
+/// A spherical joint is a rotation coordinate: the pendulum on a ball joint built in Rust
+/// steps as the one written by hand, to 1e-12 over 1000 steps.
+#[test]
+fn a_ball_joint_pendulum_steps_as_written_by_hand() {
+    let h = 0.01;
+    let text = ball_pendulum_model().system_text().unwrap();
+    assert_eq!(text.kind, TextKind::SphericalJoints);
+    let Compiled::Lie(code) = dirac_jit::compile_any(&text.text).unwrap() else {
+        panic!("a spherical joint is on rotation groups")
+    };
+    let given: JitLie<9, 3> = code.instantiate(&[h]).unwrap();
+    let by_hand = BallPendulum { h };
+    let r0 = cayley(&Vector3::new(0.4, -0.3, 0.2));
+    let q: [f64; 9] = std::array::from_fn(|k| r0[(k / 3, k % 3)]);
+    let start = LieState::from_row_major(q, [0.2, -0.4, 0.3]);
+    let a = LieIntegrator::new(given, NewtonOptions::default())
+        .run(start)
+        .steps(1000)
+        .collect()
+        .unwrap();
+    let b = LieIntegrator::new(by_hand, NewtonOptions::default())
+        .run(start)
+        .steps(1000)
+        .collect()
+        .unwrap();
+    let worst = a
+        .states
+        .iter()
+        .zip(&b.states)
+        .map(|(x, y)| (x.q - y.q).amax().max((x.p - y.p).amax()))
+        .fold(0.0, f64::max);
+    println!("ball pendulum: model against by hand, largest gap {worst:.1e} over 1000 steps");
+    assert!(worst < 1e-12, "{worst:e}");
+}
+
+/// `cay⁻¹(F) = 2 vee(F − Fᵀ)/(1 + tr F)`.
+fn cayley_inverse(f: &Matrix3<f64>) -> Vector3<f64> {
+    let s = f - f.transpose();
+    Vector3::new(s[(2, 1)], s[(0, 2)], s[(1, 0)]) * (2.0 / (1.0 + f.trace()))
+}
+
+/// A chain of a ball joint, a hinge and a slider: the text's `L_d(q_0, q_1)` is the trapezoid
+/// rule of the model's own `T − V` (its kinematics written independently), with the ball's body
+/// angular velocity `cay⁻¹(R_0ᵀ R_1)/h` and the scalars' chords, at sample pairs.
+#[test]
+fn a_chain_with_a_ball_joint_has_the_models_lagrangian() {
+    let body = |m: f64, c: [f64; 3]| {
+        Inertial::new(
+            m,
+            Vector3::from(c),
+            Matrix3::new(0.04, 0.003, 0.0, 0.003, 0.05, -0.002, 0.0, -0.002, 0.03),
+        )
+    };
+    let model = Model::builder()
+        .frame("world")
+        .body("a", body(2.0, [0.1, 0.0, -0.3]))
+        .body("b", body(1.0, [0.0, 0.1, -0.2]))
+        .body("c", body(0.5, [0.05, 0.0, 0.1]))
+        .joint(JointSpec::spherical("ball", "world", "a"))
+        .joint(
+            JointSpec::revolute("hinge", "a", "b", Vector3::new(0.0, 0.6, 0.8))
+                .at(Pose::from_xyz_rpy([0.1, 0.0, -0.6], [0.2, 0.0, 0.1])),
+        )
+        .joint(
+            JointSpec::prismatic("slide", "b", "c", Vector3::x())
+                .at(Pose::from_xyz_rpy([0.0, 0.0, -0.4], [0.0, 0.3, 0.0])),
+        )
+        .gravity(Vector3::new(0.5, -1.0, -9.5))
+        .build()
+        .unwrap();
+    let text = model.system_text().unwrap();
+    assert!(
+        text.text.contains("rotation(ball), shape(hinge, slide)"),
+        "{}",
+        text.text
+    );
+    let Compiled::Lie(code) = dirac_jit::compile_any(&text.text).unwrap() else {
+        panic!("a spherical joint is on rotation groups")
+    };
+    let h = 0.01;
+    let sys: JitLie<11, 5> = code.instantiate(&[h]).unwrap();
+    let lagrangian = |r: &Matrix3<f64>, s: [f64; 2], v: &[f64]| {
+        let mut config = model.neutral_configuration();
+        config.positions[0] = JointPosition::Rotation(*r);
+        config.positions[1] = JointPosition::Scalar(s[0]);
+        config.positions[2] = JointPosition::Scalar(s[1]);
+        model.kinetic_energy(&config, v).unwrap() - model.potential_energy(&config).unwrap()
+    };
+    for k in 0..10 {
+        let r0 = cayley(&Vector3::new(wave(3 * k), wave(3 * k + 1), wave(3 * k + 2)));
+        let f = cayley(&(Vector3::new(wave(40 + k), wave(50 + k), wave(60 + k)) * 0.05));
+        let r1 = r0 * f;
+        let (s0, s1) = (
+            [wave(70 + k), 0.3 * wave(80 + k)],
+            [wave(90 + k), 0.3 * wave(100 + k)],
+        );
+        let omega = cayley_inverse(&f) / h;
+        let v = [
+            omega.x,
+            omega.y,
+            omega.z,
+            (s1[0] - s0[0]) / h,
+            (s1[1] - s0[1]) / h,
+        ];
+        let expected = 0.5 * h * (lagrangian(&r0, s0, &v) + lagrangian(&r1, s1, &v));
+        let point = |r: &Matrix3<f64>, s: [f64; 2]| {
+            let mut q = SVector::<f64, 11>::zeros();
+            for i in 0..9 {
+                q[i] = r[(i / 3, i % 3)];
+            }
+            q[9] = s[0];
+            q[10] = s[1];
+            q
+        };
+        let found = sys.lagrangian(&point(&r0, s0), &point(&r1, s1));
+        assert!(
+            (found - expected).abs() < 1e-12 * expected.abs().max(1.0),
+            "{found} {expected}"
+        );
+    }
+}

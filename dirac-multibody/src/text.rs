@@ -40,6 +40,9 @@
 //!   `Ω_b = Eᵀ Ω_J + a θ̇`, `V_b = Eᵀ V_J`, `γ_b = Eᵀ γ_J`, `η_b = η_J`;
 //! * prismatic: `o_b = o_J + R_J a d`, so `Ω_b = Ω_J`, `V_b = V_J + Ω_J × a d + a ḋ`,
 //!   `γ_b = γ_J`, `η_b = η_J + γ_J·a d`;
+//! * spherical: `R_b = R_J R` for the child's rotation `R` in the joint frame with body
+//!   angular velocity `Ω`, so `Ω_b = Rᵀ Ω_J + Ω`, `V_b = Rᵀ V_J`, `γ_b = Rᵀ γ_J`, `η_b = η_J`
+//!   (the revolute joint's with `E` the free rotation `R`);
 //! * free (a floating base, the child of the resting root): `R_b = R_J R`, `o_b = o_J + R_J x`
 //!   for the pose `(R, x)` with body angular velocity `Ω` and velocity `ẋ`, so `Ω_b = Ω`,
 //!   `V_b = Rᵀ ẋ`, `γ_b = Rᵀ γ_J`, `η_b = η_J + γ_J·x`.
@@ -80,6 +83,10 @@
 //!   discrete Noether theorem) to round-off, while the reduced integrator
 //!   (`ReducedLieIntegrator`) carries them as the run's parameters, exactly; under gravity,
 //!   the horizontal translations and the rotations about the vertical (not declared).
+//! * **Spherical joints** (built in Rust: URDF has no spherical joint) are `rotation(..)`
+//!   coordinates on `SO(3)` — the child's rotation in the joint frame, its momentum the body
+//!   angular momentum — beside the scalar joints, on rotation groups with `rule = trapezoid`
+//!   (with or without a floating base; [`TextKind::SphericalJoints`] for a fixed base).
 //!
 //! # Names
 //!
@@ -91,8 +98,8 @@
 //!
 //! # What is not written
 //!
-//! Spherical joints, free joints below the root, and a free joint with other free joints are
-//! refused ([`ModelError::Unsupported`]); a model without a moving joint has nothing to step
+//! Free joints below the root, and a free joint with other free joints, are refused
+//! ([`ModelError::Unsupported`]); a model without a moving joint has nothing to step
 //! ([`ModelError::NothingMoves`]). Limits and `<dynamics>` damping are not written.
 
 use std::collections::HashSet;
@@ -130,9 +137,12 @@ impl Default for TextOptions {
 pub enum TextKind {
     /// A fixed base: scalar joint coordinates on a vector space, `rule = midpoint`.
     FixedBase,
-    /// A floating base: the base's `pose(..)` on `SE(3)` beside scalar joints,
-    /// `rule = trapezoid`.
+    /// A floating base: the base's `pose(..)` on `SE(3)` beside the joints (spherical joints
+    /// as `rotation(..)`), `rule = trapezoid`.
     FloatingBase,
+    /// A fixed base with spherical joints: their `rotation(..)` coordinates on `SO(3)` beside
+    /// the scalar joints, `rule = trapezoid`.
+    SphericalJoints,
 }
 
 /// One coordinate of a [`SystemText`]: the identifier the text names it by and the joint it
@@ -419,7 +429,7 @@ impl Model {
     ///
     /// # Errors
     /// [`ModelError::NothingMoves`] for a model without moving joints;
-    /// [`ModelError::Unsupported`] naming a spherical joint, or a free joint that is not the
+    /// [`ModelError::Unsupported`] naming a free joint that is not the
     /// root's only moving child.
     pub fn system_text_with(&self, options: &TextOptions) -> Result<SystemText, ModelError> {
         if self.joints.is_empty() {
@@ -428,12 +438,6 @@ impl Model {
         let mut floating = None;
         for (j, joint) in self.joints.iter().enumerate() {
             match joint.kind {
-                JointKind::Spherical => {
-                    return Err(ModelError::Unsupported {
-                        joint: joint.name.clone(),
-                        feature: "a spherical joint in a system text".to_owned(),
-                    })
-                }
                 JointKind::Free if joint.parent != 0 || floating.is_some() => {
                     return Err(ModelError::Unsupported {
                         joint: joint.name.clone(),
@@ -484,21 +488,32 @@ impl Model {
         } else {
             Vec::new()
         };
+        let spherical: Vec<&str> = self
+            .joints
+            .iter()
+            .zip(&coordinates)
+            .filter(|(j, _)| j.kind == JointKind::Spherical)
+            .map(|(_, c)| c.identifier.as_str())
+            .collect();
         let body = self.lagrangian_body(&coordinates);
-        let mut attribute = match floating {
-            // Out of gravity the tree is invariant under every rigid motion of the whole:
-            // declared, so that the reduced integrator can carry its momentum.
-            Some(f) if self.gravity == Vector3::zeros() => format!(
-                "pose({0}), shape({1}), rule = trapezoid, symmetry({0})",
-                coordinates[f].identifier,
-                scalars.join(", ")
-            ),
-            Some(f) => format!(
-                "pose({}), shape({}), rule = trapezoid",
-                coordinates[f].identifier,
-                scalars.join(", ")
-            ),
-            None => format!("shape({}), group(), rule = midpoint", scalars.join(", ")),
+        let mut attribute = if floating.is_none() && spherical.is_empty() {
+            format!("shape({}), group(), rule = midpoint", scalars.join(", "))
+        } else {
+            let mut keys = Vec::new();
+            if let Some(f) = floating {
+                keys.push(format!("pose({})", coordinates[f].identifier));
+            }
+            if !spherical.is_empty() {
+                keys.push(format!("rotation({})", spherical.join(", ")));
+            }
+            keys.push(format!("shape({})", scalars.join(", ")));
+            keys.push("rule = trapezoid".to_owned());
+            // Out of gravity a floating tree is invariant under every rigid motion of the
+            // whole: declared, so that the reduced integrator can carry its momentum.
+            if let Some(f) = floating.filter(|_| self.gravity == Vector3::zeros()) {
+                keys.push(format!("symmetry({})", coordinates[f].identifier));
+            }
+            keys.join(", ")
         };
         if !controls.is_empty() {
             let work: Vec<String> = scalars
@@ -515,10 +530,10 @@ impl Model {
             .expect("writing to a String");
         }
         let parameters: String = controls.iter().map(|c| format!(", {c}: f64")).collect();
-        let kind = if floating.is_some() {
-            TextKind::FloatingBase
-        } else {
-            TextKind::FixedBase
+        let kind = match (floating, spherical.is_empty()) {
+            (Some(_), _) => TextKind::FloatingBase,
+            (None, false) => TextKind::SphericalJoints,
+            (None, true) => TextKind::FixedBase,
         };
         let text =
             format!(
@@ -724,9 +739,20 @@ impl Model {
                 };
                 Motion { w, d, g, y }
             }
-            JointKind::Spherical | JointKind::Fixed => {
-                unreachable!("refused or fused before the body is written")
+            JointKind::Spherical => {
+                // The child's rotation `R` in the joint frame and its body angular velocity
+                // `Ω`: Ω_b = Rᵀ Ω_J + Ω, V_b = Rᵀ V_J, γ_b = Rᵀ γ_J, η_b = η_J.
+                out.line(&format!("let rt_{b} = q.{x}.transpose();"));
+                let turned = |v: &Vec3| match v {
+                    Vec3::Zero => String::new(),
+                    v => format!("rt_{b} * {}", v.text()),
+                };
+                let w = out.bind(&format!("w_{b}"), sum(&[turned(&w_j), format!("v.{x}")]));
+                let d = out.bind(&format!("d_{b}"), sum(&[turned(&d_j)]));
+                let g = out.bind(&format!("g_{b}"), sum(&[turned(&g_j)]));
+                Motion { w, d, g, y: y_j }
             }
+            JointKind::Fixed => unreachable!("fused before the body is written"),
         }
     }
 }

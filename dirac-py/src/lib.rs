@@ -484,7 +484,7 @@ fn compile(py: Python<'_>, text: &str) -> PyResult<PyObject> {
 /// symmetry (`symmetry` reads `("rigid motions", [base])`) and `method="reduced"` carries the
 /// total momentum as the run's parameter. Raises `OSError` when the file cannot be read and
 /// `ValueError` naming the element for a model the reader or the system text refuses (a missing
-/// inertia, a negative mass, a cycle, a spherical joint, ...) or for a gravity that is not
+/// inertia, a negative mass, a cycle, an unknown joint type, ...) or for a gravity that is not
 /// three finite numbers.
 #[pyfunction]
 #[pyo3(signature = (path, *, torques = false, gravity = None, name = "multibody"))]

@@ -298,8 +298,10 @@
 //!   steps the same discrete Lagrangian without compiling, in `O(n)` per residual and per
 //!   correction; it takes revolute, continuous and prismatic joints under a fixed base, the (+)
 //!   equations, and no step sensitivities (the compiled text has them).
-//! * **Joints.** Revolute, continuous, prismatic, fixed (fused) and one floating base; a
-//!   spherical joint and a free joint below the root are refused with
+//! * **Joints.** Revolute, continuous, prismatic, fixed (fused), spherical (built in Rust: a
+//!   `rotation(..)` coordinate on `SO(3)` in the text, the system then on rotation groups with
+//!   the trapezoid rule; a ball-joint pendulum steps as written by hand to 1.6·10⁻¹³ over 1000
+//!   steps) and one floating base; a free joint below the root is refused with
 //!   [`ModelError::Unsupported`](crate::multibody::ModelError::Unsupported) naming the joint.
 //!   Joint limits and `<dynamics>` damping are read and kept, not applied; there is no contact.
 //! * **Reduction of a floating base: out of gravity only.** Out of gravity the text declares
