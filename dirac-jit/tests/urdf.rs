@@ -276,25 +276,26 @@ fn cart_pole_from_a_model_steps_as_written_by_hand() {
         "cart and pole: model against by hand, largest relative gap {worst:.1e} over 1000 steps"
     );
     assert!(worst < 1e-12, "{worst:e}");
-    // A model the text does not support is the model's typed error, naming the joint.
-    let ball = Model::builder()
+    // A model the text does not support is the model's typed error, naming the joint: a
+    // free joint below the root.
+    let rod = Inertial::new(
+        1.0,
+        Vector3::new(0.0, 0.0, -1.0),
+        Matrix3::identity() * 0.01,
+    );
+    let deep = Model::builder()
         .frame("world")
-        .body(
-            "bob",
-            Inertial::new(
-                1.0,
-                Vector3::new(0.0, 0.0, -1.0),
-                Matrix3::identity() * 0.01,
-            ),
-        )
-        .joint(JointSpec::spherical("ball", "world", "bob"))
+        .body("a", rod)
+        .body("b", rod)
+        .joint(JointSpec::revolute("hinge", "world", "a", Vector3::y()))
+        .joint(JointSpec::free("float", "a", "b"))
         .build()
         .unwrap();
-    match dirac_jit::compile_model(&ball, &TextOptions::default()) {
+    match dirac_jit::compile_model(&deep, &TextOptions::default()) {
         Err(dirac_jit::Error::Model(dirac_multibody::ModelError::Unsupported {
             joint, ..
         })) => {
-            assert_eq!(joint, "ball")
+            assert_eq!(joint, "float")
         }
         other => panic!("{other:?}"),
     }
