@@ -29,6 +29,7 @@ mod ensemble;
 mod inputs;
 mod keywords;
 mod lie;
+mod multibody;
 mod parquet;
 mod results;
 mod runs;
@@ -44,7 +45,7 @@ use dirac_jit::run::{constrained, flat};
 use dirac_jit::Code;
 use dirac_runtime::{Equations, Form, StepStats};
 use numpy::PyArray1;
-use pyo3::exceptions::{PyException, PyMemoryError, PyOSError, PyValueError};
+use pyo3::exceptions::{PyException, PyMemoryError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -474,56 +475,8 @@ fn compile(py: Python<'_>, text: &str) -> PyResult<PyObject> {
     system_object(py, compiled.map_err(|e| compile_error(py, e))?)
 }
 
-/// Compiles the articulated rigid bodies of a URDF file (links, joints, inertias, gravity) into
-/// a system: on vector spaces (a `System`, one coordinate per joint, the midpoint rule) for a
-/// fixed base, on rotation groups (a `LieSystem`, the base's pose on SE(3) beside the joints,
-/// the trapezoid rule) for a floating one. With `torques`, each joint `j` gets a control
-/// `tau_j` (a torque about a revolute joint's axis, a force along a prismatic one's).
-/// `gravity` (three numbers) replaces the standard gravity along `−z`; `[0, 0, 0]` puts a
-/// floating base in space, where its system declares the rigid motions of the whole as its
-/// symmetry (`symmetry` reads `("rigid motions", [base])`) and `method="reduced"` carries the
-/// total momentum as the run's parameter. Raises `OSError` when the file cannot be read and
-/// `ValueError` naming the element for a model the reader or the system text refuses (a missing
-/// inertia, a negative mass, a cycle, an unknown joint type, ...) or for a gravity that is not
-/// three finite numbers.
-#[pyfunction]
-#[pyo3(signature = (path, *, torques = false, gravity = None, name = "multibody"))]
-fn from_urdf(
-    py: Python<'_>,
-    path: &str,
-    torques: bool,
-    gravity: Option<Vec<f64>>,
-    name: &str,
-) -> PyResult<PyObject> {
-    let mut model = dirac_multibody::Model::from_urdf_file(path).map_err(|e| match e {
-        dirac_multibody::ModelError::Io { .. } => PyOSError::new_err(e.to_string()),
-        other => PyValueError::new_err(other.to_string()),
-    })?;
-    if let Some(g) = gravity {
-        let [x, y, z] = g[..] else {
-            return Err(PyValueError::new_err(format!(
-                "gravity has {} numbers; give three, [x, y, z]",
-                g.len()
-            )));
-        };
-        model = model
-            .with_gravity(dirac_multibody::nalgebra::Vector3::new(x, y, z))
-            .map_err(|e| PyValueError::new_err(e.to_string()))?;
-    }
-    let options = dirac_multibody::TextOptions {
-        name: name.to_owned(),
-        torques,
-    };
-    let code = py.allow_threads(|| dirac_jit::compile_model(&model, &options));
-    let code = code.map_err(|e| match e {
-        dirac_jit::Error::Model(e) => PyValueError::new_err(e.to_string()),
-        other => compile_error(py, other),
-    })?;
-    system_object(py, code.compiled)
-}
-
 /// The Python class of a compiled system: `System`, `LieSystem` or `ElementSystem`.
-fn system_object(py: Python<'_>, compiled: dirac_jit::Compiled) -> PyResult<PyObject> {
+pub(crate) fn system_object(py: Python<'_>, compiled: dirac_jit::Compiled) -> PyResult<PyObject> {
     match compiled {
         dirac_jit::Compiled::Lie(code) => Ok(Py::new(py, lie::LieSystem::new(code)?)?.into_any()),
         dirac_jit::Compiled::Element(code) => {
@@ -535,7 +488,7 @@ fn system_object(py: Python<'_>, compiled: dirac_jit::Compiled) -> PyResult<PyOb
 
 /// `CompileError` for a text's mistakes (with their messages, lines and columns), or for any
 /// other error of the front end.
-fn compile_error(py: Python<'_>, error: dirac_jit::Error) -> PyErr {
+pub(crate) fn compile_error(py: Python<'_>, error: dirac_jit::Error) -> PyErr {
     let dirac_jit::Error::Text(e) = error else {
         return CompileError::new_err(error.to_string());
     };
@@ -554,7 +507,8 @@ fn compile_error(py: Python<'_>, error: dirac_jit::Error) -> PyErr {
 #[pymodule]
 fn _dirac(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(compile, m)?)?;
-    m.add_function(wrap_pyfunction!(from_urdf, m)?)?;
+    m.add_function(wrap_pyfunction!(multibody::from_urdf, m)?)?;
+    m.add_class::<multibody::Model>()?;
     m.add_class::<System>()?;
     m.add_class::<lie::LieSystem>()?;
     m.add_class::<element::ElementSystem>()?;

@@ -96,3 +96,49 @@ def test_out_of_gravity_a_floating_base_is_reduced_by_its_rigid_motions():
     assert np.max(np.abs(q - unreduced["q"][name])[:200]) < 1e-11 * 50
     with pytest.raises(ValueError, match="three"):
         dirac.from_urdf(str(DATA / "free_body.urdf"), gravity=[0.0, 0.0])
+
+
+def double_pendulum_in_python():
+    """The double pendulum of examples/data/double_pendulum.urdf, link by link."""
+    arm = dirac.Model("world")
+    arm.body("rod1", mass=1.3, com=[0, 0, -0.45],
+             inertia=[[0.11, 0, 0], [0, 0.11, 0], [0, 0, 0.002]])
+    arm.body("rod2", mass=0.7, com=[0, 0, -0.6],
+             inertia=[[0.08, 0, 0], [0, 0.08, 0], [0, 0, 0.001]])
+    arm.frame("tip")
+    arm.joint("shoulder", "continuous", parent="world", child="rod1", axis=[0, 1, 0])
+    arm.joint("elbow", "continuous", parent="rod1", child="rod2", axis=[0, 1, 0],
+              xyz=[0, 0, -1.0])
+    arm.joint("tip_joint", "fixed", parent="rod2", child="tip", xyz=[0, 0, -1.2])
+    return arm
+
+
+def test_a_model_built_in_python_runs_as_its_urdf_file():
+    built = double_pendulum_in_python().compile()
+    read = dirac.from_urdf(str(DATA / "double_pendulum.urdf"))
+    assert isinstance(built, dirac.System)
+    start = dict(q=[0.6, -0.3], p=[0.2, 0.3])
+    a = built.run({"h": 0.01}, steps=1000, method="unreduced", **start)
+    b = read.run({"h": 0.01}, steps=1000, method="unreduced", **start)
+    for name in ("shoulder", "elbow"):
+        assert np.array_equal(a["q"][name], b["q"][name])
+        assert np.array_equal(a["p"][name], b["p"][name])
+    assert double_pendulum_in_python().compile(torques=True).controls == [
+        "tau_shoulder", "tau_elbow"]
+
+
+def test_a_model_built_in_python_is_checked_naming_the_element():
+    arm = dirac.Model("world")
+    arm.body("rod", mass=-1.0, inertia=[[1, 0, 0], [0, 1, 0], [0, 0, 1]])
+    arm.joint("hinge", "revolute", parent="world", child="rod", axis=[0, 1, 0])
+    with pytest.raises(ValueError, match="rod"):
+        arm.compile()
+    with pytest.raises(ValueError, match="unknown kind"):
+        dirac.Model("world").joint("j", "planar", parent="world", child="rod")
+    with pytest.raises(ValueError, match="three"):
+        dirac.Model("world").body("rod", mass=1.0, com=[0, 0], inertia=[[1, 0, 0]] * 3)
+    # A ball joint: a system on rotation groups.
+    ball = dirac.Model("world")
+    ball.body("bob", mass=1.0, com=[0, 0, -1], inertia=[[0.01, 0, 0], [0, 0.01, 0], [0, 0, 0.01]])
+    ball.joint("ball", "spherical", parent="world", child="bob")
+    assert isinstance(ball.compile(), dirac.LieSystem)

@@ -115,7 +115,8 @@
 //! `dirac.from_urdf("iiwa14.urdf", torques=True)` reads and compiles the file in one call and
 //! returns the same classes `dirac.compile` does (a `System` for a fixed base, a `LieSystem`
 //! for a floating one), with the same runs, ensembles and Parquet output (`gravity=[0, 0, 0]`
-//! puts a floating base in space). On the command line a system file names the robot,
+//! puts a floating base in space); `dirac.Model(root)` builds the same description in Python,
+//! link by link and joint by joint, and `compile`s it the same way. On the command line a system file names the robot,
 //! `urdf = "iiwa14.urdf"` (with `torques = true`, `gravity = [x, y, z]`), in place of a text,
 //! and `dirac run` writes its columns named after the joints.
 //!

@@ -50,13 +50,14 @@ Every run method raises ``TypeError`` for a keyword it does not take, ``OutOfMem
 ``KeyboardInterrupt`` with the trajectory so far (``trajectory``), as ``StepError`` carries it.
 """
 
-from ._dirac import (CompileError, ElementSystem, LieSystem, OutOfMemoryError, StepError, System,
-                     compile, from_urdf)
+from ._dirac import (CompileError, ElementSystem, LieSystem, Model, OutOfMemoryError, StepError,
+                     System, compile, from_urdf)
 
 __all__ = [
     "CompileError",
     "ElementSystem",
     "LieSystem",
+    "Model",
     "OutOfMemoryError",
     "StepError",
     "System",
