@@ -40,14 +40,14 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use dirac_jit::{compile_model, Compiled, JitLie, LieCode, Sparse};
-use dirac_multibody::nalgebra::{DVector, Matrix3, Vector3};
+use dirac_multibody::nalgebra::{Matrix3, Vector3};
 use dirac_multibody::{Model, TextOptions};
 use dirac_runtime::prelude::*;
 
 /// Joints of the legs.
 #[path = "common/floating.rs"]
 mod floating;
-use floating::{base_pose, configuration, pose_numbers};
+use floating::{base_pose, configuration, pose_numbers, slices, state_parts};
 
 const J: usize = 12;
 /// A state's stored point: the trunk's pose (12 numbers) and the joint angles.
@@ -158,19 +158,12 @@ fn fly(lie: &Arc<LieCode>, model: &Model, h: f64, steps: usize) -> Flight {
     let (r0, x0) = (Matrix3::identity(), Vector3::new(0.0, 0.0, 1.0));
     let mut point = pose_numbers(&r0, &x0);
     point.extend_from_slice(&rest);
-    let config0 = configuration(model, &point);
     let mut v0 = vec![0.0; N];
     v0[..6].copy_from_slice(&[1.2, 2.0, 3.0, 1.5, 0.3, 9.81]);
-    let p0 = model.mass_matrix(&config0).expect("a configuration") * DVector::from_vec(v0);
-    let linear = r0 * Vector3::new(p0[3], p0[4], p0[5]);
-    let mut q_parts: Vec<&[f64]> = vec![&point[..12]];
-    let mut p_parts: Vec<Vec<f64>> = vec![vec![p0[0], p0[1], p0[2], linear.x, linear.y, linear.z]];
-    for j in 0..J {
-        q_parts.push(&point[12 + j..13 + j]);
-        p_parts.push(vec![p0[6 + j]]);
-    }
-    let p_refs: Vec<&[f64]> = p_parts.iter().map(Vec::as_slice).collect();
-    let start = sys.state(&q_parts, &p_refs).expect("a finite start");
+    let (q_parts, p_parts) = state_parts(model, &point, &v0);
+    let start = sys
+        .state(&slices(&q_parts), &slices(&p_parts))
+        .expect("a finite start");
 
     // The PD law toward the swing, the rates from the last two nodes.
     let (kp, kd) = (20.0, 0.5);

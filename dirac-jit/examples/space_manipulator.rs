@@ -48,7 +48,7 @@ use dirac_runtime::prelude::*;
 /// Joints of the arm.
 #[path = "common/floating.rs"]
 mod floating;
-use floating::{base_pose, configuration, pose_numbers};
+use floating::{base_pose, configuration, pose_numbers, slices, state_parts};
 
 const J: usize = 6;
 /// A state's stored point: the base's pose (12 numbers) and the joint angles.
@@ -131,16 +131,10 @@ fn main() {
     let config0 = configuration(&model, &point);
     let mut v0 = vec![0.0; N];
     v0[3..6].copy_from_slice(&[0.02, 0.01, -0.005]);
-    let p0 = model.mass_matrix(&config0).expect("a configuration") * DVector::from_vec(v0.clone());
-    let linear = r0 * Vector3::new(p0[3], p0[4], p0[5]);
-    let mut q_parts: Vec<&[f64]> = vec![&point[..12]];
-    let mut p_parts: Vec<Vec<f64>> = vec![vec![p0[0], p0[1], p0[2], linear.x, linear.y, linear.z]];
-    for j in 0..J {
-        q_parts.push(&point[12 + j..13 + j]);
-        p_parts.push(vec![p0[6 + j]]);
-    }
-    let p_refs: Vec<&[f64]> = p_parts.iter().map(Vec::as_slice).collect();
-    let start = sys.state(&q_parts, &p_refs).expect("a finite start");
+    let (q_parts, p_parts) = state_parts(&model, &point, &v0);
+    let start = sys
+        .state(&slices(&q_parts), &slices(&p_parts))
+        .expect("a finite start");
 
     // The PD law, gains from each joint's inertia as the arm holds it (natural frequency
     // 1 rad/s, critically damped), the rates from the last two nodes.
