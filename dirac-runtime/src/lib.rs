@@ -52,7 +52,9 @@ mod steps;
 pub use analysis::{diagnostics, sensitivity};
 pub use model::{adapted, continuous, domain, state, system};
 pub use run::{driver, ensemble};
-pub use steps::{adaptive, atlas, compose, constrained, element, lie, reduced, stepper, unreduced};
+pub use steps::{
+    adaptive, atlas, compose, constrained, element, gauss, lie, reduced, stepper, unreduced,
+};
 
 /// Everything a user of the integrators names, in one list: the crate root re-exports it, and
 /// so do the `dirac` facade's root and prelude.
@@ -66,7 +68,7 @@ pub mod prelude {
     };
     pub use crate::continuous::{
         continuous_energies, midpoint_energies, reduced_continuous_energies, ContinuousEnergies,
-        ContinuousLagrangian, LegendreError,
+        ContinuousLagrangian, LegendreError, StageDerivatives, StageJacobian,
     };
     pub use crate::diagnostics::trajectory_energies;
     pub use crate::driver::{
@@ -78,6 +80,7 @@ pub mod prelude {
         ElementLagrangian, ElementState, ElementTrajectory, Parallel, StepSolver,
     };
     pub use crate::error::{IntegrationError, StepError, Steps};
+    pub use crate::gauss::{GaussIntegrator, GaussRule};
     pub use crate::lie::{
         CoordinateKind, LieIntegrator, LieLagrangian, LiePartials, LieState, LieSymmetric,
         LieTrajectory, ReducedLieIntegrator, ReducedLieState, ReducedLieTrajectory,

@@ -636,6 +636,31 @@ pub fn lagrangian_hessian(t: &Target) -> Option<ImplBlock> {
 
 /// `impl ContinuousLagrangian<N>` of a continuous Lagrangian, with the Legendre map's Jacobian on
 /// `backend`.
+/// `impl StageDerivatives<N>`: what a Gauss–Legendre step evaluates at its stages (a
+/// continuous Lagrangian on the dense backend without constraints).
+pub fn stage_derivatives(t: &Target) -> ImplBlock {
+    let (ty, n, rt, na) = (&t.ty, t.n, &t.rt, &t.na);
+    let vn = t.vec(n);
+    let allow = lints::generated();
+    let unused = unused("L need not read every coordinate and velocity");
+    ImplBlock {
+        attrs: quote!(#allow #unused),
+        header: quote!(impl #rt::StageDerivatives<#n> for #ty),
+        items: vec![
+            method(
+                "stage",
+                quote!(),
+                quote!(fn stage(&self, q: #vn, v: #vn) -> (#na::SVector<f64, #n>, #na::SVector<f64, #n>)),
+            ),
+            method(
+                "stage_jacobian",
+                quote!(),
+                quote!(fn stage_jacobian(&self, q: #vn, v: #vn) -> #rt::StageJacobian<#n>),
+            ),
+        ],
+    }
+}
+
 pub fn continuous_lagrangian(t: &Target, rule: &str, backend: &Backend) -> ImplBlock {
     let (ty, n, rt, na) = (&t.ty, t.n, &t.rt, &t.na);
     let vn = t.vec(n);

@@ -461,6 +461,9 @@ pub fn stubs(spec: &Spec, sig: &Signature, ty: &Ident) -> TokenStream {
     if sig.continuous {
         if let Some((_, rule)) = spec.rule {
             out.extend(impls::continuous_lagrangian(&t, rule.describe(), &backend).render(&stub));
+            if backend.is_dense() && spec.constraints.is_none() {
+                out.extend(impls::stage_derivatives(&t).render(&stub));
+            }
         }
         if let Some(closure) = &spec.constraints {
             let m = crate::back::constrained::count(closure);

@@ -176,19 +176,28 @@ pub fn lower(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<L
             }
             None => force::Form::Discrete,
         };
+        // A continuous force `F(q, v)` is kept beside its discrete forces: the stages of a
+        // Gauss–Legendre step read it.
         match (&spec.adapt, form) {
-            // Adaptive steps: the force transformed in time with the Lagrangian, then the rule.
-            (Some(adapt), force::Form::Continuous { rule, h }) => {
+            (adapt, force::Form::Continuous { rule, h }) => {
                 let parts = force::lower_parts(cx, &mut graph, closure, names, s + k, false)?;
-                let time = crate::ir::adapt::TimeAt {
-                    point: s + adapt.index,
-                    velocity: s + adapt.index,
+                let f = match adapt {
+                    // Adaptive steps: the force transformed in time with the Lagrangian.
+                    Some(adapt) => {
+                        let time = crate::ir::adapt::TimeAt {
+                            point: s + adapt.index,
+                            velocity: s + adapt.index,
+                        };
+                        crate::ir::adapt::transform_force(cx, &mut graph, &parts[0], time, closure)?
+                    }
+                    None => parts[0].clone(),
                 };
-                let f =
-                    crate::ir::adapt::transform_force(cx, &mut graph, &parts[0], time, closure)?;
-                Some(force::discretize(&mut graph, &f, s + k, h, rule))
+                let discrete = force::discretize(&mut graph, &f, s + k, h, rule);
+                Some((discrete, Some(f)))
             }
-            (_, form) => force::lower(cx, &mut graph, closure, names, s + k, form),
+            (_, form) => {
+                force::lower(cx, &mut graph, closure, names, s + k, form).map(|f| (f, None))
+            }
         }
     });
     let constraints = spec.constraints.as_ref().map(|closure| {
@@ -204,10 +213,27 @@ pub fn lower(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<L
             h,
         )
     });
-    let forces = match forces {
-        Some(f) => Some(f?),
-        None => None,
+    let (forces, continuous_force) = match forces {
+        Some(f) => {
+            let (discrete, continuous) = f?;
+            (Some(discrete), continuous)
+        }
+        None => (None, None),
     };
+    // The stages of a Gauss–Legendre step: on the dense backend, without constraints.
+    let continuous = continuous.map(|mut c| {
+        let n = s + k;
+        if n <= crate::back::backend::DENSE_MAX && spec.constraints.is_none() {
+            c.stage = Some(discretize::stage(
+                &mut graph,
+                &c,
+                continuous_force.as_deref(),
+                n,
+                mode_for(n),
+            ));
+        }
+        c
+    });
     let constraints = match constraints {
         Some(c) => Some(c?),
         None => None,

@@ -88,6 +88,58 @@ pub struct Continuous {
     pub hessian: Vec<Vec<NodeId>>,
     /// `⟨∂L/∂v, v⟩ − L`.
     pub energy: NodeId,
+    /// The derivatives a Gauss–Legendre step evaluates at its stages ([`stage`]), for a system
+    /// on the dense backend without constraints; `None` otherwise.
+    pub stage: Option<Stage>,
+}
+
+/// What a variational partitioned Runge–Kutta step reads at a stage `(Q_i, V_i)`: the force
+/// `f = ∂L/∂q + F(q, v)` (the Lagrangian's and the declared forces'), the momentum
+/// `p = ∂L/∂v` ([`Continuous::legendre`]) and their Jacobians in `q` and `v`
+/// (`∂p/∂v` is [`Continuous::hessian`]), all over `q = Q0`, `v = Q1` and the parameters.
+pub struct Stage {
+    /// `f_i = ∂L/∂q_i + F_i`.
+    pub force: Vec<NodeId>,
+    /// `∂f_i/∂q_j`, row `i`.
+    pub force_q: Vec<Vec<NodeId>>,
+    /// `∂f_i/∂v_j`, row `i`.
+    pub force_v: Vec<Vec<NodeId>>,
+    /// `∂p_i/∂q_j`, row `i`.
+    pub momentum_q: Vec<Vec<NodeId>>,
+}
+
+/// The stage derivatives of `c` (its Lagrangian over `q = Q0`, `v = Q1`, `n` coordinates) with
+/// the continuous forces `forces` (`F_i(q, v)`, when declared): `∂L/∂q` by `mode`, then one
+/// forward pass per coordinate and velocity for the Jacobians.
+pub fn stage(
+    g: &mut Graph,
+    c: &Continuous,
+    forces: Option<&[NodeId]>,
+    n: usize,
+    mode: Mode,
+) -> Stage {
+    let vars: Vec<Sym> = (0..n).map(Sym::Q0).collect();
+    let mut force = firsts(g, mode, c.lagrangian, &vars);
+    if let Some(forces) = forces {
+        for (f, &extra) in force.iter_mut().zip(forces) {
+            *f = g.add(*f, extra);
+        }
+    }
+    let both: Vec<NodeId> = force.iter().chain(&c.legendre).copied().collect();
+    // Column j of ∂(f, p)/∂q and of ∂f/∂v.
+    let by_q: Vec<Vec<NodeId>> = (0..n).map(|j| derivatives(g, &both, Sym::Q0(j))).collect();
+    let by_v: Vec<Vec<NodeId>> = (0..n).map(|j| derivatives(g, &force, Sym::Q1(j))).collect();
+    let rows = |columns: &[Vec<NodeId>], offset: usize| -> Vec<Vec<NodeId>> {
+        (0..n)
+            .map(|i| (0..n).map(|j| columns[j][offset + i]).collect())
+            .collect()
+    };
+    Stage {
+        force_q: rows(&by_q, 0),
+        momentum_q: rows(&by_q, n),
+        force_v: rows(&by_v, 0),
+        force,
+    }
 }
 
 /// In `mode` (see [`Mode`]): forward passes, or the Legendre map by reverse accumulation and its
@@ -119,5 +171,6 @@ pub fn continuous(g: &mut Graph, l: NodeId, n: usize, rule: Rule, mode: Mode) ->
         legendre,
         hessian,
         energy,
+        stage: None,
     }
 }

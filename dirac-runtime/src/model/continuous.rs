@@ -4,7 +4,7 @@
 //! implements [`ContinuousLagrangian`]. This module turns positions and velocities into the
 //! integrators' initial states and reports the continuous energy along a trajectory.
 
-use nalgebra::SVector;
+use nalgebra::{SMatrix, SVector};
 
 use crate::error::StepError;
 use crate::linalg::{checked_rcond, LinearSolver};
@@ -319,4 +319,49 @@ where
     let mut v = u * g;
     v[S + j] = g;
     Ok(v)
+}
+
+/// What a stage `(Q_i, V_i)` of a Gauss–Legendre step reads, with its Jacobians
+/// ([`StageDerivatives::stage_jacobian`]): the force `f = ∂L/∂q + F(q, v)` (the Lagrangian's
+/// and the declared forces'), the momentum `p = ∂L/∂v`, and their derivatives in `q` and `v`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StageJacobian<const N: usize> {
+    /// `f = ∂L/∂q + F`.
+    pub f: SVector<f64, N>,
+    /// `p = ∂L/∂v`.
+    pub p: SVector<f64, N>,
+    /// `∂f/∂q`.
+    pub f_q: SMatrix<f64, N, N>,
+    /// `∂f/∂v`.
+    pub f_v: SMatrix<f64, N, N>,
+    /// `∂p/∂q`.
+    pub p_q: SMatrix<f64, N, N>,
+    /// `∂p/∂v = ∂²L/∂v²`.
+    pub p_v: SMatrix<f64, N, N>,
+}
+
+impl<const N: usize> Default for StageJacobian<N> {
+    fn default() -> Self {
+        Self {
+            f: SVector::zeros(),
+            p: SVector::zeros(),
+            f_q: SMatrix::zeros(),
+            f_v: SMatrix::zeros(),
+            p_q: SMatrix::zeros(),
+            p_v: SMatrix::zeros(),
+        }
+    }
+}
+
+/// The stage derivatives of a continuous Lagrangian, emitted by the attribute as straight-line
+/// code for a system with `L(q, v)` and a rule on the dense backend (at most
+/// [`crate::DENSE_MAX`] coordinates) without constraints: what the Gauss–Legendre integrators
+/// of any order ([`crate::gauss`]) evaluate at their stages.
+pub trait StageDerivatives<const N: usize>: ContinuousLagrangian<N> {
+    /// `(f, p)` at `(q, v)`: the force `∂L/∂q + F(q, v)` and the momentum `∂L/∂v`.
+    fn stage(&self, q: &SVector<f64, N>, v: &SVector<f64, N>)
+        -> (SVector<f64, N>, SVector<f64, N>);
+
+    /// `f`, `p` and their Jacobians in `q` and `v` at `(q, v)`, one straight line.
+    fn stage_jacobian(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> StageJacobian<N>;
 }
