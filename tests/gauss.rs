@@ -5,6 +5,8 @@
 
 mod common;
 
+use dirac::runtime::nalgebra::Vector2;
+
 use dirac::prelude::*;
 
 /// The harmonic oscillator, `q̈ = −q`.
@@ -31,6 +33,12 @@ fn damped_pendulum(q: Config, v: Velocity, c: f64) -> f64 {
     0.5 * v.th * v.th + q.th.cos()
 }
 
+/// Kepler's problem with its domain declared.
+#[reduced_lagrangian(shape(r), group(theta), rule = midpoint, domain(r > 0.0))]
+fn kepler_in_domain(q: Config, v: Velocity, k: f64) -> f64 {
+    0.5 * (v.r * v.r + q.r * q.r * v.theta * v.theta) + k / q.r
+}
+
 const TAU: f64 = 2.0 * std::f64::consts::PI;
 
 /// The final state of `steps` steps of size `h` of the `stages`-stage method from `start`.
@@ -43,8 +51,17 @@ fn run<L, const S: usize, const K: usize, const N: usize>(
 where
     L: DiscreteLagrangian<S, K, N> + StageDerivatives<N>,
 {
-    let integrator = GaussIntegrator::new(sys, stages, NewtonOptions::default()).unwrap();
+    let integrator = GaussIntegrator::new(sys, stages, tight()).unwrap();
     integrator.run(start).steps(steps).collect().unwrap()
+}
+
+/// Newton to round-off, so that the errors measured are the method's down to 1e-13.
+fn tight() -> NewtonOptions {
+    NewtonOptions {
+        abs_tol: 1e-14,
+        rel_tol: 1e-14,
+        ..NewtonOptions::default()
+    }
 }
 
 /// `log2(e(h) / e(h/2))` from the errors at `h, h/2, h/4, …`, the last pair.
@@ -91,11 +108,18 @@ fn the_rule_integrates_polynomials_of_degree_2s_minus_1_exactly_and_is_symplecti
 
 #[test]
 fn the_oscillator_is_of_order_2s_against_its_closed_form() {
-    for (s, h0) in [(1, 0.2), (2, 0.4), (3, 0.8), (4, 1.0)] {
+    for (s, h0, ratio) in [
+        (1, 0.2, 2.0),
+        (2, 0.4, 2.0),
+        (3, 0.8, 2.0),
+        (4, 1.0, 2.0),
+        (5, 1.4, 1.5),
+        (6, 1.6, 1.4f64),
+    ] {
         let t = 8.0;
         let errors: Vec<f64> = (0..3)
             .map(|j| {
-                let h = h0 / f64::from(1 << j);
+                let h = t / (t / (h0 / ratio.powi(j))).round();
                 let steps = (t / h).round() as usize;
                 let traj = run(
                     Oscillator { h },
@@ -107,10 +131,217 @@ fn the_oscillator_is_of_order_2s_against_its_closed_form() {
                 ((last.q[0] - t.cos()).abs()).max((last.p[0] + t.sin()).abs())
             })
             .collect();
-        let observed = orders(&errors);
+        let hs: Vec<f64> = (0..3)
+            .map(|j| t / (t / (h0 / ratio.powi(j))).round())
+            .collect();
+        let observed: Vec<f64> = errors
+            .windows(2)
+            .zip(hs.windows(2))
+            .map(|(e, h)| (e[0] / e[1]).ln() / (h[0] / h[1]).ln())
+            .collect();
         eprintln!("oscillator s = {s}: errors {errors:?}, orders {observed:?}");
         for o in observed {
             assert!((o - 2.0 * s as f64).abs() < 0.1, "s = {s}: order {o}");
         }
     }
+}
+
+/// The orbit of eccentricity `e` (semi-major axis 1, `k = 1`) at time `t` from periapsis:
+/// `(r, θ)` by Kepler's equation.
+fn exact(e: f64, t: f64) -> (f64, f64) {
+    let big_e = common::eccentric_anomaly(e, t);
+    let r = 1.0 - e * big_e.cos();
+    let anomaly = 2.0
+        * ((1.0 + e).sqrt() * (big_e / 2.0).sin()).atan2((1.0 - e).sqrt() * (big_e / 2.0).cos());
+    (r, anomaly.rem_euclid(TAU) + (t / TAU).floor() * TAU)
+}
+
+/// Position and velocity at periapsis, `(r, θ)` and `(ṙ, θ̇)`.
+fn periapsis(e: f64) -> ([f64; 2], [f64; 2]) {
+    let r0 = 1.0 - e;
+    ([r0, 0.0], [0.0, (1.0 - e * e).sqrt() / (r0 * r0)])
+}
+
+#[test]
+fn kepler_is_of_order_2s_against_keplers_equation_and_keeps_its_angular_momentum_bit_for_bit() {
+    let e = 0.5;
+    for (s, n0) in [(1, 400.0), (2, 100.0), (3, 100.0), (4, 80.0)] {
+        // Steps per orbit n0, 1.5 n0, 2.25 n0.
+        let errors: Vec<f64> = (0..3)
+            .map(|j| {
+                let h = TAU / (n0 * 1.5f64.powi(j));
+                let sys = Kepler { h, k: 1.0 };
+                let (q, v) = periapsis(e);
+                let start = sys.unreduced_state(q, v).unwrap();
+                let steps = (TAU / h).round() as usize;
+                let traj = run(sys, s, start, steps);
+                for state in &traj.states {
+                    assert_eq!(state.p[1].to_bits(), start.p[1].to_bits(), "p_θ, s = {s}");
+                }
+                let last = traj.states.last().unwrap();
+                let (r, theta) = exact(e, traj.times.last().copied().unwrap());
+                (last.q[0] - r).abs().max((last.q[1] - theta).abs())
+            })
+            .collect();
+        let observed: Vec<f64> = errors
+            .windows(2)
+            .map(|w| (w[0] / w[1]).ln() / 1.5f64.ln())
+            .collect();
+        eprintln!("kepler s = {s}: errors {errors:?}, orders {observed:?}");
+        for o in observed {
+            assert!((o - 2.0 * s as f64).abs() < 0.15, "s = {s}: order {o}");
+        }
+    }
+}
+
+#[test]
+fn the_damped_pendulum_is_of_order_2s_against_a_tight_runge_kutta_solve() {
+    let c = 0.3;
+    let (q0, t) = (2.0, 4.0);
+    let reference = common::rk4(
+        Vector2::new(q0, 0.0),
+        |y| Vector2::new(y[1], -y[0].sin() - c * y[1]),
+        t,
+        4e4,
+    );
+    for (s, h0) in [(1, 0.05), (2, 0.2), (3, 0.4), (4, 0.8)] {
+        let errors: Vec<f64> = (0..3)
+            .map(|j| {
+                let h = h0 / f64::from(1 << j);
+                let sys = DampedPendulum { h, c };
+                let start = sys.unreduced_state([q0], [0.0]).unwrap();
+                let traj = run(sys, s, start, (t / h).round() as usize);
+                let last = traj.states.last().unwrap();
+                // p = θ̇ for this Lagrangian.
+                (last.q[0] - reference[0])
+                    .abs()
+                    .max((last.p[0] - reference[1]).abs())
+            })
+            .collect();
+        let observed = orders(&errors);
+        eprintln!("damped pendulum s = {s}: errors {errors:?}, orders {observed:?}");
+        for o in observed {
+            assert!((o - 2.0 * s as f64).abs() < 0.15, "s = {s}: order {o}");
+        }
+    }
+}
+
+#[test]
+fn the_step_map_is_symplectic_and_its_jacobian_matches_central_differences() {
+    let sys = Kepler { h: 0.3, k: 1.0 };
+    let (q, v) = periapsis(0.6);
+    let start = sys.unreduced_state(q, v).unwrap();
+    for s in [1, 2, 3, 5] {
+        let integrator = GaussIntegrator::new(sys, s, NewtonOptions::default()).unwrap();
+        let m = integrator.step_jacobian(0, 0.3, &start).unwrap();
+        let defect = m.symplecticity_defect();
+        assert!(defect <= 1e-12, "s = {s}: symplecticity defect {defect:e}");
+        // Column by column against central differences of the step.
+        let step = |x: [f64; 4]| {
+            let st = UnreducedState::new([x[0], x[1]], [x[2], x[3]]);
+            let next = integrator.run(st).steps(1).collect().unwrap();
+            let last = next.states[1];
+            [last.q[0], last.q[1], last.p[0], last.p[1]]
+        };
+        let x0 = [start.q[0], start.q[1], start.p[0], start.p[1]];
+        for col in 0..4 {
+            let d = 1e-6;
+            let (mut up, mut down) = (x0, x0);
+            up[col] += d;
+            down[col] -= d;
+            let (a, b) = (step(up), step(down));
+            for row in 0..4 {
+                let fd = (a[row] - b[row]) / (2.0 * d);
+                let exact = m.state[(row, col)];
+                assert!(
+                    (fd - exact).abs() <= 1e-6 * (1.0 + exact.abs()),
+                    "s = {s}: ({row}, {col}) {exact} against {fd}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn a_step_back_returns_to_the_start_the_method_being_self_adjoint() {
+    let sys = Kepler { h: 0.2, k: 1.0 };
+    let (q, v) = periapsis(0.7);
+    let start = sys.unreduced_state(q, v).unwrap();
+    for s in [1, 2, 4, 6] {
+        let integrator = GaussIntegrator::new(sys, s, tight()).unwrap();
+        let mut state = start;
+        for (k, h) in [(0, 0.2), (1, -0.2)] {
+            let mut ws = integrator.workspace();
+            state = integrator
+                .step_with(&mut ws, StepAt::new(k, h), &state)
+                .unwrap()
+                .0;
+        }
+        let gap = (state.q - start.q).amax().max((state.p - start.p).amax());
+        assert!(gap < 1e-13, "s = {s}: {gap:e}");
+    }
+}
+
+#[test]
+fn adaptive_kepler_at_e_0_9_is_of_order_2s_in_the_fictitious_step() {
+    let e: f64 = 0.9;
+    let r0 = 1.0 - e;
+    let omega = (1.0 - e * e).sqrt() / (r0 * r0);
+    for (s, eps0, ratio) in [(2, 0.1, 2.0), (3, 0.2, 2.0), (4, 0.25, 1.4f64)] {
+        let errors: Vec<f64> = (0..3)
+            .map(|j| {
+                let eps = eps0 / ratio.powi(j);
+                let sys = KeplerAdaptive { h: eps, k: 1.0 };
+                let start = sys
+                    .unreduced_state([r0, 0.0, 0.0], [0.0, omega, 1.0])
+                    .unwrap();
+                let traj = run(sys, s, start, (8.0 / eps).round() as usize);
+                for state in &traj.states {
+                    assert_eq!(state.p[1].to_bits(), start.p[1].to_bits(), "p_θ, s = {s}");
+                }
+                let last = traj.states.last().unwrap();
+                let (r, theta) = exact(e, last.q[2]);
+                (last.q[0] - r).abs().max((last.q[1] - theta).abs())
+            })
+            .collect();
+        let observed: Vec<f64> = errors
+            .windows(2)
+            .map(|w| (w[0] / w[1]).ln() / ratio.ln())
+            .collect();
+        eprintln!("adaptive kepler s = {s}: errors {errors:?}, orders {observed:?}");
+        for o in observed {
+            assert!((o - 2.0 * s as f64).abs() < 0.25, "s = {s}: order {o}");
+        }
+    }
+}
+
+#[test]
+fn bad_input_is_a_typed_error_with_the_trajectory_kept() {
+    let sys = Kepler { h: 0.1, k: 1.0 };
+    let Err(StepError::InvalidSize { reason }) =
+        GaussIntegrator::new(sys, 0, NewtonOptions::default())
+    else {
+        panic!("zero stages accepted")
+    };
+    assert!(reason.contains("1 to 16 stages"), "{reason}");
+    // A coarse step leaves the declared domain r > 0: a typed error, the states before it kept.
+    let integrator = GaussIntegrator::new(
+        KeplerInDomain { h: 0.4, k: 1.0 },
+        2,
+        NewtonOptions::default(),
+    )
+    .unwrap();
+    let start = KeplerInDomain { h: 0.4, k: 1.0 }
+        .unreduced_state([1.0, 0.0], [0.0, 0.2])
+        .unwrap();
+    let failure = integrator.run(start).steps(1000).collect().unwrap_err();
+    let step = failure.source.step();
+    assert!(
+        matches!(failure.source, StepError::OutOfDomain { .. })
+            && step > 0
+            && failure.trajectory.states.len() == step + 1,
+        "{:?}",
+        failure.source
+    );
+    assert!(failure.trajectory.states.iter().all(|s| s.q[0] > 0.0));
 }

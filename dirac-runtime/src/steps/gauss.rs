@@ -57,7 +57,8 @@
 //!
 //! Newton starts from the velocity polynomial of the last step extrapolated to the new stages,
 //! `V_i ≈ Σ_j V_j^{prev} ℓ_j(1 + c_i h/h_prev)`, and at a run's first step from the velocity
-//! of the start, `∂L/∂v(q0, ·)⁻¹(p0)` ([`crate::ContinuousLagrangian::velocity`]).
+//! of the start, `∂L/∂v(q0, ·)⁻¹(p0)` ([`crate::ContinuousLagrangian::velocity`]; with adaptive
+//! steps the velocity in fictitious time, [`crate::System::adaptive_increment`]` / h`).
 
 use nalgebra::{DVector, SMatrix, SVector};
 
@@ -412,9 +413,13 @@ where
                 }
             }
             None => {
-                let v = sys
-                    .velocity(0, &state.q, &state.p, SVector::zeros())
-                    .unwrap_or_else(|_| SVector::zeros());
+                // Adaptive steps: the motion in fictitious time; else `∂L/∂v(q0, ·)⁻¹(p0)`.
+                let v = match sys.adaptive_increment(&state.q, &state.p, h) {
+                    Some(dq) => dq / h,
+                    None => sys
+                        .velocity(0, &state.q, &state.p, SVector::zeros())
+                        .unwrap_or_else(|_| SVector::zeros()),
+                };
                 for i in 0..s {
                     ws.z.as_mut_slice()[i * N..(i + 1) * N].copy_from_slice(v.as_slice());
                 }
