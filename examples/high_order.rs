@@ -1,0 +1,290 @@
+//! High order on Kepler's problem: work against precision for the Gauss–Legendre variational
+//! integrators of order 2s with adaptive steps (the Poincaré time transformation of
+//! `time(t), adapt = |q| q.r * q.r.sqrt()`), side by side with REBOUND's IAS15 when it is
+//! installed (`bash benches/rebound/run.sh` installs it and runs this example).
+//!
+//! For each eccentricity, span and stage count the example finds, by shrinking the fictitious
+//! step by `--shrink`, the coarsest step whose position error after the span (at the physical
+//! end time, reached exactly, against Kepler's equation) is at most `--tolerance`, and reports
+//! the force evaluations it took — each Newton evaluation of the step equations evaluates the
+//! force `∂L/∂q` at every one of the `s` stages, so a step costs `s (1 + corrections)`
+//! evaluations, of which `s · factorizations` also evaluate the stage Jacobians — and the run's
+//! wall time. With `--long N` it then runs N orbits at `e = 0.9` at the step found for 100
+//! orbits and prints the energy error's mean over the first and last tenths.
+//!
+//! Run: `cargo run --release --example high_order [-- --orbits 10,100 --stages 4,6,8]`.
+
+use std::f64::consts::PI;
+use std::process::Command;
+use std::time::Instant;
+
+use dirac::prelude::*;
+
+#[path = "common/cli.rs"]
+mod cli;
+
+use cli::{any, at_least, greater_than, Cli};
+
+/// Kepler's problem in polar coordinates (`GM = k`), the step following the free-fall time
+/// `r^{3/2}`.
+#[reduced_lagrangian(shape(r), group(theta, t), time(t), adapt = |q| q.r * q.r.sqrt(), rule = midpoint)]
+fn kepler(q: Config, v: Velocity, k: f64) -> f64 {
+    0.5 * (v.r * v.r + q.r * q.r * v.theta * v.theta) + k / q.r
+}
+
+const TAU: f64 = 2.0 * PI;
+
+/// The position `(x, y)` at time `t` of the orbit of eccentricity `e` (semi-major axis 1,
+/// `GM = 1`, period 2π) from periapsis on the x axis, by Kepler's equation solved by Newton.
+fn exact_position(e: f64, t: f64) -> [f64; 2] {
+    let m = t.rem_euclid(TAU);
+    let mut big_e = PI;
+    for _ in 0..200 {
+        let d = (big_e - e * big_e.sin() - m) / (1.0 - e * big_e.cos());
+        big_e -= d;
+        if d.abs() < 1e-16 {
+            break;
+        }
+    }
+    [big_e.cos() - e, (1.0 - e * e).sqrt() * big_e.sin()]
+}
+
+/// Newton's tolerances: `--newton-tol` for both (the default options' 1e-12 unless given).
+fn options() -> NewtonOptions {
+    let tol = std::env::var("NEWTON_TOL")
+        .ok()
+        .and_then(|t| t.parse().ok())
+        .unwrap_or(1e-12);
+    NewtonOptions {
+        abs_tol: tol,
+        rel_tol: tol,
+        ..NewtonOptions::default()
+    }
+}
+
+/// One adaptive run of `orbits` orbits with `stages` stages at the fictitious step `eps`.
+struct Outcome {
+    error: f64,
+    evaluations: u64,
+    jacobians: u64,
+    steps: usize,
+    seconds: f64,
+    energy: Vec<f64>,
+}
+
+fn run(e: f64, orbits: f64, stages: usize, eps: f64, energies: bool) -> Option<Outcome> {
+    let sys = Kepler { h: eps, k: 1.0 };
+    let r0 = 1.0 - e;
+    let start = sys
+        .unreduced_state([r0, 0.0, 0.0], [0.0, (1.0 - e * e).sqrt() / (r0 * r0), 1.0])
+        .ok()?;
+    let integrator = GaussIntegrator::new(sys, stages, options()).ok()?;
+    let t_end = orbits * TAU;
+    let clock = Instant::now();
+    let traj = integrator
+        .run(start)
+        .end_time(t_end)
+        .steps(usize::MAX)
+        .collect();
+    let traj = match traj {
+        Ok(traj) => traj,
+        Err(failure) => {
+            if std::env::var_os("DEBUG_HIGH_ORDER").is_some() {
+                eprintln!("e {e} s {stages} eps {eps:e}: {}", failure.source);
+            }
+            return None;
+        }
+    };
+    let seconds = clock.elapsed().as_secs_f64();
+    let last = traj.states.last()?;
+    let (r, theta) = (last.q[0], last.q[1]);
+    let [x, y] = exact_position(e, last.q[2]);
+    let error = (r * theta.cos() - x).hypot(r * theta.sin() - y);
+    if std::env::var_os("DEBUG_HIGH_ORDER").is_some() {
+        eprintln!("e {e} s {stages} eps {eps:e}: error {error:e}");
+    }
+    let s = stages as u64;
+    let evaluations = traj
+        .stats
+        .iter()
+        .map(|st| s * (1 + st.iterations as u64))
+        .sum();
+    let jacobians = traj
+        .stats
+        .iter()
+        .map(|st| s * st.factorizations as u64)
+        .sum();
+    let energy = if energies {
+        // E = −p_t on the level set: its drift is the energy error.
+        traj.states.iter().map(|st| -st.p[2]).collect()
+    } else {
+        Vec::new()
+    };
+    Some(Outcome {
+        error,
+        evaluations,
+        jacobians,
+        steps: traj.step_count(),
+        seconds,
+        energy,
+    })
+}
+
+/// The coarsest fictitious step (from 1, shrinking by `shrink`) whose error is at most `tol`;
+/// `Err(floor)` when four trials in a row stop improving (within a factor 3, below 1e-8): the
+/// error no longer falls with the step, it is the rounding of the problem's own data.
+fn coarsest(
+    e: f64,
+    orbits: f64,
+    stages: usize,
+    tol: f64,
+    shrink: f64,
+) -> Result<(f64, Outcome), f64> {
+    let mut eps = 1.0;
+    let mut errors: Vec<f64> = Vec::new();
+    for _ in 0..60 {
+        if let Some(outcome) = run(e, orbits, stages, eps, false) {
+            if outcome.error <= tol {
+                return Ok((eps, outcome));
+            }
+            errors.push(outcome.error);
+            if let [.., a, b, c, d] = errors[..] {
+                let (lo, hi) = (a.min(b).min(c).min(d), a.max(b).max(c).max(d));
+                if hi < 1e-8 && hi < 3.0 * lo {
+                    return Err(lo);
+                }
+            }
+        }
+        eps /= shrink;
+    }
+    Err(errors.iter().copied().fold(f64::INFINITY, f64::min))
+}
+
+fn main() {
+    let mut cli = Cli::new(
+        "high_order",
+        "work against precision of the Gauss–Legendre integrators on Kepler's problem, beside REBOUND's IAS15",
+    );
+    let orbits: Vec<f64> = cli.list(
+        "--orbits",
+        "N,..",
+        "spans in orbits",
+        &[10.0, 100.0],
+        greater_than(0.0),
+    );
+    let eccentricities: Vec<f64> = cli.list(
+        "--eccentricities",
+        "E,..",
+        "eccentricities",
+        &[0.9, 0.99],
+        greater_than(0.0),
+    );
+    let stages: Vec<usize> = cli.list(
+        "--stages",
+        "S,..",
+        "stage counts (order 2s)",
+        &[4, 6, 8],
+        at_least(1),
+    );
+    let tol: f64 = cli.value(
+        "--tolerance",
+        "TOL",
+        "position error each run must reach",
+        1e-10,
+        greater_than(0.0),
+    );
+    let shrink: f64 = cli.value(
+        "--shrink",
+        "F",
+        "factor between trial fictitious steps",
+        1.25,
+        greater_than(1.0),
+    );
+    let long: f64 = cli.value(
+        "--long",
+        "N",
+        "orbits of the energy run at e = 0.9 (0: none)",
+        0.0,
+        at_least(0.0),
+    );
+    let rebound: Option<String> = cli.optional(
+        "--rebound",
+        "PYTHON",
+        "a Python with REBOUND, to run IAS15 on the same problems",
+        any(),
+    );
+    cli.finish();
+
+    println!("Kepler's problem (a = 1, GM = 1, from periapsis), position error ≤ {tol:e}");
+    println!(
+        "{:>5} {:>7} {:>22} {:>9} {:>10} {:>12} {:>10} {:>10}",
+        "e", "orbits", "method", "eps", "error", "evaluations", "steps", "seconds"
+    );
+    let mut found_100 = None;
+    for &e in &eccentricities {
+        for &n in &orbits {
+            for &s in &stages {
+                match coarsest(e, n, s, tol, shrink) {
+                    Ok((eps, o)) => {
+                        println!(
+                            "{e:>5} {n:>7} {:>22} {eps:>9.3e} {:>10.2e} {:>12} {:>10} {:>10.4}",
+                            format!("dirac Gauss s = {s} (order {})", 2 * s),
+                            o.error,
+                            o.evaluations,
+                            o.steps,
+                            o.seconds
+                        );
+                        println!("machine dirac e={e} orbits={n} stages={s} eps={eps:e} error={:e} evaluations={} jacobians={} steps={} seconds={}", o.error, o.evaluations, o.jacobians, o.steps, o.seconds);
+                        if e == 0.9 && n == 100.0 && found_100.is_none() {
+                            found_100 = Some((s, eps));
+                        }
+                    }
+                    Err(floor) => println!(
+                        "{e:>5} {n:>7} dirac Gauss s = {s}: no step reached {tol:e} (the error stops falling at {floor:.2e})"
+                    ),
+                }
+            }
+            if let Some(python) = &rebound {
+                let script = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/rebound/kepler.py");
+                match Command::new(python)
+                    .args([script, &e.to_string(), &n.to_string(), &tol.to_string()])
+                    .output()
+                {
+                    Ok(out) if out.status.success() => {
+                        print!("{}", String::from_utf8_lossy(&out.stdout));
+                    }
+                    Ok(out) => println!(
+                        "REBOUND's run failed: {}",
+                        String::from_utf8_lossy(&out.stderr).trim()
+                    ),
+                    Err(err) => println!("REBOUND's Python ({python}) did not start: {err}"),
+                }
+            }
+        }
+    }
+    if rebound.is_none() {
+        println!("REBOUND: not given (--rebound <python with rebound>; bash benches/rebound/run.sh installs it): dirac's figures alone");
+    }
+    if long > 0.0 {
+        let Some((s, eps)) = found_100 else {
+            println!("--long: no step found for e = 0.9 at 100 orbits");
+            return;
+        };
+        let o = run(0.9, long, s, eps, true).expect("the long run");
+        let tenth = o.energy.len() / 10;
+        let e0 = o.energy[0];
+        let mean = |xs: &[f64]| xs.iter().map(|x| (x - e0).abs()).sum::<f64>() / xs.len() as f64;
+        let (first, last) = (
+            mean(&o.energy[..tenth]),
+            mean(&o.energy[o.energy.len() - tenth..]),
+        );
+        println!(
+            "long run: e = 0.9, {long} orbits, s = {s}, eps = {eps:e}: {} steps in {:.1} s; mean |ΔE| first tenth {first:.3e}, last tenth {last:.3e} (ratio {:.2}); position error {:.3e}",
+            o.steps,
+            o.seconds,
+            last / first,
+            o.error
+        );
+        println!("machine dirac-long orbits={long} stages={s} eps={eps:e} first={first:e} last={last:e} error={:e} seconds={}", o.error, o.seconds);
+    }
+}
