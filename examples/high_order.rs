@@ -160,6 +160,52 @@ fn coarsest(
     Err(errors.iter().copied().fold(f64::INFINITY, f64::min))
 }
 
+/// The cost of one stage evaluation (`f` and `p` at one `(Q, V)`) against one evaluation of the
+/// second-order step's residual (the midpoint rule's unreduced residual `D1 L_d(q0, q1) + p0`) of
+/// the same system, timed alternately in batches; the median ratio and its spread over seven
+/// rounds.
+fn stage_cost() {
+    let sys = Kepler { h: 0.1, k: 1.0 };
+    let (q, v) = (
+        dirac::runtime::nalgebra::Vector3::new(0.7, 0.3, 1.0),
+        dirac::runtime::nalgebra::Vector3::new(0.1, 0.9, 0.4),
+    );
+    let p = sys.legendre(&q, &v);
+    let z = q + 0.1 * v;
+    let n = 2_000_000;
+    let time = |f: &dyn Fn(usize) -> f64| {
+        let clock = Instant::now();
+        let mut acc = 0.0;
+        for i in 0..n {
+            acc += f(i);
+        }
+        std::hint::black_box(acc);
+        clock.elapsed().as_secs_f64() / n as f64
+    };
+    let mut ratios = Vec::new();
+    let (mut stage_ns, mut residual_ns) = (Vec::new(), Vec::new());
+    for _ in 0..7 {
+        let a = time(&|i| {
+            let qi = std::hint::black_box(q);
+            sys.stage(&qi, &v).0[(i & 1)]
+        });
+        let b = time(&|i| {
+            let qi = std::hint::black_box(q);
+            sys.unreduced_residual(&qi, &p, &z)[(i & 1)]
+        });
+        ratios.push(a / b);
+        stage_ns.push(a * 1e9);
+        residual_ns.push(b * 1e9);
+    }
+    ratios.sort_by(f64::total_cmp);
+    stage_ns.sort_by(f64::total_cmp);
+    residual_ns.sort_by(f64::total_cmp);
+    println!(
+        "one stage evaluation {:.1} ns, one midpoint residual {:.1} ns (medians): ratio {:.2} [{:.2}, {:.2}] over 7 rounds",
+        stage_ns[3], residual_ns[3], ratios[3], ratios[0], ratios[6]
+    );
+}
+
 fn main() {
     let mut cli = Cli::new(
         "high_order",
@@ -262,6 +308,7 @@ fn main() {
             }
         }
     }
+    stage_cost();
     if rebound.is_none() {
         println!("REBOUND: not given (--rebound <python with rebound>; bash benches/rebound/run.sh installs it): dirac's figures alone");
     }
