@@ -187,11 +187,11 @@ fn stage_cost() {
     for _ in 0..7 {
         let a = time(&|i| {
             let qi = std::hint::black_box(q);
-            sys.stage(&qi, &v).0[(i & 1)]
+            sys.stage(&qi, &v).0[i & 1]
         });
         let b = time(&|i| {
             let qi = std::hint::black_box(q);
-            sys.unreduced_residual(&qi, &p, &z)[(i & 1)]
+            sys.unreduced_residual(&qi, &p, &z)[i & 1]
         });
         ratios.push(a / b);
         stage_ns.push(a * 1e9);

@@ -21,28 +21,31 @@
 //! 7. [Adaptive steps](adaptive_steps): `time(t), adapt = |q| g` — the Poincaré time
 //!    transformation made variational: a fixed fictitious step, physical steps that follow the
 //!    motion, the energy level and every momentum of a symmetry kept bit for bit.
-//! 8. [Rotations and directions](rotations): configurations on `SO(3)` and `S²` (rigid bodies,
+//! 8. [High order](high_order): the Gauss–Legendre variational integrators of order `2s` for
+//!    any continuous Lagrangian, adaptive at any order, symplectic, momenta bit for bit; round-off
+//!    under control; against REBOUND's IAS15.
+//! 9. [Rotations and directions](rotations): configurations on `SO(3)` and `S²` (rigid bodies,
 //!    tops, satellites, pendula in 3-D) stepped on the group by Lie group variational
 //!    integrators, with no charts.
-//! 9. [Reduction by rotations](rotation_reduction): `symmetry(R)` and
-//!    `symmetry(n1, n2, axis = z)`, the discrete Euler–Poincaré and Lagrange–Poincaré steps, the
-//!    spatial momentum or its axial component as a parameter of the run.
-//! 10. [Large systems](large_systems): the sparse backend, chord iterations, streaming runs in
+//! 10. [Reduction by rotations](rotation_reduction): `symmetry(R)` and
+//!     `symmetry(n1, n2, axis = z)`, the discrete Euler–Poincaré and Lagrange–Poincaré steps, the
+//!     spatial momentum or its axial component as a parameter of the run.
+//! 11. [Large systems](large_systems): the sparse backend, chord iterations, streaming runs in
 //!     constant memory, ensembles on all cores, building the attribute optimized.
-//! 11. [Systems sized at run time](run_time_sizes): element-wise bodies whose sizes are `usize`
+//! 12. [Systems sized at run time](run_time_sizes): element-wise bodies whose sizes are `usize`
 //!     arguments — one build for every size, stencils checked at compile time, the element
 //!     kernels assembled in parallel, 10⁵ degrees of freedom.
-//! 12. [Systems given at run time](run_time_text): the attribute and function as text, compiled
+//! 13. [Systems given at run time](run_time_text): the attribute and function as text, compiled
 //!     by the same compiler and Cranelift to machine code while the program runs, behind the
 //!     same traits: the same integrators, the same messages, the same trajectories bit for bit.
-//! 13. [Articulated bodies](articulated): robots and linkages read from URDF, their Lagrangian
+//! 14. [Articulated bodies](articulated): robots and linkages read from URDF, their Lagrangian
 //!     written as a system text and stepped by the same integrators; a floating base on `SE(3)`
 //!     keeping the tree's total momentum.
-//! 14. [Diagnostics](diagnostics): Newton statistics and conditioning per step, energies, the
+//! 15. [Diagnostics](diagnostics): Newton statistics and conditioning per step, energies, the
 //!     Dirac structure and the discrete action along a trajectory, the step-map Jacobian.
-//! 15. [Errors](errors): the typed [`StepError`](crate::StepError) of a failed step, the
+//! 16. [Errors](errors): the typed [`StepError`](crate::StepError) of a failed step, the
 //!     trajectory kept up to it, and the compile errors of the attributes.
-//! 16. [Limits](limits): what the integrators do not do, and where their guarantees end.
+//! 17. [Limits](limits): what the integrators do not do, and where their guarantees end.
 //!
 //! Results that leave the process — runs and ensembles in Apache Parquet, sharded ensembles on a
 //! Slurm cluster, progress bars — are the separate crate `dirac-io`, described in
@@ -65,6 +68,7 @@ pub mod constraints;
 pub mod diagnostics;
 pub mod errors;
 pub mod forces;
+pub mod high_order;
 pub mod integrators;
 pub mod lagrangians;
 pub mod large_systems;
