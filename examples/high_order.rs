@@ -115,8 +115,15 @@ fn run(e: f64, orbits: f64, stages: usize, eps: f64, energies: bool) -> Option<O
         .map(|st| s * st.factorizations as u64)
         .sum();
     let energy = if energies {
-        // E = −p_t on the level set: its drift is the energy error.
-        traj.states.iter().map(|st| -st.p[2]).collect()
+        // The physical energy H = (p_r² + p_θ²/r²)/2 − 1/r of the state (the momenta of the
+        // time-transformed system are the physical ones; p_t = −E is kept exactly by
+        // construction and says nothing).
+        traj.states
+            .iter()
+            .map(|st| {
+                0.5 * (st.p[0] * st.p[0] + st.p[1] * st.p[1] / (st.q[0] * st.q[0])) - 1.0 / st.q[0]
+            })
+            .collect()
     } else {
         Vec::new()
     };
@@ -267,6 +274,7 @@ fn main() {
         "e", "orbits", "method", "eps", "error", "evaluations", "steps", "seconds"
     );
     let mut found_100 = None;
+    let mut ias15_eps_100: Option<String> = None;
     for &e in &eccentricities {
         for &n in &orbits {
             for &s in &stages {
@@ -297,7 +305,22 @@ fn main() {
                     .output()
                 {
                     Ok(out) if out.status.success() => {
-                        print!("{}", String::from_utf8_lossy(&out.stdout));
+                        let text = String::from_utf8_lossy(&out.stdout);
+                        print!("{text}");
+                        if e == 0.9 && n == 100.0 {
+                            ias15_eps_100 = text
+                                .lines()
+                                .filter(|l| {
+                                    l.starts_with("machine rebound") && l.contains("coarsest")
+                                })
+                                .find_map(|l| {
+                                    l.split(" epsilon=")
+                                        .nth(1)?
+                                        .split(' ')
+                                        .next()
+                                        .map(str::to_owned)
+                                });
+                        }
                     }
                     Ok(out) => println!(
                         "REBOUND's run failed: {}",
@@ -333,5 +356,21 @@ fn main() {
             o.error
         );
         println!("machine dirac-long orbits={long} stages={s} eps={eps:e} first={first:e} last={last:e} error={:e} seconds={}", o.error, o.seconds);
+        if let (Some(python), Some(epsilon)) = (&rebound, &ias15_eps_100) {
+            let script = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/rebound/kepler.py");
+            match Command::new(python)
+                .args([script, "long", "0.9", &long.to_string(), epsilon])
+                .output()
+            {
+                Ok(out) if out.status.success() => {
+                    print!("{}", String::from_utf8_lossy(&out.stdout))
+                }
+                Ok(out) => println!(
+                    "REBOUND's long run failed: {}",
+                    String::from_utf8_lossy(&out.stderr).trim()
+                ),
+                Err(err) => println!("REBOUND's Python ({python}) did not start: {err}"),
+            }
+        }
     }
 }

@@ -8,7 +8,11 @@ For each IAS15 epsilon from 1e-2 down to 1e-12 (factor sqrt(10)) it runs once, a
 line of the coarsest epsilon whose error meets the tolerance, and the line of the default
 epsilon (1e-9), in examples/high_order.rs's table format and as a `machine` line.
 
-usage: python kepler.py E ORBITS TOLERANCE
+With `long E ORBITS EPSILON` instead it integrates ORBITS orbits with REBOUND's own gravity at
+the given epsilon, samples the energy once an orbit, and prints the mean energy error over the
+first and the last tenth of the samples.
+
+usage: python kepler.py E ORBITS TOLERANCE | python kepler.py long E ORBITS EPSILON
 """
 import math
 import sys
@@ -71,10 +75,35 @@ def run(e, orbits, epsilon):
     return error, calls[0], sim.steps_done, seconds[1]
 
 
+def long_run(e, orbits, epsilon):
+    sim, _ = simulation(e, epsilon, False)
+    energy0 = sim.energy()
+    errors = []
+    clock = time.perf_counter()
+    for k in range(1, int(orbits) + 1):
+        sim.integrate(k * 2 * math.pi, exact_finish_time=1)
+        errors.append(abs(sim.energy() - energy0))
+    seconds = time.perf_counter() - clock
+    tenth = max(len(errors) // 10, 1)
+    first = sum(errors[:tenth]) / tenth
+    last = sum(errors[-tenth:]) / tenth
+    print(
+        f"long run IAS15: e = {e}, {orbits} orbits, epsilon {epsilon:e}: {sim.steps_done} steps in {seconds:.1f} s; "
+        f"mean |dE| first tenth {first:.3e}, last tenth {last:.3e} (ratio {last / first:.2f})"
+    )
+    print(
+        f"machine rebound-long e={e} orbits={orbits} epsilon={epsilon:e} first={first:e} last={last:e} "
+        f"steps={sim.steps_done} seconds={seconds} version={rebound.__version__}"
+    )
+
+
 def main():
     # IAS15 warns on stderr when its predictor-corrector loop does not converge at a coarse
     # epsilon; such runs are judged by their error like the others.
     warnings.simplefilter("ignore", RuntimeWarning)
+    if sys.argv[1] == "long":
+        long_run(float(sys.argv[2]), float(sys.argv[3]), float(sys.argv[4]))
+        return
     e, orbits, tol = float(sys.argv[1]), float(sys.argv[2]), float(sys.argv[3])
     chosen = None
     for k in range(0, 21):
