@@ -58,7 +58,7 @@
 //! Newton starts from the velocity polynomial of the last step extrapolated to the new stages,
 //! `V_i ≈ Σ_j V_j^{prev} ℓ_j(1 + c_i h/h_prev)`, and at a run's first step from the velocity
 //! of the start, `∂L/∂v(q0, ·)⁻¹(p0)` ([`crate::ContinuousLagrangian::velocity`]; with adaptive
-//! steps the velocity in fictitious time, [`crate::System::adaptive_increment`]` / h`).
+//! steps the velocity in fictitious time, [`crate::DiscreteLagrangian::adaptive_increment`]` / h`).
 
 use nalgebra::{DVector, SMatrix, SVector};
 
