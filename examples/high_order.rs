@@ -35,18 +35,12 @@ fn kepler(q: Config, v: Velocity, k: f64) -> f64 {
 const TAU: f64 = 2.0 * PI;
 
 /// The position `(x, y)` at time `t` of the orbit of eccentricity `e` (semi-major axis 1,
-/// `GM = 1`, period 2π) from periapsis on the x axis, by Kepler's equation solved by Newton.
+/// `GM = 1`, period 2π) from periapsis on the x axis: the closed form of
+/// [`dirac::systems::kepler::Kepler::exact`] (Kepler's equation).
 fn exact_position(e: f64, t: f64) -> [f64; 2] {
-    let m = t.rem_euclid(TAU);
-    let mut big_e = PI;
-    for _ in 0..200 {
-        let d = (big_e - e * big_e.sin() - m) / (1.0 - e * big_e.cos());
-        big_e -= d;
-        if d.abs() < 1e-16 {
-            break;
-        }
-    }
-    [big_e.cos() - e, (1.0 - e * e).sqrt() * big_e.sin()]
+    let exact = dirac::systems::kepler::Kepler::unit(1.0).exact(1.0, e, t);
+    let (r, phi) = (exact.x[0], exact.g[0]);
+    [r * phi.cos(), r * phi.sin()]
 }
 
 /// Newton's tolerances: `--newton-tol` for both (the default options' 1e-12 unless given).

@@ -524,30 +524,7 @@ where
         self.system.time_step()
     }
 
-    fn check(&self, initial: &UnreducedState<N>) -> Result<(), StepError> {
-        check_inputs(
-            self.system.time_step(),
-            &self.system.parameter_values(),
-            initial.is_finite(),
-        )?;
-        crate::domain::check_system(&self.system, 0, true, |i| initial.q.get(i).copied())
-    }
-
-    fn check_domain(&self, k: usize, state: &UnreducedState<N>) -> Result<(), StepError> {
-        crate::domain::check_system(&self.system, k, false, |i| state.q.get(i).copied())
-    }
-
-    fn physical_time(&self, state: &UnreducedState<N>) -> Option<f64> {
-        self.system.time_index().map(|j| state.q[S + j])
-    }
-
-    fn level_set(&self, state: &UnreducedState<N>) -> Option<LevelSet> {
-        flat_level_set(&self.system, &state.q, &state.p)
-    }
-
-    fn monitor(&self, at: StepAt<'_>, state: &UnreducedState<N>) -> Result<Option<f64>, StepError> {
-        flat_monitor(&self.system, at, &state.q.fixed_rows::<S>(0).into_owned())
-    }
+    crate::unreduced::unreduced_checks!();
 
     fn workspace(&self) -> GaussWorkspace<N> {
         let n = self.rule.stages() * N;

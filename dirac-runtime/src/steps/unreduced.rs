@@ -176,6 +176,46 @@ where
     }
 }
 
+/// The [`Stepper`] methods about the state of an integrator on unreduced states `(q, p)` of a
+/// flat system in the field `system` (written once for the second-order step and the
+/// Gauss–Legendre steps): the checks of the start and of the domain, the physical time and
+/// level set of adaptive steps, the monitor `g(x)` at the shape `x`, the first `S` coordinates.
+macro_rules! unreduced_checks {
+    () => {
+        fn check(&self, initial: &UnreducedState<N>) -> Result<(), StepError> {
+            check_inputs(
+                self.system.time_step(),
+                &self.system.parameter_values(),
+                initial.is_finite(),
+            )?;
+            // The domain: outside it the monitor (checked next by the run) need not be defined.
+            crate::domain::check_system(&self.system, 0, true, |i| initial.q.get(i).copied())
+        }
+
+        fn check_domain(&self, k: usize, state: &UnreducedState<N>) -> Result<(), StepError> {
+            crate::domain::check_system(&self.system, k, false, |i| state.q.get(i).copied())
+        }
+
+        fn physical_time(&self, state: &UnreducedState<N>) -> Option<f64> {
+            self.system.time_index().map(|j| state.q[S + j])
+        }
+
+        fn level_set(&self, state: &UnreducedState<N>) -> Option<LevelSet> {
+            flat_level_set(&self.system, &state.q, &state.p)
+        }
+
+        /// `g(x)` at the shape `x`, the first `S` coordinates of `q`.
+        fn monitor(
+            &self,
+            at: StepAt<'_>,
+            state: &UnreducedState<N>,
+        ) -> Result<Option<f64>, StepError> {
+            flat_monitor(&self.system, at, &state.q.fixed_rows::<S>(0).into_owned())
+        }
+    };
+}
+pub(crate) use unreduced_checks;
+
 impl<L, const S: usize, const K: usize, const N: usize> Stepper for UnreducedIntegrator<L, S, K, N>
 where
     L: Unreduced<S, K, N>,
@@ -189,32 +229,7 @@ where
         self.system.time_step()
     }
 
-    fn check(&self, initial: &UnreducedState<N>) -> Result<(), StepError> {
-        check_inputs(
-            self.system.time_step(),
-            &self.system.parameter_values(),
-            initial.is_finite(),
-        )?;
-        // The domain: outside it the monitor (checked next by the run) need not be defined.
-        crate::domain::check_system(&self.system, 0, true, |i| initial.q.get(i).copied())
-    }
-
-    fn check_domain(&self, k: usize, state: &UnreducedState<N>) -> Result<(), StepError> {
-        crate::domain::check_system(&self.system, k, false, |i| state.q.get(i).copied())
-    }
-
-    fn physical_time(&self, state: &UnreducedState<N>) -> Option<f64> {
-        self.system.time_index().map(|j| state.q[S + j])
-    }
-
-    fn level_set(&self, state: &UnreducedState<N>) -> Option<LevelSet> {
-        flat_level_set(&self.system, &state.q, &state.p)
-    }
-
-    /// `g(x)` at the shape `x`, the first `S` coordinates of `q`.
-    fn monitor(&self, at: StepAt<'_>, state: &UnreducedState<N>) -> Result<Option<f64>, StepError> {
-        flat_monitor(&self.system, at, &state.q.fixed_rows::<S>(0).into_owned())
-    }
+    unreduced_checks!();
 
     fn workspace(&self) -> Self::Workspace {
         UnreducedWorkspace {
