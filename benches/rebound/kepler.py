@@ -89,7 +89,7 @@ def long_run(e, orbits, epsilon):
     last = sum(errors[-tenth:]) / tenth
     print(
         f"long run IAS15: e = {e}, {orbits} orbits, epsilon {epsilon:e}: {sim.steps_done} steps in {seconds:.1f} s; "
-        f"mean |dE| first tenth {first:.3e}, last tenth {last:.3e} (ratio {last / first:.2f})"
+        f"mean |dE| first tenth {first:.3e}, last tenth {last:.3e} (ratio {last / first if first > 0 else float('inf'):.2f})"
     )
     print(
         f"machine rebound-long e={e} orbits={orbits} epsilon={epsilon:e} first={first:e} last={last:e} "
