@@ -425,7 +425,7 @@ where
                 dz.copy_from(r);
                 solver.solve_in_place(dz);
                 let size = inf_norm_slice(dz.as_slice());
-                if !(size < last) || size == 0.0 {
+                if size.is_nan() || size >= last || size == 0.0 {
                     break;
                 }
                 *z -= &*dz;
