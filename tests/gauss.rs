@@ -345,3 +345,19 @@ fn bad_input_is_a_typed_error_with_the_trajectory_kept() {
     );
     assert!(failure.trajectory.states.iter().all(|s| s.q[0] > 0.0));
 }
+
+#[test]
+fn one_stage_is_the_midpoint_rules_step() {
+    // With s = 1 the Galerkin discrete Lagrangian is the midpoint rule's, so the step is the
+    // one the attribute's rule = midpoint takes (the same equations, solved differently).
+    let sys = DampedPendulum { h: 0.1, c: 0.2 };
+    let start = sys.unreduced_state([1.2], [0.3]).unwrap();
+    let gauss = GaussIntegrator::new(sys, 1, tight()).unwrap();
+    let midpoint = UnreducedIntegrator::new(sys, tight());
+    let a = gauss.run(start).steps(200).collect().unwrap();
+    let b = midpoint.run(start).steps(200).collect().unwrap();
+    for (x, y) in a.states.iter().zip(&b.states) {
+        let gap = (x.q - y.q).amax().max((x.p - y.p).amax());
+        assert!(gap < 1e-13, "{gap:e}");
+    }
+}
