@@ -90,14 +90,21 @@
 //! At high order the step's truncation error falls below what the arithmetic resolves, and two
 //! things decide the error floor instead:
 //!
-//! - **Newton's tolerance.** The residual is accepted at `abs_tol + rel_tol · ρ`, `ρ` the size
+//! - **Newton's iteration.** The residual is accepted at `abs_tol + rel_tol · ρ`, `ρ` the size
 //!   of the terms it balances (the momenta at the stages and the stages' forces times `h`, not
-//!   only the momentum at the start). The defaults (1e-12) keep each step's error at the
-//!   rounding of those terms; a tighter tolerance than the rounding of the residual's own terms
-//!   cannot be met, and the step reports that as [`StepError::NotConverged`](crate::StepError).
+//!   only the momentum at the start). Past that, the step keeps correcting with the factors at
+//!   hand as long as the corrections shrink (Hairer, McLachlan and Razakarivony's criterion), so
+//!   the stage velocities are solved to round-off whatever the tolerance: a truncated iteration
+//!   leaves an error of the same sign at every step, which over a long adaptive run is a linear
+//!   energy drift (on Kepler's problem at e = 0.9 and order 12: 1.1e-11 after 1000 orbits
+//!   without the extra corrections, 1.3e-14 with them). They cost one or two residual
+//!   evaluations a step, with no Jacobian.
 //! - **Summation.** Positions, momenta and the time coordinate are updated by adding increments
 //!   with compensated summation (the rounding of each addition carried into the next step's
 //!   increment), so a run of 10⁵ steps does not gather 10⁵ roundings of `|q|`.
+//!
+//! What is left is the rounding of each step, which adds up like a random walk (Brouwer's law:
+//! an energy error growing like the square root of the number of steps, from about 1e-15).
 //!
 //! What remains is the conditioning of the problem itself: at e = 0.99 the energy of the start
 //! (`v²/2 − 1/r`, 99.5 − 100) loses two digits to cancellation, which shifts the orbit's period
@@ -112,8 +119,9 @@
 //! 1e-10 and counts its force evaluations (each Newton evaluation evaluates `∂L/∂q` at every
 //! stage); `bash benches/rebound/run.sh` installs REBOUND in its own environment and runs its
 //! IAS15 on the same problems beside it. The figures are in [the benchmarks](super::benchmarks):
-//! at e = 0.9 the order-12 step needs about a third of IAS15's evaluations for the same error,
-//! in about the same wall time.
+//! at e = 0.9 the order-12 step needs 0.6 of IAS15's force evaluations for a position error of
+//! 1e-10 after 10 and 100 orbits (reaching errors far below it), in 0.6–0.9 of its wall time;
+//! at e = 0.99 the order-8 step about as many as IAS15.
 //!
 //! ## Limits
 //!
