@@ -9,12 +9,7 @@ use crate::back::emit::straight_line;
 use crate::ir::graph::{Graph, NodeId, Sym};
 use crate::ir::reduce::Stepper;
 
-/// Systems with at most this many configuration coordinates get the dense fixed-size backend
-/// (`Lu<N>`, everything on the stack); larger ones the sparse backend (`SparseLu` on the
-/// compile-time pattern of the step Jacobian), and no Hessian impl or momentum-level elimination
-/// (whose `S × S` matrices are dense). Equal to `dirac_runtime::DENSE_MAX`, which documents the
-/// choice (checked by `tests/backends.rs`).
-pub const DENSE_MAX: usize = 16;
+pub use crate::ir::compile::DENSE_MAX;
 
 /// The linear algebra of a step, chosen by size (see [`DENSE_MAX`]): it fixes the types of the
 /// Jacobian and of the solver in the impls' signatures, so the table of

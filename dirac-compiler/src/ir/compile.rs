@@ -223,7 +223,7 @@ pub fn lower(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<L
     // The stages of a Gauss–Legendre step: on the dense backend, without constraints.
     let continuous = continuous.map(|mut c| {
         let n = s + k;
-        if n <= crate::back::backend::DENSE_MAX && spec.constraints.is_none() {
+        if n <= DENSE_MAX && spec.constraints.is_none() {
             c.stage = Some(discretize::stage(
                 &mut graph,
                 &c,
@@ -248,6 +248,13 @@ pub fn lower(cx: &Ctxt, spec: &Spec, sig: &Signature, func: &ItemFn) -> Option<L
         adapt,
     })
 }
+
+/// Systems with at most this many configuration coordinates get the dense fixed-size backend
+/// (`Lu<N>`, everything on the stack); larger ones the sparse backend (`SparseLu` on the
+/// compile-time pattern of the step Jacobian), and no Hessian impl or momentum-level elimination
+/// (whose `S × S` matrices are dense). Equal to `dirac_runtime::DENSE_MAX`, which documents the
+/// choice (checked by `tests/backends.rs`).
+pub const DENSE_MAX: usize = 16;
 
 /// Systems with at least this many coordinates get their first derivatives by reverse
 /// accumulation ([`Mode::Reverse`]), smaller ones by forward passes. Reverse pays on dense
