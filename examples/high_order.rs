@@ -12,7 +12,8 @@
 //! wall time. With `--long N` it then runs N orbits at `e = 0.9` at the step found for 100
 //! orbits and prints the energy error's mean over the first and last tenths.
 //!
-//! Run: `cargo run --release --example high_order [-- --orbits 10,100 --stages 4,6,8]`.
+//! Run: `cargo run --release --example high_order [-- --orbits 10,100 --stages 4,6,8]`; with
+//! `DEBUG_HIGH_ORDER=1` in the environment every trial step and its error or failure go to stderr.
 
 use std::f64::consts::PI;
 use std::process::Command;
@@ -43,12 +44,9 @@ fn exact_position(e: f64, t: f64) -> [f64; 2] {
     [r * phi.cos(), r * phi.sin()]
 }
 
-/// Newton's tolerances: `--newton-tol` for both (the default options' 1e-12 unless given).
-fn options() -> NewtonOptions {
-    let tol = std::env::var("NEWTON_TOL")
-        .ok()
-        .and_then(|t| t.parse().ok())
-        .unwrap_or(1e-12);
+/// Newton's options with `tol` as both tolerances (`--newton-tol`, default the default
+/// options' 1e-12).
+fn options(tol: f64) -> NewtonOptions {
     NewtonOptions {
         abs_tol: tol,
         rel_tol: tol,
@@ -66,13 +64,20 @@ struct Outcome {
     energy: Vec<f64>,
 }
 
-fn run(e: f64, orbits: f64, stages: usize, eps: f64, energies: bool) -> Option<Outcome> {
+fn run(
+    e: f64,
+    orbits: f64,
+    stages: usize,
+    eps: f64,
+    newton: f64,
+    energies: bool,
+) -> Option<Outcome> {
     let sys = Kepler { h: eps, k: 1.0 };
     let r0 = 1.0 - e;
     let start = sys
         .unreduced_state([r0, 0.0, 0.0], [0.0, (1.0 - e * e).sqrt() / (r0 * r0), 1.0])
         .ok()?;
-    let integrator = GaussIntegrator::new(sys, stages, options()).ok()?;
+    let integrator = GaussIntegrator::new(sys, stages, options(newton)).ok()?;
     let t_end = orbits * TAU;
     let clock = Instant::now();
     let traj = integrator
@@ -140,11 +145,12 @@ fn coarsest(
     stages: usize,
     tol: f64,
     shrink: f64,
+    newton: f64,
 ) -> Result<(f64, Outcome), f64> {
     let mut eps = 1.0;
     let mut errors: Vec<f64> = Vec::new();
     for _ in 0..60 {
-        if let Some(outcome) = run(e, orbits, stages, eps, false) {
+        if let Some(outcome) = run(e, orbits, stages, eps, newton, false) {
             if outcome.error <= tol {
                 return Ok((eps, outcome));
             }
@@ -247,6 +253,13 @@ fn main() {
         1.25,
         greater_than(1.0),
     );
+    let newton: f64 = cli.value(
+        "--newton-tol",
+        "TOL",
+        "Newton's absolute and relative tolerance",
+        1e-12,
+        greater_than(0.0),
+    );
     let long: f64 = cli.value(
         "--long",
         "N",
@@ -272,7 +285,7 @@ fn main() {
     for &e in &eccentricities {
         for &n in &orbits {
             for &s in &stages {
-                match coarsest(e, n, s, tol, shrink) {
+                match coarsest(e, n, s, tol, shrink, newton) {
                     Ok((eps, o)) => {
                         println!(
                             "{e:>5} {n:>7} {:>22} {eps:>9.3e} {:>10.2e} {:>12} {:>10} {:>10.4}",
@@ -334,7 +347,7 @@ fn main() {
             println!("--long: no step found for e = 0.9 at 100 orbits");
             return;
         };
-        let o = run(0.9, long, s, eps, true).expect("the long run");
+        let o = run(0.9, long, s, eps, newton, true).expect("the long run");
         let tenth = o.energy.len() / 10;
         let e0 = o.energy[0];
         let mean = |xs: &[f64]| xs.iter().map(|x| (x - e0).abs()).sum::<f64>() / xs.len() as f64;

@@ -64,8 +64,8 @@ use nalgebra::{DVector, SMatrix, SVector};
 
 use crate::continuous::{StageDerivatives, StageJacobian};
 use crate::error::StepError;
+use crate::linalg::LinearSolver;
 use crate::linalg::{CscBuffer, DynPatternLu};
-use crate::linalg::{FactorError, LinearSolver};
 use crate::newton::{self, inf_norm, slice_inf_norm as inf_norm_slice, NewtonOptions};
 use crate::reduced::flat_monitor;
 use crate::sensitivity::Sensitivity;
@@ -210,56 +210,13 @@ fn legendre(s: usize, x: f64) -> (f64, f64) {
     (p, s as f64 * (x * p - p0) / (x * x - 1.0))
 }
 
-/// The dense LU of a Gauss–Legendre step's `sN × sN` Jacobian, whose factors later corrections
-/// and steps reuse (chord iterations, [`newton::solve_with`]): a factorization costs
-/// `(sN)³/3` flops, several residual evaluations once `sN` passes a dozen unknowns.
-#[derive(Debug)]
-pub struct GaussLu {
-    lu: DynPatternLu,
-    factored: bool,
-}
-
-impl LinearSolver for GaussLu {
-    type Vector = DVector<f64>;
-    type Matrix = CscBuffer;
-
-    fn factor(&mut self, j: &CscBuffer) -> Result<(), FactorError> {
-        let result = self.lu.factor(j);
-        self.factored = result.is_ok();
-        result
-    }
-
-    fn solve(&mut self, b: &DVector<f64>) -> DVector<f64> {
-        self.lu.solve(b)
-    }
-
-    fn solve_in_place(&mut self, b: &mut DVector<f64>) {
-        self.lu.solve_in_place(b);
-    }
-
-    fn norm1(&self) -> f64 {
-        self.lu.norm1()
-    }
-
-    fn rcond_lower_bound(&mut self) -> f64 {
-        self.lu.rcond_lower_bound()
-    }
-
-    fn rcond(&mut self) -> f64 {
-        self.lu.rcond()
-    }
-
-    fn has_reusable_factors(&self) -> bool {
-        self.factored
-    }
-}
-
 /// The workspace of a Gauss–Legendre run: Newton's unknowns, residual and Jacobian, the dense
 /// LU, the stages' derivatives at the last iterate, and the last step's stage velocities for
 /// the next guess. Allocated once, when the run starts; a step allocates nothing.
 #[derive(Debug)]
 pub struct GaussWorkspace<const N: usize> {
-    solver: GaussLu,
+    /// The dense LU of the `sN × sN` Jacobian, its factors reused ([`DynPatternLu::dense_reused`]).
+    solver: DynPatternLu,
     z: DVector<f64>,
     r: DVector<f64>,
     /// A correction of the polishing iterations.
@@ -603,10 +560,7 @@ where
     fn workspace(&self) -> GaussWorkspace<N> {
         let n = self.rule.stages() * N;
         GaussWorkspace {
-            solver: GaussLu {
-                lu: DynPatternLu::dense(n),
-                factored: false,
-            },
+            solver: DynPatternLu::dense_reused(n),
             z: DVector::zeros(n),
             r: DVector::zeros(n),
             dz: DVector::zeros(n),

@@ -15,6 +15,9 @@ use crate::linalg::{column_norm1, reciprocal_condition, FactorError, HagerCache,
 /// memory allocated when the workspace is built: a Newton step allocates nothing.
 pub struct DynPatternLu {
     factors: Backend,
+    /// Whether a dense backend's factors serve later corrections and steps (chord iterations,
+    /// [`Self::dense_reused`]); the sparse backend's always do.
+    reuse_dense: bool,
 }
 
 /// The factorization of a [`DynPatternLu`].
@@ -58,6 +61,7 @@ impl DynPatternLu {
             });
         valid.then(|| Self {
             factors: Backend::Sparse(Box::new(Factors::new(n, col_ptr, row_idx))),
+            reuse_dense: false,
         })
     }
 
@@ -65,6 +69,18 @@ impl DynPatternLu {
     pub fn dense(n: usize) -> Self {
         Self {
             factors: Backend::Dense(Box::new(DenseFactors::new(n))),
+            reuse_dense: false,
+        }
+    }
+
+    /// [`Self::dense`] whose factors, once a factorization succeeded, later corrections and
+    /// steps reuse (chord iterations, [`crate::newton::solve_with`]): for Jacobians whose
+    /// factorization (`n³/3` flops) costs several residual evaluations, as the `sN × sN` stage
+    /// Jacobian of a Gauss–Legendre step does once `sN` passes a dozen unknowns.
+    pub fn dense_reused(n: usize) -> Self {
+        Self {
+            reuse_dense: true,
+            ..Self::dense(n)
         }
     }
 
@@ -131,12 +147,13 @@ impl LinearSolver for DynPatternLu {
     }
 
     /// On the compiler's sparse pattern as [`PatternLu`](super::PatternLu), yes once a
-    /// factorization succeeded (chord iterations); dense never, as the dense [`crate::Lu`],
-    /// where a factorization costs less than a residual.
+    /// factorization succeeded (chord iterations); dense only when built by
+    /// [`Self::dense_reused`] — otherwise never, as the dense [`crate::Lu`], where a
+    /// factorization costs less than a residual.
     fn has_reusable_factors(&self) -> bool {
         match &self.factors {
             Backend::Sparse(factors) => factors.factored,
-            Backend::Dense(_) => false,
+            Backend::Dense(factors) => self.reuse_dense && factors.factored,
         }
     }
 }
