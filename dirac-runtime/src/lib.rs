@@ -80,7 +80,7 @@ pub mod prelude {
         ElementLagrangian, ElementState, ElementTrajectory, Parallel, StepSolver,
     };
     pub use crate::error::{IntegrationError, StepError, Steps};
-    pub use crate::gauss::{GaussIntegrator, GaussRule};
+    pub use crate::gauss::{GaussIntegrator, GaussRule, ReducedGaussIntegrator};
     pub use crate::lie::{
         CoordinateKind, LieIntegrator, LieLagrangian, LiePartials, LieState, LieSymmetric,
         LieTrajectory, ReducedLieIntegrator, ReducedLieState, ReducedLieTrajectory,

@@ -517,7 +517,7 @@ where
 }
 
 /// The declared domain ([`crate::domain`]) at the configuration `(x, g)` of a reduced state.
-fn reduced_domain<L, const S: usize, const K: usize, const N: usize>(
+pub(crate) fn reduced_domain<L, const S: usize, const K: usize, const N: usize>(
     sys: &L,
     k: usize,
     initial: bool,

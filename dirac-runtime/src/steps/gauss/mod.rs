@@ -55,6 +55,9 @@
 //! force is the constant `0` the compiler folds, and `p1_g = p0_g + h Σ_j b_j · 0 = p0_g` bit for
 //! bit (the discrete Noether theorem, here with no rounding at all).
 //!
+//! The same step on the reduced states `(x, w, μ, g)` of eq. (3.6), for either side of the
+//! reduced equations, is [`ReducedGaussIntegrator`] (its module documentation derives it).
+//!
 //! Newton starts from the velocity polynomial of the last step extrapolated to the new stages,
 //! `V_i ≈ Σ_j V_j^{prev} ℓ_j(1 + c_i h/h_prev)`, and at a run's first step from the velocity
 //! of the start, `∂L/∂v(q0, ·)⁻¹(p0)` ([`crate::ContinuousLagrangian::velocity`]; with adaptive
@@ -76,6 +79,10 @@ use crate::stepper::{
 };
 use crate::system::DiscreteLagrangian;
 use crate::unreduced::UnreducedTrajectory;
+
+mod reduced;
+
+pub use reduced::{ReducedGaussIntegrator, ReducedGaussWorkspace};
 
 /// The most stages a [`GaussRule`] has (order 32): beyond it the nodes of the rule, computed in
 /// double precision, and the extrapolated guesses lose digits the order cannot buy back.
