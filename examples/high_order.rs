@@ -12,8 +12,16 @@
 //! wall time. With `--long N` it then runs N orbits at `e = 0.9` at the step found for 100
 //! orbits and prints the energy error's mean over the first and last tenths.
 //!
-//! Run: `cargo run --release --example high_order [-- --orbits 10,100 --stages 4,6,8]`; with
-//! `DEBUG_HIGH_ORDER=1` in the environment every trial step and its error or failure go to stderr.
+//! With `--pendulum` it measures instead the fixed-step orders of `s = 1 … 8` on the paper's
+//! double spherical pendulum (its continuous Lagrangian, the paper's start, 20 time units):
+//! the error at the end against RK4 of its Euler–Lagrange equations (written from the stage
+//! derivatives, 2500 steps per time unit, compensated summation) for steps refined by 1.25
+//! from the coarsest that converges until the error is below 3e-13, the order of each
+//! refinement and the slope from the first error below 1e-4 to the last.
+//!
+//! Run: `cargo run --release --example high_order [-- --orbits 10,100 --stages 4,6,8]` (or
+//! `-- --pendulum`); with `DEBUG_HIGH_ORDER=1` in the environment every trial step and its error
+//! or failure go to stderr.
 
 use std::f64::consts::PI;
 use std::process::Command;
@@ -213,6 +221,83 @@ fn stage_cost() {
     );
 }
 
+/// `--pendulum`: the observed orders of the fixed-step Gauss–Legendre integrators on the paper's
+/// double spherical pendulum (see the module documentation).
+fn pendulum_orders() {
+    use dirac::paper::DoubleSphericalPendulumContinuous as Dsp;
+    use dirac::runtime::nalgebra::{SVector, Vector4};
+    let (sys, t) = (Dsp::paper(), 20.0);
+    let start = UnreducedState::new([2.25, 2.0, 3.0, 0.0], [0.0, 1.0, 1.0, 0.0]);
+    let v0 = sys
+        .velocity(0, &start.q, &start.p, SVector::zeros())
+        .expect("the paper's start is regular");
+    // The Euler–Lagrange equations: ∂p/∂v q̈ = f − ∂p/∂q q̇.
+    let rate = |y: &SVector<f64, 8>| {
+        let q = Vector4::new(y[0], y[1], y[2], y[3]);
+        let v = Vector4::new(y[4], y[5], y[6], y[7]);
+        let j = sys.stage_jacobian(&q, &v);
+        let a = j.p_v.lu().solve(&(j.f - j.p_q * v)).expect("regular");
+        SVector::<f64, 8>::from_iterator(v.iter().chain(a.iter()).copied())
+    };
+    let steps = (2500.0 * t) as usize;
+    let dt = t / steps as f64;
+    let mut y = SVector::<f64, 8>::from_iterator(start.q.iter().chain(v0.iter()).copied());
+    let mut carry = SVector::<f64, 8>::zeros();
+    for _ in 0..steps {
+        let k1 = rate(&y);
+        let k2 = rate(&(y + k1 * (dt / 2.0)));
+        let k3 = rate(&(y + k2 * (dt / 2.0)));
+        let k4 = rate(&(y + k3 * dt));
+        let increment = (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (dt / 6.0);
+        for i in 0..8 {
+            let added = increment[i] + carry[i];
+            let sum = y[i] + added;
+            carry[i] = added - (sum - y[i]);
+            y[i] = sum;
+        }
+    }
+    let q_ref = Vector4::new(y[0], y[1], y[2], y[3]);
+    let p_ref = sys.legendre(&q_ref, &Vector4::new(y[4], y[5], y[6], y[7]));
+    let tight = options(1e-14);
+    println!("the double spherical pendulum over {t} time units: error at the end (max of |Δq| and |Δp|/|p|)");
+    for s in 1..=8usize {
+        let (mut n, mut first, mut last): (f64, Option<(f64, f64)>, Option<(f64, f64)>) =
+            (4.0, None, None);
+        let mut line = format!("s = {s} (order {:>2}):", 2 * s);
+        while n < 2e4 {
+            let integrator = GaussIntegrator::new(Dsp { h: t / n, ..sys }, s, tight.clone())
+                .expect("1 to 16 stages");
+            if let Ok(traj) = integrator.run(start).steps(n as usize).collect() {
+                let end = traj.states.last().expect("the start");
+                let error = (end.q - q_ref)
+                    .amax()
+                    .max((end.p - p_ref).amax() / p_ref.amax());
+                match last {
+                    Some((e0, n0)) => {
+                        line += &format!(
+                            " {n} {error:.2e} ({:.2})",
+                            (e0 / error).ln() / (n / n0).ln()
+                        )
+                    }
+                    None => line += &format!(" {n} {error:.2e}"),
+                }
+                if error < 1e-4 {
+                    first.get_or_insert((error, n));
+                }
+                last = Some((error, n));
+                if error < 3e-13 {
+                    break;
+                }
+            }
+            n = (n * 1.25).ceil();
+        }
+        if let (Some((e0, n0)), Some((e1, n1))) = (first, last) {
+            line += &format!("; slope {:.2}", (e0 / e1).ln() / (n1 / n0).ln());
+        }
+        println!("{line}");
+    }
+}
+
 fn main() {
     let mut cli = Cli::new(
         "high_order",
@@ -273,7 +358,15 @@ fn main() {
         "a Python with REBOUND, to run IAS15 on the same problems",
         any(),
     );
+    let pendulum = cli.switch(
+        "--pendulum",
+        "measure the fixed-step orders on the double spherical pendulum instead",
+    );
     cli.finish();
+    if pendulum {
+        pendulum_orders();
+        return;
+    }
 
     println!("Kepler's problem (a = 1, GM = 1, from periapsis), position error ≤ {tol:e}");
     println!(

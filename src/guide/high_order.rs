@@ -45,6 +45,41 @@
 //! and exact end times work unchanged; controls and declared forces (`force = |dq| ..`) enter
 //! each stage.
 //!
+//! ## Reduced states
+//!
+//! [`ReducedGaussIntegrator`](crate::ReducedGaussIntegrator) takes the same step on the reduced
+//! states `(x, w, μ, g)` and trajectories of [`ReducedIntegrator`](crate::ReducedIntegrator),
+//! for the (+) or the (−) reduced equations: the step reads the Lagrangian at `g = 0`, as the
+//! reduced Lagrangians do, keeps `μ` by the momentum equation (bit for bit, even where the
+//! Lagrangian reads a group coordinate it is invariant under only up to rounding), records the
+//! side's group unknown and reconstructs `g`. Without constraints the two sides are the same
+//! equations, and the two integrators give the same states:
+//!
+//! ```
+//! use dirac::prelude::*;
+//!
+//! /// Kepler's problem in cylindrical coordinates, its shape momenta read through a connection.
+//! #[reduced_lagrangian(shape(r, z), group(theta), connection = [[0.4, -0.3]], rule = midpoint)]
+//! fn cylinder(q: Config, v: Velocity, k: f64) -> f64 {
+//!     0.5 * (v.r * v.r + v.z * v.z + q.r * q.r * v.theta * v.theta)
+//!         + k / (q.r * q.r + q.z * q.z).sqrt()
+//! }
+//!
+//! let sys = Cylinder { h: 0.05, k: 1.0 };
+//! let start = sys.trivialize(&sys.unreduced_state([1.0, 0.3, 0.0], [0.1, -0.2, 0.9])?);
+//! let plus = ReducedGaussIntegrator::plus(sys, 4, NewtonOptions::default())?;
+//! let minus = ReducedGaussIntegrator::minus(sys, 4, NewtonOptions::default())?;
+//! let (a, b) = (
+//!     plus.run(start).steps(200).collect()?,
+//!     minus.run(start).steps(200).collect()?,
+//! );
+//! assert_eq!(a.states, b.states);
+//! assert!(a.states.iter().all(|s| s.mu == start.mu));
+//! // The group unknowns: g_k^+ on one side, g_{k+1}^- = −g_k^+ on the other.
+//! assert_eq!(a.group_unknowns[7], -b.group_unknowns[7]);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
 //! ## What is kept
 //!
 //! - **Symplecticity**: the step map is the discrete Legendre transform of a discrete Lagrangian
@@ -55,8 +90,8 @@
 //!   from step to step — the discrete Noether theorem without rounding, for every order. The
 //!   group coordinates themselves are reconstructed by the same sum as the others.
 //! - **Order `2s` and self-adjointness**: observed in the tests at orders 2 to 12 on the
-//!   harmonic oscillator, 2 to 8 on Kepler's problem and on a damped pendulum, and a step of
-//!   `−h` undoing a step of `h` to round-off.
+//!   harmonic oscillator, 2 to 8 on Kepler's problem, on a damped pendulum and on the paper's
+//!   double spherical pendulum, and a step of `−h` undoing a step of `h` to round-off.
 //! - **Adaptive steps at any order**: with `time(t), adapt = |q| g` the attribute's Lagrangian
 //!   is the time-transformed one, and the Gauss step integrates it like any other: the
 //!   fictitious step is fixed, the physical steps follow `g`, the energy level `p_t = −E` and
@@ -126,7 +161,16 @@
 //! ## Limits
 //!
 //! The Gauss step is available for compiled-in systems on vector spaces on the dense backend
-//! (at most 16 coordinates) without constraints; it steps unreduced states (whose group
-//! momenta it keeps exactly, the reduced dynamics' conservation law). Systems on rotation
-//! groups, constrained systems, element-wise systems and systems given as text step at order 2,
-//! or at order 4 and 6 by compositions.
+//! (at most 16 coordinates) without constraints, on unreduced and reduced states. The others
+//! step at order 2, or at order 4 and 6 by compositions:
+//!
+//! - **Holonomic constraints.** Gauss collocation of an index-3 system loses its order in the
+//!   multipliers and positions; the structure-preserving high-order choice is the partitioned
+//!   Lobatto IIIA–IIIB pair with the constraint at the end points (Jay's SPARK methods, and
+//!   Hairer, Lubich & Wanner VII.5), a different family of stages not built here.
+//! - **Rotation groups.** A Lie group Galerkin method interpolates in the Lie algebra through
+//!   the exponential map, and its stage equations carry `dexp⁻¹` to the order of the method
+//!   (Bogfjellmo & Marthinsen, "High-order symplectic partitioned Lie group methods"): the
+//!   attribute's stage derivatives are for vector spaces, and this is not built either.
+//! - **Systems given as text** (the Python package and the command line) compile no stage
+//!   derivatives yet.
