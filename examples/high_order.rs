@@ -262,7 +262,8 @@ fn pendulum_orders() {
     println!("the double spherical pendulum over {t} time units: error at the end (max of |Δq| and |Δp|/|p|)");
     for s in 1..=8usize {
         // (error, steps) at the first error below 1e-4 and at the last.
-        let (mut first, mut last): (Option<(f64, f64)>, Option<(f64, f64)>) = (None, None);
+        let mut first: Option<(f64, f64)> = None;
+        let mut last: Option<(f64, f64)> = None;
         let mut n = 4.0;
         let mut line = format!("s = {s} (order {:>2}):", 2 * s);
         while n < 2e4 {
