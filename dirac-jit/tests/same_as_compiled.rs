@@ -793,6 +793,98 @@ fn adaptive_steps_step_bit_for_bit() {
     );
 }
 
+/// The Gauss–Legendre integrators of a text: its stage derivatives compiled on first use, the
+/// unreduced and both reduced steps state by state as the compiled-in system's, at orders 2 to 8,
+/// adaptive steps included; a text without stage derivatives refused.
+#[test]
+fn gauss_legendre_steps_bit_for_bit() {
+    let code = code(PAPER, "double_spherical_pendulum_continuous");
+    let compiled = DoubleSphericalPendulumContinuous::paper();
+    let jit = code
+        .instantiate::<3, 1, 4>(&compiled.parameter_values())
+        .unwrap();
+    let (q, v) = (
+        SVector::<f64, 4>::new(0.4, 0.1, 0.7, 0.2),
+        SVector::<f64, 4>::new(0.3, -0.2, 0.1, 0.5),
+    );
+    assert_eq!(jit.stage(&q, &v), compiled.stage(&q, &v));
+    assert_eq!(jit.stage_jacobian(&q, &v), compiled.stage_jacobian(&q, &v));
+    let start = DoubleSphericalPendulum::paper_initial_state();
+    let opts = NewtonOptions::default();
+    for s in [1, 4] {
+        let (a, b) = (
+            GaussIntegrator::new(compiled, s, opts).unwrap(),
+            GaussIntegrator::new(jit.clone(), s, opts).unwrap(),
+        );
+        let from = compiled.untrivialize(&start);
+        let (ta, tb) = (
+            a.run(from).steps(100).collect().unwrap(),
+            b.run(from).steps(100).collect().unwrap(),
+        );
+        same(&ta.states, &tb.states, "Gauss, unreduced");
+        let (a, b) = (
+            ReducedGaussIntegrator::plus(compiled, s, opts).unwrap(),
+            ReducedGaussIntegrator::plus(jit.clone(), s, opts).unwrap(),
+        );
+        let (ta, tb) = (
+            a.run(start).steps(100).collect().unwrap(),
+            b.run(start).steps(100).collect().unwrap(),
+        );
+        same(&ta.states, &tb.states, "Gauss, reduced (+)");
+        let (a, b) = (
+            ReducedGaussIntegrator::minus(compiled, s, opts).unwrap(),
+            ReducedGaussIntegrator::minus(jit.clone(), s, opts).unwrap(),
+        );
+        let (ta, tb) = (
+            a.run(start).steps(100).collect().unwrap(),
+            b.run(start).steps(100).collect().unwrap(),
+        );
+        same(&ta.states, &tb.states, "Gauss, reduced (−)");
+    }
+    // Adaptive steps at order 8.
+    let code = compile(ADAPTIVE_KEPLER).unwrap();
+    let compiled = AdaptiveKepler { k: 1.0, h: 0.2 };
+    let jit = code
+        .instantiate::<1, 2, 3>(&compiled.parameter_values())
+        .unwrap();
+    let (e, r0) = (0.9_f64, 0.1_f64);
+    let start = compiled
+        .unreduced_state([r0, 0.0, 0.0], [0.0, (1.0 + e).sqrt() / r0.powf(1.5), 1.0])
+        .unwrap();
+    let (ta, tb) = (
+        GaussIntegrator::new(compiled, 4, opts)
+            .unwrap()
+            .run(start)
+            .steps(200)
+            .collect()
+            .unwrap(),
+        GaussIntegrator::new(jit, 4, opts)
+            .unwrap()
+            .run(start)
+            .steps(200)
+            .collect()
+            .unwrap(),
+    );
+    same(&ta.states, &tb.states, "Gauss, adaptive");
+    // A discrete Lagrangian has no stage derivatives: NaN, which the step refuses as a typed
+    // error (the run requests refuse it before running).
+    let discrete = self::code(PAPER, "double_spherical_pendulum");
+    assert!(!discrete.has_stages());
+    let discrete = discrete
+        .instantiate::<3, 1, 4>(&DoubleSphericalPendulum::paper().parameter_values())
+        .unwrap();
+    let failure = GaussIntegrator::new(discrete, 2, opts)
+        .unwrap()
+        .run(
+            DoubleSphericalPendulum::paper()
+                .untrivialize(&DoubleSphericalPendulum::paper_initial_state()),
+        )
+        .steps(3)
+        .collect()
+        .unwrap_err();
+    assert_eq!(failure.source.step(), 0, "{:?}", failure.source);
+}
+
 /// Systems on rotation groups.
 #[path = "same_as_compiled/lie.rs"]
 mod lie;

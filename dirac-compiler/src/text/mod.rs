@@ -255,6 +255,20 @@ pub struct Continuous {
     pub legendre_jacobian: Stepper,
     /// `⟨∂L/∂v, v⟩ − L`: one output.
     pub energy: Program,
+    /// What a Gauss–Legendre step evaluates at a stage, for a system on the dense backend (at
+    /// most 16 coordinates) without constraints; `None` otherwise.
+    pub stage: Option<StagePrograms>,
+}
+
+/// The stage derivatives of a continuous Lagrangian (the attribute's `StageDerivatives`), over
+/// `Q0` = `q`, `Q1` = `v` and the parameters.
+#[derive(Clone, Debug)]
+pub struct StagePrograms {
+    /// `f = ∂L/∂q + F(q, v)` then `p = ∂L/∂v`: `2N` outputs.
+    pub values: Program,
+    /// `f`, `p`, then `∂f/∂q`, `∂f/∂v`, `∂p/∂q` and `∂p/∂v`, each `N × N` column by column:
+    /// `2N + 4N²` outputs.
+    pub jacobian: Program,
 }
 
 /// One mistake in the text: the attribute's message and where it points.
@@ -638,6 +652,22 @@ fn compile_parts(args: TokenStream, func: &ItemFn) -> syn::Result<System> {
                 },
             ),
             energy: program(&c.graph, &[parts.energy]),
+            stage: parts.stage.as_ref().map(|stage| {
+                let values: Vec<_> = stage.force.iter().chain(&parts.legendre).copied().collect();
+                let mut all = values.clone();
+                for block in [
+                    &stage.force_q,
+                    &stage.force_v,
+                    &stage.momentum_q,
+                    &parts.hessian,
+                ] {
+                    all.extend(column_major(block));
+                }
+                StagePrograms {
+                    values: program(&c.graph, &values),
+                    jacobian: program(&c.graph, &all),
+                }
+            }),
         }),
         constrained: c.constrained.as_ref().map(|code| constrained(&c, code)),
         domain: spec.domain.clone(),

@@ -6,10 +6,104 @@
 
 use dirac_runtime::linalg::{FactorError, LinearSolver};
 use dirac_runtime::nalgebra::{SMatrix, SVector};
-use dirac_runtime::{ContinuousLagrangian, CscBuffer, Lu, PatternLu};
+use dirac_runtime::{
+    ContinuousLagrangian, CscBuffer, Lu, PatternLu, StageDerivatives, StageJacobian,
+};
 
 use super::backend::{Backend, Dense, Sparse, Variant};
-use super::{JitSystem, UNUSED};
+use super::layout::ld_layout;
+use super::{Code, JitSystem, Module, UNUSED};
+use crate::codegen::{Jit, Kernel};
+use crate::error::Error;
+
+/// The machine code of a text's stage derivatives (its [`StagePrograms`]), compiled apart from
+/// the rest of the system, on first use: a system never stepped by a Gauss–Legendre integrator
+/// does not pay for it.
+///
+/// [`StagePrograms`]: dirac_compiler::text::StagePrograms
+pub(crate) struct StageCode {
+    values: Kernel,
+    jacobian: Kernel,
+    _module: Module,
+}
+
+impl Code {
+    /// The stage derivatives a Gauss–Legendre step evaluates, compiled to machine code on the
+    /// first call: an error for a system that has none (a discrete Lagrangian `L_d(q0, q1)`,
+    /// constraints, or more than 16 coordinates) or whose code generation fails.
+    pub(crate) fn stage_code(&self) -> Result<&StageCode, Error> {
+        self.stages
+            .get_or_init(|| {
+                let programs = self
+                    .system
+                    .continuous
+                    .as_ref()
+                    .and_then(|c| c.stage.as_ref())
+                    .ok_or_else(|| {
+                        "a Gauss–Legendre step needs a continuous Lagrangian `L(q, v)` (with a \
+                         `rule = ..`) on at most 16 coordinates without constraints"
+                            .to_owned()
+                    })?;
+                let compile = || -> Result<StageCode, Error> {
+                    let mut jit = Jit::new()?;
+                    let values = jit.define(&programs.values, &ld_layout)?;
+                    let jacobian = jit.define(&programs.jacobian, &ld_layout)?;
+                    let (k, module) = jit.finish()?;
+                    Ok(StageCode {
+                        values: k[values],
+                        jacobian: k[jacobian],
+                        _module: Module(Some(module)),
+                    })
+                };
+                compile().map_err(|e| e.to_string())
+            })
+            .as_ref()
+            .map_err(|reason| Error::Request {
+                reason: format!("the system `{}`: {reason}", self.system.name),
+            })
+    }
+
+    /// Whether a Gauss–Legendre step can run this system (it has stage derivatives).
+    pub fn has_stages(&self) -> bool {
+        self.system
+            .continuous
+            .as_ref()
+            .is_some_and(|c| c.stage.is_some())
+    }
+}
+
+/// The stage derivatives by the text's machine code ([`Code::stage_code`]). A system without
+/// them (or whose code generation failed) gives NaN, which the Gauss–Legendre step reports as a
+/// typed error; the run requests refuse such a system before it runs.
+impl<const S: usize, const K: usize, const N: usize, V: Variant<N>> StageDerivatives<N>
+    for JitSystem<S, K, N, V>
+{
+    fn stage(
+        &self,
+        q: &SVector<f64, N>,
+        v: &SVector<f64, N>,
+    ) -> (SVector<f64, N>, SVector<f64, N>) {
+        let Ok(code) = self.code.stage_code() else {
+            let nan = SVector::repeat(f64::NAN);
+            return (nan, nan);
+        };
+        let [f, p] = self.call_pair(code.values, q, v, [SVector::<f64, N>::zeros(); 2]);
+        (f, p)
+    }
+
+    fn stage_jacobian(&self, q: &SVector<f64, N>, v: &SVector<f64, N>) -> StageJacobian<N> {
+        let Ok(code) = self.code.stage_code() else {
+            let nan = SVector::repeat(f64::NAN);
+            return StageJacobian {
+                f: nan,
+                p: nan,
+                ..StageJacobian::default()
+            };
+        };
+        // `StageJacobian` is `repr(C)`: f, p, ∂f/∂q, ∂f/∂v, ∂p/∂q, ∂p/∂v, the program's order.
+        self.call_pair(code.jacobian, q, v, StageJacobian::default())
+    }
+}
 
 /// The linear algebra of the inverse Legendre map of a system given as text: the dense
 /// fixed-size LU or the sparse LU on the pattern of `∂²L/∂v²`, as the text's size chose.

@@ -124,6 +124,8 @@ pub struct Code {
     source: String,
     /// The element view, compiled on first use.
     view: std::sync::OnceLock<Result<Arc<crate::ElementCode>, String>>,
+    /// The stage derivatives' machine code, compiled on first use ([`Code::stage_code`]).
+    stages: std::sync::OnceLock<Result<continuous::StageCode, String>>,
     /// The declared domain, as the runtime reads it.
     domain: Vec<dirac_runtime::domain::Bound>,
     kernels: Kernels,
@@ -274,6 +276,7 @@ impl Code {
             system,
             source: source.to_owned(),
             view: std::sync::OnceLock::new(),
+            stages: std::sync::OnceLock::new(),
             domain,
             kernels,
             compile_time: start.elapsed(),

@@ -324,7 +324,11 @@ where
 /// What a stage `(Q_i, V_i)` of a Gauss–Legendre step reads, with its Jacobians
 /// ([`StageDerivatives::stage_jacobian`]): the force `f = ∂L/∂q + F(q, v)` (the Lagrangian's
 /// and the declared forces'), the momentum `p = ∂L/∂v`, and their derivatives in `q` and `v`.
+///
+/// Laid out as its fields in order (`repr(C)`, each vector and column-major matrix a run of
+/// `f64`s), the layout in which machine code compiled at run time writes it.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
 pub struct StageJacobian<const N: usize> {
     /// `f = ∂L/∂q + F`.
     pub f: SVector<f64, N>,
