@@ -152,7 +152,7 @@ pub use element::{compile_element, compile_flat_elements, ElementCode, JitElemen
 pub use error::Error;
 pub use lie::{compile_lie, DynJitLie, JitLie, LieCode, LieFront, Reduced, Reduction, Unreduced};
 pub use multibody::{compile_model, ModelCode};
-pub use request::{RunRequest, ORDERS};
+pub use request::{RunRequest, Scheme, ORDERS};
 
 /// The runtime, for the macros' expansions in other crates ([`span!`]).
 #[doc(hidden)]

@@ -11,9 +11,33 @@ use dirac_runtime::{Equations, Form, NewtonOptions};
 
 use crate::{Compiled, Error};
 
-/// The orders a run takes: 2 (the integrator itself), 4 (the triple jump) and 6 (Kahan–Li's
-/// composition), the symmetric compositions of the integrator of order 2.
+/// The orders a run takes by [`Scheme::Compositions`]: 2 (the integrator itself), 4 (the triple
+/// jump) and 6 (Kahan–Li's composition), the symmetric compositions of the integrator of order 2.
 pub const ORDERS: [u32; 3] = [2, 4, 6];
+
+/// How a run reaches its order.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Scheme {
+    /// The system's integrator of order 2, or its symmetric compositions of order 4 and 6
+    /// ([`ORDERS`]); the keyword "composition".
+    #[default]
+    Compositions,
+    /// The Gauss–Legendre variational integrator of the order, any even order from 2 to 32
+    /// (`dirac_runtime::gauss`), for a system on vector spaces with a continuous Lagrangian
+    /// `L(q, v)` without constraints; the keyword "gauss".
+    Gauss,
+}
+
+impl Scheme {
+    /// The scheme a front end's keyword names: "composition" or "gauss".
+    pub fn from_keyword(word: &str) -> Option<Self> {
+        match word {
+            "composition" => Some(Scheme::Compositions),
+            "gauss" => Some(Scheme::Gauss),
+            _ => None,
+        }
+    }
+}
 
 /// What a run of a system given as text is asked for, apart from the parameters and the start.
 ///
@@ -30,20 +54,25 @@ pub const ORDERS: [u32; 3] = [2, 4, 6];
 ///      }",
 /// )?;
 /// // "minus": the reduced (−) equations, the family's own form on the other side.
-/// let request = RunRequest::from_keywords(&kepler, "minus", 4, 100, Some(1e-12))?;
+/// let request = RunRequest::from_keywords(&kepler, "minus", "composition", 4, 100, Some(1e-12))?;
 /// assert_eq!((request.equations.form, request.equations.side), (Form::Reduced, Variant::Minus));
 /// assert_eq!((request.order, request.steps, request.newton.abs_tol), (4, 100, 1e-12));
 /// // Mistakes are typed errors that say what is accepted.
-/// let e = RunRequest::from_keywords(&kepler, "plus", 3, 100, None).unwrap_err();
+/// let e = RunRequest::from_keywords(&kepler, "plus", "composition", 3, 100, None).unwrap_err();
 /// assert!(e.to_string().contains("accepted 2"), "{e}");
+/// // Gauss–Legendre at higher order needs `L(q, v)`; this text is a discrete Lagrangian.
+/// let e = RunRequest::from_keywords(&kepler, "plus", "gauss", 8, 100, None).unwrap_err();
+/// assert!(e.to_string().contains("continuous Lagrangian"), "{e}");
 /// # Ok::<(), dirac_jit::Error>(())
 /// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct RunRequest {
     /// Which equations: their form (reduced or unreduced) and side (+ or −).
     pub equations: Equations,
-    /// 2, 4 or 6 ([`ORDERS`]).
+    /// 2, 4 or 6 ([`ORDERS`]) by compositions, any even order from 2 to 32 by Gauss–Legendre.
     pub order: u32,
+    /// How the order is reached.
+    pub scheme: Scheme,
     /// The number of steps: with [`Self::end_time`], at most this many.
     pub steps: usize,
     /// Up to this time, reached exactly (the run API's `end_time`:
@@ -85,6 +114,7 @@ impl RunRequest {
         RunRequest {
             equations,
             order: 2,
+            scheme: Scheme::Compositions,
             steps,
             end_time: None,
             schedule: None,
@@ -135,11 +165,13 @@ impl RunRequest {
     }
 
     /// The request a front end's keywords make for `system`: the equations named by `method`
-    /// ("plus", "minus", "reduced", "unreduced"), the `order`, the `steps` and, when given, the
-    /// absolute tolerance `tol` of Newton's residual; checked against the system ([`Self::check`]).
+    /// ("plus", "minus", "reduced", "unreduced"), the scheme named by `scheme` ("composition",
+    /// "gauss"), the `order`, the `steps` and, when given, the absolute tolerance `tol` of
+    /// Newton's residual; checked against the system ([`Self::check`]).
     pub fn from_keywords(
         system: &Compiled,
         method: &str,
+        scheme: &str,
         order: u32,
         steps: usize,
         tol: Option<f64>,
@@ -154,6 +186,12 @@ impl RunRequest {
             };
             request(format!("unknown method `{method}`; accepted: {accepted}"))
         })?;
+        let scheme = Scheme::from_keyword(scheme).ok_or_else(|| {
+            request(format!(
+                "unknown scheme `{scheme}`; accepted: \"composition\" (order 2, 4, 6), \"gauss\" \
+                 (Gauss–Legendre, any even order 2 to 32)"
+            ))
+        })?;
         let mut newton = NewtonOptions::default();
         if let Some(tol) = tol {
             if !(tol.is_finite() && tol > 0.0) {
@@ -166,6 +204,7 @@ impl RunRequest {
         let r = RunRequest {
             equations,
             order,
+            scheme,
             steps,
             end_time: None,
             schedule: None,
@@ -176,9 +215,42 @@ impl RunRequest {
     }
 
     /// Whether `system` can run this request: the order one of [`ORDERS`] (2 for a system with
-    /// constraints), reduced equations only for a system that has them (one on rotation groups
-    /// declares its `symmetry(..)`; an element-wise system declares no reduction).
+    /// constraints), or by Gauss–Legendre an even order from 2 to 32 of a system on vector
+    /// spaces with stage derivatives (a continuous Lagrangian without constraints, at most
+    /// [`crate::MAX_DISPATCHED`] coordinates); reduced equations only for a system that has them
+    /// (one on rotation groups declares its `symmetry(..)`; an element-wise system declares no
+    /// reduction).
     pub fn check(&self, system: &Compiled) -> Result<(), Error> {
+        if self.scheme == Scheme::Gauss {
+            let most = 2 * dirac_runtime::gauss::MAX_STAGES as u32;
+            if !self.order.is_multiple_of(2) || !(2..=most).contains(&self.order) {
+                return Err(request(format!(
+                    "order {}: a Gauss–Legendre run takes an even order from 2 to {most}",
+                    self.order
+                )));
+            }
+            let Compiled::Flat(code) = system else {
+                return Err(request(
+                    "scheme \"gauss\": Gauss–Legendre runs a system on vector spaces (one on \
+                     rotation groups or element-wise runs order 2, or 4 and 6 by compositions)",
+                ));
+            };
+            if !code.has_stages() {
+                return Err(request(format!(
+                    "scheme \"gauss\": the system `{}` has no stage derivatives; Gauss–Legendre \
+                     needs a continuous Lagrangian `fn l(q: Config, v: Velocity, ..)` with a \
+                     `rule`, on at most 16 coordinates and without constraints",
+                    code.system().name
+                )));
+            }
+            if !code.fixed_size() {
+                return Err(request(format!(
+                    "scheme \"gauss\": at most {} coordinates from a system given as text",
+                    crate::MAX_DISPATCHED
+                )));
+            }
+            return Ok(());
+        }
         if !ORDERS.contains(&self.order) {
             return Err(request(format!(
                 "order {}: accepted 2 (the integrator itself), 4 (triple jump), 6 (Kahan–Li)",
@@ -243,12 +315,17 @@ mod tests {
             constraints = |q| [q.x * q.x + q.y * q.y - 1.0])]
         fn rod(q: Config, v: Velocity) -> f64 { 0.5 * (v.x * v.x + v.y * v.y) - q.y }";
 
+    const CONTINUOUS: &str = "#[reduced_lagrangian(shape(r), group(phi), rule = midpoint)]
+        fn kepler(q: Config, v: Velocity) -> f64 {
+            0.5 * (v.r * v.r + q.r * q.r * v.phi * v.phi) + 1.0 / q.r
+        }";
+
     fn compiled(text: &str) -> Compiled {
         crate::compile_any(text).expect("the test system compiles")
     }
 
     fn refused(system: &Compiled, method: &str, order: u32, tol: Option<f64>) -> String {
-        match RunRequest::from_keywords(system, method, order, 10, tol) {
+        match RunRequest::from_keywords(system, method, "composition", order, 10, tol) {
             Err(Error::Request { reason }) => reason,
             other => panic!("{method}, order {order}, tol {tol:?}: {other:?}"),
         }
@@ -258,7 +335,7 @@ mod tests {
     fn the_words_name_each_familys_equations() {
         let (flat, lie, element) = (compiled(KEPLER), compiled(BODY), compiled(CHAIN));
         let words = |system: &Compiled, word: &str| {
-            let e = RunRequest::from_keywords(system, word, 2, 10, None)
+            let e = RunRequest::from_keywords(system, word, "composition", 2, 10, None)
                 .expect("accepted")
                 .equations;
             (e.form, e.side)
@@ -287,8 +364,40 @@ mod tests {
         for tol in [0.0, -1e-12, f64::NAN, f64::INFINITY] {
             assert!(refused(&flat, "plus", 2, Some(tol)).contains("positive finite"));
         }
-        let r = RunRequest::from_keywords(&compiled(ROD), "unreduced", 2, 10, Some(1e-13))
-            .expect("order 2 with constraints");
+        // Gauss–Legendre: an even order up to 32 of a continuous Lagrangian without constraints.
+        let continuous = compiled(CONTINUOUS);
+        let gauss = |system: &Compiled, order: u32| match RunRequest::from_keywords(
+            system, "plus", "gauss", order, 10, None,
+        ) {
+            Err(Error::Request { reason }) => reason,
+            Ok(r) => panic!("accepted: {r:?}"),
+            Err(other) => panic!("{other:?}"),
+        };
+        for order in [2, 8, 32] {
+            let r = RunRequest::from_keywords(&continuous, "minus", "gauss", order, 10, None)
+                .expect("an even order up to 32");
+            assert_eq!((r.scheme, r.order), (Scheme::Gauss, order));
+        }
+        for order in [0, 7, 34] {
+            assert!(gauss(&continuous, order).contains("even order from 2 to 32"));
+        }
+        assert!(gauss(&flat, 8).contains("continuous Lagrangian"));
+        assert!(gauss(&compiled(ROD), 4).contains("without constraints"));
+        assert!(gauss(&lie, 4).contains("vector spaces"));
+        assert!(gauss(&element, 4).contains("vector spaces"));
+        match RunRequest::from_keywords(&continuous, "plus", "runge", 4, 10, None) {
+            Err(Error::Request { reason }) => assert!(reason.contains("\"gauss\"")),
+            other => panic!("{other:?}"),
+        }
+        let r = RunRequest::from_keywords(
+            &compiled(ROD),
+            "unreduced",
+            "composition",
+            2,
+            10,
+            Some(1e-13),
+        )
+        .expect("order 2 with constraints");
         assert_eq!(r.newton.abs_tol, 1e-13);
         for t in [0.0, -1.0, f64::NAN, f64::INFINITY] {
             match r.clone().with_end_time(Some(t)) {
@@ -304,7 +413,8 @@ mod tests {
 
     #[test]
     fn a_schedule_is_one_positive_finite_size_for_each_step() {
-        let r = RunRequest::from_keywords(&compiled(KEPLER), "plus", 2, 3, None).expect("valid");
+        let r = RunRequest::from_keywords(&compiled(KEPLER), "plus", "composition", 2, 3, None)
+            .expect("valid");
         for (sizes, says) in [
             (vec![0.1, 0.0, 0.1], "schedule[1] = 0"),
             (vec![0.1, 0.1, -0.2], "schedule[2] = -0.2"),

@@ -39,7 +39,8 @@
 //!          0.5 / h * (dr * dr + r * r * dphi * dphi) + h / r
 //!      }",
 //! )?;
-//! let request = RunRequest::from_keywords(&Compiled::Flat(kepler.clone()), "minus", 4, 10, None)?;
+//! let request =
+//!     RunRequest::from_keywords(&Compiled::Flat(kepler.clone()), "minus", "composition", 4, 10, None)?;
 //! // The reduced (−) integrator's composition of order 4, from (x, w, μ, g).
 //! let start = vec![vec![1.0], vec![0.0], vec![1.0], vec![0.0]];
 //! let t = dirac_jit::run::flat::<1, 1, 2, _>(&kepler, &[0.01], &[start], &request, LastTime)?;
@@ -56,13 +57,13 @@ use dirac_runtime::lie::{LieIntegratorOf, LieStateOf, ReducedLieIntegratorOf};
 use dirac_runtime::nalgebra::allocator::Allocator;
 use dirac_runtime::nalgebra::{Const, DefaultAllocator, Dim, OVector, SVector};
 use dirac_runtime::{
-    Composition, CompositionMethod, ConstrainedIntegrator, Form, Minus, Plus,
-    ReducedConstrainedIntegrator, ReducedIntegrator, ReducedState, SelfAdjoint, Stepper,
-    UnreducedIntegrator, UnreducedState, Variant,
+    Composition, CompositionMethod, ConstrainedIntegrator, Form, GaussIntegrator, Minus, Plus,
+    ReducedConstrainedIntegrator, ReducedGaussIntegrator, ReducedIntegrator, ReducedState,
+    SelfAdjoint, Stepper, UnreducedIntegrator, UnreducedState, Variant,
 };
 
-use crate::RunRequest;
 use crate::{Code, Compiled, Error, JitConstrained, JitElement, JitSystem, LieCode, LieFront};
+use crate::{RunRequest, Scheme};
 
 /// What a front end makes of a run: the type of its result, whichever integrator the request
 /// chose.
@@ -193,6 +194,11 @@ where
         + Finish<Composition<ReducedIntegrator<JitSystem<S, K, N>, Minus, S, K, N>>>,
 {
     request.check(&Compiled::Flat(Arc::clone(code)))?;
+    if request.scheme == Scheme::Gauss {
+        return Err(Error::Request {
+            reason: "a Gauss–Legendre request runs through `run::gauss`".to_owned(),
+        });
+    }
     let sys = code.instantiate::<S, K, N>(params)?;
     let (name, o) = (&code.system().name, request.newton);
     Ok(match (request.equations.form, request.equations.side) {
@@ -207,6 +213,50 @@ where
         (Form::Reduced, Variant::Minus) => {
             let starts = reduced_starts::<S, K>(name, starts)?;
             by_order(ReducedIntegrator::minus(sys, o), starts, request, job)
+        }
+    })
+}
+
+/// The Gauss–Legendre integrator of the request's order (`s = order / 2` stages) of a system on
+/// vector spaces at its fixed sizes, from starts as [`flat`] reads them: on `(q, p)`, or on
+/// `(x, w, μ, g)` for the reduced equations of the request's side; its stage derivatives
+/// compiled to machine code here, before the run, so that a failure is this call's error.
+pub fn gauss<const S: usize, const K: usize, const N: usize, J>(
+    code: &Arc<Code>,
+    params: &[f64],
+    starts: &[Vec<Vec<f64>>],
+    request: &RunRequest,
+    job: J,
+) -> Result<J::Output, Error>
+where
+    J: Finish<GaussIntegrator<JitSystem<S, K, N>, S, K, N>>
+        + Finish<ReducedGaussIntegrator<JitSystem<S, K, N>, Plus, S, K, N>>
+        + Finish<ReducedGaussIntegrator<JitSystem<S, K, N>, Minus, S, K, N>>,
+{
+    let gauss = RunRequest {
+        scheme: Scheme::Gauss,
+        ..request.clone()
+    };
+    gauss.check(&Compiled::Flat(Arc::clone(code)))?;
+    code.stage_code()?;
+    let sys = code.instantiate::<S, K, N>(params)?;
+    let (name, o, s) = (
+        &code.system().name,
+        request.newton,
+        request.order as usize / 2,
+    );
+    Ok(match (request.equations.form, request.equations.side) {
+        (Form::Unreduced, _) => {
+            let starts = unreduced_starts::<N>(name, starts)?;
+            job.finish(GaussIntegrator::new(sys, s, o)?, starts, request)
+        }
+        (Form::Reduced, Variant::Plus) => {
+            let starts = reduced_starts::<S, K>(name, starts)?;
+            job.finish(ReducedGaussIntegrator::plus(sys, s, o)?, starts, request)
+        }
+        (Form::Reduced, Variant::Minus) => {
+            let starts = reduced_starts::<S, K>(name, starts)?;
+            job.finish(ReducedGaussIntegrator::minus(sys, s, o)?, starts, request)
         }
     })
 }

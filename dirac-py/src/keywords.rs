@@ -15,8 +15,9 @@ use pyo3::types::PyDict;
 use crate::calls;
 
 /// The options a run method may take, besides its parameters, steps and start.
-pub(crate) const OPTIONS: [&str; 6] =
-    ["method", "order", "tol", "end_time", "schedule", "energies"];
+pub(crate) const OPTIONS: [&str; 7] = [
+    "method", "order", "tol", "end_time", "schedule", "energies", "scheme",
+];
 
 /// The options of a collected run of a class without energies and of every ensemble.
 pub(crate) const RUN: &[&str] = OPTIONS.split_at(5).0;
@@ -63,8 +64,10 @@ pub(crate) use methods;
 pub(crate) struct Keywords<'py> {
     /// `method`: which equations, a word of the runtime's one vocabulary (default "plus").
     pub(crate) method: String,
-    /// `order`: 2, 4 or 6 (default 2).
+    /// `order`: 2, 4 or 6 (default 2); by `scheme="gauss"` any even order from 2 to 32.
     pub(crate) order: u32,
+    /// `scheme`: "composition" (default) or "gauss" (only `System.run` takes it).
+    pub(crate) scheme: String,
     /// `tol`: Newton's absolute tolerance (default: Newton's own).
     pub(crate) tol: Option<f64>,
     /// `end_time`: the time the run ends at, reached exactly (default: none, `steps` steps).
@@ -100,6 +103,7 @@ impl<'py> Keywords<'py> {
         let mut k = Keywords {
             method: "plus".to_owned(),
             order: 2,
+            scheme: "composition".to_owned(),
             tol: None,
             end_time: None,
             schedule: None,
@@ -135,6 +139,7 @@ impl<'py> Keywords<'py> {
                 "tol" => k.tol = typed(&value, name)?,
                 "end_time" => k.end_time = typed(&value, name)?,
                 "schedule" => k.schedule = typed(&value, name)?,
+                "scheme" => k.scheme = typed(&value, name)?,
                 _ => k.energies = typed(&value, name)?,
             }
         }
@@ -145,10 +150,17 @@ impl<'py> Keywords<'py> {
     /// checked against the system there): what the system cannot run is a `ValueError` saying
     /// what it accepts.
     pub(crate) fn request(&self, system: &Compiled, steps: usize) -> PyResult<RunRequest> {
-        RunRequest::from_keywords(system, &self.method, self.order, steps, self.tol)
-            .and_then(|r| r.with_end_time(self.end_time))
-            .and_then(|r| r.with_schedule(self.schedule.clone()))
-            .map_err(|e| PyValueError::new_err(e.to_string()))
+        RunRequest::from_keywords(
+            system,
+            &self.method,
+            &self.scheme,
+            self.order,
+            steps,
+            self.tol,
+        )
+        .and_then(|r| r.with_end_time(self.end_time))
+        .and_then(|r| r.with_schedule(self.schedule.clone()))
+        .map_err(|e| PyValueError::new_err(e.to_string()))
     }
 
     /// [`Self::request`] for an ensemble, whose members run the integrators themselves (order

@@ -41,7 +41,7 @@ use parquet::{written_dict, ToParquet};
 use results::{finish_run, to_dict};
 use runs::{collected, Collect, Ensemble, Timed};
 
-use dirac_jit::run::{constrained, flat};
+use dirac_jit::run::{constrained, flat, gauss};
 use dirac_jit::Code;
 use dirac_runtime::{Equations, Form, StepStats};
 use numpy::PyArray1;
@@ -265,7 +265,11 @@ impl System {
     /// (3.7)); a reduced run's `x, w, mu, g`, each (steps+1, length); per step `iterations` and
     /// `residuals`; with `energies=True` (a continuous Lagrangian) `energy` at each state and
     /// `energy_midpoints`. The keywords besides the start: `method="plus"`, `order=2`,
-    /// `tol=None`, `end_time=None`, `schedule=None`, `energies=False`. Raises `StepError`
+    /// `tol=None`, `end_time=None`, `schedule=None`, `energies=False`, `scheme="composition"`
+    /// (orders 2, 4, 6: the integrator and its compositions) or `scheme="gauss"` (the
+    /// Gauss–Legendre variational integrator of any even order from 2 to 32, for a continuous
+    /// Lagrangian without constraints on at most 8 coordinates; the momenta `mu` kept bit for
+    /// bit). Raises `StepError`
     /// with the trajectory so far when a step fails, `KeyboardInterrupt` with the trajectory
     /// so far at Ctrl-C, `OutOfMemoryError` (before running) when the trajectory cannot be
     /// allocated, and `TypeError` for a keyword it does not take.
@@ -309,6 +313,13 @@ impl System {
             match m {
                 _ if !code.fixed_size() => {
                     sizes::run_one(&code, &params, &start, r, energies, cancel)
+                }
+                0 if r.scheme == dirac_jit::Scheme::Gauss => {
+                    collected(dirac_jit::with_dimensions!(
+                        s,
+                        k,
+                        gauss::<_>(&code, &params, starts, &r, job) else Err(off_the_tables())
+                    ))
                 }
                 0 => collected(dirac_jit::with_dimensions!(
                     s,

@@ -12,9 +12,10 @@ use dirac_jit::{JitConstrained, JitSystem, RunRequest};
 use dirac_runtime::nalgebra::SVector;
 use dirac_runtime::{
     continuous_energies, ComposedTrajectory, Composition, ConstrainedIntegrator,
-    ConstrainedTrajectory, DiscreteLagrangian, Drive, Equations, Form, Minus, Plus, Reduced,
-    ReducedConstrainedIntegrator, ReducedIntegrator, ReducedState, SelfAdjoint, Side, StepStats,
-    System, Trajectory, UnreducedIntegrator, UnreducedState, UnreducedTrajectory,
+    ConstrainedTrajectory, DiscreteLagrangian, Drive, Equations, Form, GaussIntegrator, Minus,
+    Plus, Reduced, ReducedConstrainedIntegrator, ReducedGaussIntegrator, ReducedIntegrator,
+    ReducedState, SelfAdjoint, Side, StepStats, System, Trajectory, UnreducedIntegrator,
+    UnreducedState, UnreducedTrajectory,
 };
 
 use crate::calls::until;
@@ -164,6 +165,44 @@ impl<D: Side, const S: usize, const K: usize, const N: usize> Flatten
 where
     JitSystem<S, K, N>: Reduced<D, S, K, N>,
     Self: Drive<State = ReducedState<S, K>, Trajectory = Trajectory<S, K>> + Sync,
+{
+    type Flat = Flat;
+
+    fn flat_states(&self, states: &[Self::State], times: &[f64], stats: &[StepStats]) -> Flat {
+        with_momenta(self.system(), reduced_flat((states, times, stats)))
+    }
+
+    fn flat(&self, t: &Trajectory<S, K>) -> Flat {
+        self.flat_states(&t.states, &t.times, &t.stats)
+    }
+
+    fn energies(&self, flat: &mut Flat, equations: Equations) {
+        flat.energies = Some(energies(self.system(), flat, equations));
+    }
+}
+
+/// The Gauss–Legendre integrators: their states flattened as the second-order integrators' of
+/// the same form.
+impl<const S: usize, const K: usize, const N: usize> Flatten
+    for GaussIntegrator<JitSystem<S, K, N>, S, K, N>
+{
+    type Flat = Flat;
+
+    fn flat_states(&self, states: &[Self::State], times: &[f64], stats: &[StepStats]) -> Flat {
+        unreduced_flat((states, times, stats))
+    }
+
+    fn flat(&self, t: &UnreducedTrajectory<N>) -> Flat {
+        self.flat_states(&t.states, &t.times, &t.stats)
+    }
+
+    fn energies(&self, flat: &mut Flat, equations: Equations) {
+        flat.energies = Some(energies(self.system(), flat, equations));
+    }
+}
+
+impl<D: Side, const S: usize, const K: usize, const N: usize> Flatten
+    for ReducedGaussIntegrator<JitSystem<S, K, N>, D, S, K, N>
 {
     type Flat = Flat;
 

@@ -160,9 +160,12 @@
 //!
 //! ## Limits
 //!
-//! The Gauss step is available for compiled-in systems on vector spaces on the dense backend
-//! (at most 16 coordinates) without constraints, on unreduced and reduced states. The others
-//! step at order 2, or at order 4 and 6 by compositions:
+//! The Gauss step is available for systems on vector spaces on the dense backend (at most 16
+//! coordinates) without constraints, on unreduced and reduced states: compiled in, given as text
+//! (a `dirac_jit::JitSystem`, bit for bit as compiled in) and from Python
+//! (`system.run(params, steps, scheme="gauss", order=2s, ..)`, at most 8 coordinates there, the
+//! package's fixed-size instances). The others step at order 2, or at order 4 and 6 by
+//! compositions:
 //!
 //! - **Holonomic constraints.** Gauss collocation of an index-3 system loses its order in the
 //!   multipliers and positions; the structure-preserving high-order choice is the partitioned
@@ -172,5 +175,4 @@
 //!   the exponential map, and its stage equations carry `dexp⁻¹` to the order of the method
 //!   (Bogfjellmo & Marthinsen, "High-order symplectic partitioned Lie group methods"): the
 //!   attribute's stage derivatives are for vector spaces, and this is not built either.
-//! - **Systems given as text** (the Python package and the command line) compile no stage
-//!   derivatives yet.
+//! - **The command line** runs its system files at order 2.

@@ -174,6 +174,14 @@
 //! sizes, at least one for each step (a system file may leave `steps` out: one per size), with
 //! `end_time` too (the last step shortened to land on it).
 //!
+//! High order: a text with a continuous Lagrangian `L(q, v)` and no constraints carries its
+//! stage derivatives, which the JIT compiles on first use (a system never stepped at high order
+//! does not pay for them), so `GaussIntegrator` and `ReducedGaussIntegrator` take a `JitSystem`
+//! as a compiled-in system, bit for bit; from Python,
+//! `system.run(params, steps, scheme="gauss", order=8, ..)` runs the Gauss–Legendre integrator
+//! of that order on any of the system's forms (see the chapter
+//! [High order](super::high_order)).
+//!
 //! ## Limits
 //!
 //! Systems on vector spaces (of more than 16 coordinates on the sparse backend, as compiled in:

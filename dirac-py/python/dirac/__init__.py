@@ -44,7 +44,12 @@ Every class has the same methods with the same keywords: ``run``, ``write`` (to 
 ``ensemble`` (many starts on all cores), taking ``steps`` (and ``end_time``), ``method``,
 ``order``, ``tol`` and the start by coordinate name (``q={..}``, ``p={..}``); every run returns
 ``t``, ``q`` and ``p`` as dicts by coordinate name, ``iterations`` and ``residuals``, and what the
-kind of system adds.
+kind of system adds. ``System.run`` also takes ``scheme="gauss"``: the Gauss–Legendre variational
+integrator of any even ``order`` from 2 to 32, for a continuous Lagrangian ``L(q, v)`` without
+constraints on at most 8 coordinates::
+
+    kepler.run({"h": 0.1, "k": 1.0}, steps=100, scheme="gauss", order=8, x=[0.5], w=[0.0],
+               mu=[0.87], g=[0.0])
 Every run method raises ``TypeError`` for a keyword it does not take, ``OutOfMemoryError`` (a
 ``MemoryError``) before running when the trajectory cannot be allocated, and at Ctrl-C
 ``KeyboardInterrupt`` with the trajectory so far (``trajectory``), as ``StepError`` carries it.

@@ -145,7 +145,7 @@ impl Config {
     /// vocabulary: "plus" and "minus" the sides of its own form, "reduced" and "unreduced" the
     /// forms), checked against the system there (reduced equations only where it has them).
     fn request(&self, system: &Compiled) -> Result<RunRequest, Failure> {
-        RunRequest::from_keywords(system, self.method, 2, self.steps, None)
+        RunRequest::from_keywords(system, self.method, "composition", 2, self.steps, None)
             .and_then(|r| r.with_schedule(self.schedule.clone()))
             .map_err(|e| Failure::Run(format!("{}: {e}", self.file.display())))
     }
