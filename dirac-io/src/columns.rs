@@ -540,6 +540,40 @@ where
     }
 }
 
+/// The Gauss–Legendre integrators, unreduced and reduced: the states of the second-order
+/// integrators of the same form, the stage count in `dirac.gauss.stages`.
+impl<L, const S: usize, const K: usize, const N: usize> Describe for GaussIntegrator<L, S, K, N>
+where
+    Self: Stepper<State = UnreducedState<N>>,
+    L: DiscreteLagrangian<S, K, N> + StageDerivatives<N>,
+{
+    fn describe(&self) -> RunInfo {
+        RunInfo::of_system::<UnreducedState<N>, L, S, K, N>(self.system())
+            .with_newton(self.options())
+            .with("dirac.integrator", "Gauss–Legendre, unreduced")
+            .with("dirac.gauss.stages", self.rule().stages().to_string())
+    }
+}
+
+impl<L, D, const S: usize, const K: usize, const N: usize> Describe
+    for ReducedGaussIntegrator<L, D, S, K, N>
+where
+    Self: Stepper<State = ReducedState<S, K>>,
+    D: Side,
+    L: DiscreteLagrangian<S, K, N> + StageDerivatives<N>,
+{
+    fn describe(&self) -> RunInfo {
+        let side = match self.variant() {
+            Variant::Plus => "Gauss–Legendre, reduced (+), eq. (4.6)",
+            Variant::Minus => "Gauss–Legendre, reduced (-), eq. (4.8)",
+        };
+        RunInfo::of_system::<ReducedState<S, K>, L, S, K, N>(self.system())
+            .with_newton(self.options())
+            .with("dirac.integrator", side)
+            .with("dirac.gauss.stages", self.rule().stages().to_string())
+    }
+}
+
 /// The integrators on rotation groups, in either form: the columns of the form's states
 /// ([`LieState`]'s, then `mu_x`, `mu_y`, `mu_z` for [`ReducedLieState`]), each coordinate with
 /// the attribute keyword of its kind (`dirac.coordinates`: `r:rotation`, `x:pose`), the physical

@@ -106,6 +106,95 @@ fn a_system_file_runs_into_parquet_as_the_compiled_in_system() {
     assert_eq!(last, compiled.states[1000]);
 }
 
+/// Kepler's problem as a continuous Lagrangian, compiled in from the same characters the file's
+/// text holds.
+const KEPLER_L: &str = "#[reduced_lagrangian(shape(r), group(phi), rule = midpoint)]
+fn kepler_l(q: Config, v: Velocity, k: f64) -> f64 {
+    0.5 * (v.r * v.r + q.r * q.r * v.phi * v.phi) + k / q.r
+}
+";
+
+#[reduced_lagrangian(shape(r), group(phi), rule = midpoint)]
+fn kepler_l(q: Config, v: Velocity, k: f64) -> f64 {
+    0.5 * (v.r * v.r + q.r * q.r * v.phi * v.phi) + k / q.r
+}
+
+#[test]
+fn a_system_file_runs_at_high_order_as_the_compiled_in_system() {
+    let dir = scratch("cli_gauss");
+    std::fs::write(dir.join("kepler.rs"), KEPLER_L).unwrap();
+    let sys = KeplerL { k: 1.0, h: 0.01 };
+    let start = ReducedState::new([0.5], [0.0], [0.8660254037844386], [0.0]);
+    let opts = NewtonOptions::default();
+    let columns = ReducedState::<1, 1>::column_names(&["r"], &["phi"]);
+    let file = dir.join("gauss.toml");
+    for (method, compiled) in [
+        (
+            "plus",
+            ReducedGaussIntegrator::plus(sys, 4, opts)
+                .unwrap()
+                .run(start)
+                .steps(1000)
+                .collect(),
+        ),
+        (
+            "minus",
+            ReducedGaussIntegrator::minus(sys, 4, opts)
+                .unwrap()
+                .run(start)
+                .steps(1000)
+                .collect(),
+        ),
+    ] {
+        let text = KEPLER_TOML
+            .replace("METHOD", method)
+            .replace("out = ", "scheme = \"gauss\"\norder = 8\nout = ");
+        std::fs::write(&file, text).unwrap();
+        let (code, _, stderr) = dirac(&["run", file.to_str().unwrap()]);
+        assert_eq!(code, 0, "{stderr}");
+        let (step, _, last) =
+            last_state::<ReducedState<1, 1>>(&dir.join("kepler.parquet"), &columns).unwrap();
+        let compiled = compiled.unwrap();
+        assert_eq!(step, 1000);
+        assert_eq!(last, compiled.states[1000], "{method}");
+        assert_eq!(last.mu, start.mu);
+    }
+    // Order 4 by the triple jump of the second-order integrator, as compiled in.
+    let text = KEPLER_TOML
+        .replace("METHOD", "plus")
+        .replace("out = ", "order = 4\nout = ");
+    std::fs::write(&file, text).unwrap();
+    let (code, _, stderr) = dirac(&["run", file.to_str().unwrap()]);
+    assert_eq!(code, 0, "{stderr}");
+    let (_, _, last) =
+        last_state::<ReducedState<1, 1>>(&dir.join("kepler.parquet"), &columns).unwrap();
+    let composed = Composition::new(
+        ReducedIntegrator::plus(sys, opts),
+        CompositionMethod::TRIPLE_JUMP,
+    )
+    .run(start)
+    .steps(1000)
+    .collect()
+    .unwrap();
+    assert_eq!(last, composed.states[1000]);
+    // An odd order: the request refused, status 1, what is accepted said.
+    let text = KEPLER_TOML
+        .replace("METHOD", "plus")
+        .replace("out = ", "scheme = \"gauss\"\norder = 7\nout = ");
+    std::fs::write(&file, text).unwrap();
+    let (code, _, stderr) = dirac(&["run", file.to_str().unwrap()]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(stderr.contains("even order from 2 to 32"), "{stderr}");
+    // A scheme that is not a word: a malformed file, status 2.
+    let text = KEPLER_TOML
+        .replace("METHOD", "plus")
+        .replace("out = ", "scheme = 3\nout = ");
+    std::fs::write(&file, text).unwrap();
+    let (code, _, stderr) = dirac(&["run", file.to_str().unwrap()]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("`scheme` is"), "{stderr}");
+}
+
 #[test]
 fn mistakes_and_failures_have_their_exit_statuses() {
     let dir = scratch("cli_mistakes");

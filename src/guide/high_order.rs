@@ -162,9 +162,10 @@
 //!
 //! The Gauss step is available for systems on vector spaces on the dense backend (at most 16
 //! coordinates) without constraints, on unreduced and reduced states: compiled in, given as text
-//! (a `dirac_jit::JitSystem`, bit for bit as compiled in) and from Python
-//! (`system.run(params, steps, scheme="gauss", order=2s, ..)`, at most 8 coordinates there, the
-//! package's fixed-size instances). The others step at order 2, or at order 4 and 6 by
+//! (a `dirac_jit::JitSystem`, bit for bit as compiled in), from Python
+//! (`system.run(params, steps, scheme="gauss", order=2s, ..)`) and from the command line
+//! (`scheme = "gauss"` and `order = 2s` in a system file), at most 8 coordinates from those two
+//! (their fixed-size instances). The others step at order 2, or at order 4 and 6 by
 //! compositions:
 //!
 //! - **Holonomic constraints.** Gauss collocation of an index-3 system loses its order in the
@@ -175,4 +176,3 @@
 //!   the exponential map, and its stage equations carry `dexp⁻¹` to the order of the method
 //!   (Bogfjellmo & Marthinsen, "High-order symplectic partitioned Lie group methods"): the
 //!   attribute's stage derivatives are for vector spaces, and this is not built either.
-//! - **The command line** runs its system files at order 2.

@@ -178,9 +178,9 @@
 //! stage derivatives, which the JIT compiles on first use (a system never stepped at high order
 //! does not pay for them), so `GaussIntegrator` and `ReducedGaussIntegrator` take a `JitSystem`
 //! as a compiled-in system, bit for bit; from Python,
-//! `system.run(params, steps, scheme="gauss", order=8, ..)` runs the Gauss–Legendre integrator
-//! of that order on any of the system's forms (see the chapter
-//! [High order](super::high_order)).
+//! `system.run(params, steps, scheme="gauss", order=8, ..)` and from a system file
+//! `scheme = "gauss"` with `order = 8` run the Gauss–Legendre integrator of that order on any of
+//! the system's forms (see the chapter [High order](super::high_order)).
 //!
 //! ## Limits
 //!

@@ -13,6 +13,9 @@
 //! # text = """#[reduced_lagrangian(..)] fn ..."""   (or inline)
 //! steps = 1000
 //! method = "plus"           # "plus", "minus" (reduced; "reduced" is "plus") or "unreduced"
+//! # order = 4               # 2 (default), 4 or 6: the integrator and its compositions
+//! # scheme = "gauss"        # with `order` any even number to 32: the Gauss–Legendre integrator
+//! #                         # (a continuous Lagrangian without constraints, at most 8 coordinates)
 //! out = "kepler.parquet"    # relative to this file; --out overrides
 //! # schedule = [0.01, 0.005, 0.005]   each step's size (at least `steps` of them; `steps`
 //! #                                    defaults to their number), instead of the system's `h`
@@ -110,7 +113,7 @@ use std::sync::Arc;
 
 use dirac::prelude::*;
 use dirac_io::{Describe, Options, ParquetObserver, StateColumns};
-use dirac_jit::run::{Finish, Job, LieStart};
+use dirac_jit::run::{gauss, Finish, Job, LieStart};
 use dirac_jit::{Code, Compiled, ElementCode, LieCode, RunRequest};
 
 /// A parsed system file.
@@ -121,6 +124,10 @@ struct Config {
     /// system's family reads it ([`Config::request`]).
     method: &'static str,
     out: PathBuf,
+    /// The order (`order = ..`, default 2).
+    order: u32,
+    /// How the order is reached (`scheme = ..`, default "composition").
+    scheme: String,
     /// The size of each step (`schedule = [h0, h1, ..]`), or `None` for the system's own.
     schedule: Option<Vec<f64>>,
     parameters: Vec<(String, f64)>,
@@ -145,9 +152,16 @@ impl Config {
     /// vocabulary: "plus" and "minus" the sides of its own form, "reduced" and "unreduced" the
     /// forms), checked against the system there (reduced equations only where it has them).
     fn request(&self, system: &Compiled) -> Result<RunRequest, Failure> {
-        RunRequest::from_keywords(system, self.method, "composition", 2, self.steps, None)
-            .and_then(|r| r.with_schedule(self.schedule.clone()))
-            .map_err(|e| Failure::Run(format!("{}: {e}", self.file.display())))
+        RunRequest::from_keywords(
+            system,
+            self.method,
+            &self.scheme,
+            self.order,
+            self.steps,
+            None,
+        )
+        .and_then(|r| r.with_schedule(self.schedule.clone()))
+        .map_err(|e| Failure::Run(format!("{}: {e}", self.file.display())))
     }
 }
 
@@ -293,6 +307,8 @@ fn parse(path: &Path) -> Result<Config, Failure> {
         "gravity",
         "steps",
         "method",
+        "order",
+        "scheme",
         "out",
         "schedule",
         "parameters",
@@ -360,6 +376,16 @@ fn parse(path: &Path) -> Result<Config, Failure> {
                 .into(),
         ));
     };
+    let order = match table.get("order") {
+        None => 2,
+        Some(toml::Value::Integer(n)) if (1..=u32::MAX as i64).contains(n) => *n as u32,
+        Some(_) => return Err(usage("`order` must be a positive integer".into())),
+    };
+    let scheme = match table.get("scheme") {
+        None => "composition".to_owned(),
+        Some(toml::Value::String(word)) => word.clone(),
+        Some(_) => return Err(usage("`scheme` is \"composition\" or \"gauss\"".into())),
+    };
     let out = match table.get("out") {
         Some(toml::Value::String(o)) => dir.join(o),
         None => path.with_extension("parquet"),
@@ -394,6 +420,8 @@ fn parse(path: &Path) -> Result<Config, Failure> {
         text,
         steps,
         method,
+        order,
+        scheme,
         out,
         schedule,
         parameters,
@@ -492,7 +520,8 @@ fn values(config: &Config, name: &str, len: usize) -> Result<Vec<f64>, String> {
 
 /// Integrates the system on vector spaces by the equations the file's `method` names and
 /// writes the run: from the start `(q, p)` or `(x, w, μ, g)`, at its fixed sizes (with
-/// constraints, the constrained integrators) or, at any other size, on its element view.
+/// constraints, the constrained integrators; with `scheme = "gauss"`, the Gauss–Legendre
+/// integrators) or, at any other size, on its element view.
 fn run_flat(code: &Arc<Code>, config: &Config, request: &RunRequest) -> Result<String, String> {
     let sys = code.system();
     let (s, k) = (sys.shape.len(), sys.group.len());
@@ -504,6 +533,17 @@ fn run_flat(code: &Arc<Code>, config: &Config, request: &RunRequest) -> Result<S
     let start = (parts.iter())
         .map(|&(name, len)| values(config, name, len))
         .collect::<Result<Vec<_>, _>>()?;
+    if request.scheme == dirac_jit::Scheme::Gauss {
+        // The request is checked: the fixed sizes, without constraints.
+        return written(dirac_jit::with_dimensions!(
+            s,
+            k,
+            gauss::<_>(code, &params, &[start], request, Write(&config.out))
+                else Err(dirac_jit::Error::Request {
+                    reason: "a Gauss–Legendre run takes at most 8 coordinates".to_owned(),
+                })
+        ));
+    }
     written(dirac_jit::run_flat!(
         code,
         &params,

@@ -106,6 +106,11 @@ where
         self.gauss.rule()
     }
 
+    /// The Newton options.
+    pub fn options(&self) -> &NewtonOptions {
+        self.gauss.options()
+    }
+
     /// Which reduced equations are solved.
     pub fn variant(&self) -> Variant {
         D::VARIANT
