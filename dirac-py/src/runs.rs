@@ -13,9 +13,9 @@ use dirac_runtime::nalgebra::SVector;
 use dirac_runtime::{
     continuous_energies, ComposedTrajectory, Composition, ConstrainedIntegrator,
     ConstrainedTrajectory, DiscreteLagrangian, Drive, Equations, Form, GaussIntegrator, Minus,
-    Plus, Reduced, ReducedConstrainedIntegrator, ReducedGaussIntegrator, ReducedIntegrator,
-    ReducedState, SelfAdjoint, Side, StepStats, System, Trajectory, UnreducedIntegrator,
-    UnreducedState, UnreducedTrajectory,
+    Plus, ReducedConstrainedIntegrator, ReducedGaussIntegrator, ReducedIntegrator, ReducedState,
+    SelfAdjoint, Side, StepStats, System, Trajectory, UnreducedIntegrator, UnreducedState,
+    UnreducedTrajectory,
 };
 
 use crate::calls::until;
@@ -142,81 +142,52 @@ where
     }
 }
 
-impl<const S: usize, const K: usize, const N: usize> Flatten
-    for UnreducedIntegrator<JitSystem<S, K, N>, S, K, N>
-{
-    type Flat = Flat;
+/// The integrators of a system without constraints — second-order and Gauss–Legendre,
+/// unreduced and reduced on either side — flattened by their form, with the continuous energies
+/// of their states.
+macro_rules! flat_run {
+    ($(
+        $integrator:ident $(<$side:ident>)? => $state:ty, $trajectory:ty,
+            |$sys:ident, $parts:ident| $flat:expr;
+    )*) => {$(
+        impl<$($side: Side,)? const S: usize, const K: usize, const N: usize> Flatten
+            for $integrator<JitSystem<S, K, N>, $($side,)? S, K, N>
+        where
+            Self: Drive<State = $state, Trajectory = $trajectory> + Sync,
+            JitSystem<S, K, N>: $(dirac_runtime::Reduced<$side, S, K, N> +)? Sized,
+        {
+            type Flat = Flat;
 
-    fn flat_states(&self, states: &[Self::State], times: &[f64], stats: &[StepStats]) -> Flat {
-        unreduced_flat((states, times, stats))
-    }
+            fn flat_states(
+                &self,
+                states: &[Self::State],
+                times: &[f64],
+                stats: &[StepStats],
+            ) -> Flat {
+                let ($sys, $parts) = (self.system(), (states, times, stats));
+                $flat
+            }
 
-    fn flat(&self, t: &UnreducedTrajectory<N>) -> Flat {
-        self.flat_states(&t.states, &t.times, &t.stats)
-    }
+            fn flat(&self, t: &$trajectory) -> Flat {
+                self.flat_states(&t.states, &t.times, &t.stats)
+            }
 
-    fn energies(&self, flat: &mut Flat, equations: Equations) {
-        flat.energies = Some(energies(self.system(), flat, equations));
-    }
+            fn energies(&self, flat: &mut Flat, equations: Equations) {
+                flat.energies = Some(energies(self.system(), flat, equations));
+            }
+        }
+    )*};
 }
 
-impl<D: Side, const S: usize, const K: usize, const N: usize> Flatten
-    for ReducedIntegrator<JitSystem<S, K, N>, D, S, K, N>
-where
-    JitSystem<S, K, N>: Reduced<D, S, K, N>,
-    Self: Drive<State = ReducedState<S, K>, Trajectory = Trajectory<S, K>> + Sync,
-{
-    type Flat = Flat;
-
-    fn flat_states(&self, states: &[Self::State], times: &[f64], stats: &[StepStats]) -> Flat {
-        with_momenta(self.system(), reduced_flat((states, times, stats)))
-    }
-
-    fn flat(&self, t: &Trajectory<S, K>) -> Flat {
-        self.flat_states(&t.states, &t.times, &t.stats)
-    }
-
-    fn energies(&self, flat: &mut Flat, equations: Equations) {
-        flat.energies = Some(energies(self.system(), flat, equations));
-    }
-}
-
-/// The Gauss–Legendre integrators: their states flattened as the second-order integrators' of
-/// the same form.
-impl<const S: usize, const K: usize, const N: usize> Flatten
-    for GaussIntegrator<JitSystem<S, K, N>, S, K, N>
-{
-    type Flat = Flat;
-
-    fn flat_states(&self, states: &[Self::State], times: &[f64], stats: &[StepStats]) -> Flat {
-        unreduced_flat((states, times, stats))
-    }
-
-    fn flat(&self, t: &UnreducedTrajectory<N>) -> Flat {
-        self.flat_states(&t.states, &t.times, &t.stats)
-    }
-
-    fn energies(&self, flat: &mut Flat, equations: Equations) {
-        flat.energies = Some(energies(self.system(), flat, equations));
-    }
-}
-
-impl<D: Side, const S: usize, const K: usize, const N: usize> Flatten
-    for ReducedGaussIntegrator<JitSystem<S, K, N>, D, S, K, N>
-{
-    type Flat = Flat;
-
-    fn flat_states(&self, states: &[Self::State], times: &[f64], stats: &[StepStats]) -> Flat {
-        with_momenta(self.system(), reduced_flat((states, times, stats)))
-    }
-
-    fn flat(&self, t: &Trajectory<S, K>) -> Flat {
-        self.flat_states(&t.states, &t.times, &t.stats)
-    }
-
-    fn energies(&self, flat: &mut Flat, equations: Equations) {
-        flat.energies = Some(energies(self.system(), flat, equations));
-    }
+flat_run! {
+    UnreducedIntegrator => UnreducedState<N>, UnreducedTrajectory<N>,
+        |_sys, parts| unreduced_flat(parts);
+    GaussIntegrator => UnreducedState<N>, UnreducedTrajectory<N>,
+        |_sys, parts| unreduced_flat(parts);
+    ReducedIntegrator<D> => ReducedState<S, K>, Trajectory<S, K>,
+        |sys, parts| with_momenta(sys, reduced_flat(parts));
+    ReducedGaussIntegrator<D> => ReducedState<S, K>, Trajectory<S, K>,
+        |sys, parts| with_momenta(sys, reduced_flat(parts));
 }
 
 /// The constrained integrators: their states flattened as the unconstrained ones', and each

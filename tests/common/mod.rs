@@ -67,10 +67,12 @@ pub fn eccentric_anomaly(e: f64, t: f64) -> f64 {
     big_e
 }
 
-/// [`rk4`] with the increments added by compensated (Kahan) summation: over the 10⁵ steps of a
-/// reference for a high-order method, the plain sum's rounding (about `√n ε |y|`, 1e-13 here)
-/// would be the reference's error; compensated, it is the method's alone.
-pub fn rk4_compensated<const M: usize>(
+/// `y(t)` of `y' = f(y)` from `y(0) = y0` by the classical Runge–Kutta method with
+/// `per_unit` steps per unit time, the increments added by compensated (Kahan) summation: a
+/// tight independent reference (over the 10⁵ steps of a reference for a high-order method the
+/// plain sum's rounding, about `√n ε |y|`, would be 1e-13; compensated, the error is the
+/// method's alone).
+pub fn rk4<const M: usize>(
     y0: SVector<f64, M>,
     f: impl Fn(&SVector<f64, M>) -> SVector<f64, M>,
     t: f64,
@@ -91,27 +93,6 @@ pub fn rk4_compensated<const M: usize>(
             carry[i] = added - (sum - y[i]);
             y[i] = sum;
         }
-    }
-    y
-}
-
-/// `y(t)` of `y' = f(y)` from `y(0) = y0` by the classical Runge–Kutta method with
-/// `per_unit` steps per unit time: a tight independent reference.
-pub fn rk4<const M: usize>(
-    y0: SVector<f64, M>,
-    f: impl Fn(&SVector<f64, M>) -> SVector<f64, M>,
-    t: f64,
-    per_unit: f64,
-) -> SVector<f64, M> {
-    let n = (per_unit * t).ceil() as usize;
-    let dt = t / n as f64;
-    let mut y = y0;
-    for _ in 0..n {
-        let k1 = f(&y);
-        let k2 = f(&(y + k1 * (dt / 2.0)));
-        let k3 = f(&(y + k2 * (dt / 2.0)));
-        let k4 = f(&(y + k3 * dt));
-        y += (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (dt / 6.0);
     }
     y
 }
