@@ -80,7 +80,7 @@ use crate::stepper::{
 use crate::system::DiscreteLagrangian;
 use crate::unreduced::UnreducedTrajectory;
 
-mod reduced;
+pub mod reduced;
 
 pub use reduced::{ReducedGaussIntegrator, ReducedGaussWorkspace};
 
