@@ -72,7 +72,7 @@ impl Code {
     }
 }
 
-/// The stage derivatives by the text's machine code ([`Code::stage_code`]). A system without
+/// The stage derivatives by the text's machine code (compiled on first use). A system without
 /// them (or whose code generation failed) gives NaN, which the Gauss–Legendre step reports as a
 /// typed error; the run requests refuse such a system before it runs.
 impl<const S: usize, const K: usize, const N: usize, V: Variant<N>> StageDerivatives<N>
