@@ -811,35 +811,32 @@ fn gauss_legendre_steps_bit_for_bit() {
     assert_eq!(jit.stage_jacobian(&q, &v), compiled.stage_jacobian(&q, &v));
     let start = DoubleSphericalPendulum::paper_initial_state();
     let opts = NewtonOptions::default();
+    // The integrator `$new(system, stages, options)` of both systems, state by state.
+    macro_rules! same_steps {
+        ($new:path, $s:expr, $start:expr, $what:literal) => {{
+            let a = $new(compiled, $s, opts).unwrap();
+            let b = $new(jit.clone(), $s, opts).unwrap();
+            let (ta, tb) = (
+                a.run($start).steps(100).collect().unwrap(),
+                b.run($start).steps(100).collect().unwrap(),
+            );
+            same(&ta.states, &tb.states, $what);
+        }};
+    }
     for s in [1, 4] {
-        let (a, b) = (
-            GaussIntegrator::new(compiled, s, opts).unwrap(),
-            GaussIntegrator::new(jit.clone(), s, opts).unwrap(),
+        same_steps!(
+            GaussIntegrator::new,
+            s,
+            compiled.untrivialize(&start),
+            "Gauss, unreduced"
         );
-        let from = compiled.untrivialize(&start);
-        let (ta, tb) = (
-            a.run(from).steps(100).collect().unwrap(),
-            b.run(from).steps(100).collect().unwrap(),
+        same_steps!(ReducedGaussIntegrator::plus, s, start, "Gauss, reduced (+)");
+        same_steps!(
+            ReducedGaussIntegrator::minus,
+            s,
+            start,
+            "Gauss, reduced (−)"
         );
-        same(&ta.states, &tb.states, "Gauss, unreduced");
-        let (a, b) = (
-            ReducedGaussIntegrator::plus(compiled, s, opts).unwrap(),
-            ReducedGaussIntegrator::plus(jit.clone(), s, opts).unwrap(),
-        );
-        let (ta, tb) = (
-            a.run(start).steps(100).collect().unwrap(),
-            b.run(start).steps(100).collect().unwrap(),
-        );
-        same(&ta.states, &tb.states, "Gauss, reduced (+)");
-        let (a, b) = (
-            ReducedGaussIntegrator::minus(compiled, s, opts).unwrap(),
-            ReducedGaussIntegrator::minus(jit.clone(), s, opts).unwrap(),
-        );
-        let (ta, tb) = (
-            a.run(start).steps(100).collect().unwrap(),
-            b.run(start).steps(100).collect().unwrap(),
-        );
-        same(&ta.states, &tb.states, "Gauss, reduced (−)");
     }
     // Adaptive steps at order 8.
     let code = compile(ADAPTIVE_KEPLER).unwrap();
