@@ -10,8 +10,8 @@ use crate::linalg::{Lu, RCOND_CLEARANCE};
 use crate::newton::{self, inf_norm, NewtonOptions};
 use crate::state::ReducedState;
 use crate::stepper::{
-    check_inputs, flat_level_set, predicted_increment, same_step, step_error, system_at, Collect,
-    History, LevelSet, StepAt, StepStats, StepStatsExt, Stepper,
+    predicted_increment, same_step, step_error, system_at, Collect, History, StepAt, StepStats,
+    StepStatsExt, Stepper,
 };
 use crate::system::{join, split, Minus, Plus, Reduced, Side, Variant};
 
@@ -414,6 +414,50 @@ where
     }
 }
 
+/// The [`Stepper`] methods about a reduced state `(x, w, μ, g)` of a system on vector spaces
+/// (the inputs, the declared domain, physical time, the level set of adaptive steps, the step
+/// monitor), written once for every integrator on reduced states through its `system()`.
+macro_rules! reduced_checks {
+    () => {
+        fn check(&self, initial: &ReducedState<S, K>) -> Result<(), StepError> {
+            let sys = self.system();
+            crate::stepper::check_inputs(
+                sys.time_step(),
+                &sys.parameter_values(),
+                initial.is_finite(),
+            )?;
+            // The domain: outside it the monitor (checked next by the run) need not be defined.
+            crate::reduced::reduced_domain(sys, 0, true, initial)
+        }
+
+        fn check_domain(&self, k: usize, state: &ReducedState<S, K>) -> Result<(), StepError> {
+            crate::reduced::reduced_domain(self.system(), k, false, state)
+        }
+
+        fn physical_time(&self, state: &ReducedState<S, K>) -> Option<f64> {
+            self.system().time_index().map(|j| state.g[j])
+        }
+
+        /// The level set of the state's unreduced form `(q, p)`.
+        fn level_set(&self, state: &ReducedState<S, K>) -> Option<crate::stepper::LevelSet> {
+            let sys = self.system();
+            sys.time_index()?;
+            let start = sys.untrivialize(state);
+            crate::stepper::flat_level_set(sys, &start.q, &start.p)
+        }
+
+        /// `g(x)` at the state's shape `x`.
+        fn monitor(
+            &self,
+            at: crate::stepper::StepAt<'_>,
+            state: &ReducedState<S, K>,
+        ) -> Result<Option<f64>, StepError> {
+            crate::reduced::flat_monitor(self.system(), at, &state.x)
+        }
+    };
+}
+pub(crate) use reduced_checks;
+
 impl<L, D, const S: usize, const K: usize, const N: usize> Stepper
     for ReducedIntegrator<L, D, S, K, N>
 where
@@ -429,39 +473,7 @@ where
         self.system.time_step()
     }
 
-    fn check(&self, initial: &ReducedState<S, K>) -> Result<(), StepError> {
-        check_inputs(
-            self.system.time_step(),
-            &self.system.parameter_values(),
-            initial.is_finite(),
-        )?;
-        // The domain: outside it the monitor (checked next by the run) need not be defined.
-        reduced_domain(&self.system, 0, true, initial)
-    }
-
-    fn check_domain(&self, k: usize, state: &ReducedState<S, K>) -> Result<(), StepError> {
-        reduced_domain(&self.system, k, false, state)
-    }
-
-    fn physical_time(&self, state: &ReducedState<S, K>) -> Option<f64> {
-        self.system.time_index().map(|j| state.g[j])
-    }
-
-    /// The level set of the state's unreduced form `(q, p)`.
-    fn level_set(&self, state: &ReducedState<S, K>) -> Option<LevelSet> {
-        self.system.time_index()?;
-        let start = self.system.untrivialize(state);
-        flat_level_set(&self.system, &start.q, &start.p)
-    }
-
-    /// `g(x)` at the state's shape `x`.
-    fn monitor(
-        &self,
-        at: StepAt<'_>,
-        state: &ReducedState<S, K>,
-    ) -> Result<Option<f64>, StepError> {
-        flat_monitor(&self.system, at, &state.x)
-    }
+    reduced_checks!();
 
     fn workspace(&self) -> Self::Workspace {
         ReducedWorkspace {

@@ -20,8 +20,9 @@
 //! there, and trivializes the result: `x_{k+1}`, `w_{k+1} = p_{x,k+1} + Bᵀ μ_{k+1}`, and
 //! `μ_{k+1} = μ_k` bit for bit, the reduced equations' momentum line (where the Lagrangian reads
 //! `g` and is invariant only up to rounding, as the paper's double spherical pendulum through
-//! `cos(ϑ1 ∓ ϑ2)`, `∂L/∂g` need not round to `0`; the momentum line does not read it). The group coordinate is reconstructed from the step's increment,
-//! `g_{k+1} = g_k + (g_{k+1} − g_k)`, with the compensated summation of every coordinate, and
+//! `cos(ϑ1 ∓ ϑ2)`, `∂L/∂g` need not round to `0`; the momentum line does not read it). The
+//! group coordinate is reconstructed from the step's increment, `g_{k+1} = g_k + (g_{k+1} − g_k)`,
+//! with the compensated summation of every coordinate, and
 //! the group unknown the side names is read off the step: `u = g_k^+ = ω_d(q_k, q_{k+1})` for
 //! (+) and `u = g_{k+1}^− = −ω_d(q_k, q_{k+1})` for (−) ([`crate::Side::group_increment`],
 //! Definition 2.1). Without constraints the (+) and (−) discrete Lagrange–Dirac equations of
@@ -39,9 +40,9 @@ use super::{GaussIntegrator, GaussRule, GaussWorkspace};
 use crate::continuous::StageDerivatives;
 use crate::error::StepError;
 use crate::newton::NewtonOptions;
-use crate::reduced::{flat_monitor, reduced_domain, ReducedStep, Trajectory};
+use crate::reduced::{ReducedStep, Trajectory};
 use crate::state::{ReducedState, UnreducedState};
-use crate::stepper::{check_inputs, flat_level_set, Collect, LevelSet, StepAt, Stepper};
+use crate::stepper::{Collect, StepAt, Stepper};
 use crate::system::{DiscreteLagrangian, Minus, Plus, Side, Variant};
 
 /// The Gauss–Legendre integrator of order `2s` on the reduced states `(x, w, μ, g)` and
@@ -187,40 +188,7 @@ where
         self.system().time_step()
     }
 
-    fn check(&self, initial: &ReducedState<S, K>) -> Result<(), StepError> {
-        let sys = self.system();
-        check_inputs(
-            sys.time_step(),
-            &sys.parameter_values(),
-            initial.is_finite(),
-        )?;
-        reduced_domain(sys, 0, true, initial)
-    }
-
-    fn check_domain(&self, k: usize, state: &ReducedState<S, K>) -> Result<(), StepError> {
-        reduced_domain(self.system(), k, false, state)
-    }
-
-    fn physical_time(&self, state: &ReducedState<S, K>) -> Option<f64> {
-        self.system().time_index().map(|j| state.g[j])
-    }
-
-    /// The level set of the state's unreduced form `(q, p)`.
-    fn level_set(&self, state: &ReducedState<S, K>) -> Option<LevelSet> {
-        let sys = self.system();
-        sys.time_index()?;
-        let start = sys.untrivialize(state);
-        flat_level_set(sys, &start.q, &start.p)
-    }
-
-    /// `g(x)` at the state's shape `x`.
-    fn monitor(
-        &self,
-        at: StepAt<'_>,
-        state: &ReducedState<S, K>,
-    ) -> Result<Option<f64>, StepError> {
-        flat_monitor(self.system(), at, &state.x)
-    }
+    crate::reduced::reduced_checks!();
 
     fn workspace(&self) -> Self::Workspace {
         ReducedGaussWorkspace {
