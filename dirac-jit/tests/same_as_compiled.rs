@@ -8,7 +8,7 @@ use std::sync::Arc;
 use dirac::paper::{ChargedParticle, DoubleSphericalPendulum, DoubleSphericalPendulumContinuous};
 use dirac::prelude::*;
 use dirac::systems::kepler::Kepler;
-use dirac_jit::{compile, Code};
+use dirac_jit::{compile, Code, JitSystem};
 
 /// The text of the function `name` of a source file, with its attribute and doc comments.
 fn function(source: &str, name: &str) -> String {
@@ -184,19 +184,29 @@ fn a_domain_given_as_text_is_checked_as_the_one_compiled_in() {
     );
 }
 
+/// The paper's double spherical pendulum as a continuous Lagrangian, compiled in and given as
+/// the same text, and a point `(q, v)` to compare them at.
+fn continuous_pendulum() -> (
+    DoubleSphericalPendulumContinuous,
+    JitSystem<3, 1, 4>,
+    (SVector<f64, 4>, SVector<f64, 4>),
+) {
+    let compiled = DoubleSphericalPendulumContinuous::paper();
+    let jit = code(PAPER, "double_spherical_pendulum_continuous")
+        .instantiate::<3, 1, 4>(&compiled.parameter_values())
+        .unwrap();
+    let point = (
+        SVector::<f64, 4>::new(0.4, 0.1, 0.7, 0.2),
+        SVector::<f64, 4>::new(0.3, -0.2, 0.1, 0.5),
+    );
+    (compiled, jit, point)
+}
+
 /// A continuous Lagrangian with its quadrature rule: `L_d` formed by the compiler, and the
 /// Legendre map and energy from the same graph.
 #[test]
 fn a_continuous_lagrangian_steps_bit_for_bit() {
-    let code = code(PAPER, "double_spherical_pendulum_continuous");
-    let compiled = DoubleSphericalPendulumContinuous::paper();
-    let jit = code
-        .instantiate::<3, 1, 4>(&compiled.parameter_values())
-        .unwrap();
-    let (q, v) = (
-        SVector::<f64, 4>::new(0.4, 0.1, 0.7, 0.2),
-        SVector::<f64, 4>::new(0.3, -0.2, 0.1, 0.5),
-    );
+    let (compiled, jit, (q, v)) = continuous_pendulum();
     assert_eq!(jit.legendre(&q, &v), Some(compiled.legendre(&q, &v)));
     assert_eq!(jit.energy(&q, &v), Some(compiled.energy(&q, &v)));
     let start = DoubleSphericalPendulum::paper_initial_state();
@@ -798,15 +808,7 @@ fn adaptive_steps_step_bit_for_bit() {
 /// adaptive steps included; a text without stage derivatives refused.
 #[test]
 fn gauss_legendre_steps_bit_for_bit() {
-    let code = code(PAPER, "double_spherical_pendulum_continuous");
-    let compiled = DoubleSphericalPendulumContinuous::paper();
-    let jit = code
-        .instantiate::<3, 1, 4>(&compiled.parameter_values())
-        .unwrap();
-    let (q, v) = (
-        SVector::<f64, 4>::new(0.4, 0.1, 0.7, 0.2),
-        SVector::<f64, 4>::new(0.3, -0.2, 0.1, 0.5),
-    );
+    let (compiled, jit, (q, v)) = continuous_pendulum();
     assert_eq!(jit.stage(&q, &v), compiled.stage(&q, &v));
     assert_eq!(jit.stage_jacobian(&q, &v), compiled.stage_jacobian(&q, &v));
     let start = DoubleSphericalPendulum::paper_initial_state();
